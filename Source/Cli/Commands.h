@@ -1,0 +1,23 @@
+#pragma once
+// The subcommands of `armadillo` (INTERFACES.md). Each lives in its own Cmd<Name>.cpp.
+#include <string>
+#include <vector>
+
+namespace armadillo::cli {
+
+using Arguments = std::vector<std::string>;   ///< what follows the subcommand name
+
+int runPorts(const Arguments& args);     // CmdPorts.cpp   — serial ports found
+int runFuse(const Arguments& args);      // CmdFuse.cpp    — offline SR-UKF fusion
+int runRender(const Arguments& args);    // CmdRender.cpp  — offline deterministic engine run
+int runPlay(const Arguments& args);      // CmdPlay.cpp    — the live engine, headless
+int runBraille(const Arguments& args);   // CmdBraille.cpp — cells and row sensations of a text
+
+struct CommandInfo {
+    const char* name;
+    const char* summary;
+    int (*run)(const Arguments&);
+};
+const std::vector<CommandInfo>& commands();
+
+} // namespace armadillo::cli

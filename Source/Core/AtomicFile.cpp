@@ -1,0 +1,60 @@
+#include "Core/AtomicFile.h"
+#include "Core/Errors.h"
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <fstream>
+#include <sstream>
+#include <unistd.h>
+
+namespace armadillo {
+
+void writeFileAtomically(const std::string& path, std::string_view content)
+{
+    std::string tmpl = path + ".tmp-XXXXXX";
+    const int fd = ::mkstemp(tmpl.data());
+    if (fd < 0) throw IoError("cannot create a temporary file next to '" + path + "': " + std::strerror(errno));
+    const auto fail = [&](const char* what) {
+        const std::string reason = std::strerror(errno);
+        ::close(fd);
+        ::unlink(tmpl.c_str());
+        throw IoError(std::string(what) + " '" + path + "': " + reason);
+    };
+    const char* p = content.data();
+    std::size_t left = content.size();
+    while (left > 0) {
+        const ssize_t n = ::write(fd, p, left);
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            fail("cannot write");
+        }
+        p += n;
+        left -= static_cast<std::size_t>(n);
+    }
+    if (::fsync(fd) != 0) fail("cannot flush");
+    ::fchmod(fd, 0644);
+    if (::close(fd) != 0) {
+        const std::string reason = std::strerror(errno);
+        ::unlink(tmpl.c_str());
+        throw IoError("cannot close '" + path + "': " + reason);
+    }
+    if (::rename(tmpl.c_str(), path.c_str()) != 0) {
+        const std::string reason = std::strerror(errno);
+        ::unlink(tmpl.c_str());
+        throw IoError("cannot replace '" + path + "': " + reason);
+    }
+}
+
+std::string readWholeFile(const std::string& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw IoError("cannot open '" + path + "': " + std::strerror(errno));
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    if (in.bad()) throw IoError("cannot read '" + path + "'");
+    return ss.str();
+}
+
+} // namespace armadillo

@@ -1,0 +1,15 @@
+#pragma once
+#include <string>
+#include <string_view>
+
+namespace armadillo {
+
+/// Writes `content` to `path` whole or not at all: a temporary file in the same folder, flushed
+/// to disk, then renamed over the target. Throws IoError naming the path on any failure, and
+/// leaves no temporary behind.
+void writeFileAtomically(const std::string& path, std::string_view content);
+
+/// Reads a whole file; throws IoError naming the path when it cannot be read.
+std::string readWholeFile(const std::string& path);
+
+} // namespace armadillo

@@ -1,0 +1,124 @@
+#pragma once
+// The scene API: what every application of thesis §3–4 implements, and the only ways it may
+// touch the outside world. A scene never writes a motor level directly: it states intents on a
+// MotorCanvas, and the tactile engine shapes them and passes them through the safety stage
+// (STYLE.md convention 6). Audio crosses to the audio thread inside the scene, lock-free.
+#include "Core/ArmState.h"
+#include "Core/Types.h"
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace armadillo {
+
+/// Musical transport: the host's (plugin) or the audio clock's (standalone/CLI).
+struct Transport {
+    bool valid = false;          ///< false: no transport, scenes use their own clock
+    bool playing = false;
+    double seconds = 0.0;        ///< s since the song start
+    double ppq = 0.0;            ///< quarter notes since the song start
+    double bpm = 120.0;
+    bool looping = false;
+};
+
+/// The thesis's sensations (§3.2.6) plus the pulse shapes the applications need.
+enum class PatternKind : std::uint8_t {
+    Point,        ///< one or more motors at `level` for `duration` (jump-started)
+    Pulse,        ///< a single shaped pulse: fast attack, decay over `duration`
+    FadeInPulse,  ///< rising ramp then cut (upper-level knobs, thesis §3.4)
+    FadeOutPulse, ///< cut in then falling ramp (lower-level knobs)
+    Breathing,    ///< all `motors` rise and fall at `rate`
+    Jolt,         ///< every motor in `motors` spikes together: a shove
+    Tickle,       ///< fast random light touches among `motors`
+    Massage,      ///< slow overlapping swells moving around `motors`
+    Twist,        ///< configurations fading into each other around the arm
+    BrokenGlass,  ///< ~250 ms events travelling elbow → wrist, then mirrored; wrist longer/stronger
+    Accent,       ///< short strong hit on `motors`
+    GearPull,     ///< "pulling against a gear train": alternating rows at `rate`
+    Geiger,       ///< clicks on `motors` at `rate` (compass)
+};
+
+/// A request for a pattern. A request replaces whatever runs in the same voice slot.
+struct PatternRequest {
+    PatternKind kind = PatternKind::Point;
+    std::uint16_t motors = 0x01FF;   ///< bit i = motor index i (right-arm layout); default the 3×3 grid
+    float level = 15.0f;             ///< peak level 0..15 (the safety stage still has the last word)
+    double duration = 0.0;           ///< s; 0 = the pattern's default; < 0 = until stopped
+    double rate = 0.0;               ///< Hz for periodic patterns; 0 = default
+    int voice = 0;                   ///< 0..kPatternVoices-1
+};
+inline constexpr int kPatternVoices = 8;
+
+/// Scene → tactile engine. Indices use the right-arm layout; the engine mirrors for the left arm.
+class MotorCanvas {
+public:
+    virtual ~MotorCanvas() = default;
+    /// Sustained target for one motor, 0..15 (fractional levels are dithered), until changed.
+    virtual void setLevel(int motorIndex, float level) = 0;
+    /// All sustained targets to 0 (running patterns keep running).
+    virtual void clearLevels() = 0;
+    virtual void trigger(const PatternRequest& request) = 0;
+    virtual void stopVoice(int voice) = 0;
+};
+
+/// Scene → the outside (OSC `/armadillo/gesture`, MIDI notes/CCs). Names are string literals.
+class EventSink {
+public:
+    virtual ~EventSink() = default;
+    virtual void emit(const char* gesture, float value) = 0;
+};
+
+struct ControlInput {
+    ArmState arm {};
+    Transport transport {};
+    double dt = 0.005;           ///< s since the previous control update
+};
+
+struct SceneOutput {
+    MotorCanvas& motors;
+    EventSink& events;
+};
+
+struct SceneConfig {
+    double sampleRate = 48000.0;     ///< Hz of renderAudio
+    double controlRateHz = 200.0;    ///< expected control updates per second (a hint; dt is exact)
+    std::uint64_t seed = 1;          ///< every random choice derives from this (renders repeat)
+    ArmSide side = ArmSide::Right;
+    std::string text;                ///< braille scene: what to read
+    std::string score;               ///< score scene: "rite-of-spring" | "polytope" | a file path
+    std::string resourceDir;         ///< where Resources/ lives
+};
+
+/// A scene's own parameter; id is stable ("theremin.range"), value in the given unit.
+struct ParamSpec {
+    std::string id;
+    std::string name;
+    float min = 0.0f, max = 1.0f, defaultValue = 0.0f;
+    std::string unit;                      ///< "semitones", "deg", "%", "" ...
+    std::vector<std::string> choices;      ///< non-empty: a choice parameter (value = index)
+};
+
+class Scene {
+public:
+    virtual ~Scene() = default;
+    virtual std::string_view name() const = 0;
+    virtual std::vector<ParamSpec> parameters() const { return {}; }
+    /// Not real-time: allocate and build tables here. Called before any control/render.
+    virtual void prepare(const SceneConfig& config) = 0;
+    /// Any thread; implementations store into atomics. Index into parameters().
+    virtual void setParameter(int index, float value) noexcept { (void) index; (void) value; }
+    /// Control thread, once per sensor update (thesis: ~200/s).
+    virtual void control(const ControlInput& in, SceneOutput& out) = 0;
+    /// Audio thread: no locks, allocation, I/O or exceptions. Adds nothing when silent.
+    virtual void renderAudio(float* left, float* right, int numSamples) noexcept
+    {
+        (void) left; (void) right; (void) numSamples;
+    }
+    virtual bool producesAudio() const { return false; }
+    /// Entering the scene, or a transport jump: forget gestures in progress.
+    virtual void reset() {}
+};
+
+} // namespace armadillo

@@ -1,0 +1,96 @@
+#pragma once
+// Fixed-capacity single-producer / single-consumer queue: the only way data crosses from the
+// device/control thread to the audio thread (STYLE.md convention 5). No locks, no allocation
+// after construction; push fails (returns false) when full instead of blocking.
+#include <array>
+#include <atomic>
+#include <cstddef>
+#include <type_traits>
+
+namespace armadillo {
+
+template <typename T, std::size_t Capacity>
+class SpscQueue {
+    static_assert(Capacity >= 2 && (Capacity & (Capacity - 1)) == 0, "capacity must be a power of two");
+    static_assert(std::is_trivially_copyable_v<T>, "elements are copied without locks");
+
+public:
+    bool push(const T& value) noexcept
+    {
+        const std::size_t head = head_.load(std::memory_order_relaxed);
+        if (head - tail_.load(std::memory_order_acquire) == Capacity) return false;
+        slots_[head & (Capacity - 1)] = value;
+        head_.store(head + 1, std::memory_order_release);
+        return true;
+    }
+
+    bool pop(T& out) noexcept
+    {
+        const std::size_t tail = tail_.load(std::memory_order_relaxed);
+        if (head_.load(std::memory_order_acquire) == tail) return false;
+        out = slots_[tail & (Capacity - 1)];
+        tail_.store(tail + 1, std::memory_order_release);
+        return true;
+    }
+
+    std::size_t size() const noexcept
+    {
+        return head_.load(std::memory_order_acquire) - tail_.load(std::memory_order_acquire);
+    }
+    static constexpr std::size_t capacity() noexcept { return Capacity; }
+
+private:
+    std::array<T, Capacity> slots_ {};
+    alignas(64) std::atomic<std::size_t> head_ {0};
+    alignas(64) std::atomic<std::size_t> tail_ {0};
+};
+
+/// Latest-value mailbox for one writer and any number of readers (a seqlock). Readers never
+/// block the writer; a reader retries while a write is in progress (bounded by the writer's rate).
+template <typename T>
+class SeqLock {
+    static_assert(std::is_trivially_copyable_v<T>, "values are copied without locks");
+
+public:
+    void store(const T& value) noexcept
+    {
+        const unsigned s = sequence_.load(std::memory_order_relaxed);
+        sequence_.store(s + 1, std::memory_order_relaxed);
+        std::atomic_thread_fence(std::memory_order_release);
+        copyIn(value);
+        std::atomic_thread_fence(std::memory_order_release);
+        sequence_.store(s + 2, std::memory_order_release);
+    }
+
+    T load() const noexcept
+    {
+        T out;
+        for (;;) {
+            const unsigned before = sequence_.load(std::memory_order_acquire);
+            if (before & 1u) continue;
+            copyOut(out);
+            std::atomic_thread_fence(std::memory_order_acquire);
+            if (sequence_.load(std::memory_order_relaxed) == before) return out;
+        }
+    }
+
+private:
+    // Word-wise relaxed atomics keep the copy free of data races in the memory model.
+    static constexpr std::size_t kWords = (sizeof(T) + sizeof(unsigned long) - 1) / sizeof(unsigned long);
+    void copyIn(const T& v) noexcept
+    {
+        unsigned long buf[kWords] {};
+        __builtin_memcpy(buf, &v, sizeof(T));
+        for (std::size_t i = 0; i < kWords; ++i) words_[i].store(buf[i], std::memory_order_relaxed);
+    }
+    void copyOut(T& v) const noexcept
+    {
+        unsigned long buf[kWords];
+        for (std::size_t i = 0; i < kWords; ++i) buf[i] = words_[i].load(std::memory_order_relaxed);
+        __builtin_memcpy(&v, buf, sizeof(T));
+    }
+    std::atomic<unsigned> sequence_ {0};
+    std::array<std::atomic<unsigned long>, kWords> words_ {};
+};
+
+} // namespace armadillo
