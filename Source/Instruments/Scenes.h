@@ -1,0 +1,12 @@
+#pragma once
+// Factories of the instrument scenes (thesis §3.4–3.7, §4.1). nullptr = not built in this version.
+#include "Core/Scene.h"
+#include <memory>
+
+namespace armadillo {
+std::unique_ptr<Scene> makeThereminScene();     ///< "theremin"     — fretted theremin, thesis §3.5
+std::unique_ptr<Scene> makeCymbalScene();       ///< "cymbal"       — virtual crash cymbal, thesis §3.6
+std::unique_ptr<Scene> makePanelScene();        ///< "panel"        — virtual control panel, thesis §3.4
+std::unique_ptr<Scene> makeSoundDesignScene();  ///< "sound-design" — gesture sound design, thesis §3.7
+std::unique_ptr<Scene> makeCompassScene();      ///< "compass"      — tactile compass, thesis §4.1
+} // namespace armadillo

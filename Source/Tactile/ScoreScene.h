@@ -1,0 +1,9 @@
+#pragma once
+// The tactile-score scene (thesis §3.3): plays a score from Resources/Scores in sync with the
+// host transport or its own clock. nullptr = not built in this version.
+#include "Core/Scene.h"
+#include <memory>
+
+namespace armadillo {
+std::unique_ptr<Scene> makeScoreScene();   ///< "score" — SceneConfig::score names the score
+} // namespace armadillo
