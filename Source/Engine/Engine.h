@@ -1,0 +1,68 @@
+#pragma once
+// The engine every front end shares (plugin, standalone app, `armadillo play`, `armadillo render`):
+// arm state → scene → tactile engine (shaping, then the safety stage, last) → motor levels;
+// scene → audio. Threads (docs/ARCHITECTURE.md): control() runs on the control thread (device
+// thread in live use), renderAudio() on the audio thread; they share nothing but the scene's own
+// lock-free parameters. Construction and scene changes are not real-time.
+#include "Core/Scene.h"
+#include "Core/SpscQueue.h"
+#include "Core/Types.h"
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace armadillo {
+
+class TactileEngine;
+
+/// Scene names of INTERFACES.md, in the order of the plugin's `scene` choice.
+const std::vector<std::string>& sceneNames();
+/// A new scene by name; throws InputError for an unknown name and std::runtime_error for a scene
+/// that is not built in this version.
+std::unique_ptr<Scene> createScene(const std::string& name);
+
+struct EngineConfig {
+    std::string scene = "monitor";
+    SceneConfig sceneConfig {};
+    int motorCount = kGridMotors;   ///< 9, or 12 with the back motors
+};
+
+/// A gesture a scene emitted (for OSC /armadillo/gesture and MIDI). `name` is a string literal.
+struct GestureEvent {
+    const char* name = "";
+    float value = 0.0f;
+    double t = 0.0;
+};
+
+class Engine {
+public:
+    explicit Engine(const EngineConfig& config);
+    ~Engine();
+    Engine(const Engine&) = delete;
+    Engine& operator=(const Engine&) = delete;
+
+    /// Control thread: one update per sensor packet. Returns the levels of the next motor packet,
+    /// after shaping and the safety stage. dt in s (clamped to a sane range).
+    MotorLevels control(const ArmState& arm, const Transport& transport, double dt);
+    /// Audio thread: adds nothing but the scene's sound; no locks, allocation or I/O.
+    void renderAudio(float* left, float* right, int numSamples) noexcept;
+    /// Stop, disconnect or error: every motor off now; patterns and targets forgotten.
+    void allOff() noexcept;
+
+    Scene& scene() noexcept { return *scene_; }
+    const EngineConfig& config() const noexcept { return config_; }
+    bool producesAudio() const { return scene_->producesAudio(); }
+    /// Gestures since the last call (control thread; at most 64 are kept between calls).
+    bool popGesture(GestureEvent& out) noexcept { return gestures_.pop(out); }
+
+private:
+    class Events;
+    EngineConfig config_;
+    std::unique_ptr<Scene> scene_;
+    std::unique_ptr<TactileEngine> tactile_;
+    std::unique_ptr<Events> events_;
+    SpscQueue<GestureEvent, 64> gestures_;
+    double time_ = 0.0;
+};
+
+} // namespace armadillo
