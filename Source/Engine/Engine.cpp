@@ -1,0 +1,75 @@
+#include "Engine/Engine.h"
+#include "Tactile/TactileEngine.h"
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#ifndef ARMADILLO_RESOURCE_DIR
+#define ARMADILLO_RESOURCE_DIR ""
+#endif
+
+namespace armadillo {
+
+/// Gestures go into a bounded queue; when the consumer falls behind, new ones are dropped.
+class Engine::Events final : public EventSink {
+public:
+    Events(SpscQueue<GestureEvent, 64>& queue, const double& time) : queue_(queue), time_(time) {}
+    void emit(const char* gesture, float value) override { queue_.push({gesture, value, time_}); }
+
+private:
+    SpscQueue<GestureEvent, 64>& queue_;
+    const double& time_;
+};
+
+Engine::Engine(const EngineConfig& config) : config_(config)
+{
+    config_.motorCount = std::clamp(config_.motorCount, kGridMotors, kMaxMotors);
+    if (config_.sceneConfig.resourceDir.empty()) {
+        const char* env = std::getenv("ARMADILLO_RESOURCES");
+        config_.sceneConfig.resourceDir = env && *env ? env : ARMADILLO_RESOURCE_DIR;
+    }
+    scene_ = createScene(config_.scene);
+    scene_->prepare(config_.sceneConfig);
+    tactile_ = std::make_unique<TactileEngine>();
+    TactileConfig tactileConfig;
+    tactileConfig.motorCount = config_.motorCount;
+    tactileConfig.side = config_.sceneConfig.side;
+    tactile_->prepare(tactileConfig);
+    events_ = std::make_unique<Events>(gestures_, time_);
+}
+
+Engine::~Engine() = default;
+
+MotorLevels Engine::control(const ArmState& arm, const Transport& transport, double dt)
+{
+    // A stalled or restarted source must not make shaping jump: dt is kept to 0..0.1 s.
+    if (!(dt >= 0.0)) dt = 0.0;
+    dt = std::min(dt, 0.1);
+    time_ = arm.t;
+    ControlInput in {arm, transport, dt};
+    SceneOutput out {*tactile_, *events_};
+    try {
+        scene_->control(in, out);
+    } catch (...) {
+        tactile_->allOff();   // an error anywhere upstream: motors off first, then report
+        throw;
+    }
+    return tactile_->tick(dt);
+}
+
+void Engine::renderAudio(float* left, float* right, int numSamples) noexcept
+{
+    if (numSamples <= 0) return;
+    std::memset(left, 0, sizeof(float) * static_cast<std::size_t>(numSamples));
+    std::memset(right, 0, sizeof(float) * static_cast<std::size_t>(numSamples));
+    scene_->renderAudio(left, right, numSamples);
+    // Last line of defence for ears and speakers: nothing non-finite, nothing beyond full scale.
+    for (int i = 0; i < numSamples; ++i) {
+        left[i] = std::isfinite(left[i]) ? std::clamp(left[i], -1.0f, 1.0f) : 0.0f;
+        right[i] = std::isfinite(right[i]) ? std::clamp(right[i], -1.0f, 1.0f) : 0.0f;
+    }
+}
+
+void Engine::allOff() noexcept { tactile_->allOff(); }
+
+} // namespace armadillo

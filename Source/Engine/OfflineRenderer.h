@@ -1,0 +1,32 @@
+#pragma once
+// `armadillo render`: the same engine the app uses, driven by a motion file instead of a device,
+// deterministic for a given seed. Control updates happen at the motion file's rows; audio between
+// two rows is rendered after the first row's control update (as the live app's audio thread would
+// hear it). Sample 0 is the time of the first row.
+#include "Core/Csv.h"
+#include "Core/Wav.h"
+#include "Engine/Engine.h"
+#include <vector>
+
+namespace armadillo {
+
+struct RenderSettings {
+    EngineConfig engine {};
+    double tailSeconds = 0.0;      ///< audio rendered after the last row (e.g. to hear a crash ring out)
+    int blockSize = 64;            ///< audio is rendered in blocks of at most this many samples
+    double bpm = 120.0;            ///< tempo of the audio-clock transport the scenes see
+};
+
+struct RenderResult {
+    AudioBuffer audio;                       ///< stereo, engine.sceneConfig.sampleRate
+    std::vector<TactileRow> tactile;         ///< one row per control update (motor packet)
+    std::vector<GestureEvent> gestures;      ///< every gesture the scene emitted
+    std::size_t controlUpdates = 0;
+    std::size_t invalidRows = 0;             ///< rows before fusion had an orientation (motors stay off)
+};
+
+/// Runs the scene over the motion table (IMU, quaternion or pose file); throws InputError for
+/// a file that is not a motion file.
+RenderResult renderOffline(const CsvTable& motion, const RenderSettings& settings);
+
+} // namespace armadillo

@@ -1,0 +1,51 @@
+#include "Braille/BrailleScene.h"
+#include "Core/Errors.h"
+#include "Engine/Engine.h"
+#include "Engine/MonitorScene.h"
+#include "Instruments/Scenes.h"
+#include "Tactile/ScoreScene.h"
+#include <stdexcept>
+
+namespace armadillo {
+
+namespace {
+struct Entry {
+    const char* name;
+    std::unique_ptr<Scene> (*make)();
+};
+const Entry kScenes[] = {
+    {"monitor", makeMonitorScene},
+    {"theremin", makeThereminScene},
+    {"cymbal", makeCymbalScene},
+    {"panel", makePanelScene},
+    {"sound-design", makeSoundDesignScene},
+    {"compass", makeCompassScene},
+    {"braille", makeBrailleScene},
+    {"score", makeScoreScene},
+};
+} // namespace
+
+const std::vector<std::string>& sceneNames()
+{
+    static const std::vector<std::string> names = [] {
+        std::vector<std::string> v;
+        for (const auto& e : kScenes) v.emplace_back(e.name);
+        return v;
+    }();
+    return names;
+}
+
+std::unique_ptr<Scene> createScene(const std::string& name)
+{
+    for (const auto& e : kScenes) {
+        if (name != e.name) continue;
+        auto scene = e.make();
+        if (!scene) throw std::runtime_error("scene '" + name + "' is not built in this version");
+        return scene;
+    }
+    std::string all;
+    for (const auto& n : sceneNames()) all += (all.empty() ? "" : ", ") + n;
+    throw InputError("", 0, "", "unknown scene '" + name + "' (scenes: " + all + ")");
+}
+
+} // namespace armadillo

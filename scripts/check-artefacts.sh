@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# The built files a user is told about in the README must exist, and `armadillo --help` must
+# list every subcommand of INTERFACES.md.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+fail=0
+need() { if [ -e "$1" ]; then echo "artefact ok: $1"; else echo "MISSING artefact: $1"; fail=1; fi; }
+need build/bin/armadillo
+if [ "${ARMADILLO_NO_PLUGIN:-0}" != "1" ]; then
+    need "build/Source/Plugin/ARMadillo_artefacts/Release/VST3/ARMadillo.vst3"
+    need "build/Source/Plugin/ARMadillo_artefacts/Release/LV2/ARMadillo.lv2"
+    need "build/Source/Plugin/ARMadillo_artefacts/Release/Standalone/ARMadillo"
+fi
+help=$(build/bin/armadillo --help)
+for c in ports fuse render play braille; do
+    echo "$help" | grep -q "^  $c " || { echo "armadillo --help does not list '$c'"; fail=1; }
+done
+exit $fail
