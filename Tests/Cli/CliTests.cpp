@@ -1,4 +1,4 @@
-#include "Core/AtomicFile.h"
+#include "CliRun.h"
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <cstdlib>
@@ -8,42 +8,10 @@
 
 namespace fs = std::filesystem;
 
-namespace {
-struct Run {
-    int code = -1;
-    std::string out, err;
-};
-
-fs::path workDir()
-{
-    static const fs::path dir = [] {
-        fs::path p = fs::temp_directory_path() / ("armadillo-cli-" + std::to_string(::getpid()));
-        fs::create_directories(p);
-        return p;
-    }();
-    return dir;
-}
-
-/// Runs `armadillo ARGS` through the shell, capturing stdout, stderr and the exit code.
-Run armadillo(const std::string& args)
-{
-    const fs::path out = workDir() / "stdout.txt", err = workDir() / "stderr.txt";
-    const std::string cmd = std::string("'") + ARMADILLO_BIN + "' " + args + " >'" + out.string() + "' 2>'" + err.string() + "' </dev/null";
-    const int status = std::system(cmd.c_str());
-    Run r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = armadillo::readWholeFile(out.string());
-    r.err = armadillo::readWholeFile(err.string());
-    return r;
-}
-
-std::string file(const std::string& name, const std::string& content)
-{
-    const fs::path p = workDir() / name;
-    armadillo::writeFileAtomically(p.string(), content);
-    return p.string();
-}
-} // namespace
+using armadillo::cli::armadillo;
+using armadillo::cli::file;
+using armadillo::cli::workDir;
+using armadillo::cli::Run;
 
 TEST_CASE("cli: --help lists every subcommand, and each subcommand has --help", "[cli]")
 {

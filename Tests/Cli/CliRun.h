@@ -1,0 +1,48 @@
+#pragma once
+// Runs the real `armadillo` binary as a user would, in a private temporary folder.
+#include "Core/AtomicFile.h"
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace armadillo::cli {
+
+struct Run {
+    int code = -1;
+    std::string out, err;
+};
+
+inline std::filesystem::path workDir()
+{
+    static const std::filesystem::path dir = [] {
+        auto p = std::filesystem::temp_directory_path() / ("armadillo-cli-" + std::to_string(::getpid()));
+        std::filesystem::create_directories(p);
+        return p;
+    }();
+    return dir;
+}
+
+inline std::string path(const std::string& name) { return (workDir() / name).string(); }
+
+inline std::string file(const std::string& name, const std::string& content)
+{
+    writeFileAtomically(path(name), content);
+    return path(name);
+}
+
+/// `armadillo ARGS` through the shell, capturing stdout, stderr and the exit code.
+inline Run armadillo(const std::string& args)
+{
+    const std::string out = path("stdout.txt"), err = path("stderr.txt");
+    const std::string cmd = std::string("'") + ARMADILLO_BIN + "' " + args + " >'" + out + "' 2>'" + err + "' </dev/null";
+    const int status = std::system(cmd.c_str());
+    Run r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = readWholeFile(out);
+    r.err = readWholeFile(err);
+    return r;
+}
+
+} // namespace armadillo::cli
