@@ -72,6 +72,9 @@ bool patternIsPeriodic(PatternKind kind) noexcept;
 /// The pattern's length in s: request.duration when > 0, infinity when < 0 (until stopped),
 /// else the pattern's default (infinity for periodic patterns, BrokenGlass included).
 double patternLength(const PatternRequest& request, const PatternParams& params) noexcept;
+/// The rate in Hz a periodic pattern runs at (request.rate, or the pattern's default); the
+/// phase of a periodic pattern is t × this rate. 0 for one-shot patterns.
+double patternRate(const PatternRequest& request, const PatternParams& params) noexcept;
 /// Length in s of one broken-glass sequence (shown once, then mirrored).
 double brokenGlassCycle(const PatternParams& params) noexcept;
 

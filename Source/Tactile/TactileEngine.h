@@ -57,7 +57,7 @@ public:
 
 private:
     struct History;
-    double windowIntegralWithAppend(int m, double window, bool above, double horizon, double& worstSlope) const noexcept;
+    std::uint64_t findRecord(int m, double t) const noexcept;
     void push(int m, std::uint8_t level) noexcept;
     void dropOld(int m) noexcept;
     double cumulativeAt(int m, double t, bool above) const noexcept;

@@ -1,0 +1,263 @@
+// The pattern library (thesis §3.2.6, §3.3.2, §3.4–3.6, §4.1). Each pattern is a pure function of
+// the time since it started; see Patterns.h and docs/TACTILE.md for the shapes.
+#include "Tactile/Patterns.h"
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace armadillo {
+
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+struct NamedKind {
+    std::string_view name;
+    PatternKind kind;
+};
+constexpr NamedKind kNames[kPatternKinds] = {
+    {"point", PatternKind::Point},           {"pulse", PatternKind::Pulse},
+    {"fade-in-pulse", PatternKind::FadeInPulse}, {"fade-out-pulse", PatternKind::FadeOutPulse},
+    {"breathing", PatternKind::Breathing},   {"jolt", PatternKind::Jolt},
+    {"tickle", PatternKind::Tickle},         {"massage", PatternKind::Massage},
+    {"twist", PatternKind::Twist},           {"broken-glass", PatternKind::BrokenGlass},
+    {"accent", PatternKind::Accent},         {"gear-pull", PatternKind::GearPull},
+    {"geiger", PatternKind::Geiger},
+};
+
+std::uint64_t mix(std::uint64_t x) noexcept   // splitmix64 finaliser: a stateless random choice
+{
+    x += 0x9E3779B97F4A7C15ull;
+    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+    return x ^ (x >> 31);
+}
+
+float clampLevel(float level) noexcept
+{
+    if (!(level >= 0.0f)) return 0.0f;   // NaN and negatives
+    return std::min(level, float(kMaxLevel));
+}
+
+double rateOr(const PatternRequest& r, double fallback) noexcept
+{
+    return (r.rate > 0.0 && std::isfinite(r.rate)) ? r.rate : fallback;
+}
+
+void put(PatternSample& s, int index, float level, bool smooth) noexcept
+{
+    if (index < 0 || index >= kMaxMotors || !(level > 0.0f)) return;
+    const auto i = static_cast<std::size_t>(index);
+    s.level[i] = std::max(s.level[i], std::min(level, float(kMaxLevel)));
+    s.active = static_cast<std::uint16_t>(s.active | (1u << index));
+    if (smooth) s.smooth = static_cast<std::uint16_t>(s.smooth | (1u << index));
+}
+
+void putMask(PatternSample& s, std::uint16_t mask, float level, bool smooth) noexcept
+{
+    for (int i = 0; i < kMaxMotors; ++i)
+        if (mask & (1u << i)) put(s, i, level, smooth);
+}
+
+// The motors of `mask` in the order a touch travels around the arm: the grid's ring (wrist row
+// left→right, down the right column, elbow row right→left, up the left column), then the centre,
+// then the back and spare motors.
+int ringOrder(std::uint16_t mask, std::array<int, kMaxMotors>& order) noexcept
+{
+    static constexpr int kRing[] = {0, 1, 2, 5, 8, 7, 6, 3, 4, 9, 10, 11, 12, 13, 14, 15};
+    int n = 0;
+    for (int index : kRing)
+        if (mask & (1u << index)) order[static_cast<std::size_t>(n++)] = index;
+    return n;
+}
+
+// Broken glass (thesis Figure 3-18): events travelling from the elbow to the wrist; the arrival at
+// the wrist lasts longer and is stronger, which is what makes it read as motion. The mirrored
+// pass swaps the left and right columns.
+constexpr int kGlassPath[] = {motorIndex(2, 2), motorIndex(2, 1), motorIndex(1, 1), motorIndex(1, 0), motorIndex(0, 0)};
+constexpr int kGlassEvents = 5;
+
+int mirrorColumn(int index) noexcept
+{
+    if (index < 0 || index >= kGridMotors) return index;
+    const int row = index / 3, col = index % 3;
+    return motorIndex(row, 2 - col);
+}
+
+} // namespace
+
+std::string_view patternName(PatternKind kind) noexcept
+{
+    for (const auto& n : kNames)
+        if (n.kind == kind) return n.name;
+    return "unknown";
+}
+
+std::optional<PatternKind> patternKindFromName(std::string_view name) noexcept
+{
+    for (const auto& n : kNames)
+        if (n.name == name) return n.kind;
+    return std::nullopt;
+}
+
+bool patternIsPeriodic(PatternKind kind) noexcept
+{
+    switch (kind) {
+    case PatternKind::Breathing:
+    case PatternKind::Tickle:
+    case PatternKind::Massage:
+    case PatternKind::Twist:
+    case PatternKind::BrokenGlass:
+    case PatternKind::GearPull:
+    case PatternKind::Geiger: return true;
+    default: return false;
+    }
+}
+
+double patternRate(const PatternRequest& r, const PatternParams& p) noexcept
+{
+    switch (r.kind) {
+    case PatternKind::Breathing: return rateOr(r, p.breathingRate);
+    case PatternKind::Tickle: return rateOr(r, 1.0 / p.tickleStep);
+    case PatternKind::Massage: return rateOr(r, p.massageRate);
+    case PatternKind::Twist: return rateOr(r, p.twistRate);
+    case PatternKind::BrokenGlass: return rateOr(r, 1.0 / p.glassEvent);
+    case PatternKind::GearPull: return rateOr(r, p.gearRate);
+    case PatternKind::Geiger: return rateOr(r, p.geigerRate);
+    default: return 0.0;
+    }
+}
+
+double brokenGlassCycle(const PatternParams& p) noexcept
+{
+    return 2.0 * p.glassEvent * (kGlassEvents - 1 + p.glassArrivalStretch);
+}
+
+double patternLength(const PatternRequest& r, const PatternParams& p) noexcept
+{
+    if (r.duration > 0.0) return r.duration;
+    if (r.duration < 0.0 || std::isnan(r.duration)) return r.duration < 0.0 ? kInfinity : 0.0;
+    switch (r.kind) {
+    case PatternKind::Point: return p.pointTime;
+    case PatternKind::Pulse: return p.pulseTime;
+    case PatternKind::FadeInPulse:
+    case PatternKind::FadeOutPulse: return p.fadeTime;
+    case PatternKind::Jolt: return p.joltTime;
+    case PatternKind::Accent: return p.accentTime;
+    default: return kInfinity;
+    }
+}
+
+PatternSample evaluatePattern(const PatternRequest& r, const PatternParams& p, double t, std::uint64_t seed) noexcept
+{
+    PatternSample s;
+    const double length = patternLength(r, p);
+    if (!(t >= 0.0) || !(t < length)) return s;
+    const float level = clampLevel(r.level);
+    const std::uint16_t mask = r.motors;
+    switch (r.kind) {
+    case PatternKind::Point:
+    case PatternKind::Jolt:
+    case PatternKind::Accent: putMask(s, mask, level, false); break;
+
+    case PatternKind::Pulse: {
+        const double attack = std::min(p.pulseAttack, 0.5 * length);
+        const double v = t < attack ? t / attack : 1.0 - (t - attack) / (length - attack);
+        putMask(s, mask, level * float(v), false);
+        break;
+    }
+    case PatternKind::FadeInPulse:
+        if (std::isfinite(length)) putMask(s, mask, level * float(t / length), true);
+        else putMask(s, mask, level, true);
+        break;
+    case PatternKind::FadeOutPulse:
+        if (std::isfinite(length)) putMask(s, mask, level * float(1.0 - t / length), false);
+        else putMask(s, mask, level, false);
+        break;
+
+    case PatternKind::Breathing: {
+        const double phase = t * rateOr(r, p.breathingRate);
+        const double swell = 0.5 * (1.0 - std::cos(2.0 * kPi * phase));
+        const double floor = static_cast<double>(p.breathingFloor);
+        const double v = floor + (1.0 - floor) * swell;
+        putMask(s, mask, level * float(v), true);
+        break;
+    }
+    case PatternKind::Tickle: {
+        // Touches at random motors, one per step (thesis Figure 3-13: chaotic, very quick).
+        std::array<int, kMaxMotors> order {};
+        const int n = ringOrder(mask, order);
+        if (n == 0) break;
+        const double step = 1.0 / rateOr(r, 1.0 / p.tickleStep);
+        const double k = std::floor(t / step);
+        if (t - k * step >= std::min(p.tickleTouch, step)) break;
+        const auto pick = mix(seed ^ mix(static_cast<std::uint64_t>(k))) % static_cast<std::uint64_t>(n);
+        put(s, order[static_cast<std::size_t>(pick)], level * p.tickleScale, true);
+        break;
+    }
+    case PatternKind::Massage: {
+        // Slow swells travelling around the arm, each overlapping its neighbours (Figure 3-14).
+        std::array<int, kMaxMotors> order {};
+        const int n = ringOrder(mask, order);
+        if (n == 0) break;
+        const double position = std::fmod(t * rateOr(r, p.massageRate) * n, double(n));
+        constexpr double kHalfWidth = 1.5;   // motors: each swell reaches the next motor's peak
+        for (int i = 0; i < n; ++i) {
+            double d = std::fabs(position - i);
+            d = std::min(d, n - d);
+            if (d < kHalfWidth)
+                put(s, order[static_cast<std::size_t>(i)], level * float(0.5 * (1.0 + std::cos(kPi * d / kHalfWidth))), true);
+        }
+        break;
+    }
+    case PatternKind::Twist: {
+        // Helical stripes wound around the arm: stripe k = {(row, (row + k) mod 3)}. Each fades
+        // into the next, so the stripe turns around the arm (thesis §3.3.2, Figure 3-17).
+        const double position = t * rateOr(r, p.twistRate);
+        const double k = std::floor(position);
+        const double f = position - k;
+        const int a = static_cast<int>(std::fmod(k, 3.0)), b = (a + 1) % 3;
+        for (int row = 0; row < 3; ++row) {
+            const int ia = motorIndex(row, (row + a) % 3), ib = motorIndex(row, (row + b) % 3);
+            if (mask & (1u << ia)) put(s, ia, level * float(std::cos(0.5 * kPi * f)), true);
+            if (mask & (1u << ib)) put(s, ib, level * float(std::sin(0.5 * kPi * f)), true);
+        }
+        break;
+    }
+    case PatternKind::BrokenGlass: {
+        const double event = r.rate > 0.0 ? 1.0 / r.rate : p.glassEvent;
+        PatternParams q = p;
+        q.glassEvent = event;
+        const double cycle = brokenGlassCycle(q);
+        double u = std::fmod(t, cycle);
+        const bool mirrored = u >= 0.5 * cycle;
+        if (mirrored) u -= 0.5 * cycle;
+        const int e = std::min(kGlassEvents - 1, static_cast<int>(u / event));
+        const int index = mirrored ? mirrorColumn(kGlassPath[e]) : kGlassPath[e];
+        const bool arrival = e == kGlassEvents - 1;
+        if ((mask & (1u << index)) == 0) break;
+        put(s, index, arrival ? clampLevel(level + p.glassArrivalBoost) : level, false);
+        break;
+    }
+    case PatternKind::GearPull: {
+        // Pulling against a gear train: short pulses alternating between the outer rows (wrist
+        // and elbow) and the middle row, like teeth slipping one by one.
+        const double position = t * rateOr(r, p.gearRate);
+        const double k = std::floor(position);
+        if (position - k >= p.gearDuty) break;
+        const bool outer = std::fmod(k, 2.0) < 0.5;
+        const std::uint16_t rows = outer ? (motors::kWristRow | motors::kElbowRow) : motors::kMiddleRow;
+        putMask(s, static_cast<std::uint16_t>(mask & rows), level, false);
+        break;
+    }
+    case PatternKind::Geiger: {
+        const double period = 1.0 / rateOr(r, p.geigerRate);
+        const double u = t - std::floor(t / period) * period;
+        if (u < std::min(p.geigerClick, 0.5 * period)) putMask(s, mask, level, false);
+        break;
+    }
+    }
+    return s;
+}
+
+} // namespace armadillo
