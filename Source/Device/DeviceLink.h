@@ -1,0 +1,104 @@
+#pragma once
+// The host link on its own thread: a LinkPort, the HostLink state machine and reconnection with
+// backoff. Each good sensor packet is handed to the handler on the link thread (the control
+// thread in live use: calibration → tracking → engine → levels) and its motor packet leaves at
+// once. Stats, the connection state and the raw packets cross to other threads lock-free
+// (SeqLock, atomics, SpscQueue).
+#include "Core/SpscQueue.h"
+#include "Device/HostLink.h"
+#include "Device/LinkPort.h"
+#include <atomic>
+#include <condition_variable>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace armadillo::device {
+
+/// One sensor packet as it arrived: t in s since the link started.
+struct RawPacket {
+    double t = 0.0;
+    SensorCounts counts {};
+};
+
+struct DeviceLinkOptions {
+    LinkConfig link {};
+    double reconnectMin = 0.05;   ///< s: first retry after a loss
+    double reconnectMax = 0.25;   ///< s: backoff cap (a returning port is found within this)
+};
+
+/// Sensor-packet arrival → motor-packet written, measured on the link thread.
+struct LatencySummary {
+    std::uint64_t count = 0;
+    double meanUs = 0.0, p50Us = 0.0, p99Us = 0.0, maxUs = 0.0;
+};
+
+class DeviceLink final : private LinkPeer {
+public:
+    /// Runs on the link thread for every good packet; returns the next motor levels.
+    using Handler = std::function<MotorLevels(const SensorCounts& counts, double t)>;
+
+    DeviceLink(std::unique_ptr<LinkPort> port, Handler handler, const DeviceLinkOptions& options = {});
+    ~DeviceLink() override;
+    DeviceLink(const DeviceLink&) = delete;
+    DeviceLink& operator=(const DeviceLink&) = delete;
+
+    void start();
+    /// Stops the thread and closes the port (no motor packet is sent after this returns).
+    void stop();
+    bool running() const noexcept { return thread_.joinable(); }
+
+    LinkStats stats() const noexcept { return stats_.load(); }
+    bool connected() const noexcept { return connected_.load(std::memory_order_acquire); }
+    /// The latest transport error ("" when none) — for messages, not for control flow.
+    std::string lastError() const;
+    std::string portName() const { return port_->name(); }
+    std::string backend() const;
+    /// Seconds since start() on the link's clock.
+    double now() const noexcept;
+
+    /// Waits (event-driven) until pred(stats) holds or the timeout passes; returns pred's value.
+    bool waitFor(const std::function<bool(const LinkStats&)>& pred, double timeoutSeconds) const;
+
+    /// Every good packet, for one consumer thread (UI, calibration, recording). Full ⇒ dropped.
+    SpscQueue<RawPacket, 1024>& packets() noexcept { return packets_; }
+    LatencySummary latency() const;
+
+private:
+    MotorLevels onSensorPacket(const SensorCounts& counts, double now) override;
+    void send(const std::uint8_t* bytes, std::size_t count) override;
+    void run();
+    void publish();
+    void setError(const std::string& e);
+    bool sleepUnlessStopped(double seconds);
+
+    std::unique_ptr<LinkPort> port_;
+    Handler handler_;
+    DeviceLinkOptions options_;
+    HostLink link_;
+    std::thread thread_;
+    std::atomic<bool> stop_ {false};
+    std::atomic<bool> connected_ {false};
+    SeqLock<LinkStats> stats_;
+    SpscQueue<RawPacket, 1024> packets_;
+    double arrival_ = 0.0;                 // link thread: when the bytes being parsed arrived
+    bool wroteMotorPacket_ = false;
+    std::chrono::steady_clock::time_point start_ {};
+
+    static constexpr std::size_t kLatencyBins = 10000;   // 1 µs bins up to 10 ms, then overflow
+    std::vector<std::atomic<std::uint32_t>> latencyHist_;
+    std::atomic<std::uint64_t> latencyCount_ {0};
+    std::atomic<double> latencySumUs_ {0.0};
+    std::atomic<double> latencyMaxUs_ {0.0};
+
+    mutable std::mutex mutex_;             // error text and the wait condition only
+    mutable std::condition_variable cv_;
+    mutable std::atomic<int> waiters_ {0};
+    std::string lastError_;
+    std::string backend_;
+};
+
+} // namespace armadillo::device

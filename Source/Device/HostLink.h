@@ -1,0 +1,96 @@
+#pragma once
+// The host side of the thesis link (thesis §2.5.3), transport-agnostic and clock-free: every
+// call carries the time `now` (s, any monotonic origin), so tests drive it with a fake clock.
+//
+// Lock-step: each sensor packet that arrives with the end nibble 0x0 is handed to the owner,
+// whose motor levels go back at once as one motor packet. The host keeps the two in step:
+// a sensor packet whose end nibble is not 0x0, or 10 ms without a byte from the device while a
+// packet is due, puts the link into resync: the host waits for the line to go quiet, then
+// streams 0x8 bytes until the device answers with a sensor packet. A device that never answers
+// is reported (reopenDue) so the transport can reconnect: the host is the one that reconnects.
+#include "Device/Packets.h"
+#include "Core/Types.h"
+#include <cstdint>
+
+namespace armadillo::device {
+
+struct LinkConfig {
+    double silenceTimeout = 0.010;       ///< s without a byte while a packet is due ⇒ resync (thesis: 10 ms)
+    double resyncQuiet = 0.002;          ///< s of line silence before resync bytes are sent (drops stale bytes)
+    double resyncByteInterval = 0.0005;  ///< s between resync bytes (≈ 3 byte times at 57 600 baud)
+    double reopenAfter = 2.0;            ///< s in resync without an answer ⇒ ask for a reconnect; ≤ 0: never
+};
+
+/// Counters of one link. packets = good sensor packets; badPackets = frames with a wrong end
+/// nibble; resyncs = times the link fell out of step after having been in step; silences = 10 ms
+/// timeouts; reconnects = transport reopened after a loss (counted by the transport runner).
+struct LinkStats {
+    std::uint64_t packets = 0;
+    std::uint64_t badPackets = 0;
+    std::uint64_t resyncs = 0;
+    std::uint64_t silences = 0;
+    std::uint64_t reconnects = 0;
+    std::uint64_t bytesIn = 0;
+    std::uint64_t bytesOut = 0;
+    std::uint64_t discardedBytes = 0;    ///< bytes dropped while resynchronising
+    double rateHz = 0.0;                 ///< recent packet rate (1 s exponential average)
+    double firstPacketTime = -1.0;       ///< s, `now` of the first good packet; −1 before
+    double lastPacketTime = -1.0;        ///< s, `now` of the latest good packet
+    bool inSync = false;
+};
+
+/// What the link needs from its owner: the reply to a packet, and a way to send bytes.
+class LinkPeer {
+public:
+    virtual ~LinkPeer() = default;
+    /// A good sensor packet arrived at `now`; return the levels of the motor packet to answer with.
+    virtual MotorLevels onSensorPacket(const SensorCounts& counts, double now) = 0;
+    /// Send bytes to the device (motor packets, resync bytes).
+    virtual void send(const std::uint8_t* bytes, std::size_t count) = 0;
+};
+
+class HostLink {
+public:
+    enum class State : std::uint8_t {
+        Draining,     ///< out of step: discarding bytes until the line is quiet
+        Resyncing,    ///< streaming 0x8 bytes, waiting for the device to answer
+        Framing,      ///< in resync, collecting the answer's 14 bytes
+        InStep,       ///< collecting the next sensor packet of the lock-step exchange
+    };
+
+    explicit HostLink(const LinkConfig& config = {});
+
+    /// Forget everything about the line (a new connection): the next exchange starts with a resync.
+    void reset(double now);
+    /// Bytes received at `now`.
+    void receive(const std::uint8_t* bytes, std::size_t count, double now, LinkPeer& peer);
+    /// Timers: call at least by nextDeadline().
+    void poll(double now, LinkPeer& peer);
+    /// The latest time poll() must be called (resync bytes, silence rule).
+    double nextDeadline() const noexcept;
+    /// True when the device has not answered resync for config.reopenAfter seconds.
+    bool reopenDue(double now) const noexcept;
+
+    State state() const noexcept { return state_; }
+    const LinkStats& stats() const noexcept { return stats_; }
+    LinkStats& stats() noexcept { return stats_; }
+    const LinkConfig& config() const noexcept { return config_; }
+
+private:
+    void fallOutOfStep(double now);
+    void completeFrame(double now, LinkPeer& peer);
+    void sendByte(std::uint8_t b, LinkPeer& peer);
+
+    LinkConfig config_;
+    State state_ = State::Draining;
+    SensorPacketBytes frame_ {};
+    std::size_t fill_ = 0;
+    double lastRx_ = -1e300;           ///< time of the last byte received
+    double lastTx_ = -1e300;           ///< time of the last motor packet sent
+    double nextResyncByte_ = 0.0;
+    double outOfStepSince_ = 0.0;
+    double lastAnswer_ = 0.0;          ///< last time the device sent anything useful (or reset)
+    LinkStats stats_ {};
+};
+
+} // namespace armadillo::device

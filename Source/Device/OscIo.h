@@ -1,0 +1,96 @@
+#pragma once
+// OSC over UDP: the sender for the INTERFACES.md address space (`--osc-out HOST:PORT`, the
+// plugin's OSC setting) and the sensor input (`--osc-in PORT`: /armadillo/imu fffffffff,
+// /armadillo/orientation ffff) so a phone sensor app or another tracker drives everything.
+#include "Core/Types.h"
+#include "Device/Osc.h"
+#include <Eigen/Geometry>
+#include <atomic>
+#include <functional>
+#include <string>
+#include <thread>
+
+namespace armadillo {
+struct Pose;
+}
+
+namespace armadillo::device {
+
+struct HostPort {
+    std::string host;
+    int port = 0;
+};
+/// "HOST:PORT", "[v6addr]:PORT" or ":PORT"/"PORT" (localhost). Throws std::invalid_argument.
+HostPort parseHostPort(const std::string& text);
+
+/// Sends datagrams without blocking (a full socket buffer drops the message). Messages are
+/// encoded on the stack: safe to call from the control thread.
+class OscSender {
+public:
+    /// Resolves the destination; throws IoError when it cannot (unknown host, no socket).
+    explicit OscSender(const HostPort& destination);
+    ~OscSender();
+    OscSender(const OscSender&) = delete;
+    OscSender& operator=(const OscSender&) = delete;
+
+    bool send(std::string_view address, const OscArg* args, std::size_t count) noexcept;
+    bool sendOrientation(const Eigen::Quaterniond& q) noexcept;   ///< /armadillo/orientation ffff (w x y z)
+    bool sendPose(const Pose& pose) noexcept;                     ///< /armadillo/pose fff (elevation azimuth roll, deg)
+    bool sendGyro(const Eigen::Vector3d& gyro) noexcept;          ///< /armadillo/gyro fff (rad/s, device frame)
+    bool sendMotors(const MotorLevels& levels, int motorCount = kGridMotors) noexcept;   ///< /armadillo/motors i…
+    bool sendGesture(const char* name) noexcept;                  ///< /armadillo/gesture s
+
+    std::uint64_t sent() const noexcept { return sent_.load(); }
+    std::uint64_t dropped() const noexcept { return dropped_.load(); }
+
+private:
+    int fd_ = -1;
+    alignas(8) unsigned char addr_[128] {};
+    unsigned addrLen_ = 0;
+    std::atomic<std::uint64_t> sent_ {0}, dropped_ {0};
+};
+
+struct OscInputStats {
+    std::uint64_t datagrams = 0;
+    std::uint64_t imu = 0;            ///< /armadillo/imu messages accepted
+    std::uint64_t orientation = 0;    ///< /armadillo/orientation messages accepted
+    std::uint64_t bad = 0;            ///< malformed datagrams or wrong argument lists
+    std::uint64_t ignored = 0;        ///< other addresses
+};
+
+/// Listens on a UDP port (all interfaces) on its own thread; handlers run on that thread.
+class OscReceiver {
+public:
+    using ImuHandler = std::function<void(const ImuSample&)>;
+    using OrientationHandler = std::function<void(double t, const Eigen::Quaterniond& q)>;
+
+    /// Binds now (port 0 = any free port); throws IoError when the port is taken.
+    OscReceiver(int port, ImuHandler onImu, OrientationHandler onOrientation);
+    ~OscReceiver();
+    OscReceiver(const OscReceiver&) = delete;
+    OscReceiver& operator=(const OscReceiver&) = delete;
+
+    void start();
+    void stop();
+    int port() const noexcept { return port_; }
+    OscInputStats stats() const noexcept;
+    /// The latest reason a datagram was refused ("" when none). Not for the control path.
+    std::string lastError() const;
+    /// Decodes and dispatches one datagram at time t (what the thread does; public for tests/fuzz).
+    void handleDatagram(const std::uint8_t* data, std::size_t size, double t);
+
+private:
+    void run();
+    int fd_ = -1;
+    int port_ = 0;
+    ImuHandler onImu_;
+    OrientationHandler onOrientation_;
+    std::thread thread_;
+    std::atomic<bool> stop_ {false};
+    std::atomic<std::uint64_t> datagrams_ {0}, imu_ {0}, orientation_ {0}, bad_ {0}, ignored_ {0};
+    std::chrono::steady_clock::time_point start_ {};
+    mutable std::atomic<bool> errorLock_ {false};
+    std::string lastError_;
+};
+
+} // namespace armadillo::device
