@@ -1,0 +1,35 @@
+#pragma once
+// Device / port / calibration / OSC settings with link statistics. Every control carries an
+// accessible title and description and is reachable with Tab.
+#include <juce_gui_basics/juce_gui_basics.h>
+
+namespace armadillo::plugin {
+
+class ArmadilloProcessor;
+
+class DevicePanel : public juce::Component, private juce::Timer {
+public:
+    explicit DevicePanel(ArmadilloProcessor& processor);
+    ~DevicePanel() override;
+    void resized() override;
+    void paint(juce::Graphics&) override;
+
+private:
+    void timerCallback() override;
+    void rescanPorts();
+    void chooseCalibration();
+
+    ArmadilloProcessor& processor_;
+    juce::Label deviceHeading_, oscHeading_;
+    juce::ComboBox port_;
+    juce::TextButton rescan_ {"Rescan"}, connect_ {"Connect"}, calibration_ {"Calibration..."};
+    juce::Label calibrationFile_, link_;
+    juce::ComboBox side_;
+    juce::ToggleButton backMotors_ {"Back motors (12)"};
+    juce::ToggleButton oscOut_ {"OSC out"}, oscIn_ {"OSC in"};
+    juce::TextEditor oscHost_, oscPort_, oscInPort_;
+    juce::Label hostLabel_, portLabel_, inPortLabel_;
+    std::unique_ptr<juce::FileChooser> chooser_;
+};
+
+} // namespace armadillo::plugin

@@ -1,0 +1,28 @@
+#include "Plugin/LiveInput.h"
+
+namespace armadillo::plugin {
+
+void LiveInput::storeOrientation(double t, const Eigen::Quaterniond& q) noexcept
+{
+    LiveOrientation o;
+    o.t = t;
+    const auto n = q.normalized();
+    o.w = n.w();
+    o.x = n.x();
+    o.y = n.y();
+    o.z = n.z();
+    o.serial = serial_.fetch_add(1, std::memory_order_relaxed) + 1;
+    orientation_.store(o);
+}
+
+ImuSample toImuSample(const LiveImu& s)
+{
+    ImuSample out;
+    out.t = s.t;
+    out.gyro = Eigen::Vector3d(s.g[0], s.g[1], s.g[2]);
+    out.accel = Eigen::Vector3d(s.a[0], s.a[1], s.a[2]);
+    out.mag = Eigen::Vector3d(s.m[0], s.m[1], s.m[2]);
+    return out;
+}
+
+} // namespace armadillo::plugin

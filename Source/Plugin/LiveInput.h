@@ -1,0 +1,45 @@
+#pragma once
+// The mailbox between live sources (simulator, OSC receiver, device link) and the control loop.
+// Producers run on their own threads; the control loop (audio thread, or the idle clock) reads
+// the latest orientation from a seqlock and drains IMU samples from an SPSC queue: no locks.
+#include "Core/SpscQueue.h"
+#include "Core/Types.h"
+#include <Eigen/Geometry>
+#include <atomic>
+#include <cstdint>
+
+namespace armadillo::plugin {
+
+/// One orientation from a live source, q = (w, x, y, z) device → earth (INTERFACES.md).
+struct LiveOrientation {
+    double t = 0.0;                  ///< s, source clock
+    double w = 1.0, x = 0.0, y = 0.0, z = 0.0;
+    std::uint64_t serial = 0;        ///< increments with every new value; 0 = nothing yet
+};
+
+/// A calibrated inertial sample as plain numbers (Eigen vectors are not trivially copyable).
+struct LiveImu {
+    double t = 0.0;                  ///< s
+    float g[3] {};                   ///< rad/s, device frame
+    float a[3] {};                   ///< m/s², device frame
+    float m[3] {};                   ///< any unit; NaN when absent
+};
+
+class LiveInput {
+public:
+    /// One producer at a time (whichever source is selected).
+    void storeOrientation(double t, const Eigen::Quaterniond& q) noexcept;
+    bool pushImu(const LiveImu& sample) noexcept { return imu_.push(sample); }
+
+    LiveOrientation latest() const noexcept { return orientation_.load(); }
+    bool popImu(LiveImu& out) noexcept { return imu_.pop(out); }
+
+private:
+    SeqLock<LiveOrientation> orientation_;
+    SpscQueue<LiveImu, 512> imu_;
+    std::atomic<std::uint64_t> serial_ {0};
+};
+
+ImuSample toImuSample(const LiveImu& s);
+
+} // namespace armadillo::plugin

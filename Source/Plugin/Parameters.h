@@ -1,0 +1,44 @@
+#pragma once
+// The plugin's one parameter layout (STYLE.md convention 7). IDs are stable contracts
+// (INTERFACES.md "Plugin parameters"): hosts store automation under them, and LV2 uses them as
+// property symbols. The version hint is bumped only for a parameter whose meaning changes.
+#include "Core/Scene.h"
+#include <juce_audio_processors/juce_audio_processors.h>
+#include <string>
+#include <vector>
+
+namespace armadillo::plugin {
+
+namespace ParamIds {
+inline constexpr const char* elevation = "elevation";   ///< deg, −90…90
+inline constexpr const char* azimuth = "azimuth";       ///< deg, 0…360
+inline constexpr const char* roll = "roll";             ///< deg, −180…180
+inline constexpr const char* source = "source";         ///< SourceKind
+inline constexpr const char* scene = "scene";           ///< index into sceneNames()
+} // namespace ParamIds
+
+/// Version hint of every parameter in this layout (JUCE ParameterID).
+inline constexpr int kParameterVersion = 1;
+
+/// Where the arm's orientation comes from. The order is the `source` choice order (a contract).
+enum class SourceKind : int { Device = 0, Simulator = 1, Osc = 2, HostAutomation = 3 };
+const juce::StringArray& sourceChoiceNames();
+inline bool isLiveSource(SourceKind s) noexcept { return s != SourceKind::HostAutomation; }
+
+/// Every scene's own parameters, queried once from the scenes themselves.
+struct SceneParameterTable {
+    struct Entry {
+        std::string scene;             ///< scene name (INTERFACES.md)
+        bool available = false;        ///< false: the scene is not built in this version
+        std::string reason;            ///< why it is unavailable
+        std::vector<ParamSpec> specs;  ///< Scene::parameters(), in index order
+        std::vector<bool> exposed;     ///< false for a spec whose id another scene already took
+    };
+    std::vector<Entry> scenes;         ///< in sceneNames() order
+};
+
+SceneParameterTable querySceneParameters();
+
+juce::AudioProcessorValueTreeState::ParameterLayout createParameterLayout(const SceneParameterTable& table);
+
+} // namespace armadillo::plugin

@@ -1,0 +1,120 @@
+#include "Plugin/SceneControls.h"
+#include "Plugin/PluginProcessor.h"
+
+namespace armadillo::plugin {
+
+SceneControls::SceneControls(ArmadilloProcessor& processor) : processor_(processor)
+{
+    heading_.setFont(juce::Font(15.0f, juce::Font::bold));
+    addAndMakeVisible(heading_);
+    note_.setFont(juce::Font(13.0f));
+    note_.setColour(juce::Label::textColourId, juce::Colours::lightgrey);
+    addAndMakeVisible(note_);
+    viewport_.setViewedComponent(&content_, false);
+    viewport_.setScrollBarsShown(true, false);
+    viewport_.setTitle("Scene controls");
+    addAndMakeVisible(viewport_);
+    setTitle("Scene controls");
+    setFocusContainerType(FocusContainerType::focusContainer);
+    rebuild();
+    startTimerHz(10);
+}
+
+SceneControls::~SceneControls()
+{
+    controls_.clear();   // attachments before the components they attach
+}
+
+void SceneControls::timerCallback()
+{
+    if (processor_.sceneIndex() != shownScene_) rebuild();
+}
+
+void SceneControls::rebuild()
+{
+    controls_.clear();
+    content_.removeAllChildren();
+    shownScene_ = processor_.sceneIndex();
+    const auto& scenes = processor_.sceneTable().scenes;
+    if (shownScene_ < 0 || shownScene_ >= static_cast<int>(scenes.size())) return;
+    const auto& entry = scenes[static_cast<std::size_t>(shownScene_)];
+    heading_.setText("Scene: " + juce::String(entry.scene), juce::dontSendNotification);
+    note_.setText(entry.available ? (entry.specs.empty() ? "This scene has no settings." : "")
+                                  : "Not available in this build: " + juce::String(entry.reason),
+                  juce::dontSendNotification);
+
+    auto& apvts = processor_.parameters();
+    for (std::size_t i = 0; i < entry.specs.size(); ++i) {
+        if (! entry.exposed[i]) continue;
+        const auto& spec = entry.specs[i];
+        const auto id = juce::String(spec.id);
+        Control c;
+        const auto name = juce::String(spec.name.empty() ? spec.id : spec.name);
+        c.label = std::make_unique<juce::Label>();
+        c.label->setText(name + (spec.unit.empty() ? "" : " (" + juce::String(spec.unit) + ")"), juce::dontSendNotification);
+        if (! spec.choices.empty()) {
+            auto box = std::make_unique<juce::ComboBox>();
+            int itemId = 1;
+            for (const auto& choice : spec.choices) box->addItem(juce::String(choice), itemId++);
+            c.combo = std::make_unique<juce::AudioProcessorValueTreeState::ComboBoxAttachment>(apvts, id, *box);
+            c.editor = std::move(box);
+        } else {
+            auto slider = std::make_unique<juce::Slider>(juce::Slider::LinearHorizontal, juce::Slider::TextBoxRight);
+            slider->setTextBoxStyle(juce::Slider::TextBoxRight, false, 80, 20);
+            c.slider = std::make_unique<juce::AudioProcessorValueTreeState::SliderAttachment>(apvts, id, *slider);
+            c.editor = std::move(slider);
+        }
+        c.editor->setTitle(name);
+        c.editor->setDescription(juce::String(entry.scene) + " setting " + id
+                                 + (spec.unit.empty() ? juce::String() : ", in " + juce::String(spec.unit)));
+        c.editor->setWantsKeyboardFocus(true);
+        content_.addAndMakeVisible(*c.label);
+        content_.addAndMakeVisible(*c.editor);
+        controls_.push_back(std::move(c));
+    }
+
+    auto addTextSetting = [&](const juce::Identifier& settingId, const juce::String& title, const juce::String& description) {
+        Control c;
+        c.label = std::make_unique<juce::Label>();
+        c.label->setText(title, juce::dontSendNotification);
+        auto editor = std::make_unique<juce::TextEditor>();
+        editor->getTextValue().referTo(processor_.settings().getPropertyAsValue(settingId, nullptr));
+        editor->setTitle(title);
+        editor->setDescription(description);
+        c.editor = std::move(editor);
+        content_.addAndMakeVisible(*c.label);
+        content_.addAndMakeVisible(*c.editor);
+        controls_.push_back(std::move(c));
+    };
+    if (entry.scene == "braille")
+        addTextSetting(SettingIds::brailleText, "Text to read", "What the braille scene shows on the arm, one character at a time.");
+    if (entry.scene == "score")
+        addTextSetting(SettingIds::score, "Score", "rite-of-spring, polytope, or the path of a score file.");
+    resized();
+}
+
+void SceneControls::paint(juce::Graphics& g)
+{
+    g.fillAll(juce::Colour(0xff161c24));
+}
+
+void SceneControls::resized()
+{
+    auto r = getLocalBounds().reduced(6);
+    heading_.setBounds(r.removeFromTop(24));
+    if (note_.getText().isNotEmpty()) note_.setBounds(r.removeFromTop(22));
+    else note_.setBounds({});
+    viewport_.setBounds(r);
+    const int rowH = 28;
+    const int width = std::max(100, r.getWidth() - viewport_.getScrollBarThickness());
+    content_.setSize(width, rowH * static_cast<int>(controls_.size()) + 4);
+    int y = 2;
+    for (auto& c : controls_) {
+        juce::Rectangle<int> row(0, y, width, rowH - 3);
+        c.label->setBounds(row.removeFromLeft(width * 2 / 5));
+        c.editor->setBounds(row);
+        y += rowH;
+    }
+}
+
+} // namespace armadillo::plugin
