@@ -1,5 +1,6 @@
 #include "Plugin/DevicePanel.h"
 #include "Plugin/PluginProcessor.h"
+#include "Device/LinkPort.h"
 
 namespace armadillo::plugin {
 
@@ -85,8 +86,15 @@ void DevicePanel::rescanPorts()
     const auto current = processor_.settings()[SettingIds::serialPort].toString();
     port_.clear(juce::dontSendNotification);
     int id = 1, selected = 0;
-    for (const auto& p : PortRegistry::listPorts()) {
-        const auto name = juce::String(p.name);
+    std::vector<device::PortInfo> ports;
+    try {
+        ports = device::listSerialPorts();
+    } catch (const std::exception&) {
+        // No enumeration (no sysfs, no permission): the simulated forearm is still offered.
+    }
+    std::vector<juce::String> names {DeviceConnection::kSimulatedPort};
+    for (const auto& p : ports) names.push_back(juce::String(p.name));
+    for (const auto& name : names) {
         port_.addItem(name, id);
         if (name == current) selected = id;
         ++id;

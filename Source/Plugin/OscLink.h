@@ -1,11 +1,12 @@
 #pragma once
-// OSC for Max/MSP and Pd (INTERFACES.md "OSC"): out = orientation, pose, gyro, motors, gestures;
-// in = /armadillo/orientation ffff or /armadillo/imu fffffffff into the live-input mailbox.
-// Neither runs on the audio thread.
+// OSC for Max/MSP and Pd (INTERFACES.md "OSC"), on the device module's own codec and sockets:
+// out = orientation, pose, gyro, motors, gestures; in = /armadillo/orientation ffff or
+// /armadillo/imu fffffffff into the live-input mailbox. Neither runs on the audio thread.
 #include "Core/Types.h"
+#include "Device/OscIo.h"
 #include "Plugin/LiveInput.h"
-#include <juce_osc/juce_osc.h>
 #include <atomic>
+#include <memory>
 #include <mutex>
 #include <string>
 
@@ -29,34 +30,27 @@ public:
     bool configure(bool enabled, const std::string& host, int port, std::string& whyNot);
     /// Any one non-audio thread (the control clock).
     void sendFrame(const ArmFrame& frame);
-    void sendGesture(const char* name, float value);
-    std::uint64_t messagesSent() const noexcept { return sent_.load(std::memory_order_relaxed); }
+    void sendGesture(const char* name);
+    std::uint64_t messagesSent() const;
 
 private:
-    std::mutex mutex_;   // between configure (message thread) and sends (clock thread), never audio
-    juce::OSCSender sender_;
-    bool connected_ = false;
-    std::atomic<std::uint64_t> sent_ {0};
+    mutable std::mutex mutex_;   // configure (message thread) vs sends (clock thread); never audio
+    std::unique_ptr<device::OscSender> sender_;
 };
 
-class OscInput : private juce::OSCReceiver::Listener<juce::OSCReceiver::RealtimeCallback> {
+class OscInput {
 public:
-    explicit OscInput(LiveInput& live) : live_(live) { receiver_.addListener(this); }
-    ~OscInput() override;
+    explicit OscInput(LiveInput& live) : live_(live) {}
+    ~OscInput();
     /// Message thread. Opens (or closes with enabled = false) the UDP port.
     bool configure(bool enabled, int port, std::string& whyNot);
-    std::uint64_t messagesReceived() const noexcept { return received_.load(std::memory_order_relaxed); }
-    std::uint64_t messagesRejected() const noexcept { return rejected_.load(std::memory_order_relaxed); }
-
-    /// Parses one message into the mailbox; public so tests can drive it without sockets.
-    bool handle(const juce::OSCMessage& message);
+    device::OscInputStats stats() const;
 
 private:
-    void oscMessageReceived(const juce::OSCMessage& message) override;
     LiveInput& live_;
-    juce::OSCReceiver receiver_;
+    mutable std::mutex mutex_;
+    std::unique_ptr<device::OscReceiver> receiver_;
     int openPort_ = 0;
-    std::atomic<std::uint64_t> received_ {0}, rejected_ {0};
 };
 
 } // namespace armadillo::plugin

@@ -62,6 +62,7 @@ ArmadilloProcessor::ArmadilloProcessor()
         active_ = buildEngine(builtRequest_).release();   // nothing else runs yet
     }
     applyNetworkSettings();
+    device_ = std::make_unique<DeviceConnection>(deviceInput_, [this] { return frame_.load().motors; });
     clock_ = std::make_unique<ControlClock>(*this);
     clock_->startTimer(5);   // 200 Hz
     startTimerHz(50);
@@ -70,6 +71,7 @@ ArmadilloProcessor::ArmadilloProcessor()
 ArmadilloProcessor::~ArmadilloProcessor()
 {
     stopTimer();
+    device_.reset();         // link thread stopped: no more motor packets
     clock_.reset();          // waits for a running callback
     settings_.removeListener(this);
     if (gestureOpen_)
@@ -414,7 +416,7 @@ void ArmadilloProcessor::clockTick(double dt)
         oscOut_.sendFrame(f);
     }
     GestureEvent g;
-    while (gesturesOut_.pop(g)) oscOut_.sendGesture(g.name, g.value);
+    while (gesturesOut_.pop(g)) oscOut_.sendGesture(g.name);
 
     if (now - rateWindowStartMs_ >= 1000.0) {
         const auto ticks = ticks_.load(std::memory_order_relaxed);
@@ -506,8 +508,7 @@ void ArmadilloProcessor::valueTreePropertyChanged(juce::ValueTree&, const juce::
         std::lock_guard<std::mutex> lock(simMutex_);
         simulator_.setWandering(static_cast<bool>(settings_[SettingIds::simWandering]));
     } else if (id == SettingIds::serialPort) {
-        if (portClaim_ != nullptr && portClaim_->port() != settings_[SettingIds::serialPort].toString().toStdString())
-            connectDevice(false);
+        if (deviceConnected()) connectDevice(false);
     } else if (id == SettingIds::midiChannel) {
         midiChannel_.store(juce::jlimit(1, 16, static_cast<int>(settings_[SettingIds::midiChannel])));
     } else if (id == SettingIds::oscOutEnabled || id == SettingIds::oscOutHost || id == SettingIds::oscOutPort
@@ -534,33 +535,28 @@ void ArmadilloProcessor::applyNetworkSettings()
 void ArmadilloProcessor::connectDevice(bool connect)
 {
     if (! connect) {
-        portClaim_.reset();
+        device_->disconnect();
         deviceMessage_ = "Not connected.";
         return;
     }
-    const auto port = settings_[SettingIds::serialPort].toString().toStdString();
-    std::string why;
-    auto claim = PortRegistry::claim(port, why);
-    if (claim == nullptr) {
-        deviceMessage_ = juce::String(why) + ". Choose another port, or follow that instance over OSC.";
-        return;
-    }
-    portClaim_ = std::move(claim);
-    // The serial link (thesis protocol, calibration, SR-UKF) lives in the device module; this
-    // build holds the port so no other instance fights for it, and says plainly what is missing.
-    deviceMessage_ = "Holding " + juce::String(port) + ". The device link is not part of this build yet.";
+    std::string message;
+    device_->connect(settings_[SettingIds::serialPort].toString().toStdString(),
+                     static_cast<int>(settings_[SettingIds::baudRate]),
+                     settings_[SettingIds::calibrationFile].toString().toStdString(), message);
+    deviceMessage_ = juce::String(message);
 }
 
 juce::String ArmadilloProcessor::linkStatus() const
 {
-    juce::String s = deviceMessage_.isEmpty() ? juce::String("Not connected.") : deviceMessage_;
-    s << "\nControl rate: " << juce::String(controlRateMeasured(), 1) << " Hz";
-    s << "\nOSC sent: " << juce::String(static_cast<juce::int64>(oscOut_.messagesSent()))
-      << "  received: " << juce::String(static_cast<juce::int64>(oscIn_.messagesReceived()))
-      << "  rejected: " << juce::String(static_cast<juce::int64>(oscIn_.messagesRejected()));
+    juce::String s = deviceMessage_;
+    if (deviceConnected()) s << "\n" << juce::String(device_->status());
+    const auto in = oscIn_.stats();
+    s << "\nControl rate " << juce::String(controlRateMeasured(), 1) << " Hz; OSC sent "
+      << juce::String(static_cast<juce::int64>(oscOut_.messagesSent())) << ", received "
+      << juce::String(static_cast<juce::int64>(in.imu + in.orientation)) << " (bad " << juce::String(static_cast<juce::int64>(in.bad)) << ")";
     std::lock_guard<std::mutex> lock(statusMutex_);
     if (networkStatus_.isNotEmpty()) s << "\n" << networkStatus_;
-    return s;
+    return s.trim();
 }
 
 void ArmadilloProcessor::setStatus(const juce::String& message)

@@ -12,6 +12,7 @@
 // holds a try-only atomic token (nobody waits for it).
 #include "Engine/ArmTracker.h"
 #include "Engine/Engine.h"
+#include "Plugin/DeviceConnection.h"
 #include "Plugin/LiveInput.h"
 #include "Plugin/OscLink.h"
 #include "Plugin/Parameters.h"
@@ -102,9 +103,8 @@ public:
     void setOrientationFromUser(const Pose& pose);
     juce::String linkStatus() const;
     void connectDevice(bool connect);
-    bool deviceConnected() const noexcept { return portClaim_ != nullptr; }
+    bool deviceConnected() const noexcept { return device_ != nullptr && device_->isOpen(); }
     std::uint64_t oscMessagesSent() const noexcept { return oscOut_.messagesSent(); }
-    std::uint64_t oscMessagesReceived() const noexcept { return oscIn_.messagesReceived(); }
     const char* lastGesture() const noexcept { return lastGesture_.load(std::memory_order_relaxed); }
     std::uint64_t gestureCount() const noexcept { return gestureCount_.load(std::memory_order_relaxed); }
     double controlRateMeasured() const noexcept { return measuredRate_.load(std::memory_order_relaxed); }
@@ -191,7 +191,7 @@ private:
     WanderingMotion simulator_;
     OscOutput oscOut_;
     OscInput oscIn_ {oscLiveInput_};
-    std::unique_ptr<PortClaim> portClaim_;
+    std::unique_ptr<DeviceConnection> device_;
     juce::String deviceMessage_;
 
     // Live → parameters (message thread)

@@ -1,5 +1,4 @@
 #include "Plugin/PortRegistry.h"
-#include <libserialport.h>
 #include <cctype>
 #include <cerrno>
 #include <cstdio>
@@ -56,21 +55,6 @@ std::unique_ptr<PortClaim> PortRegistry::claim(const std::string& port, std::str
         // The claim holds without the pid; others just cannot name the owner.
     }
     return std::unique_ptr<PortClaim>(new PortClaim(port, fd));
-}
-
-std::vector<SerialPortInfo> PortRegistry::listPorts()
-{
-    std::vector<SerialPortInfo> out;
-    struct sp_port** ports = nullptr;
-    if (sp_list_ports(&ports) != SP_OK || ports == nullptr) return out;
-    for (int i = 0; ports[i] != nullptr; ++i) {
-        SerialPortInfo info;
-        if (const char* n = sp_get_port_name(ports[i])) info.name = n;
-        if (const char* d = sp_get_port_description(ports[i])) info.description = d;
-        out.push_back(std::move(info));
-    }
-    sp_free_port_list(ports);
-    return out;
 }
 
 } // namespace armadillo::plugin

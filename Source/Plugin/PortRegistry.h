@@ -24,19 +24,12 @@ private:
     int fd_ = -1;
 };
 
-struct SerialPortInfo {
-    std::string name;          ///< e.g. /dev/ttyUSB0
-    std::string description;
-};
-
 class PortRegistry {
 public:
     /// The claim, or nullptr with `whyNot` saying who owns the port.
     static std::unique_ptr<PortClaim> claim(const std::string& port, std::string& whyNot);
     /// Lock file used for a port (exposed for tests).
     static std::string lockFileFor(const std::string& port);
-    /// Serial ports found by libserialport.
-    static std::vector<SerialPortInfo> listPorts();
 };
 
 } // namespace armadillo::plugin

@@ -1,0 +1,108 @@
+#include "Plugin/DeviceConnection.h"
+#include "Device/DeviceLink.h"
+#include "Device/LinkPort.h"
+#include "Device/Motion.h"
+#include "Device/Simulator.h"
+#include <cstdio>
+#include <exception>
+
+namespace armadillo::plugin {
+
+DeviceConnection::DeviceConnection(LiveInput& input, std::function<MotorLevels()> latestLevels)
+    : input_(input), latestLevels_(std::move(latestLevels)), calibration_(device::defaultCalibration())
+{
+}
+
+DeviceConnection::~DeviceConnection()
+{
+    disconnect();
+}
+
+bool DeviceConnection::connect(const std::string& port, int baud, const std::string& calibrationFile, std::string& message)
+{
+    disconnect();
+    message.clear();
+    if (port.empty()) {
+        message = "Choose a serial port first.";
+        return false;
+    }
+    calibration_ = device::defaultCalibration();
+    calibrationNote_ = "default calibration";
+    if (! calibrationFile.empty()) {
+        try {
+            calibration_ = device::loadCalibration(calibrationFile);
+            calibrationNote_ = "calibration " + calibrationFile;
+        } catch (const std::exception& e) {
+            message = std::string("Calibration not loaded (") + e.what() + "); using the default calibration. ";
+        }
+    }
+
+    std::unique_ptr<device::LinkPort> linkPort;
+    try {
+        if (port == kSimulatedPort) {
+            device::SimulatorOptions options;
+            options.baud = 57600.0;   // paced like the thesis's Bluetooth serial link
+            simulator_ = std::make_unique<device::SimulatedForearm>(std::make_shared<device::WanderingMotion>(), options);
+            linkPort = simulator_->startInProcess();
+            calibration_ = device::defaultCalibration();   // the simulator's ADC is the default one
+            calibrationNote_ = "simulator's calibration";
+        } else {
+            std::string why;
+            claim_ = PortRegistry::claim(port, why);
+            if (claim_ == nullptr) {
+                message += why + ". Choose another port, or follow that instance over OSC.";
+                return false;
+            }
+            linkPort = std::make_unique<device::SerialPort>(port, baud);
+        }
+        auto handler = [this](const device::SensorCounts& counts, double t) {
+            const ImuSample s = calibration_.apply(t, counts);
+            LiveImu imu;
+            imu.t = s.t;
+            for (int i = 0; i < 3; ++i) {
+                imu.g[i] = static_cast<float>(s.gyro[i]);
+                imu.a[i] = static_cast<float>(s.accel[i]);
+                imu.m[i] = static_cast<float>(s.mag[i]);
+            }
+            input_.pushImu(imu);   // full queue: the control loop is behind; drop, never block
+            return latestLevels_();
+        };
+        link_ = std::make_unique<device::DeviceLink>(std::move(linkPort), handler);
+        link_->start();
+    } catch (const std::exception& e) {
+        link_.reset();
+        if (simulator_ != nullptr) simulator_->stop();
+        simulator_.reset();
+        claim_.reset();
+        message += std::string("Cannot open ") + port + ": " + e.what();
+        return false;
+    }
+    message += "Connected to " + port + " (" + calibrationNote_ + ").";
+    return true;
+}
+
+void DeviceConnection::disconnect()
+{
+    if (link_ != nullptr) link_->stop();   // no motor packet leaves after this
+    link_.reset();
+    if (simulator_ != nullptr) simulator_->stop();
+    simulator_.reset();
+    claim_.reset();
+}
+
+std::string DeviceConnection::status() const
+{
+    if (link_ == nullptr) return "Not connected.";
+    const auto s = link_->stats();
+    char buffer[256];
+    std::snprintf(buffer, sizeof(buffer), "%s %s (%s): %llu packets, %llu bad, %llu resyncs, %llu reconnects, %.0f/s",
+                  link_->connected() ? "Linked to" : "Waiting for", link_->portName().c_str(), link_->backend().c_str(),
+                  static_cast<unsigned long long>(s.packets), static_cast<unsigned long long>(s.badPackets),
+                  static_cast<unsigned long long>(s.resyncs), static_cast<unsigned long long>(s.reconnects), s.rateHz);
+    std::string out = buffer;
+    const auto error = link_->lastError();
+    if (! error.empty()) out += "\nLast error: " + error;
+    return out;
+}
+
+} // namespace armadillo::plugin

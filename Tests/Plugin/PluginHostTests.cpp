@@ -1,0 +1,369 @@
+// Hosts the built plugin binaries through JUCE's own hosting classes, as a DAW would: VST3 and
+// LV2. Nothing here links the plugin's code; everything goes through the plugin API.
+#define CATCH_CONFIG_RUNNER
+#include <catch2/catch.hpp>
+
+#include <juce_audio_processors/juce_audio_processors.h>
+#include <juce_events/juce_events.h>
+#include <cmath>
+#include <map>
+#include <random>
+
+namespace {
+
+struct Hosted {
+    std::unique_ptr<juce::AudioPluginInstance> plugin;
+    std::map<juce::String, juce::AudioProcessorParameter*> byName;
+    juce::AudioProcessorParameter* param(const juce::String& name) const
+    {
+        auto it = byName.find(name);
+        return it == byName.end() ? nullptr : it->second;
+    }
+};
+
+constexpr double kRate = 48000.0;
+constexpr int kBlock = 256;
+
+void index(Hosted& h)
+{
+    h.byName.clear();
+    for (auto* p : h.plugin->getParameters()) h.byName[p->getName(200)] = p;
+}
+
+Hosted loadVst3()
+{
+    juce::VST3PluginFormat format;
+    juce::OwnedArray<juce::PluginDescription> types;
+    format.findAllTypesForFile(types, ARMADILLO_VST3_PATH);
+    REQUIRE(types.size() == 1);
+    CHECK(types[0]->name == "ARMadillo");
+    CHECK(types[0]->isInstrument);
+    juce::String error;
+    Hosted h;
+    h.plugin = format.createInstanceFromDescription(*types[0], kRate, kBlock, error);
+    INFO(error);
+    REQUIRE(h.plugin != nullptr);
+    index(h);
+    return h;
+}
+
+juce::LV2PluginFormat& lv2Format()
+{
+    static juce::LV2PluginFormat format;   // one lilv world for the whole run
+    return format;
+}
+
+Hosted loadLv2()
+{
+    auto& format = lv2Format();
+    const auto bundle = juce::File(ARMADILLO_LV2_PATH);
+    REQUIRE(bundle.isDirectory());
+    format.searchPathsForPlugins(juce::FileSearchPath(bundle.getParentDirectory().getFullPathName()), false, false);
+    juce::OwnedArray<juce::PluginDescription> types;
+    format.findAllTypesForFile(types, "urn:armadillo:armadillo");
+    REQUIRE(types.size() == 1);
+    juce::String error;
+    Hosted h;
+    h.plugin = format.createInstanceFromDescription(*types[0], kRate, kBlock, error);
+    INFO(error);
+    REQUIRE(h.plugin != nullptr);
+    index(h);
+    return h;
+}
+
+void prepare(Hosted& h)
+{
+    auto layout = h.plugin->getBusesLayout();
+    h.plugin->setPlayConfigDetails(0, 2, kRate, kBlock);
+    h.plugin->prepareToPlay(kRate, kBlock);
+    (void) layout;
+}
+
+/// Sets a choice parameter by its text, checking the host sees the same text back.
+void setChoice(Hosted& h, const juce::String& name, const juce::String& choice)
+{
+    auto* p = h.param(name);
+    REQUIRE(p != nullptr);
+    const int steps = p->getNumSteps();
+    REQUIRE(steps > 1);
+    for (int i = 0; i < steps; ++i) {
+        const float v = static_cast<float>(i) / static_cast<float>(steps - 1);
+        if (p->getText(v, 100) == choice) {
+            p->setValueNotifyingHost(v);
+            return;
+        }
+    }
+    FAIL("choice " << choice << " not offered by " << name);
+}
+
+/// Sets a float parameter in its own unit (linear range lo..hi).
+void setValue(Hosted& h, const juce::String& name, float value, float lo, float hi)
+{
+    auto* p = h.param(name);
+    REQUIRE(p != nullptr);
+    p->setValueNotifyingHost((value - lo) / (hi - lo));
+}
+
+float valueOf(Hosted& h, const juce::String& name, float lo, float hi)
+{
+    auto* p = h.param(name);
+    REQUIRE(p != nullptr);
+    return lo + p->getValue() * (hi - lo);
+}
+
+/// Renders `seconds` of audio; returns the left channel.
+std::vector<float> render(Hosted& h, double seconds, int* midiEvents = nullptr)
+{
+    std::vector<float> out;
+    juce::AudioBuffer<float> buffer(2, kBlock);
+    juce::MidiBuffer midi;
+    const int blocks = static_cast<int>(std::ceil(seconds * kRate / kBlock));
+    for (int b = 0; b < blocks; ++b) {
+        buffer.clear();
+        midi.clear();
+        h.plugin->processBlock(buffer, midi);
+        // The plugin builds engines for scene changes on its message thread: let it run.
+        juce::MessageManager::getInstance()->runDispatchLoopUntil(1);
+        if (midiEvents != nullptr) *midiEvents += midi.getNumEvents();
+        for (int i = 0; i < kBlock; ++i) out.push_back(buffer.getSample(0, i));
+    }
+    return out;
+}
+
+/// Frequency from positive-going zero crossings (interpolated), over the whole span.
+double frequency(const std::vector<float>& x, std::size_t from)
+{
+    double first = -1.0, last = -1.0;
+    int crossings = 0;
+    for (std::size_t i = std::max<std::size_t>(from, 1); i < x.size(); ++i) {
+        if (x[i - 1] < 0.0f && x[i] >= 0.0f) {
+            const double t = static_cast<double>(i - 1) + x[i - 1] / static_cast<double>(x[i - 1] - x[i]);
+            if (first < 0.0) first = t;
+            last = t;
+            ++crossings;
+        }
+    }
+    if (crossings < 3) return 0.0;
+    return (crossings - 1) / ((last - first) / kRate);
+}
+
+double rms(const std::vector<float>& x, std::size_t from)
+{
+    double s = 0.0;
+    for (std::size_t i = from; i < x.size(); ++i) s += double(x[i]) * x[i];
+    return x.size() > from ? std::sqrt(s / double(x.size() - from)) : 0.0;
+}
+
+/// The theremin's pitch map with its default parameters (thesis §3.5, Instruments/Frets.h):
+/// semitones linear in sin(elevation) from −45° (220 Hz) to +45° (440 Hz).
+double expectedThereminHz(double elevationDeg)
+{
+    const double s = std::sin(elevationDeg * M_PI / 180.0);
+    const double lo = std::sin(-M_PI / 4.0), hi = std::sin(M_PI / 4.0);
+    const double e = 12.0 * (std::clamp(s, lo, hi) - lo) / (hi - lo);
+    return 220.0 * std::pow(2.0, e / 12.0);
+}
+
+void checkContractParameters(Hosted& h)
+{
+    for (const char* name : {"Elevation", "Azimuth", "Roll", "Source", "Scene"}) {
+        INFO(name);
+        CHECK(h.param(name) != nullptr);
+    }
+    REQUIRE(h.param("Source") != nullptr);
+    CHECK(h.param("Source")->getNumSteps() == 4);
+    CHECK(h.param("Scene")->getNumSteps() == 8);
+    CHECK(h.param("Elevation")->isAutomatable());
+}
+
+/// Automation of elevation under source = host automation: the pitch follows it.
+void checkPitchFollowsElevation(Hosted& h)
+{
+    prepare(h);
+    setChoice(h, "Source", "host automation");
+    setChoice(h, "Scene", "theremin");
+    setValue(h, "Azimuth", 0.0f, 0.0f, 360.0f);
+    setValue(h, "Roll", 0.0f, -180.0f, 180.0f);
+    render(h, 0.3);   // let the scene swap in and the reference azimuth settle
+    double previous = 0.0;
+    for (double elevation : {-40.0, -20.0, 0.0, 15.0, 35.0}) {
+        setValue(h, "Elevation", static_cast<float>(elevation), -90.0f, 90.0f);
+        const auto audio = render(h, 0.35);
+        const auto skip = static_cast<std::size_t>(0.12 * kRate);   // glide (20 ms) and smoothing
+        const double hz = frequency(audio, skip);
+        INFO("elevation " << elevation << " deg: " << hz << " Hz, expected " << expectedThereminHz(elevation));
+        CHECK(rms(audio, skip) > 0.01);
+        CHECK(hz == Approx(expectedThereminHz(elevation)).epsilon(0.01));
+        CHECK(hz > previous);
+        previous = hz;
+    }
+    h.plugin->releaseResources();
+}
+
+} // namespace
+
+TEST_CASE("VST3: loads with the contract parameters")
+{
+    auto h = loadVst3();
+    checkContractParameters(h);
+    CHECK(h.plugin->getLatencySamples() == 0);
+    CHECK(h.plugin->getTailLengthSeconds() > 0.0);
+    CHECK(h.plugin->getTotalNumOutputChannels() == 2);
+    CHECK(h.plugin->producesMidi());
+}
+
+TEST_CASE("VST3: automated elevation under host automation drives the theremin's pitch")
+{
+    auto h = loadVst3();
+    checkPitchFollowsElevation(h);
+}
+
+TEST_CASE("VST3: gestures and pose leave as MIDI")
+{
+    auto h = loadVst3();
+    prepare(h);
+    setChoice(h, "Source", "host automation");
+    setChoice(h, "Scene", "theremin");
+    int events = 0;
+    for (double elevation = -40.0; elevation <= 40.0; elevation += 10.0) {
+        setValue(h, "Elevation", static_cast<float>(elevation), -90.0f, 90.0f);
+        render(h, 0.05, &events);
+    }
+    CHECK(events >= 8);   // at least the elevation CC at every step
+}
+
+TEST_CASE("VST3: state saves and restores")
+{
+    juce::MemoryBlock saved;
+    {
+        auto h = loadVst3();
+        prepare(h);
+        setChoice(h, "Source", "host automation");
+        setChoice(h, "Scene", "cymbal");
+        setValue(h, "Elevation", 33.0f, -90.0f, 90.0f);
+        setValue(h, "Roll", -120.0f, -180.0f, 180.0f);
+        render(h, 0.05);
+        h.plugin->getStateInformation(saved);
+        REQUIRE(saved.getSize() > 0);
+    }
+    auto h = loadVst3();
+    prepare(h);
+    h.plugin->setStateInformation(saved.getData(), static_cast<int>(saved.getSize()));
+    CHECK(h.param("Source")->getCurrentValueAsText() == "host automation");
+    CHECK(h.param("Scene")->getCurrentValueAsText() == "cymbal");
+    CHECK(valueOf(h, "Elevation", -90.0f, 90.0f) == Approx(33.0f).margin(0.05));
+    CHECK(valueOf(h, "Roll", -180.0f, 180.0f) == Approx(-120.0f).margin(0.05));
+}
+
+TEST_CASE("VST3: random and foreign state never crashes and falls back to defaults")
+{
+    auto h = loadVst3();
+    prepare(h);
+    std::mt19937 rng(20260);
+    auto wrap = [](const juce::MemoryBlock& payload) {
+        // JUCE's VST3 host keeps the plugin's own chunk base64 inside this element.
+        juce::XmlElement state("VST3PluginState");
+        state.createNewChildElement("IComponent")->addTextElement(payload.toBase64Encoding());
+        juce::MemoryBlock out;
+        juce::AudioProcessor::copyXmlToBinary(state, out);
+        return out;
+    };
+    auto feed = [&](const juce::MemoryBlock& payload) {
+        const auto blob = wrap(payload);
+        h.plugin->setStateInformation(blob.getData(), static_cast<int>(blob.getSize()));
+        const auto audio = render(h, 0.02);
+        for (float s : audio) REQUIRE(std::isfinite(s));
+        for (auto* p : h.plugin->getParameters()) {
+            REQUIRE(p->getValue() >= 0.0f);
+            REQUIRE(p->getValue() <= 1.0f);
+        }
+    };
+    // Pure noise, of every size up to 4 KiB, and noise behind JUCE's binary-XML header.
+    for (int i = 0; i < 200; ++i) {
+        juce::MemoryBlock payload(static_cast<size_t>(rng() % 4096));
+        for (size_t b = 0; b < payload.getSize(); ++b) payload[b] = static_cast<char>(rng());
+        if (i % 2 == 1 && payload.getSize() >= 8) {
+            const juce::uint32 magic = 0x21324356;
+            payload.copyFrom(&magic, 0, 4);
+            const juce::uint32 size = static_cast<juce::uint32>(payload.getSize() - 8);
+            payload.copyFrom(&size, 4, 4);
+        }
+        feed(payload);
+    }
+    // Well-formed states that are not ours, or not readable by this version: defaults.
+    auto xmlPayload = [](const juce::String& xml) {
+        juce::MemoryBlock payload;
+        juce::AudioProcessor::copyXmlToBinary(*juce::parseXML(xml), payload);
+        return payload;
+    };
+    for (const char* foreign : {"<SOMETHING_ELSE version=\"1\"/>", "<ARMADILLO version=\"99\"><PARAMETERS/></ARMADILLO>",
+                                "<ARMADILLO version=\"-3\"/>"}) {
+        INFO(foreign);
+        setValue(h, "Elevation", 40.0f, -90.0f, 90.0f);
+        feed(xmlPayload(foreign));
+        CHECK(valueOf(h, "Elevation", -90.0f, 90.0f) == Approx(0.0f).margin(0.05));
+        CHECK(h.param("Scene")->getCurrentValueAsText() == "theremin");
+    }
+    // Our own format with values that are not numbers, out of range, or missing.
+    feed(xmlPayload("<ARMADILLO version=\"1\"><PARAMETERS><PARAM id=\"elevation\" value=\"nan\"/>"
+                    "<PARAM id=\"roll\" value=\"1e30\"/><PARAM id=\"scene\" value=\"-7\"/></PARAMETERS>"
+                    "<SETTINGS oscOutPort=\"99999999\" oscOutHost=\"\"/></ARMADILLO>"));
+    CHECK(valueOf(h, "Elevation", -90.0f, 90.0f) == Approx(0.0f).margin(0.05));
+    CHECK(valueOf(h, "Roll", -180.0f, 180.0f) == Approx(180.0f).margin(0.05));
+    CHECK(h.param("Scene")->getCurrentValueAsText() == "monitor");
+}
+
+TEST_CASE("VST3: a live source writes orientation into the parameters with change gestures")
+{
+    auto h = loadVst3();
+    prepare(h);
+    struct Recorder : juce::AudioProcessorParameter::Listener {
+        int changes = 0, begins = 0;
+        void parameterValueChanged(int, float) override { ++changes; }
+        void parameterGestureChanged(int, bool starting) override { begins += starting ? 1 : 0; }
+    } recorder;
+    setChoice(h, "Source", "simulator");
+    auto* elevation = h.param("Elevation");
+    elevation->addListener(&recorder);
+    // Event-driven wait: pump the message loop until the plugin has written 10 values (or 10 s).
+    const auto deadline = juce::Time::getMillisecondCounter() + 10000;
+    while ((recorder.changes < 10 || recorder.begins < 1) && juce::Time::getMillisecondCounter() < deadline) {
+        render(h, 0.02);
+        juce::MessageManager::getInstance()->runDispatchLoopUntil(10);
+    }
+    elevation->removeListener(&recorder);
+    CHECK(recorder.begins >= 1);
+    CHECK(recorder.changes >= 10);
+
+    // Under host automation nothing is written back: the host's value stays.
+    setChoice(h, "Source", "host automation");
+    setValue(h, "Elevation", -12.0f, -90.0f, 90.0f);
+    for (int i = 0; i < 20; ++i) {
+        render(h, 0.02);
+        juce::MessageManager::getInstance()->runDispatchLoopUntil(5);
+    }
+    CHECK(valueOf(h, "Elevation", -90.0f, 90.0f) == Approx(-12.0f).margin(0.05));
+}
+
+TEST_CASE("LV2: loads, follows automated elevation, restores its state")
+{
+    auto h = loadLv2();
+    checkContractParameters(h);
+    checkPitchFollowsElevation(h);
+    prepare(h);
+    setChoice(h, "Scene", "compass");
+    setValue(h, "Azimuth", 123.0f, 0.0f, 360.0f);
+    juce::MemoryBlock saved;
+    h.plugin->getStateInformation(saved);
+    auto again = loadLv2();
+    prepare(again);
+    again.plugin->setStateInformation(saved.getData(), static_cast<int>(saved.getSize()));
+    CHECK(again.param("Scene")->getCurrentValueAsText() == "compass");
+    CHECK(valueOf(again, "Azimuth", 0.0f, 360.0f) == Approx(123.0f).margin(0.1));
+}
+
+int main(int argc, char* argv[])
+{
+    juce::ScopedJuceInitialiser_GUI juce;   // message manager for the hosts and the plugins' timers
+    return Catch::Session().run(argc, argv);
+}
