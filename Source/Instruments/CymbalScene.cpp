@@ -218,6 +218,7 @@ private:
         const bool fromUser = !bank_.user.empty() && rng_.uniform() * 100.0 < params_.get(kFileMix);
         c.rateB = rng_.uniform(0.85, 1.15);
         if (fromUser) {
+            c.rateB = 1.0;   // the user's recording keeps its own pitch; only the cut varies
             c.fragmentB = -1;
             c.offsetB = rng_.uniform() * std::max(0.0, static_cast<double>(bank_.user.size()) - playS * c.rateB * fs - 2.0);
         } else {

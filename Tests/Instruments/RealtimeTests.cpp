@@ -1,0 +1,104 @@
+// The audio paths allocate nothing and take no locks (STYLE.md convention 5), proved with the
+// counting guard while the scenes are driven through busy scripts (strikes, damping, sweeps,
+// parameter changes from the "UI" between blocks).
+#define ARMADILLO_REALTIME_GUARD_IMPLEMENTATION
+#include "Common/RealtimeGuard.h"
+#include "Instruments/Scenes.h"
+#include "SceneHarness.h"
+#include <catch2/catch.hpp>
+#include <memory>
+#include <mutex>
+
+using namespace armadillo;
+using namespace armadillo::test;
+
+namespace {
+struct GuardTotals {
+    std::uint64_t allocations = 0, deallocations = 0, locks = 0, calls = 0;
+};
+
+/// Wraps every renderAudio call of the harness in its own guard and adds up what they saw.
+void guardRendering(SceneHarness& h, GuardTotals& totals)
+{
+    h.renderWrapper = [&totals](const std::function<void()>& render) {
+        RealtimeGuard guard;
+        render();
+        totals.allocations += guard.allocations();
+        totals.deallocations += guard.deallocations();
+        totals.locks += guard.locks();
+        ++totals.calls;
+    };
+}
+} // namespace
+
+TEST_CASE("the realtime guard sees allocations and locks (so it can fail)", "[realtime]")
+{
+    REQUIRE(RealtimeGuard::installed());
+    {
+        RealtimeGuard guard;
+        auto p = std::make_unique<int>(3);
+        CHECK(*p == 3);
+        p.reset();
+        CHECK(guard.allocations() == 1);
+        CHECK(guard.deallocations() == 1);
+        CHECK_FALSE(guard.clean());
+    }
+    {
+        std::mutex m;
+        RealtimeGuard guard;
+        { const std::lock_guard<std::mutex> lock(m); }
+        CHECK(guard.locks() >= 1);
+        CHECK(guard.allocations() == 0);
+    }
+    {
+        RealtimeGuard guard;
+        volatile double x = 1.0;
+        for (int i = 0; i < 100; ++i) x = x * 1.0001;
+        CHECK(guard.clean());
+    }
+}
+
+TEST_CASE("theremin renderAudio allocates nothing and takes no locks", "[realtime][theremin]")
+{
+    REQUIRE(RealtimeGuard::installed());
+    SceneHarness h(makeThereminScene());
+    GuardTotals totals;
+    guardRendering(h, totals);
+    for (int block : {64, 240, 1, 513}) {
+        h.blockSize = block;
+        h.move({-50.0, 0.0, 0.0}, {50.0, 70.0, 0.0}, 0.5);
+        h.set("theremin.glide", 100.0f);
+        h.set("theremin.snap", 60.0f);
+        h.move({50.0, 70.0, 0.0}, {-50.0, -70.0, 0.0}, 0.5);
+        h.set("theremin.glide", 0.0f);
+        h.set("theremin.scale", 3.0f);
+    }
+    REQUIRE(totals.calls > 100);
+    REQUIRE(rms(h.audio.left, 0, h.audio.left.size()) > 0.05);   // it did make sound
+    CHECK(totals.allocations == 0);
+    CHECK(totals.deallocations == 0);
+    CHECK(totals.locks == 0);
+}
+
+TEST_CASE("cymbal renderAudio allocates nothing and takes no locks through strikes and damping", "[realtime][cymbal]")
+{
+    REQUIRE(RealtimeGuard::installed());
+    SceneHarness h(makeCymbalScene());
+    GuardTotals totals;
+    guardRendering(h, totals);
+    for (int block : {64, 240, 1, 513}) {
+        h.blockSize = block;
+        h.move(h.lastPose, {30.0, 0.0, 0.0}, 0.3);
+        h.move({30.0, 0.0, 0.0}, {-20.0, 0.0, 0.0}, 0.1);        // strike
+        h.move({-20.0, 0.0, 0.0}, {-20.0, 60.0, 0.0}, 0.3);      // brush: tail modulation
+        h.move({-20.0, 60.0, 0.0}, {8.0, 60.0, 0.0}, 0.4);
+        h.move({8.0, 60.0, 0.0}, {-5.0, 60.0, 0.0}, 0.8);        // gentle touch: damp
+        h.set("cymbal.level", 0.5f);
+        h.hold({-5.0, 60.0, 0.0}, 0.3);
+    }
+    REQUIRE(h.events.count("strike") == 4);
+    REQUIRE(h.events.count("damp") == 4);
+    CHECK(totals.allocations == 0);
+    CHECK(totals.deallocations == 0);
+    CHECK(totals.locks == 0);
+}
