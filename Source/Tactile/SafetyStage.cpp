@@ -164,7 +164,7 @@ MotorLevels SafetyStage::process(const MotorLevels& requested, double dt) noexce
             const auto consider = [&](double d) {
                 if (d <= 0.0) return;
                 const double history = total - cumulativeAt(m, now_ + d - powerWindow, false);
-                maxSquare = std::min(maxSquare, (energyLimit * (1.0 - kSlack) - history) / d);
+                maxSquare = std::min(maxSquare, (energyLimit - history) / d);
             };
             consider(horizon);
             // Level changes of the history inside [now − W, now − W + H).
@@ -175,8 +175,12 @@ MotorLevels SafetyStage::process(const MotorLevels& requested, double dt) noexce
                 if (st >= to) break;
                 if (st > from) consider(st - from);
             }
-            if (!(maxSquare >= 1.0)) level = 0;
-            else if (maxSquare < double(level * level)) level = std::min(level, int(std::floor(std::sqrt(maxSquare))));
+            // kSquareSlack: the rated level held steadily sits exactly on the limit; rounding in
+            // the sums must not make it flicker. Its effect is ≤ 1e-6·H level²·s per window.
+            constexpr double kSquareSlack = 1e-6;
+            if (!(maxSquare + kSquareSlack >= 1.0)) level = 0;
+            else if (maxSquare + kSquareSlack < double(level * level))
+                level = std::min(level, int(std::floor(std::sqrt(maxSquare + kSquareSlack))));
         }
         if (level < wanted) ++limited_;
         out[mi] = static_cast<std::uint8_t>(level);

@@ -42,6 +42,8 @@ void TactileEngine::prepare(const TactileConfig& config)
     previous_.fill(0.0f);
     kickLeft_.fill(0.0);
     ditherError_.fill(0.0);
+    ditherLevel_.fill(0.0);
+    lastShaped_.fill(0);
     triggerCount_ = 0;
     time_ = 0.0;
     forceOff_ = false;
@@ -68,6 +70,7 @@ void TactileEngine::trigger(const PatternRequest& request)
         const double oldRate = patternRate(v.request, p), newRate = patternRate(request, p);
         if (oldRate > 0.0 && newRate > 0.0) v.elapsed *= oldRate / newRate;
         v.request = request;
+        v.request.duration = -1.0;   // the voice's length ends it; the shape does not depend on it
         v.length = v.elapsed + length;
         return;
     }
@@ -97,6 +100,8 @@ void TactileEngine::allOff() noexcept
     previous_.fill(0.0f);
     kickLeft_.fill(0.0);
     ditherError_.fill(0.0);
+    ditherLevel_.fill(0.0);
+    lastShaped_.fill(0);
     forceOff_ = true;
     safety_.allOff();
 }
@@ -146,6 +151,8 @@ MotorLevels TactileEngine::tick(double dt) noexcept
         if (!(x > 0.0f)) {   // stop at once: no tail, no carried error
             kickLeft_[mi] = 0.0;
             ditherError_[mi] = 0.0;
+            ditherLevel_[mi] = 0.0;
+            lastShaped_[mi] = 0;
             continue;
         }
         const bool starts = before < config_.startThreshold && x >= config_.startThreshold;
@@ -163,13 +170,20 @@ MotorLevels TactileEngine::tick(double dt) noexcept
                 level = spike;
             }
         }
-        // Error diffusion in level·s: over any stretch the packets' time-weighted mean equals the
-        // requested mean to within half a level·packet.
-        double v = level;
-        if (dt > 0.0) v += ditherError_[mi] / dt;
-        const double q = std::clamp(std::round(v), 0.0, double(kMaxLevel));
-        if (dt > 0.0) ditherError_[mi] = std::clamp((v - q) * dt, -dt, dt);
-        shaped[mi] = static_cast<std::uint8_t>(q);
+        // Error diffusion in level·s: each packet is one of the two integer levels around the
+        // requested one, chosen so the time-weighted mean follows the request whatever dt is.
+        // The previous packet's error is booked with the time it really stayed on (this dt).
+        const double lo = std::floor(level), hi = std::ceil(level);
+        double q = level;
+        if (dt > 0.0) {
+            ditherError_[mi] = std::clamp(ditherError_[mi] + (ditherLevel_[mi] - double(lastShaped_[mi])) * dt, -0.1, 0.1);
+            q = std::clamp(std::round(level + ditherError_[mi] / dt), lo, hi);
+        } else {
+            q = std::round(level);
+        }
+        shaped[mi] = static_cast<std::uint8_t>(std::clamp(q, 0.0, double(kMaxLevel)));
+        ditherLevel_[mi] = level;
+        lastShaped_[mi] = shaped[mi];
     }
     forceOff_ = false;
 

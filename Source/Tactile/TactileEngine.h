@@ -133,6 +133,8 @@ private:
     std::array<float, kMaxMotors> previous_ {};    ///< desired level of the previous packet
     std::array<double, kMaxMotors> kickLeft_ {};   ///< s of jump-start spike still to give
     std::array<double, kMaxMotors> ditherError_ {};///< level·s carried by the error diffusion
+    std::array<double, kMaxMotors> ditherLevel_ {};///< level the previous packet stood for
+    MotorLevels lastShaped_ {};                    ///< the previous packet, before mirroring
     std::uint64_t triggerCount_ = 0;
     double time_ = 0.0;
     bool forceOff_ = false;

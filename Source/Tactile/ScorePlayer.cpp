@@ -1,0 +1,116 @@
+// Score player (thesis §3.3): position → what sounds there, each control step.
+#include "Tactile/ScorePlayer.h"
+#include <algorithm>
+#include <cmath>
+
+namespace armadillo {
+
+void ScorePlayer::setScore(Score score)
+{
+    score_ = std::move(score);
+    used_.fill(false);
+    for (const auto& p : score_.patterns) used_[static_cast<std::size_t>(p.request.voice)] = true;
+    longestNote_ = 0.0;
+    for (const auto& n : score_.notes) longestNote_ = std::max(longestNote_, n.end - n.start);
+    reset();
+}
+
+void ScorePlayer::reset() noexcept
+{
+    ownClock_ = 0.0;
+    position_ = 0.0;
+    previous_ = -1.0;
+    resync_ = true;
+}
+
+void ScorePlayer::silence(MotorCanvas& canvas)
+{
+    canvas.clearLevels();
+    for (int v = 0; v < kPatternVoices; ++v) {
+        if (running_[static_cast<std::size_t>(v)] != 0) canvas.stopVoice(v);
+        running_[static_cast<std::size_t>(v)] = 0;
+    }
+}
+
+void ScorePlayer::control(const Transport& transport, double dt, MotorCanvas& canvas)
+{
+    if (!(dt >= 0.0) || !std::isfinite(dt)) dt = 0.0;
+    double position;
+    double speed = 1.0;   // score seconds per real second (beat sync at another tempo)
+    if (transport.valid) {
+        if (!transport.playing) {   // paused or stopped: nothing plays, resume re-syncs
+            silence(canvas);
+            resync_ = true;
+            previous_ = -1.0;
+            return;
+        }
+        if (sync_ == Sync::Beats && std::isfinite(transport.ppq)) {
+            position = score_.secondsAtBeat(transport.ppq);
+            const double hostBpm = transport.bpm > 0.0 && std::isfinite(transport.bpm) ? transport.bpm : 120.0;
+            speed = hostBpm / score_.bpmAtSeconds(position);
+        } else {
+            position = std::isfinite(transport.seconds) ? transport.seconds : 0.0;
+        }
+    } else {
+        ownClock_ += dt;   // the first step (dt = 0) is at 0
+        position = ownClock_;
+    }
+    position_ = position;
+
+    // A jump (seek, loop, a new start): anything running is restarted from this position.
+    const double expected = previous_ + dt * speed;
+    if (previous_ < 0.0 || position < previous_ - 1e-9 || position > expected + std::max(0.05, 2.0 * dt * speed))
+        resync_ = true;
+    previous_ = position;
+    if (resync_) {
+        for (int v = 0; v < kPatternVoices; ++v) {
+            if (running_[static_cast<std::size_t>(v)] != 0) canvas.stopVoice(v);
+            running_[static_cast<std::size_t>(v)] = 0;
+        }
+        resync_ = false;
+    }
+
+    // Notes: the sustained target of every motor, from the position alone.
+    std::array<float, kMaxMotors> level {};
+    if (position < score_.length) {
+        const auto firstAfter = std::upper_bound(score_.notes.begin(), score_.notes.end(), position,
+                                                 [](double p, const ScoreNote& n) { return p < n.start; });
+        for (auto it = firstAfter; it != score_.notes.begin();) {
+            --it;
+            if (it->start < position - longestNote_) break;
+            const float l = it->levelAt(position);
+            if (!(l > 0.0f)) continue;
+            for (int m = 0; m < kMaxMotors; ++m)
+                if (it->motors & (1u << m)) level[static_cast<std::size_t>(m)] = std::max(level[static_cast<std::size_t>(m)], l);
+        }
+    }
+    const float gain = std::clamp(intensity_, 0.0f, 1.5f);
+    for (int m = 0; m < kMaxMotors; ++m) canvas.setLevel(m, level[static_cast<std::size_t>(m)] * gain);
+
+    // Patterns: per voice, the one whose span holds the position.
+    for (int v = 0; v < kPatternVoices; ++v) {
+        const auto vi = static_cast<std::size_t>(v);
+        if (!used_[vi]) continue;
+        long active = 0;
+        if (position < score_.length)
+            for (std::size_t i = 0; i < score_.patterns.size(); ++i) {
+                const ScorePattern& p = score_.patterns[i];
+                if (p.start > position) break;
+                if (p.request.voice == v && position < p.end) active = static_cast<long>(i) + 1;
+            }
+        if (active == running_[vi]) continue;
+        if (active == 0) {
+            canvas.stopVoice(v);
+        } else {
+            const ScorePattern& p = score_.patterns[static_cast<std::size_t>(active - 1)];
+            PatternRequest r = p.request;
+            r.level = std::min(float(kMaxLevel), r.level * gain);
+            // The voice runs for what is left of its span, in real seconds.
+            r.duration = std::isfinite(p.end) ? (p.end - position) / speed : -1.0;
+            canvas.trigger(r);
+        }
+        running_[vi] = active;
+    }
+}
+
+} // namespace armadillo

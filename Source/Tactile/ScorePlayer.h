@@ -1,0 +1,51 @@
+#pragma once
+// Plays a Score onto a MotorCanvas, locked to a clock: the host's transport when it is valid
+// (seek, loop and tempo changes land on the right event), otherwise its own clock from dt.
+// What sounds at a position is computed from the position alone, so a jump anywhere shows
+// exactly what the score has there; patterns are restarted on a jump with their remaining time.
+#include "Core/Scene.h"
+#include "Tactile/Score.h"
+#include <array>
+#include <cstddef>
+
+namespace armadillo {
+
+class ScorePlayer {
+public:
+    enum class Sync {
+        Seconds,   ///< transport.seconds is score time (the user's recording starts at 0)
+        Beats,     ///< transport.ppq is the score's beat (the score's tempo map is ignored)
+    };
+
+    /// Not real-time.
+    void setScore(Score score);
+    const Score& score() const noexcept { return score_; }
+    void setSync(Sync sync) noexcept { sync_ = sync; }
+    /// Scales every level (0..1.5).
+    void setIntensity(float intensity) noexcept { intensity_ = intensity; }
+    /// Own clock back to 0; the next control() starts every running pattern afresh.
+    void reset() noexcept;
+
+    /// One control step: dt s since the previous one. Writes every motor's sustained target
+    /// (0 where no note sounds) and starts/stops the pattern voices the score uses.
+    void control(const Transport& transport, double dt, MotorCanvas& canvas);
+
+    double position() const noexcept { return position_; }   ///< s of score time, last step
+    bool finished() const noexcept { return position_ >= score_.length; }
+
+private:
+    void silence(MotorCanvas& canvas);
+
+    Score score_ {};
+    Sync sync_ = Sync::Seconds;
+    float intensity_ = 1.0f;
+    double ownClock_ = 0.0;
+    double position_ = 0.0;
+    double previous_ = -1.0;                       ///< last position (s); < 0: none yet
+    bool resync_ = true;
+    std::array<long, kPatternVoices> running_ {};  ///< index into score_.patterns + 1; 0 = none
+    std::array<bool, kPatternVoices> used_ {};     ///< voices the score writes (others left alone)
+    double longestNote_ = 0.0;
+};
+
+} // namespace armadillo

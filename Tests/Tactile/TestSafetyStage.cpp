@@ -1,0 +1,182 @@
+// Property tests of the safety stage (thesis §3.2.3): whatever is requested, at whatever packet
+// rate, the output keeps every bound of SafetyParams; and it takes away no more than it must.
+#include "Bounds.h"
+#include "Tactile/TactileEngine.h"
+#include <catch2/catch.hpp>
+#include <functional>
+#include <random>
+
+using namespace armadillo;
+using armadillo::test::measureBounds;
+using armadillo::test::withinBounds;
+
+namespace {
+
+struct Run {
+    std::vector<MotorLevels> out;
+    std::vector<double> hold;
+    int limited = 0;
+};
+
+// Drives a stage for `seconds`; dtAt(i) gives the i-th dt, request(i, t) the levels asked for.
+Run drive(SafetyStage& stage, double seconds, const std::function<double(std::size_t)>& dtAt,
+          const std::function<MotorLevels(std::size_t, double)>& request)
+{
+    Run r;
+    double t = 0.0;
+    std::vector<double> dts;
+    for (std::size_t i = 0; t < seconds; ++i) {
+        const double dt = dtAt(i);
+        t += dt;
+        r.out.push_back(stage.process(request(i, t), dt));
+        r.limited += stage.limitedCount();
+        dts.push_back(dt);
+    }
+    // Packet i stays on until the next call, dts[i + 1] later (the last one: its own dt).
+    for (std::size_t i = 0; i < dts.size(); ++i) r.hold.push_back(i + 1 < dts.size() ? dts[i + 1] : dts[i]);
+    return r;
+}
+
+MotorLevels all(int level)
+{
+    MotorLevels l {};
+    l.fill(static_cast<std::uint8_t>(level));
+    return l;
+}
+
+} // namespace
+
+TEST_CASE("Safety: random and adversarial streams never break the bounds, at several packet rates", "[safety][property]")
+{
+    const double dts[] = {1.0 / 200.0, 1.0 / 285.0, 1.0 / 1000.0, 0.02, 0.025};
+    std::mt19937_64 rng(12345);
+    for (double fixedDt : dts) {
+        for (int kind = 0; kind < 6; ++kind) {
+            SafetyStage stage;
+            stage.prepare(kDefaultSafetyParams, kMaxMotors);
+            std::uniform_int_distribution<int> level(0, 15);
+            std::uniform_real_distribution<double> period(0.05, 1.5);
+            double switchAt = 0.0;
+            bool on = false;
+            const auto request = [&](std::size_t, double t) {
+                MotorLevels l {};
+                switch (kind) {
+                case 0: for (auto& x : l) x = static_cast<std::uint8_t>(level(rng)); break;   // white noise
+                case 1: l = all(15); break;                                                    // full, forever
+                case 2:                                                                        // random square wave
+                    if (t >= switchAt) { on = !on; switchAt = t + period(rng); }
+                    l = all(on ? 15 : 0);
+                    break;
+                case 3: l = all(std::fmod(t, 0.3) < 0.29 ? 15 : 0); break;   // just under the run limit, again and again
+                case 4: l = all(std::fmod(t, 4.0) < 3.0 ? 5 : 15); break;    // rated level with bursts on top
+                case 5: for (std::size_t m = 0; m < l.size(); ++m) l[m] = static_cast<std::uint8_t>((m + static_cast<std::size_t>(t / fixedDt)) % 2 ? 15 : 0); break;   // alternating every packet
+                }
+                return l;
+            };
+            const Run r = drive(stage, 40.0, [&](std::size_t) { return fixedDt; }, request);
+            const auto report = measureBounds(r.out, r.hold);
+            INFO("dt " << fixedDt << " stream " << kind << ": run " << report.maxAboveRun << " s, above "
+                       << report.maxAboveInWindow << " s/2 s, power " << report.maxMeanPower << ", on " << report.maxOnRun);
+            CHECK(withinBounds(report));
+            if (kind == 1) CHECK(r.limited > 0);   // a stream of 15s must be cut
+        }
+    }
+}
+
+TEST_CASE("Safety: random packet intervals keep the bounds", "[safety][property]")
+{
+    std::mt19937_64 rng(777);
+    std::uniform_real_distribution<double> dtDist(0.001, kDefaultSafetyParams.maxHoldTime);
+    std::uniform_int_distribution<int> level(0, 15);
+    std::bernoulli_distribution change(0.05);
+    for (int trial = 0; trial < 5; ++trial) {
+        SafetyStage stage;
+        stage.prepare(kDefaultSafetyParams, kMaxMotors);
+        MotorLevels current {};
+        const Run r = drive(
+            stage, 30.0, [&](std::size_t) { return dtDist(rng); },
+            [&](std::size_t, double) {
+                for (auto& x : current)
+                    if (change(rng)) x = static_cast<std::uint8_t>(level(rng));
+                return current;
+            });
+        const auto report = measureBounds(r.out, r.hold);
+        INFO("trial " << trial << ": run " << report.maxAboveRun << ", above " << report.maxAboveInWindow
+                      << ", power " << report.maxMeanPower);
+        CHECK(withinBounds(report));
+    }
+}
+
+TEST_CASE("Safety: what is within the bounds passes untouched", "[safety]")
+{
+    SafetyStage stage;
+    stage.prepare(kDefaultSafetyParams, kMaxMotors);
+    // The rated level, steadily, for 50 s: exactly the mean-power limit, and never cut.
+    const Run steady = drive(stage, 50.0, [](std::size_t) { return 0.005; }, [](std::size_t, double) { return all(5); });
+    CHECK(steady.limited == 0);
+    CHECK(steady.out.back()[0] == 5);
+
+    // A short full spike (a jump-start or a jolt) passes whole.
+    SafetyStage fresh;
+    fresh.prepare(kDefaultSafetyParams, kMaxMotors);
+    const Run spike = drive(fresh, 1.0, [](std::size_t) { return 0.005; },
+                            [](std::size_t, double t) { return all(t <= 0.2 + 1e-9 ? 15 : 0); });
+    CHECK(spike.limited == 0);
+    int fifteen = 0;
+    for (const auto& l : spike.out) fifteen += l[3] == 15;
+    CHECK(fifteen == 40);
+}
+
+TEST_CASE("Safety: a long burst is cut to the rated level before 300 ms", "[safety]")
+{
+    SafetyStage stage;
+    stage.prepare(kDefaultSafetyParams, kMaxMotors);
+    const Run r = drive(stage, 1.0, [](std::size_t) { return 0.005; }, [](std::size_t, double) { return all(15); });
+    double above = 0.0;   // the first run above the rating
+    std::size_t firstCut = 0;
+    for (std::size_t i = 0; i < r.out.size() && firstCut == 0; ++i) {
+        if (r.out[i][0] > 5) above += r.hold[i];
+        else firstCut = i;
+    }
+    CHECK(above <= 0.300 + 1e-9);
+    CHECK(above >= 0.250);                 // the stage plans 25 ms ahead, no more
+    CHECK(r.out[firstCut][0] == 5);        // cut to the rating, not to nothing
+}
+
+TEST_CASE("Safety: soft vibrations get a time limit too", "[safety]")
+{
+    SafetyStage stage;
+    stage.prepare(kDefaultSafetyParams, 9);
+    const Run r = drive(stage, 130.0, [](std::size_t) { return 0.01; }, [](std::size_t, double) { return all(2); });
+    const auto report = measureBounds(r.out, r.hold);
+    CHECK(report.maxOnRun <= 60.0 + 1e-9);
+    CHECK(report.maxOnRun >= 59.9);
+    // After the limit the motor rests, then may run again.
+    double offRun = 0.0, longestOff = 0.0;
+    for (std::size_t i = 0; i < r.out.size(); ++i) {
+        offRun = r.out[i][0] == 0 ? offRun + r.hold[i] : 0.0;
+        longestOff = std::max(longestOff, offRun);
+    }
+    CHECK(longestOff >= kDefaultSafetyParams.restAfterOnRun - 0.011);
+    CHECK(r.out.back()[0] == 2);
+    // Motors beyond motorCount never run.
+    for (const auto& l : r.out) CHECK(l[12] == 0);
+}
+
+TEST_CASE("Safety: a bad dt or allOff gives all zeros at once, and the heat history stays", "[safety]")
+{
+    SafetyStage stage;
+    stage.prepare(kDefaultSafetyParams, kMaxMotors);
+    double used = 0.0;   // s above rating during the first second: the 2 s duty budget
+    for (int i = 0; i < 200; ++i) used += stage.process(all(15), 0.005)[0] > 5 ? 0.005 : 0.0;
+    CHECK(used > 0.5);
+    CHECK(stage.process(all(15), std::nan("")) == MotorLevels {});
+    CHECK(stage.process(all(15), -1.0) == MotorLevels {});
+    stage.allOff();
+    CHECK(stage.process(all(15), 0.005) == MotorLevels {});
+    // The budget spent before the stop is still spent: no fresh 285 ms burst right away.
+    double above = 0.0;
+    for (int i = 0; i < 60; ++i) above += stage.process(all(15), 0.005)[0] > 5 ? 0.005 : 0.0;
+    CHECK(above <= 0.6 - used + 0.026);
+    CHECK(above < 0.2);
+}

@@ -1,0 +1,218 @@
+// Drive shaping (thesis §3.2.2): jump-start, dithering, mirroring, allOff, and that tick() is
+// exact at any packet rate and never allocates.
+#include "Tactile/TactileEngine.h"
+#include <atomic>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdlib>
+#include <new>
+#include <random>
+
+using namespace armadillo;
+
+// Counts heap allocations while `g_counting` is set (the whole test binary shares this).
+static std::atomic<bool> g_counting {false};
+static std::atomic<long> g_allocations {0};
+void* operator new(std::size_t n)
+{
+    if (g_counting.load()) ++g_allocations;
+    if (void* p = std::malloc(n ? n : 1)) return p;
+    throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace {
+TactileEngine& engineFor(TactileEngine& e, ArmSide side = ArmSide::Right, int motors = kGridMotors)
+{
+    TactileConfig c;
+    c.side = side;
+    c.motorCount = motors;
+    e.prepare(c);
+    return e;
+}
+} // namespace
+
+TEST_CASE("Jump-start: a starting motor gets a 30 ms full spike, then its level", "[shaping]")
+{
+    TactileEngine e;
+    engineFor(e);
+    e.setLevel(4, 3.0f);
+    for (int i = 0; i < 6; ++i) CHECK(e.tick(0.005)[4] == 15);   // 6 × 5 ms = 30 ms
+    for (int i = 0; i < 50; ++i) CHECK(e.tick(0.005)[4] == 3);
+    // Other motors stay off.
+    CHECK(e.tick(0.005)[0] == 0);
+}
+
+TEST_CASE("Jump-start: the spike's area is exact at any packet rate", "[shaping]")
+{
+    for (double dt : {1.0 / 200.0, 1.0 / 285.0, 1.0 / 120.0, 1.0 / 1000.0}) {
+        TactileEngine e;
+        engineFor(e);
+        e.setLevel(0, 3.0f);
+        double area = 0.0, spikeTime = 0.0;
+        for (int i = 0; i * dt < 0.2; ++i) {
+            const int l = e.tick(dt)[0];
+            area += (l - 3) * dt;
+            if (l == 15) spikeTime += dt;
+        }
+        INFO("dt " << dt);
+        CHECK(area == Approx(12.0 * 0.030).margin(0.5 * dt + 1e-9));   // (15 − 3) × 30 ms
+        CHECK(spikeTime <= 0.030 + 1e-9);
+        CHECK(spikeTime > 0.030 - dt);
+    }
+}
+
+TEST_CASE("Jump-start: a big jump up kicks, a small step does not, a stop cuts the spike", "[shaping]")
+{
+    TactileEngine e;
+    engineFor(e);
+    e.setLevel(1, 2.0f);
+    for (int i = 0; i < 20; ++i) e.tick(0.005);
+    e.setLevel(1, 4.0f);   // +2: below the 4-level jump threshold
+    CHECK(e.tick(0.005)[1] == 4);
+    e.setLevel(1, 9.0f);   // +5: kicks
+    CHECK(e.tick(0.005)[1] == 15);
+    e.setLevel(1, 0.0f);   // stopping mid-spike: off at once
+    CHECK(e.tick(0.005)[1] == 0);
+    e.setLevel(1, 15.0f);  // a start at full level stays at full level
+    CHECK(e.tick(0.005)[1] == 15);
+}
+
+TEST_CASE("Jump-start: fades (smooth patterns) start without a spike", "[shaping]")
+{
+    TactileEngine e;
+    engineFor(e);
+    PatternRequest r;
+    r.kind = PatternKind::FadeInPulse;
+    r.motors = motors::bit(4);
+    r.level = 6.0f;
+    r.duration = 0.6;
+    e.trigger(r);
+    int previous = 0;
+    for (int i = 0; i < 120; ++i) {
+        const int l = e.tick(0.005)[4];
+        CHECK(l <= 6);
+        CHECK(l >= previous - 1);   // rising (give or take the dither)
+        previous = std::max(previous, l);
+    }
+    CHECK(previous == 6);
+}
+
+TEST_CASE("Dithering: fractional levels have the right mean at any dt", "[shaping]")
+{
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> dtDist(0.002, 0.008);
+    for (int trial = 0; trial < 3; ++trial) {
+        TactileEngine e;
+        engineFor(e);
+        e.setLevel(2, 2.5f);
+        for (int i = 0; i < 20; ++i) e.tick(0.005);   // past the spike
+        double sum = 0.0, time = 0.0;
+        double dtPrev = dtDist(rng);
+        int last = e.tick(dtPrev)[2];
+        for (int i = 0; i < 2000; ++i) {
+            const double dt = trial == 0 ? 0.005 : dtDist(rng);
+            sum += last * dt;   // the previous packet was on for dt
+            time += dt;
+            last = e.tick(dt)[2];
+            CHECK((last == 2 || last == 3));
+        }
+        CHECK(sum / time == Approx(2.5).margin(0.01));
+    }
+}
+
+TEST_CASE("Left arm: the grid's columns mirror, back motors stay", "[shaping]")
+{
+    TactileEngine e;
+    engineFor(e, ArmSide::Left, 12);
+    e.setLevel(motorIndex(0, 0), 15.0f);   // wrist, left (right-arm layout)
+    e.setLevel(motorIndex(2, 1), 15.0f);   // elbow, underside
+    e.setLevel(9, 15.0f);                  // first back motor
+    const MotorLevels l = e.tick(0.005);
+    CHECK(l[static_cast<std::size_t>(motorIndex(0, 2))] == 15);
+    CHECK(l[static_cast<std::size_t>(motorIndex(0, 0))] == 0);
+    CHECK(l[static_cast<std::size_t>(motorIndex(2, 1))] == 15);
+    CHECK(l[9] == 15);
+}
+
+TEST_CASE("allOff: everything off at once, patterns and targets forgotten", "[shaping]")
+{
+    TactileEngine e;
+    engineFor(e);
+    e.setLevel(0, 4.0f);
+    PatternRequest r;
+    r.kind = PatternKind::Breathing;
+    r.level = 5.0f;
+    r.voice = 3;
+    e.trigger(r);
+    for (int i = 0; i < 200; ++i) e.tick(0.005);
+    CHECK(e.voiceActive(3));
+    e.allOff();
+    CHECK_FALSE(e.voiceActive(3));
+    for (int i = 0; i < 100; ++i) CHECK(e.tick(0.005) == MotorLevels {});
+    // A bad dt is an error: all off.
+    e.setLevel(0, 4.0f);
+    CHECK(e.tick(std::nan("")) == MotorLevels {});
+}
+
+TEST_CASE("Canvas: bad indices, levels and voices are ignored", "[shaping]")
+{
+    TactileEngine e;
+    engineFor(e);
+    e.setLevel(-1, 5.0f);
+    e.setLevel(16, 5.0f);
+    e.setLevel(0, std::nanf(""));
+    e.setLevel(1, -3.0f);
+    e.setLevel(2, 99.0f);   // clamps to 15
+    PatternRequest r;
+    r.voice = 8;
+    e.trigger(r);
+    e.stopVoice(-1);
+    const MotorLevels l = e.tick(0.005);
+    CHECK(l[0] == 0);
+    CHECK(l[1] == 0);
+    CHECK(l[2] == 15);
+    for (int v = 0; v < kPatternVoices; ++v) CHECK_FALSE(e.voiceActive(v));
+}
+
+TEST_CASE("Pattern timing does not depend on the packet rate", "[shaping]")
+{
+    for (double dt : {1.0 / 200.0, 1.0 / 285.0, 1.0 / 100.0}) {
+        TactileEngine e;
+        engineFor(e);
+        PatternRequest r;
+        r.kind = PatternKind::Point;
+        r.motors = motors::bit(7);
+        r.level = 4.0f;
+        r.duration = 0.2;
+        e.trigger(r);
+        double onTime = 0.0;
+        for (int i = 0; i * dt < 1.0; ++i)
+            if (e.tick(dt)[7] > 0) onTime += dt;
+        INFO("dt " << dt);
+        CHECK(onTime == Approx(0.2).margin(dt));
+    }
+}
+
+TEST_CASE("tick() allocates nothing, with 16 motors and every voice busy", "[shaping]")
+{
+    TactileEngine e;
+    engineFor(e, ArmSide::Left, kMaxMotors);
+    for (int v = 0; v < kPatternVoices; ++v) {
+        PatternRequest r;
+        r.kind = static_cast<PatternKind>(4 + v);   // breathing .. gear-pull
+        r.voice = v;
+        r.motors = 0xFFFF;
+        e.trigger(r);
+    }
+    for (int m = 0; m < kMaxMotors; ++m) e.setLevel(m, 2.5f);
+    g_allocations = 0;
+    g_counting = true;
+    for (int i = 0; i < 5000; ++i) {
+        if (i % 100 == 0) e.setLevel(i % kMaxMotors, float(i % 15));
+        (void) e.tick(1.0 / 285.0);
+    }
+    g_counting = false;
+    CHECK(g_allocations.load() == 0);
+}
