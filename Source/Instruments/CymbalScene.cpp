@@ -389,8 +389,12 @@ private:
         v.harmonicitySmooth.value = c.harmonicity;
     }
 
-    void renderVoice(CrashVoice& v, float* left, float* right, int numSamples, double level, double boost, double shift) noexcept
+    void renderVoice(CrashVoice& voice, float* left, float* right, int numSamples, double level, double boost, double shift) noexcept
     {
+        // Work on a local copy: the compiler keeps it in registers instead of storing every
+        // field back through the reference after each output sample (it cannot prove that the
+        // output pointers do not alias the voice).
+        CrashVoice v = voice;
         const CrashEnvelopeParams& e = kCrashEnvelope;
         const double tailLevel = static_cast<double>(params_.get(kTail)) * e.tailShare;
         const double fadeDen = static_cast<double>(std::max(1L, v.length - v.fadeStart));
@@ -419,8 +423,8 @@ private:
                 const double h = v.harmonicitySmooth.next(v.harmonicity + shift);
                 const double mod = dsp::SineTable::at(v.modPhase) * index * kInvTwoPi;   // cycles
                 v.modPhase = dsp::wrapPhase(v.modPhase + v.carrierInc * h);
-                l += tailEnv * dsp::SineTable::at(dsp::wrapPhase(v.carrierPhaseL + mod));
-                r += tailEnv * dsp::SineTable::at(dsp::wrapPhase(v.carrierPhaseR + mod));
+                l += tailEnv * dsp::SineTable::at(v.carrierPhaseL + mod);
+                r += tailEnv * dsp::SineTable::at(v.carrierPhaseR + mod);
                 v.carrierPhaseL = dsp::wrapPhase(v.carrierPhaseL + v.carrierInc);
                 v.carrierPhaseR = dsp::wrapPhase(v.carrierPhaseR + v.carrierInc * detune);
             }
@@ -432,6 +436,7 @@ private:
         }
         const double remaining = v.damp * std::max(v.age < v.length ? 1.0 : 0.0, v.tailDecay * tailLevel);
         if (remaining < 1e-5) v.active = false;
+        voice = v;
     }
 
     ParameterSet params_;

@@ -17,11 +17,12 @@ inline constexpr double kTwoPi = 6.283185307179586476925;
 class SineTable {
 public:
     static constexpr int kSize = 4096;
-    /// phase in cycles, any value in [0, 1); returns sin(2π·phase).
+    /// phase in cycles, any value (|phase| < 2^19); returns sin(2π·phase).
     static double at(double phaseCycles) noexcept
     {
         const double x = phaseCycles * kSize;
-        const int i = static_cast<int>(x);
+        int i = static_cast<int>(x);
+        if (x < i) --i;   // floor without a libm call (baseline x86-64 has no roundsd)
         const float frac = static_cast<float>(x - i);
         const float a = table_[static_cast<std::size_t>(i & (kSize - 1))];
         const float b = table_[static_cast<std::size_t>((i + 1) & (kSize - 1))];
@@ -38,10 +39,13 @@ private:
     static inline const std::array<float, kSize> table_ = build();
 };
 
-/// Wraps a phase in cycles back into [0, 1) after an increment below one cycle.
+/// Wraps a phase in cycles into [0, 1). Inlined floor: std::floor is a libm call on baseline
+/// x86-64, and this runs several times per sample.
 inline double wrapPhase(double phaseCycles) noexcept
 {
-    return phaseCycles - std::floor(phaseCycles);
+    auto i = static_cast<long long>(phaseCycles);
+    if (phaseCycles < static_cast<double>(i)) --i;
+    return phaseCycles - static_cast<double>(i);
 }
 
 /// One-pole smoothing toward a target, per sample: y += a·(target − y).
