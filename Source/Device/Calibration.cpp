@@ -3,6 +3,7 @@
 #include "Core/Csv.h"
 #include "Core/Errors.h"
 #include "Device/Json.h"
+#include <algorithm>
 #include <cmath>
 
 namespace armadillo::device {
@@ -220,7 +221,8 @@ void CalibrationProcedure::feed(double t, const SensorCounts& c)
     const Eigen::Vector3d gyroRate = result_.gyro.apply(c[kGx], c[kGy], c[kGz]);
     switch (step_) {
     case Step::GyroStill:
-        if (count_ > 0 && (gyroCounts - sum_ / static_cast<double>(count_)).cwiseProduct(result_.gyro.scale).norm() > params_.stillGyroLimit) {
+        if (gyroRate.norm() > params_.maxStillRate ||
+            (count_ > 0 && (gyroCounts - sum_ / static_cast<double>(count_)).cwiseProduct(result_.gyro.scale).norm() > params_.stillGyroLimit)) {
             // Movement: start again.
             sum_.setZero();
             count_ = 0;
@@ -265,6 +267,13 @@ double CalibrationProcedure::progress() const noexcept
         if (count_ == 0) return 0.0;
         const bool accel = step_ == Step::AccelExtremes;
         const SensorCalibration& s = accel ? result_.accel : result_.mag;
+        if (step_ == Step::MagHorizontal) {
+            // Level turn: only the two horizontal axes swing, and only by the field's horizontal part.
+            double span[3];
+            for (int i = 0; i < 3; ++i) span[i] = (max_[i] - min_[i]) * std::abs(s.scale[i]) / (2.0 * params_.minHorizontalSpanFraction);
+            std::sort(span, span + 3);
+            return std::clamp(span[1], 0.0, 1.0);
+        }
         const double want = 2.0 * (accel ? kStandardGravity * params_.minAccelSpanFraction : params_.minMagSpanFraction);
         double p = 1.0;
         for (int i = 0; i < 3; ++i) p = std::min(p, (max_[i] - min_[i]) * std::abs(s.scale[i]) / want);

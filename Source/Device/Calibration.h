@@ -66,7 +66,9 @@ public:
         double holdGyroLimit = 0.35;        ///< rad/s: accel extremes only count while this still
         double smoothingSeconds = 0.1;      ///< s: low-pass of accel/mag counts before extremes
         double minAccelSpanFraction = 0.8;  ///< each axis must span this fraction of ±1 g (start calibration)
-        double minMagSpanFraction = 0.5;    ///< each axis must span this fraction of ±1 field unit
+        double minMagSpanFraction = 0.5;    ///< after both sweeps each axis must span this fraction of ±1 field unit
+        double minHorizontalSpanFraction = 0.2;   ///< horizontal sweep: two axes span this (the field dips, so less)
+        double maxStillRate = 1.0;          ///< rad/s (start calibration): above this nothing counts as still
         double turnAngle = 2.0 * kPi;       ///< rad: the turn the gyro steps ask for
         double minTurnFraction = 0.5;       ///< the integrated turn must reach this fraction of turnAngle
     };

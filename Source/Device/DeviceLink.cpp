@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <pthread.h>
+#include <sched.h>
 
 namespace armadillo::device {
 
@@ -137,8 +139,17 @@ LatencySummary DeviceLink::latency() const
     return s;
 }
 
+bool tryRealtimePriority(int priority) noexcept
+{
+    if (priority <= 0) return false;
+    sched_param sp {};
+    sp.sched_priority = std::clamp(priority, sched_get_priority_min(SCHED_FIFO), sched_get_priority_max(SCHED_FIFO));
+    return pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp) == 0;
+}
+
 void DeviceLink::run()
 {
+    tryRealtimePriority(options_.realtimePriority);
     std::array<std::uint8_t, 512> buffer {};
     bool everConnected = false;
     double backoff = options_.reconnectMin;

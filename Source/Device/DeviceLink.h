@@ -28,7 +28,11 @@ struct DeviceLinkOptions {
     LinkConfig link {};
     double reconnectMin = 0.05;   ///< s: first retry after a loss
     double reconnectMax = 0.25;   ///< s: backoff cap (a returning port is found within this)
+    int realtimePriority = 0;     ///< > 0: try SCHED_FIFO at this priority for the link thread (falls back silently)
 };
+
+/// Tries SCHED_FIFO at `priority` for the calling thread; false when not permitted.
+bool tryRealtimePriority(int priority) noexcept;
 
 /// Sensor-packet arrival → motor-packet written, measured on the link thread.
 struct LatencySummary {

@@ -1,5 +1,6 @@
 #include "Device/Simulator.h"
 #include "Core/Errors.h"
+#include "Device/DeviceLink.h"
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -182,6 +183,7 @@ bool SimulatedForearm::plug()
         std::lock_guard<std::mutex> lock(mutex_);
         ptyName_ = name;
         ++stats_.connections;
+        stats_.lastPlug = std::chrono::steady_clock::now();
     } else {
         int sv[2];
         if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv) != 0) return false;
@@ -191,6 +193,7 @@ bool SimulatedForearm::plug()
         if (hostFd_ >= 0) ::close(hostFd_);
         hostFd_ = sv[1];
         ++stats_.connections;
+        stats_.lastPlug = std::chrono::steady_clock::now();
     }
     device_.protocol().reset();   // power-up: wait for the host
     cv_.notify_all();
@@ -217,11 +220,12 @@ bool SimulatedForearm::sleepUnlessStopped(double seconds)
 
 void SimulatedForearm::waitUntil(double t)
 {
-    // Absolute sleep to ~50 µs before, then yield: paced mode keeps the wire timing within a few µs.
+    // Absolute sleep to ~200 µs before, then yield: the wake-up latency of a busy machine is
+    // absorbed and paced mode keeps the wire timing within a few µs.
     const double ahead = t - now();
     if (ahead <= 0.0) return;
-    if (ahead > 60e-6) {
-        const auto target = start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(t - 50e-6));
+    if (ahead > 250e-6) {
+        const auto target = start_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(t - 200e-6));
         const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(target.time_since_epoch()).count();
         timespec ts {static_cast<time_t>(ns / 1000000000), static_cast<long>(ns % 1000000000)};
         while (::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {}
@@ -263,7 +267,13 @@ void SimulatedForearm::respond(double rxTime)
         waitUntil(wireFree_);
     }
 
-    const SensorPacketBytes packet = device_.answer(now());
+    SensorPacketBytes packet = device_.answer(now());
+    if (options_.stampSequence) {
+        SensorCounts c = device_.lastCounts();
+        std::lock_guard<std::mutex> lock(mutex_);
+        c[kAx] = static_cast<std::uint16_t>(stats_.packetsSent & 0x0FFF);
+        packet = encodeSensorPacket(c);
+    }
     std::uint8_t out[kSensorPacketSize + 1];
     std::size_t n = kSensorPacketSize;
     std::copy(packet.begin(), packet.end(), out);
@@ -316,6 +326,7 @@ void SimulatedForearm::respond(double rxTime)
 void SimulatedForearm::run()
 {
     ::prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);   // precise paced sleeps
+    tryRealtimePriority(options_.realtimePriority);
     std::uniform_real_distribution<double> u(0.0, 1.0);
     std::uint8_t buffer[256];
     while (!stop_.load(std::memory_order_relaxed)) {

@@ -91,6 +91,10 @@ struct SimulatorOptions {
     double baud = 0.0;        ///< > 0: pace both directions like an 8N1 wire at this rate; 0: as fast as possible
     FaultConfig faults {};
     std::uint64_t seed = 11;  ///< fault randomness
+    /// Link-test aid: write the packet's sequence number (mod 4096) into the ax channel so a test
+    /// knows exactly which packets the host received.
+    bool stampSequence = false;
+    int realtimePriority = 0;  ///< > 0: try SCHED_FIFO for the device thread (steadier pacing)
 };
 
 struct SimulatorStats {
@@ -101,6 +105,7 @@ struct SimulatorStats {
     std::uint64_t connections = 0;     ///< times the endpoint was (re)created
     std::uint64_t faults = 0;          ///< faults injected (scripted + random)
     ProtocolLevels levels {};          ///< latest motor levels received
+    std::chrono::steady_clock::time_point lastPlug {};   ///< when the endpoint last appeared
 };
 
 /// The simulated device on its own thread.
