@@ -41,6 +41,8 @@ void SafetyStage::prepare(const SafetyParams& params, int motorCount)
     level_.assign(n, 0);
     oldest_.fill(0);
     newest_.fill(0);   // one record per motor: level 0 since time 0
+    powerCursor_.fill(0);
+    dutyCursor_.fill(0);
     aboveRun_.fill(0.0);
     onRun_.fill(0.0);
     rest_.fill(0.0);
@@ -51,32 +53,16 @@ void SafetyStage::prepare(const SafetyParams& params, int motorCount)
 }
 
 // Sequence number of the last record starting at or before t (the oldest kept if none does).
-std::uint64_t SafetyStage::findRecord(int m, double t) const noexcept
+// The window edges move forward with time, so a per-motor cursor makes this O(1) amortised.
+std::uint64_t SafetyStage::seek(int m, double t, std::uint64_t& cursor) const noexcept
 {
     const auto mi = static_cast<std::size_t>(m);
     const std::size_t base = mi * capacity_;
     const std::size_t mask = capacity_ - 1;
-    std::uint64_t lo = oldest_[mi];
-    std::uint64_t hi = newest_[mi];
-    if (start_[base + (hi & mask)] <= t) return hi;   // the usual case: t inside the open record
-    while (lo < hi) {
-        const std::uint64_t mid = lo + (hi - lo + 1) / 2;
-        if (start_[base + (mid & mask)] <= t) lo = mid;
-        else hi = mid - 1;
-    }
-    return lo;
-}
-
-// Integral from 0 to t (t ≤ now) of level² (above = false) or of [level > rated] (above = true).
-double SafetyStage::cumulativeAt(int m, double t, bool above) const noexcept
-{
-    const std::size_t r = static_cast<std::size_t>(m) * capacity_ + (findRecord(m, t) & (capacity_ - 1));
-    // Records are only dropped once they lie entirely before the longest window, so t never
-    // falls before the oldest record except before time 0, when nothing was on.
-    const double span = std::max(0.0, t - start_[r]);
-    const double level = level_[r];
-    const double value = above ? (level > params_.ratedLevel ? 1.0 : 0.0) : level * level;
-    return (above ? cumA_[r] : cumE_[r]) + value * span;
+    cursor = std::clamp(cursor, oldest_[mi], newest_[mi]);
+    while (cursor > oldest_[mi] && start_[base + (cursor & mask)] > t) --cursor;
+    while (cursor < newest_[mi] && start_[base + ((cursor + 1) & mask)] <= t) ++cursor;
+    return cursor;
 }
 
 void SafetyStage::dropOld(int m) noexcept
@@ -151,36 +137,51 @@ MotorLevels SafetyStage::process(const MotorLevels& requested, double dt) noexce
             level = 0;
             rest_[mi] = params_.restAfterOnRun;
         }
+        const std::size_t base = mi * capacity_;
+        const std::size_t open = base + (newest_[mi] & mask);
+        const auto valueOf = [rated](std::uint8_t l, bool above) {
+            return above ? (l > rated ? 1.0 : 0.0) : double(l) * double(l);
+        };
+        // Integral from 0 to t, starting the search at a cursor.
+        const auto cumulative = [&](double t, bool above, std::uint64_t& cursor) {
+            const std::size_t r = base + (seek(m, t, cursor) & mask);
+            return (above ? cumA_[r] : cumE_[r]) + valueOf(level_[r], above) * std::max(0.0, t - start_[r]);
+        };
         // Above the rating: a run limit and a duty limit.
         if (level > rated) {
-            const double above = cumulativeAt(m, now_, true) - cumulativeAt(m, now_ + horizon - dutyWindow, true);
+            const double total = cumA_[open] + valueOf(level_[open], true) * (now_ - start_[open]);
+            const double above = total - cumulative(now_ + horizon - dutyWindow, true, dutyCursor_[mi]);
             if (aboveRun_[mi] + horizon > runLimit * (1.0 - kSlack) || above + horizon > dutyLimit * (1.0 - kSlack))
                 level = rated;
         }
-        // Mean power over every window ending within the horizon.
+        // Mean power over every window ending within the horizon: window ends now + d for d in
+        // (0, H]; the worst d is H or a level change of the history in (now − W, now − W + H).
         if (level > 0) {
-            const double total = cumulativeAt(m, now_, false);
+            const double total = cumE_[open] + valueOf(level_[open], false) * (now_ - start_[open]);
+            const double from = now_ - powerWindow, to = from + horizon;
             double maxSquare = std::numeric_limits<double>::infinity();
-            const auto consider = [&](double d) {
-                if (d <= 0.0) return;
-                const double history = total - cumulativeAt(m, now_ + d - powerWindow, false);
-                maxSquare = std::min(maxSquare, (energyLimit - history) / d);
-            };
-            consider(horizon);
-            // Level changes of the history inside [now − W, now − W + H).
-            const std::size_t base = mi * capacity_;
-            const double from = now_ - powerWindow, to = now_ - powerWindow + horizon;
-            for (std::uint64_t s = findRecord(m, from) + 1; s <= newest_[mi]; ++s) {
-                const double st = start_[base + (s & mask)];
-                if (st >= to) break;
-                if (st > from) consider(st - from);
+            std::uint64_t s = seek(m, from, powerCursor_[mi]);
+            const std::size_t r0 = base + (s & mask);
+            const double atFrom = cumE_[r0] + valueOf(level_[r0], false) * std::max(0.0, from - start_[r0]);
+            // Fast path: the whole last window plus the new level for all of H fits.
+            const bool fits = total - atFrom + double(level * level) * horizon <= energyLimit;
+            if (!fits) {
+                while (s < newest_[mi] && start_[base + ((s + 1) & mask)] <= to) {
+                    ++s;
+                    const std::size_t r = base + (s & mask);
+                    const double d = start_[r] - from;
+                    if (d > 0.0) maxSquare = std::min(maxSquare, (energyLimit - (total - cumE_[r])) / d);
+                }
+                const std::size_t r = base + (s & mask);
+                const double atTo = cumE_[r] + valueOf(level_[r], false) * std::max(0.0, to - start_[r]);
+                maxSquare = std::min(maxSquare, (energyLimit - (total - atTo)) / horizon);
+                // kSquareSlack: the rated level held steadily sits exactly on the limit; rounding in
+                // the sums must not make it flicker. Its effect is ≤ 1e-6·H level²·s per window.
+                constexpr double kSquareSlack = 1e-6;
+                if (!(maxSquare + kSquareSlack >= 1.0)) level = 0;
+                else if (maxSquare + kSquareSlack < double(level * level))
+                    level = std::min(level, int(std::floor(std::sqrt(maxSquare + kSquareSlack))));
             }
-            // kSquareSlack: the rated level held steadily sits exactly on the limit; rounding in
-            // the sums must not make it flicker. Its effect is ≤ 1e-6·H level²·s per window.
-            constexpr double kSquareSlack = 1e-6;
-            if (!(maxSquare + kSquareSlack >= 1.0)) level = 0;
-            else if (maxSquare + kSquareSlack < double(level * level))
-                level = std::min(level, int(std::floor(std::sqrt(maxSquare + kSquareSlack))));
         }
         if (level < wanted) ++limited_;
         out[mi] = static_cast<std::uint8_t>(level);

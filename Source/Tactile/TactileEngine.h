@@ -57,10 +57,9 @@ public:
 
 private:
     struct History;
-    std::uint64_t findRecord(int m, double t) const noexcept;
+    std::uint64_t seek(int m, double t, std::uint64_t& cursor) const noexcept;
     void push(int m, std::uint8_t level) noexcept;
     void dropOld(int m) noexcept;
-    double cumulativeAt(int m, double t, bool above) const noexcept;
 
     SafetyParams params_ {};
     int motorCount_ = kMaxMotors;
@@ -70,6 +69,7 @@ private:
     std::vector<double> start_, cumE_, cumA_;
     std::vector<std::uint8_t> level_;
     std::array<std::uint64_t, kMaxMotors> oldest_ {}, newest_ {};
+    std::array<std::uint64_t, kMaxMotors> powerCursor_ {}, dutyCursor_ {};   ///< window-edge search starts
     std::array<double, kMaxMotors> aboveRun_ {}, onRun_ {}, rest_ {};
     MotorLevels last_ {};
     double now_ = 0.0;
