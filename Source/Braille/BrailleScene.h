@@ -1,9 +1,51 @@
 #pragma once
-// The Arm Braille scene (thesis §4.2–4.4): SceneConfig::text is read by rolling the arm.
-// nullptr = not built in this version.
+// The Arm Braille scene (thesis §4.2–4.4): SceneConfig::text is read by rolling the arm
+// (active), drawn without movement (passive) or used in the training protocol (§4.4.1).
+// SceneConfig::text is the text itself, or "@PATH" for a file (.brf = Braille ASCII).
 #include "Core/Scene.h"
 #include <memory>
+#include <string>
 
 namespace armadillo {
+
 std::unique_ptr<Scene> makeBrailleScene();   ///< "braille"
+
+namespace braille {
+
+/// Indices into the braille scene's parameters() (ids "braille.<name>").
+enum BrailleParam : int {
+    kParamMode = 0,        ///< choice: active, passive, training
+    kParamMethod,          ///< choice: rows, whole, columns, dots (DisplayMethod)
+    kParamGrade,           ///< choice: 1, 2 (the default tables; prepare() translates both)
+    kParamLevel,           ///< level of a dot's vibration, 1..15
+    kParamPulse,           ///< s a step vibrates in active reading
+    kParamStep,            ///< deg of roll per advance
+    kParamDeadTime,        ///< s after an advance with no further advance
+    kParamHoldRepeat,      ///< s between repeats of the step the reader holds on; 0 = never
+    kParamPassiveOn,       ///< s a step vibrates in passive drawing
+    kParamPassiveGap,      ///< s between steps of one character in passive drawing
+    kParamPassiveLetterGap,///< s between characters in passive drawing
+    kParamPassiveWordGap,  ///< s of a word gap in passive drawing
+    kParamPassiveRepeat,   ///< s before a passive message starts again; 0 = once
+    kParamCount
+};
+
+enum class BrailleMode : int { Active = 0, Passive = 1, Training = 2 };
+
+/// What the app's UI (or a test) can do with the braille scene beyond the Scene API:
+/// `dynamic_cast<braille::BrailleSceneControls*>(scene)`.
+class BrailleSceneControls {
+public:
+    virtual ~BrailleSceneControls() = default;
+    /// A training answer ("left", a letter, a word, "here"); any thread, lock-free; false when
+    /// too many answers are waiting.
+    virtual bool submitAnswer(const std::string& answer) noexcept = 0;
+    /// The training log so far (CSV); call only while control() is not running.
+    virtual std::string trainingLogCsv() const = 0;
+};
+
+/// Default text when SceneConfig::text is empty (the plugin's scene choice starts with it).
+inline constexpr const char* kDefaultText = "exit";
+
+} // namespace braille
 } // namespace armadillo

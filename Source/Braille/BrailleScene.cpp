@@ -1,0 +1,333 @@
+// The Arm Braille scene: reading by roll (§4.3), passive drawing (§4.2.1) and training (§4.4.1).
+// Everything that allocates (liblouis, layouts, the training plan) happens in prepare(); control()
+// only moves cursors, schedules short vibration bursts and states motor targets on the canvas.
+#include "Braille/BrailleScene.h"
+#include "Braille/Cells.h"
+#include "Braille/Reading.h"
+#include "Braille/Training.h"
+#include "Core/Errors.h"
+#include "Core/SpscQueue.h"
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <cstring>
+
+#ifndef ARMADILLO_RESOURCE_DIR
+#define ARMADILLO_RESOURCE_DIR "Resources"
+#endif
+
+namespace armadillo {
+namespace braille {
+namespace {
+
+/// Short vibrations scheduled on the scene's clock; the level of a motor is the highest of the
+/// bursts covering it now. Fixed capacity: no allocation during control.
+class BurstPlayer {
+public:
+    void clear() noexcept { count_ = 0; }
+    void add(double start, double duration, MotorSet motors, float level) noexcept
+    {
+        if (motors == 0 || duration <= 0.0 || level <= 0.0f) return;
+        if (count_ == bursts_.size()) {   // full: the oldest burst gives way
+            std::move(bursts_.begin() + 1, bursts_.end(), bursts_.begin());
+            --count_;
+        }
+        bursts_[count_++] = {start, start + duration, motors, level};
+    }
+    void levels(double t, std::array<float, kGridMotors>& out) noexcept
+    {
+        out.fill(0.0f);
+        std::size_t kept = 0;
+        for (std::size_t i = 0; i < count_; ++i) {
+            const Burst& b = bursts_[i];
+            if (b.end <= t) continue;   // finished
+            bursts_[kept++] = b;
+            if (b.start > t) continue;  // not yet
+            for (int m = 0; m < kGridMotors; ++m)
+                if (b.motors & (1u << m)) out[static_cast<std::size_t>(m)] = std::max(out[static_cast<std::size_t>(m)], b.level);
+        }
+        count_ = kept;
+    }
+
+private:
+    struct Burst {
+        double start = 0.0, end = 0.0;
+        MotorSet motors = 0;
+        float level = 0.0f;
+    };
+    std::array<Burst, 32> bursts_ {};
+    std::size_t count_ = 0;
+};
+
+constexpr MotorSet kCentreColumn = motorBit(0, 1) | motorBit(1, 1) | motorBit(2, 1);
+
+struct AnswerText {
+    std::array<char, 64> text {};
+};
+
+class ArmBrailleScene final : public Scene, public BrailleSceneControls {
+public:
+    ArmBrailleScene()
+    {
+        const auto specs = parameterSpecs();
+        for (std::size_t i = 0; i < specs.size(); ++i) params_[i].store(specs[i].defaultValue);
+    }
+
+    std::string_view name() const override { return "braille"; }
+    std::vector<ParamSpec> parameters() const override { return parameterSpecs(); }
+
+    static std::vector<ParamSpec> parameterSpecs()
+    {
+        return {
+            {"braille.mode", "Mode", 0, 2, 0, "", {"active", "passive", "training"}},
+            {"braille.method", "Method", 0, 3, 0, "", {"rows", "whole", "columns", "dots"}},
+            {"braille.grade", "Grade", 0, 1, 0, "", {"1", "2"}},
+            {"braille.level", "Level", 1, 15, 5, "", {}},
+            {"braille.pulse", "Step pulse", 0.05f, 2.0f, 0.25f, "s", {}},
+            {"braille.step", "Roll per step", 5, 45, 15, "deg", {}},
+            {"braille.deadTime", "Dead time", 0, 0.5f, 0.12f, "s", {}},
+            {"braille.holdRepeat", "Repeat held step", 0, 5, 0, "s", {}},
+            {"braille.passiveOn", "Passive step", 0.05f, 2.0f, 0.4f, "s", {}},
+            {"braille.passiveGap", "Passive gap", 0.0f, 2.0f, 0.2f, "s", {}},
+            {"braille.passiveLetterGap", "Passive letter gap", 0.0f, 3.0f, 0.5f, "s", {}},
+            {"braille.passiveWordGap", "Passive word gap", 0.1f, 5.0f, 1.2f, "s", {}},
+            {"braille.passiveRepeat", "Passive repeat", 0.0f, 30.0f, 4.0f, "s", {}},
+        };
+    }
+
+    void prepare(const SceneConfig& config) override
+    {
+        config_ = config;
+        const std::string text = config.text.empty() ? std::string(kDefaultText) : config.text;
+        for (int g = 0; g < 2; ++g) {
+            TranslationOptions o;
+            o.grade = g + 1;
+            const BrailleDocument doc = loadDocument(text, o);
+            for (int m = 0; m < kDisplayMethodCount; ++m)
+                cursors_[static_cast<std::size_t>(g * kDisplayMethodCount + m)] =
+                    ReadingCursor(layoutDocument(doc, static_cast<DisplayMethod>(m)));
+        }
+        TrainingOptions training;
+        training.seed = config.seed;
+        const std::string dir = config.resourceDir.empty() ? std::string(ARMADILLO_RESOURCE_DIR) : config.resourceDir;
+        try {
+            training.signWords = readWordList(dir + "/Braille/signwords.txt");
+        } catch (const std::exception&) {
+            // Reading and passive drawing need no resources: without the word list the training
+            // protocol simply stops before its last stage.
+            training.stages.pop_back();
+        }
+        training_ = std::make_unique<TrainingSession>(training);
+        prepared_ = true;
+        applied_ = -1;
+        reset();
+    }
+
+    void setParameter(int index, float value) noexcept override
+    {
+        if (index < 0 || index >= kParamCount) return;
+        params_[static_cast<std::size_t>(index)].store(value);
+    }
+
+    void reset() override
+    {
+        for (auto& c : cursors_) c.rewind();
+        reading_.reset();
+        player_.clear();
+        shown_ = {};
+        nextPassiveAt_ = t_;
+        passiveDone_ = false;
+        clearPending_ = true;
+    }
+
+    /// Training answers come from another thread (the app's UI); they cross a lock-free queue.
+    bool submitAnswer(const std::string& answer) noexcept override
+    {
+        AnswerText a;
+        std::strncpy(a.text.data(), answer.c_str(), a.text.size() - 1);
+        return answers_.push(a);
+    }
+
+    void control(const ControlInput& in, SceneOutput& out) override
+    {
+        if (!prepared_) return;
+        t_ += std::clamp(in.dt, 0.0, 1.0);
+        applyParameters();
+        if (clearPending_) {
+            out.motors.clearLevels();
+            sent_.fill(0.0f);
+            clearPending_ = false;
+        }
+
+        const Eigen::Quaterniond q = in.arm.q.normalized();
+        const Eigen::Vector3d axis = q * Eigen::Vector3d::UnitX();
+        const Eigen::Vector3d normal = q * Eigen::Vector3d::UnitY();
+        const bool valid = in.arm.valid && std::isfinite(q.w());
+
+        switch (mode_) {
+        case BrailleMode::Active:
+            handle(reading_.update(t_, axis, normal, valid), out);
+            break;
+        case BrailleMode::Passive:
+            passiveTick(out);
+            break;
+        case BrailleMode::Training: {
+            AnswerText a;
+            while (answers_.pop(a)) {
+                const bool right = training_->answer(t_, a.text.data());
+                out.events.emit("answer", right ? 1.0f : 0.0f);
+                if (training_->finished()) out.events.emit("training-done", static_cast<float>(training_->correctCount()));
+            }
+            handle(training_->update(t_, axis, normal, valid), out);
+            break;
+        }
+        }
+
+        const double holdRepeat = param(kParamHoldRepeat);
+        if (mode_ != BrailleMode::Passive && holdRepeat > 0.0 && shown_.kind == StepKind::Cell && shown_.motors != 0 &&
+            t_ - shownAt_ >= holdRepeat) {
+            player_.add(t_, pulse_, shown_.motors, level_);
+            shownAt_ = t_;
+        }
+
+        std::array<float, kGridMotors> levels {};
+        player_.levels(t_, levels);
+        for (int m = 0; m < kGridMotors; ++m) {
+            const auto i = static_cast<std::size_t>(m);
+            if (levels[i] != sent_[i]) {
+                out.motors.setLevel(m, levels[i]);
+                sent_[i] = levels[i];
+            }
+        }
+    }
+
+    std::string trainingLogCsv() const override { return training_ ? training_->logCsv() : std::string(); }
+
+private:
+    double param(int i) const noexcept { return static_cast<double>(params_[static_cast<std::size_t>(i)].load()); }
+    int choice(int i, int count) const noexcept
+    {
+        return std::clamp(static_cast<int>(std::lround(param(i))), 0, count - 1);
+    }
+
+    void applyParameters()
+    {
+        const int mode = choice(kParamMode, 3), method = choice(kParamMethod, kDisplayMethodCount), grade = choice(kParamGrade, 2);
+        const int key = (mode * 2 + grade) * kDisplayMethodCount + method;
+        if (key != applied_) {
+            applied_ = key;
+            mode_ = static_cast<BrailleMode>(mode);
+            active_ = &cursors_[static_cast<std::size_t>(grade * kDisplayMethodCount + method)];
+            reset();
+            reading_.setCursor(active_);
+        }
+        level_ = static_cast<float>(std::clamp(param(kParamLevel), 0.0, 15.0));
+        pulse_ = std::clamp(param(kParamPulse), 0.01, 5.0);
+        RollReaderParams rp = reading_.roll().params();
+        rp.stepDeg = std::clamp(param(kParamStep), 1.0, 90.0);
+        rp.deadTime = std::clamp(param(kParamDeadTime), 0.0, 2.0);
+        reading_.roll().setParams(rp);
+        if (training_) training_->roll().setParams(rp);
+    }
+
+    void handle(const ReadEvent& e, SceneOutput& out)
+    {
+        if (e.roll.directionChanged) {
+            const bool forward = e.roll.posture == ReadingPosture::Forward;
+            directionCue(forward);
+            out.events.emit("direction", forward ? 1.0f : -1.0f);
+        }
+        if (e.stepped) {
+            out.events.emit("advance", e.roll.posture == ReadingPosture::Forward ? 1.0f : -1.0f);
+            show(e.step, pulse_, out);
+        }
+    }
+
+    void show(const ReadingStep& s, double duration, SceneOutput& out)
+    {
+        shown_ = s;
+        shownAt_ = t_;
+        switch (s.kind) {
+        case StepKind::Cell:
+            player_.add(t_, duration, s.motors, level_);   // an empty row adds nothing: a pause
+            break;
+        case StepKind::WordGap:
+            // A line along the underside: no letter row has the centre column alone.
+            player_.add(t_, 0.15, kCentreColumn, level_ * 0.6f);
+            out.events.emit("word", static_cast<float>(s.unit));
+            break;
+        case StepKind::MessageGap:
+        case StepKind::TextEnd:
+            // Two taps of that line: the end of a message (and of the text).
+            player_.add(t_, 0.12, kCentreColumn, level_ * 0.8f);
+            player_.add(t_ + 0.22, 0.12, kCentreColumn, level_ * 0.8f);
+            out.events.emit(s.kind == StepKind::TextEnd ? "end" : "message", static_cast<float>(s.unit));
+            break;
+        }
+    }
+
+    /// §4.3.2: "a simple passive tactile sensation ... when the direction is changed": the
+    /// underside line swept elbow → wrist for forward, wrist → elbow for backward.
+    void directionCue(bool forward)
+    {
+        for (int k = 0; k < 3; ++k) {
+            const int row = forward ? 2 - k : k;
+            player_.add(t_ + 0.1 * k, 0.1, motorBit(row, 1), level_ * 0.8f);
+        }
+    }
+
+    void passiveTick(SceneOutput& out)
+    {
+        if (passiveDone_ || t_ < nextPassiveAt_ || !active_) return;
+        const ReadingStep s = active_->advance(true);
+        const double on = param(kParamPassiveOn);
+        show(s, on, out);
+        double wait = on;
+        switch (s.kind) {
+        case StepKind::Cell: {
+            const auto& unit = active_->units()[static_cast<std::size_t>(s.unit)];
+            const bool last = s.step + 1 >= static_cast<int>(unit.steps.size());
+            wait += last ? param(kParamPassiveLetterGap) : param(kParamPassiveGap);
+            break;
+        }
+        case StepKind::WordGap: wait = param(kParamPassiveWordGap); break;
+        case StepKind::MessageGap: wait = 2.0 * param(kParamPassiveWordGap); break;
+        case StepKind::TextEnd: {
+            const double repeat = param(kParamPassiveRepeat);
+            if (repeat > 0.0) {
+                active_->rewind();
+                wait = 0.5 + repeat;
+            } else {
+                passiveDone_ = true;
+            }
+            break;
+        }
+        }
+        nextPassiveAt_ = t_ + std::max(wait, 0.01);
+    }
+
+    SceneConfig config_ {};
+    std::array<std::atomic<float>, kParamCount> params_ {};
+    std::array<ReadingCursor, 2 * kDisplayMethodCount> cursors_ {};
+    ReadingCursor* active_ = nullptr;
+    ActiveReading reading_;
+    std::unique_ptr<TrainingSession> training_;
+    SpscQueue<AnswerText, 16> answers_;
+    BurstPlayer player_;
+    std::array<float, kGridMotors> sent_ {};
+    BrailleMode mode_ = BrailleMode::Active;
+    int applied_ = -1;
+    bool prepared_ = false, clearPending_ = true, passiveDone_ = false;
+    float level_ = 5.0f;
+    double pulse_ = 0.25;
+    double t_ = 0.0, shownAt_ = 0.0, nextPassiveAt_ = 0.0;
+    ReadingStep shown_ {};
+};
+
+} // namespace
+} // namespace braille
+
+std::unique_ptr<Scene> makeBrailleScene() { return std::make_unique<braille::ArmBrailleScene>(); }
+
+} // namespace armadillo

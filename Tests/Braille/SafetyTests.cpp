@@ -1,0 +1,123 @@
+// The tactile output of a full reading, through the real TactileEngine (shaping + safety stage),
+// checked against the overheating rules of ARMADILLO.md §6 / thesis §3.2.3.
+#include "Braille/BrailleScene.h"
+#include "Tactile/TactileEngine.h"
+#include "TestArm.h"
+#include <catch2/catch.hpp>
+#include <vector>
+
+using namespace armadillo;
+using namespace armadillo::braille;
+using namespace armadillo::braille::test;
+
+namespace {
+class CountingEvents final : public EventSink {
+public:
+    int advances = 0;
+    void emit(const char* g, float) override { advances += std::string(g) == "advance"; }
+};
+
+struct Outcome {
+    std::vector<MotorLevels> packets;   ///< one per control update, each on for kDt
+    int advances = 0;
+};
+
+Outcome drive(const Motion& m, const std::vector<std::pair<int, float>>& params, const std::string& text)
+{
+    auto scene = makeBrailleScene();
+    SceneConfig c;
+    c.text = text;
+    c.resourceDir = std::string(ARMADILLO_SOURCE_DIR) + "/Resources";
+    scene->prepare(c);
+    for (const auto& [i, v] : params) scene->setParameter(i, v);
+    TactileEngine te;
+    te.prepare(TactileConfig {});
+    CountingEvents events;
+    SceneOutput out {te, events};
+    Outcome o;
+    for (const ArmState& s : m.states) {
+        ControlInput in;
+        in.arm = s;
+        in.dt = kDt;
+        scene->control(in, out);
+        o.packets.push_back(te.tick(kDt));
+    }
+    o.advances = events.advances;
+    return o;
+}
+
+/// The three bounds, checked on every motor over every window of the output.
+void checkSafety(const std::vector<MotorLevels>& packets)
+{
+    const std::size_t n = packets.size();
+    const std::size_t w2 = static_cast<std::size_t>(2.0 * kRate), w10 = static_cast<std::size_t>(10.0 * kRate);
+    bool anyOn = false;
+    for (int m = 0; m < kGridMotors; ++m) {
+        std::vector<double> above(n + 1, 0.0), power(n + 1, 0.0);
+        double run = 0.0, longest = 0.0;
+        for (std::size_t i = 0; i < n; ++i) {
+            const int level = packets[i][static_cast<std::size_t>(m)];
+            anyOn = anyOn || level > 0;
+            const bool hot = level > kRatedLevel;
+            run = hot ? run + kDt : 0.0;
+            longest = std::max(longest, run);
+            above[i + 1] = above[i] + (hot ? kDt : 0.0);
+            power[i + 1] = power[i] + (level / 15.0) * (level / 15.0) * kDt;
+        }
+        INFO("motor " << m + 1);
+        CHECK(longest <= 0.300 + 1e-9);
+        double worstDuty = 0.0, worstPower = 0.0;
+        for (std::size_t i = 0; i + w2 <= n; ++i) worstDuty = std::max(worstDuty, (above[i + w2] - above[i]) / 2.0);
+        for (std::size_t i = 0; i + w10 <= n; ++i) worstPower = std::max(worstPower, (power[i + w10] - power[i]) / 10.0);
+        CHECK(worstDuty <= 0.30 + 1e-9);
+        CHECK(worstPower <= (5.0 / 15.0) * (5.0 / 15.0) + 1e-9);
+    }
+    CHECK(anyOn);
+}
+
+/// Reads `rows` rows forward (hanging arm) then `rows` backward (level arm), one step every
+/// `period` s: a brisk reader scrubbing the word.
+Motion scrub(int rows, double period)
+{
+    Motion m;
+    m.hold(hanging(0), 0.5);
+    double r = 0.0;
+    for (int i = 0; i < rows; ++i) {
+        m.move(hanging(r), hanging(r + 16), 0.05);
+        r += 16;
+        m.hold(hanging(r), period - 0.05);
+    }
+    m.move(hanging(r), level(r), 1.0);   // raising the arm: the roll stays where it was
+    for (int i = 0; i < rows; ++i) {
+        m.move(level(r), level(r - 16), 0.05);
+        r -= 16;
+        m.hold(level(r), period - 0.05);
+    }
+    m.hold(level(r), 2.0);
+    return m;
+}
+} // namespace
+
+TEST_CASE("A full reading of a sign word never breaks the safety bounds", "[braille][safety]")
+{
+    const int rows = 8 * 3 + 1;   // ENTRANCE and the end cue
+    SECTION("at the default level, reading at a deliberate pace")
+    {
+        const Outcome o = drive(scrub(rows, 0.5), {}, "entrance");
+        CHECK(o.advances == 2 * rows);
+        checkSafety(o.packets);
+    }
+    SECTION("at full level, scrubbing fast, with held steps repeating")
+    {
+        const Outcome o = drive(scrub(rows, 0.2), {{kParamLevel, 15.0f}, {kParamPulse, 2.0f}, {kParamHoldRepeat, 0.3f}}, "entrance");
+        CHECK(o.advances == 2 * rows);
+        checkSafety(o.packets);
+    }
+    SECTION("passive drawing repeated for a minute at full level")
+    {
+        Motion m;
+        m.hold(hanging(0), 60.0);
+        const Outcome o = drive(m, {{kParamMode, 1.0f}, {kParamLevel, 15.0f}, {kParamPassiveOn, 2.0f}, {kParamPassiveRepeat, 0.5f}}, "entrance");
+        checkSafety(o.packets);
+    }
+}
