@@ -10,6 +10,7 @@
 #include <chrono>
 #include <ctime>
 #include <cmath>
+#include <algorithm>
 #include <cstdio>
 #include <functional>
 #include <string>
@@ -111,7 +112,7 @@ Result renderSpeed(Scene& scene, const std::vector<ArmState>& arm, int repeats)
     res.realtimeMultiple = (static_cast<double>(arm.size()) / kControlRate) / best;
     res.wallMultiple = (static_cast<double>(arm.size()) / kControlRate) / bestWall;
     res.controlMicros = controlSeconds / static_cast<double>(arm.size()) * 1e6;
-    res.events = events.count;
+    res.events = events.count / repeats;
     return res;
 }
 
@@ -176,7 +177,17 @@ int main()
         std::unique_ptr<Scene> (*make)();
         const std::vector<ArmState>* arm;
     };
-    const Entry entries[] = {{"theremin", &makeThereminScene, &thereminArm}, {"cymbal", &makeCymbalScene, &cymbalArm}};
+    // Panel and sound design: dialling with a quick roll every 1.5 s.
+    const auto dialArm = script(kSeconds, [](double t) {
+        const double phase = std::fmod(t, 1.5);
+        const double roll = phase < 0.1 ? 600.0 * phase : std::max(0.0, 60.0 - 60.0 * (phase - 0.1));
+        return Pose {45.0 * std::sin(0.4 * t), 60.0 * std::sin(0.3 * t), roll};
+    });
+    const Entry entries[] = {{"theremin", &makeThereminScene, &thereminArm},
+                             {"cymbal", &makeCymbalScene, &cymbalArm},
+                             {"panel", &makePanelScene, &dialArm},
+                             {"sound-des.", &makeSoundDesignScene, &dialArm},
+                             {"compass", &makeCompassScene, &thereminArm}};
     for (const Entry& e : entries) {
         auto scene = e.make();
         if (!scene) continue;

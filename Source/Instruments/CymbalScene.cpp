@@ -3,6 +3,7 @@
 // up to two crash voices, each a pair of noise fragments forced into a crash envelope, then an
 // FM tail whose modulation index and harmonicity follow movement inside the cymbal.
 #include "Core/SpscQueue.h"
+#include "Instruments/ArmMotion.h"
 #include "Instruments/Cymbal.h"
 #include "Instruments/Dsp.h"
 #include "Instruments/ParameterSet.h"
@@ -127,7 +128,7 @@ public:
     void reset() override
     {
         gesture_.reset();
-        havePreviousQ_ = false;
+        motion_.reset();
         ringingUntil_ = -1.0;
         std::fill(shown_.begin(), shown_.end(), 0.0f);
         gearOn_ = false;
@@ -186,19 +187,7 @@ private:
 
     Eigen::Vector3d angularVelocityEarth(const ArmState& arm, const Eigen::Quaterniond& q, double dt)
     {
-        Eigen::Vector3d w = Eigen::Vector3d::Zero();
-        if (arm.gyro.allFinite() && arm.gyro.squaredNorm() > 0.0) {
-            w = q * arm.gyro;
-        } else if (havePreviousQ_) {
-            // No gyro (host automation, a pose file): differentiate the orientation instead.
-            Eigen::Quaterniond d = previousQ_.conjugate() * q;
-            if (d.w() < 0.0) d.coeffs() = -d.coeffs();
-            const Eigen::AngleAxisd aa(d);
-            w = q * (aa.axis() * (aa.angle() / dt));
-        }
-        previousQ_ = q;
-        havePreviousQ_ = true;
-        return w.allFinite() ? w : Eigen::Vector3d::Zero();
+        return q * motion_.update(arm, dt);
     }
 
     void strike(double speedDegPerS, SceneOutput& out)
@@ -453,8 +442,7 @@ private:
     bool gearOn_ = false;
     float gearLevel_ = 0.0f;
     bool clearOnNextControl_ = true;
-    bool havePreviousQ_ = false;
-    Eigen::Quaterniond previousQ_ = Eigen::Quaterniond::Identity();
+    ArmMotion motion_ {};
     double clock_ = 0.0;          ///< s, sum of dt
     double ringingUntil_ = -1.0;  ///< s on clock_
 

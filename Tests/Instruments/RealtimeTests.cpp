@@ -102,3 +102,26 @@ TEST_CASE("cymbal renderAudio allocates nothing and takes no locks through strik
     CHECK(totals.deallocations == 0);
     CHECK(totals.locks == 0);
 }
+
+TEST_CASE("panel and sound-design renderAudio allocate nothing and take no locks", "[realtime][panel][sound-design]")
+{
+    REQUIRE(RealtimeGuard::installed());
+    for (auto make : {&makePanelScene, &makeSoundDesignScene}) {
+        SceneHarness h(make());
+        GuardTotals totals;
+        guardRendering(h, totals);
+        for (int block : {64, 1, 513}) {
+            h.blockSize = block;
+            h.move(h.lastPose, {40.0, 30.0, 0.0}, 0.3);
+            h.move({40.0, 30.0, 0.0}, {40.0, 30.0, 60.0}, 0.1);   // quick roll: select
+            h.move({40.0, 30.0, 60.0}, {-40.0, -30.0, 0.0}, 0.5);
+            h.move({-40.0, -30.0, 0.0}, {-40.0, -30.0, 60.0}, 0.1);
+        }
+        REQUIRE(h.events.count("select") >= 3);
+        REQUIRE(rms(h.audio.left, 0, h.audio.left.size()) > 0.001);
+        INFO(h.scene().name());
+        CHECK(totals.allocations == 0);
+        CHECK(totals.deallocations == 0);
+        CHECK(totals.locks == 0);
+    }
+}
