@@ -33,7 +33,7 @@ inline std::string file(const std::string& name, const std::string& content)
 }
 
 /// `armadillo ARGS` through the shell, capturing stdout, stderr and the exit code.
-inline Run armadillo(const std::string& args)
+inline Run runArmadillo(const std::string& args)
 {
     const std::string out = path("stdout.txt"), err = path("stderr.txt");
     const std::string cmd = std::string("'") + ARMADILLO_BIN + "' " + args + " >'" + out + "' 2>'" + err + "' </dev/null";

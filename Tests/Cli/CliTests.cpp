@@ -8,18 +8,18 @@
 
 namespace fs = std::filesystem;
 
-using armadillo::cli::armadillo;
+using armadillo::cli::runArmadillo;
 using armadillo::cli::file;
 using armadillo::cli::workDir;
 using armadillo::cli::Run;
 
 TEST_CASE("cli: --help lists every subcommand, and each subcommand has --help", "[cli]")
 {
-    const Run r = armadillo("--help");
+    const Run r = runArmadillo("--help");
     CHECK(r.code == 0);
     for (const char* c : {"ports", "fuse", "render", "play", "braille"}) {
         CHECK(r.out.find(std::string("  ") + c + " ") != std::string::npos);
-        const Run h = armadillo(std::string(c) + " --help");
+        const Run h = runArmadillo(std::string(c) + " --help");
         CHECK(h.code == 0);
         CHECK(h.out.find("usage: armadillo " + std::string(c)) != std::string::npos);
     }
@@ -27,38 +27,38 @@ TEST_CASE("cli: --help lists every subcommand, and each subcommand has --help", 
 
 TEST_CASE("cli: bad usage exits 2 with a message", "[cli]")
 {
-    CHECK(armadillo("").code == 2);
-    const Run unknown = armadillo("juggle");
+    CHECK(runArmadillo("").code == 2);
+    const Run unknown = runArmadillo("juggle");
     CHECK(unknown.code == 2);
     CHECK(unknown.err.find("unknown command 'juggle'") != std::string::npos);
-    const Run opt = armadillo("render --scene monitor --motion x.csv --out y.wav --bogus");
+    const Run opt = runArmadillo("render --scene monitor --motion x.csv --out y.wav --bogus");
     CHECK(opt.code == 2);
     CHECK(opt.err.find("--bogus") != std::string::npos);
-    CHECK(armadillo("render --scene kazoo --motion x.csv --out y.wav").code == 2);
-    CHECK(armadillo("render --scene monitor --out y.wav").code == 2);   // missing --motion
-    CHECK(armadillo("render --scene monitor --motion x.csv --out y.wav --sample-rate fast").code == 2);
+    CHECK(runArmadillo("render --scene kazoo --motion x.csv --out y.wav").code == 2);
+    CHECK(runArmadillo("render --scene monitor --out y.wav").code == 2);   // missing --motion
+    CHECK(runArmadillo("render --scene monitor --motion x.csv --out y.wav --sample-rate fast").code == 2);
 }
 
 TEST_CASE("cli: bad input exits 3 naming file, line and column; nothing is written", "[cli]")
 {
     const std::string motion = file("bad.csv", "t,elevation,azimuth,roll\n0,0,0,0\n0.1,abc,0,0\n");
     const std::string out = (workDir() / "never.wav").string();
-    const Run r = armadillo("render --scene monitor --motion '" + motion + "' --out '" + out + "'");
+    const Run r = runArmadillo("render --scene monitor --motion '" + motion + "' --out '" + out + "'");
     CHECK(r.code == 3);
     CHECK(r.err.find("bad.csv:3: column 'elevation'") != std::string::npos);
     CHECK_FALSE(fs::exists(out));
     const std::string backwards = file("back.csv", "t,elevation,azimuth,roll\n1,0,0,0\n0,0,0,0\n");
-    CHECK(armadillo("render --scene monitor --motion '" + backwards + "' --out '" + out + "'").code == 3);
-    CHECK(armadillo("render --scene monitor --motion '" + file("empty.csv", "") + "' --out '" + out + "'").code == 3);
+    CHECK(runArmadillo("render --scene monitor --motion '" + backwards + "' --out '" + out + "'").code == 3);
+    CHECK(runArmadillo("render --scene monitor --motion '" + file("empty.csv", "") + "' --out '" + out + "'").code == 3);
 }
 
 TEST_CASE("cli: I/O failure exits 4", "[cli]")
 {
-    const Run r = armadillo("render --scene monitor --motion /nonexistent/motion.csv --out x.wav");
+    const Run r = runArmadillo("render --scene monitor --motion /nonexistent/motion.csv --out x.wav");
     CHECK(r.code == 4);
     CHECK(r.err.find("/nonexistent/motion.csv") != std::string::npos);
     const std::string motion = file("ok.csv", "t,elevation,azimuth,roll\n0,0,0,0\n0.1,0,0,0\n");
-    CHECK(armadillo("render --scene monitor --motion '" + motion + "' --out /nonexistent/dir/out.wav").code == 4);
+    CHECK(runArmadillo("render --scene monitor --motion '" + motion + "' --out /nonexistent/dir/out.wav").code == 4);
 }
 
 TEST_CASE("cli: render writes the WAV and one tactile row per motion row", "[cli]")
@@ -67,7 +67,7 @@ TEST_CASE("cli: render writes the WAV and one tactile row per motion row", "[cli
     for (int i = 0; i < 50; ++i) rows += std::to_string(i * 0.01) + ",5,0,0\n";
     const std::string motion = file("motion.csv", rows);
     const std::string wav = (workDir() / "m.wav").string(), tactile = (workDir() / "m.csv").string();
-    const Run r = armadillo("render --scene monitor --motion '" + motion + "' --out '" + wav + "' --tactile '" + tactile + "'");
+    const Run r = runArmadillo("render --scene monitor --motion '" + motion + "' --out '" + wav + "' --tactile '" + tactile + "'");
     REQUIRE(r.code == 0);
     CHECK(fs::file_size(wav) > 44);
     const std::string t = armadillo::readWholeFile(tactile);

@@ -1,0 +1,186 @@
+// End-to-end: the scenes through `armadillo render`, measured from the files it writes, as a
+// user (or a DAW) would receive them.
+#include "CliRun.h"
+#include "Core/Csv.h"
+#include "Core/Wav.h"
+#include "SafetyBounds.h"
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <set>
+
+using namespace armadillo;
+using armadillo::testing::checkSafety;
+
+namespace {
+std::string poseFile(const std::string& name, double seconds, double rate,
+                     const std::function<Pose(double)>& pose)
+{
+    std::string s = "t,elevation,azimuth,roll\n";
+    for (int i = 0; i <= static_cast<int>(seconds * rate); ++i) {
+        const double t = i / rate;
+        const Pose p = pose(t);
+        s += std::to_string(t) + "," + std::to_string(p.elevationDeg) + "," + std::to_string(p.azimuthDeg) + "," +
+             std::to_string(p.rollDeg) + "\n";
+    }
+    return cli::file(name, s);
+}
+
+/// Frequency of a steady tone from rising zero crossings with linear interpolation, Hz.
+double pitchOf(const std::vector<float>& x, double sampleRate, std::size_t from, std::size_t to)
+{
+    double first = -1.0, last = -1.0;
+    int crossings = 0;
+    for (std::size_t i = from + 1; i < to && i < x.size(); ++i) {
+        if (x[i - 1] < 0.0f && x[i] >= 0.0f) {
+            const double a = x[i - 1], b = x[i];
+            const double pos = static_cast<double>(i - 1) + a / (a - b);
+            if (first < 0.0) first = pos;
+            else ++crossings;
+            last = pos;
+        }
+    }
+    return crossings > 0 ? crossings * sampleRate / (last - first) : 0.0;
+}
+
+double rms(const std::vector<float>& x, std::size_t from, std::size_t to)
+{
+    double s = 0.0;
+    for (std::size_t i = from; i < to; ++i) s += double(x[i]) * double(x[i]);
+    return std::sqrt(s / double(to - from));
+}
+
+double cents(double f, double reference) { return 1200.0 * std::log2(f / reference); }
+} // namespace
+
+TEST_CASE("e2e: theremin pitch follows elevation within 5 cents of f = 220·2^(e/12)", "[e2e][theremin]")
+{
+    // Hold three elevations for 1.5 s each, facing the azimuth where the scene starts (full volume).
+    const double held[] = {-30.0, 0.0, 30.0};
+    const std::string motion = poseFile("theremin.csv", 4.5, 200.0, [&](double t) {
+        return Pose {held[std::min(2, static_cast<int>(t / 1.5))], 0.0, 0.0};
+    });
+    const std::string wav = cli::path("theremin.wav");
+    const auto r = cli::runArmadillo("render --scene theremin --motion '" + motion + "' --out '" + wav + "' --float");
+    REQUIRE(r.code == 0);
+    const AudioBuffer a = readWav(wav);
+    for (int k = 0; k < 3; ++k) {
+        // e runs linearly in sin(elevation): −45° ⇒ 0, +45° ⇒ 12 semitones.
+        const double e = 12.0 * (std::sin(degToRad(held[k])) + std::sin(degToRad(45.0))) / (2.0 * std::sin(degToRad(45.0)));
+        const double expected = 220.0 * std::pow(2.0, e / 12.0);
+        const auto from = static_cast<std::size_t>((k * 1.5 + 0.7) * a.sampleRate), to = static_cast<std::size_t>((k * 1.5 + 1.4) * a.sampleRate);
+        const double f = pitchOf(a.channels[0], a.sampleRate, from, to);
+        INFO("elevation " << held[k] << ": expected " << expected << " Hz, measured " << f << " Hz");
+        CHECK(std::abs(cents(f, expected)) < 5.0);
+        CHECK(rms(a.channels[0], from, to) > 0.01);
+    }
+}
+
+TEST_CASE("e2e: theremin level falls as the arm turns away from the starting azimuth", "[e2e][theremin]")
+{
+    const std::string motion = poseFile("theremin-az.csv", 6.0, 200.0, [](double t) {
+        return Pose {0.0, t < 2.0 ? 0.0 : (t < 4.0 ? 30.0 : 70.0), 0.0};
+    });
+    const std::string wav = cli::path("theremin-az.wav");
+    REQUIRE(cli::runArmadillo("render --scene theremin --motion '" + motion + "' --out '" + wav + "' --float").code == 0);
+    const AudioBuffer a = readWav(wav);
+    const auto seg = [&](double t0, double t1) {
+        return rms(a.channels[0], static_cast<std::size_t>(t0 * a.sampleRate), static_cast<std::size_t>(t1 * a.sampleRate));
+    };
+    const double full = seg(1.0, 1.9), half = seg(3.0, 3.9), silent = seg(5.0, 5.9);
+    INFO("rms at 0°, 30°, 70°: " << full << ", " << half << ", " << silent);
+    CHECK(full > half * 1.2);
+    CHECK(half > silent);
+    CHECK(silent < full * 0.05);
+}
+
+TEST_CASE("e2e: the Rite of Spring score is one motor at a time and never breaks the safety bounds", "[e2e][score]")
+{
+    const std::string motion = poseFile("still-rite.csv", 60.0, 200.0, [](double) { return Pose {}; });
+    const std::string tactile = cli::path("rite.csv");
+    const auto r = cli::runArmadillo("render --scene score --score rite-of-spring --motion '" + motion + "' --out '" +
+                                  cli::path("rite.wav") + "' --tactile '" + tactile + "'");
+    REQUIRE(r.code == 0);
+    const auto rows = readTactile(CsvTable::read(tactile));
+    const auto report = checkSafety(rows, kGridMotors);
+    INFO(report.worst << "; longest above rating " << report.longestAboveRating << " s, worst 2 s " << report.maxAboveIn2s
+                      << " s, worst 10 s power " << report.maxPowerIn10s);
+    CHECK(report.ok());
+    std::size_t active = 0, multi = 0;
+    std::set<int> used;
+    for (const auto& row : rows) {
+        int on = 0;
+        for (int m = 0; m < kGridMotors; ++m)
+            if (row.levels[static_cast<std::size_t>(m)] > 0) {
+                ++on;
+                used.insert(m);
+            }
+        active += on > 0;
+        multi += on > 1;
+    }
+    INFO("rows with a motor on: " << active << ", with more than one: " << multi << ", motors used: " << used.size());
+    CHECK(active > rows.size() / 4);
+    CHECK(multi < active / 20 + 1);   // handovers only
+    CHECK(used.size() >= 3);
+}
+
+TEST_CASE("e2e: the Polytope score is texture and never breaks the safety bounds", "[e2e][score]")
+{
+    const std::string motion = poseFile("still-poly.csv", 90.0, 200.0, [](double) { return Pose {}; });
+    const std::string tactile = cli::path("poly.csv");
+    const auto r = cli::runArmadillo("render --scene score --score polytope --motion '" + motion + "' --out '" +
+                                  cli::path("poly.wav") + "' --tactile '" + tactile + "'");
+    REQUIRE(r.code == 0);
+    const auto rows = readTactile(CsvTable::read(tactile));
+    const auto report = checkSafety(rows, kGridMotors);
+    INFO(report.worst << "; longest above rating " << report.longestAboveRating << " s, worst 2 s " << report.maxAboveIn2s
+                      << " s, worst 10 s power " << report.maxPowerIn10s);
+    CHECK(report.ok());
+    std::size_t textured = 0;
+    for (const auto& row : rows) {
+        int on = 0;
+        for (int m = 0; m < kGridMotors; ++m) on += row.levels[static_cast<std::size_t>(m)] > 0;
+        textured += on >= 3;
+    }
+    CHECK(textured > rows.size() / 10);
+}
+
+TEST_CASE("e2e: the cymbal render repeats for a seed and differs across seeds", "[e2e][cymbal]")
+{
+    // Raise the arm, strike down through horizontal, let it ring.
+    const std::string motion = poseFile("strike.csv", 3.0, 200.0, [](double t) {
+        const double el = t < 0.5 ? 40.0 : (t < 0.65 ? 40.0 - (t - 0.5) / 0.15 * 70.0 : -30.0);
+        return Pose {el, 0.0, 0.0};
+    });
+    const auto render = [&](const std::string& name, int seed) {
+        const std::string wav = cli::path(name);
+        REQUIRE(cli::runArmadillo("render --scene cymbal --seed " + std::to_string(seed) + " --motion '" + motion + "' --out '" + wav +
+                               "' --float --tail 2")
+                    .code == 0);
+        return readWav(wav);
+    };
+    const AudioBuffer a = render("c1.wav", 7), b = render("c1b.wav", 7), c = render("c2.wav", 8);
+    CHECK(a.channels == b.channels);
+    CHECK(a.channels != c.channels);
+    CHECK(rms(a.channels[0], static_cast<std::size_t>(0.7 * a.sampleRate), static_cast<std::size_t>(1.2 * a.sampleRate)) > 0.01);
+}
+
+TEST_CASE("e2e: reading a sign word in braille never breaks the safety bounds", "[e2e][braille]")
+{
+    // Hanging arm (within 30° of vertical), rolling in 20° steps back and forth.
+    const std::string motion = poseFile("braille-roll.csv", 40.0, 200.0, [](double t) {
+        const int step = static_cast<int>(t / 0.8);
+        return Pose {-80.0, 0.0, 20.0 * (step % 8 < 4 ? step % 8 : 8 - step % 8)};
+    });
+    const std::string tactile = cli::path("braille.csv");
+    const auto r = cli::runArmadillo("render --scene braille --text ENTRANCE --motion '" + motion + "' --out '" + cli::path("braille.wav") +
+                                  "' --tactile '" + tactile + "'");
+    REQUIRE(r.code == 0);
+    const auto rows = readTactile(CsvTable::read(tactile));
+    const auto report = checkSafety(rows, kGridMotors);
+    INFO(report.worst);
+    CHECK(report.ok());
+    std::size_t active = 0;
+    for (const auto& row : rows)
+        for (int m = 0; m < kGridMotors; ++m) active += row.levels[static_cast<std::size_t>(m)] > 0;
+    CHECK(active > 0);
+}
