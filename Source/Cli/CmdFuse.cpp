@@ -1,14 +1,54 @@
+// `armadillo fuse --in IMU.csv --out Q.csv [--features]` (INTERFACES.md): offline SR-UKF fusion,
+// one output row per input row, quaternion device → earth (X east, Y up, Z south).
 #include "Cli/CommandLine.h"
 #include "Cli/Commands.h"
+#include "Core/Csv.h"
+#include "Core/Pose.h"
+#include "Fusion/OrientationFilter.h"
+#include <iostream>
+#include <vector>
 
 namespace armadillo::cli {
 
 int runFuse(const Arguments& args)
 {
     return guarded("fuse", [&] {
-        CommandLine cl("fuse", "[options]", "Not built yet.", {});
+        CommandLine cl("fuse", "--in IMU.csv --out Q.csv [--features]",
+                       "Fuses gyro, accelerometer and (optional) magnetometer samples with the square-root\n"
+                       "UKF of the thesis (docs/FUSION.md). Input: t,gx,gy,gz,ax,ay,az[,mx,my,mz] in s, rad/s,\n"
+                       "m/s² and any magnetometer unit; NaN samples are skipped and counted. Output: t,qw,qx,qy,qz,\n"
+                       "one row per input row, q mapping device vectors into the earth frame (X east, Y up,\n"
+                       "Z south); --features appends elevation,azimuth,roll in degrees.",
+                       {{"--in", "IMU.csv", "IMU file to fuse", true},
+                        {"--out", "Q.csv", "quaternion file to write (whole or not at all)", true},
+                        {"--features", "", "append elevation,azimuth,roll (degrees) to each row", false},
+                        {"--no-mag", "", "ignore the magnetometer columns (6-axis fusion)", false}});
         if (!cl.parse(args)) return 0;
-        return notBuiltYet("'armadillo fuse'");
+        const CsvTable table = CsvTable::read(cl.value("--in"));
+        const std::vector<ImuSample> samples = readImu(table);
+        OrientationFilter::Params params = OrientationFilter::defaultParams();
+        if (cl.has("--no-mag")) params.useMagnetometer = false;
+        OrientationFilter filter(params);
+        const bool features = cl.has("--features");
+        std::vector<std::string> header {"t", "qw", "qx", "qy", "qz"};
+        if (features) header.insert(header.end(), {"elevation", "azimuth", "roll"});
+        CsvWriter out(header);
+        for (const ImuSample& s : samples) {
+            filter.update(s);
+            // Before the first usable sample there is no estimate: the rest orientation stands in.
+            const Eigen::Quaterniond q = filter.orientation();
+            if (features) {
+                const Pose p = quaternionToPose(q);
+                out.row({s.t, q.w(), q.x(), q.y(), q.z(), p.elevationDeg, p.azimuthDeg, p.rollDeg});
+            } else {
+                out.row({s.t, q.w(), q.x(), q.y(), q.z()});
+            }
+        }
+        out.save(cl.value("--out"));
+        std::cerr << "fuse: " << samples.size() << " samples, " << filter.skippedSamples() << " skipped, "
+                  << filter.magneticRejections() << " magnetometer samples rejected"
+                  << (filter.initialised() ? "" : " (no usable sample: rest orientation written)") << "\n";
+        return 0;
     });
 }
 

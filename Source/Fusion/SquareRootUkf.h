@@ -1,0 +1,246 @@
+#pragma once
+// Square-root unscented Kalman filter (van der Merwe & Wan, ICASSP 2001), thesis §2.7, on a
+// state that lives on a manifold: the covariance is kept in an N-dimensional error space
+// (for orientation: error angles, never raw quaternions) and noise is additive there.
+//
+// The filter is generic; the state space is a policy type (see OrientationModels.h):
+//   struct Space {
+//     static constexpr int kDim;                       // error-state dimension N
+//     using State = ...;                               // the mean (e.g. quaternion + vectors)
+//     static State boxplus(const State&, const Matrix<N,1>&);      // x ⊞ δ
+//     static Matrix<N,1> boxminus(const State& a, const State& b); // a ⊟ b (error of a about b)
+//     static State mean(const std::array<State,2N+1>&, double w0, double wi, int iterations);
+//   };
+// Process and observation models are plain callables, so models stay separate from the filter.
+//
+// Square-root form: S is lower-triangular with P = S Sᵀ. Prediction and the innovation factor
+// come from a QR decomposition of the weighted deviations (plus the noise square roots) and a
+// rank-1 Cholesky update/downdate for the centre point, whose weight may be negative; the
+// correction is a series of rank-1 downdates by the columns of K·S_yy; the gain comes from two
+// triangular solves. A failed downdate is detected (Cholesky.h) and recovered by rebuilding a
+// positive-definite factor from S Sᵀ − u uᵀ with its eigenvalues floored; it is counted.
+// Fixed-size Eigen throughout: no heap allocation.
+#include "Fusion/Cholesky.h"
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/QR>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+
+// GCC 12 reports -Warray-bounds false positives for Eigen's 1×1 fixed-size matrices (the scalar
+// heading update); the accesses are in bounds (GCC bug 106247 family). Silenced for this file only.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Warray-bounds"
+#endif
+
+namespace armadillo {
+
+/// Sigma-point spread and weights (van der Merwe): λ = α²(N + κ) − N, γ = √(N + λ).
+struct UkfWeights {
+    double alpha = 1.0;   ///< spread of the sigma points (dimensionless, 0 < α ≤ 1)
+    double beta = 2.0;    ///< prior knowledge of the distribution (2 = Gaussian)
+    double kappa = 0.0;   ///< secondary scaling (dimensionless)
+    int meanIterations = 4;   ///< gradient-descent steps of the manifold mean (Kraft 2003: ~4)
+};
+
+struct UkfStats {
+    std::size_t downdateFailures = 0;   ///< rank-1 downdates refused and recovered
+    std::size_t rejectedUpdates = 0;    ///< measurement updates skipped (non-finite innovation)
+};
+
+template <class Space>
+class SquareRootUkf {
+public:
+    static constexpr int N = Space::kDim;
+    static constexpr int kSigma = 2 * N + 1;
+    using State = typename Space::State;
+    using ErrorVector = Eigen::Matrix<double, N, 1>;
+    using Factor = Eigen::Matrix<double, N, N>;
+    using SigmaStates = std::array<State, kSigma>;
+
+    explicit SquareRootUkf(const UkfWeights& w = {}) { setWeights(w); }
+
+    void setWeights(const UkfWeights& w)
+    {
+        weights_ = w;
+        const double lambda = w.alpha * w.alpha * (N + w.kappa) - N;
+        gamma_ = std::sqrt(N + lambda);
+        wm0_ = lambda / (N + lambda);
+        wc0_ = wm0_ + (1.0 - w.alpha * w.alpha + w.beta);
+        wi_ = 1.0 / (2.0 * (N + lambda));
+    }
+    const UkfWeights& weights() const noexcept { return weights_; }
+    double gamma() const noexcept { return gamma_; }
+    double meanWeight0() const noexcept { return wm0_; }
+    double covWeight0() const noexcept { return wc0_; }
+    double weightI() const noexcept { return wi_; }
+
+    /// Sets the mean and the square root of the covariance (lower-triangular S, P = S Sᵀ).
+    void reset(const State& x, const Factor& sqrtP)
+    {
+        x_ = x;
+        S_ = sqrtP.template triangularView<Eigen::Lower>();
+    }
+    const State& state() const noexcept { return x_; }
+    State& state() noexcept { return x_; }
+    const Factor& sqrtCovariance() const noexcept { return S_; }
+    Factor covariance() const { return S_ * S_.transpose(); }
+    const UkfStats& stats() const noexcept { return stats_; }
+
+    /// Time update: every sigma point goes through `f(State&)` (in place); `noiseStd` is the
+    /// standard deviation of the additive process noise over this step, per error component.
+    template <class ProcessModel>
+    void predict(ProcessModel&& f, const ErrorVector& noiseStd)
+    {
+        makeSigmaPoints();
+        for (auto& s : sigma_) f(s);
+        x_ = Space::mean(sigma_, wm0_, wi_, weights_.meanIterations);
+        // Compound matrix [√Wi (X_i ⊟ x̄) | √Q]ᵀ, QR → the upper factor of P⁻ without its centre term.
+        Eigen::Matrix<double, 3 * N, N> A;
+        const double swi = std::sqrt(wi_);
+        for (int i = 1; i < kSigma; ++i) A.row(i - 1) = swi * Space::boxminus(sigma_[i], x_).transpose();
+        A.template bottomRows<N>().setZero();
+        A.template bottomRows<N>().diagonal() = noiseStd;
+        S_ = upperFactorOf(A).transpose();
+        const ErrorVector d0 = Space::boxminus(sigma_[0], x_);
+        rank1(S_, ErrorVector(std::sqrt(std::abs(wc0_)) * d0), wc0_);
+    }
+
+    /// Measurement update with an M-vector z, model `h(const State&) → Matrix<M,1>` and
+    /// independent additive noise of standard deviation `noiseStd`. Returns the normalised
+    /// innovation squared (NIS, χ² with M degrees of freedom when the model holds), or NaN when
+    /// the update was refused (non-finite values). If `nisLimit` is exceeded the noise is inflated
+    /// so that the NIS equals the limit (a soft gate: an outlier moves the state only a little).
+    template <int M, class ObservationModel>
+    double update(const Eigen::Matrix<double, M, 1>& z, ObservationModel&& h,
+                  const Eigen::Matrix<double, M, 1>& noiseStd, double nisLimit = INFINITY)
+    {
+        using VecM = Eigen::Matrix<double, M, 1>;
+        makeSigmaPoints();
+        std::array<VecM, kSigma> Y;
+        for (int i = 0; i < kSigma; ++i) Y[i] = h(sigma_[i]);
+        VecM yMean = wm0_ * Y[0];
+        for (int i = 1; i < kSigma; ++i) yMean += wi_ * Y[i];
+        const VecM nu = z - yMean;
+        if (!nu.allFinite()) {
+            ++stats_.rejectedUpdates;
+            return NAN;
+        }
+
+        Eigen::Matrix<double, 2 * N + M, M> B;
+        const double swi = std::sqrt(wi_);
+        for (int i = 1; i < kSigma; ++i) B.row(i - 1) = swi * (Y[i] - yMean).transpose();
+        B.template bottomRows<M>().setZero();
+        B.template bottomRows<M>().diagonal() = noiseStd;
+        Eigen::Matrix<double, M, M> Syy = upperFactorOf(B).transpose();
+        const VecM dy0 = std::sqrt(std::abs(wc0_)) * (Y[0] - yMean);
+        rank1(Syy, dy0, wc0_);
+
+        double nis = whitened(Syy, nu).squaredNorm();
+        if (nis > nisLimit) {
+            // Inflate R by k so that the NIS drops to the limit; k found by one rescaling of the
+            // innovation factor (the sigma spread is kept), good to first order.
+            const double k = nis / nisLimit;
+            B.template bottomRows<M>().diagonal() = std::sqrt(k) * noiseStd;
+            Syy = upperFactorOf(B).transpose();
+            rank1(Syy, dy0, wc0_);
+            nis = whitened(Syy, nu).squaredNorm();
+        }
+
+        // Pxy = Σ Wc_i (X_i ⊟ x̄)(Y_i − ȳ)ᵀ; X_i ⊟ x̄ = ±γ S_j exactly, and the centre term is zero.
+        Eigen::Matrix<double, N, M> D;
+        for (int j = 0; j < N; ++j) D.row(j) = (Y[1 + j] - Y[1 + N + j]).transpose();
+        const Eigen::Matrix<double, N, M> Pxy = (wi_ * gamma_) * S_ * D;
+        // K = Pxy (Syy Syyᵀ)⁻¹ by two triangular solves: Kᵀ = Syy⁻ᵀ (Syy⁻¹ Pxyᵀ).
+        Eigen::Matrix<double, M, N> Kt = Syy.template triangularView<Eigen::Lower>().solve(Pxy.transpose());
+        Syy.template triangularView<Eigen::Lower>().transpose().solveInPlace(Kt);
+        const Eigen::Matrix<double, N, M> K = Kt.transpose();
+        const ErrorVector dx = K * nu;
+        if (!dx.allFinite()) {
+            ++stats_.rejectedUpdates;
+            return NAN;
+        }
+        x_ = Space::boxplus(x_, dx);
+        const Eigen::Matrix<double, N, M> U = K * Syy;
+        for (int j = 0; j < M; ++j) rank1(S_, ErrorVector(U.col(j)), -1.0);
+        return nis;
+    }
+
+    /// Rank-1 update (sign ≥ 0) or downdate (sign < 0) of a factor, with recovery on failure:
+    /// the covariance S Sᵀ ± x xᵀ is rebuilt with eigenvalues floored at a small positive value.
+    template <int K>
+    void rank1(Eigen::Matrix<double, K, K>& L, const Eigen::Matrix<double, K, 1>& x, double sign)
+    {
+        if (cholesky::rank1<K>(L, x, sign) == cholesky::Rank1Result::Ok) return;
+        ++stats_.downdateFailures;
+        recoverFactor<K>(L, x, sign);
+    }
+
+private:
+    void makeSigmaPoints()
+    {
+        sigma_[0] = x_;
+        for (int j = 0; j < N; ++j) {
+            const ErrorVector d = gamma_ * S_.col(j);
+            sigma_[1 + j] = Space::boxplus(x_, d);
+            sigma_[1 + N + j] = Space::boxplus(x_, -d);
+        }
+    }
+
+    /// Lower factor's transpose from a tall matrix A (Aᵀ A = R ᵀ R): R of the QR decomposition,
+    /// rows sign-flipped so its diagonal is non-negative.
+    template <int Rows, int K>
+    static Eigen::Matrix<double, K, K> upperFactorOf(const Eigen::Matrix<double, Rows, K>& A)
+    {
+        Eigen::HouseholderQR<Eigen::Matrix<double, Rows, K>> qr(A);
+        Eigen::Matrix<double, K, K> R = qr.matrixQR().template topRows<K>().template triangularView<Eigen::Upper>();
+        for (int k = 0; k < K; ++k)
+            if (R(k, k) < 0.0) R.row(k) = -R.row(k);
+        // An exactly zero diagonal (degenerate spread and zero noise) would break the solves.
+        for (int k = 0; k < K; ++k)
+            if (!(R(k, k) > 0.0)) R(k, k) = 1e-12;
+        return R;
+    }
+
+    template <int M>
+    static Eigen::Matrix<double, M, 1> whitened(const Eigen::Matrix<double, M, M>& L, const Eigen::Matrix<double, M, 1>& v)
+    {
+        return L.template triangularView<Eigen::Lower>().solve(v);
+    }
+
+    template <int K>
+    static void recoverFactor(Eigen::Matrix<double, K, K>& L, const Eigen::Matrix<double, K, 1>& x, double sign)
+    {
+        using Mat = Eigen::Matrix<double, K, K>;
+        Mat P = L * L.transpose();
+        if (x.allFinite()) P += (sign >= 0.0 ? 1.0 : -1.0) * x * x.transpose();
+        P = 0.5 * (P + P.transpose()).eval();
+        if (!P.allFinite()) P = Mat::Identity() * 1e-6;
+        Eigen::SelfAdjointEigenSolver<Mat> eig(P);
+        Eigen::Matrix<double, K, 1> ev = eig.eigenvalues();
+        const double floor = std::max(1e-12, 1e-9 * std::abs(ev.maxCoeff()));
+        for (int i = 0; i < K; ++i) ev(i) = std::max(ev(i), floor);
+        const Mat Pp = eig.eigenvectors() * ev.asDiagonal() * eig.eigenvectors().transpose();
+        Eigen::LLT<Mat> llt(Pp);
+        if (llt.info() == Eigen::Success)
+            L = llt.matrixL();
+        else
+            L = ev.cwiseSqrt().asDiagonal();   // last resort: finite, positive, right scale
+    }
+
+    UkfWeights weights_ {};
+    double gamma_ = 0.0, wm0_ = 0.0, wc0_ = 0.0, wi_ = 0.0;
+    State x_ {};
+    Factor S_ = Factor::Identity();
+    SigmaStates sigma_ {};
+    UkfStats stats_ {};
+};
+
+} // namespace armadillo
+
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif

@@ -1,0 +1,110 @@
+#pragma once
+// The two slow trackers of thesis §2.6.8, kept apart from the SR-UKF so each is tested alone.
+//  - GyroBiasTracker: the thesis's running mean of the gyro (~500 samples, ~2.5 s), taken only
+//    while the device rests (rest detection is the departure: a mean over motion is the motion).
+//  - MagneticFieldTracker: the thesis's low-pass of the dip acos(a·m/|a||m|), skipping samples
+//    whose |a| is far from 1 g, plus the field norm; both serve as the reference that tells a
+//    clean magnetometer sample from a disturbed one (departure, docs/FUSION.md).
+// Params (units in the comments) / State, no heap.
+#include <Eigen/Core>
+#include <cstddef>
+
+namespace armadillo {
+
+class GyroBiasTracker {
+public:
+    struct Params {
+        double restGyroDeviation = 0.035;   ///< rad/s: |gyro − low-pass gyro| below this counts as still (2°/s)
+        double restAccelDeviation = 0.5;    ///< m/s²: |accel − low-pass accel| below this counts as still
+        double restFilterTau = 0.5;         ///< s: time constant of the low-pass filters above
+        double minRestTime = 1.5;           ///< s: rest must last this long before the mean is trusted
+        int windowSamples = 500;            ///< samples: length of the running mean (thesis §2.6.8)
+    };
+    struct State {
+        Eigen::Vector3d gyroLowPass = Eigen::Vector3d::Zero();    ///< rad/s
+        Eigen::Vector3d accelLowPass = Eigen::Vector3d::Zero();   ///< m/s²
+        Eigen::Vector3d mean = Eigen::Vector3d::Zero();           ///< rad/s, running mean while still
+        double restTime = 0.0;                                    ///< s, how long the device has been still
+        int samples = 0;                                          ///< samples in the running mean (≤ window)
+        bool primed = false;                                      ///< low-pass filters initialised
+    };
+
+    GyroBiasTracker();
+    explicit GyroBiasTracker(const Params& p) : params_(p) {}
+    void reset() { state_ = State {}; }
+    /// Feeds one sample (rad/s, m/s², s). Returns true when the device has rested at least
+    /// minRestTime: then bias() is a usable estimate.
+    bool update(const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel, double dt);
+    bool atRest() const noexcept { return state_.restTime >= params_.minRestTime && state_.samples > 0; }
+    const Eigen::Vector3d& bias() const noexcept { return state_.mean; }
+    int samples() const noexcept { return state_.samples; }
+    const State& state() const noexcept { return state_; }
+    const Params& params() const noexcept { return params_; }
+
+private:
+    Params params_;
+    State state_ {};
+};
+
+class MagneticFieldTracker {
+public:
+    struct Params {
+        double tau = 10.0;                   ///< s: low-pass time constant of the reference norm and dip
+        double accelTolerance = 0.05;        ///< fraction of g: dip is measured only while ||a|−g| < this·g
+        double normTolerance = 0.10;         ///< fraction: |m| further than this from the reference = disturbed
+        double dipTolerance = 0.1745;        ///< rad: dip further than this (10°) from the reference = disturbed
+        double newFieldTime = 20.0;          ///< s: a different but steady field for this long becomes the reference
+        double candidateTau = 2.0;           ///< s: low-pass of the candidate (disturbed) field
+    };
+    struct State {
+        double norm = 0.0;             ///< reference |m|, the input's unit
+        double dip = 0.0;              ///< reference angle between up (accel) and m, rad (≈ 90° + inclination)
+        bool haveNorm = false, haveDip = false;
+        double candidateNorm = 0.0, candidateDip = 0.0;
+        bool candidateDipValid = false;
+        double candidateTime = 0.0;    ///< s the candidate field has been steady
+        double disturbedTime = 0.0;    ///< s since the last clean sample
+    };
+
+    MagneticFieldTracker();
+    explicit MagneticFieldTracker(const Params& p) : params_(p) {}
+    void reset() { state_ = State {}; }
+    /// Feeds one sample (accel m/s², mag any unit, dt s). Returns true when the sample agrees with
+    /// the reference (use it), false when it looks disturbed (skip it).
+    bool update(const Eigen::Vector3d& accel, const Eigen::Vector3d& mag, double dt);
+    /// Angle between up and the field measured from one sample, rad; NaN if undefined.
+    static double dipAngle(const Eigen::Vector3d& accel, const Eigen::Vector3d& mag);
+    double referenceDip() const noexcept { return state_.dip; }
+    double referenceNorm() const noexcept { return state_.norm; }
+    bool haveDip() const noexcept { return state_.haveDip; }
+    double disturbedTime() const noexcept { return state_.disturbedTime; }
+    const State& state() const noexcept { return state_; }
+    const Params& params() const noexcept { return params_; }
+
+private:
+    Params params_;
+    State state_ {};
+};
+
+} // namespace armadillo
+
+namespace armadillo {
+
+/// Second-order Butterworth low-pass of 3-vectors (bilinear transform), coefficients derived once
+/// for a sample period; state can be primed with a steady value. No heap.
+class ButterworthLowPass3 {
+public:
+    /// tau: time constant (s) as VQF defines it, cutoff fc = √2 / (2π tau); dt: sample period (s).
+    void setup(double tau, double dt);
+    void prime(const Eigen::Vector3d& steady);
+    Eigen::Vector3d filter(const Eigen::Vector3d& x);
+    bool primed() const noexcept { return primed_; }
+    void reset() { primed_ = false; }
+
+private:
+    double b0_ = 1.0, b1_ = 0.0, b2_ = 0.0, a1_ = 0.0, a2_ = 0.0;
+    Eigen::Vector3d s1_ = Eigen::Vector3d::Zero(), s2_ = Eigen::Vector3d::Zero();   // direct form II transposed
+    bool primed_ = false;
+};
+
+} // namespace armadillo

@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Scores `armadillo fuse` on the BROAD trials (BROAD / VQF paper metric, ../shared/tools/score_broad.py)
+# and prints a per-trial table and the mean total RMSE.
+#   scripts/score-broad.sh [ARMADILLO_BINARY] [DATA_DIR]
+# ARMADILLO_BINARY defaults to build/bin/armadillo; DATA_DIR to ../shared/data/broad-dev.
+# Extra arguments for `armadillo fuse` can be given in FUSE_ARGS (e.g. FUSE_ARGS=--no-mag).
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+bin="${1:-$here/build/bin/armadillo}"
+data="${2:-$here/../shared/data/broad-dev}"
+scorer="${SCORER:-$here/../shared/tools/score_broad.py}"
+[[ -x "$bin" ]] || { echo "score-broad: no armadillo binary at $bin (build it, or pass its path)" >&2; exit 2; }
+[[ -d "$data" ]] || { echo "score-broad: no BROAD data at $data" >&2; exit 2; }
+[[ -f "$scorer" ]] || { echo "score-broad: no scorer at $scorer" >&2; exit 2; }
+if ! python3 -c 'import numpy' 2>/dev/null; then
+    echo "score-broad: installing numpy for the scorer" >&2
+    python3 -m pip install --quiet numpy >&2 || { echo "score-broad: numpy is needed (pip install numpy)" >&2; exit 2; }
+fi
+tmp="$(mktemp -d)"
+trap 'rm -rf "$tmp"' EXIT
+printf '%-40s %8s %8s %8s\n' trial total heading incl
+sum=0; n=0
+for imu in "$data"/*_imu.csv.gz; do
+    trial="$(basename "$imu" _imu.csv.gz)"
+    gzip -dc "$imu" > "$tmp/$trial.imu.csv"
+    # shellcheck disable=SC2086
+    "$bin" fuse --in "$tmp/$trial.imu.csv" --out "$tmp/$trial.q.csv" ${FUSE_ARGS:-} 2> "$tmp/$trial.log" \
+        || { echo "score-broad: fuse failed on $trial:" >&2; cat "$tmp/$trial.log" >&2; exit 1; }
+    line="$(python3 "$scorer" "$tmp/$trial.q.csv" "$data/${trial}_truth.csv.gz" --est-frame EUS)"
+    tot="$(sed -n 's/.*total_rmse_deg=\([^ ]*\).*/\1/p' <<<"$line")"
+    head="$(sed -n 's/.*heading_rmse_deg=\([^ ]*\).*/\1/p' <<<"$line")"
+    inc="$(sed -n 's/.*inclination_rmse_deg=\([^ ]*\).*/\1/p' <<<"$line")"
+    printf '%-40s %8s %8s %8s\n' "$trial" "$tot" "$head" "$inc"
+    sum="$(python3 -c "print($sum + $tot)")"; n=$((n + 1))
+done
+[[ $n -gt 0 ]] || { echo "score-broad: no *_imu.csv.gz in $data" >&2; exit 2; }
+printf '%-40s %8.3f\n' "mean total RMSE ($n trials)" "$(python3 -c "print($sum / $n)")"
