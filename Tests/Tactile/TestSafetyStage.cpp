@@ -180,3 +180,64 @@ TEST_CASE("Safety: a bad dt or allOff gives all zeros at once, and the heat hist
     CHECK(above <= 0.6 - used + 0.026);
     CHECK(above < 0.2);
 }
+
+TEST_CASE("Safety: the bounds checker itself flags an unlimited stream", "[safety]")
+{
+    // Without this, a checker that accepts anything would make the property tests above pass.
+    std::vector<MotorLevels> raw(400, all(15));
+    std::vector<double> hold(400, 0.005);
+    CHECK_FALSE(withinBounds(measureBounds(raw, hold)));   // 2 s at 15
+    std::vector<MotorLevels> rated(2400, all(6));
+    std::vector<double> hold2(2400, 0.005);
+    const auto r = measureBounds(rated, hold2);
+    CHECK(r.maxAboveRun == Approx(12.0));
+    CHECK(r.maxMeanPower == Approx(36.0 / 225.0 * 1.0).epsilon(1e-9));
+    CHECK_FALSE(withinBounds(r));
+}
+
+TEST_CASE("Safety through the engine: random scenes, patterns and packet rates never break the bounds", "[safety][property]")
+{
+    std::mt19937_64 rng(99);
+    for (double dt : {1.0 / 200.0, 1.0 / 285.0, 1.0 / 1000.0, 0.02, -1.0 /* random */}) {
+        TactileEngine e;
+        TactileConfig c;
+        c.motorCount = kMaxMotors;
+        c.side = dt < 0.0 ? ArmSide::Left : ArmSide::Right;
+        e.prepare(c);
+        std::uniform_int_distribution<int> kind(0, kPatternKinds - 1), motor(0, kMaxMotors - 1), voice(0, kPatternVoices - 1);
+        std::uniform_real_distribution<float> level(0.0f, 15.0f);
+        std::uniform_real_distribution<double> unit(0.0, 1.0);
+        std::vector<MotorLevels> out;
+        std::vector<double> dts;
+        for (double t = 0.0; t < 40.0;) {
+            const double step = dt > 0.0 ? dt : 0.001 + unit(rng) * (kDefaultSafetyParams.maxHoldTime - 0.001);
+            t += step;
+            // A busy, careless scene: new targets, patterns and stops all the time.
+            if (unit(rng) < 0.2) e.setLevel(motor(rng), unit(rng) < 0.5 ? 15.0f : level(rng));
+            if (unit(rng) < 0.05) {
+                PatternRequest r;
+                r.kind = static_cast<PatternKind>(kind(rng));
+                r.motors = static_cast<std::uint16_t>(rng());
+                r.level = unit(rng) < 0.5 ? 15.0f : level(rng);
+                r.duration = unit(rng) < 0.3 ? -1.0 : unit(rng) * 3.0;
+                r.rate = unit(rng) < 0.5 ? 0.0 : unit(rng) * 30.0;
+                r.voice = voice(rng);
+                e.trigger(r);
+            }
+            if (unit(rng) < 0.01) e.stopVoice(voice(rng));
+            if (unit(rng) < 0.005) e.clearLevels();
+            out.push_back(e.tick(step));
+            dts.push_back(step);
+        }
+        std::vector<double> hold(dts.size());
+        for (std::size_t i = 0; i < dts.size(); ++i) hold[i] = i + 1 < dts.size() ? dts[i + 1] : dts[i];
+        const auto report = measureBounds(out, hold);
+        INFO("dt " << dt << ": run " << report.maxAboveRun << ", above " << report.maxAboveInWindow << ", power "
+                   << report.maxMeanPower << ", on " << report.maxOnRun);
+        CHECK(withinBounds(report));
+        int busy = 0;   // the stream really was demanding
+        for (const auto& l : out)
+            for (auto x : l) busy += x > 5;
+        CHECK(busy > 100);
+    }
+}
