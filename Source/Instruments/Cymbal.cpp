@@ -36,8 +36,11 @@ CymbalGesture::Result CymbalGesture::update(double elevationDeg, double dt) noex
         r.inside = inside_.on();
         return r;
     }
-    const double step = dt > 1e-6 ? dt : 1e-6;
-    const double downSpeed = (previousDeg_ - elevationDeg) / step;   // deg/s, + when falling
+    // A repeated timestamp (dt = 0) carries no speed: keep the previous estimate rather than
+    // dividing a jump by nothing.
+    const bool timed = dt > 1e-5;
+    const double step = timed ? dt : 1e-5;
+    const double downSpeed = timed ? (previousDeg_ - elevationDeg) / step : 0.0;   // deg/s, + when falling
     previousDeg_ = elevationDeg;
     // Peak hold: the speed at the crossing is the fastest recent fall, so one slow sample
     // right at the surface (sensor noise, a filter's lag) does not turn a strike into a touch.

@@ -125,6 +125,19 @@ TEST_CASE("the strike threshold is a parameter and loudness follows speed", "[cy
         return std::make_pair(h.events.count("strike"), rms(h.audio.left, at - 2400, h.audio.left.size()));
     };
     const auto slow = loudness(180.0), fast = loudness(700.0);
+    {
+        // The hardest strike at the default level stays below full scale (the engine would clip).
+        SceneHarness h(makeCymbalScene(), 7);
+        h.hold({30.0, 0.0, 0.0}, 0.1);
+        strikeAt(h, 2000.0);
+        h.hold({-20.0, 0.0, 0.0}, 1.0);
+        float peak = 0.0f;
+        for (std::size_t i = 0; i < h.audio.left.size(); ++i)
+            peak = std::max({peak, std::fabs(h.audio.left[i]), std::fabs(h.audio.right[i])});
+        INFO("peak " << peak);
+        CHECK(peak < 0.95f);
+        CHECK(peak > 0.2f);
+    }
     REQUIRE(slow.first == 1);
     REQUIRE(fast.first == 1);
     // Same seed, same fragments: only the speed differs.
@@ -385,6 +398,12 @@ TEST_CASE("strike gesture detector: strike, touch and the first sample", "[cymba
         }
     }
     CHECK(struck);
+    // A repeated timestamp (dt = 0) with a jump is no strike.
+    CymbalGesture g2;
+    g2.setParams(kDefaultCymbalGesture);
+    g2.update(20.0, 0.005);
+    g2.update(20.0, 0.005);
+    CHECK(g2.update(-10.0, 0.0).event == CymbalGesture::Event::Touch);
     // Loudness rises with speed from a floor to 1.
     CHECK(cymbalStrikeGain(150.0, 150.0) == Approx(0.35));
     CHECK(cymbalStrikeGain(300.0, 150.0) > cymbalStrikeGain(200.0, 150.0));
