@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cmath>
 #include <random>
+#include <string_view>
 
 #ifndef ARMADILLO_RESOURCE_DIR
 #define ARMADILLO_RESOURCE_DIR "Resources"
@@ -178,7 +179,7 @@ TrainingSession::TrainingSession(const TrainingOptions& options)
             break;
         }
     }
-    log_ = "t,event,stage,trial,expected,posture,roll_deg,unit,step,motors,answer,correct\n";
+    log_ = "t,event,stage,trial,expected,prompt,posture,roll_deg,unit,step,motors,answer,correct\n";
 }
 
 void TrainingSession::log(double t, const char* event, const std::string& posture, double rollDeg, int unit, int step,
@@ -193,8 +194,10 @@ void TrainingSession::log(double t, const char* event, const std::string& postur
         row += trainingStageName(current().stage);
         row += ',' + std::to_string(index_ + 1) + ',';
         appendCsvField(row, current().expected);
+        row += ',';
+        if (std::string_view(event) == "trial") appendCsvField(row, current().prompt);
     } else {
-        row += ",,";
+        row += ",,,";
     }
     row += ',' + posture + ',';
     if (std::isfinite(rollDeg)) appendNumber(row, rollDeg, 6);
@@ -220,7 +223,7 @@ void TrainingSession::beginTrial(double t)
     cursor_ = ReadingCursor(current().units);
     reading_.setCursor(&cursor_);
     shown_ = {};
-    log(t, "trial", "", kNaN, -1, 0, "", current().prompt, -1);
+    log(t, "trial", "", kNaN, -1, 0, "", "", -1);
 }
 
 void TrainingSession::start(double t)

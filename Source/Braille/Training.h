@@ -71,7 +71,7 @@ public:
     int correctCount() const noexcept { return correct_; }
     int answeredCount() const noexcept { return answered_; }
 
-    /// The log as CSV text; header: t,event,stage,trial,expected,posture,roll_deg,unit,step,motors,answer,correct
+    /// The log as CSV text; header: t,event,stage,trial,expected,prompt,posture,roll_deg,unit,step,motors,answer,correct
     std::string logCsv() const;
     void saveLog(const std::string& path) const;   ///< atomic (whole or nothing)
 

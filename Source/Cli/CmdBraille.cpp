@@ -44,7 +44,7 @@ void printDocument(const BrailleDocument& doc, DisplayMethod method)
         std::cout << "message " << m + 1 << "\n";
         for (const BrailleSymbol& s : doc.messages[m].symbols) {
             if (s.isSpace()) {
-                std::cout << pad("  (space)", 14) << "word gap: underside line, motors 2,5,8\n";
+                std::cout << "  " << pad("(space)", 13) << "word gap: the underside line, motors 2,5,8\n";
                 continue;
             }
             for (std::size_t c = 0; c < s.cells.size(); ++c) {
@@ -130,10 +130,11 @@ TrainingOptions trainingOptions(const CommandLine& cl)
 int printPlan(const CommandLine& cl)
 {
     const TrainingSession session(trainingOptions(cl));
+    // CSV: the prompts hold commas, so they are quoted.
     std::cout << "trial,stage,prompt,expected\n";
     int i = 0;
     for (const auto& t : session.trials())
-        std::cout << ++i << "," << trainingStageName(t.stage) << "," << t.prompt << "," << t.expected << "\n";
+        std::cout << ++i << "," << trainingStageName(t.stage) << ",\"" << t.prompt << "\"," << t.expected << "\n";
     return kExitOk;
 }
 

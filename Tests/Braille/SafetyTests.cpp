@@ -1,6 +1,7 @@
 // The tactile output of a full reading, through the real TactileEngine (shaping + safety stage),
 // checked against the overheating rules of ARMADILLO.md §6 / thesis §3.2.3.
 #include "Braille/BrailleScene.h"
+#include "Braille/Sensations.h"
 #include "Tactile/TactileEngine.h"
 #include "TestArm.h"
 #include <catch2/catch.hpp>
@@ -120,4 +121,31 @@ TEST_CASE("A full reading of a sign word never breaks the safety bounds", "[brai
         const Outcome o = drive(m, {{kParamMode, 1.0f}, {kParamLevel, 15.0f}, {kParamPassiveOn, 2.0f}, {kParamPassiveRepeat, 0.5f}}, "entrance");
         checkSafety(o.packets);
     }
+}
+
+TEST_CASE("Through the real tactile engine every row of a word reaches its motors", "[braille][safety]")
+{
+    // The row sensations must survive shaping and the safety stage: at the default level a
+    // deliberate reader feels exactly the motors of each row, the serif included.
+    Motion m;
+    m.hold(hanging(0), 0.5);
+    double r = 0.0;
+    for (int i = 0; i < 12; ++i) {
+        m.move(hanging(r), hanging(r + 16), 0.05);
+        r += 16;
+        m.hold(hanging(r), 0.6);
+    }
+    const Outcome o = drive(m, {}, "exit");
+    REQUIRE(o.advances == 12);
+    std::vector<std::string> felt;
+    MotorSet prev = 0;
+    for (const MotorLevels& p : o.packets) {
+        MotorSet on = 0;
+        for (int k = 0; k < kGridMotors; ++k)
+            if (p[static_cast<std::size_t>(k)] > 0) on |= static_cast<MotorSet>(1u << k);
+        if (on != 0 && on != prev) felt.push_back(motorList(on));
+        prev = on;
+    }
+    // e: 1 / 6 / -   x: 1,2,3 / - / 7,8,9   i: 3 / 4 / -   t: 3 / 4,5,6 / 7
+    CHECK(felt == std::vector<std::string> {"1", "6", "1,2,3", "7,8,9", "3", "4", "3", "4,5,6", "7"});
 }

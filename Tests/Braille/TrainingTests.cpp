@@ -114,7 +114,7 @@ TEST_CASE("Every movement, displayed row and answer is logged with its time", "[
 
     const auto rows = lines(s.logCsv());
     REQUIRE(rows.size() > 10);
-    CHECK(rows[0] == "t,event,stage,trial,expected,posture,roll_deg,unit,step,motors,answer,correct");
+    CHECK(rows[0] == "t,event,stage,trial,expected,prompt,posture,roll_deg,unit,step,motors,answer,correct");
     int moves = 0, shown = 0, answers = 0, trials = 0;
     double lastT = -1.0;
     for (std::size_t i = 1; i < rows.size(); ++i) {
