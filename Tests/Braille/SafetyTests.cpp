@@ -23,7 +23,8 @@ struct Outcome {
     int advances = 0;
 };
 
-Outcome drive(const Motion& m, const std::vector<std::pair<int, float>>& params, const std::string& text)
+Outcome drive(const Motion& m, const std::vector<std::pair<int, float>>& params, const std::string& text,
+              ArmSide side = ArmSide::Right)
 {
     auto scene = makeBrailleScene();
     SceneConfig c;
@@ -32,7 +33,9 @@ Outcome drive(const Motion& m, const std::vector<std::pair<int, float>>& params,
     scene->prepare(c);
     for (const auto& [i, v] : params) scene->setParameter(i, v);
     TactileEngine te;
-    te.prepare(TactileConfig {});
+    TactileConfig tc;
+    tc.side = side;
+    te.prepare(tc);
     CountingEvents events;
     SceneOutput out {te, events};
     Outcome o;
@@ -148,4 +151,17 @@ TEST_CASE("Through the real tactile engine every row of a word reaches its motor
     }
     // e: 1 / 6 / -   x: 1,2,3 / - / 7,8,9   i: 3 / 4 / -   t: 3 / 4,5,6 / 7
     CHECK(felt == std::vector<std::string> {"1", "6", "1,2,3", "7,8,9", "3", "4", "3", "4,5,6", "7"});
+
+    // Worn on the left arm the engine mirrors the columns: the scene itself does not change.
+    const Outcome left = drive(m, {}, "exit", ArmSide::Left);
+    std::vector<std::string> feltLeft;
+    prev = 0;
+    for (const MotorLevels& p : left.packets) {
+        MotorSet on = 0;
+        for (int k = 0; k < kGridMotors; ++k)
+            if (p[static_cast<std::size_t>(k)] > 0) on |= static_cast<MotorSet>(1u << k);
+        if (on != 0 && on != prev) feltLeft.push_back(motorList(on));
+        prev = on;
+    }
+    CHECK(feltLeft == std::vector<std::string> {"3", "4", "1,2,3", "7,8,9", "1", "6", "1", "4,5,6", "9"});
 }

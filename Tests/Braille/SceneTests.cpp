@@ -237,3 +237,44 @@ TEST_CASE("Training mode takes answers from the app and logs them", "[braille][s
     CHECK(log.find(",answer,") != std::string::npos);
     CHECK(log.find(",left,") != std::string::npos);
 }
+
+TEST_CASE("Grade and method are scene parameters, switched without re-preparing", "[braille][scene]")
+{
+    auto stepsToEnd = [](int grade, int method) {
+        Harness h("the");
+        h.set(kParamGrade, static_cast<float>(grade));
+        h.set(kParamMethod, static_cast<float>(method));
+        Motion m;
+        m.hold(hanging(0), 0.3);
+        double r = 0.0;
+        for (int i = 0; i < 12 && h.events.count("end") == 0; ++i) {
+            Motion s;
+            s.t = m.t + i * 0.6;
+            s.move(hanging(r), hanging(r + 16), 0.1);
+            r += 16;
+            s.hold(hanging(r), 0.5);
+            h.run(s);
+        }
+        return h.events.count("advance");
+    };
+    CHECK(stepsToEnd(0, 0) == 3 * 3 + 1);   // Grade 1: t h e, three rows each, then the end
+    CHECK(stepsToEnd(1, 0) == 1 * 3 + 1);   // Grade 2: one cell for "the"
+    CHECK(stepsToEnd(0, 1) == 3 + 1);       // whole characters: one step each
+    CHECK(stepsToEnd(0, 2) == 3 * 2 + 1);   // column pairs: two steps each
+}
+
+TEST_CASE("A held row repeats only when asked to", "[braille][scene]")
+{
+    auto pulsesWhileHolding = [](float repeat) {
+        Harness h("a");
+        h.set(kParamHoldRepeat, repeat);
+        Motion m;
+        m.hold(hanging(0), 0.3);
+        m.move(hanging(0), hanging(16), 0.1);
+        m.hold(hanging(16), 2.2);
+        h.run(m);
+        return h.shapes().size();   // consecutive pulses are separated by silence
+    };
+    CHECK(pulsesWhileHolding(0.0f) == 1);
+    CHECK(pulsesWhileHolding(0.5f) == 5);   // at 0, 0.5, 1.0, 1.5, 2.0 s
+}
