@@ -265,9 +265,10 @@ BrailleDocument translateText(std::string_view utf8, const TranslationOptions& o
         throw InputError("text", 0, "", "bad table name");
 
     std::u32string text = decodeUtf8(utf8);
-    if (!options.capitals)
-        for (auto& c : text)
-            if (c >= U'A' && c <= U'Z') c = c - U'A' + U'a';
+    for (auto& c : text) {
+        if (isSpaceChar(c)) c = U' ';   // tabs, CR, no-break spaces: all a word gap
+        if (!options.capitals && c >= U'A' && c <= U'Z') c = c - U'A' + U'a';
+    }
 
     LouisSession session;
     if (!lou_getTable(doc.table.c_str())) {

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <random>
 
 using namespace armadillo;
 using namespace armadillo::braille;
@@ -196,4 +197,34 @@ TEST_CASE("The shipped sample book reads", "[braille][brf]")
 {
     const BrailleDocument doc = readBrfFile(std::string(ARMADILLO_SOURCE_DIR) + "/Resources/Braille/signs.brf");
     CHECK(doc.messages.size() >= 2);
+}
+
+TEST_CASE("Fuzz: any bytes either parse or are refused with an InputError", "[braille][fuzz]")
+{
+    std::mt19937_64 rng(2005);
+    const std::string alphabet = "ABCXYZabcxyz ,;:!?'-#0123456789\n\r\f\t\x01\x7F\x80\xC3\xA9\xE2\x98\x83\xFF";
+    int parsed = 0, refused = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+        std::string s;
+        const int n = static_cast<int>(rng() % 40);
+        for (int i = 0; i < n; ++i)
+            s += (rng() % 4 == 0) ? static_cast<char>(rng() % 256) : alphabet[rng() % alphabet.size()];
+        for (int which = 0; which < 2; ++which) {
+            try {
+                const BrailleDocument doc = which == 0 ? parseBrf(s, "fuzz.brf") : translateText(s, {});
+                for (const auto& m : doc.messages) {
+                    CHECK_FALSE(m.symbols.empty());
+                    for (const auto& sym : m.symbols) {
+                        CHECK_FALSE(sym.cells.empty());
+                        for (Dots d : sym.cells) CHECK(d < 64);   // six dots only
+                    }
+                }
+                ++parsed;
+            } catch (const InputError&) {
+                ++refused;
+            }
+        }
+    }
+    CHECK(parsed > 0);
+    CHECK(refused > 0);
 }
