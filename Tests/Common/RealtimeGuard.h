@@ -19,6 +19,10 @@
 //     CHECK(guard.allocations() == 0);
 //     CHECK(guard.locks() == 0);
 //
+// To find WHERE an allocation happens, construct the guard with RealtimeGuard::Mode::Trap: the
+// first allocation, free or lock on this thread while it lives raises SIGTRAP, so a debugger
+// stops at the offending call (without a debugger the test dies — use it while investigating).
+//
 // Counts are per thread (thread_local): a guard sees only what its own thread did, so other
 // threads (the test framework, a control thread) cannot make it fail or pass. What it cannot
 // see: malloc/free called directly, locks taken inside libc through internal symbols, and
@@ -39,12 +43,24 @@ struct Counters {
     std::uint64_t locks = 0;
 };
 inline thread_local Counters threadCounters {};
+inline thread_local int trapDepth = 0;   ///< > 0: a Trap-mode guard is alive on this thread
 inline std::atomic<bool> implementationLinked {false};
 } // namespace realtime_detail
 
 class RealtimeGuard {
 public:
-    RealtimeGuard() noexcept : start_(realtime_detail::threadCounters) {}
+    enum class Mode { Count, Trap };
+
+    explicit RealtimeGuard(Mode mode = Mode::Count) noexcept : start_(realtime_detail::threadCounters), trap_(mode == Mode::Trap)
+    {
+        if (trap_) ++realtime_detail::trapDepth;
+    }
+    ~RealtimeGuard()
+    {
+        if (trap_) --realtime_detail::trapDepth;
+    }
+    RealtimeGuard(const RealtimeGuard&) = delete;
+    RealtimeGuard& operator=(const RealtimeGuard&) = delete;
 
     /// True when some TU of this executable defined ARMADILLO_REALTIME_GUARD_IMPLEMENTATION.
     static bool installed() noexcept { return realtime_detail::implementationLinked.load(std::memory_order_relaxed); }
@@ -70,6 +86,7 @@ public:
 private:
     static const realtime_detail::Counters& now() noexcept { return realtime_detail::threadCounters; }
     realtime_detail::Counters start_;
+    bool trap_ = false;
 };
 
 } // namespace armadillo::test
@@ -77,6 +94,7 @@ private:
 #ifdef ARMADILLO_REALTIME_GUARD_IMPLEMENTATION
 #ifndef ARMADILLO_REALTIME_GUARD_IMPLEMENTED
 #define ARMADILLO_REALTIME_GUARD_IMPLEMENTED
+#include <csignal>
 #include <cstdlib>
 #include <dlfcn.h>
 #include <new>
@@ -84,9 +102,19 @@ private:
 
 namespace armadillo::test::realtime_detail {
 
+/// A Trap-mode guard is alive: stop here (SIGTRAP), once, so the debugger shows the caller.
+inline void violation() noexcept
+{
+    if (trapDepth > 0) {
+        trapDepth = 0;   // trap once; the handler's own allocations must not trap again
+        std::raise(SIGTRAP);
+    }
+}
+
 inline void* allocate(std::size_t size)
 {
     ++threadCounters.allocations;
+    violation();
     if (void* p = std::malloc(size ? size : 1)) return p;
     throw std::bad_alloc();
 }
@@ -94,6 +122,7 @@ inline void* allocate(std::size_t size)
 inline void* allocateAligned(std::size_t size, std::align_val_t alignment)
 {
     ++threadCounters.allocations;
+    violation();
     const auto a = static_cast<std::size_t>(alignment);
     const std::size_t rounded = ((size ? size : 1) + a - 1) / a * a;   // aligned_alloc wants a multiple
     if (void* p = std::aligned_alloc(a, rounded)) return p;
@@ -104,6 +133,7 @@ inline void release(void* p) noexcept
 {
     if (!p) return;
     ++threadCounters.deallocations;
+    violation();
     std::free(p);
 }
 
@@ -174,24 +204,28 @@ extern "C" int pthread_mutex_lock(pthread_mutex_t* m)
 {
     using namespace armadillo::test::realtime_detail;
     ++threadCounters.locks;
+    violation();
     return realFunction(realMutexLock, "pthread_mutex_lock")(m);
 }
 extern "C" int pthread_mutex_trylock(pthread_mutex_t* m)
 {
     using namespace armadillo::test::realtime_detail;
     ++threadCounters.locks;
+    violation();
     return realFunction(realMutexTryLock, "pthread_mutex_trylock")(m);
 }
 extern "C" int pthread_rwlock_rdlock(pthread_rwlock_t* l)
 {
     using namespace armadillo::test::realtime_detail;
     ++threadCounters.locks;
+    violation();
     return realFunction(realRdLock, "pthread_rwlock_rdlock")(l);
 }
 extern "C" int pthread_rwlock_wrlock(pthread_rwlock_t* l)
 {
     using namespace armadillo::test::realtime_detail;
     ++threadCounters.locks;
+    violation();
     return realFunction(realWrLock, "pthread_rwlock_wrlock")(l);
 }
 #endif // ARMADILLO_REALTIME_GUARD_IMPLEMENTED

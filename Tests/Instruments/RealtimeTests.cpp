@@ -6,6 +6,7 @@
 #include "Instruments/Scenes.h"
 #include "SceneHarness.h"
 #include <catch2/catch.hpp>
+#include <csignal>
 #include <memory>
 #include <mutex>
 
@@ -56,6 +57,31 @@ TEST_CASE("the realtime guard sees allocations and locks (so it can fail)", "[re
         for (int i = 0; i < 100; ++i) x = x * 1.0001;
         CHECK(guard.clean());
     }
+}
+
+namespace {
+volatile std::sig_atomic_t trapped = 0;
+extern "C" void onTrap(int) { trapped = 1; }
+} // namespace
+
+TEST_CASE("a Trap-mode guard stops at the first allocation (for the debugger), a counting one does not", "[realtime]")
+{
+    REQUIRE(RealtimeGuard::installed());
+    const auto previous = std::signal(SIGTRAP, onTrap);
+    trapped = 0;
+    {
+        RealtimeGuard guard;   // counting only
+        auto p = std::make_unique<int>(1);
+        CHECK(*p == 1);
+    }
+    CHECK(trapped == 0);
+    {
+        RealtimeGuard guard(RealtimeGuard::Mode::Trap);
+        auto p = std::make_unique<int>(2);
+        CHECK(trapped == 1);
+        CHECK(*p == 2);
+    }
+    std::signal(SIGTRAP, previous);
 }
 
 TEST_CASE("theremin renderAudio allocates nothing and takes no locks", "[realtime][theremin]")
