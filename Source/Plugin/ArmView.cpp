@@ -71,8 +71,9 @@ juce::String ArmView::describePose() const
 {
     if (! valid_) return "No orientation yet";
     const auto p = quaternionToPose(q_);
-    return "Elevation " + juce::String(p.elevationDeg, 0) + " degrees, azimuth " + juce::String(p.azimuthDeg, 0)
-           + " degrees, roll " + juce::String(p.rollDeg, 0) + " degrees";
+    return "Elevation " + juce::String(juce::roundToInt(p.elevationDeg)) + " degrees, azimuth "
+           + juce::String(juce::roundToInt(p.azimuthDeg)) + " degrees, roll " + juce::String(juce::roundToInt(p.rollDeg))
+           + " degrees";
 }
 
 ArmView::Projected ArmView::project(const Eigen::Vector3d& w) const

@@ -8,6 +8,12 @@ ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
       device_(processor), sceneControls_(processor)
 {
     setTitle("ARMadillo");
+    // Standalone only (a plugin must not rescale its host): ARMADILLO_UI_SCALE=2 for 200 % on a
+    // Linux desktop that does not announce its scale to JUCE.
+    if (processor_.wrapperType == juce::AudioProcessor::wrapperType_Standalone) {
+        const auto scale = juce::SystemStats::getEnvironmentVariable("ARMADILLO_UI_SCALE", {}).getFloatValue();
+        if (scale >= 0.5f && scale <= 4.0f) juce::Desktop::getInstance().setGlobalScaleFactor(scale);
+    }
     title_.setText("ARMadillo", juce::dontSendNotification);
     title_.setFont(juce::Font(22.0f, juce::Font::bold));
     addAndMakeVisible(title_);
@@ -42,10 +48,12 @@ ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
     addChildComponent(dismiss_);
     setFocusContainerType(FocusContainerType::keyboardFocusContainer);
 
+    // Read the saved size before the limits are set: setting them resizes (and saves) at once.
+    const int width = static_cast<int>(processor_.settings()[SettingIds::editorWidth]);
+    const int height = static_cast<int>(processor_.settings()[SettingIds::editorHeight]);
     setResizable(true, true);
     setResizeLimits(720, 520, 4000, 3000);
-    setSize(static_cast<int>(processor_.settings()[SettingIds::editorWidth]),
-            static_cast<int>(processor_.settings()[SettingIds::editorHeight]));
+    setSize(juce::jlimit(720, 4000, width), juce::jlimit(520, 3000, height));
     timerCallback();
     startTimerHz(5);
 }

@@ -5,9 +5,35 @@
 
 #include <juce_audio_processors/juce_audio_processors.h>
 #include <juce_events/juce_events.h>
+#include <atomic>
 #include <cmath>
 #include <map>
 #include <random>
+
+// Allocation counter: the test thread sets the flag around processBlock only, so allocations
+// the plugin or the host wrapper make inside it on the audio thread are counted (glibc).
+extern "C" void* __libc_malloc(size_t);
+extern "C" void* __libc_calloc(size_t, size_t);
+extern "C" void* __libc_realloc(void*, size_t);
+namespace {
+thread_local bool tCounting = false;
+std::atomic<long> gAllocations {0};
+} // namespace
+extern "C" void* malloc(size_t n)
+{
+    if (tCounting) gAllocations.fetch_add(1, std::memory_order_relaxed);
+    return __libc_malloc(n);
+}
+extern "C" void* calloc(size_t a, size_t b)
+{
+    if (tCounting) gAllocations.fetch_add(1, std::memory_order_relaxed);
+    return __libc_calloc(a, b);
+}
+extern "C" void* realloc(void* p, size_t n)
+{
+    if (tCounting) gAllocations.fetch_add(1, std::memory_order_relaxed);
+    return __libc_realloc(p, n);
+}
 
 namespace {
 
@@ -130,6 +156,25 @@ std::vector<float> render(Hosted& h, double seconds, int* midiEvents = nullptr)
     return out;
 }
 
+/// Allocations made inside processBlock over `blocks` blocks, with elevation automated each block
+/// when `automate`.
+long allocationsDuringProcessing(Hosted& h, int blocks, bool automate)
+{
+    juce::AudioBuffer<float> buffer(2, kBlock);
+    juce::MidiBuffer midi;
+    midi.ensureSize(8192);
+    auto* elevation = h.param("Elevation");
+    gAllocations = 0;
+    for (int b = 0; b < blocks; ++b) {
+        if (automate) elevation->setValue(0.5f + 0.3f * std::sin(0.05f * static_cast<float>(b)));
+        tCounting = true;
+        h.plugin->processBlock(buffer, midi);
+        tCounting = false;
+        midi.clear();
+    }
+    return gAllocations.load();
+}
+
 /// Frequency from positive-going zero crossings (interpolated), over the whole span.
 double frequency(const std::vector<float>& x, std::size_t from)
 {
@@ -230,6 +275,21 @@ TEST_CASE("VST3: gestures and pose leave as MIDI")
         render(h, 0.05, &events);
     }
     CHECK(events >= 8);   // at least the elevation CC at every step
+}
+
+TEST_CASE("VST3: processBlock does not allocate, with and without automation")
+{
+    auto h = loadVst3();
+    prepare(h);
+    setChoice(h, "Source", "host automation");
+    for (const char* scene : {"theremin", "cymbal", "monitor"}) {
+        INFO(scene);
+        setChoice(h, "Scene", scene);
+        render(h, 0.3);   // scene swapped in, buffers warmed
+        allocationsDuringProcessing(h, 50, true);   // the host's queues reach their size
+        CHECK(allocationsDuringProcessing(h, 400, false) == 0);
+        CHECK(allocationsDuringProcessing(h, 400, true) == 0);
+    }
 }
 
 TEST_CASE("VST3: state saves and restores")
