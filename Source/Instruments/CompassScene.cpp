@@ -38,10 +38,16 @@ public:
         state_ = State::Unknown;
         clickRate_ = 0.0;
         onTarget_.reset(false);
+        clearPending_ = true;
     }
 
     void control(const ControlInput& in, SceneOutput& out) override
     {
+        if (clearPending_) {   // entering the scene: nothing left over from before
+            out.motors.clearLevels();
+            out.motors.stopVoice(0);
+            clearPending_ = false;
+        }
         const double tolerance = params_.get(kTolerance);
         onTarget_.setThresholds(tolerance, tolerance + 2.0);   // on below tol, off above tol + 2°
         if (!in.arm.valid) {
@@ -100,6 +106,7 @@ private:
     ArmSide side_ = ArmSide::Right;
     State state_ = State::Unknown;
     double clickRate_ = 0.0;            ///< Hz of the running Geiger pattern (0 = none)
+    bool clearPending_ = true;
     Hysteresis onTarget_ {5.0, 7.0};    ///< downward boundary on |error|, deg
 };
 

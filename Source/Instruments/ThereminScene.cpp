@@ -73,7 +73,7 @@ public:
     {
         haveReference_ = false;
         frets_.reset();
-        shownFret_ = -1;
+        clearPending_ = true;   // the canvas is only reachable from control(): clear there
     }
 
     void control(const ControlInput& in, SceneOutput& out) override
@@ -88,6 +88,12 @@ public:
             frets_.configure(hz, layout.adjust);
         }
 
+        if (clearPending_) {
+            out.motors.clearLevels();
+            shownFret_ = -1;
+            lastEmittedFret_ = -1;
+            clearPending_ = false;
+        }
         if (!in.arm.valid) {
             targetAmplitude_.store(0.0, std::memory_order_relaxed);
             showFret(-1, out);
@@ -174,6 +180,7 @@ private:
     int shownFret_ = -1;
     float shownLevel_ = -1.0f;
     int lastEmittedFret_ = -1;
+    bool clearPending_ = true;
     bool haveReference_ = false;
     double referenceAzimuthDeg_ = 0.0;
 

@@ -258,3 +258,15 @@ TEST_CASE("theremin is silent and frets are off while the arm is unknown", "[the
     for (float v : h.canvas.levels) sum += v;
     CHECK(sum == 0.0f);
 }
+
+TEST_CASE("after reset (entering again, a transport jump) only the new fret is felt", "[theremin][frets]")
+{
+    SceneHarness h(makeThereminScene());
+    h.hold({0.0, 0.0, 0.0}, 0.1);
+    h.scene().reset();
+    h.hold({40.0, 0.0, 0.0}, 0.1);
+    int lit = 0;
+    for (int m = 0; m < kGridMotors; ++m) lit += h.canvas.levels[static_cast<std::size_t>(m)] > 0.0f ? 1 : 0;
+    CHECK(lit == 1);
+    CHECK(h.canvas.levels[static_cast<std::size_t>(motorIndex(0, 0))] > 0.0f);   // 40° plays ≈ 426 Hz: G#
+}
