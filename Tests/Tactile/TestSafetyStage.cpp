@@ -241,3 +241,36 @@ TEST_CASE("Safety through the engine: random scenes, patterns and packet rates n
         CHECK(busy > 100);
     }
 }
+
+TEST_CASE("Safety: other parameters are honoured just as exactly", "[safety][property]")
+{
+    SafetyParams p;
+    p.ratedLevel = 7;
+    p.maxAboveRatingRun = 0.1;
+    p.aboveRatingWindow = 1.0;
+    p.maxAboveRatingFraction = 0.2;
+    p.powerWindow = 3.0;
+    p.maxMeanPower = (4.0 / 15.0) * (4.0 / 15.0);
+    p.maxOnRun = 5.0;
+    p.restAfterOnRun = 1.0;
+    p.maxHoldTime = 0.01;
+    std::mt19937_64 rng(5);
+    std::uniform_int_distribution<int> level(0, 15);
+    std::bernoulli_distribution change(0.1);
+    for (double dt : {1.0 / 200.0, 1.0 / 285.0, 0.01}) {
+        SafetyStage stage;
+        stage.prepare(p, kMaxMotors);
+        MotorLevels current {};
+        const Run r = drive(stage, 30.0, [&](std::size_t) { return dt; }, [&](std::size_t, double) {
+            for (auto& x : current)
+                if (change(rng)) x = static_cast<std::uint8_t>(std::max(level(rng), level(rng)));
+            return current;
+        });
+        const auto report = measureBounds(r.out, r.hold, p);
+        INFO("dt " << dt << ": run " << report.maxAboveRun << ", above " << report.maxAboveInWindow << ", power "
+                   << report.maxMeanPower << ", on " << report.maxOnRun);
+        CHECK(withinBounds(report, p));
+        CHECK(report.maxAboveRun > 0.05);   // the limits are used, not just avoided
+        CHECK(report.maxMeanPower > 0.5 * p.maxMeanPower);
+    }
+}
