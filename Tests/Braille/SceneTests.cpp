@@ -221,6 +221,8 @@ TEST_CASE("Bad text is refused when the scene is prepared", "[braille][scene]")
     CHECK_THROWS_WITH(scene->prepare(c), Catch::Contains("U+2603"));
     c.text = "@/nonexistent/book.brf";
     CHECK_THROWS(scene->prepare(c));
+    c.text = "   \t ";
+    CHECK_THROWS_WITH(scene->prepare(c), Catch::Contains("nothing to read"));
 }
 
 TEST_CASE("Training mode takes answers from the app and logs them", "[braille][scene]")
