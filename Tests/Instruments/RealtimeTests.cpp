@@ -8,7 +8,10 @@
 #include <catch2/catch.hpp>
 #include <csignal>
 #include <memory>
+#include <atomic>
+#include <cmath>
 #include <mutex>
+#include <thread>
 
 using namespace armadillo;
 using namespace armadillo::test;
@@ -146,6 +149,67 @@ TEST_CASE("panel and sound-design renderAudio allocate nothing and take no locks
         REQUIRE(h.events.count("select") >= 3);
         REQUIRE(rms(h.audio.left, 0, h.audio.left.size()) > 0.001);
         INFO(h.scene().name());
+        CHECK(totals.allocations == 0);
+        CHECK(totals.deallocations == 0);
+        CHECK(totals.locks == 0);
+    }
+}
+
+TEST_CASE("with a real control thread and a real audio thread the audio side stays clean", "[realtime][cymbal][theremin]")
+{
+    // The control thread plays a scripted performance (strikes, brushing, damping, parameter
+    // changes) while this thread renders 64-sample blocks; they share only the scene. Iteration
+    // counts, not sleeps: the interleaving varies from run to run, the invariants must not.
+    REQUIRE(RealtimeGuard::installed());
+    for (auto make : {&makeCymbalScene, &makeThereminScene}) {
+        auto scene = make();
+        SceneConfig config;
+        scene->prepare(config);
+        std::vector<ArmState> script;
+        Eigen::Quaterniond previous = poseToQuaternion({});
+        for (int i = 0; i < 2000; ++i) {
+            const double t = i * 0.005, phase = std::fmod(t, 1.0);
+            const double el = phase < 0.5 ? -30.0 + 120.0 * phase : phase < 0.6 ? 30.0 - 600.0 * (phase - 0.5) : -30.0;
+            const ArmState s = armStateFromPose({el, 30.0 * std::sin(t), 0.0}, &previous, 0.005, t);
+            previous = s.q;
+            script.push_back(s);
+        }
+        std::atomic<bool> done {false};
+        std::thread control([&] {
+            RecordingCanvas canvas;
+            RecordingEvents events;
+            SceneOutput out {canvas, events};
+            const auto specs = scene->parameters();
+            for (std::size_t i = 0; i < script.size(); ++i) {
+                ControlInput in;
+                in.arm = script[i];
+                scene->control(in, out);
+                scene->setParameter(static_cast<int>(i % specs.size()),
+                                    specs[i % specs.size()].defaultValue);   // "UI" writes from this thread
+            }
+            done.store(true);
+        });
+        std::vector<float> l(64), r(64);
+        GuardTotals totals;
+        bool finite = true;
+        double energy = 0.0;
+        for (int b = 0; b < 20000 || !done.load(); ++b) {
+            std::fill(l.begin(), l.end(), 0.0f);
+            std::fill(r.begin(), r.end(), 0.0f);
+            RealtimeGuard guard;
+            scene->renderAudio(l.data(), r.data(), 64);
+            totals.allocations += guard.allocations();
+            totals.deallocations += guard.deallocations();
+            totals.locks += guard.locks();
+            for (int i = 0; i < 64; ++i) {
+                finite = finite && std::isfinite(l[static_cast<std::size_t>(i)]) && std::isfinite(r[static_cast<std::size_t>(i)]);
+                energy += static_cast<double>(l[static_cast<std::size_t>(i)]) * static_cast<double>(l[static_cast<std::size_t>(i)]);
+            }
+        }
+        control.join();
+        INFO(scene->name());
+        CHECK(finite);
+        CHECK(energy > 0.0);
         CHECK(totals.allocations == 0);
         CHECK(totals.deallocations == 0);
         CHECK(totals.locks == 0);
