@@ -57,9 +57,13 @@ void ScorePlayer::control(const Transport& transport, double dt, MotorCanvas& ca
     }
     position_ = position;
 
-    // A jump (seek, loop, a new start): anything running is restarted from this position.
+    // A jump (seek, loop, a new start): anything running is restarted from this position. Hosts
+    // report positions per audio block, so a position may stand still for a few steps, leap by
+    // a block, or wobble back a little; none of that is a jump.
+    constexpr double kWobble = 0.010;   // s backwards that is still the same play-through
+    constexpr double kLeap = 0.050;     // s ahead of the expected position that is not a seek
     const double expected = previous_ + dt * speed;
-    if (previous_ < 0.0 || position < previous_ - 1e-9 || position > expected + std::max(0.05, 2.0 * dt * speed))
+    if (previous_ < 0.0 || position < previous_ - kWobble || position > expected + std::max(kLeap, 2.0 * dt * speed))
         resync_ = true;
     previous_ = position;
     if (resync_) {

@@ -183,3 +183,23 @@ TEST_CASE("Score player: a stopped transport is silent; intensity scales", "[pla
     CHECK(c.soundingMotor() == -1);
     CHECK(p.finished());
 }
+
+TEST_CASE("Score player: block-quantised host positions are not seeks", "[player]")
+{
+    // A host reporting its position once per 1024-sample block at 48 kHz (21.3 ms) while the
+    // control runs at 200 Hz: the position stands, leaps, and sometimes wobbles back 1 ms.
+    ScorePlayer p = makePlayer();
+    RecordingCanvas c;
+    const double block = 1024.0 / 48000.0;
+    int triggers = 0;
+    for (int i = 0; i < 500; ++i) {   // 5.5 .. 8 s
+        const double t = 5.5 + i * 0.005;
+        double reported = std::floor(t / block) * block;
+        if (i % 37 == 0) reported -= 0.001;
+        const int before = c.triggers;
+        p.control(at(reported), 0.005, c);
+        triggers += c.triggers - before;
+    }
+    CHECK(triggers == 1);   // the breathing started once, never restarted
+    CHECK(c.stops <= 1);
+}
