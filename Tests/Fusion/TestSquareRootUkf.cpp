@@ -1,0 +1,80 @@
+// The generic SR-UKF on a linear Euclidean space must match the Kalman filter exactly.
+#include "Fusion/OrientationModels.h"
+#include "Fusion/SquareRootUkf.h"
+#include <catch2/catch.hpp>
+#include <random>
+
+using namespace armadillo;
+
+namespace {
+struct Linear3 {
+    static constexpr int kDim = 3;
+    using State = Eigen::Vector3d;
+    static State boxplus(const State& x, const Eigen::Vector3d& d) { return x + d; }
+    static Eigen::Vector3d boxminus(const State& a, const State& b) { return a - b; }
+    template <std::size_t K>
+    static State mean(const std::array<State, K>& s, double w0, double wi, int)
+    {
+        State m = w0 * s[0];
+        for (std::size_t i = 1; i < K; ++i) m += wi * s[i];
+        return m;
+    }
+};
+} // namespace
+
+TEST_CASE("sr-ukf: on a linear model it reproduces the Kalman filter (any alpha)", "[fusion][ukf]")
+{
+    for (double alpha : {1.0, 0.5, 0.1}) {
+        UkfWeights w;
+        w.alpha = alpha;
+        SquareRootUkf<Linear3> ukf(w);
+        Eigen::Matrix3d P = Eigen::Matrix3d::Identity() * 0.5;
+        Eigen::Vector3d x(1.0, -2.0, 0.5);
+        ukf.reset(x, P.llt().matrixL());
+        Eigen::Matrix3d F;
+        F << 1, 0.1, 0, 0, 1, 0.1, 0, 0, 1;
+        const Eigen::Vector3d q(0.01, 0.02, 0.03);
+        Eigen::Matrix<double, 2, 3> H;
+        H << 1, 0, 0, 0, 1, 1;
+        const Eigen::Vector2d r(0.1, 0.2);
+        std::mt19937 rng(6);
+        std::normal_distribution<double> n(0.0, 1.0);
+        for (int k = 0; k < 30; ++k) {
+            ukf.predict([&](Eigen::Vector3d& s) { s = F * s; }, q);
+            x = F * x;
+            P = F * P * F.transpose() + Eigen::Matrix3d(q.array().square().matrix().asDiagonal());
+            const Eigen::Vector2d z(n(rng), n(rng));
+            ukf.update<2>(z, [&](const Eigen::Vector3d& s) { return Eigen::Vector2d(H * s); }, r);
+            const Eigen::Matrix2d Sk = H * P * H.transpose() + Eigen::Matrix2d(r.array().square().matrix().asDiagonal());
+            const Eigen::Matrix<double, 3, 2> K = P * H.transpose() * Sk.inverse();
+            x += K * (z - H * x);
+            P = (Eigen::Matrix3d::Identity() - K * H) * P;
+            CHECK((ukf.state() - x).norm() < 1e-9);
+            CHECK((ukf.covariance() - P).norm() < 1e-9);
+            CHECK(ukf.sqrtCovariance().isLowerTriangular(1e-15));
+            CHECK(ukf.sqrtCovariance().allFinite());
+        }
+    }
+}
+
+TEST_CASE("sr-ukf: weights sum to one and alpha < 1 gives a negative centre weight", "[fusion][ukf]")
+{
+    UkfWeights w;
+    w.alpha = 0.5;
+    SquareRootUkf<OrientationSpace> ukf(w);
+    const int n = OrientationSpace::kDim;
+    CHECK(ukf.meanWeight0() + 2 * n * ukf.weightI() == Approx(1.0));
+    CHECK(ukf.covWeight0() < 0.0);   // so the centre term is a downdate, exercised by the filter
+}
+
+TEST_CASE("sr-ukf: a failing downdate is detected, counted and recovered to a finite positive factor", "[fusion][ukf]")
+{
+    SquareRootUkf<Linear3> ukf;
+    ukf.reset(Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity());
+    Eigen::Matrix3d L = Eigen::Matrix3d::Identity();
+    ukf.rank1<3>(L, Eigen::Vector3d(2.0, 0.0, 0.0), -1.0);   // I − 4 e₁e₁ᵀ is indefinite
+    CHECK(ukf.stats().downdateFailures == 1);
+    CHECK(L.allFinite());
+    CHECK((L.diagonal().array() > 0.0).all());
+    CHECK(L(1, 1) == Approx(1.0));
+}

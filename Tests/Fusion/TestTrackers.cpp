@@ -1,0 +1,63 @@
+// Gyro-bias and magnetic-field trackers (thesis §2.6.8) and the inertial low-pass.
+#include "Core/Types.h"
+#include "Fusion/Trackers.h"
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <random>
+
+using namespace armadillo;
+
+TEST_CASE("bias tracker: still device gives the mean gyro; motion clears rest", "[fusion][trackers]")
+{
+    GyroBiasTracker t;
+    std::mt19937 rng(7);
+    std::normal_distribution<double> n(0.0, 0.003);
+    const Eigen::Vector3d bias(0.01, -0.02, 0.005);
+    const Eigen::Vector3d up(0.0, kStandardGravity, 0.0);
+    bool rest = false;
+    for (int i = 0; i < 1000; ++i) rest = t.update(bias + Eigen::Vector3d(n(rng), n(rng), n(rng)), up, 0.005);
+    CHECK(rest);
+    CHECK((t.bias() - bias).norm() < 0.001);
+    CHECK(t.samples() == t.params().windowSamples);
+    CHECK_FALSE(t.update(Eigen::Vector3d(1.0, 0.0, 0.0), up, 0.005));
+    CHECK_FALSE(t.atRest());
+}
+
+TEST_CASE("field tracker: dip and norm reference, disturbance, adoption of a new steady field", "[fusion][trackers]")
+{
+    MagneticFieldTracker t;
+    const Eigen::Vector3d up(0.0, kStandardGravity, 0.0);
+    const double incl = degToRad(66.0);
+    const Eigen::Vector3d field(0.0, -std::sin(incl) * 50.0, -std::cos(incl) * 50.0);
+    for (int i = 0; i < 100; ++i) CHECK(t.update(up, field, 0.01));
+    CHECK(t.referenceDip() == Approx(kPi / 2 + incl).epsilon(1e-9));
+    CHECK(t.referenceNorm() == Approx(50.0));
+    CHECK_FALSE(t.update(up, field * 1.5, 0.01));            // norm jump
+    const Eigen::Vector3d tilted(0.0, -std::sin(incl - 0.5) * 50.0, -std::cos(incl - 0.5) * 50.0);
+    CHECK_FALSE(t.update(up, tilted, 0.01));                 // dip jump, same norm
+    // Under strong linear acceleration the dip is not judged, only the norm.
+    CHECK(t.update(up * 2.0, tilted, 0.01));
+    // A steady, different field for longer than newFieldTime becomes the reference.
+    bool accepted = false;
+    for (int i = 0; i < 2200 && !accepted; ++i) accepted = t.update(up, field * 1.5, 0.01);
+    CHECK(accepted);
+    CHECK(t.referenceNorm() == Approx(75.0).epsilon(0.01));
+}
+
+TEST_CASE("butterworth: unity DC gain, strong attenuation of a 1 Hz swing", "[fusion][trackers]")
+{
+    ButterworthLowPass3 lp;
+    const double dt = 1.0 / 285.714;
+    lp.setup(3.0, dt);
+    Eigen::Vector3d y;
+    for (int i = 0; i < 3000; ++i) y = lp.filter(Eigen::Vector3d(1.0, 2.0, 3.0));
+    CHECK((y - Eigen::Vector3d(1.0, 2.0, 3.0)).norm() < 1e-9);
+    double peak = 0.0;
+    for (int i = 0; i < 20000; ++i) {
+        y = lp.filter(Eigen::Vector3d(1.0 + std::sin(2 * kPi * 1.0 * i * dt), 2.0, 3.0));
+        if (i > 10000) peak = std::max(peak, std::abs(y.x() - 1.0));
+    }
+    // Second order: about (fc/f)² = (0.075/1)² ≈ 0.006 of the swing gets through.
+    CHECK(peak < 0.01);
+    CHECK(peak > 0.001);
+}
