@@ -191,9 +191,9 @@ int main()
     for (const Entry& e : entries) {
         auto scene = e.make();
         if (!scene) continue;
-        const auto p0 = Clock::now();
+        const double p0 = threadSeconds();
         scene->prepare(config);
-        const double prepareMs = std::chrono::duration<double>(Clock::now() - p0).count() * 1e3;
+        const double prepareMs = (threadSeconds() - p0) * 1e3;
         const Result r = renderSpeed(*scene, *e.arm, 3);
         // Busiest audio: the first 2.6 s of the script (the cymbal has struck and rings).
         const std::vector<ArmState> lead(e.arm->begin(), e.arm->begin() + static_cast<long>(2.6 * kControlRate));

@@ -97,18 +97,19 @@ std::vector<float> noiseFragment(double fs, double brightness, dsp::Random& rng)
     const double gustRateHz = rng.uniform(0.3, 1.2);
     const double gustPhase = rng.uniform();
     const double detune = rng.uniform(1.3, 1.9);
+    double gust = 1.0;
     for (std::size_t i = 0; i < n; ++i) {
-        const double t = static_cast<double>(i) / fs;
-        if ((i & 63) == 0) {   // re-tune every 64 samples: slow drift, cheap
+        if ((i & 63) == 0) {   // re-tune every 64 samples (1.3 ms): the drift and gusts are slow
+            const double t = static_cast<double>(i) / fs;
             const double drift = std::exp2(0.5 * std::sin(dsp::kTwoPi * (driftRateHz * t + driftPhase)));
             bandA.setup(std::min(centre * drift, nyquistGuard), q, fs);
             bandB.setup(std::min(centre * detune / drift, nyquistGuard), q, fs);
+            // Low fragments gust (slow amplitude swell); high ones stay even.
+            gust = 1.0 - (1.0 - brightness) * 0.6 * (0.5 + 0.5 * std::sin(dsp::kTwoPi * (gustRateHz * t + gustPhase)));
         }
         const double white = rng.bipolar();
         const double band = bandA.process(white).band + 0.7 * bandB.process(white).band;
         const double hiss = highPass.process(white).high;
-        // Low fragments gust (slow amplitude swell); high ones stay even.
-        const double gust = 1.0 - (1.0 - brightness) * 0.6 * (0.5 + 0.5 * std::sin(dsp::kTwoPi * (gustRateHz * t + gustPhase)));
         out[i] = static_cast<float>(gust * (band + (0.15 + 0.5 * brightness) * hiss));
     }
     // Glass: sparse decaying high partials, more and brighter as brightness rises.
@@ -120,9 +121,15 @@ std::vector<float> noiseFragment(double fs, double brightness, dsp::Random& rng)
         const double amp = rng.uniform(0.2, 0.8);
         const auto len = std::min(n - start, static_cast<std::size_t>(decayS * 6.0 * fs));
         const double phase = rng.uniform();
+        // A decaying sinusoid as a rotating, shrinking phasor: one complex multiply per sample.
+        const double w = dsp::kTwoPi * f / fs, shrink = std::exp(-1.0 / (decayS * fs));
+        const double stepRe = shrink * std::cos(w), stepIm = shrink * std::sin(w);
+        double re = amp * std::cos(dsp::kTwoPi * phase), im = amp * std::sin(dsp::kTwoPi * phase);
         for (std::size_t j = 0; j < len; ++j) {
-            const double t = static_cast<double>(j) / fs;
-            out[start + j] += static_cast<float>(amp * std::exp(-t / decayS) * std::sin(dsp::kTwoPi * (f * t + phase)));
+            out[start + j] += static_cast<float>(im);
+            const double nextRe = re * stepRe - im * stepIm;
+            im = re * stepIm + im * stepRe;
+            re = nextRe;
         }
     }
     normaliseRms(out, kFragmentRms);
