@@ -225,14 +225,16 @@ PatternSample evaluatePattern(const PatternRequest& r, const PatternParams& p, d
         break;
     }
     case PatternKind::BrokenGlass: {
-        const double event = r.rate > 0.0 ? 1.0 / r.rate : p.glassEvent;
+        const double event = 1.0 / rateOr(r, 1.0 / p.glassEvent);
         PatternParams q = p;
         q.glassEvent = event;
         const double cycle = brokenGlassCycle(q);
         double u = std::fmod(t, cycle);
         const bool mirrored = u >= 0.5 * cycle;
         if (mirrored) u -= 0.5 * cycle;
-        const int e = std::min(kGlassEvents - 1, static_cast<int>(u / event));
+        const double step = u / event;
+        if (!(step >= 0.0)) break;   // a cycle too short to represent: nothing sensible to show
+        const int e = static_cast<int>(std::min(double(kGlassEvents - 1), step));
         const int index = mirrored ? mirrorColumn(kGlassPath[e]) : kGlassPath[e];
         const bool arrival = e == kGlassEvents - 1;
         if ((mask & (1u << index)) == 0) break;

@@ -2,6 +2,9 @@
 #include "Tactile/Patterns.h"
 #include "Tactile/TactileEngine.h"
 #include <catch2/catch.hpp>
+#include <cmath>
+#include <limits>
+#include <random>
 #include <set>
 #include <vector>
 
@@ -249,4 +252,28 @@ TEST_CASE("Patterns through the engine: a re-triggered texture keeps its phase",
     CHECK(e.voiceActive(0));
     e.stopVoice(0);
     CHECK_FALSE(e.voiceActive(0));
+}
+
+TEST_CASE("Patterns: any request, however odd, gives levels within 0..15 on the requested motors", "[patterns][fuzz]")
+{
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const double odd[] = {0.0, -1.0, 1e-9, 1e9, std::nan(""), std::numeric_limits<double>::infinity(), -0.0};
+    for (int i = 0; i < 20000; ++i) {
+        PatternRequest r;
+        r.kind = static_cast<PatternKind>(rng() % kPatternKinds);
+        r.motors = static_cast<std::uint16_t>(rng());
+        r.level = unit(rng) < 0.2 ? static_cast<float>(odd[rng() % std::size(odd)]) : static_cast<float>(unit(rng) * 20.0 - 2.0);
+        r.duration = unit(rng) < 0.3 ? odd[rng() % std::size(odd)] : unit(rng) * 5.0;
+        r.rate = unit(rng) < 0.3 ? odd[rng() % std::size(odd)] : unit(rng) * 50.0;
+        const double t = unit(rng) < 0.1 ? odd[rng() % std::size(odd)] : unit(rng) * 100.0;
+        const PatternSample s = evaluatePattern(r, kDefaultPatternParams, t, rng());
+        CHECK((s.active & ~r.motors) == 0);
+        CHECK((s.smooth & ~s.active) == 0);
+        for (int m = 0; m < kMaxMotors; ++m) {
+            const float l = s.level[static_cast<std::size_t>(m)];
+            CHECK((l >= 0.0f && l <= 15.0f));
+            CHECK((l > 0.0f) == (((s.active >> m) & 1) != 0));
+        }
+    }
 }
