@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <new>
 #include <random>
 
@@ -215,4 +216,42 @@ TEST_CASE("tick() allocates nothing, with 16 motors and every voice busy", "[sha
     }
     g_counting = false;
     CHECK(g_allocations.load() == 0);
+}
+
+TEST_CASE("Engine: odd calls in any order never crash and never drive absent motors", "[shaping][fuzz]")
+{
+    std::mt19937_64 rng(21);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const double odd[] = {0.0, -1.0, 1e-12, 1e9, std::nan(""), std::numeric_limits<double>::infinity(), 0.005};
+    TactileEngine e;
+    TactileConfig c;
+    c.motorCount = 12;
+    e.prepare(c);
+    for (int i = 0; i < 20000; ++i) {
+        switch (rng() % 6) {
+        case 0: e.setLevel(static_cast<int>(rng() % 20) - 2, static_cast<float>(odd[rng() % std::size(odd)])); break;
+        case 1: {
+            PatternRequest r;
+            r.kind = static_cast<PatternKind>(rng() % kPatternKinds);
+            r.motors = static_cast<std::uint16_t>(rng());
+            r.level = static_cast<float>(unit(rng) * 20.0);
+            r.duration = odd[rng() % std::size(odd)];
+            r.rate = odd[rng() % std::size(odd)];
+            r.voice = static_cast<int>(rng() % 10) - 1;
+            e.trigger(r);
+            break;
+        }
+        case 2: e.stopVoice(static_cast<int>(rng() % 10) - 1); break;
+        case 3: if (unit(rng) < 0.05) e.allOff(); break;
+        case 4: if (unit(rng) < 0.05) e.clearLevels(); break;
+        default: break;
+        }
+        const double dt = unit(rng) < 0.02 ? odd[rng() % std::size(odd)] : 0.005;
+        const MotorLevels l = e.tick(dt);
+        for (int m = 0; m < kMaxMotors; ++m) {
+            CHECK(l[static_cast<std::size_t>(m)] <= 15);
+            if (m >= 12) CHECK(l[static_cast<std::size_t>(m)] == 0);
+        }
+        if (!(dt >= 0.0) || !std::isfinite(dt)) CHECK(l == MotorLevels {});
+    }
 }
