@@ -100,6 +100,9 @@ struct CrashVoice {
 };
 
 constexpr int kVoices = 2;
+/// Output scale: two fragments, the tail and an overlapping older voice at full level and the
+/// hardest strike stay inside full scale (property-tested).
+constexpr double kHeadroom = 0.75;
 
 class CymbalScene final : public CymbalInstrument {
 public:
@@ -417,7 +420,7 @@ private:
                 v.carrierPhaseL = dsp::wrapPhase(v.carrierPhaseL + v.carrierInc);
                 v.carrierPhaseR = dsp::wrapPhase(v.carrierPhaseR + v.carrierInc * detune);
             }
-            const double g = v.gain * level * v.damp;
+            const double g = kHeadroom * v.gain * level * v.damp;
             v.damp = dsp::flushTiny(v.damp * v.dampMul);
             if (left) left[i] += static_cast<float>(g * l);
             if (right) right[i] += static_cast<float>(g * r);

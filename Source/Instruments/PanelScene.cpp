@@ -141,7 +141,7 @@ public:
         if (blipAmplitude_ <= 0.0) return;
         for (int i = 0; i < numSamples; ++i) {
             // A plucked tone: fundamental and a quieter octave, exponential decay.
-            const double s = blipAmplitude_ * (dsp::SineTable::at(blipPhase_) + 0.3 * dsp::SineTable::at(2.0 * blipPhase_));
+            const double s = blipAmplitude_ * (dsp::SineTable::at(blipPhase_) + 0.3 * dsp::SineTable::at(2.0 * blipPhase_)) / 1.3;
             blipPhase_ = dsp::wrapPhase(blipPhase_ + blipIncrement_);
             blipAmplitude_ *= decayMul_;
             if (left) left[i] += static_cast<float>(s);

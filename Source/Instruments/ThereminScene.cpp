@@ -94,18 +94,20 @@ public:
             lastEmittedFret_ = -1;
             clearPending_ = false;
         }
-        if (!in.arm.valid) {
+        const ArmFeatures& f = in.arm.features;
+        if (!in.arm.valid || !std::isfinite(f.axis.y()) || !std::isfinite(f.pose.azimuthDeg)) {
             targetAmplitude_.store(0.0, std::memory_order_relaxed);
             showFret(-1, out);
             return;
         }
 
-        const ArmFeatures& f = in.arm.features;
         const double axisY = std::clamp(f.axis.y(), -1.0, 1.0);
-        const double semis = semitonesForAxisY(layout.map, axisY);
+        // Clamped so that any parameter combination (e.g. bottom = top) stays a playable pitch.
+        const double semis = std::clamp(semitonesForAxisY(layout.map, axisY), -120.0, 120.0);
         const double controllerHz = frequencyForSemitones(layout.map, semis);
         const double snap = params_.get(kSnap) / 100.0;
-        const double playedHz = frequencyForSemitones(layout.map, snapToScale(semis, layout.map, layout.scale, layout.root, snap));
+        const double playedHz = std::clamp(frequencyForSemitones(layout.map, snapToScale(semis, layout.map, layout.scale, layout.root, snap)),
+                                           kMinHz, std::min(kMaxHz, 0.45 * sampleRate_));
 
         if (!haveReference_) {
             referenceAzimuthDeg_ = f.pose.azimuthDeg;
@@ -170,6 +172,7 @@ private:
         shownLevel_ = level;
     }
 
+    static constexpr double kMinHz = 5.0, kMaxHz = 20000.0;   ///< played pitch limits
     ParameterSet params_;
     double sampleRate_ = 48000.0;
 
