@@ -1,14 +1,122 @@
 #include "Cli/CommandLine.h"
 #include "Cli/Commands.h"
+#include "Core/Errors.h"
+#include "Device/LiveSession.h"
+#include "Device/OscIo.h"
+#include "Engine/Engine.h"
+#include <algorithm>
+#include <chrono>
+#include <iostream>
+#include <thread>
 
 namespace armadillo::cli {
 
 int runPlay(const Arguments& args)
 {
     return guarded("play", [&] {
-        CommandLine cl("play", "[options]", "Not built yet.", {});
+        CommandLine cl(
+            "play", "--scene SCENE (--port NAME | --simulate [--motion FILE] | --osc-in PORT) [options]",
+            "The live engine, headless: sensor packets from a serial device (thesis protocol), the built-in\n"
+            "simulated forearm or OSC (/armadillo/imu, /armadillo/orientation) go through calibration,\n"
+            "fusion and the scene; each sensor packet is answered with its motor packet at once. Runs for\n"
+            "--seconds or until SIGINT/SIGTERM, turns every motor off, then prints one JSON line:\n"
+            "{\"packets\":…,\"bad_packets\":…,\"resyncs\":…,\"reconnects\":…,\"rate_hz\":…}.\n"
+            "Audio goes to --out only: without --out no audio is produced (no sound-card output yet).\n"
+            "A lost serial port is reopened on its own (backoff up to 0.25 s); a port missing at start is\n"
+            "an error (exit 4).",
+            {
+                {"--scene", "SCENE", "monitor theremin cymbal panel sound-design compass braille score", true},
+                {"--port", "NAME", "serial port of the device (see `armadillo ports`; ptys and /dev/rfcomm* work too)"},
+                {"--simulate", "", "the built-in simulated forearm (in-process, paced like a 57 600-baud link)"},
+                {"--motion", "FILE", "with --simulate: pose or quaternion CSV to act out (looped); default a wandering arm"},
+                {"--osc-in", "PORT", "listen for OSC sensor messages on this UDP port (no motor output)"},
+                {"--baud", "B", "serial speed (default 57600, 8N1)"},
+                {"--calibration", "CAL.json", "device calibration (default: the built-in one, which matches the simulator)"},
+                {"--seconds", "N", "stop after N seconds (default: run until interrupted)"},
+                {"--out", "OUT.wav", "record the scene's audio, 16-bit stereo (written whole at the end)"},
+                {"--tactile", "T.csv", "every motor packet: t,m1..m9"},
+                {"--log", "SESSION.csv", "one row per sensor packet: t, raw counts, calibrated SI values, qw,qx,qy,qz"},
+                {"--osc-out", "HOST:PORT", "send orientation, pose, gyro, motors and gestures as OSC"},
+                {"--sample-rate", "HZ", "audio sample rate for --out (default 48000)"},
+                {"--score", "NAME", "score scene: rite-of-spring, polytope, or a score file"},
+                {"--text", "TEXT", "braille scene: the text to read"},
+                {"--seed", "N", "seed of every random choice (default 1)"},
+                {"--arm", "right|left", "arm wearing the device (left mirrors motor columns; default right)"},
+                {"--unpaced", "", "with --simulate: no wire pacing (as fast as the host can go)"},
+            });
         if (!cl.parse(args)) return 0;
-        return notBuiltYet("'armadillo play'");
+
+        device::LiveConfig config;
+        const int sources = int(cl.has("--port")) + int(cl.has("--simulate")) + int(cl.has("--osc-in"));
+        if (sources != 1) throw UsageError("choose exactly one source: --port NAME, --simulate or --osc-in PORT");
+        if (cl.has("--motion") && !cl.has("--simulate")) throw UsageError("--motion drives the simulator: use it with --simulate");
+        if (cl.has("--unpaced") && !cl.has("--simulate")) throw UsageError("--unpaced applies to --simulate");
+        if (cl.has("--baud") && !cl.has("--port")) throw UsageError("--baud applies to --port");
+        if (cl.has("--port")) {
+            config.source = device::LiveConfig::Source::Port;
+            config.port = cl.value("--port");
+            if (config.port.empty()) throw UsageError("--port needs a device name");
+            config.baud = static_cast<int>(cl.integer("--baud", 57600, 300, 4000000));
+        } else if (cl.has("--simulate")) {
+            config.source = device::LiveConfig::Source::Simulator;
+            config.motionFile = cl.value("--motion");
+            config.simulatorBaud = cl.has("--unpaced") ? 0.0 : 57600.0;
+        } else {
+            config.source = device::LiveConfig::Source::Osc;
+            config.oscInPort = static_cast<int>(cl.integer("--osc-in", 0, 1, 65535));
+        }
+
+        EngineConfig& engine = config.engine;
+        engine.scene = cl.value("--scene");
+        const auto& names = sceneNames();
+        if (std::find(names.begin(), names.end(), engine.scene) == names.end()) throw UsageError("unknown scene '" + engine.scene + "'");
+        engine.sceneConfig.sampleRate = static_cast<double>(cl.integer("--sample-rate", 48000, 8000, 384000));
+        engine.sceneConfig.seed = static_cast<std::uint64_t>(cl.integer("--seed", 1, 0, 1L << 62));
+        engine.sceneConfig.text = cl.value("--text");
+        engine.sceneConfig.score = cl.value("--score");
+        const std::string arm = cl.value("--arm", "right");
+        if (arm != "right" && arm != "left") throw UsageError("--arm must be right or left");
+        engine.sceneConfig.side = arm == "left" ? ArmSide::Left : ArmSide::Right;
+        if (engine.scene == "score" && engine.sceneConfig.score.empty())
+            throw UsageError("the score scene needs --score (rite-of-spring, polytope or a file)");
+        if (engine.scene == "braille" && engine.sceneConfig.text.empty()) throw UsageError("the braille scene needs --text");
+
+        const double seconds = cl.number("--seconds", -1.0);
+        if (cl.has("--seconds") && !(seconds > 0.0 && seconds <= 7 * 24 * 3600.0))
+            throw UsageError("--seconds must be a positive number of seconds (at most a week)");
+        if (cl.has("--osc-out")) {
+            config.oscOut = cl.value("--osc-out");
+            try {
+                device::parseHostPort(config.oscOut);
+            } catch (const std::invalid_argument& e) {
+                throw UsageError(std::string("--osc-out: ") + e.what());
+            }
+        }
+        if (cl.has("--calibration")) config.calibration = device::loadCalibration(cl.value("--calibration"));
+        // Steadier timing for the link (and the simulated device) where the system allows it.
+        config.link.realtimePriority = 20;
+        config.audioOut = cl.value("--out");
+        config.tactileOut = cl.value("--tactile");
+        config.logOut = cl.value("--log");
+
+        installInterruptHandlers();
+        device::LiveSession session(config);
+        session.start();
+        const auto start = std::chrono::steady_clock::now();
+        std::string shownError;
+        while (!interrupted()) {
+            const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            if (seconds > 0.0 && elapsed >= seconds) break;
+            // Say once on stderr when the device goes away (the link keeps reconnecting).
+            const std::string e = session.lastError();
+            if (!e.empty() && e != shownError) std::cerr << "armadillo play: " << e << "\n";
+            shownError = e;
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+        session.stop();
+        session.finish();
+        std::cout << device::summaryJson(session.summary()) << "\n" << std::flush;
+        return 0;
     });
 }
 

@@ -8,6 +8,7 @@
 #include <fcntl.h>
 #include <glob.h>
 #include <poll.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
 #include <termios.h>
 #include <time.h>
@@ -61,6 +62,8 @@ void FdPort::adopt(int fd, bool owned)
 {
     fd_ = fd;
     owned_ = owned;
+    struct stat st {};
+    socket_ = ::fstat(fd, &st) == 0 && S_ISSOCK(st.st_mode);
     const int flags = ::fcntl(fd, F_GETFL);
     if (flags >= 0) ::fcntl(fd, F_SETFL, flags | O_NONBLOCK);
 }
@@ -100,7 +103,8 @@ std::size_t FdPort::write(const std::uint8_t* bytes, std::size_t count)
     std::size_t done = 0;
     int waits = 0;
     while (done < count) {
-        const ssize_t n = ::write(fd_, bytes + done, count - done);
+        const ssize_t n = socket_ ? ::send(fd_, bytes + done, count - done, MSG_NOSIGNAL | MSG_DONTWAIT)
+                                  : ::write(fd_, bytes + done, count - done);
         if (n > 0) {
             done += static_cast<std::size_t>(n);
             continue;

@@ -44,6 +44,7 @@ protected:
     virtual void closeBackend() noexcept {}
     int fd_ = -1;
     bool owned_ = true;
+    bool socket_ = false;   // sockets are written with MSG_NOSIGNAL: a closed peer is an error, not SIGPIPE
 };
 
 /// Standard baud rates the termios path supports (the libserialport path accepts any the

@@ -307,7 +307,7 @@ void SimulatedForearm::respond(double rxTime)
 
     std::size_t done = 0;
     for (int tries = 0; done < n && tries < 50; ++tries) {
-        const ssize_t w = ::write(fd_, out + done, n - done);
+        const ssize_t w = pty_ ? ::write(fd_, out + done, n - done) : ::send(fd_, out + done, n - done, MSG_NOSIGNAL | MSG_DONTWAIT);
         if (w > 0) {
             done += static_cast<std::size_t>(w);
             continue;

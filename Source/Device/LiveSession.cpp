@@ -1,0 +1,277 @@
+#include "Device/LiveSession.h"
+#include "Core/Errors.h"
+#include "Device/Motion.h"
+#include "Device/OscIo.h"
+#include "Device/SessionWriters.h"
+#include "Device/Simulator.h"
+#include "Engine/ArmTracker.h"
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+namespace armadillo::device {
+
+std::string summaryJson(const SessionSummary& s)
+{
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "{\"packets\":%llu,\"bad_packets\":%llu,\"resyncs\":%llu,\"reconnects\":%llu,\"rate_hz\":%.1f}",
+                  static_cast<unsigned long long>(s.packets), static_cast<unsigned long long>(s.badPackets),
+                  static_cast<unsigned long long>(s.resyncs), static_cast<unsigned long long>(s.reconnects),
+                  std::isfinite(s.rateHz) ? s.rateHz : 0.0);
+    return buf;
+}
+
+const std::vector<std::string>& sessionLogHeader()
+{
+    static const std::vector<std::string> h {"t",      "raw_ax", "raw_ay", "raw_az", "raw_gx", "raw_gy", "raw_gz", "raw_mx",
+                                             "raw_my", "raw_mz", "gx",     "gy",     "gz",     "ax",     "ay",     "az",
+                                             "mx",     "my",     "mz",     "qw",     "qx",     "qy",     "qz"};
+    return h;
+}
+
+LiveSession::LiveSession(const LiveConfig& config) : config_(config)
+{
+    engine_ = std::make_unique<Engine>(config_.engine);   // InputError for an unknown scene
+    tracker_ = std::make_unique<ArmTracker>();
+    if (!config_.oscOut.empty()) {
+        HostPort hp;
+        try {
+            hp = parseHostPort(config_.oscOut);
+        } catch (const std::invalid_argument& e) {
+            throw InputError("--osc-out", 0, "", e.what());
+        }
+        oscOut_ = std::make_unique<OscSender>(hp);
+    }
+
+    auto deviceHandler = [this](const SensorCounts& counts, double t) { return control(t, &counts, nullptr, nullptr); };
+    switch (config_.source) {
+    case LiveConfig::Source::Port: {
+        auto port = std::make_unique<SerialPort>(config_.port, config_.baud);
+        port->open();   // fail early with the port's own message (exit 4); later losses reconnect
+        link_ = std::make_unique<DeviceLink>(std::move(port), deviceHandler, config_.link);
+        break;
+    }
+    case LiveConfig::Source::Simulator: {
+        std::shared_ptr<const MotionSource> motion;
+        if (config_.motionFile.empty()) motion = std::make_shared<WanderingMotion>(config_.engine.sceneConfig.seed);
+        else motion = std::make_shared<FileMotion>(config_.motionFile);
+        SimulatorOptions o;
+        o.baud = config_.simulatorBaud;
+        o.realtimePriority = config_.link.realtimePriority > 1 ? config_.link.realtimePriority - 1 : 0;
+        simulator_ = std::make_unique<SimulatedForearm>(motion, o);
+        link_ = std::make_unique<DeviceLink>(simulator_->startInProcess(), deviceHandler, config_.link);
+        break;
+    }
+    case LiveConfig::Source::Osc:
+        oscIn_ = std::make_unique<OscReceiver>(
+            config_.oscInPort, [this](const ImuSample& s) { control(s.t, nullptr, &s, nullptr); },
+            [this](double t, const Eigen::Quaterniond& q) { control(t, nullptr, nullptr, &q); });
+        break;
+    }
+
+    if (!config_.logOut.empty()) log_ = std::make_unique<StreamingCsvWriter>(config_.logOut, sessionLogHeader());
+    if (!config_.tactileOut.empty()) {
+        std::vector<std::string> h {"t"};
+        for (int m = 1; m <= config_.engine.motorCount; ++m) h.push_back("m" + std::to_string(m));
+        tactile_ = std::make_unique<StreamingCsvWriter>(config_.tactileOut, h);
+    }
+    if (!config_.audioOut.empty())
+        wav_ = std::make_unique<StreamingWavWriter>(config_.audioOut, config_.engine.sceneConfig.sampleRate, config_.audioFloat);
+}
+
+LiveSession::~LiveSession()
+{
+    try {
+        stop();
+    } catch (...) {
+    }
+}
+
+MotorLevels LiveSession::control(double t, const SensorCounts* counts, const ImuSample* imu, const Eigen::Quaterniond* q)
+{
+    if (motorsOff_.load(std::memory_order_acquire)) {
+        zeroPacketsSent_.fetch_add(1, std::memory_order_release);
+        return MotorLevels {};
+    }
+    double dt = lastT_ < 0.0 ? 0.0 : t - lastT_;
+    // A source that went quiet (unplug, stall): forget patterns rather than resume mid-gesture.
+    if (dt > 0.25) engine_->allOff();
+    lastT_ = t;
+    if (firstT_.load(std::memory_order_relaxed) < 0.0) firstT_.store(t, std::memory_order_relaxed);
+    latestT_.store(t, std::memory_order_relaxed);
+
+    ImuSample calibrated;
+    ArmState arm;
+    if (counts) {
+        calibrated = config_.calibration.apply(t, *counts);
+        arm = tracker_->update(calibrated);
+    } else if (imu) {
+        calibrated = *imu;
+        arm = tracker_->update(calibrated);
+    } else {
+        arm = tracker_->updateOrientation(t, *q);
+    }
+    Transport transport;
+    transport.valid = true;
+    transport.playing = true;
+    transport.seconds = t;
+    transport.bpm = config_.bpm;
+    transport.ppq = t * config_.bpm / 60.0;
+    const MotorLevels levels = engine_->control(arm, transport, dt);
+    updates_.fetch_add(1, std::memory_order_relaxed);
+    pose_.store(arm.features.pose);
+    levels_.store(levels);
+
+    if (log_) {
+        LogRow row;
+        row.count = 23;
+        row.v[0] = t;
+        for (int i = 0; i < 9; ++i) row.v[static_cast<std::size_t>(1 + i)] = counts ? (*counts)[static_cast<std::size_t>(i)] : kNaN;
+        const Eigen::Vector3d* vs[3] = {&calibrated.gyro, &calibrated.accel, &calibrated.mag};
+        for (int k = 0; k < 3; ++k)
+            for (int i = 0; i < 3; ++i) row.v[static_cast<std::size_t>(10 + 3 * k + i)] = (*vs[k])[i];
+        const bool haveQ = arm.valid;
+        row.v[19] = haveQ ? arm.q.w() : kNaN;
+        row.v[20] = haveQ ? arm.q.x() : kNaN;
+        row.v[21] = haveQ ? arm.q.y() : kNaN;
+        row.v[22] = haveQ ? arm.q.z() : kNaN;
+        log_->push(row);
+    }
+    if (tactile_) {
+        LogRow row;
+        row.count = 1 + config_.engine.motorCount;
+        row.v[0] = t;
+        for (int m = 0; m < config_.engine.motorCount; ++m) row.v[static_cast<std::size_t>(1 + m)] = levels[static_cast<std::size_t>(m)];
+        tactile_->push(row);
+    }
+    if (oscOut_) {
+        if (arm.valid) {
+            oscOut_->sendOrientation(arm.q);
+            oscOut_->sendPose(arm.features.pose);
+        }
+        oscOut_->sendGyro(arm.gyro);
+        oscOut_->sendMotors(levels, config_.engine.motorCount);
+    }
+    GestureEvent ev;
+    while (engine_->popGesture(ev))
+        if (oscOut_) oscOut_->sendGesture(ev.name);
+    return levels;
+}
+
+void LiveSession::audioLoop()
+{
+    // Renders in real time into the WAV file: the audio clock of a headless session.
+    const double sr = config_.engine.sceneConfig.sampleRate;
+    constexpr int kBlock = 256;
+    std::vector<float> l(kBlock), r(kBlock);
+    std::uint64_t rendered = 0;
+    auto renderUpTo = [&](std::uint64_t target) {
+        while (rendered < target) {
+            const int n = static_cast<int>(std::min<std::uint64_t>(kBlock, target - rendered));
+            std::fill(l.begin(), l.begin() + n, 0.0f);
+            std::fill(r.begin(), r.begin() + n, 0.0f);
+            engine_->renderAudio(l.data(), r.data(), n);
+            wav_->write(l.data(), r.data(), n);
+            rendered += static_cast<std::uint64_t>(n);
+        }
+    };
+    while (running_.load(std::memory_order_acquire)) {
+        const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+        renderUpTo(static_cast<std::uint64_t>(elapsed * sr));
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    renderUpTo(static_cast<std::uint64_t>(std::chrono::duration<double>(stopped_ - started_).count() * sr));
+}
+
+void LiveSession::start()
+{
+    if (running_.exchange(true)) return;
+    started_ = std::chrono::steady_clock::now();
+    if (link_) link_->start();
+    if (oscIn_) oscIn_->start();
+    if (wav_) audioThread_ = std::thread([this] { audioLoop(); });
+}
+
+void LiveSession::stop()
+{
+    if (!running_.load()) return;
+    stopped_ = std::chrono::steady_clock::now();
+    // Motors off: answer the next sensor packet with all zeros before the link stops.
+    motorsOff_.store(true, std::memory_order_release);
+    if (link_) {
+        if (link_->stats().inSync) {
+            const std::uint64_t before = zeroPacketsSent_.load();
+            link_->waitFor([&](const LinkStats&) { return zeroPacketsSent_.load() > before; }, 0.2);
+        }
+        link_->stop();
+    }
+    if (oscIn_) oscIn_->stop();
+    if (simulator_) simulator_->stop();
+    engine_->allOff();
+    if (oscOut_) oscOut_->sendMotors(MotorLevels {}, config_.engine.motorCount);
+    running_.store(false, std::memory_order_release);
+    if (audioThread_.joinable()) audioThread_.join();
+}
+
+void LiveSession::finish()
+{
+    stop();
+    // Every file is attempted; the first failure is reported.
+    std::string error;
+    for (StreamingCsvWriter* w : {log_.get(), tactile_.get()}) {
+        if (!w) continue;
+        try {
+            w->finish();
+        } catch (const IoError& e) {
+            if (error.empty()) error = e.what();
+        }
+    }
+    if (wav_) {
+        try {
+            wav_->finish();
+        } catch (const IoError& e) {
+            if (error.empty()) error = e.what();
+        }
+    }
+    if (!error.empty()) throw IoError(error);
+}
+
+SessionSummary LiveSession::summary() const
+{
+    SessionSummary s;
+    const auto end = running_.load() ? std::chrono::steady_clock::now() : stopped_;
+    s.seconds = started_.time_since_epoch().count() ? std::chrono::duration<double>(end - started_).count() : 0.0;
+    if (link_) {
+        const LinkStats l = link_->stats();
+        s.packets = l.packets;
+        s.badPackets = l.badPackets;
+        s.resyncs = l.resyncs;
+        s.reconnects = l.reconnects;
+        if (l.packets > 1 && l.lastPacketTime > l.firstPacketTime)
+            s.rateHz = static_cast<double>(l.packets - 1) / (l.lastPacketTime - l.firstPacketTime);
+    } else if (oscIn_) {
+        const OscInputStats o = oscIn_->stats();
+        s.packets = o.imu + o.orientation;
+        s.badPackets = o.bad;
+        const double first = firstT_.load(), last = latestT_.load();
+        if (s.packets > 1 && last > first) s.rateHz = static_cast<double>(s.packets - 1) / (last - first);
+    }
+    return s;
+}
+
+int LiveSession::oscInPort() const noexcept { return oscIn_ ? oscIn_->port() : 0; }
+
+bool LiveSession::connected() const noexcept
+{
+    if (link_) return link_->connected();
+    return oscIn_ != nullptr;
+}
+
+std::string LiveSession::lastError() const
+{
+    if (link_) return link_->lastError();
+    if (oscIn_) return oscIn_->lastError();
+    return "";
+}
+
+} // namespace armadillo::device

@@ -1,0 +1,114 @@
+#pragma once
+// The live pipeline, one class for `armadillo play` and the app: a source (serial device,
+// simulated forearm or OSC), calibration (counts → SI, once), ArmTracker (fusion + features),
+// Engine (scene → shaping → safety stage) and the motor packet back to the device, plus the
+// optional outputs: audio file, tactile CSV, session log and OSC out.
+//
+// Threads: the source's thread is the control thread (DeviceLink for devices, OscReceiver for
+// OSC): calibration, tracking, engine.control() and the motor packet all run there, so a motor
+// packet leaves microseconds after its sensor packet arrived. An audio-file thread (only with
+// audioOut) calls engine.renderAudio(); a host that owns audio (the plugin) leaves audioOut empty
+// and calls engine().renderAudio() from its own audio callback. Log/tactile rows leave the
+// control thread through lock-free queues.
+#include "Core/Pose.h"
+#include "Core/SpscQueue.h"
+#include "Device/Calibration.h"
+#include "Device/DeviceLink.h"
+#include "Engine/ArmTracker.h"
+#include "Engine/Engine.h"
+#include <atomic>
+#include <memory>
+#include <string>
+#include <thread>
+
+namespace armadillo::device {
+
+class SimulatedForearm;
+class OscReceiver;
+class OscSender;
+class StreamingCsvWriter;
+class StreamingWavWriter;
+
+struct LiveConfig {
+    enum class Source { Port, Simulator, Osc };
+    Source source = Source::Simulator;
+    std::string port;                 ///< Source::Port: device path
+    int baud = 57600;
+    std::string motionFile;           ///< Source::Simulator: pose/quaternion CSV; empty = wandering arm
+    double simulatorBaud = 57600.0;   ///< Source::Simulator: wire pacing (0 = as fast as possible)
+    int oscInPort = 0;                ///< Source::Osc: UDP port (0 = any free port)
+    Calibration calibration = defaultCalibration();
+    EngineConfig engine {};
+    double bpm = 120.0;               ///< the audio-clock transport's tempo
+    std::string audioOut;             ///< WAV path; empty = no audio file
+    bool audioFloat = false;
+    std::string tactileOut;           ///< t,m1..m9 CSV of every motor packet
+    std::string logOut;               ///< session log CSV, one row per sensor packet
+    std::string oscOut;               ///< HOST:PORT; empty = none
+    DeviceLinkOptions link {};
+};
+
+struct SessionSummary {
+    std::uint64_t packets = 0, badPackets = 0, resyncs = 0, reconnects = 0;
+    double rateHz = 0.0;       ///< sustained: (packets − 1) / (last − first packet time)
+    double seconds = 0.0;      ///< session length
+};
+/// {"packets":…,"bad_packets":…,"resyncs":…,"reconnects":…,"rate_hz":…} (INTERFACES.md).
+std::string summaryJson(const SessionSummary& s);
+
+/// The session log's header: t, raw counts, calibrated SI values (IMU names), qw qx qy qz.
+const std::vector<std::string>& sessionLogHeader();
+
+class LiveSession {
+public:
+    /// Validates and prepares everything that can fail early (files, ports, OSC, scene):
+    /// InputError for bad files, IoError for a port or socket that cannot be opened.
+    explicit LiveSession(const LiveConfig& config);
+    ~LiveSession();
+    LiveSession(const LiveSession&) = delete;
+    LiveSession& operator=(const LiveSession&) = delete;
+
+    void start();
+    /// Motors off (a last all-zero motor packet when a device is in step), threads stopped.
+    void stop();
+    /// After stop(): writes the audio, tactile and log files whole (IoError on failure).
+    void finish();
+
+    SessionSummary summary() const;
+    Engine& engine() noexcept { return *engine_; }
+    /// Latest pose and motor levels (any thread, lock-free).
+    Pose latestPose() const noexcept { return pose_.load(); }
+    MotorLevels latestLevels() const noexcept { return levels_.load(); }
+    bool connected() const noexcept;
+    std::string lastError() const;
+    std::uint64_t controlUpdates() const noexcept { return updates_.load(); }
+    /// Source::Osc: the UDP port listened on (useful with oscInPort 0); 0 otherwise.
+    int oscInPort() const noexcept;
+
+private:
+    MotorLevels control(double t, const SensorCounts* counts, const ImuSample* imu, const Eigen::Quaterniond* q);
+    void audioLoop();
+
+    LiveConfig config_;
+    std::unique_ptr<Engine> engine_;
+    std::unique_ptr<ArmTracker> tracker_;
+    std::unique_ptr<SimulatedForearm> simulator_;
+    std::unique_ptr<DeviceLink> link_;
+    std::unique_ptr<OscReceiver> oscIn_;
+    std::unique_ptr<OscSender> oscOut_;
+    std::unique_ptr<StreamingCsvWriter> log_, tactile_;
+    std::unique_ptr<StreamingWavWriter> wav_;
+    std::thread audioThread_;
+    std::atomic<bool> running_ {false};
+    std::atomic<bool> motorsOff_ {false};
+    std::atomic<std::uint64_t> updates_ {0};
+    std::atomic<std::uint64_t> zeroPacketsSent_ {0};
+    SeqLock<Pose> pose_;
+    SeqLock<MotorLevels> levels_;
+    double lastT_ = -1.0;
+    std::atomic<double> firstT_ {-1.0}, latestT_ {-1.0};   // source packet times (for the OSC rate)
+    std::chrono::steady_clock::time_point started_ {}, stopped_ {};
+    std::string audioError_;
+};
+
+} // namespace armadillo::device

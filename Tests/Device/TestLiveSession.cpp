@@ -1,0 +1,248 @@
+// The live pipeline (LiveSession) and `armadillo play`: simulator and OSC sources through the real
+// engine, the session log / tactile / audio files, exit codes, the JSON summary, SIGINT.
+#include "Core/Csv.h"
+#include "Core/Errors.h"
+#include "Core/Wav.h"
+#include "Device/LiveSession.h"
+#include "Device/OscIo.h"
+#include <catch2/catch.hpp>
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <glob.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+using namespace armadillo;
+using namespace armadillo::device;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+std::string out(const std::string& name) { return std::string(ARMADILLO_BINARY_DIR) + "/live-test-" + name; }
+
+/// Polls a condition until it holds or a generous timeout passes (no timing is asserted).
+template <typename F>
+bool eventually(F f, double seconds = 30.0)
+{
+    const auto deadline = Clock::now() + std::chrono::duration<double>(seconds);
+    while (!f()) {
+        if (Clock::now() > deadline) return false;
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    return true;
+}
+
+struct Run {
+    int status = -1;
+    std::string stdoutText;
+};
+
+/// Runs the armadillo binary; optionally sends SIGINT once `readyToInterrupt` says the child runs.
+Run runArmadillo(const std::vector<std::string>& args, const std::function<bool(pid_t)>& readyToInterrupt = {})
+{
+    int pipeFd[2];
+    REQUIRE(::pipe(pipeFd) == 0);
+    const pid_t pid = ::fork();
+    REQUIRE(pid >= 0);
+    if (pid == 0) {
+        ::dup2(pipeFd[1], 1);
+        ::close(pipeFd[0]);
+        std::vector<char*> argv;
+        const std::string bin = std::string(ARMADILLO_BINARY_DIR) + "/bin/armadillo";
+        argv.push_back(const_cast<char*>(bin.c_str()));
+        for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+        argv.push_back(nullptr);
+        ::execv(bin.c_str(), argv.data());
+        ::_exit(127);
+    }
+    ::close(pipeFd[1]);
+    if (readyToInterrupt) {
+        eventually([&] { return readyToInterrupt(pid); });
+        ::kill(pid, SIGINT);
+    }
+    Run r;
+    char buf[4096];
+    ssize_t n;
+    while ((n = ::read(pipeFd[0], buf, sizeof buf)) > 0) r.stdoutText.append(buf, static_cast<std::size_t>(n));
+    ::close(pipeFd[0]);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+std::string lastLine(const std::string& s)
+{
+    std::string t = s;
+    while (!t.empty() && t.back() == '\n') t.pop_back();
+    const auto nl = t.rfind('\n');
+    return nl == std::string::npos ? t : t.substr(nl + 1);
+}
+
+} // namespace
+
+TEST_CASE("live session: simulator → calibration → tracker → engine, with log, tactile and audio files", "[live]")
+{
+    LiveConfig c;
+    c.source = LiveConfig::Source::Simulator;
+    c.simulatorBaud = 0.0;   // unpaced: the test needs packets, not wall time
+    c.engine.scene = "monitor";
+    c.logOut = out("session.csv");
+    c.tactileOut = out("tactile.csv");
+    c.audioOut = out("audio.wav");
+    std::remove(c.logOut.c_str());
+    {
+        LiveSession s(c);
+        s.start();
+        REQUIRE(eventually([&] { return s.controlUpdates() >= 2000; }));
+        CHECK(s.connected());
+        s.stop();
+        // Nothing is written before finish(): whole or nothing.
+        CHECK_FALSE(std::ifstream(c.logOut).good());
+        s.finish();
+        const SessionSummary sum = s.summary();
+        CHECK(sum.packets >= 2000);
+        CHECK(sum.badPackets == 0);
+        CHECK(sum.rateHz > 100.0);
+        const std::string json = summaryJson(sum);
+        CHECK(json.rfind("{\"packets\":", 0) == 0);
+        CHECK(json.find("\"rate_hz\":") != std::string::npos);
+
+        const CsvTable log = CsvTable::read(c.logOut);
+        CHECK(log.header() == sessionLogHeader());
+        // One row per control update; only the packets answered "motors off" while stopping have none.
+        CHECK(log.rowCount() == s.controlUpdates());
+        CHECK(log.rowCount() <= sum.packets);
+        CHECK(log.rowCount() + 50 >= sum.packets);
+        log.requireTimeColumn();
+        // Calibrated accelerometer ≈ 1 g on average (the wandering arm plus punches), raw counts integral.
+        double gsum = 0.0;
+        int withQ = 0;
+        for (std::size_t r = 0; r < log.rowCount(); ++r) {
+            const double ax = log.value(r, log.requireColumn("ax")), ay = log.value(r, log.requireColumn("ay")),
+                         az = log.value(r, log.requireColumn("az"));
+            gsum += std::sqrt(ax * ax + ay * ay + az * az);
+            const double raw = log.value(r, log.requireColumn("raw_gx"));
+            REQUIRE(raw == std::floor(raw));
+            const double qw = log.value(r, log.requireColumn("qw"));
+            if (std::isfinite(qw)) {
+                ++withQ;
+                const double n = std::hypot(qw, log.value(r, log.requireColumn("qx")), log.value(r, log.requireColumn("qy"))) +
+                                 0 * log.value(r, log.requireColumn("qz"));
+                REQUIRE(n <= 1.0 + 1e-6);
+            }
+        }
+        CHECK(gsum / static_cast<double>(log.rowCount()) == Approx(kStandardGravity).epsilon(0.1));
+        CHECK(withQ > static_cast<int>(log.rowCount()) / 2);
+
+        int motors = 0;
+        const auto rows = readTactile(CsvTable::read(c.tactileOut), &motors);
+        CHECK(motors == 9);
+        CHECK(rows.size() == log.rowCount());
+        for (const auto& r : rows)
+            for (const auto l : r.levels) REQUIRE(l == 0);   // monitor: motors off
+
+        const AudioBuffer a = readWav(c.audioOut);
+        CHECK(a.channels.size() == 2);
+        // The audio covers the session, to within the writer's 5 ms pacing and one block.
+        CHECK(std::abs(static_cast<double>(a.frames()) - sum.seconds * 48000.0) < 0.02 * 48000.0 + 256.0);
+    }
+    for (const auto& f : {c.logOut, c.tactileOut, c.audioOut}) std::remove(f.c_str());
+}
+
+TEST_CASE("live session: OSC orientation input drives the engine; OSC out speaks", "[live]")
+{
+    // An OSC listener standing in for a visualiser.
+    std::atomic<int> received {0};
+    OscReceiver viz(0, {}, [&](double, const Eigen::Quaterniond&) { ++received; });
+    viz.start();
+    LiveConfig c;
+    c.source = LiveConfig::Source::Osc;
+    c.oscInPort = 0;
+    c.engine.scene = "monitor";
+    c.oscOut = "127.0.0.1:" + std::to_string(viz.port());
+    LiveSession s(c);
+    s.start();
+    OscSender phone(HostPort {"127.0.0.1", s.oscInPort()});
+    for (int i = 0; i < 50; ++i) {
+        const Eigen::Quaterniond q(Eigen::AngleAxisd(0.01 * i, Eigen::Vector3d::UnitY()));
+        phone.sendOrientation(q);
+        const OscArg nine[] = {OscArg::float32(0), OscArg::float32(0), OscArg::float32(0), OscArg::float32(0), OscArg::float32(9.8f),
+                               OscArg::float32(0), OscArg::float32(0.4f), OscArg::float32(-0.9f), OscArg::float32(0)};
+        phone.send("/armadillo/imu", nine, 9);
+    }
+    REQUIRE(eventually([&] { return s.controlUpdates() >= 100 && received.load() > 10; }));
+    s.stop();
+    s.finish();
+    viz.stop();
+    const SessionSummary sum = s.summary();
+    CHECK(sum.packets == 100);
+    CHECK(sum.reconnects == 0);
+}
+
+TEST_CASE("live session: a missing port, a bad motion file and a bad OSC destination are refused early", "[live]")
+{
+    LiveConfig c;
+    c.source = LiveConfig::Source::Port;
+    c.port = "/nonexistent/ttyARM9";
+    CHECK_THROWS_AS(LiveSession(c), IoError);
+    c.source = LiveConfig::Source::Simulator;
+    c.motionFile = out("bad-motion.csv");
+    std::ofstream(c.motionFile) << "t,qw,qx,qy,qz\n0,1,0,0,zero\n";
+    CHECK_THROWS_AS(LiveSession(c), InputError);
+    std::remove(c.motionFile.c_str());
+    c.motionFile.clear();
+    c.oscOut = "127.0.0.1:99999";
+    CHECK_THROWS_AS(LiveSession(c), InputError);
+}
+
+TEST_CASE("armadillo play: simulator run, JSON summary, session log; exit codes for bad usage/input/device", "[live][cli]")
+{
+    const std::string log = out("cli-session.csv");
+    const Run ok = runArmadillo({"play", "--scene", "monitor", "--simulate", "--seconds", "1.5", "--log", log});
+    REQUIRE(ok.status == 0);
+    const std::string json = lastLine(ok.stdoutText);
+    CHECK(json.rfind("{\"packets\":", 0) == 0);
+    CHECK(json.find("\"bad_packets\":0") != std::string::npos);
+    const long packets = std::stol(json.substr(json.find(':') + 1));
+    CHECK(packets > 150);   // paced like 57 600 baud: ~300/s
+    CHECK(CsvTable::read(log).rowCount() > 150);
+    std::remove(log.c_str());
+
+    CHECK(runArmadillo({"play", "--scene", "monitor"}).status == 2);
+    CHECK(runArmadillo({"play", "--scene", "monitor", "--simulate", "--port", "/dev/null"}).status == 2);
+    CHECK(runArmadillo({"play", "--scene", "nope", "--simulate"}).status == 2);
+    CHECK(runArmadillo({"play", "--scene", "monitor", "--simulate", "--seconds", "-1"}).status == 2);
+    CHECK(runArmadillo({"play", "--scene", "monitor", "--simulate", "--osc-out", "host"}).status == 2);
+    CHECK(runArmadillo({"play", "--scene", "monitor", "--port", "/nonexistent/ttyARM9", "--seconds", "1"}).status == 4);
+    const std::string badCal = out("bad-cal.json");
+    std::ofstream(badCal) << "{\"accel\": {}}";
+    CHECK(runArmadillo({"play", "--scene", "monitor", "--simulate", "--calibration", badCal, "--seconds", "1"}).status == 3);
+    std::remove(badCal.c_str());
+    CHECK(runArmadillo({"play", "--help"}).status == 0);
+}
+
+TEST_CASE("armadillo play: SIGINT ends cleanly with the summary and whole files", "[live][cli]")
+{
+    const std::string tactile = out("cli-sigint.csv");
+    std::remove(tactile.c_str());
+    const std::string wav = out("cli-sigint.wav");
+    // This child's temporary tactile file appears once its session runs (handlers installed): interrupt then.
+    auto running = [&](pid_t pid) {
+        glob_t g {};
+        const bool found = ::glob((tactile + ".tmp-" + std::to_string(pid) + "-*").c_str(), 0, nullptr, &g) == 0 && g.gl_pathc > 0;
+        ::globfree(&g);
+        return found;
+    };
+    const Run r = runArmadillo({"play", "--scene", "monitor", "--simulate", "--seconds", "600", "--tactile", tactile, "--out", wav}, running);
+    CHECK(r.status == 0);
+    CHECK(lastLine(r.stdoutText).rfind("{\"packets\":", 0) == 0);
+    CHECK(std::ifstream(tactile).good());
+    CHECK(std::ifstream(wav).good());
+    std::remove(tactile.c_str());
+    std::remove(wav.c_str());
+}
