@@ -365,6 +365,7 @@ TEST_CASE("VST3: random and foreign state never crashes and falls back to defaul
         CHECK(h.param("Scene")->getCurrentValueAsText() == "theremin");
     }
     // Our own format with values that are not numbers, out of range, or missing.
+    setValue(h, "Elevation", 40.0f, -90.0f, 90.0f);
     feed(xmlPayload("<ARMADILLO version=\"1\"><PARAMETERS><PARAM id=\"elevation\" value=\"nan\"/>"
                     "<PARAM id=\"roll\" value=\"1e30\"/><PARAM id=\"scene\" value=\"-7\"/></PARAMETERS>"
                     "<SETTINGS oscOutPort=\"99999999\" oscOutHost=\"\"/></ARMADILLO>"));
@@ -378,7 +379,7 @@ TEST_CASE("VST3: a live source writes orientation into the parameters with chang
     auto h = loadVst3();
     prepare(h);
     struct Recorder : juce::AudioProcessorParameter::Listener {
-        int changes = 0, begins = 0;
+        std::atomic<int> changes {0}, begins {0};   // the plugin calls back on its own message thread
         void parameterValueChanged(int, float) override { ++changes; }
         void parameterGestureChanged(int, bool starting) override { begins += starting ? 1 : 0; }
     } recorder;
