@@ -15,7 +15,7 @@ enum CompassIndex : int { kHeading, kTolerance, kLevel, kMaxRate };
 std::vector<ParamSpec> compassSpecs()
 {
     return {
-        {"compass.heading", "Target heading", 0.0f, 360.0f, 0.0f, "deg", {}},
+        {"compass.target", "Target heading", 0.0f, 360.0f, 0.0f, "deg", {}},
         {"compass.tolerance", "On-target tolerance", 1.0f, 30.0f, 5.0f, "deg", {}},
         {"compass.level", "Vibration level", 0.0f, 15.0f, 5.0f, "", {}},
         {"compass.maxRate", "Fastest click rate", 2.0f, 30.0f, 15.0f, "Hz", {}},

@@ -29,7 +29,7 @@ TEST_CASE("compass: the turn-side motor clicks faster nearer the target; on targ
     auto scene = makeCompassScene();
     REQUIRE(scene);
     SceneHarness h(std::move(scene));
-    h.set("compass.heading", 90.0f);   // the thumb should point east
+    h.set("compass.target", 90.0f);   // the thumb should point east
     // Right arm, palm down: the thumb points 90° left of the forearm. Forearm 220° → thumb 130°:
     // 40° too far clockwise → turn left (left column).
     h.hold({0.0, 220.0, 0.0}, 0.2);
