@@ -151,10 +151,11 @@ void ArmView::drawSceneObjects(juce::Graphics& g) const
             if (y < -1.0 || y > 1.0) continue;
             const double elev = radToDeg(std::asin(y));
             drawLatitude(g, elev, kFret.withAlpha(0.85f), 1.6f);
-            const auto label = project(directionFor(elev, 90.0 - cameraAzimuthDeg_));
+            // Labels on the left limb, away from the compass letters.
+            const auto label = project(directionFor(elev, -90.0 - cameraAzimuthDeg_));
             g.setColour(kFret);
-            g.drawText(names[i], juce::Rectangle<float>(labelSize * 2.5f, labelSize * 1.2f).withCentre(label.p + juce::Point<float>(labelSize * 1.6f, 0.0f)),
-                       juce::Justification::centredLeft);
+            g.drawText(names[i], juce::Rectangle<float>(labelSize * 2.5f, labelSize * 1.2f).withCentre(label.p - juce::Point<float>(labelSize * 1.6f, 0.0f)),
+                       juce::Justification::centredRight);
         }
     } else if (name == "cymbal") {
         // Thesis §3.6: the cymbal lies below its surface elevation; draw the surface as a disc.

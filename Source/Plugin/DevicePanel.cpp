@@ -134,7 +134,8 @@ void DevicePanel::paint(juce::Graphics& g)
 void DevicePanel::resized()
 {
     auto r = getLocalBounds().reduced(6);
-    const int row = juce::jlimit(22, 40, getHeight() / 12);
+    // Eleven rows (the link statistics take three): fit them all, whatever the height.
+    const int row = juce::jlimit(16, 40, (r.getHeight() - 30) / 11);
     auto line = [&] { auto l = r.removeFromTop(row); r.removeFromTop(3); return l; };
     deviceHeading_.setBounds(line());
     auto l1 = line();
@@ -151,7 +152,8 @@ void DevicePanel::resized()
     side_.setBounds(l3.removeFromLeft(l3.getWidth() / 2 - 3));
     l3.removeFromLeft(6);
     backMotors_.setBounds(l3);
-    link_.setBounds(r.removeFromTop(row * 3 + 8));
+    link_.setBounds(r.removeFromTop(row * 3));
+    link_.setFont(juce::Font(juce::jlimit(11.0f, 18.0f, row * 0.55f)));
     oscHeading_.setBounds(line());
     auto l4 = line();
     oscOut_.setBounds(l4.removeFromLeft(l4.getWidth() / 4));

@@ -91,6 +91,7 @@ void MotorDisplay::paint(juce::Graphics& g)
     g.setFont(text * 0.85f);
     for (int row = 0; row < 3; ++row) {
         g.setColour(juce::Colours::lightgrey);
+        g.setFont(text * 0.85f);
         g.drawText(rows[row], labelColumn.withY(grid.getY() + cell * row).withHeight(cell), juce::Justification::centredLeft);
         for (int col = 0; col < 3; ++col)
             drawMotor({grid.getX() + cell * col, grid.getY() + cell * row, cell, cell}, motorIndex(row, col), true);

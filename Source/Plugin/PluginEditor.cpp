@@ -103,7 +103,7 @@ void ArmadilloEditor::resized()
     auto right = r.removeFromRight(juce::jlimit(340, 640, r.getWidth() * 2 / 5));
     r.removeFromRight(6);
     armView_.setBounds(r);
-    motors_.setBounds(right.removeFromTop(right.getHeight() * 2 / 5));
+    motors_.setBounds(right.removeFromTop(right.getHeight() * 7 / 20));
     right.removeFromTop(6);
     device_.setBounds(right.removeFromTop(right.getHeight() * 3 / 5));
     right.removeFromTop(6);
