@@ -30,6 +30,7 @@ int runRender(const Arguments& args)
                            {"--back-motors", "", "drive the three back motors 10..12 as well"},
                            {"--tail", "SECONDS", "audio rendered after the last motion row (default 0)"},
                            {"--float", "", "write 32-bit float WAV instead of 16-bit"},
+                           {"--param", "ID=VALUE", "set one of the scene's own parameters (repeatable), e.g. braille.mode=passive"},
                        });
         if (!cl.parse(args)) return 0;
 
@@ -47,6 +48,7 @@ int runRender(const Arguments& args)
         if (arm != "right" && arm != "left") throw UsageError("--arm must be right or left");
         engine.sceneConfig.side = arm == "left" ? ArmSide::Left : ArmSide::Right;
         engine.motorCount = cl.has("--back-motors") ? kGridMotors + kBackMotors : kGridMotors;
+        engine.parameters = cl.values("--param");
         settings.tailSeconds = cl.number("--tail", 0.0);
         if (settings.tailSeconds < 0.0 || settings.tailSeconds > 600.0) throw UsageError("--tail must lie in 0..600 s");
         if (engine.scene == "score" && engine.sceneConfig.score.empty())

@@ -69,6 +69,14 @@ std::string CommandLine::value(std::string_view name, const std::string& fallbac
     return fallback;
 }
 
+std::vector<std::string> CommandLine::values(std::string_view name) const
+{
+    std::vector<std::string> out;
+    for (const auto& [k, v] : values_)
+        if (k == name) out.push_back(v);
+    return out;
+}
+
 double CommandLine::number(std::string_view name, double fallback) const
 {
     if (!has(name)) return fallback;

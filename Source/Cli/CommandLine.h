@@ -31,6 +31,8 @@ public:
 
     bool has(std::string_view name) const;
     std::string value(std::string_view name, const std::string& fallback = "") const;
+    /// Every value of an option that may be given more than once, in order.
+    std::vector<std::string> values(std::string_view name) const;
     double number(std::string_view name, double fallback) const;               ///< UsageError if not a number
     long integer(std::string_view name, long fallback, long min, long max) const;
     std::string helpText() const;

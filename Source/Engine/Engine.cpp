@@ -1,6 +1,8 @@
 #include "Engine/Engine.h"
 #include "Tactile/TactileEngine.h"
+#include "Core/Errors.h"
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstring>
 
@@ -36,6 +38,42 @@ Engine::Engine(const EngineConfig& config) : config_(config)
     tactileConfig.side = config_.sceneConfig.side;
     tactile_->prepare(tactileConfig);
     events_ = std::make_unique<Events>(gestures_, time_);
+    setSceneParameters(config_.parameters);
+}
+
+void Engine::setSceneParameter(const std::string& id, const std::string& value)
+{
+    const std::vector<ParamSpec> specs = scene_->parameters();
+    for (std::size_t i = 0; i < specs.size(); ++i) {
+        const ParamSpec& p = specs[i];
+        if (p.id != id) continue;
+        for (std::size_t c = 0; c < p.choices.size(); ++c)
+            if (p.choices[c] == value) {
+                scene_->setParameter(static_cast<int>(i), static_cast<float>(c));
+                return;
+            }
+        double v = 0.0;
+        const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), v);
+        if (ec != std::errc() || end != value.data() + value.size() || !std::isfinite(v) || v < double(p.min) || v > double(p.max)) {
+            std::string allowed = std::to_string(p.min) + ".." + std::to_string(p.max);
+            for (std::size_t c = 0; c < p.choices.size(); ++c) allowed += (c ? ", " : " or ") + p.choices[c];
+            throw InputError("", 0, id, "'" + value + "' is not a valid value (" + allowed + (p.unit.empty() ? "" : " " + p.unit) + ")");
+        }
+        scene_->setParameter(static_cast<int>(i), static_cast<float>(v));
+        return;
+    }
+    std::string ids;
+    for (const auto& p : specs) ids += (ids.empty() ? "" : ", ") + p.id;
+    throw InputError("", 0, id, "scene '" + config_.scene + "' has no such parameter (it has: " + (ids.empty() ? "none" : ids) + ")");
+}
+
+void Engine::setSceneParameters(const std::vector<std::string>& assignments)
+{
+    for (const auto& a : assignments) {
+        const auto eq = a.find('=');
+        if (eq == std::string::npos || eq == 0) throw InputError("", 0, "", "scene parameter '" + a + "' must be written id=value");
+        setSceneParameter(a.substr(0, eq), a.substr(eq + 1));
+    }
 }
 
 Engine::~Engine() = default;

@@ -25,6 +25,7 @@ struct EngineConfig {
     std::string scene = "monitor";
     SceneConfig sceneConfig {};
     int motorCount = kGridMotors;   ///< 9, or 12 with the back motors
+    std::vector<std::string> parameters;   ///< "id=value" scene settings applied after prepare()
 };
 
 /// A gesture a scene emitted (for OSC /armadillo/gesture and MIDI). `name` is a string literal.
@@ -48,6 +49,13 @@ public:
     void renderAudio(float* left, float* right, int numSamples) noexcept;
     /// Stop, disconnect or error: every motor off now; patterns and targets forgotten.
     void allOff() noexcept;
+
+    /// Sets one of the scene's own parameters by its stable id (ParamSpec::id). `value` is a
+    /// number in the parameter's unit, or one of its choice names. Throws InputError naming the
+    /// id and the allowed values when either is unknown or out of range. Not real-time.
+    void setSceneParameter(const std::string& id, const std::string& value);
+    /// Applies "id=value" settings in order (e.g. from --param options).
+    void setSceneParameters(const std::vector<std::string>& assignments);
 
     Scene& scene() noexcept { return *scene_; }
     const EngineConfig& config() const noexcept { return config_; }

@@ -74,3 +74,15 @@ TEST_CASE("cli: render writes the WAV and one tactile row per motion row", "[cli
     CHECK(t.rfind("t,m1,m2,m3,m4,m5,m6,m7,m8,m9\n", 0) == 0);
     CHECK(std::count(t.begin(), t.end(), '\n') == 51);
 }
+
+TEST_CASE("cli: render sets scene parameters with --param and refuses unknown ones", "[cli]")
+{
+    std::string rows = "t,elevation,azimuth,roll\n";
+    for (int i = 0; i < 20; ++i) rows += std::to_string(i * 0.01) + ",0,0,0\n";
+    const std::string motion = file("param.csv", rows);
+    const std::string out = (workDir() / "param.wav").string();
+    CHECK(runArmadillo("render --scene theremin --motion '" + motion + "' --out '" + out + "' --param theremin.range=24").code == 0);
+    const Run bad = runArmadillo("render --scene theremin --motion '" + motion + "' --out '" + out + "' --param theremin.colour=red");
+    CHECK(bad.code == 3);
+    CHECK(bad.err.find("theremin.colour") != std::string::npos);
+}

@@ -74,3 +74,34 @@ TEST_CASE("Engine: the same motion and seed render the same result", "[engine]")
     CHECK(a.audio.channels == b.audio.channels);
     CHECK(a.tactile.size() == b.tactile.size());
 }
+
+TEST_CASE("Engine: scene parameters are set by stable id, by number or choice name", "[engine][params]")
+{
+    EngineConfig config;
+    config.scene = "braille";
+    config.sceneConfig.text = "exit";
+    Engine engine(config);
+    CHECK_NOTHROW(engine.setSceneParameter("braille.mode", "passive"));
+    CHECK_NOTHROW(engine.setSceneParameter("braille.step", "20"));
+    CHECK_THROWS_AS(engine.setSceneParameter("braille.step", "200"), InputError);     // out of range
+    CHECK_THROWS_AS(engine.setSceneParameter("braille.mode", "dancing"), InputError); // no such choice
+    CHECK_THROWS_AS(engine.setSceneParameter("theremin.range", "12"), InputError);    // another scene's
+    CHECK_THROWS_AS(engine.setSceneParameters({"braille.step"}), InputError);         // not id=value
+
+    // Passive mode draws the text with the arm held still; active mode waits for a roll.
+    const auto motorsOnStill = [](const std::string& mode) {
+        RenderSettings settings;
+        settings.engine.scene = "braille";
+        settings.engine.sceneConfig.text = "exit";
+        settings.engine.parameters = {"braille.mode=" + mode};
+        std::string rows = "t,elevation,azimuth,roll\n";
+        for (int i = 0; i <= 2000; ++i) rows += std::to_string(i / 200.0) + ",-80,0,0\n";
+        const auto r = renderOffline(CsvTable::parse(rows, "still.csv"), settings);
+        int on = 0;
+        for (const auto& row : r.tactile)
+            for (int m = 0; m < kGridMotors; ++m) on += row.levels[static_cast<std::size_t>(m)] > 0;
+        return on;
+    };
+    CHECK(motorsOnStill("passive") > 100);
+    CHECK(motorsOnStill("passive") > 10 * motorsOnStill("active"));
+}
