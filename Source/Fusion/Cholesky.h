@@ -38,7 +38,7 @@ Rank1Result update(Eigen::Matrix<double, N, N>& L, Eigen::Matrix<double, N, 1> x
     for (int k = 0; k < N; ++k) {
         const double lkk = std::abs(L(k, k));
         if (L(k, k) < 0.0) L.col(k).tail(N - k) = -L.col(k).tail(N - k);   // same product, positive diagonal
-        const double r = std::hypot(lkk, x(k));
+        const double r = std::sqrt(lkk * lkk + x(k) * x(k));   // well scaled here; hypot is slow
         const double c = r / lkk;
         const double s = x(k) / lkk;
         L(k, k) = r;
@@ -59,20 +59,17 @@ Rank1Result downdate(Eigen::Matrix<double, N, N>& L, const Eigen::Matrix<double,
     if (!xIn.allFinite()) return Rank1Result::NonFinite;
     for (int k = 0; k < N; ++k)
         if (!(std::abs(L(k, k)) > 0.0) || !std::isfinite(L(k, k))) return Rank1Result::NonFinite;
-    // DCHDD's test: L Lᵀ − x xᵀ = L (I − a aᵀ) Lᵀ with L a = x is positive definite iff ‖a‖ < 1.
-    const Eigen::Matrix<double, N, 1> a = L.template triangularView<Eigen::Lower>().solve(xIn);
-    if (!a.allFinite()) return Rank1Result::NonFinite;
-    if (a.squaredNorm() >= 1.0 - margin) return Rank1Result::NotPositiveDefinite;
-
+    // DCHDD tests first (solve L a = x, need ‖a‖ < 1). The same condition shows during the sweep
+    // itself (some r_k² = l_kk² − x_k² ≤ 0 iff ‖a‖ ≥ 1), so the sweep runs on a copy, and the
+    // copy is dropped on failure: one O(n²) pass instead of two, L still unchanged on failure.
     Eigen::Matrix<double, N, 1> x = xIn;
     Eigen::Matrix<double, N, N> W = L;   // work on a copy so that a failure leaves L unchanged
     for (int k = 0; k < N; ++k) {
         const double lkk = std::abs(W(k, k));
         if (W(k, k) < 0.0) W.col(k).tail(N - k) = -W.col(k).tail(N - k);
         const double r2 = (lkk - x(k)) * (lkk + x(k));
-        // Guaranteed positive by the test above, up to rounding; a last guard keeps L finite.
-        const double r = std::sqrt(r2 > 0.0 ? r2 : 0.0);
-        if (!(r > 0.0)) return Rank1Result::NotPositiveDefinite;   // (unreachable in exact arithmetic)
+        if (!(r2 > margin * lkk * lkk)) return Rank1Result::NotPositiveDefinite;
+        const double r = std::sqrt(r2);
         const double c = r / lkk;
         const double s = x(k) / lkk;
         W(k, k) = r;

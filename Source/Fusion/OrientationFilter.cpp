@@ -133,7 +133,7 @@ void OrientationFilter::updateGravity(const Eigen::Vector3d& accel, double rawNo
     // away from 1 g, so the noise grows with that distance, and the soft gate catches the rest.
     const double deviation = std::abs(rawNorm - kStandardGravity) / kStandardGravity;
     const double sd = params_.gravityNoise * (1.0 + params_.gravityNormGain * deviation);
-    ukf_.update<3>(Eigen::Vector3d(accel / n), GravityObservation {}, Eigen::Vector3d::Constant(sd),
+    ukf_.update<3, 3>(Eigen::Vector3d(accel / n), GravityObservation {}, Eigen::Vector3d::Constant(sd),
                    params_.gravityNisLimit);
 }
 
@@ -153,7 +153,7 @@ void OrientationFilter::updateHeading(const Eigen::Vector3d& mag)
         ++magRejected_;
         return;
     }
-    ukf_.update<1>(Eigen::Matrix<double, 1, 1>(0.0), h, Eigen::Matrix<double, 1, 1>(params_.headingNoise),
+    ukf_.update<1, 3>(Eigen::Matrix<double, 1, 1>(0.0), h, Eigen::Matrix<double, 1, 1>(params_.headingNoise),
                    params_.headingNisLimit);
 }
 
@@ -178,17 +178,25 @@ void OrientationFilter::update(const ImuSample& s)
     if (dt > params_.maxGap) restartInertialFrame();
     else inertial_ = (inertial_ * quat::exp((s.gyro - ukf_.state().bias) * dt)).normalized();
     setupLowPass(dt);
+    // Gyro (ω + b) and bias observations are linear: exact updates without sigma points.
     const Eigen::Vector3d gyroStd = Eigen::Vector3d::Constant(params_.gyroNoise);
+    Eigen::Matrix<double, 3, kErrDim> gyroH = Eigen::Matrix<double, 3, kErrDim>::Zero();
+    gyroH.block<3, 3>(0, kErrRate).setIdentity();
+    gyroH.block<3, 3>(0, kErrBias).setIdentity();
+    auto gyroUpdate = [&] { ukf_.updateLinear<3>(s.gyro - GyroObservation {}(ukf_.state()), gyroH, gyroStd); };
     if (params_.gyroCoversPrecedingInterval && dt <= params_.maxGap) {
-        ukf_.update<3>(s.gyro, GyroObservation {}, gyroStd);
+        gyroUpdate();
         predict(dt);
     } else {
         predict(dt);
-        ukf_.update<3>(s.gyro, GyroObservation {}, gyroStd);
+        gyroUpdate();
     }
-    if (rest)
-        ukf_.update<3>(biasTracker_.bias(), BiasObservation {},
-                       Eigen::Vector3d::Constant(params_.biasObservationNoise));
+    if (rest) {
+        Eigen::Matrix<double, 3, kErrDim> biasH = Eigen::Matrix<double, 3, kErrDim>::Zero();
+        biasH.block<3, 3>(0, kErrBias).setIdentity();
+        ukf_.updateLinear<3>(biasTracker_.bias() - BiasObservation {}(ukf_.state()), biasH,
+                             Eigen::Vector3d::Constant(params_.biasObservationNoise));
+    }
     const double accelNorm = s.accel.norm();
     const Eigen::Vector3d accelSmooth =
         quat::rotateInverse(inertial_, accelLowPass_.filter(quat::rotate(inertial_, s.accel)));

@@ -37,7 +37,7 @@ public:
         double gravityNoise = 0.05;           ///< unit-vector components (≈ rad) of the filtered a/|a|
         double gravityNormGain = 4.0;         ///< noise ×(1 + gain·||a|−g|/g): linear acceleration shows in |a|
         double gravityNisLimit = 12.0;        ///< χ²(3) soft gate on the gravity innovation (inflate beyond)
-        double headingNoise = 0.2;            ///< rad, heading from the horizontal field
+        double headingNoise = 0.6;            ///< rad, heading from the horizontal field (slow: τ ≈ 10–20 s)
         double headingNisLimit = 9.0;         ///< χ²(1) soft gate on the heading innovation
         double biasObservationNoise = 0.005;  ///< rad/s, bias tracker's mean used while at rest
 

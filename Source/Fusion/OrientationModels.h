@@ -77,7 +77,7 @@ struct OrientationSpace {
             for (std::size_t i = 1; i < K; ++i) e += wi * quat::log(inv * s[i].q);
             m.q = m.q * quat::exp(e);
             m.q.normalize();
-            if (e.squaredNorm() < 1e-24) break;
+            if (e.squaredNorm() < 1e-20) break;   // 1e-10 rad: converged
         }
         return m;
     }

@@ -114,14 +114,29 @@ public:
     /// innovation squared (NIS, χ² with M degrees of freedom when the model holds), or NaN when
     /// the update was refused (non-finite values). If `nisLimit` is exceeded the noise is inflated
     /// so that the NIS equals the limit (a soft gate: an outlier moves the state only a little).
-    template <int M, class ObservationModel>
+    ///
+    /// `Leading`: the observation depends only on the first `Leading` error components (e.g. 3:
+    /// orientation only). S is lower-triangular, so sigma columns j ≥ Leading leave those
+    /// components at the mean and their observations equal h(x̄): exact, and it saves evaluating
+    /// and building 2(N − Leading) sigma points.
+    template <int M, int Leading = N, class ObservationModel>
     double update(const Eigen::Matrix<double, M, 1>& z, ObservationModel&& h,
                   const Eigen::Matrix<double, M, 1>& noiseStd, double nisLimit = INFINITY)
     {
+        static_assert(Leading >= 1 && Leading <= N, "Leading must be within the error state");
         using VecM = Eigen::Matrix<double, M, 1>;
-        makeSigmaPoints();
+        makeSigmaPoints(Leading);
         std::array<VecM, kSigma> Y;
-        for (int i = 0; i < kSigma; ++i) Y[i] = h(sigma_[i]);
+        Y[0] = h(sigma_[0]);
+        for (int j = 0; j < N; ++j) {
+            if (j < Leading) {
+                Y[1 + j] = h(sigma_[1 + j]);
+                Y[1 + N + j] = h(sigma_[1 + N + j]);
+            } else {
+                Y[1 + j] = Y[0];
+                Y[1 + N + j] = Y[0];
+            }
+        }
         VecM yMean = wm0_ * Y[0];
         for (int i = 1; i < kSigma; ++i) yMean += wi_ * Y[i];
         const VecM nu = z - yMean;
@@ -169,6 +184,38 @@ public:
         return nis;
     }
 
+    /// Measurement update for a linear observation y = H (x ⊟ x̄) + ȳ (here: gyro = ω + b, bias).
+    /// The unscented transform of a linear map is exact, so no sigma points are needed: the
+    /// deviations are H·S directly. Same square-root algebra (QR, triangular solves, downdates).
+    template <int M>
+    double updateLinear(const Eigen::Matrix<double, M, 1>& nu, const Eigen::Matrix<double, M, N>& H,
+                        const Eigen::Matrix<double, M, 1>& noiseStd)
+    {
+        if (!nu.allFinite()) {
+            ++stats_.rejectedUpdates;
+            return NAN;
+        }
+        const Eigen::Matrix<double, M, N> HS = H * S_;
+        Eigen::Matrix<double, N + M, M> B;
+        B.template topRows<N>() = HS.transpose();
+        B.template bottomRows<M>().setZero();
+        B.template bottomRows<M>().diagonal() = noiseStd;
+        const Eigen::Matrix<double, M, M> Syy = upperFactorOf(B).transpose();
+        const Eigen::Matrix<double, N, M> Pxy = S_ * HS.transpose();
+        Eigen::Matrix<double, M, N> Kt = Syy.template triangularView<Eigen::Lower>().solve(Pxy.transpose());
+        Syy.template triangularView<Eigen::Lower>().transpose().solveInPlace(Kt);
+        const Eigen::Matrix<double, N, M> K = Kt.transpose();
+        const ErrorVector dx = K * nu;
+        if (!dx.allFinite()) {
+            ++stats_.rejectedUpdates;
+            return NAN;
+        }
+        x_ = Space::boxplus(x_, dx);
+        const Eigen::Matrix<double, N, M> U = K * Syy;
+        for (int j = 0; j < M; ++j) rank1(S_, ErrorVector(U.col(j)), -1.0);
+        return whitened(Syy, nu).squaredNorm();
+    }
+
     /// Rank-1 update (sign ≥ 0) or downdate (sign < 0) of a factor, with recovery on failure:
     /// the covariance S Sᵀ ± x xᵀ is rebuilt with eigenvalues floored at a small positive value.
     template <int K>
@@ -180,10 +227,10 @@ public:
     }
 
 private:
-    void makeSigmaPoints()
+    void makeSigmaPoints(int columns = N)
     {
         sigma_[0] = x_;
-        for (int j = 0; j < N; ++j) {
+        for (int j = 0; j < columns; ++j) {
             const ErrorVector d = gamma_ * S_.col(j);
             sigma_[1 + j] = Space::boxplus(x_, d);
             sigma_[1 + N + j] = Space::boxplus(x_, -d);
