@@ -70,7 +70,11 @@ public:
         // Geiger counter: 1 Hz when facing away, maxRate at the edge of the tolerance.
         const double closeness = 1.0 - std::clamp((std::fabs(error) - tolerance) / (180.0 - tolerance), 0.0, 1.0);
         const double rate = 1.0 + (params_.get(kMaxRate) - 1.0) * closeness * closeness;
-        show(error > 0.0 ? State::TurnRight : State::TurnLeft, rate, out);
+        // Facing straight away both ways are equally short: keep the side already shown within
+        // 10° of the far point so the clicks do not jump from arm side to arm side.
+        State side = error > 0.0 ? State::TurnRight : State::TurnLeft;
+        if ((state_ == State::TurnLeft || state_ == State::TurnRight) && std::fabs(error) > 170.0) side = state_;
+        show(side, rate, out);
     }
 
 private:

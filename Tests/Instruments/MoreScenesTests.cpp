@@ -47,6 +47,14 @@ TEST_CASE("compass: the turn-side motor clicks faster nearer the target; on targ
     const double rateNear = lastGeigerRate(h);
     CHECK(rateFar < rate40);
     CHECK(rate40 < rateNear);
+    // Facing away and wobbling across the far point: the side does not flip back and forth.
+    h.hold({0.0, 0.0, 0.0}, 0.1);   // thumb 270°: error −180 → whichever side, then it stays
+    int firstMask = 0;
+    lastGeigerRate(h, &firstMask);
+    for (int i = 0; i < 200; ++i) h.step({0.0, 3.0 * std::sin(i * 0.5), 0.0});
+    int finalMask = 0;
+    lastGeigerRate(h, &finalMask);
+    CHECK(finalMask == firstMask);
     // Within ±5°: both side motors steady, no clicks, one onTarget event.
     const std::size_t clicks = h.canvas.triggers(PatternKind::Geiger).size();
     h.hold({0.0, 183.0, 0.0}, 0.3);
