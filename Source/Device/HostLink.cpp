@@ -20,6 +20,7 @@ void HostLink::reset(double now)
     lastAnswer_ = now;
     stats_.inSync = false;
     stats_.rateHz = 0.0;
+    repeatWait_ = 0.0;
 }
 
 void HostLink::fallOutOfStep(double now)
@@ -30,12 +31,7 @@ void HostLink::fallOutOfStep(double now)
     fill_ = 0;
     state_ = State::Draining;
     outOfStepSince_ = now;
-}
-
-void HostLink::sendByte(std::uint8_t b, LinkPeer& peer)
-{
-    peer.send(&b, 1);
-    ++stats_.bytesOut;
+    repeatWait_ = 0.0;
 }
 
 void HostLink::completeFrame(double now, LinkPeer& peer)
@@ -57,6 +53,12 @@ void HostLink::completeFrame(double now, LinkPeer& peer)
         stats_.rateHz += alpha * (1.0 / dt - stats_.rateHz);
     }
     stats_.lastPacketTime = now;
+    if (state_ == State::InStep && frameStart_ >= lastTx_) {
+        // Lock-step round trip: how long the device takes to answer a motor packet.
+        const double rtt = frameStart_ - lastTx_;
+        roundTrip_ = roundTrip_ > 0.0 ? roundTrip_ + 0.05 * (rtt - roundTrip_) : rtt;
+        stats_.roundTripSeconds = roundTrip_;
+    }
     stats_.inSync = true;
     state_ = State::InStep;
     lastAnswer_ = now;
@@ -78,9 +80,15 @@ void HostLink::receive(const std::uint8_t* bytes, std::size_t count, double now,
             break;
         case State::Resyncing:
             state_ = State::Framing;   // the device answers: stop streaming, frame its packet
+            // The first answer also tells how slow the link is (seeds the round trip).
+            if (roundTrip_ <= 0.0 && now > lastBurst_) {
+                roundTrip_ = now - lastBurst_;
+                stats_.roundTripSeconds = roundTrip_;
+            }
             [[fallthrough]];
         case State::Framing:
         case State::InStep:
+            if (fill_ == 0) frameStart_ = now;
             frame_[fill_++] = bytes[i];
             if (fill_ == kSensorPacketSize) completeFrame(now, peer);
             break;
@@ -95,11 +103,12 @@ void HostLink::poll(double now, LinkPeer& peer)
     case State::InStep:
     case State::Framing: {
         // Thesis rule: 10 ms without a byte from the device while a packet is due ⇒ resync.
+        // Deadlines and checks use the same expressions, so a poll at nextDeadline() always acts.
         const double since = std::max(lastRx_, lastTx_);
-        if (now - since >= config_.silenceTimeout) {
+        if (now >= since + silenceLimit()) {
             ++stats_.silences;
             fallOutOfStep(now);
-            if (now - lastRx_ >= config_.resyncQuiet) {
+            if (now >= lastRx_ + config_.resyncQuiet) {
                 state_ = State::Resyncing;
                 nextResyncByte_ = now;
             }
@@ -107,7 +116,7 @@ void HostLink::poll(double now, LinkPeer& peer)
         break;
     }
     case State::Draining:
-        if (now - lastRx_ >= config_.resyncQuiet) {
+        if (now >= lastRx_ + config_.resyncQuiet) {
             state_ = State::Resyncing;
             nextResyncByte_ = now;
         }
@@ -115,24 +124,31 @@ void HostLink::poll(double now, LinkPeer& peer)
     case State::Resyncing:
         break;
     }
-    if (state_ == State::Resyncing) {
-        // A device that waits for 0x8 answers the first byte; one mid-way through a motor
-        // packet needs at most five. Catch up at most five bytes after a late poll.
-        int sent = 0;
-        while (nextResyncByte_ <= now && sent < static_cast<int>(kMotorPacketSize)) {
-            sendByte(kResyncByte, peer);
-            nextResyncByte_ += config_.resyncByteInterval;
-            ++sent;
-        }
-        if (nextResyncByte_ <= now) nextResyncByte_ = now + config_.resyncByteInterval;
+    if (state_ == State::Resyncing && nextResyncByte_ <= now) {
+        // A device waiting for 0x8 answers the first byte; one mid-way through a motor packet
+        // needs at most five. Exactly five, so leftovers can never make a whole phantom packet;
+        // the next burst only after the device has had twice its round trip to answer.
+        std::uint8_t burst[kMotorPacketSize];
+        std::fill(std::begin(burst), std::end(burst), kResyncByte);
+        peer.send(burst, kMotorPacketSize);
+        lastBurst_ = now;
+        stats_.bytesOut += kMotorPacketSize;
+        repeatWait_ = repeatWait_ <= 0.0 ? std::max(config_.resyncRepeat, 2.0 * roundTrip_ + 0.002)
+                                         : std::min(2.0 * repeatWait_, std::max(config_.resyncRepeatMax, config_.resyncRepeat));
+        nextResyncByte_ = now + repeatWait_;
     }
+}
+
+double HostLink::silenceLimit() const noexcept
+{
+    return config_.adaptiveSilence ? std::max(config_.silenceTimeout, 1.5 * roundTrip_ + 0.002) : config_.silenceTimeout;
 }
 
 double HostLink::nextDeadline() const noexcept
 {
     switch (state_) {
     case State::InStep:
-    case State::Framing: return std::max(lastRx_, lastTx_) + config_.silenceTimeout;
+    case State::Framing: return std::max(lastRx_, lastTx_) + silenceLimit();
     case State::Draining: return lastRx_ + config_.resyncQuiet;
     case State::Resyncing: return nextResyncByte_;
     }
@@ -141,7 +157,7 @@ double HostLink::nextDeadline() const noexcept
 
 bool HostLink::reopenDue(double now) const noexcept
 {
-    return config_.reopenAfter > 0.0 && !stats_.inSync && now - lastAnswer_ >= config_.reopenAfter;
+    return config_.reopenAfter > 0.0 && !stats_.inSync && now >= lastAnswer_ + config_.reopenAfter;
 }
 
 } // namespace armadillo::device

@@ -6,7 +6,10 @@
 // whose motor levels go back at once as one motor packet. The host keeps the two in step:
 // a sensor packet whose end nibble is not 0x0, or 10 ms without a byte from the device while a
 // packet is due, puts the link into resync: the host waits for the line to go quiet, then
-// streams 0x8 bytes until the device answers with a sensor packet. A device that never answers
+// streams 0x8 bytes until the device answers with a sensor packet — in bursts of exactly one
+// motor packet's length (5 bytes), repeated no faster than twice the measured round trip, so
+// that resync bytes still in flight when the device answers can never form a phantom motor
+// packet (which would leave two exchanges in flight for good on a slow or paced link). A device that never answers
 // is reported (reopenDue) so the transport can reconnect: the host is the one that reconnects.
 #include "Device/Packets.h"
 #include "Core/Types.h"
@@ -16,8 +19,13 @@ namespace armadillo::device {
 
 struct LinkConfig {
     double silenceTimeout = 0.010;       ///< s without a byte while a packet is due ⇒ resync (thesis: 10 ms)
+    /// Stretch the silence rule to 1.5 × the measured round trip + 2 ms on slow links (Bluetooth:
+    /// 30–50 ms turnaround), where a fixed 10 ms would fire on every exchange. On a 57 600-baud
+    /// wire (≈ 3.3 ms round trip) it stays exactly silenceTimeout.
+    bool adaptiveSilence = true;
     double resyncQuiet = 0.002;          ///< s of line silence before resync bytes are sent (drops stale bytes)
-    double resyncByteInterval = 0.0005;  ///< s between resync bytes (≈ 3 byte times at 57 600 baud)
+    double resyncRepeat = 0.050;         ///< s: first wait before repeating an unanswered resync burst (also ≥ 2 × round trip)
+    double resyncRepeatMax = 0.4;        ///< s: the wait doubles per unanswered burst up to this
     double reopenAfter = 2.0;            ///< s in resync without an answer ⇒ ask for a reconnect; ≤ 0: never
 };
 
@@ -34,6 +42,7 @@ struct LinkStats {
     std::uint64_t bytesOut = 0;
     std::uint64_t discardedBytes = 0;    ///< bytes dropped while resynchronising
     double rateHz = 0.0;                 ///< recent packet rate (1 s exponential average)
+    double roundTripSeconds = 0.0;       ///< motor packet sent → next sensor packet's first byte (average)
     double firstPacketTime = -1.0;       ///< s, `now` of the first good packet; −1 before
     double lastPacketTime = -1.0;        ///< s, `now` of the latest good packet
     bool inSync = false;
@@ -79,7 +88,6 @@ public:
 private:
     void fallOutOfStep(double now);
     void completeFrame(double now, LinkPeer& peer);
-    void sendByte(std::uint8_t b, LinkPeer& peer);
 
     LinkConfig config_;
     State state_ = State::Draining;
@@ -90,6 +98,11 @@ private:
     double nextResyncByte_ = 0.0;
     double outOfStepSince_ = 0.0;
     double lastAnswer_ = 0.0;          ///< last time the device sent anything useful (or reset)
+    double frameStart_ = 0.0;          ///< time the current frame's first byte arrived
+    double roundTrip_ = 0.0;           ///< s: motor packet sent → next packet's first byte (average)
+    double repeatWait_ = 0.0;          ///< s: current wait between unanswered bursts (backs off)
+    double lastBurst_ = -1e300;        ///< time the last resync burst was sent
+    double silenceLimit() const noexcept;
     LinkStats stats_ {};
 };
 

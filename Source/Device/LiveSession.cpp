@@ -259,6 +259,8 @@ SessionSummary LiveSession::summary() const
     return s;
 }
 
+LatencySummary LiveSession::latency() const { return link_ ? link_->latency() : LatencySummary {}; }
+
 int LiveSession::oscInPort() const noexcept { return oscIn_ ? oscIn_->port() : 0; }
 
 bool LiveSession::connected() const noexcept

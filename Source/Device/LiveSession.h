@@ -82,6 +82,8 @@ public:
     bool connected() const noexcept;
     std::string lastError() const;
     std::uint64_t controlUpdates() const noexcept { return updates_.load(); }
+    /// Sensor-packet arrival → motor packet written (device sources; empty otherwise).
+    LatencySummary latency() const;
     /// Source::Osc: the UDP port listened on (useful with oscInPort 0); 0 otherwise.
     int oscInPort() const noexcept;
 

@@ -9,6 +9,7 @@
 #include <deque>
 #include <functional>
 #include <map>
+#include <stdexcept>
 #include <vector>
 
 namespace armadillo::device::testing {
@@ -57,7 +58,9 @@ public:
     /// Runs until `until` seconds of model time.
     void runUntil(double until)
     {
+        int stuck = 0;
         while (t < until) {
+            const double before = t;
             double next = std::min(until, host.nextDeadline());
             if (!toDevice_.empty()) next = std::min(next, toDevice_.front().first);
             if (!toHost_.empty()) next = std::min(next, toHost_.front().first);
@@ -75,6 +78,9 @@ public:
                 host.receive(&b, 1, t, *this);
             }
             host.poll(t, *this);
+            // Model time must advance: a deadline that poll() does not act on would spin forever.
+            stuck = t == before && toDevice_.empty() && toHost_.empty() ? stuck + 1 : 0;
+            if (stuck > 1000) throw std::logic_error("virtual wire: host deadline does not advance");
         }
     }
 
