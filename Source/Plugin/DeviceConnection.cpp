@@ -3,7 +3,9 @@
 #include "Device/LinkPort.h"
 #include "Device/Motion.h"
 #include "Device/Simulator.h"
+#include <csignal>
 #include <cstdio>
+#include <pthread.h>
 #include <exception>
 
 namespace armadillo::plugin {
@@ -36,6 +38,17 @@ bool DeviceConnection::connect(const std::string& port, int baud, const std::str
             message = std::string("Calibration not loaded (") + e.what() + "); using the default calibration. ";
         }
     }
+
+    // The link and simulator threads inherit this thread's signal mask: with SIGPIPE blocked a
+    // write to a vanished peer returns EPIPE instead of killing the host (a DAW) with SIGPIPE.
+    sigset_t pipe, previous;
+    sigemptyset(&pipe);
+    sigaddset(&pipe, SIGPIPE);
+    pthread_sigmask(SIG_BLOCK, &pipe, &previous);
+    struct RestoreMask {
+        sigset_t mask;
+        ~RestoreMask() { pthread_sigmask(SIG_SETMASK, &mask, nullptr); }
+    } restore {previous};
 
     std::unique_ptr<device::LinkPort> linkPort;
     try {

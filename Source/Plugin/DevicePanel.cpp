@@ -50,6 +50,8 @@ DevicePanel::DevicePanel(ArmadilloProcessor& processor) : processor_(processor)
     describe(backMotors_, "Back motors", "Drive the three optional back motors (motors 10 to 12).");
     backMotors_.getToggleStateValue().referTo(settings.getPropertyAsValue(SettingIds::backMotors, nullptr));
 
+    describe(connectOnStart_, "Connect on start", "Open the chosen port by itself when the source is device.");
+    connectOnStart_.getToggleStateValue().referTo(settings.getPropertyAsValue(SettingIds::connectOnStart, nullptr));
     describe(oscOut_, "OSC output", "Send /armadillo/orientation, pose, gyro, motors and gesture messages.");
     oscOut_.getToggleStateValue().referTo(settings.getPropertyAsValue(SettingIds::oscOutEnabled, nullptr));
     describe(oscHost_, "OSC output host", "Host name or address the OSC messages go to.");
@@ -69,7 +71,7 @@ DevicePanel::DevicePanel(ArmadilloProcessor& processor) : processor_(processor)
     portLabel_.attachToComponent(&oscPort_, true);
     inPortLabel_.attachToComponent(&oscInPort_, true);
 
-    for (juce::Component* c : std::initializer_list<juce::Component*> {&port_, &rescan_, &connect_, &calibration_, &calibrationFile_,
+    for (juce::Component* c : std::initializer_list<juce::Component*> {&port_, &rescan_, &connect_, &calibration_, &calibrationFile_, &connectOnStart_,
                                 &side_, &backMotors_, &link_, &oscOut_, &oscHost_, &oscPort_, &oscIn_, &oscInPort_})
         addAndMakeVisible(*c);
     setFocusContainerType(FocusContainerType::focusContainer);
@@ -147,6 +149,7 @@ void DevicePanel::resized()
     auto l2 = line();
     calibration_.setBounds(l2.removeFromLeft(l2.getWidth() / 3));
     l2.removeFromLeft(6);
+    connectOnStart_.setBounds(l2.removeFromRight(l2.getWidth() * 2 / 5));
     calibrationFile_.setBounds(l2);
     auto l3 = line();
     side_.setBounds(l3.removeFromLeft(l3.getWidth() / 2 - 3));

@@ -26,6 +26,7 @@ private:
     juce::Label calibrationFile_, link_;
     juce::ComboBox side_;
     juce::ToggleButton backMotors_ {"Back motors (12)"};
+    juce::ToggleButton connectOnStart_ {"Connect on start"};
     juce::ToggleButton oscOut_ {"OSC out"}, oscIn_ {"OSC in"};
     juce::TextEditor oscHost_, oscPort_, oscInPort_;
     juce::Label hostLabel_, portLabel_, inPortLabel_;

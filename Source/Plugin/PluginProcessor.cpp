@@ -439,6 +439,12 @@ void ArmadilloProcessor::timerCallback()
         setStatus("The scene reported an error during a control update; motors were switched off.");
     applyPendingEngine();
     writeLiveOrientationToParameters();
+    // The performer's standalone app (or a session) reopens its saved port by itself, once.
+    if (! autoConnectTried_ && static_cast<bool>(settings_[SettingIds::connectOnStart]) && source() == SourceKind::Device
+        && ! deviceConnected() && settings_[SettingIds::serialPort].toString().isNotEmpty()) {
+        autoConnectTried_ = true;
+        connectDevice(true);
+    }
 }
 
 void ArmadilloProcessor::writeLiveOrientationToParameters()
@@ -510,8 +516,9 @@ void ArmadilloProcessor::valueTreePropertyChanged(juce::ValueTree&, const juce::
     if (id == SettingIds::simWandering) {
         std::lock_guard<std::mutex> lock(simMutex_);
         simulator_.setWandering(static_cast<bool>(settings_[SettingIds::simWandering]));
-    } else if (id == SettingIds::serialPort) {
-        if (deviceConnected()) connectDevice(false);
+    } else if (id == SettingIds::serialPort || id == SettingIds::connectOnStart) {
+        autoConnectTried_ = false;
+        if (id == SettingIds::serialPort && deviceConnected()) connectDevice(false);
     } else if (id == SettingIds::midiChannel) {
         midiChannel_.store(juce::jlimit(1, 16, static_cast<int>(settings_[SettingIds::midiChannel])));
     } else if (id == SettingIds::oscOutEnabled || id == SettingIds::oscOutHost || id == SettingIds::oscOutPort
@@ -601,6 +608,7 @@ juce::ValueTree ArmadilloProcessor::defaultSettings()
     s.setProperty(SettingIds::editorWidth, 1040, nullptr);
     s.setProperty(SettingIds::editorHeight, 700, nullptr);
     s.setProperty(SettingIds::simWandering, true, nullptr);
+    s.setProperty(SettingIds::connectOnStart, false, nullptr);
     return s;
 }
 

@@ -45,6 +45,7 @@ inline const juce::Identifier midiChannel {"midiChannel"};   ///< 1..16
 inline const juce::Identifier editorWidth {"editorWidth"};
 inline const juce::Identifier editorHeight {"editorHeight"};
 inline const juce::Identifier simWandering {"simWandering"};
+inline const juce::Identifier connectOnStart {"connectOnStart"}; ///< bool: open the saved port when source = device
 } // namespace SettingIds
 
 /// MIDI out of gestures and pose (documented in docs/PLUGIN.md).
@@ -196,6 +197,7 @@ private:
 
     // Live → parameters (message thread)
     bool gestureOpen_ = false;
+    bool autoConnectTried_ = false;                  // message thread: one attempt per port/setting change
 
     mutable std::mutex statusMutex_;                 // message thread and host state calls; never audio
     juce::String status_;

@@ -428,6 +428,48 @@ TEST_CASE("VST3: a live source writes orientation into the parameters with chang
     CHECK(valueOf(h, "Elevation", -90.0f, 90.0f) == Approx(-12.0f).margin(0.05));
 }
 
+TEST_CASE("VST3: the device source runs the whole link (simulated forearm, calibration, SR-UKF) into automation")
+{
+    auto h = loadVst3();
+    prepare(h);
+    // A saved session: source = device on the device module's simulated forearm, connect on start.
+    const auto xml = juce::parseXML("<ARMADILLO version=\"1\"><PARAMETERS><PARAM id=\"source\" value=\"0\"/>"
+                                    "<PARAM id=\"scene\" value=\"1\"/></PARAMETERS><SETTINGS serialPort=\"simulated forearm "
+                                    "(in-process)\" connectOnStart=\"1\"/></ARMADILLO>");
+    juce::MemoryBlock payload;
+    juce::AudioProcessor::copyXmlToBinary(*xml, payload);
+    juce::XmlElement state("VST3PluginState");
+    state.createNewChildElement("IComponent")->addTextElement(payload.toBase64Encoding());
+    juce::MemoryBlock blob;
+    juce::AudioProcessor::copyXmlToBinary(state, blob);
+    h.plugin->setStateInformation(blob.getData(), static_cast<int>(blob.getSize()));
+    CHECK(choiceIs(h, "Source", "device"));
+
+    // Event-driven: run until the fused orientation has moved elevation over 20° (or 20 s pass),
+    // counting only values the link wrote (the first write replaces the default).
+    const float initial = valueOf(h, "Elevation", -90.0f, 90.0f);
+    float lo = 1000.0f, hi = -1000.0f, last = initial;
+    int writes = 0;
+    double energy = 0.0;
+    const auto deadline = juce::Time::getMillisecondCounter() + 20000;
+    while ((hi - lo < 20.0f || writes < 20) && juce::Time::getMillisecondCounter() < deadline) {
+        const auto audio = render(h, 0.02);
+        energy += rms(audio, 0);
+        juce::MessageManager::getInstance()->runDispatchLoopUntil(5);
+        const float e = valueOf(h, "Elevation", -90.0f, 90.0f);
+        if (e != last) {
+            ++writes;
+            last = e;
+            lo = std::min(lo, e);
+            hi = std::max(hi, e);
+        }
+    }
+    INFO("elevation range " << lo << " .. " << hi << " over " << writes << " writes");
+    CHECK(writes >= 20);
+    CHECK(hi - lo >= 20.0f);
+    CHECK(energy > 0.0);   // the theremin plays the fused arm
+}
+
 TEST_CASE("LV2: loads, follows automated elevation, restores its state")
 {
     auto h = loadLv2();
