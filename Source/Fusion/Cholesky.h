@@ -42,10 +42,11 @@ Rank1Result update(Eigen::Matrix<double, N, N>& L, Eigen::Matrix<double, N, 1> x
         const double c = r / lkk;
         const double s = x(k) / lkk;
         L(k, k) = r;
-        for (int i = k + 1; i < N; ++i) {
-            L(i, k) = (L(i, k) + s * x(i)) / c;
-            x(i) = c * x(i) - s * L(i, k);
-        }
+        const int rest = N - k - 1;
+        auto lk = L.col(k).tail(rest);
+        auto xk = x.tail(rest);
+        lk = (lk + s * xk) * (1.0 / c);
+        xk = c * xk - s * lk;
     }
     return Rank1Result::Ok;
 }
@@ -73,10 +74,11 @@ Rank1Result downdate(Eigen::Matrix<double, N, N>& L, const Eigen::Matrix<double,
         const double c = r / lkk;
         const double s = x(k) / lkk;
         W(k, k) = r;
-        for (int i = k + 1; i < N; ++i) {
-            W(i, k) = (W(i, k) - s * x(i)) / c;
-            x(i) = c * x(i) - s * W(i, k);
-        }
+        const int rest = N - k - 1;
+        auto wk = W.col(k).tail(rest);
+        auto xk = x.tail(rest);
+        wk = (wk - s * xk) * (1.0 / c);
+        xk = c * xk - s * wk;
     }
     L = W;
     return Rank1Result::Ok;

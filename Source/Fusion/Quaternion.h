@@ -79,9 +79,11 @@ inline Vector3d log(const Quaterniond& qIn) noexcept
     const double w = s * qIn.w();
     const Vector3d u = s * qIn.vec();
     const double n2 = u.squaredNorm();
-    if (n2 < 1e-16 && w > 0.0) {
-        // θ = 2 atan2(n, w) ≈ 2n/w (1 − n²/(3w²)): the factor θ/n without dividing by n ≈ 0.
-        return (2.0 / w) * (1.0 - n2 / (3.0 * w * w)) * u;
+    if (w > 0.0 && n2 < 1e-4 * w * w) {
+        // θ/n = 2 atan(n/w)/n = (2/w)(1 − x/3 + x²/5 − x³/7 + …), x = (n/w)² < 1e-4: the series
+        // is exact to rounding (next term < 1e-17), needs no atan2 and no division by n ≈ 0.
+        const double x = n2 / (w * w);
+        return (2.0 / w) * (1.0 - x * (1.0 / 3.0 - x * (1.0 / 5.0 - x / 7.0))) * u;
     }
     const double n = std::sqrt(n2);
     return (2.0 * std::atan2(n, w) / n) * u;
