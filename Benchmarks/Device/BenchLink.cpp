@@ -8,7 +8,10 @@
 #include "Device/Calibration.h"
 #include "Device/DeviceLink.h"
 #include "Device/Simulator.h"
+#include <algorithm>
 #include <cstdio>
+#include <mutex>
+#include <vector>
 #include <cstdlib>
 #include <string>
 #include <unistd.h>
@@ -65,6 +68,76 @@ void print(const char* name, const Result& r)
                 static_cast<unsigned long long>(r.stats.resyncs));
 }
 
+/// Recovery times over the pty: end-nibble corruption → next good packet, and unplug → port back
+/// → first good packet (the targets are "within two packets" and "within 1 s").
+void recovery(int rounds)
+{
+    const std::string path = std::string(ARMADILLO_BINARY_DIR) + "/bench-device-rec-" + std::to_string(::getpid());
+    SimulatorOptions o;
+    o.baud = 57600.0;
+    o.stampSequence = true;
+    SimulatedForearm sim(std::make_shared<WanderingMotion>(), o);
+    sim.startPty(path);
+    std::mutex m;
+    std::vector<std::pair<std::chrono::steady_clock::time_point, int>> got;
+    DeviceLink link(std::make_unique<SerialPort>(path, 57600), [&](const SensorCounts& c, double) {
+        std::lock_guard<std::mutex> l(m);
+        got.emplace_back(std::chrono::steady_clock::now(), c[kAx]);
+        return MotorLevels {};
+    });
+    link.start();
+    double worstSync = 0.0, worstReconnect = 0.0;
+    int worstLost = 0;
+    for (int r = 0; r < rounds; ++r) {
+        const auto before = link.stats().packets;
+        link.waitFor([&](const LinkStats& s) { return s.packets >= before + 30; }, 30.0);
+        std::size_t mark;
+        {
+            std::lock_guard<std::mutex> l(m);
+            mark = got.size();
+        }
+        sim.corruptNextEndNibble();
+        const auto t0 = std::chrono::steady_clock::now();
+        const auto bad = link.stats().badPackets;
+        const bool ok = link.waitFor([&](const LinkStats& s) { return s.badPackets > bad && s.inSync && s.packets > before + 32; }, 30.0);
+        if (std::getenv("BENCH_DEBUG")) {
+            std::lock_guard<std::mutex> l(m);
+            std::printf("ok %d bad %llu mark %zu size %zu:", ok, (unsigned long long) link.stats().badPackets, mark, got.size());
+            for (std::size_t i = mark > 2 ? mark - 2 : 0; i < got.size(); ++i) std::printf(" %d", got[i].second);
+            std::printf("\n");
+        }
+        {
+            std::lock_guard<std::mutex> l(m);
+            for (std::size_t i = std::max<std::size_t>(mark, 1); i < got.size(); ++i) {
+                const int step = (got[i].second - got[i - 1].second + 4096) % 4096;
+                if (step != 1) {
+                    worstLost = std::max(worstLost, step - 1);
+                    worstSync = std::max(worstSync, std::chrono::duration<double>(got[i].first - t0).count());
+                    break;
+                }
+            }
+        }
+        const auto conns = sim.stats().connections;
+        sim.disconnectFor(0.3);
+        sim.waitFor([&](const SimulatorStats& s) { return s.connections > conns; }, 30.0);
+        const auto plugged = sim.stats().lastPlug;
+        const auto rec = link.stats().reconnects;
+        link.waitFor([&](const LinkStats& s) { return s.reconnects > rec && s.inSync; }, 30.0);
+        std::lock_guard<std::mutex> l(m);
+        for (const auto& [t, seq] : got)
+            if (t > plugged) {
+                worstReconnect = std::max(worstReconnect, std::chrono::duration<double>(t - plugged).count());
+                break;
+            }
+        got.erase(got.begin(), got.end() - 1);
+    }
+    link.stop();
+    sim.stop();
+    std::printf("recovery over %d rounds: corruption -> back in step after at most %d lost packet(s), worst %.1f ms (target: 2 packets)\n",
+                rounds, worstLost, worstSync * 1e3);
+    std::printf("                      port back -> first good packet, worst %.0f ms (target < 1000 ms)\n", worstReconnect * 1e3);
+}
+
 } // namespace
 
 int main(int argc, char** argv)
@@ -87,5 +160,6 @@ int main(int argc, char** argv)
     std::printf("  unpaced rate %.0f updates/s  (target >= 5000)\n", fast.rate);
     std::printf("sensor arrival -> motor packet written: p99 %.0f us paced, %.0f us unpaced  (target < 1000 us)\n", paced.latency.p99Us,
                 fast.latency.p99Us);
+    recovery(10);
     return 0;
 }
