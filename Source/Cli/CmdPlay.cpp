@@ -2,11 +2,13 @@
 #include "Cli/Commands.h"
 #include "Core/Errors.h"
 #include "Device/LiveSession.h"
+#include "Device/Calibration.h"
 #include "Device/OscIo.h"
 #include "Engine/Engine.h"
 #include <algorithm>
 #include <chrono>
 #include <iostream>
+#include <memory>
 #include <thread>
 
 namespace armadillo::cli {
@@ -43,6 +45,9 @@ int runPlay(const Arguments& args)
                 {"--seed", "N", "seed of every random choice (default 1)"},
                 {"--arm", "right|left", "arm wearing the device (left mirrors motor columns; default right)"},
                 {"--unpaced", "", "with --simulate: no wire pacing (as fast as the host can go)"},
+                {"--calibrate", "OUT.json", "run the guided calibration (thesis §2.4) on the device while playing; instructions on\n"
+                                            "stderr, each step finishes when it has enough data; writes OUT.json (unfinished steps keep\n"
+                                            "the starting calibration)"},
             });
         if (!cl.parse(args)) return 0;
 
@@ -99,8 +104,18 @@ int runPlay(const Arguments& args)
         config.tactileOut = cl.value("--tactile");
         config.logOut = cl.value("--log");
 
+        const std::string calibrateOut = cl.value("--calibrate");
+        if (cl.has("--calibrate") && cl.has("--osc-in")) throw UsageError("--calibrate needs raw counts: use --port or --simulate");
+        if (cl.has("--calibrate") && calibrateOut.empty()) throw UsageError("--calibrate needs an output file");
+
         installInterruptHandlers();
         device::LiveSession session(config);
+        std::unique_ptr<device::CalibrationProcedure> calibration;
+        if (!calibrateOut.empty()) {
+            calibration = std::make_unique<device::CalibrationProcedure>(config.calibration);
+            std::cerr << "calibration step 1 (" << device::CalibrationProcedure::stepName(calibration->step()) << "): "
+                      << calibration->instruction() << "\n";
+        }
         session.start();
         const auto start = std::chrono::steady_clock::now();
         std::string shownError;
@@ -111,10 +126,30 @@ int runPlay(const Arguments& args)
             const std::string e = session.lastError();
             if (!e.empty() && e != shownError) std::cerr << "armadillo play: " << e << "\n";
             shownError = e;
+            if (calibration && calibration->step() != device::CalibrationProcedure::Step::Done) {
+                device::RawPacket p;
+                while (session.rawPackets()->pop(p)) calibration->feed(p.t, p.counts);
+                if (calibration->ready()) {
+                    calibration->finishStep();
+                    const int n = static_cast<int>(calibration->step()) + 1;
+                    std::cerr << (calibration->step() == device::CalibrationProcedure::Step::Done
+                                      ? std::string("calibration complete")
+                                      : "calibration step " + std::to_string(n) + " (" + device::CalibrationProcedure::stepName(calibration->step()) +
+                                            "): " + calibration->instruction())
+                              << "\n";
+                }
+            }
             std::this_thread::sleep_for(std::chrono::milliseconds(10));
         }
         session.stop();
         session.finish();
+        if (calibration) {
+            if (calibration->step() != device::CalibrationProcedure::Step::Done)
+                std::cerr << "calibration stopped at step '" << device::CalibrationProcedure::stepName(calibration->step())
+                          << "'; that step and the later ones keep the starting calibration\n";
+            device::Calibration result = calibration->result();
+            device::saveCalibration(calibrateOut, result);
+        }
         std::cout << device::summaryJson(session.summary()) << "\n" << std::flush;
         return 0;
     });

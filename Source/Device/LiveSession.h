@@ -82,6 +82,8 @@ public:
     bool connected() const noexcept;
     std::string lastError() const;
     std::uint64_t controlUpdates() const noexcept { return updates_.load(); }
+    /// Every raw packet of a device source, for one consumer thread (calibration, UI); null for OSC.
+    SpscQueue<RawPacket, 1024>* rawPackets() noexcept { return link_ ? &link_->packets() : nullptr; }
     /// Sensor-packet arrival → motor packet written (device sources; empty otherwise).
     LatencySummary latency() const;
     /// Source::Osc: the UDP port listened on (useful with oscInPort 0); 0 otherwise.
