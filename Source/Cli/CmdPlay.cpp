@@ -1,5 +1,6 @@
 #include "Cli/CommandLine.h"
 #include "Cli/Commands.h"
+#include "Cli/SceneOptions.h"
 #include "Core/Errors.h"
 #include "Device/LiveSession.h"
 #include "Device/Calibration.h"
@@ -26,29 +27,28 @@ int runPlay(const Arguments& args)
             "Audio goes to --out only: without --out no audio is produced (no sound-card output yet).\n"
             "A lost serial port is reopened on its own (backoff up to 0.25 s); a port missing at start is\n"
             "an error (exit 4).",
-            {
-                {"--scene", "SCENE", "monitor theremin cymbal panel sound-design compass braille score", true},
-                {"--port", "NAME", "serial port of the device (see `armadillo ports`; ptys and /dev/rfcomm* work too)"},
-                {"--simulate", "", "the built-in simulated forearm (in-process, paced like a 57 600-baud link)"},
-                {"--motion", "FILE", "with --simulate: pose or quaternion CSV to act out (looped); default a wandering arm"},
-                {"--osc-in", "PORT", "listen for OSC sensor messages on this UDP port (no motor output)"},
-                {"--baud", "B", "serial speed (default 57600, 8N1)"},
-                {"--calibration", "CAL.json", "device calibration (default: the built-in one, which matches the simulator)"},
-                {"--seconds", "N", "stop after N seconds (default: run until interrupted)"},
-                {"--out", "OUT.wav", "record the scene's audio, 16-bit stereo (written whole at the end)"},
-                {"--tactile", "T.csv", "every motor packet: t,m1..m9"},
-                {"--log", "SESSION.csv", "one row per sensor packet: t, raw counts, calibrated SI values, qw,qx,qy,qz"},
-                {"--osc-out", "HOST:PORT", "send orientation, pose, gyro, motors and gestures as OSC"},
-                {"--sample-rate", "HZ", "audio sample rate for --out (default 48000)"},
-                {"--score", "NAME", "score scene: rite-of-spring, polytope, or a score file"},
-                {"--text", "TEXT", "braille scene: the text to read"},
-                {"--seed", "N", "seed of every random choice (default 1)"},
-                {"--arm", "right|left", "arm wearing the device (left mirrors motor columns; default right)"},
-                {"--unpaced", "", "with --simulate: no wire pacing (as fast as the host can go)"},
-                {"--calibrate", "OUT.json", "run the guided calibration (thesis §2.4) on the device while playing; instructions on\n"
-                                            "stderr, each step finishes when it has enough data; writes OUT.json (unfinished steps keep\n"
-                                            "the starting calibration)"},
-            });
+            [] {
+                auto o = sceneOptionSpecs();
+                const std::vector<OptionSpec> own {
+                    {"--port", "NAME", "serial port of the device (see `armadillo ports`; ptys and /dev/rfcomm* work too)"},
+                    {"--simulate", "", "the built-in simulated forearm (in-process, paced like a 57 600-baud link)"},
+                    {"--motion", "FILE", "with --simulate: pose or quaternion CSV to act out (looped); default a wandering arm"},
+                    {"--osc-in", "PORT", "listen for OSC sensor messages on this UDP port (no motor output)"},
+                    {"--baud", "B", "serial speed (default 57600, 8N1)"},
+                    {"--calibration", "CAL.json", "device calibration (default: the built-in one, which matches the simulator)"},
+                    {"--seconds", "N", "stop after N seconds (default: run until interrupted)"},
+                    {"--out", "OUT.wav", "record the scene's audio, 16-bit stereo (written whole at the end)"},
+                    {"--tactile", "T.csv", "every motor packet: t,m1..m9"},
+                    {"--log", "SESSION.csv", "one row per sensor packet: t, raw counts, calibrated SI values, qw,qx,qy,qz"},
+                    {"--osc-out", "HOST:PORT", "send orientation, pose, gyro, motors and gestures as OSC"},
+                    {"--unpaced", "", "with --simulate: no wire pacing (as fast as the host can go)"},
+                    {"--calibrate", "OUT.json", "run the guided calibration (thesis §2.4) on the device while playing; instructions on\n"
+                                                "stderr, each step finishes when it has enough data; writes OUT.json (unfinished steps keep\n"
+                                                "the starting calibration)"},
+                };
+                o.insert(o.begin() + 1, own.begin(), own.end());
+                return o;
+            }());
         if (!cl.parse(args)) return 0;
 
         device::LiveConfig config;
@@ -72,19 +72,7 @@ int runPlay(const Arguments& args)
         }
 
         EngineConfig& engine = config.engine;
-        engine.scene = cl.value("--scene");
-        const auto& names = sceneNames();
-        if (std::find(names.begin(), names.end(), engine.scene) == names.end()) throw UsageError("unknown scene '" + engine.scene + "'");
-        engine.sceneConfig.sampleRate = static_cast<double>(cl.integer("--sample-rate", 48000, 8000, 384000));
-        engine.sceneConfig.seed = static_cast<std::uint64_t>(cl.integer("--seed", 1, 0, 1L << 62));
-        engine.sceneConfig.text = cl.value("--text");
-        engine.sceneConfig.score = cl.value("--score");
-        const std::string arm = cl.value("--arm", "right");
-        if (arm != "right" && arm != "left") throw UsageError("--arm must be right or left");
-        engine.sceneConfig.side = arm == "left" ? ArmSide::Left : ArmSide::Right;
-        if (engine.scene == "score" && engine.sceneConfig.score.empty())
-            throw UsageError("the score scene needs --score (rite-of-spring, polytope or a file)");
-        if (engine.scene == "braille" && engine.sceneConfig.text.empty()) throw UsageError("the braille scene needs --text");
+        readSceneOptions(cl, engine);
 
         const double seconds = cl.number("--seconds", -1.0);
         if (cl.has("--seconds") && !(seconds > 0.0 && seconds <= 7 * 24 * 3600.0))

@@ -1,0 +1,39 @@
+#include "Cli/SceneOptions.h"
+#include <algorithm>
+
+namespace armadillo::cli {
+
+std::vector<OptionSpec> sceneOptionSpecs()
+{
+    return {
+        {"--scene", "SCENE", "monitor theremin cymbal panel sound-design compass braille score", true},
+        {"--sample-rate", "HZ", "audio sample rate (default 48000)"},
+        {"--score", "NAME", "score scene: rite-of-spring, polytope, or a score file"},
+        {"--text", "TEXT", "braille scene: the text to read (@FILE reads a text or .brf file)"},
+        {"--seed", "N", "seed of every random choice (default 1)"},
+        {"--arm", "right|left", "arm wearing the device (left mirrors motor columns; default right)"},
+        {"--param", "ID=VALUE", "set one of the scene's own parameters (repeatable), e.g. braille.mode=passive"},
+    };
+}
+
+void readSceneOptions(const CommandLine& cl, EngineConfig& engine)
+{
+    engine.scene = cl.value("--scene");
+    const auto& names = sceneNames();
+    if (std::find(names.begin(), names.end(), engine.scene) == names.end())
+        throw UsageError("unknown scene '" + engine.scene + "'");
+    engine.sceneConfig.sampleRate = static_cast<double>(cl.integer("--sample-rate", 48000, 8000, 384000));
+    engine.sceneConfig.seed = static_cast<std::uint64_t>(cl.integer("--seed", 1, 0, 1L << 62));
+    engine.sceneConfig.text = cl.value("--text");
+    engine.sceneConfig.score = cl.value("--score");
+    const std::string arm = cl.value("--arm", "right");
+    if (arm != "right" && arm != "left") throw UsageError("--arm must be right or left");
+    engine.sceneConfig.side = arm == "left" ? ArmSide::Left : ArmSide::Right;
+    engine.parameters = cl.values("--param");
+    if (engine.scene == "score" && engine.sceneConfig.score.empty())
+        throw UsageError("the score scene needs --score (rite-of-spring, polytope or a file)");
+    if (engine.scene == "braille" && engine.sceneConfig.text.empty())
+        throw UsageError("the braille scene needs --text");
+}
+
+} // namespace armadillo::cli
