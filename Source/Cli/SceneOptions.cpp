@@ -11,6 +11,7 @@ std::vector<OptionSpec> sceneOptionSpecs()
         {"--score", "NAME", "score scene: rite-of-spring, polytope, or a score file"},
         {"--text", "TEXT", "braille scene: the text to read (@FILE reads a text or .brf file)"},
         {"--seed", "N", "seed of every random choice (default 1)"},
+        {"--audio", "FILE.wav", "cymbal: a recording to cut crash fragments from (mixed with the built-in bank)"},
         {"--arm", "right|left", "arm wearing the device (left mirrors motor columns; default right)"},
         {"--param", "ID=VALUE", "set one of the scene's own parameters (repeatable), e.g. braille.mode=passive"},
     };
@@ -26,6 +27,9 @@ void readSceneOptions(const CommandLine& cl, EngineConfig& engine)
     engine.sceneConfig.seed = static_cast<std::uint64_t>(cl.integer("--seed", 1, 0, 1L << 62));
     engine.sceneConfig.text = cl.value("--text");
     engine.sceneConfig.score = cl.value("--score");
+    engine.sceneConfig.audioFile = cl.value("--audio");
+    if (!engine.sceneConfig.audioFile.empty() && engine.scene != "cymbal")
+        throw UsageError("--audio is for the cymbal scene");
     const std::string arm = cl.value("--arm", "right");
     if (arm != "right" && arm != "left") throw UsageError("--arm must be right or left");
     engine.sceneConfig.side = arm == "left" ? ArmSide::Left : ArmSide::Right;

@@ -89,6 +89,7 @@ struct SceneConfig {
     std::string text;                ///< braille scene: what to read
     std::string score;               ///< score scene: "rite-of-spring" | "polytope" | a file path
     std::string resourceDir;         ///< where Resources/ lives
+    std::string audioFile;           ///< cymbal: a WAV recording to cut crash fragments from (optional)
 };
 
 /// A scene's own parameter; id is stable ("theremin.range"), value in the given unit.

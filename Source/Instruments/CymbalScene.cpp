@@ -117,6 +117,7 @@ public:
     void prepare(const SceneConfig& config) override
     {
         sampleRate_ = config.sampleRate > 0.0 ? config.sampleRate : 48000.0;
+        if (!config.audioFile.empty()) userSource_ = readWav(config.audioFile);   // InputError names a bad file
         bank_ = buildCrashBank(sampleRate_, config.seed);
         bank_.user = prepareUserAudio(userSource_, sampleRate_);
         rng_.seed(config.seed);

@@ -184,3 +184,32 @@ TEST_CASE("e2e: reading a sign word in braille never breaks the safety bounds", 
         for (int m = 0; m < kGridMotors; ++m) active += row.levels[static_cast<std::size_t>(m)] > 0;
     CHECK(active > 0);
 }
+
+TEST_CASE("e2e: the cymbal cuts fragments from a user recording given with --audio", "[e2e][cymbal]")
+{
+    // A recording that sounds nothing like noise: a pure 1 kHz tone.
+    AudioBuffer tone;
+    tone.sampleRate = 48000;
+    tone.channels.assign(1, std::vector<float>(48000 * 6));
+    for (std::size_t i = 0; i < tone.channels[0].size(); ++i) tone.channels[0][i] = 0.8f * float(std::sin(2.0 * kPi * 1000.0 * double(i) / 48000.0));
+    const std::string recording = cli::path("tone.wav");
+    writeWav(recording, tone);
+    const std::string motion = poseFile("strike-audio.csv", 3.0, 200.0, [](double t) {
+        const double el = t < 0.5 ? 40.0 : (t < 0.65 ? 40.0 - (t - 0.5) / 0.15 * 70.0 : -30.0);
+        return Pose {el, 0.0, 0.0};
+    });
+    const auto render = [&](const std::string& extra, const std::string& name) {
+        const std::string wav = cli::path(name);
+        const auto r = cli::runArmadillo("render --scene cymbal --seed 5 --motion '" + motion + "' --out '" + wav + "' --float " + extra);
+        REQUIRE(r.code == 0);
+        return readWav(wav);
+    };
+    const AudioBuffer builtIn = render("", "bank.wav");
+    const AudioBuffer withFile = render("--param cymbal.fileMix=100 --audio '" + recording + "'", "file.wav");
+    CHECK(builtIn.channels != withFile.channels);
+    // A bad recording is refused as bad input, naming the file.
+    const auto bad = cli::runArmadillo("render --scene cymbal --motion '" + motion + "' --out '" + cli::path("x.wav") + "' --audio '" + motion + "'");
+    CHECK(bad.code == 3);
+    CHECK(bad.err.find("strike-audio.csv") != std::string::npos);
+    CHECK(cli::runArmadillo("render --scene theremin --motion '" + motion + "' --out '" + cli::path("x.wav") + "' --audio '" + recording + "'").code == 2);
+}
