@@ -50,6 +50,22 @@ double rms(const std::vector<float>& x, std::size_t from, std::size_t to)
 }
 
 double cents(double f, double reference) { return 1200.0 * std::log2(f / reference); }
+/// Renders a score over a still arm for `seconds` and returns its tactile rows, after checking
+/// them against the safety bounds.
+std::vector<TactileRow> renderScoreSafely(const std::string& score, double seconds)
+{
+    const std::string motion = poseFile("still-" + score + ".csv", seconds, 200.0, [](double) { return Pose {}; });
+    const std::string tactile = cli::path(score + ".csv");
+    const auto r = cli::runArmadillo("render --scene score --score " + score + " --motion '" + motion + "' --out '" +
+                                     cli::path(score + ".wav") + "' --tactile '" + tactile + "'");
+    REQUIRE(r.code == 0);
+    auto rows = readTactile(CsvTable::read(tactile));
+    const auto report = checkSafety(rows, kGridMotors);
+    INFO(report.worst << "; longest above rating " << report.longestAboveRating << " s, worst 2 s " << report.maxAboveIn2s
+                      << " s, worst 10 s power " << report.maxPowerIn10s);
+    CHECK(report.ok());
+    return rows;
+}
 } // namespace
 
 TEST_CASE("e2e: theremin pitch follows elevation within 5 cents of f = 220·2^(e/12)", "[e2e][theremin]")
@@ -95,16 +111,7 @@ TEST_CASE("e2e: theremin level falls as the arm turns away from the starting azi
 
 TEST_CASE("e2e: the Rite of Spring score is one motor at a time and never breaks the safety bounds", "[e2e][score]")
 {
-    const std::string motion = poseFile("still-rite.csv", 60.0, 200.0, [](double) { return Pose {}; });
-    const std::string tactile = cli::path("rite.csv");
-    const auto r = cli::runArmadillo("render --scene score --score rite-of-spring --motion '" + motion + "' --out '" +
-                                  cli::path("rite.wav") + "' --tactile '" + tactile + "'");
-    REQUIRE(r.code == 0);
-    const auto rows = readTactile(CsvTable::read(tactile));
-    const auto report = checkSafety(rows, kGridMotors);
-    INFO(report.worst << "; longest above rating " << report.longestAboveRating << " s, worst 2 s " << report.maxAboveIn2s
-                      << " s, worst 10 s power " << report.maxPowerIn10s);
-    CHECK(report.ok());
+    const auto rows = renderScoreSafely("rite-of-spring", 60.0);
     std::size_t active = 0, multi = 0;
     std::set<int> used;
     for (const auto& row : rows) {
@@ -125,16 +132,7 @@ TEST_CASE("e2e: the Rite of Spring score is one motor at a time and never breaks
 
 TEST_CASE("e2e: the Polytope score is texture and never breaks the safety bounds", "[e2e][score]")
 {
-    const std::string motion = poseFile("still-poly.csv", 90.0, 200.0, [](double) { return Pose {}; });
-    const std::string tactile = cli::path("poly.csv");
-    const auto r = cli::runArmadillo("render --scene score --score polytope --motion '" + motion + "' --out '" +
-                                  cli::path("poly.wav") + "' --tactile '" + tactile + "'");
-    REQUIRE(r.code == 0);
-    const auto rows = readTactile(CsvTable::read(tactile));
-    const auto report = checkSafety(rows, kGridMotors);
-    INFO(report.worst << "; longest above rating " << report.longestAboveRating << " s, worst 2 s " << report.maxAboveIn2s
-                      << " s, worst 10 s power " << report.maxPowerIn10s);
-    CHECK(report.ok());
+    const auto rows = renderScoreSafely("polytope", 90.0);
     std::size_t textured = 0;
     for (const auto& row : rows) {
         int on = 0;
