@@ -169,19 +169,29 @@ public:
         Eigen::Matrix<double, N, M> D;
         for (int j = 0; j < N; ++j) D.row(j) = (Y[1 + j] - Y[1 + N + j]).transpose();
         const Eigen::Matrix<double, N, M> Pxy = (wi_ * gamma_) * S_ * D;
-        // K = Pxy (Syy Syyᵀ)⁻¹ by two triangular solves: Kᵀ = Syy⁻ᵀ (Syy⁻¹ Pxyᵀ).
+        if (!correct(Pxy, Syy, nu)) return NAN;
+        return nis;
+    }
+
+    /// The step both measurement updates share: gain K = Pxy (Syy Syyᵀ)⁻¹ by two triangular solves
+    /// (Kᵀ = Syy⁻ᵀ (Syy⁻¹ Pxyᵀ)), the correction x ⊞ K ν, and the downdate of S by the columns of
+    /// K·Syy. False (and counted) when the correction is not finite; nothing changes then.
+    template <int M>
+    bool correct(const Eigen::Matrix<double, N, M>& Pxy, const Eigen::Matrix<double, M, M>& Syy,
+                 const Eigen::Matrix<double, M, 1>& nu)
+    {
         Eigen::Matrix<double, M, N> Kt = Syy.template triangularView<Eigen::Lower>().solve(Pxy.transpose());
         Syy.template triangularView<Eigen::Lower>().transpose().solveInPlace(Kt);
         const Eigen::Matrix<double, N, M> K = Kt.transpose();
         const ErrorVector dx = K * nu;
         if (!dx.allFinite()) {
             ++stats_.rejectedUpdates;
-            return NAN;
+            return false;
         }
         x_ = Space::boxplus(x_, dx);
         const Eigen::Matrix<double, N, M> U = K * Syy;
         for (int j = 0; j < M; ++j) rank1(S_, ErrorVector(U.col(j)), -1.0);
-        return nis;
+        return true;
     }
 
     /// Measurement update for a linear observation y = H (x ⊟ x̄) + ȳ (here: gyro = ω + b, bias).
@@ -202,17 +212,7 @@ public:
         B.template bottomRows<M>().diagonal() = noiseStd;
         const Eigen::Matrix<double, M, M> Syy = upperFactorOf(B).transpose();
         const Eigen::Matrix<double, N, M> Pxy = S_ * HS.transpose();
-        Eigen::Matrix<double, M, N> Kt = Syy.template triangularView<Eigen::Lower>().solve(Pxy.transpose());
-        Syy.template triangularView<Eigen::Lower>().transpose().solveInPlace(Kt);
-        const Eigen::Matrix<double, N, M> K = Kt.transpose();
-        const ErrorVector dx = K * nu;
-        if (!dx.allFinite()) {
-            ++stats_.rejectedUpdates;
-            return NAN;
-        }
-        x_ = Space::boxplus(x_, dx);
-        const Eigen::Matrix<double, N, M> U = K * Syy;
-        for (int j = 0; j < M; ++j) rank1(S_, ErrorVector(U.col(j)), -1.0);
+        if (!correct(Pxy, Syy, nu)) return NAN;
         return whitened(Syy, nu).squaredNorm();
     }
 
