@@ -37,13 +37,7 @@ void TactileEngine::prepare(const TactileConfig& config)
     config_.jumpStartLevel = sanitise(config_.jumpStartLevel);
     safety_.prepare(config_.safety, config_.motorCount);
     for (auto& v : voices_) v = Voice {};
-    target_.fill(0.0f);
-    slewed_.fill(0.0f);
-    previous_.fill(0.0f);
-    kickLeft_.fill(0.0);
-    ditherError_.fill(0.0);
-    ditherLevel_.fill(0.0);
-    lastShaped_.fill(0);
+    clearDrive();
     triggerCount_ = 0;
     time_ = 0.0;
     forceOff_ = false;
@@ -92,9 +86,8 @@ bool TactileEngine::voiceActive(int voice) const noexcept
     return voice >= 0 && voice < kPatternVoices && voices_[static_cast<std::size_t>(voice)].active;
 }
 
-void TactileEngine::allOff() noexcept
+void TactileEngine::clearDrive() noexcept
 {
-    for (auto& v : voices_) v.active = false;
     target_.fill(0.0f);
     slewed_.fill(0.0f);
     previous_.fill(0.0f);
@@ -102,6 +95,12 @@ void TactileEngine::allOff() noexcept
     ditherError_.fill(0.0);
     ditherLevel_.fill(0.0);
     lastShaped_.fill(0);
+}
+
+void TactileEngine::allOff() noexcept
+{
+    for (auto& v : voices_) v.active = false;
+    clearDrive();
     forceOff_ = true;
     safety_.allOff();
 }

@@ -125,6 +125,9 @@ private:
         std::uint64_t seed = 0;
         bool active = false;
     };
+    /// Forgets every sustained target and all shaping state (prepare and allOff share this).
+    void clearDrive() noexcept;
+
     TactileConfig config_ {};
     SafetyStage safety_;
     std::array<Voice, kPatternVoices> voices_ {};
