@@ -52,16 +52,23 @@ inline Quaterniond normalised(const Quaterniond& q, bool* ok = nullptr) noexcept
     return r;
 }
 
+/// Rescales a nearly unit quaternion (a product of unit quaternions, drifted by rounding) to
+/// unit norm in place: one division, where Eigen's normalize() divides each coefficient.
+inline void renormalise(Quaterniond& q) noexcept { q.coeffs() *= 1.0 / q.norm(); }
+
 /// Error angle → quaternion: rotation vector e (axis × angle, rad) ↦ (cos |e|/2, sin(|e|/2) e/|e|).
-/// Exact to rounding for every |e|, including 0 (series of sin(x/2)/x below 1e-4 rad).
+/// Exact to rounding for every |e|, including 0. Below 0.5 rad (every sigma point and every
+/// 3.5 ms step of the filter) both factors come from their Taylor series in u = θ²/4, which is
+/// cheaper than sin/cos and needs no division by θ; the first omitted term is < 5e-20.
 inline Quaterniond exp(const Vector3d& e) noexcept
 {
     const double theta2 = e.squaredNorm();
     double w, k;   // k = sin(θ/2)/θ
-    if (theta2 < 1e-8) {
-        // cos(θ/2) = 1 − θ²/8 + θ⁴/384,  sin(θ/2)/θ = 1/2 − θ²/48 + θ⁴/3840: truncation < 1e-20.
-        w = 1.0 - theta2 / 8.0 + theta2 * theta2 / 384.0;
-        k = 0.5 - theta2 / 48.0 + theta2 * theta2 / 3840.0;
+    if (theta2 < 0.25) {
+        const double u = 0.25 * theta2;
+        // cos(θ/2) = Σ (−u)ⁿ/(2n)!,  sin(θ/2)/θ = ½ Σ (−u)ⁿ/(2n+1)!,  n = 0 … 6.
+        w = 1.0 - u * (1.0 / 2 - u * (1.0 / 24 - u * (1.0 / 720 - u * (1.0 / 40320 - u * (1.0 / 3628800 - u * (1.0 / 479001600))))));
+        k = 0.5 * (1.0 - u * (1.0 / 6 - u * (1.0 / 120 - u * (1.0 / 5040 - u * (1.0 / 362880 - u * (1.0 / 39916800 - u * (1.0 / 6227020800.0)))))));
     } else {
         const double theta = std::sqrt(theta2);
         w = std::cos(0.5 * theta);
@@ -79,11 +86,13 @@ inline Vector3d log(const Quaterniond& qIn) noexcept
     const double w = s * qIn.w();
     const Vector3d u = s * qIn.vec();
     const double n2 = u.squaredNorm();
-    if (w > 0.0 && n2 < 1e-4 * w * w) {
-        // θ/n = 2 atan(n/w)/n = (2/w)(1 − x/3 + x²/5 − x³/7 + …), x = (n/w)² < 1e-4: the series
-        // is exact to rounding (next term < 1e-17), needs no atan2 and no division by n ≈ 0.
-        const double x = n2 / (w * w);
-        return (2.0 / w) * (1.0 - x * (1.0 / 3.0 - x * (1.0 / 5.0 - x / 7.0))) * u;
+    if (w > 0.0 && n2 < 1e-2 * w * w) {
+        // Angles below ~0.2 rad: θ/n = 2 atan(n/w)/n = (2/w) Σ (−x)ᵏ/(2k+1), x = (n/w)² < 0.01,
+        // k = 0 … 8 (first omitted term < 6e-20): no atan2 and no division by n ≈ 0.
+        const double invW = 1.0 / w;
+        const double x = n2 * invW * invW;
+        const double series = 1.0 - x * (1.0 / 3 - x * (1.0 / 5 - x * (1.0 / 7 - x * (1.0 / 9 - x * (1.0 / 11 - x * (1.0 / 13 - x * (1.0 / 15 - x * (1.0 / 17))))))));
+        return (2.0 * invW * series) * u;
     }
     const double n = std::sqrt(n2);
     return (2.0 * std::atan2(n, w) / n) * u;

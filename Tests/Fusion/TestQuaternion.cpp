@@ -36,6 +36,30 @@ TEST_CASE("quaternion: exp and log are inverse for angles from 1e-12 rad to just
     }
 }
 
+TEST_CASE("quaternion: the series branches of exp and log agree with long-double references to a few ulp", "[fusion][quaternion]")
+{
+    // exp uses a Taylor series below 0.5 rad, log below about 0.2 rad; both must be as exact as
+    // the sin/cos/atan2 branch, across the whole range and on both sides of each switch.
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> angle(0.0, 1.0);
+    const auto check = [](const Vector3d& e) {
+        const long double th = std::sqrt(static_cast<long double>(e.x()) * e.x() + static_cast<long double>(e.y()) * e.y() +
+                                         static_cast<long double>(e.z()) * e.z());
+        const long double w = std::cos(th / 2);
+        const long double k = th > 0 ? std::sin(th / 2) / th : 0.5L;
+        const Quaterniond q = quat::exp(e);
+        CHECK(std::abs(static_cast<long double>(q.w()) - w) <= 3e-16L);
+        for (int i = 0; i < 3; ++i) CHECK(std::abs(static_cast<long double>(q.vec()(i)) - k * e(i)) <= 3e-16L * (1 + std::abs(e(i))));
+        // log of the long-double-exact quaternion (rounded once) must give e back.
+        const Quaterniond qr(static_cast<double>(w), static_cast<double>(k * e.x()), static_cast<double>(k * e.y()),
+                             static_cast<double>(k * e.z()));
+        CHECK((quat::log(qr) - e).norm() <= 1e-15 * std::max(1.0, e.norm()));
+    };
+    for (int i = 0; i < 2000; ++i) check(randomVector(rng, 1.0).normalized() * angle(rng));
+    for (double th : {0.0, 1e-300, 1e-8, 0.19, 0.1999, 0.2, 0.2001, 0.2005, 0.21, 0.49999, 0.5, 0.50001, 0.9})
+        check(Vector3d(0.6, -0.48, 0.64) * th);
+}
+
 TEST_CASE("quaternion: exp matches Eigen's AngleAxis, log picks the short way", "[fusion][quaternion]")
 {
     std::mt19937 rng(2);
