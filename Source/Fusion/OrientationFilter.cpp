@@ -122,7 +122,8 @@ void OrientationFilter::predict(double dt)
     sd.segment<3>(kErrRate).setConstant(params_.rateNoise * r);
     sd.segment<3>(kErrAccel).setConstant(params_.angularAccelNoise * r);
     sd.segment<3>(kErrBias).setConstant(params_.biasNoise * r);
-    ukf_.predict(ConstantAccelerationModel {integrateDt}, sd);
+    // The process model neither reads nor changes the gyro bias: its sigma points need no f.
+    ukf_.predict<kErrBias>(ConstantAccelerationModel {integrateDt}, sd);
 }
 
 void OrientationFilter::updateGravity(const Eigen::Vector3d& accel, double rawNorm)

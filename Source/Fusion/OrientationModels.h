@@ -39,7 +39,7 @@ struct OrientationSpace {
     {
         State r;
         r.q = x.q * quat::exp(d.segment<3>(kErrRotation));
-        r.q.normalize();
+        quat::renormalise(r.q);
         r.rate = x.rate + d.segment<3>(kErrRate);
         r.accel = x.accel + d.segment<3>(kErrAccel);
         r.bias = x.bias + d.segment<3>(kErrBias);
@@ -76,8 +76,8 @@ struct OrientationSpace {
             Eigen::Vector3d e = w0 * quat::log(inv * s[0].q);
             for (std::size_t i = 1; i < K; ++i) e += wi * quat::log(inv * s[i].q);
             m.q = m.q * quat::exp(e);
-            m.q.normalize();
-            if (e.squaredNorm() < 1e-20) break;   // 1e-10 rad: converged
+            quat::renormalise(m.q);
+            if (e.squaredNorm() < 1e-16) break;   // a step below 1e-8 rad: converged (what is left is far smaller)
         }
         return m;
     }
@@ -90,7 +90,7 @@ struct ConstantAccelerationModel {
     void operator()(OrientationState& x) const noexcept
     {
         x.q = x.q * quat::exp(x.rate * dt + x.accel * (0.5 * dt * dt));
-        x.q.normalize();
+        quat::renormalise(x.q);
         x.rate += x.accel * dt;
     }
 };

@@ -21,9 +21,9 @@
 // positive-definite factor from S Sᵀ − u uᵀ with its eigenvalues floored; it is counted.
 // Fixed-size Eigen throughout: no heap allocation.
 #include "Fusion/Cholesky.h"
+#include "Fusion/QrFactor.h"
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
-#include <Eigen/QR>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -92,20 +92,40 @@ public:
 
     /// Time update: every sigma point goes through `f(State&)` (in place); `noiseStd` is the
     /// standard deviation of the additive process noise over this step, per error component.
-    template <class ProcessModel>
+    ///
+    /// `Untouched`: error components from this index on are neither read nor changed by f, and
+    /// ⊞/⊟ are plain addition there (for orientation: the gyro bias). S is lower-triangular, so
+    /// sigma columns j ≥ Untouched move only those components and f(x̄ ⊞ ±γS_j) = f(x̄) ⊞ ±γS_j
+    /// exactly: 2(N − Untouched) evaluations of f are saved, nothing is approximated.
+    template <int Untouched = N, class ProcessModel>
     void predict(ProcessModel&& f, const ErrorVector& noiseStd)
     {
-        makeSigmaPoints();
-        for (auto& s : sigma_) f(s);
+        static_assert(Untouched >= 0 && Untouched <= N, "Untouched must be within the error state");
+        makeSigmaPoints(Untouched);
+        f(sigma_[0]);
+        for (int j = 0; j < Untouched; ++j) {
+            f(sigma_[1 + j]);
+            f(sigma_[1 + N + j]);
+        }
+        for (int j = Untouched; j < N; ++j) {
+            const ErrorVector d = gamma_ * S_.col(j);
+            sigma_[1 + j] = Space::boxplus(sigma_[0], d);
+            sigma_[1 + N + j] = Space::boxplus(sigma_[0], -d);
+        }
         x_ = Space::mean(sigma_, wm0_, wi_, weights_.meanIterations);
         // Compound matrix [√Wi (X_i ⊟ x̄) | √Q]ᵀ, QR → the upper factor of P⁻ without its centre term.
-        Eigen::Matrix<double, 3 * N, N> A;
+        Eigen::Matrix<double, 2 * N, N> A;
         const double swi = std::sqrt(wi_);
-        for (int i = 1; i < kSigma; ++i) A.row(i - 1) = swi * Space::boxminus(sigma_[i], x_).transpose();
-        A.template bottomRows<N>().setZero();
-        A.template bottomRows<N>().diagonal() = noiseStd;
-        S_ = upperFactorOf(A).transpose();
         const ErrorVector d0 = Space::boxminus(sigma_[0], x_);
+        for (int j = 0; j < Untouched; ++j) {
+            A.row(j) = swi * Space::boxminus(sigma_[1 + j], x_).transpose();
+            A.row(N + j) = swi * Space::boxminus(sigma_[1 + N + j], x_).transpose();
+        }
+        for (int j = Untouched; j < N; ++j) {   // X_i ⊟ x̄ = (X_0 ⊟ x̄) ± γ S_j there, as above
+            A.row(j) = swi * (d0 + gamma_ * S_.col(j)).transpose();
+            A.row(N + j) = swi * (d0 - gamma_ * S_.col(j)).transpose();
+        }
+        S_ = qr::upperFactor<2 * N, N>(A, noiseStd).transpose();
         rank1(S_, ErrorVector(std::sqrt(std::abs(wc0_)) * d0), wc0_);
     }
 
@@ -145,12 +165,10 @@ public:
             return NAN;
         }
 
-        Eigen::Matrix<double, 2 * N + M, M> B;
+        Eigen::Matrix<double, 2 * N, M> B;
         const double swi = std::sqrt(wi_);
         for (int i = 1; i < kSigma; ++i) B.row(i - 1) = swi * (Y[i] - yMean).transpose();
-        B.template bottomRows<M>().setZero();
-        B.template bottomRows<M>().diagonal() = noiseStd;
-        Eigen::Matrix<double, M, M> Syy = upperFactorOf(B).transpose();
+        Eigen::Matrix<double, M, M> Syy = qr::upperFactor<2 * N, M>(B, noiseStd).transpose();
         const VecM dy0 = std::sqrt(std::abs(wc0_)) * (Y[0] - yMean);
         rank1(Syy, dy0, wc0_);
 
@@ -159,8 +177,7 @@ public:
             // Inflate R by k so that the NIS drops to the limit; k found by one rescaling of the
             // innovation factor (the sigma spread is kept), good to first order.
             const double k = nis / nisLimit;
-            B.template bottomRows<M>().diagonal() = std::sqrt(k) * noiseStd;
-            Syy = upperFactorOf(B).transpose();
+            Syy = qr::upperFactor<2 * N, M>(B, VecM(std::sqrt(k) * noiseStd)).transpose();
             rank1(Syy, dy0, wc0_);
             nis = whitened(Syy, nu).squaredNorm();
         }
@@ -168,7 +185,9 @@ public:
         // Pxy = Σ Wc_i (X_i ⊟ x̄)(Y_i − ȳ)ᵀ; X_i ⊟ x̄ = ±γ S_j exactly, and the centre term is zero.
         Eigen::Matrix<double, N, M> D;
         for (int j = 0; j < N; ++j) D.row(j) = (Y[1 + j] - Y[1 + N + j]).transpose();
-        const Eigen::Matrix<double, N, M> Pxy = (wi_ * gamma_) * S_ * D;
+        // Products of these small fixed sizes are written lazily: Eigen's default sends anything with
+        // rows + cols + depth ≥ 20 through its blocked GEMM (packing, dispatch), slower here.
+        const Eigen::Matrix<double, N, M> Pxy = (wi_ * gamma_) * S_.lazyProduct(D);
         if (!correct(Pxy, Syy, nu)) return NAN;
         return nis;
     }
@@ -180,8 +199,9 @@ public:
     bool correct(const Eigen::Matrix<double, N, M>& Pxy, const Eigen::Matrix<double, M, M>& Syy,
                  const Eigen::Matrix<double, M, 1>& nu)
     {
-        Eigen::Matrix<double, M, N> Kt = Syy.template triangularView<Eigen::Lower>().solve(Pxy.transpose());
-        Syy.template triangularView<Eigen::Lower>().transpose().solveInPlace(Kt);
+        Eigen::Matrix<double, M, N> Kt = Pxy.transpose();
+        solveLower(Syy, Kt);
+        solveLowerTransposed(Syy, Kt);
         const Eigen::Matrix<double, N, M> K = Kt.transpose();
         const ErrorVector dx = K * nu;
         if (!dx.allFinite()) {
@@ -189,8 +209,8 @@ public:
             return false;
         }
         x_ = Space::boxplus(x_, dx);
-        const Eigen::Matrix<double, N, M> U = K * Syy;
-        for (int j = 0; j < M; ++j) rank1(S_, ErrorVector(U.col(j)), -1.0);
+        const Eigen::Matrix<double, N, M> U = K.lazyProduct(Syy);
+        downdateBy<M>(U);
         return true;
     }
 
@@ -205,13 +225,10 @@ public:
             ++stats_.rejectedUpdates;
             return NAN;
         }
-        const Eigen::Matrix<double, M, N> HS = H * S_;
-        Eigen::Matrix<double, N + M, M> B;
-        B.template topRows<N>() = HS.transpose();
-        B.template bottomRows<M>().setZero();
-        B.template bottomRows<M>().diagonal() = noiseStd;
-        const Eigen::Matrix<double, M, M> Syy = upperFactorOf(B).transpose();
-        const Eigen::Matrix<double, N, M> Pxy = S_ * HS.transpose();
+        const Eigen::Matrix<double, M, N> HS = H.lazyProduct(S_);
+        const Eigen::Matrix<double, M, M> Syy =
+            qr::upperFactor<N, M>(Eigen::Matrix<double, N, M>(HS.transpose()), noiseStd).transpose();
+        const Eigen::Matrix<double, N, M> Pxy = S_.lazyProduct(HS.transpose());
         if (!correct(Pxy, Syy, nu)) return NAN;
         return whitened(Syy, nu).squaredNorm();
     }
@@ -226,6 +243,15 @@ public:
         recoverFactor<K>(L, x, sign);
     }
 
+    /// S ← chol(S Sᵀ − U Uᵀ) (M rank-1 downdates, interleaved), with the same recovery as rank1().
+    template <int M>
+    void downdateBy(const Eigen::Matrix<double, N, M>& U)
+    {
+        if (cholesky::downdateColumns<N, M>(S_, U) == cholesky::Rank1Result::Ok) return;
+        ++stats_.downdateFailures;
+        recoverFactor<N, M>(S_, U, -1.0);
+    }
+
 private:
     void makeSigmaPoints(int columns = N)
     {
@@ -237,29 +263,35 @@ private:
         }
     }
 
-    /// Lower factor's transpose from a tall matrix A (Aᵀ A = R ᵀ R): R of the QR decomposition,
-    /// rows sign-flipped so its diagonal is non-negative.
-    template <int Rows, int K>
-    static Eigen::Matrix<double, K, K> upperFactorOf(const Eigen::Matrix<double, Rows, K>& A)
-    {
-        Eigen::HouseholderQR<Eigen::Matrix<double, Rows, K>> qr(A);
-        Eigen::Matrix<double, K, K> R = qr.matrixQR().template topRows<K>().template triangularView<Eigen::Upper>();
-        for (int k = 0; k < K; ++k)
-            if (R(k, k) < 0.0) R.row(k) = -R.row(k);
-        // An exactly zero diagonal (degenerate spread and zero noise) would break the solves.
-        for (int k = 0; k < K; ++k)
-            if (!(R(k, k) > 0.0)) R(k, k) = 1e-12;
-        return R;
-    }
-
     template <int M>
-    static Eigen::Matrix<double, M, 1> whitened(const Eigen::Matrix<double, M, M>& L, const Eigen::Matrix<double, M, 1>& v)
+    static Eigen::Matrix<double, M, 1> whitened(const Eigen::Matrix<double, M, M>& L, Eigen::Matrix<double, M, 1> v)
     {
-        return L.template triangularView<Eigen::Lower>().solve(v);
+        solveLower(L, v);
+        return v;
     }
 
-    template <int K>
-    static void recoverFactor(Eigen::Matrix<double, K, K>& L, const Eigen::Matrix<double, K, 1>& x, double sign)
+    /// B ← L⁻¹ B and B ← L⁻ᵀ B for a lower-triangular M×M factor (M ≤ 3 here) by substitution.
+    /// Eigen's triangular solver routes a many-column right-hand side through its blocked
+    /// kernels (packing), which costs more than the arithmetic at these sizes.
+    template <int M, int C>
+    static void solveLower(const Eigen::Matrix<double, M, M>& L, Eigen::Matrix<double, M, C>& B)
+    {
+        for (int i = 0; i < M; ++i) {
+            for (int k = 0; k < i; ++k) B.row(i) -= L(i, k) * B.row(k);
+            B.row(i) *= 1.0 / L(i, i);
+        }
+    }
+    template <int M, int C>
+    static void solveLowerTransposed(const Eigen::Matrix<double, M, M>& L, Eigen::Matrix<double, M, C>& B)
+    {
+        for (int i = M - 1; i >= 0; --i) {
+            for (int k = i + 1; k < M; ++k) B.row(i) -= L(k, i) * B.row(k);
+            B.row(i) *= 1.0 / L(i, i);
+        }
+    }
+
+    template <int K, int Cols = 1>
+    static void recoverFactor(Eigen::Matrix<double, K, K>& L, const Eigen::Matrix<double, K, Cols>& x, double sign)
     {
         using Mat = Eigen::Matrix<double, K, K>;
         Mat P = L * L.transpose();

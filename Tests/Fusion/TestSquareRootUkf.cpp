@@ -78,3 +78,32 @@ TEST_CASE("sr-ukf: a failing downdate is detected, counted and recovered to a fi
     CHECK((L.diagonal().array() > 0.0).all());
     CHECK(L(1, 1) == Approx(1.0));
 }
+
+TEST_CASE("sr-ukf: skipping f for the untouched bias columns changes nothing", "[fusion][ukf]")
+{
+    // predict<kErrBias> builds the bias sigma points as f(x̄) ⊞ ±γS_j instead of evaluating f on
+    // them; for a model that never reads the bias this must agree with the full evaluation.
+    std::mt19937 rng(31);
+    std::normal_distribution<double> n(0.0, 1.0);
+    for (int trial = 0; trial < 30; ++trial) {
+        OrientationState x;
+        x.q = quat::exp(Eigen::Vector3d(n(rng), n(rng), n(rng)));
+        x.rate = 3.0 * Eigen::Vector3d(n(rng), n(rng), n(rng));
+        x.accel = 20.0 * Eigen::Vector3d(n(rng), n(rng), n(rng));
+        x.bias = 0.01 * Eigen::Vector3d(n(rng), n(rng), n(rng));
+        Eigen::Matrix<double, kErrDim, kErrDim> S;
+        for (int i = 0; i < kErrDim; ++i)
+            for (int j = 0; j < kErrDim; ++j) S(i, j) = i == j ? 0.05 + 0.05 * std::abs(n(rng)) : 0.01 * n(rng);
+        S = S.triangularView<Eigen::Lower>();
+        Eigen::Matrix<double, kErrDim, 1> noise = Eigen::Matrix<double, kErrDim, 1>::Constant(1e-3);
+        SquareRootUkf<OrientationSpace> skipping, full;
+        skipping.reset(x, S);
+        full.reset(x, S);
+        skipping.predict<kErrBias>(ConstantAccelerationModel {0.0035}, noise);
+        full.predict(ConstantAccelerationModel {0.0035}, noise);
+        CHECK(quat::angleBetween(skipping.state().q, full.state().q) < 1e-13);
+        CHECK((skipping.state().rate - full.state().rate).norm() < 1e-12);
+        CHECK((skipping.state().bias - full.state().bias).norm() < 1e-15);
+        CHECK((skipping.covariance() - full.covariance()).norm() < 1e-12 * full.covariance().norm());
+    }
+}
