@@ -2,6 +2,7 @@
 #include "Cli/Commands.h"
 #include "Cli/SceneOptions.h"
 #include "Core/Errors.h"
+#include "Audio/SoundCard.h"
 #include "Device/LiveSession.h"
 #include "Device/Calibration.h"
 #include "Device/OscIo.h"
@@ -24,7 +25,8 @@ int runPlay(const Arguments& args)
             "fusion and the scene; each sensor packet is answered with its motor packet at once. Runs for\n"
             "--seconds or until SIGINT/SIGTERM, turns every motor off, then prints one JSON line:\n"
             "{\"packets\":…,\"bad_packets\":…,\"resyncs\":…,\"reconnects\":…,\"rate_hz\":…}.\n"
-            "Audio goes to --out only: without --out no audio is produced (no sound-card output yet).\n"
+            "Audio goes to --out, or else to the sound card (ALSA 'default', or --audio-device); on a machine\n"
+            "without one the session runs silently and says so once (--no-audio: silence, no message).\n"
             "A lost serial port is reopened on its own (backoff up to 0.25 s); a port missing at start is\n"
             "an error (exit 4).",
             [] {
@@ -37,7 +39,10 @@ int runPlay(const Arguments& args)
                     {"--baud", "B", "serial speed (default 57600, 8N1)"},
                     {"--calibration", "CAL.json", "device calibration (default: the built-in one, which matches the simulator)"},
                     {"--seconds", "N", "stop after N seconds (default: run until interrupted)"},
-                    {"--out", "OUT.wav", "record the scene's audio, 16-bit stereo (written whole at the end)"},
+                    {"--out", "OUT.wav", "record the scene's audio, 16-bit stereo (written whole at the end) instead of playing it"},
+                    {"--audio-device", "NAME", "ALSA device to play on (default: 'default'; e.g. hw:1, plughw:1,0); an error if it\n"
+                                               "cannot be opened"},
+                    {"--no-audio", "", "no sound at all (no --out, no sound card)"},
                     {"--tactile", "T.csv", "every motor packet: t,m1..m9"},
                     {"--log", "SESSION.csv", "one row per sensor packet: t, raw counts, calibrated SI values, qw,qx,qy,qz"},
                     {"--osc-out", "HOST:PORT", "send orientation, pose, gyro, motors and gestures as OSC"},
@@ -89,6 +94,15 @@ int runPlay(const Arguments& args)
         // Steadier timing for the link (and the simulated device) where the system allows it.
         config.link.realtimePriority = 20;
         config.audioOut = cl.value("--out");
+        const int audioChoices = int(cl.has("--out")) + int(cl.has("--audio-device")) + int(cl.has("--no-audio"));
+        if (audioChoices > 1) throw UsageError("choose one of --out FILE, --audio-device NAME and --no-audio");
+        if (cl.has("--audio-device")) {
+            config.soundCard = cl.value("--audio-device");
+            if (config.soundCard.empty()) throw UsageError("--audio-device needs an ALSA device name");
+        } else if (!cl.has("--out") && !cl.has("--no-audio")) {
+            config.soundCard = "default";
+            config.soundCardOptional = true;   // headless machines have none: say so, play on
+        }
         config.tactileOut = cl.value("--tactile");
         config.logOut = cl.value("--log");
 
@@ -104,9 +118,18 @@ int runPlay(const Arguments& args)
             std::cerr << "calibration step 1 (" << device::CalibrationProcedure::stepName(calibration->step()) << "): "
                       << calibration->instruction() << "\n";
         }
+        if (const audio::SoundCard* card = session.soundCard()) {
+            const audio::SoundCardInfo& i = card->info();
+            std::cerr << "armadillo play: sound on '" << i.device << "' (" << i.sampleRate << " Hz, " << i.format << ", "
+                      << 1000.0 * i.bufferFrames / i.sampleRate << " ms buffer)\n";
+        } else if (!session.soundCardWarning().empty()) {
+            std::cerr << "armadillo play: no sound: " << session.soundCardWarning()
+                      << " (--out FILE records the audio instead; --no-audio silences this message)\n";
+        }
         session.start();
         const auto start = std::chrono::steady_clock::now();
         std::string shownError;
+        bool shownCardError = false;
         while (!interrupted()) {
             const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             if (seconds > 0.0 && elapsed >= seconds) break;
@@ -114,6 +137,10 @@ int runPlay(const Arguments& args)
             const std::string e = session.lastError();
             if (!e.empty() && e != shownError) std::cerr << "armadillo play: " << e << "\n";
             shownError = e;
+            if (const audio::SoundCard* card = session.soundCard(); card && card->failed() && !shownCardError) {
+                std::cerr << "armadillo play: " << card->lastError() << "; playing on without sound\n";
+                shownCardError = true;
+            }
             if (calibration && calibration->step() != device::CalibrationProcedure::Step::Done) {
                 device::RawPacket p;
                 while (session.rawPackets()->pop(p)) calibration->feed(p.t, p.counts);
@@ -131,6 +158,8 @@ int runPlay(const Arguments& args)
         }
         session.stop();
         session.finish();
+        if (const audio::SoundCard* card = session.soundCard(); card && card->underruns() > 0)
+            std::cerr << "armadillo play: the sound card ran dry " << card->underruns() << " time(s) (audible clicks)\n";
         if (calibration) {
             if (calibration->step() != device::CalibrationProcedure::Step::Done)
                 std::cerr << "calibration stopped at step '" << device::CalibrationProcedure::stepName(calibration->step())

@@ -1,4 +1,5 @@
 #include "Device/LiveSession.h"
+#include "Audio/SoundCard.h"
 #include "Core/Errors.h"
 #include "Device/Motion.h"
 #include "Device/OscIo.h"
@@ -75,8 +76,16 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
         for (int m = 1; m <= config_.engine.motorCount; ++m) h.push_back("m" + std::to_string(m));
         tactile_ = std::make_unique<StreamingCsvWriter>(config_.tactileOut, h);
     }
-    if (!config_.audioOut.empty())
+    if (!config_.audioOut.empty()) {
         wav_ = std::make_unique<StreamingWavWriter>(config_.audioOut, config_.engine.sceneConfig.sampleRate, config_.audioFloat);
+    } else if (!config_.soundCard.empty()) {
+        try {
+            soundCard_ = std::make_unique<audio::SoundCard>(config_.soundCard, config_.engine.sceneConfig.sampleRate);
+        } catch (const IoError& e) {
+            if (!config_.soundCardOptional) throw;
+            soundCardWarning_ = e.what();
+        }
+    }
 }
 
 LiveSession::~LiveSession()
@@ -190,6 +199,9 @@ void LiveSession::start()
     if (link_) link_->start();
     if (oscIn_) oscIn_->start();
     if (wav_) audioThread_ = std::thread([this] { audioLoop(); });
+    if (soundCard_)
+        soundCard_->start([this](float* l, float* r, int n) { engine_->renderAudio(l, r, n); },
+                          config_.link.realtimePriority);
 }
 
 void LiveSession::stop()
@@ -211,6 +223,7 @@ void LiveSession::stop()
     if (oscOut_) oscOut_->sendMotors(MotorLevels {}, config_.engine.motorCount);
     running_.store(false, std::memory_order_release);
     if (audioThread_.joinable()) audioThread_.join();
+    if (soundCard_) soundCard_->stop();
 }
 
 void LiveSession::finish()

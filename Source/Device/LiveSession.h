@@ -6,9 +6,10 @@
 //
 // Threads: the source's thread is the control thread (DeviceLink for devices, OscReceiver for
 // OSC): calibration, tracking, engine.control() and the motor packet all run there, so a motor
-// packet leaves microseconds after its sensor packet arrived. An audio-file thread (only with
-// audioOut) calls engine.renderAudio(); a host that owns audio (the plugin) leaves audioOut empty
-// and calls engine().renderAudio() from its own audio callback. Log/tactile rows leave the
+// packet leaves microseconds after its sensor packet arrived. One audio thread calls
+// engine.renderAudio(): the audio-file thread (audioOut, paced by the wall clock) or the sound
+// card's (soundCard, paced by the card); a host that owns audio (the plugin) sets neither and
+// calls engine().renderAudio() from its own audio callback. Log/tactile rows leave the
 // control thread through lock-free queues.
 #include "Core/Pose.h"
 #include "Core/SpscQueue.h"
@@ -20,6 +21,10 @@
 #include <memory>
 #include <string>
 #include <thread>
+
+namespace armadillo::audio {
+class SoundCard;
+}
 
 namespace armadillo::device {
 
@@ -42,6 +47,8 @@ struct LiveConfig {
     double bpm = 120.0;               ///< the audio-clock transport's tempo
     std::string audioOut;             ///< WAV path; empty = no audio file
     bool audioFloat = false;
+    std::string soundCard;            ///< ALSA device to play on when audioOut is empty ("" = none)
+    bool soundCardOptional = false;   ///< true: a card that cannot be opened is a warning, not an error
     std::string tactileOut;           ///< t,m1..m9 CSV of every motor packet
     std::string logOut;               ///< session log CSV, one row per sensor packet
     std::string oscOut;               ///< HOST:PORT; empty = none
@@ -88,6 +95,9 @@ public:
     LatencySummary latency() const;
     /// Source::Osc: the UDP port listened on (useful with oscInPort 0); 0 otherwise.
     int oscInPort() const noexcept;
+    /// The sound card in use (null without one) and why an optional one is not in use.
+    const audio::SoundCard* soundCard() const noexcept { return soundCard_.get(); }
+    const std::string& soundCardWarning() const noexcept { return soundCardWarning_; }
 
 private:
     MotorLevels control(double t, const SensorCounts* counts, const ImuSample* imu, const Eigen::Quaterniond* q);
@@ -102,6 +112,8 @@ private:
     std::unique_ptr<OscSender> oscOut_;
     std::unique_ptr<StreamingCsvWriter> log_, tactile_;
     std::unique_ptr<StreamingWavWriter> wav_;
+    std::unique_ptr<audio::SoundCard> soundCard_;
+    std::string soundCardWarning_;
     std::thread audioThread_;
     std::atomic<bool> running_ {false};
     std::atomic<bool> motorsOff_ {false};

@@ -6,6 +6,7 @@
 #include "SafetyBounds.h"
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstring>
 #include <set>
 
 using namespace armadillo;
@@ -89,6 +90,69 @@ TEST_CASE("e2e: theremin pitch follows elevation within 5 cents of f = 220·2^(e
         CHECK(std::abs(cents(f, expected)) < 5.0);
         CHECK(rms(a.channels[0], from, to) > 0.01);
     }
+}
+
+TEST_CASE("e2e: play sends the theremin to the sound card at the held elevation's pitch", "[e2e][theremin][audio]")
+{
+    // The sound card here is ALSA's `file` device (works without hardware): every sample play
+    // hands to ALSA lands in a raw float file that is measured like a recording of the card.
+    // The simulated sensors start with an unknown gyro bias, so the live estimate of the held
+    // 20° wanders by about a degree while the filter learns it: the expected pitch comes from
+    // the elevation the session itself logged over the measured second.
+    const std::string motion = poseFile("theremin-card.csv", 2.0, 200.0, [&](double) { return Pose {20.0, 0.0, 0.0}; });
+    const std::string raw = cli::path("theremin-card.raw"), log = cli::path("theremin-card-log.csv");
+    const auto r = cli::runArmadillo("play --scene theremin --simulate --motion '" + motion + "' --seconds 2.5 --log '" + log +
+                                     "' --audio-device \"file:'" + raw + "',raw\"");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK(r.err.find("sound on 'file:") != std::string::npos);
+    const std::string bytes = readWholeFile(raw);
+    std::vector<float> left(bytes.size() / 8);
+    for (std::size_t i = 0; i < left.size(); ++i) std::memcpy(&left[i], bytes.data() + 8 * i, sizeof(float));
+    const double rate = 48000.0;
+    REQUIRE(left.size() > static_cast<std::size_t>(2.0 * rate));   // about the session's length
+    const CsvTable t = CsvTable::read(log);
+    const int ct = t.requireColumn("t"), cw = t.requireColumn("qw"), cx = t.requireColumn("qx"), cy = t.requireColumn("qy"), cz = t.requireColumn("qz");
+    double sinElevation = 0.0;   // the forearm (device x) rotated into earth: its Y component
+    int rows = 0;
+    for (std::size_t i = 0; i < t.rowCount(); ++i) {
+        const double since = t.value(i, ct) - t.value(0, ct);
+        if (since < 1.0 || since > 2.0) continue;
+        sinElevation += 2.0 * (t.value(i, cx) * t.value(i, cy) + t.value(i, cw) * t.value(i, cz));
+        ++rows;
+    }
+    REQUIRE(rows > 100);
+    sinElevation /= rows;
+    const double e = 12.0 * (sinElevation + std::sin(degToRad(45.0))) / (2.0 * std::sin(degToRad(45.0)));
+    const double expected = 220.0 * std::pow(2.0, e / 12.0);
+    const auto from = static_cast<std::size_t>(1.0 * rate), to = static_cast<std::size_t>(2.0 * rate);
+    INFO("logged elevation " << radToDeg(std::asin(sinElevation)) << " deg (held 20)");
+    CHECK(std::abs(radToDeg(std::asin(sinElevation)) - 20.0) < 3.0);
+    const double f = pitchOf(left, rate, from, to);
+    INFO("expected " << expected << " Hz, measured " << f << " Hz");
+    CHECK(std::abs(cents(f, expected)) < 5.0);
+    CHECK(rms(left, from, to) > 0.01);
+}
+
+TEST_CASE("e2e: play without --out on a machine with no sound card says so once and plays on", "[e2e][audio]")
+{
+    const auto r = cli::runArmadillo("play --scene monitor --simulate --seconds 1");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK(r.out.find("\"packets\":") != std::string::npos);
+    // Either this machine has a card ("sound on 'default'") or it says why there is no sound.
+    const bool card = r.err.find("sound on 'default'") != std::string::npos;
+    const bool told = r.err.find("no sound: sound card 'default'") != std::string::npos;
+    CHECK((card || told));
+    CHECK(r.err.find("ALSA lib") == std::string::npos);   // ALSA's own noise stays quiet
+    const auto quiet = cli::runArmadillo("play --scene monitor --simulate --seconds 0.5 --no-audio");
+    CHECK(quiet.code == 0);
+    CHECK(quiet.err.find("sound") == std::string::npos);
+    CHECK(cli::runArmadillo("play --scene monitor --simulate --seconds 0.5 --no-audio --out x.wav").code == 2);
+    CHECK(cli::runArmadillo("play --scene monitor --simulate --seconds 0.5 --audio-device null --out x.wav").code == 2);
+    const auto missing = cli::runArmadillo("play --scene monitor --simulate --seconds 0.5 --audio-device hw:97");
+    CHECK(missing.code == 4);
+    CHECK(missing.err.find("sound card 'hw:97'") != std::string::npos);
 }
 
 TEST_CASE("e2e: theremin level falls as the arm turns away from the starting azimuth", "[e2e][theremin]")

@@ -1,0 +1,154 @@
+#include "Audio/SoundCard.h"
+#include "Core/Errors.h"
+#include "Device/DeviceLink.h"   // tryRealtimePriority
+#include <alsa/asoundlib.h>
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdarg>
+#include <cstring>
+#include <mutex>
+#include <vector>
+
+namespace armadillo::audio {
+
+namespace {
+// ALSA prints its own diagnostics on stderr by default ("ALSA lib pcm.c:…: Unknown PCM default"
+// on every machine without a card); the caller reports the failure once, in its own words.
+void quietAlsa(const char*, int, const char*, int, const char*, ...) {}
+
+std::string reason(const std::string& device, const std::string& what, int err)
+{
+    return "sound card '" + device + "': " + what + ": " + snd_strerror(err);
+}
+} // namespace
+
+struct SoundCard::Pcm {
+    snd_pcm_t* handle = nullptr;
+    bool isFloat = true;
+    ~Pcm()
+    {
+        if (handle) snd_pcm_close(handle);
+    }
+};
+
+SoundCard::SoundCard(const std::string& device, double sampleRate, double latencySeconds)
+    : pcm_(std::make_unique<Pcm>())
+{
+    static std::once_flag quiet;
+    std::call_once(quiet, [] { snd_lib_error_set_handler(quietAlsa); });
+    if (!(sampleRate >= 8000.0 && sampleRate <= 384000.0))
+        throw IoError("sound card '" + device + "': unsupported sample rate " + std::to_string(sampleRate));
+    int err = snd_pcm_open(&pcm_->handle, device.c_str(), SND_PCM_STREAM_PLAYBACK, 0);
+    if (err < 0) {
+        pcm_->handle = nullptr;
+        throw IoError(reason(device, "cannot open", err));
+    }
+    const auto rate = static_cast<unsigned>(std::lround(sampleRate));
+    const auto latencyUs = static_cast<unsigned>(std::clamp(latencySeconds, 0.002, 1.0) * 1e6);
+    // Float first (no conversion on the way), 16-bit for cards opened directly ("hw:N") that
+    // have no float format; soft resampling on, so a 44.1 kHz card still plays at our rate.
+    err = snd_pcm_set_params(pcm_->handle, SND_PCM_FORMAT_FLOAT_LE, SND_PCM_ACCESS_RW_INTERLEAVED, 2, rate, 1, latencyUs);
+    if (err < 0) {
+        pcm_->isFloat = false;
+        err = snd_pcm_set_params(pcm_->handle, SND_PCM_FORMAT_S16_LE, SND_PCM_ACCESS_RW_INTERLEAVED, 2, rate, 1, latencyUs);
+    }
+    if (err < 0) throw IoError(reason(device, "no 2-channel float or 16-bit format at " + std::to_string(rate) + " Hz", err));
+    snd_pcm_uframes_t buffer = 0, period = 0;
+    err = snd_pcm_get_params(pcm_->handle, &buffer, &period);
+    if (err < 0 || period == 0) throw IoError(reason(device, "cannot read buffer sizes", err < 0 ? err : -EINVAL));
+    info_.device = device;
+    info_.sampleRate = static_cast<double>(rate);
+    info_.periodFrames = static_cast<int>(std::min<snd_pcm_uframes_t>(period, 8192));
+    info_.bufferFrames = static_cast<int>(buffer);
+    info_.format = pcm_->isFloat ? "FLOAT_LE" : "S16_LE";
+}
+
+SoundCard::~SoundCard() { stop(); }
+
+void SoundCard::start(Render render, int realtimePriority)
+{
+    if (running_.exchange(true)) return;
+    render_ = std::move(render);
+    failed_.store(false, std::memory_order_relaxed);
+    thread_ = std::thread([this, realtimePriority] { loop(realtimePriority); });
+}
+
+void SoundCard::stop()
+{
+    running_.store(false, std::memory_order_release);
+    if (thread_.joinable()) thread_.join();
+    if (pcm_ && pcm_->handle) snd_pcm_drop(pcm_->handle);
+}
+
+std::string SoundCard::lastError() const
+{
+    return failed_.load(std::memory_order_acquire) ? error_ : std::string();
+}
+
+void SoundCard::loop(int realtimePriority)
+{
+    if (realtimePriority > 0) device::tryRealtimePriority(realtimePriority);
+    const int n = info_.periodFrames;
+    // Everything the loop touches is allocated here, before the first period.
+    std::vector<float> left(static_cast<std::size_t>(n)), right(static_cast<std::size_t>(n));
+    std::vector<float> interleavedF(pcm_->isFloat ? 2 * static_cast<std::size_t>(n) : 0);
+    std::vector<std::int16_t> interleavedS(pcm_->isFloat ? 0 : 2 * static_cast<std::size_t>(n));
+    const double bufferSeconds = info_.bufferFrames / info_.sampleRate;
+    const auto started = std::chrono::steady_clock::now();
+    std::uint64_t written = 0;
+    snd_pcm_prepare(pcm_->handle);
+
+    while (running_.load(std::memory_order_acquire)) {
+        std::fill(left.begin(), left.end(), 0.0f);
+        std::fill(right.begin(), right.end(), 0.0f);
+        render_(left.data(), right.data(), n);
+        const void* data;
+        if (pcm_->isFloat) {
+            for (int i = 0; i < n; ++i) {
+                interleavedF[2 * static_cast<std::size_t>(i)] = std::isfinite(left[i]) ? left[i] : 0.0f;
+                interleavedF[2 * static_cast<std::size_t>(i) + 1] = std::isfinite(right[i]) ? right[i] : 0.0f;
+            }
+            data = interleavedF.data();
+        } else {
+            const auto toS16 = [](float x) {
+                const float c = std::isfinite(x) ? std::clamp(x, -1.0f, 1.0f) : 0.0f;
+                return static_cast<std::int16_t>(std::lround(c * 32767.0f));
+            };
+            for (int i = 0; i < n; ++i) {
+                interleavedS[2 * static_cast<std::size_t>(i)] = toS16(left[i]);
+                interleavedS[2 * static_cast<std::size_t>(i) + 1] = toS16(right[i]);
+            }
+            data = interleavedS.data();
+        }
+        const std::size_t frameBytes = pcm_->isFloat ? 2 * sizeof(float) : 2 * sizeof(std::int16_t);
+        int done = 0;
+        while (done < n && running_.load(std::memory_order_acquire)) {
+            const auto* p = static_cast<const char*>(data) + static_cast<std::size_t>(done) * frameBytes;
+            snd_pcm_sframes_t w = snd_pcm_writei(pcm_->handle, p, static_cast<snd_pcm_uframes_t>(n - done));
+            if (w == -EAGAIN) continue;
+            if (w < 0) {
+                if (w == -EPIPE) underruns_.fetch_add(1, std::memory_order_relaxed);
+                const int r = snd_pcm_recover(pcm_->handle, static_cast<int>(w), 1);
+                if (r < 0) {
+                    error_ = reason(info_.device, "playback stopped", r);
+                    failed_.store(true, std::memory_order_release);
+                    running_.store(false, std::memory_order_release);
+                    return;
+                }
+                continue;
+            }
+            done += static_cast<int>(w);
+        }
+        written += static_cast<std::uint64_t>(done);
+        frames_.store(written, std::memory_order_relaxed);
+        // A card blocks in writei once its buffer is full; a device that never blocks (ALSA's
+        // null/file plugins) is held to at most one buffer ahead of the wall clock instead.
+        const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        const double ahead = static_cast<double>(written) / info_.sampleRate - elapsed - bufferSeconds;
+        if (ahead > 0.0) std::this_thread::sleep_for(std::chrono::duration<double>(ahead));
+    }
+}
+
+} // namespace armadillo::audio

@@ -1,0 +1,68 @@
+#pragma once
+// Sound-card playback for the headless `armadillo play` (ALSA; the app and the plugin get their
+// audio device from JUCE or the host). INTERFACES.md: audio goes to the sound card when there is
+// no --out.
+//
+// Threads: start() runs one audio thread that asks the render callback for a period of stereo
+// float samples and writes it to the card. The callback is the engine's renderAudio() (no locks,
+// allocation or I/O); the thread's only blocking call is the ALSA write, which is what paces it
+// on a real card. ALSA devices that do not pace (its `null` and `file` plugins, handy for
+// tests) would let the loop run flat out, so it never runs more than one buffer ahead of the
+// wall clock. Underruns are recovered and counted; a card that goes away (USB unplugged) ends the
+// thread with lastError() set, and the session goes on without sound.
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <thread>
+
+namespace armadillo::audio {
+
+struct SoundCardInfo {
+    std::string device;          ///< ALSA PCM name as opened ("default", "hw:1", "file:'x.raw',raw", …)
+    double sampleRate = 0.0;     ///< Hz (ALSA's plug layer resamples when the card differs)
+    int periodFrames = 0;        ///< frames per write
+    int bufferFrames = 0;        ///< frames the card queues (≈ output latency)
+    std::string format;          ///< "FLOAT_LE" or "S16_LE"
+};
+
+class SoundCard {
+public:
+    using Render = std::function<void(float* left, float* right, int numSamples)>;
+
+    /// Opens `device` for 2-channel playback at `sampleRate` with about `latencySeconds` of
+    /// buffer. IoError ("sound card 'NAME': <ALSA's reason>") when it cannot be opened/configured.
+    SoundCard(const std::string& device, double sampleRate, double latencySeconds = 0.02);
+    ~SoundCard();
+    SoundCard(const SoundCard&) = delete;
+    SoundCard& operator=(const SoundCard&) = delete;
+
+    /// Starts the audio thread; `render` is called on it for every period (it must be real-time
+    /// safe). `realtimePriority` > 0 asks for SCHED_FIFO (falls back silently).
+    void start(Render render, int realtimePriority = 0);
+    /// Stops the thread (what is queued in the card is dropped: silence at once) and joins it.
+    void stop();
+
+    const SoundCardInfo& info() const noexcept { return info_; }
+    std::uint64_t framesWritten() const noexcept { return frames_.load(std::memory_order_relaxed); }
+    std::uint64_t underruns() const noexcept { return underruns_.load(std::memory_order_relaxed); }
+    /// Why the thread ended early (empty while all is well). Read after stop() or from any thread
+    /// once failed() is true.
+    std::string lastError() const;
+    bool failed() const noexcept { return failed_.load(std::memory_order_acquire); }
+
+private:
+    void loop(int realtimePriority);
+
+    struct Pcm;
+    std::unique_ptr<Pcm> pcm_;
+    SoundCardInfo info_;
+    Render render_;
+    std::thread thread_;
+    std::atomic<bool> running_ {false}, failed_ {false};
+    std::atomic<std::uint64_t> frames_ {0}, underruns_ {0};
+    std::string error_;   // written by the audio thread before failed_ is released
+};
+
+} // namespace armadillo::audio
