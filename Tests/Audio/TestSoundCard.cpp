@@ -2,6 +2,7 @@
 // `file:'PATH',raw` keeps every sample written (bit-exact check), `null` discards them (pacing).
 #include "Audio/SoundCard.h"
 #include "Core/Errors.h"
+#include "Common/Eventually.h"
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <cstring>
@@ -17,17 +18,7 @@ using Clock = std::chrono::steady_clock;
 namespace {
 std::string scratch(const std::string& name) { return std::string(ARMADILLO_BINARY_DIR) + "/audio-test-" + name; }
 
-/// Polls until the condition holds or a generous deadline passes (no timing is asserted).
-template <typename F>
-bool eventually(F f, double seconds = 20.0)
-{
-    const auto deadline = Clock::now() + std::chrono::duration<double>(seconds);
-    while (!f()) {
-        if (Clock::now() > deadline) return false;
-        std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    }
-    return true;
-}
+using armadillo::testing::eventually;
 
 std::vector<float> readFloats(const std::string& path)
 {

@@ -6,6 +6,7 @@
 #include "Device/LiveSession.h"
 #include "Device/OscIo.h"
 #include "Device/Simulator.h"
+#include "Common/Eventually.h"
 #include <catch2/catch.hpp>
 #include <array>
 #include <cstdio>
@@ -25,17 +26,7 @@ namespace {
 
 std::string out(const std::string& name) { return std::string(ARMADILLO_BINARY_DIR) + "/live-test-" + name; }
 
-/// Polls a condition until it holds or a generous timeout passes (no timing is asserted).
-template <typename F>
-bool eventually(F f, double seconds = 30.0)
-{
-    const auto deadline = Clock::now() + std::chrono::duration<double>(seconds);
-    while (!f()) {
-        if (Clock::now() > deadline) return false;
-        std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    }
-    return true;
-}
+using armadillo::testing::eventually;
 
 struct Run {
     int status = -1;
