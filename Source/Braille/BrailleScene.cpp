@@ -120,6 +120,8 @@ public:
             training.stages.pop_back();
         }
         training_ = std::make_unique<TrainingSession>(training);
+        trialShown_.store(0, std::memory_order_release);
+        trialsRight_.store(0, std::memory_order_release);
         prepared_ = true;
         applied_ = -1;
         reset();
@@ -181,6 +183,9 @@ public:
                 if (training_->finished()) out.events.emit("training-done", static_cast<float>(training_->correctCount()));
             }
             handle(training_->update(t_, axis, normal, valid), out);
+            // Score first, then the trial: a reader that sees the new trial sees its score too.
+            trialsRight_.store(training_->correctCount(), std::memory_order_release);
+            trialShown_.store(training_->trialIndex(), std::memory_order_release);
             break;
         }
         }
@@ -204,6 +209,22 @@ public:
     }
 
     std::string trainingLogCsv() const override { return training_ ? training_->logCsv() : std::string(); }
+    int trainingTrial() const noexcept override { return trialShown_.load(std::memory_order_acquire); }
+    int trainingCorrect() const noexcept override { return trialsRight_.load(std::memory_order_acquire); }
+    int trainingTrialCount() const noexcept override
+    {
+        return training_ ? static_cast<int>(training_->trials().size()) : 0;
+    }
+    std::string trainingPrompt(int trial) const override
+    {
+        if (!training_ || trial < 0 || trial >= trainingTrialCount()) return {};
+        return training_->trials()[static_cast<std::size_t>(trial)].prompt;
+    }
+    std::string trainingExpected(int trial) const override
+    {
+        if (!training_ || trial < 0 || trial >= trainingTrialCount()) return {};
+        return training_->trials()[static_cast<std::size_t>(trial)].expected;
+    }
 
 private:
     double param(int i) const noexcept { return static_cast<double>(params_[static_cast<std::size_t>(i)].load()); }
@@ -314,6 +335,7 @@ private:
     ReadingCursor* active_ = nullptr;
     ActiveReading reading_;
     std::unique_ptr<TrainingSession> training_;
+    std::atomic<int> trialShown_ {0}, trialsRight_ {0};   // published by control() for the UI
     SpscQueue<AnswerText, 16> answers_;
     BurstPlayer player_;
     std::array<float, kGridMotors> sent_ {};

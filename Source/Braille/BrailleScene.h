@@ -42,6 +42,15 @@ public:
     virtual bool submitAnswer(const std::string& answer) noexcept = 0;
     /// The training log so far (CSV); call only while control() is not running.
     virtual std::string trainingLogCsv() const = 0;
+    /// Training progress for a UI that asks and listens (any thread, lock-free): the trial now
+    /// shown (trainingTrialCount() once all are answered), and how many answers were right.
+    virtual int trainingTrial() const noexcept = 0;
+    virtual int trainingCorrect() const noexcept = 0;
+    /// The plan, fixed at prepare(): how many trials, and what the teacher says for trial i
+    /// ("left, right or both?", "stop on row 2", …). Any thread.
+    virtual int trainingTrialCount() const noexcept = 0;
+    virtual std::string trainingPrompt(int trial) const = 0;
+    virtual std::string trainingExpected(int trial) const = 0;   ///< the right answer, lower case
 };
 
 /// Default text when SceneConfig::text is empty (the plugin's scene choice starts with it).

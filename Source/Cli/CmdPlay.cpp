@@ -3,17 +3,91 @@
 #include "Cli/SceneOptions.h"
 #include "Core/Errors.h"
 #include "Audio/SoundCard.h"
+#include "Braille/BrailleScene.h"
+#include "Core/AtomicFile.h"
 #include "Device/LiveSession.h"
 #include "Device/Calibration.h"
 #include "Device/OscIo.h"
 #include "Engine/Engine.h"
 #include <algorithm>
+#include <deque>
 #include <chrono>
 #include <iostream>
 #include <memory>
 #include <thread>
+#include <poll.h>
+#include <unistd.h>
 
 namespace armadillo::cli {
+
+namespace {
+
+/// Braille training through the terminal: prompts out on stderr, answers in from stdin (read
+/// without blocking, so the session's loop keeps its pace). Answers go to the scene one at a
+/// time, each once the previous one is scored, so every "right"/"wrong" belongs to its trial.
+class TerminalTraining {
+public:
+    explicit TerminalTraining(braille::BrailleSceneControls& scene) : scene_(scene) {}
+
+    /// Waits up to `waitMs` for input, then reports a scored answer, shows the next prompt and
+    /// hands over the next answer. Returns false once every trial is answered.
+    bool step(int waitMs)
+    {
+        readLines(waitMs);
+        const int trial = scene_.trainingTrial();   // acquire: its score is visible too
+        if (awaiting_ && trial > submittedAt_) {
+            const bool right = scene_.trainingCorrect() > rightBefore_;
+            std::cerr << "  " << (right ? std::string("right") : "wrong: it was '" + scene_.trainingExpected(submittedAt_) + "'")
+                      << "\n";
+            awaiting_ = false;
+        }
+        if (trial >= scene_.trainingTrialCount()) return false;
+        if (trial != announced_) {
+            std::cerr << "braille training " << trial + 1 << "/" << scene_.trainingTrialCount() << ": "
+                      << scene_.trainingPrompt(trial) << "\n";
+            announced_ = trial;
+        }
+        if (!awaiting_ && !lines_.empty()) {
+            rightBefore_ = scene_.trainingCorrect();
+            if (scene_.submitAnswer(lines_.front())) {
+                lines_.pop_front();
+                submittedAt_ = trial;
+                awaiting_ = true;
+            }
+        }
+        return true;
+    }
+
+private:
+    void readLines(int waitMs)
+    {
+        if (stdinClosed_) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(waitMs));
+            return;
+        }
+        pollfd p {STDIN_FILENO, POLLIN, 0};
+        if (::poll(&p, 1, waitMs) > 0) {
+            char buf[512];
+            const ssize_t n = ::read(STDIN_FILENO, buf, sizeof buf);
+            if (n <= 0) stdinClosed_ = true;
+            else pending_.append(buf, static_cast<std::size_t>(n));
+        }
+        for (std::size_t nl; (nl = pending_.find('\n')) != std::string::npos;) {
+            std::string line = pending_.substr(0, nl);
+            pending_.erase(0, nl + 1);
+            while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+            if (!line.empty()) lines_.push_back(line);
+        }
+    }
+
+    braille::BrailleSceneControls& scene_;
+    std::string pending_;
+    std::deque<std::string> lines_;
+    bool stdinClosed_ = false, awaiting_ = false;
+    int announced_ = -1, submittedAt_ = -1, rightBefore_ = 0;
+};
+
+} // namespace
 
 int runPlay(const Arguments& args)
 {
@@ -47,6 +121,10 @@ int runPlay(const Arguments& args)
                     {"--log", "SESSION.csv", "one row per sensor packet: t, raw counts, calibrated SI values, qw,qx,qy,qz"},
                     {"--osc-out", "HOST:PORT", "send orientation, pose, gyro, motors and gestures as OSC"},
                     {"--unpaced", "", "with --simulate: no wire pacing (as fast as the host can go)"},
+                    {"--training-log", "LOG.csv", "with --scene braille: the training protocol (thesis §4.4.1) live. Each trial's\n"
+                                                  "prompt is printed on stderr; type the answers on stdin, one a line (left, right,\n"
+                                                  "both, here, a letter or a word); right/wrong is said at once; the session ends when\n"
+                                                  "every trial is answered and the log (docs/BRAILLE.md) is written to LOG.csv"},
                     {"--calibrate", "OUT.json", "run the guided calibration (thesis §2.4) on the device while playing; instructions on\n"
                                                 "stderr, each step finishes when it has enough data; writes OUT.json (unfinished steps keep\n"
                                                 "the starting calibration)"},
@@ -110,8 +188,22 @@ int runPlay(const Arguments& args)
         if (cl.has("--calibrate") && cl.has("--osc-in")) throw UsageError("--calibrate needs raw counts: use --port or --simulate");
         if (cl.has("--calibrate") && calibrateOut.empty()) throw UsageError("--calibrate needs an output file");
 
+        const std::string trainingLog = cl.value("--training-log");
+        if (cl.has("--training-log")) {
+            if (trainingLog.empty()) throw UsageError("--training-log needs a file");
+            if (engine.scene != "braille") throw UsageError("--training-log is the braille scene's training: use --scene braille");
+            engine.parameters.insert(engine.parameters.begin(), "braille.mode=training");
+        }
+
         installInterruptHandlers();
         device::LiveSession session(config);
+        std::unique_ptr<TerminalTraining> training;
+        braille::BrailleSceneControls* brailleScene = nullptr;
+        if (!trainingLog.empty()) {
+            brailleScene = dynamic_cast<braille::BrailleSceneControls*>(&session.engine().scene());
+            if (!brailleScene) throw UsageError("--training-log needs the braille scene");
+            training = std::make_unique<TerminalTraining>(*brailleScene);
+        }
         std::unique_ptr<device::CalibrationProcedure> calibration;
         if (!calibrateOut.empty()) {
             calibration = std::make_unique<device::CalibrationProcedure>(config.calibration);
@@ -154,9 +246,18 @@ int runPlay(const Arguments& args)
                               << "\n";
                 }
             }
-            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+            if (training) {
+                if (!training->step(10)) {
+                    std::cerr << "braille training complete: " << brailleScene->trainingCorrect() << " of "
+                              << brailleScene->trainingTrialCount() << " right\n";
+                    break;
+                }
+            } else {
+                std::this_thread::sleep_for(std::chrono::milliseconds(10));
+            }
         }
         session.stop();
+        if (brailleScene) writeFileAtomically(trainingLog, brailleScene->trainingLogCsv());
         session.finish();
         if (const audio::SoundCard* card = session.soundCard(); card && card->underruns() > 0)
             std::cerr << "armadillo play: the sound card ran dry " << card->underruns() << " time(s) (audible clicks)\n";

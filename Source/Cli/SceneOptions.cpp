@@ -36,7 +36,8 @@ void readSceneOptions(const CommandLine& cl, EngineConfig& engine)
     engine.parameters = cl.values("--param");
     if (engine.scene == "score" && engine.sceneConfig.score.empty())
         throw UsageError("the score scene needs --score (rite-of-spring, polytope or a file)");
-    if (engine.scene == "braille" && engine.sceneConfig.text.empty())
+    // Training (play --training-log) brings its own material; reading needs a text.
+    if (engine.scene == "braille" && engine.sceneConfig.text.empty() && !cl.has("--training-log"))
         throw UsageError("the braille scene needs --text");
 }
 

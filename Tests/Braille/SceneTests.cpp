@@ -240,6 +240,31 @@ TEST_CASE("Training mode takes answers from the app and logs them", "[braille][s
     CHECK(log.find(",left,") != std::string::npos);
 }
 
+TEST_CASE("Training progress is published for a UI: trial, score, prompt and expected answer", "[braille][scene]")
+{
+    Harness h("unused", 3);
+    h.set(kParamMode, 2.0f);
+    auto* controls = dynamic_cast<BrailleSceneControls*>(h.scene.get());
+    REQUIRE(controls);
+    const int count = controls->trainingTrialCount();
+    REQUIRE(count > 10);
+    CHECK(controls->trainingTrial() == 0);
+    CHECK(controls->trainingPrompt(0) == "left, right or both?");
+    CHECK(controls->trainingPrompt(-1).empty());
+    CHECK(controls->trainingPrompt(count).empty());
+    CHECK(controls->trainingExpected(count).empty());
+    h.idle(0.2);
+    // One right answer, then one wrong: the trial moves on each time, the score only once.
+    REQUIRE(controls->submitAnswer(controls->trainingExpected(0)));
+    h.idle(0.1);
+    CHECK(controls->trainingTrial() == 1);
+    CHECK(controls->trainingCorrect() == 1);
+    REQUIRE(controls->submitAnswer("not-an-answer"));
+    h.idle(0.1);
+    CHECK(controls->trainingTrial() == 2);
+    CHECK(controls->trainingCorrect() == 1);
+}
+
 TEST_CASE("Grade and method are scene parameters, switched without re-preparing", "[braille][scene]")
 {
     auto stepsToEnd = [](int grade, int method) {

@@ -32,11 +32,12 @@ inline std::string file(const std::string& name, const std::string& content)
     return path(name);
 }
 
-/// `armadillo ARGS` through the shell, capturing stdout, stderr and the exit code.
-inline Run runArmadillo(const std::string& args)
+/// `armadillo ARGS` through the shell, capturing stdout, stderr and the exit code; stdin comes
+/// from `input` (a file path; nothing by default).
+inline Run runArmadillo(const std::string& args, const std::string& input = "/dev/null")
 {
     const std::string out = path("stdout.txt"), err = path("stderr.txt");
-    const std::string cmd = std::string("'") + ARMADILLO_BIN + "' " + args + " >'" + out + "' 2>'" + err + "' </dev/null";
+    const std::string cmd = std::string("'") + ARMADILLO_BIN + "' " + args + " >'" + out + "' 2>'" + err + "' <'" + input + "'";
     const int status = std::system(cmd.c_str());
     Run r;
     r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

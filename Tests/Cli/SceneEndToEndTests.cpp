@@ -6,6 +6,7 @@
 #include "SafetyBounds.h"
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <sstream>
 #include <cstring>
 #include <set>
 
@@ -274,4 +275,65 @@ TEST_CASE("e2e: the cymbal cuts fragments from a user recording given with --aud
     CHECK(bad.code == 3);
     CHECK(bad.err.find("strike-audio.csv") != std::string::npos);
     CHECK(cli::runArmadillo("render --scene theremin --motion '" + motion + "' --out '" + cli::path("x.wav") + "' --audio '" + recording + "'").code == 2);
+}
+
+TEST_CASE("e2e: braille training live through play: prompts out, typed answers in, the log records them", "[e2e][braille]")
+{
+    // The plan `braille --plan` prints is the plan the live scene follows (same seed). Answer
+    // every trial as planned except every seventh, which gets a nonsense answer; "hold" trials
+    // are right only if the asked row happens to show, so they are not predicted.
+    const auto plan = cli::runArmadillo("braille --plan --seed 3");
+    REQUIRE(plan.code == 0);
+    std::vector<std::string> expected, stages;
+    {
+        // trial,stage,"prompt",expected: text columns (CsvTable holds numbers only), read by hand.
+        std::istringstream in(plan.out);
+        std::string line;
+        std::getline(in, line);   // header
+        while (std::getline(in, line)) {
+            const auto firstComma = line.find(','), secondComma = line.find(',', firstComma + 1);
+            stages.push_back(line.substr(firstComma + 1, secondComma - firstComma - 1));
+            expected.push_back(line.substr(line.rfind(',') + 1));
+        }
+    }
+    REQUIRE(expected.size() > 20);
+    std::string answers;
+    std::vector<std::string> sent;
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+        sent.push_back(i % 7 == 3 ? std::string("zz") : expected[i]);
+        answers += sent.back() + (i % 5 == 0 ? "\r\n" : "\n");   // CRLF from some terminals too
+    }
+    const std::string input = cli::file("answers.txt", answers), log = cli::path("training.csv");
+    const auto r = cli::runArmadillo("play --scene braille --simulate --seed 3 --seconds 120 --no-audio --training-log '" + log + "'", input);
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK(r.out.find("\"packets\":") != std::string::npos);
+    CHECK(r.err.find("braille training 1/" + std::to_string(expected.size()) + ": ") != std::string::npos);
+    CHECK(r.err.find("braille training complete: ") != std::string::npos);
+    CHECK(r.err.find("wrong: it was '" + expected[3] + "'") != std::string::npos);
+
+    // The log's answer rows, in order: what was typed, scored as the plan says.
+    std::istringstream in(readWholeFile(log));
+    std::string line;
+    std::getline(in, line);
+    REQUIRE(line.rfind("t,event,stage,trial,expected,prompt", 0) == 0);
+    std::size_t k = 0;
+    int rightOutsideHold = 0;
+    while (std::getline(in, line)) {
+        if (line.find(",answer,") == std::string::npos) continue;
+        REQUIRE(k < sent.size());
+        const auto lastComma = line.rfind(','), before = line.rfind(',', lastComma - 1);
+        const std::string given = line.substr(before + 1, lastComma - before - 1), correct = line.substr(lastComma + 1);
+        INFO("trial " << k + 1 << " (" << stages[k] << "): " << line);
+        CHECK(given == sent[k]);
+        if (stages[k] != "hold") {
+            CHECK(correct == (k % 7 == 3 ? "0" : "1"));
+            if (correct == "1") ++rightOutsideHold;
+        }
+        ++k;
+    }
+    CHECK(k == sent.size());
+    CHECK(rightOutsideHold > 0);
+    // Misuse is refused before anything runs.
+    CHECK(cli::runArmadillo("play --scene theremin --simulate --seconds 1 --training-log x.csv").code == 2);
 }
