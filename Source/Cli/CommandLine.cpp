@@ -108,7 +108,10 @@ std::string CommandLine::helpText() const
         std::string left = "  " + o.name + (o.valueName.empty() ? "" : " " + o.valueName);
         if (left.size() < 26) left.resize(26, ' ');
         else left += "\n" + std::string(26, ' ');
-        s += left + o.help + (o.required ? " (required)" : "") + "\n";
+        std::string help = o.help;   // continuation lines line up under the first
+        for (std::size_t at = help.find('\n'); at != std::string::npos; at = help.find('\n', at + 27))
+            help.insert(at + 1, std::string(26, ' '));
+        s += left + help + (o.required ? " (required)" : "") + "\n";
     }
     s += "  --help                  this text\n";
     return s;
