@@ -69,15 +69,7 @@ bool DeviceConnection::connect(const std::string& port, int baud, const std::str
             linkPort = std::make_unique<device::SerialPort>(port, baud);
         }
         auto handler = [this](const device::SensorCounts& counts, double t) {
-            const ImuSample s = calibration_.apply(t, counts);
-            LiveImu imu;
-            imu.t = s.t;
-            for (int i = 0; i < 3; ++i) {
-                imu.g[i] = static_cast<float>(s.gyro[i]);
-                imu.a[i] = static_cast<float>(s.accel[i]);
-                imu.m[i] = static_cast<float>(s.mag[i]);
-            }
-            input_.pushImu(imu);   // full queue: the control loop is behind; drop, never block
+            input_.pushImu(calibration_.apply(t, counts));   // full queue: the control loop is behind; drop, never block
             return latestLevels_();
         };
         link_ = std::make_unique<device::DeviceLink>(std::move(linkPort), handler);

@@ -15,6 +15,18 @@ void LiveInput::storeOrientation(double t, const Eigen::Quaterniond& q) noexcept
     orientation_.store(o);
 }
 
+LiveImu toLiveImu(const ImuSample& s) noexcept
+{
+    LiveImu out;
+    out.t = s.t;
+    for (int i = 0; i < 3; ++i) {
+        out.g[i] = static_cast<float>(s.gyro[i]);
+        out.a[i] = static_cast<float>(s.accel[i]);
+        out.m[i] = static_cast<float>(s.mag[i]);
+    }
+    return out;
+}
+
 ImuSample toImuSample(const LiveImu& s)
 {
     ImuSample out;

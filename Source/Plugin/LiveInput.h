@@ -25,11 +25,17 @@ struct LiveImu {
     float m[3] {};                   ///< any unit; NaN when absent
 };
 
+/// ImuSample ↔ LiveImu (the mailbox stores floats; the fusion works in doubles).
+LiveImu toLiveImu(const ImuSample& s) noexcept;
+ImuSample toImuSample(const LiveImu& s);
+
 class LiveInput {
 public:
     /// One producer at a time (whichever source is selected).
     void storeOrientation(double t, const Eigen::Quaterniond& q) noexcept;
     bool pushImu(const LiveImu& sample) noexcept { return imu_.push(sample); }
+    /// The same from a calibrated sample (device link, OSC receiver); false when the queue is full.
+    bool pushImu(const ImuSample& sample) noexcept { return imu_.push(toLiveImu(sample)); }
 
     LiveOrientation latest() const noexcept { return orientation_.load(); }
     bool popImu(LiveImu& out) noexcept { return imu_.pop(out); }
@@ -39,7 +45,5 @@ private:
     SpscQueue<LiveImu, 512> imu_;
     std::atomic<std::uint64_t> serial_ {0};
 };
-
-ImuSample toImuSample(const LiveImu& s);
 
 } // namespace armadillo::plugin

@@ -68,16 +68,7 @@ bool OscInput::configure(bool enabled, int port, std::string& whyNot)
         // Handlers run on the receiver's thread; the mailbox takes them without locks.
         receiver_ = std::make_unique<device::OscReceiver>(
             port,
-            [this](const ImuSample& s) {
-                LiveImu imu;
-                imu.t = s.t;
-                for (int i = 0; i < 3; ++i) {
-                    imu.g[i] = static_cast<float>(s.gyro[i]);
-                    imu.a[i] = static_cast<float>(s.accel[i]);
-                    imu.m[i] = static_cast<float>(s.mag[i]);
-                }
-                live_.pushImu(imu);
-            },
+            [this](const ImuSample& s) { live_.pushImu(s); },
             [this](double t, const Eigen::Quaterniond& q) { live_.storeOrientation(t, q); });
         receiver_->start();
     } catch (const std::exception& e) {
