@@ -68,8 +68,20 @@ bool DeviceConnection::connect(const std::string& port, int baud, const std::str
             }
             linkPort = std::make_unique<device::SerialPort>(port, baud);
         }
+        publishCalibration();
+        linkSeen_ = 0;
+        linkGeneration_.store(0, std::memory_order_release);
         auto handler = [this](const device::SensorCounts& counts, double t) {
-            input_.pushImu(calibration_.apply(t, counts));   // full queue: the control loop is behind; drop, never block
+            // A calibration published by the message thread (connect, guided calibration) is
+            // taken up here, between packets: a seqlock read, no lock, no allocation.
+            const std::uint64_t generation = pendingGeneration_.load(std::memory_order_acquire);
+            if (generation != linkSeen_) {
+                fromNumbers(pendingCalibration_.load(), linkCalibration_);
+                linkSeen_ = generation;
+                linkGeneration_.store(generation, std::memory_order_release);
+            }
+            calibrationSession_.offer(t, counts);   // raw counts, only while a guided calibration runs
+            input_.pushImu(linkCalibration_.apply(t, counts));   // full queue: the control loop is behind; drop, never block
             return latestLevels_();
         };
         link_ = std::make_unique<device::DeviceLink>(std::move(linkPort), handler);
@@ -88,11 +100,51 @@ bool DeviceConnection::connect(const std::string& port, int baud, const std::str
 
 void DeviceConnection::disconnect()
 {
+    if (calibrationSession_.running()) calibrationSession_.cancel("the device was disconnected");
     if (link_ != nullptr) link_->stop();   // no motor packet leaves after this
     link_.reset();
     if (simulator_ != nullptr) simulator_->stop();
     simulator_.reset();
     claim_.reset();
+}
+
+DeviceConnection::CalibrationNumbers DeviceConnection::toNumbers(const device::Calibration& c) noexcept
+{
+    CalibrationNumbers n;
+    const device::SensorCalibration* parts[3] {&c.accel, &c.gyro, &c.mag};
+    for (int k = 0; k < 3; ++k) {
+        for (int i = 0; i < 3; ++i) {
+            n.sensor[k][i] = parts[k]->bias[i];
+            n.sensor[k][3 + i] = parts[k]->scale[i];
+            for (int j = 0; j < 3; ++j) n.sensor[k][6 + 3 * i + j] = parts[k]->cross(i, j);
+        }
+    }
+    return n;
+}
+
+void DeviceConnection::fromNumbers(const CalibrationNumbers& n, device::Calibration& c) noexcept
+{
+    device::SensorCalibration* parts[3] {&c.accel, &c.gyro, &c.mag};
+    for (int k = 0; k < 3; ++k) {
+        for (int i = 0; i < 3; ++i) {
+            parts[k]->bias[i] = n.sensor[k][i];
+            parts[k]->scale[i] = n.sensor[k][3 + i];
+            for (int j = 0; j < 3; ++j) parts[k]->cross(i, j) = n.sensor[k][6 + 3 * i + j];
+        }
+    }
+}
+
+void DeviceConnection::publishCalibration() noexcept
+{
+    pendingCalibration_.store(toNumbers(calibration_));
+    pendingGeneration_.store(++requestedGeneration_, std::memory_order_release);
+}
+
+void DeviceConnection::applyCalibration(const device::Calibration& calibration, const std::string& note)
+{
+    calibration_ = calibration;
+    calibrationNote_ = note;
+    publishCalibration();
 }
 
 std::string DeviceConnection::status() const

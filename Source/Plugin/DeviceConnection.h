@@ -4,10 +4,15 @@
 // → SI, once, at the edge) and queued for the control loop, which fuses it (SR-UKF in
 // ArmTracker); the link answers with the latest motor levels the control loop published.
 // A real port is claimed through PortRegistry first, so two instances never fight over it.
+// Raw packets also go to the guided calibration (CalibrationSession) while one runs, and a new
+// calibration reaches the running link through a seqlock: no reconnect, no lock on the link thread.
 #include "Core/Types.h"
 #include "Device/Calibration.h"
+#include "Plugin/CalibrationSession.h"
 #include "Plugin/LiveInput.h"
 #include "Plugin/PortRegistry.h"
+#include <atomic>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
@@ -34,11 +39,42 @@ public:
     /// Link statistics for the UI (message thread).
     std::string status() const;
 
+    /// Message thread: the calibration the link applies (or will apply, just after this call).
+    const device::Calibration& calibration() const noexcept { return calibration_; }
+    /// Message thread: the link uses `calibration` from its next packet on; `note` says where it
+    /// came from in status() ("guided calibration", "calibration my-board.json").
+    void applyCalibration(const device::Calibration& calibration, const std::string& note);
+    const std::string& calibrationNote() const noexcept { return calibrationNote_; }
+    /// Each connect / applyCalibration publishes a new calibration generation; the link thread
+    /// takes it up at its next packet. Once calibrationInUse() == calibrationPublished(), every
+    /// sample queued from then on was converted with the latest calibration (tests rely on it).
+    std::uint64_t calibrationPublished() const noexcept { return requestedGeneration_; }
+    std::uint64_t calibrationInUse() const noexcept { return linkGeneration_.load(std::memory_order_acquire); }
+    /// The guided calibration fed from this link's raw packets (message thread except offer()).
+    CalibrationSession& calibrationSession() noexcept { return calibrationSession_; }
+    const CalibrationSession& calibrationSession() const noexcept { return calibrationSession_; }
+
 private:
+    /// Calibration as plain numbers for the seqlock (Eigen and std::string are not trivially copyable).
+    struct CalibrationNumbers {
+        double sensor[3][15] {};   ///< accel, gyro, mag: bias[3] (counts), scale[3] (SI/count), cross[9] row-major
+    };
+    static CalibrationNumbers toNumbers(const device::Calibration& c) noexcept;
+    static void fromNumbers(const CalibrationNumbers& n, device::Calibration& c) noexcept;
+    void publishCalibration() noexcept;
+
     LiveInput& input_;
     std::function<MotorLevels()> latestLevels_;
-    device::Calibration calibration_;
+    device::Calibration calibration_;          // message thread's copy
     std::string calibrationNote_;
+    // Message thread → link thread: the calibration to use and its generation number.
+    SeqLock<CalibrationNumbers> pendingCalibration_;
+    std::atomic<std::uint64_t> pendingGeneration_ {0};
+    std::uint64_t requestedGeneration_ = 0;    // message thread
+    device::Calibration linkCalibration_;      // link thread only (while the link runs)
+    std::uint64_t linkSeen_ = 0;               // link thread only
+    std::atomic<std::uint64_t> linkGeneration_ {0};
+    CalibrationSession calibrationSession_;
     std::unique_ptr<PortClaim> claim_;
     std::unique_ptr<device::SimulatedForearm> simulator_;
     std::unique_ptr<device::DeviceLink> link_;

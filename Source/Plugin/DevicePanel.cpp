@@ -13,7 +13,7 @@ void describe(juce::Component& c, const juce::String& title, const juce::String&
 }
 } // namespace
 
-DevicePanel::DevicePanel(ArmadilloProcessor& processor) : processor_(processor)
+DevicePanel::DevicePanel(ArmadilloProcessor& processor) : processor_(processor), calibrationPanel_(processor)
 {
     auto& settings = processor_.settings();
     deviceHeading_.setText("Device", juce::dontSendNotification);
@@ -35,6 +35,10 @@ DevicePanel::DevicePanel(ArmadilloProcessor& processor) : processor_(processor)
     connect_.onClick = [this] { processor_.connectDevice(! processor_.deviceConnected()); timerCallback(); };
     describe(calibration_, "Calibration file", "Choose the device's calibration JSON file (INTERFACES.md).");
     calibration_.onClick = [this] { chooseCalibration(); };
+    describe(calibrate_, "Calibrate device",
+             "Guided calibration of the connected device (or the simulated forearm): seven steps of holding and "
+             "turning the arm; the result applies at once and can be saved as a calibration file.");
+    calibrate_.onClick = [this] { startCalibration(); };
     calibrationFile_.setTitle("Calibration file name");
     link_.setTitle("Link statistics");
     link_.setJustificationType(juce::Justification::topLeft);
@@ -71,9 +75,10 @@ DevicePanel::DevicePanel(ArmadilloProcessor& processor) : processor_(processor)
     portLabel_.attachToComponent(&oscPort_, true);
     inPortLabel_.attachToComponent(&oscInPort_, true);
 
-    for (juce::Component* c : std::initializer_list<juce::Component*> {&port_, &rescan_, &connect_, &calibration_, &calibrationFile_, &connectOnStart_,
+    for (juce::Component* c : std::initializer_list<juce::Component*> {&port_, &rescan_, &connect_, &calibration_, &calibrate_, &calibrationFile_, &connectOnStart_,
                                 &side_, &backMotors_, &link_, &oscOut_, &oscHost_, &oscPort_, &oscIn_, &oscInPort_})
         addAndMakeVisible(*c);
+    addChildComponent(calibrationPanel_);
     setFocusContainerType(FocusContainerType::focusContainer);
     setTitle("Device and OSC settings");
     rescanPorts();
@@ -120,8 +125,29 @@ void DevicePanel::chooseCalibration()
                           });
 }
 
+void DevicePanel::startCalibration()
+{
+    calibrationPanel_.start();
+    timerCallback();
+    calibrationPanel_.focusInstruction();
+}
+
 void DevicePanel::timerCallback()
 {
+    // The calibration panel replaces the link statistics and OSC rows while it is wanted.
+    const bool showCalibration = calibrationPanel_.refresh();
+    calibrate_.setEnabled(processor_.deviceConnected() && ! showCalibration);
+    if (showCalibration != calibrating_) {
+        calibrating_ = showCalibration;
+        calibrationPanel_.setVisible(calibrating_);
+        for (juce::Component* c : std::initializer_list<juce::Component*> {&link_, &oscHeading_, &oscOut_, &oscHost_, &oscPort_, &oscIn_, &oscInPort_,
+                                                                            &hostLabel_, &portLabel_, &inPortLabel_})
+            c->setVisible(! calibrating_);
+        if (calibrating_) startTimerHz(20); else startTimerHz(5);   // the Next button follows the data promptly
+        resized();
+        // Back from the calibration: focus returns to where it started (unless the device went away).
+        if (! calibrating_ && calibrate_.isShowing() && calibrate_.isEnabled()) calibrate_.grabKeyboardFocus();
+    }
     connect_.setButtonText(processor_.deviceConnected() ? "Disconnect" : "Connect");
     const auto cal = processor_.settings()[SettingIds::calibrationFile].toString();
     calibrationFile_.setText(cal.isEmpty() ? "no calibration file" : juce::File(cal).getFileName(), juce::dontSendNotification);
@@ -147,14 +173,23 @@ void DevicePanel::resized()
     l1.removeFromRight(4);
     port_.setBounds(l1);
     auto l2 = line();
-    calibration_.setBounds(l2.removeFromLeft(l2.getWidth() / 3));
+    const int third = l2.getWidth() / 3;
+    calibration_.setBounds(l2.removeFromLeft(third - 3));
     l2.removeFromLeft(6);
-    connectOnStart_.setBounds(l2.removeFromRight(l2.getWidth() * 2 / 5));
+    calibrate_.setBounds(l2.removeFromLeft(third - 3));
+    l2.removeFromLeft(6);
     calibrationFile_.setBounds(l2);
     auto l3 = line();
-    side_.setBounds(l3.removeFromLeft(l3.getWidth() / 2 - 3));
+    const int thirds = l3.getWidth() / 3;
+    side_.setBounds(l3.removeFromLeft(thirds - 3));
     l3.removeFromLeft(6);
-    backMotors_.setBounds(l3);
+    backMotors_.setBounds(l3.removeFromLeft(thirds));
+    connectOnStart_.setBounds(l3);
+    if (calibrating_) {
+        // Link statistics (three rows) and the OSC section (three rows) make room for the steps.
+        calibrationPanel_.setBounds(r.removeFromTop(row * 6 + 9));
+        return;
+    }
     link_.setBounds(r.removeFromTop(row * 3));
     link_.setFont(juce::Font(juce::jlimit(11.0f, 18.0f, row * 0.55f)));
     oscHeading_.setBounds(line());

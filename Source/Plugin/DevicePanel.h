@@ -1,6 +1,8 @@
 #pragma once
 // Device / port / calibration / OSC settings with link statistics. Every control carries an
-// accessible title and description and is reachable with Tab.
+// accessible title and description and is reachable with Tab. While a guided calibration runs,
+// its panel takes the place of the link statistics and the OSC settings.
+#include "Plugin/CalibrationPanel.h"
 #include <juce_gui_basics/juce_gui_basics.h>
 
 namespace armadillo::plugin {
@@ -18,11 +20,13 @@ private:
     void timerCallback() override;
     void rescanPorts();
     void chooseCalibration();
+    void startCalibration();
 
     ArmadilloProcessor& processor_;
     juce::Label deviceHeading_, oscHeading_;
     juce::ComboBox port_;
-    juce::TextButton rescan_ {"Rescan"}, connect_ {"Connect"}, calibration_ {"Calibration..."};
+    juce::TextButton rescan_ {"Rescan"}, connect_ {"Connect"}, calibration_ {"Calibration file..."},
+        calibrate_ {"Calibrate..."};
     juce::Label calibrationFile_, link_;
     juce::ComboBox side_;
     juce::ToggleButton backMotors_ {"Back motors (12)"};
@@ -31,6 +35,8 @@ private:
     juce::TextEditor oscHost_, oscPort_, oscInPort_;
     juce::Label hostLabel_, portLabel_, inPortLabel_;
     std::unique_ptr<juce::FileChooser> chooser_;
+    CalibrationPanel calibrationPanel_;
+    bool calibrating_ = false;   // calibrationPanel_ shown (layout changes with it)
 };
 
 } // namespace armadillo::plugin

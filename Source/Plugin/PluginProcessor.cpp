@@ -439,6 +439,7 @@ void ArmadilloProcessor::timerCallback()
         setStatus("The scene reported an error during a control update; motors were switched off.");
     applyPendingEngine();
     writeLiveOrientationToParameters();
+    device_->calibrationSession().drain();   // raw packets queued by the link thread → the guided calibration
     // The performer's standalone app (or a session) reopens its saved port by itself, once.
     if (! autoConnectTried_ && static_cast<bool>(settings_[SettingIds::connectOnStart]) && source() == SourceKind::Device
         && ! deviceConnected() && settings_[SettingIds::serialPort].toString().isNotEmpty()) {
@@ -545,8 +546,9 @@ void ArmadilloProcessor::applyNetworkSettings()
 void ArmadilloProcessor::connectDevice(bool connect)
 {
     if (! connect) {
-        device_->disconnect();
-        deviceMessage_ = "Not connected.";
+        const bool calibrating = device_->calibrationSession().running();
+        device_->disconnect();   // cancels a running calibration: its packets stop
+        deviceMessage_ = calibrating ? "Not connected; the calibration was cancelled." : "Not connected.";
         return;
     }
     std::string message;
@@ -554,6 +556,70 @@ void ArmadilloProcessor::connectDevice(bool connect)
                      static_cast<int>(settings_[SettingIds::baudRate]),
                      settings_[SettingIds::calibrationFile].toString().toStdString(), message);
     deviceMessage_ = juce::String(message);
+}
+
+bool ArmadilloProcessor::beginCalibration(juce::String& why)
+{
+    if (! deviceConnected()) {
+        why = "Connect a device (or the simulated forearm) first: the calibration measures its raw sensor counts.";
+        return false;
+    }
+    device_->calibrationSession().begin(device_->calibration());
+    why.clear();
+    return true;
+}
+
+bool ArmadilloProcessor::calibrationNext(juce::String& why)
+{
+    std::string reason;
+    const bool ok = device_->calibrationSession().next(reason);
+    why = juce::String(reason);
+    if (ok && device_->calibrationSession().finished()) applyGuidedCalibration();
+    return ok;
+}
+
+void ArmadilloProcessor::calibrationSkip()
+{
+    device_->calibrationSession().skip();
+    if (device_->calibrationSession().finished()) applyGuidedCalibration();
+}
+
+void ArmadilloProcessor::cancelCalibration()
+{
+    device_->calibrationSession().cancel();
+}
+
+void ArmadilloProcessor::applyGuidedCalibration()
+{
+    if (! deviceConnected()) return;   // the link went away: nothing to apply it to (disconnect cancels anyway)
+    device::Calibration c = device_->calibrationSession().result();
+    device_->applyCalibration(c, "guided calibration, not saved");
+    deviceMessage_ = "Guided calibration applied (not saved).";
+}
+
+bool ArmadilloProcessor::saveCalibration(const juce::File& file, juce::String& message)
+{
+    const auto& session = device_->calibrationSession();
+    if (! session.finished()) {
+        message = "There is no finished calibration to save.";
+        return false;
+    }
+    device::Calibration c = session.result();
+    c.device = settings_[SettingIds::serialPort].toString().toStdString();
+    c.date = juce::Time::getCurrentTime().toISO8601(true).toStdString();
+    try {
+        device::saveCalibration(file.getFullPathName().toStdString(), c);
+    } catch (const std::exception& e) {
+        message = "Calibration not saved: " + juce::String(e.what());
+        return false;
+    }
+    settings_.setProperty(SettingIds::calibrationFile, file.getFullPathName(), nullptr);
+    if (deviceConnected()) {
+        device_->applyCalibration(c, "calibration " + file.getFullPathName().toStdString());
+        deviceMessage_ = "Guided calibration applied and saved as " + file.getFileName() + ".";
+    }
+    message = "Saved as " + file.getFileName() + "; the next connection loads it.";
+    return true;
 }
 
 juce::String ArmadilloProcessor::linkStatus() const

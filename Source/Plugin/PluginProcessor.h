@@ -105,6 +105,17 @@ public:
     juce::String linkStatus() const;
     void connectDevice(bool connect);
     bool deviceConnected() const noexcept { return device_ != nullptr && device_->isOpen(); }
+    /// Guided calibration on the connected device (message thread; the processor's timer feeds
+    /// it the link's raw packets). begin refuses, saying why, when no device is connected.
+    const CalibrationSession& calibration() const noexcept { return device_->calibrationSession(); }
+    bool beginCalibration(juce::String& why);
+    /// Next / Skip: when that ends the procedure, its result is applied to the link at once.
+    bool calibrationNext(juce::String& why);
+    void calibrationSkip();
+    void cancelCalibration();
+    /// Writes the applied guided result as calibration JSON and remembers the file in the
+    /// settings (the next connection loads it). False with the reason when it cannot be written.
+    bool saveCalibration(const juce::File& file, juce::String& message);
     std::uint64_t oscMessagesSent() const noexcept { return oscOut_.messagesSent(); }
     const char* lastGesture() const noexcept { return lastGesture_.load(std::memory_order_relaxed); }
     std::uint64_t gestureCount() const noexcept { return gestureCount_.load(std::memory_order_relaxed); }
@@ -132,6 +143,7 @@ private:
     void writeLiveOrientationToParameters();
     void applyNetworkSettings();
     void setStatus(const juce::String& message);
+    void applyGuidedCalibration();
     void resetToDefaults();
     void installSettings(const juce::ValueTree& loaded);
     static juce::ValueTree defaultSettings();
