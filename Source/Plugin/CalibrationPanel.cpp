@@ -44,7 +44,7 @@ CalibrationPanel::CalibrationPanel(ArmadilloProcessor& processor) : processor_(p
     message_.setJustificationType(juce::Justification::topLeft);
     message_.setColour(juce::Label::textColourId, juce::Colour(0xffffc870));
     describe(progress_, "Step progress", "How much of the data this step needs has been measured.");
-    progress_.setPercentageDisplay(true);
+    progress_.setPercentageDisplay(false);   // too small to read at this height; screen readers get the value
     progress_.setColour(juce::ProgressBar::foregroundColourId, juce::Colour(0xff3f9bd8));
     progress_.setColour(juce::ProgressBar::backgroundColourId, juce::Colour(0xff0f151c));
 
@@ -116,9 +116,15 @@ bool CalibrationPanel::refresh()
             message_.setText("Save it to load it on the next connection.", juce::dontSendNotification);
         } else {
             instruction_.setText(juce::String(session.instruction()), juce::dontSendNotification);
+            // The turn steps fill their bar at half a turn (the procedure's minimum), but the
+            // scale is 2π over the whole turn: Next belongs after the full turn.
+            const auto st = session.step();
+            const bool turn = st == CalibrationSession::Step::GyroTurnX || st == CalibrationSession::Step::GyroTurnY
+                              || st == CalibrationSession::Step::GyroTurnZ;
+            message_.setText(turn ? "Press Next only after the whole turn, with the arm still." : "", juce::dontSendNotification);
         }
         fitText(instruction_, baseFont_);
-        announce(heading_.getText() + ". " + instruction_.getText());
+        announce(heading_.getText() + ". " + instruction_.getText() + " " + message_.getText());
     }
     const bool finished = session.finished();
     progressValue_ = finished ? 1.0 : session.progress();
