@@ -10,7 +10,9 @@
 #include "Device/OscIo.h"
 #include "Engine/Engine.h"
 #include <algorithm>
+#include <cerrno>
 #include <deque>
+#include <filesystem>
 #include <chrono>
 #include <iostream>
 #include <memory>
@@ -58,6 +60,9 @@ public:
         return true;
     }
 
+    /// stdin has ended and every answer it gave is scored: no more can come.
+    bool exhausted() const noexcept { return stdinClosed_ && lines_.empty() && !awaiting_; }
+
 private:
     void readLines(int waitMs)
     {
@@ -69,8 +74,12 @@ private:
         if (::poll(&p, 1, waitMs) > 0) {
             char buf[512];
             const ssize_t n = ::read(STDIN_FILENO, buf, sizeof buf);
-            if (n <= 0) stdinClosed_ = true;
-            else pending_.append(buf, static_cast<std::size_t>(n));
+            if (n > 0) {
+                pending_.append(buf, static_cast<std::size_t>(n));
+            } else if (n == 0 || (errno != EINTR && errno != EAGAIN)) {
+                stdinClosed_ = true;
+                pending_ += '\n';   // a last answer without a newline still counts
+            }
         }
         for (std::size_t nl; (nl = pending_.find('\n')) != std::string::npos;) {
             std::string line = pending_.substr(0, nl);
@@ -192,7 +201,14 @@ int runPlay(const Arguments& args)
         if (cl.has("--training-log")) {
             if (trainingLog.empty()) throw UsageError("--training-log needs a file");
             if (engine.scene != "braille") throw UsageError("--training-log is the braille scene's training: use --scene braille");
-            engine.parameters.insert(engine.parameters.begin(), "braille.mode=training");
+            for (const std::string& p : engine.parameters)
+                if (p.rfind("braille.mode=", 0) == 0 && p != "braille.mode=training")
+                    throw UsageError("--training-log runs the training: it cannot go with --param " + p);
+            engine.parameters.push_back("braille.mode=training");
+            // Refuse an unwritable log now, not after the reader has answered every trial.
+            const std::filesystem::path dir = std::filesystem::absolute(trainingLog).parent_path();
+            if (!std::filesystem::is_directory(dir) || ::access(dir.c_str(), W_OK) != 0)
+                throw IoError("--training-log: cannot write into " + dir.string());
         }
 
         installInterruptHandlers();
@@ -252,13 +268,21 @@ int runPlay(const Arguments& args)
                               << brailleScene->trainingTrialCount() << " right\n";
                     break;
                 }
+                if (training->exhausted()) {
+                    std::cerr << "braille training: no more answers (stdin ended) with "
+                              << brailleScene->trainingTrialCount() - brailleScene->trainingTrial() << " of "
+                              << brailleScene->trainingTrialCount() << " trials unanswered; "
+                              << brailleScene->trainingCorrect() << " right so far\n";
+                    break;
+                }
             } else {
                 std::this_thread::sleep_for(std::chrono::milliseconds(10));
             }
         }
         session.stop();
-        if (brailleScene) writeFileAtomically(trainingLog, brailleScene->trainingLogCsv());
-        session.finish();
+        const std::string trainingCsv = brailleScene ? brailleScene->trainingLogCsv() : std::string();   // control has stopped
+        session.finish();   // the session's own files first: a failing training log must not lose them
+        if (brailleScene) writeFileAtomically(trainingLog, trainingCsv);
         if (const audio::SoundCard* card = session.soundCard(); card && card->underruns() > 0)
             std::cerr << "armadillo play: the sound card ran dry " << card->underruns() << " time(s) (audible clicks)\n";
         if (calibration) {

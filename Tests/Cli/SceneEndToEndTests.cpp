@@ -336,4 +336,22 @@ TEST_CASE("e2e: braille training live through play: prompts out, typed answers i
     CHECK(rightOutsideHold > 0);
     // Misuse is refused before anything runs.
     CHECK(cli::runArmadillo("play --scene theremin --simulate --seconds 1 --training-log x.csv").code == 2);
+    CHECK(cli::runArmadillo("play --scene braille --simulate --param braille.mode=active --training-log x.csv", input).code == 2);
+    const auto unwritable = cli::runArmadillo("play --scene braille --simulate --no-audio --training-log /nonexistent/dir/t.csv", input);
+    CHECK(unwritable.code == 4);
+    CHECK(unwritable.err.find("cannot write into /nonexistent/dir") != std::string::npos);
+    CHECK(unwritable.err.find("braille training 1/") == std::string::npos);   // refused before the first trial
+
+    // stdin ends early, its last answer without a newline: that answer counts, the session ends
+    // by itself and says how many trials were left, and the log is written.
+    const std::string shortInput = cli::file("short.txt", sent[0] + "\n" + sent[1] + "\n" + sent[2]);
+    const std::string shortLog = cli::path("training-short.csv");
+    const auto early = cli::runArmadillo("play --scene braille --simulate --seed 3 --no-audio --training-log '" + shortLog + "'", shortInput);
+    INFO(early.err);
+    REQUIRE(early.code == 0);
+    CHECK(early.err.find("no more answers (stdin ended) with " + std::to_string(sent.size() - 3) + " of ") != std::string::npos);
+    const std::string shortCsv = readWholeFile(shortLog);
+    std::size_t answerRows = 0;
+    for (std::size_t at = shortCsv.find(",answer,"); at != std::string::npos; at = shortCsv.find(",answer,", at + 1)) ++answerRows;
+    CHECK(answerRows == 3 + 1);   // three answers and the header's column name
 }
