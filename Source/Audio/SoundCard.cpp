@@ -40,7 +40,9 @@ SoundCard::SoundCard(const std::string& device, double sampleRate, double latenc
     std::call_once(quiet, [] { snd_lib_error_set_handler(quietAlsa); });
     if (!(sampleRate >= 8000.0 && sampleRate <= 384000.0))
         throw IoError("sound card '" + device + "': unsupported sample rate " + std::to_string(sampleRate));
-    int err = snd_pcm_open(&pcm_->handle, device.c_str(), SND_PCM_STREAM_PLAYBACK, 0);
+    // Non-blocking: the thread waits in snd_pcm_wait() with a timeout instead of inside a write,
+    // so stop() is never stuck behind a stalled sound server.
+    int err = snd_pcm_open(&pcm_->handle, device.c_str(), SND_PCM_STREAM_PLAYBACK, SND_PCM_NONBLOCK);
     if (err < 0) {
         pcm_->handle = nullptr;
         throw IoError(reason(device, "cannot open", err));
@@ -70,6 +72,7 @@ SoundCard::~SoundCard() { stop(); }
 void SoundCard::start(Render render, int realtimePriority)
 {
     if (running_.exchange(true)) return;
+    if (thread_.joinable()) thread_.join();   // a thread that ended on its own (card gone)
     render_ = std::move(render);
     failed_.store(false, std::memory_order_relaxed);
     thread_ = std::thread([this, realtimePriority] { loop(realtimePriority); });
@@ -96,8 +99,10 @@ void SoundCard::loop(int realtimePriority)
     std::vector<float> interleavedF(pcm_->isFloat ? 2 * static_cast<std::size_t>(n) : 0);
     std::vector<std::int16_t> interleavedS(pcm_->isFloat ? 0 : 2 * static_cast<std::size_t>(n));
     const double bufferSeconds = info_.bufferFrames / info_.sampleRate;
-    const auto started = std::chrono::steady_clock::now();
-    std::uint64_t written = 0;
+    // Pacing reference: re-anchored whenever the device makes the loop wait (a real card, whose
+    // clock is the one that counts, even when it runs a little fast against the system's).
+    auto anchor = std::chrono::steady_clock::now();
+    std::uint64_t anchorFrames = 0, written = 0;
     snd_pcm_prepare(pcm_->handle);
 
     while (running_.load(std::memory_order_acquire)) {
@@ -124,10 +129,16 @@ void SoundCard::loop(int realtimePriority)
         }
         const std::size_t frameBytes = pcm_->isFloat ? 2 * sizeof(float) : 2 * sizeof(std::int16_t);
         int done = 0;
+        bool waited = false;
         while (done < n && running_.load(std::memory_order_acquire)) {
             const auto* p = static_cast<const char*>(data) + static_cast<std::size_t>(done) * frameBytes;
             snd_pcm_sframes_t w = snd_pcm_writei(pcm_->handle, p, static_cast<snd_pcm_uframes_t>(n - done));
-            if (w == -EAGAIN) continue;
+            if (w == -EAGAIN) {   // buffer full: wait for room (at most 100 ms, then look at running_)
+                waited = true;
+                const int r = snd_pcm_wait(pcm_->handle, 100);
+                if (r >= 0) continue;
+                w = r;   // an xrun or a vanished device reported by the wait
+            }
             if (w < 0) {
                 if (w == -EPIPE) underruns_.fetch_add(1, std::memory_order_relaxed);
                 const int r = snd_pcm_recover(pcm_->handle, static_cast<int>(w), 1);
@@ -142,11 +153,17 @@ void SoundCard::loop(int realtimePriority)
             done += static_cast<int>(w);
         }
         written += static_cast<std::uint64_t>(done);
-        frames_.store(written, std::memory_order_relaxed);
-        // A card blocks in writei once its buffer is full; a device that never blocks (ALSA's
+        frames_.fetch_add(static_cast<std::uint64_t>(done), std::memory_order_relaxed);
+        // A card makes the loop wait once its buffer is full; a device that never does (ALSA's
         // null/file plugins) is held to at most one buffer ahead of the wall clock instead.
-        const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-        const double ahead = static_cast<double>(written) / info_.sampleRate - elapsed - bufferSeconds;
+        const auto now = std::chrono::steady_clock::now();
+        if (waited) {
+            anchor = now;
+            anchorFrames = written;
+            continue;
+        }
+        const double elapsed = std::chrono::duration<double>(now - anchor).count();
+        const double ahead = static_cast<double>(written - anchorFrames) / info_.sampleRate - elapsed - bufferSeconds;
         if (ahead > 0.0) std::this_thread::sleep_for(std::chrono::duration<double>(ahead));
     }
 }

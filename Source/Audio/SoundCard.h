@@ -5,11 +5,14 @@
 //
 // Threads: start() runs one audio thread that asks the render callback for a period of stereo
 // float samples and writes it to the card. The callback is the engine's renderAudio() (no locks,
-// allocation or I/O); the thread's only blocking call is the ALSA write, which is what paces it
-// on a real card. ALSA devices that do not pace (its `null` and `file` plugins, handy for
-// tests) would let the loop run flat out, so it never runs more than one buffer ahead of the
-// wall clock. Underruns are recovered and counted; a card that goes away (USB unplugged) ends the
-// thread with lastError() set, and the session goes on without sound.
+// allocation or I/O). The device is non-blocking: when its buffer is full the thread waits in
+// snd_pcm_wait() (≤ 100 ms at a time, so stop() never hangs behind a stalled sound server), and
+// that wait is what paces it on a real card. ALSA devices that never make it wait (its `null`
+// and `file` plugins, handy for tests) would let the loop run flat out, so without a wait it is
+// held to one buffer ahead of the wall clock, counted from the last time the device made it
+// wait (a card whose crystal runs fast against the system clock is never starved). Underruns are
+// recovered and counted; a card that goes away (USB unplugged) ends the thread with lastError()
+// set, and the session goes on without sound.
 #include <atomic>
 #include <cstdint>
 #include <functional>

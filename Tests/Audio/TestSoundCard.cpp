@@ -10,13 +10,17 @@
 #include <filesystem>
 #include <fstream>
 #include <thread>
+#include <unistd.h>
 #include <vector>
 
 using namespace armadillo;
 using Clock = std::chrono::steady_clock;
 
 namespace {
-std::string scratch(const std::string& name) { return std::string(ARMADILLO_BINARY_DIR) + "/audio-test-" + name; }
+std::string scratch(const std::string& name)   // per process: parallel runs do not collide
+{
+    return std::string(ARMADILLO_BINARY_DIR) + "/audio-test-" + std::to_string(::getpid()) + "-" + name;
+}
 
 using armadillo::testing::eventually;
 
@@ -108,6 +112,16 @@ TEST_CASE("sound card: a missing device or a silly rate is a clear IoError namin
     CHECK_THROWS_AS(audio::SoundCard("null", 0.0), IoError);
     CHECK_THROWS_AS(audio::SoundCard("null", NAN), IoError);
     CHECK_THROWS_AS(audio::SoundCard("no-such-pcm-name", 48000.0), IoError);
+    // Started again after a stop, the card plays on and keeps counting.
+    audio::SoundCard again("null", 48000.0);
+    again.start([](float*, float*, int) {});
+    REQUIRE(eventually([&] { return again.framesWritten() >= 1000; }));
+    again.stop();
+    const std::uint64_t first = again.framesWritten();
+    again.start([](float*, float*, int) {});
+    REQUIRE(eventually([&] { return again.framesWritten() >= first + 1000; }));
+    again.stop();
+    CHECK(!again.failed());
     // Stopping twice, or without starting, is harmless.
     audio::SoundCard idle("null", 44100.0);
     idle.stop();
