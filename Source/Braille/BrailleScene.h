@@ -47,7 +47,7 @@ public:
     virtual int trainingTrial() const noexcept = 0;
     virtual int trainingCorrect() const noexcept = 0;
     /// The plan, fixed at prepare(): how many trials, and what the teacher says for trial i
-    /// ("left, right or both?", "stop on row 2", …). Any thread.
+    /// ("left, right or both?", "stop on row 2", …). Any thread while prepare() is not running.
     virtual int trainingTrialCount() const noexcept = 0;
     virtual std::string trainingPrompt(int trial) const = 0;
     virtual std::string trainingExpected(int trial) const = 0;   ///< the right answer, lower case

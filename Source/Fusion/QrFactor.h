@@ -18,6 +18,7 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 
 namespace armadillo::qr {
 
@@ -58,8 +59,11 @@ Eigen::Matrix<double, K, K> upperFactor(const Eigen::Matrix<double, Dense, K>& D
     for (int k = 0; k < K; ++k) {
         double* v = A.data() + static_cast<std::ptrdiff_t>(k) * Rows + k;   // column k from row k
         const double norm2 = detail::dot<Span>(v, v);
-        if (!(norm2 > 0.0)) {   // nothing to reflect: row k of R is the current row k of A
-            for (int j = k; j < K; ++j) R(k, j) = A(k, j);
+        if (!(norm2 >= std::numeric_limits<double>::min())) {
+            // Nothing (or only subnormal dust, whose 2/vᵀv would overflow) to reflect: row k of R
+            // is the current row k of A with a zero pivot, floored below.
+            R(k, k) = 0.0;
+            for (int j = k + 1; j < K; ++j) R(k, j) = A(k, j);
             continue;
         }
         // Reflection H = I − β v vᵀ with v = x − α e₁, α = −sign(x₀)‖x‖ (no cancellation in v₀).

@@ -96,7 +96,7 @@ public:
     /// `Untouched`: error components from this index on are neither read nor changed by f, and
     /// ⊞/⊟ are plain addition there (for orientation: the gyro bias). S is lower-triangular, so
     /// sigma columns j ≥ Untouched move only those components and f(x̄ ⊞ ±γS_j) = f(x̄) ⊞ ±γS_j
-    /// exactly: 2(N − Untouched) evaluations of f are saved, nothing is approximated.
+    /// (exact up to rounding): 2(N − Untouched) evaluations of f are saved, nothing is approximated.
     template <int Untouched = N, class ProcessModel>
     void predict(ProcessModel&& f, const ErrorVector& noiseStd)
     {

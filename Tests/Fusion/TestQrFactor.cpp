@@ -61,4 +61,10 @@ TEST_CASE("qr: zero spread and zero noise give a finite factor with a positive d
     CHECK(R2(0, 0) == Approx(std::sqrt(6.0)));
     CHECK(R2(1, 1) == 1e-12);
     CHECK((R2.transpose() * R2 - E.transpose() * E).norm() < 1e-9);
+    // A column of subnormal-squared dust (1e-156: its squared norm underflows): still finite.
+    Eigen::Matrix<double, 6, 3> F = E;
+    F.col(1).setConstant(1e-156);
+    const Eigen::Matrix<double, 3, 3> R3 = qr::upperFactor<6, 3>(F, Eigen::Vector3d::Zero());
+    CHECK(R3.allFinite());
+    CHECK((R3.diagonal().array() > 0.0).all());
 }
