@@ -4,6 +4,7 @@
 #include "Core/Errors.h"
 #include "Audio/SoundCard.h"
 #include "Braille/BrailleScene.h"
+#include "Braille/TrainingFeeder.h"
 #include "Core/AtomicFile.h"
 #include "Device/LiveSession.h"
 #include "Device/Calibration.h"
@@ -11,7 +12,6 @@
 #include "Engine/Engine.h"
 #include <algorithm>
 #include <cerrno>
-#include <deque>
 #include <filesystem>
 #include <chrono>
 #include <iostream>
@@ -25,8 +25,9 @@ namespace armadillo::cli {
 namespace {
 
 /// Braille training through the terminal: prompts out on stderr, answers in from stdin (read
-/// without blocking, so the session's loop keeps its pace). Answers go to the scene one at a
-/// time, each once the previous one is scored, so every "right"/"wrong" belongs to its trial.
+/// without blocking, so the session's loop keeps its pace). braille::TrainingAnswerFeeder hands
+/// the answers to the scene one at a time, each once the previous one is scored, so every
+/// "right"/"wrong" belongs to its trial (the app's Training panel uses the same feeder).
 class TerminalTraining {
 public:
     explicit TerminalTraining(braille::BrailleSceneControls& scene) : scene_(scene) {}
@@ -36,32 +37,17 @@ public:
     bool step(int waitMs)
     {
         readLines(waitMs);
-        const int trial = scene_.trainingTrial();   // acquire: its score is visible too
-        if (awaiting_ && trial > submittedAt_) {
-            const bool right = scene_.trainingCorrect() > rightBefore_;
-            std::cerr << "  " << (right ? std::string("right") : "wrong: it was '" + scene_.trainingExpected(submittedAt_) + "'")
-                      << "\n";
-            awaiting_ = false;
+        for (const braille::TrainingNotice& n : feeder_.poll(scene_)) {
+            if (n.kind == braille::TrainingNotice::Kind::Result)
+                std::cerr << "  " << braille::resultText(n) << "\n";
+            else if (n.kind == braille::TrainingNotice::Kind::Prompt)
+                std::cerr << "braille training " << n.trial + 1 << "/" << n.trialCount << ": " << n.prompt << "\n";
         }
-        if (trial >= scene_.trainingTrialCount()) return false;
-        if (trial != announced_) {
-            std::cerr << "braille training " << trial + 1 << "/" << scene_.trainingTrialCount() << ": "
-                      << scene_.trainingPrompt(trial) << "\n";
-            announced_ = trial;
-        }
-        if (!awaiting_ && !lines_.empty()) {
-            rightBefore_ = scene_.trainingCorrect();
-            if (scene_.submitAnswer(lines_.front())) {
-                lines_.pop_front();
-                submittedAt_ = trial;
-                awaiting_ = true;
-            }
-        }
-        return true;
+        return !feeder_.finished();
     }
 
     /// stdin has ended and every answer it gave is scored: no more can come.
-    bool exhausted() const noexcept { return stdinClosed_ && lines_.empty() && !awaiting_; }
+    bool exhausted() const noexcept { return stdinClosed_ && feeder_.waiting() == 0 && !feeder_.awaitingScore(); }
 
 private:
     void readLines(int waitMs)
@@ -82,18 +68,19 @@ private:
             }
         }
         for (std::size_t nl; (nl = pending_.find('\n')) != std::string::npos;) {
-            std::string line = pending_.substr(0, nl);
+            const std::string line = pending_.substr(0, nl);
             pending_.erase(0, nl + 1);
-            while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
-            if (!line.empty()) lines_.push_back(line);
+            // Blank lines are skipped quietly; anything else refused is said, and not sent.
+            const auto refusal = feeder_.add(line);
+            if (refusal != braille::TrainingAnswerFeeder::Refusal::None && refusal != braille::TrainingAnswerFeeder::Refusal::Empty)
+                std::cerr << "  not sent: " << braille::TrainingAnswerFeeder::refusalText(refusal) << "\n";
         }
     }
 
     braille::BrailleSceneControls& scene_;
+    braille::TrainingAnswerFeeder feeder_;
     std::string pending_;
-    std::deque<std::string> lines_;
-    bool stdinClosed_ = false, awaiting_ = false;
-    int announced_ = -1, submittedAt_ = -1, rightBefore_ = 0;
+    bool stdinClosed_ = false;
 };
 
 } // namespace
