@@ -84,6 +84,7 @@ void OrientationFilter::initialise(const ImuSample& s)
     sd.segment<3>(kErrBias).setConstant(params_.initialBiasStd);
     ukf_.reset(x, sd.asDiagonal().toDenseMatrix());
     lastT_ = s.t;
+    initT_ = s.t;
     initialised_ = true;
     restartInertialFrame();
     if (useMag) fieldTracker_.update(s.accel, s.mag, 0.0);
@@ -98,11 +99,19 @@ void OrientationFilter::restartInertialFrame()
 
 void OrientationFilter::setupLowPass(double dt)
 {
-    // Coefficients depend on the step; re-derived only when it changes by more than 1 %.
-    if (lowPassDt_ > 0.0 && std::abs(dt - lowPassDt_) < 0.01 * lowPassDt_) return;
+    // Right after initialisation the gyro bias is not known yet, so the gyro-only inertial frame
+    // turns, and a long low-pass there lags behind gravity: the time constants start short and
+    // grow to their values over startupFilterSeconds.
+    const double ramp = params_.startupFilterSeconds > 0.0
+                            ? std::clamp((lastT_ - initT_) / params_.startupFilterSeconds, 0.1, 1.0)
+                            : 1.0;
+    // Coefficients depend on the step and the ramp; re-derived only when either changes by > 1 %.
+    if (lowPassDt_ > 0.0 && std::abs(dt - lowPassDt_) < 0.01 * lowPassDt_ && std::abs(ramp - lowPassRamp_) < 0.01 * lowPassRamp_)
+        return;
     lowPassDt_ = dt;
-    accelLowPass_.setup(params_.accelFilterTau, dt);
-    magLowPass_.setup(params_.magFilterTau, dt);
+    lowPassRamp_ = ramp;
+    accelLowPass_.setup(params_.accelFilterTau * ramp, dt);
+    magLowPass_.setup(params_.magFilterTau * ramp, dt);
 }
 
 void OrientationFilter::predict(double dt)

@@ -34,6 +34,8 @@ public:
         double accelFilterTau = 3.0;          ///< s: 2nd-order low-pass of the accelerometer in a gyro-only
                                               ///< (inertial) frame before it is used as gravity (departure)
         double magFilterTau = 3.0;            ///< s: the same for the magnetometer (accepted samples only)
+        double startupFilterSeconds = 10.0;   ///< s: both time constants grow from 10 % to full over this
+                                              ///< time after initialisation (0 = full from the start)
         double gravityNoise = 0.05;           ///< unit-vector components (≈ rad) of the filtered a/|a|
         double gravityNormGain = 4.0;         ///< noise ×(1 + gain·||a|−g|/g): linear acceleration shows in |a|
         double gravityNisLimit = 12.0;        ///< χ²(3) soft gate on the gravity innovation (inflate beyond)
@@ -91,6 +93,8 @@ private:
     Eigen::Quaterniond inertial_ = Eigen::Quaterniond::Identity();
     ButterworthLowPass3 accelLowPass_, magLowPass_;
     double lowPassDt_ = 0.0;   ///< s, the step the coefficients were derived for
+    double lowPassRamp_ = 1.0; ///< start-up fraction of the time constants they were derived for
+    double initT_ = 0.0;       ///< s, time of the initialising sample
     double lastT_ = 0.0;
     bool initialised_ = false;
     std::size_t skipped_ = 0;
