@@ -5,7 +5,7 @@ namespace armadillo::plugin {
 
 ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
     : AudioProcessorEditor(processor), processor_(processor), armView_(processor), motors_(processor),
-      device_(processor), sceneControls_(processor)
+      device_(processor), sceneControls_(processor), training_(processor)
 {
     setTitle("ARMadillo");
     // Standalone only (a plugin must not rescale its host): ARMADILLO_UI_SCALE=2 for 200 % on a
@@ -45,6 +45,11 @@ ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
                                                                         &device_, &sceneControls_})
         c->setWantsKeyboardFocus(true), addAndMakeVisible(*c);
     addChildComponent(status_);
+    training_.onWantedChange = [this] {
+        training_.setVisible(training_.wanted());
+        resized();
+    };
+    addChildComponent(training_);
     addChildComponent(dismiss_);
     setFocusContainerType(FocusContainerType::keyboardFocusContainer);
 
@@ -102,6 +107,11 @@ void ArmadilloEditor::resized()
     }
     auto right = r.removeFromRight(juce::jlimit(340, 640, r.getWidth() * 2 / 5));
     r.removeFromRight(6);
+    if (training_.isVisible()) {
+        // The arm view gives up its lower part: a reader in training needs the prompt, not the sphere.
+        training_.setBounds(r.removeFromBottom(juce::jlimit(130, 190, r.getHeight() / 3)));
+        r.removeFromBottom(6);
+    }
     armView_.setBounds(r);
     motors_.setBounds(right.removeFromTop(right.getHeight() * 7 / 20));
     right.removeFromTop(6);

@@ -5,6 +5,7 @@
 #include "Plugin/DevicePanel.h"
 #include "Plugin/MotorDisplay.h"
 #include "Plugin/SceneControls.h"
+#include "Plugin/TrainingPanel.h"
 #include <juce_audio_processors/juce_audio_processors.h>
 
 namespace armadillo::plugin {
@@ -32,6 +33,7 @@ private:
     MotorDisplay motors_;
     DevicePanel device_;
     SceneControls sceneControls_;
+    TrainingPanel training_;   // below the arm view while the braille scene trains
 };
 
 } // namespace armadillo::plugin

@@ -1,5 +1,6 @@
 #include "Plugin/PluginProcessor.h"
 #include "Plugin/PluginEditor.h"
+#include "Braille/BrailleScene.h"
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -22,6 +23,7 @@ struct ArmadilloProcessor::EngineSlot {
     std::string sceneName;
     std::vector<std::atomic<float>*> params;   ///< per Scene::parameters() index; nullptr = not exposed
     std::vector<float> sent;                   ///< last value handed to Scene::setParameter (NaN = never)
+    std::uint64_t generation = 0;              ///< ArmadilloProcessor::engineGeneration_ when built
 };
 
 class ArmadilloProcessor::ControlClock : public juce::HighResolutionTimer {
@@ -60,6 +62,7 @@ ArmadilloProcessor::ArmadilloProcessor()
         std::lock_guard<std::mutex> lock(builderMutex_);
         builtRequest_ = currentRequest();
         active_ = buildEngine(builtRequest_).release();   // nothing else runs yet
+        newest_ = active_;
     }
     applyNetworkSettings();
     device_ = std::make_unique<DeviceConnection>(deviceInput_, [this] { return frame_.load().motors; });
@@ -116,6 +119,7 @@ ArmadilloProcessor::EngineRequest ArmadilloProcessor::currentRequest() const
 std::unique_ptr<ArmadilloProcessor::EngineSlot> ArmadilloProcessor::buildEngine(const EngineRequest& request)
 {
     auto slot = std::make_unique<EngineSlot>();
+    slot->generation = ++engineGeneration_;
     EngineConfig config;
     const auto& names = sceneNames();
     config.scene = names.empty() ? std::string("monitor") : names[static_cast<std::size_t>(request.scene) % names.size()];
@@ -161,6 +165,7 @@ void ArmadilloProcessor::applyPendingEngine()
     if (pending_.load() != nullptr || retired_.load() != nullptr) return;
     auto slot = buildEngine(request);
     builtRequest_ = request;
+    newest_ = slot.get();
     pending_.store(slot.release());
 }
 
@@ -196,11 +201,58 @@ void ArmadilloProcessor::prepareToPlay(double sampleRate, int)
     delete retired_.exchange(nullptr);
     delete active_;
     active_ = slot.release();
+    newest_ = active_;
     builtRequest_ = request;
     samplesToTick_ = 0;
     noteOffs_ = {};
     tracker_.reset();
     releaseToken();
+}
+
+bool ArmadilloProcessor::withBrailleTraining(
+    const std::function<void(braille::BrailleSceneControls&, std::uint64_t)>& use)
+{
+    // Engines are deleted only under builderMutex_ (applyPendingEngine, prepareToPlay), and
+    // newest_ is either the active engine or the pending one, never the retired one.
+    std::lock_guard<std::mutex> lock(builderMutex_);
+    if (newest_ == nullptr || newest_->engine == nullptr) return false;
+    auto* controls = dynamic_cast<braille::BrailleSceneControls*>(&newest_->engine->scene());
+    if (controls == nullptr) return false;
+    use(*controls, newest_->generation);
+    return true;
+}
+
+bool ArmadilloProcessor::copyBrailleTrainingLog(std::uint64_t generation, std::string& csv, juce::String& why)
+{
+    std::lock_guard<std::mutex> lock(builderMutex_);
+    if (newest_ == nullptr || newest_->engine == nullptr || newest_->generation != generation) {
+        why = "The braille scene was restarted since (scene, text or audio settings changed); its training log is gone.";
+        return false;
+    }
+    auto* controls = dynamic_cast<braille::BrailleSceneControls*>(&newest_->engine->scene());
+    if (controls == nullptr) {
+        why = "The braille scene is not running.";
+        return false;
+    }
+    // trainingLogCsv() must not run concurrently with control(): hold the token for the copy. Its
+    // holder keeps it for one audio block or one clock tick at most, so this wait is short.
+    const double giveUpMs = juce::Time::getMillisecondCounterHiRes() + 500.0;
+    while (! tryTakeToken()) {
+        if (juce::Time::getMillisecondCounterHiRes() > giveUpMs) {
+            why = "The control loop stayed busy; try again.";
+            return false;
+        }
+        std::this_thread::yield();
+    }
+    try {
+        csv = controls->trainingLogCsv();
+    } catch (const std::exception& e) {
+        releaseToken();
+        why = "Cannot copy the training log: " + juce::String(e.what());
+        return false;
+    }
+    releaseToken();
+    return true;
 }
 
 // ------------------------------------------------------------------------------------------------

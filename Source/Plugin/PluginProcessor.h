@@ -20,9 +20,14 @@
 #include "Plugin/WanderingMotion.h"
 #include <juce_audio_processors/juce_audio_processors.h>
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <thread>
+
+namespace armadillo::braille {
+class BrailleSceneControls;
+}
 
 namespace armadillo::plugin {
 
@@ -116,6 +121,16 @@ public:
     /// Writes the applied guided result as calibration JSON and remembers the file in the
     /// settings (the next connection loads it). False with the reason when it cannot be written.
     bool saveCalibration(const juce::File& file, juce::String& message);
+    /// Braille training for the Training panel (message thread). `use` runs with the training
+    /// controls of the newest engine, under the lock that engine replacement takes, so the engine
+    /// cannot be deleted meanwhile; it is not called (false) when that engine does not run the
+    /// braille scene. Never keep the reference: `generation` changes with every new engine (scene,
+    /// text, sample rate or arm change), and a new engine's training starts from its first trial.
+    bool withBrailleTraining(const std::function<void(braille::BrailleSceneControls&, std::uint64_t generation)>& use);
+    /// A consistent copy of the training log of engine `generation`: taken while holding the
+    /// control token, so no control update runs during the copy (the audio thread skips at most
+    /// one block if it arrives meanwhile). False with the reason when that engine is gone.
+    bool copyBrailleTrainingLog(std::uint64_t generation, std::string& csv, juce::String& why);
     std::uint64_t oscMessagesSent() const noexcept { return oscOut_.messagesSent(); }
     const char* lastGesture() const noexcept { return lastGesture_.load(std::memory_order_relaxed); }
     std::uint64_t gestureCount() const noexcept { return gestureCount_.load(std::memory_order_relaxed); }
@@ -175,6 +190,8 @@ private:
     std::atomic<EngineSlot*> pending_ {nullptr};
     std::atomic<EngineSlot*> retired_ {nullptr};
     EngineRequest builtRequest_ {};                 // message thread: what active_/pending_ were built for
+    EngineSlot* newest_ = nullptr;                  // under builderMutex_: the last engine built (active or pending)
+    std::uint64_t engineGeneration_ = 0;            // under builderMutex_: counts engines built
     std::atomic<double> sampleRate_ {48000.0};
     std::atomic<bool> token_ {false};
 
