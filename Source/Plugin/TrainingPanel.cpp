@@ -1,6 +1,7 @@
 #include "Plugin/TrainingPanel.h"
 #include "Plugin/PluginProcessor.h"
 #include "Core/AtomicFile.h"
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 
@@ -96,7 +97,11 @@ void TrainingPanel::follow()
     if (running != wanted_) {
         wanted_ = running;
         if (onWantedChange) onWantedChange();
-        if (wanted_ && isShowing() && ! complete_) answer_.grabKeyboardFocus();
+        // Shown again (training mode chosen): focus where the reader acts next.
+        if (wanted_ && isShowing()) {
+            if (complete_) save_.grabKeyboardFocus();
+            else answer_.grabKeyboardFocus();
+        }
     }
     if (! wanted_) return;
     if (restarted) {
