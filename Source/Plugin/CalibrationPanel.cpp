@@ -1,15 +1,10 @@
 #include "Plugin/CalibrationPanel.h"
+#include "Plugin/Accessibility.h"
 #include "Plugin/PluginProcessor.h"
 
 namespace armadillo::plugin {
 
 namespace {
-void describe(juce::Component& c, const juce::String& title, const juce::String& description)
-{
-    c.setTitle(title);
-    c.setDescription(description);
-    c.setWantsKeyboardFocus(true);
-}
 /// The largest font (from `base` down to 9 px) in which `label`'s text fits its bounds, so a long
 /// instruction stays whole in a small editor instead of ending in "...".
 void fitText(juce::Label& label, float base)
@@ -182,15 +177,10 @@ void CalibrationPanel::close()
 
 void CalibrationPanel::announce(const juce::String& text)
 {
-    if (text.isNotEmpty())
-        juce::AccessibilityHandler::postAnnouncement(text, juce::AccessibilityHandler::AnnouncementPriority::medium);
+    plugin::announce(processor_, "calibration", text, juce::AccessibilityHandler::AnnouncementPriority::medium);
 }
 
-void CalibrationPanel::paint(juce::Graphics& g)
-{
-    g.setColour(juce::Colour(0xff1f2a36));
-    g.fillRoundedRectangle(getLocalBounds().toFloat(), 4.0f);
-}
+void CalibrationPanel::paint(juce::Graphics& g) { paintPanel(g, *this); }
 
 void CalibrationPanel::resized()
 {

@@ -1,17 +1,9 @@
 #include "Plugin/DevicePanel.h"
+#include "Plugin/Accessibility.h"
 #include "Plugin/PluginProcessor.h"
 #include "Device/LinkPort.h"
 
 namespace armadillo::plugin {
-
-namespace {
-void describe(juce::Component& c, const juce::String& title, const juce::String& description)
-{
-    c.setTitle(title);
-    c.setDescription(description);
-    c.setWantsKeyboardFocus(true);
-}
-} // namespace
 
 DevicePanel::DevicePanel(ArmadilloProcessor& processor) : processor_(processor), calibrationPanel_(processor)
 {

@@ -1,4 +1,5 @@
 #include "Plugin/TrainingPanel.h"
+#include "Plugin/Accessibility.h"
 #include "Plugin/PluginProcessor.h"
 #include "Core/AtomicFile.h"
 #include <algorithm>
@@ -8,12 +9,6 @@
 namespace armadillo::plugin {
 
 namespace {
-void describe(juce::Component& c, const juce::String& title, const juce::String& description)
-{
-    c.setTitle(title);
-    c.setDescription(description);
-    c.setWantsKeyboardFocus(true);
-}
 constexpr int kMaxTypedCharacters = 1024;   // a pasted book stops here; the feeder refuses > 63 bytes anyway
 const char* const kTypeHere = "type the answer, then Return";
 const char* const kHint = "Feel what the arm shows, type the answer, press Return.";
@@ -202,22 +197,10 @@ void TrainingPanel::save()
 
 void TrainingPanel::announce(const juce::String& text)
 {
-    if (text.isEmpty()) return;
-    juce::AccessibilityHandler::postAnnouncement(text, juce::AccessibilityHandler::AnnouncementPriority::high);
-#if JUCE_LINUX
-    // JUCE 7.0.5 has no Linux accessibility backend (postAnnouncement does nothing there). The
-    // standalone app also says it on stderr, where a screen reader following the terminal reads
-    // it, as it reads `armadillo play --training-log`.
-    if (processor_.wrapperType == juce::AudioProcessor::wrapperType_Standalone)
-        std::cerr << "ARMadillo training: " << text << std::endl;
-#endif
+    plugin::announce(processor_, "training", text, juce::AccessibilityHandler::AnnouncementPriority::high);
 }
 
-void TrainingPanel::paint(juce::Graphics& g)
-{
-    g.setColour(juce::Colour(0xff1f2a36));
-    g.fillRoundedRectangle(getLocalBounds().toFloat(), 4.0f);
-}
+void TrainingPanel::paint(juce::Graphics& g) { paintPanel(g, *this); }
 
 void TrainingPanel::resized()
 {
