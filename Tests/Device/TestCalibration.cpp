@@ -4,6 +4,7 @@
 #include "Core/Errors.h"
 #include "Core/Pose.h"
 #include "Device/Calibration.h"
+#include "Common/SimulatedBoards.h"
 #include "Device/Simulator.h"
 #include <catch2/catch.hpp>
 #include <cstdio>
@@ -109,15 +110,7 @@ TEST_CASE("default calibration matches the simulator: rest reads +1 g up and the
 TEST_CASE("guided calibration recovers a board's true bias and scale from simulated moves", "[device][calibration]")
 {
     // A board whose ADC differs from the default: the procedure must find its numbers.
-    SensorModelParams p;
-    p.adc.accel.bias = Eigen::Vector3d(2100, 1990, 2060);
-    p.adc.accel.scale = Eigen::Vector3d(0.026, 0.022, 0.025);
-    p.adc.gyro.bias = Eigen::Vector3d(2000, 2090, 2030);
-    p.adc.gyro.scale = Eigen::Vector3d(0.0048, 0.0055, 0.0050);
-    p.adc.mag.bias = Eigen::Vector3d(1900, 2200, 2010);
-    p.adc.mag.scale = Eigen::Vector3d(0.0011, 0.0009, 0.00105);
-    p.gyroBiasStart = p.gyroBiasSettled = Eigen::Vector3d::Zero();
-    p.gyroBiasWalk = 0.0;
+    const SensorModelParams p = armadillo::testing::boardWithItsOwnAdc();
     SensorModel model(p);
     CalibrationProcedure proc;   // starts from the default calibration
     double t = 0.0;

@@ -4,6 +4,7 @@
 // link (simulated forearm, real link code) feeding it and taking up a new calibration without a
 // reconnect.
 #include "Core/Pose.h"
+#include "Common/SimulatedBoards.h"
 #include "Device/Simulator.h"
 #include "Plugin/CalibrationSession.h"
 #include "Plugin/DeviceConnection.h"
@@ -79,15 +80,7 @@ double medianAccel(LiveInput& input, int count)
 TEST_CASE("CalibrationSession: the guided steps recover a board's true calibration from offered raw packets")
 {
     // A board whose ADC is not the default one: the session must find its numbers.
-    SensorModelParams p;
-    p.adc.accel.bias = Eigen::Vector3d(2100, 1990, 2060);
-    p.adc.accel.scale = Eigen::Vector3d(0.026, 0.022, 0.025);
-    p.adc.gyro.bias = Eigen::Vector3d(2000, 2090, 2030);
-    p.adc.gyro.scale = Eigen::Vector3d(0.0048, 0.0055, 0.0050);
-    p.adc.mag.bias = Eigen::Vector3d(1900, 2200, 2010);
-    p.adc.mag.scale = Eigen::Vector3d(0.0011, 0.0009, 0.00105);
-    p.gyroBiasStart = p.gyroBiasSettled = Eigen::Vector3d::Zero();
-    p.gyroBiasWalk = 0.0;
+    const SensorModelParams p = armadillo::testing::boardWithItsOwnAdc();
     SensorModel model(p);
     CalibrationSession session;
     Feeder feed {session, model};
