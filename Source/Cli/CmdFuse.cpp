@@ -46,7 +46,10 @@ int runFuse(const Arguments& args)
         }
         out.save(cl.value("--out"));
         std::cerr << "fuse: " << samples.size() << " samples, " << filter.skippedSamples() << " skipped, "
-                  << filter.magneticRejections() << " magnetometer samples rejected"
+                  << filter.magneticRejections() << " magnetometer samples rejected, " << filter.recovery().gaps
+                  << " gaps (" << filter.recovery().bridged << " bridged, " << filter.recovery().reacquired
+                  << " re-acquired, longest " << filter.recovery().longestGap << " s), " << filter.recovery().headingResets
+                  << " heading and " << filter.recovery().tiltResets << " tilt resets"
                   << (filter.initialised() ? "" : " (no usable sample: rest orientation written)") << "\n";
         return 0;
     });

@@ -51,9 +51,12 @@ void OrientationFilter::reset()
     magLowPass_.reset();
     lowPassDt_ = 0.0;
     lastT_ = 0.0;
+    typicalDt_ = 0.0;
+    headingDisagreeT_ = tiltDisagreeT_ = 0.0;
     initialised_ = false;
     skipped_ = 0;
     magRejected_ = 0;
+    recovery_ = Recovery {};
 }
 
 Eigen::Quaterniond OrientationFilter::orientation() const
@@ -67,6 +70,22 @@ Eigen::Vector3d OrientationFilter::angularVelocity() const
 }
 
 Eigen::Vector3d OrientationFilter::gyroBias() const { return ukf_.state().bias; }
+
+void OrientationFilter::resetCovariance(double rotationStd)
+{
+    // Everything about the motion is forgotten; the gyro bias is a property of the sensor and keeps
+    // its own uncertainty (its cross terms with the lost orientation go with it).
+    const Eigen::Matrix<double, kErrDim, kErrDim> P = ukf_.covariance();
+    Eigen::Matrix<double, kErrDim, 1> sd;
+    sd.segment<3>(kErrRotation).setConstant(rotationStd);
+    sd.segment<3>(kErrRate).setConstant(params_.initialRateStd);
+    sd.segment<3>(kErrAccel).setConstant(params_.initialAngularAccelStd);
+    for (int i = 0; i < 3; ++i) {
+        const double b = P(kErrBias + i, kErrBias + i);
+        sd(kErrBias + i) = std::isfinite(b) && b > 0.0 ? std::min(std::sqrt(b), params_.initialBiasStd) : params_.initialBiasStd;
+    }
+    ukf_.reset(ukf_.state(), sd.asDiagonal().toDenseMatrix());
+}
 
 void OrientationFilter::initialise(const ImuSample& s)
 {
@@ -84,10 +103,38 @@ void OrientationFilter::initialise(const ImuSample& s)
     sd.segment<3>(kErrBias).setConstant(params_.initialBiasStd);
     ukf_.reset(x, sd.asDiagonal().toDenseMatrix());
     lastT_ = s.t;
-    initT_ = s.t;
+    initT_ = acquireStartT_ = s.t;
     initialised_ = true;
     restartInertialFrame();
     if (useMag) fieldTracker_.update(s.accel, s.mag, 0.0);
+}
+
+/// The smallest earth-frame rotation that turns `q` so that the device-frame direction `upDevice`
+/// points up: tilt corrected, heading kept as far as the new tilt allows.
+static Eigen::Quaterniond levelled(const Eigen::Quaterniond& q, const Eigen::Vector3d& upDevice)
+{
+    const Eigen::Vector3d upNow = quat::rotate(q, upDevice.normalized());
+    return quat::normalised(Eigen::Quaterniond::FromTwoVectors(upNow, Eigen::Vector3d::UnitY()) * q);
+}
+
+void OrientationFilter::reacquire(const ImuSample& s)
+{
+    // The orientation is unknown after a gap the filter cannot bridge: start again as at start-up.
+    // Tilt from this sample when its norm says it is mostly gravity (one sample of a moving arm can
+    // carry g of linear acceleration; then the prior's tilt is the better guess). Heading: the
+    // prior's, until the field has been trusted for acquireDisagreementTime without a break (the
+    // heading reset in updateHeading): one sample that passes the field tracker inside a disturbed
+    // field would otherwise throw a good heading away.
+    OrientationState& x = ukf_.state();
+    if (std::abs(s.accel.norm() - kStandardGravity) < params_.reacquireAccelTolerance * kStandardGravity)
+        x.q = levelled(x.q, s.accel);
+    x.rate = s.gyro - x.bias;
+    x.accel.setZero();
+    resetCovariance(std::max(params_.initialTiltStd, params_.initialHeadingStd));
+    ++recovery_.reacquired;
+    acquireStartT_ = s.t;
+    headingDisagreeT_ = tiltDisagreeT_ = 0.0;
+    restartInertialFrame();
 }
 
 void OrientationFilter::restartInertialFrame()
@@ -97,11 +144,20 @@ void OrientationFilter::restartInertialFrame()
     magLowPass_.reset();
 }
 
+bool OrientationFilter::isGap(double dt) const
+{
+    // Until the typical step is known, only what no sender's normal rate would produce is a gap.
+    const double limit = typicalDt_ > 0.0 ? std::max(params_.minGap, params_.gapFactor * typicalDt_) : 0.25;
+    return dt > limit;
+}
+
 void OrientationFilter::setupLowPass(double dt)
 {
     // Right after initialisation the gyro bias is not known yet, so the gyro-only inertial frame
     // turns, and a long low-pass there lags behind gravity: the time constants start short and
-    // grow to their values over startupFilterSeconds.
+    // grow to their values over startupFilterSeconds. After a gap or a re-acquisition the bias is
+    // known: the low-pass restarts empty at its full time constant (its start-up mean, Trackers.h,
+    // lets fresh samples win at once and then averages as long as the inertial frame allows).
     const double ramp = params_.startupFilterSeconds > 0.0
                             ? std::clamp((lastT_ - initT_) / params_.startupFilterSeconds, 0.1, 1.0)
                             : 1.0;
@@ -114,40 +170,60 @@ void OrientationFilter::setupLowPass(double dt)
     magLowPass_.setup(params_.magFilterTau * ramp, dt);
 }
 
+double OrientationFilter::acquiring() const
+{
+    return params_.acquireTime > 0.0 ? std::max(0.0, 1.0 - (lastT_ - acquireStartT_) / params_.acquireTime) : 0.0;
+}
+
+double OrientationFilter::disagreementLimit() const
+{
+    return acquiring() > 0.0 ? params_.acquireDisagreementTime : params_.disagreementTime;
+}
+
 void OrientationFilter::predict(double dt)
 {
-    double integrateDt = dt, noiseDt = dt;
-    if (dt > params_.maxGap) {
-        // Nothing is known about the motion inside a long gap: do not extrapolate ω over it,
-        // forget ω and α, and widen the covariance as the (capped) elapsed time says.
-        ukf_.state().rate.setZero();
-        ukf_.state().accel.setZero();
-        integrateDt = 0.0;
-        noiseDt = std::min(dt, params_.maxGapNoiseTime);
-    }
     Eigen::Matrix<double, kErrDim, 1> sd;
-    const double r = std::sqrt(noiseDt);
-    sd.segment<3>(kErrRotation).setConstant(params_.rotationNoise * r);
+    const double r = std::sqrt(dt);
+    // Acquisition noise only while the rotation spread is below the initial one: sigma points sit
+    // at ±√12·σ, and a wider spread would wrap the heading angle at ±π.
+    double acquiringNow = acquiring();
+    const double cap = std::max(params_.initialTiltStd, params_.initialHeadingStd);
+    const auto& S = ukf_.sqrtCovariance();
+    for (int i = kErrRotation; i < kErrRotation + 3; ++i)
+        if (S.row(i).squaredNorm() > cap * cap) acquiringNow = 0.0;
+    const double rotation = params_.rotationNoise + acquiringNow * params_.acquireRotationNoise;
+    sd.segment<3>(kErrRotation).setConstant(rotation * r);
     sd.segment<3>(kErrRate).setConstant(params_.rateNoise * r);
     sd.segment<3>(kErrAccel).setConstant(params_.angularAccelNoise * r);
     sd.segment<3>(kErrBias).setConstant(params_.biasNoise * r);
     // The process model neither reads nor changes the gyro bias: its sigma points need no f.
-    ukf_.predict<kErrBias>(ConstantAccelerationModel {integrateDt}, sd);
+    ukf_.predict<kErrBias>(ConstantAccelerationModel {dt}, sd);
 }
 
-void OrientationFilter::updateGravity(const Eigen::Vector3d& accel, double rawNorm)
+void OrientationFilter::updateGravity(const Eigen::Vector3d& accel, double rawNorm, double dt)
 {
     const double n = accel.norm();
     if (!(n > 0.0) || !std::isfinite(n) || !std::isfinite(rawNorm)) return;
+    // A state that low-passed gravity contradicts for disagreementTime without a break is wrong
+    // (a prior the soft gate would only nudge): level it at once and let the measurements refine.
+    const Eigen::Vector3d upDevice = accel / n;
+    const Eigen::Vector3d upState = quat::rotateInverse(ukf_.state().q, Eigen::Vector3d::UnitY());
+    const double angle = std::acos(std::clamp(upDevice.dot(upState), -1.0, 1.0));
+    tiltDisagreeT_ = angle > params_.tiltDisagreement ? tiltDisagreeT_ + dt : 0.0;
+    if (tiltDisagreeT_ > disagreementLimit()) {
+        ukf_.state().q = levelled(ukf_.state().q, upDevice);
+        resetCovariance(std::max(params_.initialTiltStd, params_.initialHeadingStd));
+        ++recovery_.tiltResets;
+        tiltDisagreeT_ = 0.0;
+    }
     // Linear and centripetal acceleration are not modelled (thesis §2.7.7): they show as a norm
     // away from 1 g, so the noise grows with that distance, and the soft gate catches the rest.
     const double deviation = std::abs(rawNorm - kStandardGravity) / kStandardGravity;
     const double sd = params_.gravityNoise * (1.0 + params_.gravityNormGain * deviation);
-    ukf_.update<3, 3>(Eigen::Vector3d(accel / n), GravityObservation {}, Eigen::Vector3d::Constant(sd),
-                   params_.gravityNisLimit);
+    ukf_.update<3, 3>(upDevice, GravityObservation {}, Eigen::Vector3d::Constant(sd), params_.gravityNisLimit);
 }
 
-void OrientationFilter::updateHeading(const Eigen::Vector3d& mag)
+void OrientationFilter::updateHeading(const Eigen::Vector3d& mag, double dt)
 {
     const Eigen::Quaterniond& q = ukf_.state().q;
     Eigen::Vector3d me = quat::rotate(q, mag);
@@ -156,9 +232,29 @@ void OrientationFilter::updateHeading(const Eigen::Vector3d& mag)
     if (!(me.norm() > params_.minHorizontalField * total)) return;
     HeadingObservation h;
     h.horizontalField = quat::rotateInverse(q, me.normalized());
-    // Angles wrap at ±π: a prior more than 90° off would straddle the cut; never the case after
-    // initialisation from the same magnetometer unless the field is disturbed, so it is skipped.
     const double prior = h(ukf_.state())(0);
+    // A trusted field that contradicts the heading for disagreementTime without a break wins: the
+    // state turns about the vertical onto it (this also ends the lock-out of a prior more than 90°
+    // off, which the update below must skip because the angle wraps at ±π).
+    // Consistent means the innovation stays within headingConsistency of its mean over the run:
+    // a disturbed field that slips past the field tracker wobbles as the arm turns, the earth's
+    // does not.
+    if (std::abs(prior) > params_.headingDisagreement &&
+        (headingDisagreeT_ <= 0.0 || std::abs(prior - headingDisagreeMean_) < params_.headingConsistency)) {
+        headingDisagreeMean_ = headingDisagreeT_ > 0.0 ? headingDisagreeMean_ + (prior - headingDisagreeMean_) * dt / (headingDisagreeT_ + dt) : prior;
+        headingDisagreeT_ += dt;
+    } else {
+        headingDisagreeT_ = 0.0;
+    }
+    if (headingDisagreeT_ > disagreementLimit()) {
+        me.normalize();
+        const double turn = std::atan2(me.cross(-Eigen::Vector3d::UnitZ()).y(), -me.z());
+        ukf_.state().q = quat::normalised(Eigen::Quaterniond(Eigen::AngleAxisd(turn, Eigen::Vector3d::UnitY())) * q);
+        resetCovariance(std::max(params_.initialTiltStd, params_.initialHeadingStd));
+        ++recovery_.headingResets;
+        headingDisagreeT_ = 0.0;
+        return;
+    }
     if (std::abs(prior) > 0.5 * kPi) {
         ++magRejected_;
         return;
@@ -183,24 +279,50 @@ void OrientationFilter::update(const ImuSample& s)
         return;
     }
     lastT_ = s.t;
+    const bool gap = isGap(dt);
+    if (gap) {
+        ++recovery_.gaps;
+        recovery_.longestGap = std::max(recovery_.longestGap, dt);
+    } else {
+        typicalDt_ = typicalDt_ > 0.0 ? typicalDt_ + 0.01 * (dt - typicalDt_) : dt;
+    }
 
     const bool rest = biasTracker_.update(s.gyro, s.accel, dt);
-    if (dt > params_.maxGap) restartInertialFrame();
-    else inertial_ = (inertial_ * quat::exp((s.gyro - ukf_.state().bias) * dt)).normalized();
-    setupLowPass(dt);
+    const bool fieldTrusted = params_.useMagnetometer && s.mag.allFinite() && fieldTracker_.update(s.accel, s.mag, dt);
+    if (params_.useMagnetometer && s.mag.allFinite() && !fieldTrusted) {
+        ++magRejected_;
+        headingDisagreeT_ = 0.0;   // a heading reset needs an unbroken run of trusted samples
+    }
+    if (gap && dt > params_.maxBridge) {
+        reacquire(s);
+        return;
+    }
     // Gyro (ω + b) and bias observations are linear: exact updates without sigma points.
     const Eigen::Vector3d gyroStd = Eigen::Vector3d::Constant(params_.gyroNoise);
     Eigen::Matrix<double, 3, kErrDim> gyroH = Eigen::Matrix<double, 3, kErrDim>::Zero();
     gyroH.block<3, 3>(0, kErrRate).setIdentity();
     gyroH.block<3, 3>(0, kErrBias).setIdentity();
     auto gyroUpdate = [&] { ukf_.updateLinear<3>(s.gyro - GyroObservation {}(ukf_.state()), gyroH, gyroStd); };
-    if (params_.gyroCoversPrecedingInterval && dt <= params_.maxGap) {
-        gyroUpdate();
+    if (gap) {
+        // A short gap is bridged with ω and α (over ≤ maxBridge their extrapolation is good to a
+        // fraction of a degree); the gyro sample after it is the rate at its end. The inertial frame
+        // of the low-pass follows the same extrapolated turn, so what it has averaged is kept.
+        ++recovery_.bridged;
+        const Eigen::Quaterniond before = ukf_.state().q;
         predict(dt);
+        gyroUpdate();
+        inertial_ = quat::normalised(inertial_ * (before.conjugate() * ukf_.state().q));
     } else {
-        predict(dt);
-        gyroUpdate();
+        inertial_ = (inertial_ * quat::exp((s.gyro - ukf_.state().bias) * dt)).normalized();
+        if (params_.gyroCoversPrecedingInterval) {
+            gyroUpdate();
+            predict(dt);
+        } else {
+            predict(dt);
+            gyroUpdate();
+        }
     }
+    setupLowPass(dt);
     if (rest) {
         Eigen::Matrix<double, 3, kErrDim> biasH = Eigen::Matrix<double, 3, kErrDim>::Zero();
         biasH.block<3, 3>(0, kErrBias).setIdentity();
@@ -210,14 +332,10 @@ void OrientationFilter::update(const ImuSample& s)
     const double accelNorm = s.accel.norm();
     const Eigen::Vector3d accelSmooth =
         quat::rotateInverse(inertial_, accelLowPass_.filter(quat::rotate(inertial_, s.accel)));
-    updateGravity(accelSmooth, accelNorm);
+    updateGravity(accelSmooth, accelNorm, dt);
 
-    if (params_.useMagnetometer && s.mag.allFinite()) {
-        if (fieldTracker_.update(s.accel, s.mag, dt))
-            updateHeading(quat::rotateInverse(inertial_, magLowPass_.filter(quat::rotate(inertial_, s.mag))));
-        else
-            ++magRejected_;
-    }
+    if (fieldTrusted)
+        updateHeading(quat::rotateInverse(inertial_, magLowPass_.filter(quat::rotate(inertial_, s.mag))), dt);
 }
 
 } // namespace armadillo

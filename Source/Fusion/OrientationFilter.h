@@ -8,7 +8,10 @@
 //
 // Real-time safe: update() allocates nothing (tested), takes dt from successive timestamps,
 // initialises from the first usable accelerometer (+ magnetometer) sample, skips and counts
-// unusable samples (NaN, time not increasing), and survives gaps.
+// unusable samples (NaN, time not increasing), and re-acquires after gaps and disagreements:
+// a gap longer than `maxBridge` (or a state that measurements contradict for
+// `disagreementTime`) starts again from gravity and the field as at start-up, keeping the gyro
+// bias (docs/FUSION.md, "Dropouts and re-acquisition").
 #include "Core/Types.h"
 #include "Fusion/OrientationModels.h"
 #include "Fusion/SquareRootUkf.h"
@@ -43,15 +46,33 @@ public:
         double headingNisLimit = 9.0;         ///< χ²(1) soft gate on the heading innovation
         double biasObservationNoise = 0.005;  ///< rad/s, bias tracker's mean used while at rest
 
-        // Initial standard deviations.
-        double initialTiltStd = 0.05;         ///< rad
-        double initialHeadingStd = 0.2;       ///< rad
+        // Initial standard deviations (start-up and every re-acquisition). Wide enough that the
+        // first measurements win; no wider, because sigma points sit at ±√12·σ and heading wraps at π.
+        double initialTiltStd = 0.3;          ///< rad
+        double initialHeadingStd = 0.35;      ///< rad
         double initialRateStd = 0.1;          ///< rad/s
         double initialAngularAccelStd = 1.0;  ///< rad/s²
         double initialBiasStd = 0.01;         ///< rad/s
 
-        double maxGap = 0.5;                  ///< s: a longer gap is not integrated (ω unknown there)
-        double maxGapNoiseTime = 10.0;        ///< s: process noise of a gap is capped at this duration
+        // Dropouts (a step longer than gapFactor × the typical step, and than minGap, is a gap).
+        double gapFactor = 4.0;               ///< × the running typical step
+        double minGap = 0.03;                 ///< s: shorter steps are never gaps (jittery senders)
+        double reacquireAccelTolerance = 0.2; ///< fraction of g: a sample whose |a| is further off gives no tilt
+        double maxBridge = 0.04;              ///< s: longer gaps re-acquire; shorter ones are extrapolated
+                                              ///< with ω and α (what they can honestly carry, docs/FUSION.md)
+        // Gates reject outliers, never the truth: a state that the (trusted) measurements contradict
+        // by more than these angles without a break for disagreementTime is re-acquired.
+        double disagreementTime = 1.5;        ///< s
+        double acquireDisagreementTime = 0.25;///< s, the same during acquisition (below): nothing is known yet
+        // Acquisition: right after start-up or a re-acquisition, extra rotation noise keeps the
+        // covariance open, so that heading and tilt follow the measurements while the low-pass
+        // fills (the first samples of a moving arm are biased by linear acceleration, and a
+        // collapsed covariance would hold on to that bias). Fades linearly to 0 over acquireTime.
+        double acquireRotationNoise = 0.5;    ///< rad/√s at the start of acquisition
+        double acquireTime = 3.0;             ///< s
+        double headingDisagreement = 0.35;    ///< rad (20°) between the field's heading and the state's
+        double headingConsistency = 0.15;     ///< rad: the run's innovations stay this close to their mean
+        double tiltDisagreement = 0.26;       ///< rad (15°) between low-passed gravity and the state's
         double minHorizontalField = 0.1;      ///< fraction of |m|: less horizontal field ⇒ no heading
         bool useMagnetometer = true;          ///< false: 6-axis (heading from the gyro alone)
         bool gyroCoversPrecedingInterval = true;  ///< gyro at t_k is the rate over [t_{k-1}, t_k]
@@ -71,6 +92,16 @@ public:
     bool initialised() const { return initialised_; }
     std::size_t skippedSamples() const { return skipped_; }
     std::size_t magneticRejections() const { return magRejected_; }
+    /// What the filter did about dropouts and disagreements (counts since reset()).
+    struct Recovery {
+        std::size_t gaps = 0;            ///< steps longer than the gap threshold
+        std::size_t bridged = 0;         ///< … extrapolated (≤ maxBridge)
+        std::size_t reacquired = 0;      ///< … too long: started again from gravity and field
+        std::size_t headingResets = 0;   ///< heading re-acquired after persistent disagreement
+        std::size_t tiltResets = 0;      ///< tilt re-acquired after persistent disagreement
+        double longestGap = 0.0;         ///< s
+    };
+    const Recovery& recovery() const { return recovery_; }
     const UkfStats& ukfStats() const { return ukf_.stats(); }
     const Params& params() const { return params_; }
     /// Error-state covariance (12×12: rotation rad, ω rad/s, α rad/s², bias rad/s).
@@ -78,9 +109,17 @@ public:
 
 private:
     void initialise(const ImuSample& s);
+    /// Starts again from this sample (tilt at once, heading once the field is trusted), wide
+    /// covariance, gyro bias kept, low-pass restarted.
+    void reacquire(const ImuSample& s);
+    void resetCovariance(double rotationStd);
+    bool isGap(double dt) const;
+    /// 1 right after start-up or a re-acquisition, falling to 0 over acquireTime.
+    double acquiring() const;
+    double disagreementLimit() const;
     void predict(double dt);
-    void updateGravity(const Eigen::Vector3d& accelSmooth, double rawNorm);
-    void updateHeading(const Eigen::Vector3d& mag);
+    void updateGravity(const Eigen::Vector3d& accelSmooth, double rawNorm, double dt);
+    void updateHeading(const Eigen::Vector3d& mag, double dt);
     void restartInertialFrame();
     void setupLowPass(double dt);
 
@@ -94,8 +133,13 @@ private:
     ButterworthLowPass3 accelLowPass_, magLowPass_;
     double lowPassDt_ = 0.0;   ///< s, the step the coefficients were derived for
     double lowPassRamp_ = 1.0; ///< start-up fraction of the time constants they were derived for
-    double initT_ = 0.0;       ///< s, time of the initialising sample
+    double initT_ = 0.0;       ///< s, time of the initialising sample (start of the low-pass ramp)
+    double acquireStartT_ = 0.0;   ///< s, start of the latest acquisition: start-up, gap, re-acquisition
     double lastT_ = 0.0;
+    double typicalDt_ = 0.0;   ///< s, running average of the non-gap steps (0 until the first)
+    double headingDisagreeT_ = 0.0, tiltDisagreeT_ = 0.0;   ///< s of unbroken disagreement
+    double headingDisagreeMean_ = 0.0;                       ///< rad, mean heading innovation of that run
+    Recovery recovery_ {};
     bool initialised_ = false;
     std::size_t skipped_ = 0;
     std::size_t magRejected_ = 0;

@@ -116,6 +116,8 @@ namespace armadillo {
 
 void ButterworthLowPass3::setup(double tau, double dt)
 {
+    tau_ = tau;
+    dt_ = dt;
     if (!(tau > 0.0) || !(dt > 0.0)) {   // pass-through
         b0_ = 1.0;
         b1_ = b2_ = a1_ = a2_ = 0.0;
@@ -142,7 +144,14 @@ void ButterworthLowPass3::prime(const Eigen::Vector3d& steady)
 
 Eigen::Vector3d ButterworthLowPass3::filter(const Eigen::Vector3d& x)
 {
-    if (!primed_) prime(x);
+    if (!primed_) {
+        sum_ += x;
+        ++count_;
+        const Eigen::Vector3d mean = sum_ / static_cast<double>(count_);
+        if (static_cast<double>(count_) * dt_ < tau_) return mean;
+        prime(mean);
+        return mean;
+    }
     const Eigen::Vector3d y = b0_ * x + s1_;
     s1_ = b1_ * x - a1_ * y + s2_;
     s2_ = b2_ * x - a2_ * y;

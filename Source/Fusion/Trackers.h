@@ -92,6 +92,11 @@ namespace armadillo {
 
 /// Second-order Butterworth low-pass of 3-vectors (bilinear transform), coefficients derived once
 /// for a sample period; state can be primed with a steady value. No heap.
+///
+/// After reset() it starts the way VQF starts its filters: for the first tau seconds the output
+/// is the plain mean of the samples so far, which then primes the filter. A filter primed with its
+/// first sample would carry that one sample's error for seconds (after a dropout, a sample of a
+/// moving arm with 2 g of linear acceleration); the mean's error shrinks as 1/time.
 class ButterworthLowPass3 {
 public:
     /// tau: time constant (s) as VQF defines it, cutoff fc = √2 / (2π tau); dt: sample period (s).
@@ -99,11 +104,14 @@ public:
     void prime(const Eigen::Vector3d& steady);
     Eigen::Vector3d filter(const Eigen::Vector3d& x);
     bool primed() const noexcept { return primed_; }
-    void reset() { primed_ = false; }
+    void reset() { primed_ = false; sum_.setZero(); count_ = 0; }
 
 private:
     double b0_ = 1.0, b1_ = 0.0, b2_ = 0.0, a1_ = 0.0, a2_ = 0.0;
+    double tau_ = 0.0, dt_ = 0.0;
     Eigen::Vector3d s1_ = Eigen::Vector3d::Zero(), s2_ = Eigen::Vector3d::Zero();   // direct form II transposed
+    Eigen::Vector3d sum_ = Eigen::Vector3d::Zero();   // start-up mean
+    long count_ = 0;
     bool primed_ = false;
 };
 

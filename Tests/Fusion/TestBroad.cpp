@@ -1,10 +1,13 @@
 // The filter on real recordings with optical truth (BROAD, ../shared/data/broad-dev), scored with
 // the BROAD/VQF metric in C++: q_err = q_est(ENU) · q_truth⁻¹, total = 2 acos |w|, RMSE over the
-// movement phase. Skipped (with a warning) when the data is not there.
+// movement phase. Skipped (with a warning) when the data is not there on a developer's clone; in CI
+// (CI set in the environment: ../shared is beside every clone CI makes) a missing file fails.
 #include "Core/Csv.h"
 #include "Fusion/OrientationFilter.h"
 #include "Fusion/Quaternion.h"
 #include <catch2/catch.hpp>
+#include <algorithm>
+#include <vector>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -25,8 +28,13 @@ CsvTable readGz(const fs::path& gz, const fs::path& tmpDir)
     return CsvTable::read(out.string());
 }
 
-/// Total RMSE in degrees of the filter on one trial.
-double broadRmse(const std::string& trial)
+struct Trial {
+    std::vector<ImuSample> imu;
+    std::vector<Eigen::Quaterniond> truth;   ///< ENU; NaN where the optical truth is missing
+    std::vector<bool> movement;
+};
+
+Trial loadTrial(const std::string& trial)
 {
     const fs::path dir = fs::path(ARMADILLO_SHARED_DIR) / "data" / "broad-dev";
     const fs::path tmp = fs::temp_directory_path() / ("armadillo-broad-" + std::to_string(::getpid()));
@@ -39,18 +47,37 @@ double broadRmse(const std::string& trial)
     REQUIRE(movement.rowCount() == imu.size());
     const int cw = truth.requireColumn("qw"), cx = truth.requireColumn("qx"), cy = truth.requireColumn("qy"),
               cz = truth.requireColumn("qz"), cm = movement.requireColumn("movement");
+    Trial out;
+    out.imu = imu;
+    for (std::size_t k = 0; k < imu.size(); ++k) {
+        out.truth.emplace_back(truth.value(k, cw), truth.value(k, cx), truth.value(k, cy), truth.value(k, cz));
+        out.movement.push_back(movement.value(k, cm) > 0.5);
+    }
+    return out;
+}
+
+/// BROAD's total error angle (rad) of a filter output (EUS) against the ENU truth; NaN without truth.
+double errorAngle(const Eigen::Quaterniond& estimateEus, const Eigen::Quaterniond& truthEnu)
+{
+    if (!truthEnu.coeffs().allFinite()) return kNaN;
     // EUS (X east, Y up, Z south) → ENU: +90° about x.
     const Eigen::Quaterniond eusToEnu(std::sqrt(0.5), std::sqrt(0.5), 0.0, 0.0);
+    const Eigen::Quaterniond e = (eusToEnu * estimateEus) * truthEnu.normalized().conjugate();
+    return 2.0 * std::acos(std::min(1.0, std::abs(e.w())));
+}
+
+/// Total RMSE in degrees of the filter on one trial.
+double broadRmse(const std::string& trial)
+{
+    const Trial d = loadTrial(trial);
     OrientationFilter f;
     double sum2 = 0.0;
     long n = 0;
-    for (std::size_t k = 0; k < imu.size(); ++k) {
-        f.update(imu[k]);
-        if (!(movement.value(k, cm) > 0.5)) continue;
-        const Eigen::Quaterniond t(truth.value(k, cw), truth.value(k, cx), truth.value(k, cy), truth.value(k, cz));
-        if (!t.coeffs().allFinite()) continue;
-        const Eigen::Quaterniond e = (eusToEnu * f.orientation()) * t.normalized().conjugate();
-        const double angle = 2.0 * std::acos(std::min(1.0, std::abs(e.w())));
+    for (std::size_t k = 0; k < d.imu.size(); ++k) {
+        f.update(d.imu[k]);
+        if (!d.movement[k]) continue;
+        const double angle = errorAngle(f.orientation(), d.truth[k]);
+        if (!std::isfinite(angle)) continue;
         sum2 += angle * angle;
         ++n;
     }
@@ -58,21 +85,47 @@ double broadRmse(const std::string& trial)
     return radToDeg(std::sqrt(sum2 / n));
 }
 
+/// Median error in degrees over [from, to) s after samples with t in [gapFrom, gapTo) were cut
+/// out (the time column keeps the gap, as a host that stamps arrivals sees it).
+double medianAfterGap(const Trial& d, double gapFrom, double gapTo, double from, double to)
+{
+    OrientationFilter f;
+    std::vector<double> errors;
+    for (std::size_t k = 0; k < d.imu.size(); ++k) {
+        const double t = d.imu[k].t;
+        if (t >= gapFrom && t < gapTo) continue;
+        f.update(d.imu[k]);
+        const double angle = errorAngle(f.orientation(), d.truth[k]);
+        if (t >= gapTo + from && t < gapTo + to && std::isfinite(angle)) errors.push_back(angle);
+    }
+    REQUIRE(errors.size() > 100);
+    std::nth_element(errors.begin(), errors.begin() + static_cast<long>(errors.size() / 2), errors.end());
+    return radToDeg(errors[errors.size() / 2]);
+}
+
 bool haveData()
 {
     return fs::exists(fs::path(ARMADILLO_SHARED_DIR) / "data" / "broad-dev" / "02_undisturbed_slow_rotation_B_imu.csv.gz");
+}
+
+/// False (after recording why) when the test must skip; in CI a missing file is a failure.
+bool dataOrSkip()
+{
+    if (haveData()) return true;
+    const char* ci = std::getenv("CI");
+    if (ci && *ci && std::string(ci) != "false" && std::string(ci) != "0")
+        FAIL("BROAD data missing under " ARMADILLO_SHARED_DIR "/data/broad-dev, and CI always has it beside the clone");
+    // A developer's clone without ../shared beside it (the data is not part of this repository):
+    // say so and skip. SUCCEED records the skip, since ctest runs Catch with --warn NoAssertions.
+    WARN("BROAD data not found under " ARMADILLO_SHARED_DIR "/data/broad-dev: skipped");
+    SUCCEED("skipped: no BROAD data");
+    return false;
 }
 } // namespace
 
 TEST_CASE("broad: slow rotation and a stationary magnet stay within VQF-class error", "[fusion][broad]")
 {
-    if (!haveData()) {
-        // A clone without ../shared beside it (the data is not part of this repository): say so
-        // and skip. SUCCEED records the skip, since ctest runs Catch with --warn NoAssertions.
-        WARN("BROAD data not found under " ARMADILLO_SHARED_DIR "/data/broad-dev: skipped");
-        SUCCEED("skipped: no BROAD data");
-        return;
-    }
+    if (!dataOrSkip()) return;
     // Bounds: VQF on these trials scores 1.38° and 2.38°; the issue's bar is a 2.5° mean.
     const double slow = broadRmse("02_undisturbed_slow_rotation_B");
     INFO("02 slow rotation: " << slow << " deg");
@@ -80,4 +133,18 @@ TEST_CASE("broad: slow rotation and a stationary magnet stay within VQF-class er
     const double magnet = broadRmse("29_disturbed_stationary_magnet_B");
     INFO("29 stationary magnet: " << magnet << " deg");
     CHECK(magnet < 3.0);
+}
+
+TEST_CASE("broad: real movement is re-acquired after dropouts of 0.3 s and 3 s", "[fusion][broad][gaps]")
+{
+    if (!dataOrSkip()) return;
+    // Fast rotation: the hardest to bridge (scripts/bench_gaps.py measures all trials and VQF).
+    const Trial d = loadTrial("07_undisturbed_fast_rotation_B");
+    for (const double length : {0.3, 3.0}) {
+        const double m13 = medianAfterGap(d, 80.0, 80.0 + length, 1.0, 3.0);
+        const double m310 = medianAfterGap(d, 80.0, 80.0 + length, 3.0, 10.0);
+        INFO("gap " << length << " s at 80 s: median error 1–3 s after " << m13 << "°, 3–10 s " << m310 << "°");
+        CHECK(m13 < 5.0);
+        CHECK(m310 < 3.0);
+    }
 }

@@ -4,6 +4,7 @@
 #include "Core/Pose.h"
 #include "Fusion/OrientationFilter.h"
 #include "Fusion/Quaternion.h"
+#include <algorithm>
 #include <atomic>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -34,6 +35,8 @@ constexpr double kRate = 285.714;   // Hz, as the BROAD recordings
 const double kIncl = degToRad(67.0);
 const Vector3d kField(0.0, -std::sin(kIncl) * 49.0, -std::cos(kIncl) * 49.0);   // µT, north = −Z, dipping down
 
+Vector3d zero(double) { return Vector3d::Zero(); }
+
 struct Truth {
     double t;
     Quaterniond q;
@@ -48,12 +51,47 @@ struct SimResult {
     double finalError = 0.0;      ///< rad
     double maxDrift = 0.0;        ///< rad: error relative to the error at `settle` (what 6-axis can promise)
     std::size_t skipped = 0;
+    std::vector<std::pair<double, double>> errors;   ///< (t, total error rad) of every sample fed after `settle`
+    OrientationFilter::Recovery recovery {};
+    /// Median error over [from, to).
+    double median(double from, double to) const
+    {
+        std::vector<double> v;
+        for (const auto& [t, e] : errors)
+            if (t >= from && t < to) v.push_back(e);
+        if (v.empty()) return kNaN;
+        std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+        return v[v.size() / 2];
+    }
+    /// Largest error over [from, to).
+    double worst(double from, double to) const
+    {
+        double w = 0.0;
+        for (const auto& [t, e] : errors)
+            if (t >= from && t < to) w = std::max(w, e);
+        return w;
+    }
+};
+
+/// What the link does to the stream: samples inside a gap are never delivered (the time column
+/// keeps the gap), the stream may start late (mid-movement), the field may be disturbed.
+struct Link {
+    std::vector<std::pair<double, double>> gaps;            ///< [from, to) in s
+    double startAt = 0.0;                                   ///< s: first sample delivered
+    std::function<Vector3d(double)> magDisturbance = zero;  ///< µT added in the device frame
+    bool dropped(double t) const
+    {
+        if (t < startAt) return true;
+        for (const auto& [a, b] : gaps)
+            if (t >= a && t < b) return true;
+        return false;
+    }
 };
 
 SimResult simulate(double seconds, const Quaterniond& q0, const std::function<Vector3d(double)>& rate,
                    const std::function<Vector3d(double)>& linearAccel, const std::function<Vector3d(double)>& bias,
                    bool withMag, double settle = 5.0, unsigned seed = 11,
-                   const OrientationFilter::Params& params = OrientationFilter::defaultParams())
+                   const OrientationFilter::Params& params = OrientationFilter::defaultParams(), const Link& link = {})
 {
     std::mt19937 rng(seed);
     std::normal_distribution<double> gyroNoise(0.0, 0.002), accelNoise(0.0, 0.05), magNoise(0.0, 0.3);
@@ -74,7 +112,8 @@ SimResult simulate(double seconds, const Quaterniond& q0, const std::function<Ve
         s.gyro = w + bias(t) + Vector3d(gyroNoise(rng), gyroNoise(rng), gyroNoise(rng));
         const Vector3d specificEarth = Vector3d(0.0, kStandardGravity, 0.0) + linearAccel(t);
         s.accel = quat::rotateInverse(q, specificEarth) + Vector3d(accelNoise(rng), accelNoise(rng), accelNoise(rng));
-        if (withMag) s.mag = quat::rotateInverse(q, kField) + Vector3d(magNoise(rng), magNoise(rng), magNoise(rng));
+        if (withMag) s.mag = quat::rotateInverse(q, kField) + Vector3d(magNoise(rng), magNoise(rng), magNoise(rng)) + link.magDisturbance(t);
+        if (link.dropped(t)) continue;
         f.update(s);
         if (t < settle) continue;
         const Quaterniond e = f.orientation();
@@ -92,13 +131,14 @@ SimResult simulate(double seconds, const Quaterniond& q0, const std::function<Ve
             haveOffset = true;
         }
         r.maxDrift = std::max(r.maxDrift, quat::angleBetween(offset, offset0));
+        r.errors.emplace_back(t, err);
     }
+    r.recovery = f.recovery();
     r.rmsError = std::sqrt(sum2 / std::max(1L, n));
     r.skipped = f.skippedSamples();
     return r;
 }
 
-Vector3d zero(double) { return Vector3d::Zero(); }
 } // namespace
 
 TEST_CASE("filter: still for five minutes with a drifting gyro bias does not drift", "[fusion][filter]")
@@ -136,7 +176,9 @@ TEST_CASE("filter: a large power-up gyro bias costs little tilt in the first sec
         const SimResult flat = simulate(12.0, q0, zero, zero, bias, mag, 0.0, 11, noRamp);
         INFO("worst tilt with the ramp " << radToDeg(ramp.maxTiltError) << "°, without " << radToDeg(flat.maxTiltError) << "°");
         CHECK(radToDeg(ramp.maxTiltError) < 1.5);
-        CHECK(ramp.maxTiltError < 0.6 * flat.maxTiltError);
+        // Since the low-pass starts with a plain mean (Trackers.h) the flat filter is much better
+        // than it was (2.99° → 1.64°); the ramp still must not lose to it.
+        CHECK(ramp.maxTiltError < flat.maxTiltError);
     }
 }
 
@@ -255,4 +297,105 @@ TEST_CASE("filter: update() does not allocate", "[fusion][filter]")
     auto* p = new int(3);
     CHECK(gAllocations.load() == before + 1);
     delete p;
+}
+
+namespace {
+/// A forearm that never rests: every axis turning at up to ~1.5 rad/s, and ±2 m/s² of linear
+/// acceleration at 0.9–1.4 Hz (gestures; slower sustained swings are a known weakness, FUSION.md).
+Vector3d movingRate(double t) { return Vector3d(1.5 * std::sin(1.3 * t), 1.0 * std::cos(0.9 * t + 0.4), 0.8 * std::sin(0.5 * t + 1.0)); }
+Vector3d movingAccel(double t) { return Vector3d(2.0 * std::sin(7.1 * t), 1.5 * std::cos(5.7 * t), 2.0 * std::sin(8.9 * t + 0.3)); }
+Vector3d smallBias(double) { return Vector3d(0.004, 0.002, -0.004); }
+} // namespace
+
+TEST_CASE("filter: after a gap it cannot bridge, a moving arm is re-acquired", "[fusion][filter][gaps]")
+{
+    // Dropouts of 0.3, 1 and 3 s in the middle of a movement (the time column keeps the gap).
+    Link link;
+    link.gaps = {{20.0, 20.3}, {40.0, 41.0}, {60.0, 63.0}};
+    const SimResult r = simulate(80.0, poseToQuaternion({10.0, 20.0, 0.0}), movingRate, movingAccel, smallBias, true, 5.0,
+                                 11, OrientationFilter::defaultParams(), link);
+    CHECK(r.recovery.gaps == 3);
+    CHECK(r.recovery.reacquired == 3);
+    CHECK(r.recovery.longestGap == Approx(3.0).margin(0.01));
+    for (const auto& [from, to] : link.gaps) {
+        INFO("gap " << from << "–" << to << " s: worst error 2–10 s after " << radToDeg(r.worst(to + 2.0, to + 10.0)) << "°");
+        CHECK(radToDeg(r.worst(to + 2.0, to + 10.0)) < 5.0);
+    }
+    // The probe: the same stream through a filter that extrapolates across every gap (what the
+    // filter did before re-acquisition) is far off after the long gaps — the check above can fail.
+    OrientationFilter::Params bridgeAll = OrientationFilter::defaultParams();
+    bridgeAll.maxBridge = 1e9;
+    bridgeAll.disagreementTime = bridgeAll.acquireDisagreementTime = 1e9;
+    const SimResult old = simulate(80.0, poseToQuaternion({10.0, 20.0, 0.0}), movingRate, movingAccel, smallBias, true, 5.0,
+                                   11, bridgeAll, link);
+    CHECK(radToDeg(old.worst(63.0 + 2.0, 63.0 + 10.0)) > 20.0);
+}
+
+TEST_CASE("filter: a short gap is bridged with what ω and α know", "[fusion][filter][gaps]")
+{
+    Link link;
+    link.gaps = {{20.0, 20.03}};
+    const SimResult r = simulate(40.0, poseToQuaternion({10.0, 20.0, 0.0}), movingRate, movingAccel, smallBias, true, 5.0,
+                                 11, OrientationFilter::defaultParams(), link);
+    CHECK(r.recovery.gaps == 1);
+    CHECK(r.recovery.bridged == 1);
+    CHECK(r.recovery.reacquired == 0);
+    CHECK(radToDeg(r.worst(20.0, 40.0)) < 3.0);
+}
+
+TEST_CASE("filter: a stream that starts in the middle of a movement", "[fusion][filter][gaps]")
+{
+    // No rest phase, a gyro bias nobody has measured yet, 2 m/s² of linear acceleration.
+    Link link;
+    link.startAt = 30.0;
+    auto bias = [](double) { return Vector3d(0.01, -0.008, 0.006); };
+    const SimResult r = simulate(45.0, poseToQuaternion({0.0, 0.0, 0.0}), movingRate, movingAccel, bias, true, 30.0, 11,
+                                 OrientationFilter::defaultParams(), link);
+    INFO("median error 1–3 s after the start " << radToDeg(r.median(31.0, 33.0)) << "°, worst 3–15 s " << radToDeg(r.worst(33.0, 45.0)) << "°");
+    CHECK(radToDeg(r.median(31.0, 33.0)) < 5.0);
+    CHECK(radToDeg(r.worst(33.0, 45.0)) < 5.0);
+}
+
+TEST_CASE("filter: no gate locks the truth out: a heading 150° off is re-acquired from a trusted field", "[fusion][filter][gaps]")
+{
+    // For the first 5 s (arm still) the field is the earth's turned 150° about the vertical — same
+    // norm and dip, so the field tracker takes it as the reference and the filter starts 150° off.
+    // Then the true field returns while the arm moves: every heading innovation is beyond the ±90°
+    // the update can take. Only the persistent-disagreement rule can bring the heading back.
+    const Quaterniond q0 = poseToQuaternion({10.0, 20.0, 0.0});
+    const Vector3d turned = Eigen::AngleAxisd(degToRad(150.0), Vector3d::UnitY()) * kField;
+    const Vector3d wrong = quat::rotateInverse(q0, turned - kField);
+    Link link;
+    link.magDisturbance = [&](double t) -> Vector3d { return t < 5.0 ? wrong : Vector3d::Zero(); };
+    auto rate = [](double t) -> Vector3d { return t < 5.0 ? Vector3d::Zero() : movingRate(t); };
+    const SimResult r = simulate(40.0, q0, rate, zero, smallBias, true, 0.0, 11, OrientationFilter::defaultParams(), link);
+    CHECK(radToDeg(r.worst(0.0, 4.0)) > 140.0);   // the setup really starts 150° off
+    CHECK(r.recovery.headingResets >= 1);
+    INFO("median error 11–13 s " << radToDeg(r.median(11.0, 13.0)) << "°, worst 15–40 s " << radToDeg(r.worst(15.0, 40.0)) << "°");
+    CHECK(radToDeg(r.median(11.0, 13.0)) < 5.0);
+    CHECK(radToDeg(r.worst(15.0, 40.0)) < 3.0);
+    // The probe: without the rule the same stream stays locked out.
+    OrientationFilter::Params noRule = OrientationFilter::defaultParams();
+    noRule.disagreementTime = noRule.acquireDisagreementTime = 1e9;
+    const SimResult locked = simulate(40.0, q0, rate, zero, smallBias, true, 0.0, 11, noRule, link);
+    CHECK(radToDeg(locked.worst(30.0, 40.0)) > 60.0);
+}
+
+TEST_CASE("filter: heading comes back after a long magnetic disturbance ends", "[fusion][filter][gaps]")
+{
+    // 40 s of a disturbed field (rejected) while the arm keeps moving and the gyro bias steps by
+    // 1.5°/s, unseen: the heading drifts by tens of degrees meanwhile.
+    Link link;
+    link.magDisturbance = [](double t) -> Vector3d { return t >= 10.0 && t < 50.0 ? Vector3d(20.0, -15.0, 10.0) : Vector3d::Zero(); };
+    auto rate = [](double t) -> Vector3d { return t < 5.0 ? Vector3d::Zero() : movingRate(t); };
+    auto bias = [](double t) -> Vector3d { return t < 10.0 ? Vector3d(0.004, 0.002, -0.004) : Vector3d(0.019, 0.017, -0.019); };
+    const SimResult r = simulate(100.0, poseToQuaternion({0.0, 0.0, 0.0}), rate, zero, bias, true, 5.0, 11,
+                                 OrientationFilter::defaultParams(), link);
+    INFO("worst error during the disturbance " << radToDeg(r.worst(10.0, 50.0)) << "°, median 5–10 s after it "
+         << radToDeg(r.median(55.0, 60.0)) << "°, median 20–50 s after it " << radToDeg(r.median(70.0, 100.0)) << "°");
+    CHECK(radToDeg(r.worst(40.0, 50.0)) > 10.0);   // the disturbance really cost heading
+    CHECK(radToDeg(r.median(55.0, 60.0)) < 5.0);
+    // Afterwards the heading holds: the bias step about the vertical is observable only through
+    // the (slow) heading updates, so a few degrees of wander remain while it is learned.
+    CHECK(radToDeg(r.median(70.0, 100.0)) < 5.0);
 }
