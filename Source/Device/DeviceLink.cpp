@@ -107,6 +107,13 @@ MotorLevels DeviceLink::onSensorPacket(const SensorCounts& counts, double t)
 void DeviceLink::send(const std::uint8_t* bytes, std::size_t count)
 {
     port_->write(bytes, count);
+    if (sentLogEnabled_ && count == kMotorPacketSize) {
+        SentMotorPacket p;
+        p.t = now();
+        p.resync = !wroteMotorPacket_;
+        decodeMotorPacket(bytes, p.levels);
+        if (!sentLog_.push(p)) sentLogDropped_.fetch_add(1, std::memory_order_relaxed);
+    }
     if (wroteMotorPacket_ && count == kMotorPacketSize) {
         wroteMotorPacket_ = false;
         const double us = (now() - arrival_) * 1e6;
@@ -151,7 +158,18 @@ void DeviceLink::run()
 {
     tryRealtimePriority(options_.realtimePriority);
     std::array<std::uint8_t, 512> buffer {};
+    // A port the owner opened before start() (to fail early with its own message) is a connection
+    // like any other: losing it and opening it again is a reconnect.
     bool everConnected = false;
+    if (port_->isOpen()) {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            backend_ = port_->backend();
+        }
+        everConnected = true;
+        connected_.store(true, std::memory_order_release);
+        publish();
+    }
     double backoff = options_.reconnectMin;
     while (!stop_.load(std::memory_order_relaxed)) {
         if (!port_->isOpen()) {

@@ -24,6 +24,14 @@ struct RawPacket {
     SensorCounts counts {};
 };
 
+/// One motor packet as the link wrote it to the port: t in s since the link started. Resync
+/// packets are in it too (all off), so the log is exactly what reached the wire.
+struct SentMotorPacket {
+    double t = 0.0;
+    ProtocolLevels levels {};
+    bool resync = false;
+};
+
 struct DeviceLinkOptions {
     LinkConfig link {};
     double reconnectMin = 0.05;   ///< s: first retry after a loss
@@ -69,6 +77,11 @@ public:
 
     /// Every good packet, for one consumer thread (UI, calibration, recording). Full ⇒ dropped.
     SpscQueue<RawPacket, 1024>& packets() noexcept { return packets_; }
+    /// Every motor packet written, for one consumer thread (safety checks on what reached the
+    /// wire). Off unless enabled before start(); full ⇒ dropped and counted.
+    void enableSentLog() noexcept { sentLogEnabled_ = true; }
+    SpscQueue<SentMotorPacket, 4096>& sentLog() noexcept { return sentLog_; }
+    std::uint64_t sentLogDropped() const noexcept { return sentLogDropped_.load(std::memory_order_relaxed); }
     LatencySummary latency() const;
 
 private:
@@ -88,6 +101,9 @@ private:
     std::atomic<bool> connected_ {false};
     SeqLock<LinkStats> stats_;
     SpscQueue<RawPacket, 1024> packets_;
+    bool sentLogEnabled_ = false;
+    SpscQueue<SentMotorPacket, 4096> sentLog_;
+    std::atomic<std::uint64_t> sentLogDropped_ {0};
     double arrival_ = 0.0;                 // link thread: when the bytes being parsed arrived
     bool wroteMotorPacket_ = false;
     std::chrono::steady_clock::time_point start_ {};

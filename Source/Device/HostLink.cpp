@@ -49,6 +49,10 @@ void HostLink::completeFrame(double now, LinkPeer& peer)
     if (stats_.firstPacketTime < 0.0) stats_.firstPacketTime = now;
     if (stats_.lastPacketTime >= 0.0) {
         const double dt = std::max(now - stats_.lastPacketTime, 1e-6);
+        if (gapDetector_.step(dt)) {
+            stats_.gaps = gapDetector_.count();
+            stats_.longestGap = gapDetector_.longest();
+        }
         const double alpha = 1.0 - std::exp(-dt / 1.0);   // 1 s time constant
         stats_.rateHz += alpha * (1.0 / dt - stats_.rateHz);
     }
@@ -125,12 +129,12 @@ void HostLink::poll(double now, LinkPeer& peer)
         break;
     }
     if (state_ == State::Resyncing && nextResyncByte_ <= now) {
-        // A device waiting for 0x8 answers the first byte; one mid-way through a motor packet
-        // needs at most five. Exactly five, so leftovers can never make a whole phantom packet;
-        // the next burst only after the device has had twice its round trip to answer.
-        std::uint8_t burst[kMotorPacketSize];
-        std::fill(std::begin(burst), std::end(burst), kResyncByte);
-        peer.send(burst, kMotorPacketSize);
+        // A device in step reads an all-off motor packet and answers; one waiting for 0x8 skips the
+        // zeros and answers the last byte; one mid-way through a motor packet completes it with
+        // zeros (a bad end nibble), then waits and answers the 0x08. Exactly one answer per burst,
+        // so leftovers can never make a whole phantom packet; the next burst only after the device
+        // has had twice its round trip to answer.
+        peer.send(kResyncPacket.data(), kResyncPacket.size());
         lastBurst_ = now;
         stats_.bytesOut += kMotorPacketSize;
         repeatWait_ = repeatWait_ <= 0.0 ? std::max(config_.resyncRepeat, 2.0 * roundTrip_ + 0.002)

@@ -6,12 +6,15 @@
 // whose motor levels go back at once as one motor packet. The host keeps the two in step:
 // a sensor packet whose end nibble is not 0x0, or 10 ms without a byte from the device while a
 // packet is due, puts the link into resync: the host waits for the line to go quiet, then
-// streams 0x8 bytes until the device answers with a sensor packet — in bursts of exactly one
+// sends all-off motor packets `00 00 00 00 08` until the device answers with a sensor packet: a
+// device still in step reads "all motors off" (so a resync can never drive a motor), one out of
+// step skips the 0x00 bytes and syncs on the 0x08 (thesis §2.5.3). Bursts are exactly one
 // motor packet's length (5 bytes), repeated no faster than twice the measured round trip, so
 // that resync bytes still in flight when the device answers can never form a phantom motor
 // packet (which would leave two exchanges in flight for good on a slow or paced link). A device that never answers
 // is reported (reopenDue) so the transport can reconnect: the host is the one that reconnects.
 #include "Device/Packets.h"
+#include "Core/GapDetector.h"
 #include "Core/Types.h"
 #include <cstdint>
 
@@ -45,6 +48,8 @@ struct LinkStats {
     double roundTripSeconds = 0.0;       ///< motor packet sent → next sensor packet's first byte (average)
     double firstPacketTime = -1.0;       ///< s, `now` of the first good packet; −1 before
     double lastPacketTime = -1.0;        ///< s, `now` of the latest good packet
+    std::uint64_t gaps = 0;              ///< good packets that came after a dropout (Core/GapDetector.h)
+    double longestGap = 0.0;             ///< s between two good packets, the longest such dropout
     bool inSync = false;
 };
 
@@ -104,6 +109,7 @@ private:
     double lastBurst_ = -1e300;        ///< time the last resync burst was sent
     double silenceLimit() const noexcept;
     LinkStats stats_ {};
+    GapDetector gapDetector_ {};       ///< packet arrival steps; survives reset() (a reconnect is a gap too)
 };
 
 } // namespace armadillo::device

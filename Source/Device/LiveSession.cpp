@@ -15,10 +15,13 @@ namespace armadillo::device {
 std::string summaryJson(const SessionSummary& s)
 {
     char buf[256];
-    std::snprintf(buf, sizeof buf, "{\"packets\":%llu,\"bad_packets\":%llu,\"resyncs\":%llu,\"reconnects\":%llu,\"rate_hz\":%.1f}",
+    std::snprintf(buf, sizeof buf,
+                  "{\"packets\":%llu,\"bad_packets\":%llu,\"resyncs\":%llu,\"reconnects\":%llu,\"rate_hz\":%.1f,"
+                  "\"gaps\":%llu,\"longest_gap_s\":%.3f}",
                   static_cast<unsigned long long>(s.packets), static_cast<unsigned long long>(s.badPackets),
                   static_cast<unsigned long long>(s.resyncs), static_cast<unsigned long long>(s.reconnects),
-                  std::isfinite(s.rateHz) ? s.rateHz : 0.0);
+                  std::isfinite(s.rateHz) ? s.rateHz : 0.0, static_cast<unsigned long long>(s.gaps),
+                  std::isfinite(s.longestGap) ? s.longestGap : 0.0);
     return buf;
 }
 
@@ -26,7 +29,8 @@ const std::vector<std::string>& sessionLogHeader()
 {
     static const std::vector<std::string> h {"t",      "raw_ax", "raw_ay", "raw_az", "raw_gx", "raw_gy", "raw_gz", "raw_mx",
                                              "raw_my", "raw_mz", "gx",     "gy",     "gz",     "ax",     "ay",     "az",
-                                             "mx",     "my",     "mz",     "qw",     "qx",     "qy",     "qz"};
+                                             "mx",     "my",     "mz",     "qw",     "qx",     "qy",     "qz",
+                                             "bad_packets", "resyncs", "reconnects", "gaps", "longest_gap_s"};
     return h;
 }
 
@@ -105,6 +109,10 @@ MotorLevels LiveSession::control(double t, const SensorCounts* counts, const Imu
     double dt = lastT_ < 0.0 ? 0.0 : t - lastT_;
     // A source that went quiet (unplug, stall): forget patterns rather than resume mid-gesture.
     if (dt > 0.25) engine_->allOff();
+    if (!link_ && dt > 0.0 && sourceGaps_.step(dt)) {
+        oscGaps_.store(sourceGaps_.count(), std::memory_order_relaxed);
+        oscLongestGap_.store(sourceGaps_.longest(), std::memory_order_relaxed);
+    }
     lastT_ = t;
     if (firstT_.load(std::memory_order_relaxed) < 0.0) firstT_.store(t, std::memory_order_relaxed);
     latestT_.store(t, std::memory_order_relaxed);
@@ -133,7 +141,7 @@ MotorLevels LiveSession::control(double t, const SensorCounts* counts, const Imu
 
     if (log_) {
         LogRow row;
-        row.count = 23;
+        row.count = 28;
         row.v[0] = t;
         for (int i = 0; i < 9; ++i) row.v[static_cast<std::size_t>(1 + i)] = counts ? (*counts)[static_cast<std::size_t>(i)] : kNaN;
         const Eigen::Vector3d* vs[3] = {&calibrated.gyro, &calibrated.accel, &calibrated.mag};
@@ -144,6 +152,12 @@ MotorLevels LiveSession::control(double t, const SensorCounts* counts, const Imu
         row.v[20] = haveQ ? arm.q.x() : kNaN;
         row.v[21] = haveQ ? arm.q.y() : kNaN;
         row.v[22] = haveQ ? arm.q.z() : kNaN;
+        const SessionSummary link = linkCounters();
+        row.v[23] = static_cast<double>(link.badPackets);
+        row.v[24] = static_cast<double>(link.resyncs);
+        row.v[25] = static_cast<double>(link.reconnects);
+        row.v[26] = static_cast<double>(link.gaps);
+        row.v[27] = link.longestGap;
         log_->push(row);
     }
     if (tactile_) {
@@ -249,26 +263,36 @@ void LiveSession::finish()
     if (!error.empty()) throw IoError(error);
 }
 
-SessionSummary LiveSession::summary() const
+SessionSummary LiveSession::linkCounters() const
 {
     SessionSummary s;
-    const auto end = running_.load() ? std::chrono::steady_clock::now() : stopped_;
-    s.seconds = started_.time_since_epoch().count() ? std::chrono::duration<double>(end - started_).count() : 0.0;
     if (link_) {
         const LinkStats l = link_->stats();
         s.packets = l.packets;
         s.badPackets = l.badPackets;
         s.resyncs = l.resyncs;
         s.reconnects = l.reconnects;
+        s.gaps = l.gaps;
+        s.longestGap = l.longestGap;
         if (l.packets > 1 && l.lastPacketTime > l.firstPacketTime)
             s.rateHz = static_cast<double>(l.packets - 1) / (l.lastPacketTime - l.firstPacketTime);
     } else if (oscIn_) {
         const OscInputStats o = oscIn_->stats();
         s.packets = o.imu + o.orientation;
         s.badPackets = o.bad;
+        s.gaps = oscGaps_.load(std::memory_order_relaxed);
+        s.longestGap = oscLongestGap_.load(std::memory_order_relaxed);
         const double first = firstT_.load(), last = latestT_.load();
         if (s.packets > 1 && last > first) s.rateHz = static_cast<double>(s.packets - 1) / (last - first);
     }
+    return s;
+}
+
+SessionSummary LiveSession::summary() const
+{
+    SessionSummary s = linkCounters();
+    const auto end = running_.load() ? std::chrono::steady_clock::now() : stopped_;
+    s.seconds = started_.time_since_epoch().count() ? std::chrono::duration<double>(end - started_).count() : 0.0;
     return s;
 }
 

@@ -11,6 +11,7 @@
 // card's (soundCard, paced by the card); a host that owns audio (the plugin) sets neither and
 // calls engine().renderAudio() from its own audio callback. Log/tactile rows leave the
 // control thread through lock-free queues.
+#include "Core/GapDetector.h"
 #include "Core/Pose.h"
 #include "Core/SpscQueue.h"
 #include "Device/Calibration.h"
@@ -57,13 +58,17 @@ struct LiveConfig {
 
 struct SessionSummary {
     std::uint64_t packets = 0, badPackets = 0, resyncs = 0, reconnects = 0;
+    std::uint64_t gaps = 0;    ///< dropouts in the source's stream (Core/GapDetector.h)
+    double longestGap = 0.0;   ///< s
     double rateHz = 0.0;       ///< sustained: (packets − 1) / (last − first packet time)
     double seconds = 0.0;      ///< session length
 };
-/// {"packets":…,"bad_packets":…,"resyncs":…,"reconnects":…,"rate_hz":…} (INTERFACES.md).
+/// {"packets":…,"bad_packets":…,"resyncs":…,"reconnects":…,"rate_hz":…} (INTERFACES.md) plus
+/// "gaps" and "longest_gap_s" (docs/DEVICE.md).
 std::string summaryJson(const SessionSummary& s);
 
-/// The session log's header: t, raw counts, calibrated SI values (IMU names), qw qx qy qz.
+/// The session log's header: t, raw counts, calibrated SI values (IMU names), qw qx qy qz, then the
+/// link's running counters bad_packets, resyncs, reconnects, gaps, longest_gap_s (docs/DEVICE.md).
 const std::vector<std::string>& sessionLogHeader();
 
 class LiveSession {
@@ -89,6 +94,8 @@ public:
     bool connected() const noexcept;
     std::string lastError() const;
     std::uint64_t controlUpdates() const noexcept { return updates_.load(); }
+    /// The device link of a port or simulator source (null for OSC): statistics, the sent-packet log.
+    DeviceLink* deviceLink() noexcept { return link_.get(); }
     /// Every raw packet of a device source, for one consumer thread (calibration, UI); null for OSC.
     SpscQueue<RawPacket, 1024>* rawPackets() noexcept { return link_ ? &link_->packets() : nullptr; }
     /// Sensor-packet arrival → motor packet written (device sources; empty otherwise).
@@ -101,6 +108,8 @@ public:
 
 private:
     MotorLevels control(double t, const SensorCounts* counts, const ImuSample* imu, const Eigen::Quaterniond* q);
+    /// Packets, errors, reconnects and gaps of the source so far (any thread; no session length).
+    SessionSummary linkCounters() const;
     void audioLoop();
 
     LiveConfig config_;
@@ -122,6 +131,9 @@ private:
     SeqLock<Pose> pose_;
     SeqLock<MotorLevels> levels_;
     double lastT_ = -1.0;
+    GapDetector sourceGaps_;                               // control thread: gaps of a source without a link (OSC)
+    std::atomic<std::uint64_t> oscGaps_ {0};
+    std::atomic<double> oscLongestGap_ {0.0};
     std::atomic<double> firstT_ {-1.0}, latestT_ {-1.0};   // source packet times (for the OSC rate)
     std::chrono::steady_clock::time_point started_ {}, stopped_ {};
     std::string audioError_;

@@ -18,8 +18,7 @@ inline constexpr std::size_t kSensorPacketSize = 14;   ///< bytes
 inline constexpr std::size_t kMotorPacketSize = 5;     ///< bytes
 inline constexpr std::uint8_t kSensorEndNibble = 0x0;
 inline constexpr std::uint8_t kMotorEndNibble = 0x8;
-/// What the host streams to make the device answer (thesis §2.5.3: "a stream of bytes
-/// containing 0x8"). High nibble 0 so a stray resync byte read as motor data is a motor off.
+/// The byte a device out of step waits for (thesis §2.5.3: "a byte containing 0x8").
 inline constexpr std::uint8_t kResyncByte = 0x08;
 inline constexpr int kSensorChannels = 9;
 inline constexpr int kProtocolMotors = 9;              ///< motors a v1 motor packet carries
@@ -32,6 +31,9 @@ enum SensorChannel : int { kAx = 0, kAy, kAz, kGx, kGy, kGz, kMx, kMy, kMz };
 using SensorCounts = std::array<std::uint16_t, kSensorChannels>;
 using SensorPacketBytes = std::array<std::uint8_t, kSensorPacketSize>;
 using MotorPacketBytes = std::array<std::uint8_t, kMotorPacketSize>;
+/// What the host sends to resync (HostLink.h): all nine motors off, then the end nibble 0x8. A
+/// device in step applies "all off"; one out of step skips the zeros and syncs on the last byte.
+inline constexpr MotorPacketBytes kResyncPacket {0x00, 0x00, 0x00, 0x00, kResyncByte};
 /// The nine levels a v1 motor packet carries (motor k at index k−1), 0..15.
 using ProtocolLevels = std::array<std::uint8_t, kProtocolMotors>;
 

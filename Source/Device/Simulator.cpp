@@ -380,7 +380,11 @@ void SimulatedForearm::run()
             if (e == DeviceProtocol::Event::None) continue;
             {
                 std::lock_guard<std::mutex> lock(mutex_);
-                if (e == DeviceProtocol::Event::MotorPacket) ++stats_.motorPackets;
+                if (e == DeviceProtocol::Event::MotorPacket) {
+                    ++stats_.motorPackets;
+                    for (std::uint8_t level : device_.protocol().levels())
+                        stats_.maxLevelApplied = std::max<int>(stats_.maxLevelApplied, level);
+                }
                 if (e == DeviceProtocol::Event::BadPacket) ++stats_.badMotorPackets;
                 if (e == DeviceProtocol::Event::Resynced) ++stats_.resyncAnswers;
             }

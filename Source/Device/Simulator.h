@@ -105,6 +105,7 @@ struct SimulatorStats {
     std::uint64_t connections = 0;     ///< times the endpoint was (re)created
     std::uint64_t faults = 0;          ///< faults injected (scripted + random)
     ProtocolLevels levels {};          ///< latest motor levels received
+    int maxLevelApplied = 0;           ///< highest level any good motor packet ever set on any motor
     std::chrono::steady_clock::time_point lastPlug {};   ///< when the endpoint last appeared
 };
 

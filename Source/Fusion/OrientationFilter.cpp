@@ -37,7 +37,7 @@ bool orientationFromVectors(const Eigen::Vector3d& accel, const Eigen::Vector3d&
 }
 
 OrientationFilter::OrientationFilter(const Params& p)
-    : params_(p), ukf_(p.ukf), biasTracker_(p.bias), fieldTracker_(p.field)
+    : params_(p), ukf_(p.ukf), biasTracker_(p.bias), fieldTracker_(p.field), gaps_(p.gap)
 {
     reset();
 }
@@ -51,7 +51,7 @@ void OrientationFilter::reset()
     magLowPass_.reset();
     lowPassDt_ = 0.0;
     lastT_ = 0.0;
-    typicalDt_ = 0.0;
+    gaps_ = GapDetector(params_.gap);
     headingDisagreeT_ = tiltDisagreeT_ = 0.0;
     initialised_ = false;
     skipped_ = 0;
@@ -142,13 +142,6 @@ void OrientationFilter::restartInertialFrame()
     inertial_ = ukf_.state().q;
     accelLowPass_.reset();
     magLowPass_.reset();
-}
-
-bool OrientationFilter::isGap(double dt) const
-{
-    // Until the typical step is known, only what no sender's normal rate would produce is a gap.
-    const double limit = typicalDt_ > 0.0 ? std::max(params_.minGap, params_.gapFactor * typicalDt_) : 0.25;
-    return dt > limit;
 }
 
 void OrientationFilter::setupLowPass(double dt)
@@ -279,12 +272,10 @@ void OrientationFilter::update(const ImuSample& s)
         return;
     }
     lastT_ = s.t;
-    const bool gap = isGap(dt);
+    const bool gap = gaps_.step(dt);
     if (gap) {
         ++recovery_.gaps;
         recovery_.longestGap = std::max(recovery_.longestGap, dt);
-    } else {
-        typicalDt_ = typicalDt_ > 0.0 ? typicalDt_ + 0.01 * (dt - typicalDt_) : dt;
     }
 
     const bool rest = biasTracker_.update(s.gyro, s.accel, dt);

@@ -12,6 +12,7 @@
 // a gap longer than `maxBridge` (or a state that measurements contradict for
 // `disagreementTime`) starts again from gravity and the field as at start-up, keeping the gyro
 // bias (docs/FUSION.md, "Dropouts and re-acquisition").
+#include "Core/GapDetector.h"
 #include "Core/Types.h"
 #include "Fusion/OrientationModels.h"
 #include "Fusion/SquareRootUkf.h"
@@ -54,9 +55,7 @@ public:
         double initialAngularAccelStd = 1.0;  ///< rad/s²
         double initialBiasStd = 0.01;         ///< rad/s
 
-        // Dropouts (a step longer than gapFactor × the typical step, and than minGap, is a gap).
-        double gapFactor = 4.0;               ///< × the running typical step
-        double minGap = 0.03;                 ///< s: shorter steps are never gaps (jittery senders)
+        GapDetector::Params gap {};           ///< what a dropout is (Core/GapDetector.h: 4 × the typical step, ≥ 30 ms)
         double reacquireAccelTolerance = 0.2; ///< fraction of g: a sample whose |a| is further off gives no tilt
         double maxBridge = 0.04;              ///< s: longer gaps re-acquire; shorter ones are extrapolated
                                               ///< with ω and α (what they can honestly carry, docs/FUSION.md)
@@ -113,7 +112,6 @@ private:
     /// covariance, gyro bias kept, low-pass restarted.
     void reacquire(const ImuSample& s);
     void resetCovariance(double rotationStd);
-    bool isGap(double dt) const;
     /// 1 right after start-up or a re-acquisition, falling to 0 over acquireTime.
     double acquiring() const;
     double disagreementLimit() const;
@@ -136,7 +134,7 @@ private:
     double initT_ = 0.0;       ///< s, time of the initialising sample (start of the low-pass ramp)
     double acquireStartT_ = 0.0;   ///< s, start of the latest acquisition: start-up, gap, re-acquisition
     double lastT_ = 0.0;
-    double typicalDt_ = 0.0;   ///< s, running average of the non-gap steps (0 until the first)
+    GapDetector gaps_;
     double headingDisagreeT_ = 0.0, tiltDisagreeT_ = 0.0;   ///< s of unbroken disagreement
     double headingDisagreeMean_ = 0.0;                       ///< rad, mean heading innovation of that run
     Recovery recovery_ {};

@@ -1,5 +1,6 @@
 // The host link state machine with an injected clock: lock-step, end-nibble checks, the 10 ms
-// silence rule, the 0x8 resync stream and the statistics (thesis §2.5.3).
+// silence rule, the all-off resync packets and the statistics (thesis §2.5.3).
+#include "Device/DeviceProtocol.h"
 #include "Device/HostLink.h"
 #include "VirtualWire.h"
 #include <catch2/catch.hpp>
@@ -32,7 +33,7 @@ SensorPacketBytes packetWith(std::uint16_t ax)
 
 } // namespace
 
-TEST_CASE("host link starts by streaming 0x8 bytes and locks on the first good packet", "[device][link]")
+TEST_CASE("host link starts with all-off resync packets and locks on the first good packet", "[device][link]")
 {
     HostLink link;
     RecordingPeer peer;
@@ -41,9 +42,9 @@ TEST_CASE("host link starts by streaming 0x8 bytes and locks on the first good p
     link.reset(0.0);
     link.poll(0.0, peer);
     REQUIRE(link.state() == HostLink::State::Resyncing);
-    // One motor packet's worth of 0x8 bytes, then nothing until resyncRepeat: never a flood,
+    // One all-off motor packet (00 00 00 00 08), then nothing until resyncRepeat: never a flood,
     // and leftovers can never form a whole phantom motor packet.
-    REQUIRE(peer.sent == std::vector<std::uint8_t>(kMotorPacketSize, kResyncByte));
+    REQUIRE(peer.sent == std::vector<std::uint8_t>(kResyncPacket.begin(), kResyncPacket.end()));
     link.poll(0.040, peer);
     CHECK(peer.sent.size() == 5);
     CHECK(link.nextDeadline() == Approx(0.050));
@@ -94,7 +95,7 @@ TEST_CASE("host link: a bad end nibble drains the line, then resyncs", "[device]
     CHECK(link.stats().discardedBytes >= 3);
     link.poll(0.0070, peer);
     CHECK(link.state() == HostLink::State::Resyncing);
-    CHECK(peer.sent == std::vector<std::uint8_t>(kMotorPacketSize, kResyncByte));
+    CHECK(peer.sent == std::vector<std::uint8_t>(kResyncPacket.begin(), kResyncPacket.end()));
     link.receive(good.data(), good.size(), 0.0072, peer);
     CHECK(link.stats().packets == 2);
     CHECK(link.stats().inSync);
@@ -120,7 +121,7 @@ TEST_CASE("host link: 10 ms without a byte while a packet is due starts a resync
     CHECK(link.stats().silences == 1);
     CHECK(link.stats().resyncs == 1);
     CHECK(link.state() == HostLink::State::Resyncing);   // the line has been quiet long enough already
-    CHECK(peer.sent == std::vector<std::uint8_t>(kMotorPacketSize, kResyncByte));
+    CHECK(peer.sent == std::vector<std::uint8_t>(kResyncPacket.begin(), kResyncPacket.end()));
     CHECK(link.stats().discardedBytes == 4);
 }
 
@@ -204,4 +205,34 @@ TEST_CASE("virtual wire: a slow link (Bluetooth-like 20 ms latency) resyncs with
     for (std::size_t i = 1; i < wire.received.size(); ++i) REQUIRE(wire.received[i] > wire.received[i - 1]);
     const double gap = wire.receivedAt.back() - wire.receivedAt[wire.receivedAt.size() - 2];
     CHECK(gap > 0.04);   // still one exchange per round trip, not two
+}
+
+TEST_CASE("resync packets: a device in step reads all off; out of step or mid-packet it answers exactly once", "[device][link]")
+{
+    // Every state the device side can be in when a resync packet arrives: waiting for 0x8 (power-up,
+    // after a bad packet), in step with k = 0..4 bytes of a motor packet already received.
+    for (int already = -1; already < static_cast<int>(kMotorPacketSize); ++already) {
+        INFO("device state: " << (already < 0 ? std::string("waiting for 0x8") : std::to_string(already) + " bytes into a packet"));
+        DeviceProtocol device;
+        if (already >= 0) {
+            // Bring the device in step with a packet that drives every motor at 12, then start another.
+            const MotorPacketBytes loud = encodeMotorPacket(ProtocolLevels {12, 12, 12, 12, 12, 12, 12, 12, 12});
+            for (std::uint8_t b : kResyncPacket) device.onByte(b);
+            for (std::uint8_t b : loud) device.onByte(b);
+            REQUIRE(device.levels()[0] == 12);
+            for (int i = 0; i < already; ++i) device.onByte(loud[static_cast<std::size_t>(i)]);
+        }
+        int answers = 0;
+        for (std::uint8_t b : kResyncPacket) {
+            const DeviceProtocol::Event e = device.onByte(b);
+            if (e == DeviceProtocol::Event::MotorPacket || e == DeviceProtocol::Event::Resynced) ++answers;
+            // A level a resync packet sets is never above what the device already had.
+            if (e == DeviceProtocol::Event::MotorPacket)
+                for (std::uint8_t level : device.levels()) CHECK(level == 0);
+        }
+        CHECK(answers == 1);
+        if (already == 0) {
+            for (std::uint8_t level : device.levels()) CHECK(level == 0);   // in step: all off at once
+        }
+    }
 }
