@@ -152,10 +152,12 @@ std::string DeviceConnection::status() const
     if (link_ == nullptr) return "Not connected.";
     const auto s = link_->stats();
     char buffer[256];
-    std::snprintf(buffer, sizeof(buffer), "%s %s (%s): %llu packets, %llu bad, %llu resyncs, %llu reconnects, %.0f/s",
+    std::snprintf(buffer, sizeof(buffer),
+                  "%s %s (%s): %llu packets, %llu bad, %llu resyncs, %llu reconnects, %llu gaps (longest %.2f s), %.0f/s",
                   link_->connected() ? "Linked to" : "Waiting for", link_->portName().c_str(), link_->backend().c_str(),
                   static_cast<unsigned long long>(s.packets), static_cast<unsigned long long>(s.badPackets),
-                  static_cast<unsigned long long>(s.resyncs), static_cast<unsigned long long>(s.reconnects), s.rateHz);
+                  static_cast<unsigned long long>(s.resyncs), static_cast<unsigned long long>(s.reconnects),
+                  static_cast<unsigned long long>(s.gaps), s.longestGap, s.rateHz);
     std::string out = buffer;
     const auto error = link_->lastError();
     if (! error.empty()) out += "\nLast error: " + error;
