@@ -11,5 +11,7 @@ done
 if [ -x scripts/score-broad.sh ] && [ -d ../shared/data/broad-dev ]; then
     echo "=== BROAD orientation accuracy (armadillo fuse)"
     bash scripts/score-broad.sh build/bin/armadillo || status=1
+    echo "=== orientation through dropouts (armadillo fuse and VQF on BROAD with gaps cut out)"
+    python3 scripts/bench_gaps.py --armadillo build/bin/armadillo || status=1
 fi
 exit $status
