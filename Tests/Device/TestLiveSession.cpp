@@ -257,3 +257,38 @@ TEST_CASE("armadillo play: SIGINT ends cleanly with the summary and whole files"
     std::remove(tactile.c_str());
     std::remove(wav.c_str());
 }
+
+TEST_CASE("armadillo play --port: a device unplugged for 0.5 s is one reconnect and one gap in the summary and the log",
+          "[live][cli][dropout]")
+{
+    SimulatorOptions o;
+    o.baud = 57600.0;
+    SimulatedForearm sim(std::make_shared<WanderingMotion>(9), o);
+    const std::string port = out("cli-dropout-port");
+    sim.startPty(port);
+    const std::string log = out("cli-dropout.csv");
+    std::uint64_t unpluggedAt = 0;
+    // play opens the port itself; 2 s in, the device is unplugged for 0.5 s; 2 s after it is back
+    // (counted in the simulator's own packets) the session is ended with SIGINT.
+    const Run r = runArmadillo({"play", "--scene", "monitor", "--port", port, "--seconds", "60", "--log", log}, [&](pid_t) {
+        const SimulatorStats s = sim.stats();
+        if (unpluggedAt == 0 && s.packetsSent >= 600) {
+            unpluggedAt = s.packetsSent;
+            sim.disconnectFor(0.5);
+        }
+        return unpluggedAt > 0 && s.connections >= 2 && s.packetsSent >= unpluggedAt + 600;
+    });
+    sim.stop();
+    REQUIRE(r.status == 0);
+    const std::string json = lastLine(r.stdoutText);
+    INFO(json);
+    CHECK(json.find("\"reconnects\":1,") != std::string::npos);
+    CHECK(json.find("\"gaps\":1,") != std::string::npos);
+    const CsvTable table = CsvTable::read(log);
+    const int reconnects = table.requireColumn("reconnects"), gapCol = table.requireColumn("gaps");
+    REQUIRE(table.rowCount() > 1000);
+    CHECK(table.value(0, reconnects) == 0.0);
+    CHECK(table.value(table.rowCount() - 1, reconnects) == 1.0);
+    CHECK(table.value(table.rowCount() - 1, gapCol) == 1.0);
+    std::remove(log.c_str());
+}
