@@ -259,7 +259,9 @@ void SimBoard::onUartOut(avr_irq_t*, std::uint32_t value, void* param)
     // simavr raises the byte when UDR is written, i.e. when its start bit leaves; the host has it
     // when its stop bit has arrived.
     const std::uint64_t end = self->avr_->cycle + static_cast<avr_uart_t*>(self->uart_)->cycles_per_byte;
-    self->rx_.push_back({static_cast<double>(end) / kClockHz, end, static_cast<std::uint8_t>(value)});
+    std::uint8_t b = static_cast<std::uint8_t>(value);
+    if (self->txCount_++ == self->corruptIndex_) b ^= self->corruptMask_;
+    self->rx_.push_back({static_cast<double>(end) / kClockHz, end, b});
 }
 
 void SimBoard::onTwiOut(avr_irq_t*, std::uint32_t value, void* param)

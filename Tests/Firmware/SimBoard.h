@@ -77,6 +77,10 @@ public:
     void send(const std::uint8_t* bytes, std::size_t n);
     struct RxByte { double t; std::uint64_t cycle; std::uint8_t b; };   ///< t, cycle = end of the byte's stop bit
     std::deque<RxByte>& received() { return rx_; }
+    /// Board → host corruption on the wire: the byte with this index (counted from power-on) is
+    /// xor-ed with `mask` before the host sees it.
+    void corruptTxByte(std::uint64_t index, std::uint8_t mask) { corruptIndex_ = index; corruptMask_ = mask; }
+    std::uint64_t txCount() const { return txCount_; }
     /// s per byte on the simulated wire (after the parity correction).
     double byteTime() const;
     double baud() const;                      ///< the rate the firmware configured, 8N1 bits/s
@@ -117,6 +121,8 @@ private:
     struct PinHook { SimBoard* board; int motor; };
     std::array<PinHook, 9> hooks_ {};
     std::uint64_t steps_ = 0;
+    std::uint64_t txCount_ = 0, corruptIndex_ = ~0ull;
+    std::uint8_t corruptMask_ = 0;
     bool fixed_ = false;
 };
 

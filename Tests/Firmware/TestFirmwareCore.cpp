@@ -385,6 +385,16 @@ TEST_CASE("firmware safety: off at power-on, off 50 ms after the last valid pack
             REQUIRE(out[0] == lv[0]);
         }
     }
+    SECTION("a packet stamped just after the caller read its clock is fresh, not expired")
+    {
+        armfw::MotorSafety h;
+        const uint8_t lv[9] = {4, 4, 4, 4, 4, 4, 4, 4, 4};
+        h.onPacket(lv, 100);
+        h.onPacket(lv, 103);      // arrived in the interrupt during the main loop's I2C read
+        h.output(102, out);       // the main loop's clock, read before that
+        CHECK(out[0] == 4);
+        CHECK((h.takeStatus() & armfw::kStatusWatchdog) == 0);
+    }
     SECTION("the millisecond clock wrapping around is harmless")
     {
         armfw::MotorSafety h;

@@ -309,7 +309,8 @@ int main()
             imuOk = imuInit();
         }
         if (imuOk && nowUs - lastImuUs >= 1000) {   // the MPU-9250 samples at 1 kHz
-            lastImuUs = nowUs;
+            // Keep a 1 ms grid (not 1 ms after the last pass), but never try to catch up a backlog.
+            lastImuUs = (nowUs - lastImuUs < 3000) ? lastImuUs + 1000 : nowUs;
             uint8_t b[14];
             bool ok = readRegs(kMpuAddr, 0x3B, b, 14);   // ACCEL_XOUT_H .. GYRO_ZOUT_L
             if (ok) {
@@ -343,9 +344,10 @@ int main()
         }
 
         uint8_t levels[armfw::kMotors];
+        const uint32_t safetyMs = millisNow();       // after the I2C read: packets may have come in meanwhile
         cli();
-        g_link.tick(nowMs);
-        g_safety.output(nowMs, levels);
+        g_link.tick(safetyMs);
+        g_safety.output(safetyMs, levels);
         sei();
         for (uint8_t m = 0; m < armfw::kMotors; ++m)
             if (levels[m] != g_applied[m]) setMotor(m, levels[m]);

@@ -25,7 +25,10 @@ void MotorSafety::onPacket(const uint8_t levels[kMotors], uint32_t nowMs)
 
 bool MotorSafety::linkAlive(uint32_t nowMs) const
 {
-    return havePacket_ && static_cast<uint32_t>(nowMs - lastPacketMs_) <= params_.linkTimeoutMs;
+    // Signed difference: a packet stamped after `nowMs` (it arrived in an interrupt after the caller
+    // read its clock) is fresh, not 49 days old. Found by the simavr loop: the unsigned form switched
+    // every motor off for one packet whenever a packet landed during the I2C read.
+    return havePacket_ && static_cast<int32_t>(nowMs - lastPacketMs_) <= static_cast<int32_t>(params_.linkTimeoutMs);
 }
 
 void MotorSafety::output(uint32_t nowMs, uint8_t out[kMotors])
