@@ -134,6 +134,12 @@ volatile uint16_t g_counts[armfw::kChannels];   // the latest sample, published 
 volatile uint32_t g_sampleUs = 0;
 volatile uint8_t g_sensorStatus = 0;
 volatile uint16_t g_rateHz = 0;
+// Motor packet → main loop hand-over (the interrupt never runs the safety code, so the main loop
+// never has to block interrupts for it: a reply is never delayed by the motor bookkeeping).
+volatile uint8_t g_newLevels[armfw::kMotors];
+volatile uint32_t g_newLevelsMs = 0;
+volatile bool g_haveNewLevels = false;
+volatile uint8_t g_safetyStatus = 0;            // StatusBits from MotorSafety for the next v2 frame
 
 constexpr uint8_t kTxSize = 64;                  // power of two
 volatile uint8_t g_tx[kTxSize];
@@ -155,12 +161,17 @@ ISR(USART0_RX_vect)
     (void)frameError;   // a framing error still delivers a byte; the protocol's checks reject it
     const uint32_t now = g_ms;
     const armfw::LinkEvent e = g_link.onByte(byte, now);
-    if (e == armfw::LinkEvent::Motor) g_safety.onPacket(g_link.levels(), now);
+    if (e == armfw::LinkEvent::Motor) {
+        for (uint8_t m = 0; m < armfw::kMotors; ++m) g_newLevels[m] = g_link.levels()[m];
+        g_newLevelsMs = now;
+        g_haveNewLevels = true;
+    }
     if (!g_link.replyDue()) return;
     uint16_t counts[armfw::kChannels];
     for (uint8_t i = 0; i < armfw::kChannels; ++i) counts[i] = g_counts[i];
     uint8_t out[armfw::kV2SensorSize];
-    const uint8_t status = static_cast<uint8_t>(g_safety.takeStatus() | g_sensorStatus);
+    const uint8_t status = static_cast<uint8_t>(g_safetyStatus | g_sensorStatus);
+    g_safetyStatus = static_cast<uint8_t>(g_safetyStatus & ~armfw::kStatusWatchdog);   // reported once
     const uint8_t n = g_link.buildReply(counts, g_sampleUs, status, g_rateHz, out, sizeof out);
     for (uint8_t i = 0; i < n; ++i) {
         const uint8_t next = static_cast<uint8_t>((g_txHead + 1) & (kTxSize - 1));
@@ -343,11 +354,24 @@ int main()
             rateWindowMs = nowMs;
         }
 
-        uint8_t levels[armfw::kMotors];
+        uint8_t levels[armfw::kMotors], requested[armfw::kMotors];
+        bool havePacket = false;
+        uint32_t packetMs = 0;
         const uint32_t safetyMs = millisNow();       // after the I2C read: packets may have come in meanwhile
-        cli();
+        cli();                                       // a few dozen cycles: copy the hand-over, run the v2 timer
+        if (g_haveNewLevels) {
+            for (uint8_t m = 0; m < armfw::kMotors; ++m) requested[m] = g_newLevels[m];
+            packetMs = g_newLevelsMs;
+            g_haveNewLevels = false;
+            havePacket = true;
+        }
         g_link.tick(safetyMs);
+        sei();
+        if (havePacket) g_safety.onPacket(requested, packetMs);
         g_safety.output(safetyMs, levels);
+        const uint8_t st = g_safety.takeStatus();
+        cli();
+        g_safetyStatus = static_cast<uint8_t>((g_safetyStatus & armfw::kStatusWatchdog) | st);
         sei();
         for (uint8_t m = 0; m < armfw::kMotors; ++m)
             if (levels[m] != g_applied[m]) setMotor(m, levels[m]);
