@@ -6,6 +6,10 @@ cd "$(dirname "$0")/.."
 fail=0
 need() { if [ -e "$1" ]; then echo "artefact ok: $1"; else echo "MISSING artefact: $1"; fail=1; fi; }
 need build/bin/armadillo
+if command -v avr-g++ > /dev/null; then   # the reference firmware (docs/HARDWARE.md)
+    need build/firmware/avr/armadillo-mega2560.hex
+    need build/firmware/avr/armadillo-mega2560.elf
+fi
 if [ "${ARMADILLO_NO_PLUGIN:-0}" != "1" ]; then
     need "build/Source/Plugin/ARMadillo_artefacts/Release/VST3/ARMadillo.vst3"
     need "build/Source/Plugin/ARMadillo_artefacts/Release/LV2/ARMadillo.lv2"

@@ -14,6 +14,8 @@ packages=(
     libgl-dev libgtk-3-dev
     # tests: pseudo-terminals, headless display for the app, BROAD scoring
     socat xvfb xauth python3-numpy
+    # the reference firmware (docs/HARDWARE.md): AVR toolchain, flashing, and its simavr loop test
+    gcc-avr avr-libc binutils-avr avrdude simavr libsimavr-dev libelf-dev
 )
 
 missing=()
