@@ -14,6 +14,13 @@ namespace armadillo::device {
 
 std::string summaryJson(const SessionSummary& s)
 {
+    if (!s.oscJson.empty()) {   // OSC sources add what their input counted, as one nested object
+        SessionSummary plain = s;
+        plain.oscJson.clear();
+        std::string j = summaryJson(plain);
+        j.insert(j.size() - 1, ",\"osc\":{" + s.oscJson + "}");
+        return j;
+    }
     char buf[256];
     std::snprintf(buf, sizeof buf, "{\"packets\":%llu,\"bad_packets\":%llu,\"resyncs\":%llu,\"reconnects\":%llu,\"rate_hz\":%.1f}",
                   static_cast<unsigned long long>(s.packets), static_cast<unsigned long long>(s.badPackets),
@@ -66,7 +73,7 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
     case LiveConfig::Source::Osc:
         oscIn_ = std::make_unique<OscReceiver>(
             config_.oscInPort, [this](const ImuSample& s) { control(s.t, nullptr, &s, nullptr); },
-            [this](double t, const Eigen::Quaterniond& q) { control(t, nullptr, nullptr, &q); });
+            [this](double t, const Eigen::Quaterniond& q) { control(t, nullptr, nullptr, &q); }, config_.osc);
         break;
     }
 
@@ -268,6 +275,7 @@ SessionSummary LiveSession::summary() const
         s.badPackets = o.bad;
         const double first = firstT_.load(), last = latestT_.load();
         if (s.packets > 1 && last > first) s.rateHz = static_cast<double>(s.packets - 1) / (last - first);
+        s.oscJson = oscIn_->statsJson();
     }
     return s;
 }
