@@ -149,18 +149,17 @@ void OscSampleMerger::handleDatagram(const std::uint8_t* data, std::size_t size,
 double OscSampleMerger::timeOf(const OscMessage& m, double arrival) noexcept
 {
     if (m.timeTag <= 1) return arrival;   // "immediately" (or a bare message): the arrival time
-    // The sender's clock, anchored to ours on the earliest-arriving tags (least delay); a jump of
-    // more than a second either way (sender restarted, clock set) re-anchors.
+    // The sender's clock, anchored to ours at its first tag and then following slowly (time
+    // constant ≈ 10⁴ samples) so the intervals stay the sender's own while a drift between the
+    // two clocks is absorbed; a jump of more than a second (sender restarted) re-anchors.
     const double tag = oscTimeTagSeconds(m.timeTag);
     const double d = arrival - tag;
     if (!haveOffset_ || std::abs(d - tagOffset_) > 1.0) {
         if (haveOffset_) n_.clockResets.fetch_add(1, std::memory_order_relaxed);
         tagOffset_ = d;
         haveOffset_ = true;
-    } else if (d < tagOffset_) {
-        tagOffset_ = d;
     } else {
-        tagOffset_ += 1e-3 * (d - tagOffset_);   // follows a slow drift between the two clocks
+        tagOffset_ += 1e-4 * (d - tagOffset_);
     }
     return tag + tagOffset_;
 }
