@@ -193,6 +193,7 @@ void OscSampleMerger::resetStreams() noexcept
 {
     gyro_ = accel_ = gravity_ = user_ = mag_ = heading_ = Held {};
     firstAccelT_ = -1.0;
+    streamStart_ = -1.0;
     tiltT_ = -1.0;
     haveOffset_ = false;
 }
@@ -337,6 +338,8 @@ void OscSampleMerger::onReading(const SensorReading& r, double t) noexcept
         }
         return false;
     };
+    if (streamStart_ < 0.0 || t < streamStart_) streamStart_ = t;
+    const bool warming = f != OscFormat::Armadillo && t - streamStart_ < options_.warmupSeconds;
     auto magNow = [&](const Eigen::Vector3d& accel) -> Eigen::Vector3d {
         if (mag_.fresh(t, options_.magHoldSeconds)) return mag_.v;
         if (heading_.fresh(t, options_.magHoldSeconds)) {
@@ -353,17 +356,17 @@ void OscSampleMerger::onReading(const SensorReading& r, double t) noexcept
         gyro_.t = t;
         const Eigen::Vector3d a = M * r.accel;
         Eigen::Vector3d m = r.mag.allFinite() ? Eigen::Vector3d(M * r.mag) : magNow(a);
-        emitImu(t, gyro_.v, a, m);
+        if (!warming) emitImu(t, gyro_.v, a, m);
         return;
     }
     case K::Gyro: {
         if (!store(gyro_, r.gyro)) return;
         Eigen::Vector3d a;
         if (!accelNow(a)) {
-            n_.incomplete.fetch_add(1, std::memory_order_relaxed);
+            if (!warming) n_.incomplete.fetch_add(1, std::memory_order_relaxed);
             return;
         }
-        emitImu(t, gyro_.v, a, magNow(a));
+        if (!warming) emitImu(t, gyro_.v, a, magNow(a));
         return;
     }
     case K::Accel:
@@ -376,7 +379,7 @@ void OscSampleMerger::onReading(const SensorReading& r, double t) noexcept
         // No gyroscope at all (or it stopped): the accelerometer alone gives tilt, never heading.
         const bool gyroLive = gyro_.fresh(t, options_.gyroActiveSeconds);
         const bool neverGyro = gyro_.t < -1e299;
-        if (gyroLive || (neverGyro && t - firstAccelT_ < 0.3)) return;
+        if (gyroLive || warming || (neverGyro && t - firstAccelT_ < 0.3)) return;
         Eigen::Vector3d a;
         if (!accelNow(a) || !(a.norm() > 0.5)) return;
         const Eigen::Vector3d up = a.normalized();
@@ -407,6 +410,7 @@ void OscSampleMerger::onReading(const SensorReading& r, double t) noexcept
             n_.unusedOrientation.fetch_add(1, std::memory_order_relaxed);
             return;
         }
+        if (warming) return;
         emitOrientation(t, (r.q * M.conjugate()).normalized(), false);
         return;
     }

@@ -33,6 +33,9 @@ struct OscInputOptions {
     double deviceTimeoutSeconds = 2.0;    ///< s: the chosen device silent this long lets another take over
     double floodFactor = 3.0;             ///< samples beyond this × the stream's measured rate are dropped
     double tiltLowPassSeconds = 0.05;     ///< s: accelerometer-only senders: low-pass of the gravity direction
+    double warmupSeconds = 0.3;           ///< s: a new stream's first readings only show which sensors it sends (a
+                                          ///< first sample without the compass that follows it would start the
+                                          ///< filter without heading); not for ARMadillo's own messages
 };
 
 struct OscInputStats {
@@ -134,6 +137,7 @@ private:
     Eigen::Vector3d headingAxis_ {0, 1, 0};
     double headingDeg_ = 0.0;
     double firstAccelT_ = -1.0;
+    double streamStart_ = -1.0;
     Eigen::Vector3d tiltUp_ {0, 0, 0};
     double tiltT_ = -1.0;
 

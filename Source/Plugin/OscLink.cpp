@@ -51,11 +51,13 @@ OscInput::~OscInput()
     if (receiver_ != nullptr) receiver_->stop();
 }
 
-bool OscInput::configure(bool enabled, int port, std::string& whyNot)
+bool OscInput::configure(bool enabled, int port, std::string& whyNot, const device::OscInputOptions& options)
 {
     std::lock_guard<std::mutex> lock(mutex_);
     whyNot.clear();
-    if (enabled && receiver_ != nullptr && openPort_ == port) return true;
+    const bool sameOptions = openFormat_ == options.format && openMountGiven_ == options.mountGiven
+                             && (! options.mountGiven || openMount_.isApprox(options.mount.rotation));
+    if (enabled && receiver_ != nullptr && openPort_ == port && sameOptions) return true;
     if (receiver_ != nullptr) receiver_->stop();
     receiver_.reset();
     openPort_ = 0;
@@ -69,7 +71,7 @@ bool OscInput::configure(bool enabled, int port, std::string& whyNot)
         receiver_ = std::make_unique<device::OscReceiver>(
             port,
             [this](const ImuSample& s) { live_.pushImu(s); },
-            [this](double t, const Eigen::Quaterniond& q) { live_.storeOrientation(t, q); });
+            [this](double t, const Eigen::Quaterniond& q) { live_.storeOrientation(t, q); }, options);
         receiver_->start();
     } catch (const std::exception& e) {
         receiver_.reset();
@@ -77,7 +79,38 @@ bool OscInput::configure(bool enabled, int port, std::string& whyNot)
         return false;
     }
     openPort_ = port;
+    openFormat_ = options.format;
+    openMountGiven_ = options.mountGiven;
+    openMount_ = options.mount.rotation;
     return true;
+}
+
+device::OscFormat OscInput::format() const
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    return receiver_ != nullptr ? receiver_->format() : device::OscFormat::Auto;
+}
+
+std::string OscInput::deviceName() const
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    return receiver_ != nullptr ? receiver_->deviceName() : std::string();
+}
+
+std::string OscInput::statusText() const
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (receiver_ == nullptr) return "OSC input off";
+    const device::OscInputStats s = receiver_->stats();
+    std::string text = std::string("OSC in: ") + device::oscFormatName(receiver_->format());
+    if (receiver_->format() == device::OscFormat::Auto) text += " (waiting for a sender)";
+    else text += " from " + receiver_->deviceName() + ", mount " + receiver_->merger().mount().name;
+    text += "; refused " + std::to_string(s.bad) + " (wrong types " + std::to_string(s.wrongTypes) + ", NaN/inf " + std::to_string(s.nonFinite)
+            + ", absurd " + std::to_string(s.absurd) + ", malformed " + std::to_string(s.malformed + s.tooDeep) + "), other device "
+            + std::to_string(s.otherDevice) + ", other app " + std::to_string(s.otherFormat) + ", flood " + std::to_string(s.flood);
+    const char* e = receiver_->merger().lastError();
+    if (e[0] != 0) text += "; last: " + std::string(e);
+    return text;
 }
 
 device::OscInputStats OscInput::stats() const
