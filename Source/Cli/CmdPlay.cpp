@@ -276,9 +276,9 @@ int runPlay(const Arguments& args)
             }
             if (mountCalibration && mountCalibration->pose() != device::MountCalibration::Pose::Done) {
                 device::SensorFrameSample p;
-                while (session.oscReceiver()->merger().popSensorSample(p))
+                while (mountCalibration->pose() != device::MountCalibration::Pose::Done && session.oscReceiver()->merger().popSensorSample(p)) {
                     mountCalibration->feed(Eigen::Vector3d(p.accel[0], p.accel[1], p.accel[2]), Eigen::Vector3d(p.gyro[0], p.gyro[1], p.gyro[2]));
-                if (mountCalibration->ready()) {
+                    if (!mountCalibration->ready()) continue;
                     mountCalibration->finishStep();
                     const auto pose = mountCalibration->pose();
                     std::cerr << (pose == device::MountCalibration::Pose::Done

@@ -162,6 +162,10 @@ void MountCalibration::feed(const Eigen::Vector3d& accel, const Eigen::Vector3d&
     if (pose_ == Pose::Done || !accel.allFinite()) return;
     if (gyro.allFinite() && gyro.norm() > params_.stillGyro) return;
     if (std::abs(accel.norm() - kStandardGravity) > params_.stillAccelDev) return;
+    // Still in a pose already taken (the person has not moved on yet): not this pose.
+    for (std::size_t i = 0; i < means_.size(); ++i)
+        if (have_[i] && std::acos(std::clamp(means_[i].dot(accel.normalized()), -1.0, 1.0)) < degToRad(params_.minSeparationDeg))
+            return;
     // A sample far from the running mean restarts the pose (the arm moved to get there).
     if (count_ > 0) {
         const Eigen::Vector3d mean = sum_ / count_;

@@ -58,7 +58,8 @@ public:
         double stillGyro = 0.15;        ///< rad/s: faster than this is moving (sample skipped)
         double stillAccelDev = 0.6;     ///< m/s²: |a| further than this from g is moving
         int samplesNeeded = 60;         ///< still samples per pose
-        double minSeparationDeg = 45.0; ///< two pose directions closer than this cannot fix a rotation
+        double minSeparationDeg = 45.0; ///< two pose directions closer than this cannot fix a rotation (and a
+                                        ///< sample this close to a finished pose is not the next pose yet)
     };
     MountCalibration();
     explicit MountCalibration(const Params& p);

@@ -74,7 +74,15 @@ struct Truth {
     std::mt19937 rng {17};
     std::normal_distribution<double> n01 {0.0, 1.0};
 
-    MotionState at(double t) const { return motion.at(t + 3.0); }   // start mid-movement
+    std::vector<std::pair<double, Pose>> holds;   // when set: still poses instead of the wandering arm
+    MotionState at(double t) const
+    {
+        if (holds.empty()) return motion.at(t + 3.0);   // start mid-movement
+        MotionState s;
+        for (const auto& [from, pose] : holds)
+            if (t >= from) s.q = poseToQuaternion(pose);
+        return s;
+    }
     Eigen::Vector3d noise(double rms) { return rms * Eigen::Vector3d(n01(rng), n01(rng), n01(rng)); }
     Eigen::Vector3d toSensor(const Eigen::Vector3d& vDevice) const { return mount.rotation.conjugate() * vDevice; }
     Eigen::Vector3d gyro(double t) { return toSensor(at(t).omega) + noise(0.003); }                       // rad/s
@@ -134,7 +142,26 @@ struct Scenario {
     double loss = 0.0;            ///< fraction of datagrams dropped
     double jitter = 0.0;          ///< s, uniform send delay (sample times unchanged)
     bool tiltOnly = false;
+    double gapFrom = -1.0, gapTo = -1.0;   ///< s: nothing is sent in [gapFrom, gapTo) (a Wi-Fi dropout)
+    std::string extraArgs;                 ///< more `play` options (one word)
+    std::string extraValue;
+    std::vector<std::pair<double, Pose>> holds;   ///< when set: the arm holds these poses (from each time on), still
+    Eigen::Quaterniond strap = Eigen::Quaterniond::Identity();   ///< with holds: the sensor's rotation on the arm
 };
+
+Scenario make(std::string name, std::string format, std::string mount, std::vector<Stream> streams, double loss, double jitter,
+              bool tiltOnly = false)
+{
+    Scenario s;
+    s.name = std::move(name);
+    s.expectFormat = std::move(format);
+    s.mountPreset = std::move(mount);
+    s.streams = std::move(streams);
+    s.loss = loss;
+    s.jitter = jitter;
+    s.tiltOnly = tiltOnly;
+    return s;
+}
 
 std::uint64_t ntp(double t) { return (std::uint64_t(3'900'000'000u) << 32) + static_cast<std::uint64_t>(t * 4294967296.0); }
 
@@ -142,31 +169,31 @@ std::vector<Scenario> scenarios()
 {
     std::vector<Scenario> s;
     // ARMadillo's own address (INTERFACES.md): /armadillo/imu 9 floats SI, device frame.
-    s.push_back({"armadillo", "armadillo", "identity",
+    s.push_back(make("armadillo", "armadillo", "identity",
                  {{0.01, [](Truth& w, double t) {
                        std::vector<OscArg> a = fl(w.gyro(t));
                        for (auto& x : fl(w.specificForce(t))) a.push_back(x);
                        for (auto& x : fl(w.field(t))) a.push_back(x);
                        return encodeOscMessage("/armadillo/imu", a);
                    }}},
-                 0.0, 0.0});
+                 0.0, 0.0));
     // Sensors2OSC: one message per Android sensor event, SensorEvent.values as floats.
-    s.push_back({"sensors2osc", "sensors2osc", "phone-screen-up",
+    s.push_back(make("sensors2osc", "sensors2osc", "phone-screen-up",
                  {{0.01, [](Truth& w, double t) { return encodeOscMessage("/gyroscope", fl(w.gyro(t))); }},
                   {0.02, [](Truth& w, double t) { return encodeOscMessage("/accelerometer", fl(w.specificForce(t))); }},
                   {0.04, [](Truth& w, double t) { return encodeOscMessage("/magneticfield", fl(w.field(t))); }}},
-                 0.05, 0.003});
+                 0.05, 0.003));
     // Sensors2OSC with the rotation vector only (x, y, z, w, accuracy; East-North-Up), sent as bundles.
-    s.push_back({"sensors2osc-rotationvector", "sensors2osc", "phone-screen-up",
+    s.push_back(make("sensors2osc-rotationvector", "sensors2osc", "phone-screen-up",
                  {{0.02, [](Truth& w, double t) {
                        const Eigen::Quaterniond q = enuFromContract() * w.sensorQ(t);
                        return encodeOscBundle(1, {encodeOscMessage("/rotationvector", {OscArg::float32(float(q.x())), OscArg::float32(float(q.y())),
                                                                                         OscArg::float32(float(q.z())), OscArg::float32(float(q.w())),
                                                                                         OscArg::float32(0.05f)})});
                    }}},
-                 0.05, 0.003});
+                 0.05, 0.003));
     // ZIG SIM (ZIGSIMPlus MotionService/LocationService/ServiceManager): one bundle per tick.
-    s.push_back({"zigsim", "zigsim", "phone-screen-up",
+    s.push_back(make("zigsim", "zigsim", "phone-screen-up",
                  {{1.0 / 60.0, [](Truth& w, double t) {
                        const std::string p = "/ZIGSIM/f00dbabe1234/";
                        const Eigen::Vector3d grav = -w.gravityOnly(t) / kStandardGravity;                  // G, Core Motion sign
@@ -182,21 +209,21 @@ std::vector<Scenario> scenarios()
                                                   encodeOscMessage(p + "compass", {OscArg::float32(float(w.headingOf(t, Eigen::Vector3d::UnitY()))),
                                                                                    OscArg::int32(1)})});
                    }}},
-                 0.05, 0.003});
+                 0.05, 0.003));
     // GyrOSC: rotation rate, gravity and compass as separate messages at their own rates.
-    s.push_back({"gyrosc", "gyrosc", "phone-screen-up",
+    s.push_back(make("gyrosc", "gyrosc", "phone-screen-up",
                  {{0.01, [](Truth& w, double t) { return encodeOscMessage("/gyrosc/rrate", fl(w.gyro(t))); }},
                   {0.02, [](Truth& w, double t) { return encodeOscMessage("/gyrosc/grav", fl(-w.gravityOnly(t) / kStandardGravity)); }},
                   {0.1, [](Truth& w, double t) {
                        return encodeOscMessage("/gyrosc/comp", {OscArg::float32(float(w.headingOf(t, Eigen::Vector3d::UnitY())))});
                    }}},
-                 0.05, 0.003});
+                 0.05, 0.003));
     // TouchOSC accelerometer: /accxyz in G, iOS sign: tilt only.
-    s.push_back({"touchosc", "touchosc", "phone-screen-up",
+    s.push_back(make("touchosc", "touchosc", "phone-screen-up",
                  {{0.02, [](Truth& w, double t) { return encodeOscMessage("/accxyz", fl(-w.specificForce(t) / kStandardGravity)); }}},
-                 0.05, 0.003, true});
+                 0.05, 0.003, true));
     // NGIMU: /sensors (deg/s, g, uT, hPa) and /quaternion (NWU) in time-tagged bundles.
-    s.push_back({"ngimu", "ngimu", "ngimu",
+    s.push_back(make("ngimu", "ngimu", "ngimu",
                  {{0.01, [](Truth& w, double t) {
                        std::vector<OscArg> a = fl(w.gyro(t), radToDeg(1.0));
                        for (auto& x : fl(w.specificForce(t), 1.0 / kStandardGravity)) a.push_back(x);
@@ -209,14 +236,14 @@ std::vector<Scenario> scenarios()
                        return encodeOscBundle(ntp(t), {encodeOscMessage("/quaternion", {OscArg::float32(float(q.w())), OscArg::float32(float(q.x())),
                                                                                         OscArg::float32(float(q.y())), OscArg::float32(float(q.z()))})});
                    }}},
-                 0.05, 0.008});
-    s.push_back({"ngimu-quaternion", "ngimu", "ngimu",
+                 0.05, 0.008));
+    s.push_back(make("ngimu-quaternion", "ngimu", "ngimu",
                  {{0.02, [](Truth& w, double t) {
                        const Eigen::Quaterniond q = nwuFromContract() * w.sensorQ(t);
                        return encodeOscBundle(ntp(t), {encodeOscMessage("/quaternion", {OscArg::float32(float(q.w())), OscArg::float32(float(q.x())),
                                                                                         OscArg::float32(float(q.y())), OscArg::float32(float(q.z()))})});
                    }}},
-                 0.05, 0.008});
+                 0.05, 0.008));
     return s;
 }
 
@@ -226,6 +253,10 @@ void play(const Scenario& sc, int port, double seconds, Clock::time_point start,
 {
     Truth w;
     REQUIRE(mountPreset(sc.mountPreset, w.mount));
+    if (!sc.holds.empty()) {
+        w.holds = sc.holds;
+        w.mount.rotation = sc.strap;
+    }
     w.rng.seed(seed);
     std::mt19937 rng(seed + 1);
     std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -244,7 +275,7 @@ void play(const Scenario& sc, int port, double seconds, Clock::time_point start,
         if (t > seconds) break;
         next[k] += sc.streams[k].period;
         Bytes b = sc.streams[k].make(w, t);
-        if (u(rng) < sc.loss) continue;
+        if (u(rng) < sc.loss || (t >= sc.gapFrom && t < sc.gapTo)) continue;
         queue.push_back({t + sc.jitter * u(rng), std::move(b)});
     }
     std::stable_sort(queue.begin(), queue.end(), [](const Pending& a, const Pending& b) { return a.sendAt < b.sendAt; });
@@ -255,6 +286,7 @@ void play(const Scenario& sc, int port, double seconds, Clock::time_point start,
 }
 
 struct Outcome {
+    double longestGap = 0.0;   ///< s, between successive logged rows after the first
     double medianDeg = 1e9;
     double tiltDeg = 1e9;   ///< the tilt part alone, at the same clock offset
     double offset = 0.0;
@@ -285,6 +317,7 @@ Outcome evaluate(const std::string& logPath, bool tiltOnly, double lo, double hi
         rows.emplace_back(log.value(r, ct), Eigen::Quaterniond(w, log.value(r, cx), log.value(r, cy), log.value(r, cz)));
     }
     if (rows.empty()) return o;
+    for (std::size_t i = 1; i < rows.size(); ++i) o.longestGap = std::max(o.longestGap, rows[i].first - rows[i - 1].first);
     const double t0 = rows.front().first;
     std::vector<std::pair<double, Eigen::Quaterniond>> used;
     for (const auto& r : rows)
@@ -350,9 +383,14 @@ Outcome runScenario(const Scenario& sc, std::uint32_t seed)
         ::dup2(out, 1);
         const std::string bin = std::string(ARMADILLO_BINARY_DIR) + "/bin/armadillo";
         const std::string portText = std::to_string(port), secs = std::to_string(seconds);
-        const char* argv[] = {bin.c_str(), "play", "--scene", "monitor", "--osc-in", portText.c_str(), "--seconds", secs.c_str(),
-                              "--log", log.c_str(), "--no-audio", nullptr};
-        ::execv(bin.c_str(), const_cast<char* const*>(argv));
+        std::vector<const char*> argv {bin.c_str(), "play", "--scene", "monitor", "--osc-in", portText.c_str(), "--seconds", secs.c_str(),
+                                       "--log", log.c_str(), "--no-audio"};
+        if (!sc.extraArgs.empty()) {
+            argv.push_back(sc.extraArgs.c_str());
+            argv.push_back(sc.extraValue.c_str());
+        }
+        argv.push_back(nullptr);
+        ::execv(bin.c_str(), const_cast<char* const*>(argv.data()));
         ::_exit(127);
     }
     const auto start = Clock::now();
@@ -434,4 +472,45 @@ TEST_CASE("osc senders: the plugin's OSC source detects the NGIMU and delivers d
     CHECK(a == Approx(kStandardGravity).margin(3.0));
     CHECK(input.stats().imu >= 100);
     CHECK(input.stats().bad == 0);
+}
+
+TEST_CASE("osc senders: a dropout stays a gap in the log; the mount calibration finds an arbitrary strap", "[osc][senders][mount]")
+{
+    const auto all = scenarios();
+    Scenario dropout = all[1];   // Sensors2OSC, three rates, jitter, loss
+    dropout.name = "sensors2osc-dropout";
+    dropout.gapFrom = 3.0;
+    dropout.gapTo = 4.0;
+
+    // An NGIMU strapped on at an arbitrary rotation; the arm holds the three calibration poses.
+    Scenario mount = all[6];
+    mount.name = "ngimu-mount";
+    mount.streams.resize(1);   // /sensors only
+    mount.loss = 0.05;
+    mount.strap = Eigen::Quaterniond(0.3, -0.5, 0.7, 0.2).normalized();
+    mount.holds = {{0.0, Pose {2.0, 40.0, -1.0}}, {2.2, Pose {-89.0, 0.0, 0.0}}, {4.4, Pose {1.0, 40.0, 91.0}}};
+    const std::string mountFile = std::string(ARMADILLO_BINARY_DIR) + "/osc-sender-mount.json";
+    std::remove(mountFile.c_str());
+    mount.extraArgs = "--calibrate-mount";
+    mount.extraValue = mountFile;
+
+    Outcome gap, cal;
+    std::thread a([&] { gap = runScenario(dropout, 31); });
+    std::thread b([&] { cal = runScenario(mount, 32); });
+    a.join();
+    b.join();
+
+    INFO("dropout: stderr " << gap.err << " stdout " << gap.json);
+    std::printf("osc sender dropout: longest gap between logged rows %.3f s (1 s cut); median error %.2f deg\n", gap.longestGap,
+                gap.medianDeg);
+    CHECK(gap.longestGap > 0.9);    // the filter sees the second without data as one
+    CHECK(gap.longestGap < 1.2);
+
+    INFO("mount calibration: stderr " << cal.err);
+    CHECK(cal.err.find("mount calibration complete") != std::string::npos);
+    const Mount solved = loadMount(mountFile);
+    const double err = radToDeg(2.0 * std::acos(std::min(1.0, std::abs(solved.rotation.dot(mount.strap)))));
+    std::printf("osc sender mount calibration: strap recovered within %.2f deg\n", err);
+    CHECK(err < 3.0);
+    CHECK(solved.device.find("127.0.0.1:") == 0);
 }
