@@ -536,3 +536,26 @@ TEST_CASE("osc senders: a dropout stays a gap in the log; the mount calibration 
     CHECK(err < 3.0);
     CHECK(solved.device.find("127.0.0.1:") == 0);
 }
+
+TEST_CASE("osc senders: play refuses a bad --osc-format, --mount or --calibrate-mount with a clear exit code", "[osc][senders][cli]")
+{
+    const std::string port = std::to_string(freeUdpPort());
+    auto run = [](const std::string& args) {
+        const std::string cmd = std::string("'") + ARMADILLO_BINARY_DIR + "/bin/armadillo' play --scene monitor --no-audio --seconds 0.2 " + args +
+                                " >/dev/null 2>&1";
+        const int status = std::system(cmd.c_str());
+        return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    };
+    CHECK(run("--osc-in " + port + " --osc-format phonething") == 2);   // a valid port: only the format is wrong
+    CHECK(run("--simulate --osc-format ngimu") == 2);
+    CHECK(run("--simulate --mount ngimu") == 2);
+    CHECK(run("--osc-in " + port + " --mount /nonexistent/mount.json") == 3);
+    CHECK(run("--osc-in " + port + " --mount ngimu --calibrate-mount x.json") == 2);
+    const std::string bad = std::string(ARMADILLO_BINARY_DIR) + "/osc-sender-badmount.json";
+    if (FILE* f = std::fopen(bad.c_str(), "w")) {
+        std::fputs("{\"mount\": {\"quaternion\": [1, 2, 3]}}", f);
+        std::fclose(f);
+    }
+    CHECK(run("--osc-in " + port + " --mount '" + bad + "'") == 3);
+    CHECK(run("--osc-in " + port + " --osc-format NGIMU --mount phone-screen-up") == 0);
+}
