@@ -1,5 +1,6 @@
 #include "Plugin/OscLink.h"
 #include "Core/Pose.h"
+#include "Device/Mount.h"
 #include <exception>
 
 namespace armadillo::plugin {
@@ -83,6 +84,25 @@ bool OscInput::configure(bool enabled, int port, std::string& whyNot, const devi
     openMountGiven_ = options.mountGiven;
     openMount_ = options.mount.rotation;
     return true;
+}
+
+bool OscInput::configure(bool enabled, int port, const std::string& format, const std::string& mount, std::string& whyNot)
+{
+    device::OscInputOptions options;
+    if (! format.empty() && ! device::parseOscFormat(format, options.format)) {
+        whyNot = "unknown sender format '" + format + "' (one of " + device::oscFormatNames() + ")";
+        return false;
+    }
+    if (! mount.empty()) {
+        try {
+            options.mount = device::mountFromArgument(mount);
+            options.mountGiven = true;
+        } catch (const std::exception& e) {
+            whyNot = e.what();
+            return false;
+        }
+    }
+    return configure(enabled, port, whyNot, options);
 }
 
 device::OscFormat OscInput::format() const

@@ -47,6 +47,10 @@ public:
     /// Message thread. Opens (or closes with enabled = false) the UDP port; `options` force a
     /// format and/or give a mount (default: detect, and the detected format's usual mount).
     bool configure(bool enabled, int port, std::string& whyNot, const device::OscInputOptions& options = {});
+    /// The same from the plugin's settings: `format` a name ("" = auto, docs/SENSORS.md) and
+    /// `mount` a preset name or mount file ("" = the detected format's usual one). A bad name or
+    /// file is refused with a reason (the input stays as it was).
+    bool configure(bool enabled, int port, const std::string& format, const std::string& mount, std::string& whyNot);
     device::OscInputStats stats() const;
     /// The sender's format (Auto until detected), device, and a one-line summary for the panel.
     device::OscFormat format() const;

@@ -492,6 +492,15 @@ TEST_CASE("osc senders: the plugin's OSC source detects the NGIMU and delivers d
     CHECK(a == Approx(kStandardGravity).margin(3.0));
     CHECK(input.stats().imu >= 100);
     CHECK(input.stats().bad == 0);
+    CHECK(input.statusText().find("ngimu from 127.0.0.1:") != std::string::npos);
+
+    // The plugin's settings: a forced format and a mount by name; bad names are refused with a reason.
+    CHECK_FALSE(input.configure(true, port, "phonething", "", why));
+    CHECK(why.find("unknown sender format") != std::string::npos);
+    CHECK_FALSE(input.configure(true, port, "", "/nonexistent/mount.json", why));
+    CHECK(why.find("neither a mount preset") != std::string::npos);
+    REQUIRE(input.configure(true, port, "zigsim", "phone-screen-up", why));
+    CHECK(input.format() == OscFormat::ZigSim);
 }
 
 TEST_CASE("osc senders: a dropout stays a gap in the log; the mount calibration finds an arbitrary strap", "[osc][senders][mount]")
