@@ -9,6 +9,7 @@
 #include "Device/LiveSession.h"
 #include "Device/Calibration.h"
 #include "Device/OscIo.h"
+#include "Device/Mount.h"
 #include "Engine/Engine.h"
 #include <algorithm>
 #include <cerrno>
@@ -91,7 +92,8 @@ int runPlay(const Arguments& args)
         CommandLine cl(
             "play", "--scene SCENE (--port NAME | --simulate [--motion FILE] | --osc-in PORT) [options]",
             "The live engine, headless: sensor packets from a serial device (thesis protocol), the built-in\n"
-            "simulated forearm or OSC (/armadillo/imu, /armadillo/orientation) go through calibration,\n"
+            "simulated forearm or OSC (/armadillo/imu, /armadillo/orientation, or a phone app or NGIMU: see\n"
+            "docs/SENSORS.md) go through calibration,\n"
             "fusion and the scene; each sensor packet is answered with its motor packet at once. Runs for\n"
             "--seconds or until SIGINT/SIGTERM, turns every motor off, then prints one JSON line:\n"
             "{\"packets\":…,\"bad_packets\":…,\"resyncs\":…,\"reconnects\":…,\"rate_hz\":…}.\n"
@@ -105,7 +107,15 @@ int runPlay(const Arguments& args)
                     {"--port", "NAME", "serial port of the device (see `armadillo ports`; ptys and /dev/rfcomm* work too)"},
                     {"--simulate", "", "the built-in simulated forearm (in-process, paced like a 57 600-baud link)"},
                     {"--motion", "FILE", "with --simulate: pose or quaternion CSV to act out (looped); default a wandering arm"},
-                    {"--osc-in", "PORT", "listen for OSC sensor messages on this UDP port (no motor output)"},
+                    {"--osc-in", "PORT", "listen for OSC sensor messages on this UDP port (no motor output); the sender's\n"
+                                         "format is detected from its first messages and printed"},
+                    {"--osc-format", "NAME", "with --osc-in: force the sender's format (auto, armadillo, sensors2osc, zigsim,\n"
+                                             "gyrosc, touchosc, ngimu)"},
+                    {"--mount", "FILE|PRESET", "with --osc-in: how the sensor is strapped on: a mount file (--calibrate-mount) or a\n"
+                                               "preset (identity, phone-screen-up, phone-screen-up-top-to-elbow, ngimu); default: the\n"
+                                               "format's usual one (phones: phone-screen-up)"},
+                    {"--calibrate-mount", "OUT.json", "with --osc-in: the guided mount calibration (arm level ahead, arm hanging down,\n"
+                                                      "optionally a quarter roll); instructions on stderr; writes OUT.json for --mount"},
                     {"--baud", "B", "serial speed (default 57600, 8N1)"},
                     {"--calibration", "CAL.json", "device calibration (default: the built-in one, which matches the simulator)"},
                     {"--seconds", "N", "stop after N seconds (default: run until interrupted)"},
@@ -148,6 +158,21 @@ int runPlay(const Arguments& args)
         } else {
             config.source = device::LiveConfig::Source::Osc;
             config.oscInPort = static_cast<int>(cl.integer("--osc-in", 0, 1, 65535));
+        }
+        for (const char* o : {"--osc-format", "--mount", "--calibrate-mount"})
+            if (cl.has(o) && !cl.has("--osc-in")) throw UsageError(std::string(o) + " applies to --osc-in");
+        if (cl.has("--osc-format") && !device::parseOscFormat(cl.value("--osc-format"), config.osc.format))
+            throw UsageError("--osc-format: unknown format '" + cl.value("--osc-format") + "' (one of " + device::oscFormatNames() + ")");
+        if (cl.has("--mount")) {
+            config.osc.mount = device::mountFromArgument(cl.value("--mount"));   // InputError (exit 3) for a bad file
+            config.osc.mountGiven = true;
+        }
+        const std::string mountOut = cl.value("--calibrate-mount");
+        if (cl.has("--calibrate-mount") && mountOut.empty()) throw UsageError("--calibrate-mount needs an output file");
+        if (cl.has("--calibrate-mount") && cl.has("--mount")) throw UsageError("--calibrate-mount finds the mount: it cannot go with --mount");
+        if (!mountOut.empty()) {   // the calibration sees the sensor's own axes
+            config.osc.mountGiven = true;
+            config.osc.mount = device::Mount {};
         }
 
         EngineConfig& engine = config.engine;
@@ -221,9 +246,17 @@ int runPlay(const Arguments& args)
             std::cerr << "armadillo play: no sound: " << session.soundCardWarning()
                       << " (--out FILE records the audio instead; --no-audio silences this message)\n";
         }
+        std::unique_ptr<device::MountCalibration> mountCalibration;
+        if (!mountOut.empty()) {
+            mountCalibration = std::make_unique<device::MountCalibration>();
+            session.oscReceiver()->merger().enableSensorTap(true);
+            std::cerr << "mount calibration pose 1 (" << device::MountCalibration::poseName(mountCalibration->pose())
+                      << "): " << device::MountCalibration::instruction(mountCalibration->pose()) << "\n";
+        }
         session.start();
         const auto start = std::chrono::steady_clock::now();
         std::string shownError;
+        bool shownFormat = false;
         bool shownCardError = false;
         while (!interrupted()) {
             const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -232,6 +265,29 @@ int runPlay(const Arguments& args)
             const std::string e = session.lastError();
             if (!e.empty() && e != shownError) std::cerr << "armadillo play: " << e << "\n";
             shownError = e;
+            if (device::OscReceiver* osc = session.oscReceiver(); osc && !shownFormat && osc->format() != device::OscFormat::Auto) {
+                const std::string who = osc->deviceName();
+                if (!who.empty() || osc->stats().imu + osc->stats().orientation > 0) {
+                    std::cerr << "armadillo play: OSC input: " << device::oscFormatName(osc->format())
+                              << (cl.has("--osc-format") ? " (forced)" : " (detected)") << " from " << (who.empty() ? "?" : who)
+                              << ", mount " << osc->merger().mount().name << "\n";
+                    shownFormat = true;
+                }
+            }
+            if (mountCalibration && mountCalibration->pose() != device::MountCalibration::Pose::Done) {
+                device::SensorFrameSample p;
+                while (mountCalibration->pose() != device::MountCalibration::Pose::Done && session.oscReceiver()->merger().popSensorSample(p)) {
+                    mountCalibration->feed(Eigen::Vector3d(p.accel[0], p.accel[1], p.accel[2]), Eigen::Vector3d(p.gyro[0], p.gyro[1], p.gyro[2]));
+                    if (!mountCalibration->ready()) continue;
+                    mountCalibration->finishStep();
+                    const auto pose = mountCalibration->pose();
+                    std::cerr << (pose == device::MountCalibration::Pose::Done
+                                      ? std::string("mount calibration complete")
+                                      : "mount calibration pose " + std::to_string(static_cast<int>(pose) + 1) + " (" +
+                                            device::MountCalibration::poseName(pose) + "): " + device::MountCalibration::instruction(pose))
+                              << "\n";
+                }
+            }
             if (const audio::SoundCard* card = session.soundCard(); card && card->failed() && !shownCardError) {
                 std::cerr << "armadillo play: " << card->lastError() << "; playing on without sound\n";
                 shownCardError = true;
@@ -272,6 +328,17 @@ int runPlay(const Arguments& args)
         if (brailleScene) writeFileAtomically(trainingLog, trainingCsv);
         if (const audio::SoundCard* card = session.soundCard(); card && card->underruns() > 0)
             std::cerr << "armadillo play: the sound card ran dry " << card->underruns() << " time(s) (audible clicks)\n";
+        if (mountCalibration) {
+            mountCalibration->skipRoll();   // the third pose is optional
+            device::Mount mount;
+            std::string why;
+            if (!mountCalibration->solve(mount, why))
+                throw IoError("--calibrate-mount: no mount written: " + why + " (stopped at pose '" +
+                              device::MountCalibration::poseName(mountCalibration->pose()) + "')");
+            mount.device = session.oscReceiver()->deviceName();
+            device::saveMount(mountOut, mount);
+            std::cerr << "mount calibration written to " << mountOut << "\n";
+        }
         if (calibration) {
             if (calibration->step() != device::CalibrationProcedure::Step::Done)
                 std::cerr << "calibration stopped at step '" << device::CalibrationProcedure::stepName(calibration->step())

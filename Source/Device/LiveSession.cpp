@@ -14,6 +14,13 @@ namespace armadillo::device {
 
 std::string summaryJson(const SessionSummary& s)
 {
+    if (!s.oscJson.empty()) {   // OSC sources add what their input counted, as one nested object
+        SessionSummary plain = s;
+        plain.oscJson.clear();
+        std::string j = summaryJson(plain);
+        j.insert(j.size() - 1, ",\"osc\":{" + s.oscJson + "}");
+        return j;
+    }
     char buf[256];
     std::snprintf(buf, sizeof buf,
                   "{\"packets\":%llu,\"bad_packets\":%llu,\"resyncs\":%llu,\"reconnects\":%llu,\"rate_hz\":%.1f,"
@@ -70,7 +77,7 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
     case LiveConfig::Source::Osc:
         oscIn_ = std::make_unique<OscReceiver>(
             config_.oscInPort, [this](const ImuSample& s) { control(s.t, nullptr, &s, nullptr); },
-            [this](double t, const Eigen::Quaterniond& q) { control(t, nullptr, nullptr, &q); });
+            [this](double t, const Eigen::Quaterniond& q) { control(t, nullptr, nullptr, &q); }, config_.osc);
         break;
     }
 
@@ -291,6 +298,7 @@ SessionSummary LiveSession::linkCounters() const
 SessionSummary LiveSession::summary() const
 {
     SessionSummary s = linkCounters();
+    if (oscIn_) s.oscJson = oscIn_->statsJson();
     const auto end = running_.load() ? std::chrono::steady_clock::now() : stopped_;
     s.seconds = started_.time_since_epoch().count() ? std::chrono::duration<double>(end - started_).count() : 0.0;
     return s;

@@ -16,6 +16,7 @@
 #include "Core/SpscQueue.h"
 #include "Device/Calibration.h"
 #include "Device/DeviceLink.h"
+#include "Device/OscInput.h"
 #include "Engine/ArmTracker.h"
 #include "Engine/Engine.h"
 #include <atomic>
@@ -43,6 +44,7 @@ struct LiveConfig {
     std::string motionFile;           ///< Source::Simulator: pose/quaternion CSV; empty = wandering arm
     double simulatorBaud = 57600.0;   ///< Source::Simulator: wire pacing (0 = as fast as possible)
     int oscInPort = 0;                ///< Source::Osc: UDP port (0 = any free port)
+    OscInputOptions osc {};           ///< Source::Osc: dialect (auto-detected by default) and mount
     Calibration calibration = defaultCalibration();
     EngineConfig engine {};
     double bpm = 120.0;               ///< the audio-clock transport's tempo
@@ -62,6 +64,7 @@ struct SessionSummary {
     double longestGap = 0.0;   ///< s
     double rateHz = 0.0;       ///< sustained: (packets − 1) / (last − first packet time)
     double seconds = 0.0;      ///< session length
+    std::string oscJson;       ///< Source::Osc: the input's format, device and refusal counters (JSON members)
 };
 /// {"packets":…,"bad_packets":…,"resyncs":…,"reconnects":…,"rate_hz":…} (INTERFACES.md) plus
 /// "gaps" and "longest_gap_s" (docs/DEVICE.md).
@@ -102,6 +105,8 @@ public:
     LatencySummary latency() const;
     /// Source::Osc: the UDP port listened on (useful with oscInPort 0); 0 otherwise.
     int oscInPort() const noexcept;
+    /// Source::Osc: the receiver (format, device, counters, the mount calibration's tap); null otherwise.
+    OscReceiver* oscReceiver() noexcept { return oscIn_.get(); }
     /// The sound card in use (null without one) and why an optional one is not in use.
     const audio::SoundCard* soundCard() const noexcept { return soundCard_.get(); }
     const std::string& soundCardWarning() const noexcept { return soundCardWarning_; }

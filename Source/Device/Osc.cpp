@@ -83,24 +83,25 @@ std::size_t readString(const std::uint8_t* p, const std::uint8_t* end, std::stri
     return padded;
 }
 
-bool fail(std::string* error, const char* why)
+bool fail(const char** error, const char* why) noexcept
 {
     if (error) *error = why;
     return false;
 }
 
-bool decodeMessage(const std::uint8_t* data, std::size_t size, const std::function<void(const OscMessage&)>& onMessage,
-                   std::string* error)
+bool decodeMessage(const std::uint8_t* data, std::size_t size, OscMessageSink onMessage, void* context, const char** error,
+                   std::uint64_t timeTag) noexcept
 {
     const std::uint8_t* p = data;
     const std::uint8_t* end = data + size;
     OscMessage m;
+    m.timeTag = timeTag;
     std::size_t n = readString(p, end, m.address);
     if (n == 0) return fail(error, "address is not a padded, NUL-terminated string");
     if (m.address.empty() || m.address[0] != '/') return fail(error, "address does not start with '/'");
     p += n;
     if (p == end) {   // no type tag string (pre-1.0 senders): no arguments
-        onMessage(m);
+        onMessage(context, m);
         return true;
     }
     std::string_view tags;
@@ -166,26 +167,27 @@ bool decodeMessage(const std::uint8_t* data, std::size_t size, const std::functi
         ++m.count;
     }
     if (p != end) return fail(error, "bytes left over after the arguments");
-    onMessage(m);
+    onMessage(context, m);
     return true;
 }
 
-bool decodeAny(const std::uint8_t* data, std::size_t size, const std::function<void(const OscMessage&)>& onMessage,
-               std::string* error, int depth)
+bool decodeAny(const std::uint8_t* data, std::size_t size, OscMessageSink onMessage, void* context, const char** error, int depth,
+               std::uint64_t timeTag) noexcept
 {
     if (size == 0) return fail(error, "empty packet");
     if (size % 4 != 0) return fail(error, "packet size is not a multiple of 4");
-    if (data[0] == '/') return decodeMessage(data, size, onMessage, error);
+    if (data[0] == '/') return decodeMessage(data, size, onMessage, context, error, timeTag);
     if (data[0] != '#') return fail(error, "neither a message ('/') nor a bundle ('#bundle')");
     if (size < 16 || std::memcmp(data, "#bundle\0", 8) != 0) return fail(error, "malformed bundle header");
     if (depth >= kOscMaxBundleDepth) return fail(error, "bundles nested too deeply");
+    const std::uint64_t tag = readU64(data + 8);
     std::size_t pos = 16;   // "#bundle\0" + time tag
     while (pos < size) {
         if (size - pos < 4) return fail(error, "truncated bundle element size");
         const std::uint32_t len = readU32(data + pos);
         pos += 4;
         if (len == 0 || len > size - pos || len % 4 != 0) return fail(error, "bundle element size out of range");
-        if (!decodeAny(data + pos, len, onMessage, error, depth + 1)) return false;
+        if (!decodeAny(data + pos, len, onMessage, context, error, depth + 1, tag)) return false;
         pos += len;
     }
     return true;
@@ -273,8 +275,17 @@ std::vector<std::uint8_t> encodeOscBundle(std::uint64_t timeTag, const std::vect
 bool decodeOscPacket(const std::uint8_t* data, std::size_t size, const std::function<void(const OscMessage&)>& onMessage,
                      std::string* error)
 {
+    const char* why = nullptr;
+    auto sink = [](void* c, const OscMessage& m) { (*static_cast<const std::function<void(const OscMessage&)>*>(c))(m); };
+    const bool ok = decodeOscPacket(data, size, sink, const_cast<std::function<void(const OscMessage&)>*>(&onMessage), &why);
+    if (!ok && error) *error = why ? why : "malformed packet";
+    return ok;
+}
+
+bool decodeOscPacket(const std::uint8_t* data, std::size_t size, OscMessageSink sink, void* context, const char** error) noexcept
+{
     if (!data) return fail(error, "no data");
-    return decodeAny(data, size, onMessage, error, 0);
+    return decodeAny(data, size, sink, context, error, 0, 1);
 }
 
 } // namespace armadillo::device

@@ -37,7 +37,17 @@ struct OscMessage {
     std::string_view types;     ///< type tags without the leading ','
     OscArg args[kOscMaxArgs];
     int count = 0;
+    std::uint64_t timeTag = 1;  ///< the innermost enclosing bundle's time tag; 1 = "immediately" (also for bare messages)
 };
+
+/// Seconds since 1900 (NTP epoch) of an OSC time tag (32.32 fixed point).
+inline double oscTimeTagSeconds(std::uint64_t tag) noexcept
+{
+    return static_cast<double>(tag >> 32) + static_cast<double>(tag & 0xFFFFFFFFu) / 4294967296.0;
+}
+
+/// The allocation-free form of the decoder's callback (a std::function may allocate).
+using OscMessageSink = void (*)(void* context, const OscMessage& message);
 
 /// Encodes one message into out; returns its size, or 0 when it does not fit or an argument is
 /// invalid (address without '/', string with a NUL, unknown type).
@@ -51,5 +61,7 @@ std::vector<std::uint8_t> encodeOscBundle(std::uint64_t timeTag, const std::vect
 /// false with a reason for malformed input; messages decoded before the fault have been delivered.
 bool decodeOscPacket(const std::uint8_t* data, std::size_t size, const std::function<void(const OscMessage&)>& onMessage,
                      std::string* error = nullptr);
+/// The same without allocation: the reason is a static string (nullptr when none).
+bool decodeOscPacket(const std::uint8_t* data, std::size_t size, OscMessageSink sink, void* context, const char** error) noexcept;
 
 } // namespace armadillo::device

@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fcntl.h>
 #include <netdb.h>
@@ -116,9 +117,19 @@ bool OscSender::sendGesture(const char* name) noexcept
 
 // --- OscReceiver -------------------------------------------------------------------------------
 
-OscReceiver::OscReceiver(int port, ImuHandler onImu, OrientationHandler onOrientation)
-    : onImu_(std::move(onImu)), onOrientation_(std::move(onOrientation))
+OscReceiver::OscReceiver(int port, ImuHandler onImu, OrientationHandler onOrientation, const OscInputOptions& options)
+    : onImu_(std::move(onImu)), onOrientation_(std::move(onOrientation)), merger_(options)
 {
+    merger_.setSinks(
+        [](void* c, const ImuSample& s) {
+            auto* self = static_cast<OscReceiver*>(c);
+            if (self->onImu_) self->onImu_(s);
+        },
+        [](void* c, double t, const Eigen::Quaterniond& q) {
+            auto* self = static_cast<OscReceiver*>(c);
+            if (self->onOrientation_) self->onOrientation_(t, q);
+        },
+        this);
     if (port < 0 || port > 65535) throw IoError("OSC in: port " + std::to_string(port) + " is outside 0..65535");
     fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
     if (fd_ < 0) throw IoError(std::string("OSC in: cannot create a UDP socket: ") + std::strerror(errno));
@@ -157,66 +168,9 @@ void OscReceiver::stop()
     if (thread_.joinable()) thread_.join();
 }
 
-OscInputStats OscReceiver::stats() const noexcept
+void OscReceiver::handleDatagram(const std::uint8_t* data, std::size_t size, double t, std::uint64_t senderKey, const char* senderName)
 {
-    return OscInputStats {datagrams_.load(), imu_.load(), orientation_.load(), bad_.load(), ignored_.load()};
-}
-
-std::string OscReceiver::lastError() const
-{
-    while (errorLock_.exchange(true, std::memory_order_acquire)) {}
-    std::string e = lastError_;
-    errorLock_.store(false, std::memory_order_release);
-    return e;
-}
-
-void OscReceiver::handleDatagram(const std::uint8_t* data, std::size_t size, double t)
-{
-    datagrams_.fetch_add(1, std::memory_order_relaxed);
-    std::string error;
-    bool badArgs = false;
-    const bool ok = decodeOscPacket(data, size, [&](const OscMessage& m) {
-        double v[9];
-        auto numbers = [&](int n) {
-            if (m.count != n) return false;
-            for (int i = 0; i < n; ++i)
-                if (!m.args[i].asNumber(v[i]) || !std::isfinite(v[i])) return false;
-            return true;
-        };
-        if (m.address == "/armadillo/imu") {
-            // gx gy gz ax ay az mx my mz (SI); the magnetometer may be absent (6 numbers).
-            const bool nine = numbers(9);
-            if (!nine && !numbers(6)) {
-                badArgs = true;
-                error = "/armadillo/imu needs 9 numbers (gx gy gz ax ay az mx my mz) or 6 without the magnetometer";
-                return;
-            }
-            ImuSample s;
-            s.t = t;
-            s.gyro = Eigen::Vector3d(v[0], v[1], v[2]);
-            s.accel = Eigen::Vector3d(v[3], v[4], v[5]);
-            if (nine) s.mag = Eigen::Vector3d(v[6], v[7], v[8]);
-            imu_.fetch_add(1, std::memory_order_relaxed);
-            if (onImu_) onImu_(s);
-        } else if (m.address == "/armadillo/orientation") {
-            if (!numbers(4) || std::hypot(v[0], v[1], v[2]) + std::abs(v[3]) < 1e-9) {
-                badArgs = true;
-                error = "/armadillo/orientation needs 4 finite numbers w x y z, not all zero";
-                return;
-            }
-            const Eigen::Quaterniond q = Eigen::Quaterniond(v[0], v[1], v[2], v[3]).normalized();
-            orientation_.fetch_add(1, std::memory_order_relaxed);
-            if (onOrientation_) onOrientation_(t, q);
-        } else {
-            ignored_.fetch_add(1, std::memory_order_relaxed);
-        }
-    }, &error);
-    if (!ok || badArgs) {
-        bad_.fetch_add(1, std::memory_order_relaxed);
-        while (errorLock_.exchange(true, std::memory_order_acquire)) {}
-        lastError_ = error;
-        errorLock_.store(false, std::memory_order_release);
-    }
+    merger_.handleDatagram(data, size, t, senderKey, senderName);
 }
 
 void OscReceiver::run()
@@ -225,10 +179,17 @@ void OscReceiver::run()
     while (!stop_.load(std::memory_order_relaxed)) {
         pollfd p {fd_, POLLIN, 0};
         if (::poll(&p, 1, 20) <= 0) continue;
-        const ssize_t n = ::recv(fd_, buffer.data(), buffer.size(), MSG_DONTWAIT);
+        sockaddr_in from {};
+        socklen_t fromLen = sizeof from;
+        const ssize_t n = ::recvfrom(fd_, buffer.data(), buffer.size(), MSG_DONTWAIT, reinterpret_cast<sockaddr*>(&from), &fromLen);
         if (n <= 0) continue;
+        // Arrival time on the monotonic clock: what "immediately" bundles and bare messages are stamped with.
         const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-        handleDatagram(buffer.data(), static_cast<std::size_t>(n), t);
+        const std::uint32_t ip = ntohl(from.sin_addr.s_addr);
+        const std::uint16_t port = ntohs(from.sin_port);
+        char name[32];
+        std::snprintf(name, sizeof name, "%u.%u.%u.%u:%u", ip >> 24, (ip >> 16) & 255u, (ip >> 8) & 255u, ip & 255u, unsigned(port));
+        handleDatagram(buffer.data(), static_cast<std::size_t>(n), t, (std::uint64_t(ip) << 16 | port) + 1, name);
     }
 }
 

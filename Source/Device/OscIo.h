@@ -1,9 +1,11 @@
 #pragma once
 // OSC over UDP: the sender for the INTERFACES.md address space (`--osc-out HOST:PORT`, the
-// plugin's OSC setting) and the sensor input (`--osc-in PORT`: /armadillo/imu fffffffff,
-// /armadillo/orientation ffff) so a phone sensor app or another tracker drives everything.
+// plugin's OSC setting) and the sensor input (`--osc-in PORT`): ARMadillo's own /armadillo/imu
+// and /armadillo/orientation, and the dialects of phone apps and the NGIMU (OscDialects.h),
+// merged into IMU samples by OscSampleMerger (OscInput.h), so what people own drives everything.
 #include "Core/Types.h"
 #include "Device/Osc.h"
+#include "Device/OscInput.h"
 #include <Eigen/Geometry>
 #include <atomic>
 #include <functional>
@@ -50,14 +52,6 @@ private:
     std::atomic<std::uint64_t> sent_ {0}, dropped_ {0};
 };
 
-struct OscInputStats {
-    std::uint64_t datagrams = 0;
-    std::uint64_t imu = 0;            ///< /armadillo/imu messages accepted
-    std::uint64_t orientation = 0;    ///< /armadillo/orientation messages accepted
-    std::uint64_t bad = 0;            ///< malformed datagrams or wrong argument lists
-    std::uint64_t ignored = 0;        ///< other addresses
-};
-
 /// Listens on a UDP port (all interfaces) on its own thread; handlers run on that thread.
 class OscReceiver {
 public:
@@ -65,7 +59,7 @@ public:
     using OrientationHandler = std::function<void(double t, const Eigen::Quaterniond& q)>;
 
     /// Binds now (port 0 = any free port); throws IoError when the port is taken.
-    OscReceiver(int port, ImuHandler onImu, OrientationHandler onOrientation);
+    OscReceiver(int port, ImuHandler onImu, OrientationHandler onOrientation, const OscInputOptions& options = {});
     ~OscReceiver();
     OscReceiver(const OscReceiver&) = delete;
     OscReceiver& operator=(const OscReceiver&) = delete;
@@ -73,11 +67,17 @@ public:
     void start();
     void stop();
     int port() const noexcept { return port_; }
-    OscInputStats stats() const noexcept;
-    /// The latest reason a datagram was refused ("" when none). Not for the control path.
-    std::string lastError() const;
+    OscInputStats stats() const noexcept { return merger_.stats(); }
+    /// The latest reason a message was refused ("" when none). Not for the control path.
+    std::string lastError() const { return merger_.lastError(); }
+    /// The dialect in use (Auto until the first recognised message) and the chosen device.
+    OscFormat format() const noexcept { return merger_.format(); }
+    std::string deviceName() const { return merger_.deviceName(); }
+    /// The counters as JSON members (for the session summary).
+    std::string statsJson() const { return oscStatsJson(stats(), oscFormatName(format()), deviceName()); }
+    OscSampleMerger& merger() noexcept { return merger_; }
     /// Decodes and dispatches one datagram at time t (what the thread does; public for tests/fuzz).
-    void handleDatagram(const std::uint8_t* data, std::size_t size, double t);
+    void handleDatagram(const std::uint8_t* data, std::size_t size, double t, std::uint64_t senderKey = 0, const char* senderName = "");
 
 private:
     void run();
@@ -85,12 +85,10 @@ private:
     int port_ = 0;
     ImuHandler onImu_;
     OrientationHandler onOrientation_;
+    OscSampleMerger merger_;
     std::thread thread_;
     std::atomic<bool> stop_ {false};
-    std::atomic<std::uint64_t> datagrams_ {0}, imu_ {0}, orientation_ {0}, bad_ {0}, ignored_ {0};
     std::chrono::steady_clock::time_point start_ {};
-    mutable std::atomic<bool> errorLock_ {false};
-    std::string lastError_;
 };
 
 } // namespace armadillo::device

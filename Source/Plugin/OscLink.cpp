@@ -1,5 +1,6 @@
 #include "Plugin/OscLink.h"
 #include "Core/Pose.h"
+#include "Device/Mount.h"
 #include <exception>
 
 namespace armadillo::plugin {
@@ -51,11 +52,13 @@ OscInput::~OscInput()
     if (receiver_ != nullptr) receiver_->stop();
 }
 
-bool OscInput::configure(bool enabled, int port, std::string& whyNot)
+bool OscInput::configure(bool enabled, int port, std::string& whyNot, const device::OscInputOptions& options)
 {
     std::lock_guard<std::mutex> lock(mutex_);
     whyNot.clear();
-    if (enabled && receiver_ != nullptr && openPort_ == port) return true;
+    const bool sameOptions = openFormat_ == options.format && openMountGiven_ == options.mountGiven
+                             && (! options.mountGiven || openMount_.isApprox(options.mount.rotation));
+    if (enabled && receiver_ != nullptr && openPort_ == port && sameOptions) return true;
     if (receiver_ != nullptr) receiver_->stop();
     receiver_.reset();
     openPort_ = 0;
@@ -69,7 +72,7 @@ bool OscInput::configure(bool enabled, int port, std::string& whyNot)
         receiver_ = std::make_unique<device::OscReceiver>(
             port,
             [this](const ImuSample& s) { live_.pushImu(s); },
-            [this](double t, const Eigen::Quaterniond& q) { live_.storeOrientation(t, q); });
+            [this](double t, const Eigen::Quaterniond& q) { live_.storeOrientation(t, q); }, options);
         receiver_->start();
     } catch (const std::exception& e) {
         receiver_.reset();
@@ -77,7 +80,57 @@ bool OscInput::configure(bool enabled, int port, std::string& whyNot)
         return false;
     }
     openPort_ = port;
+    openFormat_ = options.format;
+    openMountGiven_ = options.mountGiven;
+    openMount_ = options.mount.rotation;
     return true;
+}
+
+bool OscInput::configure(bool enabled, int port, const std::string& format, const std::string& mount, std::string& whyNot)
+{
+    device::OscInputOptions options;
+    if (! format.empty() && ! device::parseOscFormat(format, options.format)) {
+        whyNot = "unknown sender format '" + format + "' (one of " + device::oscFormatNames() + ")";
+        return false;
+    }
+    if (! mount.empty()) {
+        try {
+            options.mount = device::mountFromArgument(mount);
+            options.mountGiven = true;
+        } catch (const std::exception& e) {
+            whyNot = e.what();
+            return false;
+        }
+    }
+    return configure(enabled, port, whyNot, options);
+}
+
+device::OscFormat OscInput::format() const
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    return receiver_ != nullptr ? receiver_->format() : device::OscFormat::Auto;
+}
+
+std::string OscInput::deviceName() const
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    return receiver_ != nullptr ? receiver_->deviceName() : std::string();
+}
+
+std::string OscInput::statusText() const
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (receiver_ == nullptr) return "OSC input off";
+    const device::OscInputStats s = receiver_->stats();
+    std::string text = std::string("OSC in: ") + device::oscFormatName(receiver_->format());
+    if (receiver_->format() == device::OscFormat::Auto) text += " (waiting for a sender)";
+    else text += " from " + receiver_->deviceName() + ", mount " + receiver_->merger().mount().name;
+    text += "; refused " + std::to_string(s.bad) + " (wrong types " + std::to_string(s.wrongTypes) + ", NaN/inf " + std::to_string(s.nonFinite)
+            + ", absurd " + std::to_string(s.absurd) + ", malformed " + std::to_string(s.malformed + s.tooDeep) + "), other device "
+            + std::to_string(s.otherDevice) + ", other app " + std::to_string(s.otherFormat) + ", flood " + std::to_string(s.flood);
+    const char* e = receiver_->merger().lastError();
+    if (e[0] != 0) text += "; last: " + std::string(e);
+    return text;
 }
 
 device::OscInputStats OscInput::stats() const

@@ -1,7 +1,9 @@
 #pragma once
 // OSC for Max/MSP and Pd (INTERFACES.md "OSC"), on the device module's own codec and sockets:
-// out = orientation, pose, gyro, motors, gestures; in = /armadillo/orientation ffff or
-// /armadillo/imu fffffffff into the live-input mailbox. Neither runs on the audio thread.
+// out = orientation, pose, gyro, motors, gestures; in = /armadillo/orientation ffff,
+// /armadillo/imu fffffffff, or a phone app / NGIMU dialect (docs/SENSORS.md: detected, or forced
+// with the options, and turned into the forearm's frame by the mount) into the live-input
+// mailbox. Neither runs on the audio thread.
 #include "Core/Types.h"
 #include "Device/OscIo.h"
 #include "Plugin/LiveInput.h"
@@ -42,15 +44,27 @@ class OscInput {
 public:
     explicit OscInput(LiveInput& live) : live_(live) {}
     ~OscInput();
-    /// Message thread. Opens (or closes with enabled = false) the UDP port.
-    bool configure(bool enabled, int port, std::string& whyNot);
+    /// Message thread. Opens (or closes with enabled = false) the UDP port; `options` force a
+    /// format and/or give a mount (default: detect, and the detected format's usual mount).
+    bool configure(bool enabled, int port, std::string& whyNot, const device::OscInputOptions& options = {});
+    /// The same from the plugin's settings: `format` a name ("" = auto, docs/SENSORS.md) and
+    /// `mount` a preset name or mount file ("" = the detected format's usual one). A bad name or
+    /// file is refused with a reason (the input stays as it was).
+    bool configure(bool enabled, int port, const std::string& format, const std::string& mount, std::string& whyNot);
     device::OscInputStats stats() const;
+    /// The sender's format (Auto until detected), device, and a one-line summary for the panel.
+    device::OscFormat format() const;
+    std::string deviceName() const;
+    std::string statusText() const;
 
 private:
     LiveInput& live_;
     mutable std::mutex mutex_;
     std::unique_ptr<device::OscReceiver> receiver_;
     int openPort_ = 0;
+    device::OscFormat openFormat_ = device::OscFormat::Auto;
+    Eigen::Quaterniond openMount_ = Eigen::Quaterniond::Identity();
+    bool openMountGiven_ = false;
 };
 
 } // namespace armadillo::plugin

@@ -575,7 +575,8 @@ void ArmadilloProcessor::valueTreePropertyChanged(juce::ValueTree&, const juce::
     } else if (id == SettingIds::midiChannel) {
         midiChannel_.store(juce::jlimit(1, 16, static_cast<int>(settings_[SettingIds::midiChannel])));
     } else if (id == SettingIds::oscOutEnabled || id == SettingIds::oscOutHost || id == SettingIds::oscOutPort
-               || id == SettingIds::oscInEnabled || id == SettingIds::oscInPort) {
+               || id == SettingIds::oscInEnabled || id == SettingIds::oscInPort || id == SettingIds::oscInFormat
+               || id == SettingIds::oscInMount) {
         applyNetworkSettings();
     }
 }
@@ -589,7 +590,8 @@ void ArmadilloProcessor::applyNetworkSettings()
                             static_cast<int>(settings_[SettingIds::oscOutPort]), why))
         message << "OSC out: " << juce::String(why) << ". ";
     if (! oscIn_.configure(static_cast<bool>(settings_[SettingIds::oscInEnabled]),
-                           static_cast<int>(settings_[SettingIds::oscInPort]), why))
+                           static_cast<int>(settings_[SettingIds::oscInPort]), settings_[SettingIds::oscInFormat].toString().toStdString(),
+                           settings_[SettingIds::oscInMount].toString().toStdString(), why))
         message << "OSC in: " << juce::String(why) << ".";
     std::lock_guard<std::mutex> lock(statusMutex_);
     networkStatus_ = message.trim();
@@ -682,6 +684,7 @@ juce::String ArmadilloProcessor::linkStatus() const
     s << "\nControl rate " << juce::String(controlRateMeasured(), 1) << " Hz; OSC sent "
       << juce::String(static_cast<juce::int64>(oscOut_.messagesSent())) << ", received "
       << juce::String(static_cast<juce::int64>(in.imu + in.orientation)) << " (bad " << juce::String(static_cast<juce::int64>(in.bad)) << ")";
+    s << "\n" << juce::String(oscIn_.statusText());   // sender format, device, mount, refusals by kind
     std::lock_guard<std::mutex> lock(statusMutex_);
     if (networkStatus_.isNotEmpty()) s << "\n" << networkStatus_;
     return s.trim();
@@ -715,6 +718,8 @@ juce::ValueTree ArmadilloProcessor::defaultSettings()
     s.setProperty(SettingIds::oscOutPort, 9000, nullptr);
     s.setProperty(SettingIds::oscInEnabled, false, nullptr);
     s.setProperty(SettingIds::oscInPort, 9001, nullptr);
+    s.setProperty(SettingIds::oscInFormat, "", nullptr);
+    s.setProperty(SettingIds::oscInMount, "", nullptr);
     s.setProperty(SettingIds::serialPort, "", nullptr);
     s.setProperty(SettingIds::baudRate, 57600, nullptr);
     s.setProperty(SettingIds::calibrationFile, "", nullptr);

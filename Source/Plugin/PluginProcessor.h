@@ -39,6 +39,8 @@ inline const juce::Identifier oscOutHost {"oscOutHost"};
 inline const juce::Identifier oscOutPort {"oscOutPort"};
 inline const juce::Identifier oscInEnabled {"oscInEnabled"};
 inline const juce::Identifier oscInPort {"oscInPort"};
+inline const juce::Identifier oscInFormat {"oscInFormat"};   ///< "" = detect; else docs/SENSORS.md names
+inline const juce::Identifier oscInMount {"oscInMount"};     ///< "" = the format's usual mount; a preset or mount file
 inline const juce::Identifier serialPort {"serialPort"};
 inline const juce::Identifier baudRate {"baudRate"};
 inline const juce::Identifier calibrationFile {"calibrationFile"};
