@@ -6,7 +6,7 @@
 #include "Braille/BrailleScene.h"
 #include "Braille/TrainingFeeder.h"
 #include "Core/AtomicFile.h"
-#include "Device/LiveSession.h"
+#include "Live/LiveSession.h"
 #include "Device/Calibration.h"
 #include "Device/OscIo.h"
 #include "Engine/Engine.h"
