@@ -228,6 +228,10 @@ int runPlay(const Arguments& args)
         while (!interrupted()) {
             const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             if (seconds > 0.0 && elapsed >= seconds) break;
+            if (session.engine().failed()) {   // the scene threw: its motors are off; stop and say so
+                std::cerr << "armadillo play: the scene failed and was stopped (motors off): " << session.engine().failure() << "\n";
+                break;
+            }
             // Say once on stderr when the device goes away (the link keeps reconnecting).
             const std::string e = session.lastError();
             if (!e.empty() && e != shownError) std::cerr << "armadillo play: " << e << "\n";
@@ -280,7 +284,7 @@ int runPlay(const Arguments& args)
             device::saveCalibration(calibrateOut, result);
         }
         std::cout << device::summaryJson(session.summary()) << "\n" << std::flush;
-        return 0;
+        return session.engine().failed() ? int(kExitFailure) : int(kExitOk);
     });
 }
 
