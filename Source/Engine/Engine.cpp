@@ -23,14 +23,16 @@ private:
     const double& time_;
 };
 
-Engine::Engine(const EngineConfig& config) : config_(config)
+Engine::Engine(const EngineConfig& config) : Engine(config, createScene(config.scene)) {}
+
+Engine::Engine(const EngineConfig& config, std::unique_ptr<Scene> scene) : config_(config), scene_(std::move(scene))
 {
+    if (!scene_) throw InputError("", 0, "", "no scene given for '" + config_.scene + "'");
     config_.motorCount = std::clamp(config_.motorCount, kGridMotors, kMaxMotors);
     if (config_.sceneConfig.resourceDir.empty()) {
         const char* env = std::getenv("ARMADILLO_RESOURCES");
         config_.sceneConfig.resourceDir = env && *env ? env : ARMADILLO_RESOURCE_DIR;
     }
-    scene_ = createScene(config_.scene);
     scene_->prepare(config_.sceneConfig);
     tactile_ = std::make_unique<TactileEngine>();
     TactileConfig tactileConfig;

@@ -40,6 +40,9 @@ struct GestureEvent {
 class Engine {
 public:
     explicit Engine(const EngineConfig& config);
+    /// The same with a scene made elsewhere (tests, a front end's own scene); config.scene is
+    /// only its name for messages.
+    Engine(const EngineConfig& config, std::unique_ptr<Scene> scene);
     ~Engine();
     Engine(const Engine&) = delete;
     Engine& operator=(const Engine&) = delete;

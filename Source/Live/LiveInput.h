@@ -1,14 +1,15 @@
 #pragma once
 // The mailbox between live sources (simulator, OSC receiver, device link) and the control loop.
-// Producers run on their own threads; the control loop (audio thread, or the idle clock) reads
-// the latest orientation from a seqlock and drains IMU samples from an SPSC queue: no locks.
+// Producers run on their own threads (one producer per mailbox at a time); the control loop
+// (audio thread, or the idle clock) reads the latest orientation from a seqlock with a bounded
+// read and drains IMU samples from an SPSC queue: no locks, no waiting.
 #include "Core/SpscQueue.h"
 #include "Core/Types.h"
 #include <Eigen/Geometry>
 #include <atomic>
 #include <cstdint>
 
-namespace armadillo::plugin {
+namespace armadillo::live {
 
 /// One orientation from a live source, q = (w, x, y, z) device → earth (INTERFACES.md).
 struct LiveOrientation {
@@ -27,7 +28,7 @@ struct LiveImu {
 
 /// ImuSample ↔ LiveImu (the mailbox stores floats; the fusion works in doubles).
 LiveImu toLiveImu(const ImuSample& s) noexcept;
-ImuSample toImuSample(const LiveImu& s);
+ImuSample toImuSample(const LiveImu& s) noexcept;
 
 class LiveInput {
 public:
@@ -37,8 +38,13 @@ public:
     /// The same from a calibrated sample (device link, OSC receiver); false when the queue is full.
     bool pushImu(const ImuSample& sample) noexcept { return imu_.push(toLiveImu(sample)); }
 
+    /// Not for the audio thread (may wait for a pre-empted writer).
     LiveOrientation latest() const noexcept { return orientation_.load(); }
+    /// Real-time: the latest orientation, or `lastGood` when a write overlapped every attempt.
+    LiveOrientation latest(const LiveOrientation& lastGood) const noexcept { return orientation_.load(lastGood); }
+    /// Consumer (control loop) only.
     bool popImu(LiveImu& out) noexcept { return imu_.pop(out); }
+    std::size_t imuWaiting() const noexcept { return imu_.size(); }
 
 private:
     SeqLock<LiveOrientation> orientation_;
@@ -46,4 +52,4 @@ private:
     std::atomic<std::uint64_t> serial_ {0};
 };
 
-} // namespace armadillo::plugin
+} // namespace armadillo::live
