@@ -72,6 +72,11 @@ public:
     /// (the slot is given back untouched) while an earlier hand-over or retired engine is pending:
     /// call collect() and offer it again.
     bool offer(std::unique_ptr<EngineSlot>& slot) noexcept;
+    /// Whether offer() would take an engine now (nothing pending, nothing retired left to collect).
+    bool canOffer() const noexcept
+    {
+        return pending_.load(std::memory_order_acquire) == nullptr && retired_.load(std::memory_order_acquire) == nullptr;
+    }
     /// Deletes the engine the control side gave up, if any. Builder side only.
     void collect() noexcept;
     /// Installs an engine at once. Only while the control side is known not to run (the caller

@@ -3,6 +3,7 @@
 // (INTERFACES.md "Plugin parameters"): hosts store automation under them, and LV2 uses them as
 // property symbols. The version hint is bumped only for a parameter whose meaning changes.
 #include "Core/Scene.h"
+#include "Live/ControlLoop.h"
 #include <juce_audio_processors/juce_audio_processors.h>
 #include <string>
 #include <vector>
@@ -21,9 +22,9 @@ inline constexpr const char* scene = "scene";           ///< index into sceneNam
 inline constexpr int kParameterVersion = 1;
 
 /// Where the arm's orientation comes from. The order is the `source` choice order (a contract).
-enum class SourceKind : int { Device = 0, Simulator = 1, Osc = 2, HostAutomation = 3 };
+using SourceKind = live::SourceKind;   // Device, Simulator, Osc, HostAutomation (contract order)
 const juce::StringArray& sourceChoiceNames();
-inline bool isLiveSource(SourceKind s) noexcept { return s != SourceKind::HostAutomation; }
+using live::isLiveSource;
 
 /// Every scene's own parameters, queried once from the scenes themselves.
 struct SceneParameterTable {
