@@ -30,7 +30,7 @@ using live::isLiveSource;
 struct SceneParameterTable {
     struct Entry {
         std::string scene;             ///< scene name (INTERFACES.md)
-        bool available = false;        ///< false: the scene is not built in this version
+        bool available = false;        ///< false: the scene could not be created (reason says why)
         std::string reason;            ///< why it is unavailable
         std::vector<ParamSpec> specs;  ///< Scene::parameters(), in index order
         std::vector<bool> exposed;     ///< false for a spec whose id another scene already took
