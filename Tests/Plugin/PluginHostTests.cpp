@@ -156,6 +156,10 @@ std::vector<float> render(Hosted& h, double seconds, int* midiEvents = nullptr)
     return out;
 }
 
+/// Set while a guarded processBlock runs: a debugger can stop on the guard's counters only then
+/// (gdb: break countedMalloc if gInGuardedBlock).
+volatile bool gInGuardedBlock = false;
+
 struct BlockCounts {
     std::uint64_t allocations = 0, deallocations = 0, locks = 0, throws = 0, blocks = 0;
 };
@@ -180,7 +184,9 @@ BlockCounts countDuringProcessing(Hosted& h, int blocks, bool automate)
                 p->setValue(0.5f + 0.49f * std::sin(0.05f * static_cast<float>(b) + static_cast<float>(i)));
             }
         RealtimeGuard guard;
+        gInGuardedBlock = true;
         h.plugin->processBlock(buffer, midi);
+        gInGuardedBlock = false;
         c.allocations += guard.allocations();
         c.deallocations += guard.deallocations();
         c.locks += guard.locks();
@@ -321,11 +327,22 @@ TEST_CASE("VST3: processBlock neither allocates nor throws for any scene and sou
 {
     // Every scene under every source, every parameter automated. The block in which a new scene
     // swaps in is counted too: the engine is built on the message thread (the dispatch loop
-    // below) and handed over lock-free. Locks: JUCE's VST3 wrapper takes the processor's callback
-    // lock around each processBlock (one uncontended lock per block, JUCE's, not ours); anything
-    // more than one per block would be the plugin's own and fails the test.
+    // below) and handed over lock-free. Locks: the hosting side (JUCE's VST3 host classes and the
+    // plugin wrapper) takes a fixed number of uncontended locks per block, more when parameters
+    // change; that rate is measured on the monitor scene first, and no scene or source may add to it.
     auto h = loadVst3();
     prepare(h);
+    setChoice(h, "Source", "host automation");
+    setChoice(h, "Scene", "monitor");
+    for (int i = 0; i < 5; ++i) juce::MessageManager::getInstance()->runDispatchLoopUntil(5);
+    render(h, 0.1);                            // the host's first blocks size its own buffers
+    countDuringProcessing(h, 20, true);        // and its parameter queues
+    const BlockCounts baseStill = countDuringProcessing(h, 100, false);
+    const BlockCounts baseMoving = countDuringProcessing(h, 100, true);
+    REQUIRE(baseStill.allocations == 0);
+    const double stillRate = double(baseStill.locks) / double(baseStill.blocks);
+    const double movingRate = double(baseMoving.locks) / double(baseMoving.blocks);
+    INFO("hosting locks per block: " << stillRate << " still, " << movingRate << " automated");
     for (const char* source : {"host automation", "simulator", "OSC", "device"}) {
         setChoice(h, "Source", source);
         for (const char* scene : {"theremin", "cymbal", "panel", "sound-design", "compass", "braille", "score", "monitor"}) {
@@ -333,14 +350,20 @@ TEST_CASE("VST3: processBlock neither allocates nor throws for any scene and sou
             setChoice(h, "Scene", scene);
             for (int i = 0; i < 5; ++i) juce::MessageManager::getInstance()->runDispatchLoopUntil(5);   // engine built, offered
             const BlockCounts swap = countDuringProcessing(h, 2, false);   // the swap happens in here
-            countDuringProcessing(h, 20, true);                               // the host's queues reach their size
+            countDuringProcessing(h, 20, true);
             const BlockCounts still = countDuringProcessing(h, 100, false);
             const BlockCounts moving = countDuringProcessing(h, 200, true);
+            const char* phases[] {"swap", "still", "automated"};
+            int phase = 0;
             for (const BlockCounts& c : {swap, still, moving}) {
+                INFO(phases[phase] << ": " << c.locks << " locks in " << c.blocks << " blocks");
                 CHECK(c.allocations == 0);
                 CHECK(c.deallocations == 0);
                 CHECK(c.throws == 0);
-                CHECK(c.locks <= c.blocks);
+                // The hosting rate varies by a few tenths of a lock per block; one lock per block
+                // of the plugin's own (+25 % still, +4 % automated) would exceed this.
+                CHECK(double(c.locks) <= (phase == 2 ? movingRate : stillRate) * double(c.blocks) * 1.02 + 4.0);
+                ++phase;
             }
         }
     }
