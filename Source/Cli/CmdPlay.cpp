@@ -117,6 +117,9 @@ int runPlay(const Arguments& args)
                     {"--calibrate-mount", "OUT.json", "with --osc-in: the guided mount calibration (arm level ahead, arm hanging down,\n"
                                                       "optionally a quarter roll); instructions on stderr; writes OUT.json for --mount"},
                     {"--baud", "B", "serial speed (default 57600, 8N1)"},
+                    {"--v2", "", "with --port: offer the v2 framing (sequence numbers, CRC, the board's clock;\n"
+                                 "docs/DEVICE.md 2b) on every connect; a board that does not take it gets v1 as\n"
+                                 "usual. The summary then adds \"v2\", \"seq_gaps\" and \"crc_failures\""},
                     {"--calibration", "CAL.json", "device calibration (default: the built-in one, which matches the simulator)"},
                     {"--seconds", "N", "stop after N seconds (default: run until interrupted)"},
                     {"--out", "OUT.wav", "record the scene's audio, 16-bit stereo (written whole at the end) instead of playing it"},
@@ -146,11 +149,13 @@ int runPlay(const Arguments& args)
         if (cl.has("--motion") && !cl.has("--simulate")) throw UsageError("--motion drives the simulator: use it with --simulate");
         if (cl.has("--unpaced") && !cl.has("--simulate")) throw UsageError("--unpaced applies to --simulate");
         if (cl.has("--baud") && !cl.has("--port")) throw UsageError("--baud applies to --port");
+        if (cl.has("--v2") && !cl.has("--port")) throw UsageError("--v2 applies to --port");
         if (cl.has("--port")) {
             config.source = device::LiveConfig::Source::Port;
             config.port = cl.value("--port");
             if (config.port.empty()) throw UsageError("--port needs a device name");
             config.baud = static_cast<int>(cl.integer("--baud", 57600, 300, 4000000));
+            config.link.link.negotiateV2 = cl.has("--v2");
         } else if (cl.has("--simulate")) {
             config.source = device::LiveConfig::Source::Simulator;
             config.motionFile = cl.value("--motion");

@@ -29,6 +29,7 @@ void DeviceLink::start()
     stop_.store(false);
     start_ = std::chrono::steady_clock::now();
     link_.reset(0.0);
+    v2Anchored_ = false;
     thread_ = std::thread([this] { run(); });
 }
 
@@ -101,20 +102,43 @@ MotorLevels DeviceLink::onSensorPacket(const SensorCounts& counts, double t)
 {
     packets_.push(RawPacket {t, counts});
     wroteMotorPacket_ = true;
+    lastHandlerT_ = t;
     return handler_(counts, t);
+}
+
+MotorLevels DeviceLink::onSensorFrameV2(const SensorFrameV2& frame, double now)
+{
+    if (!v2Anchored_) {
+        v2Anchored_ = true;
+        v2AnchorUs_ = frame.deviceTimeUs;
+        v2AnchorT_ = std::max(now, lastHandlerT_ + 1e-6);
+    }
+    // The board's unwrapped µs clock on the link's timeline; never backwards across reconnects.
+    const double t = std::max(v2AnchorT_ + static_cast<double>(frame.deviceTimeUs - v2AnchorUs_) * 1e-6, lastHandlerT_ + 1e-6);
+    return onSensorPacket(frame.counts, t);
 }
 
 void DeviceLink::send(const std::uint8_t* bytes, std::size_t count)
 {
     port_->write(bytes, count);
-    if (sentLogEnabled_ && count == kMotorPacketSize) {
+    // What a write is: a v1 motor packet (or resync burst), a v2 motor frame, or the v2 query with
+    // its resync burst (logged as that burst: all off).
+    const bool v1Packet = count == kMotorPacketSize;
+    const bool v2Frame = count == kV2MotorFrameSize && bytes[0] == kV2MotorSync;
+    const bool v2Query = count == sizeof kV2Query + kMotorPacketSize;
+    if (sentLogEnabled_ && (v1Packet || v2Frame || v2Query)) {
         SentMotorPacket p;
         p.t = now();
         p.resync = !wroteMotorPacket_;
-        decodeMotorPacket(bytes, p.levels);
+        if (v1Packet) decodeMotorPacket(bytes, p.levels);
+        if (v2Frame) {
+            std::uint8_t seq = 0, flags = 0;
+            decodeMotorFrameV2(bytes, seq, p.levels, flags);
+        }
+        if (v2Query) decodeMotorPacket(bytes + sizeof kV2Query, p.levels);
         if (!sentLog_.push(p)) sentLogDropped_.fetch_add(1, std::memory_order_relaxed);
     }
-    if (wroteMotorPacket_ && count == kMotorPacketSize) {
+    if (wroteMotorPacket_ && (v1Packet || v2Frame)) {
         wroteMotorPacket_ = false;
         const double us = (now() - arrival_) * 1e6;
         const std::size_t bin = std::min<std::size_t>(static_cast<std::size_t>(std::max(us, 0.0)), kLatencyBins);
@@ -184,6 +208,7 @@ void DeviceLink::run()
                 everConnected = true;
                 backoff = options_.reconnectMin;
                 link_.reset(now());
+                v2Anchored_ = false;
                 connected_.store(true, std::memory_order_release);
                 publish();
             } catch (const std::exception& e) {

@@ -50,7 +50,10 @@ struct LatencySummary {
 
 class DeviceLink final : private LinkPeer {
 public:
-    /// Runs on the link thread for every good packet; returns the next motor levels.
+    /// Runs on the link thread for every good packet; returns the next motor levels. In v2
+    /// (LinkConfig::negotiateV2 and a board that offers it) `t` advances with the board's own
+    /// sample clock (anchored on the link's clock at the connection's first frame), so dropouts
+    /// show as the board measured them.
     using Handler = std::function<MotorLevels(const SensorCounts& counts, double t)>;
 
     DeviceLink(std::unique_ptr<LinkPort> port, Handler handler, const DeviceLinkOptions& options = {});
@@ -83,9 +86,12 @@ public:
     SpscQueue<SentMotorPacket, 4096>& sentLog() noexcept { return sentLog_; }
     std::uint64_t sentLogDropped() const noexcept { return sentLogDropped_.load(std::memory_order_relaxed); }
     LatencySummary latency() const;
+    /// The board's v2 offer (version 0 when none): read it from the handler or after stop().
+    const OfferV2& v2Offer() const noexcept { return link_.framingV2().offer(); }
 
 private:
     MotorLevels onSensorPacket(const SensorCounts& counts, double now) override;
+    MotorLevels onSensorFrameV2(const SensorFrameV2& frame, double now) override;
     void send(const std::uint8_t* bytes, std::size_t count) override;
     void run();
     void publish();
@@ -106,6 +112,11 @@ private:
     std::atomic<std::uint64_t> sentLogDropped_ {0};
     double arrival_ = 0.0;                 // link thread: when the bytes being parsed arrived
     bool wroteMotorPacket_ = false;
+    // v2: the board's clock anchored on the link's at the first frame of a connection.
+    bool v2Anchored_ = false;
+    std::uint64_t v2AnchorUs_ = 0;
+    double v2AnchorT_ = 0.0;
+    double lastHandlerT_ = -1e300;
     std::chrono::steady_clock::time_point start_ {};
 
     static constexpr std::size_t kLatencyBins = 10000;   // 1 µs bins up to 10 ms, then overflow

@@ -82,6 +82,8 @@ public:
     void encodeMotor(const ProtocolLevels& levels, std::vector<std::uint8_t>& out, std::uint8_t flags = 0);
     /// The owner's timeout for an unanswered negotiation (or a v2 link it gives up on).
     void fallBackToV1() noexcept;
+    /// Forgets a partly received frame (the owner resynchronises after a silence).
+    void dropPartialFrame() noexcept { if (mode_ == Mode::V2) fill_ = 0; }
 
     Mode mode() const noexcept { return mode_; }
     const OfferV2& offer() const noexcept { return offer_; }

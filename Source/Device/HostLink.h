@@ -13,6 +13,7 @@
 // that resync bytes still in flight when the device answers can never form a phantom motor
 // packet (which would leave two exchanges in flight for good on a slow or paced link). A device that never answers
 // is reported (reopenDue) so the transport can reconnect: the host is the one that reconnects.
+#include "Device/FramingV2.h"
 #include "Device/Packets.h"
 #include "Core/GapDetector.h"
 #include "Core/Types.h"
@@ -30,6 +31,11 @@ struct LinkConfig {
     double resyncRepeat = 0.050;         ///< s: first wait before repeating an unanswered resync burst (also ≥ 2 × round trip)
     double resyncRepeatMax = 0.4;        ///< s: the wait doubles per unanswered burst up to this
     double reopenAfter = 2.0;            ///< s in resync without an answer ⇒ ask for a reconnect; ≤ 0: never
+    /// Offer the v2 framing (docs/DEVICE.md §2b) on every reset: the query goes out before the first
+    /// resync burst; a v2 board's offer switches the link to v2, a v1 answer (or none within
+    /// v2AnswerTimeout) leaves it on v1 exactly as without the option.
+    bool negotiateV2 = false;
+    double v2AnswerTimeout = 0.25;       ///< s after the query without a complete answer ⇒ v1
 };
 
 /// Counters of one link. packets = good sensor packets; badPackets = frames with a wrong end
@@ -51,6 +57,9 @@ struct LinkStats {
     std::uint64_t gaps = 0;              ///< good packets that came after a dropout (Core/GapDetector.h)
     double longestGap = 0.0;             ///< s between two good packets, the longest such dropout
     bool inSync = false;
+    bool v2 = false;                     ///< the current connection runs the v2 framing
+    std::uint64_t seqGaps = 0;           ///< v2: sensor frames lost between good ones (sequence numbers)
+    std::uint64_t crcFailures = 0;       ///< v2: frames that failed their CRC (also counted in badPackets)
 };
 
 /// What the link needs from its owner: the reply to a packet, and a way to send bytes.
@@ -59,6 +68,9 @@ public:
     virtual ~LinkPeer() = default;
     /// A good sensor packet arrived at `now`; return the levels of the motor packet to answer with.
     virtual MotorLevels onSensorPacket(const SensorCounts& counts, double now) = 0;
+    /// v2: a good sensor frame (with the board's own unwrapped sample time and status). By default
+    /// the same as a v1 packet.
+    virtual MotorLevels onSensorFrameV2(const SensorFrameV2& frame, double now) { return onSensorPacket(frame.counts, now); }
     /// Send bytes to the device (motor packets, resync bytes).
     virtual void send(const std::uint8_t* bytes, std::size_t count) = 0;
 };
@@ -70,6 +82,7 @@ public:
         Resyncing,    ///< streaming 0x8 bytes, waiting for the device to answer
         Framing,      ///< in resync, collecting the answer's 14 bytes
         InStep,       ///< collecting the next sensor packet of the lock-step exchange
+        Negotiating,  ///< v2 query sent (or due): the board's answer decides v2 or v1
     };
 
     explicit HostLink(const LinkConfig& config = {});
@@ -89,10 +102,16 @@ public:
     const LinkStats& stats() const noexcept { return stats_; }
     LinkStats& stats() noexcept { return stats_; }
     const LinkConfig& config() const noexcept { return config_; }
+    /// The v2 framer (offer, its own counters); mode V1 when v2 is off or not offered.
+    const FramingV2Host& framingV2() const noexcept { return v2_; }
 
 private:
     void fallOutOfStep(double now);
     void completeFrame(double now, LinkPeer& peer);
+    void receiveByte(std::uint8_t byte, double now, LinkPeer& peer);
+    void receiveV2(std::uint8_t byte, double now, LinkPeer& peer);
+    void goodPacket(double now);
+    void sendV2(const MotorLevels& levels, double now, LinkPeer& peer);
 
     LinkConfig config_;
     State state_ = State::Draining;
@@ -109,6 +128,12 @@ private:
     double lastBurst_ = -1e300;        ///< time the last resync burst was sent
     double silenceLimit() const noexcept;
     LinkStats stats_ {};
+    FramingV2Host v2_ {};
+    bool v2Active_ = false;            ///< this connection speaks v2
+    bool queryDue_ = false;            ///< Negotiating: the query has not been sent yet
+    double negotiateDeadline_ = 0.0;
+    std::vector<SensorFrameV2> v2Frames_;
+    std::vector<std::uint8_t> v2Out_;
     GapDetector gapDetector_ {};       ///< packet arrival steps; survives reset() (a reconnect is a gap too)
 };
 

@@ -29,7 +29,14 @@ std::string summaryJson(const SessionSummary& s)
                   static_cast<unsigned long long>(s.resyncs), static_cast<unsigned long long>(s.reconnects),
                   std::isfinite(s.rateHz) ? s.rateHz : 0.0, static_cast<unsigned long long>(s.gaps),
                   std::isfinite(s.longestGap) ? s.longestGap : 0.0);
-    return buf;
+    std::string out = buf;
+    if (s.v2) {
+        std::snprintf(buf, sizeof buf, ",\"v2\":true,\"seq_gaps\":%llu,\"crc_failures\":%llu}",
+                      static_cast<unsigned long long>(s.seqGaps), static_cast<unsigned long long>(s.crcFailures));
+        out.pop_back();   // the closing brace
+        out += buf;
+    }
+    return out;
 }
 
 const std::vector<std::string>& sessionLogHeader()
@@ -281,6 +288,9 @@ SessionSummary LiveSession::linkCounters() const
         s.reconnects = l.reconnects;
         s.gaps = l.gaps;
         s.longestGap = l.longestGap;
+        s.v2 = l.v2;
+        s.seqGaps = l.seqGaps;
+        s.crcFailures = l.crcFailures;
         if (l.packets > 1 && l.lastPacketTime > l.firstPacketTime)
             s.rateHz = static_cast<double>(l.packets - 1) / (l.lastPacketTime - l.firstPacketTime);
     } else if (oscIn_) {

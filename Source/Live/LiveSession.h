@@ -65,9 +65,12 @@ struct SessionSummary {
     double rateHz = 0.0;       ///< sustained: (packets − 1) / (last − first packet time)
     double seconds = 0.0;      ///< session length
     std::string oscJson;       ///< Source::Osc: the input's format, device and refusal counters (JSON members)
+    bool v2 = false;           ///< the link ran the v2 framing (LinkConfig::negotiateV2 and a board that offers it)
+    std::uint64_t seqGaps = 0, crcFailures = 0;   ///< v2 only
 };
 /// {"packets":…,"bad_packets":…,"resyncs":…,"reconnects":…,"rate_hz":…} (INTERFACES.md) plus
-/// "gaps" and "longest_gap_s" (docs/DEVICE.md).
+/// "gaps" and "longest_gap_s" (docs/DEVICE.md); when the link ran v2, also "v2":true, "seq_gaps"
+/// and "crc_failures".
 std::string summaryJson(const SessionSummary& s);
 
 /// The session log's header: t, raw counts, calibrated SI values (IMU names), qw qx qy qz, then the

@@ -112,3 +112,74 @@ TEST_CASE("FramingV2Host survives 10^6 random bytes in every mode", "[device][v2
     CHECK(h.mode() == FramingV2Host::Mode::V2);
     CHECK(h.stats().discardedBytes > 0);
 }
+
+#include "Device/HostLink.h"
+
+TEST_CASE("HostLink with negotiateV2: an offer switches to v2 frames, gaps and CRC failures are counted, a reset asks again", "[device][v2]")
+{
+    using namespace armadillo::device;
+    using armadillo::MotorLevels;
+    struct Peer : LinkPeer {
+        std::vector<std::vector<std::uint8_t>> writes;
+        std::vector<std::uint64_t> deviceTimes;
+        MotorLevels onSensorPacket(const SensorCounts&, double) override { return {}; }
+        MotorLevels onSensorFrameV2(const SensorFrameV2& f, double) override
+        {
+            deviceTimes.push_back(f.deviceTimeUs);
+            MotorLevels m {};
+            m[2] = 7;
+            return m;
+        }
+        void send(const std::uint8_t* b, std::size_t n) override { writes.emplace_back(b, b + n); }
+    } peer;
+    LinkConfig cfg;
+    cfg.negotiateV2 = true;
+    HostLink link(cfg);
+    link.reset(0.0);
+    link.poll(0.0, peer);
+    REQUIRE(peer.writes.size() == 1);
+    CHECK(peer.writes[0].size() == 10);
+    OfferV2 offer;
+    offer.version = 2;
+    offer.motors = 9;
+    offer.sensorRateHz = 1000;
+    const auto o = encodeOfferV2(offer);
+    link.receive(o.data(), o.size(), 0.004, peer);
+    CHECK(link.stats().v2);
+    CHECK(link.framingV2().offer().sensorRateHz == 1000);
+    link.poll(0.004, peer);   // the first motor frame: all off
+    REQUIRE(peer.writes.size() == 2);
+    REQUIRE(peer.writes[1].size() == kV2MotorFrameSize);
+    std::uint8_t seq = 0, flags = 0;
+    ProtocolLevels lv {};
+    REQUIRE(decodeMotorFrameV2(peer.writes[1].data(), seq, lv, flags));
+    CHECK(lv == ProtocolLevels {});
+    auto frame = [](std::uint8_t s, std::uint32_t us) {
+        SensorFrameV2 f;
+        f.seq = s;
+        f.rawTimeUs = us;
+        return encodeSensorFrameV2(f);
+    };
+    auto f0 = frame(0, 0xFFFF00);
+    link.receive(f0.data(), f0.size(), 0.008, peer);
+    auto f1 = frame(2, 0x000F00);   // seq 1 lost; the 24-bit clock wrapped
+    link.receive(f1.data(), f1.size(), 0.013, peer);
+    auto bad = frame(3, 0x001F00);
+    bad[10] ^= 0x10;
+    link.receive(bad.data(), bad.size(), 0.018, peer);
+    CHECK(link.stats().packets == 2);
+    CHECK(link.stats().seqGaps == 1);
+    CHECK(link.stats().crcFailures == 1);
+    CHECK(link.stats().badPackets == 1);
+    REQUIRE(peer.deviceTimes.size() == 2);
+    CHECK(peer.deviceTimes[1] - peer.deviceTimes[0] == 0x1000);
+    REQUIRE(peer.writes.size() == 4);   // each good frame answered with the handler's levels
+    REQUIRE(decodeMotorFrameV2(peer.writes[3].data(), seq, lv, flags));
+    CHECK(lv[2] == 7);
+    // A new connection negotiates again.
+    link.reset(1.0);
+    CHECK_FALSE(link.stats().v2);
+    link.poll(1.0, peer);
+    REQUIRE(peer.writes.size() == 5);
+    CHECK(peer.writes[4].size() == 10);
+}

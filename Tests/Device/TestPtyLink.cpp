@@ -241,6 +241,74 @@ TEST_CASE("in-process simulator: same link, unplug and replug", "[device][simula
     CHECK(link.stats().badPackets == 0);
 }
 
+TEST_CASE("negotiateV2 against a v1-only board falls back: the wire after the query is exactly v1's", "[device][simulator][v2]")
+{
+    // The same stamped simulator, once with v2 off and once with it on.
+    struct Run { LinkStats stats; SimulatorStats sim; std::vector<int> seqs; std::vector<SentMotorPacket> sent; };
+    auto run = [](bool v2) {
+        SimulatedForearm sim(std::make_shared<WanderingMotion>(), stamped());
+        Recorder rec;
+        DeviceLinkOptions options;
+        options.link.negotiateV2 = v2;
+        DeviceLink link(sim.startInProcess(), rec.handler(), options);
+        link.enableSentLog();
+        link.start();
+        const bool ok = link.waitFor([](const LinkStats& s) { return s.packets >= 300; }, 20.0);
+        link.stop();
+        sim.stop();
+        REQUIRE(ok);
+        Run r {link.stats(), sim.stats(), rec.snapshot(), {}};
+        SentMotorPacket p;
+        while (link.sentLog().pop(p)) r.sent.push_back(p);
+        return r;
+    };
+    const Run v1 = run(false), v2 = run(true);
+    for (const Run* r : {&v1, &v2}) {
+        CHECK_FALSE(r->stats.v2);
+        CHECK(r->stats.badPackets == 0);
+        CHECK(r->stats.resyncs == 0);
+        CHECK(r->stats.seqGaps == 0);
+        CHECK(r->stats.crcFailures == 0);
+        CHECK(gaps(r->seqs).empty());
+        CHECK(r->sim.badMotorPackets == 0);
+        CHECK(r->sim.resyncAnswers == 1);   // the one burst (v2: the one behind the query) was answered
+        // One all-off resync burst, then only the handler's motor packets: seq % 16 on motor 1, 15 on motor 9.
+        REQUIRE(r->sent.size() >= 300);
+        CHECK(r->sent.front().resync);
+        std::size_t matching = 0;
+        for (std::size_t i = 1; i < r->sent.size() && i - 1 < r->seqs.size(); ++i)
+            if (!r->sent[i].resync && r->sent[i].levels[0] == r->seqs[i - 1] % 16 && r->sent[i].levels[8] == 15) ++matching;
+        CHECK(matching == std::min(r->sent.size() - 1, r->seqs.size()));
+    }
+    std::printf("[v2 fallback] v1: %llu packets, %llu bytes out; v2 on: %llu packets, %llu bytes out\n",
+                static_cast<unsigned long long>(v1.stats.packets), static_cast<unsigned long long>(v1.stats.bytesOut),
+                static_cast<unsigned long long>(v2.stats.packets), static_cast<unsigned long long>(v2.stats.bytesOut));
+}
+
+TEST_CASE("negotiateV2 with a board that never answers gives up on v2 and keeps resyncing in v1", "[device][v2]")
+{
+    struct Peer : LinkPeer {
+        std::vector<std::vector<std::uint8_t>> writes;
+        MotorLevels onSensorPacket(const SensorCounts&, double) override { return {}; }
+        void send(const std::uint8_t* b, std::size_t n) override { writes.emplace_back(b, b + n); }
+    } peer;
+    LinkConfig cfg;
+    cfg.negotiateV2 = true;
+    HostLink link(cfg);
+    link.reset(0.0);
+    link.poll(0.0, peer);
+    REQUIRE(peer.writes.size() == 1);
+    CHECK(peer.writes[0] == std::vector<std::uint8_t> {0x41, 0x52, 0x4D, 0x76, 0x32, 0x00, 0x00, 0x00, 0x00, 0x08});
+    CHECK(link.state() == HostLink::State::Negotiating);
+    link.poll(cfg.v2AnswerTimeout - 0.001, peer);
+    CHECK(peer.writes.size() == 1);
+    link.poll(cfg.v2AnswerTimeout, peer);
+    REQUIRE(peer.writes.size() == 2);
+    CHECK(peer.writes[1] == std::vector<std::uint8_t>(kResyncPacket.begin(), kResyncPacket.end()));
+    CHECK(link.state() == HostLink::State::Resyncing);
+    CHECK_FALSE(link.stats().v2);
+}
+
 TEST_CASE("serial port: missing ports and non-ttys are refused clearly; the link keeps retrying", "[device][pty]")
 {
     SerialPort missing("/nonexistent/ttyARM0");

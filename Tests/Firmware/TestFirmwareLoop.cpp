@@ -6,6 +6,7 @@
 #include "SimBoard.h"
 #include "core/Protocol.h"
 #include "Device/Calibration.h"
+#include "Device/DeviceLink.h"
 #include "Device/FramingV2.h"
 #include "Device/HostLink.h"
 #include "Device/Packets.h"
@@ -140,6 +141,46 @@ struct LoopHost final : LinkPeer {
             if (errTimes[i] >= t0) e.push_back(errDeg[i]);
         return median(e);
     }
+};
+
+/// The board as a LinkPort, so DeviceLink (its thread, its wall-clock timers, the reconnect loop)
+/// talks to the firmware in-process. simavr runs only inside read(), in 100 µs steps, until a byte
+/// has completed on the simulated wire or the wall-clock timeout passes; a byte the host writes
+/// enters the UART at the current simulated time. simavr is slower than real time here, so the
+/// host sees a slow board (its adaptive silence rule copes, as with Bluetooth); every figure the
+/// test prints comes from the board's own clock or pins, not from the wall clock.
+class SimBoardPort final : public LinkPort {
+public:
+    explicit SimBoardPort(SimBoard& board) : board_(board) {}
+    std::string name() const override { return "simavr:uart0"; }
+    std::string backend() const override { return open_ ? "simavr" : ""; }
+    void open() override { open_ = true; }
+    void close() noexcept override { open_ = false; }
+    bool isOpen() const noexcept override { return open_; }
+    std::size_t read(std::uint8_t* buffer, std::size_t capacity, double timeout) override
+    {
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                                      std::chrono::duration<double>(timeout));
+        auto& rx = board_.received();
+        for (;;) {
+            std::size_t n = 0;
+            while (n < capacity && !rx.empty() && rx.front().cycle <= board_.cycle()) {
+                buffer[n++] = rx.front().b;
+                rx.pop_front();
+            }
+            if (n > 0 || std::chrono::steady_clock::now() >= deadline) return n;
+            board_.runUntil(board_.now() + 100e-6);
+        }
+    }
+    std::size_t write(const std::uint8_t* bytes, std::size_t count) override
+    {
+        board_.send(bytes, count);
+        return count;
+    }
+
+private:
+    SimBoard& board_;
+    bool open_ = false;
 };
 
 /// Collects what the board sends from now on (raw tests that bypass HostLink).
@@ -452,4 +493,82 @@ TEST_CASE("loop: on the wandering arm with 1.5 g punches the firmware's data fus
     std::printf("[loop] orientation (wandering arm with punches): median error %.2f deg through the firmware, "
                 "%.2f deg from the project's simulated board at the same instants\n", err, reference);
     CHECK(err <= reference + 1.0);
+}
+
+TEST_CASE("loop: DeviceLink with negotiateV2 runs v2 with the firmware: levels reach the pins, lost frames are counted", "[loop][v2]")
+{
+    SimBoard board(boardOptions());
+    board.runUntil(2.3);   // boot, then 2 s of sensor reads so the offer carries the measured rate
+    board.received().clear();
+    DeviceLinkOptions options;
+    options.link.negotiateV2 = true;
+    // The host's timers run on the wall clock, simavr ~3-4x slower than real time on shared cores:
+    // a 10 ms wall-clock silence would fire for frames that are merely late in simulated time (and
+    // its resync frame then puts a second exchange in flight, as it would in v1). 100 ms still
+    // catches the lost frame this test injects, in ~30 ms of simulated time.
+    options.link.silenceTimeout = 0.1;
+    // Everything below runs on the link thread (the only thread touching the simulator while the
+    // link runs); the test thread reads these after stop() has joined it.
+    std::array<double, 9> duty {};
+    std::vector<double> handlerT, boardT;
+    std::uint64_t frames = 0;
+    std::uint64_t corruptedAt = 0;
+    auto levelOf = [](int m) { return static_cast<std::uint8_t>(m % 6); };   // 0..5: at most the motors' rating
+    DeviceLink link(std::make_unique<SimBoardPort>(board), [&](const SensorCounts&, double t) {
+        ++frames;
+        handlerT.push_back(t);
+        boardT.push_back(board.now());
+        if (frames == 60) board.markDutyWindow();
+        if (frames == 200) {
+            for (int m = 0; m < 9; ++m) duty[static_cast<std::size_t>(m)] = board.duty(m);
+            // One byte of a sensor frame a few frames ahead is hit on the wire: its CRC fails.
+            corruptedAt = board.txCount() + 3 * kV2SensorFrameSize + 10;
+            board.corruptTxByte(corruptedAt, 0x24);
+        }
+        MotorLevels lv {};
+        for (int m = 0; m < 9; ++m) lv[static_cast<std::size_t>(m)] = levelOf(m);
+        return lv;
+    }, options);
+    link.enableSentLog();
+    link.start();
+    const bool ok = link.waitFor([](const LinkStats& s) { return s.packets >= 300 && s.seqGaps >= 1; }, 120.0);
+    link.stop();
+    const LinkStats st = link.stats();
+    std::vector<SentMotorPacket> sent;
+    SentMotorPacket p;
+    while (link.sentLog().pop(p)) sent.push_back(p);
+    std::printf("[loop] DeviceLink v2: offer %u Hz; %llu frames, %llu bad, %llu CRC failures, %llu seq gaps, "
+                "%llu resyncs, %llu silences; simulated %.2f s\n",
+                link.v2Offer().sensorRateHz, static_cast<unsigned long long>(st.packets),
+                static_cast<unsigned long long>(st.badPackets), static_cast<unsigned long long>(st.crcFailures),
+                static_cast<unsigned long long>(st.seqGaps), static_cast<unsigned long long>(st.resyncs),
+                static_cast<unsigned long long>(st.silences), board.now());
+    REQUIRE(ok);
+    REQUIRE(boardT.size() > 190);
+    const double rate = 130.0 / (boardT[189] - boardT[59]);   // frames 60..190, before the corruption
+    const double limit = board.baud() / (10.0 * (kV2SensorFrameSize + kV2MotorFrameSize));
+    std::printf("[loop] DeviceLink v2: %.1f exchanges/s by simulated time (lock-step limit %.1f /s)\n", rate, limit);
+    CHECK(rate <= limit * 1.01);   // one exchange in flight: never more than lock-step allows
+    CHECK(link.v2Offer().sensorRateHz >= 900);
+    CHECK(st.v2);
+    CHECK(st.crcFailures >= 1);
+    CHECK(st.badPackets >= st.crcFailures);
+    CHECK(st.seqGaps >= 1);
+    double worst = 0.0;
+    for (int m = 0; m < 9; ++m) worst = std::max(worst, std::abs(duty[static_cast<std::size_t>(m)] - levelOf(m) / 15.0));
+    std::printf("[loop] DeviceLink v2: worst |duty - level/15| over nine pins = %.4f\n", worst);
+    CHECK(worst <= 1.0 / 15.0);
+    // The handler's time follows the board's clock: its steps match the simulated time between
+    // the frames (the wall clock runs several times faster than simavr here).
+    REQUIRE(handlerT.size() > 250);
+    const double hostSpan = handlerT[250] - handlerT[50], boardSpan = boardT[250] - boardT[50];
+    std::printf("[loop] DeviceLink v2: 200 frames span %.4f s by the handler's t, %.4f s of simulated time\n", hostSpan, boardSpan);
+    CHECK(std::abs(hostSpan - boardSpan) < 0.01);
+    // The sent log holds the v2 motor frames' levels (and the query's all-off burst first).
+    REQUIRE(sent.size() > 250);
+    CHECK(sent.front().resync);
+    std::size_t withLevels = 0;
+    for (const auto& s : sent)
+        if (!s.resync && s.levels[4] == levelOf(4) && s.levels[5] == levelOf(5)) ++withLevels;
+    CHECK(withLevels >= st.packets - 1);
 }
