@@ -265,8 +265,8 @@ void DevicePanel::paint(juce::Graphics& g)
 void DevicePanel::resized()
 {
     auto r = getLocalBounds().reduced(6);
-    // Fifteen rows (the link statistics take three, the OSC status two): fit them all, whatever the height.
-    const int row = juce::jlimit(16, 40, (r.getHeight() - 42) / 15);
+    // Twelve rows (the link statistics and the OSC status take two each): fit them all, whatever the height.
+    const int row = juce::jlimit(16, 40, (r.getHeight() - 33) / 12);
     auto line = [&] { auto l = r.removeFromTop(row); r.removeFromTop(3); return l; };
     deviceHeading_.setBounds(line());
     auto l1 = line();
@@ -290,10 +290,10 @@ void DevicePanel::resized()
     connectOnStart_.setBounds(l3);
     if (calibrating_ || mountCalibrating_) {
         // Link statistics (three rows) and the OSC section make room for the steps.
-        (calibrating_ ? static_cast<juce::Component&>(calibrationPanel_) : mountPanel_).setBounds(r.removeFromTop(row * 8 + 12));
+        (calibrating_ ? static_cast<juce::Component&>(calibrationPanel_) : mountPanel_).setBounds(r.removeFromTop(row * 8 + 18));
         return;
     }
-    link_.setBounds(r.removeFromTop(row * 3));
+    link_.setBounds(r.removeFromTop(row * 2));
     link_.setFont(juce::Font(juce::jlimit(11.0f, 18.0f, row * 0.55f)));
     oscHeading_.setBounds(line());
     auto l4 = line();
@@ -306,16 +306,16 @@ void DevicePanel::resized()
     auto l5 = line();
     oscIn_.setBounds(l5.removeFromLeft(l5.getWidth() / 4));
     l5.removeFromLeft(40);
-    oscInPort_.setBounds(l5.removeFromLeft(l5.getWidth() / 3));
+    oscInPort_.setBounds(l5.removeFromLeft(l5.getWidth() / 4));
+    l5.removeFromLeft(56);   // the "format" label
+    oscFormat_.setBounds(l5);
     auto l6 = line();
-    l6.removeFromLeft(50);
-    oscFormat_.setBounds(l6.removeFromLeft(l6.getWidth() * 2 / 5));
-    l6.removeFromLeft(50);
-    oscMount_.setBounds(l6);
-    auto l7 = line();
-    mountFile_.setBounds(l7.removeFromLeft(l7.getWidth() / 2 - 3));
-    l7.removeFromLeft(6);
-    calibrateMount_.setBounds(l7);
+    l6.removeFromLeft(50);   // the "mount" label
+    oscMount_.setBounds(l6.removeFromLeft(l6.getWidth() * 2 / 5));
+    l6.removeFromLeft(6);
+    mountFile_.setBounds(l6.removeFromLeft(l6.getWidth() / 2 - 3));
+    l6.removeFromLeft(6);
+    calibrateMount_.setBounds(l6);
     oscStatus_.setBounds(r.removeFromTop(row * 2 + 3));
     oscStatus_.setFont(juce::Font(juce::jlimit(11.0f, 16.0f, row * 0.5f)));
 }
