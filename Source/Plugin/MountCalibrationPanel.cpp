@@ -143,12 +143,11 @@ void MountCalibrationPanel::apply()
         file.getParentDirectory().createDirectory();
         device::saveMount(file.getFullPathName().toStdString(), mount);
         processor_.settings().setProperty(SettingIds::oscInMount, file.getFullPathName(), nullptr);
-        message = "Applied; kept for this sender as " + file.getFullPathName() + ".";
+        message = "Applied; kept for this sender as " + file.getFileName() + " (app data folder, ARMadillo/mounts).";
     } catch (const std::exception& e) {
         message = "Mount found but not saved: " + juce::String(e.what());
     }
-    message_.setText(message, juce::dontSendNotification);
-    announce("Mount calibration done. " + message);
+    message_.setText(message, juce::dontSendNotification);   // announced with the "done" step by refresh()
     processor_.oscInput().enableSensorTap(false);
 }
 

@@ -107,8 +107,14 @@ bool MountCalibrationSession::solve(std::string& why)
 
 std::string MountCalibrationSession::fileNameForDevice(const std::string& device)
 {
+    // A sender known only by "address:port" keeps its address: the port is a fresh ephemeral
+    // one each time the app reopens its socket, so it would give every session its own file.
+    std::string id = device;
+    if (const auto colon = id.rfind(':'); colon != std::string::npos && id.find(':') == colon
+        && id.find_first_not_of("0123456789", colon + 1) == std::string::npos && colon + 1 < id.size())
+        id.erase(colon);
     std::string safe;
-    for (const char c : device) {
+    for (const char c : id) {
         const bool keep = std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '-' || c == '_';
         if (keep) safe += c;
         else if (! safe.empty() && safe.back() != '-') safe += '-';

@@ -57,7 +57,8 @@ public:
     const std::string& stopReason() const noexcept { return stopReason_; }
 
     /// "mount-<device>.json" with the device id made safe for a file name ("mount-sensor.json"
-    /// for an unnamed one): where the app keeps each device's mount.
+    /// for an unnamed one; an "address:port" sender without its ephemeral port): where the app
+    /// keeps each device's mount.
     static std::string fileNameForDevice(const std::string& device);
 
 private:

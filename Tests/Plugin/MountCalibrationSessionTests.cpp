@@ -211,7 +211,8 @@ TEST_CASE("mount calibration session: fed from the OSC merger's tap, in the sens
 TEST_CASE("mount calibration session: per-device file names are safe", "[plugin][mount]")
 {
     CHECK(MountCalibrationSession::fileNameForDevice("") == "mount-sensor.json");
-    CHECK(MountCalibrationSession::fileNameForDevice("192.168.1.20:9000") == "mount-192-168-1-20-9000.json");
+    CHECK(MountCalibrationSession::fileNameForDevice("192.168.1.20:53412") == "mount-192-168-1-20.json");   // no ephemeral port
+    CHECK(MountCalibrationSession::fileNameForDevice("fe80::1") == "mount-fe80-1.json");
     CHECK(MountCalibrationSession::fileNameForDevice("../../etc/passwd") == "mount-etc-passwd.json");
     CHECK(MountCalibrationSession::fileNameForDevice("ZIGSIM 3F2A-11") == "mount-ZIGSIM-3F2A-11.json");
 }
