@@ -1,6 +1,6 @@
 #include "Audio/SoundCard.h"
 #include "Core/Errors.h"
-#include "Device/DeviceLink.h"   // tryRealtimePriority
+#include "Core/ThreadPriority.h"
 #include <alsa/asoundlib.h>
 #include <algorithm>
 #include <cerrno>
@@ -92,7 +92,7 @@ std::string SoundCard::lastError() const
 
 void SoundCard::loop(int realtimePriority)
 {
-    if (realtimePriority > 0) device::tryRealtimePriority(realtimePriority);
+    if (realtimePriority > 0) requestRealtimePriority(realtimePriority);
     const int n = info_.periodFrames;
     // Everything the loop touches is allocated here, before the first period.
     std::vector<float> left(static_cast<std::size_t>(n)), right(static_cast<std::size_t>(n));

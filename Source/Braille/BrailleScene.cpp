@@ -209,6 +209,10 @@ public:
     }
 
     std::string trainingLogCsv() const override { return training_ ? training_->logCsv() : std::string(); }
+    void collectTrainingLog() override
+    {
+        if (training_) training_->drainLog();
+    }
     int trainingTrial() const noexcept override { return trialShown_.load(std::memory_order_acquire); }
     int trainingCorrect() const noexcept override { return trialsRight_.load(std::memory_order_acquire); }
     int trainingTrialCount() const noexcept override

@@ -40,8 +40,12 @@ public:
     /// A training answer ("left", a letter, a word, "here"); any thread, lock-free; false when
     /// too many answers are waiting.
     virtual bool submitAnswer(const std::string& answer) noexcept = 0;
-    /// The training log so far (CSV); call only while control() is not running.
+    /// The training log so far (CSV). Any thread but the control thread, while control() runs
+    /// or not: control() queues fixed-size records, this turns them into text.
     virtual std::string trainingLogCsv() const = 0;
+    /// Moves queued log records into the text log (any thread but the control thread). Long live
+    /// sessions call it regularly (the feeder's poll, the app's timer) so the queue never fills.
+    virtual void collectTrainingLog() {}
     /// Training progress for a UI that asks and listens (any thread, lock-free): the trial now
     /// shown (trainingTrialCount() once all are answered), and how many answers were right.
     virtual int trainingTrial() const noexcept = 0;

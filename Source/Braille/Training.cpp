@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <iterator>
 #include <random>
 #include <string_view>
 
@@ -179,51 +180,85 @@ TrainingSession::TrainingSession(const TrainingOptions& options)
             break;
         }
     }
+    cursors_.reserve(trials_.size());
+    for (const auto& trial : trials_) cursors_.emplace_back(trial.units);
     log_ = "t,event,stage,trial,expected,prompt,posture,roll_deg,unit,step,motors,answer,correct\n";
 }
 
-void TrainingSession::log(double t, const char* event, const std::string& posture, double rollDeg, int unit, int step,
-                          const std::string& motors, const std::string& answer, int correct)
+const char* trainingEventName(TrainingEvent e) noexcept
+{
+    static constexpr const char* kNames[] {"trial", "move", "direction", "row", "word-gap", "message-gap", "text-end", "answer", "end"};
+    const auto i = static_cast<std::size_t>(e);
+    return i < std::size(kNames) ? kNames[i] : "?";
+}
+
+TrainingLogRecord TrainingSession::record(double t, TrainingEvent event) const noexcept
+{
+    TrainingLogRecord r;
+    r.t = t;
+    r.event = event;
+    r.trial = finished() ? -1 : index_;
+    r.rollDeg = kNaN;
+    return r;
+}
+
+void TrainingSession::log(const TrainingLogRecord& r) noexcept
+{
+    if (!records_.push(r)) dropped_.fetch_add(1, std::memory_order_relaxed);
+}
+
+void TrainingSession::appendRow(const TrainingLogRecord& r)
 {
     std::string row;
-    appendNumber(row, t, 9);
+    appendNumber(row, r.t, 9);
     row += ',';
-    row += event;
+    row += trainingEventName(r.event);
     row += ',';
-    if (!finished()) {
-        row += trainingStageName(current().stage);
-        row += ',' + std::to_string(index_ + 1) + ',';
-        appendCsvField(row, current().expected);
+    if (r.trial >= 0 && r.trial < static_cast<int>(trials_.size())) {
+        const TrainingTrial& trial = trials_[static_cast<std::size_t>(r.trial)];
+        row += trainingStageName(trial.stage);
+        row += ',' + std::to_string(r.trial + 1) + ',';
+        appendCsvField(row, trial.expected);
         row += ',';
-        if (std::string_view(event) == "trial") appendCsvField(row, current().prompt);
+        if (r.event == TrainingEvent::Trial) appendCsvField(row, trial.prompt);
     } else {
         row += ",,,";
     }
-    row += ',' + posture + ',';
-    if (std::isfinite(rollDeg)) appendNumber(row, rollDeg, 6);
     row += ',';
-    if (unit >= 0) row += std::to_string(unit + 1);
+    if (r.hasPosture) row += postureName(r.posture);
     row += ',';
-    if (unit >= 0) row += std::to_string(step + 1);
+    if (std::isfinite(r.rollDeg)) appendNumber(row, r.rollDeg, 6);
     row += ',';
-    appendCsvField(row, motors);
+    if (r.unit >= 0) row += std::to_string(r.unit + 1);
     row += ',';
-    appendCsvField(row, answer);
+    if (r.unit >= 0) row += std::to_string(r.step + 1);
     row += ',';
-    if (correct >= 0) row += std::to_string(correct);
+    if (r.hasMotors) appendCsvField(row, motorList(r.motors));
+    row += ',';
+    appendCsvField(row, std::string(r.answer.data()));
+    row += ',';
+    if (r.correct >= 0) row += std::to_string(r.correct);
     log_ += row + '\n';
+}
+
+void TrainingSession::drainLog()
+{
+    const std::lock_guard<std::mutex> lock(consumer_);
+    TrainingLogRecord r;
+    while (records_.pop(r)) appendRow(r);
 }
 
 void TrainingSession::beginTrial(double t)
 {
     if (finished()) {
-        log(t, "end", "", kNaN, -1, 0, "", "", -1);
+        log(record(t, TrainingEvent::End));
         return;
     }
-    cursor_ = ReadingCursor(current().units);
-    reading_.setCursor(&cursor_);
+    ReadingCursor& cursor = cursors_[static_cast<std::size_t>(index_)];
+    cursor.rewind();
+    reading_.setCursor(&cursor);
     shown_ = {};
-    log(t, "trial", "", kNaN, -1, 0, "", "", -1);
+    log(record(t, TrainingEvent::Trial));
 }
 
 void TrainingSession::start(double t)
@@ -240,41 +275,73 @@ ReadEvent TrainingSession::update(double t, const Eigen::Vector3d& axis, const E
     const ReadEvent e = reading_.update(t, axis, normal, valid);
     const ReadingPosture p = e.roll.posture;
     if (p != loggedPosture_ || (p != ReadingPosture::Invalid && std::abs(wrapDeg180(e.roll.rollDeg - loggedRoll_)) >= 1.0)) {
-        log(t, "move", postureName(p), p == ReadingPosture::Invalid ? kNaN : e.roll.rollDeg, -1, 0, "", "", -1);
+        TrainingLogRecord r = record(t, TrainingEvent::Move);
+        r.hasPosture = true;
+        r.posture = p;
+        r.rollDeg = p == ReadingPosture::Invalid ? kNaN : e.roll.rollDeg;
+        log(r);
         loggedPosture_ = p;
         loggedRoll_ = e.roll.rollDeg;
     }
-    if (e.roll.directionChanged) log(t, "direction", postureName(p), e.roll.rollDeg, -1, 0, "", "", -1);
+    if (e.roll.directionChanged) {
+        TrainingLogRecord r = record(t, TrainingEvent::Direction);
+        r.hasPosture = true;
+        r.posture = p;
+        r.rollDeg = e.roll.rollDeg;
+        log(r);
+    }
     if (e.stepped) {
         shown_ = e.step;
-        const char* what = e.step.kind == StepKind::Cell ? "row"
-                         : e.step.kind == StepKind::WordGap ? "word-gap"
-                         : e.step.kind == StepKind::MessageGap ? "message-gap" : "text-end";
-        log(t, what, postureName(p), e.roll.rollDeg, e.step.unit, e.step.step,
-            e.step.kind == StepKind::Cell ? motorList(e.step.motors) : "", "", -1);
+        TrainingLogRecord r = record(t, e.step.kind == StepKind::Cell ? TrainingEvent::Row
+                                      : e.step.kind == StepKind::WordGap ? TrainingEvent::WordGap
+                                      : e.step.kind == StepKind::MessageGap ? TrainingEvent::MessageGap : TrainingEvent::TextEnd);
+        r.hasPosture = true;
+        r.posture = p;
+        r.rollDeg = e.roll.rollDeg;
+        r.unit = e.step.unit;
+        r.step = e.step.step;
+        r.hasMotors = e.step.kind == StepKind::Cell;
+        r.motors = e.step.motors;
+        log(r);
     }
     return e;
 }
 
-bool TrainingSession::answer(double t, const std::string& given)
+bool TrainingSession::answer(double t, std::string_view given)
 {
     if (!started_) start(t);
     if (finished()) return false;
-    const std::string a = lower(trim(given));
-    const TrainingTrial& trial = current();
-    bool right = a == trial.expected;
+    // Trimmed and lower-cased into the record's fixed buffer: no string is built here.
+    const char* space = " \t\r\n";
+    const auto b = given.find_first_not_of(space);
+    const std::string_view trimmed = b == std::string_view::npos ? std::string_view() : given.substr(b, given.find_last_not_of(space) - b + 1);
+    TrainingLogRecord r = record(t, TrainingEvent::Answer);
+    const std::size_t n = std::min(trimmed.size(), r.answer.size() - 1);
+    for (std::size_t i = 0; i < n; ++i) r.answer[i] = static_cast<char>(std::tolower(static_cast<unsigned char>(trimmed[i])));
+    r.answer[n] = '\0';
+    const std::string_view a(r.answer.data(), n);
+    const TrainingTrial& trial = trials_[static_cast<std::size_t>(index_)];
+    bool right = a == std::string_view(trial.expected);
     if (trial.stage == TrainingStage::Hold)
         right = right && shown_.kind == StepKind::Cell && shown_.step + 1 == trial.holdRow;
     ++answered_;
     if (right) ++correct_;
-    log(t, "answer", "", kNaN, shown_.kind == StepKind::Cell ? shown_.unit : -1, shown_.step, "", a, right ? 1 : 0);
+    r.unit = shown_.kind == StepKind::Cell ? shown_.unit : -1;
+    r.step = shown_.step;
+    r.correct = right ? 1 : 0;
+    log(r);
     ++index_;
     beginTrial(t);
     return right;
 }
 
-std::string TrainingSession::logCsv() const { return log_; }
+std::string TrainingSession::logCsv()
+{
+    drainLog();
+    const std::lock_guard<std::mutex> lock(consumer_);
+    return log_;
+}
 
-void TrainingSession::saveLog(const std::string& path) const { writeFileAtomically(path, log_); }
+void TrainingSession::saveLog(const std::string& path) { writeFileAtomically(path, logCsv()); }
 
 } // namespace armadillo::braille

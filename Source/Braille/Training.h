@@ -9,9 +9,20 @@
 //   words     — random words from the 50 sign words (Resources/Braille/signwords.txt)
 // Every movement (roll change ≥ 1° or posture change), every displayed step and every answer
 // is a row of the log, with its time.
+//
+// Threads: start(), update() and answer() are real-time (the braille scene calls them from
+// Scene::control, on the audio thread in the plugin). They write fixed-size log records into an
+// SPSC queue; the CSV text is built on the consumer side (drainLog(), logCsv(), saveLog()),
+// by one other thread at a time, off the audio thread. A consumer that falls more than
+// kLogCapacity records behind loses the newest ones, counted by droppedLogRecords().
 #include "Braille/Reading.h"
+#include "Core/SpscQueue.h"
+#include <array>
+#include <atomic>
 #include <cstdint>
+#include <mutex>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace armadillo::braille {
@@ -47,6 +58,25 @@ std::string defaultSignWordsPath();
 /// Reads a word list (one word a line, '#' comments); InputError for an empty or bad list.
 std::vector<std::string> readWordList(const std::string& path);
 
+/// What happened, one per log row (the CSV's `event` column).
+enum class TrainingEvent : std::uint8_t { Trial, Move, Direction, Row, WordGap, MessageGap, TextEnd, Answer, End };
+const char* trainingEventName(TrainingEvent e) noexcept;   ///< "trial", "move", …, "end"
+
+/// One log row as the control thread records it: fixed size, no strings to build.
+struct TrainingLogRecord {
+    double t = 0.0;                     ///< s
+    TrainingEvent event = TrainingEvent::Trial;
+    int trial = -1;                     ///< 0-based; −1 once the session is finished
+    bool hasPosture = false;
+    ReadingPosture posture = ReadingPosture::Invalid;
+    double rollDeg = 0.0;               ///< NaN: no roll column
+    int unit = -1, step = 0;            ///< unit −1: no unit/step columns
+    bool hasMotors = false;
+    MotorSet motors = 0;
+    int correct = -1;                   ///< −1: no correct column
+    std::array<char, 64> answer {};     ///< NUL-terminated, lower case, trimmed
+};
+
 class TrainingSession {
 public:
     /// Builds every trial now (liblouis runs here, not during control).
@@ -64,32 +94,43 @@ public:
     /// One control update: reads by roll and logs movement and displayed steps.
     ReadEvent update(double t, const Eigen::Vector3d& axis, const Eigen::Vector3d& normal, bool valid);
     /// Scores an answer to the current trial, logs it and moves to the next trial.
-    /// Returns whether it was right. Ignored (false) once finished.
-    bool answer(double t, const std::string& answer);
+    /// Returns whether it was right. Ignored (false) once finished. Real-time: the answer is
+    /// trimmed and lower-cased in a fixed buffer (answers beyond 63 bytes are cut).
+    bool answer(double t, std::string_view answer);
 
     RollReader& roll() noexcept { return reading_.roll(); }
     int correctCount() const noexcept { return correct_; }
     int answeredCount() const noexcept { return answered_; }
 
+    static constexpr std::size_t kLogCapacity = 4096;   ///< records between two drains
+    /// Consumer side (never the thread that calls update()/answer()): turns the queued records
+    /// into CSV rows. Call it regularly in long live sessions; logCsv() and saveLog() call it too.
+    void drainLog();
     /// The log as CSV text; header: t,event,stage,trial,expected,prompt,posture,roll_deg,unit,step,motors,answer,correct
-    std::string logCsv() const;
-    void saveLog(const std::string& path) const;   ///< atomic (whole or nothing)
+    std::string logCsv();
+    void saveLog(const std::string& path);   ///< atomic (whole or nothing)
+    /// Records lost because the consumer did not drain in time (any thread).
+    std::uint64_t droppedLogRecords() const noexcept { return dropped_.load(std::memory_order_relaxed); }
 
 private:
     void beginTrial(double t);
-    void log(double t, const char* event, const std::string& posture, double rollDeg, int unit, int step,
-             const std::string& motors, const std::string& answer, int correct);
+    void log(const TrainingLogRecord& record) noexcept;
+    TrainingLogRecord record(double t, TrainingEvent event) const noexcept;
+    void appendRow(const TrainingLogRecord& r);
 
     std::vector<TrainingTrial> trials_;
+    std::vector<ReadingCursor> cursors_;   ///< one per trial, built with it (no copy during control)
     int index_ = 0;
-    ReadingCursor cursor_;
     ActiveReading reading_;
     ReadingStep shown_ {};
     bool started_ = false;
     ReadingPosture loggedPosture_ = ReadingPosture::Invalid;
     double loggedRoll_ = 0.0;
     int correct_ = 0, answered_ = 0;
-    std::string log_;
+    SpscQueue<TrainingLogRecord, kLogCapacity> records_;   // control thread → consumer
+    std::atomic<std::uint64_t> dropped_ {0};
+    std::mutex consumer_;                                  // consumers only; never the control thread
+    std::string log_;                                      // under consumer_
 };
 
 } // namespace armadillo::braille

@@ -73,6 +73,7 @@ TrainingAnswerFeeder::Refusal TrainingAnswerFeeder::add(const std::string& answe
 std::vector<TrainingNotice> TrainingAnswerFeeder::poll(BrailleSceneControls& scene)
 {
     std::vector<TrainingNotice> out;
+    scene.collectTrainingLog();   // keeps the scene's log queue short in long sessions
     if (finished_) return out;
     const int count = scene.trainingTrialCount();
     // Trial first (acquire): the scene publishes the score before the trial, so the score read

@@ -6,7 +6,7 @@
 #include "Braille/BrailleScene.h"
 #include "Braille/TrainingFeeder.h"
 #include "Core/AtomicFile.h"
-#include "Device/LiveSession.h"
+#include "Live/LiveSession.h"
 #include "Device/Calibration.h"
 #include "Device/OscIo.h"
 #include "Device/Mount.h"
@@ -261,6 +261,10 @@ int runPlay(const Arguments& args)
         while (!interrupted()) {
             const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             if (seconds > 0.0 && elapsed >= seconds) break;
+            if (session.engine().failed()) {   // the scene threw: its motors are off; stop and say so
+                std::cerr << "armadillo play: the scene failed and was stopped (motors off): " << session.engine().failure() << "\n";
+                break;
+            }
             // Say once on stderr when the device goes away (the link keeps reconnecting).
             const std::string e = session.lastError();
             if (!e.empty() && e != shownError) std::cerr << "armadillo play: " << e << "\n";
@@ -347,7 +351,7 @@ int runPlay(const Arguments& args)
             device::saveCalibration(calibrateOut, result);
         }
         std::cout << device::summaryJson(session.summary()) << "\n" << std::flush;
-        return 0;
+        return session.engine().failed() ? int(kExitFailure) : int(kExitOk);
     });
 }
 

@@ -52,6 +52,7 @@ struct PatternRequest {
 inline constexpr int kPatternVoices = 8;
 
 /// Scene → tactile engine. Indices use the right-arm layout; the engine mirrors for the left arm.
+/// Real-time: every method is called from Scene::control and must not allocate, lock or throw.
 class MotorCanvas {
 public:
     virtual ~MotorCanvas() = default;
@@ -64,6 +65,7 @@ public:
 };
 
 /// Scene → the outside (OSC `/armadillo/gesture`, MIDI notes/CCs). Names are string literals.
+/// Real-time: implementations queue into fixed capacity and drop (never grow) when full.
 class EventSink {
 public:
     virtual ~EventSink() = default;
@@ -110,7 +112,13 @@ public:
     virtual void prepare(const SceneConfig& config) = 0;
     /// Any thread; implementations store into atomics. Index into parameters().
     virtual void setParameter(int index, float value) noexcept { (void) index; (void) value; }
-    /// Control thread, once per sensor update (thesis: ~200/s).
+    /// Once per control update (thesis: ~200/s). REAL-TIME: in the plugin this runs on the audio
+    /// thread (inside processBlock), so it must not allocate or free, lock, do I/O or throw, and
+    /// its work must be bounded per call (no scan whose length grows with the session; logs and
+    /// gestures leave through fixed-capacity SPSC queues or atomics). Everything that allocates
+    /// belongs in prepare(). Held to this by Tests/Engine/RealtimeEngineTests.cpp for every scene.
+    /// Should a scene throw anyway, the Engine catches it, switches the motors off and reports a
+    /// failed state (Engine::failed()); the exception never reaches the host.
     virtual void control(const ControlInput& in, SceneOutput& out) = 0;
     /// Audio thread: no locks, allocation, I/O or exceptions. Adds nothing when silent.
     virtual void renderAudio(float* left, float* right, int numSamples) noexcept
@@ -118,7 +126,8 @@ public:
         (void) left; (void) right; (void) numSamples;
     }
     virtual bool producesAudio() const { return false; }
-    /// Entering the scene, or a transport jump: forget gestures in progress.
+    /// Entering the scene, or a transport jump: forget gestures in progress. Real-time, like
+    /// control() (the plugin calls it on the audio thread).
     virtual void reset() {}
 };
 

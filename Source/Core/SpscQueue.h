@@ -5,9 +5,12 @@
 #include <array>
 #include <atomic>
 #include <cstddef>
+#include <thread>
 #include <type_traits>
 
 namespace armadillo {
+
+template <typename U> struct SeqLockProbe;
 
 template <typename T, std::size_t Capacity>
 class SpscQueue {
@@ -46,12 +49,16 @@ private:
 };
 
 /// Latest-value mailbox for one writer and any number of readers (a seqlock). Readers never
-/// block the writer; a reader retries while a write is in progress (bounded by the writer's rate).
+/// block the writer. A read that overlaps a write is retried, at most kMaxAttempts times, so a
+/// writer pre-empted in the middle of a store cannot stall a real-time reader: real-time readers
+/// call tryLoad() or load(lastGood) and keep their last good value when every attempt overlapped.
 template <typename T>
 class SeqLock {
     static_assert(std::is_trivially_copyable_v<T>, "values are copied without locks");
 
 public:
+    static constexpr int kMaxAttempts = 64;
+
     void store(const T& value) noexcept
     {
         const unsigned s = sequence_.load(std::memory_order_relaxed);
@@ -62,19 +69,44 @@ public:
         sequence_.store(s + 2, std::memory_order_release);
     }
 
-    T load() const noexcept
+    /// Real-time: a consistent copy of the latest value into `out` within kMaxAttempts reads;
+    /// false (and `out` untouched) when a write overlapped every one of them.
+    bool tryLoad(T& out) const noexcept
     {
-        T out;
-        for (;;) {
+        for (int attempt = 0; attempt < kMaxAttempts; ++attempt) {
             const unsigned before = sequence_.load(std::memory_order_acquire);
             if (before & 1u) continue;
-            copyOut(out);
+            T copy;
+            copyOut(copy);
             std::atomic_thread_fence(std::memory_order_acquire);
-            if (sequence_.load(std::memory_order_relaxed) == before) return out;
+            if (sequence_.load(std::memory_order_relaxed) == before) {
+                out = copy;
+                return true;
+            }
         }
+        return false;
+    }
+
+    /// Real-time: the latest value, or `lastGood` (the caller's previous result) when a write
+    /// overlapped every attempt.
+    T load(const T& lastGood) const noexcept
+    {
+        T out = lastGood;
+        tryLoad(out);
+        return out;
+    }
+
+    /// Not for the audio thread: yields between bounded attempts until a consistent value is
+    /// read (message/UI threads, link threads that can afford to wait for a pre-empted writer).
+    T load() const noexcept
+    {
+        T out {};
+        while (!tryLoad(out)) std::this_thread::yield();
+        return out;
     }
 
 private:
+    template <typename U> friend struct SeqLockProbe;   // tests: hold a write open
     // Word-wise relaxed atomics keep the copy free of data races in the memory model.
     static constexpr std::size_t kWords = (sizeof(T) + sizeof(unsigned long) - 1) / sizeof(unsigned long);
     void copyIn(const T& v) noexcept

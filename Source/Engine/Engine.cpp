@@ -23,14 +23,16 @@ private:
     const double& time_;
 };
 
-Engine::Engine(const EngineConfig& config) : config_(config)
+Engine::Engine(const EngineConfig& config) : Engine(config, createScene(config.scene)) {}
+
+Engine::Engine(const EngineConfig& config, std::unique_ptr<Scene> scene) : config_(config), scene_(std::move(scene))
 {
+    if (!scene_) throw InputError("", 0, "", "no scene given for '" + config_.scene + "'");
     config_.motorCount = std::clamp(config_.motorCount, kGridMotors, kMaxMotors);
     if (config_.sceneConfig.resourceDir.empty()) {
         const char* env = std::getenv("ARMADILLO_RESOURCES");
         config_.sceneConfig.resourceDir = env && *env ? env : ARMADILLO_RESOURCE_DIR;
     }
-    scene_ = createScene(config_.scene);
     scene_->prepare(config_.sceneConfig);
     tactile_ = std::make_unique<TactileEngine>();
     TactileConfig tactileConfig;
@@ -78,8 +80,9 @@ void Engine::setSceneParameters(const std::vector<std::string>& assignments)
 
 Engine::~Engine() = default;
 
-MotorLevels Engine::control(const ArmState& arm, const Transport& transport, double dt)
+MotorLevels Engine::control(const ArmState& arm, const Transport& transport, double dt) noexcept
 {
+    if (failed_.load(std::memory_order_relaxed)) return MotorLevels {};
     // A stalled or restarted source must not make shaping jump: dt is kept to 0..0.1 s.
     if (!(dt >= 0.0)) dt = 0.0;
     dt = std::min(dt, 0.1);
@@ -88,11 +91,24 @@ MotorLevels Engine::control(const ArmState& arm, const Transport& transport, dou
     SceneOutput out {*tactile_, *events_};
     try {
         scene_->control(in, out);
+    } catch (const std::exception& e) {
+        fail(e.what());
+        return MotorLevels {};
     } catch (...) {
-        tactile_->allOff();   // an error anywhere upstream: motors off first, then report
-        throw;
+        fail("unknown exception");
+        return MotorLevels {};
     }
     return tactile_->tick(dt);
+}
+
+void Engine::fail(const char* what) noexcept
+{
+    // A scene broke its contract (Core/Scene.h): motors off first, then a state the front ends
+    // report (the plugin's status line, `armadillo play` and `render` with exit code 4). Nothing
+    // is rethrown: on the audio thread an exception would reach the host.
+    tactile_->allOff();
+    std::strncpy(failure_.data(), what ? what : "", failure_.size() - 1);
+    failed_.store(true, std::memory_order_release);
 }
 
 void Engine::renderAudio(float* left, float* right, int numSamples) noexcept
@@ -100,6 +116,7 @@ void Engine::renderAudio(float* left, float* right, int numSamples) noexcept
     if (numSamples <= 0) return;
     std::memset(left, 0, sizeof(float) * static_cast<std::size_t>(numSamples));
     std::memset(right, 0, sizeof(float) * static_cast<std::size_t>(numSamples));
+    if (failed_.load(std::memory_order_acquire)) return;   // a failed scene stays silent
     scene_->renderAudio(left, right, numSamples);
     // Last line of defence for ears and speakers: nothing non-finite, nothing beyond full scale.
     for (int i = 0; i < numSamples; ++i) {

@@ -1,12 +1,15 @@
 #pragma once
 // The engine every front end shares (plugin, standalone app, `armadillo play`, `armadillo render`):
 // arm state → scene → tactile engine (shaping, then the safety stage, last) → motor levels;
-// scene → audio. Threads (docs/ARCHITECTURE.md): control() runs on the control thread (device
-// thread in live use), renderAudio() on the audio thread; they share nothing but the scene's own
-// lock-free parameters. Construction and scene changes are not real-time.
+// scene → audio. Threads (docs/ARCHITECTURE.md): control() runs on the control thread (the device
+// thread in `play`, the audio thread in the plugin), renderAudio() on the audio thread; both are
+// real-time (no allocation, lock, I/O or exception) and share nothing but the scene's own
+// lock-free parameters. Construction, scene changes and setSceneParameter() are not real-time.
 #include "Core/Scene.h"
 #include "Core/SpscQueue.h"
 #include "Core/Types.h"
+#include <array>
+#include <atomic>
 #include <memory>
 #include <string>
 #include <vector>
@@ -17,8 +20,7 @@ class TactileEngine;
 
 /// Scene names of INTERFACES.md, in the order of the plugin's `scene` choice.
 const std::vector<std::string>& sceneNames();
-/// A new scene by name; throws InputError for an unknown name and std::runtime_error for a scene
-/// that is not built in this version.
+/// A new scene by name; throws InputError for an unknown name.
 std::unique_ptr<Scene> createScene(const std::string& name);
 
 struct EngineConfig {
@@ -38,13 +40,18 @@ struct GestureEvent {
 class Engine {
 public:
     explicit Engine(const EngineConfig& config);
+    /// The same with a scene made elsewhere (tests, a front end's own scene); config.scene is
+    /// only its name for messages.
+    Engine(const EngineConfig& config, std::unique_ptr<Scene> scene);
     ~Engine();
     Engine(const Engine&) = delete;
     Engine& operator=(const Engine&) = delete;
 
-    /// Control thread: one update per sensor packet. Returns the levels of the next motor packet,
-    /// after shaping and the safety stage. dt in s (clamped to a sane range).
-    MotorLevels control(const ArmState& arm, const Transport& transport, double dt);
+    /// Control thread (real-time): one update per sensor packet. Returns the levels of the next
+    /// motor packet, after shaping and the safety stage. dt in s (clamped to a sane range). Never
+    /// throws: a scene that throws is stopped for good (failed()), its motors off, and every later
+    /// call returns all-off levels.
+    MotorLevels control(const ArmState& arm, const Transport& transport, double dt) noexcept;
     /// Audio thread: adds nothing but the scene's sound; no locks, allocation or I/O.
     void renderAudio(float* left, float* right, int numSamples) noexcept;
     /// Stop, disconnect or error: every motor off now; patterns and targets forgotten.
@@ -60,17 +67,24 @@ public:
     Scene& scene() noexcept { return *scene_; }
     const EngineConfig& config() const noexcept { return config_; }
     bool producesAudio() const { return scene_->producesAudio(); }
+    /// The scene threw during control(): it no longer runs (silence, motors off). Any thread.
+    bool failed() const noexcept { return failed_.load(std::memory_order_acquire); }
+    /// What it threw (the exception's what(), cut to fit), "" while not failed(). Any thread.
+    const char* failure() const noexcept { return failed() ? failure_.data() : ""; }
     /// Gestures since the last call (control thread; at most 64 are kept between calls).
     bool popGesture(GestureEvent& out) noexcept { return gestures_.pop(out); }
 
 private:
     class Events;
+    void fail(const char* what) noexcept;
     EngineConfig config_;
     std::unique_ptr<Scene> scene_;
     std::unique_ptr<TactileEngine> tactile_;
     std::unique_ptr<Events> events_;
     SpscQueue<GestureEvent, 64> gestures_;
     double time_ = 0.0;
+    std::array<char, 256> failure_ {};   // written once, before failed_ is set
+    std::atomic<bool> failed_ {false};
 };
 
 } // namespace armadillo

@@ -1,4 +1,5 @@
 #include "Engine/OfflineRenderer.h"
+#include <stdexcept>
 #include "Core/Errors.h"
 #include "Engine/ArmTracker.h"
 #include <algorithm>
@@ -70,11 +71,15 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
         transport.bpm = settings.bpm;
         transport.ppq = transport.seconds * settings.bpm / 60.0;
         MotorLevels levels {};
-        if (arm.valid) levels = engine.control(arm, transport, t - previous);
-        else {
+        if (arm.valid) {
+            levels = engine.control(arm, transport, t - previous);
+        } else {
             engine.allOff();
             ++result.invalidRows;
         }
+        if (engine.failed())
+            throw std::runtime_error("scene '" + engine.config().scene + "' failed at t = " + std::to_string(t)
+                                     + " s (motors off): " + engine.failure());
         previous = t;
         result.tactile.push_back({t, levels});
         ++result.controlUpdates;

@@ -11,6 +11,21 @@ const std::vector<std::string>& fretScaleNames()
     return names;
 }
 
+namespace {
+/// The scales as fixed tables (read in control(); the vectors below are for UIs and tests).
+struct ScaleSteps {
+    std::array<int, 7> steps;
+    int count;
+};
+constexpr std::array<ScaleSteps, 7> kScaleSteps {{
+    {{0, 2, 4, 5, 7, 9, 11}, 7}, {{0, 2, 3, 5, 7, 8, 10}, 7}, {{0, 2, 3, 5, 7, 8, 11}, 7}, {{0, 2, 3, 5, 7, 9, 10}, 7},
+    {{0, 2, 4, 5, 7, 9, 10}, 7}, {{0, 2, 4, 7, 9, 0, 0}, 5},  {{0, 3, 5, 7, 10, 0, 0}, 5}}};
+const ScaleSteps& scaleSteps(FretScale scale) noexcept
+{
+    return kScaleSteps[static_cast<std::size_t>(std::clamp(static_cast<int>(scale), 0, static_cast<int>(kScaleSteps.size()) - 1))];
+}
+} // namespace
+
 const std::vector<int>& fretScaleSteps(FretScale scale)
 {
     static const std::vector<std::vector<int>> steps {
@@ -41,7 +56,7 @@ double frequencyForSemitones(const PitchMapParams& p, double semitones) noexcept
 
 namespace {
 /// Semitones from base up to the first root at or above base (0..12).
-double rootOffset(const PitchMapParams& p, int rootPitchClass)
+double rootOffset(const PitchMapParams& p, int rootPitchClass) noexcept
 {
     // Pitch class of base relative to A (440 Hz is an A).
     const double baseFromA = 12.0 * std::log2(p.baseHz / 440.0);
@@ -52,33 +67,41 @@ double rootOffset(const PitchMapParams& p, int rootPitchClass)
 }
 } // namespace
 
-std::vector<double> fretSemitones(const PitchMapParams& p, FretScale scale, int rootPitchClass)
+FretList fretSemitonesFixed(const PitchMapParams& p, FretScale scale, int rootPitchClass) noexcept
 {
-    const auto& steps = fretScaleSteps(scale);
+    const ScaleSteps& steps = scaleSteps(scale);
     const double r = rootOffset(p, rootPitchClass);
-    std::vector<double> frets;
+    FretList frets;
     const double top = p.rangeSemitones + 1e-6;
-    for (int octave = -1; octave <= 10 && static_cast<int>(frets.size()) < kMaxFrets; ++octave) {
-        for (int step : steps) {
-            const double s = r + 12.0 * octave + step;
+    for (int octave = -1; octave <= 10 && frets.count < kMaxFrets; ++octave) {
+        for (int k = 0; k < steps.count && frets.count < kMaxFrets; ++k) {
+            const double s = r + 12.0 * octave + steps.steps[static_cast<std::size_t>(k)];
             if (s < -1e-6 || s > top) continue;
-            if (static_cast<int>(frets.size()) < kMaxFrets) frets.push_back(s);
+            frets.values[static_cast<std::size_t>(frets.count++)] = s;
         }
     }
     return frets;
 }
 
+std::vector<double> fretSemitones(const PitchMapParams& p, FretScale scale, int rootPitchClass)
+{
+    const FretList f = fretSemitonesFixed(p, scale, rootPitchClass);
+    return {f.values.begin(), f.values.begin() + f.count};
+}
+
 double snapToScale(double semitones, const PitchMapParams& p, FretScale scale, int rootPitchClass, double amount) noexcept
 {
     if (!(amount > 0.0)) return semitones;
-    const auto& steps = fretScaleSteps(scale);
+    const ScaleSteps& steps = scaleSteps(scale);
     const double r = rootOffset(p, rootPitchClass);
     const double rel = semitones - r;
     const double octave = std::floor(rel / 12.0);
     const double within = rel - 12.0 * octave;
     double best = 12.0;   // the next octave's root is always a candidate
-    for (int step : steps)
+    for (int k = 0; k < steps.count; ++k) {
+        const int step = steps.steps[static_cast<std::size_t>(k)];
         if (std::fabs(within - step) < std::fabs(within - best)) best = step;
+    }
     const double target = r + 12.0 * octave + best;
     return semitones + std::min(amount, 1.0) * (target - semitones);
 }
@@ -94,8 +117,16 @@ int fretMotor(int fretIndex) noexcept
 
 void FretTracker::configure(const std::vector<double>& fretHz, double adjust)
 {
-    count_ = std::min(static_cast<int>(fretHz.size()), kMaxFrets);
-    for (int j = 0; j < count_; ++j) hz_[static_cast<std::size_t>(j)] = fretHz[static_cast<std::size_t>(j)];
+    FretList list;
+    list.count = std::min(static_cast<int>(fretHz.size()), kMaxFrets);
+    for (int j = 0; j < list.count; ++j) list.values[static_cast<std::size_t>(j)] = fretHz[static_cast<std::size_t>(j)];
+    configure(list, adjust);
+}
+
+void FretTracker::configure(const FretList& fretHz, double adjust) noexcept
+{
+    count_ = std::clamp(fretHz.count, 0, kMaxFrets);
+    for (int j = 0; j < count_; ++j) hz_[static_cast<std::size_t>(j)] = fretHz.values[static_cast<std::size_t>(j)];
     for (int j = 1; j < count_; ++j) {
         const auto uj = static_cast<std::size_t>(j);
         // Boundary j: on (fret ≥ j) above f_j(1−a), off below f_{j−1}(1+a). Adjacent scale notes

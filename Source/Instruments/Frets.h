@@ -32,6 +32,13 @@ double frequencyForSemitones(const PitchMapParams& p, double semitones) noexcept
 /// Fret positions: the scale notes (root given as a pitch class, A = 0) that lie inside
 /// [0, range] semitones above base, lowest first, at most kMaxFrets (the theremin's eight motors).
 inline constexpr int kMaxFrets = 8;
+/// Up to kMaxFrets values, lowest first: fret positions without a heap (the scene recomputes
+/// them in control(), on the audio thread in the plugin, whenever a parameter is automated).
+struct FretList {
+    std::array<double, kMaxFrets> values {};
+    int count = 0;
+};
+FretList fretSemitonesFixed(const PitchMapParams& p, FretScale scale, int rootPitchClass) noexcept;
 std::vector<double> fretSemitones(const PitchMapParams& p, FretScale scale, int rootPitchClass);
 
 /// Pitch snapping: moves `semitones` toward the nearest note of the scale by `amount` (0..1).
@@ -50,6 +57,8 @@ class FretTracker {
 public:
     /// frequencies in Hz, ascending; adjust = a (0.01 = the thesis's 1%).
     void configure(const std::vector<double>& fretHz, double adjust);
+    /// The same from a fixed list (real-time).
+    void configure(const FretList& fretHz, double adjust) noexcept;
     /// Feeds the controller's frequency (Hz); returns the felt fret (0..count−1), −1 if no frets.
     int update(double frequencyHz) noexcept;
     int current() const noexcept { return current_; }

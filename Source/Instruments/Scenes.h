@@ -1,5 +1,5 @@
 #pragma once
-// Factories of the instrument scenes (thesis §3.4–3.7, §4.1). nullptr = not built in this version.
+// Factories of the instrument scenes (thesis §3.4–3.7, §4.1).
 #include "Core/Scene.h"
 #include <memory>
 

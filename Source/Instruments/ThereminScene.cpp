@@ -1,5 +1,5 @@
-// The fretted theremin scene (thesis §3.5). Control thread: elevation → pitch, azimuth → volume,
-// pitch → felt fret. Audio thread: one sine, frequency and amplitude smoothed per sample so
+// The fretted theremin scene (thesis §3.5). Control thread (real-time, Core/Scene.h): elevation →
+// pitch, azimuth → volume, pitch → felt fret. Audio thread: one sine, frequency and amplitude smoothed per sample so
 // 200 Hz control steps never reach the output as zipper noise.
 #include "Core/Pose.h"
 #include "Instruments/Dsp.h"
@@ -82,9 +82,10 @@ public:
         if (!haveLayout_ || !(layout == layout_)) {
             layout_ = layout;
             haveLayout_ = true;
-            const auto semis = fretSemitones(layout.map, layout.scale, layout.root);
-            std::vector<double> hz;
-            for (double s : semis) hz.push_back(frequencyForSemitones(layout.map, s));
+            // Fixed-size lists: automating scale, root, base or range must not allocate here.
+            FretList hz = fretSemitonesFixed(layout.map, layout.scale, layout.root);
+            for (int i = 0; i < hz.count; ++i)
+                hz.values[static_cast<std::size_t>(i)] = frequencyForSemitones(layout.map, hz.values[static_cast<std::size_t>(i)]);
             frets_.configure(hz, layout.adjust);
         }
 

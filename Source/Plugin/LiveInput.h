@@ -1,49 +1,12 @@
 #pragma once
-// The mailbox between live sources (simulator, OSC receiver, device link) and the control loop.
-// Producers run on their own threads; the control loop (audio thread, or the idle clock) reads
-// the latest orientation from a seqlock and drains IMU samples from an SPSC queue: no locks.
-#include "Core/SpscQueue.h"
-#include "Core/Types.h"
-#include <Eigen/Geometry>
-#include <atomic>
-#include <cstdint>
+// The live sources' mailbox now lives in the core live rig (Source/Live/LiveInput.h); the plugin's
+// names stay valid.
+#include "Live/LiveInput.h"
 
 namespace armadillo::plugin {
-
-/// One orientation from a live source, q = (w, x, y, z) device → earth (INTERFACES.md).
-struct LiveOrientation {
-    double t = 0.0;                  ///< s, source clock
-    double w = 1.0, x = 0.0, y = 0.0, z = 0.0;
-    std::uint64_t serial = 0;        ///< increments with every new value; 0 = nothing yet
-};
-
-/// A calibrated inertial sample as plain numbers (Eigen vectors are not trivially copyable).
-struct LiveImu {
-    double t = 0.0;                  ///< s
-    float g[3] {};                   ///< rad/s, device frame
-    float a[3] {};                   ///< m/s², device frame
-    float m[3] {};                   ///< any unit; NaN when absent
-};
-
-/// ImuSample ↔ LiveImu (the mailbox stores floats; the fusion works in doubles).
-LiveImu toLiveImu(const ImuSample& s) noexcept;
-ImuSample toImuSample(const LiveImu& s);
-
-class LiveInput {
-public:
-    /// One producer at a time (whichever source is selected).
-    void storeOrientation(double t, const Eigen::Quaterniond& q) noexcept;
-    bool pushImu(const LiveImu& sample) noexcept { return imu_.push(sample); }
-    /// The same from a calibrated sample (device link, OSC receiver); false when the queue is full.
-    bool pushImu(const ImuSample& sample) noexcept { return imu_.push(toLiveImu(sample)); }
-
-    LiveOrientation latest() const noexcept { return orientation_.load(); }
-    bool popImu(LiveImu& out) noexcept { return imu_.pop(out); }
-
-private:
-    SeqLock<LiveOrientation> orientation_;
-    SpscQueue<LiveImu, 512> imu_;
-    std::atomic<std::uint64_t> serial_ {0};
-};
-
+using live::LiveImu;
+using live::LiveInput;
+using live::LiveOrientation;
+using live::toImuSample;
+using live::toLiveImu;
 } // namespace armadillo::plugin

@@ -19,13 +19,8 @@ SceneParameterTable querySceneParameters()
         SceneParameterTable::Entry entry;
         entry.scene = name;
         try {
-            auto scene = createScene(name);
-            if (scene != nullptr) {
-                entry.available = true;
-                entry.specs = scene->parameters();
-            } else {
-                entry.reason = "not built in this version";
-            }
+            entry.specs = createScene(name)->parameters();
+            entry.available = true;
         } catch (const std::exception& e) {
             entry.reason = e.what();
         }

@@ -3,6 +3,7 @@
 // (INTERFACES.md "Plugin parameters"): hosts store automation under them, and LV2 uses them as
 // property symbols. The version hint is bumped only for a parameter whose meaning changes.
 #include "Core/Scene.h"
+#include "Live/ControlLoop.h"
 #include <juce_audio_processors/juce_audio_processors.h>
 #include <string>
 #include <vector>
@@ -21,15 +22,15 @@ inline constexpr const char* scene = "scene";           ///< index into sceneNam
 inline constexpr int kParameterVersion = 1;
 
 /// Where the arm's orientation comes from. The order is the `source` choice order (a contract).
-enum class SourceKind : int { Device = 0, Simulator = 1, Osc = 2, HostAutomation = 3 };
+using SourceKind = live::SourceKind;   // Device, Simulator, Osc, HostAutomation (contract order)
 const juce::StringArray& sourceChoiceNames();
-inline bool isLiveSource(SourceKind s) noexcept { return s != SourceKind::HostAutomation; }
+using live::isLiveSource;
 
 /// Every scene's own parameters, queried once from the scenes themselves.
 struct SceneParameterTable {
     struct Entry {
         std::string scene;             ///< scene name (INTERFACES.md)
-        bool available = false;        ///< false: the scene is not built in this version
+        bool available = false;        ///< false: the scene could not be created (reason says why)
         std::string reason;            ///< why it is unavailable
         std::vector<ParamSpec> specs;  ///< Scene::parameters(), in index order
         std::vector<bool> exposed;     ///< false for a spec whose id another scene already took

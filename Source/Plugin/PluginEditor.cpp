@@ -26,7 +26,7 @@ ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
     sourceAttachment_ = std::make_unique<juce::AudioProcessorValueTreeState::ComboBoxAttachment>(
         processor_.parameters(), ParamIds::source, source_);
     for (const auto& entry : processor_.sceneTable().scenes)
-        scene_.addItem(juce::String(entry.scene) + (entry.available ? "" : " (not built)"), scene_.getNumItems() + 1);
+        scene_.addItem(juce::String(entry.scene) + (entry.available ? "" : " (unavailable)"), scene_.getNumItems() + 1);
     scene_.setTitle("Scene");
     scene_.setDescription("The application the arm plays: theremin, cymbal, panel, braille and the others.");
     sceneAttachment_ = std::make_unique<juce::AudioProcessorValueTreeState::ComboBoxAttachment>(

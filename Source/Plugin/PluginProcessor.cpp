@@ -18,14 +18,6 @@ int MidiMap::noteFor(const char* gesture) noexcept
     return kNoteOther;
 }
 
-struct ArmadilloProcessor::EngineSlot {
-    std::unique_ptr<Engine> engine;
-    std::string sceneName;
-    std::vector<std::atomic<float>*> params;   ///< per Scene::parameters() index; nullptr = not exposed
-    std::vector<float> sent;                   ///< last value handed to Scene::setParameter (NaN = never)
-    std::uint64_t generation = 0;              ///< ArmadilloProcessor::engineGeneration_ when built
-};
-
 class ArmadilloProcessor::ControlClock : public juce::HighResolutionTimer {
 public:
     explicit ControlClock(ArmadilloProcessor& owner) : owner_(owner) {}
@@ -61,11 +53,10 @@ ArmadilloProcessor::ArmadilloProcessor()
     {
         std::lock_guard<std::mutex> lock(builderMutex_);
         builtRequest_ = currentRequest();
-        active_ = buildEngine(builtRequest_).release();   // nothing else runs yet
-        newest_ = active_;
+        loop_.replace(buildEngine(builtRequest_));   // nothing else runs yet
     }
     applyNetworkSettings();
-    device_ = std::make_unique<DeviceConnection>(deviceInput_, [this] { return frame_.load().motors; });
+    device_ = std::make_unique<DeviceConnection>(loop_.input(SourceKind::Device), [this] { return frame_.load().motors; });
     clock_ = std::make_unique<ControlClock>(*this);
     clock_->startTimer(5);   // 200 Hz
     startTimerHz(50);
@@ -80,9 +71,6 @@ ArmadilloProcessor::~ArmadilloProcessor()
     if (gestureOpen_)
         for (auto* id : {ParamIds::elevation, ParamIds::azimuth, ParamIds::roll})
             if (auto* p = apvts_.getParameter(id)) p->endChangeGesture();
-    delete pending_.exchange(nullptr);
-    delete retired_.exchange(nullptr);
-    delete active_;
 }
 
 bool ArmadilloProcessor::isBusesLayoutSupported(const BusesLayout& layouts) const
@@ -116,9 +104,9 @@ ArmadilloProcessor::EngineRequest ArmadilloProcessor::currentRequest() const
     return r;
 }
 
-std::unique_ptr<ArmadilloProcessor::EngineSlot> ArmadilloProcessor::buildEngine(const EngineRequest& request)
+std::unique_ptr<live::EngineSlot> ArmadilloProcessor::buildEngine(const EngineRequest& request)
 {
-    auto slot = std::make_unique<EngineSlot>();
+    auto slot = std::make_unique<live::EngineSlot>();
     slot->generation = ++engineGeneration_;
     EngineConfig config;
     const auto& names = sceneNames();
@@ -158,15 +146,13 @@ std::unique_ptr<ArmadilloProcessor::EngineSlot> ArmadilloProcessor::buildEngine(
 void ArmadilloProcessor::applyPendingEngine()
 {
     std::lock_guard<std::mutex> lock(builderMutex_);
-    delete retired_.exchange(nullptr);
+    loop_.collect();   // the engine the control side gave up is deleted here, never on the audio thread
     const auto request = currentRequest();
     if (request == builtRequest_) return;
-    // Only one hand-over in flight, and the retired slot must be empty before the next swap.
-    if (pending_.load() != nullptr || retired_.load() != nullptr) return;
+    // Only one hand-over in flight, and the retired engine must be gone before the next one.
+    if (! loop_.canOffer()) return;
     auto slot = buildEngine(request);
-    builtRequest_ = request;
-    newest_ = slot.get();
-    pending_.store(slot.release());
+    if (loop_.offer(slot)) builtRequest_ = request;
 }
 
 bool ArmadilloProcessor::tryTakeToken() noexcept
@@ -180,16 +166,6 @@ void ArmadilloProcessor::releaseToken() noexcept
     token_.store(false, std::memory_order_release);
 }
 
-void ArmadilloProcessor::swapInPendingEngine() noexcept
-{
-    if (auto* next = pending_.exchange(nullptr, std::memory_order_acq_rel)) {
-        auto* old = active_;
-        active_ = next;
-        retired_.store(old, std::memory_order_release);   // deleted on the message thread
-        tracker_.reset();
-    }
-}
-
 void ArmadilloProcessor::prepareToPlay(double sampleRate, int)
 {
     sampleRate_.store(sampleRate > 0.0 ? sampleRate : 48000.0);
@@ -197,62 +173,66 @@ void ArmadilloProcessor::prepareToPlay(double sampleRate, int)
     const auto request = currentRequest();
     auto slot = buildEngine(request);
     while (! tryTakeToken()) std::this_thread::yield();   // the clock holds it for < 1 ms
-    delete pending_.exchange(nullptr);
-    delete retired_.exchange(nullptr);
-    delete active_;
-    active_ = slot.release();
-    newest_ = active_;
+    loop_.replace(std::move(slot));   // the control side is not running: we hold the token
     builtRequest_ = request;
     samplesToTick_ = 0;
     noteOffs_ = {};
-    tracker_.reset();
     releaseToken();
 }
 
 bool ArmadilloProcessor::withBrailleTraining(
     const std::function<void(braille::BrailleSceneControls&, std::uint64_t)>& use)
 {
-    // Engines are deleted only under builderMutex_ (applyPendingEngine, prepareToPlay), and
-    // newest_ is either the active engine or the pending one, never the retired one.
+    // Engines are deleted only under builderMutex_ (applyPendingEngine, prepareToPlay), and the
+    // loop's newest engine is either the active one or the pending one, never the retired one.
     std::lock_guard<std::mutex> lock(builderMutex_);
-    if (newest_ == nullptr || newest_->engine == nullptr) return false;
-    auto* controls = dynamic_cast<braille::BrailleSceneControls*>(&newest_->engine->scene());
+    auto* newest = loop_.newest();
+    if (newest == nullptr || newest->engine == nullptr) return false;
+    auto* controls = dynamic_cast<braille::BrailleSceneControls*>(&newest->engine->scene());
     if (controls == nullptr) return false;
-    use(*controls, newest_->generation);
+    use(*controls, newest->generation);
     return true;
 }
 
 bool ArmadilloProcessor::copyBrailleTrainingLog(std::uint64_t generation, std::string& csv, juce::String& why)
 {
+    // builderMutex_ keeps the engine alive (the audio thread never takes it). The control side
+    // only queues fixed-size log records; trainingLogCsv() turns them into text here, so no
+    // control token is held and the audio thread never waits for this copy.
     std::lock_guard<std::mutex> lock(builderMutex_);
-    if (newest_ == nullptr || newest_->engine == nullptr || newest_->generation != generation) {
+    auto* newest = loop_.newest();
+    if (newest == nullptr || newest->engine == nullptr || newest->generation != generation) {
         why = "The braille scene was restarted since (scene, text or audio settings changed); its training log is gone.";
         return false;
     }
-    auto* controls = dynamic_cast<braille::BrailleSceneControls*>(&newest_->engine->scene());
+    auto* controls = dynamic_cast<braille::BrailleSceneControls*>(&newest->engine->scene());
     if (controls == nullptr) {
         why = "The braille scene is not running.";
         return false;
     }
-    // trainingLogCsv() must not run concurrently with control(): hold the token for the copy. Its
-    // holder keeps it for one audio block or one clock tick at most, so this wait is short.
-    const double giveUpMs = juce::Time::getMillisecondCounterHiRes() + 500.0;
-    while (! tryTakeToken()) {
-        if (juce::Time::getMillisecondCounterHiRes() > giveUpMs) {
-            why = "The control loop stayed busy; try again.";
-            return false;
-        }
-        std::this_thread::yield();
-    }
     try {
         csv = controls->trainingLogCsv();
     } catch (const std::exception& e) {
-        releaseToken();
         why = "Cannot copy the training log: " + juce::String(e.what());
         return false;
     }
-    releaseToken();
     return true;
+}
+
+void ArmadilloProcessor::reportEngineFailure()
+{
+    // Message thread: a scene that threw during a control update was stopped by the Engine (motors
+    // off, silence); say so once per engine, with what it threw. Also keeps a braille training
+    // log's queue drained while no panel asks for it.
+    std::lock_guard<std::mutex> lock(builderMutex_);
+    auto* newest = loop_.newest();
+    if (newest == nullptr || newest->engine == nullptr) return;
+    if (auto* controls = dynamic_cast<braille::BrailleSceneControls*>(&newest->engine->scene())) controls->collectTrainingLog();
+    if (newest->engine->failed() && reportedFailure_ != newest->generation) {
+        reportedFailure_ = newest->generation;
+        setStatus("The scene \"" + juce::String(newest->sceneName) + "\" failed during a control update and was stopped (motors off): "
+                  + juce::String(newest->engine->failure()) + ". Choose the scene again to restart it.");
+    }
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -261,62 +241,18 @@ bool ArmadilloProcessor::copyBrailleTrainingLog(std::uint64_t generation, std::s
 void ArmadilloProcessor::controlTick(double dt, const Transport& transport, juce::MidiBuffer* midi,
                                      int sampleOffset) noexcept
 {
-    swapInPendingEngine();
-    if (active_ == nullptr || active_->engine == nullptr) return;
-    auto& slot = *active_;
-    auto& engine = *slot.engine;
-
-    for (std::size_t i = 0; i < slot.params.size(); ++i) {
-        if (slot.params[i] == nullptr) continue;
-        const float v = slot.params[i]->load(std::memory_order_relaxed);
-        if (! (v == slot.sent[i])) {
-            engine.scene().setParameter(static_cast<int>(i), v);
-            slot.sent[i] = v;
-        }
-    }
-
-    const auto src = source();
-    if (static_cast<int>(src) != lastSource_) {
-        // A new source starts from its own first sample: no angular velocity across the switch.
-        tracker_.reset();
-        engine.allOff();
-        lastSource_ = static_cast<int>(src);
-        lastLiveSerial_ = 0;
-    }
+    live::ControlStep step;
+    step.source = source();
+    step.automation = Pose {elevation_->load(std::memory_order_relaxed), azimuth_->load(std::memory_order_relaxed),
+                            roll_->load(std::memory_order_relaxed)};
+    step.transport = transport;
+    step.dt = dt;
+    const live::ControlResult result = loop_.tick(step);   // swap-in, parameters, fusion, Engine::control
+    if (! result.ran) return;
+    Engine& engine = *loop_.active()->engine;
     controlClock_ += dt;
-
-    ArmState arm = tracker_.state();
-    if (src == SourceKind::HostAutomation) {
-        // Automation drives the scene through the same tracker as live movement (same features,
-        // same angular velocity from successive orientations), so playback sounds as recorded.
-        const Pose pose {elevation_->load(std::memory_order_relaxed), azimuth_->load(std::memory_order_relaxed),
-                         roll_->load(std::memory_order_relaxed)};
-        arm = tracker_.updateOrientation(controlClock_, poseToQuaternion(pose));
-    } else {
-        LiveInput& in = src == SourceKind::Simulator ? simInput_ : src == SourceKind::Osc ? oscLiveInput_ : deviceInput_;
-        LiveImu imu;
-        bool fused = false;
-        while (in.popImu(imu)) {
-            arm = tracker_.update(toImuSample(imu));
-            fused = true;
-        }
-        if (! fused) {
-            const auto o = in.latest();
-            if (o.serial != 0 && o.serial != lastLiveSerial_) {
-                lastLiveSerial_ = o.serial;
-                arm = tracker_.updateOrientation(o.t, Eigen::Quaterniond(o.w, o.x, o.y, o.z));
-            }
-        }
-    }
-
-    MotorLevels levels {};
-    try {
-        levels = engine.control(arm, transport, dt);
-    } catch (...) {
-        // A scene error must not take the host down: motors off, and the UI says so.
-        engine.allOff();
-        engineFault_.store(true, std::memory_order_relaxed);
-    }
+    const ArmState& arm = result.arm;
+    const MotorLevels& levels = result.levels;
 
     ArmFrame f;
     f.t = controlClock_;
@@ -431,7 +367,7 @@ void ArmadilloProcessor::processBlock(juce::AudioBuffer<float>& buffer, juce::Mi
             samplesToTick_ = samplesPerTick;
         }
         const int len = std::min(n - pos, samplesToTick_);
-        if (active_ != nullptr && active_->engine != nullptr) active_->engine->renderAudio(left + pos, right + pos, len);
+        loop_.render(left + pos, right + pos, len);
         pos += len;
         samplesToTick_ -= len;
     }
@@ -453,7 +389,7 @@ void ArmadilloProcessor::clockTick(double dt)
             q = simulator_.advance(dt);
             t = simulator_.time();
         }
-        simInput_.storeOrientation(t, q);
+        loop_.input(SourceKind::Simulator).storeOrientation(t, q);
     }
 
     const double now = juce::Time::getMillisecondCounterHiRes();
@@ -487,8 +423,7 @@ void ArmadilloProcessor::clockTick(double dt)
 
 void ArmadilloProcessor::timerCallback()
 {
-    if (engineFault_.exchange(false))
-        setStatus("The scene reported an error during a control update; motors were switched off.");
+    reportEngineFailure();
     applyPendingEngine();
     writeLiveOrientationToParameters();
     device_->calibrationSession().drain();   // raw packets queued by the link thread → the guided calibration

@@ -9,9 +9,12 @@
 //  - message thread: builds engines for scene changes, writes live orientation into the
 //    parameters with change gestures, owns settings, ports and sockets.
 // The audio thread and the clock never run the control loop at the same time: whoever runs it
-// holds a try-only atomic token (nobody waits for it).
-#include "Engine/ArmTracker.h"
+// holds a try-only atomic token (nobody waits for it). The control step itself (engine hand-over,
+// source choice, bounded fusion, Engine::control) is the core's live::ControlLoop, the same one
+// Tests/Live/RealtimeLoopTests.cpp holds to the real-time rules; this class adds MIDI, the
+// published frame, OSC and the idle clock around it.
 #include "Engine/Engine.h"
+#include "Live/ControlLoop.h"
 #include "Plugin/DeviceConnection.h"
 #include "Plugin/LiveInput.h"
 #include "Plugin/OscLink.h"
@@ -129,9 +132,9 @@ public:
     /// braille scene. Never keep the reference: `generation` changes with every new engine (scene,
     /// text, sample rate or arm change), and a new engine's training starts from its first trial.
     bool withBrailleTraining(const std::function<void(braille::BrailleSceneControls&, std::uint64_t generation)>& use);
-    /// A consistent copy of the training log of engine `generation`: taken while holding the
-    /// control token, so no control update runs during the copy (the audio thread skips at most
-    /// one block if it arrives meanwhile). False with the reason when that engine is gone.
+    /// A copy of the training log of engine `generation`. The control side only queues fixed-size
+    /// records; the text is built here, on the message thread, without the control token, so
+    /// the audio thread never waits for it. False with the reason when that engine is gone.
     bool copyBrailleTrainingLog(std::uint64_t generation, std::string& csv, juce::String& why);
     std::uint64_t oscMessagesSent() const noexcept { return oscOut_.messagesSent(); }
     /// The OSC input (message thread): its status line and the mount calibration's sample feed.
@@ -143,7 +146,6 @@ public:
     static constexpr double kTailSeconds = 5.0;   ///< longest ring-out: cymbal crash (~4 s) + FM tail
 
 private:
-    struct EngineSlot;
     struct EngineRequest {
         int scene = 0;
         double sampleRate = 48000.0;
@@ -157,7 +159,8 @@ private:
     void timerCallback() override;
     void valueTreePropertyChanged(juce::ValueTree&, const juce::Identifier&) override;
     EngineRequest currentRequest() const;
-    std::unique_ptr<EngineSlot> buildEngine(const EngineRequest& request);
+    std::unique_ptr<live::EngineSlot> buildEngine(const EngineRequest& request);
+    void reportEngineFailure();
     void applyPendingEngine();
     void writeLiveOrientationToParameters();
     void applyNetworkSettings();
@@ -170,7 +173,6 @@ private:
     // Control loop (whoever holds the token)
     bool tryTakeToken() noexcept;
     void releaseToken() noexcept;
-    void swapInPendingEngine() noexcept;
     void controlTick(double dt, const Transport& transport, juce::MidiBuffer* midi, int sampleOffset) noexcept;
     void emitNote(juce::MidiBuffer& midi, int note, float value, int sampleOffset) noexcept;
     void flushNoteOffs(juce::MidiBuffer& midi, int blockSamples) noexcept;
@@ -189,22 +191,18 @@ private:
 
     juce::ValueTree settings_;
 
-    // Engines: built on the message thread, handed over lock-free.
-    EngineSlot* active_ = nullptr;                  // token holder only
-    std::atomic<EngineSlot*> pending_ {nullptr};
-    std::atomic<EngineSlot*> retired_ {nullptr};
-    EngineRequest builtRequest_ {};                 // message thread: what active_/pending_ were built for
-    EngineSlot* newest_ = nullptr;                  // under builderMutex_: the last engine built (active or pending)
+    // Engines: built on the message thread, handed over lock-free through loop_ (builder side
+    // under builderMutex_, control side by the token holder).
+    live::ControlLoop loop_;
+    EngineRequest builtRequest_ {};                 // under builderMutex_: what the newest engine was built for
     std::uint64_t engineGeneration_ = 0;            // under builderMutex_: counts engines built
+    std::uint64_t reportedFailure_ = 0;             // message thread: generation whose failure was shown
     std::atomic<double> sampleRate_ {48000.0};
     std::atomic<bool> token_ {false};
 
     // Control state (token holder)
-    ArmTracker tracker_;
     double controlClock_ = 0.0;                     // s since start, advanced by dt per update
     int samplesToTick_ = 0;
-    std::uint64_t lastLiveSerial_ = 0;
-    int lastSource_ = -1;
     int lastCc_[3] {-1, -1, -1};
     struct NoteOff { int note = -1; int samplesLeft = 0; };
     std::array<NoteOff, 16> noteOffs_ {};
@@ -219,12 +217,11 @@ private:
     std::atomic<double> measuredRate_ {0.0};
     std::atomic<std::uint64_t> ticks_ {0};
 
-    // Sources
-    LiveInput simInput_, oscLiveInput_, deviceInput_;
+    // Sources (their mailboxes are loop_.input(kind))
     mutable std::mutex simMutex_;                    // simulator steering: message ↔ clock thread only
     WanderingMotion simulator_;
     OscOutput oscOut_;
-    OscInput oscIn_ {oscLiveInput_};
+    OscInput oscIn_ {loop_.input(SourceKind::Osc)};
     std::unique_ptr<DeviceConnection> device_;
     juce::String deviceMessage_;
 
@@ -236,7 +233,6 @@ private:
     juce::String status_;
     juce::String networkStatus_;
     std::atomic<int> midiChannel_ {1};
-    std::atomic<bool> engineFault_ {false};
 
     std::mutex builderMutex_;                        // engine building: message thread vs prepareToPlay
     std::uint64_t lastWrittenSerial_ = 0;

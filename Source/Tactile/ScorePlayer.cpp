@@ -12,7 +12,52 @@ void ScorePlayer::setScore(Score score)
     for (const auto& p : score_.patterns) used_[static_cast<std::size_t>(p.request.voice)] = true;
     longestNote_ = 0.0;
     for (const auto& n : score_.notes) longestNote_ = std::max(longestNote_, n.end - n.start);
+    // Per voice, the pattern that plays is a step function of the position: it can change only
+    // at a start or end of one of the voice's patterns. Between two such boundaries it is the
+    // last-listed pattern whose span [start, end) holds the position.
+    for (int v = 0; v < kPatternVoices; ++v) {
+        auto& spans = spans_[static_cast<std::size_t>(v)];
+        spans.clear();
+        std::vector<double> bounds;
+        for (const auto& p : score_.patterns) {
+            if (p.request.voice != v) continue;
+            bounds.push_back(p.start);
+            if (std::isfinite(p.end)) bounds.push_back(p.end);
+        }
+        std::sort(bounds.begin(), bounds.end());
+        bounds.erase(std::unique(bounds.begin(), bounds.end()), bounds.end());
+        for (double b : bounds) {
+            long active = 0;
+            for (std::size_t i = 0; i < score_.patterns.size(); ++i) {
+                const ScorePattern& p = score_.patterns[i];
+                if (p.start > b) break;
+                if (p.request.voice == v && b < p.end) active = static_cast<long>(i) + 1;
+            }
+            if (spans.empty() || spans.back().pattern != active) spans.push_back({b, active});
+        }
+    }
+    spanCursor_.fill(0);
     reset();
+}
+
+long ScorePlayer::activePattern(int voice, double position) noexcept
+{
+    const auto& spans = spans_[static_cast<std::size_t>(voice)];
+    std::size_t& c = spanCursor_[static_cast<std::size_t>(voice)];
+    if (spans.empty() || position < spans.front().start) return 0;
+    if (c >= spans.size() || position < spans[c].start) {   // a jump back: search
+        const auto after = std::upper_bound(spans.begin(), spans.end(), position,
+                                            [](double x, const VoiceSpan& sp) { return x < sp.start; });
+        c = static_cast<std::size_t>(after - spans.begin()) - 1;
+    }
+    // Forward: a step crosses few boundaries; a long leap ahead is a search as well.
+    for (int k = 0; k < 4 && c + 1 < spans.size() && spans[c + 1].start <= position; ++k) ++c;
+    if (c + 1 < spans.size() && spans[c + 1].start <= position) {
+        const auto after = std::upper_bound(spans.begin() + static_cast<long>(c), spans.end(), position,
+                                            [](double x, const VoiceSpan& sp) { return x < sp.start; });
+        c = static_cast<std::size_t>(after - spans.begin()) - 1;
+    }
+    return spans[c].pattern;
 }
 
 void ScorePlayer::reset() noexcept
@@ -23,7 +68,7 @@ void ScorePlayer::reset() noexcept
     resync_ = true;
 }
 
-void ScorePlayer::silence(MotorCanvas& canvas)
+void ScorePlayer::silence(MotorCanvas& canvas) noexcept
 {
     canvas.clearLevels();
     for (int v = 0; v < kPatternVoices; ++v) {
@@ -32,7 +77,7 @@ void ScorePlayer::silence(MotorCanvas& canvas)
     }
 }
 
-void ScorePlayer::control(const Transport& transport, double dt, MotorCanvas& canvas)
+void ScorePlayer::control(const Transport& transport, double dt, MotorCanvas& canvas) noexcept
 {
     if (!(dt >= 0.0) || !std::isfinite(dt)) dt = 0.0;
     double position;
@@ -95,13 +140,7 @@ void ScorePlayer::control(const Transport& transport, double dt, MotorCanvas& ca
     for (int v = 0; v < kPatternVoices; ++v) {
         const auto vi = static_cast<std::size_t>(v);
         if (!used_[vi]) continue;
-        long active = 0;
-        if (position < score_.length)
-            for (std::size_t i = 0; i < score_.patterns.size(); ++i) {
-                const ScorePattern& p = score_.patterns[i];
-                if (p.start > position) break;
-                if (p.request.voice == v && position < p.end) active = static_cast<long>(i) + 1;
-            }
+        const long active = position < score_.length ? activePattern(v, position) : 0;
         if (active == running_[vi]) continue;
         if (active == 0) {
             canvas.stopVoice(v);

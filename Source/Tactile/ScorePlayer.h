@@ -7,6 +7,7 @@
 #include "Tactile/Score.h"
 #include <array>
 #include <cstddef>
+#include <vector>
 
 namespace armadillo {
 
@@ -27,14 +28,23 @@ public:
     void reset() noexcept;
 
     /// One control step: dt s since the previous one. Writes every motor's sustained target
-    /// (0 where no note sounds) and starts/stops the pattern voices the score uses.
-    void control(const Transport& transport, double dt, MotorCanvas& canvas);
+    /// (0 where no note sounds) and starts/stops the pattern voices the score uses. Real-time:
+    /// bounded work per step (a cursor per voice; a binary search only after a jump).
+    void control(const Transport& transport, double dt, MotorCanvas& canvas) noexcept;
 
     double position() const noexcept { return position_; }   ///< s of score time, last step
     bool finished() const noexcept { return position_ >= score_.length; }
 
 private:
-    void silence(MotorCanvas& canvas);
+    void silence(MotorCanvas& canvas) noexcept;
+    long activePattern(int voice, double position) noexcept;
+
+    /// Which pattern (index + 1, 0 = none) a voice plays from `start` until the next span:
+    /// computed once per score, so a control step never scans the pattern list.
+    struct VoiceSpan {
+        double start = 0.0;
+        long pattern = 0;
+    };
 
     Score score_ {};
     Sync sync_ = Sync::Seconds;
@@ -45,6 +55,8 @@ private:
     bool resync_ = true;
     std::array<long, kPatternVoices> running_ {};  ///< index into score_.patterns + 1; 0 = none
     std::array<bool, kPatternVoices> used_ {};     ///< voices the score writes (others left alone)
+    std::array<std::vector<VoiceSpan>, kPatternVoices> spans_ {};   ///< per voice, by start
+    std::array<std::size_t, kPatternVoices> spanCursor_ {};         ///< span of the last step
     double longestNote_ = 0.0;
 };
 

@@ -1,6 +1,6 @@
 #pragma once
 // The tactile-score scene (thesis §3.3): plays a score from Resources/Scores in sync with the
-// host transport or its own clock. nullptr = not built in this version.
+// host transport or its own clock.
 #include "Core/Scene.h"
 #include <memory>
 

@@ -53,3 +53,30 @@ TEST_CASE("SeqLock: readers see whole values, never a torn mix", "[queue][thread
     CHECK(whole);
     CHECK(box.load().a == 199999);
 }
+
+namespace armadillo {
+/// Holds a write open the way a writer pre-empted in the middle of store() would.
+template <typename U>
+struct SeqLockProbe {
+    static void beginWrite(SeqLock<U>& box) { box.sequence_.fetch_add(1); }
+    static void endWrite(SeqLock<U>& box) { box.sequence_.fetch_add(1); }
+};
+} // namespace armadillo
+
+TEST_CASE("SeqLock: a writer stuck mid-write cannot stall a reader; it keeps its last good value", "[queue]")
+{
+    SeqLock<int> box;
+    box.store(7);
+    int value = 0;
+    REQUIRE(box.tryLoad(value));
+    CHECK(value == 7);
+    SeqLockProbe<int>::beginWrite(box);   // the writer is pre-empted between its two sequence steps
+    int untouched = -1;
+    CHECK_FALSE(box.tryLoad(untouched));  // returns after kMaxAttempts instead of spinning
+    CHECK(untouched == -1);
+    CHECK(box.load(value) == 7);          // the reader's last good value
+    SeqLockProbe<int>::endWrite(box);
+    box.store(9);
+    CHECK(box.load(value) == 9);
+    CHECK(box.load() == 9);
+}

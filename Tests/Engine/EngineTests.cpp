@@ -65,14 +65,52 @@ TEST_CASE("ArmTracker: angular velocity from successive orientations is the body
     CHECK(s.features.pose.elevationDeg == Approx(10.0).margin(1e-9));
 }
 
-TEST_CASE("Engine: the same motion and seed render the same result", "[engine]")
+TEST_CASE("Engine: the same motion and seed render the same result, sample by sample and row by row", "[engine]")
 {
+    // A scene with sound and motors (the theremin: pitch from elevation, frets felt on the
+    // motors) over a sweep of the arm, so a render that dropped audio, motors or input would be
+    // caught: both runs must make sound and drive motors, match exactly, and a different motion
+    // must give a different result.
+    std::string sweep = "t,elevation,azimuth,roll\n", other = sweep;
+    for (int i = 0; i <= 300; ++i) {
+        const double t = i / 100.0;
+        sweep += std::to_string(t) + "," + std::to_string(-50.0 + 100.0 * t / 3.0) + ",10,0\n";
+        other += std::to_string(t) + "," + std::to_string(50.0 - 100.0 * t / 3.0) + ",10,0\n";
+    }
     RenderSettings settings;
-    settings.engine.scene = "monitor";
-    const auto table = CsvTable::parse(poseMotion(0.5, 100.0, -10.0), "m.csv");
+    settings.engine.scene = "theremin";
+    const auto table = CsvTable::parse(sweep, "sweep.csv");
     const auto a = renderOffline(table, settings), b = renderOffline(table, settings);
-    CHECK(a.audio.channels == b.audio.channels);
-    CHECK(a.tactile.size() == b.tactile.size());
+    REQUIRE(a.audio.channels.size() == 2);
+    REQUIRE(a.audio.frames() > 100000);
+    double energy = 0.0;
+    for (float x : a.audio.channels[0]) energy += double(x) * double(x);
+    REQUIRE(energy > 1.0);                       // it made sound …
+    std::size_t motorRows = 0;
+    for (const auto& row : a.tactile) {
+        bool on = false;
+        for (auto l : row.levels) on = on || l > 0;
+        motorRows += on;
+    }
+    REQUIRE(motorRows > a.tactile.size() / 2);   // … and drove motors
+    REQUIRE(b.audio.channels.size() == 2);
+    REQUIRE(a.audio.frames() == b.audio.frames());
+    std::size_t sampleMismatches = 0;
+    for (std::size_t c = 0; c < 2; ++c)
+        for (std::size_t i = 0; i < a.audio.frames(); ++i) sampleMismatches += a.audio.channels[c][i] != b.audio.channels[c][i];
+    CHECK(sampleMismatches == 0);
+    REQUIRE(a.tactile.size() == b.tactile.size());
+    std::size_t rowMismatches = 0;
+    for (std::size_t r = 0; r < a.tactile.size(); ++r)
+        rowMismatches += a.tactile[r].t != b.tactile[r].t || a.tactile[r].levels != b.tactile[r].levels;
+    CHECK(rowMismatches == 0);
+    CHECK(a.gestures.size() == b.gestures.size());
+
+    const auto c = renderOffline(CsvTable::parse(other, "other.csv"), settings);
+    std::size_t differ = 0;
+    for (std::size_t r = 0; r < std::min(a.tactile.size(), c.tactile.size()); ++r) differ += a.tactile[r].levels != c.tactile[r].levels;
+    CHECK(differ > 0);                           // the result depends on the motion
+    CHECK(c.audio.channels[0] != a.audio.channels[0]);
 }
 
 TEST_CASE("Engine: scene parameters are set by stable id, by number or choice name", "[engine][params]")

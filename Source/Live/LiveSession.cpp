@@ -1,9 +1,9 @@
-#include "Device/LiveSession.h"
+#include "Live/LiveSession.h"
 #include "Audio/SoundCard.h"
 #include "Core/Errors.h"
 #include "Device/Motion.h"
 #include "Device/OscIo.h"
-#include "Device/SessionWriters.h"
+#include "Live/SessionWriters.h"
 #include "Device/Simulator.h"
 #include "Engine/ArmTracker.h"
 #include <cmath>

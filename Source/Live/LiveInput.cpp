@@ -1,6 +1,6 @@
-#include "Plugin/LiveInput.h"
+#include "Live/LiveInput.h"
 
-namespace armadillo::plugin {
+namespace armadillo::live {
 
 void LiveInput::storeOrientation(double t, const Eigen::Quaterniond& q) noexcept
 {
@@ -27,7 +27,7 @@ LiveImu toLiveImu(const ImuSample& s) noexcept
     return out;
 }
 
-ImuSample toImuSample(const LiveImu& s)
+ImuSample toImuSample(const LiveImu& s) noexcept
 {
     ImuSample out;
     out.t = s.t;
@@ -37,4 +37,4 @@ ImuSample toImuSample(const LiveImu& s)
     return out;
 }
 
-} // namespace armadillo::plugin
+} // namespace armadillo::live

@@ -1,4 +1,4 @@
-#include "Device/SessionWriters.h"
+#include "Live/SessionWriters.h"
 #include "Core/Csv.h"
 #include "Core/Errors.h"
 #include <algorithm>

@@ -3,7 +3,7 @@
 #include "Core/Csv.h"
 #include "Core/Errors.h"
 #include "Core/Wav.h"
-#include "Device/LiveSession.h"
+#include "Live/LiveSession.h"
 #include "Device/OscIo.h"
 #include "Device/Simulator.h"
 #include "Common/Eventually.h"

@@ -6,7 +6,7 @@
 #include "Core/Pose.h"
 #include "Device/Calibration.h"
 #include "Device/DeviceLink.h"
-#include "Device/LiveSession.h"
+#include "Live/LiveSession.h"
 #include "Device/Simulator.h"
 #include "Engine/ArmTracker.h"
 #include "Fusion/Quaternion.h"

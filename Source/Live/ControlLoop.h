@@ -1,0 +1,120 @@
+#pragma once
+// The control step of the live rig, shared by the plugin (which runs it at the head of each audio
+// block) and tested without JUCE: engine hand-over, source choice, bounded fusion, the scene's
+// parameters, Engine::control, and the engine's audio.
+//
+// Threads (each method names its own):
+//  - control side (real-time): tick(), render(), active(). One thread at a time: whoever holds
+//    the front end's control token (the audio thread in the plugin, its idle clock otherwise).
+//    No allocation, lock, I/O or exception (Tests/Live/RealtimeLoopTests.cpp proves it).
+//  - builder side (message thread, prepareToPlay): offer(), collect(), replace(). Engines are
+//    built and destroyed here, never on the control side.
+//  - producers (device link, OSC receiver, simulator clock): input(kind).push…/store….
+#include "Core/Pose.h"
+#include "Core/Scene.h"
+#include "Engine/ArmTracker.h"
+#include "Engine/Engine.h"
+#include "Live/LiveInput.h"
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace armadillo::live {
+
+/// Where the arm comes from (the plugin's `source` choice, INTERFACES.md order).
+enum class SourceKind : int { Device = 0, Simulator = 1, Osc = 2, HostAutomation = 3 };
+inline constexpr int kSourceCount = 4;
+inline bool isLiveSource(SourceKind s) noexcept { return s != SourceKind::HostAutomation; }
+
+/// An engine ready to run, with the front end's parameter cells for its scene.
+struct EngineSlot {
+    std::unique_ptr<Engine> engine;
+    std::string sceneName;
+    /// Per Scene::parameters() index: where the front end keeps its value (nullptr: not exposed).
+    std::vector<const std::atomic<float>*> params;
+    std::vector<float> sent;      ///< last value given to Scene::setParameter (NaN = never); control side
+    std::uint64_t generation = 0; ///< counts engines built by the front end
+};
+
+struct ControlStep {
+    SourceKind source = SourceKind::HostAutomation;
+    Pose automation {};           ///< deg; the arm under SourceKind::HostAutomation
+    Transport transport {};
+    double dt = 0.005;            ///< s since the previous step
+};
+
+struct ControlResult {
+    ArmState arm {};
+    MotorLevels levels {};
+    bool ran = false;             ///< false: no engine to run
+    bool swapped = false;         ///< an offered engine took over at this step
+};
+
+class ControlLoop {
+public:
+    /// IMU samples fused per step at most. A source that delivered more since the last step
+    /// (a burst after a stall, a source switch with a full queue) has its oldest dropped and
+    /// counted: the arm follows the newest motion, and a step's work stays bounded.
+    static constexpr int kMaxImuPerStep = 8;
+
+    ControlLoop();
+    ~ControlLoop();
+    ControlLoop(const ControlLoop&) = delete;
+    ControlLoop& operator=(const ControlLoop&) = delete;
+
+    /// Producers: the mailbox of a live source (HostAutomation has none: the Device one is returned).
+    LiveInput& input(SourceKind kind) noexcept;
+
+    // Builder side ----------------------------------------------------------------------------
+    /// Hands an engine to the control side; it takes over at the start of the next tick(). False
+    /// (the slot is given back untouched) while an earlier hand-over or retired engine is pending:
+    /// call collect() and offer it again.
+    bool offer(std::unique_ptr<EngineSlot>& slot) noexcept;
+    /// Whether offer() would take an engine now (nothing pending, nothing retired left to collect).
+    bool canOffer() const noexcept
+    {
+        return pending_.load(std::memory_order_acquire) == nullptr && retired_.load(std::memory_order_acquire) == nullptr;
+    }
+    /// Deletes the engine the control side gave up, if any. Builder side only.
+    void collect() noexcept;
+    /// Installs an engine at once. Only while the control side is known not to run (the caller
+    /// holds the control token, or nothing runs yet); drops anything pending or retired.
+    void replace(std::unique_ptr<EngineSlot> slot) noexcept;
+    /// The newest engine: the pending one, else the active one (builder side, for UIs that ask
+    /// the scene lock-free questions). Valid until the next collect()/replace().
+    EngineSlot* newest() noexcept;
+
+    // Control side (real-time) ----------------------------------------------------------------
+    ControlResult tick(const ControlStep& step) noexcept;
+    void render(float* left, float* right, int numSamples) noexcept;
+    EngineSlot* active() noexcept { return active_; }
+    /// Forgets the arm (tracker) and which source ran: the next tick starts afresh.
+    void resetArm() noexcept;
+
+    /// IMU samples dropped because more than kMaxImuPerStep were waiting (any thread).
+    std::uint64_t droppedImu() const noexcept { return droppedImu_.load(std::memory_order_relaxed); }
+    /// Engine hand-overs done on the control side (any thread).
+    std::uint64_t swaps() const noexcept { return swaps_.load(std::memory_order_relaxed); }
+
+private:
+    void swapInPending() noexcept;
+    ArmState fuse(LiveInput& in) noexcept;
+
+    std::array<LiveInput, 3> inputs_;   // device, simulator, OSC
+    EngineSlot* active_ = nullptr;      // control side
+    std::atomic<EngineSlot*> pending_ {nullptr};
+    std::atomic<EngineSlot*> retired_ {nullptr};
+    EngineSlot* newest_ = nullptr;      // builder side
+
+    ArmTracker tracker_;                // control side
+    double clock_ = 0.0;                // s, advanced by dt per step
+    int lastSource_ = -1;
+    std::uint64_t lastOrientationSerial_ = 0;
+    LiveOrientation lastOrientation_ {};
+    std::atomic<std::uint64_t> droppedImu_ {0};
+    std::atomic<std::uint64_t> swaps_ {0};
+};
+
+} // namespace armadillo::live
