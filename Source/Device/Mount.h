@@ -5,6 +5,7 @@
 // guided two- or three-pose calibration that finds the rotation from the accelerometer alone.
 // Plain C++ and Eigen; the solver allocates nothing after construction.
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
 #include <string>
 #include <string_view>
@@ -71,6 +72,11 @@ public:
     void feed(const Eigen::Vector3d& accel, const Eigen::Vector3d& gyro);
     /// Enough still samples for the current pose.
     bool ready() const noexcept { return count_ >= params_.samplesNeeded; }
+    /// How far the current pose is toward ready(), 0..1 (for a progress bar).
+    double progress() const noexcept
+    {
+        return params_.samplesNeeded <= 0 ? 1.0 : std::min(1.0, static_cast<double>(count_) / params_.samplesNeeded);
+    }
     /// Keeps the current pose's mean and moves to the next pose (RolledRight → Done).
     void finishStep();
     /// Skips the optional third pose.

@@ -1,8 +1,10 @@
 #pragma once
 // Device / port / calibration / OSC settings with link statistics. Every control carries an
 // accessible title and description and is reachable with Tab. While a guided calibration runs,
-// its panel takes the place of the link statistics and the OSC settings.
+// its panel takes the place of the link statistics and the OSC settings; so does the guided
+// mount calibration of an OSC sensor (format and mount choices: docs/SENSORS.md).
 #include "Plugin/CalibrationPanel.h"
+#include "Plugin/MountCalibrationPanel.h"
 #include <juce_gui_basics/juce_gui_basics.h>
 
 namespace armadillo::plugin {
@@ -21,6 +23,10 @@ private:
     void rescanPorts();
     void chooseCalibration();
     void startCalibration();
+    void startMountCalibration();
+    void chooseMountFile();
+    /// The format and mount choices follow the settings (a loaded state, the calibration).
+    void syncOscChoices();
 
     ArmadilloProcessor& processor_;
     juce::Label deviceHeading_, oscHeading_;
@@ -34,9 +40,17 @@ private:
     juce::ToggleButton oscOut_ {"OSC out"}, oscIn_ {"OSC in"};
     juce::TextEditor oscHost_, oscPort_, oscInPort_;
     juce::Label hostLabel_, portLabel_, inPortLabel_;
+    // OSC sender format and mount (docs/SENSORS.md), and the input's status line.
+    juce::ComboBox oscFormat_, oscMount_;
+    juce::Label formatLabel_, mountLabel_, oscStatus_;
+    juce::TextButton mountFile_ {"Mount file..."}, calibrateMount_ {"Calibrate mount..."};
+    juce::StringArray mountPresets_;
+    juce::String mountFileError_;   // a refused mount file, shown above the status line until the next choice
     std::unique_ptr<juce::FileChooser> chooser_;
     CalibrationPanel calibrationPanel_;
+    MountCalibrationPanel mountPanel_;
     bool calibrating_ = false;   // calibrationPanel_ shown (layout changes with it)
+    bool mountCalibrating_ = false;   // mountPanel_ shown instead of the link statistics
 };
 
 } // namespace armadillo::plugin

@@ -73,6 +73,7 @@ bool OscInput::configure(bool enabled, int port, std::string& whyNot, const devi
             port,
             [this](const ImuSample& s) { live_.pushImu(s); },
             [this](double t, const Eigen::Quaterniond& q) { live_.storeOrientation(t, q); }, options);
+        receiver_->merger().enableSensorTap(tapOn_);
         receiver_->start();
     } catch (const std::exception& e) {
         receiver_.reset();
@@ -131,6 +132,19 @@ std::string OscInput::statusText() const
     const char* e = receiver_->merger().lastError();
     if (e[0] != 0) text += "; last: " + std::string(e);
     return text;
+}
+
+void OscInput::enableSensorTap(bool on)
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    tapOn_ = on;
+    if (receiver_ != nullptr) receiver_->merger().enableSensorTap(on);
+}
+
+bool OscInput::popSensorSample(device::SensorFrameSample& out)
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    return receiver_ != nullptr && receiver_->merger().popSensorSample(out);
 }
 
 device::OscInputStats OscInput::stats() const

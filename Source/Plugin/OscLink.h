@@ -56,6 +56,10 @@ public:
     device::OscFormat format() const;
     std::string deviceName() const;
     std::string statusText() const;
+    /// The mount calibration's feed (message thread): sensor-frame samples from the merger's
+    /// tap, kept on across reconfigurations while on. pop returns false when there is none.
+    void enableSensorTap(bool on);
+    bool popSensorSample(device::SensorFrameSample& out);
 
 private:
     LiveInput& live_;
@@ -65,6 +69,7 @@ private:
     device::OscFormat openFormat_ = device::OscFormat::Auto;
     Eigen::Quaterniond openMount_ = Eigen::Quaterniond::Identity();
     bool openMountGiven_ = false;
+    bool tapOn_ = false;
 };
 
 } // namespace armadillo::plugin

@@ -137,6 +137,8 @@ public:
     /// the audio thread never waits for it. False with the reason when that engine is gone.
     bool copyBrailleTrainingLog(std::uint64_t generation, std::string& csv, juce::String& why);
     std::uint64_t oscMessagesSent() const noexcept { return oscOut_.messagesSent(); }
+    /// The OSC input (message thread): its status line and the mount calibration's sample feed.
+    OscInput& oscInput() noexcept { return oscIn_; }
     const char* lastGesture() const noexcept { return lastGesture_.load(std::memory_order_relaxed); }
     std::uint64_t gestureCount() const noexcept { return gestureCount_.load(std::memory_order_relaxed); }
     double controlRateMeasured() const noexcept { return measuredRate_.load(std::memory_order_relaxed); }
