@@ -104,8 +104,8 @@ TEST_CASE("dropout: unplugged for 0.5 s mid-movement, the link reconnects once a
     }
     INFO("first packet " << (firstAfter - plugged) << " s after the replug; median error 2–3 s after it " << median(at2s)
                          << "°, after that " << median(later) << "°; longest gap " << stats.longestGap << " s");
-    REQUIRE(at2s.size() > 200);
-    REQUIRE(later.size() > 100);
+    REQUIRE(at2s.size() > 50);   // ~290 a second on a quiet machine; a loaded one sends fewer
+    REQUIRE(later.size() > 50);
     CHECK(median(at2s) < 5.0);
     CHECK(median(later) < 5.0);
 }
