@@ -17,6 +17,11 @@
 namespace {
 std::atomic<long> gAllocations {0};
 }
+// Sanitizer builds (scripts/sanitize.sh) own operator new: replacing only some of its forms there
+// gives ASan alloc-dealloc mismatches, so the counter is left out and its check says so.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define ARMADILLO_NO_NEW_COUNTER 1
+#else
 void* operator new(std::size_t n)
 {
     ++gAllocations;
@@ -25,6 +30,7 @@ void* operator new(std::size_t n)
 }
 void operator delete(void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+#endif
 
 using namespace armadillo;
 using Eigen::Quaterniond;
@@ -286,6 +292,10 @@ TEST_CASE("filter: update() does not allocate", "[fusion][filter]")
     s.mag = Vector3d(10.0, -40.0, -20.0);
     s.t = 0.0;
     f.update(s);   // initialisation may do what it likes
+#ifdef ARMADILLO_NO_NEW_COUNTER
+    WARN("sanitizer build: no operator new counter; the normal build runs this check");
+    return;
+#endif
     const long before = gAllocations.load();
     for (int k = 1; k < 2000; ++k) {
         s.t = k / kRate;

@@ -14,6 +14,11 @@ using namespace armadillo;
 // Counts heap allocations while `g_counting` is set (the whole test binary shares this).
 static std::atomic<bool> g_counting {false};
 static std::atomic<long> g_allocations {0};
+// Sanitizer builds (scripts/sanitize.sh) own operator new: replacing only some of its forms there
+// gives ASan alloc-dealloc mismatches, so the counter is left out and its check says so.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define ARMADILLO_NO_NEW_COUNTER 1
+#else
 void* operator new(std::size_t n)
 {
     if (g_counting.load()) ++g_allocations;
@@ -22,6 +27,7 @@ void* operator new(std::size_t n)
 }
 void operator delete(void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+#endif
 
 namespace {
 TactileEngine& engineFor(TactileEngine& e, ArmSide side = ArmSide::Right, int motors = kGridMotors)
@@ -208,6 +214,10 @@ TEST_CASE("tick() allocates nothing, with 16 motors and every voice busy", "[sha
         e.trigger(r);
     }
     for (int m = 0; m < kMaxMotors; ++m) e.setLevel(m, 2.5f);
+#ifdef ARMADILLO_NO_NEW_COUNTER
+    WARN("sanitizer build: no operator new counter; the normal build runs this check");
+    return;
+#endif
     g_allocations = 0;
     g_counting = true;
     for (int i = 0; i < 5000; ++i) {
