@@ -177,6 +177,8 @@ void ArmadilloProcessor::prepareToPlay(double sampleRate, int)
     builtRequest_ = request;
     samplesToTick_ = 0;
     noteOffs_ = {};
+    midiStorage_.ensureSize(kMidiStorageBytes);   // off the audio thread; processBlock hands it over
+    midiStorageGiven_ = false;
     releaseToken();
 }
 
@@ -333,7 +335,16 @@ void ArmadilloProcessor::processBlock(juce::AudioBuffer<float>& buffer, juce::Mi
     juce::ScopedNoDenormals noDenormals;
     const int n = buffer.getNumSamples();
     buffer.clear();
-    midi.clear();   // no MIDI input is used; the buffer carries our gestures out
+    // No MIDI input is used; the buffer carries our gestures out. The host's buffer may be sized
+    // for a few events only, and a roll that emits several would grow it here: the first block
+    // hands it storage sized in prepareToPlay (swapWith moves pointers, and clear() keeps the
+    // storage), so adding events never allocates while the host reuses its buffer, as JUCE's
+    // wrappers do.
+    if (! midiStorageGiven_) {
+        midi.swapWith(midiStorage_);
+        midiStorageGiven_ = true;
+    }
+    midi.clear();
     lastAudioMs_.store(juce::Time::getMillisecondCounterHiRes(), std::memory_order_relaxed);
     if (buffer.getNumChannels() < 2 || n <= 0) return;
     if (! tryTakeToken()) return;   // the idle clock is finishing an update: one silent block

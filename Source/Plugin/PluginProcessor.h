@@ -206,6 +206,11 @@ private:
     int lastCc_[3] {-1, -1, -1};
     struct NoteOff { int note = -1; int samplesLeft = 0; };
     std::array<NoteOff, 16> noteOffs_ {};
+    // MIDI out storage, sized on the message thread and given to the host's buffer on the first
+    // block (processBlock), so emitting gestures never grows the host's buffer on the audio thread.
+    static constexpr std::size_t kMidiStorageBytes = 64 * 1024;
+    juce::MidiBuffer midiStorage_;
+    bool midiStorageGiven_ = false;
     std::uint64_t frameSerial_ = 0;
 
     // Published
