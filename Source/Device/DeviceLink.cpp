@@ -1,4 +1,5 @@
 #include "Device/DeviceLink.h"
+#include "Core/ThreadPriority.h"
 #include "Core/Errors.h"
 #include <algorithm>
 #include <array>
@@ -170,17 +171,9 @@ LatencySummary DeviceLink::latency() const
     return s;
 }
 
-bool tryRealtimePriority(int priority) noexcept
-{
-    if (priority <= 0) return false;
-    sched_param sp {};
-    sp.sched_priority = std::clamp(priority, sched_get_priority_min(SCHED_FIFO), sched_get_priority_max(SCHED_FIFO));
-    return pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp) == 0;
-}
-
 void DeviceLink::run()
 {
-    tryRealtimePriority(options_.realtimePriority);
+    requestRealtimePriority(options_.realtimePriority);
     std::array<std::uint8_t, 512> buffer {};
     // A port the owner opened before start() (to fail early with its own message) is a connection
     // like any other: losing it and opening it again is a reconnect.

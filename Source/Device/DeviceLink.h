@@ -39,8 +39,6 @@ struct DeviceLinkOptions {
     int realtimePriority = 0;     ///< > 0: try SCHED_FIFO at this priority for the link thread (falls back silently)
 };
 
-/// Tries SCHED_FIFO at `priority` for the calling thread; false when not permitted.
-bool tryRealtimePriority(int priority) noexcept;
 
 /// Sensor-packet arrival → motor-packet written, measured on the link thread.
 struct LatencySummary {

@@ -1,4 +1,5 @@
 #include "Device/Simulator.h"
+#include "Core/ThreadPriority.h"
 #include "Core/Errors.h"
 #include "Device/DeviceLink.h"
 #include <algorithm>
@@ -326,7 +327,7 @@ void SimulatedForearm::respond(double rxTime)
 void SimulatedForearm::run()
 {
     ::prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);   // precise paced sleeps
-    tryRealtimePriority(options_.realtimePriority);
+    requestRealtimePriority(options_.realtimePriority);
     std::uniform_real_distribution<double> u(0.0, 1.0);
     std::uint8_t buffer[256];
     while (!stop_.load(std::memory_order_relaxed)) {
