@@ -93,7 +93,7 @@ void prepare(Hosted& h)
 int choiceIndex(const juce::String& name, const juce::String& choice)
 {
     static const juce::StringArray sources {"device", "simulator", "OSC", "host automation"};
-    static const juce::StringArray scenes {"monitor", "theremin", "cymbal", "panel", "sound-design", "compass", "braille", "score"};
+    static const juce::StringArray scenes {"monitor", "theremin", "cymbal", "panel", "sound-design", "compass", "braille", "score", "audio-touch"};
     return (name == "Source" ? sources : scenes).indexOf(choice);
 }
 
@@ -239,7 +239,7 @@ void checkContractParameters(Hosted& h)
     }
     REQUIRE(h.param("Source") != nullptr);
     CHECK(h.param("Source")->getNumSteps() == 4);
-    CHECK(h.param("Scene")->getNumSteps() == 8);
+    CHECK(h.param("Scene")->getNumSteps() == 9);
     CHECK(h.param("Elevation")->isAutomatable());
 }
 
