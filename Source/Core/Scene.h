@@ -139,7 +139,9 @@ public:
     /// thread before renderAudio() of the same block. REAL-TIME like renderAudio(): no locks,
     /// allocation, I/O or exceptions, bounded work. What the scene learns crosses to control()
     /// through atomics (in the plugin both run on the audio thread; in `play` they do not).
-    /// numSamples may be 0 (the input is connected, no samples yet). A scene that does not
+    /// numSamples may be 0: the front end declares that this input is the recording itself
+    /// (`render/play --audio-in`), to be followed from its first sample, silence included; a
+    /// plugin input is not declared (an unrouted one delivers silence). A scene that does not
     /// listen ignores it.
     virtual void processInput(const float* const* in, int channels, int numSamples) noexcept
     {

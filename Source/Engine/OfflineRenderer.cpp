@@ -87,7 +87,7 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
         }
     };
 
-    if (input) engine.processInput(inputChannels.data(), static_cast<int>(inputChannels.size()), 0);   // connected from the start
+    if (input) engine.processInput(inputChannels.data(), static_cast<int>(inputChannels.size()), 0);   // the recording itself, from sample 0
     double previous = t0;
     for (std::size_t i = 0; i < source.size(); ++i) {
         const double t = source.time(i);

@@ -225,6 +225,7 @@ void LiveSession::renderBlock(float* left, float* right, int n) noexcept
         in[1] = recording_.channels[recording_.channels.size() > 1 ? 1 : 0].data() + recordingAt_;
     }
     const int channels = recording_.channels.size() > 1 ? 2 : 1;
+    if (recordingAt_ == 0) engine_->processInput(in, channels, 0);   // the recording itself: followed from its first sample
     engine_->processInput(in, channels, inside ? n : chunk);
     engine_->renderAudio(left, right, n);
     if (inside) {

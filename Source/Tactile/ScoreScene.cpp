@@ -49,6 +49,7 @@ public:
         follower_.prepare(score, config.sampleRate > 0.0 ? config.sampleRate : 48000.0);
         player_.setScore(std::move(score));
         inputBlocks_.store(0);
+        recordingDeclared_.store(false);
         seenBlocks_ = 0;
         quietFor_ = 1e9;
     }
@@ -64,16 +65,21 @@ public:
 
     void processInput(const float* const* in, int channels, int numSamples) noexcept override
     {
+        // An empty block declares the input to be the recording itself (render/play --audio-in):
+        // followed from its first sample, leading silence included.
+        if (numSamples == 0) recordingDeclared_.store(true, std::memory_order_release);
         follower_.process(in, channels, numSamples);
-        inputBlocks_.fetch_add(1, std::memory_order_release);   // even an empty one: connected
+        inputBlocks_.fetch_add(1, std::memory_order_release);
     }
 
     void control(const ControlInput& in, SceneOutput& out) override
     {
         player_.setIntensity(intensity_.load());
         player_.setSync(beats_.load() ? ScorePlayer::Sync::Beats : ScorePlayer::Sync::Seconds);
-        // Audio "comes in" while the input delivers blocks (within the last 0.25 s); without it
-        // the transport (or the scene's own clock) places the score, as before.
+        // Audio "comes in" while the input delivers blocks (within the last 0.25 s) and it is a
+        // declared recording or has carried sound (an unrouted plugin input delivers silence:
+        // the transport keeps placing the score until the music starts); otherwise the
+        // transport (or the scene's own clock) places the score, as in version 1.
         const std::uint64_t blocks = inputBlocks_.load(std::memory_order_acquire);
         if (blocks != seenBlocks_) {
             seenBlocks_ = blocks;
@@ -81,8 +87,8 @@ public:
         } else {
             quietFor_ += std::max(0.0, in.dt);
         }
-        if (listen_.load() && quietFor_ < 0.25) {
-            const FollowState state = follower_.state();
+        const FollowState state = follower_.state();
+        if (listen_.load() && quietFor_ < 0.25 && (recordingDeclared_.load(std::memory_order_acquire) || state.heard)) {
             player_.control(in.transport, in.dt, out.motors, &state);
         } else {
             player_.control(in.transport, in.dt, out.motors);
@@ -102,6 +108,7 @@ private:
     std::atomic<bool> beats_ {false};
     std::atomic<bool> listen_ {true};
     std::atomic<std::uint64_t> inputBlocks_ {0};
+    std::atomic<bool> recordingDeclared_ {false};
     std::uint64_t seenBlocks_ = 0;   ///< control thread
     double quietFor_ = 1e9;          ///< control thread: s since the input last delivered
 };
