@@ -171,9 +171,9 @@ struct BlockCounts {
 
 /// JUCE's VST3 hosting side takes 3 locks for every MIDI event the plugin puts out (its
 /// MidiEventList: measured with gdb, exactly 3 per event) and grows that list the first time a
-/// block carries more events than any before. Pose CCs come whenever the simulated arm's pose
-/// crosses a CC step (the simulator shakes the accelerometer with the motors' vibration), so
-/// the lock budget counts them on the host's side.
+/// block carries more events than any before. Pose CCs come whenever the tracked pose crosses a
+/// CC step, which may happen in any measured block, so the lock budget counts them on the
+/// host's side.
 constexpr double kHostLocksPerMidiEvent = 3.0;
 std::uint64_t gMostMidiEventsInABlock = 0;
 
