@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# Runs every benchmark once and prints its numbers (no pass/fail on time). Build first
+# Runs every benchmark once and prints its numbers (no pass/fail on time): every bench_* built
+# under build/Benchmarks (fusion, device, tactile, follow — the score follower per audio block —,
+# instruments, live, plugin). Build first
 # (scripts/build.sh). docs/BENCHMARKS.md says what each one measures.
 set -uo pipefail
 cd "$(dirname "$0")/.."

@@ -61,6 +61,8 @@ private:
 };
 
 constexpr MotorSet kCentreColumn = motorBit(0, 1) | motorBit(1, 1) | motorBit(2, 1);
+/// s between repeats of the held row in the training's hold stage when braille.holdRepeat is 0.
+constexpr double kHoldStageRepeat = 0.8;
 
 struct AnswerText {
     std::array<char, 64> text {};
@@ -190,7 +192,15 @@ public:
         }
         }
 
-        const double holdRepeat = param(kParamHoldRepeat);
+        // The training's "hold a row" exercise (thesis §4.4.1: stop on a row and hold the
+        // character there) needs the held row to stay felt: a single 0.25 s pulse would leave
+        // the reader holding nothing. In that stage a held row repeats every
+        // braille.holdRepeat s, or every kHoldStageRepeat s when that is off.
+        double holdRepeat = param(kParamHoldRepeat);
+        if (mode_ == BrailleMode::Training && training_ && !training_->finished() &&
+            training_->trials()[static_cast<std::size_t>(training_->trialIndex())].stage == TrainingStage::Hold &&
+            !(holdRepeat > 0.0))
+            holdRepeat = kHoldStageRepeat;
         if (mode_ != BrailleMode::Passive && holdRepeat > 0.0 && shown_.kind == StepKind::Cell && shown_.motors != 0 &&
             t_ - shownAt_ >= holdRepeat) {
             player_.add(t_, pulse_, shown_.motors, level_);

@@ -6,6 +6,7 @@
 #include "Braille/BrailleScene.h"
 #include "Braille/TrainingFeeder.h"
 #include "Core/AtomicFile.h"
+#include "Core/Wav.h"
 #include "Live/LiveSession.h"
 #include "Device/Calibration.h"
 #include "Device/OscIo.h"
@@ -126,6 +127,9 @@ int runPlay(const Arguments& args)
                     {"--audio-device", "NAME", "ALSA device to play on (default: 'default'; e.g. hw:1, plughw:1,0); an error if it\n"
                                                "cannot be opened"},
                     {"--no-audio", "", "no sound at all (no --out, no sound card)"},
+                    {"--audio-in", "FILE.wav", "a recording to play out (to the sound card or --out, under the scene's sound) while\n"
+                                               "scenes that listen (score, audio-touch) follow it; its sample rate is used unless\n"
+                                               "--sample-rate is given"},
                     {"--tactile", "T.csv", "every motor packet: t,m1..m9"},
                     {"--log", "SESSION.csv", "one row per sensor packet: t, raw counts, calibrated SI values, qw,qx,qy,qz"},
                     {"--osc-out", "HOST:PORT", "send orientation, pose, gyro, motors and gestures as OSC"},
@@ -209,6 +213,12 @@ int runPlay(const Arguments& args)
         }
         config.tactileOut = cl.value("--tactile");
         config.logOut = cl.value("--log");
+        if (cl.has("--audio-in")) {
+            if (cl.value("--audio-in").empty()) throw UsageError("--audio-in needs a WAV file");
+            if (cl.has("--no-audio")) throw UsageError("--audio-in plays the recording out: it cannot go with --no-audio");
+            config.audioIn = cl.value("--audio-in");
+            if (!cl.has("--sample-rate")) engine.sceneConfig.sampleRate = readWav(config.audioIn).sampleRate;
+        }
 
         const std::string calibrateOut = cl.value("--calibrate");
         if (cl.has("--calibrate") && cl.has("--osc-in")) throw UsageError("--calibrate needs raw counts: use --port or --simulate");

@@ -3,6 +3,7 @@
 #include "Cli/SceneOptions.h"
 #include "Core/Csv.h"
 #include "Core/Errors.h"
+#include "Core/Wav.h"
 #include "Engine/Engine.h"
 #include "Engine/OfflineRenderer.h"
 #include <algorithm>
@@ -24,6 +25,8 @@ int runRender(const Arguments& args)
                                {"--motion", "FILE", "motion CSV (IMU, quaternion or pose)", true},
                                {"--out", "OUT.wav", "stereo WAV, 16-bit (written whole or not at all)", true},
                                {"--tactile", "T.csv", "motor levels of every packet: t,m1..m9 (m10..m12 with --back-motors)"},
+                               {"--audio-in", "FILE.wav", "the recording the listener hears, from the first motion row on: scenes that listen\n"
+                                                          "(score, audio-touch) follow it; its sample rate is used unless --sample-rate is given"},
                            });
                            o.push_back({"--back-motors", "", "drive the three back motors 10..12 as well"});
                            o.push_back({"--tail", "SECONDS", "audio rendered after the last motion row (default 0)"});
@@ -39,6 +42,13 @@ int runRender(const Arguments& args)
         settings.tailSeconds = cl.number("--tail", 0.0);
         if (settings.tailSeconds < 0.0 || settings.tailSeconds > 600.0) throw UsageError("--tail must lie in 0..600 s");
 
+        AudioBuffer recording;
+        if (cl.has("--audio-in")) {
+            if (cl.value("--audio-in").empty()) throw UsageError("--audio-in needs a WAV file");
+            recording = readWav(cl.value("--audio-in"));   // InputError names a bad file
+            if (!cl.has("--sample-rate")) engine.sceneConfig.sampleRate = recording.sampleRate;
+            settings.audioIn = &recording;
+        }
         const CsvTable motion = CsvTable::read(cl.value("--motion"));
         const RenderResult r = renderOffline(motion, settings);
 

@@ -48,6 +48,10 @@ struct PatternRequest {
     double duration = 0.0;           ///< s; 0 = the pattern's default; < 0 = until stopped
     double rate = 0.0;               ///< Hz for periodic patterns; 0 = default
     int voice = 0;                   ///< 0..kPatternVoices-1
+    /// A soft intent (a fade, a swell, a gentle touch): its motors never get the jump-start
+    /// spike. false = a fast start (the engine kicks a starting motor, unless the pattern is a
+    /// fade by nature or its on-time is shorter than the spike). See docs/TACTILE.md.
+    bool soft = false;
 };
 inline constexpr int kPatternVoices = 8;
 
@@ -58,6 +62,10 @@ public:
     virtual ~MotorCanvas() = default;
     /// Sustained target for one motor, 0..15 (fractional levels are dithered), until changed.
     virtual void setLevel(int motorIndex, float level) = 0;
+    /// The same as a soft intent: the motor's rises toward this target never get the jump-start
+    /// spike (swells, crescendos, followed envelopes, gentle backgrounds). setLevel() asks for a
+    /// fast start. The default forwards to setLevel() (canvases that do not shape).
+    virtual void setSoftLevel(int motorIndex, float level) { setLevel(motorIndex, level); }
     /// All sustained targets to 0 (running patterns keep running).
     virtual void clearLevels() = 0;
     virtual void trigger(const PatternRequest& request) = 0;
@@ -126,6 +134,21 @@ public:
         (void) left; (void) right; (void) numSamples;
     }
     virtual bool producesAudio() const { return false; }
+    /// Audio input (the recording the listener hears: the plugin's input bus, `--audio-in`):
+    /// `channels` planar channels of n samples at SceneConfig::sampleRate, called on the audio
+    /// thread before renderAudio() of the same block. REAL-TIME like renderAudio(): no locks,
+    /// allocation, I/O or exceptions, bounded work. What the scene learns crosses to control()
+    /// through atomics (in the plugin both run on the audio thread; in `play` they do not).
+    /// numSamples may be 0: the front end declares that this input is the recording itself
+    /// (`render/play --audio-in`), to be followed from its first sample, silence included; a
+    /// plugin input is not declared (an unrouted one delivers silence). A scene that does not
+    /// listen ignores it.
+    virtual void processInput(const float* const* in, int channels, int numSamples) noexcept
+    {
+        (void) in; (void) channels; (void) numSamples;
+    }
+    /// True for scenes that use processInput() (score, audio-touch).
+    virtual bool listensToAudio() const { return false; }
     /// Entering the scene, or a transport jump: forget gestures in progress. Real-time, like
     /// control() (the plugin calls it on the audio thread).
     virtual void reset() {}

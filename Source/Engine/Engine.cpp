@@ -125,6 +125,12 @@ void Engine::renderAudio(float* left, float* right, int numSamples) noexcept
     }
 }
 
+void Engine::processInput(const float* const* in, int channels, int numSamples) noexcept
+{
+    if (!in || channels <= 0 || numSamples < 0 || failed_.load(std::memory_order_acquire)) return;
+    scene_->processInput(in, channels, numSamples);
+}
+
 void Engine::allOff() noexcept { tactile_->allOff(); }
 
 } // namespace armadillo

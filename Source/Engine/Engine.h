@@ -56,6 +56,12 @@ public:
     MotorLevels control(const ArmState& arm, const Transport& transport, double dt, double motorOnTime = -1.0) noexcept;
     /// Audio thread: adds nothing but the scene's sound; no locks, allocation or I/O.
     void renderAudio(float* left, float* right, int numSamples) noexcept;
+    /// Audio thread: the audio input (planar channels, n samples at the scene's sample rate),
+    /// handed to the scene before renderAudio() of the same block. Real-time; ignored by scenes
+    /// that do not listen and once the scene failed. numSamples may be 0: "this input is the
+    /// recording itself" (render/play --audio-in say so before the first block; Core/Scene.h).
+    void processInput(const float* const* in, int channels, int numSamples) noexcept;
+    bool listensToAudio() const { return scene_->listensToAudio(); }
     /// Stop, disconnect or error: every motor off now; patterns and targets forgotten.
     void allOff() noexcept;
 

@@ -40,6 +40,19 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
     if (!(sampleRate >= 8000.0 && sampleRate <= 384000.0))
         throw InputError("", 0, "", "sample rate must lie in 8000..384000 Hz");
 
+    const AudioBuffer* input = settings.audioIn;
+    if (input) {
+        if (!engine.listensToAudio())
+            throw InputError("", 0, "--audio-in", "scene '" + settings.engine.scene + "' does not listen to audio (score and audio-touch do)");
+        if (input->channels.empty() || input->frames() == 0) throw InputError("", 0, "--audio-in", "the recording holds no audio");
+        if (std::fabs(input->sampleRate - sampleRate) > 0.5)
+            throw InputError("", 0, "--audio-in", "the recording's sample rate (" + std::to_string(static_cast<long>(input->sampleRate)) +
+                                                      " Hz) differs from the engine's (" + std::to_string(static_cast<long>(sampleRate)) +
+                                                      " Hz); give --sample-rate to match it");
+    }
+    std::vector<const float*> inputChannels(input ? input->channels.size() : 0, nullptr);
+    std::vector<std::vector<float>> inputScratch(inputChannels.size(), std::vector<float>(static_cast<std::size_t>(std::clamp(settings.blockSize, 1, 8192)), 0.0f));
+
     RenderResult result;
     const double t0 = source.time(0);
     const double tEnd = source.time(source.size() - 1) + std::max(0.0, settings.tailSeconds);
@@ -54,11 +67,27 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
         const auto target = std::min(totalFrames, static_cast<std::size_t>(std::llround((t - t0) * sampleRate)));
         while (frame < target) {
             const int n = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(block), target - frame));
+            if (input) {   // past the recording's end silence still comes in (the input stays connected)
+                for (std::size_t c = 0; c < inputChannels.size(); ++c) {
+                    if (frame + static_cast<std::size_t>(n) <= input->frames()) {
+                        inputChannels[c] = input->channels[c].data() + frame;
+                        continue;
+                    }
+                    auto& scratch = inputScratch[c];
+                    for (int i = 0; i < n; ++i) {
+                        const std::size_t at = frame + static_cast<std::size_t>(i);
+                        scratch[static_cast<std::size_t>(i)] = at < input->frames() ? input->channels[c][at] : 0.0f;
+                    }
+                    inputChannels[c] = scratch.data();
+                }
+                engine.processInput(inputChannels.data(), static_cast<int>(inputChannels.size()), n);
+            }
             engine.renderAudio(result.audio.channels[0].data() + frame, result.audio.channels[1].data() + frame, n);
             frame += static_cast<std::size_t>(n);
         }
     };
 
+    if (input) engine.processInput(inputChannels.data(), static_cast<int>(inputChannels.size()), 0);   // the recording itself, from sample 0
     double previous = t0;
     for (std::size_t i = 0; i < source.size(); ++i) {
         const double t = source.time(i);

@@ -15,6 +15,10 @@ struct RenderSettings {
     double tailSeconds = 0.0;      ///< audio rendered after the last row (e.g. to hear a crash ring out)
     int blockSize = 64;            ///< audio is rendered in blocks of at most this many samples
     double bpm = 120.0;            ///< tempo of the audio-clock transport the scenes see
+    /// The recording the listener hears (`--audio-in`): fed block by block to the engine's audio
+    /// input before each block is rendered, from sample 0 = the first motion row. Its sample
+    /// rate must be the engine's (engine.sceneConfig.sampleRate); the scene must listen.
+    const AudioBuffer* audioIn = nullptr;
 };
 
 struct RenderResult {

@@ -21,6 +21,7 @@ const Entry kScenes[] = {
     {"compass", makeCompassScene},
     {"braille", makeBrailleScene},
     {"score", makeScoreScene},
+    {"audio-touch", makeAudioTouchScene},
 };
 } // namespace
 

@@ -95,9 +95,16 @@ private:
         if (s != State::TurnLeft && s != State::TurnRight) return;
         // Re-trigger only when the rate moved by 10%: a request restarts the pattern.
         if (clickRate_ > 0.0 && std::fabs(rate - clickRate_) < 0.1 * clickRate_) return;
+        // Scenes write the right-arm layout, whose columns are the arm's sides (column 0 = the
+        // thumb side); the engine mirrors them for the left arm. The cue belongs on the side of
+        // the body the arm should turn toward: with the palm down that is the fifth-finger side
+        // (column 2) for a clockwise turn on the right arm, but the thumb side (column 0) on the
+        // left arm, whose thumb points to the body's right.
+        const bool turnRight = s == State::TurnRight;
+        const int motor = (turnRight == (side_ == ArmSide::Right)) ? right : left;
         PatternRequest geiger;
         geiger.kind = PatternKind::Geiger;
-        geiger.motors = static_cast<std::uint16_t>(1u << (s == State::TurnRight ? right : left));
+        geiger.motors = static_cast<std::uint16_t>(1u << motor);
         geiger.level = level;
         geiger.rate = rate;
         geiger.duration = -1.0;

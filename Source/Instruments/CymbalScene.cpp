@@ -251,6 +251,7 @@ private:
         fade.level = 4.0f;
         fade.duration = c.dampSeconds;
         fade.voice = kDampVoice;
+        fade.soft = true;   // a gentle touch: never the jump-start spike
         out.motors.trigger(fade);
         out.events.emit("damp", static_cast<float>(speedDegPerS));
         ringingUntil_ = -1.0;
@@ -321,7 +322,10 @@ private:
     {
         auto& s = shown_[static_cast<std::size_t>(motor)];
         if (s == level) return;
-        out.motors.setLevel(motor, level);
+        // The idle vibration is a gentle background (entering by a touch must not kick all nine
+        // motors); only the brushing movement on top of it asks for a fast start.
+        if (level <= static_cast<float>(params_.get(kIdle)) + 1e-3f) out.motors.setSoftLevel(motor, level);
+        else out.motors.setLevel(motor, level);
         s = level;
     }
 

@@ -110,6 +110,7 @@ public:
             pulse.level = static_cast<float>(params_.get(kMotorLevel));
             pulse.duration = 0.35;
             pulse.voice = 0;
+            pulse.soft = true;   // fades both ways: the rise or the fall is the point, no spike
             out.motors.trigger(pulse);
             nextPulse_ = clock_ + 0.5;
         }

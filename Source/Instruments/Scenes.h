@@ -9,4 +9,5 @@ std::unique_ptr<Scene> makeCymbalScene();       ///< "cymbal"       — virtual 
 std::unique_ptr<Scene> makePanelScene();        ///< "panel"        — virtual control panel, thesis §3.4
 std::unique_ptr<Scene> makeSoundDesignScene();  ///< "sound-design" — gesture sound design, thesis §3.7
 std::unique_ptr<Scene> makeCompassScene();      ///< "compass"      — tactile compass, thesis §4.1
+std::unique_ptr<Scene> makeAudioTouchScene();   ///< "audio-touch"  — any audio in, felt on the arm (bands → rows)
 } // namespace armadillo

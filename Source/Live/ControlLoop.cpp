@@ -145,4 +145,9 @@ void ControlLoop::render(float* left, float* right, int numSamples) noexcept
     if (active_ != nullptr && active_->engine != nullptr) active_->engine->renderAudio(left, right, numSamples);
 }
 
+void ControlLoop::processInput(const float* const* in, int channels, int numSamples) noexcept
+{
+    if (active_ != nullptr && active_->engine != nullptr) active_->engine->processInput(in, channels, numSamples);
+}
+
 } // namespace armadillo::live

@@ -92,6 +92,9 @@ public:
     // Control side (real-time) ----------------------------------------------------------------
     ControlResult tick(const ControlStep& step) noexcept;
     void render(float* left, float* right, int numSamples) noexcept;
+    /// The audio input the active engine's scene listens to (Engine::processInput), before
+    /// render() of the same samples.
+    void processInput(const float* const* in, int channels, int numSamples) noexcept;
     EngineSlot* active() noexcept { return active_; }
     /// Forgets the arm (tracker) and which source ran: the next tick starts afresh.
     void resetArm() noexcept;

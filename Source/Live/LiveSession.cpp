@@ -6,6 +6,7 @@
 #include "Live/SessionWriters.h"
 #include "Device/Simulator.h"
 #include "Engine/ArmTracker.h"
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -99,6 +100,18 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
         std::vector<std::string> h {"t"};
         for (int m = 1; m <= config_.engine.motorCount; ++m) h.push_back("m" + std::to_string(m));
         tactile_ = std::make_unique<StreamingCsvWriter>(config_.tactileOut, h);
+    }
+    if (!config_.audioIn.empty()) {
+        if (!engine_->listensToAudio())
+            throw InputError(config_.audioIn, 0, "--audio-in", "scene '" + config_.engine.scene + "' does not listen to audio (score and audio-touch do)");
+        recording_ = readWav(config_.audioIn);   // InputError names a bad file
+        if (recording_.channels.empty() || recording_.frames() == 0) throw InputError(config_.audioIn, 0, "--audio-in", "the recording holds no audio");
+        if (std::fabs(recording_.sampleRate - config_.engine.sceneConfig.sampleRate) > 0.5)
+            throw InputError(config_.audioIn, 0, "--audio-in", "the recording's sample rate (" + std::to_string(static_cast<long>(recording_.sampleRate)) +
+                                                                  " Hz) differs from the engine's (" +
+                                                                  std::to_string(static_cast<long>(config_.engine.sceneConfig.sampleRate)) +
+                                                                  " Hz); give --sample-rate to match it");
+        recordingSilence_.assign(8192, 0.0f);
     }
     if (!config_.audioOut.empty()) {
         wav_ = std::make_unique<StreamingWavWriter>(config_.audioOut, config_.engine.sceneConfig.sampleRate, config_.audioFloat);
@@ -208,6 +221,35 @@ MotorLevels LiveSession::control(double t, const SensorCounts* counts, const Imu
     return levels;
 }
 
+void LiveSession::renderBlock(float* left, float* right, int n) noexcept
+{
+    if (recording_.channels.empty()) {
+        engine_->renderAudio(left, right, n);
+        return;
+    }
+    // The recording's next n frames (silence after its end: the input stays connected), heard
+    // by the scene first, then played out under the scene's own sound.
+    const float* in[2] = {recordingSilence_.data(), recordingSilence_.data()};
+    const std::size_t frames = recording_.frames();
+    const bool inside = recordingAt_ + static_cast<std::uint64_t>(n) <= frames;
+    const int chunk = std::min(n, static_cast<int>(recordingSilence_.size()));
+    if (inside) {
+        in[0] = recording_.channels[0].data() + recordingAt_;
+        in[1] = recording_.channels[recording_.channels.size() > 1 ? 1 : 0].data() + recordingAt_;
+    }
+    const int channels = recording_.channels.size() > 1 ? 2 : 1;
+    if (recordingAt_ == 0) engine_->processInput(in, channels, 0);   // the recording itself: followed from its first sample
+    engine_->processInput(in, channels, inside ? n : chunk);
+    engine_->renderAudio(left, right, n);
+    if (inside) {
+        for (int i = 0; i < n; ++i) {
+            left[i] = std::clamp(left[i] + in[0][i], -1.0f, 1.0f);
+            right[i] = std::clamp(right[i] + in[1][i], -1.0f, 1.0f);
+        }
+    }
+    recordingAt_ += static_cast<std::uint64_t>(n);
+}
+
 void LiveSession::audioLoop()
 {
     // Renders in real time into the WAV file: the audio clock of a headless session.
@@ -220,7 +262,7 @@ void LiveSession::audioLoop()
             const int n = static_cast<int>(std::min<std::uint64_t>(kBlock, target - rendered));
             std::fill(l.begin(), l.begin() + n, 0.0f);
             std::fill(r.begin(), r.begin() + n, 0.0f);
-            engine_->renderAudio(l.data(), r.data(), n);
+            renderBlock(l.data(), r.data(), n);
             wav_->write(l.data(), r.data(), n);
             rendered += static_cast<std::uint64_t>(n);
         }
@@ -241,7 +283,7 @@ void LiveSession::start()
     if (oscIn_) oscIn_->start();
     if (wav_) audioThread_ = std::thread([this] { audioLoop(); });
     if (soundCard_)
-        soundCard_->start([this](float* l, float* r, int n) { engine_->renderAudio(l, r, n); },
+        soundCard_->start([this](float* l, float* r, int n) { renderBlock(l, r, n); },
                           config_.link.realtimePriority);
 }
 

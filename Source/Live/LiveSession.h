@@ -18,6 +18,7 @@
 #include "Device/Calibration.h"
 #include "Device/DeviceLink.h"
 #include "Device/OscInput.h"
+#include "Core/Wav.h"
 #include "Engine/Engine.h"
 #include "Live/ControlLoop.h"
 #include <atomic>
@@ -53,6 +54,11 @@ struct LiveConfig {
     bool audioFloat = false;
     std::string soundCard;            ///< ALSA device to play on when audioOut is empty ("" = none)
     bool soundCardOptional = false;   ///< true: a card that cannot be opened is a warning, not an error
+    /// A recording (WAV) the scene listens to while it plays out with the scene's audio
+    /// (`play --audio-in`): from the session's start, block by block on the audio thread,
+    /// into Engine::processInput and mixed into the output. Its sample rate must be the
+    /// engine's; the scene must listen (InputError otherwise). Empty = none.
+    std::string audioIn;
     std::string tactileOut;           ///< t,m1..m9 CSV of every motor packet
     std::string logOut;               ///< session log CSV, one row per sensor packet
     std::string oscOut;               ///< HOST:PORT; empty = none
@@ -133,6 +139,11 @@ private:
     std::unique_ptr<OscSender> oscOut_;
     std::unique_ptr<StreamingCsvWriter> log_, tactile_;
     std::unique_ptr<StreamingWavWriter> wav_;
+    /// Audio thread: the scene's block with the recording (audioIn) heard and played out.
+    void renderBlock(float* left, float* right, int n) noexcept;
+    AudioBuffer recording_;                  ///< audioIn, read at construction
+    std::vector<float> recordingSilence_;    ///< zeros for after the recording's end
+    std::uint64_t recordingAt_ = 0;          ///< audio thread: next frame of the recording
     std::unique_ptr<audio::SoundCard> soundCard_;
     std::string soundCardWarning_;
     std::thread audioThread_;

@@ -1,4 +1,5 @@
 #include "Plugin/BlockControl.h"
+#include <algorithm>
 #include "Core/Clock.h"
 #include "Engine/Engine.h"
 #include <cmath>
@@ -148,8 +149,16 @@ void BlockControl::flushNoteOffs(juce::MidiBuffer& midi, int blockSamples) noexc
 void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi, juce::AudioPlayHead* playHead,
                                 bool offline) noexcept
 {
+    processBlock(buffer, midi, playHead, offline, Listen {});
+}
+
+void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi, juce::AudioPlayHead* playHead,
+                                bool offline, const Listen& listen) noexcept
+{
     const int n = buffer.getNumSamples();
-    buffer.clear();
+    // The input channels are read step by step below; the output is written over them.
+    const int listenCount = (listen.first >= 0 && listen.first + listen.count <= buffer.getNumChannels()) ? std::min(listen.count, 2) : 0;
+    const int throughCount = std::min({listen.through, 2, buffer.getNumChannels()});
     // No MIDI input is used; the buffer carries our gestures out. The host's buffer may be sized
     // for a few events only, and a roll that emits several would grow it here: the first block
     // hands it storage sized in prepare() (swapWith moves pointers, and clear() keeps the
@@ -163,8 +172,10 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
     midi.clear();
     const double wall = monotonicSeconds();
     lastAudioMs_.store(wall * 1e3, std::memory_order_relaxed);
-    if (buffer.getNumChannels() < 2 || n <= 0) return;
-    if (! token_.tryTake()) return;   // the idle clock is finishing an update: one silent block
+    if (buffer.getNumChannels() < 2 || n <= 0 || ! token_.tryTake()) {   // the idle clock is finishing an update: one silent block
+        buffer.clear();
+        return;
+    }
 
     const double sr = sampleRate_.load(std::memory_order_relaxed);
     Transport transport;
@@ -196,11 +207,27 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
             step(samplesPerTick / sr, wall + pos / sr, ! offline, t, &midi, pos);
             samplesToTick_ = samplesPerTick;
         }
-        const int len = std::min(n - pos, samplesToTick_);
+        const int len = std::min({n - pos, samplesToTick_, kInputScratch});
+        if (listenCount > 0) {
+            // The scene hears this stretch of the input before its sound for it is rendered.
+            const float* in[2] {input_[0].data(), input_[1].data()};
+            for (int c = 0; c < listenCount; ++c)
+                std::copy_n(buffer.getReadPointer(listen.first + c) + pos, len, input_[static_cast<std::size_t>(c)].begin());
+            loop_.processInput(in, listenCount, len);
+        }
+        for (int c = 0; c < throughCount; ++c)   // the main input, before the output overwrites it
+            std::copy_n(buffer.getReadPointer(c) + pos, len, through_[static_cast<std::size_t>(c)].begin());
+        juce::FloatVectorOperations::clear(left + pos, len);
+        juce::FloatVectorOperations::clear(right + pos, len);
         loop_.render(left + pos, right + pos, len);
+        if (throughCount > 0) {
+            juce::FloatVectorOperations::add(left + pos, through_[0].data(), len);
+            juce::FloatVectorOperations::add(right + pos, through_[throughCount > 1 ? 1 : 0].data(), len);
+        }
         pos += len;
         samplesToTick_ -= len;
     }
+    for (int c = 2; c < buffer.getNumChannels(); ++c) buffer.clear(c, 0, n);   // sidechain / extra inputs
     flushNoteOffs(midi, n);
     token_.release();
 }

@@ -49,8 +49,19 @@ public:
 
     /// Message thread, token held: a new sample rate; MIDI storage for the host's buffer.
     void prepare(double sampleRate);
+    /// Which channels of the host's buffer carry the audio the scenes listen to (the main input
+    /// or the sidechain), and whether it is played through to the output (the main input: an
+    /// effect that listens must not mute its track).
+    struct Listen {
+        int first = 0;
+        int count = 0;          ///< channels listened to from `first` (0: no audio input)
+        int through = 0;        ///< main-input channels (from channel 0) played through to the output
+    };
     /// Audio thread: the whole block. `playHead` may be null; `offline` is the host's
     /// non-realtime render (its blocks do not reach the motors: they get all-off).
+    void processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi, juce::AudioPlayHead* playHead, bool offline,
+                      const Listen& listen) noexcept;
+    /// The same without an audio input.
     void processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi, juce::AudioPlayHead* playHead, bool offline) noexcept;
     /// Idle control clock (no audio for a while): `dt` s since its previous call. Runs the
     /// control step itself when no audio callback came for kIdleAfterMs and the token is free.
@@ -109,6 +120,9 @@ private:
     juce::MidiBuffer midiStorage_;
     bool midiStorageGiven_ = false;
     std::uint64_t frameSerial_ = 0;
+    /// The listened-to input of one control step (≤ 192 kHz / 200 Hz samples), fixed size.
+    static constexpr int kInputScratch = 1024;
+    std::array<std::array<float, kInputScratch>, 2> input_ {}, through_ {};
 
     SeqLock<ArmFrame> frame_;
     SpscQueue<GestureEvent, 128> gestures_;

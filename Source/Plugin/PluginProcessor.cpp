@@ -15,8 +15,19 @@ BlockControl::Cells cellsOf(juce::AudioProcessorValueTreeState& apvts)
 }
 } // namespace
 
+/// A main input as effects that listen have (the track the score follows, the music audio-touch
+/// turns into touch; played through to the output) — except in the VST3: this JUCE's VST3
+/// wrapper copies each declared input bus's channel mapping (a std::vector) on every block, an
+/// allocation on the audio thread before the plugin is even called (docs/PLUGIN.md).
+juce::AudioProcessor::BusesProperties ArmadilloProcessor::busesFor(juce::AudioProcessor::WrapperType wrapper)
+{
+    auto buses = juce::AudioProcessor::BusesProperties().withOutput("Output", juce::AudioChannelSet::stereo(), true);
+    if (wrapper != juce::AudioProcessor::wrapperType_VST3) buses = buses.withInput("Input", juce::AudioChannelSet::stereo(), true);
+    return buses;
+}
+
 ArmadilloProcessor::ArmadilloProcessor()
-    : AudioProcessor(BusesProperties().withOutput("Output", juce::AudioChannelSet::stereo(), true)),
+    : AudioProcessor(busesFor(juce::PluginHostType::getPluginLoadedAs())),
       sceneTable_(querySceneParameters()),
       apvts_(*this, nullptr, "PARAMETERS", createParameterLayout(sceneTable_)),
       settings_(PluginState::defaultSettings()),
@@ -50,7 +61,10 @@ ArmadilloProcessor::~ArmadilloProcessor()
 
 bool ArmadilloProcessor::isBusesLayoutSupported(const BusesLayout& layouts) const
 {
-    return layouts.getMainOutputChannelSet() == juce::AudioChannelSet::stereo() && layouts.getMainInputChannels() == 0;
+    const auto inputOk = [](const juce::AudioChannelSet& set) {
+        return set.isDisabled() || set == juce::AudioChannelSet::mono() || set == juce::AudioChannelSet::stereo();
+    };
+    return layouts.getMainOutputChannelSet() == juce::AudioChannelSet::stereo() && inputOk(layouts.getMainInputChannelSet());
 }
 
 int ArmadilloProcessor::sceneIndex() const noexcept
@@ -74,6 +88,15 @@ EngineRequest ArmadilloProcessor::currentRequest() const
 void ArmadilloProcessor::prepareToPlay(double sampleRate, int)
 {
     sampleRate_.store(sampleRate > 0.0 ? sampleRate : 48000.0);
+    // The main input (where the listened-to audio sits in processBlock's buffer; the layout is
+    // fixed until the next prepareToPlay), heard and played through.
+    BlockControl::Listen listen;
+    if (const auto* input = getBus(true, 0); input != nullptr && input->isEnabled() && input->getNumberOfChannels() > 0) {
+        listen.first = input->getChannelIndexInProcessBlockBuffer(0);
+        listen.count = input->getNumberOfChannels();
+        listen.through = listen.count;
+    }
+    listen_ = listen;
     engines_.install(currentRequest(), token_);
     token_.take();   // the idle clock holds it for < 1 ms; audio is stopped during prepareToPlay
     control_.prepare(sampleRate_.load());
@@ -83,7 +106,7 @@ void ArmadilloProcessor::prepareToPlay(double sampleRate, int)
 void ArmadilloProcessor::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi)
 {
     juce::ScopedNoDenormals noDenormals;
-    control_.processBlock(buffer, midi, getPlayHead(), isNonRealtime());
+    control_.processBlock(buffer, midi, getPlayHead(), isNonRealtime(), listen_);
 }
 
 // ------------------------------------------------------------------------------------------------

@@ -100,6 +100,7 @@ public:
     double controlRateMeasured() const noexcept { return connections_.controlRateMeasured(); }
 
 private:
+    static BusesProperties busesFor(WrapperType wrapper);
     // Message thread
     void timerCallback() override;
     void valueTreePropertyChanged(juce::ValueTree&, const juce::Identifier&) override;
@@ -113,6 +114,7 @@ private:
     std::atomic<float>* scene_ = nullptr;
     juce::ValueTree settings_;
     std::atomic<double> sampleRate_ {48000.0};
+    BlockControl::Listen listen_ {};             // set in prepareToPlay (audio stopped), read by processBlock
 
     // The live rig, in the order it is built (and the reverse of teardown).
     live::ControlLoop loop_;

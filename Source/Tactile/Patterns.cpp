@@ -158,21 +158,25 @@ PatternSample evaluatePattern(const PatternRequest& r, const PatternParams& p, d
     switch (r.kind) {
     case PatternKind::Point:
     case PatternKind::Jolt:
-    case PatternKind::Accent: putMask(s, mask, level, false); break;
+    case PatternKind::Accent:
+        putMask(s, mask, level, false);
+        s.segmentLeft = length - t;
+        break;
 
     case PatternKind::Pulse: {
         const double attack = std::min(p.pulseAttack, 0.5 * length);
         const double v = t < attack ? t / attack : 1.0 - (t - attack) / (length - attack);
         putMask(s, mask, level * float(v), false);
+        s.segmentLeft = length - t;
         break;
     }
     case PatternKind::FadeInPulse:
         if (std::isfinite(length)) putMask(s, mask, level * float(t / length), true);
         else putMask(s, mask, level, true);
         break;
-    case PatternKind::FadeOutPulse:
-        if (std::isfinite(length)) putMask(s, mask, level * float(1.0 - t / length), false);
-        else putMask(s, mask, level, false);
+    case PatternKind::FadeOutPulse:   // a fade: it cuts in at its level, never with a spike
+        if (std::isfinite(length)) putMask(s, mask, level * float(1.0 - t / length), true);
+        else putMask(s, mask, level, true);
         break;
 
     case PatternKind::Breathing: {
@@ -190,7 +194,9 @@ PatternSample evaluatePattern(const PatternRequest& r, const PatternParams& p, d
         if (n == 0) break;
         const double step = 1.0 / rateOr(r, 1.0 / p.tickleStep);
         const double k = std::floor(t / step);
-        if (t - k * step >= std::min(p.tickleTouch, step)) break;
+        const double touch = std::min(p.tickleTouch, step);
+        if (t - k * step >= touch) break;
+        s.segmentLeft = touch - (t - k * step);
         const auto pick = mix(seed ^ mix(static_cast<std::uint64_t>(k))) % static_cast<std::uint64_t>(n);
         put(s, order[static_cast<std::size_t>(pick)], level * p.tickleScale, true);
         break;
@@ -239,6 +245,7 @@ PatternSample evaluatePattern(const PatternRequest& r, const PatternParams& p, d
         const bool arrival = e == kGlassEvents - 1;
         if ((mask & (1u << index)) == 0) break;
         put(s, index, arrival ? clampLevel(level + p.glassArrivalBoost) : level, false);
+        s.segmentLeft = (arrival ? 0.5 * cycle - u : (e + 1) * event - u);
         break;
     }
     case PatternKind::GearPull: {
@@ -247,6 +254,7 @@ PatternSample evaluatePattern(const PatternRequest& r, const PatternParams& p, d
         const double position = t * rateOr(r, p.gearRate);
         const double k = std::floor(position);
         if (position - k >= p.gearDuty) break;
+        s.segmentLeft = (p.gearDuty - (position - k)) / rateOr(r, p.gearRate);
         const bool outer = std::fmod(k, 2.0) < 0.5;
         const std::uint16_t rows = outer ? (motors::kWristRow | motors::kElbowRow) : motors::kMiddleRow;
         putMask(s, static_cast<std::uint16_t>(mask & rows), level, false);
@@ -255,10 +263,15 @@ PatternSample evaluatePattern(const PatternRequest& r, const PatternParams& p, d
     case PatternKind::Geiger: {
         const double period = 1.0 / rateOr(r, p.geigerRate);
         const double u = t - std::floor(t / period) * period;
-        if (u < std::min(p.geigerClick, 0.5 * period)) putMask(s, mask, level, false);
+        const double click = std::min(p.geigerClick, 0.5 * period);
+        if (u < click) {
+            putMask(s, mask, level, false);
+            s.segmentLeft = click - u;
+        }
         break;
     }
     }
+    if (r.soft) s.smooth = s.active;   // the intent asked for a soft start
     return s;
 }
 

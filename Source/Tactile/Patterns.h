@@ -7,6 +7,7 @@
 #include "Core/Types.h"
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string_view>
 
@@ -83,6 +84,10 @@ struct PatternSample {
     std::array<float, kMaxMotors> level {};   ///< 0..15 per motor (right-arm layout)
     std::uint16_t active = 0;                 ///< motors this pattern drives now (level > 0)
     std::uint16_t smooth = 0;                 ///< motors whose rise is a fade (no jump-start)
+    /// s from t until the current on-segment of the active motors ends (a click, a touch, a
+    /// one-shot's end); infinity when it lasts until stopped. The engine gives no jump-start to
+    /// a segment shorter than its spike: such a click plays at its own level.
+    double segmentLeft = std::numeric_limits<double>::infinity();
 };
 
 /// The pattern at time t s after it started (t may be any value in [0, length)). `seed` picks

@@ -12,6 +12,13 @@
 //   TIME tempo BPM                    (beats only)
 //
 // TIME is a number in the file's units, or +D: D after the previous event.
+//
+// Version 2 (`armadillo-score 2`) adds, for following the recording the listener plays:
+//   part NAME [follow=none|notes|amplitude|notes+amplitude] [attack=MS] [release=MS]
+//             [curve=linear|db] [floor=DB] [top=DB]             (a directive)
+//   note ... [pitch=C5|440hz] [part=NAME] [start=soft|fast]
+//   pattern ... [part=NAME] [start=soft|fast]
+//   TIME cue NAME [detect=none|onset|loud|quiet] [window=S] [level=DB]
 #include "Tactile/Score.h"
 #include "Core/AtomicFile.h"
 #include "Core/Errors.h"
@@ -108,8 +115,9 @@ public:
             words_ = splitWords(raw);
             if (words_.empty()) continue;
             if (!sawHeader) {
-                if (words_.size() != 2 || words_[0] != "armadillo-score" || words_[1] != "1")
-                    fail("", "a score starts with the line 'armadillo-score 1'");
+                if (words_.size() != 2 || words_[0] != "armadillo-score" || (words_[1] != "1" && words_[1] != "2"))
+                    fail("", "a score starts with the line 'armadillo-score 1' (or 2)");
+                score_.version = words_[1] == "2" ? 2 : 1;
                 sawHeader = true;
                 continue;
             }
@@ -149,41 +157,6 @@ private:
         return s;
     }
 
-    void directive()
-    {
-        const std::string_view name = words_[0];
-        if (sawEvent_ && name != "length") fail(name, "directives ('" + std::string(name) + "') go before the first event");
-        if (name == "title") {
-            if (words_.size() < 2) fail(name, "title needs some words");
-            const char* first = words_[1].data();
-            const char* last = words_.back().data() + words_.back().size();
-            score_.title.assign(first, static_cast<std::size_t>(last - first));
-            return;
-        }
-        if (words_.size() != 2) fail(name, "'" + std::string(name) + "' takes exactly one value");
-        if (seen(name)) fail(name, "'" + std::string(name) + "' given twice");
-        if (name == "units") {
-            if (words_[1] == "beats") score_.inBeats = true;
-            else if (words_[1] == "seconds") score_.inBeats = false;
-            else fail(name, "units are 'beats' or 'seconds', not '" + std::string(words_[1]) + "'");
-        } else if (name == "tempo") {
-            score_.tempo[0].bpm = number(words_[1], name, 1.0, 1000.0);
-        } else if (name == "length") {
-            lengthUnits_ = number(words_[1], name, 0.0, kMaxTime);
-            lengthLine_ = line_;
-        } else {
-            fail(name, "unknown directive '" + std::string(name) + "' (expected title, units, tempo, length or an event time)");
-        }
-    }
-
-    bool seen(std::string_view name)
-    {
-        for (const auto& s : seenDirectives_)
-            if (s == name) return true;
-        seenDirectives_.emplace_back(name);
-        return false;
-    }
-
     // key=value arguments after the command; each key at most once, only the allowed ones.
     struct Args {
         std::vector<std::pair<std::string_view, std::string_view>> items;
@@ -209,6 +182,100 @@ private:
             a.items.emplace_back(key, w.substr(eq + 1));
         }
         return a;
+    }
+
+    void directive()
+    {
+        const std::string_view name = words_[0];
+        if (sawEvent_ && name != "length") fail(name, "directives ('" + std::string(name) + "') go before the first event");
+        if (name == "title") {
+            if (words_.size() < 2) fail(name, "title needs some words");
+            const char* first = words_[1].data();
+            const char* last = words_.back().data() + words_.back().size();
+            score_.title.assign(first, static_cast<std::size_t>(last - first));
+            return;
+        }
+        if (name == "part") {
+            part();
+            return;
+        }
+        if (words_.size() != 2) fail(name, "'" + std::string(name) + "' takes exactly one value");
+        if (seen(name)) fail(name, "'" + std::string(name) + "' given twice");
+        if (name == "units") {
+            if (words_[1] == "beats") score_.inBeats = true;
+            else if (words_[1] == "seconds") score_.inBeats = false;
+            else fail(name, "units are 'beats' or 'seconds', not '" + std::string(words_[1]) + "'");
+        } else if (name == "tempo") {
+            score_.tempo[0].bpm = number(words_[1], name, 1.0, 1000.0);
+        } else if (name == "length") {
+            lengthUnits_ = number(words_[1], name, 0.0, kMaxTime);
+            lengthLine_ = line_;
+        } else {
+            fail(name, "unknown directive '" + std::string(name) + "' (expected title, units, tempo, length, part or an event time)");
+        }
+    }
+
+    void needV2(std::string_view field)
+    {
+        if (score_.version < 2) fail(field, "'" + std::string(field) + "' needs 'armadillo-score 2' as the first line");
+    }
+
+    void part()
+    {
+        needV2("part");
+        if (words_.size() < 2) fail("part", "part NAME [follow=...] [attack=MS] [release=MS] [curve=linear|db] [floor=DB] [top=DB]");
+        ScorePart p;
+        p.line = line_;
+        p.name = std::string(words_[1]);
+        if (p.name.find('=') != std::string::npos) fail("part", "a part needs a name first: part NAME key=value ...");
+        for (const auto& q : score_.parts)
+            if (q.name == p.name) fail("part", "part '" + p.name + "' given twice");
+        if (static_cast<int>(score_.parts.size()) >= kMaxScoreParts) fail("part", "at most 8 parts");
+        const Args a = arguments(2, {"follow", "attack", "release", "curve", "floor", "top"});
+        if (const auto f = a.get("follow")) {
+            if (*f == "notes") p.followNotes = true;
+            else if (*f == "amplitude") p.followAmplitude = true;
+            else if (*f == "notes+amplitude" || *f == "amplitude+notes") p.followNotes = p.followAmplitude = true;
+            else if (*f != "none") fail("follow", "follow is none, notes, amplitude or notes+amplitude, not '" + std::string(*f) + "'");
+        }
+        if (const auto v = a.get("attack")) p.attackMs = number(*v, "attack", 0.1, 10000.0);
+        if (const auto v = a.get("release")) p.releaseMs = number(*v, "release", 0.1, 10000.0);
+        if (const auto v = a.get("curve")) {
+            if (*v == "db") p.curveDb = true;
+            else if (*v != "linear") fail("curve", "curve is linear or db, not '" + std::string(*v) + "'");
+        }
+        if (const auto v = a.get("floor")) p.floorDb = number(*v, "floor", -120.0, 0.0);
+        if (const auto v = a.get("top")) p.topDb = number(*v, "top", -120.0, 0.0);
+        if (!(p.topDb > p.floorDb)) fail("top", "top (" + trim(p.topDb) + " dB) must lie above floor (" + trim(p.floorDb) + " dB)");
+        score_.parts.push_back(std::move(p));
+    }
+
+    int partOf(const Args& a)
+    {
+        const auto v = a.get("part");
+        if (!v) return -1;
+        needV2("part");
+        for (std::size_t i = 0; i < score_.parts.size(); ++i)
+            if (score_.parts[i].name == *v) return static_cast<int>(i);
+        fail("part", "no part '" + std::string(*v) + "' (declare it with a 'part' line before the events)");
+    }
+
+    bool softOf(const Args& a)
+    {
+        const auto v = a.get("start");
+        if (!v) return false;
+        needV2("start");
+        if (*v == "soft") return true;
+        if (*v == "fast") return false;
+        fail("start", "start is soft or fast, not '" + std::string(*v) + "'");
+    }
+
+    bool seen(std::string_view name)
+    {
+        for (const auto& s : seenDirectives_)
+            if (s == name) return true;
+        seenDirectives_.emplace_back(name);
+        return false;
     }
 
     std::uint16_t motorsOf(const Args& a, bool required)
@@ -257,15 +324,48 @@ private:
         else if (command == "pattern") pattern(t);
         else if (command == "stop") stop(t);
         else if (command == "tempo") tempo(t);
-        else fail("command", "unknown command '" + std::string(command) + "' (note, pattern, stop, tempo)");
+        else if (command == "cue") cue(t);
+        else fail("command", "unknown command '" + std::string(command) + "' (note, pattern, stop, tempo, cue)");
+    }
+
+    void cue(double t)
+    {
+        needV2("cue");
+        if (words_.size() < 3 || words_[2].find('=') != std::string_view::npos) fail("cue", "a cue needs a name: TIME cue NAME [detect=...]");
+        ScoreCue c;
+        c.line = line_;
+        c.name = std::string(words_[2]);
+        for (const auto& p : pendingCues_)
+            if (p.cue.name == c.name) fail("cue", "cue '" + c.name + "' given twice");
+        const Args a = arguments(3, {"detect", "window", "level"});
+        if (const auto d = a.get("detect")) {
+            if (*d == "onset") c.detect = ScoreCue::Detect::Onset;
+            else if (*d == "loud") c.detect = ScoreCue::Detect::Loud;
+            else if (*d == "quiet") c.detect = ScoreCue::Detect::Quiet;
+            else if (*d != "none") fail("detect", "detect is none, onset, loud or quiet, not '" + std::string(*d) + "'");
+        }
+        if (const auto w = a.get("window")) c.window = number(*w, "window", 0.0, 600.0);
+        if (const auto l = a.get("level")) c.levelDb = number(*l, "level", -120.0, 0.0);
+        pendingCues_.push_back({t, std::move(c)});
+        end_ = std::max(end_, t);
     }
 
     void note(double t)
     {
-        const Args a = arguments(2, {"m", "dur", "level"});
+        const Args a = arguments(2, {"m", "dur", "level", "pitch", "part", "start"});
         ScoreNote n;
         n.line = line_;
         n.motors = motorsOf(a, true);
+        n.part = partOf(a);
+        n.soft = softOf(a);
+        if (const auto p = a.get("pitch")) {
+            needV2("pitch");
+            n.pitchHz = parsePitch(*p);
+            if (!(n.pitchHz >= 20.0 && n.pitchHz <= 5000.0))
+                fail("pitch", "'" + std::string(*p) + "' is not a pitch (a note name like C5, Fs4 (F sharp), Bb3, or 20hz..5000hz)");
+        }
+        if (n.part >= 0 && score_.parts[static_cast<std::size_t>(n.part)].followNotes && n.pitchHz == 0.0)
+            fail("pitch", "a note of a part that follows notes needs pitch= (what the recording plays)");
         const auto dur = a.get("dur");
         if (!dur) fail("dur", "a note needs dur=");
         const double d = number(*dur, "dur", 0.0, kMaxTime);
@@ -290,11 +390,13 @@ private:
         const auto kind = patternKindFromName(words_[2]);
         if (!kind) fail("pattern", "unknown pattern '" + std::string(words_[2]) + "' (" + kindList() + ")");
         // The kind is word 2; arguments start at 3.
-        const Args a = arguments(3, {"m", "level", "dur", "rate", "voice"});
+        const Args a = arguments(3, {"m", "level", "dur", "rate", "voice", "part", "start"});
         PendingPattern p;
         p.at = t;
         p.line = line_;
+        (void) partOf(a);   // a pattern plays by the score position (which the alignment moves)
         p.request.kind = *kind;
+        p.request.soft = softOf(a);
         p.request.motors = motorsOf(a, false);
         p.request.level = a.get("level") ? level(*a.get("level")) : 10.0f;
         p.request.voice = a.get("voice") ? voiceNumber(*a.get("voice")) : 0;
@@ -361,6 +463,10 @@ private:
             p.note.end = toSeconds(p.to);
             score_.notes.push_back(std::move(p.note));
         }
+        for (auto& c : pendingCues_) {
+            c.cue.time = toSeconds(c.at);
+            score_.cues.push_back(std::move(c.cue));
+        }
         // Patterns: each runs until its duration, a stop on its voice, or the next pattern on
         // its voice, whichever comes first.
         for (std::size_t i = 0; i < pendingPatterns_.size(); ++i) {
@@ -417,6 +523,10 @@ private:
         double durUnits = 0.0;
         bool hold = false;
     };
+    struct PendingCue {
+        double at;
+        ScoreCue cue;
+    };
     struct PendingStop {
         double at;
         int voice;
@@ -431,6 +541,7 @@ private:
     std::vector<PendingNote> pendingNotes_;
     std::vector<PendingPattern> pendingPatterns_;
     std::vector<PendingStop> pendingStops_;
+    std::vector<PendingCue> pendingCues_;
     long line_ = 0;
     double lastTime_ = 0.0;
     double end_ = 0.0;
@@ -482,6 +593,37 @@ float ScoreNote::levelAt(double seconds) const noexcept
     const auto i = std::min(static_cast<std::size_t>(x), envelope.size() - 2);
     const double f = x - double(i);
     return static_cast<float>((1.0 - f) * static_cast<double>(envelope[i]) + f * static_cast<double>(envelope[i + 1]));
+}
+
+float ScoreNote::levelAtFraction(double fraction) const noexcept
+{
+    if (envelope.empty()) return 0.0f;
+    const double f = std::isfinite(fraction) ? std::clamp(fraction, 0.0, 0.999999) : 0.0;
+    return levelAt(start + f * (end - start));
+}
+
+double parsePitch(std::string_view text) noexcept
+{
+    if (text.size() > 2 && (text.substr(text.size() - 2) == "hz" || text.substr(text.size() - 2) == "Hz")) {
+        const auto v = parseNumber(text.substr(0, text.size() - 2));
+        return v && *v > 0.0 ? *v : 0.0;
+    }
+    if (text.size() < 2 || text.size() > 3) return 0.0;
+    static constexpr int kSemitone[7] = {9, 11, 0, 2, 4, 5, 7};   // A B C D E F G from C
+    const char letter = text[0];
+    if (letter < 'A' || letter > 'G') return 0.0;
+    int semitone = kSemitone[letter - 'A'];
+    std::size_t i = 1;
+    if (text.size() == 3) {
+        if (text[1] == 's') ++semitone;   // '#' starts a comment in a score: sharps are written s
+        else if (text[1] == 'b') --semitone;
+        else return 0.0;
+        i = 2;
+    }
+    if (text[i] < '0' || text[i] > '9') return 0.0;
+    const int octave = text[i] - '0';
+    const int midi = 12 * (octave + 1) + semitone;   // C4 = 60
+    return 440.0 * std::pow(2.0, (midi - 69) / 12.0);
 }
 
 double Score::secondsAtBeat(double beat) const noexcept

@@ -12,6 +12,15 @@ void ScorePlayer::setScore(Score score)
     for (const auto& p : score_.patterns) used_[static_cast<std::size_t>(p.request.voice)] = true;
     longestNote_ = 0.0;
     for (const auto& n : score_.notes) longestNote_ = std::max(longestNote_, n.end - n.start);
+    followedOf_.assign(score_.notes.size(), -1);
+    followed_.clear();
+    for (std::size_t i = 0; i < score_.notes.size(); ++i) {
+        const ScoreNote& n = score_.notes[i];
+        if (n.part >= 0 && score_.parts[static_cast<std::size_t>(n.part)].followNotes && n.pitchHz > 0.0) {
+            followedOf_[i] = static_cast<int>(followed_.size());
+            followed_.push_back(static_cast<int>(i));
+        }
+    }
     // Per voice, the pattern that plays is a step function of the position: it can change only
     // at a start or end of one of the voice's patterns. Between two such boundaries it is the
     // last-listed pattern whose span [start, end) holds the position.
@@ -77,12 +86,49 @@ void ScorePlayer::silence(MotorCanvas& canvas) noexcept
     }
 }
 
-void ScorePlayer::control(const Transport& transport, double dt, MotorCanvas& canvas) noexcept
+float ScorePlayer::amplitudeLevel(const ScoreNote& note, const ScorePart& part, float amplitude, bool offBelowFloor) noexcept
+{
+    if (note.envelope.empty()) return 0.0f;
+    const auto [lo, hi] = std::minmax_element(note.envelope.begin(), note.envelope.end());
+    const double a = std::isfinite(amplitude) ? std::max(0.0, static_cast<double>(amplitude)) : 0.0;
+    double x;
+    if (part.curveDb) {
+        const double db = 20.0 * std::log10(std::max(a, 1e-9));
+        x = (db - part.floorDb) / (part.topDb - part.floorDb);
+    } else {
+        const double floor = std::pow(10.0, part.floorDb / 20.0), top = std::pow(10.0, part.topDb / 20.0);
+        x = (a - floor) / (top - floor);
+    }
+    if (!(x > 0.0)) return offBelowFloor ? 0.0f : *lo;
+    x = std::min(x, 1.0);
+    return static_cast<float>(static_cast<double>(*lo) + x * static_cast<double>(*hi - *lo));
+}
+
+void ScorePlayer::control(const Transport& transport, double dt, MotorCanvas& canvas, const FollowState* follow) noexcept
 {
     if (!(dt >= 0.0) || !std::isfinite(dt)) dt = 0.0;
     double position;
     double speed = 1.0;   // score seconds per real second (beat sync at another tempo)
-    if (transport.valid) {
+    if (follow) {
+        // The recording places the score: the followed note heard last (and how long ago), or
+        // for a score without followed notes the cue-aligned time since the first sound.
+        if (!followed_.empty()) {
+            position = -1.0;
+            if (follow->note >= 0 && follow->note < static_cast<int>(followed_.size())) {
+                const ScoreNote& n = score_.notes[static_cast<std::size_t>(followed_[static_cast<std::size_t>(follow->note)])];
+                position = n.start + std::min(follow->sinceOnset, 0.999 * (n.end - n.start));
+            }
+        } else {
+            position = follow->heard ? follow->position : -1.0;
+        }
+        if (!(position >= 0.0)) {   // before the recording's first note: nothing
+            silence(canvas);
+            resync_ = true;
+            previous_ = -1.0;
+            position_ = 0.0;
+            return;
+        }
+    } else if (transport.valid) {
         if (!transport.playing) {   // paused or stopped: nothing plays, resume re-syncs
             silence(canvas);
             resync_ = true;
@@ -121,20 +167,46 @@ void ScorePlayer::control(const Transport& transport, double dt, MotorCanvas& ca
 
     // Notes: the sustained target of every motor, from the position alone.
     std::array<float, kMaxMotors> level {};
+    std::uint16_t soft = 0;   // motors whose loudest note asked for a soft start
     if (position < score_.length) {
         const auto firstAfter = std::upper_bound(score_.notes.begin(), score_.notes.end(), position,
                                                  [](double p, const ScoreNote& n) { return p < n.start; });
         for (auto it = firstAfter; it != score_.notes.begin();) {
             --it;
             if (it->start < position - longestNote_) break;
-            const float l = it->levelAt(position);
+            const auto index = static_cast<std::size_t>(it - score_.notes.begin());
+            if (follow && followedOf_[index] >= 0) continue;   // placed by the follower below
+            float l = it->levelAt(position);
+            if (follow && l > 0.0f && it->part >= 0 && score_.parts[static_cast<std::size_t>(it->part)].followAmplitude)
+                l = amplitudeLevel(*it, score_.parts[static_cast<std::size_t>(it->part)],
+                                   follow->envelope[static_cast<std::size_t>(it->part)], true);
             if (!(l > 0.0f)) continue;
             for (int m = 0; m < kMaxMotors; ++m)
-                if (it->motors & (1u << m)) level[static_cast<std::size_t>(m)] = std::max(level[static_cast<std::size_t>(m)], l);
+                if ((it->motors & (1u << m)) && l > level[static_cast<std::size_t>(m)]) {
+                    level[static_cast<std::size_t>(m)] = l;
+                    soft = static_cast<std::uint16_t>(it->soft ? (soft | (1u << m)) : (soft & ~(1u << m)));
+                }
         }
     }
+    // The followed note the recording plays now: its motors from the moment it was heard.
+    if (follow && follow->sounding && follow->note >= 0 && follow->note < static_cast<int>(followed_.size())) {
+        const ScoreNote& n = score_.notes[static_cast<std::size_t>(followed_[static_cast<std::size_t>(follow->note)])];
+        const ScorePart& part = score_.parts[static_cast<std::size_t>(n.part)];
+        const float l = part.followAmplitude
+                            ? amplitudeLevel(n, part, follow->envelope[static_cast<std::size_t>(n.part)], false)
+                            : n.levelAtFraction(follow->sinceOnset / (n.end - n.start));
+        const bool noteSoft = n.soft || part.followAmplitude;   // a followed envelope is a swell
+        for (int m = 0; m < kMaxMotors; ++m)
+            if ((n.motors & (1u << m)) && l > level[static_cast<std::size_t>(m)]) {
+                level[static_cast<std::size_t>(m)] = l;
+                soft = static_cast<std::uint16_t>(noteSoft ? (soft | (1u << m)) : (soft & ~(1u << m)));
+            }
+    }
     const float gain = std::clamp(intensity_, 0.0f, 1.5f);
-    for (int m = 0; m < kMaxMotors; ++m) canvas.setLevel(m, level[static_cast<std::size_t>(m)] * gain);
+    for (int m = 0; m < kMaxMotors; ++m) {
+        if (soft & (1u << m)) canvas.setSoftLevel(m, level[static_cast<std::size_t>(m)] * gain);
+        else canvas.setLevel(m, level[static_cast<std::size_t>(m)] * gain);
+    }
 
     // Patterns: per voice, the one whose span holds the position.
     for (int v = 0; v < kPatternVoices; ++v) {

@@ -5,6 +5,7 @@
 // exactly what the score has there; patterns are restarted on a jump with their remaining time.
 #include "Core/Scene.h"
 #include "Tactile/Score.h"
+#include "Tactile/ScoreFollower.h"
 #include <array>
 #include <cstddef>
 #include <vector>
@@ -30,7 +31,16 @@ public:
     /// One control step: dt s since the previous one. Writes every motor's sustained target
     /// (0 where no note sounds) and starts/stops the pattern voices the score uses. Real-time:
     /// bounded work per step (a cursor per voice; a binary search only after a jump).
-    void control(const Transport& transport, double dt, MotorCanvas& canvas) noexcept;
+    /// With `follow` (audio comes in), the recording places the score instead of the clock:
+    /// the followed notes sound when the follower hears them, amplitude parts take the
+    /// recording's envelope, and everything else plays at the position the alignment gives
+    /// (the followed note heard last, or the cues of a texture score). Nothing plays before
+    /// the recording's first sound.
+    void control(const Transport& transport, double dt, MotorCanvas& canvas, const FollowState* follow = nullptr) noexcept;
+    /// The level a note of an amplitude-following part has at envelope `amplitude` (linear):
+    /// the part's curve from floor to top mapped onto the note's written levels (lowest..highest).
+    /// Below the floor: the lowest level, or 0 when `offBelowFloor`.
+    static float amplitudeLevel(const ScoreNote& note, const ScorePart& part, float amplitude, bool offBelowFloor) noexcept;
 
     double position() const noexcept { return position_; }   ///< s of score time, last step
     bool finished() const noexcept { return position_ >= score_.length; }
@@ -58,6 +68,8 @@ private:
     std::array<std::vector<VoiceSpan>, kPatternVoices> spans_ {};   ///< per voice, by start
     std::array<std::size_t, kPatternVoices> spanCursor_ {};         ///< span of the last step
     double longestNote_ = 0.0;
+    std::vector<int> followedOf_;   ///< per note: its index among the followed notes, -1 = not followed
+    std::vector<int> followed_;     ///< the followed notes' indices in score_.notes
 };
 
 } // namespace armadillo

@@ -47,9 +47,21 @@ void TactileEngine::setLevel(int motorIndex, float level)
 {
     if (motorIndex < 0 || motorIndex >= kMaxMotors) return;
     target_[static_cast<std::size_t>(motorIndex)] = sanitise(level);
+    softTargets_ = static_cast<std::uint16_t>(softTargets_ & ~(1u << motorIndex));
 }
 
-void TactileEngine::clearLevels() { target_.fill(0.0f); }
+void TactileEngine::setSoftLevel(int motorIndex, float level)
+{
+    if (motorIndex < 0 || motorIndex >= kMaxMotors) return;
+    target_[static_cast<std::size_t>(motorIndex)] = sanitise(level);
+    softTargets_ = static_cast<std::uint16_t>(softTargets_ | (1u << motorIndex));
+}
+
+void TactileEngine::clearLevels()
+{
+    target_.fill(0.0f);
+    softTargets_ = 0;
+}
 
 void TactileEngine::trigger(const PatternRequest& request)
 {
@@ -89,6 +101,7 @@ bool TactileEngine::voiceActive(int voice) const noexcept
 void TactileEngine::clearDrive() noexcept
 {
     target_.fill(0.0f);
+    softTargets_ = 0;
     slewed_.fill(0.0f);
     previous_.fill(0.0f);
     kickLeft_.fill(0.0);
@@ -121,7 +134,8 @@ MotorLevels TactileEngine::tick(double dt, double motorOnTime) noexcept
         if (goal > s) s = config_.targetFadeIn > 0.0 ? std::min(goal, s + float(dt * kMaxLevel / config_.targetFadeIn)) : goal;
         else if (goal < s) s = config_.targetFadeOut > 0.0 ? std::max(goal, s - float(dt * kMaxLevel / config_.targetFadeOut)) : goal;
         desired[m] = s;
-        if (config_.targetFadeIn > 0.0 && s > 0.0f) smooth = static_cast<std::uint16_t>(smooth | (1u << m));
+        if ((config_.targetFadeIn > 0.0 || (softTargets_ & (1u << m)) != 0) && s > 0.0f)
+            smooth = static_cast<std::uint16_t>(smooth | (1u << m));
     }
 
     // Pattern voices, sampled at the middle of this packet; the loudest wins per motor.
@@ -129,12 +143,15 @@ MotorLevels TactileEngine::tick(double dt, double motorOnTime) noexcept
         if (!v.active) continue;
         const double mid = std::min(v.elapsed + 0.5 * dt, v.length);
         const PatternSample sample = evaluatePattern(v.request, config_.patterns, mid, v.seed);
+        // A click shorter than the spike (its on-time from this packet's start) plays at its
+        // own level: a 30 ms spike would be all of it.
+        const bool brief = sample.segmentLeft + 0.5 * dt <= config_.jumpStartTime + 1e-9;
         for (int m = 0; m < kMaxMotors; ++m) {
             const auto mi = static_cast<std::size_t>(m);
             if ((sample.active & (1u << m)) == 0 || !(sample.level[mi] > desired[mi])) continue;
             desired[mi] = sample.level[mi];
             const auto bit = static_cast<std::uint16_t>(1u << m);
-            smooth = static_cast<std::uint16_t>((sample.smooth & bit) ? (smooth | bit) : (smooth & ~bit));
+            smooth = static_cast<std::uint16_t>(((sample.smooth & bit) || brief) ? (smooth | bit) : (smooth & ~bit));
         }
         v.elapsed += dt;
         if (v.elapsed >= v.length) v.active = false;

@@ -112,6 +112,7 @@ public:
 
     // MotorCanvas (indices in the right-arm layout; the engine mirrors for the left arm).
     void setLevel(int motorIndex, float level) override;
+    void setSoftLevel(int motorIndex, float level) override;
     void clearLevels() override;
     void trigger(const PatternRequest& request) override;
     void stopVoice(int voice) override;
@@ -136,6 +137,7 @@ private:
     SafetyStage safety_;
     std::array<Voice, kPatternVoices> voices_ {};
     std::array<float, kMaxMotors> target_ {};      ///< sustained targets (right-arm layout)
+    std::uint16_t softTargets_ = 0;                ///< targets set by setSoftLevel (never kicked)
     std::array<float, kMaxMotors> slewed_ {};      ///< targets after targetFadeIn/Out
     std::array<float, kMaxMotors> previous_ {};    ///< desired level of the previous packet
     std::array<double, kMaxMotors> kickLeft_ {};   ///< s of jump-start spike still to give

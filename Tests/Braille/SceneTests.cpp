@@ -305,3 +305,40 @@ TEST_CASE("A held row repeats only when asked to", "[braille][scene]")
     CHECK(pulsesWhileHolding(0.0f) == 1);
     CHECK(pulsesWhileHolding(0.5f) == 5);   // at 0, 0.5, 1.0, 1.5, 2.0 s
 }
+
+TEST_CASE("In the training's hold stage a held row stays felt (thesis 4.4.1), elsewhere it does not repeat", "[braille][scene]")
+{
+    Harness h("unused", 3);
+    h.set(kParamMode, 2.0f);
+    auto* controls = dynamic_cast<BrailleSceneControls*>(h.scene.get());
+    REQUIRE(controls);
+    // Roll to the next row and hold it 2.4 s; count the separate pulses felt while holding.
+    double roll = 0.0;
+    auto pulsesWhileHolding = [&] {
+        Motion m;
+        m.t = h.frames.size() * kDt;
+        m.move(hanging(roll), hanging(roll + 16), 0.1);
+        roll += 16;
+        m.hold(hanging(roll), 0.3);   // the step's own pulse (0.25 s) is over by now
+        const std::size_t from = h.frames.size() + m.states.size();
+        m.hold(hanging(roll), 2.4);
+        h.run(m);
+        int pulses = 0;
+        for (std::size_t i = from; i < h.frames.size(); ++i)
+            if (h.frames[i] != 0 && h.frames[i - 1] == 0) ++pulses;
+        return pulses;
+    };
+    h.idle(0.3);
+    // The first stage ("sides"): a held row is one pulse, as in reading.
+    REQUIRE(controls->trainingPrompt(controls->trainingTrial()).find("left") != std::string::npos);
+    CHECK(pulsesWhileHolding() == 0);
+    // Answer the sides trials right until the hold stage begins.
+    int guard = 0;
+    while (controls->trainingPrompt(controls->trainingTrial()).find("hold") == std::string::npos && guard++ < 100) {
+        REQUIRE(controls->submitAnswer(controls->trainingExpected(controls->trainingTrial())));
+        h.idle(0.05);
+    }
+    REQUIRE(controls->trainingPrompt(controls->trainingTrial()).find("hold") != std::string::npos);
+    h.idle(0.3);
+    CHECK(pulsesWhileHolding() >= 2);   // repeats every 0.8 s while the row is held
+}

@@ -1,7 +1,8 @@
 // The control step and the audio of every scene are real-time (Core/Scene.h): no allocation or
 // free, no lock, no throw on the thread that runs them. Proved with RealtimeGuard around
 // ControlLoop::tick (ArmTracker + Engine::control + Scene::control + TactileEngine) and
-// ControlLoop::render (Engine::renderAudio) for every scene × every source × sweeps of every
+// ControlLoop::processInput + render (Engine::processInput, renderAudio; the input a C5 in bursts,
+// which the listening scenes follow) for every scene × every source × sweeps of every
 // exposed parameter × the step in which the scene swaps in. The guard first proves that it sees
 // each kind of violation, so its zeros mean something.
 #define ARMADILLO_REALTIME_GUARD_IMPLEMENTATION
@@ -167,6 +168,10 @@ RunResult run(const std::string& scene, SourceKind source)
     auto* braille = dynamic_cast<braille::BrailleSceneControls*>(&slot->engine->scene());
 
     std::vector<float> left(8192), right(8192);
+    // The audio input the listening scenes hear (score, audio-touch): bursts of a C5 with two
+    // overtones, 4 a second (the Rite's first note for the score, the middle band for audio-touch).
+    std::vector<float> inLeft(8192), inRight(8192);
+    double inputTime = 0.0;
     const int blocks[] {kSamplesPerStep, 1, 64, 4096, 513};
     ControlStep step;
     step.source = source;
@@ -226,8 +231,19 @@ RunResult run(const std::string& scene, SourceKind source)
         const int n = blocks[i % 5];
         std::fill(left.begin(), left.begin() + n, 0.0f);
         std::fill(right.begin(), right.begin() + n, 0.0f);
+        for (int k = 0; k < n; ++k) {
+            const double t = inputTime + k / 48000.0;
+            inLeft[static_cast<std::size_t>(k)] = inRight[static_cast<std::size_t>(k)] =
+                std::fmod(t, 0.25) < 0.1 ? static_cast<float>(0.2 * std::sin(2.0 * 3.14159265358979 * 523.25 * t) +
+                                                              0.15 * std::sin(2.0 * 3.14159265358979 * 1046.5 * t) +
+                                                              0.1 * std::sin(2.0 * 3.14159265358979 * 1569.75 * t))
+                                          : 0.0f;
+        }
+        inputTime += n / 48000.0;
         {
+            const float* in[2] = {inLeft.data(), inRight.data()};
             RealtimeGuard guard;
+            loop.processInput(in, 2, n);
             loop.render(left.data(), right.data(), n);
             r.audio.add(guard);
         }

@@ -96,7 +96,7 @@ TEST_CASE("Patterns: pulse and fade pulses have their shapes", "[patterns]")
     const auto out = req(PatternKind::FadeOutPulse, set({7}), 9.0f);
     CHECK(at(out, 0.0).level[7] == Approx(9.0f));
     CHECK(at(out, 0.2).level[7] == Approx(3.0f));
-    CHECK(at(out, 0.0).smooth == 0);
+    CHECK(at(out, 0.0).smooth == set({7}));   // a fade too: it cuts in at its level, no jump-start
 }
 
 TEST_CASE("Patterns: breathing moves every motor together at its rate", "[patterns]")

@@ -119,7 +119,7 @@ TEST_CASE("Score: bad files are refused with the line that is wrong", "[score]")
         {"", 0},
         {"# only a comment\n\n", 0},
         {"hello\n", 1},
-        {"armadillo-score 2\n", 1},
+        {"armadillo-score 3\n", 1},
         {h + "0 note m=3 dur=1\n", 2},
         {h + "\n# x\n0 note m=17 dur=1 level=3\n", 4},
         {h + "0 note m=3 dur=1 level=16\n", 2},
@@ -214,4 +214,84 @@ TEST_CASE("Score: fuzzed files either parse into sane scores or are refused with
     }
     CHECK(parsed > 100);    // the fuzzer keeps some files valid …
     CHECK(refused > 1000);  // … and breaks most
+}
+
+TEST_CASE("Score v2: parts, pitches, soft starts and cues; v1 files keep loading and v2 words need v2", "[score][v2]")
+{
+    const Score s = parseScore("armadillo-score 2\n"
+                               "units seconds\n"
+                               "part solo follow=notes attack=5 release=80\n"
+                               "part swell follow=notes+amplitude curve=db floor=-40 top=-10\n"
+                               "0 note m=2 dur=2 pitch=C5 level=1->5 part=swell start=soft\n"
+                               "2 note m=3 dur=0.5 pitch=B4 level=5 part=solo\n"
+                               "2.5 note m=6 dur=0.5 pitch=Fs4 level=4 part=solo\n"
+                               "3 note m=9 dur=1 pitch=330hz level=4\n"
+                               "3 cue wind detect=loud level=-20 window=2\n"
+                               "4 cue glass detect=onset\n",
+                               "v2.score");
+    CHECK(s.version == 2);
+    REQUIRE(s.parts.size() == 2);
+    CHECK(s.parts[0].name == "solo");
+    CHECK(s.parts[0].followNotes);
+    CHECK_FALSE(s.parts[0].followAmplitude);
+    CHECK(s.parts[0].attackMs == 5.0);
+    CHECK(s.parts[0].releaseMs == 80.0);
+    CHECK(s.parts[1].followNotes);
+    CHECK(s.parts[1].followAmplitude);
+    CHECK(s.parts[1].curveDb);
+    CHECK(s.parts[1].floorDb == -40.0);
+    CHECK(s.parts[1].topDb == -10.0);
+    REQUIRE(s.notes.size() == 4);
+    // Pitches from the equal-tempered formula, A4 = 440 Hz.
+    CHECK(s.notes[0].pitchHz == Approx(440.0 * std::pow(2.0, 3.0 / 12.0)));
+    CHECK(s.notes[1].pitchHz == Approx(440.0 * std::pow(2.0, 2.0 / 12.0)));
+    CHECK(s.notes[2].pitchHz == Approx(440.0 * std::pow(2.0, -3.0 / 12.0)));
+    CHECK(s.notes[3].pitchHz == Approx(330.0));
+    CHECK(s.notes[0].part == 1);
+    CHECK(s.notes[0].soft);
+    CHECK_FALSE(s.notes[1].soft);
+    CHECK(s.notes[3].part == -1);
+    REQUIRE(s.cues.size() == 2);
+    CHECK(s.cues[0].name == "wind");
+    CHECK(s.cues[0].detect == ScoreCue::Detect::Loud);
+    CHECK(s.cues[0].levelDb == -20.0);
+    CHECK(s.cues[0].window == 2.0);
+    CHECK(s.cues[1].time == 4.0);
+    CHECK(s.cues[1].detect == ScoreCue::Detect::Onset);
+    CHECK(parsePitch("Bb3") == Approx(440.0 * std::pow(2.0, -11.0 / 12.0)));
+    CHECK(parsePitch("H4") == 0.0);
+    CHECK(parsePitch("C#") == 0.0);
+
+    // Refused, with their line.
+    const std::string v1 = "armadillo-score 1\nunits seconds\n";
+    const std::string v2 = "armadillo-score 2\nunits seconds\n";
+    struct Bad {
+        std::string text;
+        long line;
+    };
+    const std::vector<Bad> cases {
+        {v1 + "part a follow=notes\n", 3},                        // v2 words in a v1 file
+        {v1 + "0 note m=1 dur=1 level=2 pitch=C4\n", 3},
+        {v1 + "0 note m=1 dur=1 level=2 start=soft\n", 3},
+        {v1 + "0 cue a\n", 3},
+        {v2 + "part a follow=sideways\n", 3},
+        {v2 + "part a curve=cubic\n", 3},
+        {v2 + "part a floor=-10 top=-20\n", 3},
+        {v2 + "part a\npart a\n", 4},
+        {v2 + "part follow=notes\n", 3},
+        {v2 + "part a follow=notes\n0 note m=1 dur=1 level=2 part=a\n", 4},   // a followed note needs a pitch
+        {v2 + "0 note m=1 dur=1 level=2 part=b\n", 3},
+        {v2 + "0 note m=1 dur=1 level=2 pitch=X4\n", 3},
+        {v2 + "0 note m=1 dur=1 level=2 pitch=9000hz\n", 3},
+        {v2 + "0 note m=1 dur=1 level=2 start=slow\n", 3},
+        {v2 + "0 cue\n", 3},
+        {v2 + "0 cue a detect=maybe\n", 3},
+        {v2 + "0 cue a\n1 cue a\n", 4},
+        {v2 + "0 cue a window=-1\n", 3},
+        {v2 + "0 note m=1 dur=1 level=2\npart late\n", 4},            // parts go before events
+    };
+    for (const Bad& b : cases) {
+        INFO(b.text);
+        CHECK(refusedLine(b.text) == b.line);
+    }
 }

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <functional>
 #include <cstdlib>
 #include <limits>
 #include <new>
@@ -264,5 +265,96 @@ TEST_CASE("Engine: odd calls in any order never crash and never drive absent mot
             if (m >= 12) CHECK(l[static_cast<std::size_t>(m)] == 0);
         }
         if (!(dt >= 0.0) || !std::isfinite(dt)) CHECK(l == MotorLevels {});
+    }
+}
+
+TEST_CASE("Jump-start only where it helps: soft intents never spike, fast ones do", "[shaping][soft]")
+{
+    for (double dt : {1.0 / 200.0, 1.0 / 285.0, 1.0 / 50.0}) {
+        CAPTURE(dt);
+        auto peakOf = [dt](const std::function<void(TactileEngine&)>& intent, int motor, double seconds) {
+            TactileEngine e;
+            engineFor(e);
+            intent(e);
+            int peak = 0;
+            for (int i = 0; i < static_cast<int>(seconds / dt); ++i) peak = std::max<int>(peak, e.tick(dt)[static_cast<std::size_t>(motor)]);
+            return peak;
+        };
+        // The same sustained target asked for a fast and for a soft start.
+        CHECK(peakOf([](TactileEngine& e) { e.setLevel(4, 3.0f); }, 4, 0.2) == 15);
+        CHECK(peakOf([](TactileEngine& e) { e.setSoftLevel(4, 3.0f); }, 4, 0.2) == 3);
+        // A soft target that is later asked again as fast, while it runs: no new spike (no start);
+        // a motor set soft, stopped and set fast again: the fast start spikes.
+        {
+            TactileEngine e;
+            engineFor(e);
+            e.setSoftLevel(2, 2.0f);
+            int peak = 0;
+            for (int i = 0; i < 20; ++i) peak = std::max<int>(peak, e.tick(dt)[2]);
+            CHECK(peak == 2);
+            e.setLevel(2, 0.0f);
+            e.tick(dt);
+            e.setLevel(2, 2.0f);
+            peak = 0;
+            for (int i = 0; i < 20; ++i) peak = std::max<int>(peak, e.tick(dt)[2]);
+            CHECK(peak == 15);
+        }
+        // A point asked soft, the same point asked fast.
+        PatternRequest point;
+        point.kind = PatternKind::Point;
+        point.motors = 1u << 6;
+        point.level = 4.0f;
+        point.duration = 0.3;
+        CHECK(peakOf([&](TactileEngine& e) { e.trigger(point); }, 6, 0.4) == 15);
+        point.soft = true;
+        CHECK(peakOf([&](TactileEngine& e) { e.trigger(point); }, 6, 0.4) == 4);
+        // Fade-out pulses are fades: no spike even when not asked soft.
+        PatternRequest fade;
+        fade.kind = PatternKind::FadeOutPulse;
+        fade.motors = 0x01FF;
+        fade.level = 4.0f;
+        fade.duration = 0.4;
+        CHECK(peakOf([&](TactileEngine& e) { e.trigger(fade); }, 4, 0.5) == 4);
+    }
+}
+
+TEST_CASE("A click shorter than the spike plays at its own level; a longer one is kicked", "[shaping][soft]")
+{
+    for (double dt : {1.0 / 200.0, 1.0 / 285.0, 1.0 / 1000.0}) {
+        CAPTURE(dt);
+        auto peak = [dt](double clickSeconds, float level) {
+            TactileEngine e;
+            engineFor(e);
+            PatternRequest click;
+            click.kind = PatternKind::Point;
+            click.motors = 1u << 3;
+            click.level = level;
+            click.duration = clickSeconds;
+            e.trigger(click);
+            int p = 0;
+            for (int i = 0; i < static_cast<int>(0.2 / dt); ++i) p = std::max<int>(p, e.tick(dt)[3]);
+            return p;
+        };
+        CHECK(peak(0.020, 5.0f) == 5);
+        CHECK(peak(0.025, 3.0f) == 3);
+        CHECK(peak(0.100, 5.0f) == 15);
+        // Geiger clicks (20 ms) at any rate.
+        TactileEngine e;
+        engineFor(e);
+        PatternRequest g;
+        g.kind = PatternKind::Geiger;
+        g.motors = 1u << 5;
+        g.level = 6.0f;
+        g.rate = 10.0;
+        g.duration = -1.0;
+        e.trigger(g);
+        int p = 0, on = 0;
+        for (int i = 0; i < static_cast<int>(1.0 / dt); ++i) {
+            const int l = e.tick(dt)[5];
+            p = std::max(p, l);
+            on += l > 0;
+        }
+        CHECK(on > 0);
+        CHECK(p == 6);
     }
 }

@@ -189,6 +189,7 @@ TEST_CASE("Score scene: own clock, resource fallback, intensity, bad names", "[s
     config.score = "";
     CHECK_THROWS_AS(scene->prepare(config), InputError);
     CHECK_FALSE(scene->producesAudio());
-    REQUIRE(scene->parameters().size() == 2);
+    REQUIRE(scene->parameters().size() == 3);
     CHECK(scene->parameters()[0].id == "score.intensity");
+    CHECK(scene->parameters()[2].id == "score.listen");
 }

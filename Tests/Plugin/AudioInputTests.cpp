@@ -1,0 +1,125 @@
+// The plugin's audio input (issue 16), through its own control path (BlockControl, as
+// processBlock runs it in a host): the listened-to channels — the main input, or the sidechain
+// when it is enabled — reach the engine's audio input before the scene's sound for the same
+// samples is rendered; the main input plays through to the output (an effect that listens must
+// not mute its track); extra input channels are cleared; nothing allocates or locks.
+#include "Common/RealtimeGuard.h"
+#include "Engine/Engine.h"
+#include "Plugin/BlockControl.h"
+#include <catch2/catch.hpp>
+#include <cmath>
+
+using namespace armadillo;
+using namespace armadillo::plugin;
+using armadillo::test::RealtimeGuard;
+
+namespace {
+/// Records what it hears: per channel the sum of the samples and of sample × index (a
+/// checksum that catches wrong channels, order and offsets), and how many samples came.
+class EarScene final : public Scene {
+public:
+    std::string_view name() const override { return "ear"; }
+    void prepare(const SceneConfig&) override {}
+    bool listensToAudio() const override { return true; }
+    void processInput(const float* const* in, int channels, int n) noexcept override
+    {
+        for (int c = 0; c < std::min(channels, 2); ++c)
+            for (int i = 0; i < n; ++i) {
+                sum[static_cast<std::size_t>(c)] += in[c][i];
+                weighted[static_cast<std::size_t>(c)] += static_cast<double>(in[c][i]) * static_cast<double>(heard + i);
+            }
+        heard += n;
+        lastChannels = channels;
+    }
+    void control(const ControlInput&, SceneOutput&) override {}
+    std::array<double, 2> sum {}, weighted {};
+    long heard = 0;
+    int lastChannels = 0;
+};
+
+struct Rig {
+    live::ControlLoop loop;
+    ControlToken token;
+    device::LevelSchedule motors;
+    std::atomic<float> elevation {0.0f}, azimuth {0.0f}, roll {0.0f}, source {static_cast<float>(SourceKind::HostAutomation)};
+    EarScene* ear = nullptr;
+    std::unique_ptr<BlockControl> control;
+    Rig()
+    {
+        EngineConfig config;
+        config.scene = "ear";
+        auto scene = std::make_unique<EarScene>();
+        ear = scene.get();
+        auto slot = std::make_unique<live::EngineSlot>();
+        slot->engine = std::make_unique<Engine>(config, std::move(scene));
+        slot->sceneName = "ear";
+        loop.replace(std::move(slot));
+        control = std::make_unique<BlockControl>(loop, token, BlockControl::Cells {&elevation, &azimuth, &roll, &source}, motors);
+        control->prepare(48000.0);
+    }
+};
+
+float signal(int channel, long i) { return 0.25f * std::sin(0.01f * static_cast<float>(i) * static_cast<float>(channel + 1)) + 0.01f * static_cast<float>(channel); }
+} // namespace
+
+TEST_CASE("plugin audio input: the main input is heard and played through; a sidechain is heard instead", "[plugin][audio-in]")
+{
+    REQUIRE(RealtimeGuard::installed());
+    for (const bool sidechain : {false, true}) {
+        for (const int block : {1, 64, 480, 4096}) {
+            CAPTURE(sidechain, block);
+            Rig rig;
+            const int channels = sidechain ? 4 : 2;
+            juce::AudioBuffer<float> buffer(channels, block);
+            juce::MidiBuffer midi;
+            BlockControl::Listen listen;
+            listen.first = sidechain ? 2 : 0;
+            listen.count = 2;
+            listen.through = 2;
+            std::array<double, 2> expectSum {}, expectWeighted {};
+            long at = 0;
+            double worstThrough = 0.0, worstExtra = 0.0;
+            const long total = 48000;
+            RealtimeGuard guard;
+            while (at < total) {
+                for (int c = 0; c < channels; ++c)
+                    for (int i = 0; i < block; ++i) buffer.setSample(c, i, signal(c, at + i));
+                for (int c = 0; c < 2; ++c)
+                    for (int i = 0; i < block; ++i) {
+                        const float x = signal(listen.first + c, at + i);
+                        expectSum[static_cast<std::size_t>(c)] += x;
+                        expectWeighted[static_cast<std::size_t>(c)] += static_cast<double>(x) * static_cast<double>(at + i);
+                    }
+                rig.control->processBlock(buffer, midi, nullptr, false, listen);
+                for (int c = 0; c < 2; ++c)   // the scene is silent: the output is the main input
+                    for (int i = 0; i < block; ++i) worstThrough = std::max(worstThrough, std::fabs(double(buffer.getSample(c, i)) - signal(c, at + i)));
+                for (int c = 2; c < channels; ++c)
+                    for (int i = 0; i < block; ++i) worstExtra = std::max(worstExtra, std::fabs(double(buffer.getSample(c, i))));
+                at += block;
+            }
+            CHECK(guard.allocations() == 0);
+            CHECK(guard.locks() == 0);
+            CHECK(guard.throws() == 0);
+            CHECK(rig.ear->heard == at);
+            CHECK(rig.ear->lastChannels == 2);
+            for (std::size_t c = 0; c < 2; ++c) {
+                CHECK(rig.ear->sum[c] == Approx(expectSum[c]).epsilon(1e-9));
+                CHECK(rig.ear->weighted[c] == Approx(expectWeighted[c]).epsilon(1e-9));
+            }
+            CHECK(worstThrough < 1e-6);
+            CHECK(worstExtra == 0.0);
+        }
+    }
+}
+
+TEST_CASE("plugin audio input: without an input nothing is heard and the output is the scene's alone", "[plugin][audio-in]")
+{
+    Rig rig;
+    juce::AudioBuffer<float> buffer(2, 256);
+    juce::MidiBuffer midi;
+    for (int c = 0; c < 2; ++c)
+        for (int i = 0; i < 256; ++i) buffer.setSample(c, i, 0.5f);   // garbage a host may leave
+    rig.control->processBlock(buffer, midi, nullptr, false);
+    CHECK(rig.ear->heard == 0);
+    CHECK(buffer.getMagnitude(0, 256) == 0.0f);
+}
