@@ -136,12 +136,6 @@ int guarded(const std::string& command, const std::function<int()>& body)
     }
 }
 
-int notBuiltYet(const std::string& what)
-{
-    std::cerr << "armadillo: " << what << " is not built yet in this version\n";
-    return kExitFailure;
-}
-
 namespace {
 std::atomic<bool> gInterrupted {false};
 extern "C" void onSignal(int) { gInterrupted.store(true); }

@@ -48,9 +48,6 @@ private:
 /// UsageError → 2, InputError → 3, IoError → 4, anything else → 1.
 int guarded(const std::string& command, const std::function<int()>& body);
 
-/// Says on stderr that a capability is not built yet and returns exit code 1 (never pretends).
-int notBuiltYet(const std::string& what);
-
 /// Set by SIGINT/SIGTERM once installInterruptHandlers() ran; long-running commands poll it.
 bool interrupted() noexcept;
 void installInterruptHandlers();

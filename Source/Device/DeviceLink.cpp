@@ -43,6 +43,16 @@ void DeviceLink::stop()
     }
     cv_.notify_all();
     thread_.join();
+    // Motors off before the port closes: a board keeps its last levels until its own watchdog
+    // (50 ms in the reference firmware, none in the thesis's), so stop, shutdown and a host that
+    // removes the plugin end with an all-off packet on the wire. A broken port cannot take it.
+    if (port_->isOpen()) {
+        try {
+            link_.sendAllOff(now(), *this);
+        } catch (const std::exception& e) {
+            setError(e.what());
+        }
+    }
     port_->close();
     connected_.store(false);
     publish();

@@ -250,6 +250,18 @@ void HostLink::poll(double now, LinkPeer& peer)
     }
 }
 
+void HostLink::sendAllOff(double now, LinkPeer& peer)
+{
+    // A device in step reads it as its next motor packet; one out of step reads it as a resync
+    // burst and answers; either way its motors are off. The answer is not waited for.
+    if (v2Active_) {
+        sendV2(MotorLevels {}, now, peer);
+    } else {
+        peer.send(kResyncPacket.data(), kResyncPacket.size());
+        stats_.bytesOut += kMotorPacketSize;
+    }
+}
+
 double HostLink::silenceLimit() const noexcept
 {
     return config_.adaptiveSilence ? std::max(config_.silenceTimeout, 1.5 * roundTrip_ + 0.002) : config_.silenceTimeout;

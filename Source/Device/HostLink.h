@@ -97,6 +97,9 @@ public:
     double nextDeadline() const noexcept;
     /// True when the device has not answered resync for config.reopenAfter seconds.
     bool reopenDue(double now) const noexcept;
+    /// The last word before the port closes (stop, shutdown): an all-off motor packet in the
+    /// connection's framing (v1 `00 00 00 00 08`, v2 an all-off motor frame), whatever the state.
+    void sendAllOff(double now, LinkPeer& peer);
 
     State state() const noexcept { return state_; }
     const LinkStats& stats() const noexcept { return stats_; }

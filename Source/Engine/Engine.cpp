@@ -73,7 +73,7 @@ void Engine::setSceneParameters(const std::vector<std::string>& assignments)
 
 Engine::~Engine() = default;
 
-MotorLevels Engine::control(const ArmState& arm, const Transport& transport, double dt) noexcept
+MotorLevels Engine::control(const ArmState& arm, const Transport& transport, double dt, double motorOnTime) noexcept
 {
     if (failed_.load(std::memory_order_relaxed)) return MotorLevels {};
     // A stalled or restarted source must not make shaping jump: dt is kept to 0..0.1 s.
@@ -91,7 +91,7 @@ MotorLevels Engine::control(const ArmState& arm, const Transport& transport, dou
         fail("unknown exception");
         return MotorLevels {};
     }
-    return tactile_->tick(dt);
+    return tactile_->tick(dt, std::isfinite(motorOnTime) ? motorOnTime : -1.0);
 }
 
 void Engine::fail(const char* what) noexcept

@@ -50,8 +50,10 @@ public:
     /// Control thread (real-time): one update per sensor packet. Returns the levels of the next
     /// motor packet, after shaping and the safety stage. dt in s (clamped to a sane range). Never
     /// throws: a scene that throws is stopped for good (failed()), its motors off, and every later
-    /// call returns all-off levels.
-    MotorLevels control(const ArmState& arm, const Transport& transport, double dt) noexcept;
+    /// call returns all-off levels. `motorOnTime` ≥ 0: how long the previous levels really stayed
+    /// on the motor, when a link that sends levels on the wall clock says it differs from dt
+    /// (TactileEngine::tick); negative: dt.
+    MotorLevels control(const ArmState& arm, const Transport& transport, double dt, double motorOnTime = -1.0) noexcept;
     /// Audio thread: adds nothing but the scene's sound; no locks, allocation or I/O.
     void renderAudio(float* left, float* right, int numSamples) noexcept;
     /// Stop, disconnect or error: every motor off now; patterns and targets forgotten.

@@ -135,7 +135,7 @@ ControlResult ControlLoop::tick(const ControlStep& step) noexcept
         arm = fuse(input(step.source));
     }
     result.arm = arm;
-    result.levels = engine.control(arm, step.transport, dt);
+    result.levels = engine.control(arm, step.transport, dt, step.motorOnTime);
     result.ran = true;
     return result;
 }

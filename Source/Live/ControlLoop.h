@@ -43,6 +43,9 @@ struct ControlStep {
     Pose automation {};           ///< deg; the arm under SourceKind::HostAutomation
     Transport transport {};
     double dt = 0.005;            ///< s since the previous step
+    /// s the previous step's levels really stayed on the motor when that is not dt (a front end
+    /// whose link sends levels at their time: after a host stall, LevelSchedule::onTime); < 0: dt.
+    double motorOnTime = -1.0;
 };
 
 struct ControlResult {

@@ -3,6 +3,7 @@
 #include "Device/LinkPort.h"
 #include "Device/Motion.h"
 #include "Device/Simulator.h"
+#include "Core/Clock.h"
 #include <csignal>
 #include <cstdio>
 #include <pthread.h>
@@ -10,8 +11,8 @@
 
 namespace armadillo::plugin {
 
-DeviceConnection::DeviceConnection(LiveInput& input, std::function<MotorLevels()> latestLevels)
-    : input_(input), latestLevels_(std::move(latestLevels)), calibration_(device::defaultCalibration())
+DeviceConnection::DeviceConnection(LiveInput& input, device::LevelSchedule& motors)
+    : input_(input), motors_(motors), calibration_(device::defaultCalibration())
 {
 }
 
@@ -82,9 +83,13 @@ bool DeviceConnection::connect(const std::string& port, int baud, const std::str
             }
             calibrationSession_.offer(t, counts);   // raw counts, only while a guided calibration runs
             input_.pushImu(linkCalibration_.apply(t, counts));   // full queue: the control loop is behind; drop, never block
-            return latestLevels_();
+            // The levels whose time has come on the control steps' clock (not the link's t, which
+            // follows the board's clock in v2): all-off when they went stale.
+            return motors_.due(monotonicSeconds());
         };
         link_ = std::make_unique<device::DeviceLink>(std::move(linkPort), handler);
+        if (sentLog_) link_->enableSentLog();
+        linkEpoch_ = monotonicSeconds();
         link_->start();
     } catch (const std::exception& e) {
         link_.reset();
@@ -145,6 +150,22 @@ void DeviceConnection::applyCalibration(const device::Calibration& calibration, 
     calibration_ = calibration;
     calibrationNote_ = note;
     publishCalibration();
+}
+
+bool DeviceConnection::popSent(double& t, MotorLevels& levels) noexcept
+{
+    if (link_ == nullptr) return false;
+    device::SentMotorPacket p;
+    if (! link_->sentLog().pop(p)) return false;
+    t = linkEpoch_ + p.t;
+    levels = {};
+    for (std::size_t m = 0; m < p.levels.size() && m < levels.size(); ++m) levels[m] = p.levels[m];
+    return true;
+}
+
+std::uint64_t DeviceConnection::sentDropped() const noexcept
+{
+    return link_ == nullptr ? 0 : link_->sentLogDropped();
 }
 
 std::string DeviceConnection::status() const

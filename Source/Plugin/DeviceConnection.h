@@ -3,11 +3,15 @@
 // the device module's DeviceLink on its own thread. Each good sensor packet is calibrated (counts
 // → SI, once, at the edge) and queued for the control loop, which fuses it (SR-UKF in
 // ArmTracker); the link answers with the latest motor levels the control loop published.
+// The link answers each sensor packet with the motor levels whose time has come on the control
+// step's timeline (Device/LevelSchedule.h): all-off when the control steps stop for 25 ms, and an
+// all-off packet when the link stops (disconnect, shutdown).
 // A real port is claimed through PortRegistry first, so two instances never fight over it.
 // Raw packets also go to the guided calibration (CalibrationSession) while one runs, and a new
 // calibration reaches the running link through a seqlock: no reconnect, no lock on the link thread.
 #include "Core/Types.h"
 #include "Device/Calibration.h"
+#include "Device/LevelSchedule.h"
 #include "Plugin/CalibrationSession.h"
 #include "Plugin/LiveInput.h"
 #include "Plugin/PortRegistry.h"
@@ -29,7 +33,8 @@ public:
     /// The port name that selects the device module's simulated forearm (full protocol, no hardware).
     static constexpr const char* kSimulatedPort = "simulated forearm (in-process)";
 
-    DeviceConnection(LiveInput& input, std::function<MotorLevels()> latestLevels);
+    /// `motors`: the control steps' stamped levels; this connection's link thread is its consumer.
+    DeviceConnection(LiveInput& input, device::LevelSchedule& motors);
     ~DeviceConnection();
 
     /// Message thread. Returns false with `message` saying why (port owned elsewhere, cannot open…).
@@ -38,6 +43,12 @@ public:
     bool isOpen() const noexcept { return link_ != nullptr; }
     /// Link statistics for the UI (message thread).
     std::string status() const;
+    /// Tests and diagnostics: from the next connect() on, every motor packet the link writes is
+    /// logged (time on the monotonic clock, levels); `popSent` drains it (one consumer thread).
+    void enableSentLog(bool on) noexcept { sentLog_ = on; }
+    bool popSent(double& t, MotorLevels& levels) noexcept;
+    /// Packets the sent log could not keep (it was not drained in time).
+    std::uint64_t sentDropped() const noexcept;
 
     /// Message thread: the calibration the link applies (or will apply, just after this call).
     const device::Calibration& calibration() const noexcept { return calibration_; }
@@ -64,7 +75,9 @@ private:
     void publishCalibration() noexcept;
 
     LiveInput& input_;
-    std::function<MotorLevels()> latestLevels_;
+    device::LevelSchedule& motors_;
+    bool sentLog_ = false;
+    double linkEpoch_ = 0.0;                   // monotonic s at the link's start (its clock's 0)
     device::Calibration calibration_;          // message thread's copy
     std::string calibrationNote_;
     // Message thread → link thread: the calibration to use and its generation number.

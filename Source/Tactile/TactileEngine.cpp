@@ -105,7 +105,7 @@ void TactileEngine::allOff() noexcept
     safety_.allOff();
 }
 
-MotorLevels TactileEngine::tick(double dt) noexcept
+MotorLevels TactileEngine::tick(double dt, double motorOnTime) noexcept
 {
     if (!(dt >= 0.0) || !std::isfinite(dt)) {
         allOff();
@@ -192,7 +192,7 @@ MotorLevels TactileEngine::tick(double dt) noexcept
             std::swap(shaped[static_cast<std::size_t>(motorIndex(row, 0))], shaped[static_cast<std::size_t>(motorIndex(row, 2))]);
 
     time_ += dt;
-    return safety_.process(shaped, dt);   // last, always
+    return safety_.process(shaped, motorOnTime >= 0.0 ? motorOnTime : dt);   // last, always
 }
 
 } // namespace armadillo

@@ -101,7 +101,11 @@ public:
     /// Advances dt s (the time since the previous tick, i.e. how long the previous packet was
     /// on) and returns the levels of the packet that starts now. Sustained targets and pattern
     /// voices → drive shaping → mirroring → SafetyStage (last). Allocates nothing.
-    MotorLevels tick(double dt) noexcept;
+    /// `motorOnTime` (≥ 0) is how long the previous packet really stayed on the motor when that
+    /// differs from dt: a front end whose link schedules levels on the wall clock (the plugin:
+    /// Device/LevelSchedule.h) passes it after a host stall, so the safety stage charges what the
+    /// motor got, not the audio timeline's tick. Negative: the same as dt.
+    MotorLevels tick(double dt, double motorOnTime = -1.0) noexcept;
     /// Stop, disconnect or error: everything off at once; patterns and targets cleared. The
     /// next tick returns zeros; the safety stage keeps its heat history.
     void allOff() noexcept;

@@ -3,6 +3,8 @@
 #include "Core/Errors.h"
 #include "Core/Pose.h"
 #include "Device/Simulator.h"
+#include "Device/SteerableArm.h"
+#include "Core/Types.h"
 #include <catch2/catch.hpp>
 #include <cstdio>
 #include <fstream>
@@ -146,4 +148,37 @@ TEST_CASE("forearm device: answers the host and applies its motor levels", "[dev
     for (const auto b : m) answer = dev.onByte(b);
     CHECK(answer);
     CHECK(dev.protocol().levels()[4] == 15);
+}
+
+TEST_CASE("steerable arm: wanders on the simulator's path with roll flicks, eases to a steered pose and holds it",
+          "[device][simulator][steer]")
+{
+    SteerableArm arm;
+    // Wandering: the device simulator's own path, plus a quick roll flick at the start of every 7 s.
+    WanderingMotion path;
+    double maxFlick = 0.0;
+    for (int i = 0; i < 100; ++i) {   // 0.5 s, in 5 ms steps
+        const Eigen::Quaterniond q = arm.advance(0.005);
+        const Eigen::Quaterniond onPath = path.at(arm.time()).q;
+        maxFlick = std::max(maxFlick, q.angularDistance(onPath));
+    }
+    CHECK(maxFlick == Approx(kPi / 4.0).margin(0.02));   // the flick's peak: 45° about the forearm
+    const Eigen::Quaterniond later = arm.advance(0.005);
+    CHECK(later.angularDistance(path.at(arm.time()).q) < 1e-9);   // between flicks: exactly the path
+
+    // Steered: eases (80 ms time constant), then holds the pose while time goes on.
+    const Pose target {10.0, 120.0, -30.0};
+    arm.steerTo(target);
+    CHECK_FALSE(arm.wandering());
+    arm.advance(0.08);
+    const double afterOneTau = std::abs(wrapDeg180(arm.pose().azimuthDeg - target.azimuthDeg));
+    CHECK(afterOneTau > 1.0);     // not a step
+    for (int i = 0; i < 200; ++i) arm.advance(0.005);
+    CHECK(arm.pose().elevationDeg == Approx(target.elevationDeg).margin(0.01));
+    CHECK(std::abs(wrapDeg180(arm.pose().azimuthDeg - target.azimuthDeg)) < 0.01);
+    CHECK(arm.pose().rollDeg == Approx(target.rollDeg).margin(0.01));
+    const Eigen::Quaterniond held = arm.advance(0.5);
+    CHECK(held.angularDistance(poseToQuaternion(target)) < 1e-3);
+    arm.setWandering(true);
+    CHECK(arm.advance(0.005).angularDistance(path.at(arm.time()).q) < 1e-9);
 }

@@ -181,7 +181,8 @@ TEST_CASE("CalibrationSession: a UI that stops draining loses packets, never blo
 TEST_CASE("DeviceConnection: the simulated forearm feeds the calibration; a new calibration applies without reconnecting")
 {
     LiveInput input;
-    DeviceConnection connection(input, [] { return MotorLevels {}; });
+    device::LevelSchedule motors;
+    DeviceConnection connection(input, motors);
     std::string message;
     REQUIRE(connection.connect(DeviceConnection::kSimulatedPort, 57600, "", message));
     INFO(message);

@@ -1,0 +1,120 @@
+#pragma once
+// The control loop of the plugin: runs live::ControlLoop's step (engine hand-over, source choice,
+// bounded fusion, Engine::control) at 200 Hz on the audio block timeline, renders the engine's
+// audio between steps, turns gestures and pose into MIDI, publishes each step's frame for the UI
+// and OSC, and hands each step's motor levels to the device link stamped with the step's time
+// (Device/LevelSchedule.h: the link sends them when that time comes and goes all-off when they
+// stop coming, so the motor budget holds on the packet timeline whatever the host does).
+//
+// Threads:
+//  - the token holder (ControlToken): processBlock on the audio thread, or idleTick on the idle
+//    control clock while no audio comes. Real-time: no allocation, lock, I/O or throw
+//    (Tests/Plugin and Tests/Live/RealtimeLoopTests.cpp hold it to that).
+//  - prepare(): message thread, with the token held by the caller.
+//  - the accessors below: any thread (atomics, a seqlock, one SPSC queue for one consumer).
+#include "Core/SpscQueue.h"
+#include "Device/LevelSchedule.h"
+#include "Live/ControlLoop.h"
+#include "Plugin/ControlToken.h"
+#include "Plugin/OscLink.h"
+#include "Plugin/Parameters.h"
+#include <juce_audio_processors/juce_audio_processors.h>
+#include <array>
+#include <atomic>
+#include <cstdint>
+
+namespace armadillo::plugin {
+
+/// MIDI out of gestures and pose (documented in docs/PLUGIN.md).
+namespace MidiMap {
+inline constexpr int kNoteRoll = 60, kNotePunch = 62, kNoteStrike = 64, kNoteOther = 67;
+inline constexpr int kCcElevation = 16, kCcAzimuth = 17, kCcRoll = 18;
+inline constexpr double kNoteLengthS = 0.05;
+int noteFor(const char* gesture) noexcept;
+} // namespace MidiMap
+
+class BlockControl {
+public:
+    static constexpr double kControlRateHz = 200.0;
+
+    /// The parameter cells the control step reads (all owned by the processor's parameters).
+    struct Cells {
+        const std::atomic<float>* elevation = nullptr;
+        const std::atomic<float>* azimuth = nullptr;
+        const std::atomic<float>* roll = nullptr;
+        const std::atomic<float>* source = nullptr;
+    };
+
+    BlockControl(live::ControlLoop& loop, ControlToken& token, const Cells& cells, device::LevelSchedule& motors);
+
+    /// Message thread, token held: a new sample rate; MIDI storage for the host's buffer.
+    void prepare(double sampleRate);
+    /// Audio thread: the whole block. `playHead` may be null; `offline` is the host's
+    /// non-realtime render (its blocks do not reach the motors: they get all-off).
+    void processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi, juce::AudioPlayHead* playHead, bool offline) noexcept;
+    /// Idle control clock (no audio for a while): `dt` s since its previous call. Runs the
+    /// control step itself when no audio callback came for kIdleAfterMs and the token is free.
+    void idleTick(double dt) noexcept;
+    static constexpr double kIdleAfterMs = 100.0;
+
+    SourceKind source() const noexcept;
+    /// Whether the idle clock's steps reach the motors: yes in the standalone app (a performer
+    /// without a sound card), no in a host (a host that stops calling processBlock has stopped,
+    /// bypassed or removed the plugin: the motors go all-off and stay off).
+    void setIdleDrivesMotors(bool on) noexcept { idleDrivesMotors_.store(on, std::memory_order_relaxed); }
+    /// The newest motor levels' stamp may run ahead of the wall clock by this much (a host that
+    /// renders ahead); further ahead, stamps follow the wall clock. Behind by kMaxLag, they jump
+    /// to it (a late or stalled host).
+    static constexpr double kMaxLead = 0.5, kMaxLag = 0.010;
+    void setMidiChannel(int channel) noexcept { midiChannel_.store(juce::jlimit(1, 16, channel)); }
+
+    // Published (any thread).
+    ArmFrame latestFrame() const noexcept { return frame_.load(); }
+    /// Gestures of the control steps, for one consumer (the clock thread's OSC sender).
+    bool popGesture(GestureEvent& g) noexcept { return gestures_.pop(g); }
+    const char* lastGesture() const noexcept { return lastGesture_.load(std::memory_order_relaxed); }
+    std::uint64_t gestureCount() const noexcept { return gestureCount_.load(std::memory_order_relaxed); }
+    std::uint64_t ticks() const noexcept { return ticks_.load(std::memory_order_relaxed); }
+    /// The stamp (monotonic s) of the newest levels handed to the link, < 0 when none since the
+    /// last all-off. The token holder's thread, or any thread while no control step runs (tests).
+    double lastMotorStamp() const noexcept { return lastStamp_; }
+
+private:
+    /// One control step; `wall` is the monotonic time its levels belong to by the wall clock, and
+    /// `toMotors` whether they go to the link.
+    void step(double dt, double wall, bool toMotors, const Transport& transport, juce::MidiBuffer* midi, int sampleOffset) noexcept;
+    void emitNote(juce::MidiBuffer& midi, int note, float value, int sampleOffset) noexcept;
+    void flushNoteOffs(juce::MidiBuffer& midi, int blockSamples) noexcept;
+
+    live::ControlLoop& loop_;
+    ControlToken& token_;
+    Cells cells_;
+    device::LevelSchedule& motors_;
+    std::atomic<double> sampleRate_ {48000.0};
+    std::atomic<int> midiChannel_ {1};
+    std::atomic<double> lastAudioMs_ {-1.0e9};
+    std::atomic<bool> idleDrivesMotors_ {false};
+
+    // Token holder only.
+    double clock_ = 0.0;              ///< s since start, advanced by dt per step
+    int samplesToTick_ = 0;
+    double lastStamp_ = -1.0;         ///< monotonic s of the previous step's levels (< 0: none)
+    bool motorsOff_ = true;           ///< the schedule was told allOff and nothing pushed since
+    int lastCc_[3] {-1, -1, -1};
+    struct NoteOff { int note = -1; int samplesLeft = 0; };
+    std::array<NoteOff, 16> noteOffs_ {};
+    // MIDI out storage, sized on the message thread and given to the host's buffer on the first
+    // block, so emitting gestures never grows the host's buffer on the audio thread.
+    static constexpr std::size_t kMidiStorageBytes = 64 * 1024;
+    juce::MidiBuffer midiStorage_;
+    bool midiStorageGiven_ = false;
+    std::uint64_t frameSerial_ = 0;
+
+    SeqLock<ArmFrame> frame_;
+    SpscQueue<GestureEvent, 128> gestures_;
+    std::atomic<const char*> lastGesture_ {""};
+    std::atomic<std::uint64_t> gestureCount_ {0};
+    std::atomic<std::uint64_t> ticks_ {0};
+};
+
+} // namespace armadillo::plugin

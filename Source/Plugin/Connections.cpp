@@ -1,0 +1,211 @@
+#include "Plugin/Connections.h"
+#include "Device/Calibration.h"
+
+namespace armadillo::plugin {
+
+class Connections::Clock : public juce::HighResolutionTimer {
+public:
+    explicit Clock(Connections& owner) : owner_(owner) {}
+    ~Clock() override { stopTimer(); }
+    void hiResTimerCallback() override
+    {
+        const double now = juce::Time::getMillisecondCounterHiRes();
+        const double dt = last_ < 0.0 ? 0.005 : (now - last_) * 1.0e-3;
+        last_ = now;
+        owner_.clockTick(dt);
+    }
+
+private:
+    Connections& owner_;
+    double last_ = -1.0;
+};
+
+Connections::Connections(live::ControlLoop& loop, BlockControl& control, device::LevelSchedule& motors)
+    : loop_(loop), control_(control), oscIn_(loop.input(SourceKind::Osc)),
+      device_(std::make_unique<DeviceConnection>(loop.input(SourceKind::Device), motors))
+{
+}
+
+Connections::~Connections()
+{
+    clock_.reset();     // waits for a running callback
+    device_.reset();    // link thread stopped; its last packet was all-off
+}
+
+void Connections::start()
+{
+    clock_ = std::make_unique<Clock>(*this);
+    clock_->startTimer(5);   // 200 Hz
+}
+
+// ------------------------------------------------------------------------------------------------
+// Control clock thread
+
+void Connections::clockTick(double dt)
+{
+    dt = juce::jlimit(0.0, 0.1, dt);
+    if (control_.source() == SourceKind::Simulator) {
+        Eigen::Quaterniond q;
+        double t = 0.0;
+        {
+            std::lock_guard<std::mutex> lock(simMutex_);
+            q = simulator_.advance(dt);
+            t = simulator_.time();
+        }
+        loop_.input(SourceKind::Simulator).storeOrientation(t, q);
+    }
+    control_.idleTick(dt);
+
+    const auto f = control_.latestFrame();
+    if (f.serial != lastSentSerial_) {
+        lastSentSerial_ = f.serial;
+        oscOut_.sendFrame(f);
+    }
+    GestureEvent g;
+    while (control_.popGesture(g)) oscOut_.sendGesture(g.name);
+
+    const double now = juce::Time::getMillisecondCounterHiRes();
+    if (now - rateWindowStartMs_ >= 1000.0) {
+        const auto ticks = control_.ticks();
+        if (rateWindowStartMs_ > 0.0)
+            measuredRate_.store((ticks - rateWindowTicks_) * 1000.0 / (now - rateWindowStartMs_), std::memory_order_relaxed);
+        rateWindowTicks_ = ticks;
+        rateWindowStartMs_ = now;
+    }
+}
+
+// ------------------------------------------------------------------------------------------------
+// Simulated arm
+
+Pose Connections::simulatorPose() const
+{
+    std::lock_guard<std::mutex> lock(simMutex_);
+    return simulator_.pose();
+}
+
+bool Connections::simulatorWandering() const
+{
+    std::lock_guard<std::mutex> lock(simMutex_);
+    return simulator_.wandering();
+}
+
+void Connections::steerSimulator(const Pose& pose)
+{
+    std::lock_guard<std::mutex> lock(simMutex_);
+    simulator_.steerTo(pose);
+}
+
+void Connections::setSimulatorWandering(bool on)
+{
+    std::lock_guard<std::mutex> lock(simMutex_);
+    simulator_.setWandering(on);
+}
+
+// ------------------------------------------------------------------------------------------------
+// OSC
+
+juce::String Connections::configureOsc(bool outEnabled, const juce::String& outHost, int outPort, bool inEnabled, int inPort,
+                                       const juce::String& inFormat, const juce::String& inMount)
+{
+    std::string why;
+    juce::String message;
+    if (! oscOut_.configure(outEnabled, outHost.toStdString(), outPort, why)) message << "OSC out: " << juce::String(why) << ". ";
+    if (! oscIn_.configure(inEnabled, inPort, inFormat.toStdString(), inMount.toStdString(), why))
+        message << "OSC in: " << juce::String(why) << ".";
+    networkStatus_ = message.trim();
+    return networkStatus_;
+}
+
+// ------------------------------------------------------------------------------------------------
+// Device and guided calibration
+
+void Connections::connectDevice(const juce::String& port, int baud, const juce::String& calibrationFile)
+{
+    std::string message;
+    device_->connect(port.toStdString(), baud, calibrationFile.toStdString(), message);
+    deviceMessage_ = juce::String(message);
+}
+
+void Connections::disconnectDevice()
+{
+    const bool calibrating = device_->calibrationSession().running();
+    device_->disconnect();   // cancels a running calibration: its packets stop; the last packet is all-off
+    deviceMessage_ = calibrating ? "Not connected; the calibration was cancelled." : "Not connected.";
+}
+
+bool Connections::beginCalibration(juce::String& why)
+{
+    if (! deviceConnected()) {
+        why = "Connect a device (or the simulated forearm) first: the calibration measures its raw sensor counts.";
+        return false;
+    }
+    device_->calibrationSession().begin(device_->calibration());
+    why.clear();
+    return true;
+}
+
+bool Connections::calibrationNext(juce::String& why)
+{
+    std::string reason;
+    const bool ok = device_->calibrationSession().next(reason);
+    why = juce::String(reason);
+    if (ok && device_->calibrationSession().finished()) applyGuidedCalibration();
+    return ok;
+}
+
+void Connections::calibrationSkip()
+{
+    device_->calibrationSession().skip();
+    if (device_->calibrationSession().finished()) applyGuidedCalibration();
+}
+
+void Connections::cancelCalibration()
+{
+    device_->calibrationSession().cancel();
+}
+
+void Connections::applyGuidedCalibration()
+{
+    if (! deviceConnected()) return;   // the link went away: nothing to apply it to (disconnect cancels anyway)
+    device_->applyCalibration(device_->calibrationSession().result(), "guided calibration, not saved");
+    deviceMessage_ = "Guided calibration applied (not saved).";
+}
+
+bool Connections::saveCalibration(const juce::File& file, const juce::String& port, juce::String& message)
+{
+    const auto& session = device_->calibrationSession();
+    if (! session.finished()) {
+        message = "There is no finished calibration to save.";
+        return false;
+    }
+    device::Calibration c = session.result();
+    c.device = port.toStdString();
+    c.date = juce::Time::getCurrentTime().toISO8601(true).toStdString();
+    try {
+        device::saveCalibration(file.getFullPathName().toStdString(), c);
+    } catch (const std::exception& e) {
+        message = "Calibration not saved: " + juce::String(e.what());
+        return false;
+    }
+    if (deviceConnected()) {
+        device_->applyCalibration(c, "calibration " + file.getFullPathName().toStdString());
+        deviceMessage_ = "Guided calibration applied and saved as " + file.getFileName() + ".";
+    }
+    message = "Saved as " + file.getFileName() + "; the next connection loads it.";
+    return true;
+}
+
+juce::String Connections::linkStatus() const
+{
+    juce::String s = deviceMessage_;
+    if (deviceConnected()) s << "\n" << juce::String(device_->status());
+    const auto in = oscIn_.stats();
+    s << "\nControl rate " << juce::String(controlRateMeasured(), 1) << " Hz; OSC sent "
+      << juce::String(static_cast<juce::int64>(oscOut_.messagesSent())) << ", received "
+      << juce::String(static_cast<juce::int64>(in.imu + in.orientation)) << " (bad " << juce::String(static_cast<juce::int64>(in.bad)) << ")";
+    s << "\n" << juce::String(oscIn_.statusText());   // sender format, device, mount, refusals by kind
+    if (networkStatus_.isNotEmpty()) s << "\n" << networkStatus_;
+    return s.trim();
+}
+
+} // namespace armadillo::plugin

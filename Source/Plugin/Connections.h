@@ -1,0 +1,89 @@
+#pragma once
+// The plugin's connections to the outside: the device (serial port or the in-process simulated
+// forearm, with guided calibration), the built-in simulated arm the user can steer, OSC in and
+// out, and the 200 Hz control clock that feeds them and runs the control step while no audio
+// comes (BlockControl::idleTick).
+//
+// Threads:
+//  - message thread: everything public except where noted (connect, configure, calibration,
+//    steering, status text). Sockets, ports and files are opened and closed here only.
+//  - control clock (a JUCE high-resolution timer thread): clockTick — advances the simulated arm
+//    into its mailbox, runs idle control steps, sends OSC, measures the control rate. The
+//    simulated arm's steering is shared with the message thread under simMutex_, which the audio
+//    thread never takes.
+//  - device link thread (inside DeviceConnection): calibrates packets into the Device mailbox and
+//    answers with the motor levels due on the timeline (Device/LevelSchedule.h).
+#include "Device/LevelSchedule.h"
+#include "Device/SteerableArm.h"
+#include "Live/ControlLoop.h"
+#include "Plugin/BlockControl.h"
+#include "Plugin/DeviceConnection.h"
+#include "Plugin/OscLink.h"
+#include <juce_audio_processors/juce_audio_processors.h>
+#include <atomic>
+#include <memory>
+#include <mutex>
+
+namespace armadillo::plugin {
+
+class Connections {
+public:
+    Connections(live::ControlLoop& loop, BlockControl& control, device::LevelSchedule& motors);
+    ~Connections();   // stops the clock, then the device link (its last packet is all-off)
+
+    /// Starts the control clock (after the owner is fully built).
+    void start();
+
+    // Simulated arm (message thread)
+    Pose simulatorPose() const;
+    bool simulatorWandering() const;
+    void steerSimulator(const Pose& pose);
+    void setSimulatorWandering(bool on);
+
+    // OSC (message thread): returns "" or what was refused.
+    juce::String configureOsc(bool outEnabled, const juce::String& outHost, int outPort, bool inEnabled, int inPort,
+                              const juce::String& inFormat, const juce::String& inMount);
+    OscInput& oscInput() noexcept { return oscIn_; }
+    std::uint64_t oscMessagesSent() const noexcept { return oscOut_.messagesSent(); }
+
+    // Device (message thread)
+    void connectDevice(const juce::String& port, int baud, const juce::String& calibrationFile);
+    void disconnectDevice();
+    bool deviceConnected() const noexcept { return device_ != nullptr && device_->isOpen(); }
+    DeviceConnection& device() noexcept { return *device_; }
+    const CalibrationSession& calibration() const noexcept { return device_->calibrationSession(); }
+    bool beginCalibration(juce::String& why);
+    bool calibrationNext(juce::String& why);
+    void calibrationSkip();
+    void cancelCalibration();
+    /// Saves the finished guided calibration (noting `port` and the date in it) and applies it.
+    bool saveCalibration(const juce::File& file, const juce::String& port, juce::String& message);
+    /// Timer: raw packets queued by the link thread → the guided calibration.
+    void drainCalibration() { device_->calibrationSession().drain(); }
+
+    /// Link, OSC and control-rate lines for the device panel (message thread).
+    juce::String linkStatus() const;
+    double controlRateMeasured() const noexcept { return measuredRate_.load(std::memory_order_relaxed); }
+
+private:
+    class Clock;
+    void clockTick(double dt);   // control clock thread
+    void applyGuidedCalibration();
+
+    live::ControlLoop& loop_;
+    BlockControl& control_;
+    mutable std::mutex simMutex_;      // simulated arm: message ↔ clock thread only
+    device::SteerableArm simulator_;
+    OscOutput oscOut_;
+    OscInput oscIn_;
+    std::unique_ptr<DeviceConnection> device_;
+    juce::String deviceMessage_;       // message thread
+    juce::String networkStatus_;       // message thread
+    std::atomic<double> measuredRate_ {0.0};
+    std::uint64_t lastSentSerial_ = 0; // clock thread
+    double rateWindowStartMs_ = 0.0;   // clock thread
+    std::uint64_t rateWindowTicks_ = 0;
+    std::unique_ptr<Clock> clock_;
+};
+
+} // namespace armadillo::plugin

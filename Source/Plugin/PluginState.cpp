@@ -1,0 +1,115 @@
+#include "Plugin/PluginState.h"
+#include <cmath>
+#include <limits>
+
+namespace armadillo::plugin::PluginState {
+
+juce::ValueTree defaultSettings()
+{
+    juce::ValueTree s(SettingIds::root);
+    s.setProperty(SettingIds::oscOutEnabled, false, nullptr);
+    s.setProperty(SettingIds::oscOutHost, "127.0.0.1", nullptr);
+    s.setProperty(SettingIds::oscOutPort, 9000, nullptr);
+    s.setProperty(SettingIds::oscInEnabled, false, nullptr);
+    s.setProperty(SettingIds::oscInPort, 9001, nullptr);
+    s.setProperty(SettingIds::oscInFormat, "", nullptr);
+    s.setProperty(SettingIds::oscInMount, "", nullptr);
+    s.setProperty(SettingIds::serialPort, "", nullptr);
+    s.setProperty(SettingIds::baudRate, 57600, nullptr);
+    s.setProperty(SettingIds::calibrationFile, "", nullptr);
+    s.setProperty(SettingIds::armSide, "right", nullptr);
+    s.setProperty(SettingIds::backMotors, false, nullptr);
+    s.setProperty(SettingIds::brailleText, "armadillo", nullptr);
+    s.setProperty(SettingIds::score, "rite-of-spring", nullptr);
+    s.setProperty(SettingIds::midiChannel, 1, nullptr);
+    s.setProperty(SettingIds::editorWidth, 1040, nullptr);
+    s.setProperty(SettingIds::editorHeight, 700, nullptr);
+    s.setProperty(SettingIds::simWandering, true, nullptr);
+    s.setProperty(SettingIds::connectOnStart, false, nullptr);
+    return s;
+}
+
+void installSettings(juce::ValueTree& settings, const juce::ValueTree& loaded)
+{
+    // Start from the defaults and take only known properties of the right kind and range.
+    const auto defaults = defaultSettings();
+    for (int i = 0; i < defaults.getNumProperties(); ++i) {
+        const auto id = defaults.getPropertyName(i);
+        const auto& fallback = defaults[id];
+        juce::var value = fallback;
+        if (loaded.isValid() && loaded.hasProperty(id)) {
+            const auto& v = loaded[id];
+            if (fallback.isBool()) value = static_cast<bool>(v);
+            else if (fallback.isInt()) value = static_cast<int>(v);
+            else value = v.toString().substring(0, 4096);
+        }
+        settings.setProperty(id, value, nullptr);
+    }
+    auto clampInt = [&settings](const juce::Identifier& id, int lo, int hi, int fallback) {
+        const int v = static_cast<int>(settings[id]);
+        settings.setProperty(id, v < lo || v > hi ? fallback : v, nullptr);
+    };
+    clampInt(SettingIds::oscOutPort, 1, 65535, 9000);
+    clampInt(SettingIds::oscInPort, 1, 65535, 9001);
+    clampInt(SettingIds::baudRate, 1200, 4000000, 57600);
+    clampInt(SettingIds::midiChannel, 1, 16, 1);
+    clampInt(SettingIds::editorWidth, 400, 8000, 1040);
+    clampInt(SettingIds::editorHeight, 300, 8000, 700);
+    if (settings[SettingIds::armSide].toString() != "left") settings.setProperty(SettingIds::armSide, "right", nullptr);
+    if (settings[SettingIds::score].toString().isEmpty()) settings.setProperty(SettingIds::score, "rite-of-spring", nullptr);
+}
+
+void resetToDefaults(juce::AudioProcessor& processor, juce::ValueTree& settings)
+{
+    for (auto* p : processor.getParameters())
+        if (auto* ranged = dynamic_cast<juce::RangedAudioParameter*>(p))
+            ranged->setValueNotifyingHost(ranged->getDefaultValue());
+    installSettings(settings, {});
+}
+
+void save(juce::AudioProcessorValueTreeState& parameters, const juce::ValueTree& settings, juce::MemoryBlock& dest)
+{
+    juce::ValueTree root("ARMADILLO");
+    root.setProperty("version", kVersion, nullptr);
+    root.setProperty("pluginVersion", ARMADILLO_VERSION_STRING, nullptr);
+    root.appendChild(parameters.copyState(), nullptr);
+    root.appendChild(settings.createCopy(), nullptr);
+    if (auto xml = root.createXml()) juce::AudioProcessor::copyXmlToBinary(*xml, dest);
+}
+
+juce::String restore(juce::AudioProcessor& processor, juce::AudioProcessorValueTreeState& parameters,
+                     juce::ValueTree& settings, const void* data, int sizeInBytes)
+{
+    std::unique_ptr<juce::XmlElement> xml;
+    if (data != nullptr && sizeInBytes > 0) xml = juce::AudioProcessor::getXmlFromBinary(data, sizeInBytes);
+    const auto root = xml != nullptr ? juce::ValueTree::fromXml(*xml) : juce::ValueTree();
+    juce::String problem;
+    if (! root.isValid() || ! root.hasType("ARMADILLO"))
+        problem = "The saved state is not an ARMadillo state (damaged or from another plugin)";
+    else if (static_cast<int>(root["version"]) < 1 || static_cast<int>(root["version"]) > kVersion)
+        problem = "The saved state has format version " + root["version"].toString() + ", this build reads up to "
+                  + juce::String(kVersion);
+    if (problem.isNotEmpty()) {
+        resetToDefaults(processor, settings);
+        return problem + "; defaults loaded.";
+    }
+
+    const auto saved = root.getChildWithName(parameters.state.getType());
+    int rejected = 0;
+    for (auto* p : processor.getParameters()) {
+        auto* ranged = dynamic_cast<juce::RangedAudioParameter*>(p);
+        if (ranged == nullptr) continue;
+        const auto node = saved.getChildWithProperty("id", ranged->getParameterID());
+        const double v = node.isValid() ? static_cast<double>(node["value"]) : std::numeric_limits<double>::quiet_NaN();
+        if (node.isValid() && ! std::isfinite(v)) ++rejected;
+        const auto& range = ranged->getNormalisableRange();
+        const float value = std::isfinite(v) ? juce::jlimit(range.start, range.end, static_cast<float>(v))
+                                             : range.convertFrom0to1(ranged->getDefaultValue());
+        ranged->setValueNotifyingHost(ranged->convertTo0to1(value));
+    }
+    installSettings(settings, root.getChildWithName(SettingIds::root));
+    return rejected > 0 ? juce::String(rejected) + " saved parameter values were not numbers; defaults used for them."
+                        : juce::String();
+}
+
+} // namespace armadillo::plugin::PluginState

@@ -1,0 +1,56 @@
+#pragma once
+// The plugin's saved state: the parameters (host-automatable, AudioProcessorValueTreeState) and
+// the settings (ports, files, text, layout: a ValueTree), read back with validation so a damaged,
+// hand-edited or future state never puts nonsense into the sockets or the engine.
+//
+// Threads: the message thread and the host's state calls (getStateInformation /
+// setStateInformation, which hosts make from a non-audio thread). Never the audio thread.
+#include <juce_audio_processors/juce_audio_processors.h>
+
+namespace armadillo::plugin {
+
+/// Names of the persistent settings (the "SETTINGS" child of the saved state).
+namespace SettingIds {
+inline const juce::Identifier root {"SETTINGS"};
+inline const juce::Identifier oscOutEnabled {"oscOutEnabled"};
+inline const juce::Identifier oscOutHost {"oscOutHost"};
+inline const juce::Identifier oscOutPort {"oscOutPort"};
+inline const juce::Identifier oscInEnabled {"oscInEnabled"};
+inline const juce::Identifier oscInPort {"oscInPort"};
+inline const juce::Identifier oscInFormat {"oscInFormat"};   ///< "" = detect; else docs/SENSORS.md names
+inline const juce::Identifier oscInMount {"oscInMount"};     ///< "" = the format's usual mount; a preset or mount file
+inline const juce::Identifier serialPort {"serialPort"};
+inline const juce::Identifier baudRate {"baudRate"};
+inline const juce::Identifier calibrationFile {"calibrationFile"};
+inline const juce::Identifier armSide {"armSide"};           ///< "right" | "left"
+inline const juce::Identifier backMotors {"backMotors"};     ///< bool: 12 motors instead of 9
+inline const juce::Identifier brailleText {"brailleText"};
+inline const juce::Identifier score {"score"};               ///< "rite-of-spring" | "polytope"
+inline const juce::Identifier midiChannel {"midiChannel"};   ///< 1..16
+inline const juce::Identifier editorWidth {"editorWidth"};
+inline const juce::Identifier editorHeight {"editorHeight"};
+inline const juce::Identifier simWandering {"simWandering"};
+inline const juce::Identifier connectOnStart {"connectOnStart"}; ///< bool: open the saved port when source = device
+} // namespace SettingIds
+
+namespace PluginState {
+
+inline constexpr int kVersion = 1;   ///< the saved state's format version
+
+/// Every setting with its default value.
+juce::ValueTree defaultSettings();
+/// Writes into `settings` the known properties of `loaded` that have the right kind and range,
+/// the defaults for the rest (an invalid `loaded` gives all defaults).
+void installSettings(juce::ValueTree& settings, const juce::ValueTree& loaded);
+/// Parameters and settings as the host stores them.
+void save(juce::AudioProcessorValueTreeState& parameters, const juce::ValueTree& settings, juce::MemoryBlock& dest);
+/// Restores what save() wrote. Returns "" when all was taken, else what was refused and that
+/// defaults were used instead (for the status line). Never throws; any bytes are safe.
+juce::String restore(juce::AudioProcessor& processor, juce::AudioProcessorValueTreeState& parameters,
+                     juce::ValueTree& settings, const void* data, int sizeInBytes);
+/// Every parameter and setting back to its default.
+void resetToDefaults(juce::AudioProcessor& processor, juce::ValueTree& settings);
+
+} // namespace PluginState
+
+} // namespace armadillo::plugin
