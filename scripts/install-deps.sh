@@ -10,6 +10,8 @@ packages=(
     build-essential cmake ninja-build pkg-config git
     # the core: Eigen, serial ports, braille tables, tests
     libeigen3-dev libserialport-dev liblouis-dev liblouis-data catch2
+    # audio files (WAV/RF64 out; WAV, AIFF, FLAC, Ogg in) and resampling of user recordings
+    libsndfile1-dev libsamplerate0-dev
     # JUCE 7 (Debian ships it with its CMake config) and what its modules link on Linux
     # (ALSA for the CLI's sound card too; JACK headers for the standalone app's JACK driver)
     juce-modules-source lv2-dev libasound2-dev libjack-jackd2-dev libfreetype-dev libfontconfig1-dev

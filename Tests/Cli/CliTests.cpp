@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <fcntl.h>
+#include <pty.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -165,4 +167,42 @@ TEST_CASE("cli: --version prints project(VERSION), --help lists it, and --man ca
         CHECK((request == ".TH" || request == ".SH" || request == ".SS" || request == ".nf" || request == ".fi" ||
                request == ".B " || request == ".I " || request == ".IR"));
     }
+}
+
+TEST_CASE("cli: play shows progress on a terminal's stderr, and only there", "[cli][play]")
+{
+    // stderr on a pseudo-terminal, stdout to a file: the progress line (elapsed time, packets,
+    // link state) appears on the terminal; stdout holds only the JSON summary.
+    int master = -1, slave = -1;
+    REQUIRE(::openpty(&master, &slave, nullptr, nullptr, nullptr) == 0);
+    const std::string out = (workDir() / "play-progress.txt").string();
+    const pid_t pid = ::fork();
+    REQUIRE(pid >= 0);
+    if (pid == 0) {
+        const int fd = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        ::dup2(fd, 1);
+        ::dup2(slave, 2);
+        ::close(master);
+        ::execl(ARMADILLO_BIN, ARMADILLO_BIN, "play", "--scene", "monitor", "--simulate", "--seconds", "1.6", "--no-audio", nullptr);
+        ::_exit(127);
+    }
+    ::close(slave);
+    std::string terminal;
+    char buf[512];
+    for (ssize_t n; (n = ::read(master, buf, sizeof buf)) > 0;) terminal.append(buf, static_cast<std::size_t>(n));   // EIO once the child exits
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    ::close(master);
+    CHECK(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 0);
+    INFO(terminal);
+    CHECK(terminal.find(" s of 2  packets ") != std::string::npos);
+    CHECK(terminal.find("link up") != std::string::npos);
+    const std::string json = armadillo::readWholeFile(out);
+    CHECK(json.rfind("{\"packets\":", 0) == 0);
+    CHECK(std::count(json.begin(), json.end(), '\n') == 1);
+    // Without a terminal (the other tests' case) stderr carries no progress line.
+    const Run quiet = runArmadillo("play --scene monitor --simulate --seconds 0.6 --no-audio");
+    CHECK(quiet.code == 0);
+    CHECK(quiet.err.find("packets") == std::string::npos);
 }
