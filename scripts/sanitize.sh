@@ -1,31 +1,36 @@
 #!/usr/bin/env bash
-# The core test suite under the sanitizers, each in its own build directory:
-#   build-asan  AddressSanitizer + UndefinedBehaviorSanitizer, every core test (ctest)
+# The test suite under the sanitizers, each in its own build directory:
+#   build-asan  AddressSanitizer + UndefinedBehaviorSanitizer, the whole suite (ctest), the JUCE
+#               plugin and its host test included (ARMADILLO_NO_PLUGIN=1 leaves them out)
 #   build-tsan  ThreadSanitizer, the tests that run threads (queues, device link and pty,
 #               simulator, OSC, live session, sound card, the real-time scene tests)
-# The JUCE plugin is left out (-DARMADILLO_BUILD_PLUGIN=OFF): the sanitizers cover the core it
-# links. The real-time guard steps aside under the sanitizers (they own malloc/operator new); its
-# tests say so with a warning. Usage: scripts/sanitize.sh [asan|tsan|all] (default all).
+# The real-time guard steps aside under the sanitizers (they own malloc/operator new); its tests
+# say so with a warning. Usage: scripts/sanitize.sh [asan|tsan|all] (default all).
 # Fails when a build fails or a sanitizer reports anything.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 which="${1:-all}"
 jobs="${JOBS:-2}"
-common=(-G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DARMADILLO_BUILD_PLUGIN=OFF -DARMADILLO_BUILD_BENCHMARKS=OFF)
+common=(-G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DARMADILLO_BUILD_BENCHMARKS=OFF)
+plugin=ON
+if [ "${ARMADILLO_NO_PLUGIN:-0}" = "1" ]; then plugin=OFF; fi
 
 run_asan() {
-    cmake -S . -B build-asan "${common[@]}" \
+    cmake -S . -B build-asan "${common[@]}" -DARMADILLO_BUILD_PLUGIN=$plugin \
         -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined" \
         -DCMAKE_C_FLAGS="-fsanitize=address,undefined -fno-omit-frame-pointer" \
-        -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined"
+        -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
+        -DCMAKE_SHARED_LINKER_FLAGS="-fsanitize=address,undefined" \
+        -DCMAKE_MODULE_LINKER_FLAGS="-fsanitize=address,undefined"
     cmake --build build-asan -j"$jobs"
+    LSAN_OPTIONS="suppressions=$PWD/scripts/lsan.supp:print_suppressions=0" \
     ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1" \
     UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1" \
         ctest --test-dir build-asan --output-on-failure --timeout 1800 -j"$jobs"
 }
 
 run_tsan() {
-    cmake -S . -B build-tsan "${common[@]}" \
+    cmake -S . -B build-tsan "${common[@]}" -DARMADILLO_BUILD_PLUGIN=OFF \
         -DCMAKE_CXX_FLAGS="-fsanitize=thread -fno-omit-frame-pointer" \
         -DCMAKE_C_FLAGS="-fsanitize=thread -fno-omit-frame-pointer" \
         -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=thread"

@@ -50,8 +50,14 @@ const std::vector<std::string>& sessionLogHeader()
 
 LiveSession::LiveSession(const LiveConfig& config) : config_(config)
 {
-    engine_ = std::make_unique<Engine>(config_.engine);   // InputError for an unknown scene
-    tracker_ = std::make_unique<ArmTracker>();
+    {
+        auto slot = std::make_unique<live::EngineSlot>();
+        slot->engine = std::make_unique<Engine>(config_.engine);   // InputError for an unknown scene
+        slot->sceneName = config_.engine.scene;
+        engine_ = slot->engine.get();
+        loop_.replace(std::move(slot));   // nothing runs yet
+    }
+    sourceKind_ = config_.source == LiveConfig::Source::Osc ? live::SourceKind::Osc : live::SourceKind::Device;
     if (!config_.oscOut.empty()) {
         HostPort hp;
         try {
@@ -131,24 +137,31 @@ MotorLevels LiveSession::control(double t, const SensorCounts* counts, const Imu
     if (firstT_.load(std::memory_order_relaxed) < 0.0) firstT_.store(t, std::memory_order_relaxed);
     latestT_.store(t, std::memory_order_relaxed);
 
+    // The sample goes through the source's mailbox into the live rig's control step, as in the
+    // plugin; here the source's own thread runs the step at once, so a motor packet leaves
+    // microseconds after its sensor packet arrived.
     ImuSample calibrated;
-    ArmState arm;
+    live::LiveInput& mailbox = loop_.input(sourceKind_);
     if (counts) {
         calibrated = config_.calibration.apply(t, *counts);
-        arm = tracker_->update(calibrated);
+        mailbox.pushImu(calibrated);
     } else if (imu) {
         calibrated = *imu;
-        arm = tracker_->update(calibrated);
+        mailbox.pushImu(calibrated);
     } else {
-        arm = tracker_->updateOrientation(t, *q);
+        mailbox.storeOrientation(t, *q);
     }
-    Transport transport;
-    transport.valid = true;
-    transport.playing = true;
-    transport.seconds = t;
-    transport.bpm = config_.bpm;
-    transport.ppq = t * config_.bpm / 60.0;
-    const MotorLevels levels = engine_->control(arm, transport, dt);
+    live::ControlStep step;
+    step.source = sourceKind_;
+    step.transport.valid = true;
+    step.transport.playing = true;
+    step.transport.seconds = t;
+    step.transport.bpm = config_.bpm;
+    step.transport.ppq = t * config_.bpm / 60.0;
+    step.dt = dt;
+    const live::ControlResult result = loop_.tick(step);
+    const ArmState& arm = result.arm;
+    const MotorLevels levels = result.levels;
     updates_.fetch_add(1, std::memory_order_relaxed);
     pose_.store(arm.features.pose);
     levels_.store(levels);

@@ -1,7 +1,8 @@
 #pragma once
-// The live pipeline, one class for `armadillo play` and the app: a source (serial device,
-// simulated forearm or OSC), calibration (counts → SI, once), ArmTracker (fusion + features),
-// Engine (scene → shaping → safety stage) and the motor packet back to the device, plus the
+// The live pipeline of `armadillo play`: a source (serial device, simulated forearm or OSC),
+// calibration (counts → SI, once), the live rig's control step (live::ControlLoop, the same one
+// the plugin runs on its audio blocks: the source's mailbox → ArmTracker (fusion + features) →
+// Engine (scene → shaping → safety stage)) and the motor packet back to the device, plus the
 // optional outputs: audio file, tactile CSV, session log and OSC out.
 //
 // Threads: the source's thread is the control thread (DeviceLink for devices, OscReceiver for
@@ -17,8 +18,8 @@
 #include "Device/Calibration.h"
 #include "Device/DeviceLink.h"
 #include "Device/OscInput.h"
-#include "Engine/ArmTracker.h"
 #include "Engine/Engine.h"
+#include "Live/ControlLoop.h"
 #include <atomic>
 #include <memory>
 #include <string>
@@ -94,6 +95,8 @@ public:
 
     SessionSummary summary() const;
     Engine& engine() noexcept { return *engine_; }
+    /// IMU samples the control step dropped (more than ControlLoop::kMaxImuPerStep waiting).
+    std::uint64_t droppedImu() const noexcept { return loop_.droppedImu(); }
     /// Latest pose and motor levels (any thread, lock-free).
     Pose latestPose() const noexcept { return pose_.load(); }
     MotorLevels latestLevels() const noexcept { return levels_.load(); }
@@ -121,8 +124,9 @@ private:
     void audioLoop();
 
     LiveConfig config_;
-    std::unique_ptr<Engine> engine_;
-    std::unique_ptr<ArmTracker> tracker_;
+    live::ControlLoop loop_;            // the control step: mailbox → fusion → Engine::control (owns the engine)
+    live::SourceKind sourceKind_ = live::SourceKind::Device;
+    Engine* engine_ = nullptr;          // the loop's engine; no other is ever offered
     std::unique_ptr<SimulatedForearm> simulator_;
     std::unique_ptr<DeviceLink> link_;
     std::unique_ptr<OscReceiver> oscIn_;

@@ -362,7 +362,7 @@ TEST_CASE("mount: presets, files, and the pose calibration recovers any strap ro
 
 TEST_CASE("osc merger: decoding, merging and refusing allocate nothing and take no lock; fuzzed input never crashes", "[device][osc][merger]")
 {
-    REQUIRE(test::RealtimeGuard::installed());
+    ARMADILLO_REQUIRE_GUARD();
     // Every dialect's messages, good and bad, encoded before the guard.
     std::vector<std::vector<std::uint8_t>> datagrams;
     for (int k = 0; k < 50; ++k) {

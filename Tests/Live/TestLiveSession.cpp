@@ -283,12 +283,29 @@ TEST_CASE("armadillo play --port: a device unplugged for 0.5 s is one reconnect 
     const std::string json = lastLine(r.stdoutText);
     INFO(json);
     CHECK(json.find("\"reconnects\":1,") != std::string::npos);
-    CHECK(json.find("\"gaps\":1,") != std::string::npos);
+    // The unplug is one gap of its own length. A loaded machine can add short ones (a link thread
+    // descheduled for more than 30 ms is a gap too, rightly): those are allowed, a second long one
+    // or a missing one is not.
+    CHECK(json.find("\"gaps\":0,") == std::string::npos);
     const CsvTable table = CsvTable::read(log);
-    const int reconnects = table.requireColumn("reconnects"), gapCol = table.requireColumn("gaps");
+    const int reconnects = table.requireColumn("reconnects"), gapCol = table.requireColumn("gaps"),
+              longestCol = table.requireColumn("longest_gap_s"), tCol = table.requireColumn("t");
     REQUIRE(table.rowCount() > 1000);
     CHECK(table.value(0, reconnects) == 0.0);
     CHECK(table.value(table.rowCount() - 1, reconnects) == 1.0);
-    CHECK(table.value(table.rowCount() - 1, gapCol) == 1.0);
+    CHECK(table.value(table.rowCount() - 1, gapCol) >= 1.0);
+    int longSteps = 0;
+    double unplugged = 0.0;
+    for (std::size_t i = 1; i < table.rowCount(); ++i) {
+        const double step = table.value(i, tCol) - table.value(i - 1, tCol);
+        if (step > 0.3) {
+            ++longSteps;
+            unplugged = step;
+        }
+    }
+    CHECK(longSteps == 1);
+    CHECK(unplugged >= 0.45);
+    CHECK(unplugged < 1.0);
+    CHECK(table.value(table.rowCount() - 1, longestCol) == Approx(unplugged).margin(0.01));
     std::remove(log.c_str());
 }

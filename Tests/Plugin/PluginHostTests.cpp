@@ -302,7 +302,7 @@ TEST_CASE("VST3: gestures and pose leave as MIDI")
 TEST_CASE("VST3: the guard sees allocations and throws, in the test and inside the plugin")
 {
     using armadillo::test::RealtimeGuard;
-    REQUIRE(RealtimeGuard::installed());
+    ARMADILLO_REQUIRE_GUARD();
     {
         RealtimeGuard guard;
         auto p = std::make_unique<double>(1.0);

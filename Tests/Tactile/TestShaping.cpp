@@ -216,6 +216,7 @@ TEST_CASE("tick() allocates nothing, with 16 motors and every voice busy", "[sha
     for (int m = 0; m < kMaxMotors; ++m) e.setLevel(m, 2.5f);
 #ifdef ARMADILLO_NO_NEW_COUNTER
     WARN("sanitizer build: no operator new counter; the normal build runs this check");
+    SUCCEED("skipped under the sanitizer");
     return;
 #endif
     g_allocations = 0;
