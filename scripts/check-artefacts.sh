@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# The built files a user is told about in the README must exist, and `armadillo --help` must
-# list every subcommand of INTERFACES.md.
+# The built files a user is told about in the README must exist, `armadillo --help` must list
+# every subcommand of docs/INTERFACES.md, and the install tree must work on its own
+# (scripts/check-install.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 fail=0
@@ -16,7 +17,8 @@ if [ "${ARMADILLO_NO_PLUGIN:-0}" != "1" ]; then
     need "build/Source/Plugin/ARMadillo_artefacts/Release/Standalone/ARMadillo"
 fi
 help=$(build/bin/armadillo --help)
-for c in ports fuse render play braille; do
+for c in ports fuse render play braille resources; do
     echo "$help" | grep -q "^  $c " || { echo "armadillo --help does not list '$c'"; fail=1; }
 done
+bash scripts/check-install.sh build || fail=1
 exit $fail

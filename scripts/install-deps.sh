@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# Installs everything ARMadillo builds and tests with, from Debian's packages. Idempotent: does
-# nothing when all is there; uses sudo only when not already root.
+# Installs what ARMadillo builds and tests with, from Debian's packages. Idempotent: does nothing
+# when all is there; uses sudo only when not already root.
+#   --packaging   also what scripts/package.sh and scripts/check-package.sh use
+#                 (lintian, debootstrap, desktop-file-utils)
 set -euo pipefail
 
 packages=(
@@ -8,15 +10,21 @@ packages=(
     build-essential cmake ninja-build pkg-config git
     # the core: Eigen, serial ports, braille tables, tests
     libeigen3-dev libserialport-dev liblouis-dev liblouis-data catch2
+    # audio files (WAV/RF64 out; WAV, AIFF, FLAC, Ogg in) and resampling of user recordings
+    libsndfile1-dev libsamplerate0-dev
     # JUCE 7 (Debian ships it with its CMake config) and what its modules link on Linux
+    # (ALSA for the CLI's sound card too; JACK headers for the standalone app's JACK driver)
     juce-modules-source lv2-dev libasound2-dev libjack-jackd2-dev libfreetype-dev libfontconfig1-dev
     libx11-dev libxcomposite-dev libxcursor-dev libxext-dev libxinerama-dev libxrandr-dev libxrender-dev
     libgl-dev libgtk-3-dev
-    # tests: pseudo-terminals, headless display for the app, BROAD scoring
-    socat xvfb xauth python3-numpy
-    # the reference firmware (docs/HARDWARE.md): AVR toolchain, flashing, and its simavr loop test
-    gcc-avr avr-libc binutils-avr avrdude simavr libsimavr-dev libelf-dev
+    # benchmarks' scoring scripts (scripts/bench_gaps.py, BROAD)
+    python3-numpy
+    # the reference firmware (docs/HARDWARE.md): AVR toolchain and its simavr loop test
+    gcc-avr avr-libc binutils-avr simavr libsimavr-dev libelf-dev
 )
+if [ "${1:-}" = "--packaging" ]; then
+    packages+=(lintian debootstrap desktop-file-utils dpkg-dev file)
+fi
 
 missing=()
 for p in "${packages[@]}"; do
@@ -27,8 +35,18 @@ if [ ${#missing[@]} -eq 0 ]; then
     exit 0
 fi
 
-SUDO=""
-if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+run=()
+if [ "$(id -u)" -ne 0 ]; then
+    if ! command -v sudo > /dev/null; then
+        echo "install-deps: these Debian packages are missing: ${missing[*]}" >&2
+        echo "install-deps: you are not root and 'sudo' is not installed. Either run this script as root" >&2
+        echo "  (su -c 'bash scripts/install-deps.sh'), or install sudo and add yourself to the 'sudo' group" >&2
+        echo "  (as root: apt-get install sudo && adduser $(id -un) sudo; then log in again)." >&2
+        exit 1
+    fi
+    run=(sudo)
+fi
 echo "install-deps: installing ${missing[*]}"
-$SUDO apt-get update -qq
-DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+# env inside sudo: sudo's env_reset would drop a DEBIAN_FRONTEND set before it.
+"${run[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update -qq
+"${run[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}"

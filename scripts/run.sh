@@ -9,9 +9,9 @@ headless=0
 if [ "${1:-}" = "--headless" ] || [ -z "${DISPLAY:-}" ]; then headless=1; fi
 bash scripts/install-deps.sh
 if [ $headless = 1 ]; then
-    ARMADILLO_NO_PLUGIN=${ARMADILLO_NO_PLUGIN:-0} bash scripts/build.sh
+    bash scripts/build.sh armadillo   # only the command line program: no plugin, tests or benchmarks
     exec build/bin/armadillo play --scene theremin --simulate --seconds 20 \
         --out armadillo-session.wav --tactile armadillo-tactile.csv --log armadillo-session.csv
 fi
-bash scripts/build.sh
+bash scripts/build.sh ARMadillo_Standalone   # only the app
 exec build/Source/Plugin/ARMadillo_artefacts/Release/Standalone/ARMadillo

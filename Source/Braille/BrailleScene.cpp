@@ -13,9 +13,6 @@
 #include <cmath>
 #include <cstring>
 
-#ifndef ARMADILLO_RESOURCE_DIR
-#define ARMADILLO_RESOURCE_DIR "Resources"
-#endif
 
 namespace armadillo {
 namespace braille {
@@ -113,9 +110,8 @@ public:
         }
         TrainingOptions training;
         training.seed = config.seed;
-        const std::string dir = config.resourceDir.empty() ? std::string(ARMADILLO_RESOURCE_DIR) : config.resourceDir;
         try {
-            training.signWords = readWordList(dir + "/Braille/signwords.txt");
+            training.signWords = defaultSignWords(config.resourceDir);
         } catch (const std::exception&) {
             // Reading and passive drawing need no resources: without the word list the training
             // protocol simply stops before its last stage.

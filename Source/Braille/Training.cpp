@@ -2,16 +2,13 @@
 #include "Core/AtomicFile.h"
 #include "Core/Csv.h"
 #include "Core/Errors.h"
+#include "Core/Resources.h"
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <iterator>
 #include <random>
 #include <string_view>
-
-#ifndef ARMADILLO_RESOURCE_DIR
-#define ARMADILLO_RESOURCE_DIR "Resources"
-#endif
 
 namespace armadillo::braille {
 
@@ -103,11 +100,16 @@ std::vector<char> gapLetters()
     return out;
 }
 
-std::string defaultSignWordsPath() { return std::string(ARMADILLO_RESOURCE_DIR) + "/Braille/signwords.txt"; }
-
-std::vector<std::string> readWordList(const std::string& path)
+std::vector<std::string> defaultSignWords(const std::string& resourceDir)
 {
-    const std::string text = readWholeFile(path);
+    const ResourceFile file = readResource("Braille/signwords.txt", resourceDir);
+    return parseWordList(file.bytes, file.origin);
+}
+
+std::vector<std::string> readWordList(const std::string& path) { return parseWordList(readWholeFile(path), path); }
+
+std::vector<std::string> parseWordList(std::string_view text, const std::string& path)
+{
     std::vector<std::string> words;
     long line = 0;
     std::size_t begin = 0;
@@ -115,7 +117,7 @@ std::vector<std::string> readWordList(const std::string& path)
         std::size_t end = text.find('\n', begin);
         if (end == std::string::npos) end = text.size();
         ++line;
-        const std::string w = trim(text.substr(begin, end - begin));
+        const std::string w = trim(std::string(text.substr(begin, end - begin)));
         begin = end + 1;
         if (w.empty() || w.front() == '#') continue;
         for (unsigned char c : w)

@@ -53,10 +53,13 @@ struct TrainingTrial {
 std::vector<char> oneDotPerRowLetters();
 /// Letters of the Grade 1 alphabet with an empty middle row and a dot below it.
 std::vector<char> gapLetters();
-/// Resources/Braille/signwords.txt of the source tree this library was built from.
-std::string defaultSignWordsPath();
+/// The shipped sign words, Braille/signwords.txt, from the first resource folder that has it or
+/// the copy built in (Core/Resources.h); `resourceDir` is searched first when not empty.
+std::vector<std::string> defaultSignWords(const std::string& resourceDir = {});
 /// Reads a word list (one word a line, '#' comments); InputError for an empty or bad list.
 std::vector<std::string> readWordList(const std::string& path);
+/// The same from text already read; `path` names it in errors.
+std::vector<std::string> parseWordList(std::string_view text, const std::string& path);
 
 /// What happened, one per log row (the CSV's `event` column).
 enum class TrainingEvent : std::uint8_t { Trial, Move, Direction, Row, WordGap, MessageGap, TextEnd, Answer, End };

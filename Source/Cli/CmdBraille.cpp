@@ -123,7 +123,7 @@ TrainingOptions trainingOptions(const CommandLine& cl)
     }
     bool words = false;
     for (auto s : o.stages) words = words || s == TrainingStage::Words;
-    if (words) o.signWords = readWordList(cl.value("--words", defaultSignWordsPath()));
+    if (words) o.signWords = cl.has("--words") ? readWordList(cl.value("--words")) : defaultSignWords();
     return o;
 }
 
@@ -188,7 +188,7 @@ int runBraille(const Arguments& args)
                         {"--stages", "LIST", "comma list of sides,hold,one-dot,gaps,alphabet,letters,words"},
                         {"--trials", "N", "trials per stage (default 10)"},
                         {"--seed", "N", "random choices of the training (default 1)"},
-                        {"--words", "FILE", "sign word list (default Resources/Braille/signwords.txt)"}});
+                        {"--words", "FILE", "sign word list (default: the shipped Braille/signwords.txt)"}});
         if (!cl.parse(args)) return kExitOk;
         if (cl.has("--plan")) return printPlan(cl);
         if (cl.has("--train")) return replayTraining(cl);

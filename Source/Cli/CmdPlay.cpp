@@ -14,6 +14,8 @@
 #include "Engine/Engine.h"
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <chrono>
 #include <iostream>
@@ -273,21 +275,37 @@ int runPlay(const Arguments& args)
         std::string shownError;
         bool shownFormat = false;
         bool shownCardError = false;
+        // A progress line on a terminal (stderr only, so stdout keeps just the JSON summary), not
+        // while a guided procedure prints its own instructions there.
+        const bool progress = ::isatty(STDERR_FILENO) == 1 && !calibration && !mountCalibration && !training;
+        const char* lineStart = progress ? "\r\033[K" : "";   // a message replaces the progress line
+        double shownAt = -1.0;
         while (!interrupted()) {
             const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             if (seconds > 0.0 && elapsed >= seconds) break;
+            if (progress && elapsed - shownAt >= 0.5) {
+                shownAt = elapsed;
+                const device::SessionSummary now = session.summary();
+                char line[160];
+                std::snprintf(line, sizeof line, "\r\033[K%7.1f s%s  packets %llu  bad %llu  resyncs %llu  reconnects %llu  link %s",
+                              elapsed, seconds > 0.0 ? (" of " + std::to_string(static_cast<long>(std::ceil(seconds)))).c_str() : "",
+                              static_cast<unsigned long long>(now.packets), static_cast<unsigned long long>(now.badPackets),
+                              static_cast<unsigned long long>(now.resyncs), static_cast<unsigned long long>(now.reconnects),
+                              session.connected() ? (now.packets > 0 ? "up" : "waiting for data") : "down, reconnecting");
+                std::cerr << line << std::flush;
+            }
             if (session.engine().failed()) {   // the scene threw: its motors are off; stop and say so
                 std::cerr << "armadillo play: the scene failed and was stopped (motors off): " << session.engine().failure() << "\n";
                 break;
             }
             // Say once on stderr when the device goes away (the link keeps reconnecting).
             const std::string e = session.lastError();
-            if (!e.empty() && e != shownError) std::cerr << "armadillo play: " << e << "\n";
+            if (!e.empty() && e != shownError) std::cerr << lineStart << "armadillo play: " << e << "\n";
             shownError = e;
             if (device::OscReceiver* osc = session.oscReceiver(); osc && !shownFormat && osc->format() != device::OscFormat::Auto) {
                 const std::string who = osc->deviceName();
                 if (!who.empty() || osc->stats().imu + osc->stats().orientation > 0) {
-                    std::cerr << "armadillo play: OSC input: " << device::oscFormatName(osc->format())
+                    std::cerr << lineStart << "armadillo play: OSC input: " << device::oscFormatName(osc->format())
                               << (cl.has("--osc-format") ? " (forced)" : " (detected)") << " from " << (who.empty() ? "?" : who)
                               << ", mount " << osc->merger().mount().name << "\n";
                     shownFormat = true;
@@ -308,7 +326,7 @@ int runPlay(const Arguments& args)
                 }
             }
             if (const audio::SoundCard* card = session.soundCard(); card && card->failed() && !shownCardError) {
-                std::cerr << "armadillo play: " << card->lastError() << "; playing on without sound\n";
+                std::cerr << lineStart << "armadillo play: " << card->lastError() << "; playing on without sound\n";
                 shownCardError = true;
             }
             if (calibration && calibration->step() != device::CalibrationProcedure::Step::Done) {
@@ -341,6 +359,7 @@ int runPlay(const Arguments& args)
                 std::this_thread::sleep_for(std::chrono::milliseconds(10));
             }
         }
+        if (progress) std::cerr << "\n";
         session.stop();
         const std::string trainingCsv = brailleScene ? brailleScene->trainingLogCsv() : std::string();   // control has stopped
         session.finish();   // the session's own files first: a failing training log must not lose them

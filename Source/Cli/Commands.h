@@ -12,6 +12,7 @@ int runFuse(const Arguments& args);      // CmdFuse.cpp    — offline SR-UKF fu
 int runRender(const Arguments& args);    // CmdRender.cpp  — offline deterministic engine run
 int runPlay(const Arguments& args);      // CmdPlay.cpp    — the live engine, headless
 int runBraille(const Arguments& args);   // CmdBraille.cpp — cells and row sensations of a text
+int runResources(const Arguments& args); // CmdResources.cpp — search folders, scores, built-in files
 
 struct CommandInfo {
     const char* name;

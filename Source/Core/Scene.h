@@ -97,8 +97,8 @@ struct SceneConfig {
     std::uint64_t seed = 1;          ///< every random choice derives from this (renders repeat)
     ArmSide side = ArmSide::Right;
     std::string text;                ///< braille scene: what to read
-    std::string score;               ///< score scene: "rite-of-spring" | "polytope" | a file path
-    std::string resourceDir;         ///< where Resources/ lives
+    std::string score;               ///< score scene: a score name (Core/Resources.h) or a .score file path
+    std::string resourceDir;         ///< a folder searched first for resource files (empty: the usual search, Core/Resources.h)
     std::string audioFile;           ///< cymbal: a WAV recording to cut crash fragments from (optional)
 };
 

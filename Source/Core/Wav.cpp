@@ -1,102 +1,139 @@
+// Audio files through libsndfile (Core/Wav.h). What this file adds: atomic writes (temporary
+// name, fsync, rename), RF64 with downgrade for long recordings, and errors that name the file.
 #include "Core/Wav.h"
-#include "Core/AtomicFile.h"
 #include "Core/Errors.h"
+#include <sndfile.h>
 #include <algorithm>
+#include <cerrno>
+#include <chrono>
 #include <cmath>
-#include <cstdint>
+#include <cstdio>
 #include <cstring>
+#include <fcntl.h>
+#include <unistd.h>
 
 namespace armadillo {
+
 namespace {
-void put16(std::string& s, std::uint16_t v) { s += char(v & 0xFF); s += char(v >> 8); }
-void put32(std::string& s, std::uint32_t v) { for (int i = 0; i < 4; ++i) s += char((v >> (8 * i)) & 0xFF); }
-std::uint32_t get32(const unsigned char* p) { return p[0] | (p[1] << 8) | (p[2] << 16) | (std::uint32_t(p[3]) << 24); }
-std::uint16_t get16(const unsigned char* p) { return std::uint16_t(p[0] | (p[1] << 8)); }
+
+std::string temporaryNameFor(const std::string& path)
+{
+    return path + ".tmp-" + std::to_string(::getpid()) + "-" +
+           std::to_string(std::chrono::steady_clock::now().time_since_epoch().count() % 1000000007);
+}
+
+SNDFILE* handle(void* p) { return static_cast<SNDFILE*>(p); }
+
 } // namespace
+
+WavStreamWriter::WavStreamWriter(std::string path, double sampleRate, int channels, bool float32)
+    : path_(std::move(path)), tmp_(temporaryNameFor(path_)), channels_(std::max(1, channels))
+{
+    const int fd = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0) throw IoError("cannot write " + path_ + ": " + std::strerror(errno));
+    SF_INFO info {};
+    info.samplerate = static_cast<int>(std::lround(sampleRate));
+    info.channels = channels_;
+    // RF64 while writing; on close libsndfile writes a plain RIFF/WAVE header instead when the
+    // data stayed below 4 GiB (SFC_RF64_AUTO_DOWNGRADE), so short files are ordinary WAVs.
+    info.format = SF_FORMAT_RF64 | (float32 ? SF_FORMAT_FLOAT : SF_FORMAT_PCM_16);
+    SNDFILE* f = sf_open_fd(fd, SFM_WRITE, &info, SF_TRUE);
+    if (f == nullptr) {
+        const std::string why = sf_strerror(nullptr);
+        ::close(fd);
+        std::remove(tmp_.c_str());
+        throw IoError("cannot write " + path_ + ": " + why);
+    }
+    sf_command(f, SFC_RF64_AUTO_DOWNGRADE, nullptr, SF_TRUE);
+    sf_command(f, SFC_SET_ADD_PEAK_CHUNK, nullptr, SF_FALSE);   // plain files: fmt, fact (float), data
+    sf_command(f, SFC_SET_CLIPPING, nullptr, SF_TRUE);          // 16-bit: clip instead of wrapping
+    file_ = f;
+}
+
+WavStreamWriter::~WavStreamWriter()
+{
+    if (file_ != nullptr) {
+        sf_close(handle(file_));
+        std::remove(tmp_.c_str());
+    }
+}
+
+bool WavStreamWriter::write(const float* interleaved, std::size_t frames)
+{
+    if (file_ == nullptr || failed_) return false;
+    const std::size_t samples = frames * static_cast<std::size_t>(channels_);
+    clean_.resize(samples);
+    for (std::size_t i = 0; i < samples; ++i) clean_[i] = std::isfinite(interleaved[i]) ? interleaved[i] : 0.0f;
+    const auto written = sf_writef_float(handle(file_), clean_.data(), static_cast<sf_count_t>(frames));
+    if (written != static_cast<sf_count_t>(frames)) {
+        failed_ = true;
+        error_ = sf_strerror(handle(file_));
+        return false;
+    }
+    frames_ += frames;
+    return true;
+}
+
+void WavStreamWriter::finish()
+{
+    if (file_ == nullptr) return;
+    sf_write_sync(handle(file_));
+    const int closed = sf_close(handle(file_));
+    file_ = nullptr;
+    if (failed_ || closed != 0 || std::rename(tmp_.c_str(), path_.c_str()) != 0) {
+        const std::string why = failed_ ? error_ : closed != 0 ? sf_error_number(closed) : std::strerror(errno);
+        std::remove(tmp_.c_str());
+        throw IoError("cannot write " + path_ + ": " + why);
+    }
+}
 
 void writeWav(const std::string& path, const AudioBuffer& audio, bool float32)
 {
-    const std::uint16_t channels = static_cast<std::uint16_t>(std::max<std::size_t>(1, audio.channels.size()));
+    const int channels = static_cast<int>(std::max<std::size_t>(1, audio.channels.size()));
+    WavStreamWriter out(path, audio.sampleRate, channels, float32);
+    constexpr std::size_t kChunk = 4096;
+    std::vector<float> interleaved(kChunk * static_cast<std::size_t>(channels));
     const std::size_t frames = audio.frames();
-    const std::uint16_t bytesPerSample = float32 ? 4 : 2;
-    const std::uint32_t dataBytes = static_cast<std::uint32_t>(frames * channels * bytesPerSample);
-    const auto rate = static_cast<std::uint32_t>(std::lround(audio.sampleRate));
-    std::string s;
-    s.reserve(44 + dataBytes);
-    s += "RIFF";
-    put32(s, 36 + dataBytes);
-    s += "WAVEfmt ";
-    put32(s, 16);
-    put16(s, float32 ? 3 : 1);
-    put16(s, channels);
-    put32(s, rate);
-    put32(s, rate * channels * bytesPerSample);
-    put16(s, static_cast<std::uint16_t>(channels * bytesPerSample));
-    put16(s, static_cast<std::uint16_t>(bytesPerSample * 8));
-    s += "data";
-    put32(s, dataBytes);
-    for (std::size_t i = 0; i < frames; ++i)
-        for (std::size_t c = 0; c < channels; ++c) {
-            const float x = c < audio.channels.size() ? audio.channels[c][i] : 0.0f;
-            if (float32) {
-                std::uint32_t bits;
-                std::memcpy(&bits, &x, 4);
-                put32(s, bits);
-            } else {
-                const float clipped = std::isfinite(x) ? std::clamp(x, -1.0f, 1.0f) : 0.0f;
-                put16(s, static_cast<std::uint16_t>(static_cast<std::int16_t>(std::lround(clipped * 32767.0f))));
+    for (std::size_t start = 0; start < frames; start += kChunk) {
+        const std::size_t n = std::min(kChunk, frames - start);
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t c = 0; c < static_cast<std::size_t>(channels); ++c) {
+                const bool present = c < audio.channels.size() && start + i < audio.channels[c].size();
+                interleaved[i * static_cast<std::size_t>(channels) + c] = present ? audio.channels[c][start + i] : 0.0f;
             }
-        }
-    writeFileAtomically(path, s);
+        out.write(interleaved.data(), n);
+    }
+    out.finish();
 }
 
 AudioBuffer readWav(const std::string& path)
 {
-    const std::string bytes = readWholeFile(path);
-    const auto* p = reinterpret_cast<const unsigned char*>(bytes.data());
-    const std::size_t n = bytes.size();
-    if (n < 12 || std::memcmp(p, "RIFF", 4) != 0 || std::memcmp(p + 8, "WAVE", 4) != 0)
-        throw InputError(path, 0, "", "not a RIFF/WAVE file");
-    std::uint16_t format = 0, channels = 0, bits = 0;
-    std::uint32_t rate = 0;
-    const unsigned char* data = nullptr;
-    std::size_t dataLen = 0;
-    for (std::size_t pos = 12; pos + 8 <= n;) {
-        const std::uint32_t len = get32(p + pos + 4);
-        const unsigned char* body = p + pos + 8;
-        const std::size_t avail = n - (pos + 8);
-        if (std::memcmp(p + pos, "fmt ", 4) == 0) {
-            if (len < 16 || avail < 16) throw InputError(path, 0, "", "truncated fmt chunk");
-            format = get16(body);
-            channels = get16(body + 2);
-            rate = get32(body + 4);
-            bits = get16(body + 14);
-            if (format == 0xFFFE && len >= 26) format = get16(body + 24);   // WAVE_FORMAT_EXTENSIBLE
-        } else if (std::memcmp(p + pos, "data", 4) == 0) {
-            data = body;
-            dataLen = std::min<std::size_t>(len, avail);
-        }
-        pos += 8 + len + (len & 1);
-    }
-    if (!data || channels == 0 || rate == 0) throw InputError(path, 0, "", "missing fmt or data chunk");
-    const bool pcm = format == 1 && (bits == 16 || bits == 24 || bits == 32);
-    const bool flt = format == 3 && (bits == 32 || bits == 64);
-    if (!pcm && !flt) throw InputError(path, 0, "", "unsupported sample format (PCM 16/24/32 or float 32/64 only)");
-    const std::size_t bytesPer = bits / 8, frames = dataLen / (bytesPer * channels);
+    if (::access(path.c_str(), R_OK) != 0) throw IoError("cannot read " + path + ": " + std::strerror(errno));
+    SF_INFO info {};
+    SNDFILE* f = sf_open(path.c_str(), SFM_READ, &info);
+    if (f == nullptr) throw InputError(path, 0, "", std::string("not an audio file libsndfile can read (") + sf_strerror(nullptr) + ")");
+    struct Closer {
+        SNDFILE* f;
+        ~Closer() { sf_close(f); }
+    } closer {f};
+    // About 3 hours of 8 channels at 96 kHz: more is surely a broken header, not a cymbal sample.
+    constexpr sf_count_t kMaxSamples = sf_count_t(1) << 32;
+    if (info.channels < 1 || info.samplerate < 1 || info.frames < 0 || info.frames > kMaxSamples / info.channels)
+        throw InputError(path, 0, "", "implausible audio header (channels, rate or length)");
     AudioBuffer out;
-    out.sampleRate = rate;
-    out.channels.assign(channels, std::vector<float>(frames));
-    for (std::size_t i = 0; i < frames; ++i)
-        for (std::size_t c = 0; c < channels; ++c) {
-            const unsigned char* s = data + (i * channels + c) * bytesPer;
-            float v = 0.0f;
-            if (flt && bits == 32) std::memcpy(&v, s, 4);
-            else if (flt) { double d; std::memcpy(&d, s, 8); v = static_cast<float>(d); }
-            else if (bits == 16) v = static_cast<std::int16_t>(get16(s)) / 32768.0f;
-            else if (bits == 24) v = static_cast<float>(static_cast<std::int32_t>((s[0] << 8) | (s[1] << 16) | (std::uint32_t(s[2]) << 24)) / 2147483648.0);
-            else v = static_cast<float>(static_cast<std::int32_t>(get32(s)) / 2147483648.0);
-            out.channels[c][i] = std::isfinite(v) ? v : 0.0f;
-        }
+    out.sampleRate = info.samplerate;
+    const auto channels = static_cast<std::size_t>(info.channels);
+    out.channels.assign(channels, {});
+    for (auto& ch : out.channels) ch.reserve(static_cast<std::size_t>(info.frames));
+    constexpr sf_count_t kChunk = 4096;
+    std::vector<float> buffer(static_cast<std::size_t>(kChunk) * channels);
+    for (sf_count_t got; (got = sf_readf_float(f, buffer.data(), kChunk)) > 0;)
+        for (sf_count_t i = 0; i < got; ++i)
+            for (std::size_t c = 0; c < channels; ++c) {
+                const float v = buffer[static_cast<std::size_t>(i) * channels + c];
+                out.channels[c].push_back(std::isfinite(v) ? v : 0.0f);
+            }
+    if (sf_error(f) != SF_ERR_NO_ERROR) throw InputError(path, 0, "", std::string("cannot decode: ") + sf_strerror(f));
     return out;
 }
 

@@ -1,5 +1,10 @@
 #pragma once
-// RIFF/WAVE files: the offline renderer's output and the instruments' user-supplied audio.
+// Audio files through libsndfile: the offline renderer's and `play --out`'s WAV files, and the
+// instruments' user-supplied audio (any format libsndfile reads: WAV, AIFF, FLAC, Ogg, 8–32-bit
+// PCM, float). Written WAVs start as RF64 and are downgraded to a plain RIFF/WAVE on close when
+// they stay under 4 GiB, so a six-hour recording is still one valid file; float WAVs carry the
+// `fact` chunk. Every file is written under a temporary name and renamed in when complete.
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -11,9 +16,37 @@ struct AudioBuffer {
     std::size_t frames() const noexcept { return channels.empty() ? 0 : channels[0].size(); }
 };
 
-/// 16-bit PCM (default, dithered-free rounding with clipping) or 32-bit float; atomic write.
+/// 16-bit PCM (rounded, clipped to ±1) or 32-bit float; written whole or not at all.
+/// Non-finite samples are written as 0. IoError when it cannot be written.
 void writeWav(const std::string& path, const AudioBuffer& audio, bool float32 = false);
-/// Reads PCM 16/24/32-bit or float 32/64 WAV; throws InputError on anything else or truncation.
+/// Reads any audio file libsndfile knows (despite the name: WAV, AIFF, FLAC, Ogg...). IoError
+/// when it cannot be opened for reading, InputError naming the file when it is not audio.
 AudioBuffer readWav(const std::string& path);
+
+/// A WAV written as audio arrives. Not real-time itself: call it from a writer thread, not an
+/// audio callback. Samples go to a temporary file; finish() closes it and renames it in place;
+/// destroyed without finish(), it leaves nothing behind.
+class WavStreamWriter {
+public:
+    WavStreamWriter(std::string path, double sampleRate, int channels, bool float32);   ///< IoError
+    ~WavStreamWriter();
+    WavStreamWriter(const WavStreamWriter&) = delete;
+    WavStreamWriter& operator=(const WavStreamWriter&) = delete;
+
+    /// `frames` interleaved frames; false (and finish() throws) once a write failed.
+    bool write(const float* interleaved, std::size_t frames);
+    /// Closes and renames; IoError naming the path if anything failed on the way.
+    void finish();
+    std::uint64_t frames() const noexcept { return frames_; }
+
+private:
+    std::string path_, tmp_;
+    int channels_;
+    void* file_ = nullptr;   // SNDFILE*
+    std::uint64_t frames_ = 0;
+    bool failed_ = false;
+    std::string error_;
+    std::vector<float> clean_;
+};
 
 } // namespace armadillo

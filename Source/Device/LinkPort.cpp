@@ -8,6 +8,8 @@
 #include <fcntl.h>
 #include <glob.h>
 #include <poll.h>
+#include <sys/file.h>
+#include <sys/ioctl.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
 #include <termios.h>
@@ -70,6 +72,7 @@ void FdPort::adopt(int fd, bool owned)
 
 void FdPort::close() noexcept
 {
+    if (fd_ >= 0) releaseDevice(fd_);
     if (fd_ >= 0 && owned_) ::close(fd_);
     fd_ = -1;
     closeBackend();
@@ -134,6 +137,28 @@ SerialPort::SerialPort(std::string path, int baud, Backend backend) : path_(std:
 
 SerialPort::~SerialPort() { FdPort::close(); }
 
+namespace {
+
+/// Takes the device for this process (see SerialPort in LinkPort.h). False with the reason when
+/// another program holds it.
+bool takeDevice(int fd, std::string& why)
+{
+    if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        why = errno == EWOULDBLOCK ? "in use by another program (it holds a lock on the device)" : "cannot lock it: " + errnoText(errno);
+        return false;
+    }
+    ::ioctl(fd, TIOCEXCL);   // best effort: some tty drivers refuse it; the flock still holds
+    return true;
+}
+
+} // namespace
+
+void SerialPort::releaseDevice(int fd) noexcept
+{
+    ::ioctl(fd, TIOCNXCL);
+    ::flock(fd, LOCK_UN);
+}
+
 void SerialPort::closeBackend() noexcept
 {
     if (spPort_) {
@@ -173,6 +198,11 @@ bool SerialPort::openWithLibSerialPort(std::string& why)
         return fail("cannot set 8N1 without flow control");
     int fd = -1;
     if (sp_get_port_handle(port, &fd) != SP_OK || fd < 0) return fail("no file descriptor");
+    if (std::string taken; !takeDevice(fd, taken)) {
+        sp_close(port);
+        sp_free_port(port);
+        throw IoError("port " + path_ + ": " + taken);
+    }
     sp_flush(port, SP_BUF_BOTH);
     spPort_ = port;
     adopt(fd, false);   // libserialport closes it in sp_close
@@ -213,6 +243,10 @@ void SerialPort::openWithTermios()
     ::cfsetispeed(&tio, speed);
     ::cfsetospeed(&tio, speed);
     if (::tcsetattr(fd, TCSANOW, &tio) != 0) fail("cannot apply 8N1 raw settings");
+    if (std::string taken; !takeDevice(fd, taken)) {
+        ::close(fd);
+        throw IoError("port " + path_ + ": " + taken);
+    }
     ::tcflush(fd, TCIOFLUSH);
     adopt(fd, true);
     backendName_ = "termios";

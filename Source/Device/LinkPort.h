@@ -42,6 +42,8 @@ protected:
     /// Takes ownership of fd (made non-blocking); `owned` false when a library closes it.
     void adopt(int fd, bool owned);
     virtual void closeBackend() noexcept {}
+    /// Called with the still-open descriptor just before it is closed.
+    virtual void releaseDevice(int) noexcept {}
     int fd_ = -1;
     bool owned_ = true;
     bool socket_ = false;   // sockets are written with MSG_NOSIGNAL: a closed peer is an error, not SIGPIPE
@@ -54,6 +56,9 @@ bool isStandardBaud(int baud) noexcept;
 /// A serial port by path. open() tries libserialport first and falls back to plain termios
 /// when libserialport refuses the port but it is a tty (Debian's libserialport 0.1.1 refuses
 /// pseudo-terminals and /dev/rfcomm*, which have no sysfs device). 8N1, no flow control.
+/// The open device is marked as taken for other programs: an exclusive flock() on it (what
+/// other serial tools check; a second ARMadillo gets "in use") and TIOCEXCL (further open()s
+/// fail with EBUSY, except for root). Both end when the port is closed.
 class SerialPort final : public FdPort {
 public:
     enum class Backend { Auto, LibSerialPort, Termios };
@@ -65,6 +70,7 @@ public:
 
 private:
     void closeBackend() noexcept override;
+    void releaseDevice(int fd) noexcept override;
     bool openWithLibSerialPort(std::string& why);
     void openWithTermios();
     std::string path_;

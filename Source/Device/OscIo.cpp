@@ -131,21 +131,42 @@ OscReceiver::OscReceiver(int port, ImuHandler onImu, OrientationHandler onOrient
         },
         this);
     if (port < 0 || port > 65535) throw IoError("OSC in: port " + std::to_string(port) + " is outside 0..65535");
-    fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
-    if (fd_ < 0) throw IoError(std::string("OSC in: cannot create a UDP socket: ") + std::strerror(errno));
-    sockaddr_in a {};
-    a.sin_family = AF_INET;
-    a.sin_addr.s_addr = htonl(INADDR_ANY);
-    a.sin_port = htons(static_cast<std::uint16_t>(port));
-    if (::bind(fd_, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
-        const int e = errno;
-        ::close(fd_);
-        fd_ = -1;
-        throw IoError("OSC in: cannot listen on UDP port " + std::to_string(port) + ": " + std::strerror(e));
+    // One IPv6 socket that also takes IPv4 (as v4-mapped addresses), so phones and trackers on
+    // either protocol reach the same port, as the sender already resolves both; plain IPv4 when
+    // the machine has no IPv6.
+    fd_ = ::socket(AF_INET6, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+    if (fd_ >= 0) {
+        const int off = 0;
+        ::setsockopt(fd_, IPPROTO_IPV6, IPV6_V6ONLY, &off, sizeof off);
+        sockaddr_in6 a {};
+        a.sin6_family = AF_INET6;
+        a.sin6_addr = in6addr_any;
+        a.sin6_port = htons(static_cast<std::uint16_t>(port));
+        if (::bind(fd_, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
+            const int e = errno;
+            ::close(fd_);
+            fd_ = -1;
+            throw IoError("OSC in: cannot listen on UDP port " + std::to_string(port) + ": " + std::strerror(e));
+        }
+    } else {
+        fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+        if (fd_ < 0) throw IoError(std::string("OSC in: cannot create a UDP socket: ") + std::strerror(errno));
+        sockaddr_in a {};
+        a.sin_family = AF_INET;
+        a.sin_addr.s_addr = htonl(INADDR_ANY);
+        a.sin_port = htons(static_cast<std::uint16_t>(port));
+        if (::bind(fd_, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
+            const int e = errno;
+            ::close(fd_);
+            fd_ = -1;
+            throw IoError("OSC in: cannot listen on UDP port " + std::to_string(port) + ": " + std::strerror(e));
+        }
     }
-    socklen_t len = sizeof a;
-    ::getsockname(fd_, reinterpret_cast<sockaddr*>(&a), &len);
-    port_ = ntohs(a.sin_port);
+    sockaddr_storage bound {};
+    socklen_t len = sizeof bound;
+    ::getsockname(fd_, reinterpret_cast<sockaddr*>(&bound), &len);
+    port_ = bound.ss_family == AF_INET6 ? ntohs(reinterpret_cast<sockaddr_in6*>(&bound)->sin6_port)
+                                        : ntohs(reinterpret_cast<sockaddr_in*>(&bound)->sin_port);
     start_ = std::chrono::steady_clock::now();
 }
 
@@ -179,17 +200,44 @@ void OscReceiver::run()
     while (!stop_.load(std::memory_order_relaxed)) {
         pollfd p {fd_, POLLIN, 0};
         if (::poll(&p, 1, 20) <= 0) continue;
-        sockaddr_in from {};
+        sockaddr_storage from {};
         socklen_t fromLen = sizeof from;
         const ssize_t n = ::recvfrom(fd_, buffer.data(), buffer.size(), MSG_DONTWAIT, reinterpret_cast<sockaddr*>(&from), &fromLen);
         if (n <= 0) continue;
         // Arrival time on the monotonic clock: what "immediately" bundles and bare messages are stamped with.
         const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-        const std::uint32_t ip = ntohl(from.sin_addr.s_addr);
-        const std::uint16_t port = ntohs(from.sin_port);
-        char name[32];
-        std::snprintf(name, sizeof name, "%u.%u.%u.%u:%u", ip >> 24, (ip >> 16) & 255u, (ip >> 8) & 255u, ip & 255u, unsigned(port));
-        handleDatagram(buffer.data(), static_cast<std::size_t>(n), t, (std::uint64_t(ip) << 16 | port) + 1, name);
+        char name[64];
+        std::uint64_t key = 0;
+        const unsigned char* v6 = nullptr;
+        std::uint16_t port = 0;
+        std::uint32_t ip = 0;
+        bool v4 = false;
+        if (from.ss_family == AF_INET6) {
+            const auto* a = reinterpret_cast<const sockaddr_in6*>(&from);
+            v6 = a->sin6_addr.s6_addr;
+            port = ntohs(a->sin6_port);
+            if (IN6_IS_ADDR_V4MAPPED(&a->sin6_addr)) {   // an IPv4 sender: named and keyed as before
+                ip = (std::uint32_t(v6[12]) << 24) | (std::uint32_t(v6[13]) << 16) | (std::uint32_t(v6[14]) << 8) | v6[15];
+                v4 = true;
+            }
+        } else {
+            const auto* a = reinterpret_cast<const sockaddr_in*>(&from);
+            ip = ntohl(a->sin_addr.s_addr);
+            port = ntohs(a->sin_port);
+            v4 = true;
+        }
+        if (v4) {
+            std::snprintf(name, sizeof name, "%u.%u.%u.%u:%u", ip >> 24, (ip >> 16) & 255u, (ip >> 8) & 255u, ip & 255u, unsigned(port));
+            key = (std::uint64_t(ip) << 16 | port) + 1;
+        } else {
+            char text[INET6_ADDRSTRLEN] = "";
+            ::inet_ntop(AF_INET6, v6, text, sizeof text);
+            std::snprintf(name, sizeof name, "[%s]:%u", text, unsigned(port));
+            key = 1469598103934665603ull;   // FNV-1a over address and port, top bit set: never an IPv4 key (< 2^48)
+            for (int i = 0; i < 16; ++i) key = (key ^ v6[i]) * 1099511628211ull;
+            key = ((key ^ port) * 1099511628211ull) | (std::uint64_t(1) << 63);
+        }
+        handleDatagram(buffer.data(), static_cast<std::size_t>(n), t, key, name);
     }
 }
 

@@ -6,9 +6,6 @@
 #include <cmath>
 #include <cstring>
 
-#ifndef ARMADILLO_RESOURCE_DIR
-#define ARMADILLO_RESOURCE_DIR ""
-#endif
 
 namespace armadillo {
 
@@ -29,10 +26,6 @@ Engine::Engine(const EngineConfig& config, std::unique_ptr<Scene> scene) : confi
 {
     if (!scene_) throw InputError("", 0, "", "no scene given for '" + config_.scene + "'");
     config_.motorCount = std::clamp(config_.motorCount, kGridMotors, kMaxMotors);
-    if (config_.sceneConfig.resourceDir.empty()) {
-        const char* env = std::getenv("ARMADILLO_RESOURCES");
-        config_.sceneConfig.resourceDir = env && *env ? env : ARMADILLO_RESOURCE_DIR;
-    }
     scene_->prepare(config_.sceneConfig);
     tactile_ = std::make_unique<TactileEngine>();
     TactileConfig tactileConfig;

@@ -1,8 +1,14 @@
 #pragma once
 // Rank-1 update and downdate of a Cholesky factor, the two LINPACK routines the square-root UKF
 // needs (van der Merwe & Wan 2001, "cholupdate"; LINPACK DCHUD / DCHDD; thesis §2.7).
-// Eigen has no such routine. Here the factor is lower-triangular L with P = L Lᵀ
-// (DCHUD/DCHDD work on the upper Rᵀ R; the algebra is the transpose).
+// Eigen has one too (LLT::rankUpdate(v, sigma), σ < 0 for a downdate), and ours is kept for two
+// reasons: Eigen's works on an LLT object, not on the triangular block of the filter's own
+// fixed-size factor, so each use would copy the factor in and out; and its downdate finds an
+// indefinite result column by column, after it has already overwritten the columns before it
+// (it then reports NumericalIssue through info()), whereas the filter needs L intact to recover.
+// Ours tests the downdate first (as DCHDD does) and sweeps contiguous columns (FUSION.md, cost).
+// Here the factor is lower-triangular L with P = L Lᵀ (DCHUD/DCHDD work on the upper
+// Rᵀ R; the algebra is the transpose).
 //
 // - update:   L Lᵀ + x xᵀ, always possible (Givens-like rotations, O(n²)).
 // - downdate: L Lᵀ − x xᵀ, possible only if the result stays positive definite. As DCHDD does,

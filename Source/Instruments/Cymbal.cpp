@@ -1,6 +1,8 @@
 // Cymbal gesture detection and the crash fragment bank (thesis §3.6.1, §3.6.2.1).
 #include "Instruments/Cymbal.h"
 #include "Instruments/Dsp.h"
+#include "Core/Errors.h"
+#include <samplerate.h>
 #include <algorithm>
 #include <cmath>
 
@@ -158,15 +160,22 @@ std::vector<float> prepareUserAudio(const AudioBuffer& audio, double sampleRateH
     const auto channelGain = 1.0f / static_cast<float>(audio.channels.size());
     for (const auto& ch : audio.channels)
         for (std::size_t i = 0; i < frames && i < ch.size(); ++i) mono[i] += channelGain * (std::isfinite(ch[i]) ? ch[i] : 0.0f);
-    const double ratio = audio.sampleRate / sampleRateHz;   // source samples per output sample
-    const auto outFrames = static_cast<std::size_t>(static_cast<double>(frames - 1) / ratio);
-    out.resize(outFrames);
-    for (std::size_t i = 0; i < outFrames; ++i) {
-        const double x = static_cast<double>(i) * ratio;
-        const auto k = static_cast<std::size_t>(x);
-        const double frac = x - static_cast<double>(k);
-        const double a = mono[k], b = mono[std::min(k + 1, frames - 1)];
-        out[i] = static_cast<float>(a + frac * (b - a));
+    if (std::abs(audio.sampleRate - sampleRateHz) < 1e-9) {
+        out = std::move(mono);
+    } else {
+        // Band-limited resampling (libsamplerate's sinc converter): a 96 kHz recording played at
+        // 48 kHz loses what lies above 24 kHz instead of folding it back as audible aliases, as
+        // linear interpolation did. Not real-time: prepare() runs on the message thread.
+        SRC_DATA d {};
+        d.src_ratio = sampleRateHz / audio.sampleRate;   // output samples per input sample
+        out.resize(static_cast<std::size_t>(std::ceil(static_cast<double>(frames) * d.src_ratio)) + 1);
+        d.data_in = mono.data();
+        d.input_frames = static_cast<long>(frames);
+        d.data_out = out.data();
+        d.output_frames = static_cast<long>(out.size());
+        const int error = src_simple(&d, SRC_SINC_MEDIUM_QUALITY, 1);
+        if (error != 0) throw InputError("", 0, "", std::string("cannot resample the recording: ") + src_strerror(error));
+        out.resize(static_cast<std::size_t>(d.output_frames_gen));
     }
     normaliseRms(out, kFragmentRms);
     return out;

@@ -61,7 +61,8 @@ struct CrashBank {
 };
 /// Builds the noise bank (not real-time: allocates ~10 MB at 48 kHz).
 CrashBank buildCrashBank(double sampleRateHz, std::uint64_t seed, int fragmentCount = 10);
-/// Mixes to mono, resamples (linear) to the rate and normalises RMS like the bank's fragments.
+/// Mixes to mono, resamples to the rate (libsamplerate, band-limited) and normalises RMS like the
+/// bank's fragments. InputError if the resampler refuses the rates.
 std::vector<float> prepareUserAudio(const AudioBuffer& audio, double sampleRateHz);
 
 /// Parameter ids of the cymbal scene.

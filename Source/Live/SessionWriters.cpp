@@ -106,77 +106,22 @@ void StreamingCsvWriter::finish()
 
 // --- WAV ---------------------------------------------------------------------------------------
 
-namespace {
-void put16(unsigned char* p, unsigned v) { p[0] = static_cast<unsigned char>(v); p[1] = static_cast<unsigned char>(v >> 8); }
-void put32(unsigned char* p, std::uint32_t v)
-{
-    for (int i = 0; i < 4; ++i) p[i] = static_cast<unsigned char>(v >> (8 * i));
-}
-} // namespace
-
 StreamingWavWriter::StreamingWavWriter(std::string path, double sampleRate, bool float32)
-    : path_(std::move(path)), tmp_(tempNameFor(path_)), sampleRate_(sampleRate), float32_(float32)
+    : out_(std::move(path), sampleRate, 2, float32)
 {
-    file_ = openTemp(path_, tmp_);
-    unsigned char header[44] {};   // sizes patched by finish()
-    if (std::fwrite(header, 1, sizeof header, file_) != sizeof header) failed_ = true;
-}
-
-StreamingWavWriter::~StreamingWavWriter()
-{
-    if (file_) {
-        std::fclose(file_);
-        std::remove(tmp_.c_str());
-    }
 }
 
 void StreamingWavWriter::write(const float* left, const float* right, int frames)
 {
-    if (!file_ || frames <= 0) return;
-    const std::size_t bytesPerSample = float32_ ? 4 : 2;
-    buffer_.resize(static_cast<std::size_t>(frames) * 2 * bytesPerSample);
-    unsigned char* p = buffer_.data();
+    if (frames <= 0) return;
+    interleaved_.resize(static_cast<std::size_t>(frames) * 2);
     for (int i = 0; i < frames; ++i) {
-        for (const float s : {left[i], right[i]}) {
-            if (float32_) {
-                float v = std::isfinite(s) ? s : 0.0f;
-                std::uint32_t bits;
-                std::memcpy(&bits, &v, 4);
-                put32(p, bits);
-                p += 4;
-            } else {
-                const float c = std::isfinite(s) ? std::clamp(s, -1.0f, 1.0f) : 0.0f;
-                const long v = std::lround(static_cast<double>(c) * 32767.0);
-                put16(p, static_cast<unsigned>(static_cast<std::uint16_t>(static_cast<std::int16_t>(v))));
-                p += 2;
-            }
-        }
+        interleaved_[2 * static_cast<std::size_t>(i)] = left[i];
+        interleaved_[2 * static_cast<std::size_t>(i) + 1] = right[i];
     }
-    if (std::fwrite(buffer_.data(), 1, buffer_.size(), file_) != buffer_.size()) failed_ = true;
-    frames_ += static_cast<std::uint64_t>(frames);
+    out_.write(interleaved_.data(), static_cast<std::size_t>(frames));
 }
 
-void StreamingWavWriter::finish()
-{
-    if (!file_) return;
-    const std::uint32_t bytesPerSample = float32_ ? 4 : 2;
-    const std::uint64_t dataBytes = frames_ * 2 * bytesPerSample;
-    if (dataBytes > 0xFFFFFFF0ull - 36) failed_ = true;   // RIFF's 4 GiB limit
-    unsigned char h[44];
-    std::memcpy(h, "RIFF", 4);
-    put32(h + 4, static_cast<std::uint32_t>(36 + dataBytes));
-    std::memcpy(h + 8, "WAVEfmt ", 8);
-    put32(h + 16, 16);
-    put16(h + 20, float32_ ? 3 : 1);
-    put16(h + 22, 2);
-    put32(h + 24, static_cast<std::uint32_t>(std::lround(sampleRate_)));
-    put32(h + 28, static_cast<std::uint32_t>(std::lround(sampleRate_)) * 2 * bytesPerSample);
-    put16(h + 32, 2 * bytesPerSample);
-    put16(h + 34, 8 * bytesPerSample);
-    std::memcpy(h + 36, "data", 4);
-    put32(h + 40, static_cast<std::uint32_t>(dataBytes));
-    if (std::fseek(file_, 0, SEEK_SET) != 0 || std::fwrite(h, 1, sizeof h, file_) != sizeof h) failed_ = true;
-    commit(file_, path_, tmp_, failed_);
-}
+void StreamingWavWriter::finish() { out_.finish(); }
 
 } // namespace armadillo::device

@@ -4,6 +4,7 @@
 // to a temporary file, which is renamed over the target only when the session finishes — whole
 // or nothing (INTERFACES.md), with memory bounded however long the session runs.
 #include "Core/SpscQueue.h"
+#include "Core/Wav.h"
 #include <array>
 #include <atomic>
 #include <cstdio>
@@ -52,27 +53,22 @@ private:
     std::string text_;
 };
 
-/// A stereo WAV written as audio is rendered (16-bit PCM or 32-bit float); the header's sizes are
-/// filled in by finish(). Not real-time itself: call it from a writer thread, not an audio callback.
+/// A stereo WAV written as audio is rendered (16-bit PCM or 32-bit float), through the core's
+/// WavStreamWriter (libsndfile: RF64 above 4 GiB, plain WAV below). Not real-time itself: call
+/// it from a writer thread, not an audio callback.
 class StreamingWavWriter {
 public:
     StreamingWavWriter(std::string path, double sampleRate, bool float32);
-    ~StreamingWavWriter();
     StreamingWavWriter(const StreamingWavWriter&) = delete;
     StreamingWavWriter& operator=(const StreamingWavWriter&) = delete;
 
     void write(const float* left, const float* right, int frames);
     void finish();
-    std::uint64_t frames() const noexcept { return frames_; }
+    std::uint64_t frames() const noexcept { return out_.frames(); }
 
 private:
-    std::string path_, tmp_;
-    double sampleRate_;
-    bool float32_;
-    std::FILE* file_ = nullptr;
-    std::uint64_t frames_ = 0;
-    bool failed_ = false;
-    std::vector<unsigned char> buffer_;
+    WavStreamWriter out_;
+    std::vector<float> interleaved_;
 };
 
 } // namespace armadillo::device

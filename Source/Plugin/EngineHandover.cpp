@@ -24,7 +24,8 @@ std::unique_ptr<live::EngineSlot> EngineHandover::build(const EngineRequest& req
     config.sceneConfig.side = request.left ? ArmSide::Left : ArmSide::Right;
     config.sceneConfig.text = request.text;
     config.sceneConfig.score = request.score;
-    config.sceneConfig.resourceDir = ARMADILLO_RESOURCE_DIR;
+    // resourceDir stays empty: scores and word lists come from the user's folders or the copy
+    // built into the core (Core/Resources.h), never from a path of the build machine.
     try {
         slot->engine = std::make_unique<Engine>(config);
     } catch (const std::exception& e) {

@@ -1,5 +1,7 @@
 #include "Plugin/PluginEditor.h"
 #include "Plugin/PluginProcessor.h"
+#include "Core/Resources.h"
+#include "Core/Version.h"
 
 namespace armadillo::plugin {
 
@@ -40,6 +42,43 @@ ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
     status_.setColour(juce::Label::backgroundColourId, juce::Colour(0xff5a3a12));
     dismiss_.setTitle("Dismiss message");
     dismiss_.onClick = [this] { processor_.clearStatusMessage(); timerCallback(); };
+    about_.setTitle("About ARMadillo");
+    about_.setDescription("Version, licence and where your own scores go.");
+    about_.onClick = [] {
+        const juce::String version {std::string(kVersion)};
+        juce::AlertWindow::showMessageBoxAsync(
+            juce::MessageBoxIconType::InfoIcon, "About ARMadillo",
+            "ARMadillo " + version + " - forearm controller and tactile display (after D. Sachs, MIT 2005).\n\n"
+                "Licence: GPL-3.0-or-later (it is built with JUCE 7 from Debian, which is GPL-3.0).\n\n"
+                "Your own scores: " + juce::String(userResourceDir()) + "/Scores/NAME.score\n"
+                "Documentation: /usr/share/doc/armadillo (installed) or docs/ in the sources.");
+    };
+    addAndMakeVisible(about_);
+    setup_.setTitle("Setup");
+    setup_.setDescription("Save the whole setup (scene, parameters, device, mount, OSC) to a file, or load one.");
+    setup_.onClick = [this] {
+        juce::PopupMenu menu;
+        menu.addItem(1, "Save setup...");
+        menu.addItem(2, "Load setup...");
+        menu.showMenuAsync(juce::PopupMenu::Options().withTargetComponent(&setup_), [this](int choice) {
+            if (choice == 0) return;
+            const bool save = choice == 1;
+            chooser_ = std::make_unique<juce::FileChooser>(save ? "Save the setup as" : "Load a setup",
+                                                           juce::File::getSpecialLocation(juce::File::userDocumentsDirectory), "*.armadillo");
+            const int flags = juce::FileBrowserComponent::canSelectFiles
+                              | (save ? juce::FileBrowserComponent::saveMode | juce::FileBrowserComponent::warnAboutOverwriting
+                                      : juce::FileBrowserComponent::openMode);
+            chooser_->launchAsync(flags, [this, save](const juce::FileChooser& fc) {
+                const auto file = fc.getResult();
+                if (file == juce::File()) return;
+                const auto target = save && !file.hasFileExtension("armadillo") ? file.withFileExtension("armadillo") : file;
+                const auto why = save ? processor_.saveSetup(target) : processor_.loadSetup(target);
+                if (why.isNotEmpty())
+                    juce::AlertWindow::showMessageBoxAsync(juce::MessageBoxIconType::WarningIcon, save ? "Save setup" : "Load setup", why);
+            });
+        });
+    };
+    addAndMakeVisible(setup_);
 
     for (juce::Component* c : std::initializer_list<juce::Component*> {&source_, &scene_, &wander_, &armView_, &motors_,
                                                                         &device_, &sceneControls_})
@@ -97,6 +136,9 @@ void ArmadilloEditor::resized()
     top.removeFromLeft(60);
     scene_.setBounds(top.removeFromLeft(std::min(200, top.getWidth() / 2)));
     top.removeFromLeft(12);
+    about_.setBounds(top.removeFromRight(70));
+    top.removeFromRight(6);
+    setup_.setBounds(top.removeFromRight(80));
     wander_.setBounds(top.removeFromLeft(100));
     r.removeFromTop(4);
     if (status_.isVisible()) {

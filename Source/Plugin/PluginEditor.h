@@ -28,6 +28,9 @@ private:
     juce::Label sourceLabel_, sceneLabel_;
     juce::ToggleButton wander_ {"Wander"};
     juce::TextButton dismiss_ {"OK"};
+    juce::TextButton about_ {"About"};
+    juce::TextButton setup_ {"Setup..."};
+    std::unique_ptr<juce::FileChooser> chooser_;
     std::unique_ptr<juce::AudioProcessorValueTreeState::ComboBoxAttachment> sourceAttachment_, sceneAttachment_;
     ArmView armView_;
     MotorDisplay motors_;

@@ -242,6 +242,21 @@ void ArmadilloProcessor::getStateInformation(juce::MemoryBlock& destData)
     PluginState::save(apvts_, settings_, destData);
 }
 
+juce::String ArmadilloProcessor::saveSetup(const juce::File& file)
+{
+    juce::MemoryBlock state;
+    getStateInformation(state);
+    return PluginState::writeSetupFile(state, file);
+}
+
+juce::String ArmadilloProcessor::loadSetup(const juce::File& file)
+{
+    juce::MemoryBlock state;
+    if (auto why = PluginState::readSetupFile(file, state); why.isNotEmpty()) return why;
+    setStateInformation(state.getData(), static_cast<int>(state.getSize()));
+    return {};
+}
+
 void ArmadilloProcessor::setStateInformation(const void* data, int sizeInBytes)
 {
     setStatus(PluginState::restore(*this, apvts_, settings_, data, sizeInBytes));

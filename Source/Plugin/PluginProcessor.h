@@ -57,6 +57,10 @@ public:
     void changeProgramName(int, const juce::String&) override {}
     void getStateInformation(juce::MemoryBlock& destData) override;
     void setStateInformation(const void* data, int sizeInBytes) override;
+    /// The app's "Save setup..." / "Load setup...": the whole state as a readable file (message
+    /// thread). Return "" or what went wrong; loading reports refused values in the status line.
+    juce::String saveSetup(const juce::File& file);
+    juce::String loadSetup(const juce::File& file);
 
     // For the editor (message thread)
     juce::AudioProcessorValueTreeState& parameters() noexcept { return apvts_; }

@@ -1,4 +1,5 @@
 #include "Plugin/PluginState.h"
+#include "Core/Version.h"
 #include <cmath>
 #include <limits>
 
@@ -71,7 +72,7 @@ void save(juce::AudioProcessorValueTreeState& parameters, const juce::ValueTree&
 {
     juce::ValueTree root("ARMADILLO");
     root.setProperty("version", kVersion, nullptr);
-    root.setProperty("pluginVersion", ARMADILLO_VERSION_STRING, nullptr);
+    root.setProperty("pluginVersion", juce::String(std::string(armadillo::kVersion)), nullptr);   // project(VERSION)
     root.appendChild(parameters.copyState(), nullptr);
     root.appendChild(settings.createCopy(), nullptr);
     if (auto xml = root.createXml()) juce::AudioProcessor::copyXmlToBinary(*xml, dest);
@@ -110,6 +111,27 @@ juce::String restore(juce::AudioProcessor& processor, juce::AudioProcessorValueT
     installSettings(settings, root.getChildWithName(SettingIds::root));
     return rejected > 0 ? juce::String(rejected) + " saved parameter values were not numbers; defaults used for them."
                         : juce::String();
+}
+
+juce::String writeSetupFile(const juce::MemoryBlock& state, const juce::File& file)
+{
+    const auto xml = juce::AudioProcessor::getXmlFromBinary(state.getData(), static_cast<int>(state.getSize()));
+    if (xml == nullptr) return "the current state could not be read";
+    juce::TemporaryFile tmp(file);   // written beside the target, then moved over it
+    if (!xml->writeTo(tmp.getFile()) || !tmp.overwriteTargetFileWithTemporary())
+        return "cannot write " + file.getFullPathName();
+    return {};
+}
+
+juce::String readSetupFile(const juce::File& file, juce::MemoryBlock& state)
+{
+    if (!file.existsAsFile()) return "no such file: " + file.getFullPathName();
+    if (file.getSize() > 1024 * 1024) return file.getFileName() + " is too large to be a setup";
+    const auto xml = juce::parseXML(file);
+    if (xml == nullptr || !xml->hasTagName("ARMADILLO")) return file.getFileName() + " is not an ARMadillo setup";
+    state.reset();
+    juce::AudioProcessor::copyXmlToBinary(*xml, state);
+    return {};
 }
 
 } // namespace armadillo::plugin::PluginState

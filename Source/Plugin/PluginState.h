@@ -51,6 +51,14 @@ juce::String restore(juce::AudioProcessor& processor, juce::AudioProcessorValueT
 /// Every parameter and setting back to its default.
 void resetToDefaults(juce::AudioProcessor& processor, juce::ValueTree& settings);
 
+/// A whole setup (scene, parameters, source, device port and calibration, mount, OSC) as a
+/// readable XML file (the state document of docs/PLUGIN.md), written whole or not at all.
+/// Returns "" or why it could not be written.
+juce::String writeSetupFile(const juce::MemoryBlock& state, const juce::File& file);
+/// Reads a setup file back into the bytes restore() takes. Returns "" or why it is not a setup
+/// (restore() then still validates every value).
+juce::String readSetupFile(const juce::File& file, juce::MemoryBlock& state);
+
 } // namespace PluginState
 
 } // namespace armadillo::plugin

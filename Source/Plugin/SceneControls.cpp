@@ -1,5 +1,6 @@
 #include "Plugin/SceneControls.h"
 #include "Plugin/PluginProcessor.h"
+#include "Core/Resources.h"
 
 namespace armadillo::plugin {
 
@@ -88,8 +89,28 @@ void SceneControls::rebuild()
     };
     if (entry.scene == "braille")
         addTextSetting(SettingIds::brailleText, "Text to read", "What the braille scene shows on the arm, one character at a time.");
-    if (entry.scene == "score")
-        addTextSetting(SettingIds::score, "Score", "rite-of-spring, polytope, or the path of a score file.");
+    if (entry.scene == "score") {
+        // The scores found by name (the shipped ones and the user's own Scores/*.score in
+        // ~/.local/share/armadillo or $ARMADILLO_RESOURCES); a path can be typed as well.
+        Control c;
+        c.label = std::make_unique<juce::Label>();
+        c.label->setText("Score", juce::dontSendNotification);
+        auto box = std::make_unique<juce::ComboBox>();
+        int itemId = 1;
+        for (const ScoreEntry& s : listScores()) box->addItem(juce::String(s.name), itemId++);
+        box->setEditableText(true);
+        box->setText(processor_.settings()[SettingIds::score].toString(), juce::dontSendNotification);
+        box->setTitle("Score");
+        box->setDescription("A score by name (the shipped ones and yours in " + juce::String(userResourceDir())
+                            + "/Scores), or the path of a .score file.");
+        box->onChange = [this, b = box.get()] {
+            if (b->getText().isNotEmpty()) processor_.settings().setProperty(SettingIds::score, b->getText(), nullptr);
+        };
+        c.editor = std::move(box);
+        content_.addAndMakeVisible(*c.label);
+        content_.addAndMakeVisible(*c.editor);
+        controls_.push_back(std::move(c));
+    }
     resized();
 }
 

@@ -3,31 +3,35 @@
 // follows the host transport's seconds (default) or beats, or its own clock without one.
 #include "Tactile/ScoreScene.h"
 #include "Core/Errors.h"
+#include "Core/Resources.h"
 #include "Tactile/ScoreFollower.h"
 #include "Tactile/ScorePlayer.h"
 #include <algorithm>
 #include <atomic>
 #include <filesystem>
 
-#ifndef ARMADILLO_RESOURCE_DIR
-#define ARMADILLO_RESOURCE_DIR ""
-#endif
 
 namespace armadillo {
 
 namespace {
 
-/// SceneConfig::score → a file: the shipped names live in <resourceDir>/Scores/<name>.score;
-/// anything else is a path.
-std::string scorePath(const SceneConfig& config)
+/// SceneConfig::score → a score: a name is looked up as Scores/<name>.score in the resource
+/// folders (a user's own scores live there) and then among the built-in ones; anything with a
+/// slash or ending in ".score" is a path.
+Score resolveScore(const SceneConfig& config)
 {
-    const std::string resources = config.resourceDir.empty() ? std::string(ARMADILLO_RESOURCE_DIR) : config.resourceDir;
     const std::string& name = config.score;
-    if (name.empty()) throw InputError("", 0, "score", "no score given (rite-of-spring, polytope or a file)");
-    if (name == "rite-of-spring" || name == "polytope") return resources + "/Scores/" + name + ".score";
-    if (!std::filesystem::exists(name))
-        throw InputError(name, 0, "score", "no such score (the shipped ones are rite-of-spring and polytope)");
-    return name;
+    if (name.empty()) throw InputError("", 0, "score", "no score given (a name such as rite-of-spring, or a file)");
+    const bool isPath = name.find('/') != std::string::npos || name.ends_with(".score");
+    if (!isPath) {
+        if (auto file = findResource("Scores/" + name + ".score", config.resourceDir))
+            return parseScore(file->bytes, file->origin);
+        std::string known;
+        for (const ScoreEntry& e : listScores(config.resourceDir)) known += (known.empty() ? "" : ", ") + e.name;
+        throw InputError(name, 0, "score", "no such score (known: " + known + "; or give a .score file)");
+    }
+    if (!std::filesystem::exists(name)) throw InputError(name, 0, "score", "no such score file");
+    return loadScore(name);
 }
 
 class ScoreScene final : public Scene {
@@ -45,7 +49,7 @@ public:
 
     void prepare(const SceneConfig& config) override
     {
-        Score score = loadScore(scorePath(config));
+        Score score = resolveScore(config);
         follower_.prepare(score, config.sampleRate > 0.0 ? config.sampleRate : 48000.0);
         player_.setScore(std::move(score));
         inputBlocks_.store(0);

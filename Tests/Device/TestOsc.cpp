@@ -148,3 +148,30 @@ TEST_CASE("osc: UDP input drives IMU and orientation handlers; sender speaks the
     }
     CHECK(tx.sent() == 5);
 }
+
+TEST_CASE("osc: the receiver takes IPv6 senders as well as IPv4 on the same port", "[device][osc]")
+{
+    // One receiver per sender: the merger follows one device at a time (docs/DEVICE.md §6).
+    for (const char* host : {"127.0.0.1", "::1"}) {   // ::1 exists wherever the kernel has IPv6, as here and in CI
+        INFO(host);
+        std::mutex m;
+        std::condition_variable cv;
+        int orientations = 0;
+        OscReceiver rx(0, {}, [&](double, const Eigen::Quaterniond&) {
+            std::lock_guard<std::mutex> l(m);
+            ++orientations;
+            cv.notify_all();
+        });
+        rx.start();
+        REQUIRE(rx.port() > 0);
+        const OscArg q[] = {OscArg::float32(1.0f), OscArg::float32(0.0f), OscArg::float32(0.0f), OscArg::float32(0.0f)};
+        OscSender tx(HostPort {host, rx.port()});
+        REQUIRE(tx.send("/armadillo/orientation", q, 4));
+        {
+            std::unique_lock<std::mutex> l(m);
+            REQUIRE(cv.wait_for(l, std::chrono::seconds(10), [&] { return orientations == 1; }));
+        }
+        rx.stop();
+        CHECK(rx.stats().orientation == 1);
+    }
+}

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <fstream>
 #include <mutex>
+#include <sys/ioctl.h>
 #include <unistd.h>
 
 using namespace armadillo;
@@ -342,4 +343,31 @@ TEST_CASE("serial port: missing ports and non-ttys are refused clearly; the link
     link.stop();
     CHECK(std::chrono::duration<double>(Clock::now() - t0).count() < 1.0);
     CHECK(link.stats().packets == 0);
+}
+
+TEST_CASE("serial port: an open port is taken on the device itself (flock + TIOCEXCL) until closed", "[device][pty]")
+{
+    const std::string path = tempPortPath();
+    SimulatedForearm sim(std::make_shared<WanderingMotion>(), stamped());
+    sim.startPty(path);
+    SerialPort first(path, 57600);
+    first.open();
+    REQUIRE(first.isOpen());
+    int exclusive = 0;
+    REQUIRE(::ioctl(first.fd(), TIOCGEXCL, &exclusive) == 0);
+    CHECK(exclusive == 1);   // other programs' open() gets EBUSY (root excepted)
+    // Another opener (another program, or a second ARMadillo) sees the lock, with a clear reason.
+    SerialPort second(path, 57600);
+    try {
+        second.open();
+        FAIL("opened a port another process holds");
+    } catch (const IoError& e) {
+        CHECK(std::string(e.what()).find("in use by another program") != std::string::npos);
+    }
+    CHECK_FALSE(second.isOpen());
+    first.close();
+    second.open();   // free again once closed
+    CHECK(second.isOpen());
+    REQUIRE(::ioctl(second.fd(), TIOCGEXCL, &exclusive) == 0);
+    CHECK(exclusive == 1);
 }

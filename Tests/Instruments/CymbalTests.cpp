@@ -409,3 +409,33 @@ TEST_CASE("strike gesture detector: strike, touch and the first sample", "[cymba
     CHECK(cymbalStrikeGain(300.0, 150.0) > cymbalStrikeGain(200.0, 150.0));
     CHECK(cymbalStrikeGain(5000.0, 150.0) == Approx(1.0));
 }
+
+TEST_CASE("a 96 kHz recording is resampled without aliasing (libsamplerate)", "[cymbal]")
+{
+    // 1 kHz plus 30 kHz, equal amplitude, at 96 kHz. At 48 kHz the 30 kHz tone cannot exist:
+    // a band-limited resampler removes it; linear interpolation (the old way) folds it to
+    // 48 − 30 = 18 kHz at a level close to the 1 kHz tone's.
+    AudioBuffer rec;
+    rec.sampleRate = 96000.0;
+    rec.channels.assign(1, std::vector<float>(96000));
+    for (std::size_t i = 0; i < rec.channels[0].size(); ++i) {
+        const double t = static_cast<double>(i) / 96000.0;
+        rec.channels[0][i] = static_cast<float>(0.4 * std::sin(2.0 * kPi * 1000.0 * t) + 0.4 * std::sin(2.0 * kPi * 30000.0 * t));
+    }
+    const std::vector<float> out = prepareUserAudio(rec, 48000.0);
+    CHECK(static_cast<double>(out.size()) == Approx(48000.0).margin(2.0));   // the same second at the new rate
+    auto amplitude = [&](double hz) {
+        double c = 0.0, s = 0.0;
+        const std::size_t from = 2000, to = out.size() - 2000;   // away from the filter's edges
+        for (std::size_t i = from; i < to; ++i) {
+            const double ph = 2.0 * kPi * hz * static_cast<double>(i) / 48000.0;
+            c += static_cast<double>(out[i]) * std::cos(ph);
+            s += static_cast<double>(out[i]) * std::sin(ph);
+        }
+        return 2.0 * std::sqrt(c * c + s * s) / static_cast<double>(to - from);
+    };
+    const double wanted = amplitude(1000.0), alias = amplitude(18000.0);
+    INFO("1 kHz amplitude " << wanted << ", 18 kHz alias " << alias);
+    CHECK(wanted > 0.1);
+    CHECK(alias < wanted * 1e-3);   // below −60 dB
+}

@@ -619,6 +619,27 @@ TEST_CASE("LV2: loads, follows automated elevation, restores its state")
     CHECK(valueOf(again, "Azimuth", 0.0f, 360.0f) == Approx(123.0f).margin(0.1));
 }
 
+/// The plugin's own state document (docs/PLUGIN.md "State") out of JUCE's VST3 host wrapper.
+std::unique_ptr<juce::XmlElement> ownState(Hosted& h)
+{
+    juce::MemoryBlock hostState, own;
+    h.plugin->getStateInformation(hostState);
+    auto outer = juce::AudioProcessor::getXmlFromBinary(hostState.getData(), static_cast<int>(hostState.getSize()));
+    REQUIRE(outer != nullptr);
+    REQUIRE(outer->getChildByName("IComponent") != nullptr);
+    own.fromBase64Encoding(outer->getChildByName("IComponent")->getAllSubText());
+    auto xml = juce::AudioProcessor::getXmlFromBinary(own.getData(), static_cast<int>(own.getSize()));
+    REQUIRE(xml != nullptr);
+    return xml;
+}
+
+TEST_CASE("VST3: the plugin reports the project version to the host and in its state")
+{
+    auto h = loadVst3();
+    CHECK(h.plugin->getPluginDescription().version == ARMADILLO_PROJECT_VERSION);
+    CHECK(ownState(h)->getStringAttribute("pluginVersion") == ARMADILLO_PROJECT_VERSION);
+}
+
 int main(int argc, char* argv[])
 {
     juce::ScopedJuceInitialiser_GUI juce;   // message manager for the hosts and the plugins' timers

@@ -165,7 +165,7 @@ TEST_CASE("Polytope de Cluny: breathing and twisting textures, then broken glass
 TEST_CASE("Score scene: own clock, resource fallback, intensity, bad names", "[scores]")
 {
     // Without a transport the scene runs on its own clock, and an empty resourceDir falls back
-    // to the compiled-in Resources folder.
+    // to the usual search, which ends with the copy built into the core (Core/Resources.h).
     const Played own = play("rite-of-spring", 0.005, false, "");
     const Played host = play("rite-of-spring", 0.005, true);
     // The own clock sums dt, the host gives i·dt: they may part by a rounding error at a note
