@@ -56,6 +56,7 @@ bool DeviceConnection::connect(const std::string& port, int baud, const std::str
         if (port == kSimulatedPort) {
             device::SimulatorOptions options;
             options.baud = 57600.0;   // paced like the thesis's Bluetooth serial link
+            options.realtimePriority = kLinkPriority - 1;   // the board's side of the wire keeps time too
             simulator_ = std::make_unique<device::SimulatedForearm>(std::make_shared<device::WanderingMotion>(), options);
             linkPort = simulator_->startInProcess();
             calibration_ = device::defaultCalibration();   // the simulator's ADC is the default one
@@ -70,6 +71,8 @@ bool DeviceConnection::connect(const std::string& port, int baud, const std::str
             linkPort = std::make_unique<device::SerialPort>(port, baud);
         }
         publishCalibration();
+        packetSafety_.prepare(kDefaultSafetyParams, kMaxMotors);   // allocates: here, before the link thread starts
+        lastPacketAt_ = -1.0;
         linkSeen_ = 0;
         linkGeneration_.store(0, std::memory_order_release);
         auto handler = [this](const device::SensorCounts& counts, double t) {
@@ -85,9 +88,20 @@ bool DeviceConnection::connect(const std::string& port, int baud, const std::str
             input_.pushImu(linkCalibration_.apply(t, counts));   // full queue: the control loop is behind; drop, never block
             // The levels whose time has come on the control steps' clock (not the link's t, which
             // follows the board's clock in v2): all-off when they went stale.
-            return motors_.due(monotonicSeconds());
+            const double now = monotonicSeconds();
+            const MotorLevels due = motors_.due(now);
+            // The control steps' safety stage planned each level for ≥ 25 ms on the motor; the
+            // packet timeline's own stage holds the bounds when packets come further apart.
+            const double held = lastPacketAt_ < 0.0 ? 0.0 : now - lastPacketAt_;
+            lastPacketAt_ = now;
+            return packetSafety_.process(due, held);
         };
-        link_ = std::make_unique<device::DeviceLink>(std::move(linkPort), handler);
+        // The link is the last stage before the motors: a packet it writes late holds the previous
+        // levels longer than the safety stage planned (its horizon is 25 ms). It asks for
+        // SCHED_FIFO, as `armadillo play` does (falls back silently where that is not allowed).
+        device::DeviceLinkOptions linkOptions;
+        linkOptions.realtimePriority = kLinkPriority;
+        link_ = std::make_unique<device::DeviceLink>(std::move(linkPort), handler, linkOptions);
         if (sentLog_) link_->enableSentLog();
         linkEpoch_ = monotonicSeconds();
         link_->start();

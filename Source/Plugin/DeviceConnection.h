@@ -15,6 +15,7 @@
 #include "Plugin/CalibrationSession.h"
 #include "Plugin/LiveInput.h"
 #include "Plugin/PortRegistry.h"
+#include "Tactile/TactileEngine.h"
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -32,6 +33,8 @@ class DeviceConnection {
 public:
     /// The port name that selects the device module's simulated forearm (full protocol, no hardware).
     static constexpr const char* kSimulatedPort = "simulated forearm (in-process)";
+    /// SCHED_FIFO priority the link thread asks for (below JACK's usual audio priorities).
+    static constexpr int kLinkPriority = 20;
 
     /// `motors`: the control steps' stamped levels; this connection's link thread is its consumer.
     DeviceConnection(LiveInput& input, device::LevelSchedule& motors);
@@ -85,6 +88,11 @@ private:
     std::atomic<std::uint64_t> pendingGeneration_ {0};
     std::uint64_t requestedGeneration_ = 0;    // message thread
     device::Calibration linkCalibration_;      // link thread only (while the link runs)
+    // The last word on the packet timeline (link thread only, prepared by connect()): a safety
+    // stage charged with the real time between the packets the link writes, so a link that turns
+    // slow (a loaded machine, a slow port) cannot hold a level longer than the budget allows.
+    SafetyStage packetSafety_;
+    double lastPacketAt_ = -1.0;               // link thread: monotonic s of the previous packet
     std::uint64_t linkSeen_ = 0;               // link thread only
     std::atomic<std::uint64_t> linkGeneration_ {0};
     CalibrationSession calibrationSession_;
