@@ -1,4 +1,5 @@
 #include "Plugin/PluginProcessor.h"
+#include "Plugin/FactoryPresets.h"
 #include "Plugin/PluginEditor.h"
 
 namespace armadillo::plugin {
@@ -112,8 +113,35 @@ void ArmadilloProcessor::processBlock(juce::AudioBuffer<float>& buffer, juce::Mi
 // ------------------------------------------------------------------------------------------------
 // Message thread
 
+int ArmadilloProcessor::getNumPrograms()
+{
+    return static_cast<int>(factoryPresets().size());
+}
+
+const juce::String ArmadilloProcessor::getProgramName(int index)
+{
+    const auto& presets = factoryPresets();
+    return index >= 0 && index < static_cast<int>(presets.size()) ? juce::String(presets[static_cast<std::size_t>(index)].name)
+                                                                   : juce::String();
+}
+
+void ArmadilloProcessor::setCurrentProgram(int index)
+{
+    if (index < 0 || index >= getNumPrograms()) return;
+    requestedProgram_.store(index, std::memory_order_release);   // real-time: one atomic store
+    if (juce::MessageManager::existsAndIsCurrentThread()) applyRequestedProgram();
+}
+
+void ArmadilloProcessor::applyRequestedProgram()
+{
+    const int index = requestedProgram_.exchange(-1, std::memory_order_acq_rel);
+    if (index < 0) return;
+    if (applyFactoryPreset(index, apvts_)) currentProgram_.store(index, std::memory_order_relaxed);
+}
+
 void ArmadilloProcessor::timerCallback()
 {
+    applyRequestedProgram();
     if (const auto failure = engines_.takeNewFailure(); failure.isNotEmpty()) setStatus(failure);
     training_.collect();   // keeps a braille training log's queue drained while no panel asks for it
     engines_.update(currentRequest());

@@ -50,10 +50,12 @@ public:
     bool producesMidi() const override { return true; }
     bool isMidiEffect() const override { return false; }
     double getTailLengthSeconds() const override { return kTailSeconds; }
-    int getNumPrograms() override { return 1; }
-    int getCurrentProgram() override { return 0; }
-    void setCurrentProgram(int) override {}
-    const juce::String getProgramName(int) override { return "Default"; }
+    // Programs: the factory presets (FactoryPresets.h). setCurrentProgram may come from a host's
+    // audio thread: it records the request, the message thread applies it (at once when called there).
+    int getNumPrograms() override;
+    int getCurrentProgram() override { return currentProgram_.load(std::memory_order_relaxed); }
+    void setCurrentProgram(int index) override;
+    const juce::String getProgramName(int index) override;
     void changeProgramName(int, const juce::String&) override {}
     void getStateInformation(juce::MemoryBlock& destData) override;
     void setStateInformation(const void* data, int sizeInBytes) override;
@@ -133,6 +135,10 @@ private:
     bool gestureOpen_ = false;
     std::uint64_t lastWrittenSerial_ = 0;
     bool autoConnectTried_ = false;              // one attempt per port/setting change
+
+    std::atomic<int> currentProgram_ {0};
+    std::atomic<int> requestedProgram_ {-1};     // any thread → message thread's timer
+    void applyRequestedProgram();
 
     mutable std::mutex statusMutex_;             // message thread and host state calls; never audio
     juce::String status_;

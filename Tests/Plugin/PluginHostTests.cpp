@@ -193,7 +193,8 @@ BlockCounts countDuringProcessing(Hosted& h, int blocks, bool automate)
             for (int i = 0; i < params.size(); ++i) {
                 auto* p = params[i];
                 const auto name = p->getName(100);
-                if (name == "Source" || name == "Scene") continue;
+                // Source and scene are chosen by the test; a program change is a preset, not automation.
+                if (name == "Source" || name == "Scene" || name == "Program") continue;
                 p->setValue(0.5f + 0.49f * std::sin(0.05f * static_cast<float>(b) + static_cast<float>(i)));
             }
         RealtimeGuard guard;
@@ -394,6 +395,43 @@ TEST_CASE("VST3: processBlock neither allocates nor throws for any scene and sou
             }
         }
     }
+}
+
+TEST_CASE("VST3: the factory presets are the host's programs and set scene and parameters")
+{
+    auto h = loadVst3();
+    prepare(h);
+    const int n = h.plugin->getNumPrograms();
+    REQUIRE(n >= 10);
+    int passive = -1, snapped = -1;
+    for (int i = 0; i < n; ++i) {
+        CHECK(h.plugin->getProgramName(i).isNotEmpty());
+        if (h.plugin->getProgramName(i) == "Braille: passive reading") passive = i;
+        if (h.plugin->getProgramName(i) == "Theremin: minor pentatonic, snapped") snapped = i;
+    }
+    REQUIRE(passive >= 0);
+    REQUIRE(snapped >= 0);
+    auto pump = [] { for (int i = 0; i < 10; ++i) juce::MessageManager::getInstance()->runDispatchLoopUntil(10); };
+
+    setChoice(h, "Scene", "theremin");
+    pump();
+    CHECK(choiceIs(h, "Scene", "theremin"));
+    h.plugin->setCurrentProgram(passive);
+    pump();
+    CHECK(choiceIs(h, "Scene", "braille"));
+    auto* mode = h.param("braille: Mode");
+    REQUIRE(mode != nullptr);
+    CHECK(mode->getCurrentValueAsText() == "passive");
+    CHECK(h.plugin->getCurrentProgram() == passive);
+
+    h.plugin->setCurrentProgram(snapped);
+    pump();
+    CHECK(choiceIs(h, "Scene", "theremin"));
+    auto* scale = h.param("theremin: Scale");
+    REQUIRE(scale != nullptr);
+    CHECK(scale->getCurrentValueAsText() == "minor pentatonic");
+    CHECK(h.plugin->getCurrentProgram() == snapped);
+    render(h, 0.2);   // and it plays
 }
 
 TEST_CASE("VST3: state saves and restores")
@@ -604,6 +642,13 @@ TEST_CASE("LV2: loads, follows automated elevation, restores its state")
 {
     auto h = loadLv2();
     checkContractParameters(h);
+    // The factory presets are the bundle's LV2 presets (JUCE writes them from the programs).
+    const auto manifest = juce::File(ARMADILLO_LV2_PATH).getChildFile("manifest.ttl").loadFileAsString();
+    int presets = 0;
+    for (int at = manifest.indexOf("a pset:Preset"); at >= 0; at = manifest.indexOf(at + 1, "a pset:Preset")) ++presets;
+    CHECK(presets == h.plugin->getNumPrograms());
+    CHECK(presets >= 10);
+    CHECK(manifest.contains("\"Braille: passive reading\""));
     checkPitchFollowsElevation(h);
     prepare(h);
     setChoice(h, "Scene", "compass");
