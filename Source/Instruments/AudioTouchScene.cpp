@@ -171,7 +171,7 @@ public:
                     PatternRequest accent;
                     accent.kind = PatternKind::Accent;
                     accent.motors = motors::row(kBandRow[b]);
-                    accent.level = static_cast<float>(std::min(15.0, kRatedLevel + 1.0 + 6.0 * accents * (0.5 + 0.5 * pubHitStrength_[bi].load())));
+                    accent.level = static_cast<float>(std::min(15.0, kRatedLevel + 1.0 + 6.0 * accents * (0.5 + 0.5 * static_cast<double>(pubHitStrength_[bi].load()))));
                     accent.duration = 0.025;
                     accent.voice = b;
                     out.motors.trigger(accent);

@@ -116,7 +116,7 @@ TEST_CASE("cli: play --audio-in plays the recording out while the score follows 
     for (std::size_t i = 0; i < static_cast<std::size_t>(2.5 * 48000); ++i) {
         const double d = played.channels[0][i] - perf.audio.channels[0][i];
         err += d * d;
-        energy += double(perf.audio.channels[0][i]) * perf.audio.channels[0][i];
+        energy += double(perf.audio.channels[0][i]) * double(perf.audio.channels[0][i]);
     }
     CHECK(energy > 0.0);
     CHECK(err < 1e-3 * energy);   // 16-bit rounding only

@@ -232,18 +232,18 @@ RunResult run(const std::string& scene, SourceKind source)
         std::fill(left.begin(), left.begin() + n, 0.0f);
         std::fill(right.begin(), right.begin() + n, 0.0f);
         for (int k = 0; k < n; ++k) {
-            const double t = inputTime + k / 48000.0;
+            const double ts = inputTime + k / 48000.0;
             inLeft[static_cast<std::size_t>(k)] = inRight[static_cast<std::size_t>(k)] =
-                std::fmod(t, 0.25) < 0.1 ? static_cast<float>(0.2 * std::sin(2.0 * 3.14159265358979 * 523.25 * t) +
-                                                              0.15 * std::sin(2.0 * 3.14159265358979 * 1046.5 * t) +
-                                                              0.1 * std::sin(2.0 * 3.14159265358979 * 1569.75 * t))
-                                          : 0.0f;
+                std::fmod(ts, 0.25) < 0.1 ? static_cast<float>(0.2 * std::sin(2.0 * 3.14159265358979 * 523.25 * ts) +
+                                                               0.15 * std::sin(2.0 * 3.14159265358979 * 1046.5 * ts) +
+                                                               0.1 * std::sin(2.0 * 3.14159265358979 * 1569.75 * ts))
+                                           : 0.0f;
         }
         inputTime += n / 48000.0;
         {
-            const float* in[2] = {inLeft.data(), inRight.data()};
+            const float* input[2] = {inLeft.data(), inRight.data()};
             RealtimeGuard guard;
-            loop.processInput(in, 2, n);
+            loop.processInput(input, 2, n);
             loop.render(left.data(), right.data(), n);
             r.audio.add(guard);
         }
