@@ -53,15 +53,7 @@ TEST_CASE("cli: render --audio-in follows the recording: every note's motor with
         const auto mask = score.notes[static_cast<std::size_t>(n.scoreNote)].motors;
         int m = 0;
         while (!(mask & (1u << m))) ++m;
-        double found = std::nan("");
-        for (std::size_t i = 1; i < rows.size(); ++i) {
-            if (rows[i].t < n.onset - 0.15) continue;
-            if (rows[i].t > n.onset + 0.3) break;
-            if (rows[i].levels[static_cast<std::size_t>(m)] > 0 && rows[i - 1].levels[static_cast<std::size_t>(m)] == 0) {
-                found = rows[i].t - n.onset;
-                break;
-            }
-        }
+        const double found = armadillo::test::motorOnsetNear(rows, m, n.onset);
         CAPTURE(n.onset);
         REQUIRE_FALSE(std::isnan(found));
         worst = std::max(worst, std::fabs(found));

@@ -72,15 +72,7 @@ OnsetErrors onsetErrors(const Score& s, const Performance& perf, const std::vect
     OnsetErrors e;
     for (const PlayedNote& n : perf.notes) {
         const int m = motorOf(s, n.scoreNote);
-        double found = std::nan("");
-        for (std::size_t i = 1; i < rows.size(); ++i) {
-            if (rows[i].t < n.onset - 0.15) continue;
-            if (rows[i].t > n.onset + 0.3) break;
-            if (rows[i].levels[static_cast<std::size_t>(m)] > 0 && rows[i - 1].levels[static_cast<std::size_t>(m)] == 0) {
-                found = rows[i].t - n.onset;
-                break;
-            }
-        }
+        const double found = motorOnsetNear(rows, m, n.onset);
         e.errors.push_back(found);
         if (std::isnan(found)) {
             ++e.missing;

@@ -3,6 +3,7 @@
 // melody with its own timing (tempo changes, a fermata, another start), optionally with white
 // noise at a given SNR, and a drum-and-bass test signal. Every onset and envelope value the
 // tests compare against comes from here, i.e. from what was actually synthesised.
+#include "Core/Csv.h"
 #include "Core/Wav.h"
 #include "Tactile/Score.h"
 #include <cmath>
@@ -123,6 +124,20 @@ inline Performance perform(const Score& score, const std::vector<int>& followed,
     for (std::size_t i = 0; i < frames; ++i) p.audio.channels[0][i] = p.audio.channels[1][i] = static_cast<float>(x[i]);
     p.notes = std::move(played);
     return p;
+}
+
+/// When `motor` turns on (off in the row before) in the tactile rows near a note that sounds at
+/// `onset` s: the first such row within [onset − 0.15 s, onset + 0.3 s], as its time − onset (s);
+/// NaN when there is none.
+inline double motorOnsetNear(const std::vector<TactileRow>& rows, int motor, double onset)
+{
+    const auto m = static_cast<std::size_t>(motor);
+    for (std::size_t i = 1; i < rows.size(); ++i) {
+        if (rows[i].t < onset - 0.15) continue;
+        if (rows[i].t > onset + 0.3) break;
+        if (rows[i].levels[m] > 0 && rows[i - 1].levels[m] == 0) return rows[i].t - onset;
+    }
+    return std::nan("");
 }
 
 } // namespace armadillo::test
