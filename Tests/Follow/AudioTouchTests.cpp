@@ -202,7 +202,7 @@ TEST_CASE("audio-touch: silence is felt as nothing; the parameters are the liste
 
 TEST_CASE("audio-touch: the audio input allocates, locks and throws nothing", "[audio-touch][realtime]")
 {
-    REQUIRE(RealtimeGuard::installed());
+    ARMADILLO_REQUIRE_GUARD();
     const Groove g = groove();
     for (const int block : {1, 64, 512}) {
         EngineConfig config;

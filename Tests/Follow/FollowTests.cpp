@@ -226,7 +226,7 @@ TEST_CASE("follow: a scene that does not listen refuses audio input; a wrong sam
 
 TEST_CASE("follow: the follower allocates, locks and throws nothing on the audio thread", "[follow][realtime]")
 {
-    REQUIRE(RealtimeGuard::installed());
+    ARMADILLO_REQUIRE_GUARD();
     const Score score = riteScore();
     PerformanceStyle style;
     style.snrDb = 20.0;

@@ -64,7 +64,7 @@ float signal(int channel, long i) { return 0.25f * std::sin(0.01f * static_cast<
 
 TEST_CASE("plugin audio input: the main input is heard and played through; a sidechain is heard instead", "[plugin][audio-in]")
 {
-    REQUIRE(RealtimeGuard::installed());
+    ARMADILLO_REQUIRE_GUARD();
     for (const bool sidechain : {false, true}) {
         for (const int block : {1, 64, 480, 4096}) {
             CAPTURE(sidechain, block);
