@@ -228,24 +228,30 @@ void LiveSession::renderBlock(float* left, float* right, int n) noexcept
         return;
     }
     // The recording's next n frames (silence after its end: the input stays connected), heard
-    // by the scene first, then played out under the scene's own sound.
-    const float* in[2] = {recordingSilence_.data(), recordingSilence_.data()};
-    const std::size_t frames = recording_.frames();
-    const bool inside = recordingAt_ + static_cast<std::uint64_t>(n) <= frames;
-    const int chunk = std::min(n, static_cast<int>(recordingSilence_.size()));
-    if (inside) {
-        in[0] = recording_.channels[0].data() + recordingAt_;
-        in[1] = recording_.channels[recording_.channels.size() > 1 ? 1 : 0].data() + recordingAt_;
-    }
+    // by the scene first, in stretches that end where the recording ends, then played out under
+    // the scene's own sound.
+    const std::uint64_t frames = recording_.frames();
     const int channels = recording_.channels.size() > 1 ? 2 : 1;
-    if (recordingAt_ == 0) engine_->processInput(in, channels, 0);   // the recording itself: followed from its first sample
-    engine_->processInput(in, channels, inside ? n : chunk);
+    const float* first = recording_.channels[0].data();
+    const float* second = recording_.channels[static_cast<std::size_t>(channels - 1)].data();
+    if (recordingAt_ == 0) {   // the recording itself: followed from its first sample
+        const float* in[2] = {first, second};
+        engine_->processInput(in, channels, 0);
+    }
+    for (int done = 0; done < n;) {
+        const std::uint64_t at = recordingAt_ + static_cast<std::uint64_t>(done);
+        const bool inside = at < frames;
+        const int len = inside ? static_cast<int>(std::min<std::uint64_t>(static_cast<std::uint64_t>(n - done), frames - at))
+                               : std::min(n - done, static_cast<int>(recordingSilence_.size()));
+        const float* in[2] = {inside ? first + at : recordingSilence_.data(), inside ? second + at : recordingSilence_.data()};
+        engine_->processInput(in, channels, len);
+        done += len;
+    }
     engine_->renderAudio(left, right, n);
-    if (inside) {
-        for (int i = 0; i < n; ++i) {
-            left[i] = std::clamp(left[i] + in[0][i], -1.0f, 1.0f);
-            right[i] = std::clamp(right[i] + in[1][i], -1.0f, 1.0f);
-        }
+    for (int i = 0; i < n && recordingAt_ + static_cast<std::uint64_t>(i) < frames; ++i) {
+        const std::uint64_t at = recordingAt_ + static_cast<std::uint64_t>(i);
+        left[i] = std::clamp(left[i] + first[at], -1.0f, 1.0f);
+        right[i] = std::clamp(right[i] + second[at], -1.0f, 1.0f);
     }
     recordingAt_ += static_cast<std::uint64_t>(n);
 }
