@@ -134,6 +134,13 @@ OscReceiver::OscReceiver(int port, ImuHandler onImu, OrientationHandler onOrient
     // One IPv6 socket that also takes IPv4 (as v4-mapped addresses), so phones and trackers on
     // either protocol reach the same port, as the sender already resolves both; plain IPv4 when
     // the machine has no IPv6.
+    const auto bindOrThrow = [this, port](const sockaddr* address, socklen_t size) {
+        if (::bind(fd_, address, size) == 0) return;
+        const int e = errno;
+        ::close(fd_);
+        fd_ = -1;
+        throw IoError("OSC in: cannot listen on UDP port " + std::to_string(port) + ": " + std::strerror(e));
+    };
     fd_ = ::socket(AF_INET6, SOCK_DGRAM | SOCK_CLOEXEC, 0);
     if (fd_ >= 0) {
         const int off = 0;
@@ -142,12 +149,7 @@ OscReceiver::OscReceiver(int port, ImuHandler onImu, OrientationHandler onOrient
         a.sin6_family = AF_INET6;
         a.sin6_addr = in6addr_any;
         a.sin6_port = htons(static_cast<std::uint16_t>(port));
-        if (::bind(fd_, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
-            const int e = errno;
-            ::close(fd_);
-            fd_ = -1;
-            throw IoError("OSC in: cannot listen on UDP port " + std::to_string(port) + ": " + std::strerror(e));
-        }
+        bindOrThrow(reinterpret_cast<sockaddr*>(&a), sizeof a);
     } else {
         fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
         if (fd_ < 0) throw IoError(std::string("OSC in: cannot create a UDP socket: ") + std::strerror(errno));
@@ -155,12 +157,7 @@ OscReceiver::OscReceiver(int port, ImuHandler onImu, OrientationHandler onOrient
         a.sin_family = AF_INET;
         a.sin_addr.s_addr = htonl(INADDR_ANY);
         a.sin_port = htons(static_cast<std::uint16_t>(port));
-        if (::bind(fd_, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
-            const int e = errno;
-            ::close(fd_);
-            fd_ = -1;
-            throw IoError("OSC in: cannot listen on UDP port " + std::to_string(port) + ": " + std::strerror(e));
-        }
+        bindOrThrow(reinterpret_cast<sockaddr*>(&a), sizeof a);
     }
     sockaddr_storage bound {};
     socklen_t len = sizeof bound;
