@@ -1,6 +1,8 @@
 #include "Cli/CommandLine.h"
 #include "Cli/Commands.h"
+#include "Cli/MapOptions.h"
 #include "Cli/SceneOptions.h"
+#include "Live/MappingRig.h"
 #include "Core/Errors.h"
 #include "Audio/SoundCard.h"
 #include "Braille/BrailleScene.h"
@@ -134,7 +136,11 @@ int runPlay(const Arguments& args)
                                                "--sample-rate is given"},
                     {"--tactile", "T.csv", "every motor packet: t,m1..m9"},
                     {"--log", "SESSION.csv", "one row per sensor packet: t, raw counts, calibrated SI values, qw,qx,qy,qz"},
-                    {"--osc-out", "HOST:PORT", "send orientation, pose, gyro, motors and gestures as OSC"},
+                    {"--osc-out", "HOST:PORT", "send orientation, pose, gyro, motors and gestures as OSC; with --map, the target of\n"
+                                               "the mapping's OSC destinations that name none (and only those are sent)"},
+                    {"--map", "PRESET|FILE", kMapHelp},
+                    {"--midi-out", "NAME", "with --map: open an ALSA sequencer output port NAME (client \"ARMadillo\") and send the\n"
+                                           "mapped MIDI there as it happens; exit 4 naming the cause when there is no sequencer"},
                     {"--unpaced", "", "with --simulate: no wire pacing (as fast as the host can go)"},
                     {"--training-log", "LOG.csv", "with --scene braille: the training protocol (thesis §4.4.1) live. Each trial's\n"
                                                   "prompt is printed on stderr; type the answers on stdin, one a line (left, right,\n"
@@ -200,6 +206,11 @@ int runPlay(const Arguments& args)
                 throw UsageError(std::string("--osc-out: ") + e.what());
             }
         }
+        if (cl.has("--midi-out") && !cl.has("--map")) throw UsageError("--midi-out sends what a mapping makes: give --map PRESET|FILE too");
+        if (cl.has("--midi-out") && cl.value("--midi-out").empty()) throw UsageError("--midi-out needs a port name");
+        config.mapping = readMapOption(cl, engine);
+        config.mappingName = cl.value("--map");
+        config.midiOut = cl.value("--midi-out");
         if (cl.has("--calibration")) config.calibration = device::loadCalibration(cl.value("--calibration"));
         // Steadier timing for the link (and the simulated device) where the system allows it.
         config.link.realtimePriority = 20;
@@ -384,7 +395,11 @@ int runPlay(const Arguments& args)
             device::Calibration result = calibration->result();
             device::saveCalibration(calibrateOut, result);
         }
-        std::cout << device::summaryJson(session.summary()) << "\n" << std::flush;
+        std::string summary = device::summaryJson(session.summary());
+        if (const live::MappingRig* m = session.mapping())
+            summary.insert(summary.size() - 1, ",\"mapping_midi_events\":" + std::to_string(m->midiEvents()) + ",\"mapping_osc_messages\":" +
+                                                   std::to_string(m->oscMessages()) + ",\"mapping_dropped\":" + std::to_string(m->dropped()));
+        std::cout << summary << "\n" << std::flush;
         return session.engine().failed() ? int(kExitFailure) : int(kExitOk);
     });
 }
