@@ -320,3 +320,53 @@ TEST_CASE("resources lists the mapping presets", "[cli][mapping]")
     REQUIRE(r.code == 0);
     for (const char* n : {"classic\n", "mpe\n", "scenerotator\n", "scenerotator-osc\n"}) CHECK_THAT(r.out, Catch::Contains(n));
 }
+
+TEST_CASE("map check / show / learn-posture", "[cli][mapping]")
+{
+    Run r = runArmadillo("map check scenerotator");
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("\"mappings\":3"));
+    r = runArmadillo("map check '" + file("bad-cc.json", "{\"version\": 1, \"mappings\": [\n{\"source\": \"roll\", \"to\": {\"midi\": \"cc\", \"cc\": 300}}]}") + "'");
+    CHECK(r.code == 3);
+    CHECK_THAT(r.err, Catch::Contains("bad-cc.json:2:") && Catch::Contains("mappings[0].to.cc") && Catch::Contains("300"));
+    r = runArmadillo("map show classic");
+    REQUIRE(r.code == 0);
+    const std::string shown = file("classic-copy.json", r.out);
+    r = runArmadillo("map check '" + shown + "'");
+    CHECK(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("\"mappings\":7"));
+    r = runArmadillo("map frobnicate");
+    CHECK(r.code == 2);
+
+    // A held pose (small tremor) becomes a posture that a mapping then plays from.
+    std::vector<Row> hold, later;
+    for (int i = 0; i < 300; ++i) hold.push_back({i * 0.01, 45.0 + 0.5 * std::sin(i * 0.05), 300.0 + 0.5 * std::cos(i * 0.04), 30.0});
+    const std::string map = file("posture-map.json", R"({"version": 1, "mappings": [{"source": "posture:salute", "to": {"midi": "note", "channel": 2, "note": 70}}],
+        "postures": [{"name": "salute", "examples": [[1, 0, 0, 0]]}]})");
+    r = runArmadillo("map learn-posture --name salute --motion '" + file("hold.csv", posesCsv(hold)) + "' --map '" + map + "' --out '" + path("learned.json") + "'");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("\"examples\":64"));
+    for (int i = 0; i < 200; ++i) {
+        const double s = i * 0.01;
+        const bool held = s >= 0.5 && s < 1.5;
+        later.push_back({s, held ? 45.0 : -30.0, held ? 300.0 : 100.0, held ? 30.0 : 0.0});
+    }
+    r = runArmadillo("render --scene monitor --motion '" + file("later.csv", posesCsv(later)) + "' --map '" + path("learned.json") + "' --midi-out '" +
+                     path("posture.mid") + "'");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const Smf smf = readSmf(readBytes(path("posture.mid")));
+    REQUIRE(smf.events.size() == 2);
+    CHECK(smf.events[0].bytes == std::vector<std::uint8_t> {0x91, 70, 100});
+    // The row of the jump into the pose moves at thousands of °/s (the orientation's own rate):
+    // no posture is held while moving, so the note starts at the next, still row.
+    CHECK(smf.events[0].seconds >= 0.5);
+    CHECK(smf.events[0].seconds <= 0.511);
+    CHECK(smf.events[1].bytes[0] == 0x81);
+    CHECK(smf.events[1].seconds == Approx(1.5).margin(0.001));
+    r = runArmadillo("map learn-posture --name blur --motion '" + file("empty-hold.csv", posesCsv({{0.0, 0, 0, 0}, {0.01, 0, 0, 0}})) + "' --out '" + path("no.json") + "'");
+    CHECK(r.code == 3);
+    CHECK_THAT(r.err, Catch::Contains("still samples"));
+    CHECK_FALSE(std::filesystem::exists(path("no.json")));
+}
