@@ -3,9 +3,15 @@
 #include <alsa/asoundlib.h>
 #include <cerrno>
 #include <cstring>
+#include <mutex>
 #include <sys/stat.h>
 
 namespace armadillo::audio {
+
+namespace {
+/// alsa-lib prints its own line for every failed open; the IoError says it better, once.
+void quietAlsa(const char*, int, const char*, int, const char*, ...) {}
+} // namespace
 
 bool encodeSequencerEvent(const std::uint8_t* bytes, std::size_t size, int sourcePort, void* event) noexcept
 {
@@ -35,6 +41,8 @@ bool encodeSequencerEvent(const std::uint8_t* bytes, std::size_t size, int sourc
 SequencerOut::SequencerOut(const std::string& portName)
 {
     if (portName.empty()) throw IoError("--midi-out needs a port name");
+    static std::once_flag quiet;
+    std::call_once(quiet, [] { snd_lib_error_set_handler(quietAlsa); });
     int err = snd_seq_open(&seq_, "default", SND_SEQ_OPEN_OUTPUT, 0);
     if (err < 0) {
         struct stat st {};
