@@ -23,6 +23,8 @@
 #include <iostream>
 #include <memory>
 #include <thread>
+#include <atomic>
+#include <csignal>
 #include <poll.h>
 #include <unistd.h>
 
@@ -89,6 +91,18 @@ private:
     bool stdinClosed_ = false;
 };
 
+/// SIGUSR1 → the mapping's "set forward" (an atomic store: safe in a signal handler).
+std::atomic<mapping::Mapper*>& forwardTarget()
+{
+    static std::atomic<mapping::Mapper*> target {nullptr};
+    return target;
+}
+
+void onForwardSignal(int)
+{
+    if (mapping::Mapper* m = forwardTarget().load()) m->requestForward();
+}
+
 } // namespace
 
 int runPlay(const Arguments& args)
@@ -139,6 +153,8 @@ int runPlay(const Arguments& args)
                     {"--osc-out", "HOST:PORT", "send orientation, pose, gyro, motors and gestures as OSC; with --map, the target of\n"
                                                "the mapping's OSC destinations that name none (and only those are sent)"},
                     {"--map", "PRESET|FILE", kMapHelp},
+                    {"--forward", "DEG", std::string(kForwardHelp) + "; SIGUSR1 (kill -USR1 PID) sets forward to where\n"
+                                         "the arm points now"},
                     {"--midi-out", "NAME", "with --map: open an ALSA sequencer output port NAME (client \"ARMadillo\") and send the\n"
                                            "mapped MIDI there as it happens; exit 4 naming the cause when there is no sequencer"},
                     {"--unpaced", "", "with --simulate: no wire pacing (as fast as the host can go)"},
@@ -211,6 +227,7 @@ int runPlay(const Arguments& args)
         config.mapping = readMapOption(cl, engine);
         config.mappingName = cl.value("--map");
         config.midiOut = cl.value("--midi-out");
+        config.forwardDeg = readForwardOption(cl);
         if (cl.has("--calibration")) config.calibration = device::loadCalibration(cl.value("--calibration"));
         // Steadier timing for the link (and the simulated device) where the system allows it.
         config.link.realtimePriority = 20;
@@ -281,6 +298,11 @@ int runPlay(const Arguments& args)
             std::cerr << "mount calibration pose 1 (" << device::MountCalibration::poseName(mountCalibration->pose())
                       << "): " << device::MountCalibration::instruction(mountCalibration->pose()) << "\n";
         }
+        if (live::MappingRig* rig = session.mapping()) forwardTarget().store(&rig->mapper());
+        struct ForwardOff {
+            ~ForwardOff() { forwardTarget().store(nullptr); }
+        } forwardOff;
+        ::signal(SIGUSR1, onForwardSignal);   // "set forward" from outside: kill -USR1
         session.start();
         const auto start = std::chrono::steady_clock::now();
         std::string shownError;

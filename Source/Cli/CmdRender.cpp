@@ -41,6 +41,7 @@ int runRender(const Arguments& args)
                            o.push_back({"--tail", "SECONDS", "audio rendered after the last motion row (default 0)"});
                            o.push_back({"--float", "", "write 32-bit float WAV instead of 16-bit"});
                            o.push_back({"--map", "PRESET|FILE", kMapHelp});
+                           o.push_back({"--forward", "DEG", kForwardHelp});
                            o.push_back({"--midi-out", "OUT.mid", "with --map: the mapped MIDI as a Standard MIDI File (written whole or not at all)"});
                            o.push_back({"--osc-out", "HOST:PORT", "with --map: send the mapping's OSC messages (those naming no target go here;\n"
                                                                   "without --osc-out no OSC is sent)"});
@@ -75,6 +76,7 @@ int runRender(const Arguments& args)
             }
         }
         const auto map = readMapOption(cl, engine);
+        const double forward = readForwardOption(cl);
         const CsvTable motion = CsvTable::read(cl.value("--motion"));
 
         std::unique_ptr<live::MappingRig> rig;
@@ -87,6 +89,7 @@ int runRender(const Arguments& args)
                     options.oscDefault = cl.value("--osc-out");
                     options.sendOsc = cl.has("--osc-out");
                     options.sourceName = cl.value("--map");
+                    options.forwardDeg = forward;
                     rig = std::make_unique<live::MappingRig>(*map, e, options);
                     midi = std::make_unique<mapping::MidiFileWriter>(t);
                     rig->setMidiSink([](void* ctx, const mapping::MidiEvent& ev) { static_cast<mapping::MidiFileWriter*>(ctx)->add(ev); }, midi.get());

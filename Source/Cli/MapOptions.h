@@ -18,4 +18,10 @@ inline const char* const kMapHelp =
 /// (exit 4) for one that cannot be read or a preset that does not exist.
 std::shared_ptr<const mapping::MappingDocument> readMapOption(const CommandLine& cl, const EngineConfig& engine);
 
+inline const char* const kForwardHelp =
+    "with --map: the forward direction (azimuth, degrees) yaw and forward-relative azimuths are\n"
+    "measured from (default 0: north)";
+/// --forward DEG (0…360; UsageError otherwise), 0 without it.
+double readForwardOption(const CommandLine& cl);
+
 } // namespace armadillo::cli

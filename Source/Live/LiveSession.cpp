@@ -75,6 +75,7 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
         live::MappingRigOptions options;
         options.oscDefault = config_.oscOut;
         options.sourceName = config_.mappingName;
+        options.forwardDeg = config_.forwardDeg;
         mapping_ = std::make_unique<live::MappingRig>(*config_.mapping, *engine_, options);
         if (!config_.midiOut.empty()) {
             midiOut_ = std::make_unique<audio::SequencerOut>(config_.midiOut);   // IoError naming the cause (exit 4)

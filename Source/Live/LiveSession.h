@@ -73,6 +73,7 @@ struct LiveConfig {
     std::shared_ptr<const mapping::MappingDocument> mapping;
     std::string mappingName;          ///< for messages ("classic", a path)
     std::string midiOut;              ///< with a mapping: an ALSA sequencer output port of this name (IoError when absent)
+    double forwardDeg = 0.0;          ///< with a mapping: the forward direction to start from (azimuth, °)
     DeviceLinkOptions link {};
 };
 
@@ -128,6 +129,7 @@ public:
     LatencySummary latency() const;
     /// The mapping's counters (null without --map).
     const live::MappingRig* mapping() const noexcept { return mapping_.get(); }
+    live::MappingRig* mapping() noexcept { return mapping_.get(); }
     /// Source::Osc: the UDP port listened on (useful with oscInPort 0); 0 otherwise.
     int oscInPort() const noexcept;
     /// Source::Osc: the receiver (format, device, counters, the mount calibration's tap); null otherwise.

@@ -44,6 +44,7 @@ MappingRig::MappingRig(const mapping::MappingDocument& doc, Engine& engine, cons
         senders_.push_back(std::make_unique<device::OscSender>(hp));   // IoError for a host that does not resolve
     }
     mapper_.replace(std::move(set));
+    mapper_.setForwardAzimuth(options.forwardDeg);
 }
 
 MappingRig::~MappingRig() = default;

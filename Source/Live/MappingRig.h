@@ -21,6 +21,7 @@ struct MappingRigOptions {
     std::string oscDefault;
     bool sendOsc = true;        ///< false: OSC messages are counted, not sent (render without --osc-out)
     std::string sourceName;     ///< the mapping's name for messages ("preset classic", a path)
+    double forwardDeg = 0.0;    ///< the forward direction to start from (azimuth, °; `--forward`)
 };
 
 /// Receives every MIDI event in order (allocation-free function pointer, unlike std::function).

@@ -13,6 +13,9 @@
 #include <fcntl.h>
 #include <map>
 #include <netinet/in.h>
+#include <poll.h>
+#include <csignal>
+#include <sys/wait.h>
 #include <sstream>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -369,4 +372,65 @@ TEST_CASE("map check / show / learn-posture", "[cli][mapping]")
     CHECK(r.code == 3);
     CHECK_THAT(r.err, Catch::Contains("still samples"));
     CHECK_FALSE(std::filesystem::exists(path("no.json")));
+}
+
+TEST_CASE("--forward sets where yaw is measured from; play takes SIGUSR1 as 'set forward now'", "[cli][mapping]")
+{
+    // render: an arm pointing east (90°) with forward 90 has yaw 0 on the scenerotator preset.
+    const std::string motion = file("east.csv", posesCsv({{0.0, 10.0, 90.0, 0.0}, {0.01, 10.0, 90.0, 0.0}}));
+    Run r = runArmadillo("render --scene monitor --motion '" + motion + "' --map scenerotator --forward 90 --midi-out '" + path("east.mid") + "'");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    int lsb = 0;
+    double yaw = 999.0;
+    for (const auto& e : readSmf(readBytes(path("east.mid"))).events) {
+        if (e.bytes[1] == 48) lsb = e.bytes[2];
+        if (e.bytes[1] == 16) yaw = -180.0 + 360.0 * (128 * e.bytes[2] + lsb) / 16384.0;
+    }
+    CHECK(std::fabs(yaw) <= 0.05);
+    CHECK(runArmadillo("render --scene monitor --motion '" + motion + "' --map scenerotator --forward 400 --midi-out '" + path("e.mid") + "'").code == 2);
+
+    // play: the simulated arm holds still pointing north; forward starts at 180 (yaw ±180), then
+    // SIGUSR1 makes the current direction forward (yaw 0). The test waits for messages, not time.
+    Loopback udp;
+    const std::string map = file("yaw-osc.json", R"({"version": 1, "mappings": [{"source": "yaw", "to": {"osc": "/yaw", "args": ["$yaw"]}}]})");
+    const std::string still = file("still.csv", posesCsv({{0.0, 0.0, 0.0, 0.0}, {1.0, 0.0, 0.0, 0.0}}));
+    const pid_t pid = ::fork();
+    REQUIRE(pid >= 0);
+    if (pid == 0) {
+        const int quiet = ::open("/dev/null", O_WRONLY);
+        ::dup2(quiet, STDOUT_FILENO);
+        ::dup2(quiet, STDERR_FILENO);
+        const std::string port = "127.0.0.1:" + std::to_string(udp.port);
+        ::execl(ARMADILLO_BIN, ARMADILLO_BIN, "play", "--scene", "monitor", "--simulate", "--motion", still.c_str(), "--seconds", "20", "--no-audio",
+                "--map", map.c_str(), "--forward", "180", "--osc-out", port.c_str(), static_cast<char*>(nullptr));
+        ::_exit(127);
+    }
+    const auto nextYaw = [&](float& out) {
+        pollfd p {udp.fd, POLLIN, 0};
+        if (::poll(&p, 1, 5000) <= 0) return false;
+        std::uint8_t buf[512];
+        const ssize_t n = ::recv(udp.fd, buf, sizeof buf, 0);
+        if (n <= 0) return false;
+        return device::decodeOscPacket(buf, static_cast<std::size_t>(n), [&](const device::OscMessage& m) { out = m.args[0].f; });
+    };
+    float y = 0.0f;
+    int before = 0;
+    // Fusion settles first; then the yaw is near ±180.
+    for (int i = 0; i < 2000 && before < 20; ++i) {
+        if (!nextYaw(y)) break;
+        before = std::fabs(y) > 170.0f ? before + 1 : 0;
+    }
+    CHECK(before == 20);
+    ::kill(pid, SIGUSR1);
+    bool zeroed = false;
+    for (int i = 0; i < 2000 && !zeroed; ++i) {
+        if (!nextYaw(y)) break;
+        zeroed = std::fabs(y) < 5.0f;
+    }
+    CHECK(zeroed);
+    ::kill(pid, SIGTERM);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    CHECK(WIFEXITED(status));
 }
