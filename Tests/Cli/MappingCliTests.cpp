@@ -434,3 +434,23 @@ TEST_CASE("--forward sets where yaw is measured from; play takes SIGUSR1 as 'set
     ::waitpid(pid, &status, 0);
     CHECK(WIFEXITED(status));
 }
+
+TEST_CASE("render --map --osc-out: the issue example's OSC destination sends out over in, per row", "[cli][mapping]")
+{
+    std::vector<Row> rows;
+    for (int i = 0; i < 200; ++i) rows.push_back({i * 0.005, -80.0 + 0.8 * i, 45.0, 0.0});
+    Loopback udp;
+    const Run r = runArmadillo("render --scene monitor --motion '" + file("osc-poses.csv", posesCsv(rows)) + "' --map '" + file("issue-map-2.json", kIssueExample) +
+                               "' --osc-out 127.0.0.1:" + std::to_string(udp.port) + " --midi-out '" + path("osc.mid") + "'");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const auto packets = udp.drain();
+    REQUIRE(packets.size() == rows.size());   // every row changes the elevation: one message each
+    for (std::size_t i = 0; i < packets.size(); ++i) {
+        REQUIRE(device::decodeOscPacket(packets[i].data(), packets[i].size(), [&](const device::OscMessage& m) {
+            CHECK(m.address == "/synth/cutoff");
+            REQUIRE(m.types == "f");
+            CHECK(m.args[0].f == Approx((rows[i].el + 90.0) / 180.0).margin(1e-6));
+        }));
+    }
+}
