@@ -16,6 +16,7 @@
 #include "Device/LevelSchedule.h"
 #include "Live/ControlLoop.h"
 #include "Plugin/ControlToken.h"
+#include "Plugin/MappingOutputs.h"
 #include "Plugin/OscLink.h"
 #include "Plugin/Parameters.h"
 #include <juce_audio_processors/juce_audio_processors.h>
@@ -89,6 +90,8 @@ public:
     /// The stamp (monotonic s) of the newest levels handed to the link, < 0 when none since the
     /// last all-off. The token holder's thread, or any thread while no control step runs (tests).
     double lastMotorStamp() const noexcept { return lastStamp_; }
+    /// The mapping's outputs for the non-real-time side (macros, meters, OSC, MIDI learn).
+    MappingOutputs& mappingOutputs() noexcept { return outputs_; }
 
 private:
     /// One control step; `wall` is the monotonic time its levels belong to by the wall clock, and
@@ -124,6 +127,7 @@ private:
     static constexpr int kInputScratch = 1024;
     std::array<std::array<float, kInputScratch>, 2> input_ {}, through_ {};
 
+    MappingOutputs outputs_;
     SeqLock<ArmFrame> frame_;
     SpscQueue<GestureEvent, 128> gestures_;
     std::atomic<const char*> lastGesture_ {""};

@@ -56,6 +56,9 @@ ArmadilloProcessor::~ArmadilloProcessor()
     if (gestureOpen_)
         for (auto* id : {ParamIds::elevation, ParamIds::azimuth, ParamIds::roll})
             if (auto* p = apvts_.getParameter(id)) p->endChangeGesture();
+    for (int i = 0; i < ParamIds::kMacroCount; ++i)
+        if (macroWrites_[static_cast<std::size_t>(i)].open)
+            if (auto* p = apvts_.getParameter(ParamIds::macros[i])) p->endChangeGesture();
     // connections_ (clock, then the device link with its all-off packet) goes first, as members
     // are destroyed in reverse order.
 }
@@ -146,6 +149,7 @@ void ArmadilloProcessor::timerCallback()
     training_.collect();   // keeps a braille training log's queue drained while no panel asks for it
     engines_.update(currentRequest());
     writeLiveOrientationToParameters();
+    writeMacrosToParameters();
     connections_.drainCalibration();
     // The performer's standalone app (or a session) reopens its saved port by itself, once.
     if (! autoConnectTried_ && static_cast<bool>(settings_[SettingIds::connectOnStart]) && source() == SourceKind::Device
@@ -176,6 +180,30 @@ void ArmadilloProcessor::writeLiveOrientationToParameters()
         const float value = static_cast<float>(f.pose[i]);
         if (std::abs(params[i]->convertFrom0to1(params[i]->getValue()) - value) > 0.01f)
             params[i]->setValueNotifyingHost(params[i]->convertTo0to1(value));
+    }
+}
+
+void ArmadilloProcessor::writeMacrosToParameters()
+{
+    // The control side leaves each macro's newest value in an atomic (MappingOutputs); this
+    // timer (50 Hz) writes it with setValueNotifyingHost inside a change gesture, as a hand on
+    // a knob would, so the host records it as automation or routes it on.
+    const double now = juce::Time::getMillisecondCounterHiRes();
+    for (int i = 0; i < ParamIds::kMacroCount; ++i) {
+        auto& w = macroWrites_[static_cast<std::size_t>(i)];
+        auto* p = apvts_.getParameter(ParamIds::macros[i]);
+        const float v = control_.mappingOutputs().macro(i);
+        if (p == nullptr) continue;
+        if (std::isfinite(v) && std::abs(v - w.last) > 1.0e-5f) {
+            if (! w.open) p->beginChangeGesture();
+            w.open = true;
+            w.last = v;
+            w.changedMs = now;
+            p->setValueNotifyingHost(v);
+        } else if (w.open && now - w.changedMs > kMacroGestureIdleMs) {
+            p->endChangeGesture();
+            w.open = false;
+        }
     }
 }
 

@@ -19,6 +19,7 @@
 #include "Plugin/PluginState.h"
 #include "Plugin/TrainingAccess.h"
 #include <juce_audio_processors/juce_audio_processors.h>
+#include <array>
 #include <atomic>
 #include <functional>
 #include <memory>
@@ -46,7 +47,7 @@ public:
     juce::AudioProcessorEditor* createEditor() override;
     bool hasEditor() const override { return true; }
     const juce::String getName() const override { return "ARMadillo"; }
-    bool acceptsMidi() const override { return false; }
+    bool acceptsMidi() const override { return true; }   // MIDI learn (the mapping editor); the input is not played
     bool producesMidi() const override { return true; }
     bool isMidiEffect() const override { return false; }
     double getTailLengthSeconds() const override { return kTailSeconds; }
@@ -112,6 +113,7 @@ private:
     void valueTreePropertyChanged(juce::ValueTree&, const juce::Identifier&) override;
     EngineRequest currentRequest() const;
     void writeLiveOrientationToParameters();
+    void writeMacrosToParameters();
     void applyNetworkSettings();
     void setStatus(const juce::String& message);
 
@@ -134,6 +136,15 @@ private:
     // Live → parameters (message thread)
     bool gestureOpen_ = false;
     std::uint64_t lastWrittenSerial_ = 0;
+    /// The mapping's macro destinations → `macro1…8` (message thread): a gesture opens with the
+    /// first value and closes after kMacroGestureIdleMs without a new one.
+    struct MacroWrite {
+        bool open = false;
+        float last = -1.0f;
+        double changedMs = 0.0;
+    };
+    static constexpr double kMacroGestureIdleMs = 300.0;
+    std::array<MacroWrite, ParamIds::kMacroCount> macroWrites_ {};
     bool autoConnectTried_ = false;              // one attempt per port/setting change
 
     std::atomic<int> currentProgram_ {0};
