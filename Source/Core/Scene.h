@@ -6,6 +6,7 @@
 #include "Core/ArmState.h"
 #include "Core/Types.h"
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -86,6 +87,15 @@ struct ControlInput {
     double dt = 0.005;           ///< s since the previous control update
 };
 
+/// A scene's own continuous outputs that a mapping may read (Mapping/, docs/MAPPING.md "Scene
+/// outputs"). NaN = this scene has no such output. Written by the scene in control() and read on
+/// the same thread right after it (Engine::sceneValues()).
+struct SceneValues {
+    float pitch = std::numeric_limits<float>::quiet_NaN();    ///< sounding pitch as a MIDI note number, fractional (theremin)
+    float fret = std::numeric_limits<float>::quiet_NaN();     ///< fret index, 0 = lowest (theremin)
+    float strike = std::numeric_limits<float>::quiet_NaN();   ///< the last strike's speed, deg/s; 0 before any (cymbal)
+};
+
 struct SceneOutput {
     MotorCanvas& motors;
     EventSink& events;
@@ -152,6 +162,9 @@ public:
     /// Entering the scene, or a transport jump: forget gestures in progress. Real-time, like
     /// control() (the plugin calls it on the audio thread).
     virtual void reset() {}
+    /// The scene's own outputs after the latest control() (SceneValues). Real-time, control
+    /// thread. The default: none.
+    virtual SceneValues values() const noexcept { return {}; }
 };
 
 } // namespace armadillo
