@@ -1,5 +1,6 @@
 #include "Plugin/Connections.h"
 #include "Device/Calibration.h"
+#include "Device/Osc.h"
 
 namespace armadillo::plugin {
 
@@ -63,6 +64,8 @@ void Connections::clockTick(double dt)
     }
     GestureEvent g;
     while (control_.popGesture(g)) oscOut_.sendGesture(g.name);
+    sendMappingOsc();
+    midiPort_.drain();
 
     const double now = juce::Time::getMillisecondCounterHiRes();
     if (now - rateWindowStartMs_ >= 1000.0) {
@@ -72,6 +75,46 @@ void Connections::clockTick(double dt)
         rateWindowTicks_ = ticks;
         rateWindowStartMs_ = now;
     }
+}
+
+void Connections::sendMappingOsc()
+{
+    // The control side queued encoded packets (Mapping/Mapper.h OscPacket); each goes to its
+    // target through the device module's sender (IPv4 and IPv6, non-blocking).
+    std::lock_guard<std::mutex> lock(mappingOscMutex_);
+    mapping::OscPacket p;
+    while (control_.mappingOutputs().popOsc(p)) {
+        const auto target = static_cast<std::size_t>(p.target);
+        device::OscSender* sender = p.target >= 0 && target < mappingOsc_.size() ? mappingOsc_[target].get() : nullptr;
+        struct Ctx {
+            device::OscSender* sender;
+            bool ok;
+        } ctx {sender, sender != nullptr};
+        const char* error = nullptr;
+        if (sender != nullptr)
+            device::decodeOscPacket(p.bytes.data(), p.size, [](void* c, const device::OscMessage& m) {
+                auto& x = *static_cast<Ctx*>(c);
+                x.ok = x.sender->send(m.address, m.args, static_cast<std::size_t>(m.count)) && x.ok;
+            }, &ctx, &error);
+        (ctx.ok && error == nullptr ? mappingOscSent_ : mappingOscDropped_).fetch_add(1, std::memory_order_relaxed);
+    }
+}
+
+juce::String Connections::configureMappingOsc(const std::vector<device::HostPort>& targets)
+{
+    std::vector<std::unique_ptr<device::OscSender>> senders;
+    juce::String problems;
+    for (const auto& t : targets) {
+        try {
+            senders.push_back(std::make_unique<device::OscSender>(t));
+        } catch (const std::exception& e) {
+            senders.push_back(nullptr);
+            problems << "OSC target " << juce::String(t.host) << ":" << t.port << ": " << juce::String(e.what()) << ". ";
+        }
+    }
+    std::lock_guard<std::mutex> lock(mappingOscMutex_);
+    mappingOsc_.swap(senders);
+    return problems.trim();   // the old senders close here, outside no thread's send
 }
 
 // ------------------------------------------------------------------------------------------------

@@ -1,4 +1,5 @@
 #include "Plugin/MidiPort.h"
+#include <juce_audio_devices/juce_audio_devices.h>
 
 namespace armadillo::plugin {
 
@@ -66,17 +67,6 @@ juce::String MidiPort::status() const
     return "MIDI out: ALSA sequencer port '" + out_->getName() + "' (" + out_->getIdentifier() + "), "
            + juce::String(static_cast<juce::int64>(sent())) + " events sent"
            + (dropped() > 0 ? ", " + juce::String(static_cast<juce::int64>(dropped())) + " dropped (queue full)" : juce::String());
-}
-
-bool MidiPort::push(const std::uint8_t* bytes, int size) noexcept
-{
-    if (! open_.load(std::memory_order_acquire) || size < 1 || size > 3) return false;
-    Event e;
-    for (int i = 0; i < size; ++i) e.bytes[i] = bytes[i];
-    e.size = static_cast<std::uint8_t>(size);
-    if (queue_.push(e)) return true;
-    dropped_.fetch_add(1, std::memory_order_relaxed);
-    return false;
 }
 
 int MidiPort::drain()

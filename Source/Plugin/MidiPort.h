@@ -11,11 +11,15 @@
 //  - the control clock (one non-audio thread): drain() — sends the queued events to the port.
 //    The port is shared with open()/close() under a mutex the audio thread never takes.
 #include "Core/SpscQueue.h"
-#include <juce_audio_devices/juce_audio_devices.h>
+#include <juce_core/juce_core.h>
 #include <atomic>
 #include <cstdint>
 #include <memory>
 #include <mutex>
+
+namespace juce {
+class MidiOutput;
+}
 
 namespace armadillo::plugin {
 
@@ -33,8 +37,17 @@ public:
     juce::String status() const;
 
     /// Control side: one MIDI message (1–3 bytes). False when the queue is full or the port is
-    /// closed (nothing is queued then).
-    bool push(const std::uint8_t* bytes, int size) noexcept;
+    /// closed (nothing is queued then). Inline: the control path needs no JUCE device code.
+    bool push(const std::uint8_t* bytes, int size) noexcept
+    {
+        if (! open_.load(std::memory_order_acquire) || size < 1 || size > 3) return false;
+        Event e;
+        for (int i = 0; i < size; ++i) e.bytes[i] = bytes[i];
+        e.size = static_cast<std::uint8_t>(size);
+        if (queue_.push(e)) return true;
+        dropped_.fetch_add(1, std::memory_order_relaxed);
+        return false;
+    }
     /// Control clock: sends every queued event. Returns how many were sent.
     int drain();
 

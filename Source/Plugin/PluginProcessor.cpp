@@ -35,13 +35,24 @@ ArmadilloProcessor::ArmadilloProcessor()
       engines_(loop_, sceneTable_, apvts_, [this](const juce::String& m) { setStatus(m); }),
       training_(engines_),
       control_(loop_, token_, cellsOf(apvts_), motors_),
-      connections_(loop_, control_, motors_)
+      connections_(loop_, control_, motors_),
+      mapping_(control_, connections_, sceneTable_, [this] { return static_cast<int>(settings_[SettingIds::midiChannel]); })
 {
     scene_ = apvts_.getRawParameterValue(ParamIds::scene);
     jassert(scene_ != nullptr);
     settings_.addListener(this);
     engines_.install(currentRequest(), token_);
     applyNetworkSettings();
+    // The mapping (before the control clock starts): scene parameters for its destinations, the
+    // classic preset until a state says otherwise, and in the standalone app an ALSA sequencer
+    // port for its MIDI (docs/PLUGIN.md "MIDI out").
+    control_.setSceneTable(&sceneTable_);
+    if (const auto why = mapping_.fromState({}); why.isNotEmpty()) setStatus(why);
+    if (wrapperType == wrapperType_Standalone) {
+        juce::String why;
+        if (connections_.midiPort().open("ARMadillo", why)) control_.setMidiPort(&connections_.midiPort());
+        else setStatus(why);
+    }
     // Only the standalone app lets its idle clock drive the motors (a performer without a sound
     // card); in a host, no processBlock means stopped, bypassed or removed: motors off.
     control_.setIdleDrivesMotors(wrapperType == wrapperType_Standalone);
@@ -150,6 +161,10 @@ void ArmadilloProcessor::timerCallback()
     engines_.update(currentRequest());
     writeLiveOrientationToParameters();
     writeMacrosToParameters();
+    {
+        std::lock_guard<std::mutex> lock(mappingMutex_);
+        mapping_.timerTick();
+    }
     connections_.drainCalibration();
     // The performer's standalone app (or a session) reopens its saved port by itself, once.
     if (! autoConnectTried_ && static_cast<bool>(settings_[SettingIds::connectOnStart]) && source() == SourceKind::Device
@@ -240,7 +255,8 @@ void ArmadilloProcessor::valueTreePropertyChanged(juce::ValueTree&, const juce::
         autoConnectTried_ = false;
         if (id == SettingIds::serialPort && deviceConnected()) connectDevice(false);
     } else if (id == SettingIds::midiChannel) {
-        control_.setMidiChannel(static_cast<int>(settings_[SettingIds::midiChannel]));
+        std::lock_guard<std::mutex> lock(mappingMutex_);
+        if (mapping_.name() == "classic") mapping_.usePreset("classic");   // the classic wiring's channel
     } else if (id == SettingIds::oscOutEnabled || id == SettingIds::oscOutHost || id == SettingIds::oscOutPort
                || id == SettingIds::oscInEnabled || id == SettingIds::oscInPort || id == SettingIds::oscInFormat
                || id == SettingIds::oscInMount) {
@@ -254,6 +270,18 @@ void ArmadilloProcessor::applyNetworkSettings()
                               static_cast<int>(settings_[SettingIds::oscOutPort]), static_cast<bool>(settings_[SettingIds::oscInEnabled]),
                               static_cast<int>(settings_[SettingIds::oscInPort]), settings_[SettingIds::oscInFormat].toString(),
                               settings_[SettingIds::oscInMount].toString());
+    std::lock_guard<std::mutex> lock(mappingMutex_);
+    mapping_.setDefaultOscTarget(settings_[SettingIds::oscOutHost].toString(), static_cast<int>(settings_[SettingIds::oscOutPort]));
+}
+
+juce::String ArmadilloProcessor::mappingStatus() const
+{
+    juce::String s;
+    if (wrapperType == wrapperType_Standalone) s << connections_.midiPort().status() << "\n";
+    s << "Mapping OSC sent " << juce::String(static_cast<juce::int64>(connections_.mappingOscSent())) << ", dropped "
+      << juce::String(static_cast<juce::int64>(connections_.mappingOscDropped() + control_.mappingOutputs().oscDropped()))
+      << "; MIDI events dropped " << juce::String(static_cast<juce::int64>(control_.midiDropped()));
+    return s;
 }
 
 void ArmadilloProcessor::connectDevice(bool connect)
@@ -295,7 +323,8 @@ void ArmadilloProcessor::clearStatusMessage()
 
 void ArmadilloProcessor::getStateInformation(juce::MemoryBlock& destData)
 {
-    PluginState::save(apvts_, settings_, destData);
+    std::lock_guard<std::mutex> lock(mappingMutex_);
+    PluginState::save(apvts_, settings_, destData, mapping_.toState());
 }
 
 juce::String ArmadilloProcessor::saveSetup(const juce::File& file)
@@ -315,7 +344,11 @@ juce::String ArmadilloProcessor::loadSetup(const juce::File& file)
 
 void ArmadilloProcessor::setStateInformation(const void* data, int sizeInBytes)
 {
-    setStatus(PluginState::restore(*this, apvts_, settings_, data, sizeInBytes));
+    juce::ValueTree mapping;
+    auto message = PluginState::restore(*this, apvts_, settings_, data, sizeInBytes, &mapping);
+    std::lock_guard<std::mutex> lock(mappingMutex_);
+    if (const auto why = mapping_.fromState(mapping); why.isNotEmpty()) message = (message + " " + why).trim();
+    setStatus(message);
 }
 
 juce::AudioProcessorEditor* ArmadilloProcessor::createEditor()

@@ -6,6 +6,7 @@
 //                      published frame, motor levels stamped for the link (LevelSchedule);
 //  - Connections.h     device link and guided calibration, simulated arm, OSC, the idle clock;
 //  - PluginState.h     saved state and settings, validated on the way in;
+//  - MappingSession.h  the mapping set: presets, files, state, hand-over to the control side, learn;
 //  - TrainingAccess.h  braille training for the Training panel.
 // This class adds the AudioProcessor entry points, the message-thread timer (engine updates,
 // live orientation → parameters with change gestures, auto-connect) and the status line.
@@ -15,6 +16,7 @@
 #include "Plugin/Connections.h"
 #include "Plugin/ControlToken.h"
 #include "Plugin/EngineHandover.h"
+#include "Plugin/MappingSession.h"
 #include "Plugin/Parameters.h"
 #include "Plugin/PluginState.h"
 #include "Plugin/TrainingAccess.h"
@@ -105,6 +107,15 @@ public:
     const char* lastGesture() const noexcept { return control_.lastGesture(); }
     std::uint64_t gestureCount() const noexcept { return control_.gestureCount(); }
     double controlRateMeasured() const noexcept { return connections_.controlRateMeasured(); }
+    /// The mapping set (message thread; the host's state calls take the same lock).
+    struct MappingAccess {
+        std::unique_lock<std::mutex> lock;
+        MappingSession& session;
+        MappingSession* operator->() const noexcept { return &session; }
+    };
+    MappingAccess mapping() { return {std::unique_lock<std::mutex>(mappingMutex_), mapping_}; }
+    /// The standalone app's MIDI port line ("" in a host), the mapping's OSC and drop counters.
+    juce::String mappingStatus() const;
 
 private:
     static BusesProperties busesFor(WrapperType wrapper);
@@ -132,6 +143,8 @@ private:
     TrainingAccess training_;
     BlockControl control_;
     Connections connections_;
+    std::mutex mappingMutex_;                    // message thread vs a host's state calls; never audio
+    MappingSession mapping_;
 
     // Live → parameters (message thread)
     bool gestureOpen_ = false;
