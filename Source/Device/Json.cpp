@@ -43,13 +43,19 @@ public:
     }
 
 private:
-    [[noreturn]] void fail(const std::string& message) const { throw InputError(source_, line_, "", message); }
+    [[noreturn]] void fail(const std::string& message) const
+    {
+        throw InputError(source_, line_, "", "column " + std::to_string(pos_ - lineStart_ + 1) + ": " + message);
+    }
 
     void skipSpace()
     {
         while (pos_ < text_.size()) {
             const char c = text_[pos_];
-            if (c == '\n') ++line_;
+            if (c == '\n') {
+                ++line_;
+                lineStart_ = pos_ + 1;
+            }
             if (c == ' ' || c == '\t' || c == '\r' || c == '\n') ++pos_;
             else break;
         }
@@ -69,6 +75,7 @@ private:
         if (pos_ >= text_.size()) fail("unexpected end of file: expected a value");
         JsonValue v;
         v.line = line_;
+        v.column = static_cast<long>(pos_ - lineStart_) + 1;
         const char c = text_[pos_];
         if (c == '{') {
             v.kind = JsonValue::Kind::Object;
@@ -239,6 +246,7 @@ private:
     const std::string& source_;
     std::size_t pos_ = 0;
     long line_ = 1;
+    std::size_t lineStart_ = 0;   // offset of the current line's first byte (columns count bytes from 1)
 };
 
 } // namespace

@@ -1,6 +1,7 @@
 #pragma once
 // A small, strict JSON reader (RFC 8259) for calibration files: objects, arrays, numbers,
-// strings, true/false/null. Every value remembers its line, so messages point at the problem.
+// strings, true/false/null. Every value remembers its line and column, so messages point at the
+// problem (syntax errors say "column N: …").
 // Nesting deeper than 64 levels is refused (no stack exhaustion on hostile input).
 #include <memory>
 #include <string>
@@ -19,6 +20,7 @@ struct JsonValue {
     std::vector<JsonValue> array;
     std::vector<std::pair<std::string, JsonValue>> object;   ///< in file order; duplicates refused
     long line = 0;
+    long column = 0;   ///< 1-based byte column of the value's first character
 
     const JsonValue* find(std::string_view key) const noexcept;
     static const char* kindName(Kind k) noexcept;

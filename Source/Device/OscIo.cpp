@@ -83,6 +83,17 @@ bool OscSender::send(std::string_view address, const OscArg* args, std::size_t c
     return true;
 }
 
+bool OscSender::sendPacket(const std::uint8_t* data, std::size_t size) noexcept
+{
+    if (data == nullptr || size == 0 ||
+        ::sendto(fd_, data, size, MSG_DONTWAIT | MSG_NOSIGNAL, reinterpret_cast<const sockaddr*>(addr_), addrLen_) != static_cast<ssize_t>(size)) {
+        dropped_.fetch_add(1, std::memory_order_relaxed);
+        return false;
+    }
+    sent_.fetch_add(1, std::memory_order_relaxed);
+    return true;
+}
+
 bool OscSender::sendOrientation(const Eigen::Quaterniond& q) noexcept
 {
     const OscArg a[] = {OscArg::float32(float(q.w())), OscArg::float32(float(q.x())), OscArg::float32(float(q.y())), OscArg::float32(float(q.z()))};

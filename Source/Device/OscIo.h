@@ -36,6 +36,8 @@ public:
     OscSender& operator=(const OscSender&) = delete;
 
     bool send(std::string_view address, const OscArg* args, std::size_t count) noexcept;
+    /// An already-encoded packet (a mapping's OSC message, Mapping/Mapper.h). Real-time like send().
+    bool sendPacket(const std::uint8_t* data, std::size_t size) noexcept;
     bool sendOrientation(const Eigen::Quaterniond& q) noexcept;   ///< /armadillo/orientation ffff (w x y z)
     bool sendPose(const Pose& pose) noexcept;                     ///< /armadillo/pose fff (elevation azimuth roll, deg)
     bool sendGyro(const Eigen::Vector3d& gyro) noexcept;          ///< /armadillo/gyro fff (rad/s, device frame)

@@ -1,59 +1,1018 @@
 #include "Mapping/Mapper.h"
 #include "Core/Errors.h"
+#include "Core/Pose.h"
+#include "Device/Osc.h"
+#include "Mapping/Posture.h"
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
 
 namespace armadillo::mapping {
-void MappingOutput::clear() noexcept { midiCount = 0; oscCount = 0; paramCount = 0; macroChanged = 0; dropped = 0; forwardChanged = false; }
+
+namespace {
+
+constexpr long kNone = std::numeric_limits<long>::min();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+bool periodic(SourceKind k) noexcept { return k == SourceKind::Azimuth || k == SourceKind::Yaw || k == SourceKind::Roll; }
+
+double wrap360(double d) noexcept
+{
+    double r = std::fmod(d, 360.0);
+    if (r < 0.0) r += 360.0;
+    return r >= 360.0 ? 0.0 : r;
+}
+double wrap180(double d) noexcept { return wrap360(d + 180.0) - 180.0; }
+
+/// One-euro filter (Casiez, Roussel & Vogel, "1€ Filter", CHI 2012): a first-order low-pass whose
+/// cutoff rises with the (low-passed) speed of the signal.
+struct OneEuro {
+    double minCutoff = 0.0, beta = 0.0, dCutoff = 1.0;
+    bool started = false;
+    double x = 0.0, dx = 0.0, lastT = 0.0;
+
+    static double alpha(double cutoffHz, double dt) noexcept
+    {
+        const double tau = 1.0 / (2.0 * kPi * cutoffHz);
+        return 1.0 / (1.0 + tau / dt);
+    }
+    double filter(double v, double t) noexcept
+    {
+        if (!started) {
+            started = true;
+            x = v;
+            dx = 0.0;
+            lastT = t;
+            return v;
+        }
+        double dt = t - lastT;
+        if (!(dt > 0.0) || dt > 1.0) dt = 0.005;
+        lastT = t;
+        const double rawDx = (v - x) / dt;
+        dx += alpha(dCutoff, dt) * (rawDx - dx);
+        const double cutoff = minCutoff + beta * std::fabs(dx);
+        x += alpha(cutoff, dt) * (v - x);
+        return x;
+    }
+};
+
+struct Sounding {
+    bool on = false;
+    std::uint8_t channel = 0;   // 0…15
+    std::uint8_t note = 0;
+    double offAt = kInf;
+};
+
+} // namespace
+
+// ---------------------------------------------------------------------------------------------
+
+void MappingOutput::clear() noexcept
+{
+    midiCount = 0;
+    oscCount = 0;
+    paramCount = 0;
+    macroChanged = 0;
+    dropped = 0;
+    forwardChanged = false;
+}
+
+struct Compiled {
+    MappingSpec spec;
+    double inLo = 0.0, inHi = 1.0, outLo = 0.0, outHi = 1.0, hysteresis = 3.0;
+    bool isPeriodic = false;
+    int scale = 0;                     // scaleMask, 0 = none
+    int posture = -1;                  // Posture source: classifier index
+    bool gestureAny = false, gestureOther = false;
+    int oscTarget = 0;
+    int param = -1;                    // SceneParam: index into sceneParamIds
+    std::vector<std::string> addresses;   // OSC: one per zone (or one)
+    bool eventDriven = false;          // gesture, posture, threshold (not zones)
+
+    // control-side state
+    OneEuro smooth;
+    bool haveRaw = false;
+    double lastRaw = 0.0, unwrapped = 0.0;
+    long lastEncoded = kNone;
+    std::array<long, 3> lastAux {kNone, kNone, kNone};   // MPE bend, pressure, timbre
+    std::array<std::uint8_t, kOscPacketCapacity> lastOsc {};
+    std::uint16_t lastOscSize = 0;
+    int zone = -1;
+    bool on = false;
+    Sounding note;
+    int mpeNext = 0;
+    bool mpeAnnounced = false;
+    bool wasMuted = false;
+
+    // any thread
+    std::atomic<bool> muted {false};
+    std::atomic<float> meter {std::numeric_limits<float>::quiet_NaN()};
+    std::atomic<bool> active {false};
+
+    void forget() noexcept
+    {
+        lastEncoded = kNone;
+        lastAux = {kNone, kNone, kNone};
+        lastOscSize = 0;
+        zone = -1;
+        on = false;
+    }
+};
 
 struct MappingSet::Impl {
     MappingDocument doc;
+    std::unique_ptr<Compiled[]> maps;
+    std::size_t count = 0;
     std::vector<OscTarget> targets {OscTarget {}};
     std::vector<std::string> params;
+    std::vector<std::string> namedGestures;
+    std::uint32_t macros = 0;
+    PostureClassifier postures;
+    bool hasPostures = false;
 };
+
 MappingSet::MappingSet() : impl_(std::make_unique<Impl>()) {}
 MappingSet::~MappingSet() = default;
-std::unique_ptr<MappingSet> MappingSet::build(const MappingDocument& doc, const BuildOptions&)
+
+namespace {
+
+void defaultOutputRange(DestinationKind k, double& lo, double& hi) noexcept
 {
-    std::unique_ptr<MappingSet> s(new MappingSet());
-    s->impl_->doc = doc;
+    switch (k) {
+    case DestinationKind::Cc7:
+    case DestinationKind::ChannelPressure:
+    case DestinationKind::ProgramChange: lo = 0.0; hi = 127.0; return;
+    case DestinationKind::Cc14:
+    case DestinationKind::Nrpn:
+    case DestinationKind::PitchBend: lo = 0.0; hi = 16383.0; return;
+    default: lo = 0.0; hi = 1.0; return;
+    }
+}
+
+std::string replaceAll(std::string s, const std::string& from, const std::string& to)
+{
+    for (std::size_t at = s.find(from); at != std::string::npos; at = s.find(from, at + to.size())) s.replace(at, from.size(), to);
     return s;
 }
+
+} // namespace
+
+std::unique_ptr<MappingSet> MappingSet::build(const MappingDocument& doc, const BuildOptions& options)
+{
+    const std::string where = options.sourceName.empty() ? std::string("mapping") : options.sourceName;
+    if (doc.mappings.size() > static_cast<std::size_t>(kMaxMappings))
+        throw InputError(where, 0, "", "more than " + std::to_string(kMaxMappings) + " mappings");
+    std::unique_ptr<MappingSet> set(new MappingSet());
+    Impl& s = *set->impl_;
+    s.doc = doc;
+    s.count = doc.mappings.size();
+    s.maps = std::make_unique<Compiled[]>(s.count == 0 ? 1 : s.count);
+    s.postures = PostureClassifier(doc.postures);
+    s.hasPostures = s.postures.size() > 0;
+    for (const MappingSpec& m : doc.mappings)
+        if (m.source.kind == SourceKind::Gesture && m.source.name != "*" && m.source.name != "other") s.namedGestures.push_back(m.source.name);
+
+    for (std::size_t i = 0; i < s.count; ++i) {
+        const MappingSpec& m = doc.mappings[i];
+        const std::string name = "mappings[" + std::to_string(i) + "]";
+        Compiled& c = s.maps[i];
+        c.spec = m;
+        const TransformSpec& t = m.transform;
+        if (t.hasIn) {
+            c.inLo = t.inLo;
+            c.inHi = t.inHi;
+        } else {
+            defaultInputRange(m.source.kind, c.inLo, c.inHi);
+        }
+        if (t.hasOut) {
+            c.outLo = t.outLo;
+            c.outHi = t.outHi;
+        } else {
+            defaultOutputRange(m.to.kind, c.outLo, c.outHi);
+        }
+        c.hysteresis = t.hysteresis >= 0.0 ? t.hysteresis
+                                           : (isAngleSource(m.source.kind) ? kDefaultHysteresisDeg : kDefaultHysteresisFraction * std::fabs(c.inHi - c.inLo));
+        c.isPeriodic = periodic(m.source.kind);
+        c.scale = t.scale.empty() ? 0 : scaleMask(t.scale);
+        c.smooth.minCutoff = t.minCutoffHz;
+        c.smooth.beta = t.beta;
+        c.smooth.dCutoff = t.derivativeCutoffHz > 0.0 ? t.derivativeCutoffHz : 1.0;
+        c.eventDriven = isEventSource(m.source.kind) || t.hasThreshold;
+        c.muted.store(m.muted);
+        if (m.source.arm != 0) throw InputError(where, 0, "", name + ": a second arm is not supported yet");
+        if (m.source.kind == SourceKind::Posture) {
+            c.posture = s.postures.indexOf(m.source.name);
+            if (c.posture < 0) throw InputError(where, 0, "", name + ": no posture named \"" + m.source.name + "\"");
+        }
+        if (m.source.kind == SourceKind::Gesture) {
+            c.gestureAny = m.source.name == "*";
+            c.gestureOther = m.source.name == "other";
+        }
+        if (m.zones.size() > static_cast<std::size_t>(kMaxZones)) throw InputError(where, 0, "", name + ": too many zones");
+        if (m.to.kind == DestinationKind::Macro) {
+            if (m.to.number < 1 || m.to.number > kMacroCount) throw InputError(where, 0, "", name + ": macro must be 1…8");
+            s.macros |= 1u << (m.to.number - 1);
+        }
+        if (m.to.kind == DestinationKind::SceneParam) {
+            if (!options.sceneParamIds.empty() &&
+                std::find(options.sceneParamIds.begin(), options.sceneParamIds.end(), m.to.paramId) == options.sceneParamIds.end()) {
+                std::string list;
+                for (const std::string& id : options.sceneParamIds) list += (list.empty() ? "" : ", ") + id;
+                throw InputError(where, 0, "", name + ": the scene has no parameter \"" + m.to.paramId + "\" (it has: " + list + ")");
+            }
+            const auto at = std::find(s.params.begin(), s.params.end(), m.to.paramId);
+            c.param = static_cast<int>(at - s.params.begin());
+            if (at == s.params.end()) s.params.push_back(m.to.paramId);
+        }
+        if (m.to.kind == DestinationKind::Osc) {
+            if (!m.to.host.empty() || m.to.port > 0) {
+                std::size_t k = 1;
+                for (; k < s.targets.size(); ++k)
+                    if (s.targets[k].host == m.to.host && s.targets[k].port == m.to.port) break;
+                if (k == s.targets.size()) s.targets.push_back({m.to.host, m.to.port});
+                c.oscTarget = static_cast<int>(k);
+            }
+            const std::size_t n = m.zones.empty() ? 1 : m.zones.size();
+            for (std::size_t z = 0; z < n; ++z) {
+                std::string a = replaceAll(m.to.address, "{arm}", std::to_string(m.source.arm));
+                a = replaceAll(a, "{zone}", m.zones.empty() ? std::string("0") : std::to_string(m.zones[z].value));
+                // The longest message this address can make must fit one packet.
+                device::OscArg args[kMaxOscArgs];
+                const std::size_t argc = m.to.args.empty() ? 1 : std::min<std::size_t>(m.to.args.size(), kMaxOscArgs);
+                for (std::size_t k = 0; k < argc; ++k) {
+                    const OscArgSpec* spec = m.to.args.empty() ? nullptr : &m.to.args[k];
+                    if (spec && spec->type == 's') args[k] = device::OscArg::string(spec->text);
+                    else if (spec && spec->type == 'd') args[k] = device::OscArg::float64(0.0);
+                    else if (spec && spec->type == 'i') args[k] = device::OscArg::int32(0);
+                    else args[k] = device::OscArg::float32(0.0f);
+                }
+                std::array<std::uint8_t, kOscPacketCapacity> probe {};
+                if (device::encodeOscMessage(a, args, argc, probe.data(), probe.size()) == 0)
+                    throw InputError(where, 0, "", name + ": the OSC message to \"" + a + "\" does not encode (a bad address, or longer than " +
+                                                       std::to_string(kOscPacketCapacity) + " bytes)");
+                c.addresses.push_back(a);
+            }
+        }
+    }
+    return set;
+}
+
 const MappingDocument& MappingSet::document() const noexcept { return impl_->doc; }
-std::size_t MappingSet::size() const noexcept { return impl_->doc.mappings.size(); }
+std::size_t MappingSet::size() const noexcept { return impl_->count; }
 const std::vector<OscTarget>& MappingSet::oscTargets() const noexcept { return impl_->targets; }
 const std::vector<std::string>& MappingSet::sceneParamIds() const noexcept { return impl_->params; }
-std::uint32_t MappingSet::macrosUsed() const noexcept { return 0; }
-void MappingSet::setMuted(std::size_t, bool) noexcept {}
-bool MappingSet::muted(std::size_t) const noexcept { return false; }
-float MappingSet::meter(std::size_t) const noexcept { return 0.0f; }
-bool MappingSet::active(std::size_t) const noexcept { return false; }
+std::uint32_t MappingSet::macrosUsed() const noexcept { return impl_->macros; }
+void MappingSet::setMuted(std::size_t i, bool muted) noexcept
+{
+    if (i < impl_->count) impl_->maps[i].muted.store(muted, std::memory_order_relaxed);
+}
+bool MappingSet::muted(std::size_t i) const noexcept { return i < impl_->count && impl_->maps[i].muted.load(std::memory_order_relaxed); }
+float MappingSet::meter(std::size_t i) const noexcept
+{
+    return i < impl_->count ? impl_->maps[i].meter.load(std::memory_order_relaxed) : std::numeric_limits<float>::quiet_NaN();
+}
+bool MappingSet::active(std::size_t i) const noexcept { return i < impl_->count && impl_->maps[i].active.load(std::memory_order_relaxed); }
+
+// ---------------------------------------------------------------------------------------------
+
+double readSource(const SourceSpec& source, const MappingInput& in, double forwardDeg) noexcept
+{
+    switch (source.kind) {
+    case SourceKind::ScenePitch: return std::isfinite(in.scene.pitch) ? static_cast<double>(in.scene.pitch) : kNaN;
+    case SourceKind::SceneFret: return std::isfinite(in.scene.fret) ? static_cast<double>(in.scene.fret) : kNaN;
+    case SourceKind::SceneStrike: return std::isfinite(in.scene.strike) ? static_cast<double>(in.scene.strike) : kNaN;
+    case SourceKind::Gesture:
+    case SourceKind::Posture:
+    case SourceKind::GestureValue: return kNaN;
+    default: break;
+    }
+    if (source.arm < 0 || source.arm >= kMaxArms) return kNaN;
+    const ArmState* arm = in.arm[source.arm];
+    if (arm == nullptr || !arm->valid) return kNaN;
+    const Pose& pose = arm->features.pose;
+    const double sign = arm->q.w() < 0.0 ? -1.0 : 1.0;
+    const double yaw = -wrap180(pose.azimuthDeg - forwardDeg);
+    switch (source.kind) {
+    case SourceKind::Elevation:
+    case SourceKind::Pitch: return pose.elevationDeg;
+    case SourceKind::Azimuth: return wrap360(pose.azimuthDeg);
+    case SourceKind::Roll: return pose.rollDeg;
+    case SourceKind::Yaw: return yaw;
+    case SourceKind::QuatW: return sign * arm->q.w();
+    case SourceKind::QuatX: return sign * arm->q.x();
+    case SourceKind::QuatY: return sign * arm->q.y();
+    case SourceKind::QuatZ: return sign * arm->q.z();
+    case SourceKind::AngularSpeed: return arm->gyro.allFinite() ? radToDeg(arm->gyro.norm()) : kNaN;
+    case SourceKind::FluxFace: return radToDeg(arm->features.fluxFace);
+    case SourceKind::FluxEdge: return radToDeg(arm->features.fluxEdge);
+    case SourceKind::RollTrigger: return arm->features.rollTrigger;
+    case SourceKind::Punch: return arm->features.punch;
+    case SourceKind::YprQuatW:
+    case SourceKind::YprQuatX:
+    case SourceKind::YprQuatY:
+    case SourceKind::YprQuatZ: {
+        // q = qz(yaw)·qy(pitch)·qx(roll), written out (half angles) so nothing is built per call.
+        const double a = degToRad(yaw) / 2, b = degToRad(pose.elevationDeg) / 2, c = degToRad(pose.rollDeg) / 2;
+        const double ca = std::cos(a), sa = std::sin(a), cb = std::cos(b), sb = std::sin(b), cc = std::cos(c), sc = std::sin(c);
+        double w = ca * cb * cc + sa * sb * sc;
+        double x = ca * cb * sc - sa * sb * cc;
+        double y = ca * sb * cc + sa * cb * sc;
+        double z = sa * cb * cc - ca * sb * sc;
+        if (w < 0.0) {
+            w = -w;
+            x = -x;
+            y = -y;
+            z = -z;
+        }
+        return source.kind == SourceKind::YprQuatW ? w : source.kind == SourceKind::YprQuatX ? x : source.kind == SourceKind::YprQuatY ? y : z;
+    }
+    default: return kNaN;
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
 
 struct Mapper::Impl {
-    std::unique_ptr<MappingSet> active;
-    double forward = 0.0;
+    MappingSet* active = nullptr;
+    std::atomic<MappingSet*> pending {nullptr};
+    std::atomic<MappingSet*> retired {nullptr};
+    MappingSet* newest = nullptr;
+    std::atomic<double> forwardShared {0.0};
+    std::atomic<bool> forwardRequest {false};
+    std::atomic<std::uint64_t> forwardSerial {0};
+    std::uint64_t forwardSeen = 0;
+    double forward = 0.0;   // control side
+
+    ~Impl()
+    {
+        delete active;
+        delete pending.load();
+        delete retired.load();
+    }
+
+    // ---- output ------------------------------------------------------------------------------
+    static void midi(MappingOutput& out, double t, std::uint8_t b0, std::uint8_t b1, std::uint8_t b2, std::uint8_t size) noexcept
+    {
+        if (out.midiCount >= MappingOutput::kMaxMidi) {
+            ++out.dropped;
+            return;
+        }
+        MidiEvent& e = out.midi[static_cast<std::size_t>(out.midiCount++)];
+        e.t = t;
+        e.size = size;
+        e.bytes = {b0, b1, b2};
+    }
+    static void cc(MappingOutput& out, double t, int channel0, int number, int value) noexcept
+    {
+        midi(out, t, static_cast<std::uint8_t>(0xB0 | channel0), static_cast<std::uint8_t>(number & 0x7F), static_cast<std::uint8_t>(value & 0x7F), 3);
+    }
+
+    static void noteOff(Compiled& c, double t, MappingOutput& out) noexcept
+    {
+        if (!c.note.on) return;
+        midi(out, t, static_cast<std::uint8_t>(0x80 | c.note.channel), c.note.note, 0, 3);
+        c.note.on = false;
+        c.note.offAt = kInf;
+        c.active.store(false, std::memory_order_relaxed);
+    }
+
+    static void noteOn(Compiled& c, double t, int channel0, int note, int velocity, double lengthS, MappingOutput& out) noexcept
+    {
+        noteOff(c, t, out);   // one note per mapping: a retrigger closes the sounding one first
+        midi(out, t, static_cast<std::uint8_t>(0x90 | channel0), static_cast<std::uint8_t>(note & 0x7F),
+             static_cast<std::uint8_t>(std::clamp(velocity, 1, 127)), 3);
+        c.note.on = true;
+        c.note.channel = static_cast<std::uint8_t>(channel0);
+        c.note.note = static_cast<std::uint8_t>(note & 0x7F);
+        c.note.offAt = lengthS > 0.0 ? t + lengthS : kInf;
+        c.active.store(true, std::memory_order_relaxed);
+    }
+
+    // ---- transform ---------------------------------------------------------------------------
+    static double curve(const Compiled& c, double n) noexcept
+    {
+        const TransformSpec& t = c.spec.transform;
+        const double s = t.shape;
+        switch (t.curve) {
+        case Curve::Linear: return n;
+        case Curve::Exp: return std::fabs(s) < 1e-9 ? n : std::expm1(s * n) / std::expm1(s);
+        case Curve::Log: return std::fabs(s) < 1e-9 ? n : std::log1p(n * std::expm1(s)) / s;
+        case Curve::SCurve: {
+            const double k = std::max(0.05, 1.0 + s);
+            const double a = std::pow(n, k), b = std::pow(1.0 - n, k);
+            return a + b > 0.0 ? a / (a + b) : n;
+        }
+        case Curve::Table: {
+            const auto& tab = t.table;
+            if (tab.empty()) return n;
+            if (n <= tab.front()[0]) return tab.front()[1];
+            for (std::size_t i = 1; i < tab.size(); ++i) {
+                if (n <= tab[i][0]) {
+                    const double f = (n - tab[i - 1][0]) / (tab[i][0] - tab[i - 1][0]);
+                    return tab[i - 1][1] + f * (tab[i][1] - tab[i - 1][1]);
+                }
+            }
+            return tab.back()[1];
+        }
+        }
+        return n;
+    }
+
+    /// Source units → normalised 0…1: dead zone, range (clamped), invert, curve, steps.
+    static double normalise(const Compiled& c, double x) noexcept
+    {
+        const TransformSpec& t = c.spec.transform;
+        if (t.deadZone > 0.0) {
+            const double centre = 0.5 * (c.inLo + c.inHi), half = 0.5 * std::fabs(c.inHi - c.inLo);
+            const double d = x - centre;
+            if (std::fabs(d) <= t.deadZone) x = centre;
+            else if (half > t.deadZone) x = centre + (d - std::copysign(t.deadZone, d)) * half / (half - t.deadZone);
+        }
+        double n = (x - c.inLo) / (c.inHi - c.inLo);
+        n = std::clamp(n, 0.0, 1.0);
+        if (t.invert) n = 1.0 - n;
+        n = std::clamp(curve(c, n), 0.0, 1.0);
+        if (t.steps > 1) n = std::round(n * (t.steps - 1)) / (t.steps - 1);
+        return n;
+    }
+
+    /// Normalised → the destination's unit (out range), then the musical scale.
+    static double scaleOut(const Compiled& c, double n) noexcept
+    {
+        double v = c.outLo + n * (c.outHi - c.outLo);
+        if (c.scale != 0) {
+            const int root = c.spec.transform.scaleRoot;
+            const double base = std::round(v);
+            double best = base;
+            for (int d = 0; d <= 12; ++d) {   // nearest scale degree; ties go down
+                const int below = static_cast<int>(base) - d, above = static_cast<int>(base) + d;
+                if ((c.scale >> (((below - root) % 12 + 12) % 12)) & 1) { best = below; break; }
+                if ((c.scale >> (((above - root) % 12 + 12) % 12)) & 1) { best = above; break; }
+            }
+            v = best;
+        }
+        return v;
+    }
+
+    /// Raw source value → the value zones, thresholds and the range see: forward, |x|, smoothing.
+    static double prepare(Compiled& c, double raw, double t, double forward) noexcept
+    {
+        const TransformSpec& tr = c.spec.transform;
+        double x = raw;
+        if (tr.forward) x = wrap360(x - forward);
+        if (tr.abs) x = std::fabs(x);
+        if (tr.minCutoffHz > 0.0) {
+            if (c.isPeriodic) {
+                c.unwrapped = c.haveRaw ? c.unwrapped + wrap180(x - c.lastRaw) : x;
+                c.lastRaw = x;
+                c.haveRaw = true;
+                const double f = c.smooth.filter(c.unwrapped, t);
+                x = c.spec.source.kind == SourceKind::Azimuth ? wrap360(f) : wrap180(f);
+            } else {
+                x = c.smooth.filter(x, t);
+            }
+        }
+        return x;
+    }
+
+    static double auxValue(const AuxSpec& a, const MappingInput& in, double forward, double eventValue) noexcept
+    {
+        double raw = a.source.kind == SourceKind::GestureValue ? eventValue : readSource(a.source, in, forward);
+        if (!std::isfinite(raw)) return 0.5;
+        if (a.abs) raw = std::fabs(raw);
+        return std::clamp((raw - a.lo) / (a.hi - a.lo), 0.0, 1.0);
+    }
+
+    static int velocity(const Compiled& c, const MappingInput& in, double forward, double eventValue) noexcept
+    {
+        const DestinationSpec& d = c.spec.to;
+        if (!d.velocitySource.used) return d.velocity;
+        const double n = auxValue(d.velocitySource, in, forward, eventValue);
+        return std::clamp(static_cast<int>(std::lround(n * 127.0)), 1, 127);
+    }
+
+    // ---- zones -------------------------------------------------------------------------------
+    static bool insideZone(const Compiled& c, const ZoneSpec& z, double x, double el, double h) noexcept
+    {
+        bool ok;
+        if (c.isPeriodic) {
+            double width = z.to - z.from;
+            if (width <= 0.0) width += 360.0;
+            width += 2.0 * h;
+            ok = width >= 360.0 || wrap360(x - (z.from - h)) < width;
+        } else {
+            const double lo = std::min(z.from, z.to), hi = std::max(z.from, z.to);
+            ok = x >= lo - h && x <= hi + h;
+        }
+        if (ok && z.hasElevation) ok = std::isfinite(el) && el >= z.elFrom - h && el <= z.elTo + h;
+        return ok;
+    }
+
+    static int zoneFor(const Compiled& c, double x, double el) noexcept
+    {
+        const auto& zones = c.spec.zones;
+        if (c.zone >= 0 && insideZone(c, zones[static_cast<std::size_t>(c.zone)], x, el, c.hysteresis)) return c.zone;
+        for (std::size_t i = 0; i < zones.size(); ++i)
+            if (insideZone(c, zones[i], x, el, 0.0)) return static_cast<int>(i);
+        return -1;
+    }
+
+    // ---- destinations ------------------------------------------------------------------------
+    /// A continuous value (v in the destination's unit, n normalised) to its destination, sent
+    /// only when its encoding changes.
+    void sendValue(Compiled& c, double t, double v, double n, double zoneValue, bool on, const MappingInput& in, MappingOutput& out) noexcept
+    {
+        c.meter.store(static_cast<float>(n), std::memory_order_relaxed);
+        const DestinationSpec& d = c.spec.to;
+        const int ch = d.channel - 1;
+        const auto changed = [&](long enc) {
+            if (enc == c.lastEncoded) return false;
+            c.lastEncoded = enc;
+            return true;
+        };
+        switch (d.kind) {
+        case DestinationKind::Cc7: {
+            const long e = std::clamp(std::lround(v), 0L, 127L);
+            if (changed(e)) cc(out, t, ch, d.number, static_cast<int>(e));
+            return;
+        }
+        case DestinationKind::Cc14: {
+            const long e = std::clamp(std::lround(v), 0L, 16383L);
+            if (!changed(e)) return;
+            const int msb = static_cast<int>(e >> 7), lsb = static_cast<int>(e & 0x7F);
+            if (d.lsbFirst) {
+                cc(out, t, ch, d.number + 32, lsb);
+                cc(out, t, ch, d.number, msb);
+            } else {
+                cc(out, t, ch, d.number, msb);
+                cc(out, t, ch, d.number + 32, lsb);
+            }
+            return;
+        }
+        case DestinationKind::Nrpn: {
+            const long e = std::clamp(std::lround(v), 0L, 16383L);
+            if (!changed(e)) return;
+            cc(out, t, ch, 99, d.number >> 7);
+            cc(out, t, ch, 98, d.number & 0x7F);
+            cc(out, t, ch, 6, static_cast<int>(e >> 7));
+            cc(out, t, ch, 38, static_cast<int>(e & 0x7F));
+            return;
+        }
+        case DestinationKind::PitchBend: {
+            const long e = std::clamp(std::lround(v), 0L, 16383L);
+            if (changed(e))
+                midi(out, t, static_cast<std::uint8_t>(0xE0 | ch), static_cast<std::uint8_t>(e & 0x7F), static_cast<std::uint8_t>(e >> 7), 3);
+            return;
+        }
+        case DestinationKind::ChannelPressure: {
+            const long e = std::clamp(std::lround(v), 0L, 127L);
+            if (changed(e)) midi(out, t, static_cast<std::uint8_t>(0xD0 | ch), static_cast<std::uint8_t>(e), 0, 2);
+            return;
+        }
+        case DestinationKind::ProgramChange: {
+            const long e = std::clamp(std::lround(v), 0L, 127L);
+            if (changed(e)) midi(out, t, static_cast<std::uint8_t>(0xC0 | ch), static_cast<std::uint8_t>(e), 0, 2);
+            return;
+        }
+        case DestinationKind::Macro: {
+            const float f = static_cast<float>(std::clamp(v, 0.0, 1.0));
+            long bits = 0;
+            std::memcpy(&bits, &f, sizeof f);
+            if (!changed(bits)) return;
+            const int k = d.number - 1;
+            out.macro[static_cast<std::size_t>(k)] = f;
+            out.macroChanged |= 1u << k;
+            return;
+        }
+        case DestinationKind::SceneParam: {
+            const float f = static_cast<float>(c.spec.transform.hasOut ? v : std::clamp(v, 0.0, 1.0));
+            long bits = 0;
+            std::memcpy(&bits, &f, sizeof f);
+            if (!changed(bits)) return;
+            if (out.paramCount >= MappingOutput::kMaxParams) {
+                ++out.dropped;
+                return;
+            }
+            out.params[static_cast<std::size_t>(out.paramCount++)] = {c.param, f, !c.spec.transform.hasOut};
+            return;
+        }
+        case DestinationKind::Osc: sendOsc(c, t, v, zoneValue, on, in, out, true); return;
+        default: return;   // notes, MPE, forward: events only
+        }
+    }
+
+    void sendOsc(Compiled& c, double t, double v, double zoneValue, bool on, const MappingInput& in, MappingOutput& out, bool onlyChanges) noexcept
+    {
+        if (out.oscCount >= MappingOutput::kMaxOsc) {
+            ++out.dropped;
+            return;
+        }
+        const DestinationSpec& d = c.spec.to;
+        device::OscArg args[kMaxOscArgs];
+        std::size_t argc = 0;
+        if (d.args.empty()) {
+            args[argc++] = device::OscArg::float32(static_cast<float>(v));
+        } else {
+            for (const OscArgSpec& a : d.args) {
+                if (argc >= static_cast<std::size_t>(kMaxOscArgs)) break;
+                if (a.kind == OscArgSpec::Kind::String) {
+                    args[argc++] = device::OscArg::string(a.text);
+                    continue;
+                }
+                double x = 0.0;
+                switch (a.kind) {
+                case OscArgSpec::Kind::Number: x = a.number; break;
+                case OscArgSpec::Kind::Value: x = v; break;
+                case OscArgSpec::Kind::Zone: x = zoneValue; break;
+                case OscArgSpec::Kind::On: x = on ? 1.0 : 0.0; break;
+                case OscArgSpec::Kind::Source: x = readSource(a.source, in, forward); break;
+                default: break;
+                }
+                if (!std::isfinite(x)) x = 0.0;
+                if (a.negate) x = -x;
+                if (a.type == 'i') args[argc++] = device::OscArg::int32(static_cast<std::int32_t>(std::clamp(std::lround(x), -2147483647L, 2147483647L)));
+                else if (a.type == 'd') args[argc++] = device::OscArg::float64(x);
+                else args[argc++] = device::OscArg::float32(static_cast<float>(x));
+            }
+        }
+        const std::size_t zi = c.zone >= 0 && static_cast<std::size_t>(c.zone) < c.addresses.size() ? static_cast<std::size_t>(c.zone) : 0;
+        if (c.addresses.empty()) return;
+        OscPacket& p = out.osc[static_cast<std::size_t>(out.oscCount)];
+        const std::size_t size = device::encodeOscMessage(c.addresses[zi], args, argc, p.bytes.data(), p.bytes.size());
+        if (size == 0) {
+            ++out.dropped;
+            return;
+        }
+        if (onlyChanges && size == c.lastOscSize && std::memcmp(p.bytes.data(), c.lastOsc.data(), size) == 0) return;
+        std::memcpy(c.lastOsc.data(), p.bytes.data(), size);
+        c.lastOscSize = static_cast<std::uint16_t>(size);
+        p.t = t;
+        p.target = c.oscTarget;
+        p.size = static_cast<std::uint16_t>(size);
+        ++out.oscCount;
+    }
+
+    void mpeExpressions(Compiled& c, double t, int ch, const MappingInput& in, MappingOutput& out, bool force) noexcept
+    {
+        const DestinationSpec& d = c.spec.to;
+        const long bend = d.mpeBend.used ? std::clamp(std::lround(auxValue(d.mpeBend, in, forward, 0.0) * 16383.0), 0L, 16383L) : 8192L;
+        const long pressure = d.mpePressure.used ? std::clamp(std::lround(auxValue(d.mpePressure, in, forward, 0.0) * 127.0), 0L, 127L) : 0L;
+        const long timbre = d.mpeTimbre.used ? std::clamp(std::lround(auxValue(d.mpeTimbre, in, forward, 0.0) * 127.0), 0L, 127L) : 64L;
+        if (force || bend != c.lastAux[0])
+            midi(out, t, static_cast<std::uint8_t>(0xE0 | ch), static_cast<std::uint8_t>(bend & 0x7F), static_cast<std::uint8_t>(bend >> 7), 3);
+        if (force || timbre != c.lastAux[2]) cc(out, t, ch, 74, static_cast<int>(timbre));
+        if (force || pressure != c.lastAux[1]) midi(out, t, static_cast<std::uint8_t>(0xD0 | ch), static_cast<std::uint8_t>(pressure), 0, 2);
+        c.lastAux = {bend, pressure, timbre};
+    }
+
+    /// An event begins: a zone entered (zoneValue = its value), a gesture (eventValue = its
+    /// value), a posture entered or a threshold crossed upward.
+    void eventOn(Compiled& c, double t, double eventValue, double zoneValue, const MappingInput& in, MappingOutput& out) noexcept
+    {
+        const DestinationSpec& d = c.spec.to;
+        const bool zoned = !c.spec.zones.empty();
+        const bool gesture = c.spec.source.kind == SourceKind::Gesture;
+        switch (d.kind) {
+        case DestinationKind::Notes: {
+            const double length = d.lengthMs > 0.0 ? d.lengthMs / 1000.0 : (gesture ? kDefaultGestureNoteMs / 1000.0 : 0.0);
+            noteOn(c, t, d.channel - 1, zoned ? static_cast<int>(zoneValue) : d.number, velocity(c, in, forward, eventValue), length, out);
+            c.meter.store(1.0f, std::memory_order_relaxed);
+            return;
+        }
+        case DestinationKind::Mpe: {
+            const int master = d.channel - 1;
+            const int members = std::clamp(d.mpeMembers, 1, 15);
+            if (!c.mpeAnnounced) {   // MPE Configuration Message: RPN 6 on the master channel (MPE 1.0 §2.1)
+                cc(out, t, master, 101, 0);
+                cc(out, t, master, 100, 6);
+                cc(out, t, master, 6, members);
+                cc(out, t, master, 101, 127);
+                cc(out, t, master, 100, 127);
+                c.mpeAnnounced = true;
+            }
+            noteOff(c, t, out);
+            const int k = c.mpeNext;
+            c.mpeNext = (c.mpeNext + 1) % members;
+            const int ch = master == 0 ? 1 + k : 14 - k;   // lower zone: 2…; upper zone: 15 downward
+            mpeExpressions(c, t, ch, in, out, true);
+            noteOn(c, t, ch, static_cast<int>(zoneValue), velocity(c, in, forward, eventValue), 0.0, out);
+            c.meter.store(1.0f, std::memory_order_relaxed);
+            return;
+        }
+        case DestinationKind::SetForward: {
+            const ArmState* arm = in.arm[0];
+            if (arm && arm->valid) {
+                forward = wrap360(arm->features.pose.azimuthDeg);
+                forwardShared.store(forward, std::memory_order_relaxed);
+                out.forwardChanged = true;
+            }
+            c.active.store(true, std::memory_order_relaxed);
+            return;
+        }
+        case DestinationKind::ProgramChange:
+            if (zoned) midi(out, t, static_cast<std::uint8_t>(0xC0 | (d.channel - 1)), static_cast<std::uint8_t>(static_cast<int>(zoneValue) & 0x7F), 0, 2);
+            else midi(out, t, static_cast<std::uint8_t>(0xC0 | (d.channel - 1)), static_cast<std::uint8_t>(d.number & 0x7F), 0, 2);
+            c.active.store(true, std::memory_order_relaxed);
+            return;
+        case DestinationKind::Osc: {
+            const double n = gesture ? normalise(c, eventValue) : 1.0;
+            c.meter.store(static_cast<float>(n), std::memory_order_relaxed);
+            sendOsc(c, t, scaleOut(c, n), zoned ? zoneValue : eventValue, true, in, out, false);
+            c.active.store(true, std::memory_order_relaxed);
+            return;
+        }
+        default: {
+            // A value destination: a zone sends its value as it is, a gesture its transformed
+            // value, a posture/threshold the top of the out range.
+            c.active.store(true, std::memory_order_relaxed);
+            if (zoned) {
+                const double n = (zoneValue - c.outLo) / (c.outHi - c.outLo);
+                sendValue(c, t, zoneValue, std::clamp(n, 0.0, 1.0), zoneValue, true, in, out);
+            } else {
+                const double n = gesture ? normalise(c, eventValue) : 1.0;
+                sendValue(c, t, scaleOut(c, n), n, eventValue, true, in, out);
+            }
+            return;
+        }
+        }
+    }
+
+    /// An event ends: a zone left, a posture left, a threshold crossed back (gestures have none).
+    void eventOff(Compiled& c, double t, double zoneValue, const MappingInput& in, MappingOutput& out) noexcept
+    {
+        const DestinationSpec& d = c.spec.to;
+        c.active.store(false, std::memory_order_relaxed);
+        switch (d.kind) {
+        case DestinationKind::Notes:
+        case DestinationKind::Mpe:
+            noteOff(c, t, out);
+            c.meter.store(0.0f, std::memory_order_relaxed);
+            return;
+        case DestinationKind::Osc:
+            c.meter.store(0.0f, std::memory_order_relaxed);
+            sendOsc(c, t, scaleOut(c, 0.0), zoneValue, false, in, out, false);
+            return;
+        case DestinationKind::SetForward:
+        case DestinationKind::ProgramChange: return;
+        default:
+            if (c.spec.zones.empty()) sendValue(c, t, scaleOut(c, 0.0), 0.0, zoneValue, false, in, out);
+            return;
+        }
+    }
+
+    // ---- one mapping -------------------------------------------------------------------------
+    void run(MappingSet::Impl& s, Compiled& c, const MappingInput& in, MappingOutput& out) noexcept
+    {
+        const double t = in.t;
+        if (c.muted.load(std::memory_order_relaxed)) {
+            if (!c.wasMuted) {
+                noteOff(c, t, out);
+                c.forget();
+                c.active.store(false, std::memory_order_relaxed);
+                c.wasMuted = true;
+            }
+            return;
+        }
+        c.wasMuted = false;
+        const MappingSpec& m = c.spec;
+
+        if (m.source.kind == SourceKind::Gesture) {
+            for (int i = 0; i < in.gestureCount && in.gestures; ++i) {
+                const GestureIn& g = in.gestures[i];
+                const char* name = g.name ? g.name : "";
+                bool match = c.gestureAny;
+                if (c.gestureOther) {
+                    match = true;
+                    for (const std::string& n : s.namedGestures) match = match && std::strcmp(n.c_str(), name) != 0;
+                } else if (!match) {
+                    match = std::strcmp(m.source.name.c_str(), name) == 0;
+                }
+                if (match) eventOn(c, t, static_cast<double>(g.value), static_cast<double>(g.value), in, out);
+            }
+            return;
+        }
+
+        if (m.source.kind == SourceKind::Posture) {
+            if (!s.hasPostures || c.posture < 0) return;
+            const ArmState* arm = in.arm[0];
+            if (!arm || !arm->valid) return;
+            const PostureState& ps = s.postures.state(c.posture);
+            const bool eventDest = m.to.kind == DestinationKind::Notes || m.to.kind == DestinationKind::Osc ||
+                                   m.to.kind == DestinationKind::SetForward || m.to.kind == DestinationKind::ProgramChange;
+            if (eventDest) {
+                if (ps.inside && !c.on) {
+                    c.on = true;
+                    eventOn(c, t, ps.closeness, ps.closeness, in, out);
+                } else if (!ps.inside && c.on) {
+                    c.on = false;
+                    eventOff(c, t, ps.closeness, in, out);
+                }
+                return;
+            }
+            const double n = normalise(c, prepare(c, ps.closeness, t, forward));
+            sendValue(c, t, scaleOut(c, n), n, ps.closeness, ps.inside, in, out);
+            c.active.store(ps.inside, std::memory_order_relaxed);
+            return;
+        }
+
+        const double raw = readSource(m.source, in, forward);
+        if (!std::isfinite(raw)) return;
+        const double x = prepare(c, raw, t, forward);
+
+        if (!m.zones.empty()) {
+            double el = kNaN;
+            if (in.arm[0] && in.arm[0]->valid) el = in.arm[0]->features.pose.elevationDeg;
+            const int z = zoneFor(c, x, el);
+            if (z != c.zone) {
+                const int old = c.zone;
+                if (old >= 0) {
+                    c.zone = old;   // the leave message goes to the old zone's address
+                    eventOff(c, t, m.zones[static_cast<std::size_t>(old)].value, in, out);
+                }
+                c.zone = z;
+                if (z >= 0) eventOn(c, t, x, m.zones[static_cast<std::size_t>(z)].value, in, out);
+            } else if (z >= 0 && m.to.kind == DestinationKind::Mpe && c.note.on) {
+                mpeExpressions(c, t, c.note.channel, in, out, false);   // per-note expression while it sounds
+            }
+            return;
+        }
+
+        if (m.transform.hasThreshold) {
+            if (!c.on && x >= m.transform.threshold) {
+                c.on = true;
+                eventOn(c, t, x, x, in, out);
+            } else if (c.on && x < m.transform.threshold - c.hysteresis) {
+                c.on = false;
+                eventOff(c, t, x, in, out);
+            }
+            return;
+        }
+
+        const double n = normalise(c, x);
+        sendValue(c, t, scaleOut(c, n), n, x, true, in, out);
+    }
+
+    void dueNoteOffs(MappingSet::Impl& s, double t, MappingOutput& out) noexcept
+    {
+        for (std::size_t i = 0; i < s.count; ++i) {
+            Compiled& c = s.maps[i];
+            if (c.note.on && c.note.offAt <= t) noteOff(c, c.note.offAt, out);
+        }
+    }
+
+    void endAll(MappingSet::Impl& s, double t, MappingOutput& out) noexcept
+    {
+        for (std::size_t i = 0; i < s.count; ++i) {
+            Compiled& c = s.maps[i];
+            if (c.note.on) noteOff(c, std::min(t, c.note.offAt), out);
+            c.forget();
+            c.active.store(false, std::memory_order_relaxed);
+        }
+    }
+
+    void swapIn(double t, MappingOutput& out) noexcept
+    {
+        MappingSet* next = pending.exchange(nullptr, std::memory_order_acq_rel);
+        if (next == nullptr) return;
+        if (active != nullptr) {
+            endAll(active->impl(), t, out);
+            retired.store(active, std::memory_order_release);
+        }
+        active = next;
+    }
 };
+
 Mapper::Mapper() : impl_(std::make_unique<Impl>()) {}
 Mapper::~Mapper() = default;
-bool Mapper::offer(std::unique_ptr<MappingSet>&) noexcept { return false; }
-bool Mapper::canOffer() const noexcept { return false; }
-void Mapper::collect() noexcept {}
-void Mapper::replace(std::unique_ptr<MappingSet> set) noexcept { impl_->active = std::move(set); }
-MappingSet* Mapper::newest() noexcept { return impl_->active.get(); }
-void Mapper::process(const MappingInput&, MappingOutput&) noexcept {}
-void Mapper::flush(double, MappingOutput&) noexcept {}
-void Mapper::allNotesOff(double, MappingOutput&) noexcept {}
-MappingSet* Mapper::active() noexcept { return impl_->active.get(); }
-void Mapper::requestForward() noexcept {}
-void Mapper::setForwardAzimuth(double deg) noexcept { impl_->forward = deg; }
-double Mapper::forwardAzimuth() const noexcept { return impl_->forward; }
 
-double readSource(const SourceSpec&, const MappingInput&, double) noexcept { return 0.0; }
-bool learnDestination(const std::uint8_t*, int, DestinationSpec&) noexcept { return false; }
+bool Mapper::offer(std::unique_ptr<MappingSet>& set) noexcept
+{
+    if (!set || !canOffer()) return false;
+    impl_->newest = set.get();
+    impl_->pending.store(set.release(), std::memory_order_release);
+    return true;
+}
+
+bool Mapper::canOffer() const noexcept
+{
+    return impl_->pending.load(std::memory_order_acquire) == nullptr && impl_->retired.load(std::memory_order_acquire) == nullptr;
+}
+
+void Mapper::collect() noexcept
+{
+    delete impl_->retired.exchange(nullptr, std::memory_order_acq_rel);
+}
+
+void Mapper::replace(std::unique_ptr<MappingSet> set) noexcept
+{
+    delete impl_->pending.exchange(nullptr);
+    delete impl_->retired.exchange(nullptr);
+    delete impl_->active;
+    impl_->active = set.release();
+    impl_->newest = impl_->active;
+}
+
+MappingSet* Mapper::newest() noexcept
+{
+    MappingSet* p = impl_->pending.load(std::memory_order_acquire);
+    return p != nullptr ? p : impl_->active;
+}
+
+MappingSet* Mapper::active() noexcept { return impl_->active; }
+
+void Mapper::process(const MappingInput& in, MappingOutput& out) noexcept
+{
+    Impl& m = *impl_;
+    m.swapIn(in.t, out);
+    const std::uint64_t serial = m.forwardSerial.load(std::memory_order_acquire);
+    if (serial != m.forwardSeen) {   // setForwardAzimuth() from another thread
+        m.forwardSeen = serial;
+        m.forward = m.forwardShared.load(std::memory_order_relaxed);
+    }
+    const ArmState* arm = in.arm[0];
+    if (arm && arm->valid && m.forwardRequest.exchange(false, std::memory_order_acq_rel)) {
+        m.forward = wrap360(arm->features.pose.azimuthDeg);
+        m.forwardShared.store(m.forward, std::memory_order_relaxed);
+        out.forwardChanged = true;
+    }
+    if (m.active == nullptr) return;
+    MappingSet::Impl& s = m.active->impl();
+    m.dueNoteOffs(s, in.t, out);
+    if (s.hasPostures && arm && arm->valid)
+        s.postures.update(arm->q, arm->gyro.allFinite() ? radToDeg(arm->gyro.norm()) : kNaN);
+    for (std::size_t i = 0; i < s.count; ++i) m.run(s, s.maps[i], in, out);
+}
+
+void Mapper::flush(double t, MappingOutput& out) noexcept
+{
+    if (impl_->active) impl_->dueNoteOffs(impl_->active->impl(), t, out);
+}
+
+void Mapper::allNotesOff(double t, MappingOutput& out) noexcept
+{
+    if (impl_->active) impl_->endAll(impl_->active->impl(), t, out);
+}
+
+void Mapper::requestForward() noexcept { impl_->forwardRequest.store(true, std::memory_order_release); }
+
+void Mapper::setForwardAzimuth(double deg) noexcept
+{
+    impl_->forwardShared.store(std::isfinite(deg) ? wrap360(deg) : 0.0, std::memory_order_relaxed);
+    impl_->forwardSerial.fetch_add(1, std::memory_order_acq_rel);
+}
+
+double Mapper::forwardAzimuth() const noexcept { return impl_->forwardShared.load(std::memory_order_relaxed); }
+
+// ---------------------------------------------------------------------------------------------
+
+bool learnDestination(const std::uint8_t* bytes, int size, DestinationSpec& out) noexcept
+{
+    if (bytes == nullptr || size < 1) return false;
+    const int status = bytes[0];
+    if (status < 0x80 || status >= 0xF0) return false;
+    const int type = status & 0xF0;
+    DestinationSpec d;
+    d.channel = (status & 0x0F) + 1;
+    switch (type) {
+    case 0xB0:
+        if (size < 3) return false;
+        d.kind = DestinationKind::Cc7;
+        d.number = bytes[1] & 0x7F;
+        if (d.number < 32 && size >= 6 && bytes[3] == status && bytes[4] == d.number + 32) d.kind = DestinationKind::Cc14;
+        break;
+    case 0xE0:
+        if (size < 3) return false;
+        d.kind = DestinationKind::PitchBend;
+        break;
+    case 0xD0:
+        if (size < 2) return false;
+        d.kind = DestinationKind::ChannelPressure;
+        break;
+    case 0x90:
+        if (size < 3 || bytes[2] == 0) return false;
+        d.kind = DestinationKind::Notes;
+        d.number = bytes[1] & 0x7F;
+        break;
+    case 0xC0:
+        if (size < 2) return false;
+        d.kind = DestinationKind::ProgramChange;
+        d.number = bytes[1] & 0x7F;
+        break;
+    default: return false;
+    }
+    out = d;
+    return true;
+}
+
 void RangeLearner::add(double v) noexcept
 {
+    if (!std::isfinite(v)) return;
     if (count == 0 || v < lo) lo = v;
     if (count == 0 || v > hi) hi = v;
     ++count;
 }
+
 bool RangeLearner::range(double& outLo, double& outHi) const noexcept
 {
     if (count < 2 || !(hi > lo)) return false;
@@ -61,4 +1020,5 @@ bool RangeLearner::range(double& outLo, double& outHi) const noexcept
     outHi = hi;
     return true;
 }
+
 } // namespace armadillo::mapping

@@ -45,7 +45,7 @@ enum class SourceKind : std::uint8_t {
     Roll,           ///< "roll": deg, −180…180
     Yaw,            ///< "yaw": −(azimuth − forward) wrapped to ±180°, counter-clockwise seen from above positive
     Pitch,          ///< "pitch": = elevation, deg
-    QuatW,          ///< "qw": orientation quaternion (device → earth), w component
+    QuatW,          ///< "qw": orientation quaternion (device → earth), w component (sign chosen so w ≥ 0)
     QuatX,          ///< "qx"
     QuatY,          ///< "qy"
     QuatZ,          ///< "qz"
@@ -61,6 +61,10 @@ enum class SourceKind : std::uint8_t {
                     ///< "gesture:other" any gesture no other mapping of the document names). Event; value = the gesture's value
     Posture,        ///< "posture:NAME": a learned posture (Mapping/Posture.h): enter/leave events, value = closeness 0…1
     GestureValue,   ///< "value": only inside an AuxSpec of an event mapping: the event's own value (a gesture's value)
+    YprQuatW,       ///< "ypr.qw": the quaternion of (yaw, pitch, roll) above as q = qz(yaw)·qy(pitch)·qx(roll)
+    YprQuatX,       ///< "ypr.qx"   (axes x forward, y left, z up: IEM SceneRotator's default sequence
+    YprQuatY,       ///< "ypr.qy"    "roll → pitch → yaw", extrinsic; w ≥ 0)
+    YprQuatZ,       ///< "ypr.qz"
 };
 
 struct SourceSpec {
@@ -78,6 +82,8 @@ bool parseSourceName(std::string_view text, SourceSpec& out);
 bool isEventSource(SourceKind k) noexcept;
 /// True for sources measured in degrees (the default hysteresis is then kDefaultHysteresisDeg).
 bool isAngleSource(SourceKind k) noexcept;
+/// The pitch classes of a TransformSpec::scale above its root (bit k = k semitones); 0 = unknown name.
+int scaleMask(const std::string& name);
 /// The natural range of a continuous source, the `in` default: elevation/pitch [−90, 90],
 /// azimuth [0, 360], roll/yaw [−180, 180], quaternion [−1, 1], speed/flux [0|−720, 720] deg/s,
 /// rollTrigger [−5, 5], punch [−20, 20] m/s², scene.pitch [0, 127], scene.fret [0, 24],
@@ -100,7 +106,7 @@ enum class Curve : std::uint8_t {
     Linear,   ///< "linear"
     Exp,      ///< "exp": (e^(shape·x) − 1)/(e^shape − 1); shape > 0 slow start, < 0 fast start; 0 = linear
     Log,      ///< "log": the inverse of Exp with the same shape
-    SCurve,   ///< "s": smoothstep-like, steepness `shape` (0 = linear, 1 = smoothstep, larger = steeper)
+    SCurve,   ///< "s": nᵏ/(nᵏ + (1−n)ᵏ) with k = 1 + shape (0 = linear, larger = steeper in the middle)
     Table,    ///< "table": piecewise linear through `table` points [x, y] in normalised 0…1 units
 };
 
@@ -178,6 +184,7 @@ struct OscArgSpec {
     std::string text;        ///< String
     SourceSpec source {};    ///< Source: "$elevation", "$yaw", "$qw", … (the raw source value, after the forward reference)
     char type = 'f';         ///< 'f' float32, 'i' int32, 'd' float64, 's' string (from "types" or the constant's kind)
+    bool negate = false;     ///< "-$yaw": the value with its sign flipped (an inversion switch for OSC arguments)
 };
 // File spelling of args: "$value" (the transformed value), "$zone" (the zone's value, or the
 // gesture's value for an event), "$on" (1 enter/on, 0 leave/off), "$NAME" (a source, e.g. "$yaw"),
