@@ -98,6 +98,7 @@ public:
     double lastMotorStamp() const noexcept { return lastStamp_; }
     /// The mapping's outputs for the non-real-time side (macros, meters, OSC, MIDI learn).
     MappingOutputs& mappingOutputs() noexcept { return outputs_; }
+    const MappingOutputs& mappingOutputs() const noexcept { return outputs_; }
 
 private:
     /// One control step; `wall` is the monotonic time its levels belong to by the wall clock, and

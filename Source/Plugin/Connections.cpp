@@ -1,6 +1,5 @@
 #include "Plugin/Connections.h"
 #include "Device/Calibration.h"
-#include "Device/Osc.h"
 
 namespace armadillo::plugin {
 
@@ -79,24 +78,15 @@ void Connections::clockTick(double dt)
 
 void Connections::sendMappingOsc()
 {
-    // The control side queued encoded packets (Mapping/Mapper.h OscPacket); each goes to its
-    // target through the device module's sender (IPv4 and IPv6, non-blocking).
+    // The control side queued encoded packets (Mapping/Mapper.h OscPacket); each leaves as it is
+    // to its target through the device module's sender (IPv4 and IPv6, non-blocking).
     std::lock_guard<std::mutex> lock(mappingOscMutex_);
     mapping::OscPacket p;
     while (control_.mappingOutputs().popOsc(p)) {
         const auto target = static_cast<std::size_t>(p.target);
         device::OscSender* sender = p.target >= 0 && target < mappingOsc_.size() ? mappingOsc_[target].get() : nullptr;
-        struct Ctx {
-            device::OscSender* sender;
-            bool ok;
-        } ctx {sender, sender != nullptr};
-        const char* error = nullptr;
-        if (sender != nullptr)
-            device::decodeOscPacket(p.bytes.data(), p.size, [](void* c, const device::OscMessage& m) {
-                auto& x = *static_cast<Ctx*>(c);
-                x.ok = x.sender->send(m.address, m.args, static_cast<std::size_t>(m.count)) && x.ok;
-            }, &ctx, &error);
-        (ctx.ok && error == nullptr ? mappingOscSent_ : mappingOscDropped_).fetch_add(1, std::memory_order_relaxed);
+        const bool sent = sender != nullptr && sender->sendPacket(p.bytes.data(), p.size);
+        (sent ? mappingOscSent_ : mappingOscDropped_).fetch_add(1, std::memory_order_relaxed);
     }
 }
 
@@ -114,7 +104,7 @@ juce::String Connections::configureMappingOsc(const std::vector<device::HostPort
     }
     std::lock_guard<std::mutex> lock(mappingOscMutex_);
     mappingOsc_.swap(senders);
-    return problems.trim();   // the old senders close here, outside no thread's send
+    return problems.trim();   // the old senders close here, after the lock: no send is using them
 }
 
 // ------------------------------------------------------------------------------------------------

@@ -58,6 +58,7 @@ public:
 
     /// The standalone app's ALSA sequencer port (docs/PLUGIN.md "MIDI out").
     MidiPort& midiPort() noexcept { return midiPort_; }
+    const MidiPort& midiPort() const noexcept { return midiPort_; }
 
     // Device (message thread)
     void connectDevice(const juce::String& port, int baud, const juce::String& calibrationFile);

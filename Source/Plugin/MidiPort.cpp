@@ -3,6 +3,8 @@
 
 namespace armadillo::plugin {
 
+MidiPort::MidiPort() = default;
+
 MidiPort::~MidiPort()
 {
     close();

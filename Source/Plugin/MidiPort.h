@@ -25,7 +25,7 @@ namespace armadillo::plugin {
 
 class MidiPort {
 public:
-    MidiPort() = default;
+    MidiPort();
     ~MidiPort();
 
     /// Message thread: opens the virtual port `name`. False with the cause (no ALSA sequencer
