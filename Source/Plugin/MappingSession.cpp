@@ -73,6 +73,10 @@ juce::String MappingSession::setDocument(const mapping::MappingDocument& doc, co
 void MappingSession::offerWaiting()
 {
     auto& mapper = control_.mapper();
+    if (controlStopped_) {
+        if (waiting_ != nullptr) mapper.replace(std::move(waiting_));
+        return;
+    }
     mapper.collect();   // the set the control side gave up: freed here, on the message thread
     if (waiting_ != nullptr && mapper.offer(waiting_)) waiting_.reset();
 }

@@ -91,6 +91,10 @@ public:
     /// that had to wait, drains the MIDI input for destination learn, releases macros no mapping
     /// drives any longer.
     void timerTick();
+    /// While the control side cannot run (the processor's constructor, before the clock starts),
+    /// sets are installed at once instead of offered, so the first block already runs the
+    /// state's set rather than the one before it.
+    void setControlStopped(bool stopped) noexcept { controlStopped_ = stopped; }
     /// The default OSC target (the OSC out setting's host and port) changed.
     void setDefaultOscTarget(const juce::String& host, int port);
 
@@ -109,6 +113,7 @@ private:
     std::uint32_t macrosUsed_ = 0;
     juce::String oscHost_ {"127.0.0.1"};
     int oscPort_ = 9000;
+    bool controlStopped_ = false;
     int rangeIndex_ = -1;
     int destinationIndex_ = -1;
     juce::String notice_;

@@ -1,6 +1,7 @@
 #include "Plugin/PluginProcessor.h"
 #include "Plugin/FactoryPresets.h"
 #include "Plugin/PluginEditor.h"
+#include <iostream>
 
 namespace armadillo::plugin {
 
@@ -47,11 +48,17 @@ ArmadilloProcessor::ArmadilloProcessor()
     // classic preset until a state says otherwise, and in the standalone app an ALSA sequencer
     // port for its MIDI (docs/PLUGIN.md "MIDI out").
     control_.setSceneTable(&sceneTable_);
+    mapping_.setControlStopped(true);   // nothing runs the control step yet: install, not offer
     if (const auto why = mapping_.fromState({}); why.isNotEmpty()) setStatus(why);
+    mapping_.setControlStopped(false);
     if (wrapperType == wrapperType_Standalone) {
         juce::String why;
-        if (connections_.midiPort().open("ARMadillo", why)) control_.setMidiPort(&connections_.midiPort());
-        else setStatus(why);
+        if (connections_.midiPort().open("ARMadillo", why)) {
+            control_.setMidiPort(&connections_.midiPort());
+        } else {
+            setStatus(why);   // the editor's status line, and the terminal the app was started from
+            std::cerr << "ARMadillo: " << why << std::endl;
+        }
     }
     // Only the standalone app lets its idle clock drive the motors (a performer without a sound
     // card); in a host, no processBlock means stopped, bypassed or removed: motors off.

@@ -14,6 +14,7 @@
 #include <catch2/catch.hpp>
 
 #include "Common/RealtimeGuard.h"
+#include "Device/Osc.h"
 #include "Plugin/HostedPlugin.h"
 #include <algorithm>
 #include <atomic>
@@ -388,7 +389,7 @@ TEST_CASE("VST3: processBlock allocates nothing with 64 mappings, automated")
         case 0: json << R"({"midi": "cc14", "channel": 1, "cc": )" << (i % 32) << "}"; break;
         case 1: json << R"({"midi": "cc", "channel": 2, "cc": )" << (i % 120) << "}"; break;
         case 2: json << R"({"midi": "pitchbend", "channel": )" << (1 + i % 16) << "}"; break;
-        case 3: json << R"({"midi": "nrpn", "channel": 3, "param": )" << (i * 100) << "}"; break;
+        case 3: json << R"({"midi": "nrpn", "channel": 3, "number": )" << (i * 100) << "}"; break;
         case 4: json << R"({"midi": "pressure", "channel": 4})"; break;
         case 5:
             json << R"({"midi": "notes", "channel": 5, "velocity": 90, "zones": [[0, 90, 60], [90, 180, 62], [180, 270, 64], [270, 360, 65]]})";
@@ -416,4 +417,41 @@ TEST_CASE("VST3: processBlock allocates nothing with 64 mappings, automated")
     CHECK(c.allocations == 0);
     CHECK(c.deallocations == 0);
     CHECK(c.throws == 0);
+}
+
+TEST_CASE("VST3: the mapping's OSC destinations leave from the control clock to the OSC out target")
+{
+    // A loopback receiver on a free port is the OSC out target (settings oscOutHost/oscOutPort);
+    // the frame stream stays off (oscOutEnabled 0): only the mapping sends.
+    juce::DatagramSocket receiver;
+    REQUIRE(receiver.bindToPort(0, "127.0.0.1"));
+    const int port = receiver.getBoundPort();
+    REQUIRE(port > 0);
+    auto h = loadVst3();
+    prepare(h);
+    setOwnState(h, stateWith(jsonAttribute(R"({"version": 1, "mappings": [
+        {"source": "elevation", "in": [-90, 90], "out": [0, 1], "to": {"osc": "/synth/cutoff"}}]})"),
+                             "oscOutEnabled=\"0\" oscOutHost=\"127.0.0.1\" oscOutPort=\"" + juce::String(port) + "\""));
+    setValue(h, "Elevation", 36.0f, -90.0f, 90.0f);
+    const double expected = (valueOf(h, "Elevation", -90.0f, 90.0f) + 90.0) / 180.0;
+    // Event-driven: render and pump until a datagram with the expected value arrives (or 10 s).
+    double got = -1.0;
+    std::string address;
+    const auto deadline = juce::Time::getMillisecondCounter() + 10000;
+    std::int64_t clock = 0;
+    std::vector<Event> events;
+    while (std::abs(got - expected) > 1e-4 && juce::Time::getMillisecondCounter() < deadline) {
+        renderCollect(h, 2, clock, events);
+        if (receiver.waitUntilReady(true, 5) != 1) continue;
+        std::uint8_t bytes[512];
+        const int n = receiver.read(bytes, sizeof bytes, false);
+        if (n <= 0) continue;
+        armadillo::device::decodeOscPacket(bytes, static_cast<std::size_t>(n), [&](const armadillo::device::OscMessage& m) {
+            address = std::string(m.address);
+            double v = 0.0;
+            if (m.count == 1 && m.args[0].asNumber(v)) got = v;
+        });
+    }
+    CHECK(address == "/synth/cutoff");
+    CHECK(got == Approx(expected).margin(1e-4));
 }
