@@ -7,16 +7,6 @@
 
 namespace armadillo::plugin {
 
-int MidiMap::noteFor(const char* gesture) noexcept
-{
-    struct Entry { const char* name; int note; };
-    static constexpr Entry table[] {{"roll", kNoteRoll}, {"punch", kNotePunch}, {"strike", kNoteStrike}};
-    if (gesture != nullptr)
-        for (const auto& e : table)
-            if (std::strcmp(e.name, gesture) == 0) return e.note;
-    return kNoteOther;
-}
-
 BlockControl::BlockControl(live::ControlLoop& loop, ControlToken& token, const Cells& cells, device::LevelSchedule& motors)
     : loop_(loop), token_(token), cells_(cells), motors_(motors)
 {
@@ -32,9 +22,9 @@ void BlockControl::prepare(double sampleRate)
 {
     sampleRate_.store(sampleRate > 0.0 ? sampleRate : 48000.0);
     samplesToTick_ = 0;
-    noteOffs_ = {};
     midiStorage_.ensureSize(kMidiStorageBytes);   // off the audio thread; processBlock hands it over
     midiStorageGiven_ = false;
+    notesOffPending_.store(true, std::memory_order_relaxed);   // a restart: nothing may hang
 }
 
 void BlockControl::step(double dt, double wall, bool toMotors, const Transport& transport, juce::MidiBuffer* midi,
@@ -89,59 +79,96 @@ void BlockControl::step(double dt, double wall, bool toMotors, const Transport& 
     frame_.store(f);
     ticks_.fetch_add(1, std::memory_order_relaxed);
 
+    int gestureCount = 0;
     GestureEvent g;
     while (engine.popGesture(g)) {
         gestures_.push(g);
         lastGesture_.store(g.name, std::memory_order_relaxed);
         gestureCount_.fetch_add(1, std::memory_order_relaxed);
-        if (midi != nullptr) emitNote(*midi, MidiMap::noteFor(g.name), g.value, sampleOffset);
+        if (gestureCount < kMaxGesturesPerStep) stepGestures_[static_cast<std::size_t>(gestureCount++)] = mapping::GestureIn {g.name, g.value};
     }
 
-    if (midi != nullptr && arm.valid) {
-        const double values[3] {(f.pose[0] + 90.0) / 180.0, f.pose[1] / 360.0, (f.pose[2] + 180.0) / 360.0};
-        const int ccs[3] {MidiMap::kCcElevation, MidiMap::kCcAzimuth, MidiMap::kCcRoll};
-        const int channel = juce::jlimit(1, 16, midiChannel_.load(std::memory_order_relaxed));
-        for (int i = 0; i < 3; ++i) {
-            const int v = juce::jlimit(0, 127, static_cast<int>(std::lround(values[i] * 127.0)));
-            if (v != lastCc_[i]) {
-                midi->addEvent(juce::MidiMessage::controllerEvent(channel, ccs[i], v), sampleOffset);
-                lastCc_[i] = v;
-            }
-        }
-    }
+    // The mapping: every source of this step through the active set (docs/MAPPING.md). Its
+    // events carry the step's time (clock_), which is this step's sample offset in the block.
+    mapping::MappingInput in;
+    in.t = clock_;
+    in.arm[0] = &result.arm;
+    in.scene = engine.sceneValues();
+    in.gestures = stepGestures_.data();
+    in.gestureCount = gestureCount;
+    mapper_.process(in, mapOut_);
+    learnRange(in);
+    deliver(midi, clock_ - sampleOffset / sampleRate_.load(std::memory_order_relaxed), midi != nullptr ? blockSamples_ : 0);
 }
 
-void BlockControl::emitNote(juce::MidiBuffer& midi, int note, float value, int sampleOffset) noexcept
+void BlockControl::learnRange(const mapping::MappingInput& in) noexcept
 {
-    const int channel = juce::jlimit(1, 16, midiChannel_.load(std::memory_order_relaxed));
-    const auto velocity = static_cast<juce::uint8>(juce::jlimit(1, 127, static_cast<int>(std::lround(std::fabs(value) * 127.0f))));
-    for (auto& off : noteOffs_) {
-        if (off.note == note) {   // retrigger: close the sounding note first
-            midi.addEvent(juce::MidiMessage::noteOff(channel, note), sampleOffset);
-            off.note = -1;
-        }
+    const int kind = outputs_.learnSource.load(std::memory_order_relaxed);
+    if (kind < 0) return;
+    const std::uint32_t generation = outputs_.learnGeneration.load(std::memory_order_acquire);
+    if (generation != learnGeneration_) {
+        learnGeneration_ = generation;
+        learner_.reset();
     }
-    midi.addEvent(juce::MidiMessage::noteOn(channel, note, velocity), sampleOffset);
-    const int length = std::max(1, static_cast<int>(MidiMap::kNoteLengthS * sampleRate_.load(std::memory_order_relaxed)));
-    for (auto& off : noteOffs_) {
-        if (off.note < 0) {
-            off.note = note;
-            off.samplesLeft = sampleOffset + length;
+    mapping::SourceSpec source;
+    source.kind = static_cast<mapping::SourceKind>(kind);
+    if (mapping::isEventSource(source.kind)) return;
+    const double forward = outputs_.learnForward.load(std::memory_order_relaxed) ? mapper_.forwardAzimuth() : 0.0;
+    const double v = mapping::readSource(source, in, forward);
+    if (! std::isfinite(v)) return;
+    learner_.add(v);
+    outputs_.learnedLo.store(learner_.lo, std::memory_order_relaxed);
+    outputs_.learnedHi.store(learner_.hi, std::memory_order_relaxed);
+    outputs_.learnedCount.store(learner_.count, std::memory_order_release);
+}
+
+void BlockControl::deliver(juce::MidiBuffer* midi, double blockStart, int blockSamples) noexcept
+{
+    const double sr = sampleRate_.load(std::memory_order_relaxed);
+    for (int i = 0; i < mapOut_.midiCount; ++i) {
+        const auto& e = mapOut_.midi[static_cast<std::size_t>(i)];
+        if (e.size < 1 || e.size > 3) continue;
+        if (port_ != nullptr) port_->push(e.bytes.data(), e.size);
+        if (midi == nullptr || blockSamples <= 0) continue;
+        // Sample-accurate: the event's time on the mapping's timeline → its offset in this block.
+        const int offset = juce::jlimit(0, blockSamples - 1, static_cast<int>(std::lround((e.t - blockStart) * sr)));
+        const std::size_t bytes = e.size + sizeof(juce::int32) + sizeof(juce::uint16);   // MidiBuffer's record
+        if (midiBytes_ + bytes > kMidiStorageBytes) {
+            midiDropped_.fetch_add(1, std::memory_order_relaxed);
+            continue;
+        }
+        midi->addEvent(e.bytes.data(), e.size, offset);
+        midiBytes_ += bytes;
+    }
+    for (int i = 0; i < mapOut_.oscCount; ++i) outputs_.pushOsc(mapOut_.osc[static_cast<std::size_t>(i)]);
+    for (int k = 0; k < ParamIds::kMacroCount; ++k)
+        if ((mapOut_.macroChanged >> k) & 1u) outputs_.setMacro(k, mapOut_.macro[static_cast<std::size_t>(k)]);
+    for (int i = 0; i < mapOut_.paramCount; ++i) applySceneParam(mapOut_.params[static_cast<std::size_t>(i)]);
+    if (mapOut_.dropped > 0) midiDropped_.fetch_add(mapOut_.dropped, std::memory_order_relaxed);
+    mapOut_.clear();
+}
+
+void BlockControl::applySceneParam(const mapping::SceneParamChange& change) noexcept
+{
+    // The set names parameters by id; the active scene owns some of them (ids are unique across
+    // scenes: SceneParameterTable). String compares over a constant table: no allocation.
+    auto* set = mapper_.active();
+    auto* slot = loop_.active();
+    if (set == nullptr || slot == nullptr || sceneTable_ == nullptr || slot->engine == nullptr) return;
+    const auto& ids = set->sceneParamIds();
+    if (change.index < 0 || static_cast<std::size_t>(change.index) >= ids.size()) return;
+    const std::string& id = ids[static_cast<std::size_t>(change.index)];
+    for (const auto& entry : sceneTable_->scenes) {
+        if (entry.scene != slot->sceneName) continue;
+        for (std::size_t i = 0; i < entry.specs.size(); ++i) {
+            const ParamSpec& spec = entry.specs[i];
+            if (spec.id != id) continue;
+            const float lo = std::min(spec.min, spec.max), hi = std::max(spec.min, spec.max);
+            float v = change.normalised ? lo + change.value * (hi - lo) : change.value;
+            v = std::clamp(v, lo, hi);
+            if (! spec.choices.empty()) v = std::round(v);
+            slot->engine->scene().setParameter(static_cast<int>(i), v);
             return;
-        }
-    }
-}
-
-void BlockControl::flushNoteOffs(juce::MidiBuffer& midi, int blockSamples) noexcept
-{
-    const int channel = juce::jlimit(1, 16, midiChannel_.load(std::memory_order_relaxed));
-    for (auto& off : noteOffs_) {
-        if (off.note < 0) continue;
-        if (off.samplesLeft < blockSamples) {
-            midi.addEvent(juce::MidiMessage::noteOff(channel, off.note), std::max(0, off.samplesLeft));
-            off.note = -1;
-        } else {
-            off.samplesLeft -= blockSamples;
         }
     }
 }
@@ -159,17 +186,28 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
     // The input channels are read step by step below; the output is written over them.
     const int listenCount = (listen.first >= 0 && listen.first + listen.count <= buffer.getNumChannels()) ? std::min(listen.count, 2) : 0;
     const int throughCount = std::min({listen.through, 2, buffer.getNumChannels()});
-    // No MIDI input is used; the buffer carries our gestures out. The host's buffer may be sized
-    // for a few events only, and a roll that emits several would grow it here: the first block
-    // hands it storage sized in prepare() (swapWith moves pointers, and clear() keeps the
-    // storage), so adding events never allocates while the host reuses its buffer, as JUCE's
-    // wrappers do. A host that hands a fresh small buffer each block could still make it grow
-    // (JUCE's own wrappers do not): the plugin test measures the real hosts' path.
+    // The MIDI input is only listened to for the mapping editor's "learn destination": its
+    // channel messages go to the message thread, nothing of it is played or passed through.
+    for (const auto event : midi) {
+        if (event.numBytes < 1 || event.numBytes > 3 || event.data[0] < 0x80 || event.data[0] >= 0xF0) continue;
+        IncomingMidi m;
+        for (int i = 0; i < event.numBytes; ++i) m.bytes[i] = event.data[i];
+        m.size = static_cast<std::uint8_t>(event.numBytes);
+        outputs_.pushIncoming(m);
+    }
+    // The buffer carries the mapping's events out. The host's buffer may be sized for a few
+    // events only, and a step that emits several would grow it here: the first block hands it
+    // storage sized in prepare() (swapWith moves pointers, and clear() keeps the storage), so
+    // adding events never allocates while the host reuses its buffer, as JUCE's wrappers do;
+    // deliver() stops at that storage's size. A host that hands a fresh small buffer each block
+    // could still make it grow (JUCE's own wrappers do not): the plugin test measures the real
+    // hosts' path.
     if (! midiStorageGiven_) {
         midi.swapWith(midiStorage_);
         midiStorageGiven_ = true;
     }
     midi.clear();
+    midiBytes_ = 0;
     const double wall = monotonicSeconds();
     lastAudioMs_.store(wall * 1e3, std::memory_order_relaxed);
     if (buffer.getNumChannels() < 2 || n <= 0 || ! token_.tryTake()) {   // the idle clock is finishing an update: one silent block
@@ -191,6 +229,14 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
     }
 
     const int samplesPerTick = std::max(1, static_cast<int>(std::lround(sr / kControlRateHz)));
+    // The mapping's timeline at this block's first sample: the next step (at samplesToTick_, or
+    // now) will be stamped clock_ + one step.
+    const double blockStart = clock_ + (samplesPerTick - std::max(0, samplesToTick_)) / sr;
+    blockSamples_ = n;
+    if (notesOffPending_.exchange(false, std::memory_order_relaxed)) {
+        mapper_.allNotesOff(blockStart, mapOut_);   // after prepare(): nothing left hanging
+        deliver(&midi, blockStart, n);
+    }
     float* left = buffer.getWritePointer(0);
     float* right = buffer.getWritePointer(1);
     int pos = 0;
@@ -228,7 +274,9 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
         samplesToTick_ -= len;
     }
     for (int c = 2; c < buffer.getNumChannels(); ++c) buffer.clear(c, 0, n);   // sidechain / extra inputs
-    flushNoteOffs(midi, n);
+    // Note-offs due before the block's end that no step reached (a gesture note's 50 ms).
+    mapper_.flush(blockStart + (n - 0.5) / sr, mapOut_);
+    deliver(&midi, blockStart, n);
     token_.release();
 }
 

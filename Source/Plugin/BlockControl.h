@@ -1,8 +1,9 @@
 #pragma once
 // The control loop of the plugin: runs live::ControlLoop's step (engine hand-over, source choice,
 // bounded fusion, Engine::control) at 200 Hz on the audio block timeline, renders the engine's
-// audio between steps, turns gestures and pose into MIDI, publishes each step's frame for the UI
-// and OSC, and hands each step's motor levels to the device link stamped with the step's time
+// audio between steps, runs the mapping (Mapping/Mapper.h: arm features and gestures → MIDI at
+// the step's sample offset, OSC, macros, scene parameters), publishes each step's frame for the
+// UI and OSC, and hands each step's motor levels to the device link stamped with the step's time
 // (Device/LevelSchedule.h: the link sends them when that time comes and goes all-off when they
 // stop coming, so the motor budget holds on the packet timeline whatever the host does).
 //
@@ -15,7 +16,10 @@
 #include "Core/SpscQueue.h"
 #include "Device/LevelSchedule.h"
 #include "Live/ControlLoop.h"
+#include "Mapping/Mapper.h"
 #include "Plugin/ControlToken.h"
+#include "Plugin/MappingOutputs.h"
+#include "Plugin/MidiPort.h"
 #include "Plugin/OscLink.h"
 #include "Plugin/Parameters.h"
 #include <juce_audio_processors/juce_audio_processors.h>
@@ -24,14 +28,6 @@
 #include <cstdint>
 
 namespace armadillo::plugin {
-
-/// MIDI out of gestures and pose (documented in docs/PLUGIN.md).
-namespace MidiMap {
-inline constexpr int kNoteRoll = 60, kNotePunch = 62, kNoteStrike = 64, kNoteOther = 67;
-inline constexpr int kCcElevation = 16, kCcAzimuth = 17, kCcRoll = 18;
-inline constexpr double kNoteLengthS = 0.05;
-int noteFor(const char* gesture) noexcept;
-} // namespace MidiMap
 
 class BlockControl {
 public:
@@ -47,8 +43,14 @@ public:
 
     BlockControl(live::ControlLoop& loop, ControlToken& token, const Cells& cells, device::LevelSchedule& motors);
 
-    /// Message thread, token held: a new sample rate; MIDI storage for the host's buffer.
+    /// Message thread, token held: a new sample rate; MIDI storage for the host's buffer. The
+    /// mapping's sounding notes are ended at the start of the next block.
     void prepare(double sampleRate);
+    /// Before the control side runs (construction): the scenes' parameter table, for the
+    /// mapping's scene-parameter destinations (constant, read lock-free), and the standalone
+    /// app's MIDI port (nullptr in a host).
+    void setSceneTable(const SceneParameterTable* table) noexcept { sceneTable_ = table; }
+    void setMidiPort(MidiPort* port) noexcept { port_ = port; }
     /// Which channels of the host's buffer carry the audio the scenes listen to (the main input
     /// or the sidechain), and whether it is played through to the output (the main input: an
     /// effect that listens must not mute its track).
@@ -77,7 +79,12 @@ public:
     /// renders ahead); further ahead, stamps follow the wall clock. Behind by kMaxLag, they jump
     /// to it (a late or stalled host).
     static constexpr double kMaxLead = 0.5, kMaxLag = 0.010;
-    void setMidiChannel(int channel) noexcept { midiChannel_.store(juce::jlimit(1, 16, channel)); }
+    /// The mapping runner (its builder side belongs to the message thread, MappingSession).
+    mapping::Mapper& mapper() noexcept { return mapper_; }
+    /// MIDI events the mapping produced that did not fit the block's MIDI storage (any thread).
+    std::uint64_t midiDropped() const noexcept { return midiDropped_.load(std::memory_order_relaxed); }
+    /// Bytes of MIDI events one block may carry (the storage handed to the host's buffer).
+    static constexpr std::size_t kMidiStorageBytes = 64 * 1024;
 
     // Published (any thread).
     ArmFrame latestFrame() const noexcept { return frame_.load(); }
@@ -89,20 +96,27 @@ public:
     /// The stamp (monotonic s) of the newest levels handed to the link, < 0 when none since the
     /// last all-off. The token holder's thread, or any thread while no control step runs (tests).
     double lastMotorStamp() const noexcept { return lastStamp_; }
+    /// The mapping's outputs for the non-real-time side (macros, meters, OSC, MIDI learn).
+    MappingOutputs& mappingOutputs() noexcept { return outputs_; }
+    const MappingOutputs& mappingOutputs() const noexcept { return outputs_; }
 
 private:
     /// One control step; `wall` is the monotonic time its levels belong to by the wall clock, and
     /// `toMotors` whether they go to the link.
     void step(double dt, double wall, bool toMotors, const Transport& transport, juce::MidiBuffer* midi, int sampleOffset) noexcept;
-    void emitNote(juce::MidiBuffer& midi, int note, float value, int sampleOffset) noexcept;
-    void flushNoteOffs(juce::MidiBuffer& midi, int blockSamples) noexcept;
+    /// Hands out what the mapping produced: MIDI into `midi` (when not null) at the offset of
+    /// each event's time from `blockStart` (s, the mapping's timeline), clamped to the block's
+    /// `blockSamples`, and to the standalone's port; OSC to the clock's queue; macros; scene
+    /// parameters to the active scene. Clears `mapOut_`.
+    void deliver(juce::MidiBuffer* midi, double blockStart, int blockSamples) noexcept;
+    void applySceneParam(const mapping::SceneParamChange& change) noexcept;
+    void learnRange(const mapping::MappingInput& in) noexcept;
 
     live::ControlLoop& loop_;
     ControlToken& token_;
     Cells cells_;
     device::LevelSchedule& motors_;
     std::atomic<double> sampleRate_ {48000.0};
-    std::atomic<int> midiChannel_ {1};
     std::atomic<double> lastAudioMs_ {-1.0e9};
     std::atomic<bool> idleDrivesMotors_ {false};
 
@@ -111,19 +125,30 @@ private:
     int samplesToTick_ = 0;
     double lastStamp_ = -1.0;         ///< monotonic s of the previous step's levels (< 0: none)
     bool motorsOff_ = true;           ///< the schedule was told allOff and nothing pushed since
-    int lastCc_[3] {-1, -1, -1};
-    struct NoteOff { int note = -1; int samplesLeft = 0; };
-    std::array<NoteOff, 16> noteOffs_ {};
     // MIDI out storage, sized on the message thread and given to the host's buffer on the first
-    // block, so emitting gestures never grows the host's buffer on the audio thread.
-    static constexpr std::size_t kMidiStorageBytes = 64 * 1024;
+    // block, so emitting the mapping's events never grows the host's buffer on the audio thread;
+    // events beyond it in one block are dropped and counted.
     juce::MidiBuffer midiStorage_;
     bool midiStorageGiven_ = false;
+    std::size_t midiBytes_ = 0;         ///< bytes added to the current block's buffer
+    int blockSamples_ = 0;              ///< the current block's length
+    std::atomic<std::uint64_t> midiDropped_ {0};
+    std::atomic<bool> notesOffPending_ {false};
+    // The mapping (control side): runner, its fixed-capacity output, the step's gestures.
+    mapping::Mapper mapper_;
+    mapping::MappingOutput mapOut_ {};
+    static constexpr int kMaxGesturesPerStep = 32;
+    std::array<mapping::GestureIn, kMaxGesturesPerStep> stepGestures_ {};
+    mapping::RangeLearner learner_;
+    std::uint32_t learnGeneration_ = 0;
+    const SceneParameterTable* sceneTable_ = nullptr;
+    MidiPort* port_ = nullptr;
     std::uint64_t frameSerial_ = 0;
     /// The listened-to input of one control step (≤ 192 kHz / 200 Hz samples), fixed size.
     static constexpr int kInputScratch = 1024;
     std::array<std::array<float, kInputScratch>, 2> input_ {}, through_ {};
 
+    MappingOutputs outputs_;
     SeqLock<ArmFrame> frame_;
     SpscQueue<GestureEvent, 128> gestures_;
     std::atomic<const char*> lastGesture_ {""};

@@ -63,6 +63,8 @@ void Connections::clockTick(double dt)
     }
     GestureEvent g;
     while (control_.popGesture(g)) oscOut_.sendGesture(g.name);
+    sendMappingOsc();
+    midiPort_.drain();
 
     const double now = juce::Time::getMillisecondCounterHiRes();
     if (now - rateWindowStartMs_ >= 1000.0) {
@@ -72,6 +74,37 @@ void Connections::clockTick(double dt)
         rateWindowTicks_ = ticks;
         rateWindowStartMs_ = now;
     }
+}
+
+void Connections::sendMappingOsc()
+{
+    // The control side queued encoded packets (Mapping/Mapper.h OscPacket); each leaves as it is
+    // to its target through the device module's sender (IPv4 and IPv6, non-blocking).
+    std::lock_guard<std::mutex> lock(mappingOscMutex_);
+    mapping::OscPacket p;
+    while (control_.mappingOutputs().popOsc(p)) {
+        const auto target = static_cast<std::size_t>(p.target);
+        device::OscSender* sender = p.target >= 0 && target < mappingOsc_.size() ? mappingOsc_[target].get() : nullptr;
+        const bool sent = sender != nullptr && sender->sendPacket(p.bytes.data(), p.size);
+        (sent ? mappingOscSent_ : mappingOscDropped_).fetch_add(1, std::memory_order_relaxed);
+    }
+}
+
+juce::String Connections::configureMappingOsc(const std::vector<device::HostPort>& targets)
+{
+    std::vector<std::unique_ptr<device::OscSender>> senders;
+    juce::String problems;
+    for (const auto& t : targets) {
+        try {
+            senders.push_back(std::make_unique<device::OscSender>(t));
+        } catch (const std::exception& e) {
+            senders.push_back(nullptr);
+            problems << "OSC target " << juce::String(t.host) << ":" << t.port << ": " << juce::String(e.what()) << ". ";
+        }
+    }
+    std::lock_guard<std::mutex> lock(mappingOscMutex_);
+    mappingOsc_.swap(senders);
+    return problems.trim();   // the old senders close here, after the lock: no send is using them
 }
 
 // ------------------------------------------------------------------------------------------------

@@ -8,7 +8,9 @@
 //  - message thread: everything public except where noted (connect, configure, calibration,
 //    steering, status text). Sockets, ports and files are opened and closed here only.
 //  - control clock (a JUCE high-resolution timer thread): clockTick — advances the simulated arm
-//    into its mailbox, runs idle control steps, sends OSC, measures the control rate. The
+//    into its mailbox, runs idle control steps, sends OSC (the frame, gestures, and the mapping's
+//    queued packets), sends the standalone's queued MIDI to its ALSA port, measures the control
+//    rate. The mapping's OSC senders are shared with the message thread under mappingOscMutex_. The
 //    simulated arm's steering is shared with the message thread under simMutex_, which the audio
 //    thread never takes.
 //  - device link thread (inside DeviceConnection): calibrates packets into the Device mailbox and
@@ -18,11 +20,13 @@
 #include "Live/ControlLoop.h"
 #include "Plugin/BlockControl.h"
 #include "Plugin/DeviceConnection.h"
+#include "Plugin/MidiPort.h"
 #include "Plugin/OscLink.h"
 #include <juce_audio_processors/juce_audio_processors.h>
 #include <atomic>
 #include <memory>
 #include <mutex>
+#include <vector>
 
 namespace armadillo::plugin {
 
@@ -45,6 +49,16 @@ public:
                               const juce::String& inFormat, const juce::String& inMount);
     OscInput& oscInput() noexcept { return oscIn_; }
     std::uint64_t oscMessagesSent() const noexcept { return oscOut_.messagesSent(); }
+    /// The mapping's OSC targets (index = mapping::OscPacket::target), opened here (message
+    /// thread). Returns "" or which targets could not be used (their packets are dropped).
+    juce::String configureMappingOsc(const std::vector<device::HostPort>& targets);
+    /// Packets the mapping sent / dropped (no target, socket full).
+    std::uint64_t mappingOscSent() const noexcept { return mappingOscSent_.load(std::memory_order_relaxed); }
+    std::uint64_t mappingOscDropped() const noexcept { return mappingOscDropped_.load(std::memory_order_relaxed); }
+
+    /// The standalone app's ALSA sequencer port (docs/PLUGIN.md "MIDI out").
+    MidiPort& midiPort() noexcept { return midiPort_; }
+    const MidiPort& midiPort() const noexcept { return midiPort_; }
 
     // Device (message thread)
     void connectDevice(const juce::String& port, int baud, const juce::String& calibrationFile);
@@ -68,6 +82,7 @@ public:
 private:
     class Clock;
     void clockTick(double dt);   // control clock thread
+    void sendMappingOsc();       // control clock thread
     void applyGuidedCalibration();
 
     live::ControlLoop& loop_;
@@ -76,6 +91,10 @@ private:
     device::SteerableArm simulator_;
     OscOutput oscOut_;
     OscInput oscIn_;
+    std::mutex mappingOscMutex_;       // mapping OSC senders: message ↔ clock thread only
+    std::vector<std::unique_ptr<device::OscSender>> mappingOsc_;
+    std::atomic<std::uint64_t> mappingOscSent_ {0}, mappingOscDropped_ {0};
+    MidiPort midiPort_;
     std::unique_ptr<DeviceConnection> device_;
     juce::String deviceMessage_;       // message thread
     juce::String networkStatus_;       // message thread

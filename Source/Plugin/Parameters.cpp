@@ -15,6 +15,7 @@ SceneParameterTable querySceneParameters()
     SceneParameterTable table;
     std::set<std::string> taken {ParamIds::elevation, ParamIds::azimuth, ParamIds::roll, ParamIds::source,
                                  ParamIds::scene};
+    for (const char* id : ParamIds::macros) taken.insert(id);
     for (const auto& name : sceneNames()) {
         SceneParameterTable::Entry entry;
         entry.scene = name;
@@ -102,6 +103,17 @@ juce::AudioProcessorValueTreeState::ParameterLayout createParameterLayout(const 
             if (entry.exposed[i]) group->addChild(makeSceneParameter(entry.scene, entry.specs[i]));
         layout.add(std::move(group));
     }
+
+    // Macros: generic outputs of the mapping (docs/PLUGIN.md "Macro parameters"), written by the
+    // processor with change gestures so a DAW records them or routes them to other plugins. Last,
+    // so every parameter above keeps the index it had before they existed.
+    auto macros = std::make_unique<juce::AudioProcessorParameterGroup>("macros", "Macros", " | ");
+    for (int i = 0; i < ParamIds::kMacroCount; ++i)
+        macros->addChild(std::make_unique<AudioParameterFloat>(
+            juce::ParameterID {ParamIds::macros[i], kParameterVersion}, "Macro " + juce::String(i + 1),
+            NormalisableRange<float>(0.0f, 1.0f), 0.0f,
+            AudioParameterFloatAttributes().withStringFromValueFunction([](float v, int) { return juce::String(v, 3); })));
+    layout.add(std::move(macros));
     return layout;
 }
 

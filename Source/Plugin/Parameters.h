@@ -16,6 +16,11 @@ inline constexpr const char* azimuth = "azimuth";       ///< deg, 0…360
 inline constexpr const char* roll = "roll";             ///< deg, −180…180
 inline constexpr const char* source = "source";         ///< SourceKind
 inline constexpr const char* scene = "scene";           ///< index into sceneNames()
+/// The mapping's macro destinations (docs/MAPPING.md): `macro1`…`macro8`, 0…1, last in the
+/// layout (after every scene's parameters) so the existing parameters keep their indices.
+inline constexpr int kMacroCount = 8;
+inline constexpr const char* macros[kMacroCount] {"macro1", "macro2", "macro3", "macro4",
+                                                  "macro5", "macro6", "macro7", "macro8"};
 } // namespace ParamIds
 
 /// Version hint of every parameter in this layout (JUCE ParameterID).

@@ -1,4 +1,5 @@
 #include "Plugin/PluginEditor.h"
+#include "Plugin/MappingPanel.h"
 #include "Plugin/PluginProcessor.h"
 #include "Core/Resources.h"
 #include "Core/Version.h"
@@ -79,6 +80,24 @@ ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
         });
     };
     addAndMakeVisible(setup_);
+    mappingButton_.setTitle("Mapping editor");
+    mappingButton_.setDescription("Open the mapping editor: arm features to MIDI, OSC, macros and scene parameters, with MIDI learn.");
+    mappingButton_.onClick = [this] {
+        if (mappingWindow_ != nullptr) {
+            mappingWindow_->toFront(true);
+            return;
+        }
+        juce::DialogWindow::LaunchOptions o;
+        auto panel = std::make_unique<MappingPanel>(processor_);
+        panel->setSize(760, 520);
+        o.content.setOwned(panel.release());
+        o.dialogTitle = "ARMadillo mapping";
+        o.resizable = true;
+        o.useNativeTitleBar = true;
+        o.escapeKeyTriggersCloseButton = true;
+        mappingWindow_ = o.launchAsync();
+    };
+    addAndMakeVisible(mappingButton_);
 
     for (juce::Component* c : std::initializer_list<juce::Component*> {&source_, &scene_, &wander_, &armView_, &motors_,
                                                                         &device_, &sceneControls_})
@@ -104,6 +123,7 @@ ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
 
 ArmadilloEditor::~ArmadilloEditor()
 {
+    if (mappingWindow_ != nullptr) delete mappingWindow_.getComponent();   // its panel uses the processor
     sourceAttachment_.reset();
     sceneAttachment_.reset();
 }
@@ -139,6 +159,8 @@ void ArmadilloEditor::resized()
     about_.setBounds(top.removeFromRight(70));
     top.removeFromRight(6);
     setup_.setBounds(top.removeFromRight(80));
+    top.removeFromRight(6);
+    mappingButton_.setBounds(top.removeFromRight(90));
     wander_.setBounds(top.removeFromLeft(100));
     r.removeFromTop(4);
     if (status_.isVisible()) {

@@ -30,6 +30,8 @@ private:
     juce::TextButton dismiss_ {"OK"};
     juce::TextButton about_ {"About"};
     juce::TextButton setup_ {"Setup..."};
+    juce::TextButton mappingButton_ {"Mapping..."};              // MappingPanel in its own window
+    juce::Component::SafePointer<juce::DialogWindow> mappingWindow_;
     std::unique_ptr<juce::FileChooser> chooser_;
     std::unique_ptr<juce::AudioProcessorValueTreeState::ComboBoxAttachment> sourceAttachment_, sceneAttachment_;
     ArmView armView_;

@@ -1,6 +1,7 @@
 #include "Plugin/PluginProcessor.h"
 #include "Plugin/FactoryPresets.h"
 #include "Plugin/PluginEditor.h"
+#include <iostream>
 
 namespace armadillo::plugin {
 
@@ -35,13 +36,30 @@ ArmadilloProcessor::ArmadilloProcessor()
       engines_(loop_, sceneTable_, apvts_, [this](const juce::String& m) { setStatus(m); }),
       training_(engines_),
       control_(loop_, token_, cellsOf(apvts_), motors_),
-      connections_(loop_, control_, motors_)
+      connections_(loop_, control_, motors_),
+      mapping_(control_, connections_, sceneTable_, [this] { return static_cast<int>(settings_[SettingIds::midiChannel]); })
 {
     scene_ = apvts_.getRawParameterValue(ParamIds::scene);
     jassert(scene_ != nullptr);
     settings_.addListener(this);
     engines_.install(currentRequest(), token_);
     applyNetworkSettings();
+    // The mapping (before the control clock starts): scene parameters for its destinations, the
+    // classic preset until a state says otherwise, and in the standalone app an ALSA sequencer
+    // port for its MIDI (docs/PLUGIN.md "MIDI out").
+    control_.setSceneTable(&sceneTable_);
+    mapping_.setControlStopped(true);   // nothing runs the control step yet: install, not offer
+    if (const auto why = mapping_.fromState({}); why.isNotEmpty()) setStatus(why);
+    mapping_.setControlStopped(false);
+    if (wrapperType == wrapperType_Standalone) {
+        juce::String why;
+        if (connections_.midiPort().open("ARMadillo", why)) {
+            control_.setMidiPort(&connections_.midiPort());
+        } else {
+            setStatus(why);   // the editor's status line, and the terminal the app was started from
+            std::cerr << "ARMadillo: " << why << std::endl;
+        }
+    }
     // Only the standalone app lets its idle clock drive the motors (a performer without a sound
     // card); in a host, no processBlock means stopped, bypassed or removed: motors off.
     control_.setIdleDrivesMotors(wrapperType == wrapperType_Standalone);
@@ -56,6 +74,9 @@ ArmadilloProcessor::~ArmadilloProcessor()
     if (gestureOpen_)
         for (auto* id : {ParamIds::elevation, ParamIds::azimuth, ParamIds::roll})
             if (auto* p = apvts_.getParameter(id)) p->endChangeGesture();
+    for (int i = 0; i < ParamIds::kMacroCount; ++i)
+        if (macroWrites_[static_cast<std::size_t>(i)].open)
+            if (auto* p = apvts_.getParameter(ParamIds::macros[i])) p->endChangeGesture();
     // connections_ (clock, then the device link with its all-off packet) goes first, as members
     // are destroyed in reverse order.
 }
@@ -146,6 +167,11 @@ void ArmadilloProcessor::timerCallback()
     training_.collect();   // keeps a braille training log's queue drained while no panel asks for it
     engines_.update(currentRequest());
     writeLiveOrientationToParameters();
+    writeMacrosToParameters();
+    {
+        std::lock_guard<std::mutex> lock(mappingMutex_);
+        mapping_.timerTick();
+    }
     connections_.drainCalibration();
     // The performer's standalone app (or a session) reopens its saved port by itself, once.
     if (! autoConnectTried_ && static_cast<bool>(settings_[SettingIds::connectOnStart]) && source() == SourceKind::Device
@@ -176,6 +202,30 @@ void ArmadilloProcessor::writeLiveOrientationToParameters()
         const float value = static_cast<float>(f.pose[i]);
         if (std::abs(params[i]->convertFrom0to1(params[i]->getValue()) - value) > 0.01f)
             params[i]->setValueNotifyingHost(params[i]->convertTo0to1(value));
+    }
+}
+
+void ArmadilloProcessor::writeMacrosToParameters()
+{
+    // The control side leaves each macro's newest value in an atomic (MappingOutputs); this
+    // timer (50 Hz) writes it with setValueNotifyingHost inside a change gesture, as a hand on
+    // a knob would, so the host records it as automation or routes it on.
+    const double now = juce::Time::getMillisecondCounterHiRes();
+    for (int i = 0; i < ParamIds::kMacroCount; ++i) {
+        auto& w = macroWrites_[static_cast<std::size_t>(i)];
+        auto* p = apvts_.getParameter(ParamIds::macros[i]);
+        const float v = control_.mappingOutputs().macro(i);
+        if (p == nullptr) continue;
+        if (std::isfinite(v) && std::abs(v - w.last) > 1.0e-5f) {
+            if (! w.open) p->beginChangeGesture();
+            w.open = true;
+            w.last = v;
+            w.changedMs = now;
+            p->setValueNotifyingHost(v);
+        } else if (w.open && now - w.changedMs > kMacroGestureIdleMs) {
+            p->endChangeGesture();
+            w.open = false;
+        }
     }
 }
 
@@ -212,7 +262,8 @@ void ArmadilloProcessor::valueTreePropertyChanged(juce::ValueTree&, const juce::
         autoConnectTried_ = false;
         if (id == SettingIds::serialPort && deviceConnected()) connectDevice(false);
     } else if (id == SettingIds::midiChannel) {
-        control_.setMidiChannel(static_cast<int>(settings_[SettingIds::midiChannel]));
+        std::lock_guard<std::mutex> lock(mappingMutex_);
+        if (mapping_.name() == "classic") mapping_.usePreset("classic");   // the classic wiring's channel
     } else if (id == SettingIds::oscOutEnabled || id == SettingIds::oscOutHost || id == SettingIds::oscOutPort
                || id == SettingIds::oscInEnabled || id == SettingIds::oscInPort || id == SettingIds::oscInFormat
                || id == SettingIds::oscInMount) {
@@ -226,6 +277,18 @@ void ArmadilloProcessor::applyNetworkSettings()
                               static_cast<int>(settings_[SettingIds::oscOutPort]), static_cast<bool>(settings_[SettingIds::oscInEnabled]),
                               static_cast<int>(settings_[SettingIds::oscInPort]), settings_[SettingIds::oscInFormat].toString(),
                               settings_[SettingIds::oscInMount].toString());
+    std::lock_guard<std::mutex> lock(mappingMutex_);
+    mapping_.setDefaultOscTarget(settings_[SettingIds::oscOutHost].toString(), static_cast<int>(settings_[SettingIds::oscOutPort]));
+}
+
+juce::String ArmadilloProcessor::mappingStatus() const
+{
+    juce::String s;
+    if (wrapperType == wrapperType_Standalone) s << connections_.midiPort().status() << "\n";
+    s << "Mapping OSC sent " << juce::String(static_cast<juce::int64>(connections_.mappingOscSent())) << ", dropped "
+      << juce::String(static_cast<juce::int64>(connections_.mappingOscDropped() + control_.mappingOutputs().oscDropped()))
+      << "; MIDI events dropped " << juce::String(static_cast<juce::int64>(control_.midiDropped()));
+    return s;
 }
 
 void ArmadilloProcessor::connectDevice(bool connect)
@@ -267,7 +330,8 @@ void ArmadilloProcessor::clearStatusMessage()
 
 void ArmadilloProcessor::getStateInformation(juce::MemoryBlock& destData)
 {
-    PluginState::save(apvts_, settings_, destData);
+    std::lock_guard<std::mutex> lock(mappingMutex_);
+    PluginState::save(apvts_, settings_, destData, mapping_.toState());
 }
 
 juce::String ArmadilloProcessor::saveSetup(const juce::File& file)
@@ -287,7 +351,11 @@ juce::String ArmadilloProcessor::loadSetup(const juce::File& file)
 
 void ArmadilloProcessor::setStateInformation(const void* data, int sizeInBytes)
 {
-    setStatus(PluginState::restore(*this, apvts_, settings_, data, sizeInBytes));
+    juce::ValueTree mapping;
+    auto message = PluginState::restore(*this, apvts_, settings_, data, sizeInBytes, &mapping);
+    std::lock_guard<std::mutex> lock(mappingMutex_);
+    if (const auto why = mapping_.fromState(mapping); why.isNotEmpty()) message = (message + " " + why).trim();
+    setStatus(message);
 }
 
 juce::AudioProcessorEditor* ArmadilloProcessor::createEditor()

@@ -6,6 +6,7 @@
 //                      published frame, motor levels stamped for the link (LevelSchedule);
 //  - Connections.h     device link and guided calibration, simulated arm, OSC, the idle clock;
 //  - PluginState.h     saved state and settings, validated on the way in;
+//  - MappingSession.h  the mapping set: presets, files, state, hand-over to the control side, learn;
 //  - TrainingAccess.h  braille training for the Training panel.
 // This class adds the AudioProcessor entry points, the message-thread timer (engine updates,
 // live orientation → parameters with change gestures, auto-connect) and the status line.
@@ -15,10 +16,12 @@
 #include "Plugin/Connections.h"
 #include "Plugin/ControlToken.h"
 #include "Plugin/EngineHandover.h"
+#include "Plugin/MappingSession.h"
 #include "Plugin/Parameters.h"
 #include "Plugin/PluginState.h"
 #include "Plugin/TrainingAccess.h"
 #include <juce_audio_processors/juce_audio_processors.h>
+#include <array>
 #include <atomic>
 #include <functional>
 #include <memory>
@@ -46,7 +49,7 @@ public:
     juce::AudioProcessorEditor* createEditor() override;
     bool hasEditor() const override { return true; }
     const juce::String getName() const override { return "ARMadillo"; }
-    bool acceptsMidi() const override { return false; }
+    bool acceptsMidi() const override { return true; }   // MIDI learn (the mapping editor); the input is not played
     bool producesMidi() const override { return true; }
     bool isMidiEffect() const override { return false; }
     double getTailLengthSeconds() const override { return kTailSeconds; }
@@ -104,6 +107,15 @@ public:
     const char* lastGesture() const noexcept { return control_.lastGesture(); }
     std::uint64_t gestureCount() const noexcept { return control_.gestureCount(); }
     double controlRateMeasured() const noexcept { return connections_.controlRateMeasured(); }
+    /// The mapping set (message thread; the host's state calls take the same lock).
+    struct MappingAccess {
+        std::unique_lock<std::mutex> lock;
+        MappingSession& session;
+        MappingSession* operator->() const noexcept { return &session; }
+    };
+    MappingAccess mapping() { return {std::unique_lock<std::mutex>(mappingMutex_), mapping_}; }
+    /// The standalone app's MIDI port line ("" in a host), the mapping's OSC and drop counters.
+    juce::String mappingStatus() const;
 
 private:
     static BusesProperties busesFor(WrapperType wrapper);
@@ -112,6 +124,7 @@ private:
     void valueTreePropertyChanged(juce::ValueTree&, const juce::Identifier&) override;
     EngineRequest currentRequest() const;
     void writeLiveOrientationToParameters();
+    void writeMacrosToParameters();
     void applyNetworkSettings();
     void setStatus(const juce::String& message);
 
@@ -130,10 +143,21 @@ private:
     TrainingAccess training_;
     BlockControl control_;
     Connections connections_;
+    std::mutex mappingMutex_;                    // message thread vs a host's state calls; never audio
+    MappingSession mapping_;
 
     // Live → parameters (message thread)
     bool gestureOpen_ = false;
     std::uint64_t lastWrittenSerial_ = 0;
+    /// The mapping's macro destinations → `macro1…8` (message thread): a gesture opens with the
+    /// first value and closes after kMacroGestureIdleMs without a new one.
+    struct MacroWrite {
+        bool open = false;
+        float last = -1.0f;
+        double changedMs = 0.0;
+    };
+    static constexpr double kMacroGestureIdleMs = 300.0;
+    std::array<MacroWrite, ParamIds::kMacroCount> macroWrites_ {};
     bool autoConnectTried_ = false;              // one attempt per port/setting change
 
     std::atomic<int> currentProgram_ {0};

@@ -68,19 +68,22 @@ void resetToDefaults(juce::AudioProcessor& processor, juce::ValueTree& settings)
     installSettings(settings, {});
 }
 
-void save(juce::AudioProcessorValueTreeState& parameters, const juce::ValueTree& settings, juce::MemoryBlock& dest)
+void save(juce::AudioProcessorValueTreeState& parameters, const juce::ValueTree& settings, juce::MemoryBlock& dest,
+          const juce::ValueTree& mapping)
 {
     juce::ValueTree root("ARMADILLO");
     root.setProperty("version", kVersion, nullptr);
     root.setProperty("pluginVersion", juce::String(std::string(armadillo::kVersion)), nullptr);   // project(VERSION)
     root.appendChild(parameters.copyState(), nullptr);
     root.appendChild(settings.createCopy(), nullptr);
+    if (mapping.isValid()) root.appendChild(mapping.createCopy(), nullptr);   // additive: older builds ignore it
     if (auto xml = root.createXml()) juce::AudioProcessor::copyXmlToBinary(*xml, dest);
 }
 
 juce::String restore(juce::AudioProcessor& processor, juce::AudioProcessorValueTreeState& parameters,
-                     juce::ValueTree& settings, const void* data, int sizeInBytes)
+                     juce::ValueTree& settings, const void* data, int sizeInBytes, juce::ValueTree* mapping)
 {
+    if (mapping != nullptr) *mapping = juce::ValueTree();
     std::unique_ptr<juce::XmlElement> xml;
     if (data != nullptr && sizeInBytes > 0) xml = juce::AudioProcessor::getXmlFromBinary(data, sizeInBytes);
     const auto root = xml != nullptr ? juce::ValueTree::fromXml(*xml) : juce::ValueTree();
@@ -109,6 +112,7 @@ juce::String restore(juce::AudioProcessor& processor, juce::AudioProcessorValueT
         ranged->setValueNotifyingHost(ranged->convertTo0to1(value));
     }
     installSettings(settings, root.getChildWithName(SettingIds::root));
+    if (mapping != nullptr) *mapping = root.getChildWithName("MAPPING").createCopy();
     return rejected > 0 ? juce::String(rejected) + " saved parameter values were not numbers; defaults used for them."
                         : juce::String();
 }

@@ -42,12 +42,16 @@ juce::ValueTree defaultSettings();
 /// Writes into `settings` the known properties of `loaded` that have the right kind and range,
 /// the defaults for the rest (an invalid `loaded` gives all defaults).
 void installSettings(juce::ValueTree& settings, const juce::ValueTree& loaded);
-/// Parameters and settings as the host stores them.
-void save(juce::AudioProcessorValueTreeState& parameters, const juce::ValueTree& settings, juce::MemoryBlock& dest);
+/// Parameters, settings and the mapping set (`mapping`: the MAPPING node, MappingSession.h;
+/// left out when invalid) as the host stores them.
+void save(juce::AudioProcessorValueTreeState& parameters, const juce::ValueTree& settings, juce::MemoryBlock& dest,
+          const juce::ValueTree& mapping = {});
 /// Restores what save() wrote. Returns "" when all was taken, else what was refused and that
 /// defaults were used instead (for the status line). Never throws; any bytes are safe.
+/// `mapping` (when given) receives the saved MAPPING node, or an invalid tree when the state has
+/// none (a state from before the mapping, or one that was refused): the caller validates it.
 juce::String restore(juce::AudioProcessor& processor, juce::AudioProcessorValueTreeState& parameters,
-                     juce::ValueTree& settings, const void* data, int sizeInBytes);
+                     juce::ValueTree& settings, const void* data, int sizeInBytes, juce::ValueTree* mapping = nullptr);
 /// Every parameter and setting back to its default.
 void resetToDefaults(juce::AudioProcessor& processor, juce::ValueTree& settings);
 
