@@ -268,13 +268,7 @@ int runPlay(const Arguments& args)
             {"--calibrate", calibrateOut}, {"--calibrate-mount", mountOut}, {"--training-log", trainingLog}};
         for (const auto& [option, file] : outputs)
             if (cl.has(option)) checkOutputPath(option, file);
-        {
-            auto named = outputs;
-            named.emplace_back("--audio-in", config.audioIn);
-            named.emplace_back("--motion", config.motionFile);
-            named.emplace_back("--calibration", cl.value("--calibration"));
-            checkDistinctOutputs(named);
-        }
+        checkDistinctOutputs(outputs);
 
         // Then the inputs: a file that cannot be read is exit 4, one that is not what it should be 3.
         if (cl.has("--mount")) {

@@ -52,7 +52,7 @@ int runRender(const Arguments& args)
         const std::string out = cl.value("--out"), tactile = cl.value("--tactile");
         checkOutputPath("--out", out);
         if (cl.has("--tactile")) checkOutputPath("--tactile", tactile);
-        checkDistinctOutputs({{"--out", out}, {"--tactile", tactile}, {"--motion", cl.value("--motion")}, {"--audio-in", cl.value("--audio-in")}});
+        checkDistinctOutputs({{"--out", out}, {"--tactile", tactile}});
 
         AudioBuffer recording;
         if (cl.has("--audio-in")) {

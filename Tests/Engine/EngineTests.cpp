@@ -33,7 +33,7 @@ TEST_CASE("Engine: the monitor scene is silent and keeps every motor off", "[eng
     settings.engine.scene = "monitor";
     const auto r = renderOffline(CsvTable::parse(poseMotion(2.0, 200.0, 20.0), "m.csv"), settings);
     CHECK(r.controlUpdates == 401);
-    CHECK(r.tactile.size() == 401);
+    CHECK(r.tactile.size() == 402);   // one per row, then the all-off sent at the end
     CHECK(r.audio.frames() == static_cast<std::size_t>(2.0 * 48000) + 1);
     for (const auto& row : r.tactile)
         for (auto level : row.levels) REQUIRE(level == 0);
