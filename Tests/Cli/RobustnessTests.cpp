@@ -334,6 +334,9 @@ TEST_CASE("robustness: malformed files of every kind exit 3 naming the file (and
         cases.push_back({"audio-in rate", render + "--scene audio-touch --sample-rate 48000 --motion " + q(motion) + " --audio-in " +
                                               q(cli::path("a-rate.wav")),
                          3, "a-rate.wav: --audio-in: the recording's sample rate"});
+        cases.push_back({"play --audio-in rate", "play --scene audio-touch --simulate --seconds 1 --out " + q(cli::path("rb-p.wav")) +
+                                                     " --sample-rate 48000 --audio-in " + q(cli::path("a-rate.wav")),
+                         3, "a-rate.wav: --audio-in: the recording's sample rate"});
         cases.push_back({"audio-in, a scene that does not listen",
                          render + "--scene theremin --motion " + q(motion) + " --audio-in " + q(cli::path("a-rate.wav")), 3,
                          "a-rate.wav: --audio-in: scene 'theremin' does not listen"});
