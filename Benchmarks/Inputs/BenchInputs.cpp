@@ -1,7 +1,7 @@
 // Input handling grows linearly with input size (issue 24): each input that took minutes in
 // quadratic code — a score of pattern/stop pairs (the parser's finishing step and the player's
 // span table), a score of cues (the duplicate check), a calibration JSON of many keys (the
-// duplicate-key check), a motion CSV — is timed at N, 4N and 16N elements, and the time per element
+// duplicate-key check), a motion CSV — is timed at N, 4N, 16N and 64N elements, and the time per element
 // at each size against the one before (1.0 = linear, 4.0 = quadratic) are printed.
 // Thread CPU time, best of 3; prints numbers, never passes or fails.
 #include "Core/Csv.h"
@@ -75,13 +75,13 @@ std::string motionCsv(int n)
     return s;
 }
 
-/// Times `run` on inputs of n, 4n and 16n elements and prints the time per element and the
+/// Times `run` on inputs of n, 4n, 16n and 64n elements and prints the time per element and the
 /// ratio of each to the one before (4.0 would be quadratic).
 void measure(const char* name, int n, const std::function<std::string(int)>& make, const std::function<void(const std::string&)>& run)
 {
     std::printf("%-36s", name);
     double previous = 0.0;
-    for (int size : {n, 4 * n, 16 * n}) {
+    for (int size : {n, 4 * n, 16 * n, 64 * n}) {
         const std::string input = make(size);
         const double perElement = bestOf3([&] { run(input); }) / size;
         std::printf("  %7d: %6.3f us", size, 1e6 * perElement);
@@ -95,7 +95,7 @@ void measure(const char* name, int n, const std::function<std::string(int)>& mak
 
 int main()
 {
-    std::printf("input handling: time per element at N, 4N and 16N elements; (xR) = per-element time against the size before\n"
+    std::printf("input handling: time per element at N, 4N, 16N and 64N elements; (xR) = per-element time against the size before\n"
                 "(1.0 = linear, 4.0 = quadratic); thread CPU time, best of 3\n");
     measure("score: pattern/stop pairs (parse)", 25000, pairsScore, [](const std::string& text) { (void) parseScore(text, "pairs.score"); });
     measure("score: pairs, parse + player spans", 25000, pairsScore, [](const std::string& text) {

@@ -24,6 +24,7 @@ int runFuse(const Arguments& args)
                         {"--features", "", "append elevation,azimuth,roll (degrees) to each row", false},
                         {"--no-mag", "", "ignore the magnetometer columns (6-axis fusion)", false}});
         if (!cl.parse(args)) return 0;
+        checkOutputPath("--out", cl.value("--out"));   // before the fusion, not after it
         const CsvTable table = CsvTable::read(cl.value("--in"));
         const std::vector<ImuSample> samples = readImu(table);
         OrientationFilter::Params params = OrientationFilter::defaultParams();

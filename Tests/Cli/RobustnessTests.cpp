@@ -271,6 +271,16 @@ TEST_CASE("robustness: outputs are checked before any work: a missing folder is 
         CHECK(r.err.find(std::string(option) + ": cannot write '/nonexistent/dir/x'") != std::string::npos);
         CHECK(r.out.empty());
     }
+    // fuse and braille: refused before the work, nothing printed.
+    const std::string imu = cli::file("rb-out-imu.csv", "t,gx,gy,gz,ax,ay,az\n0,0,0,0,0,9.8,0\n");
+    const Run fuse = cli::runArmadilloWithin(kBound, "fuse --in " + q(imu) + " --out /nonexistent/dir/q.csv");
+    CHECK(fuse.code == 4);
+    CHECK(fuse.err.find("--out: cannot write '/nonexistent/dir/q.csv'") != std::string::npos);
+    CHECK(fuse.err.find("fuse: 1 samples") == std::string::npos);
+    const Run brf = cli::runArmadilloWithin(kBound, "braille --text abc --out-brf /nonexistent/dir/x.brf");
+    CHECK(brf.code == 4);
+    CHECK(brf.out.empty());
+    CHECK_FALSE(fs::exists("/nonexistent"));
     // No temporary file is left next to the WAV.
     for (const auto& e : fs::directory_iterator(cli::workDir())) CHECK(e.path().filename().string().find("rb-out.wav.tmp") == std::string::npos);
 }
