@@ -41,14 +41,17 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
 
     // The span is checked before the engine starts or anything is rendered: a time column that
     // jumps to 1e12 s is a bad file, not a request for a year of audio.
+    // Collected in memory (no audioSink), the audio is bounded more tightly: an hour of stereo
+    // float is 1.4 GB; longer renders stream.
     const double t0 = source.time(0);
     const double tail = std::max(0.0, settings.tailSeconds);
+    const double maxSeconds = settings.audioSink ? settings.maxSeconds : std::min(settings.maxSeconds, kMaxCollectedRenderSeconds);
     for (std::size_t i = 0; i < source.size(); ++i)
-        if (source.time(i) - t0 + tail > settings.maxSeconds) {
+        if (source.time(i) - t0 + tail > maxSeconds) {
             const int tc = motion.columnIndex("t");
             char what[160];
             std::snprintf(what, sizeof what, "the file would render %.6g s from its first row (at most %.6g s): is the time column in seconds?",
-                          source.time(i) - t0 + tail, settings.maxSeconds);
+                          source.time(i) - t0 + tail, maxSeconds);
             motion.fail(i, tc, what);
         }
 

@@ -11,6 +11,9 @@
 
 namespace armadillo {
 
+/// Longest render whose audio is collected in RenderResult::audio (no audioSink): one hour.
+inline constexpr double kMaxCollectedRenderSeconds = 3600.0;
+
 struct RenderSettings {
     EngineConfig engine {};
     double tailSeconds = 0.0;      ///< audio rendered after the last row (e.g. to hear a crash ring out)
@@ -25,7 +28,8 @@ struct RenderSettings {
     /// sound over the recording, clipped to ±1). False: the scene's sound alone.
     bool mixAudioIn = true;
     /// Longest span a render may cover (first row to last row + tail); a motion file spanning
-    /// more is refused with an InputError naming the row, before anything is rendered.
+    /// more is refused with an InputError naming the row, before anything is rendered. Without
+    /// an audioSink, at most kMaxCollectedRenderSeconds.
     double maxSeconds = 24.0 * 3600.0;
     /// Where the audio goes, block by block (stereo, at most blockSize frames). Set: the audio is
     /// streamed there and RenderResult::audio stays empty (memory does not grow with the span).
