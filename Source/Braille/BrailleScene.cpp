@@ -103,7 +103,8 @@ public:
             TranslationOptions o;
             o.grade = g + 1;
             const BrailleDocument doc = loadDocument(text, o);
-            if (doc.cellCount() == 0) throw InputError("text", 0, "", "nothing to read: the braille text is blank");
+            if (doc.cellCount() == 0)
+                throw InputError(text.front() == '@' ? text.substr(1) : std::string("text"), 0, "", "nothing to read: the braille text is blank");
             for (int m = 0; m < kDisplayMethodCount; ++m)
                 cursors_[static_cast<std::size_t>(g * kDisplayMethodCount + m)] =
                     ReadingCursor(layoutDocument(doc, static_cast<DisplayMethod>(m)));

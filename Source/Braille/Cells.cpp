@@ -52,11 +52,17 @@ void appendUtf8(std::string& out, char32_t c)
     }
 }
 
-/// Strict UTF-8 → code points; InputError on malformed input, naming the byte offset.
-std::u32string decodeUtf8(std::string_view s)
+/// Strict UTF-8 → code points; InputError on malformed input, naming the source, the line and
+/// the byte within the line.
+std::u32string decodeUtf8(std::string_view s, const std::string& source)
 {
     std::u32string out;
     std::size_t i = 0;
+    long line = 1;
+    std::size_t lineStart = 0;
+    auto bad = [&](const char* what) {
+        throw InputError(source, line, "", std::string(what) + " at byte " + std::to_string(i - lineStart + 1) + " of the line");
+    };
     while (i < s.size()) {
         const auto b0 = static_cast<unsigned char>(s[i]);
         int extra = 0;
@@ -65,19 +71,22 @@ std::u32string decodeUtf8(std::string_view s)
         else if ((b0 & 0xE0) == 0xC0) { c = b0 & 0x1F; extra = 1; }
         else if ((b0 & 0xF0) == 0xE0) { c = b0 & 0x0F; extra = 2; }
         else if ((b0 & 0xF8) == 0xF0) { c = b0 & 0x07; extra = 3; }
-        else throw InputError("text", 0, "", "invalid UTF-8 at byte " + std::to_string(i + 1));
-        if (i + static_cast<std::size_t>(extra) >= s.size())
-            throw InputError("text", 0, "", "truncated UTF-8 sequence at byte " + std::to_string(i + 1));
+        else bad("invalid UTF-8");
+        if (i + static_cast<std::size_t>(extra) >= s.size()) bad("truncated UTF-8 sequence");
         for (int k = 1; k <= extra; ++k) {
             const auto b = static_cast<unsigned char>(s[i + static_cast<std::size_t>(k)]);
-            if ((b & 0xC0) != 0x80) throw InputError("text", 0, "", "invalid UTF-8 at byte " + std::to_string(i + 1));
+            if ((b & 0xC0) != 0x80) bad("invalid UTF-8");
             c = (c << 6) | (b & 0x3F);
         }
         static constexpr std::array<char32_t, 4> kMin {0, 0x80, 0x800, 0x10000};
-        if (c < kMin[static_cast<std::size_t>(extra)] || c > 0x10FFFF || (c >= 0xD800 && c <= 0xDFFF))
-            throw InputError("text", 0, "", "invalid UTF-8 at byte " + std::to_string(i + 1));
+        if (c < kMin[static_cast<std::size_t>(extra)] || c > 0x10FFFF || (c >= 0xD800 && c <= 0xDFFF)) bad("invalid UTF-8");
+        if (c == U'\0') bad("a NUL byte (not text)");
         out += c;
         i += static_cast<std::size_t>(extra) + 1;
+        if (c == U'\n') {
+            ++line;
+            lineStart = i;
+        }
     }
     return out;
 }
@@ -168,7 +177,7 @@ void trimTrailingSpace(BrailleMessage& m)
     while (!m.symbols.empty() && m.symbols.back().isSpace()) m.symbols.pop_back();
 }
 
-BrailleMessage translateLine(const std::u32string& line, std::size_t lineNumber, const std::string& table)
+BrailleMessage translateLine(const std::u32string& line, std::size_t lineNumber, const std::string& table, const std::string& source)
 {
     BrailleMessage message;
     std::vector<widechar> in(line.begin(), line.end());
@@ -183,14 +192,14 @@ BrailleMessage translateLine(const std::u32string& line, std::size_t lineNumber,
         LouisOutput single;
         const std::vector<widechar> one {static_cast<widechar>(c)};
         if (!louisTranslate(table, one, noUndefined, single) || single.cells.empty())
-            throw InputError("text", static_cast<long>(lineNumber), "",
+            throw InputError(source, static_cast<long>(lineNumber), "",
                              "character " + describeChar(c) + " at position " + std::to_string(i + 1) +
                                  " cannot be translated with table '" + table + "'");
     }
 
     LouisOutput out;
     if (!louisTranslate(table, in, 0, out))
-        throw InputError("text", static_cast<long>(lineNumber), "", "liblouis could not translate this line with table '" + table + "'");
+        throw InputError(source, static_cast<long>(lineNumber), "", "liblouis could not translate this line with table '" + table + "'");
 
     const std::size_t n = out.cells.size();
     for (std::size_t i = 0; i < n;) {
@@ -211,11 +220,11 @@ BrailleMessage translateLine(const std::u32string& line, std::size_t lineNumber,
         for (std::size_t k = i; k < j; ++k) {
             const widechar w = out.cells[k];
             if ((w & 0xFF00u) != 0x2800u)
-                throw InputError("text", static_cast<long>(lineNumber), "",
+                throw InputError(source, static_cast<long>(lineNumber), "",
                                  "table '" + table + "' produced a non-braille character " + describeChar(static_cast<char32_t>(w)));
             const unsigned bits = w & 0xFFu;
             if (bits & 0xC0u)
-                throw InputError("text", static_cast<long>(lineNumber), "",
+                throw InputError(source, static_cast<long>(lineNumber), "",
                                  "table '" + table + "' uses dots 7-8 (for " + describeChar(line[static_cast<std::size_t>(std::max(start, 0))]) +
                                      "); the three-row display shows six-dot braille only: choose a six-dot table");
             if (bits == 0) {
@@ -258,13 +267,13 @@ std::string defaultTable(int grade)
 BrailleDocument translateText(std::string_view utf8, const TranslationOptions& options)
 {
     if (options.grade != 1 && options.grade != 2)
-        throw InputError("text", 0, "", "braille grade must be 1 or 2, not " + std::to_string(options.grade));
+        throw InputError(options.source, 0, "", "braille grade must be 1 or 2, not " + std::to_string(options.grade));
     BrailleDocument doc;
     doc.table = options.table.empty() ? defaultTable(options.grade) : options.table;
     if (doc.table.find_first_of("\n\r") != std::string::npos)
-        throw InputError("text", 0, "", "bad table name");
+        throw InputError(options.source, 0, "", "bad table name");
 
-    std::u32string text = decodeUtf8(utf8);
+    std::u32string text = decodeUtf8(utf8, options.source);
     for (auto& c : text) {
         if (isSpaceChar(c)) c = U' ';   // tabs, CR, no-break spaces: all a word gap
         if (!options.capitals && c >= U'A' && c <= U'Z') c = c - U'A' + U'a';
@@ -280,7 +289,7 @@ BrailleDocument translateText(std::string_view utf8, const TranslationOptions& o
     while (begin <= text.size()) {
         std::size_t end = text.find(U'\n', begin);
         if (end == std::u32string::npos) end = text.size();
-        BrailleMessage m = translateLine(text.substr(begin, end - begin), lineNumber, doc.table);
+        BrailleMessage m = translateLine(text.substr(begin, end - begin), lineNumber, doc.table, options.source);
         if (!m.symbols.empty()) doc.messages.push_back(std::move(m));
         begin = end + 1;
         ++lineNumber;
@@ -388,7 +397,9 @@ BrailleDocument loadDocument(const std::string& textOrFile, const TranslationOpt
         std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : "";
         std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
         if (ext == ".brf") return readBrfFile(path);
-        return translateText(readWholeFile(path), options);
+        TranslationOptions fromFile = options;
+        fromFile.source = path;   // messages name the file and its line
+        return translateText(readWholeFile(path), fromFile);
     }
     return translateText(textOrFile, options);
 }

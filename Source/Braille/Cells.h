@@ -49,6 +49,8 @@ struct TranslationOptions {
     /// false (default): letters are shown as the thesis shows them — no capital signs, so
     /// "EXIT" reads E X I T. true: the table's capital indicators are kept.
     bool capitals = false;
+    /// What the text is called in messages: "text" for --text, the file's path for @FILE.
+    std::string source = "text";
 };
 
 /// The liblouis table a grade uses when no table is given: Unified English Braille

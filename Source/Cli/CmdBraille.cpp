@@ -144,6 +144,7 @@ int replayTraining(const CommandLine& cl)
 {
     if (!cl.has("--motion") || !cl.has("--answers") || !cl.has("--log"))
         throw UsageError("--train needs --motion FILE, --answers FILE and --log FILE (or use --plan)");
+    checkOutputPath("--log", cl.value("--log"));
     TrainingSession session(trainingOptions(cl));
     const auto motion = motionAsQuaternions(CsvTable::read(cl.value("--motion")));
     const auto answers = readAnswers(cl.value("--answers"));
@@ -194,6 +195,7 @@ int runBraille(const Arguments& args)
         if (cl.has("--train")) return replayTraining(cl);
 
         if (cl.has("--text") == cl.has("--brf")) throw UsageError("give exactly one of --text and --brf");
+        if (cl.has("--out-brf")) checkOutputPath("--out-brf", cl.value("--out-brf"));
         DisplayMethod method = DisplayMethod::Rows;
         if (cl.has("--method") && !parseDisplayMethod(cl.value("--method"), method))
             throw UsageError("--method is one of rows, whole, columns, dots");

@@ -24,6 +24,7 @@ int runFuse(const Arguments& args)
                         {"--features", "", "append elevation,azimuth,roll (degrees) to each row", false},
                         {"--no-mag", "", "ignore the magnetometer columns (6-axis fusion)", false}});
         if (!cl.parse(args)) return 0;
+        checkOutputPath("--out", cl.value("--out"));   // before the fusion, not after it
         const CsvTable table = CsvTable::read(cl.value("--in"));
         const std::vector<ImuSample> samples = readImu(table);
         OrientationFilter::Params params = OrientationFilter::defaultParams();
@@ -33,10 +34,14 @@ int runFuse(const Arguments& args)
         std::vector<std::string> header {"t", "qw", "qx", "qy", "qz"};
         if (features) header.insert(header.end(), {"elevation", "azimuth", "roll"});
         CsvWriter out(header);
-        for (const ImuSample& s : samples) {
+        for (std::size_t row = 0; row < samples.size(); ++row) {
+            const ImuSample& s = samples[row];
             filter.update(s);
             // Before the first usable sample there is no estimate: the rest orientation stands in.
             const Eigen::Quaterniond q = filter.orientation();
+            // readImu refuses values no sensor makes; should the filter still lose its way, the
+            // row is named instead of writing NaN quaternions.
+            if (!q.coeffs().allFinite()) table.fail(row, table.columnIndex("t"), "fusion diverged at this sample (no quaternion written)");
             if (features) {
                 const Pose p = quaternionToPose(q);
                 out.row({s.t, q.w(), q.x(), q.y(), q.z(), p.elevationDeg, p.azimuthDeg, p.rollDeg});

@@ -101,6 +101,26 @@ std::atomic<mapping::Mapper*>& forwardTarget()
 void onForwardSignal(int)
 {
     if (mapping::Mapper* m = forwardTarget().load()) m->requestForward();
+/// What a port or OSC source that delivered no sensor data did send, in words naming it.
+std::string noDataMessage(device::LiveSession& session, const device::LiveConfig& config, double seconds)
+{
+    char within[64];
+    std::snprintf(within, sizeof within, "%.1f s", seconds);
+    if (config.source == device::LiveConfig::Source::Port) {
+        const device::LinkStats l = session.deviceLink() ? session.deviceLink()->stats() : device::LinkStats {};
+        std::string m = "no sensor data from " + config.port + " (" + std::to_string(config.baud) + " baud) within " + within + ": ";
+        if (l.bytesIn == 0)
+            return m + "not a byte was heard. Is the device switched on, and is this its port? ('armadillo ports' lists them)";
+        return m + std::to_string(l.bytesIn) + " bytes were heard but no valid sensor packet (" + std::to_string(l.badPackets) +
+               " bad packets, " + std::to_string(l.resyncs) + " resyncs, " + std::to_string(l.discardedBytes) +
+               " bytes discarded): is the baud rate right (--baud), and is it an ARMadillo board?";
+    }
+    const device::OscReceiver* osc = session.oscReceiver();
+    const device::OscInputStats o = osc ? osc->stats() : device::OscInputStats {};
+    std::string m = "no sensor data on UDP port " + std::to_string(session.oscInPort()) + " within " + within + ": ";
+    if (o.datagrams == 0)
+        return m + "not a datagram arrived. Is the sender pointed at this machine's address and port (and not blocked by a firewall)?";
+    return m + std::to_string(o.datagrams) + " datagrams arrived but none carried usable sensor data (" + osc->statsJson() + ")";
 }
 
 } // namespace
@@ -148,7 +168,11 @@ int runPlay(const Arguments& args)
                     {"--audio-in", "FILE.wav", "a recording to play out (to the sound card or --out, under the scene's sound) while\n"
                                                "scenes that listen (score, audio-touch) follow it; its sample rate is used unless\n"
                                                "--sample-rate is given"},
-                    {"--tactile", "T.csv", "every motor packet: t,m1..m9"},
+                    {"--loop", "", "with --audio-in: start the recording again at its end (without it, the session\n"
+                                   "ends with the recording unless --seconds ends it first)"},
+                    {"--data-timeout", "SECONDS", "with --port or --osc-in: no sensor data within this time is an error naming the\n"
+                                                  "port and what was heard (exit 4; default 3, 0 = wait for ever)"},
+                    {"--tactile", "T.csv", "every motor packet: t,m1..m9; the last row is the all-off sent at the end"},
                     {"--log", "SESSION.csv", "one row per sensor packet: t, raw counts, calibrated SI values, qw,qx,qy,qz"},
                     {"--osc-out", "HOST:PORT", "send orientation, pose, gyro, motors and gestures as OSC; with --map, the target of\n"
                                                "the mapping's OSC destinations that name none (and only those are sent)"},
@@ -196,10 +220,6 @@ int runPlay(const Arguments& args)
             if (cl.has(o) && !cl.has("--osc-in")) throw UsageError(std::string(o) + " applies to --osc-in");
         if (cl.has("--osc-format") && !device::parseOscFormat(cl.value("--osc-format"), config.osc.format))
             throw UsageError("--osc-format: unknown format '" + cl.value("--osc-format") + "' (one of " + device::oscFormatNames() + ")");
-        if (cl.has("--mount")) {
-            config.osc.mount = device::mountFromArgument(cl.value("--mount"));   // InputError (exit 3) for a bad file
-            config.osc.mountGiven = true;
-        }
         const std::string mountOut = cl.value("--calibrate-mount");
         if (cl.has("--calibrate-mount") && mountOut.empty()) throw UsageError("--calibrate-mount needs an output file");
         if (cl.has("--calibrate-mount") && cl.has("--mount")) throw UsageError("--calibrate-mount finds the mount: it cannot go with --mount");
@@ -224,11 +244,9 @@ int runPlay(const Arguments& args)
         }
         if (cl.has("--midi-out") && !cl.has("--map")) throw UsageError("--midi-out sends what a mapping makes: give --map PRESET|FILE too");
         if (cl.has("--midi-out") && cl.value("--midi-out").empty()) throw UsageError("--midi-out needs a port name");
-        config.mapping = readMapOption(cl, engine);
         config.mappingName = cl.value("--map");
         config.midiOut = cl.value("--midi-out");
         config.forwardDeg = readForwardOption(cl);
-        if (cl.has("--calibration")) config.calibration = device::loadCalibration(cl.value("--calibration"));
         // Steadier timing for the link (and the simulated device) where the system allows it.
         config.link.realtimePriority = 20;
         config.audioOut = cl.value("--out");
@@ -247,8 +265,11 @@ int runPlay(const Arguments& args)
             if (cl.value("--audio-in").empty()) throw UsageError("--audio-in needs a WAV file");
             if (cl.has("--no-audio")) throw UsageError("--audio-in plays the recording out: it cannot go with --no-audio");
             config.audioIn = cl.value("--audio-in");
-            if (!cl.has("--sample-rate")) engine.sceneConfig.sampleRate = readWav(config.audioIn).sampleRate;
+            config.audioInLoop = cl.has("--loop");
         }
+        if (cl.has("--loop") && !cl.has("--audio-in")) throw UsageError("--loop repeats the --audio-in recording: use it with --audio-in");
+        const double dataTimeout = cl.number("--data-timeout", 3.0);
+        if (!(dataTimeout >= 0.0 && dataTimeout <= 3600.0)) throw UsageError("--data-timeout must lie in 0..3600 s");
 
         const std::string calibrateOut = cl.value("--calibrate");
         if (cl.has("--calibrate") && cl.has("--osc-in")) throw UsageError("--calibrate needs raw counts: use --port or --simulate");
@@ -262,11 +283,26 @@ int runPlay(const Arguments& args)
                 if (p.rfind("braille.mode=", 0) == 0 && p != "braille.mode=training")
                     throw UsageError("--training-log runs the training: it cannot go with --param " + p);
             engine.parameters.push_back("braille.mode=training");
-            // Refuse an unwritable log now, not after the reader has answered every trial.
-            const std::filesystem::path dir = std::filesystem::absolute(trainingLog).parent_path();
-            if (!std::filesystem::is_directory(dir) || ::access(dir.c_str(), W_OK) != 0)
-                throw IoError("--training-log: cannot write into " + dir.string());
         }
+
+        // Every output is checked before any input is read or the source opened: a missing or
+        // unwritable folder is an error now (exit 4), not after the reader answered every trial
+        // or the session ran for an hour.
+        const std::vector<std::pair<std::string, std::string>> outputs {
+            {"--out", config.audioOut}, {"--tactile", config.tactileOut}, {"--log", config.logOut},
+            {"--calibrate", calibrateOut}, {"--calibrate-mount", mountOut}, {"--training-log", trainingLog}};
+        for (const auto& [option, file] : outputs)
+            if (cl.has(option)) checkOutputPath(option, file);
+        checkDistinctOutputs(outputs);
+
+        // Then the inputs: a file that cannot be read is exit 4, one that is not what it should be 3.
+        if (cl.has("--mount")) {
+            config.osc.mount = device::mountFromArgument(cl.value("--mount"));
+            config.osc.mountGiven = true;
+        }
+        if (cl.has("--calibration")) config.calibration = device::loadCalibration(cl.value("--calibration"));
+        config.mapping = readMapOption(cl, engine);
+        if (!config.audioIn.empty() && !cl.has("--sample-rate")) engine.sceneConfig.sampleRate = readWav(config.audioIn).sampleRate;
 
         installInterruptHandlers();
         device::LiveSession session(config);
@@ -313,9 +349,22 @@ int runPlay(const Arguments& args)
         const bool progress = ::isatty(STDERR_FILENO) == 1 && !calibration && !mountCalibration && !training;
         const char* lineStart = progress ? "\r\033[K" : "";   // a message replaces the progress line
         double shownAt = -1.0;
+        // A port or OSC source that sends nothing is not a session: said, with what was heard,
+        // after --data-timeout (and at the end of a shorter session), and exit 4.
+        const bool needsData = config.source != device::LiveConfig::Source::Simulator;
+        std::string noData;
+        bool recordingEnded = false;
         while (!interrupted()) {
             const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             if (seconds > 0.0 && elapsed >= seconds) break;
+            if (needsData && dataTimeout > 0.0 && elapsed >= dataTimeout && session.summary().packets == 0) {
+                noData = noDataMessage(session, config, elapsed);
+                break;
+            }
+            if (session.recordingEnded()) {
+                recordingEnded = true;
+                break;
+            }
             if (progress && elapsed - shownAt >= 0.5) {
                 shownAt = elapsed;
                 const device::SessionSummary now = session.summary();
@@ -394,6 +443,15 @@ int runPlay(const Arguments& args)
         }
         if (progress) std::cerr << "\n";
         session.stop();
+        if (needsData && dataTimeout > 0.0 && noData.empty() && session.summary().packets == 0)
+            noData = noDataMessage(session, config, session.summary().seconds);
+        if (!noData.empty()) {   // nothing was played: no file is written
+            std::cout << device::summaryJson(session.summary()) << "\n" << std::flush;
+            throw IoError(noData);
+        }
+        if (recordingEnded)
+            std::cerr << "armadillo play: the recording ended after " << session.recordingSeconds()
+                      << " s (--loop plays it again and again)\n";
         const std::string trainingCsv = brailleScene ? brailleScene->trainingLogCsv() : std::string();   // control has stopped
         session.finish();   // the session's own files first: a failing training log must not lose them
         if (brailleScene) writeFileAtomically(trainingLog, trainingCsv);

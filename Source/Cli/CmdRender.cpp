@@ -10,6 +10,7 @@
 #include "Core/Wav.h"
 #include "Engine/Engine.h"
 #include "Engine/OfflineRenderer.h"
+#include <optional>
 #include <algorithm>
 #include <iostream>
 #include <memory>
@@ -35,7 +36,9 @@ int runRender(const Arguments& args)
                                {"--out", "OUT.wav", "stereo WAV, 16-bit (written whole or not at all); may be left out with --midi-out"},
                                {"--tactile", "T.csv", "motor levels of every packet: t,m1..m9 (m10..m12 with --back-motors)"},
                                {"--audio-in", "FILE.wav", "the recording the listener hears, from the first motion row on: scenes that listen\n"
-                                                          "(score, audio-touch) follow it; its sample rate is used unless --sample-rate is given"},
+                                                          "(score, audio-touch) follow it, and it is mixed into OUT.wav under the scene's\n"
+                                                          "sound; its sample rate is used unless --sample-rate is given"},
+                               {"--no-audio-in-mix", "", "with --audio-in: leave the recording out of OUT.wav (the scene's sound alone)"},
                            });
                            o.push_back({"--back-motors", "", "drive the three back motors 10..12 as well"});
                            o.push_back({"--tail", "SECONDS", "audio rendered after the last motion row (default 0)"});
@@ -55,14 +58,12 @@ int runRender(const Arguments& args)
         engine.motorCount = cl.has("--back-motors") ? kGridMotors + kBackMotors : kGridMotors;
         settings.tailSeconds = cl.number("--tail", 0.0);
         if (settings.tailSeconds < 0.0 || settings.tailSeconds > 600.0) throw UsageError("--tail must lie in 0..600 s");
+        if (cl.has("--no-audio-in-mix") && !cl.has("--audio-in")) throw UsageError("--no-audio-in-mix applies to --audio-in");
+        settings.mixAudioIn = !cl.has("--no-audio-in-mix");
+        if (cl.has("--audio-in") && cl.value("--audio-in").empty()) throw UsageError("--audio-in needs a WAV file");
 
-        AudioBuffer recording;
-        if (cl.has("--audio-in")) {
-            if (cl.value("--audio-in").empty()) throw UsageError("--audio-in needs a WAV file");
-            recording = readWav(cl.value("--audio-in"));   // InputError names a bad file
-            if (!cl.has("--sample-rate")) engine.sceneConfig.sampleRate = recording.sampleRate;
-            settings.audioIn = &recording;
-        }
+        // Every output is checked before any input is read or anything rendered: a missing folder
+        // is an error now, not after the WAV was written.
         if (!cl.has("--out") && !cl.has("--midi-out")) throw UsageError("missing --out OUT.wav (or --map with --midi-out OUT.mid)");
         if (cl.has("--out") && cl.value("--out").empty()) throw UsageError("--out needs a file name");
         if ((cl.has("--midi-out") || cl.has("--osc-out")) && !cl.has("--map"))
@@ -74,6 +75,19 @@ int runRender(const Arguments& args)
             } catch (const std::invalid_argument& e) {
                 throw UsageError(std::string("--osc-out: ") + e.what());
             }
+        }
+        const std::string out = cl.value("--out"), tactile = cl.value("--tactile"), midiOut = cl.value("--midi-out");
+        if (cl.has("--out")) checkOutputPath("--out", out);
+        if (cl.has("--tactile")) checkOutputPath("--tactile", tactile);
+        if (cl.has("--midi-out")) checkOutputPath("--midi-out", midiOut);
+        checkDistinctOutputs({{"--out", out}, {"--tactile", tactile}, {"--midi-out", midiOut}});
+
+        AudioBuffer recording;
+        if (cl.has("--audio-in")) {
+            recording = readWav(cl.value("--audio-in"));   // IoError (4) when unreadable, InputError (3) naming the file when not audio
+            if (!cl.has("--sample-rate")) engine.sceneConfig.sampleRate = recording.sampleRate;
+            settings.audioIn = &recording;
+            settings.audioInName = cl.value("--audio-in");
         }
         const auto map = readMapOption(cl, engine);
         const double forward = readForwardOption(cl);
@@ -98,17 +112,36 @@ int runRender(const Arguments& args)
                 if (arm.valid) rig->step(t, arm, g, n, e);
             };
         }
+
+        // The audio streams into the WAV's temporary file as it is rendered (memory does not grow
+        // with the motion file's span); the WAV is renamed in only when everything succeeded.
+        std::optional<WavStreamWriter> wav;
+        if (cl.has("--out")) wav.emplace(out, engine.sceneConfig.sampleRate, 2, cl.has("--float"));
+        std::vector<float> interleaved;
+        settings.audioSink = [&](const float* left, const float* right, int n) {
+            if (!wav) return;   // --midi-out alone: the audio is rendered (scenes stay the same) but not kept
+            interleaved.resize(2 * static_cast<std::size_t>(n));
+            for (int i = 0; i < n; ++i) {
+                interleaved[2 * static_cast<std::size_t>(i)] = left[i];
+                interleaved[2 * static_cast<std::size_t>(i) + 1] = right[i];
+            }
+            if (!wav->write(interleaved.data(), static_cast<std::size_t>(n))) wav->finish();   // throws IoError naming the file
+        };
         const RenderResult r = renderOffline(motion, settings);
         if (rig) rig->finish(lastRow);
-
-        if (cl.has("--out")) writeWav(cl.value("--out"), r.audio, cl.has("--float"));
         if (cl.has("--midi-out")) {
             if (!midi) midi = std::make_unique<mapping::MidiFileWriter>(0.0);
-            midi->write(cl.value("--midi-out"));
+            midi->write(midiOut);
         }
-        if (cl.has("--tactile")) writeTactile(cl.value("--tactile"), r.tactile, engine.motorCount);
+        if (cl.has("--tactile")) writeTactile(tactile, r.tactile, engine.motorCount);
+        if (wav) {
+            wav->finish();
+            if (const std::string why = silenceReason(r, settings); !why.empty())
+                std::cerr << "armadillo render: the output is silent: " << why << "\n";
+        }
+        const double seconds = static_cast<double>(r.frames) / engine.sceneConfig.sampleRate;
         std::cout << "{\"scene\":\"" << engine.scene << "\",\"control_updates\":" << r.controlUpdates
-                  << ",\"frames\":" << r.audio.frames() << ",\"seconds\":" << r.audio.frames() / r.audio.sampleRate
+                  << ",\"frames\":" << r.frames << ",\"seconds\":" << seconds
                   << ",\"gestures\":" << r.gestures.size() << ",\"rows_without_orientation\":" << r.invalidRows;
         if (rig)
             std::cout << ",\"mapping_midi_events\":" << rig->midiEvents() << ",\"mapping_osc_messages\":" << rig->oscMessages()

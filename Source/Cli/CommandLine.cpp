@@ -5,6 +5,8 @@
 #include <charconv>
 #include <csignal>
 #include <cmath>
+#include <filesystem>
+#include <unistd.h>
 #include <iostream>
 
 namespace armadillo::cli {
@@ -115,6 +117,34 @@ std::string CommandLine::helpText() const
     }
     s += "  --help                  this text\n";
     return s;
+}
+
+void checkOutputPath(const std::string& option, const std::string& path)
+{
+    namespace fs = std::filesystem;
+    if (path.empty()) throw UsageError(option + " needs a file name");
+    std::error_code ec;
+    const fs::path target = fs::absolute(path, ec);
+    if (ec) throw IoError(option + ": cannot write '" + path + "': " + ec.message());
+    if (fs::is_directory(target, ec)) throw IoError(option + ": cannot write '" + path + "': it is a folder");
+    const fs::path dir = target.parent_path();
+    if (!fs::is_directory(dir, ec))
+        throw IoError(option + ": cannot write '" + path + "': the folder '" + dir.string() + "' does not exist");
+    if (::access(dir.c_str(), W_OK) != 0)
+        throw IoError(option + ": cannot write '" + path + "': no permission to write into '" + dir.string() + "'");
+}
+
+void checkDistinctOutputs(const std::vector<std::pair<std::string, std::string>>& outputs)
+{
+    namespace fs = std::filesystem;
+    for (std::size_t i = 0; i < outputs.size(); ++i)
+        for (std::size_t j = i + 1; j < outputs.size(); ++j) {
+            if (outputs[i].second.empty() || outputs[j].second.empty()) continue;
+            std::error_code a, b;
+            const fs::path p = fs::weakly_canonical(outputs[i].second, a), q = fs::weakly_canonical(outputs[j].second, b);
+            if (!a && !b && p == q)
+                throw UsageError(outputs[i].first + " and " + outputs[j].first + " name the same file '" + outputs[i].second + "'");
+        }
 }
 
 int guarded(const std::string& command, const std::function<int()>& body)

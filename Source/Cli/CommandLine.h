@@ -44,6 +44,13 @@ private:
     std::vector<std::pair<std::string, std::string>> values_;
 };
 
+/// Refuses an output file that cannot be written, before any work starts: IoError (exit 4) naming
+/// the option and the path when its folder does not exist or is not writable, or when the path
+/// is a folder; UsageError for an empty path.
+void checkOutputPath(const std::string& option, const std::string& path);
+/// Refuses (UsageError) two outputs given the same file: {option, path} pairs, empty paths skipped.
+void checkDistinctOutputs(const std::vector<std::pair<std::string, std::string>>& outputs);
+
 /// Runs a subcommand body, mapping exceptions to exit codes and messages on stderr:
 /// UsageError → 2, InputError → 3, IoError → 4, anything else → 1.
 int guarded(const std::string& command, const std::function<int()>& body);

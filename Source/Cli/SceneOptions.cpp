@@ -3,10 +3,17 @@
 
 namespace armadillo::cli {
 
+std::string sceneList()
+{
+    std::string list;
+    for (const std::string& n : sceneNames()) list += (list.empty() ? "" : " ") + n;
+    return list;
+}
+
 std::vector<OptionSpec> sceneOptionSpecs()
 {
     return {
-        {"--scene", "SCENE", "monitor theremin cymbal panel sound-design compass braille score", true},
+        {"--scene", "SCENE", sceneList(), true},
         {"--sample-rate", "HZ", "audio sample rate (default 48000)"},
         {"--score", "NAME", "score scene: rite-of-spring, polytope, a score of yours (armadillo resources), or a .score file"},
         {"--text", "TEXT", "braille scene: the text to read (@FILE reads a text or .brf file)"},
@@ -22,7 +29,7 @@ void readSceneOptions(const CommandLine& cl, EngineConfig& engine)
     engine.scene = cl.value("--scene");
     const auto& names = sceneNames();
     if (std::find(names.begin(), names.end(), engine.scene) == names.end())
-        throw UsageError("unknown scene '" + engine.scene + "'");
+        throw UsageError("unknown scene '" + engine.scene + "' (scenes: " + sceneList() + ")");
     engine.sceneConfig.sampleRate = static_cast<double>(cl.integer("--sample-rate", 48000, 8000, 384000));
     engine.sceneConfig.seed = static_cast<std::uint64_t>(cl.integer("--seed", 1, 0, 1L << 62));
     engine.sceneConfig.text = cl.value("--text");
@@ -34,6 +41,11 @@ void readSceneOptions(const CommandLine& cl, EngineConfig& engine)
     if (arm != "right" && arm != "left") throw UsageError("--arm must be right or left");
     engine.sceneConfig.side = arm == "left" ? ArmSide::Left : ArmSide::Right;
     engine.parameters = cl.values("--param");
+    // A setting the scene does not have, or a value it does not take, is bad usage (exit 2),
+    // refused before any file is read or written.
+    for (const std::string& p : engine.parameters)
+        if (const std::string problem = sceneParameterProblem(engine.scene, p); !problem.empty())
+            throw UsageError("--param " + p + ": " + problem);
     if (engine.scene == "score" && engine.sceneConfig.score.empty())
         throw UsageError("the score scene needs --score (rite-of-spring, polytope or a file)");
     // Training (play --training-log) brings its own material; reading needs a text.

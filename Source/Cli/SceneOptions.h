@@ -7,6 +7,8 @@
 
 namespace armadillo::cli {
 
+/// Every scene name, space-separated, in the order of sceneNames() (help texts).
+std::string sceneList();
 /// Option specs for choosing and configuring a scene.
 std::vector<OptionSpec> sceneOptionSpecs();
 /// Fills `engine` from the parsed options; throws UsageError for bad values.

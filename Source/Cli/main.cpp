@@ -1,6 +1,7 @@
 // `armadillo`: the engine headless — fusion, rendering, the live device link and braille.
 #include "Cli/CommandLine.h"
 #include "Cli/Commands.h"
+#include "Cli/SceneOptions.h"
 #include "Core/Types.h"
 #include "Core/Version.h"
 #include <iostream>
@@ -40,7 +41,7 @@ std::string helpText()
     s += "\noptions:\n"
          "  --version   print the version (" + std::string(armadillo::kVersion) + ") and exit\n"
          "  --help      this text\n"
-         "\nscenes: monitor theremin cymbal panel sound-design compass braille score\n"
+         "\nscenes: " + armadillo::cli::sceneList() + "\n"
          "exit codes: 0 ok, 1 failure, 2 bad usage, 3 bad input, 4 device or I/O failure\n";
     return s;
 }

@@ -49,12 +49,24 @@ void writeFileAtomically(const std::string& path, std::string_view content)
 
 std::string readWholeFile(const std::string& path)
 {
+    // Folders and devices are refused by name (a folder would read as an empty file, /dev/zero
+    // would never end); pipes are read, up to the same bound as files.
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0) {
+        if (S_ISDIR(st.st_mode)) throw IoError("cannot read '" + path + "': it is a folder, not a file");
+        if (S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode)) throw IoError("cannot read '" + path + "': it is a device, not a file");
+    }
     std::ifstream in(path, std::ios::binary);
     if (!in) throw IoError("cannot open '" + path + "': " + std::strerror(errno));
-    std::ostringstream ss;
-    ss << in.rdbuf();
+    std::string out;
+    char buffer[1 << 16];
+    while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
+        out.append(buffer, static_cast<std::size_t>(in.gcount()));
+        if (out.size() > kMaxInputFileBytes)
+            throw IoError("cannot read '" + path + "': larger than " + std::to_string(kMaxInputFileBytes >> 20) + " MiB, more than any input needs");
+    }
     if (in.bad()) throw IoError("cannot read '" + path + "'");
-    return ss.str();
+    return out;
 }
 
 } // namespace armadillo

@@ -2,6 +2,7 @@
 #include "Core/AtomicFile.h"
 #include "Core/Errors.h"
 #include <charconv>
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -209,6 +210,20 @@ std::vector<ImuSample> readImu(const CsvTable& t)
     if (magCount != 0 && magCount != 3)
         for (int i = 0; i < 3; ++i)
             if (m[i] < 0) t.requireColumn(mn[i]);   // names the missing one
+    // NaN is a missing value (skipped by fusion); infinity and magnitudes no arm or sensor makes
+    // are refused here, naming the cell, rather than turned into NaN orientations later.
+    auto check = [&](std::size_t r, int column, double v, double limit, const char* what) {
+        if (std::isnan(v)) return;
+        if (!std::isfinite(v)) t.fail(r, column, std::string(what) + " must be a finite number (or NaN for a missing value)");
+        if (std::abs(v) > limit)
+        {
+            std::string text;
+            appendNumber(text, v, 6);
+            std::string most;
+            appendNumber(most, limit, 6);
+            t.fail(r, column, std::string(what) + " " + text + " is beyond any sensor (|value| at most " + most + ")");
+        }
+    };
     std::vector<ImuSample> out(t.rowCount());
     for (std::size_t r = 0; r < t.rowCount(); ++r) {
         ImuSample& s = out[r];
@@ -217,6 +232,9 @@ std::vector<ImuSample> readImu(const CsvTable& t)
             s.gyro[i] = t.value(r, g[i]);
             s.accel[i] = t.value(r, a[i]);
             s.mag[i] = magCount ? t.value(r, m[i]) : kNaN;
+            check(r, g[i], s.gyro[i], kMaxImuGyro, "angular rate (rad/s)");
+            check(r, a[i], s.accel[i], kMaxImuAccel, "acceleration (m/s²)");
+            if (magCount) check(r, m[i], s.mag[i], kMaxImuMag, "magnetic field");
         }
     }
     return out;
@@ -234,8 +252,12 @@ std::vector<TimedQuaternion> readQuaternions(const CsvTable& t)
             v[i] = t.value(r, c[i]);
             if (!std::isfinite(v[i])) t.fail(r, c[i], "quaternion component must be a finite number");
         }
+        // Normalised after scaling by the largest component, so neither 1e200 (whose square
+        // overflows) nor 1e-200 (whose square underflows) loses the direction.
+        const double big = std::max({std::abs(v[0]), std::abs(v[1]), std::abs(v[2]), std::abs(v[3])});
+        if (!(big > 0.0)) t.fail(r, c[0], "quaternion has zero length");
+        for (double& x : v) x /= big;
         const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] + v[3] * v[3]);
-        if (n < 1e-9) t.fail(r, c[0], "quaternion has zero length");
         out[r].t = t.value(r, ct);
         out[r].q = Eigen::Quaterniond(v[0] / n, v[1] / n, v[2] / n, v[3] / n);
     }
@@ -259,6 +281,8 @@ std::vector<TimedPose> readPoses(const CsvTable& t)
         for (int c : {ce, ca, cr})
             if (!std::isfinite(t.value(r, c))) t.fail(r, c, "angle must be a finite number of degrees");
         if (std::abs(t.value(r, ce)) > 90.0) t.fail(r, ce, "elevation must lie in -90..90 degrees");
+        for (int c : {ca, cr})   // any angle is allowed, but a million degrees is a typo, not a turn
+            if (std::abs(t.value(r, c)) > 1.0e6) t.fail(r, c, "angle beyond ±1e6 degrees");
         out[r].t = t.value(r, ct);
         out[r].pose = Pose {t.value(r, ce), t.value(r, ca), t.value(r, cr)};
     }

@@ -67,7 +67,14 @@ enum class MotionKind { Imu, Quaternion, Pose, Unknown };
 /// Tells a motion file apart by its header: IMU (gx..az), quaternion (qw..qz) or pose.
 MotionKind detectMotionKind(const CsvTable& table);
 
-/// t,gx,gy,gz,ax,ay,az[,mx,my,mz]; magnetometer columns optional (absent ⇒ NaN).
+/// Largest magnitudes readImu accepts: far beyond any MEMS sensor (±2000 °/s ≈ 35 rad/s, ±400 g),
+/// so only typos and garbage are refused. The magnetometer is in any unit (raw counts, µT, nT).
+inline constexpr double kMaxImuGyro = 1.0e3;    ///< rad/s
+inline constexpr double kMaxImuAccel = 1.0e4;   ///< m/s²
+inline constexpr double kMaxImuMag = 1.0e9;
+/// t,gx,gy,gz,ax,ay,az[,mx,my,mz]; magnetometer columns optional (absent ⇒ NaN). NaN marks a
+/// missing value; infinities and magnitudes beyond the limits above are refused (InputError
+/// naming file, line and column).
 std::vector<ImuSample> readImu(const CsvTable& table);
 
 struct TimedQuaternion {

@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <unordered_set>
 
 namespace armadillo::device {
 
@@ -43,9 +44,11 @@ public:
     }
 
 private:
-    [[noreturn]] void fail(const std::string& message) const
+    /// The message gains the column (1-based, in bytes) of the current position on its line.
+    [[noreturn]] void fail(const std::string& message) const { failAt(pos_, message); }
+    [[noreturn]] void failAt(std::size_t at, const std::string& message) const
     {
-        throw InputError(source_, line_, "", "column " + std::to_string(pos_ - lineStart_ + 1) + ": " + message);
+        throw InputError(source_, line_, "", "at column " + std::to_string(at - lineStart_ + 1) + ": " + message);
     }
 
     void skipSpace()
@@ -85,11 +88,15 @@ private:
                 ++pos_;
                 return v;
             }
+            // Duplicate keys are refused (RFC 8259 leaves them undefined: a file that says two
+            // things is a mistake). A hash set keeps the check linear in the number of keys.
+            std::unordered_set<std::string> keys;
             for (;;) {
                 skipSpace();
                 if (pos_ >= text_.size() || text_[pos_] != '"') fail("expected a key in double quotes");
+                const std::size_t keyAt = pos_;
                 std::string key = string();
-                if (v.find(key)) fail("duplicate key \"" + key + "\"");
+                if (!keys.insert(key).second) failAt(keyAt, "duplicate key \"" + key + "\"");
                 skipSpace();
                 if (pos_ >= text_.size() || text_[pos_] != ':') fail("expected ':' after key \"" + key + "\"");
                 ++pos_;
@@ -245,8 +252,8 @@ private:
     std::string_view text_;
     const std::string& source_;
     std::size_t pos_ = 0;
+    std::size_t lineStart_ = 0;   // where line_ begins in text_
     long line_ = 1;
-    std::size_t lineStart_ = 0;   // offset of the current line's first byte (columns count bytes from 1)
 };
 
 } // namespace

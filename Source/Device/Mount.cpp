@@ -75,12 +75,7 @@ const char* defaultMountPresetForFormat(std::string_view format)
 
 Mount loadMount(const std::string& path)
 {
-    std::string text;
-    try {
-        text = readWholeFile(path);
-    } catch (const std::exception& e) {
-        throw InputError(path, 0, "", std::string("cannot read the mount file: ") + e.what());
-    }
+    const std::string text = readWholeFile(path);   // IoError (exit 4) naming the file when it cannot be read
     const JsonValue root = parseJson(text, path);
     const JsonValue* m = root.kind == JsonValue::Kind::Object ? root.find("mount") : nullptr;
     if (!m || m->kind != JsonValue::Kind::Object) throw InputError(path, root.line, "mount", "expected an object {\"mount\": {\"quaternion\": [w, x, y, z]}}");
@@ -123,6 +118,9 @@ Mount mountFromArgument(const std::string& presetOrPath)
 {
     Mount m;
     if (mountPreset(presetOrPath, m)) return m;
+    const bool isPath = presetOrPath.find('/') != std::string::npos || presetOrPath.ends_with(".json");
+    if (isPath && !std::filesystem::exists(presetOrPath))   // a file that is not there: I/O, as for any input file
+        throw IoError("cannot read mount file '" + presetOrPath + "': no such file");
     if (!std::filesystem::exists(presetOrPath))
         throw InputError(presetOrPath, 0, "", "neither a mount preset (" + mountPresetNames() + ") nor an existing mount file");
     return loadMount(presetOrPath);

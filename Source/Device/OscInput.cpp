@@ -253,8 +253,10 @@ bool OscSampleMerger::admit(double t) noexcept
         windowCount_ = 0;
         windowLimited_ = false;
     }
-    if (rateEstimate_ > 0.0) {
-        const double refill = std::max(options_.floodFactor * rateEstimate_, 20.0);
+    {
+        // Before the first second has measured the stream, a ceiling no real sensor reaches
+        // (kOscFloodCeilingHz) holds from the first packet on.
+        const double refill = rateEstimate_ > 0.0 ? std::max(options_.floodFactor * rateEstimate_, 20.0) : kOscFloodCeilingHz;
         const double capacity = std::max(0.25 * refill, 10.0);
         if (tokensT_ < 0.0) tokens_ = capacity;
         else tokens_ = std::min(capacity, tokens_ + refill * std::max(0.0, t - tokensT_));

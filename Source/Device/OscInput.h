@@ -38,6 +38,10 @@ struct OscInputOptions {
                                           ///< filter without heading); not for ARMadillo's own messages
 };
 
+/// Samples per second let through before a stream's own rate is measured (its first second):
+/// above the fastest OSC sensors (NGIMU, phones: up to ~1 kHz), so only floods are cut.
+inline constexpr double kOscFloodCeilingHz = 2000.0;
+
 struct OscInputStats {
     std::uint64_t datagrams = 0;
     std::uint64_t imu = 0;            ///< IMU samples delivered

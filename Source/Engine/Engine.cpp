@@ -36,30 +36,58 @@ Engine::Engine(const EngineConfig& config, std::unique_ptr<Scene> scene) : confi
     setSceneParameters(config_.parameters);
 }
 
-void Engine::setSceneParameter(const std::string& id, const std::string& value)
+namespace {
+/// The parameter `id` of a scene with these specs set to `value`: its index and value, or an
+/// empty `problem` saying what is wrong (unknown id, not a number or a choice, out of range).
+struct ParameterSetting {
+    int index = -1;
+    float value = 0.0f;
+    std::string problem;
+};
+
+ParameterSetting resolveParameter(const std::vector<ParamSpec>& specs, const std::string& scene, const std::string& id,
+                                  const std::string& value)
 {
-    const std::vector<ParamSpec> specs = scene_->parameters();
+    ParameterSetting out;
     for (std::size_t i = 0; i < specs.size(); ++i) {
         const ParamSpec& p = specs[i];
         if (p.id != id) continue;
+        out.index = static_cast<int>(i);
         for (std::size_t c = 0; c < p.choices.size(); ++c)
             if (p.choices[c] == value) {
-                scene_->setParameter(static_cast<int>(i), static_cast<float>(c));
-                return;
+                out.value = static_cast<float>(c);
+                return out;
             }
         double v = 0.0;
         const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), v);
         if (ec != std::errc() || end != value.data() + value.size() || !std::isfinite(v) || v < double(p.min) || v > double(p.max)) {
             std::string allowed = std::to_string(p.min) + ".." + std::to_string(p.max);
             for (std::size_t c = 0; c < p.choices.size(); ++c) allowed += (c ? ", " : " or ") + p.choices[c];
-            throw InputError("", 0, id, "'" + value + "' is not a valid value (" + allowed + (p.unit.empty() ? "" : " " + p.unit) + ")");
+            out.problem = "'" + value + "' is not a valid value (" + allowed + (p.unit.empty() ? "" : " " + p.unit) + ")";
+            return out;
         }
-        scene_->setParameter(static_cast<int>(i), static_cast<float>(v));
-        return;
+        out.value = static_cast<float>(v);
+        return out;
     }
     std::string ids;
     for (const auto& p : specs) ids += (ids.empty() ? "" : ", ") + p.id;
-    throw InputError("", 0, id, "scene '" + config_.scene + "' has no such parameter (it has: " + (ids.empty() ? "none" : ids) + ")");
+    out.problem = "scene '" + scene + "' has no such parameter (it has: " + (ids.empty() ? "none" : ids) + ")";
+    return out;
+}
+} // namespace
+
+std::string sceneParameterProblem(const std::string& scene, const std::string& assignment)
+{
+    const auto eq = assignment.find('=');
+    if (eq == std::string::npos || eq == 0) return "scene parameter '" + assignment + "' must be written id=value";
+    return resolveParameter(createScene(scene)->parameters(), scene, assignment.substr(0, eq), assignment.substr(eq + 1)).problem;
+}
+
+void Engine::setSceneParameter(const std::string& id, const std::string& value)
+{
+    const ParameterSetting s = resolveParameter(scene_->parameters(), config_.scene, id, value);
+    if (!s.problem.empty()) throw InputError("", 0, id, s.problem);
+    scene_->setParameter(s.index, s.value);
 }
 
 void Engine::setSceneParameters(const std::vector<std::string>& assignments)

@@ -22,6 +22,10 @@ class TactileEngine;
 const std::vector<std::string>& sceneNames();
 /// A new scene by name; throws InputError for an unknown name.
 std::unique_ptr<Scene> createScene(const std::string& name);
+/// What is wrong with one "id=value" setting for `scene` (the check Engine::setSceneParameter
+/// makes, without preparing the scene): empty when it would be accepted. For front ends that
+/// refuse a bad setting as bad usage before any work starts (`--param`).
+std::string sceneParameterProblem(const std::string& scene, const std::string& assignment);
 
 struct EngineConfig {
     std::string scene = "monitor";

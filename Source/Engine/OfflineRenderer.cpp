@@ -4,6 +4,7 @@
 #include "Engine/ArmTracker.h"
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace armadillo {
 
@@ -34,34 +35,51 @@ MotionSource loadMotion(const CsvTable& table)
 RenderResult renderOffline(const CsvTable& motion, const RenderSettings& settings)
 {
     const MotionSource source = loadMotion(motion);
-    Engine engine(settings.engine);
-    ArmTracker tracker;
     const double sampleRate = settings.engine.sceneConfig.sampleRate;
     if (!(sampleRate >= 8000.0 && sampleRate <= 384000.0))
         throw InputError("", 0, "", "sample rate must lie in 8000..384000 Hz");
 
+    // The span is checked before the engine starts or anything is rendered: a time column that
+    // jumps to 1e12 s is a bad file, not a request for a year of audio.
+    // Collected in memory (no audioSink), the audio is bounded more tightly: an hour of stereo
+    // float is 1.4 GB; longer renders stream.
+    const double t0 = source.time(0);
+    const double tail = std::max(0.0, settings.tailSeconds);
+    const double maxSeconds = settings.audioSink ? settings.maxSeconds : std::min(settings.maxSeconds, kMaxCollectedRenderSeconds);
+    for (std::size_t i = 0; i < source.size(); ++i)
+        if (source.time(i) - t0 + tail > maxSeconds) {
+            const int tc = motion.columnIndex("t");
+            char what[160];
+            std::snprintf(what, sizeof what, "the file would render %.6g s from its first row (at most %.6g s): is the time column in seconds?",
+                          source.time(i) - t0 + tail, maxSeconds);
+            motion.fail(i, tc, what);
+        }
+
+    Engine engine(settings.engine);
+    ArmTracker tracker;
+    const std::string audioInName = settings.audioInName.empty() ? std::string("--audio-in") : settings.audioInName;
     const AudioBuffer* input = settings.audioIn;
     if (input) {
         if (!engine.listensToAudio())
-            throw InputError("", 0, "--audio-in", "scene '" + settings.engine.scene + "' does not listen to audio (score and audio-touch do)");
-        if (input->channels.empty() || input->frames() == 0) throw InputError("", 0, "--audio-in", "the recording holds no audio");
+            throw InputError(audioInName, 0, "", "--audio-in: scene '" + settings.engine.scene + "' does not listen to audio (score and audio-touch do)");
+        if (input->channels.empty() || input->frames() == 0) throw InputError(audioInName, 0, "", "--audio-in: the recording holds no audio");
         if (std::fabs(input->sampleRate - sampleRate) > 0.5)
-            throw InputError("", 0, "--audio-in", "the recording's sample rate (" + std::to_string(static_cast<long>(input->sampleRate)) +
+            throw InputError(audioInName, 0, "", "--audio-in: the recording's sample rate (" + std::to_string(static_cast<long>(input->sampleRate)) +
                                                       " Hz) differs from the engine's (" + std::to_string(static_cast<long>(sampleRate)) +
                                                       " Hz); give --sample-rate to match it");
     }
+    const int block = std::clamp(settings.blockSize, 1, 8192);
     std::vector<const float*> inputChannels(input ? input->channels.size() : 0, nullptr);
-    std::vector<std::vector<float>> inputScratch(inputChannels.size(), std::vector<float>(static_cast<std::size_t>(std::clamp(settings.blockSize, 1, 8192)), 0.0f));
+    std::vector<std::vector<float>> inputScratch(inputChannels.size(), std::vector<float>(static_cast<std::size_t>(block), 0.0f));
 
     RenderResult result;
-    const double t0 = source.time(0);
-    const double tEnd = source.time(source.size() - 1) + std::max(0.0, settings.tailSeconds);
+    const double tEnd = source.time(source.size() - 1) + tail;
     const auto totalFrames = static_cast<std::size_t>(std::llround((tEnd - t0) * sampleRate)) + 1;
     result.audio.sampleRate = sampleRate;
-    result.audio.channels.assign(2, std::vector<float>(totalFrames, 0.0f));
-    result.tactile.reserve(source.size());
+    if (!settings.audioSink) result.audio.channels.assign(2, std::vector<float>(totalFrames, 0.0f));   // bounded by maxSeconds
+    result.tactile.reserve(source.size() + 1);
 
-    const int block = std::clamp(settings.blockSize, 1, 8192);
+    std::vector<float> left(static_cast<std::size_t>(block)), right(static_cast<std::size_t>(block));
     std::size_t frame = 0;
     const auto renderUntil = [&](double t) {
         const auto target = std::min(totalFrames, static_cast<std::size_t>(std::llround((t - t0) * sampleRate)));
@@ -82,13 +100,34 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
                 }
                 engine.processInput(inputChannels.data(), static_cast<int>(inputChannels.size()), n);
             }
-            engine.renderAudio(result.audio.channels[0].data() + frame, result.audio.channels[1].data() + frame, n);
+            std::fill(left.begin(), left.begin() + n, 0.0f);
+            std::fill(right.begin(), right.begin() + n, 0.0f);
+            engine.renderAudio(left.data(), right.data(), n);
+            for (int i = 0; i < n; ++i)
+                result.scenePeak = std::max({result.scenePeak, std::fabs(left[static_cast<std::size_t>(i)]), std::fabs(right[static_cast<std::size_t>(i)])});
+            if (input && settings.mixAudioIn) {   // the recording as the listener hears it, under the scene's sound
+                const float* first = inputChannels[0];
+                const float* second = inputChannels[inputChannels.size() > 1 ? 1 : 0];
+                for (int i = 0; i < n; ++i) {
+                    left[static_cast<std::size_t>(i)] = std::clamp(left[static_cast<std::size_t>(i)] + first[i], -1.0f, 1.0f);
+                    right[static_cast<std::size_t>(i)] = std::clamp(right[static_cast<std::size_t>(i)] + second[i], -1.0f, 1.0f);
+                }
+            }
+            for (int i = 0; i < n; ++i)
+                result.peak = std::max({result.peak, std::fabs(left[static_cast<std::size_t>(i)]), std::fabs(right[static_cast<std::size_t>(i)])});
+            if (settings.audioSink) {
+                settings.audioSink(left.data(), right.data(), n);
+            } else {
+                std::copy(left.begin(), left.begin() + n, result.audio.channels[0].begin() + static_cast<std::ptrdiff_t>(frame));
+                std::copy(right.begin(), right.begin() + n, result.audio.channels[1].begin() + static_cast<std::ptrdiff_t>(frame));
+            }
             frame += static_cast<std::size_t>(n);
         }
     };
 
     if (input) engine.processInput(inputChannels.data(), static_cast<int>(inputChannels.size()), 0);   // the recording itself, from sample 0
     double previous = t0;
+    bool anyPose = false;
     for (std::size_t i = 0; i < source.size(); ++i) {
         const double t = source.time(i);
         renderUntil(t);
@@ -102,6 +141,14 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
         MotorLevels levels {};
         if (arm.valid) {
             levels = engine.control(arm, transport, t - previous);
+            const Pose& p = arm.features.pose;
+            if (std::isfinite(p.elevationDeg) && std::isfinite(p.azimuthDeg)) {
+                result.minElevation = anyPose ? std::min(result.minElevation, p.elevationDeg) : p.elevationDeg;
+                result.maxElevation = anyPose ? std::max(result.maxElevation, p.elevationDeg) : p.elevationDeg;
+                result.minAzimuth = anyPose ? std::min(result.minAzimuth, p.azimuthDeg) : p.azimuthDeg;
+                result.maxAzimuth = anyPose ? std::max(result.maxAzimuth, p.azimuthDeg) : p.azimuthDeg;
+                anyPose = true;
+            }
         } else {
             engine.allOff();
             ++result.invalidRows;
@@ -119,7 +166,37 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
             settings.onControl(t, arm, result.gestures.data() + firstGesture, result.gestures.size() - firstGesture, engine);
     }
     renderUntil(tEnd + 1.0 / sampleRate);
+    // The render ends as a session does: every motor off, in one last packet (the tactile file's
+    // last row), at the end of the audio.
+    engine.allOff();
+    result.tactile.push_back({tEnd, MotorLevels {}});
+    result.frames = frame;
     return result;
+}
+
+std::string silenceReason(const RenderResult& r, const RenderSettings& settings)
+{
+    if (r.peak > 0.0f) return "";
+    const std::string& scene = settings.engine.scene;
+    // Scenes without a sound of their own (docs/INTERFACES.md, scene list).
+    if (scene == "monitor") return "the monitor scene makes no sound (it is for recordings and link tests; motors stay off)";
+    if (scene == "score" || scene == "audio-touch") {
+        if (!settings.audioIn)
+            return "the " + scene + " scene makes no sound of its own: it follows a recording (give --audio-in FILE.wav; "
+                   "the recording is then mixed into the output)";
+        if (!settings.mixAudioIn) return "the " + scene + " scene makes no sound of its own, and --no-audio-in-mix left the recording out";
+        return "the recording given with --audio-in is silent, and the " + scene + " scene makes no sound of its own";
+    }
+    if (scene == "compass" || scene == "braille") return "the " + scene + " scene is felt, not heard: it makes no sound";
+    if (r.controlUpdates > 0 && r.invalidRows == r.controlUpdates)
+        return "no row of the motion file gave an orientation (the IMU samples never let fusion settle), so the scene never played";
+    char range[200];
+    std::snprintf(range, sizeof range, "the arm stayed within elevation %.1f..%.1f deg and azimuth %.1f..%.1f deg",
+                  r.minElevation, r.maxElevation, r.minAzimuth, r.maxAzimuth);
+    std::string why = "scene '" + scene + "' made no sound over this motion: " + range;
+    if (scene == "cymbal") why += "; the cymbal sounds on a strike (a fast swing of the forearm)";
+    else if (scene == "theremin" || scene == "panel" || scene == "sound-design") why += "; check the scene's range parameters (--param) against this motion";
+    return why;
 }
 
 } // namespace armadillo

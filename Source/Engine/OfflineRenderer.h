@@ -11,6 +11,9 @@
 
 namespace armadillo {
 
+/// Longest render whose audio is collected in RenderResult::audio (no audioSink): one hour.
+inline constexpr double kMaxCollectedRenderSeconds = 3600.0;
+
 struct RenderSettings {
     EngineConfig engine {};
     double tailSeconds = 0.0;      ///< audio rendered after the last row (e.g. to hear a crash ring out)
@@ -25,15 +28,38 @@ struct RenderSettings {
     /// scene's outputs, Engine::sceneValues, and parameters): what a front end's mapping
     /// (`render --map`, Source/Mapping) reads and drives. Empty: not called.
     std::function<void(double t, const ArmState& arm, const GestureEvent* gestures, std::size_t count, Engine& engine)> onControl;
+    std::string audioInName;       ///< the file audioIn came from, named in messages
+    /// Mix the recording (audioIn) into the rendered audio, as the listener hears it (the scene's
+    /// sound over the recording, clipped to ±1). False: the scene's sound alone.
+    bool mixAudioIn = true;
+    /// Longest span a render may cover (first row to last row + tail); a motion file spanning
+    /// more is refused with an InputError naming the row, before anything is rendered. Without
+    /// an audioSink, at most kMaxCollectedRenderSeconds.
+    double maxSeconds = 24.0 * 3600.0;
+    /// Where the audio goes, block by block (stereo, at most blockSize frames). Set: the audio is
+    /// streamed there and RenderResult::audio stays empty (memory does not grow with the span).
+    /// Empty: the audio is collected in RenderResult::audio.
+    std::function<void(const float* left, const float* right, int frames)> audioSink;
 };
 
 struct RenderResult {
     AudioBuffer audio;                       ///< stereo, engine.sceneConfig.sampleRate
-    std::vector<TactileRow> tactile;         ///< one row per control update (motor packet)
+    std::vector<TactileRow> tactile;         ///< one row per control update (motor packet), then the
+                                             ///< all-off packet sent at the end (at the render's end time)
     std::vector<GestureEvent> gestures;      ///< every gesture the scene emitted
     std::size_t controlUpdates = 0;
     std::size_t invalidRows = 0;             ///< rows before fusion had an orientation (motors stay off)
+    std::uint64_t frames = 0;                ///< audio frames rendered (streamed or collected)
+    float peak = 0.0f;                       ///< largest |sample| of the output (0: it is silent)
+    float scenePeak = 0.0f;                  ///< largest |sample| of the scene's own sound (without the recording)
+    double minElevation = 0.0, maxElevation = 0.0;   ///< degrees, over rows with an orientation
+    double minAzimuth = 0.0, maxAzimuth = 0.0;       ///< degrees
 };
+
+/// Why a render came out silent, in words for a user (empty when `r.peak` > 0): the scene makes
+/// no sound, a listening scene without a recording, no row with an orientation, or the arm's
+/// range over the file.
+std::string silenceReason(const RenderResult& r, const RenderSettings& settings);
 
 /// Runs the scene over the motion table (IMU, quaternion or pose file); throws InputError for
 /// a file that is not a motion file.

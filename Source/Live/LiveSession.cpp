@@ -120,11 +120,11 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
     }
     if (!config_.audioIn.empty()) {
         if (!engine_->listensToAudio())
-            throw InputError(config_.audioIn, 0, "--audio-in", "scene '" + config_.engine.scene + "' does not listen to audio (score and audio-touch do)");
+            throw InputError(config_.audioIn, 0, "", "--audio-in: scene '" + config_.engine.scene + "' does not listen to audio (score and audio-touch do)");
         recording_ = readWav(config_.audioIn);   // InputError names a bad file
-        if (recording_.channels.empty() || recording_.frames() == 0) throw InputError(config_.audioIn, 0, "--audio-in", "the recording holds no audio");
+        if (recording_.channels.empty() || recording_.frames() == 0) throw InputError(config_.audioIn, 0, "", "--audio-in: the recording holds no audio");
         if (std::fabs(recording_.sampleRate - config_.engine.sceneConfig.sampleRate) > 0.5)
-            throw InputError(config_.audioIn, 0, "--audio-in", "the recording's sample rate (" + std::to_string(static_cast<long>(recording_.sampleRate)) +
+            throw InputError(config_.audioIn, 0, "", "--audio-in: the recording's sample rate (" + std::to_string(static_cast<long>(recording_.sampleRate)) +
                                                                   " Hz) differs from the engine's (" +
                                                                   std::to_string(static_cast<long>(config_.engine.sceneConfig.sampleRate)) +
                                                                   " Hz); give --sample-rate to match it");
@@ -153,6 +153,7 @@ LiveSession::~LiveSession()
 MotorLevels LiveSession::control(double t, const SensorCounts* counts, const ImuSample* imu, const Eigen::Quaterniond* q)
 {
     if (motorsOff_.load(std::memory_order_acquire)) {
+        if (zeroPacketT_.load(std::memory_order_relaxed) < 0.0) zeroPacketT_.store(t, std::memory_order_relaxed);
         zeroPacketsSent_.fetch_add(1, std::memory_order_release);
         return MotorLevels {};
     }
@@ -256,12 +257,15 @@ void LiveSession::renderBlock(float* left, float* right, int n) noexcept
     const int channels = recording_.channels.size() > 1 ? 2 : 1;
     const float* first = recording_.channels[0].data();
     const float* second = recording_.channels[static_cast<std::size_t>(channels - 1)].data();
+    // Where frame `at` of the session falls in the recording (≥ frames: after its end).
+    const bool loop = config_.audioInLoop;
+    auto position = [&](std::uint64_t at) noexcept { return loop ? at % frames : at; };
     if (recordingAt_ == 0) {   // the recording itself: followed from its first sample
         const float* in[2] = {first, second};
         engine_->processInput(in, channels, 0);
     }
     for (int done = 0; done < n;) {
-        const std::uint64_t at = recordingAt_ + static_cast<std::uint64_t>(done);
+        const std::uint64_t at = position(recordingAt_ + static_cast<std::uint64_t>(done));
         const bool inside = at < frames;
         const int len = inside ? static_cast<int>(std::min<std::uint64_t>(static_cast<std::uint64_t>(n - done), frames - at))
                                : std::min(n - done, static_cast<int>(recordingSilence_.size()));
@@ -270,12 +274,27 @@ void LiveSession::renderBlock(float* left, float* right, int n) noexcept
         done += len;
     }
     engine_->renderAudio(left, right, n);
-    for (int i = 0; i < n && recordingAt_ + static_cast<std::uint64_t>(i) < frames; ++i) {
-        const std::uint64_t at = recordingAt_ + static_cast<std::uint64_t>(i);
+    for (int i = 0; i < n; ++i) {
+        const std::uint64_t at = position(recordingAt_ + static_cast<std::uint64_t>(i));
+        if (at >= frames) break;
         left[i] = std::clamp(left[i] + first[at], -1.0f, 1.0f);
         right[i] = std::clamp(right[i] + second[at], -1.0f, 1.0f);
     }
     recordingAt_ += static_cast<std::uint64_t>(n);
+    recordingPlayed_.store(recordingAt_, std::memory_order_release);
+}
+
+double LiveSession::recordingSeconds() const noexcept
+{
+    return recording_.channels.empty() ? 0.0 : static_cast<double>(recording_.frames()) / recording_.sampleRate;
+}
+
+bool LiveSession::recordingEnded() const noexcept
+{
+    if (recording_.channels.empty() || config_.audioInLoop) return false;
+    if (wav_ || (soundCard_ && !soundCard_->failed())) return recordingPlayed_.load(std::memory_order_acquire) >= recording_.frames();
+    if (!running_.load() || started_.time_since_epoch().count() == 0) return false;
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count() >= recordingSeconds();
 }
 
 void LiveSession::audioLoop()
@@ -331,6 +350,15 @@ void LiveSession::stop()
     if (oscIn_) oscIn_->stop();
     if (simulator_) simulator_->stop();
     engine_->allOff();
+    // The tactile file ends with the all-off that was sent: the zero packet answered above (at
+    // its packet's time), or the motors' off state at the last packet's time.
+    if (tactile_ && updates_.load() > 0) {
+        const double zeroT = zeroPacketT_.load();
+        LogRow row;
+        row.count = 1 + config_.engine.motorCount;
+        row.v[0] = zeroT >= 0.0 ? zeroT : latestT_.load();
+        tactile_->push(row);
+    }
     if (oscOut_) oscOut_->sendMotors(MotorLevels {}, config_.engine.motorCount);
     if (mapping_) mapping_->finish(std::max(0.0, lastT_));   // the control thread has stopped: no note is left hanging
     running_.store(false, std::memory_order_release);

@@ -64,6 +64,7 @@ struct LiveConfig {
     /// into Engine::processInput and mixed into the output. Its sample rate must be the
     /// engine's; the scene must listen (InputError otherwise). Empty = none.
     std::string audioIn;
+    bool audioInLoop = false;         ///< the recording starts again at its end (`play --loop`); else silence follows it
     std::string tactileOut;           ///< t,m1..m9 CSV of every motor packet
     std::string logOut;               ///< session log CSV, one row per sensor packet
     std::string oscOut;               ///< HOST:PORT; empty = none. With a mapping: its OSC destinations' default
@@ -137,6 +138,12 @@ public:
     /// The sound card in use (null without one) and why an optional one is not in use.
     const audio::SoundCard* soundCard() const noexcept { return soundCard_.get(); }
     const std::string& soundCardWarning() const noexcept { return soundCardWarning_; }
+    /// The recording (LiveConfig::audioIn) has been played to its end (never with audioInLoop or
+    /// without a recording): by the audio thread's position, or by the wall clock when no audio
+    /// thread runs (a sound card that could not be opened).
+    bool recordingEnded() const noexcept;
+    /// Seconds of the recording (0 without one).
+    double recordingSeconds() const noexcept;
 
 private:
     MotorLevels control(double t, const SensorCounts* counts, const ImuSample* imu, const Eigen::Quaterniond* q);
@@ -160,7 +167,8 @@ private:
     void renderBlock(float* left, float* right, int n) noexcept;
     AudioBuffer recording_;                  ///< audioIn, read at construction
     std::vector<float> recordingSilence_;    ///< zeros for after the recording's end
-    std::uint64_t recordingAt_ = 0;          ///< audio thread: next frame of the recording
+    std::uint64_t recordingAt_ = 0;          ///< audio thread: next frame of the recording (counts on past its end)
+    std::atomic<std::uint64_t> recordingPlayed_ {0};   ///< recordingAt_, for other threads
     std::unique_ptr<audio::SoundCard> soundCard_;
     std::string soundCardWarning_;
     std::thread audioThread_;
@@ -168,6 +176,7 @@ private:
     std::atomic<bool> motorsOff_ {false};
     std::atomic<std::uint64_t> updates_ {0};
     std::atomic<std::uint64_t> zeroPacketsSent_ {0};
+    std::atomic<double> zeroPacketT_ {-1.0};   ///< source time of the first all-off packet answered at stop()
     SeqLock<Pose> pose_;
     SeqLock<MotorLevels> levels_;
     double lastT_ = -1.0;

@@ -29,6 +29,7 @@
 #include <cstdlib>
 #include <limits>
 #include <optional>
+#include <unordered_set>
 
 namespace armadillo {
 
@@ -190,6 +191,7 @@ private:
         if (sawEvent_ && name != "length") fail(name, "directives ('" + std::string(name) + "') go before the first event");
         if (name == "title") {
             if (words_.size() < 2) fail(name, "title needs some words");
+            if (seen(name)) fail(name, "'title' given twice (a score has one title)");
             const char* first = words_[1].data();
             const char* last = words_.back().data() + words_.back().size();
             score_.title.assign(first, static_cast<std::size_t>(last - first));
@@ -335,8 +337,7 @@ private:
         ScoreCue c;
         c.line = line_;
         c.name = std::string(words_[2]);
-        for (const auto& p : pendingCues_)
-            if (p.cue.name == c.name) fail("cue", "cue '" + c.name + "' given twice");
+        if (!cueNames_.insert(c.name).second) fail("cue", "cue '" + c.name + "' given twice");
         const Args a = arguments(3, {"detect", "window", "level"});
         if (const auto d = a.get("detect")) {
             if (*d == "onset") c.detect = ScoreCue::Detect::Onset;
@@ -468,7 +469,21 @@ private:
             score_.cues.push_back(std::move(c.cue));
         }
         // Patterns: each runs until its duration, a stop on its voice, or the next pattern on
-        // its voice, whichever comes first.
+        // its voice, whichever comes first. One pass over each list (patterns and stops are in
+        // file order, so in time order): per voice, the next pattern is found walking backwards
+        // and the first stop at or after a pattern by a cursor that only moves forward.
+        std::vector<std::vector<std::size_t>> stopsOf(kPatternVoices);
+        for (std::size_t k = 0; k < pendingStops_.size(); ++k) stopsOf[static_cast<std::size_t>(pendingStops_[k].voice)].push_back(k);
+        std::vector<std::size_t> stopCursor(kPatternVoices, 0);
+        std::vector<double> nextOnVoice(pendingPatterns_.size(), kInfinity);
+        {
+            std::vector<double> later(kPatternVoices, kInfinity);
+            for (std::size_t i = pendingPatterns_.size(); i-- > 0;) {
+                const auto v = static_cast<std::size_t>(pendingPatterns_[i].request.voice);
+                nextOnVoice[i] = later[v];
+                later[v] = pendingPatterns_[i].at;
+            }
+        }
         for (std::size_t i = 0; i < pendingPatterns_.size(); ++i) {
             const PendingPattern& p = pendingPatterns_[i];
             ScorePattern sp;
@@ -480,15 +495,18 @@ private:
             if (p.durUnits > 0.0) end = toSeconds(p.at + p.durUnits);
             else if (!p.hold && !patternIsPeriodic(p.request.kind))
                 end = sp.start + patternLength(p.request, kDefaultPatternParams);
-            // Cut short by a stop on its voice, or by the next pattern on its voice.
-            for (const auto& s : pendingStops_)
-                if (s.voice == p.request.voice && s.at >= p.at && !(s.at == p.at && s.line < p.line))
-                    end = std::min(end, toSeconds(s.at));
-            for (std::size_t j = i + 1; j < pendingPatterns_.size(); ++j)
-                if (pendingPatterns_[j].request.voice == p.request.voice) {
-                    end = std::min(end, toSeconds(pendingPatterns_[j].at));
-                    break;
-                }
+            // Cut short by the first stop on its voice written at or after it, or by the next
+            // pattern on its voice.
+            const auto v = static_cast<std::size_t>(p.request.voice);
+            const std::vector<std::size_t>& stops = stopsOf[v];
+            std::size_t& cursor = stopCursor[v];
+            while (cursor < stops.size()) {
+                const PendingStop& s = pendingStops_[stops[cursor]];
+                if (s.at > p.at || (s.at == p.at && s.line > p.line)) break;
+                ++cursor;
+            }
+            if (cursor < stops.size()) end = std::min(end, toSeconds(pendingStops_[stops[cursor]].at));
+            if (std::isfinite(nextOnVoice[i])) end = std::min(end, toSeconds(nextOnVoice[i]));
             sp.end = end;
             sp.request.duration = p.durUnits > 0.0 ? toSeconds(p.at + p.durUnits) - sp.start : (p.hold ? -1.0 : 0.0);
             if (!(sp.end > sp.start)) continue;   // stopped or replaced at the instant it starts
@@ -542,6 +560,7 @@ private:
     std::vector<PendingPattern> pendingPatterns_;
     std::vector<PendingStop> pendingStops_;
     std::vector<PendingCue> pendingCues_;
+    std::unordered_set<std::string> cueNames_;
     long line_ = 0;
     double lastTime_ = 0.0;
     double end_ = 0.0;
@@ -626,25 +645,35 @@ double parsePitch(std::string_view text) noexcept
     return 440.0 * std::pow(2.0, (midi - 69) / 12.0);
 }
 
+// The tempo points are in order of beat and of seconds (events are in time order and tempo
+// is positive), so each look-up is a binary search: a score with many tempo changes stays linear.
 double Score::secondsAtBeat(double beat) const noexcept
 {
-    std::size_t i = 0;
-    while (i + 1 < tempo.size() && tempo[i + 1].beat <= beat) ++i;
-    return tempo[i].seconds + (beat - tempo[i].beat) * 60.0 / tempo[i].bpm;
+    if (tempo.empty()) return beat * 0.5;
+    auto it = std::upper_bound(tempo.begin() + 1, tempo.end(), beat, [](double b, const TempoPoint& p) { return b < p.beat; });
+    const TempoPoint& p = *(it - 1);
+    return p.seconds + (beat - p.beat) * 60.0 / p.bpm;
 }
+
+namespace {
+const TempoPoint& tempoAtSeconds(const std::vector<TempoPoint>& tempo, double seconds) noexcept
+{
+    auto it = std::upper_bound(tempo.begin() + 1, tempo.end(), seconds, [](double t, const TempoPoint& p) { return t < p.seconds; });
+    return *(it - 1);
+}
+} // namespace
 
 double Score::beatAtSeconds(double seconds) const noexcept
 {
-    std::size_t i = 0;
-    while (i + 1 < tempo.size() && tempo[i + 1].seconds <= seconds) ++i;
-    return tempo[i].beat + (seconds - tempo[i].seconds) * tempo[i].bpm / 60.0;
+    if (tempo.empty()) return seconds * 2.0;
+    const TempoPoint& p = tempoAtSeconds(tempo, seconds);
+    return p.beat + (seconds - p.seconds) * p.bpm / 60.0;
 }
 
 double Score::bpmAtSeconds(double seconds) const noexcept
 {
-    std::size_t i = 0;
-    while (i + 1 < tempo.size() && tempo[i + 1].seconds <= seconds) ++i;
-    return tempo[i].bpm;
+    if (tempo.empty()) return 120.0;
+    return tempoAtSeconds(tempo, seconds).bpm;
 }
 
 Score parseScore(std::string_view text, const std::string& sourceName)

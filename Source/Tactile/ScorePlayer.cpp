@@ -23,25 +23,37 @@ void ScorePlayer::setScore(Score score)
     }
     // Per voice, the pattern that plays is a step function of the position: it can change only
     // at a start or end of one of the voice's patterns. Between two such boundaries it is the
-    // last-listed pattern whose span [start, end) holds the position.
+    // last-listed pattern whose span [start, end) holds the position. One sweep per voice over
+    // its boundaries in order, with the started patterns in a heap by listing order (those that
+    // have ended are dropped when they come to the top): O(P log P), not P × boundaries.
     for (int v = 0; v < kPatternVoices; ++v) {
         auto& spans = spans_[static_cast<std::size_t>(v)];
         spans.clear();
+        std::vector<std::size_t> mine;
         std::vector<double> bounds;
-        for (const auto& p : score_.patterns) {
+        for (std::size_t i = 0; i < score_.patterns.size(); ++i) {
+            const ScorePattern& p = score_.patterns[i];
             if (p.request.voice != v) continue;
+            mine.push_back(i);
             bounds.push_back(p.start);
             if (std::isfinite(p.end)) bounds.push_back(p.end);
         }
+        std::stable_sort(mine.begin(), mine.end(),
+                         [&](std::size_t a, std::size_t b) { return score_.patterns[a].start < score_.patterns[b].start; });
         std::sort(bounds.begin(), bounds.end());
         bounds.erase(std::unique(bounds.begin(), bounds.end()), bounds.end());
+        std::vector<std::size_t> started;   // a max-heap of pattern indices
+        std::size_t next = 0;
         for (double b : bounds) {
-            long active = 0;
-            for (std::size_t i = 0; i < score_.patterns.size(); ++i) {
-                const ScorePattern& p = score_.patterns[i];
-                if (p.start > b) break;
-                if (p.request.voice == v && b < p.end) active = static_cast<long>(i) + 1;
+            while (next < mine.size() && score_.patterns[mine[next]].start <= b) {
+                started.push_back(mine[next++]);
+                std::push_heap(started.begin(), started.end());
             }
+            while (!started.empty() && !(b < score_.patterns[started.front()].end)) {
+                std::pop_heap(started.begin(), started.end());
+                started.pop_back();
+            }
+            const long active = started.empty() ? 0 : static_cast<long>(started.front()) + 1;
             if (spans.empty() || spans.back().pattern != active) spans.push_back({b, active});
         }
     }

@@ -30,7 +30,9 @@ Score resolveScore(const SceneConfig& config)
         for (const ScoreEntry& e : listScores(config.resourceDir)) known += (known.empty() ? "" : ", ") + e.name;
         throw InputError(name, 0, "score", "no such score (known: " + known + "; or give a .score file)");
     }
-    if (!std::filesystem::exists(name)) throw InputError(name, 0, "score", "no such score file");
+    // A path that cannot be read is an I/O failure (exit 4), as for every other input file; a
+    // name that is not a path and not found above is bad input (exit 3).
+    if (!std::filesystem::exists(name)) throw IoError("cannot read score file '" + name + "': no such file");
     return loadScore(name);
 }
 

@@ -46,4 +46,19 @@ inline Run runArmadillo(const std::string& args, const std::string& input = "/de
     return r;
 }
 
+/// As runArmadillo, but killed after `seconds` (a hang is then exit code 137, never a stuck
+/// suite); a program killed by any other signal (a crash) is -1.
+inline Run runArmadilloWithin(double seconds, const std::string& args, const std::string& input = "/dev/null")
+{
+    const std::string out = path("stdout.txt"), err = path("stderr.txt");
+    const std::string cmd = "timeout -s KILL " + std::to_string(seconds) + " '" + std::string(ARMADILLO_BIN) + "' " + args + " >'" + out +
+                            "' 2>'" + err + "' <'" + input + "'";
+    const int status = std::system(cmd.c_str());
+    Run r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = readWholeFile(out);
+    r.err = readWholeFile(err);
+    return r;
+}
+
 } // namespace armadillo::cli

@@ -63,7 +63,7 @@ TEST_CASE("cli: I/O failure exits 4", "[cli]")
     CHECK(runArmadillo("render --scene monitor --motion '" + motion + "' --out /nonexistent/dir/out.wav").code == 4);
 }
 
-TEST_CASE("cli: render writes the WAV and one tactile row per motion row", "[cli]")
+TEST_CASE("cli: render writes the WAV, one tactile row per motion row and the all-off sent at the end", "[cli]")
 {
     std::string rows = "t,elevation,azimuth,roll\n";
     for (int i = 0; i < 50; ++i) rows += std::to_string(i * 0.01) + ",5,0,0\n";
@@ -74,10 +74,11 @@ TEST_CASE("cli: render writes the WAV and one tactile row per motion row", "[cli
     CHECK(fs::file_size(wav) > 44);
     const std::string t = armadillo::readWholeFile(tactile);
     CHECK(t.rfind("t,m1,m2,m3,m4,m5,m6,m7,m8,m9\n", 0) == 0);
-    CHECK(std::count(t.begin(), t.end(), '\n') == 51);
+    CHECK(std::count(t.begin(), t.end(), '\n') == 52);   // header, 50 rows, the all-off
+    CHECK(t.substr(t.rfind('\n', t.size() - 2) + 1) == "0.49,0,0,0,0,0,0,0,0,0\n");   // at the last row's time (no --tail)
 }
 
-TEST_CASE("cli: render sets scene parameters with --param and refuses unknown ones", "[cli]")
+TEST_CASE("cli: render sets scene parameters with --param and refuses unknown ones as bad usage", "[cli]")
 {
     std::string rows = "t,elevation,azimuth,roll\n";
     for (int i = 0; i < 20; ++i) rows += std::to_string(i * 0.01) + ",0,0,0\n";
@@ -85,8 +86,12 @@ TEST_CASE("cli: render sets scene parameters with --param and refuses unknown on
     const std::string out = (workDir() / "param.wav").string();
     CHECK(runArmadillo("render --scene theremin --motion '" + motion + "' --out '" + out + "' --param theremin.range=24").code == 0);
     const Run bad = runArmadillo("render --scene theremin --motion '" + motion + "' --out '" + out + "' --param theremin.colour=red");
-    CHECK(bad.code == 3);
-    CHECK(bad.err.find("theremin.colour") != std::string::npos);
+    CHECK(bad.code == 2);   // INTERFACES.md: a bad option value is bad usage
+    CHECK(bad.err.find("--param theremin.colour=red") != std::string::npos);
+    const Run range = runArmadillo("render --scene theremin --motion '" + motion + "' --out '" + out + "' --param theremin.range=1000");
+    CHECK(range.code == 2);
+    CHECK(range.err.find("not a valid value") != std::string::npos);
+    CHECK(runArmadillo("render --scene theremin --motion '" + motion + "' --out '" + out + "' --param novalue").code == 2);
 }
 
 TEST_CASE("cli: the shipped scores play from any folder without the source tree; a user's own score is found by name", "[cli][resources]")
@@ -112,7 +117,7 @@ TEST_CASE("cli: the shipped scores play from any folder without the source tree;
         INFO(output);
         REQUIRE(code == 0);
         const std::string t = armadillo::readWholeFile((elsewhere / "s.csv").string());
-        CHECK(std::count(t.begin(), t.end(), '\n') == 401);
+        CHECK(std::count(t.begin(), t.end(), '\n') == 402);   // header, 400 rows, the all-off
         // The score drove a motor somewhere in the first four seconds (a level other than 0).
         bool moved = false;
         for (std::size_t i = t.find('\n'); i != std::string::npos && !moved; i = t.find('\n', i + 1)) {

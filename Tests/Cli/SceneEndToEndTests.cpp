@@ -339,7 +339,7 @@ TEST_CASE("e2e: braille training live through play: prompts out, typed answers i
     CHECK(cli::runArmadillo("play --scene braille --simulate --param braille.mode=active --training-log x.csv", input).code == 2);
     const auto unwritable = cli::runArmadillo("play --scene braille --simulate --no-audio --training-log /nonexistent/dir/t.csv", input);
     CHECK(unwritable.code == 4);
-    CHECK(unwritable.err.find("cannot write into /nonexistent/dir") != std::string::npos);
+    CHECK(unwritable.err.find("--training-log: cannot write '/nonexistent/dir/t.csv': the folder '/nonexistent/dir' does not exist") != std::string::npos);
     CHECK(unwritable.err.find("braille training 1/") == std::string::npos);   // refused before the first trial
 
     // stdin ends early, its last answer without a newline: that answer counts, the session ends

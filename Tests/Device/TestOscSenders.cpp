@@ -498,6 +498,8 @@ TEST_CASE("osc senders: the plugin's OSC source detects the NGIMU and delivers d
     CHECK_FALSE(input.configure(true, port, "phonething", "", why));
     CHECK(why.find("unknown sender format") != std::string::npos);
     CHECK_FALSE(input.configure(true, port, "", "/nonexistent/mount.json", why));
+    CHECK(why.find("cannot read mount file '/nonexistent/mount.json'") != std::string::npos);
+    CHECK_FALSE(input.configure(true, port, "", "no-such-preset", why));
     CHECK(why.find("neither a mount preset") != std::string::npos);
     REQUIRE(input.configure(true, port, "zigsim", "phone-screen-up", why));
     CHECK(input.format() == OscFormat::ZigSim);
@@ -558,7 +560,8 @@ TEST_CASE("osc senders: play refuses a bad --osc-format, --mount or --calibrate-
     CHECK(run("--osc-in " + port + " --osc-format phonething") == 2);   // a valid port: only the format is wrong
     CHECK(run("--simulate --osc-format ngimu") == 2);
     CHECK(run("--simulate --mount ngimu") == 2);
-    CHECK(run("--osc-in " + port + " --mount /nonexistent/mount.json") == 3);
+    CHECK(run("--osc-in " + port + " --mount /nonexistent/mount.json") == 4);   // a missing file: I/O, as for every input (issue 24)
+    CHECK(run("--osc-in " + port + " --mount no-such-preset") == 3);             // not a path, not a preset: bad input
     CHECK(run("--osc-in " + port + " --mount ngimu --calibrate-mount x.json") == 2);
     const std::string bad = std::string(ARMADILLO_BINARY_DIR) + "/osc-sender-badmount.json";
     if (FILE* f = std::fopen(bad.c_str(), "w")) {
@@ -566,5 +569,7 @@ TEST_CASE("osc senders: play refuses a bad --osc-format, --mount or --calibrate-
         std::fclose(f);
     }
     CHECK(run("--osc-in " + port + " --mount '" + bad + "'") == 3);
-    CHECK(run("--osc-in " + port + " --osc-format NGIMU --mount phone-screen-up") == 0);
+    // Accepted: with no sender the session then ends by saying so (exit 4), unless told to wait.
+    CHECK(run("--osc-in " + port + " --osc-format NGIMU --mount phone-screen-up --data-timeout 0") == 0);
+    CHECK(run("--osc-in " + port + " --osc-format NGIMU --mount phone-screen-up") == 4);
 }

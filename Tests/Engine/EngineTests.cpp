@@ -33,7 +33,7 @@ TEST_CASE("Engine: the monitor scene is silent and keeps every motor off", "[eng
     settings.engine.scene = "monitor";
     const auto r = renderOffline(CsvTable::parse(poseMotion(2.0, 200.0, 20.0), "m.csv"), settings);
     CHECK(r.controlUpdates == 401);
-    CHECK(r.tactile.size() == 401);
+    CHECK(r.tactile.size() == 402);   // one per row, then the all-off sent at the end
     CHECK(r.audio.frames() == static_cast<std::size_t>(2.0 * 48000) + 1);
     for (const auto& row : r.tactile)
         for (auto level : row.levels) REQUIRE(level == 0);
@@ -142,4 +142,50 @@ TEST_CASE("Engine: scene parameters are set by stable id, by number or choice na
     };
     CHECK(motorsOnStill("passive") > 100);
     CHECK(motorsOnStill("passive") > 10 * motorsOnStill("active"));
+}
+
+TEST_CASE("renderOffline: a streamed render hands every frame to the sink and ends with the all-off; absurd spans are refused first",
+          "[engine][render]")
+{
+    RenderSettings settings;
+    settings.engine.scene = "theremin";
+    const CsvTable motion = CsvTable::parse(poseMotion(1.0, 100.0, 30.0), "m.csv");
+    const RenderResult collected = renderOffline(motion, settings);
+    std::vector<float> left, right;
+    int largestBlock = 0;
+    settings.audioSink = [&](const float* l, const float* r, int n) {
+        left.insert(left.end(), l, l + n);
+        right.insert(right.end(), r, r + n);
+        largestBlock = std::max(largestBlock, n);
+    };
+    const RenderResult streamed = renderOffline(motion, settings);
+    CHECK(streamed.audio.channels.empty());
+    CHECK(streamed.frames == collected.audio.frames());
+    CHECK(left == collected.audio.channels[0]);   // the same engine, the same samples
+    CHECK(right == collected.audio.channels[1]);
+    CHECK(largestBlock <= settings.blockSize);
+    REQUIRE(streamed.tactile.size() == streamed.controlUpdates + 1);
+    CHECK(streamed.tactile.back().t == 1.0);
+    for (auto level : streamed.tactile.back().levels) CHECK(level == 0);
+    CHECK(streamed.peak > 0.0f);
+    CHECK(silenceReason(streamed, settings).empty());
+
+    // Two rows an hour and a second apart: too long to collect in memory, refused naming the row
+    // before the engine runs; a day and a second: too long even to stream.
+    const CsvTable hour = CsvTable::parse("t,elevation,azimuth,roll\n0,0,0,0\n3601,0,0,0\n", "hour.csv");
+    RenderSettings inMemory;
+    try {
+        (void) renderOffline(hour, inMemory);
+        FAIL("an hour and a second was collected in memory");
+    } catch (const InputError& e) {
+        CHECK(std::string(e.what()).rfind("hour.csv:3: column 't': the file would render 3601 s", 0) == 0);
+    }
+    settings.audioSink = [](const float*, const float*, int) {};
+    CHECK_THROWS_AS(renderOffline(CsvTable::parse("t,elevation,azimuth,roll\n0,0,0,0\n86401,0,0,0\n", "day.csv"), settings), InputError);
+
+    RenderSettings monitor;
+    monitor.engine.scene = "monitor";
+    const RenderResult silent = renderOffline(motion, monitor);
+    CHECK(silent.peak == 0.0f);
+    CHECK(silenceReason(silent, monitor).find("monitor scene makes no sound") != std::string::npos);
 }
