@@ -6,6 +6,7 @@
 #include "Core/Wav.h"
 #include "Engine/Engine.h"
 #include "Engine/OfflineRenderer.h"
+#include "Formats/ScoreImport.h"
 #include <algorithm>
 #include <iostream>
 
@@ -31,6 +32,8 @@ int runRender(const Arguments& args)
                            o.push_back({"--back-motors", "", "drive the three back motors 10..12 as well"});
                            o.push_back({"--tail", "SECONDS", "audio rendered after the last motion row (default 0)"});
                            o.push_back({"--float", "", "write 32-bit float WAV instead of 16-bit"});
+                           o.push_back({"--tactile-wav", "OUT.wav", "the motors as a multichannel WAV (docs/FORMATS.md): channel k = motor k,\n"
+                                                                    "a 150 Hz sine at amplitude level/15 (9 channels, 12 with --back-motors)"});
                            return o;
                        }());
         if (!cl.parse(args)) return 0;
@@ -54,6 +57,7 @@ int runRender(const Arguments& args)
 
         writeWav(cl.value("--out"), r.audio, cl.has("--float"));
         if (cl.has("--tactile")) writeTactile(cl.value("--tactile"), r.tactile, engine.motorCount);
+        if (cl.has("--tactile-wav")) writeTactileWav(cl.value("--tactile-wav"), r.tactile, engine.motorCount, r.audio.sampleRate, 150.0, cl.has("--float"));
         std::cout << "{\"scene\":\"" << engine.scene << "\",\"control_updates\":" << r.controlUpdates
                   << ",\"frames\":" << r.audio.frames() << ",\"seconds\":" << r.audio.frames() / r.audio.sampleRate
                   << ",\"gestures\":" << r.gestures.size() << ",\"rows_without_orientation\":" << r.invalidRows << "}\n";
