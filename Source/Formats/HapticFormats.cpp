@@ -107,10 +107,14 @@ ImportedScore importTactileWav(const std::string& path, const HapticImportOption
     if (channels < 1 || channels > kMaxMotors)
         throw InputError(path, 0, "channels", std::to_string(channels) + " channels: a tactile WAV has one channel per motor (9 or 12, at most 16)");
     if (!(o.frameSeconds >= 0.001 && o.frameSeconds <= 0.1)) throw InputError(path, 0, "frame", "the frame must be 1..100 ms");
-    const auto frame = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(o.frameSeconds * audio.sampleRate)));
-    const std::size_t frames = (audio.frames() + frame - 1) / frame;
+    // Frames of exactly frameSeconds; the peak of frame f is taken over the samples inside
+    // [f·T, (f+1)·T) at least half a sample from its edges, so a level that changes right at an
+    // edge is not smeared into the neighbouring frame whatever the rounding of the sample times.
+    const double frameSeconds = o.frameSeconds;
+    const double perFrame = frameSeconds * audio.sampleRate;
+    if (perFrame < 4.0) throw InputError(path, 0, "frame", "a frame of fewer than 4 samples at this sample rate");
+    const auto frames = static_cast<std::size_t>(std::ceil(static_cast<double>(audio.frames()) / perFrame - 1e-9));
     if (frames == 0) throw InputError(path, 0, "", "no samples");
-    const double frameSeconds = static_cast<double>(frame) / audio.sampleRate;
     ImportReport report;
     report.format = "wav";
     if (channels != 9 && channels != 12)
@@ -130,7 +134,9 @@ ImportedScore importTactileWav(const std::string& path, const HapticImportOption
             int level = 0;
             if (f < frames) {
                 float peak = 0.0f;
-                for (std::size_t i = f * frame; i < std::min(x.size(), (f + 1) * frame); ++i)
+                const auto first = static_cast<std::size_t>(std::ceil(static_cast<double>(f) * perFrame + 0.5 - 1e-9));
+                const auto last = static_cast<std::size_t>(std::floor(static_cast<double>(f + 1) * perFrame - 0.5 + 1e-9));
+                for (std::size_t i = first; i <= last && i < x.size(); ++i)
                     if (std::isfinite(x[i])) peak = std::max(peak, std::fabs(x[i]));
                 level = static_cast<int>(std::lround(std::min(1.0, static_cast<double>(peak)) * kFullScale));
             }
@@ -145,10 +151,12 @@ ImportedScore importTactileWav(const std::string& path, const HapticImportOption
     std::string text = header(path, "Multichannel WAV");
     text += "# channel k drives motor k; level = 15 x the peak amplitude of each " + scoretext::number(frameSeconds * 1e3, 3) + " ms frame.\n";
     for (const Run& r : runs) {
-        text += noteLine(r.start, static_cast<double>(r.frames) * frameSeconds, static_cast<std::uint16_t>(1u << r.motor), r.level, r.level);
+        // 1 µs short: start + duration, added in floating point, must not reach into the next
+        // frame's first packet (the frame times themselves are written exactly).
+        text += noteLine(r.start, static_cast<double>(r.frames) * frameSeconds - 1e-6, static_cast<std::uint16_t>(1u << r.motor), r.level, r.level);
         ++report.notes;
     }
-    text += "length " + scoretext::number(static_cast<double>(frames) * frameSeconds) + "\n";
+    text += "length " + scoretext::lengthNumber(static_cast<double>(frames) * frameSeconds) + "\n";
     return finish(std::move(text), path, std::move(report));
 }
 

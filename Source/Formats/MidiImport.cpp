@@ -189,7 +189,7 @@ ImportedScore importMidi(const MidiFile& midi, const MidiImportOptions& o, const
     std::vector<std::string> partNames;
     std::vector<int> partTrack;
     for (const Kept& k : kept)
-        if (partOfTrack[static_cast<std::size_t>(k.note->track)] < 0) {
+        if (k.note->channel != 9 && partOfTrack[static_cast<std::size_t>(k.note->track)] < 0) {
             partOfTrack[static_cast<std::size_t>(k.note->track)] = static_cast<int>(partNames.size());
             std::string nm = scoretext::name(midi.trackNames[static_cast<std::size_t>(k.note->track)], "track-" + std::to_string(k.note->track + 1));
             for (const auto& other : partNames)
@@ -216,8 +216,12 @@ ImportedScore importMidi(const MidiFile& midi, const MidiImportOptions& o, const
         std::string s = timeText(n.start) + " note m=" + std::to_string(k.motor + 1) + " dur=" +
                         (midi.smpte ? scoretext::number(seconds) : scoretext::number(static_cast<double>(k.end - n.start) / midi.ticksPerQuarter)) +
                         " level=" + scoretext::number(level, 1);
-        if (o.follow && n.channel != 9) s += " pitch=" + pitchName(n.key);
-        s += " part=" + (onePart ? std::string("music") : partNames[static_cast<std::size_t>(partOfTrack[static_cast<std::size_t>(n.track)])]);
+        // Percussion has no pitch to follow: such notes belong to no part and play where the
+        // alignment of the pitched notes places the score.
+        if (n.channel != 9) {
+            if (o.follow) s += " pitch=" + pitchName(n.key);
+            s += " part=" + (onePart ? std::string("music") : partNames[static_cast<std::size_t>(partOfTrack[static_cast<std::size_t>(n.track)])]);
+        }
         if (n.velocity < o.softBelowVelocity && seconds >= o.softLongerThan) s += " start=soft";
         lines.push_back({n.start, 2, std::move(s)});
         ++report.notes;
@@ -270,7 +274,10 @@ ImportedScore importMidi(const MidiFile& midi, const MidiImportOptions& o, const
         }
     }
     for (const Line& l : lines) text += l.text + "\n";
-    text += "length " + timeText(std::max<std::int64_t>(midi.endTick, kept.empty() ? 0 : std::max_element(kept.begin(), kept.end(), [](const Kept& a, const Kept& b) { return a.end < b.end; })->end)) + "\n";
+    std::int64_t lastTick = midi.endTick;
+    for (const Kept& k : kept) lastTick = std::max(lastTick, k.end);
+    text += "length " + (midi.smpte ? scoretext::lengthNumber(midi.secondsAt(lastTick))
+                                    : scoretext::lengthNumber(static_cast<double>(lastTick) / midi.ticksPerQuarter)) + "\n";
     if (midi.unterminatedNotes > 0) report.warnings.push_back(std::to_string(midi.unterminatedNotes) + " notes had no note-off (ended at their track's end)");
     out.score = parseScore(text, source);
     return out;

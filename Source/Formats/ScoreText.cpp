@@ -18,6 +18,11 @@ std::string number(double v, int decimals)
     return s;
 }
 
+std::string lengthNumber(double v)
+{
+    return number(std::ceil(v * 1e6) / 1e6 + 2e-6);
+}
+
 std::string motorSet(std::uint16_t mask)
 {
     std::string s;

@@ -6,7 +6,7 @@
 #include "Core/Csv.h"
 #include "Engine/OfflineRenderer.h"
 #include "Formats/ScoreImport.h"
-#include "MidiWriter.h"
+#include "Common/MidiWriter.h"
 #include "Performance.h"
 #include "Tactile/Bounds.h"
 #include <algorithm>
