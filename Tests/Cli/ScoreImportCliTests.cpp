@@ -67,3 +67,20 @@ TEST_CASE("cli: render plays a MIDI file directly and writes the motors as a mul
     // The tactile WAV imports back as a score.
     CHECK(runArmadillo("score import '" + tactileWav + "' --out '" + path("back.score") + "'").code == 0);
 }
+
+TEST_CASE("cli: render takes stems for audio-touch; unknown stems and stems for other scenes are refused", "[cli][stems]")
+{
+    armadillo::AudioBuffer tone;
+    tone.channels.assign(1, std::vector<float>(24000));
+    for (std::size_t i = 0; i < tone.frames(); ++i) tone.channels[0][i] = static_cast<float>(0.4 * std::sin(2.0 * 3.14159265358979 * 55.0 * static_cast<double>(i) / 48000.0));
+    const std::string bass = path("bass.wav"), drums = path("drums.wav");
+    armadillo::writeWav(bass, tone);
+    armadillo::writeWav(drums, tone);
+    const std::string motion = stillMotion("still3.csv", 0.5);
+    const std::string out = path("stems.wav"), csv = path("stems.csv");
+    CHECK(runArmadillo("render --scene audio-touch --motion '" + motion + "' --out '" + out + "' --stem bass='" + bass + "' --stem drums='" + drums + "' --tactile '" + csv + "'").code == 0);
+    CHECK(runArmadillo("render --scene audio-touch --motion '" + motion + "' --out '" + out + "' --audio-in '" + bass + "' --audio-in '" + drums + "'").code == 0);
+    CHECK(runArmadillo("render --scene audio-touch --motion '" + motion + "' --out '" + out + "' --stem guitar='" + bass + "'").code == 3);
+    CHECK(runArmadillo("render --scene audio-touch --motion '" + motion + "' --out '" + out + "' --stem bass").code == 2);
+    CHECK(runArmadillo("render --scene monitor --motion '" + motion + "' --out '" + out + "' --stem bass='" + bass + "'").code == 2);
+}
