@@ -105,7 +105,8 @@ MidiFile parseMidiFile(std::string_view bytes, const std::string& source)
     if (headerLength < 6 || headerLength > bytes.size() - 8)
         throw InputError(source, 0, "byte 4", "a header chunk of " + std::to_string(headerLength) + " bytes (6 expected)");
     const int format = be16(bytes, 8);
-    const int declaredTracks = be16(bytes, 10);
+    // bytes 10..11, the number of tracks, is not trusted: the track chunks found count (a wrong
+    // count in the header is common and harmless).
     const std::uint16_t division = be16(bytes, 12);
     if (format == 2) throw InputError(source, 0, "byte 8", "format 2 (independent sequences) is not supported: only format 0 and 1");
     if (format > 2) throw InputError(source, 0, "byte 8", "unknown format " + std::to_string(format));
@@ -173,7 +174,8 @@ MidiFile parseMidiFile(std::string_view bytes, const std::string& source)
                 status = 0;
                 r.take(r.variable());
             } else if (b >= 0xF8 || (b >= 0xF1 && b <= 0xF6)) {
-                r.fail("a system message (0x" + std::to_string(b) + ") is not allowed in a MIDI file");
+                static const char* const kHex = "0123456789ABCDEF";
+                r.fail(std::string("a system message (0x") + kHex[(b >> 4) & 0xF] + kHex[b & 0xF] + ") is not allowed in a MIDI file");
             } else {
                 status = b;
                 const int kind = b & 0xF0, channel = b & 0x0F;
@@ -204,7 +206,6 @@ MidiFile parseMidiFile(std::string_view bytes, const std::string& source)
     }
     if (track == 0) throw InputError(source, 0, "byte " + std::to_string(pos), "no track chunk ('MTrk')");
     if (format == 0 && track > 1) throw InputError(source, 0, "byte 10", "a format 0 file with " + std::to_string(track) + " tracks (one expected)");
-    (void) declaredTracks;   // the chunks found count; a wrong header count is common and harmless
     std::stable_sort(f.notes.begin(), f.notes.end(), [](const MidiNote& a, const MidiNote& b) {
         return std::tie(a.start, a.key) < std::tie(b.start, b.key);
     });
