@@ -11,7 +11,9 @@
 #include "Engine/Engine.h"
 #include "Engine/OfflineRenderer.h"
 #include <optional>
+#include "Formats/ScoreImport.h"
 #include <algorithm>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <stdexcept>
@@ -37,8 +39,11 @@ int runRender(const Arguments& args)
                                {"--tactile", "T.csv", "motor levels of every packet: t,m1..m9 (m10..m12 with --back-motors)"},
                                {"--audio-in", "FILE.wav", "the recording the listener hears, from the first motion row on: scenes that listen\n"
                                                           "(score, audio-touch) follow it, and it is mixed into OUT.wav under the scene's\n"
-                                                          "sound; its sample rate is used unless --sample-rate is given"},
+                                                          "sound; its sample rate is used unless --sample-rate is given.\n"
+                                                          "Given several times, each file is a stem named by its file name (drums.wav, bass.wav ...)"},
                                {"--no-audio-in-mix", "", "with --audio-in: leave the recording out of OUT.wav (the scene's sound alone)"},
+                               {"--stem", "NAME=FILE.wav", "audio-touch: a stem felt apart on its own motors (drums, bass, other, vocals;\n"
+                                                          "repeatable; docs/INSTRUMENTS.md)"},
                            });
                            o.push_back({"--back-motors", "", "drive the three back motors 10..12 as well"});
                            o.push_back({"--tail", "SECONDS", "audio rendered after the last motion row (default 0)"});
@@ -48,6 +53,8 @@ int runRender(const Arguments& args)
                            o.push_back({"--midi-out", "OUT.mid", "with --map: the mapped MIDI as a Standard MIDI File (written whole or not at all)"});
                            o.push_back({"--osc-out", "HOST:PORT", "with --map: send the mapping's OSC messages (those naming no target go here;\n"
                                                                   "without --osc-out no OSC is sent)"});
+                           o.push_back({"--tactile-wav", "OUT.wav", "the motors as a multichannel WAV (docs/FORMATS.md): channel k = motor k,\n"
+                                                                    "a 150 Hz sine at amplitude level/15 (9 channels, 12 with --back-motors)"});
                            return o;
                        }());
         if (!cl.parse(args)) return 0;
@@ -76,14 +83,45 @@ int runRender(const Arguments& args)
                 throw UsageError(std::string("--osc-out: ") + e.what());
             }
         }
-        const std::string out = cl.value("--out"), tactile = cl.value("--tactile"), midiOut = cl.value("--midi-out");
+        const std::string out = cl.value("--out"), tactile = cl.value("--tactile"), midiOut = cl.value("--midi-out"),
+                          tactileWav = cl.value("--tactile-wav");
         if (cl.has("--out")) checkOutputPath("--out", out);
         if (cl.has("--tactile")) checkOutputPath("--tactile", tactile);
         if (cl.has("--midi-out")) checkOutputPath("--midi-out", midiOut);
-        checkDistinctOutputs({{"--out", out}, {"--tactile", tactile}, {"--midi-out", midiOut}});
+        if (cl.has("--tactile-wav")) checkOutputPath("--tactile-wav", tactileWav);
+        checkDistinctOutputs({{"--out", out}, {"--tactile", tactile}, {"--midi-out", midiOut}, {"--tactile-wav", tactileWav}});
 
         AudioBuffer recording;
-        if (cl.has("--audio-in")) {
+        // Stems: --stem NAME=FILE, or several --audio-in files named after their stem.
+        std::vector<std::pair<std::string, std::string>> stems;
+        for (const std::string& s : cl.values("--stem")) {
+            const auto eq = s.find('=');
+            if (eq == std::string::npos || eq == 0 || eq + 1 == s.size()) throw UsageError("--stem takes NAME=FILE.wav, not '" + s + "'");
+            stems.emplace_back(s.substr(0, eq), s.substr(eq + 1));
+        }
+        const std::vector<std::string> inputs = cl.values("--audio-in");
+        if (inputs.size() > 1)
+            for (const std::string& f : inputs) stems.emplace_back(std::filesystem::path(f).stem().string(), f);
+        if (!stems.empty() && inputs.size() == 1) throw UsageError("--stem and a single --audio-in: give the mix as stems, or one recording");
+        if (!stems.empty()) {
+            if (engine.scene != "audio-touch") throw UsageError("stems are felt by the audio-touch scene only (--scene audio-touch)");
+            recording.channels.clear();
+            for (const auto& [name, path] : stems) {
+                const AudioBuffer stem = readWav(path);   // InputError names a bad file
+                if (recording.channels.empty()) recording.sampleRate = stem.sampleRate;
+                else if (stem.sampleRate != recording.sampleRate) throw InputError(path, 0, "", "the stems must share one sample rate");
+                std::vector<float> mono(stem.frames(), 0.0f);
+                for (const auto& c : stem.channels)
+                    for (std::size_t i = 0; i < mono.size(); ++i) mono[i] += c[i] / static_cast<float>(stem.channels.size());
+                recording.channels.push_back(std::move(mono));
+                engine.sceneConfig.stems.push_back(name);
+            }
+            std::size_t longest = 0;
+            for (const auto& c : recording.channels) longest = std::max(longest, c.size());
+            for (auto& c : recording.channels) c.resize(longest, 0.0f);
+            if (!cl.has("--sample-rate")) engine.sceneConfig.sampleRate = recording.sampleRate;
+            settings.audioIn = &recording;
+        } else if (cl.has("--audio-in")) {
             recording = readWav(cl.value("--audio-in"));   // IoError (4) when unreadable, InputError (3) naming the file when not audio
             if (!cl.has("--sample-rate")) engine.sceneConfig.sampleRate = recording.sampleRate;
             settings.audioIn = &recording;
@@ -134,6 +172,8 @@ int runRender(const Arguments& args)
             midi->write(midiOut);
         }
         if (cl.has("--tactile")) writeTactile(tactile, r.tactile, engine.motorCount);
+        if (cl.has("--tactile-wav"))
+            writeTactileWav(tactileWav, r.tactile, engine.motorCount, engine.sceneConfig.sampleRate, 150.0, cl.has("--float"));
         if (wav) {
             wav->finish();
             if (const std::string why = silenceReason(r, settings); !why.empty())

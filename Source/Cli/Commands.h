@@ -14,6 +14,7 @@ int runPlay(const Arguments& args);      // CmdPlay.cpp    — the live engine, 
 int runBraille(const Arguments& args);   // CmdBraille.cpp — cells and row sensations of a text
 int runResources(const Arguments& args); // CmdResources.cpp — search folders, scores, built-in files
 int runMap(const Arguments& args);       // CmdMap.cpp     — mapping files: check, show, learn a posture
+int runScore(const Arguments& args);     // CmdScore.cpp   — scores from MIDI and haptic files
 
 struct CommandInfo {
     const char* name;

@@ -15,7 +15,8 @@ std::vector<OptionSpec> sceneOptionSpecs()
     return {
         {"--scene", "SCENE", sceneList(), true},
         {"--sample-rate", "HZ", "audio sample rate (default 48000)"},
-        {"--score", "NAME", "score scene: rite-of-spring, polytope, a score of yours (armadillo resources), or a .score file"},
+        {"--score", "NAME", "score scene: rite-of-spring, polytope, a score of yours (armadillo resources), a .score file,\n"
+                             "or a file to import as it plays: .mid .wav .ahap .haptic (docs/FORMATS.md)"},
         {"--text", "TEXT", "braille scene: the text to read (@FILE reads a text or .brf file)"},
         {"--seed", "N", "seed of every random choice (default 1)"},
         {"--audio", "FILE.wav", "cymbal: a recording to cut crash fragments from (mixed with the built-in bank)"},

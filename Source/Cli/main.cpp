@@ -19,6 +19,7 @@ const std::vector<CommandInfo>& commands()
         {"braille", "the braille cells of a text and the row sensations the display shows", runBraille},
         {"resources", "where scores and other files are found; the scores playable by name", runResources},
         {"map", "mapping files (--map): check one, show a preset, learn a posture", runMap},
+        {"score", "tactile scores from MIDI files and haptic files (score import FILE --out SCORE)", runScore},
     };
     return table;
 }

@@ -110,6 +110,9 @@ struct SceneConfig {
     std::string score;               ///< score scene: a score name (Core/Resources.h) or a .score file path
     std::string resourceDir;         ///< a folder searched first for resource files (empty: the usual search, Core/Resources.h)
     std::string audioFile;           ///< cymbal: a WAV recording to cut crash fragments from (optional)
+    /// audio-touch: the audio input is stems, one mono channel each, in this order, each named by
+    /// its preset (drums, bass, other, vocals: docs/INSTRUMENTS.md); empty: one mixed input.
+    std::vector<std::string> stems;
 };
 
 /// A scene's own parameter; id is stable ("theremin.range"), value in the given unit.

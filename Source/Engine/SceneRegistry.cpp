@@ -2,6 +2,7 @@
 #include "Core/Errors.h"
 #include "Engine/Engine.h"
 #include "Engine/MonitorScene.h"
+#include "Formats/ScoreImport.h"
 #include "Instruments/Scenes.h"
 #include "Tactile/ScoreScene.h"
 
@@ -37,6 +38,9 @@ const std::vector<std::string>& sceneNames()
 
 std::unique_ptr<Scene> createScene(const std::string& name)
 {
+    // `--score` takes MIDI and haptic files too (docs/FORMATS.md): the score scene reads them
+    // through the importers of the formats module, which sits above the tactile one.
+    setScoreFileReader({&isImportableScorePath, &loadAnyScore});
     for (const auto& e : kScenes) {
         if (name == e.name) return e.make();
     }

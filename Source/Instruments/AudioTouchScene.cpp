@@ -9,6 +9,14 @@
 // attack, 40 ms release) and a fast/slow pair for transients (fast 1 ms / 40 ms, slow 150 ms); a
 // transient is the fast envelope rising (by 1 dB within a 2.5 ms hop) while 6 dB over the slow
 // one and 6 dB over the sensitivity floor, at most one per 80 ms. Results cross to control() through atomics. Fixed state, no allocation, lock or throw.
+//
+// Stems felt apart (SceneConfig::stems): the input is then one mono channel per stem (drums,
+// bass, other, vocals — the four stems of common source separators), and each stem has its own
+// preset: its motors (disjoint sets covering the grid), its band (24 dB/octave edges), its level
+// envelope, and accents or not (kStemPresets below; docs/INSTRUMENTS.md). Bass is felt at the
+// elbow, the voice at the wrist, the beat along the underside, the rest in the middle — each
+// apart, whatever the others do.
+#include "Core/Errors.h"
 #include "Instruments/ParameterSet.h"
 #include "Instruments/Scenes.h"
 #include "Tactile/Patterns.h"
@@ -54,6 +62,23 @@ struct Biquad {
     }
 };
 
+/// A stem's preset: where it is felt and how it is heard (docs/INSTRUMENTS.md, "Stems").
+struct StemPreset {
+    const char* name;
+    std::uint16_t motors;     ///< bit i = motor index i (k = i + 1)
+    double lowHz, highHz;     ///< band edges
+    double attack, release;   ///< level envelope time constants, s
+    bool accents;             ///< transients become accents on its motors
+};
+constexpr std::uint16_t bit(int k) { return static_cast<std::uint16_t>(1u << (k - 1)); }
+constexpr StemPreset kStemPresets[] = {
+    {"drums", static_cast<std::uint16_t>(bit(2) | bit(5) | bit(8)), 40.0, 8000.0, 0.002, 0.060, true},   // the underside, wrist to elbow
+    {"bass", static_cast<std::uint16_t>(bit(7) | bit(9)), 30.0, 250.0, 0.010, 0.150, false},             // the elbow
+    {"other", static_cast<std::uint16_t>(bit(4) | bit(6)), 150.0, 4000.0, 0.010, 0.200, false},          // the middle
+    {"vocals", static_cast<std::uint16_t>(bit(1) | bit(3)), 100.0, 4000.0, 0.015, 0.250, false},         // the wrist
+};
+constexpr int kMaxStems = 8;
+
 constexpr int kBands = 3;
 /// Row of each band: lows at the elbow, the middle band in the middle, highs at the wrist.
 constexpr int kBandRow[kBands] = {2, 1, 0};
@@ -85,10 +110,30 @@ public:
         hop_ = std::max(1, static_cast<int>(fs * 0.0025));
         refractoryHops_ = static_cast<int>(0.080 / 0.0025);
         for (auto& b : band_) b = BandState {};
+        if (config.stems.size() > static_cast<std::size_t>(kMaxStems))
+            throw InputError("", 0, "stems", "at most " + std::to_string(kMaxStems) + " stems");
+        stemCount_ = 0;
+        for (const std::string& name : config.stems) {
+            const StemPreset* preset = nullptr;
+            for (const StemPreset& p : kStemPresets)
+                if (name == p.name) preset = &p;
+            if (!preset) throw InputError("", 0, "stem", "unknown stem '" + name + "' (presets: drums, bass, other, vocals)");
+            Stem& st = stems_[static_cast<std::size_t>(stemCount_++)];
+            st = Stem {};
+            st.preset = preset;
+            for (auto& q : st.hp) q = Biquad::make(true, preset->lowHz, fs);
+            for (auto& q : st.lp) q = Biquad::make(false, std::min(preset->highHz, 0.45 * fs), fs);
+            st.attack = coef(preset->attack);
+            st.release = coef(preset->release);
+        }
         for (auto& a : pubLevel_) a.store(0.0f);
         for (auto& a : pubHits_) a.store(0u);
         for (auto& a : pubHitStrength_) a.store(0.0f);
         seenHits_.fill(0u);
+        for (auto& a : stemPubLevel_) a.store(0.0f);
+        for (auto& a : stemPubHits_) a.store(0u);
+        for (auto& a : stemPubStrength_) a.store(0.0f);
+        stemSeenHits_.fill(0u);
         hopFill_ = 0;
         clearPending_ = true;
     }
@@ -97,11 +142,16 @@ public:
     {
         clearPending_ = true;
         for (int b = 0; b < kBands; ++b) seenHits_[static_cast<std::size_t>(b)] = pubHits_[static_cast<std::size_t>(b)].load();
+        for (int k = 0; k < stemCount_; ++k) stemSeenHits_[static_cast<std::size_t>(k)] = stemPubHits_[static_cast<std::size_t>(k)].load();
     }
 
     void processInput(const float* const* in, int channels, int n) noexcept override
     {
         if (!in || channels < 1 || n <= 0) return;
+        if (stemCount_ > 0) {
+            processStems(in, channels, n);
+            return;
+        }
         const double scale = 1.0 / channels;
         const double floor = std::pow(10.0, params_.get(kSensitivity) / 10.0);   // power
         for (int i = 0; i < n; ++i) {
@@ -148,12 +198,16 @@ public:
     {
         if (clearPending_) {
             out.motors.clearLevels();
-            for (int b = 0; b < kBands; ++b) out.motors.stopVoice(b);
+            for (int v = 0; v < std::max(kBands, stemCount_); ++v) out.motors.stopVoice(v);
             clearPending_ = false;
         }
         const double intensity = params_.get(kIntensity) / 100.0;
         const double floorDb = params_.get(kSensitivity);
         const double accents = params_.get(kAccents) / 100.0;
+        if (stemCount_ > 0) {
+            controlStems(out, intensity, floorDb, accents);
+            return;
+        }
         for (int b = 0; b < kBands; ++b) {
             const auto bi = static_cast<std::size_t>(b);
             // Loudness → level: the band's envelope from the sensitivity floor to 30 dB above it,
@@ -181,6 +235,71 @@ public:
     }
 
 private:
+    /// Stems: each channel its own band, envelopes and transients (the mixed path's rules).
+    void processStems(const float* const* in, int channels, int n) noexcept
+    {
+        const double floor = std::pow(10.0, params_.get(kSensitivity) / 10.0);   // power
+        for (int i = 0; i < n; ++i) {
+            for (int k = 0; k < stemCount_; ++k) {
+                Stem& st = stems_[static_cast<std::size_t>(k)];
+                double x = k < channels && in[k] ? static_cast<double>(in[k][i]) : 0.0;
+                if (!std::isfinite(x)) x = 0.0;
+                for (auto& q : st.hp) x = q(x);
+                for (auto& q : st.lp) x = q(x);
+                const double p = x * x;
+                BandState& b = st.band;
+                b.level += (p - b.level) * (p > b.level ? st.attack : st.release);
+                b.fast += (p - b.fast) * (p > b.fast ? fastAttack_ : fastRelease_);
+                b.slow += (p - b.slow) * slow_;
+            }
+            if (++hopFill_ < hop_) continue;
+            hopFill_ = 0;
+            for (int k = 0; k < stemCount_; ++k) {
+                const auto ki = static_cast<std::size_t>(k);
+                BandState& b = stems_[ki].band;
+                stemPubLevel_[ki].store(static_cast<float>(b.level), std::memory_order_relaxed);
+                if (b.refractory > 0) --b.refractory;
+                const double ratio = b.fast / std::max(b.slow, 1e-20);
+                const bool rising = b.fast > 1.25 * b.fastBefore;
+                b.fastBefore = b.fast;
+                if (stems_[ki].preset->accents && b.refractory == 0 && rising && ratio > 4.0 && b.fast > 4.0 * floor) {
+                    b.refractory = refractoryHops_;
+                    const double strength = std::clamp((10.0 * std::log10(ratio) - 6.0) / 12.0, 0.0, 1.0);
+                    stemPubStrength_[ki].store(static_cast<float>(strength), std::memory_order_relaxed);
+                    stemPubHits_[ki].fetch_add(1u, std::memory_order_release);
+                }
+            }
+        }
+    }
+
+    void controlStems(SceneOutput& out, double intensity, double floorDb, double accents)
+    {
+        std::array<float, kMaxMotors> level {};
+        for (int k = 0; k < stemCount_; ++k) {
+            const auto ki = static_cast<std::size_t>(k);
+            const StemPreset& preset = *stems_[ki].preset;
+            const double db = 10.0 * std::log10(std::max(static_cast<double>(stemPubLevel_[ki].load(std::memory_order_relaxed)), 1e-20));
+            const double x = std::clamp((db - floorDb) / 30.0, 0.0, 1.0);
+            const auto l = static_cast<float>(kRatedLevel * intensity * x);
+            for (int m = 0; m < kMaxMotors; ++m)
+                if (preset.motors & (1u << m)) level[static_cast<std::size_t>(m)] = std::max(level[static_cast<std::size_t>(m)], l);
+            const unsigned hits = stemPubHits_[ki].load(std::memory_order_acquire);
+            if (hits != stemSeenHits_[ki]) {
+                stemSeenHits_[ki] = hits;
+                if (accents > 0.0) {
+                    PatternRequest accent;
+                    accent.kind = PatternKind::Accent;
+                    accent.motors = preset.motors;
+                    accent.level = static_cast<float>(std::min(15.0, kRatedLevel + 1.0 + 6.0 * accents * (0.5 + 0.5 * static_cast<double>(stemPubStrength_[ki].load()))));
+                    accent.duration = 0.025;
+                    accent.voice = k;
+                    out.motors.trigger(accent);
+                }
+            }
+        }
+        for (int m = 0; m < kGridMotors; ++m) out.motors.setSoftLevel(m, level[static_cast<std::size_t>(m)]);
+    }
+
     struct BandState {
         double level = 0.0, fast = 0.0, slow = 0.0;   ///< mean-square envelopes
         double fastBefore = 0.0;                      ///< `fast` at the previous hop
@@ -198,6 +317,19 @@ private:
     std::array<std::atomic<float>, kBands> pubHitStrength_ {};
     std::array<unsigned, kBands> seenHits_ {};   ///< control thread
     bool clearPending_ = true;
+
+    struct Stem {
+        const StemPreset* preset = nullptr;
+        std::array<Biquad, 2> hp {}, lp {};   ///< 24 dB/octave edges
+        double attack = 0, release = 0;
+        BandState band {};
+    };
+    int stemCount_ = 0;
+    std::array<Stem, kMaxStems> stems_ {};
+    std::array<std::atomic<float>, kMaxStems> stemPubLevel_ {};
+    std::array<std::atomic<unsigned>, kMaxStems> stemPubHits_ {};
+    std::array<std::atomic<float>, kMaxStems> stemPubStrength_ {};
+    std::array<unsigned, kMaxStems> stemSeenHits_ {};   ///< control thread
 };
 
 } // namespace

@@ -18,14 +18,14 @@ BlockControl::Cells cellsOf(juce::AudioProcessorValueTreeState& apvts)
 } // namespace
 
 /// A main input as effects that listen have (the track the score follows, the music audio-touch
-/// turns into touch; played through to the output) — except in the VST3: this JUCE's VST3
-/// wrapper copies each declared input bus's channel mapping (a std::vector) on every block, an
-/// allocation on the audio thread before the plugin is even called (docs/PLUGIN.md).
-juce::AudioProcessor::BusesProperties ArmadilloProcessor::busesFor(juce::AudioProcessor::WrapperType wrapper)
+/// turns into touch; played through to the output), in every format. The VST3 has it since the
+/// build compiles Debian's JUCE VST3 glue with the fix of its per-block copy of each input bus's
+/// channel mapping (cmake/JucePatchedAudioProcessors.cmake; docs/PLUGIN.md, "Audio input").
+juce::AudioProcessor::BusesProperties ArmadilloProcessor::busesFor(juce::AudioProcessor::WrapperType)
 {
-    auto buses = juce::AudioProcessor::BusesProperties().withOutput("Output", juce::AudioChannelSet::stereo(), true);
-    if (wrapper != juce::AudioProcessor::wrapperType_VST3) buses = buses.withInput("Input", juce::AudioChannelSet::stereo(), true);
-    return buses;
+    return juce::AudioProcessor::BusesProperties()
+        .withInput("Input", juce::AudioChannelSet::stereo(), true)
+        .withOutput("Output", juce::AudioChannelSet::stereo(), true);
 }
 
 ArmadilloProcessor::ArmadilloProcessor()

@@ -24,6 +24,7 @@
 #include "Core/Errors.h"
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -643,6 +644,25 @@ double parsePitch(std::string_view text) noexcept
     const int octave = text[i] - '0';
     const int midi = 12 * (octave + 1) + semitone;   // C4 = 60
     return 440.0 * std::pow(2.0, (midi - 69) / 12.0);
+}
+
+namespace {
+std::atomic<bool (*)(const std::string&) noexcept> gAccepts {nullptr};
+std::atomic<Score (*)(const std::string&)> gLoad {nullptr};
+} // namespace
+
+void setScoreFileReader(ScoreFileReader reader) noexcept
+{
+    gLoad.store(reader.load);
+    gAccepts.store(reader.accepts);
+}
+
+ScoreFileReader scoreFileReader() noexcept
+{
+    ScoreFileReader r;
+    r.accepts = gAccepts.load();
+    r.load = gLoad.load();
+    return r;
 }
 
 // The tempo points are in order of beat and of seconds (events are in time order and tempo

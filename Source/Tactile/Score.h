@@ -101,6 +101,16 @@ Score parseScore(std::string_view text, const std::string& sourceName);
 /// Reads and parses a file (IoError when it cannot be read).
 Score loadScore(const std::string& path);
 
+/// Score files of other formats (MIDI files, haptic files: Formats/ScoreImport.h), read by a
+/// module above this one: the engine installs the reader, and the score scene uses it for a path
+/// that `accepts` (anything else is a .score file or a name).
+struct ScoreFileReader {
+    bool (*accepts)(const std::string& path) noexcept = nullptr;
+    Score (*load)(const std::string& path) = nullptr;
+};
+void setScoreFileReader(ScoreFileReader reader) noexcept;
+ScoreFileReader scoreFileReader() noexcept;
+
 /// Motor set syntax of the format: "3", "1,3", "1-9", names (all, wrist, middle, elbow, left,
 /// under, right, back, wrist-anchors, bones) and lists of these. Motors are numbered 1..16.
 /// Returns false for anything else.

@@ -5,8 +5,8 @@
 //     quietest hops down at once and creeping up 1.5 dB/s); a gate 12 dB above it (and above −66 dBFS); a dip (the gate closing,
 //     or 10 dB under the note's peak) followed by a rise of 8 dB is an onset (a tongued or new
 //     note);
-//   - pitch: the normalised autocorrelation of the last 20 ms at the period of the current
-//     note, the next and the one after (fractional lags, linear interpolation). A bassoon-like
+//   - pitch: the normalised autocorrelation of the last 20 ms at the periods of the current
+//     event's pitches, the next event's and the one after's (fractional lags, linear interpolation). A bassoon-like
 //     tone gives ≈ 1 at its own period and ≤ 0.4 at a semitone's; white noise ≈ 0;
 //   - alignment: left to right through the followed notes. The next note (or the one after, if
 //     one was missed) takes over when it matches at least `pitchThreshold` and `switchMargin`
@@ -26,6 +26,22 @@ namespace armadillo {
 static_assert(std::atomic<double>::is_always_lock_free, "the follower publishes doubles lock-free");
 static_assert(std::atomic<std::uint64_t>::is_always_lock_free, "the follower publishes 64-bit words lock-free");
 
+std::vector<std::vector<int>> followedEvents(const Score& score)
+{
+    std::vector<std::vector<int>> events;
+    double first = 0.0;
+    for (std::size_t i = 0; i < score.notes.size(); ++i) {
+        const ScoreNote& n = score.notes[i];
+        if (n.part < 0 || !score.parts[static_cast<std::size_t>(n.part)].followNotes || !(n.pitchHz > 0.0)) continue;
+        if (events.empty() || n.start > first + kEventTogether) {
+            events.emplace_back();
+            first = n.start;
+        }
+        events.back().push_back(static_cast<int>(i));
+    }
+    return events;
+}
+
 namespace {
 constexpr std::uint64_t kFrameMask = (std::uint64_t(1) << 44) - 1;
 constexpr float kMinGate = 5.0e-4f;   // −66 dBFS
@@ -41,20 +57,42 @@ void ScoreFollower::prepare(const Score& score, double sampleRate, const Followe
     hop_ = std::max(8, static_cast<int>(std::lround(sampleRate * params.hopSeconds)));
     window_ = std::clamp(static_cast<int>(std::lround(sampleRate * params.windowSeconds)), 32, kRing / 4);
     notes_.clear();
-    followed_.clear();
     parts_ = score.parts;
     cues_ = score.cues;
-    for (std::size_t i = 0; i < score.notes.size(); ++i) {
-        const ScoreNote& n = score.notes[i];
-        if (n.part < 0 || !score.parts[static_cast<std::size_t>(n.part)].followNotes || !(n.pitchHz > 0.0)) continue;
+    const std::vector<std::vector<int>> events = followedEvents(score);
+    double longest = 0.0;
+    for (const auto& event : events)
+        for (const int i : event) longest = std::max(longest, score.notes[static_cast<std::size_t>(i)].end - score.notes[static_cast<std::size_t>(i)].start);
+    for (std::size_t e = 0; e < events.size(); ++e) {
+        // The event's own notes, then the followed notes of earlier events still held at its
+        // start (a bass under the melody): what the recording should sound while it is current.
+        std::vector<int> sounding = events[e];
+        const double start = score.notes[static_cast<std::size_t>(events[e].front())].start;
+        for (std::size_t k = e; k-- > 0 && score.notes[static_cast<std::size_t>(events[k].front())].start >= start - longest;)
+            for (const int i : events[k])
+                if (score.notes[static_cast<std::size_t>(i)].end > start + kEventTogether) sounding.push_back(i);
         Note f;
-        f.periodSamples = sampleRate / n.pitchHz;
-        if (f.periodSamples + window_ + 2 >= kRing)
-            throw InputError(score.source, n.line, "pitch", "pitch too low for the follower at this sample rate");
-        f.expected = n.end - n.start;
-        if (!notes_.empty()) f.repeatsPrevious = std::fabs(notes_.back().periodSamples / f.periodSamples - 1.0) < 0.01;
+        for (const int i : sounding) {
+            const ScoreNote& n = score.notes[static_cast<std::size_t>(i)];
+            const double period = sampleRate / n.pitchHz;
+            if (period + window_ + 2 >= kRing)
+                throw InputError(score.source, n.line, "pitch", "pitch too low for the follower at this sample rate");
+            bool known = false;
+            for (int k = 0; k < f.pitches; ++k) known = known || std::fabs(f.periodSamples[static_cast<std::size_t>(k)] / period - 1.0) < 0.01;
+            if (!known && f.pitches < kEventPitches) f.periodSamples[static_cast<std::size_t>(f.pitches++)] = period;
+        }
+        if (!notes_.empty()) {
+            const Note& prev = notes_.back();
+            bool same = prev.pitches == f.pitches;
+            for (int k = 0; same && k < f.pitches; ++k) {
+                bool found = false;
+                for (int j = 0; j < prev.pitches; ++j)
+                    found = found || std::fabs(prev.periodSamples[static_cast<std::size_t>(j)] / f.periodSamples[static_cast<std::size_t>(k)] - 1.0) < 0.01;
+                same = found;
+            }
+            f.repeatsPrevious = same;
+        }
         notes_.push_back(f);
-        followed_.push_back(static_cast<int>(i));
     }
     const double hopS = hop_ / sampleRate;
     for (std::size_t p = 0; p < parts_.size(); ++p) {
@@ -122,6 +160,15 @@ void ScoreFollower::process(const float* const* in, int channels, int n) noexcep
     pubFrames_.store(written_, std::memory_order_release);
 }
 
+bool ScoreFollower::hasPitch(int e, double period) const noexcept
+{
+    if (e < 0 || e >= static_cast<int>(notes_.size())) return false;
+    const Note& n = notes_[static_cast<std::size_t>(e)];
+    for (int k = 0; k < n.pitches; ++k)
+        if (std::fabs(n.periodSamples[static_cast<std::size_t>(k)] / period - 1.0) < 0.01) return true;
+    return false;
+}
+
 float ScoreFollower::correlation(double period) const noexcept
 {
     const auto lag = static_cast<std::uint64_t>(period);
@@ -185,25 +232,76 @@ void ScoreFollower::analyse() noexcept
     }
     cueEnvelope_ += (level_ - cueEnvelope_) * (level_ > cueEnvelope_ ? cueAttack_ : cueRelease_);
 
-    // Notes: a left-to-right alignment over the followed notes.
+    // Notes: a left-to-right alignment over the followed events. An event's match is the sum of
+    // its pitches' correlations (each ≥ 0, the sum at most 1): in a mix of harmonic tones of
+    // unrelated periods the correlation at one tone's period is about that tone's share of the
+    // energy, so a chord that sounds scores ≈ 1 and each of its notes alone ≈ its share.
     const int count = static_cast<int>(notes_.size());
+    std::array<std::array<float, kEventPitches>, kCandidates> rp {};
     std::array<float, kCandidates> r {};
     r.fill(-1.0f);
     if (count > 0 && level_ > 1e-5f) {
+        std::array<double, kCandidates * kEventPitches> seenPeriod {};
+        std::array<float, kCandidates * kEventPitches> seenR {};
+        int seen = 0;
         for (int c = 0; c < kCandidates; ++c) {
             const int idx = current_ + c;
-            if (idx >= 0 && idx < count) r[static_cast<std::size_t>(c)] = correlation(notes_[static_cast<std::size_t>(idx)].periodSamples);
+            if (idx < 0 || idx >= count) continue;
+            const Note& e = notes_[static_cast<std::size_t>(idx)];
+            for (int k = 0; k < e.pitches; ++k) {
+                const double period = e.periodSamples[static_cast<std::size_t>(k)];
+                float v = -1.0f;
+                for (int j = 0; j < seen && v < -0.5f; ++j)
+                    if (seenPeriod[static_cast<std::size_t>(j)] == period) v = seenR[static_cast<std::size_t>(j)];
+                if (v < -0.5f) {
+                    v = std::max(0.0f, correlation(period));
+                    seenPeriod[static_cast<std::size_t>(seen)] = period;
+                    seenR[static_cast<std::size_t>(seen++)] = v;
+                }
+            }
         }
+        // A pitch whose period also fits a higher pitch in play (an octave, a twelfth...: its
+        // frequency k times this one's) is credited only with what that pitch's period does not
+        // explain: G2 is not heard just because D5, its sixth harmonic, sounds.
+        for (int c = 0; c < kCandidates; ++c) {
+            const int idx = current_ + c;
+            if (idx < 0 || idx >= count) continue;
+            const Note& e = notes_[static_cast<std::size_t>(idx)];
+            float sum = 0.0f;
+            for (int k = 0; k < e.pitches; ++k) {
+                const double period = e.periodSamples[static_cast<std::size_t>(k)];
+                float v = 0.0f, above = 0.0f;
+                for (int j = 0; j < seen; ++j) {
+                    const double ratio = period / seenPeriod[static_cast<std::size_t>(j)];
+                    if (ratio == 1.0) v = seenR[static_cast<std::size_t>(j)];
+                    else if (ratio > 1.9 && std::fabs(ratio - std::round(ratio)) < 0.015 * ratio) above = std::max(above, seenR[static_cast<std::size_t>(j)]);
+                }
+                v = std::max(0.0f, v - above);
+                rp[static_cast<std::size_t>(c)][static_cast<std::size_t>(k)] = v;
+                sum += v;
+            }
+            r[static_cast<std::size_t>(c)] = std::min(1.0f, sum);
+        }
+        // What event a explains that event b does not: its pitches that b lacks.
+        const auto exclusive = [&](int a, int b) {
+            const int ia = current_ + a, ib = current_ + b;
+            const Note& e = notes_[static_cast<std::size_t>(ia)];
+            float sum = 0.0f;
+            for (int k = 0; k < e.pitches; ++k)
+                if (!hasPitch(ib, e.periodSamples[static_cast<std::size_t>(k)])) sum += rp[static_cast<std::size_t>(a)][static_cast<std::size_t>(k)];
+            return std::min(1.0f, sum);
+        };
         int best = -1;
         for (int c = 1; c < kCandidates; ++c) {
             const int idx = current_ + c;
             if (idx < 0 || idx >= count) continue;
             const float rc = r[static_cast<std::size_t>(c)];
             if (rc < params_.pitchThreshold) continue;
-            if (current_ >= 0 && rc < r[0] + params_.switchMargin && !notes_[static_cast<std::size_t>(idx)].repeatsPrevious) continue;
-            // A note of the same pitch as the one before it shows itself only by its onset.
+            if (current_ >= 0 && !notes_[static_cast<std::size_t>(idx)].repeatsPrevious && exclusive(c, 0) < exclusive(0, c) + params_.switchMargin)
+                continue;
+            // An event of the same pitches as the one before it shows itself only by its onset.
             if (notes_[static_cast<std::size_t>(idx)].repeatsPrevious && (c != 1 || sinceOnsetEvent_ > 24)) continue;
-            if (c == 2 && rc < r[1] + params_.switchMargin) continue;   // the next note first
+            if (c == 2 && rc < r[1] + params_.switchMargin) continue;   // the next event first
             best = c;
             break;
         }

@@ -16,11 +16,22 @@
 
 namespace armadillo {
 
+/// Notes that start together are one event of the alignment (a chord, a melody note with its
+/// bass): notes of parts that follow notes, with a pitch, whose starts lie within this much score
+/// time of the event's first note.
+inline constexpr double kEventTogether = 0.025;
+/// Pitches an event is matched on (the first ones in score order; more notes still sound).
+inline constexpr int kEventPitches = 6;
+
+/// The followed notes grouped into events, in score order: each event lists its notes' indices
+/// in Score::notes (score order). Shared by the follower and the player, so both count alike.
+std::vector<std::vector<int>> followedEvents(const Score& score);
+
 /// What the follower has heard, as the control thread sees it.
 struct FollowState {
     bool heard = false;          ///< some sound has come in since the start (or the last reset)
-    int note = -1;               ///< followed note sounding or last heard (index into the followed notes), -1 = none yet
-    double sinceOnset = 0.0;     ///< s of audio since that note was heard to start
+    int note = -1;               ///< followed event sounding or last heard (index into followedEvents()), -1 = none yet
+    double sinceOnset = 0.0;     ///< s of audio since that event was heard to start
     bool sounding = false;       ///< the recording sounds now (the note is held, not a rest)
     double position = -1.0;      ///< texture scores: s of score time from the first sound and the cues passed (-1: none yet)
     int cuesPassed = 0;          ///< how many cues the alignment has passed
@@ -40,7 +51,7 @@ struct FollowerParams {
 class ScoreFollower {
 public:
     static constexpr int kRing = 16384;          ///< samples kept (power of two)
-    static constexpr int kCandidates = 3;        ///< current note, next, the one after (a missed note)
+    static constexpr int kCandidates = 3;        ///< current event, next, the one after (a missed event)
 
     /// Not real-time. Notes of parts that follow notes are tracked; every part gets an envelope;
     /// cues are looked for. sampleRate 8000..192000 Hz.
@@ -52,27 +63,30 @@ public:
     /// Any other thread: what has been heard so far.
     FollowState state() const noexcept;
 
-    /// The followed notes (score order): their index in Score::notes.
-    const std::vector<int>& followedNotes() const noexcept { return followed_; }
+    /// How many followed events the alignment runs through.
+    int eventCount() const noexcept { return static_cast<int>(notes_.size()); }
     double sampleRate() const noexcept { return sampleRate_; }
     int hopSize() const noexcept { return hop_; }
 
 private:
+    /// One event of the alignment: the periods of its pitches and of the notes held into it from
+    /// earlier events (distinct, at most kEventPitches, its own first).
     struct Note {
-        double periodSamples = 0.0;
-        double expected = 0.0;   ///< s the score gives it
-        bool repeatsPrevious = false;
+        std::array<double, kEventPitches> periodSamples {};
+        int pitches = 0;
+        bool repeatsPrevious = false;   ///< the same pitches as the event before
     };
     void reset() noexcept;
     void analyse() noexcept;
     float correlation(double period) const noexcept;
+    /// Whether `period` is one of event e's pitches (within 1 %).
+    bool hasPitch(int e, double period) const noexcept;
     void publish() noexcept;
 
     FollowerParams params_ {};
     double sampleRate_ = 48000.0;
     int hop_ = 120, window_ = 960;
-    std::vector<Note> notes_;
-    std::vector<int> followed_;
+    std::vector<Note> notes_;   ///< the followed events
     std::vector<ScoreCue> cues_;
     std::vector<ScorePart> parts_;
     std::array<float, kMaxScoreParts> attackCoef_ {}, releaseCoef_ {};

@@ -13,14 +13,14 @@ void ScorePlayer::setScore(Score score)
     longestNote_ = 0.0;
     for (const auto& n : score_.notes) longestNote_ = std::max(longestNote_, n.end - n.start);
     followedOf_.assign(score_.notes.size(), -1);
-    followed_.clear();
-    for (std::size_t i = 0; i < score_.notes.size(); ++i) {
-        const ScoreNote& n = score_.notes[i];
-        if (n.part >= 0 && score_.parts[static_cast<std::size_t>(n.part)].followNotes && n.pitchHz > 0.0) {
-            followedOf_[i] = static_cast<int>(followed_.size());
-            followed_.push_back(static_cast<int>(i));
+    events_ = followedEvents(score_);
+    eventLength_.assign(events_.size(), 0.0);
+    for (std::size_t e = 0; e < events_.size(); ++e)
+        for (const int i : events_[e]) {
+            followedOf_[static_cast<std::size_t>(i)] = static_cast<int>(e);
+            const ScoreNote& n = score_.notes[static_cast<std::size_t>(i)];
+            eventLength_[e] = std::max(eventLength_[e], n.end - score_.notes[static_cast<std::size_t>(events_[e].front())].start);
         }
-    }
     // Per voice, the pattern that plays is a step function of the position: it can change only
     // at a start or end of one of the voice's patterns. Between two such boundaries it is the
     // last-listed pattern whose span [start, end) holds the position. One sweep per voice over
@@ -124,11 +124,11 @@ void ScorePlayer::control(const Transport& transport, double dt, MotorCanvas& ca
     if (follow) {
         // The recording places the score: the followed note heard last (and how long ago), or
         // for a score without followed notes the cue-aligned time since the first sound.
-        if (!followed_.empty()) {
+        if (!events_.empty()) {
             position = -1.0;
-            if (follow->note >= 0 && follow->note < static_cast<int>(followed_.size())) {
-                const ScoreNote& n = score_.notes[static_cast<std::size_t>(followed_[static_cast<std::size_t>(follow->note)])];
-                position = n.start + std::min(follow->sinceOnset, 0.999 * (n.end - n.start));
+            if (follow->note >= 0 && follow->note < static_cast<int>(events_.size())) {
+                const auto e = static_cast<std::size_t>(follow->note);
+                position = score_.notes[static_cast<std::size_t>(events_[e].front())].start + std::min(follow->sinceOnset, 0.999 * eventLength_[e]);
             }
         } else {
             position = follow->heard ? follow->position : -1.0;
@@ -187,8 +187,12 @@ void ScorePlayer::control(const Transport& transport, double dt, MotorCanvas& ca
             --it;
             if (it->start < position - longestNote_) break;
             const auto index = static_cast<std::size_t>(it - score_.notes.begin());
-            if (follow && followedOf_[index] >= 0) continue;   // placed by the follower below
             float l = it->levelAt(position);
+            if (follow && followedOf_[index] >= 0) {
+                // Placed by the follower below; a note of an earlier event still held (a bass
+                // under the melody) sounds on while the recording does, by the position.
+                if (followedOf_[index] >= follow->note || !follow->sounding) continue;
+            }
             if (follow && l > 0.0f && it->part >= 0 && score_.parts[static_cast<std::size_t>(it->part)].followAmplitude)
                 l = amplitudeLevel(*it, score_.parts[static_cast<std::size_t>(it->part)],
                                    follow->envelope[static_cast<std::size_t>(it->part)], true);
@@ -200,19 +204,21 @@ void ScorePlayer::control(const Transport& transport, double dt, MotorCanvas& ca
                 }
         }
     }
-    // The followed note the recording plays now: its motors from the moment it was heard.
-    if (follow && follow->sounding && follow->note >= 0 && follow->note < static_cast<int>(followed_.size())) {
-        const ScoreNote& n = score_.notes[static_cast<std::size_t>(followed_[static_cast<std::size_t>(follow->note)])];
-        const ScorePart& part = score_.parts[static_cast<std::size_t>(n.part)];
-        const float l = part.followAmplitude
-                            ? amplitudeLevel(n, part, follow->envelope[static_cast<std::size_t>(n.part)], false)
-                            : n.levelAtFraction(follow->sinceOnset / (n.end - n.start));
-        const bool noteSoft = n.soft || part.followAmplitude;   // a followed envelope is a swell
-        for (int m = 0; m < kMaxMotors; ++m)
-            if ((n.motors & (1u << m)) && l > level[static_cast<std::size_t>(m)]) {
-                level[static_cast<std::size_t>(m)] = l;
-                soft = static_cast<std::uint16_t>(noteSoft ? (soft | (1u << m)) : (soft & ~(1u << m)));
-            }
+    // The followed event the recording plays now: its notes' motors from the moment it was heard.
+    if (follow && follow->sounding && follow->note >= 0 && follow->note < static_cast<int>(events_.size())) {
+        for (const int index : events_[static_cast<std::size_t>(follow->note)]) {
+            const ScoreNote& n = score_.notes[static_cast<std::size_t>(index)];
+            const ScorePart& part = score_.parts[static_cast<std::size_t>(n.part)];
+            const float l = part.followAmplitude
+                                ? amplitudeLevel(n, part, follow->envelope[static_cast<std::size_t>(n.part)], false)
+                                : n.levelAtFraction(follow->sinceOnset / (n.end - n.start));
+            const bool noteSoft = n.soft || part.followAmplitude;   // a followed envelope is a swell
+            for (int m = 0; m < kMaxMotors; ++m)
+                if ((n.motors & (1u << m)) && l > level[static_cast<std::size_t>(m)]) {
+                    level[static_cast<std::size_t>(m)] = l;
+                    soft = static_cast<std::uint16_t>(noteSoft ? (soft | (1u << m)) : (soft & ~(1u << m)));
+                }
+        }
     }
     const float gain = std::clamp(intensity_, 0.0f, 1.5f);
     for (int m = 0; m < kMaxMotors; ++m) {

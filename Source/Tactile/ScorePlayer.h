@@ -68,8 +68,9 @@ private:
     std::array<std::vector<VoiceSpan>, kPatternVoices> spans_ {};   ///< per voice, by start
     std::array<std::size_t, kPatternVoices> spanCursor_ {};         ///< span of the last step
     double longestNote_ = 0.0;
-    std::vector<int> followedOf_;   ///< per note: its index among the followed notes, -1 = not followed
-    std::vector<int> followed_;     ///< the followed notes' indices in score_.notes
+    std::vector<int> followedOf_;   ///< per note: its followed event, -1 = not followed
+    std::vector<std::vector<int>> events_;   ///< followedEvents(score_)
+    std::vector<double> eventLength_;        ///< per event: s from its start to its longest note's end
 };
 
 } // namespace armadillo

@@ -17,12 +17,15 @@ namespace {
 
 /// SceneConfig::score → a score: a name is looked up as Scores/<name>.score in the resource
 /// folders (a user's own scores live there) and then among the built-in ones; anything with a
-/// slash or ending in ".score" is a path.
+/// slash or ending in ".score" is a path, and a MIDI or haptic file (.mid, .wav, .ahap, .haptic)
+/// is imported by the reader the engine installed (docs/FORMATS.md).
 Score resolveScore(const SceneConfig& config)
 {
     const std::string& name = config.score;
     if (name.empty()) throw InputError("", 0, "score", "no score given (a name such as rite-of-spring, or a file)");
-    const bool isPath = name.find('/') != std::string::npos || name.ends_with(".score");
+    const ScoreFileReader reader = scoreFileReader();
+    const bool other = reader.accepts && reader.load && reader.accepts(name);   // a MIDI or haptic file
+    const bool isPath = other || name.find('/') != std::string::npos || name.ends_with(".score");
     if (!isPath) {
         if (auto file = findResource("Scores/" + name + ".score", config.resourceDir))
             return parseScore(file->bytes, file->origin);
@@ -33,6 +36,7 @@ Score resolveScore(const SceneConfig& config)
     // A path that cannot be read is an I/O failure (exit 4), as for every other input file; a
     // name that is not a path and not found above is bad input (exit 3).
     if (!std::filesystem::exists(name)) throw IoError("cannot read score file '" + name + "': no such file");
+    if (other) return reader.load(name);
     return loadScore(name);
 }
 

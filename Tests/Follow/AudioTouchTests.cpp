@@ -3,6 +3,7 @@
 // row, kicks as accents too), inside the safety bounds, real-time on the audio thread.
 #include "Common/RealtimeGuard.h"
 #include "Core/Csv.h"
+#include "Core/Errors.h"
 #include "Engine/Engine.h"
 #include "Engine/OfflineRenderer.h"
 #include "Tactile/Bounds.h"
@@ -213,6 +214,162 @@ TEST_CASE("audio-touch: the audio input allocates, locks and throws nothing", "[
         for (std::size_t at = 0; at + static_cast<std::size_t>(block) <= g.audio.frames(); at += static_cast<std::size_t>(block)) {
             const float* in[2] = {g.audio.channels[0].data() + at, g.audio.channels[1].data() + at};
             engine.processInput(in, 2, block);
+            engine.renderAudio(l.data(), r.data(), block);
+            ArmState arm;
+            arm.valid = true;
+            (void) engine.control(arm, Transport {}, static_cast<double>(block) / 48000.0);
+        }
+        CHECK(guard.allocations() == 0);
+        CHECK(guard.deallocations() == 0);
+        CHECK(guard.locks() == 0);
+        CHECK(guard.throws() == 0);
+    }
+}
+
+namespace {
+struct Stems {
+    AudioBuffer audio;              ///< channels: drums, bass, vocals
+    std::vector<double> kicks;
+};
+
+/// 4 s at 48 kHz, three stems: drums (a kick every 0.5 s and off-beat hi-hats), bass (a low-passed
+/// sawtooth, A1..E2, only from 1 s to 3 s, loud) and vocals (a sung A3..E4 with vibrato, harmonics
+/// to 3 kHz, only from 2.2 s to 3.6 s, quiet).
+Stems stems()
+{
+    Stems s;
+    const double fs = 48000.0, total = 4.0;
+    const auto frames = static_cast<std::size_t>(total * fs);
+    s.audio.sampleRate = fs;
+    s.audio.channels.assign(3, std::vector<float>(frames, 0.0f));
+    auto& drums = s.audio.channels[0];
+    auto& bass = s.audio.channels[1];
+    auto& voice = s.audio.channels[2];
+    for (double t0 = 0.05; t0 < total - 0.3; t0 += 0.5) {
+        s.kicks.push_back(t0);
+        double phase = 0.0;
+        for (std::size_t i = static_cast<std::size_t>(t0 * fs); i < static_cast<std::size_t>((t0 + 0.4) * fs); ++i) {
+            const double u = static_cast<double>(i) / fs - t0;
+            phase += 2.0 * 3.14159265358979 * (45.0 + 35.0 * std::exp(-u / 0.04)) / fs;
+            drums[i] += static_cast<float>(0.6 * std::min(1.0, u / 0.002) * std::exp(-u / 0.12) * std::sin(phase));
+        }
+    }
+    std::mt19937_64 rng(9);
+    std::normal_distribution<double> noise(0.0, 1.0);
+    for (double t0 = 0.3; t0 < total - 0.1; t0 += 0.5) {
+        double prev = 0.0;
+        for (std::size_t i = static_cast<std::size_t>(t0 * fs); i < static_cast<std::size_t>((t0 + 0.03) * fs); ++i) {
+            const double n = noise(rng);
+            drums[i] += static_cast<float>(0.25 * std::exp(-(static_cast<double>(i) / fs - t0) / 0.01) * (n - prev));
+            prev = n;
+        }
+    }
+    double phase = 0.0, lp = 0.0;
+    const double a = 1.0 - std::exp(-2.0 * 3.14159265358979 * 400.0 / fs);
+    static constexpr double kBass[] = {55.0, 65.41, 73.42, 82.41};
+    for (std::size_t i = static_cast<std::size_t>(1.0 * fs); i < static_cast<std::size_t>(3.0 * fs); ++i) {
+        const double t = static_cast<double>(i) / fs;
+        phase += kBass[static_cast<std::size_t>((t - 1.0) / 0.25) % 4] / fs;
+        phase -= std::floor(phase);
+        lp += a * ((2.0 * phase - 1.0) - lp);
+        bass[i] = static_cast<float>(0.5 * std::min({1.0, (t - 1.0) / 0.01, (3.0 - t) / 0.01}) * lp);
+    }
+    double vp = 0.0;
+    static constexpr double kSung[] = {220.0, 261.63, 329.63};
+    for (std::size_t i = static_cast<std::size_t>(2.2 * fs); i < static_cast<std::size_t>(3.6 * fs); ++i) {
+        const double t = static_cast<double>(i) / fs;
+        const double f = kSung[static_cast<std::size_t>((t - 2.2) / 0.5) % 3] * (1.0 + 0.01 * std::sin(2.0 * 3.14159265358979 * 5.5 * t));
+        vp += f / fs;
+        double x = 0.0;
+        for (int h = 1; h * f < 3000.0; ++h) x += std::sin(2.0 * 3.14159265358979 * h * vp) / h;
+        voice[i] = static_cast<float>(0.08 * std::min({1.0, (t - 2.2) / 0.03, (3.6 - t) / 0.03}) * x);
+    }
+    return s;
+}
+
+double motorsMean(const std::vector<TactileRow>& rows, std::initializer_list<int> motors, double from, double to)
+{
+    double sum = 0.0;
+    int n = 0;
+    for (const auto& r : rows)
+        if (r.t >= from && r.t < to)
+            for (int k : motors) {
+                sum += r.levels[static_cast<std::size_t>(k - 1)];
+                ++n;
+            }
+    return n ? sum / n : 0.0;
+}
+} // namespace
+
+TEST_CASE("audio-touch: stems felt apart — bass at the elbow, the voice at the wrist, the beat on the underside", "[audio-touch][stems]")
+{
+    const Stems s = stems();
+    RenderSettings settings;
+    settings.engine.scene = "audio-touch";
+    settings.engine.sceneConfig.stems = {"drums", "bass", "vocals"};
+    settings.audioIn = &s.audio;
+    const auto rows = renderOffline(stillMotion(4.0), settings).tactile;
+    // Bass (motors 7, 9): on while it plays, off before and after.
+    const double bassOn = motorsMean(rows, {7, 9}, 1.2, 2.9), bassOff = motorsMean(rows, {7, 9}, 0.2, 0.9);
+    // Vocals (motors 1, 3): quiet as they are, on while sung; nothing while only bass and drums play.
+    const double voiceOn = motorsMean(rows, {1, 3}, 2.4, 3.5), voiceOff = motorsMean(rows, {1, 3}, 1.2, 2.1);
+    // Nothing on "other" (motors 4, 6): there is no such stem.
+    const double other = motorsMean(rows, {4, 6}, 0.0, 4.0);
+    // Kicks as accents on the drums' motors (2, 5, 8).
+    int found = 0;
+    for (double k : s.kicks) {
+        bool hit = false;
+        for (const auto& r : rows)
+            if (r.t >= k - 0.01 && r.t <= k + 0.06 && r.levels[4] > kRatedLevel) hit = true;
+        found += hit;
+    }
+    std::printf("audio-touch stems: bass motors %.2f while it plays vs %.2f before; voice motors %.2f sung vs %.2f under the bass; "
+                "other %.2f; kick accents %d/%zu\n", bassOn, bassOff, voiceOn, voiceOff, other, found, s.kicks.size());
+    CHECK(bassOn > 2.0);
+    CHECK(bassOff < 0.3);
+    CHECK(voiceOn > 1.0);
+    CHECK(voiceOff < 0.2);
+    CHECK(other == 0.0);
+    CHECK(found >= static_cast<int>(s.kicks.size()) - 1);
+    std::vector<MotorLevels> packets;
+    std::vector<double> hold;
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        packets.push_back(rows[i].levels);
+        hold.push_back(i + 1 < rows.size() ? rows[i + 1].t - rows[i].t : 0.005);
+    }
+    CHECK(withinBounds(measureBounds(packets, hold)));
+
+    // The same three stems mixed into one input: the bass leaks into what the voice's motors feel
+    // in the mixed scene's middle band (the reason for stems): measured for the record.
+    settings.engine.sceneConfig.stems.clear();
+    AudioBuffer mix;
+    mix.sampleRate = s.audio.sampleRate;
+    mix.channels.assign(1, std::vector<float>(s.audio.frames()));
+    for (std::size_t i = 0; i < s.audio.frames(); ++i) mix.channels[0][i] = s.audio.channels[0][i] + s.audio.channels[1][i] + s.audio.channels[2][i];
+    settings.audioIn = &mix;
+    const auto mixed = renderOffline(stillMotion(4.0), settings).tactile;
+    std::printf("audio-touch mixed: middle row %.2f under the bass alone vs %.2f with the voice\n", motorsMean(mixed, {4, 5, 6}, 1.2, 2.1),
+                motorsMean(mixed, {4, 5, 6}, 2.4, 2.9));
+
+    settings.engine.sceneConfig.stems = {"drums", "guitar"};
+    CHECK_THROWS_AS(renderOffline(stillMotion(0.1), settings), InputError);
+}
+
+TEST_CASE("audio-touch: stems on the audio thread allocate, lock and throw nothing", "[audio-touch][stems][realtime]")
+{
+    ARMADILLO_REQUIRE_GUARD();
+    const Stems s = stems();
+    for (const int block : {1, 64, 1024}) {
+        CAPTURE(block);
+        EngineConfig config;
+        config.scene = "audio-touch";
+        config.sceneConfig.stems = {"drums", "bass", "vocals"};
+        Engine engine(config);
+        std::vector<float> l(static_cast<std::size_t>(block)), r(static_cast<std::size_t>(block));
+        RealtimeGuard guard;
+        for (std::size_t at = 0; at + static_cast<std::size_t>(block) <= s.audio.frames(); at += static_cast<std::size_t>(block)) {
+            const float* in[3] = {s.audio.channels[0].data() + at, s.audio.channels[1].data() + at, s.audio.channels[2].data() + at};
+            engine.processInput(in, 3, block);
             engine.renderAudio(l.data(), r.data(), block);
             ArmState arm;
             arm.valid = true;

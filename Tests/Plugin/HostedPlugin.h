@@ -82,8 +82,8 @@ inline Hosted loadLv2()
 /// `withInput`: the test needs the main input (the track the plugin listens to).
 inline void prepare(Hosted& h, bool withInput = false)
 {
-    // The LV2 has a stereo input (its ports are fixed: the host cannot switch it off); the VST3
-    // declares none (docs/PLUGIN.md). The blocks carry two channels, in place.
+    // The LV2 and the VST3 have a stereo input (docs/PLUGIN.md, "Audio input"). The blocks carry
+    // two channels, in place.
     const int inputs = h.plugin->getBusesLayout().getMainInputChannels();
     if (withInput) REQUIRE(inputs == 2);
     h.plugin->setPlayConfigDetails(inputs, 2, kRate, kBlock);

@@ -1,0 +1,92 @@
+#pragma once
+// Tactile scores from other formats (docs/FORMATS.md): a Standard MIDI File (notes → motors by a
+// documented, editable rule), a multichannel WAV (the Syntacts convention: channel k drives motor
+// k), Apple's AHAP and Meta's `.haptic`. Each importer writes the text of a version-2 score — a
+// file a person can read and edit — and the result is parsed back by the score parser, so what
+// is imported is exactly what `--score FILE.score` plays. No JUCE.
+#include "Core/Csv.h"
+#include "Formats/MidiFile.h"
+#include "Tactile/Score.h"
+#include "Tactile/TactileEngine.h"
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace armadillo {
+
+/// A track's motors instead of the pitch rule (`--track N=SET`), or the track left out (`--track N=off`).
+struct MidiTrackRule {
+    int track = 1;               ///< 1-based: the MTrk chunk's position in the file
+    std::uint16_t motors = 0;    ///< bit i = motor index i; 0 with `off`
+    bool off = false;
+};
+
+/// The MIDI rule (docs/FORMATS.md, "MIDI files"); every default is what the docs describe.
+struct MidiImportOptions {
+    int maxMotors = 4;                 ///< the budget: at most this many notes sound at once
+    std::vector<MidiTrackRule> tracks; ///< per-track overrides
+    SafetyParams safety {};            ///< the level curve's limits: rating and the run above it
+    float quietLevel = 1.5f;           ///< level of velocity 1
+    float shortTop = 10.0f;            ///< level of velocity 127 for a note that may run above the rating
+    int softBelowVelocity = 49;        ///< notes quieter than this (p and softer) ...
+    double softLongerThan = 0.5;       ///< ... and at least this long (s) start soft
+    bool follow = true;                ///< pitch= on every pitched note, parts follow=notes
+};
+
+/// What an import did, besides the score text.
+struct ImportReport {
+    std::string format;          ///< "midi", "wav", "ahap", "haptic"
+    int notes = 0;               ///< notes written
+    int dropped = 0;             ///< notes left out (over the budget, or every motor busy)
+    int shortened = 0;           ///< held notes ended early to make room for a new onset
+    int cues = 0;
+    std::vector<std::string> warnings;
+};
+
+struct ImportedScore {
+    std::string text;            ///< the score file's text (armadillo-score 2)
+    Score score;                 ///< the same text parsed
+    ImportReport report;
+};
+
+/// The level curve of the MIDI rule: velocity 1..127 → quietLevel..top, linear, where top is the
+/// rated level for a note longer than the safety's run above the rating (it could not run above
+/// the rating anyway) and shortTop for a shorter one.
+float midiVelocityLevel(int velocity, double seconds, const MidiImportOptions& options) noexcept;
+
+/// The motor (index, right-arm layout) a pitch rule bin 0..8 names: 0 = elbow left (motor 7) …
+/// 8 = wrist right (motor 3); bin = 3·(2 − row) + column.
+int binMotor(int bin) noexcept;
+
+ImportedScore importMidi(const MidiFile& midi, const MidiImportOptions& options, const std::string& source);
+
+/// Options of the haptic formats.
+struct HapticImportOptions {
+    double frameSeconds = 0.005;          ///< WAV: the analysis frame (the peak of each frame is a level)
+    std::uint16_t motors = 0x01FF;        ///< AHAP / .haptic: the motors the one actuator drives (default all nine)
+    double transientSeconds = 0.030;      ///< AHAP: how long a transient event is held
+    double emphasisSeconds = 0.030;       ///< .haptic: how long an emphasis is held (Lofelt's emphasis length)
+};
+
+/// A multichannel WAV (9 or 12 channels, or up to 16): channel k → motor k; each frame's level is
+/// 15 × the peak |sample| of the channel in the frame.
+ImportedScore importTactileWav(const std::string& path, const HapticImportOptions& options);
+/// Apple AHAP (JSON text).
+ImportedScore importAhap(std::string_view json, const std::string& source, const HapticImportOptions& options);
+/// Meta Haptics Studio `.haptic` (Lofelt data model v1, JSON text).
+ImportedScore importMetaHaptic(std::string_view json, const std::string& source, const HapticImportOptions& options);
+
+/// By extension: .score (parsed as is), .mid/.midi, .wav, .ahap, .haptic. InputError for an
+/// unknown extension, naming the ones known.
+ImportedScore importScoreFile(const std::string& path, const MidiImportOptions& midi = {}, const HapticImportOptions& haptic = {});
+/// importScoreFile(path).score: what `--score FILE` plays for a file of any of those formats.
+Score loadAnyScore(const std::string& path);
+/// Whether `path` ends with an extension importScoreFile() knows (case-insensitive).
+bool isImportableScorePath(const std::string& path) noexcept;
+
+/// Writes the motors as a multichannel WAV (docs/FORMATS.md): rows of 0..15 levels, each held
+/// until the next row's time; channel k = motor k at amplitude level/15 of a `carrierHz` sine.
+void writeTactileWav(const std::string& path, const std::vector<TactileRow>& rows, int motors, double sampleRate,
+                     double carrierHz = 150.0, bool float32 = false);
+
+} // namespace armadillo

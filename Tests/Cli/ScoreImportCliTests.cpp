@@ -1,0 +1,86 @@
+// `armadillo score import` and `render --tactile-wav` / `--score FILE.mid` as a user runs them.
+#include "CliRun.h"
+#include "Common/MidiWriter.h"
+#include "Core/AtomicFile.h"
+#include "Core/Wav.h"
+#include "Tactile/Score.h"
+#include <catch2/catch.hpp>
+#include <filesystem>
+
+using namespace armadillo::cli;
+namespace fs = std::filesystem;
+
+namespace {
+std::string stillMotion(const std::string& name, double seconds)
+{
+    std::string rows = "t,elevation,azimuth,roll\n";
+    for (int i = 0; i <= static_cast<int>(seconds * 200.0); ++i) rows += std::to_string(i / 200.0) + ",0,0,0\n";
+    return file(name, rows);
+}
+} // namespace
+
+TEST_CASE("cli: score import turns a MIDI file into a score; bad usage 2, bad input 3, nothing written", "[cli][import]")
+{
+    using armadillo::test::WrittenNote;
+    const std::string mid = path("tune.mid");
+    armadillo::test::writeFile(mid, armadillo::test::midiBytes({{0, 1, 72, 90, 0, 0}, {1, 1, 76, 90, 0, 0}, {2, 2, 60, 90, 0, 0}, {2, 2, 64, 90, 0, 0}},
+                                                              {{0, 100}}, 1));
+    const std::string out = path("tune.score");
+    const Run r = runArmadillo("score import '" + mid + "' --out '" + out + "' --max-motors 3");
+    REQUIRE(r.code == 0);
+    CHECK(r.out.find("\"format\":\"midi\"") != std::string::npos);
+    CHECK(r.out.find("\"notes\":4") != std::string::npos);
+    const armadillo::Score s = armadillo::loadScore(out);
+    CHECK(s.notes.size() == 4);
+    CHECK(s.version == 2);
+
+    CHECK(runArmadillo("score").code == 2);
+    CHECK(runArmadillo("score export x").code == 2);
+    CHECK(runArmadillo("score import '" + mid + "'").code == 2);                                   // no --out
+    CHECK(runArmadillo("score import '" + mid + "' --out '" + out + "' --track 1=nowhere").code == 2);
+    CHECK(runArmadillo("score import '" + mid + "' --out '" + out + "' --max-motors 12").code == 2);
+    const std::string never = path("never.score");
+    const Run missing = runArmadillo("score import '" + path("missing.mid") + "' --out '" + never + "'");
+    CHECK(missing.code == 3);
+    CHECK(missing.err.find("missing.mid") != std::string::npos);
+    CHECK(runArmadillo("score import '" + file("notes.txt", "hello") + "' --out '" + never + "'").code == 3);
+    CHECK(runArmadillo("score import '" + file("broken.mid", "MThd\x00\x00") + "' --out '" + never + "'").code == 3);
+    CHECK(runArmadillo("score import '" + mid + "' --out '" + never + "' --track 7=elbow").code == 3);   // no track 7
+    CHECK_FALSE(fs::exists(never));
+}
+
+TEST_CASE("cli: render plays a MIDI file directly and writes the motors as a multichannel WAV", "[cli][import]")
+{
+    const std::string mid = path("direct.mid");
+    armadillo::test::writeFile(mid, armadillo::test::midiBytes({{0, 1, 60, 100, 0, 0}, {1, 1, 67, 100, 0, 0}}, {{0, 120}}, 1));
+    const std::string motion = stillMotion("still2.csv", 1.2);
+    const std::string wav = path("direct.wav"), tactileWav = path("direct-tactile.wav"), csv = path("direct.csv");
+    const Run r = runArmadillo("render --scene score --score '" + mid + "' --motion '" + motion + "' --out '" + wav + "' --tactile '" + csv +
+                               "' --tactile-wav '" + tactileWav + "' --back-motors");
+    REQUIRE(r.code == 0);
+    const armadillo::AudioBuffer t = armadillo::readWav(tactileWav);
+    CHECK(t.channels.size() == 12);
+    float peak = 0.0f;
+    for (const auto& c : t.channels)
+        for (float x : c) peak = std::max(peak, std::fabs(x));
+    CHECK(peak > 0.1f);   // the notes are there
+    // The tactile WAV imports back as a score.
+    CHECK(runArmadillo("score import '" + tactileWav + "' --out '" + path("back.score") + "'").code == 0);
+}
+
+TEST_CASE("cli: render takes stems for audio-touch; unknown stems and stems for other scenes are refused", "[cli][stems]")
+{
+    armadillo::AudioBuffer tone;
+    tone.channels.assign(1, std::vector<float>(24000));
+    for (std::size_t i = 0; i < tone.frames(); ++i) tone.channels[0][i] = static_cast<float>(0.4 * std::sin(2.0 * 3.14159265358979 * 55.0 * static_cast<double>(i) / 48000.0));
+    const std::string bass = path("bass.wav"), drums = path("drums.wav");
+    armadillo::writeWav(bass, tone);
+    armadillo::writeWav(drums, tone);
+    const std::string motion = stillMotion("still3.csv", 0.5);
+    const std::string out = path("stems.wav"), csv = path("stems.csv");
+    CHECK(runArmadillo("render --scene audio-touch --motion '" + motion + "' --out '" + out + "' --stem bass='" + bass + "' --stem drums='" + drums + "' --tactile '" + csv + "'").code == 0);
+    CHECK(runArmadillo("render --scene audio-touch --motion '" + motion + "' --out '" + out + "' --audio-in '" + bass + "' --audio-in '" + drums + "'").code == 0);
+    CHECK(runArmadillo("render --scene audio-touch --motion '" + motion + "' --out '" + out + "' --stem guitar='" + bass + "'").code == 3);
+    CHECK(runArmadillo("render --scene audio-touch --motion '" + motion + "' --out '" + out + "' --stem bass").code == 2);
+    CHECK(runArmadillo("render --scene monitor --motion '" + motion + "' --out '" + out + "' --stem bass='" + bass + "'").code == 2);
+}

@@ -1,0 +1,239 @@
+// Haptic files in and out (docs/FORMATS.md): what an imported file plays through the engine,
+// against levels computed here from each format's definition.
+#include "Core/Csv.h"
+#include "Core/Errors.h"
+#include "Core/Wav.h"
+#include "Engine/OfflineRenderer.h"
+#include "Formats/ScoreImport.h"
+#include "Tactile/Bounds.h"
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <filesystem>
+#include <random>
+#include <unistd.h>
+
+using namespace armadillo;
+
+namespace {
+std::string tempPath(const std::string& name)
+{
+    const auto dir = std::filesystem::temp_directory_path() / ("armadillo-formats-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    return (dir / name).string();
+}
+
+CsvTable stillMotion(double seconds)
+{
+    std::string s = "t,elevation,azimuth,roll\n";
+    for (int i = 0; i <= static_cast<int>(std::lround(seconds * 200.0)); ++i) s += std::to_string(i / 200.0) + ",0,0,0\n";
+    return CsvTable::parse(s, "still.csv");
+}
+
+std::vector<TactileRow> play(const std::string& scorePath, double seconds)
+{
+    RenderSettings settings;
+    settings.engine.scene = "score";
+    settings.engine.sceneConfig.score = scorePath;
+    return renderOffline(stillMotion(seconds), settings).tactile;
+}
+
+/// Levels 0..15 for 9 motors per 5 ms frame: random steps within the safety budget (at most the
+/// rated level, with short bursts above it), held 1..40 frames.
+std::vector<std::array<int, 9>> randomLevels(std::size_t frames, std::uint64_t seed)
+{
+    std::mt19937_64 rng(seed);
+    std::vector<std::array<int, 9>> v(frames);
+    for (int m = 0; m < 9; ++m) {
+        std::size_t f = 0;
+        while (f < frames) {
+            const std::size_t hold = 1 + rng() % 40;
+            const int level = (rng() % 10 == 0) ? static_cast<int>(6 + rng() % 6) : static_cast<int>(rng() % 6);
+            for (std::size_t k = 0; k < (level > 5 ? std::min<std::size_t>(hold, 20) : hold) && f < frames; ++k) v[f++][static_cast<std::size_t>(m)] = level;
+            for (std::size_t k = 0; k < 4 && f < frames && level > 5; ++k) v[f++][static_cast<std::size_t>(m)] = 0;   // a rest after a burst
+        }
+    }
+    return v;
+}
+} // namespace
+
+TEST_CASE("haptic wav: a 9-channel WAV imported and rendered back gives its levels within one step at every packet", "[formats][wav]")
+{
+    // The Syntacts convention, written here: channel k = motor k, a 150 Hz sine (44.1 kHz, float)
+    // at amplitude level/15 over each 5 ms frame.
+    const std::size_t frames = 1200;   // 6 s
+    const auto levels = randomLevels(frames, 17);
+    AudioBuffer wav;
+    wav.sampleRate = 44100.0;
+    const auto samples = static_cast<std::size_t>(static_cast<double>(frames) * 0.005 * wav.sampleRate);
+    wav.channels.assign(9, std::vector<float>(samples));
+    for (std::size_t i = 0; i < samples; ++i) {
+        const double t = static_cast<double>(i) / wav.sampleRate;
+        const double carrier = std::sin(2.0 * 3.14159265358979 * 150.0 * t);
+        const auto f = std::min(frames - 1, static_cast<std::size_t>(t / 0.005));   // 220.5 samples a frame at 44.1 kHz
+        for (int m = 0; m < 9; ++m) wav.channels[static_cast<std::size_t>(m)][i] = static_cast<float>(levels[f][static_cast<std::size_t>(m)] / 15.0 * carrier);
+    }
+    const std::string in = tempPath("tactile-in.wav");
+    writeWav(in, wav, true);
+    const ImportedScore s = importScoreFile(in);
+    CHECK(s.report.format == "wav");
+    const auto rows = play(in, 6.0);   // --score takes the WAV directly
+    REQUIRE(rows.size() >= frames);
+    int worst = 0;
+    for (std::size_t i = 0; i < frames; ++i)
+        for (int m = 0; m < 9; ++m) {
+            const int d = std::abs(rows[i].levels[static_cast<std::size_t>(m)] - levels[i][static_cast<std::size_t>(m)]);
+            worst = std::max(worst, d);
+            if (d > 1) {
+                CAPTURE(i, m, rows[i].levels[static_cast<std::size_t>(m)], levels[i][static_cast<std::size_t>(m)]);
+                CHECK(d <= 1);
+            }
+        }
+    std::printf("haptic wav: %zu packets x 9 motors, largest difference %d level(s)\n", frames, worst);
+    CHECK(worst <= 1);
+
+    // And out again: the rendered rows as a tactile WAV carry each row's level as the peak of
+    // its 5 ms (measured here on the written file, not through the importer).
+    const std::string out = tempPath("tactile-out.wav");
+    writeTactileWav(out, rows, 9, 48000.0);
+    const AudioBuffer back = readWav(out);
+    REQUIRE(back.channels.size() == 9);
+    for (std::size_t i = 0; i + 1 < rows.size(); ++i)
+        for (int m = 0; m < 9; ++m) {
+            float peak = 0.0f;
+            for (std::size_t j = i * 240; j < (i + 1) * 240 && j < back.frames(); ++j) peak = std::max(peak, std::fabs(back.channels[static_cast<std::size_t>(m)][j]));
+            REQUIRE(std::lround(peak * 15.0f) == rows[i].levels[static_cast<std::size_t>(m)]);
+        }
+}
+
+TEST_CASE("haptic wav: wrong channel counts and non-audio are refused", "[formats][wav]")
+{
+    AudioBuffer a;
+    a.channels.assign(17, std::vector<float>(100, 0.1f));
+    const std::string p = tempPath("seventeen.wav");
+    writeWav(p, a);
+    CHECK_THROWS_AS(importScoreFile(p), InputError);
+    const std::string junk = tempPath("junk.wav");
+    writeWav(tempPath("ok.wav"), AudioBuffer {48000.0, {std::vector<float>(10, 0.0f)}});
+    { std::FILE* f = std::fopen(junk.c_str(), "wb"); std::fputs("not audio", f); std::fclose(f); }
+    CHECK_THROWS_AS(importScoreFile(junk), InputError);
+    CHECK_THROWS_AS(importScoreFile(tempPath("missing.wav")), InputError);
+    CHECK_THROWS_AS(importScoreFile(tempPath("x.tact")), InputError);
+}
+
+TEST_CASE("ahap: a transient and a continuous event with an intensity curve give the documented levels", "[formats][ahap]")
+{
+    // Apple's keys ("Representing haptic patterns in AHAP files"): a transient at 0.1 s,
+    // intensity 0.6; a continuous event 0.3..1.3 s, intensity 0.3, under a HapticIntensityControl
+    // curve starting at 0.3 s through (0, 0.2), (0.5, 1.0), (1.0, 0.4) (times from the curve's).
+    const std::string ahap = R"({
+      "Version": 1.0,
+      "Metadata": {"Project": "test"},
+      "Pattern": [
+        {"Event": {"Time": 0.1, "EventType": "HapticTransient",
+                   "EventParameters": [{"ParameterID": "HapticIntensity", "ParameterValue": 0.6},
+                                       {"ParameterID": "HapticSharpness", "ParameterValue": 0.9}]}},
+        {"Event": {"Time": 0.3, "EventType": "HapticContinuous", "EventDuration": 1.0,
+                   "EventParameters": [{"ParameterID": "HapticIntensity", "ParameterValue": 0.3}]}},
+        {"ParameterCurve": {"ParameterID": "HapticIntensityControl", "Time": 0.3,
+                            "ParameterCurveControlPoints": [{"Time": 0.0, "ParameterValue": 0.2},
+                                                            {"Time": 0.5, "ParameterValue": 1.0},
+                                                            {"Time": 1.0, "ParameterValue": 0.4}]}}
+      ]
+    })";
+    const std::string path = tempPath("effect.ahap");
+    { std::FILE* f = std::fopen(path.c_str(), "wb"); std::fputs(ahap.c_str(), f); std::fclose(f); }
+    HapticImportOptions o;
+    const auto expected = [&](double t) {
+        // Level = 15 × intensity × intensity control (multiplicative, linear between points).
+        if (t >= 0.1 && t < 0.1 + o.transientSeconds) return 15.0 * 0.6;   // the curve starts at 0.3: control 1 before
+        if (t < 0.3 || t >= 1.3) return 0.0;
+        const double u = t - 0.3;
+        const double c = u <= 0.5 ? 0.2 + (1.0 - 0.2) * u / 0.5 : 1.0 + (0.4 - 1.0) * (u - 0.5) / 0.5;
+        return 15.0 * 0.3 * c;
+    };
+    const auto rows = play(path, 1.6);
+    int checked = 0;
+    for (const auto& r : rows) {
+        // Skip the packets at an edge (the level changes inside them) and sample the rest.
+        if (std::fabs(r.t - 0.1) < 0.006 || std::fabs(r.t - 0.13) < 0.006 || std::fabs(r.t - 0.3) < 0.006 || std::fabs(r.t - 1.3) < 0.006) continue;
+        const double want = expected(r.t);
+        for (int m = 0; m < 9; ++m) {
+            CAPTURE(r.t, m, want);
+            CHECK(std::fabs(r.levels[static_cast<std::size_t>(m)] - want) <= 1.0);   // dithered: the neighbouring integers
+        }
+        ++checked;
+    }
+    CHECK(checked > 250);
+    // The mean over the rising half of the curve equals the definition's mean (dithering is exact on average).
+    double sum = 0.0, want = 0.0;
+    int n = 0;
+    for (const auto& r : rows)
+        if (r.t >= 0.35 && r.t < 0.75) {
+            sum += r.levels[0];
+            want += expected(r.t);
+            ++n;
+        }
+    CHECK(sum / n == Approx(want / n).margin(0.15));
+
+    // One actuator on a chosen set: only those motors.
+    o.motors = 0;
+    REQUIRE(parseMotorSet("wrist", o.motors));
+    const ImportedScore wrist = importAhap(ahap, "effect.ahap", o);
+    for (const auto& note : wrist.score.notes) CHECK(note.motors == o.motors);
+}
+
+TEST_CASE("ahap: malformed patterns are refused naming the line", "[formats][ahap]")
+{
+    HapticImportOptions o;
+    CHECK_THROWS_AS(importAhap("[1,2]", "a.ahap", o), InputError);
+    CHECK_THROWS_AS(importAhap(R"({"Version": 1})", "a.ahap", o), InputError);
+    CHECK_THROWS_AS(importAhap(R"({"Pattern": [{"Event": {"Time": 0, "EventType": "HapticContinuous"}}]})", "a.ahap", o), InputError);
+    CHECK_THROWS_AS(importAhap(R"({"Pattern": [{"Event": {"Time": 0, "EventType": "Rumble"}}]})", "a.ahap", o), InputError);
+    CHECK_THROWS_AS(importAhap(R"({"Pattern": [{"Event": {"Time": "soon", "EventType": "HapticTransient"}}]})", "a.ahap", o), InputError);
+    CHECK_THROWS_AS(importAhap(R"({"Pattern": [{"Event": {"Time": 0, "EventType": "AudioCustom"}}]})", "a.ahap", o), InputError);
+    try {
+        (void) importAhap("{\n\"Pattern\": [\n{\"Event\": {\"Time\": -1, \"EventType\": \"HapticTransient\"}}]}", "a.ahap", o);
+        FAIL("accepted");
+    } catch (const InputError& e) {
+        CHECK(e.line() == 3);
+    }
+}
+
+TEST_CASE("meta .haptic: the amplitude envelope and an emphasis give the documented levels", "[formats][haptic]")
+{
+    // The Lofelt data model v1 (Meta Haptics Studio): amplitude breakpoints, linear between them;
+    // an emphasis held emphasisSeconds at 15 × its amplitude.
+    const std::string haptic = R"({
+      "version": {"major": 1, "minor": 0, "patch": 0},
+      "metadata": {"editor": "test"},
+      "signals": {"continuous": {"envelopes": {
+        "amplitude": [{"time": 0.0, "amplitude": 0.1}, {"time": 0.4, "amplitude": 0.3},
+                      {"time": 0.6, "amplitude": 0.3, "emphasis": {"amplitude": 0.8, "frequency": 0.5}},
+                      {"time": 1.0, "amplitude": 0.0}],
+        "frequency": [{"time": 0.0, "frequency": 0.5}]}}}
+    })";
+    const std::string path = tempPath("effect.haptic");
+    { std::FILE* f = std::fopen(path.c_str(), "wb"); std::fputs(haptic.c_str(), f); std::fclose(f); }
+    HapticImportOptions o;
+    const auto expected = [&](double t) {
+        if (t >= 0.6 && t < 0.6 + o.emphasisSeconds) return 15.0 * 0.8;
+        if (t < 0.4) return 15.0 * (0.1 + 0.2 * t / 0.4);
+        if (t < 0.6) return 15.0 * 0.3;
+        if (t < 1.0) return 15.0 * 0.3 * (1.0 - (t - 0.6) / 0.4);
+        return 0.0;
+    };
+    const auto rows = play(path, 1.2);
+    for (const auto& r : rows) {
+        if (std::fabs(r.t - 0.6) < 0.006 || std::fabs(r.t - 0.63) < 0.006 || r.t < 0.006) continue;
+        CAPTURE(r.t);
+        CHECK(std::fabs(r.levels[4] - expected(r.t)) <= 1.0);
+    }
+    const ImportedScore s = importScoreFile(path);
+    CHECK_FALSE(s.report.warnings.empty());   // the frequency envelope has no counterpart
+    HapticImportOptions bad;
+    CHECK_THROWS_AS(importMetaHaptic(R"({"version": {"major": 2}, "signals": {}})", "x.haptic", bad), InputError);
+    CHECK_THROWS_AS(importMetaHaptic(R"({"version": {"major": 1}, "signals": {"continuous": {"envelopes": {"amplitude": []}}}})", "x.haptic", bad), InputError);
+    CHECK_THROWS_AS(importMetaHaptic(R"({"version": {"major": 1}, "signals": {"continuous": {"envelopes": {"amplitude": [{"time": 0, "amplitude": 1.5}]}}}})", "x.haptic", bad), InputError);
+    CHECK_THROWS_AS(importMetaHaptic(R"({"version": {"major": 1}, "signals": {"continuous": {"envelopes": {"amplitude": [{"time": 1, "amplitude": 0.5}, {"time": 0.5, "amplitude": 0.5}]}}}})", "x.haptic", bad), InputError);
+    CHECK_THROWS_AS(importMetaHaptic(R"({"version": {"major": 1}, "signals": {"continuous": {"envelopes": {"amplitude": [{"time": 0, "amplitude": 0.5, "emphasis": {"amplitude": 0.2, "frequency": 0}}]}}}})", "x.haptic", bad), InputError);
+}
