@@ -13,6 +13,7 @@ int runRender(const Arguments& args);    // CmdRender.cpp  — offline determini
 int runPlay(const Arguments& args);      // CmdPlay.cpp    — the live engine, headless
 int runBraille(const Arguments& args);   // CmdBraille.cpp — cells and row sensations of a text
 int runResources(const Arguments& args); // CmdResources.cpp — search folders, scores, built-in files
+int runTouchProfile(const Arguments& args); // CmdTouchProfile.cpp — per-motor thresholds of the reader
 
 struct CommandInfo {
     const char* name;

@@ -17,6 +17,7 @@ const std::vector<CommandInfo>& commands()
         {"play", "the live engine headless: device/simulator/OSC in, motors and audio out", runPlay},
         {"braille", "the braille cells of a text and the row sensations the display shows", runBraille},
         {"resources", "where scores and other files are found; the scores playable by name", runResources},
+        {"touch-profile", "the faintest level the reader feels on each motor, for --profile", runTouchProfile},
     };
     return table;
 }
@@ -33,7 +34,7 @@ std::string helpText()
                     "ARMadillo: forearm orientation, instruments you feel, Arm Braille.\n\ncommands:\n";
     for (const auto& c : armadillo::cli::commands()) {
         std::string name = "  " + std::string(c.name);
-        name.resize(12, ' ');
+        name.resize(16, ' ');
         s += name + c.summary + "\n";
     }
     s += "\noptions:\n"

@@ -24,7 +24,8 @@ struct StaircaseParams {
 
 class Staircase {
 public:
-    explicit Staircase(const StaircaseParams& params = {});
+    Staircase() : Staircase(StaircaseParams {}) {}
+    explicit Staircase(const StaircaseParams& params);
     int level() const noexcept { return level_; }   ///< the level to present next
     void answer(bool felt) noexcept;
     bool done() const noexcept { return done_; }
