@@ -117,12 +117,15 @@ TrainingOptions trainingOptions(const CommandLine& cl)
         for (std::string n; std::getline(names, n, ',');) {
             TrainingStage s {};
             if (!parseTrainingStage(n, s))
-                throw UsageError("unknown training stage '" + n + "' (sides, hold, one-dot, gaps, alphabet, letters, words)");
+                throw UsageError("unknown training stage '" + n + "' (sides, hold, one-dot, gaps, alphabet, letters, words, signs,\n"
+                                 "contractions)");
             o.stages.push_back(s);
         }
     }
     bool words = false;
-    for (auto s : o.stages) words = words || s == TrainingStage::Words;
+    for (auto s : o.stages) words = words || s == TrainingStage::Words || s == TrainingStage::Signs;
+    if (cl.has("--method") && !parseDisplayMethod(cl.value("--method"), o.method))
+        throw UsageError("--method is one of rows, whole, columns, dots");
     if (words) o.signWords = cl.has("--words") ? readWordList(cl.value("--words")) : defaultSignWords();
     return o;
 }
@@ -178,14 +181,15 @@ int runBraille(const Arguments& args)
                         {"--grade", "1|2", "1 = uncontracted (default), 2 = contracted"},
                         {"--table", "TABLE", "a liblouis table list (default en-ueb-g1.ctb / en-ueb-g2.ctb)"},
                         {"--capitals", "", "keep capital signs (default: letters as the thesis shows them)"},
-                        {"--method", "M", "rows (default, §4.2.5), whole, columns, dots (§4.2.1-4.2.2)"},
+                        {"--method", "M", "rows (default, §4.2.5), whole, columns, dots (§4.2.1-4.2.2); also how training shows cells"},
                         {"--out-brf", "FILE", "also write the cells as Braille ASCII (atomic)"},
                         {"--plan", "", "print the training trials of §4.4.1 (with --seed, --trials, --stages)"},
                         {"--train", "", "replay a training session: --motion, --answers, --log"},
                         {"--motion", "FILE", "pose or quaternion file of the session (--train)"},
                         {"--answers", "FILE", "the reader's answers, 't,answer' lines (--train)"},
                         {"--log", "FILE", "where the training log goes (--train; CSV, atomic)"},
-                        {"--stages", "LIST", "comma list of sides,hold,one-dot,gaps,alphabet,letters,words"},
+                        {"--stages", "LIST", "comma list of sides,hold,one-dot,gaps,alphabet,letters,words, and (not in the\n"
+                                            "default list) signs (the §5.3 shorthand), contractions (Grade 2)"},
                         {"--trials", "N", "trials per stage (default 10)"},
                         {"--seed", "N", "random choices of the training (default 1)"},
                         {"--words", "FILE", "sign word list (default: the shipped Braille/signwords.txt)"}});
