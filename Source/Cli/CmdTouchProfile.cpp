@@ -7,102 +7,18 @@
 #include "Cli/CommandLine.h"
 #include "Cli/Commands.h"
 #include "Cli/ReaderIo.h"
+#include "Cli/TactilePlayer.h"
 #include "Core/Errors.h"
-#include "Device/DeviceLink.h"
-#include "Device/LinkPort.h"
-#include "Device/Simulator.h"
 #include "Device/TouchProfile.h"
 #include "Tactile/Staircase.h"
 #include "Tactile/TactileEngine.h"
 #include <algorithm>
 #include <array>
-#include <atomic>
-#include <chrono>
 #include <ctime>
 #include <iostream>
 #include <random>
-#include <thread>
 
 namespace armadillo::cli {
-
-namespace {
-
-/// The link thread's side: plays one stimulus at a time on the tactile engine and keeps the
-/// stimulus clock. Requests and completions cross threads through atomics only.
-class StimulusDriver {
-public:
-    StimulusDriver(double onTime, double gapTime, double packetPeriod) : on_(onTime), gap_(gapTime), packetPeriod_(packetPeriod)
-    {
-        TactileConfig c;   // right-arm layout: motor index = the physical motor m1…m9
-        engine_.prepare(c);
-    }
-
-    /// Main thread: asks for `level` on motor index `motor`, not before stimulus time `notBefore`.
-    void request(int motor, int level, double notBefore)
-    {
-        motor_.store(motor);
-        level_.store(level);
-        notBefore_.store(notBefore);
-        requested_.fetch_add(1, std::memory_order_release);
-    }
-    /// Main thread: the number of stimuli whose on-time is over.
-    int completed() const noexcept { return completed_.load(std::memory_order_acquire); }
-    /// The highest level the motor really got during the last completed stimulus (after safety).
-    int sentLevel() const noexcept { return sent_.load(); }
-    double clock() const noexcept { return clock_.load(); }
-    std::uint64_t packets() const noexcept { return packets_.load(); }
-
-    /// Link thread, for every sensor packet: the levels of the motor packet that answers it.
-    MotorLevels onPacket(double t)
-    {
-        double dt = packetPeriod_;
-        if (packetPeriod_ <= 0.0) dt = lastT_ < 0.0 ? 0.0 : std::clamp(t - lastT_, 0.0, 0.1);
-        lastT_ = t;
-        const double now = clock_.load() + dt;
-        clock_.store(now);
-        packets_.fetch_add(1);
-        if (state_ == State::Idle && requested_.load(std::memory_order_acquire) > started_ && now >= notBefore_.load()) {
-            ++started_;
-            current_ = motor_.load();
-            engine_.setSoftLevel(current_, static_cast<float>(level_.load()));
-            offAt_ = now + on_;
-            idleAt_ = offAt_ + gap_;
-            maxSent_ = 0;
-            state_ = State::On;
-        }
-        if (state_ == State::On && now >= offAt_) {
-            engine_.clearLevels();
-            sent_.store(maxSent_);
-            completed_.fetch_add(1, std::memory_order_release);
-            state_ = State::Gap;
-        }
-        if (state_ == State::Gap && now >= idleAt_) state_ = State::Idle;
-        const MotorLevels out = engine_.tick(dt);
-        if (state_ == State::On) maxSent_ = std::max<int>(maxSent_, out[static_cast<std::size_t>(current_)]);
-        return out;
-    }
-
-private:
-    enum class State { Idle, On, Gap };
-    TactileEngine engine_;
-    const double on_, gap_, packetPeriod_;
-    std::atomic<int> motor_ {0}, level_ {0};
-    std::atomic<double> notBefore_ {0.0};
-    std::atomic<int> requested_ {0}, completed_ {0}, sent_ {0};
-    std::atomic<double> clock_ {0.0};
-    std::atomic<std::uint64_t> packets_ {0};
-    // Link thread only.
-    State state_ = State::Idle;
-    int started_ = 0, current_ = 0, maxSent_ = 0;
-    double offAt_ = 0.0, idleAt_ = 0.0, lastT_ = -1.0;
-};
-
-struct Measurement {
-    device::TouchProfile profile;
-    int stimuli = 0;
-};
-
-} // namespace
 
 int runTouchProfile(const Arguments& args)
 {
@@ -146,47 +62,29 @@ int runTouchProfile(const Arguments& args)
         const bool unpaced = cl.has("--unpaced");
         ReaderIo io(cl);
 
-        StimulusDriver driver(onTime, gapTime, unpaced ? 1.0 / device::lockStepRate(baud) : 0.0);
-        std::unique_ptr<device::SimulatedForearm> simulator;
-        std::unique_ptr<device::LinkPort> port;
-        if (cl.has("--port")) {
-            port = std::make_unique<device::SerialPort>(cl.value("--port"), baud);
-            port->open();   // a missing port is an error now (exit 4), not a silent retry
-            port->close();
-        } else {
-            device::SimulatorOptions so;
-            so.baud = unpaced ? 0.0 : 57600.0;
-            simulator = std::make_unique<device::SimulatedForearm>(std::make_shared<device::WanderingMotion>(), so);
-            port = simulator->startInProcess();
-        }
-        device::DeviceLink link(std::move(port), [&](const device::SensorCounts&, double t) { return driver.onPacket(t); });
+        TactilePlayer player(TactileConfig {}, unpaced ? 1.0 / device::lockStepRate(baud) : 0.0);   // right arm: index = motor m1…
         installInterruptHandlers();
-        link.start();
+        GuidedDevice device(cl.value("--port"), baud, cl.has("--simulate"), unpaced, player);
 
         int stimuli = 0;
-        // Plays one stimulus and waits until its on-time is over. Each motor rests ≥ 3 s of
+        // Plays one stimulus (a soft level: no jump-start spike, so the level asked is the level
+        // felt) and waits until it and the stillness after it are over. Each motor rests ≥ 3 s of
         // stimulus time between two of its stimuli: the safety stage's mean-power window would
         // otherwise lower a strong level repeated on one motor (the last motors left).
         std::array<double, device::kProfileMotors> lastStart {};
         lastStart.fill(-1e9);
         auto present = [&](int motor, int level) {
-            const double notBefore = lastStart[static_cast<std::size_t>(motor)] + 3.0;
-            const int before = driver.completed();
-            driver.request(motor, level, notBefore);
-            const auto waitStart = std::chrono::steady_clock::now();
-            std::uint64_t packetsAtWait = driver.packets();
-            while (driver.completed() == before) {
-                if (interrupted()) throw IoError("interrupted: no profile written");
-                std::this_thread::sleep_for(std::chrono::milliseconds(1));
-                if (driver.packets() != packetsAtWait) continue;
-                if (std::chrono::steady_clock::now() - waitStart > std::chrono::seconds(5)) {
-                    const std::string why = link.lastError();
-                    throw IoError("no data from the device for 5 s" + (why.empty() ? std::string() : ": " + why) + "; no profile written");
-                }
-            }
-            lastStart[static_cast<std::size_t>(motor)] = std::max(notBefore, driver.clock() - onTime);
+            const double wait = std::max(0.0, lastStart[static_cast<std::size_t>(motor)] + 3.0 - player.clock());
+            TactileSegment s;
+            s.at = wait;
+            s.duration = onTime;
+            s.motors = static_cast<std::uint16_t>(1u << motor);
+            s.level = static_cast<float>(level);
+            s.soft = true;
+            device.waitFor(player.play({s}, gapTime));
+            lastStart[static_cast<std::size_t>(motor)] = player.clock() - onTime - gapTime;
             ++stimuli;
-            const int sent = driver.sentLevel();
+            const int sent = player.maxLevel(motor);
             if (sent < level) io.note("(the safety stage lowered this stimulus to level " + std::to_string(sent) + ")");
         };
         // One stimulus and its one prompt line; 'r' or an unclear answer shows it again.
@@ -228,7 +126,6 @@ int runTouchProfile(const Arguments& args)
             while (level < kMaxLevel && !ask(motor, level, "comfortable? (y/n)")) ++level;
             profile.comfort = level;
         }
-        link.stop();
         profile.stimuli = stimuli;
         profile.stimulusSeconds = stimuli * (onTime + gapTime);
         const std::time_t now = std::time(nullptr);
