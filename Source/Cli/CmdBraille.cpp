@@ -5,6 +5,7 @@
 #include "Braille/Sensations.h"
 #include "Braille/Training.h"
 #include "Cli/CommandLine.h"
+#include "Cli/GuidedTraining.h"
 #include "Cli/Commands.h"
 #include "Core/AtomicFile.h"
 #include "Core/Csv.h"
@@ -170,13 +171,8 @@ int replayTraining(const CommandLine& cl)
 int runBraille(const Arguments& args)
 {
     return guarded("braille", [&]() -> int {
-        CommandLine cl("braille", "(--text \"...\" | --brf FILE) [options]  |  --plan | --train ...",
-                       "Arm Braille (thesis §4.2-4.4). Prints each character's braille cells and the row\n"
-                       "sensations (motor sets) the forearm display shows for them, one after another.\n"
-                       "Grade 1 (uncontracted, as in the thesis) by default, Grade 2 with --grade 2, any\n"
-                       "liblouis table with --table. Also writes Braille ASCII (--out-brf), prints the\n"
-                       "training plan of §4.4.1 (--plan) and replays a training session offline (--train).",
-                       {{"--text", "TEXT", "the text to show (UTF-8; each line is one message)"},
+        std::vector<OptionSpec> options {
+                        {"--text", "TEXT", "the text to show (UTF-8; each line is one message)"},
                         {"--brf", "FILE", "read a Braille ASCII (.brf) file instead of --text"},
                         {"--grade", "1|2", "1 = uncontracted (default), 2 = contracted"},
                         {"--table", "TABLE", "a liblouis table list (default en-ueb-g1.ctb / en-ueb-g2.ctb)"},
@@ -192,8 +188,29 @@ int runBraille(const Arguments& args)
                                             "default list) signs (the §5.3 shorthand), contractions (Grade 2)"},
                         {"--trials", "N", "trials per stage (default 10)"},
                         {"--seed", "N", "random choices of the training (default 1)"},
-                        {"--words", "FILE", "sign word list (default: the shipped Braille/signwords.txt)"}});
+                        {"--words", "FILE", "sign word list (default: the shipped Braille/signwords.txt)"}};
+        // The adaptive training on the device and the progress report (issue 26).
+        const auto guided = guidedTrainingOptionSpecs();
+        options.insert(options.end(), guided.begin(), guided.end());
+        CommandLine cl("braille", "(--text \"...\" | --brf FILE) [options]  |  --plan | --train ... | --train --adaptive ... | --report R",
+                       "Arm Braille (thesis §4.2-4.4). Prints each character's braille cells and the row\n"
+                       "sensations (motor sets) the forearm display shows for them, one after another.\n"
+                       "Grade 1 (uncontracted, as in the thesis) by default, Grade 2 with --grade 2, any\n"
+                       "liblouis table with --table. Also writes Braille ASCII (--out-brf), prints the\n"
+                       "training plan of §4.4.1 (--plan), replays a training session offline (--train),\n"
+                       "runs the adaptive training on the device for a reader alone (--train --adaptive:\n"
+                       "spoken, on a braille display, answered by chords; docs/ACCESSIBILITY.md) and\n"
+                       "reports a reader's progress (--report).",
+                       options);
+
         if (!cl.parse(args)) return kExitOk;
+        if (cl.has("--report")) return printProgressReport(cl);
+        if (cl.has("--adaptive")) {
+            if (!cl.has("--train")) throw UsageError("--adaptive is a kind of training: use --train --adaptive");
+            return runGuidedTraining(cl);
+        }
+        for (const auto& o : guided)
+            if (o.name != "--words" && cl.has(o.name)) throw UsageError(o.name + " belongs to --train --adaptive");
         if (cl.has("--plan")) return printPlan(cl);
         if (cl.has("--train")) return replayTraining(cl);
 

@@ -9,57 +9,135 @@
 
 namespace armadillo::cli {
 
-std::vector<OptionSpec> readerIoOptionSpecs() { return {}; }
+std::vector<OptionSpec> readerIoOptionSpecs()
+{
+    return {
+        {"--speak", "", "speak every prompt, answer, feedback and status (speech-dispatcher, else espeak-ng)"},
+        {"--speech", "BACKEND", "speak through: auto, speechd, espeak, capture:FILE (a line per utterance; tests)"},
+        {"--rate", "N", "speech rate -100 (slow) .. 0 (the voice's own) .. 100 (fast); '>' and '<' lines change it"},
+        {"--brlapi", "", "write prompts and feedback to the braille display (brltty's BrlAPI); its keys answer"},
+        {"--braille-display", "SPEC", "brlapi, brlapi:HOST (e.g. localhost:1) or capture:FILE (a line per write; tests)"},
+    };
+}
 
-ReaderIo::ReaderIo(const CommandLine&) {}
+ReaderIo::ReaderIo(const CommandLine& cl, bool armOnly) : armOnly_(armOnly)
+{
+    std::string why;
+    if (cl.has("--speak") || cl.has("--speech")) {
+        const std::string spec = cl.value("--speech", "auto");
+        speech_ = access::makeSpeech(spec, why);
+        if (!speech_) {
+            if (why.rfind("unknown", 0) == 0) throw UsageError("--speech: " + why);
+            throw IoError("cannot speak: " + why);
+        }
+        rate_ = static_cast<int>(cl.integer("--rate", 0, -100, 100));
+        if (cl.has("--rate")) speech_->setRate(rate_);
+    } else if (cl.has("--rate")) {
+        throw UsageError("--rate sets the speech rate: use it with --speak");
+    }
+    if (cl.has("--brlapi") || cl.has("--braille-display")) {
+        const std::string spec = cl.value("--braille-display", "brlapi");
+        display_ = access::makeBrailleDisplay(spec, why);
+        if (!display_) {
+            if (why.rfind("unknown", 0) == 0) throw UsageError("--braille-display: " + why);
+            throw IoError("no braille display: " + why);
+        }
+    }
+}
 
-void ReaderIo::status(const std::string& text) { std::cerr << text << "\n" << std::flush; }
+void ReaderIo::speak(const std::string& text, bool interrupt)
+{
+    if (speech_) speech_->say(text, interrupt);
+}
 
-void ReaderIo::note(const std::string& text) { std::cerr << "  " << text << "\n" << std::flush; }
+void ReaderIo::status(const std::string& text)
+{
+    if (!armOnly_) std::cerr << text << "\n" << std::flush;
+    speak(text, false);
+    if (display_) display_->write(text);
+}
+
+void ReaderIo::note(const std::string& text)
+{
+    if (!armOnly_) std::cerr << "  " << text << "\n" << std::flush;
+    speak(text, false);
+    if (display_) display_->write(text);
+}
+
+void ReaderIo::prompt(const std::string& text, const std::string& brief)
+{
+    if (!armOnly_) std::cerr << "? " << text << "\n" << std::flush;
+    speak(text, true);
+    if (display_) display_->write(brief.empty() ? text : brief);
+}
 
 std::string ReaderIo::readLine()
 {
     for (;;) {
+        std::string line;
+        bool got = false;
         if (const auto nl = pending_.find('\n'); nl != std::string::npos) {
-            std::string line = pending_.substr(0, nl);
+            line = pending_.substr(0, nl);
             pending_.erase(0, nl + 1);
-            const auto b = line.find_first_not_of(" \t\r");
-            if (b == std::string::npos) return "";
-            return line.substr(b, line.find_last_not_of(" \t\r") - b + 1);
+            got = true;
+        } else if (const auto dnl = displayLine_.find('\n'); dnl != std::string::npos) {
+            line = displayLine_.substr(0, dnl);
+            displayLine_.erase(0, dnl + 1);
+            got = true;
+        } else if (closed_ && !pending_.empty()) {   // a last line without a newline still counts
+            pending_ += '\n';
+            continue;
+        } else if (closed_ && !display_) {
+            throw InputError("stdin", 0, "", "the answers ended before the procedure was complete");
         }
-        if (closed_) {
-            if (!pending_.empty()) {   // a last line without a newline still counts
-                pending_ += '\n';
+        if (got) {
+            const auto b = line.find_first_not_of(" \t\r");
+            line = b == std::string::npos ? "" : line.substr(b, line.find_last_not_of(" \t\r") - b + 1);
+            if (line == "!") {
+                if (speech_) speech_->stop();
                 continue;
             }
-            throw InputError("stdin", 0, "", "the answers ended before the procedure was complete; nothing written");
+            if (line == ">" || line == "<") {
+                rate_ = std::clamp(rate_ + (line == ">" ? 20 : -20), -100, 100);
+                if (speech_) {
+                    speech_->setRate(rate_);
+                    speech_->say("rate " + std::to_string(rate_), true);
+                }
+                continue;
+            }
+            if (display_) display_->write(line);   // the answer, as typed, on the display
+            return line;
         }
-        if (interrupted()) throw IoError("interrupted; nothing written");
-        pollfd p {STDIN_FILENO, POLLIN, 0};
-        if (::poll(&p, 1, 100) <= 0) continue;
-        char buf[512];
-        const ssize_t n = ::read(STDIN_FILENO, buf, sizeof buf);
-        if (n > 0) pending_.append(buf, static_cast<std::size_t>(n));
-        else if (n == 0 || (errno != EINTR && errno != EAGAIN)) closed_ = true;
+        if (interrupted()) throw IoError("interrupted");
+        pollfd p[2] {{closed_ ? -1 : STDIN_FILENO, POLLIN, 0}, {display_ ? display_->fd() : -1, POLLIN, 0}};
+        if (::poll(p, 2, 100) <= 0) continue;
+        if (p[0].revents) {
+            char buf[512];
+            const ssize_t n = ::read(STDIN_FILENO, buf, sizeof buf);
+            if (n > 0) pending_.append(buf, static_cast<std::size_t>(n));
+            else if (n == 0 || (errno != EINTR && errno != EAGAIN)) closed_ = true;
+        }
+        if (p[1].revents && display_)
+            for (std::string k; !(k = display_->readKey()).empty();) {
+                if (k == "\b") {
+                    if (!displayLine_.empty()) displayLine_.pop_back();
+                } else {
+                    displayLine_ += k;
+                }
+            }
     }
 }
 
 std::string ReaderIo::askYesNo(const std::string& question)
 {
-    std::cerr << "? " << question << "\n" << std::flush;
+    prompt(question);
     std::string a = readLine();
     std::transform(a.begin(), a.end(), a.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     if (a == "y" || a == "yes") return "y";
     if (a == "n" || a == "no") return "n";
-    if (a == "r" || a == "repeat") return "r";
+    if (a == "r" || a == "?" || a == "repeat") return "r";
     note("answer y (felt) or n (not felt); r shows it again");
     return "";
-}
-
-std::string ReaderIo::askLine(const std::string& prompt)
-{
-    std::cerr << "? " << prompt << "\n" << std::flush;
-    return readLine();
 }
 
 } // namespace armadillo::cli

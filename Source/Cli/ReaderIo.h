@@ -1,33 +1,52 @@
 #pragma once
-// The reader's side of the guided command-line procedures (touch-profile, braille training):
-// prompts, statuses and answers, written on stderr and read from stdin one line at a time, so
-// a screen reader, a braille display or a script can follow them. Prompts that want an answer
-// start with "? ". Waiting for a line polls stdin, so Ctrl-C (SIGINT) ends the wait.
+// The reader's side of the guided command-line procedures (touch-profile, adaptive braille
+// training): prompts, statuses, feedback and answers, for a reader who may not see the screen.
+//   • written on stderr, one line each (prompts that want an answer start with "? "), unless
+//     --arm-only (then nothing is written but errors: the arm says everything);
+//   • spoken (--speak / --speech BACKEND, --rate N): a prompt interrupts what is being said,
+//     feedback and statuses are queued after it; speaking happens on this (the main) thread;
+//   • written to a braille display (--brlapi / --braille-display SPEC), whose keys also answer.
+// Answers are lines from stdin or the display. Lines that are commands, not answers:
+//   "!" stop speaking, ">" faster, "<" slower (rate ± 20). "?" (repeat) and "-" (skip) are
+//   returned to the procedure, which knows what to repeat.
+#include "Access/BrailleDisplay.h"
+#include "Access/Speech.h"
 #include "Cli/CommandLine.h"
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace armadillo::cli {
 
-/// Options every reader-facing procedure accepts (none yet beyond the defaults).
+/// Options of every reader-facing procedure: --speak, --speech, --rate, --brlapi, --braille-display.
 std::vector<OptionSpec> readerIoOptionSpecs();
 
 class ReaderIo {
 public:
-    explicit ReaderIo(const CommandLine& cl);
-    /// A state change ("now a comfortable level…"): one line on stderr.
+    /// Opens the speech and display backends asked for; UsageError for a bad spec, IoError
+    /// when one that was asked for cannot be opened (the reader must know, not guess).
+    explicit ReaderIo(const CommandLine& cl, bool armOnly = false);
+    /// A state change ("now a comfortable level…").
     void status(const std::string& text);
-    /// A remark that needs no answer, indented.
+    /// Feedback or a remark, indented on the screen; spoken after what is being said.
     void note(const std::string& text);
-    /// Writes "? question" and reads one line: "y" or "n" (also yes/no, any case), "r" (repeat),
-    /// or "" for anything else. InputError when stdin ends first.
+    /// "? text": spoken at once (interrupting), shown on the display as `brief` (or text).
+    void prompt(const std::string& text, const std::string& brief = {});
+    /// prompt(question), then one line: "y" or "n" (also yes/no, any case), "r"/"?" (repeat),
+    /// or "" for anything else. InputError when the answers end first.
     std::string askYesNo(const std::string& question);
-    /// Writes "? prompt" and reads one line as typed (trimmed). InputError when stdin ends.
-    std::string askLine(const std::string& prompt);
+    /// One answer line as typed (trimmed), commands handled. InputError when the answers end.
+    std::string readLine();
+    bool speaking() const noexcept { return speech_ != nullptr; }
+    bool hasDisplay() const noexcept { return display_ != nullptr; }
 
 private:
-    std::string readLine();
-    std::string pending_;
+    void speak(const std::string& text, bool interrupt);
+    std::unique_ptr<access::Speech> speech_;
+    std::unique_ptr<access::BrailleDisplay> display_;
+    int rate_ = 0;
+    bool armOnly_ = false;
+    std::string pending_, displayLine_;
     bool closed_ = false;
 };
 

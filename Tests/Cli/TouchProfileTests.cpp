@@ -6,33 +6,12 @@
 // hidden threshold.
 #include "CliRun.h"
 #include "Core/AtomicFile.h"
-#include <array>
-#include <catch2/catch.hpp>
-#include <cerrno>
-#include <fcntl.h>
-#include <poll.h>
-#include <pty.h>
+#include "PtyDevice.h"
 #include <regex>
-#include <signal.h>
-#include <sys/wait.h>
-#include <termios.h>
-#include <unistd.h>
 
 using namespace armadillo::cli;
 
 namespace {
-
-/// A sensor packet of the thesis protocol with every channel at mid-scale 2048, built bit by bit:
-/// nine 12-bit samples most significant bit first, then the end nibble 0x0.
-std::array<unsigned char, 14> midScaleSensorPacket()
-{
-    std::array<unsigned char, 14> p {};
-    int bit = 0;
-    for (int ch = 0; ch < 9; ++ch)
-        for (int b = 11; b >= 0; --b, ++bit)
-            if ((2048 >> b) & 1) p[static_cast<std::size_t>(bit / 8)] |= static_cast<unsigned char>(0x80 >> (bit % 8));
-    return p;
-}
 
 struct ReaderResult {
     int code = -1;
@@ -45,87 +24,21 @@ struct ReaderResult {
 /// Runs touch-profile with the reader whose hidden thresholds are `hidden` (m1..m9).
 ReaderResult runSimulatedReader(const std::array<int, 9>& hidden, const std::string& outFile)
 {
-    int master = -1, slave = -1;
-    termios raw {};
-    ::cfmakeraw(&raw);
-    REQUIRE(::openpty(&master, &slave, nullptr, &raw, nullptr) == 0);
-    const std::string slaveName = ::ttyname(slave);
-    int toChild[2], fromChild[2];
-    REQUIRE(::pipe(toChild) == 0);
-    REQUIRE(::pipe(fromChild) == 0);
-    const pid_t pid = ::fork();
-    REQUIRE(pid >= 0);
-    if (pid == 0) {
-        ::dup2(toChild[0], 0);
-        ::dup2(fromChild[1], 2);
-        const int devnull = ::open("/dev/null", O_WRONLY);
-        ::dup2(devnull, 1);
-        ::close(toChild[1]);
-        ::close(fromChild[0]);
-        ::close(master);
-        ::execl(ARMADILLO_BIN, ARMADILLO_BIN, "touch-profile", "--port", slaveName.c_str(), "--unpaced", "--out", outFile.c_str(), nullptr);
-        ::_exit(127);
-    }
-    ::close(toChild[0]);
-    ::close(fromChild[1]);
-    ::signal(SIGPIPE, SIG_IGN);
-    ::fcntl(master, F_SETFL, O_NONBLOCK);
-
-    const auto sensor = midScaleSensorPacket();
-    std::vector<unsigned char> wire;
-    std::array<int, 9> maxSincePrompt {};
+    test::PtyDevice dev({"touch-profile", "--unpaced", "--out", outFile});
     ReaderResult r;
-    std::string errLine;
-    bool errOpen = true;
-    auto pumpDevice = [&](int timeoutMs) {
-        pollfd p {master, POLLIN, 0};
-        if (::poll(&p, 1, timeoutMs) <= 0) {
-            if (timeoutMs > 0) (void)!::write(master, sensor.data(), sensor.size());   // a device that streams
-            return;
-        }
-        unsigned char buf[4096];
-        const ssize_t n = ::read(master, buf, sizeof buf);
-        if (n <= 0) return;
-        wire.insert(wire.end(), buf, buf + n);
-        std::size_t i = 0;
-        while (wire.size() - i >= 5) {
-            if ((wire[i + 4] & 0x0F) != 0x8) {   // not at a packet boundary: skip a byte
-                ++i;
-                continue;
-            }
-            for (int m = 0; m < 9; ++m) {
-                const unsigned char byte = wire[i + static_cast<std::size_t>(m / 2)];
-                const int level = m % 2 == 0 ? byte >> 4 : byte & 0x0F;
-                maxSincePrompt[static_cast<std::size_t>(m)] = std::max(maxSincePrompt[static_cast<std::size_t>(m)], level);
-            }
-            ++r.motorPackets;
+    test::Levels maxSincePrompt {};
+    dev.run(
+        [&](const test::Levels& levels) {
             bool on = false;
-            for (int m = 0; m < 9; ++m) on = on || wire[i + static_cast<std::size_t>(m / 2)] >> (m % 2 == 0 ? 4 : 0) & 0x0F;
+            for (std::size_t m = 0; m < 9; ++m) {
+                maxSincePrompt[m] = std::max(maxSincePrompt[m], levels[m]);
+                on = on || levels[m] > 0;
+            }
             r.onPackets += on;
-            (void)!::write(master, sensor.data(), sensor.size());   // lock-step: one answer per motor packet
-            i += 5;
-        }
-        wire.erase(wire.begin(), wire.begin() + static_cast<long>(i));
-    };
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(3);
-    while (errOpen && std::chrono::steady_clock::now() < deadline) {
-        pumpDevice(2);
-        pollfd e {fromChild[0], POLLIN, 0};
-        if (::poll(&e, 1, 0) <= 0) continue;
-        char c;
-        const ssize_t n = ::read(fromChild[0], &c, 1);
-        if (n <= 0) {
-            errOpen = false;
-            break;
-        }
-        if (c != '\n') {
-            errLine += c;
-            continue;
-        }
-        r.err += errLine + "\n";
-        if (errLine.rfind("? ", 0) == 0) {
+        },
+        [&](const std::string& line) {
+            if (line.rfind("? ", 0) != 0) return;
             ++r.prompts;
-            for (int k = 0; k < 20; ++k) pumpDevice(0);   // packets written before the prompt
             // The stimulated motor is the one that was on; the reader's hidden rule decides.
             int motor = -1, level = 0;
             for (int m = 0; m < 9; ++m)
@@ -136,22 +49,14 @@ ReaderResult runSimulatedReader(const std::array<int, 9>& hidden, const std::str
             bool yes = false;
             if (motor >= 0) {
                 const int t = hidden[static_cast<std::size_t>(motor)];
-                yes = errLine.find("comfortable") != std::string::npos ? level >= t + 2 : level >= t;
+                yes = line.find("comfortable") != std::string::npos ? level >= t + 2 : level >= t;
             }
-            const char* answer = yes ? "y\n" : "n\n";
-            (void)!::write(toChild[1], answer, 2);
+            dev.answer(yes ? "y" : "n");
             maxSincePrompt.fill(0);
-        }
-        errLine.clear();
-    }
-    ::close(toChild[1]);
-    int status = 0;
-    if (errOpen) ::kill(pid, SIGTERM);
-    ::waitpid(pid, &status, 0);
-    ::close(fromChild[0]);
-    ::close(master);
-    ::close(slave);
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        });
+    r.code = dev.wait();
+    r.motorPackets = dev.motorPackets;
+    r.err = dev.err;
     return r;
 }
 
