@@ -1,7 +1,8 @@
 // The adaptive training session on the device, for a reader alone:
 //   1. the planner (Access/AdaptivePlan.h) picks the trial from the reader's whole history;
-//   2. the cells are drawn on the arm (passive drawing, §4.2.1 timings, the chosen method)
-//      through the tactile engine, then the "your turn" cue (the underside line tapped twice);
+//   2. the "next" cue (the underside line swept wrist → elbow), the cells drawn on the arm
+//      (passive drawing, §4.2.1 timings, the chosen method) through the tactile engine, then
+//      the "your turn" cue (the underside line tapped twice);
 //   3. the prompt is written / spoken / shown on the braille display; the answer comes from
 //      stdin or the display's keys, as letters or Perkins chords (--chords);
 //   4. feedback: written / spoken / shown, and always on the arm — "right": all nine motors hum
@@ -148,6 +149,16 @@ public:
         device_.waitFor(player_.play(segs, std::max(0.0, at - length) + after));
     }
 
+    /// "A trial begins": the underside line swept wrist → elbow (as the scene's turn-to-forward cue).
+    void nextTrial(const access::PlannedTrial* trial, int number)
+    {
+        logRow(log_, now(), "cue", trial, number, "next", -1, 0, kUnderside, true, "", -1);
+        device_.waitFor(player_.play({{0.0, 0.1, motorBit(0, 1), level_ * 0.8f, true, false},
+                                      {0.1, 0.1, motorBit(1, 1), level_ * 0.8f, true, false},
+                                      {0.2, 0.1, motorBit(2, 1), level_ * 0.8f, true, false}},
+                                     0.5));
+    }
+
     /// "Your turn": the underside line tapped twice (the end-of-message cue).
     void yourTurn(const access::PlannedTrial* trial, int number)
     {
@@ -273,6 +284,7 @@ int runGuidedTraining(const CommandLine& cl)
         std::string answer;
         double shownAt = 0.0;
         for (;;) {
+            session.nextTrial(&trial, n);
             session.draw(trial.shown, grade, &trial, n);
             session.yourTurn(&trial, n);
             shownAt = session.wall();
