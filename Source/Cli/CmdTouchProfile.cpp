@@ -7,7 +7,7 @@
 #include "Cli/CommandLine.h"
 #include "Cli/Commands.h"
 #include "Cli/ReaderIo.h"
-#include "Cli/TactilePlayer.h"
+#include "Cli/GuidedDevice.h"
 #include "Core/Errors.h"
 #include "Device/TouchProfile.h"
 #include "Tactile/Staircase.h"

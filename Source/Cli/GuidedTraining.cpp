@@ -19,7 +19,7 @@
 #include "Braille/Reading.h"
 #include "Braille/Training.h"
 #include "Cli/ReaderIo.h"
-#include "Cli/TactilePlayer.h"
+#include "Cli/GuidedDevice.h"
 #include "Core/AtomicFile.h"
 #include "Core/Csv.h"
 #include "Core/Errors.h"

@@ -1,11 +1,10 @@
-#include "Cli/TactilePlayer.h"
-#include "Cli/CommandLine.h"
-#include "Core/Errors.h"
+#include "Access/TactilePlayer.h"
 #include <algorithm>
 #include <chrono>
+#include <stdexcept>
 #include <thread>
 
-namespace armadillo::cli {
+namespace armadillo::access {
 
 TactilePlayer::TactilePlayer(const TactileConfig& config, double packetPeriod) : packetPeriod_(packetPeriod) { engine_.prepare(config); }
 
@@ -73,44 +72,4 @@ MotorLevels TactilePlayer::onPacket(double t) noexcept
     return out;
 }
 
-GuidedDevice::GuidedDevice(const std::string& port, int baud, bool simulate, bool unpaced, TactilePlayer& player) : player_(player)
-{
-    std::unique_ptr<device::LinkPort> p;
-    if (!simulate) {
-        p = std::make_unique<device::SerialPort>(port, baud);
-        p->open();   // a missing port is an error now (exit 4), not a silent retry
-        p->close();
-    } else {
-        device::SimulatorOptions so;
-        so.baud = unpaced ? 0.0 : 57600.0;
-        simulator_ = std::make_unique<device::SimulatedForearm>(std::make_shared<device::WanderingMotion>(), so);
-        p = simulator_->startInProcess();
-    }
-    link_ = std::make_unique<device::DeviceLink>(std::move(p), [this](const device::SensorCounts&, double t) { return player_.onPacket(t); });
-    link_->start();
-}
-
-GuidedDevice::~GuidedDevice()
-{
-    link_->stop();
-    if (simulator_) simulator_->stop();
-}
-
-void GuidedDevice::waitFor(int n)
-{
-    auto since = std::chrono::steady_clock::now();
-    std::uint64_t packets = player_.packets();
-    while (player_.completed() < n) {
-        if (interrupted()) throw IoError("interrupted");
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
-        if (player_.packets() != packets) {
-            packets = player_.packets();
-            since = std::chrono::steady_clock::now();
-        } else if (std::chrono::steady_clock::now() - since > std::chrono::seconds(5)) {
-            const std::string why = link_->lastError();
-            throw IoError("no data from the device for 5 s" + (why.empty() ? std::string() : ": " + why));
-        }
-    }
-}
-
-} // namespace armadillo::cli
+} // namespace armadillo::access

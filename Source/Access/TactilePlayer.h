@@ -1,21 +1,18 @@
 #pragma once
 // Plays short tactile sequences (stimuli, braille cells, feedback sensations) on the device for
-// the guided command-line procedures (touch-profile, adaptive training), through the normal
-// TactileEngine — drive shaping, the reader's touch profile, the SafetyStage — exactly like a
-// scene's intents. The main thread queues a sequence of segments; the link thread (DeviceLink
-// handler: one call per sensor packet) plays it and reports when it is over. Lock-free: segments
-// cross in an SPSC queue, progress in atomics; nothing allocates on the link thread.
+// the guided procedures (touch-profile, adaptive training), through the normal TactileEngine —
+// drive shaping, the reader's touch profile, the SafetyStage — exactly like a scene's intents.
+// The front end's thread queues a sequence of segments; the device link's control thread (one
+// onPacket() per sensor packet) plays it and reports when it is over. Real-time on the control
+// thread: segments cross in an SPSC queue, progress in atomics; onPacket() allocates, locks and
+// throws nothing (tests_access proves it with the RealtimeGuard).
 #include "Core/SpscQueue.h"
-#include "Device/DeviceLink.h"
-#include "Device/Simulator.h"
 #include "Tactile/TactileEngine.h"
 #include <array>
 #include <atomic>
-#include <memory>
-#include <string>
 #include <vector>
 
-namespace armadillo::cli {
+namespace armadillo::access {
 
 struct TactileSegment {
     double at = 0.0;          ///< s after the sequence starts
@@ -41,7 +38,8 @@ public:
     double clock() const noexcept { return clock_.load(); }   ///< s of stimulus clock
     std::uint64_t packets() const noexcept { return packets_.load(); }
 
-    /// Link thread: one call per sensor packet; the levels of the answering motor packet.
+    /// Control thread: one call per sensor packet (t = the link's clock, s); the levels of the
+    /// answering motor packet.
     MotorLevels onPacket(double t) noexcept;
 
 private:
@@ -60,21 +58,4 @@ private:
     std::array<int, kMaxMotors> max_ {};
 };
 
-/// The device side of a guided procedure: a serial port (--port) or the built-in simulator
-/// (--simulate), a DeviceLink whose handler is the player. Throws IoError for a missing port.
-class GuidedDevice {
-public:
-    GuidedDevice(const std::string& port, int baud, bool simulate, bool unpaced, TactilePlayer& player);
-    ~GuidedDevice();
-    /// Waits (polling, ends on SIGINT) until the player completed sequence `n`. IoError when no
-    /// packet arrives for 5 s.
-    void waitFor(int n);
-    device::DeviceLink& link() { return *link_; }
-
-private:
-    TactilePlayer& player_;
-    std::unique_ptr<device::SimulatedForearm> simulator_;
-    std::unique_ptr<device::DeviceLink> link_;
-};
-
-} // namespace armadillo::cli
+} // namespace armadillo::access
