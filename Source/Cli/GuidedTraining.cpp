@@ -265,6 +265,7 @@ int runGuidedTraining(const CommandLine& cl)
     installInterruptHandlers();
     GuidedDevice device(cl.value("--port"), baud, cl.has("--simulate"), unpaced, player);
     Session session(cl, io, player, device, method, level);
+    const bool perkinsKeys = cl.has("--chords") && io.enableChordKeys();
 
     const std::size_t historyAnswers = reader.answers.size();
     auto save = [&](double seconds) {
@@ -274,7 +275,8 @@ int runGuidedTraining(const CommandLine& cl)
         access::saveReaderProfile(readerPath, out);
     };
     io.status("braille training, session " + std::to_string(o.session) + ": " + std::to_string(trials) + " trials. '?' repeats, '-' skips" +
-              (cl.has("--chords") ? "; answer in chords: S D F J K L = dots 3 2 1 4 5 6" : ""));
+              (cl.has("--chords") ? "; answer in chords: S D F J K L = dots 3 2 1 4 5 6" : "") +
+              (perkinsKeys ? ", Space after each cell, Space again or Enter to answer" : ""));
     int right = 0;
     for (int n = 1; n <= trials; ++n) {
         const access::PlannedTrial trial = plan.next();

@@ -4,7 +4,9 @@
 #include <cctype>
 #include <cerrno>
 #include <iostream>
+#include "Access/Chords.h"
 #include <poll.h>
+#include <termios.h>
 #include <unistd.h>
 
 namespace armadillo::cli {
@@ -43,6 +45,66 @@ ReaderIo::ReaderIo(const CommandLine& cl, bool armOnly) : armOnly_(armOnly)
             throw IoError("no braille display: " + why);
         }
     }
+}
+
+struct ReaderIo::SavedTerminal {
+    termios before {};
+};
+
+ReaderIo::~ReaderIo()
+{
+    if (saved_) ::tcsetattr(STDIN_FILENO, TCSANOW, &saved_->before);
+}
+
+bool ReaderIo::enableChordKeys()
+{
+    if (::isatty(STDIN_FILENO) != 1) return false;
+    auto saved = std::make_unique<SavedTerminal>();
+    if (::tcgetattr(STDIN_FILENO, &saved->before) != 0) return false;
+    termios raw = saved->before;
+    raw.c_lflag &= static_cast<tcflag_t>(~(ICANON | ECHO));
+    raw.c_cc[VMIN] = 1;
+    raw.c_cc[VTIME] = 0;
+    if (::tcsetattr(STDIN_FILENO, TCSANOW, &raw) != 0) return false;
+    saved_ = std::move(saved);
+    chordKeys_ = true;
+    return true;
+}
+
+/// One key in raw Perkins mode; true when `line` holds something for readLine() to return.
+bool ReaderIo::takeChordKey(char c, std::string& line)
+{
+    const char lower = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (std::string("sdfjkl").find(lower) != std::string::npos) {
+        if (keysCell_.find(lower) == std::string::npos) keysCell_ += lower;
+        return false;
+    }
+    if (c == ' ' || c == '\r' || c == '\n') {
+        if (!keysCell_.empty()) {
+            std::string letter, why;
+            const bool ok = access::chordsToLetters(keysCell_, letter, why);
+            keysLine_ += (keysLine_.empty() ? "" : " ") + keysCell_;
+            keysCell_.clear();
+            speak(ok ? letter : "dots " + why, true);
+            if (display_) display_->write(keysLine_);
+            if (c == ' ') return false;
+        }
+        if (keysLine_.empty()) return false;
+        line = keysLine_;
+        keysLine_.clear();
+        return true;
+    }
+    if (c == 0x7F || c == '\b') {   // Backspace: the last dot, else the last cell
+        if (!keysCell_.empty()) keysCell_.pop_back();
+        else if (const auto sp = keysLine_.find_last_of(' '); sp != std::string::npos) keysLine_.erase(sp);
+        else keysLine_.clear();
+        return false;
+    }
+    if (std::string("?-!<>").find(c) != std::string::npos) {
+        line = std::string(1, c);
+        return true;
+    }
+    return false;   // any other key: nothing
 }
 
 void ReaderIo::speak(const std::string& text, bool interrupt)
@@ -114,8 +176,16 @@ std::string ReaderIo::readLine()
         if (p[0].revents) {
             char buf[512];
             const ssize_t n = ::read(STDIN_FILENO, buf, sizeof buf);
-            if (n > 0) pending_.append(buf, static_cast<std::size_t>(n));
-            else if (n == 0 || (errno != EINTR && errno != EAGAIN)) closed_ = true;
+            if (n > 0 && chordKeys_) {
+                for (ssize_t i = 0; i < n; ++i) {
+                    std::string keyLine;
+                    if (takeChordKey(buf[i], keyLine)) pending_ += keyLine + "\n";
+                }
+            } else if (n > 0) {
+                pending_.append(buf, static_cast<std::size_t>(n));
+            } else if (n == 0 || (errno != EINTR && errno != EAGAIN)) {
+                closed_ = true;
+            }
         }
         if (p[1].revents && display_)
             for (std::string k; !(k = display_->readKey()).empty();) {

@@ -37,6 +37,13 @@ public:
     std::string askYesNo(const std::string& question);
     /// One answer line as typed (trimmed), commands handled. InputError when the answers end.
     std::string readLine();
+    /// Perkins keys on a terminal (stdin a tty): raw mode, no echo. S D F J K L add dots 3 2 1 4 5 6
+    /// to the cell being typed, Space ends the cell (its letter is spoken), Space on an empty cell
+    /// or Enter submits the answer, Backspace takes back a dot or the last cell; ? - ! > < act at
+    /// once. readLine() then returns the cells as a line of chord groups ("fd fk"). The terminal
+    /// is restored by the destructor. Returns false (nothing changed) when stdin is not a tty.
+    bool enableChordKeys();
+    ~ReaderIo();
     bool speaking() const noexcept { return speech_ != nullptr; }
     bool hasDisplay() const noexcept { return display_ != nullptr; }
 
@@ -48,6 +55,11 @@ private:
     bool armOnly_ = false;
     std::string pending_, displayLine_;
     bool closed_ = false;
+    bool chordKeys_ = false;
+    std::string keysCell_, keysLine_;   // raw Perkins mode: the cell being typed, the cells typed
+    struct SavedTerminal;
+    std::unique_ptr<SavedTerminal> saved_;
+    bool takeChordKey(char c, std::string& line);
 };
 
 } // namespace armadillo::cli

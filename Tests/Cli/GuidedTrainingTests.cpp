@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <map>
 #include <sstream>
+#include <termios.h>
 
 using namespace armadillo::cli;
 
@@ -241,4 +242,54 @@ TEST_CASE("adaptive training: bad usage and bad files are refused", "[cli][adapt
     CHECK(runArmadillo("braille --report " + path("missing.json")).code == 4);
     CHECK(runArmadillo("braille --report " + bad).code == 3);
     CHECK(runArmadillo("braille --train --adaptive --reader " + path("r2.json") + " --simulate --speech klingon").code == 2);
+}
+
+TEST_CASE("adaptive training: Perkins keys on a terminal — S D F J K L, Space ends a cell, Enter or a second Space answers", "[cli][adaptive][pty]")
+{
+    int master = -1, slave = -1;
+    REQUIRE(::openpty(&master, &slave, nullptr, nullptr, nullptr) == 0);
+    const std::string reader = path("keys-reader.json"), log = path("keys-training.csv"), err = path("keys-stderr.txt");
+    std::filesystem::remove(reader);
+    const pid_t pid = ::fork();
+    REQUIRE(pid >= 0);
+    if (pid == 0) {
+        ::dup2(slave, 0);
+        const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        ::dup2(e, 2);
+        const int out = ::open("/dev/null", O_WRONLY);
+        ::dup2(out, 1);
+        ::close(master);
+        ::execl(ARMADILLO_BIN, ARMADILLO_BIN, "braille", "--train", "--adaptive", "--reader", reader.c_str(), "--simulate", "--unpaced",
+                "--chords", "--trials", "3", "--log", log.c_str(), nullptr);
+        ::_exit(127);
+    }
+    // Typed ahead: b (f d, Space, Space); e (f k, Enter); b again after taking back a dot
+    // (f d j, Backspace, Space, Enter).
+    const std::string keys = "df  fk\rfdj\x7f \r";
+    REQUIRE(::write(master, keys.data(), keys.size()) == static_cast<ssize_t>(keys.size()));
+    int status = 0;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (::waitpid(pid, &status, WNOHANG) == 0) {
+        char buf[256];
+        pollfd p {master, POLLIN, 0};
+        if (::poll(&p, 1, 20) > 0) (void)!::read(master, buf, sizeof buf);
+        if (std::chrono::steady_clock::now() > deadline) {
+            ::kill(pid, SIGTERM);
+            ::waitpid(pid, &status, 0);
+            FAIL("the training did not finish");
+        }
+    }
+    termios after {};
+    REQUIRE(::tcgetattr(slave, &after) == 0);
+    CHECK((after.c_lflag & ICANON) != 0);   // the terminal is given back as it was
+    CHECK((after.c_lflag & ECHO) != 0);
+    ::close(master);
+    ::close(slave);
+    INFO(armadillo::readWholeFile(err));
+    REQUIRE(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 0);
+    std::vector<std::string> answers;
+    for (const auto& row : csvRows(armadillo::readWholeFile(log)))
+        if (row.size() == 13 && row[1] == "answer") answers.push_back(row[11]);
+    CHECK(answers == std::vector<std::string> {"b", "e", "b"});
 }
