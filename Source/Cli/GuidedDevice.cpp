@@ -6,7 +6,8 @@
 
 namespace armadillo::cli {
 
-GuidedDevice::GuidedDevice(const std::string& port, int baud, bool simulate, bool unpaced, TactilePlayer& player) : player_(player)
+GuidedDevice::GuidedDevice(const std::string& port, int baud, bool simulate, bool unpaced, TactilePlayer& player, SensorHook onSensor)
+    : player_(player), onSensor_(std::move(onSensor))
 {
     std::unique_ptr<device::LinkPort> p;
     if (!simulate) {
@@ -19,7 +20,11 @@ GuidedDevice::GuidedDevice(const std::string& port, int baud, bool simulate, boo
         simulator_ = std::make_unique<device::SimulatedForearm>(std::make_shared<device::WanderingMotion>(), so);
         p = simulator_->startInProcess();
     }
-    link_ = std::make_unique<device::DeviceLink>(std::move(p), [this](const device::SensorCounts&, double t) { return player_.onPacket(t); });
+    link_ = std::make_unique<device::DeviceLink>(std::move(p), [this](const device::SensorCounts& counts, double t) {
+        const MotorLevels out = player_.onPacket(t);
+        if (onSensor_) onSensor_(counts, player_.clock());
+        return out;
+    });
     link_->start();
 }
 

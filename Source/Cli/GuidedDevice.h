@@ -4,6 +4,7 @@
 #include "Access/TactilePlayer.h"
 #include "Device/DeviceLink.h"
 #include "Device/Simulator.h"
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -16,7 +17,10 @@ using access::TactileSegment;
 /// (--simulate), a DeviceLink whose handler is the player. Throws IoError for a missing port.
 class GuidedDevice {
 public:
-    GuidedDevice(const std::string& port, int baud, bool simulate, bool unpaced, TactilePlayer& player);
+    /// `onSensor` (optional) sees every sensor packet on the control thread after the player,
+    /// with the player's clock; it must be real-time (no allocation, lock or I/O).
+    using SensorHook = std::function<void(const device::SensorCounts&, double t)>;
+    GuidedDevice(const std::string& port, int baud, bool simulate, bool unpaced, TactilePlayer& player, SensorHook onSensor = {});
     ~GuidedDevice();
     /// Waits (polling, ends on SIGINT) until the player completed sequence `n`. IoError when no
     /// packet arrives for 5 s.
@@ -25,6 +29,7 @@ public:
 
 private:
     TactilePlayer& player_;
+    SensorHook onSensor_;
     std::unique_ptr<device::SimulatedForearm> simulator_;
     std::unique_ptr<device::DeviceLink> link_;
 };

@@ -14,6 +14,7 @@
 //      word-gap, cue, answer, feedback, end).
 #include "Cli/GuidedTraining.h"
 #include "Access/AdaptivePlan.h"
+#include "Access/ArmGestures.h"
 #include "Access/Chords.h"
 #include "Access/Report.h"
 #include "Braille/Reading.h"
@@ -23,8 +24,10 @@
 #include "Core/AtomicFile.h"
 #include "Core/Csv.h"
 #include "Core/Errors.h"
+#include "Device/Calibration.h"
 #include "Device/TouchProfile.h"
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <ctime>
 #include <fstream>
@@ -51,6 +54,9 @@ std::vector<OptionSpec> guidedTrainingOptionSpecs()
         {"--level", "L", "level of the cells (1..15, default 5 = the motors' rating)"},
         {"--chords", "", "answers are Perkins chords: S D F J K L = dots 3 2 1 4 5 6, a group per cell, e.g. 'fd' = b"},
         {"--arm-only", "", "nothing on the screen: the arm gives every cue and feedback (deafblind readers)"},
+        {"--calibration", "CAL.json", "--adaptive: the device calibration (for the arm gestures: a quick twist of the\n"
+                                      "forearm and back shows the trial again, two twists skip it)"},
+        {"--no-gestures", "", "--adaptive: ignore arm gestures"},
     };
     const auto io = readerIoOptionSpecs();
     o.insert(o.end(), io.begin(), io.end());
@@ -263,7 +269,31 @@ int runGuidedTraining(const CommandLine& cl)
     const std::string logPath = cl.value("--log");
     TactilePlayer player(tc, unpaced ? 1.0 / device::lockStepRate(baud) : 0.0);
     installInterruptHandlers();
-    GuidedDevice device(cl.value("--port"), baud, cl.has("--simulate"), unpaced, player);
+    // Arm gestures: a twist of the forearm and back = '?' (again), two = '-' (skip). Detected on
+    // the control thread from the calibrated roll rate; handed over in atomics.
+    const device::Calibration calibration = cl.has("--calibration") ? device::loadCalibration(cl.value("--calibration")) : device::defaultCalibration();
+    access::TwistDetector twist;
+    std::atomic<int> repeats {0}, skips {0};
+    auto onSensor = [&](const device::SensorCounts& counts, double t) {
+        const double rollRate = calibration.apply(t, counts).gyro.x();
+        const access::ArmGesture g = twist.update(t, rollRate);
+        if (g == access::ArmGesture::Repeat) repeats.fetch_add(1);
+        if (g == access::ArmGesture::Skip) skips.fetch_add(1);
+    };
+    GuidedDevice device(cl.value("--port"), baud, cl.has("--simulate"), unpaced, player,
+                        cl.has("--no-gestures") ? GuidedDevice::SensorHook {} : GuidedDevice::SensorHook(onSensor));
+    int repeatsTaken = 0, skipsTaken = 0;
+    io.setExtraInput([&]() -> std::string {
+        if (skips.load() > skipsTaken) {
+            skipsTaken = skips.load();
+            return "-";
+        }
+        if (repeats.load() > repeatsTaken) {
+            repeatsTaken = repeats.load();
+            return "?";
+        }
+        return "";
+    });
     Session session(cl, io, player, device, method, level);
     const bool perkinsKeys = cl.has("--chords") && io.enableChordKeys();
 

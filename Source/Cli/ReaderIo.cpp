@@ -171,6 +171,11 @@ std::string ReaderIo::readLine()
             return line;
         }
         if (interrupted()) throw IoError("interrupted");
+        if (extra_)
+            if (std::string x = extra_(); !x.empty()) {
+                pending_ += x + "\n";
+                continue;
+            }
         pollfd p[2] {{closed_ ? -1 : STDIN_FILENO, POLLIN, 0}, {display_ ? display_->fd() : -1, POLLIN, 0}};
         if (::poll(p, 2, 100) <= 0) continue;
         if (p[0].revents) {

@@ -12,6 +12,7 @@
 #include "Access/BrailleDisplay.h"
 #include "Access/Speech.h"
 #include "Cli/CommandLine.h"
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -44,6 +45,9 @@ public:
     /// is restored by the destructor. Returns false (nothing changed) when stdin is not a tty.
     bool enableChordKeys();
     ~ReaderIo();
+    /// Another source of answer lines, asked while waiting (every 0.1 s): "" = nothing. The
+    /// adaptive training's arm gestures come in this way ("?" repeat, "-" skip).
+    void setExtraInput(std::function<std::string()> source) { extra_ = std::move(source); }
     bool speaking() const noexcept { return speech_ != nullptr; }
     bool hasDisplay() const noexcept { return display_ != nullptr; }
 
@@ -56,6 +60,7 @@ private:
     std::string pending_, displayLine_;
     bool closed_ = false;
     bool chordKeys_ = false;
+    std::function<std::string()> extra_;
     std::string keysCell_, keysLine_;   // raw Perkins mode: the cell being typed, the cells typed
     struct SavedTerminal;
     std::unique_ptr<SavedTerminal> saved_;

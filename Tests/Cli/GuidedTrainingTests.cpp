@@ -50,11 +50,15 @@ struct ArmReaderRun {
     std::vector<std::string> answers;   // what the reader answered (letters)
     std::vector<bool> feltRight;        // the feedback felt on the arm after each answer
     std::vector<bool> shouldBeRight;    // the reader's own knowledge: was the answer the cell shown?
+    int twisted = 0;                    // trials the reader asked again for with a twist of the arm
     std::string err;
 };
 
 /// The reader who reads the arm and always mixes up e and i.
-ArmReaderRun runArmReader(const std::string& reader, const std::string& log, int trials, const std::vector<std::string>& extra)
+/// With `twistAt` ≥ 0 the reader answers that trial's first your-turn cue with a twist of the
+/// forearm and back (≈ 6 rad/s each way for 0.1 s: "again") instead of an answer.
+ArmReaderRun runArmReader(const std::string& reader, const std::string& log, int trials, const std::vector<std::string>& extra,
+                          int twistAt = -1)
 {
     std::vector<std::string> args {"braille", "--train", "--adaptive", "--reader", reader, "--unpaced", "--trials", std::to_string(trials),
                                    "--log", log, "--chords", "--seed", "5"};
@@ -65,13 +69,16 @@ ArmReaderRun runArmReader(const std::string& reader, const std::string& log, int
     std::vector<int> cells;       // dots of the cells of this trial
     int previousSet = 0;
     long packet = 0, lastTapStart = -100000;
-    int taps = 0;
+    int taps = 0, twistLeft = 0;
     constexpr int kUnderside = (1 << 1) | (1 << 4) | (1 << 7);
     constexpr int kAll = 0x1FF;
     constexpr int kOuter = kAll & ~kUnderside;
     dev.run(
         [&](const test::Levels& levels) {
             ++packet;
+            if (twistLeft > 0) {   // default calibration: 600 °/s over 2048 counts, 1200 counts ≈ 6.1 rad/s
+                dev.setGyroX(--twistLeft > 30 ? 1200 : twistLeft > 0 ? -1200 : 0);
+            }
             int set = 0;
             for (int m = 0; m < 9; ++m)
                 if (levels[static_cast<std::size_t>(m)] > 0) set |= 1 << m;
@@ -89,6 +96,12 @@ ArmReaderRun runArmReader(const std::string& reader, const std::string& log, int
                 if (set == kUnderside) {   // a tap of the underside line
                     taps = packet - lastTapStart < 150 ? taps + 1 : 1;   // within 0.5 s: the same cue
                     lastTapStart = packet;
+                    if (taps == 2 && static_cast<int>(r.answers.size()) == twistAt && r.twisted == 0) {
+                        ++r.twisted;             // "again", by the arm: the trial comes back
+                        twistLeft = 61;
+                        state = State::Replay;   // until the next sweep
+                        break;
+                    }
                     if (taps == 2) {   // your turn
                         std::string letters, chords, truth;
                         for (int c : cells) {
@@ -166,7 +179,7 @@ TEST_CASE("adaptive training with no screen and no sound: the arm alone carries 
                    "{\"session\": 1, \"stage\": \"letters\", \"expected\": \"i\", \"answer\": \"e\", \"correct\": false}";
     file("arm-reader.json", history + "]}");
     const int trials = 14;
-    const ArmReaderRun r = runArmReader(reader, log, trials, {"--arm-only"});
+    const ArmReaderRun r = runArmReader(reader, log, trials, {"--arm-only"}, 3);
     INFO(r.err);
     REQUIRE(r.code == 0);
     CHECK(r.err.empty());   // nothing on the screen
@@ -187,6 +200,14 @@ TEST_CASE("adaptive training with no screen and no sound: the arm alone carries 
         }
     CHECK(logged == r.answers);
     CHECK(scored == r.shouldBeRight);
+    // The twist of the arm showed trial 4 again: its "next" cue is in the log twice, the others once.
+    REQUIRE(r.twisted == 1);
+    std::map<std::string, int> nextCues;
+    for (const auto& row : rows)
+        if (row.size() == 13 && row[1] == "cue" && row[5] == "next") ++nextCues[row[3]];
+    CHECK(nextCues["4"] == 2);
+    CHECK(nextCues["3"] == 1);
+    CHECK(nextCues["5"] == 1);
     // The profile kept every answer.
     const std::string profile = armadillo::readWholeFile(reader);
     CHECK(profile.find("\"format\": \"armadillo-reader\"") != std::string::npos);

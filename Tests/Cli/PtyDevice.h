@@ -23,17 +23,19 @@ namespace armadillo::cli::test {
 
 using Levels = std::array<int, 9>;
 
-/// A sensor packet of the thesis protocol with every channel at mid-scale 2048, built bit by bit:
-/// nine 12-bit samples most significant bit first, then the end nibble 0x0.
-inline std::array<unsigned char, 14> midScaleSensorPacket()
+/// A sensor packet of the thesis protocol, built bit by bit: nine 12-bit samples in the order
+/// ax ay az gx gy gz mx my mz, most significant bit first, then the end nibble 0x0.
+inline std::array<unsigned char, 14> sensorPacket(const std::array<int, 9>& counts)
 {
     std::array<unsigned char, 14> p {};
     int bit = 0;
     for (int ch = 0; ch < 9; ++ch)
         for (int b = 11; b >= 0; --b, ++bit)
-            if ((2048 >> b) & 1) p[static_cast<std::size_t>(bit / 8)] |= static_cast<unsigned char>(0x80 >> (bit % 8));
+            if ((counts[static_cast<std::size_t>(ch)] >> b) & 1) p[static_cast<std::size_t>(bit / 8)] |= static_cast<unsigned char>(0x80 >> (bit % 8));
     return p;
 }
+/// Every channel at mid-scale 2048 (at rest in the default calibration, docs/DEVICE.md).
+inline std::array<unsigned char, 14> midScaleSensorPacket() { return sensorPacket({2048, 2048, 2048, 2048, 2048, 2048, 2048, 2048, 2048}); }
 
 class PtyDevice {
 public:
@@ -98,6 +100,9 @@ public:
             line.clear();
         }
     }
+    /// The gyroscope's x channel (the roll rate about the forearm) `offset` counts from mid-scale
+    /// in the packets sent from now on.
+    void setGyroX(int offset) { sensor_ = sensorPacket({2048, 2048, 2048, 2048 + offset, 2048, 2048, 2048, 2048, 2048}); }
     void answer(const std::string& text) { (void)!::write(in_, (text + "\n").data(), text.size() + 1); }
     void closeInput()
     {
@@ -177,7 +182,7 @@ private:
     int code_ = -1;
     bool stderrClosed_ = false;
     std::vector<unsigned char> wire_;
-    const std::array<unsigned char, 14> sensor_ = midScaleSensorPacket();
+    std::array<unsigned char, 14> sensor_ = midScaleSensorPacket();
 };
 
 } // namespace armadillo::cli::test
