@@ -30,6 +30,8 @@
 #include <atomic>
 #include <chrono>
 #include <ctime>
+#include <filesystem>
+#include <unistd.h>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -113,10 +115,9 @@ void logRow(std::string& log, double t, const char* event, const access::Planned
 
 class Session {
 public:
-    Session(const CommandLine& cl, ReaderIo& io, TactilePlayer& player, GuidedDevice& device, DisplayMethod method, float level)
-        : io_(io), player_(player), device_(device), method_(method), level_(level), start_(std::chrono::steady_clock::now())
+    Session(TactilePlayer& player, GuidedDevice& device, DisplayMethod method, float level)
+        : player_(player), device_(device), method_(method), level_(level), start_(std::chrono::steady_clock::now())
     {
-        (void)cl;
         log_ = "t,event,stage,trial,expected,prompt,posture,roll_deg,unit,step,motors,answer,correct\n";
     }
 
@@ -183,7 +184,6 @@ public:
     }
 
 private:
-    ReaderIo& io_;
     TactilePlayer& player_;
     GuidedDevice& device_;
     DisplayMethod method_;
@@ -230,6 +230,12 @@ int runGuidedTraining(const CommandLine& cl)
     const bool armOnly = cl.has("--arm-only");
     ReaderIo io(cl, armOnly);
     access::ReaderProfile reader = access::loadReaderProfile(readerPath);   // InputError (exit 3) for a bad file
+    // Refuse an unwritable profile or log now, not after the reader has answered.
+    for (const std::string& out : {readerPath, cl.value("--log")}) {
+        if (out.empty()) continue;
+        const std::filesystem::path dir = std::filesystem::absolute(out).parent_path();
+        if (!std::filesystem::is_directory(dir) || ::access(dir.c_str(), W_OK) != 0) throw IoError("cannot write into " + dir.string());
+    }
 
     access::AdaptiveOptions o;
     o.session = reader.nextSession();
@@ -294,7 +300,7 @@ int runGuidedTraining(const CommandLine& cl)
         }
         return "";
     });
-    Session session(cl, io, player, device, method, level);
+    Session session(player, device, method, level);
     const bool perkinsKeys = cl.has("--chords") && io.enableChordKeys();
 
     const std::size_t historyAnswers = reader.answers.size();

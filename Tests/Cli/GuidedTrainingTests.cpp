@@ -261,6 +261,7 @@ TEST_CASE("adaptive training: bad usage and bad files are refused", "[cli][adapt
     CHECK(r.code == 3);
     CHECK(r.err.find("bad-reader.json") != std::string::npos);
     CHECK(runArmadillo("braille --report " + path("missing.json")).code == 4);
+    CHECK(runArmadillo("braille --train --adaptive --reader /nonexistent/dir/r.json --simulate --unpaced").code == 4);
     CHECK(runArmadillo("braille --report " + bad).code == 3);
     CHECK(runArmadillo("braille --train --adaptive --reader " + path("r2.json") + " --simulate --speech klingon").code == 2);
 }
@@ -313,4 +314,44 @@ TEST_CASE("adaptive training: Perkins keys on a terminal — S D F J K L, Space 
     for (const auto& row : csvRows(armadillo::readWholeFile(log)))
         if (row.size() == 13 && row[1] == "answer") answers.push_back(row[11]);
     CHECK(answers == std::vector<std::string> {"b", "e", "b"});
+}
+
+TEST_CASE("play --training-log with speech and a braille display captured: the §4.4.1 prompts and results reach both", "[cli][adaptive]")
+{
+    const Run plan = runArmadillo("braille --plan --seed 3");
+    REQUIRE(plan.code == 0);
+    std::vector<std::string> expected;
+    {
+        std::istringstream in(plan.out);
+        std::string line;
+        std::getline(in, line);   // header
+        while (std::getline(in, line)) expected.push_back(line.substr(line.rfind(',') + 1));
+    }
+    REQUIRE(expected.size() > 20);
+    std::string answers;
+    for (const auto& e : expected) answers += e + "\n";
+    const std::string speech = path("play-speech.txt"), display = path("play-display.txt");
+    for (const auto& f : {speech, display}) std::filesystem::remove(f);
+    const Run r = runArmadillo("play --scene braille --simulate --seed 3 --seconds 120 --no-audio --training-log " + path("play-training.csv") +
+                                   " --speech capture:" + speech + " --braille-display capture:" + display,
+                               file("play-answers.txt", answers));
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const std::string said = armadillo::readWholeFile(speech), shown = armadillo::readWholeFile(display);
+    const std::string n = std::to_string(expected.size());
+    for (std::size_t k = 1; k <= expected.size(); ++k) {
+        const std::string prompt = "trial " + std::to_string(k) + " of " + n + ": ";
+        CHECK(said.find("say: " + prompt) != std::string::npos);
+        CHECK(shown.find("write: " + prompt) != std::string::npos);
+    }
+    auto count = [](const std::string& text, const std::string& what) {
+        std::size_t c = 0;
+        for (std::size_t at = 0; (at = text.find(what, at)) != std::string::npos; ++at) ++c;
+        return c;
+    };
+    CHECK(count(said, "say+: right") + count(said, "say+: wrong") == expected.size());
+    CHECK(count(shown, "write: right") + count(shown, "write: wrong") == expected.size());
+    CHECK(said.find("say+: braille training complete") != std::string::npos);
+    // stderr is what it always was.
+    CHECK(r.err.find("braille training 1/" + n + ": ") != std::string::npos);
 }
