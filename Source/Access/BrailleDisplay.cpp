@@ -33,7 +33,10 @@ public:
             return nullptr;
         }
         d->connected_ = true;
-        if (d->enter_(-1 /* BRLAPI_TTY_DEFAULT */, nullptr) < 0) {
+        // The controlling tty (found from $WINDOWPATH, $CONTROLVT or the process's own
+        // virtual console); a session with none (ssh, a service) takes the root of brltty's tty
+        // tree instead (an empty tty path).
+        if (d->enter_(-1 /* BRLAPI_TTY_DEFAULT */, nullptr) < 0 && (!d->enterPath_ || d->enterPath_(nullptr, 0, nullptr) < 0)) {
             why = "BrlAPI refused tty mode";
             return nullptr;
         }
@@ -82,6 +85,7 @@ private:
     using OpenFn = int (*)(const Settings*, Settings*);
     using VoidFn = void (*)();
     using EnterFn = int (*)(int, const char*);
+    using EnterPathFn = int (*)(int*, int, const char*);
     using IntFn = int (*)();
     using WriteFn = int (*)(int, const char*);
     using ReadKeyFn = int (*)(int, std::uint64_t*);
@@ -90,6 +94,7 @@ private:
         open_ = reinterpret_cast<OpenFn>(::dlsym(lib, "brlapi_openConnection"));
         close_ = reinterpret_cast<VoidFn>(::dlsym(lib, "brlapi_closeConnection"));
         enter_ = reinterpret_cast<EnterFn>(::dlsym(lib, "brlapi_enterTtyMode"));
+        enterPath_ = reinterpret_cast<EnterPathFn>(::dlsym(lib, "brlapi_enterTtyModeWithPath"));
         leave_ = reinterpret_cast<IntFn>(::dlsym(lib, "brlapi_leaveTtyMode"));
         writeText_ = reinterpret_cast<WriteFn>(::dlsym(lib, "brlapi_writeText"));
         readKey_ = reinterpret_cast<ReadKeyFn>(::dlsym(lib, "brlapi_readKey"));
@@ -98,6 +103,7 @@ private:
     OpenFn open_ = nullptr;
     VoidFn close_ = nullptr;
     EnterFn enter_ = nullptr;
+    EnterPathFn enterPath_ = nullptr;
     IntFn leave_ = nullptr;
     WriteFn writeText_ = nullptr;
     ReadKeyFn readKey_ = nullptr;

@@ -2,10 +2,13 @@
 #include "Access/BrailleDisplay.h"
 #include "Access/Chords.h"
 #include "Access/Speech.h"
+#include "Common/Eventually.h"
+#include "Common/FakeBrlApi.h"
 #include "Core/AtomicFile.h"
 #include <catch2/catch.hpp>
 #include <cstdio>
 #include <filesystem>
+#include <poll.h>
 #include <unistd.h>
 
 using namespace armadillo;
@@ -63,4 +66,34 @@ TEST_CASE("speech and braille display: capture backends record what a reader wou
     CHECK_FALSE(makeBrailleDisplay("brlapi:127.0.0.1:77", why));
     CHECK_FALSE(why.empty());
     std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("braille display: the BrlAPI backend against a fake BrlAPI server — written text and typed keys", "[speech][brlapi]")
+{
+    test::FakeBrlApiServer server;
+    REQUIRE(server.ok());
+    std::string why;
+    auto d = makeBrailleDisplay("brlapi:" + server.host(), why);
+    INFO(why);
+    if (!d && why.find("not found") != std::string::npos) {
+        WARN("libbrlapi is not installed here (Debian: libbrlapi0.8): " + why);
+        return;
+    }
+    REQUIRE(d);
+    CHECK(d->name() == "brlapi");
+    CHECK(server.enteredTty());
+    d->write("3/10 which letter?");
+    CHECK(armadillo::testing::eventually([&] { return !server.writes().empty(); }, 10.0));
+    REQUIRE(!server.writes().empty());
+    CHECK(server.writes().back() == "3/10 which letter?");
+    // Keys typed on the display's braille keyboard come back as characters, Enter as "\n".
+    server.type("b\n");
+    std::string got;
+    CHECK(armadillo::testing::eventually([&] {
+        pollfd p {d->fd(), POLLIN, 0};
+        if (::poll(&p, 1, 5) > 0)
+            for (std::string k; !(k = d->readKey()).empty();) got += k;
+        return got.size() >= 2;
+    }, 10.0));
+    CHECK(got == "b\n");
 }

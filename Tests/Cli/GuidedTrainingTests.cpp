@@ -6,6 +6,7 @@
 // columns) â€” with nothing on the screen (--arm-only); and the same session with speech and the
 // braille display captured, every prompt and feedback reaching both.
 #include "CliRun.h"
+#include "Common/FakeBrlApi.h"
 #include "Core/AtomicFile.h"
 #include "PtyDevice.h"
 #include <algorithm>
@@ -354,4 +355,37 @@ TEST_CASE("play --training-log with speech and a braille display captured: the Â
     CHECK(said.find("say+: braille training complete") != std::string::npos);
     // stderr is what it always was.
     CHECK(r.err.find("braille training 1/" + n + ": ") != std::string::npos);
+}
+
+TEST_CASE("adaptive training on a braille display alone: prompts and feedback to a fake BrlAPI server, answers from its keys", "[cli][adaptive][brlapi]")
+{
+    armadillo::test::FakeBrlApiServer server;
+    REQUIRE(server.ok());
+    // The reader answers every prompt on the display's keyboard: "b" on the first, "x" on the others.
+    int prompts = 0;
+    server.onWrite([&](const std::string& text) {
+        if (text.find(" which letter?") == std::string::npos) return;
+        server.type(++prompts == 1 ? "b\n" : "x\n");
+    });
+    const std::string log = path("brlapi-training.csv"), reader = path("brlapi-reader.json");
+    std::filesystem::remove(reader);
+    const Run r = runArmadillo("braille --train --adaptive --reader " + reader + " --simulate --unpaced --trials 3 --log " + log +
+                              " --braille-display brlapi:" + server.host());
+    INFO(r.err);
+    if (r.code == 4 && r.err.find("not found") != std::string::npos) {
+        WARN("libbrlapi is not installed here: " + r.err);
+        return;
+    }
+    REQUIRE(r.code == 0);
+    CHECK(server.enteredTty());
+    std::vector<std::string> answers;
+    for (const auto& row : csvRows(armadillo::readWholeFile(log)))
+        if (row.size() == 13 && row[1] == "answer") answers.push_back(row[11]);
+    CHECK(answers == std::vector<std::string> {"b", "x", "x"});
+    const auto writes = server.writes();
+    auto has = [&](const std::string& prefix) {
+        return std::any_of(writes.begin(), writes.end(), [&](const std::string& w) { return w.rfind(prefix, 0) == 0; });
+    };
+    for (const char* p : {"1/3 which letter?", "2/3 which letter?", "3/3 which letter?", "training complete"}) CHECK(has(p));
+    CHECK(std::count_if(writes.begin(), writes.end(), [](const std::string& w) { return w == "right" || w.rfind("wrong: it was", 0) == 0; }) == 3);
 }
