@@ -186,7 +186,7 @@ int runBraille(const Arguments& args)
                         {"--log", "FILE", "where the training log goes (--train; CSV, atomic)"},
                         {"--stages", "LIST", "comma list of sides,hold,one-dot,gaps,alphabet,letters,words, and (not in the\n"
                                             "default list) signs (the §5.3 shorthand), contractions (Grade 2)"},
-                        {"--trials", "N", "trials per stage (default 10)"},
+                        {"--trials", "N", "trials per stage (default 10); with --adaptive: trials in all (default 30)"},
                         {"--seed", "N", "random choices of the training (default 1)"},
                         {"--words", "FILE", "sign word list (default: the shipped Braille/signwords.txt)"}};
         // The adaptive training on the device and the progress report (issue 26).
