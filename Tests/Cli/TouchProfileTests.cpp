@@ -7,7 +7,9 @@
 #include "CliRun.h"
 #include "Core/AtomicFile.h"
 #include "PtyDevice.h"
+#include <map>
 #include <regex>
+#include <sstream>
 
 using namespace armadillo::cli;
 
@@ -122,4 +124,42 @@ TEST_CASE("touch-profile refuses bad usage and a missing port, and --profile che
     CHECK(r.code == 3);
     CHECK(r.err.find("bad-profile.json") != std::string::npos);
     CHECK(r.err.find("threshold") != std::string::npos);
+}
+
+TEST_CASE("render --profile: each motor's levels scaled by its threshold over the median, before the safety stage", "[cli][touch-profile]")
+{
+    // Thresholds 8, 4, 2 on the wrist row, 4 elsewhere: median 4, so m1 ×2, m2 ×1, m3 ×0.5.
+    const std::string profile = file("fit.json", "{\"threshold\": [8, 4, 2, 4, 4, 4, 4, 4, 4]}");
+    const std::string motion = std::string(ARMADILLO_SOURCE_DIR) + "/Resources/Braille/read-word.pose.csv";
+    auto levels = [&](const std::string& extra) {
+        const Run r = runArmadillo("render --scene braille --text exit --motion " + motion + " --out " + path("p.wav") + " --tactile " +
+                                   path("p.csv") + extra);
+        REQUIRE(r.code == 0);
+        // Every level each wrist-row motor took, counted: rows "t,m1,…,m9".
+        std::array<std::map<int, int>, 3> seen;
+        std::istringstream in(armadillo::readWholeFile(path("p.csv")));
+        std::string line;
+        std::getline(in, line);
+        while (std::getline(in, line)) {
+            std::istringstream f(line);
+            std::string cell;
+            std::getline(f, cell, ',');
+            for (int m = 0; m < 3; ++m) {
+                std::getline(f, cell, ',');
+                ++seen[static_cast<std::size_t>(m)][std::stoi(cell)];
+            }
+        }
+        return seen;
+    };
+    const auto plain = levels("");
+    const auto fitted = levels(" --profile " + profile);
+    // Without a profile the cells are at level 5 (after the 15-level jump-start).
+    for (int m = 0; m < 3; ++m) CHECK(plain[static_cast<std::size_t>(m)].count(5) == 1);
+    // m1 twice as hard (10, still under the run limit: a pulse is 0.25 s), m2 unchanged,
+    // m3 at half (2.5: dithered between 2 and 3), never at 5.
+    CHECK(fitted[0].count(10) == 1);
+    CHECK(fitted[0].count(5) == 0);
+    CHECK(fitted[1].count(5) == 1);
+    CHECK(fitted[2].count(5) == 0);
+    CHECK((fitted[2].count(2) + fitted[2].count(3)) > 0);
 }
