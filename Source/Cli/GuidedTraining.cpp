@@ -135,10 +135,21 @@ public:
         o.grade = grade;
         const std::vector<ReadingUnit> units = layoutDocument(translateText(text, o), method_);
         std::vector<TactileSegment> segs;
-        double at = 0.0;
-        const double t0 = now();
+        double at = 0.0;        // s into the current chunk
+        double t0 = now();
+        // A long text goes in chunks of whole units (the player takes at most 127 segments at a
+        // time); each chunk is played out, stillness included, before the next.
+        auto flush = [&](double extra) {
+            double length = 0.0;   // a trailing pause row is waited out too
+            for (const auto& seg : segs) length = std::max(length, seg.at + seg.duration);
+            device_.waitFor(player_.play(segs, std::max(0.0, at - length) + extra));
+            segs.clear();
+            at = 0.0;
+            t0 = now();
+        };
         for (std::size_t u = 0; u < units.size(); ++u) {
             const ReadingUnit& unit = units[u];
+            if (segs.size() + unit.steps.size() + 1 > 100) flush(0.0);
             if (unit.kind != UnitKind::Cell) {
                 segs.push_back({at, 0.15, kUnderside, level_ * 0.6f, true, false});
                 logRow(log_, t0 + at, "word-gap", trial, number, "", static_cast<int>(u), 0, 0, false, "", -1);
@@ -151,9 +162,7 @@ public:
                 at += timing_.on + (s + 1 < unit.steps.size() ? timing_.gap : timing_.letterGap);
             }
         }
-        double length = 0.0;   // a trailing pause row is waited out too
-        for (const auto& seg : segs) length = std::max(length, seg.at + seg.duration);
-        device_.waitFor(player_.play(segs, std::max(0.0, at - length) + after));
+        flush(after);
     }
 
     /// "A trial begins": the underside line swept wrist → elbow (as the scene's turn-to-forward cue).
@@ -253,10 +262,9 @@ int runGuidedTraining(const CommandLine& cl)
         }
     }
     const std::vector<std::string> signWords = cl.has("--words") ? readWordList(cl.value("--words")) : defaultSignWords();
-    for (const std::string& w : signWords) {
+    for (const std::string& w : signWords) {   // lower case; a phrase keeps its spaces (word gaps on the arm)
         std::string k;
-        for (unsigned char c : w)
-            if (std::isalpha(c)) k += static_cast<char>(std::tolower(c));
+        for (unsigned char c : w) k += static_cast<char>(std::tolower(c));
         o.words.push_back(k);
     }
     o.signs = signShorthand(signWords);
@@ -343,7 +351,7 @@ int runGuidedTraining(const CommandLine& cl)
         const double rt = session.wall() - shownAt;
         const bool skipped = answer == "-";
         const std::string given = skipped ? "(skipped)" : normalised(answer);
-        const bool correct = !skipped && given == trial.expected;
+        const bool correct = !skipped && given == normalised(trial.expected);   // spaces do not count
         right += correct;
         plan.record(trial, given, correct, rt, session.now());
         logRow(session.log(), session.now(), "answer", &trial, n, "", -1, 0, 0, false, given, correct ? 1 : 0);
