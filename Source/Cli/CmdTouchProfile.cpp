@@ -106,7 +106,9 @@ int runTouchProfile(const Arguments& args)
             for (int m = 0; m < device::kProfileMotors; ++m)
                 if (!stairs[static_cast<std::size_t>(m)].done()) order.push_back(m);
             if (order.empty()) break;
-            std::shuffle(order.begin(), order.end(), rng);
+            // Fisher-Yates with `%` (std::shuffle differs between standard libraries): a seed gives
+            // the same order everywhere.
+            for (std::size_t i = order.size(); i > 1; --i) std::swap(order[i - 1], order[static_cast<std::size_t>(rng() % i)]);
             if (order.size() > 1 && order.front() == previous) std::swap(order.front(), order.back());
             for (int m : order) {
                 Staircase& s = stairs[static_cast<std::size_t>(m)];
