@@ -53,7 +53,8 @@ std::vector<OptionSpec> guidedTrainingOptionSpecs()
         {"--unpaced", "", "--adaptive: count display time by packets (simulated readers)"},
         {"--profile", "PROFILE.json", "the reader's touch profile (armadillo touch-profile): motors evened out"},
         {"--arm", "right|left", "arm wearing the device (default right)"},
-        {"--level", "L", "level of the cells (1..15, default 5 = the motors' rating)"},
+        {"--level", "L", "level of the cells (1..15; default 5 = the motors' rating, or the comfortable level of\n"
+                         "--profile when it has one)"},
         {"--chords", "", "answers are Perkins chords: S D F J K L = dots 3 2 1 4 5 6, a group per cell, e.g. 'fd' = b"},
         {"--arm-only", "", "nothing on the screen: the arm gives every cue and feedback (deafblind readers)"},
         {"--calibration", "CAL.json", "--adaptive: the device calibration (for the arm gestures: a quick twist of the\n"
@@ -270,14 +271,22 @@ int runGuidedTraining(const CommandLine& cl)
     o.signs = signShorthand(signWords);
     o.contractions = contractionWords();
     const int trials = static_cast<int>(cl.integer("--trials", 30, 1, 10000));
-    const float level = static_cast<float>(cl.integer("--level", 5, 1, 15));
+    float level = static_cast<float>(cl.integer("--level", 5, 1, 15));
     access::AdaptivePlanner plan(reader, o);
 
     TactileConfig tc;
     const std::string arm = cl.value("--arm", "right");
     if (arm != "right" && arm != "left") throw UsageError("--arm must be right or left");
     tc.side = arm == "left" ? ArmSide::Left : ArmSide::Right;
-    if (cl.has("--profile")) tc.motorGain = device::touchProfileGains(device::loadTouchProfile(cl.value("--profile")));
+    if (cl.has("--profile")) {
+        const device::TouchProfile touch = device::loadTouchProfile(cl.value("--profile"));
+        tc.motorGain = device::touchProfileGains(touch);
+        // Without --level the cells come at the reader's comfortable level: the level that, after
+        // the profile's gain, gives the comfort motor what the reader chose as comfortable.
+        const std::size_t cm = static_cast<std::size_t>(touch.comfortMotor - 1);
+        if (!cl.has("--level") && touch.comfort > 0 && tc.motorGain[cm] > 0.0f)
+            level = std::clamp(static_cast<float>(touch.comfort) / tc.motorGain[cm], 1.0f, 15.0f);
+    }
     const int baud = static_cast<int>(cl.integer("--baud", 57600, 300, 4000000));
     const bool unpaced = cl.has("--unpaced");
     const std::string logPath = cl.value("--log");

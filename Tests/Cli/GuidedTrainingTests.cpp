@@ -389,3 +389,30 @@ TEST_CASE("adaptive training on a braille display alone: prompts and feedback to
     for (const char* p : {"1/3 which letter?", "2/3 which letter?", "3/3 which letter?", "training complete"}) CHECK(has(p));
     CHECK(std::count_if(writes.begin(), writes.end(), [](const std::string& w) { return w == "right" || w.rfind("wrong: it was", 0) == 0; }) == 3);
 }
+
+TEST_CASE("adaptive training with a touch profile: cells at the reader's comfortable level", "[cli][adaptive][pty]")
+{
+    // Thresholds all 4 (gains 1), comfortable level 8 on m5: the cells come at 8 instead of 5.
+    auto levelsSeen = [](const std::vector<std::string>& extra) {
+        const std::string reader = path("comfort-reader.json");
+        std::filesystem::remove(reader);
+        std::vector<std::string> args {"braille", "--train", "--adaptive", "--reader", reader, "--unpaced", "--trials", "4"};
+        args.insert(args.end(), extra.begin(), extra.end());
+        test::PtyDevice dev(args);
+        std::map<int, int> seen;   // level → packets, over all motors
+        dev.run(
+            [&](const test::Levels& l) {
+                for (int x : l) ++seen[x];
+            },
+            [&](const std::string& line) {
+                if (line.rfind("? ", 0) == 0) dev.answer("a");
+            });
+        INFO(dev.err);
+        CHECK(dev.wait() == 0);
+        return seen;
+    };
+    const auto plain = levelsSeen({});
+    const auto comfortable = levelsSeen({"--profile", file("comfort.json", "{\"threshold\": [4, 4, 4, 4, 4, 4, 4, 4, 4], \"comfort\": 8}")});
+    CHECK(plain.count(8) == 0);   // default: cells at 5, cues at 4, the wrong buzz at 5
+    CHECK(comfortable.count(8) == 1);
+}
