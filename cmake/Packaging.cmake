@@ -25,6 +25,9 @@ set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 # library links), and JUCE opens the X11 libraries with dlopen() when the app or a plugin window
 # opens, so no binary names them.
 set(CPACK_DEBIAN_PACKAGE_DEPENDS "liblouis-data, libx11-6, libxext6, libxinerama1, libxrandr2, libxcursor1, libxrender1")
+# A reader alone (docs/ACCESSIBILITY.md): speech and braille displays are opened with dlopen()
+# only when asked for (--speak, --brlapi), so they are recommended, not required.
+set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "libspeechd2 | espeak-ng, libbrlapi0.8")
 set(CPACK_DEBIAN_PACKAGE_HOMEPAGE "https://armadillo.invalid")
 set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS OFF)
 set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)

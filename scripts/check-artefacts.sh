@@ -17,7 +17,7 @@ if [ "${ARMADILLO_NO_PLUGIN:-0}" != "1" ]; then
     need "build/Source/Plugin/ARMadillo_artefacts/Release/Standalone/ARMadillo"
 fi
 help=$(build/bin/armadillo --help)
-for c in ports fuse render play braille resources; do
+for c in ports fuse render play braille resources touch-profile; do
     echo "$help" | grep -q "^  $c " || { echo "armadillo --help does not list '$c'"; fail=1; }
 done
 bash scripts/check-install.sh build || fail=1

@@ -10,6 +10,9 @@ packages=(
     build-essential cmake ninja-build pkg-config git
     # the core: Eigen, serial ports, braille tables, tests
     libeigen3-dev libserialport-dev liblouis-dev liblouis-data catch2
+    # a reader alone (docs/ACCESSIBILITY.md): speech-dispatcher and BrlAPI, loaded at run time (dlopen);
+    # espeak-ng, speech-dispatcher and brltty for the manual checks there
+    libspeechd-dev libbrlapi-dev espeak-ng speech-dispatcher speech-dispatcher-espeak-ng brltty
     # audio files (WAV/RF64 out; WAV, AIFF, FLAC, Ogg in) and resampling of user recordings
     libsndfile1-dev libsamplerate0-dev
     # JUCE 7 (Debian ships it with its CMake config) and what its modules link on Linux

@@ -13,7 +13,8 @@
 namespace armadillo::braille {
 
 namespace {
-constexpr const char* kStageNames[kTrainingStageCount] {"sides", "hold", "one-dot", "gaps", "alphabet", "letters", "words"};
+constexpr const char* kStageNames[kTrainingStageCount] {"sides", "hold", "one-dot", "gaps", "alphabet", "letters", "words", "signs",
+                                                         "contractions"};
 
 /// The Grade 1 cell of a lower-case letter, from liblouis (the same source as every text).
 Dots letterCell(char letter)
@@ -24,17 +25,19 @@ Dots letterCell(char letter)
     return doc.messages[0].symbols[0].cells[0];
 }
 
-std::vector<ReadingUnit> unitsOfCells(const std::vector<Dots>& cells)
+std::vector<ReadingUnit> unitsOfCells(const std::vector<Dots>& cells, DisplayMethod method)
 {
     BrailleDocument doc;
     doc.messages.emplace_back();
     for (Dots c : cells) doc.messages[0].symbols.push_back({dotNumbers(c), {c}});
-    return layoutDocument(doc, DisplayMethod::Rows);
+    return layoutDocument(doc, method);
 }
 
-std::vector<ReadingUnit> unitsOfText(const std::string& text)
+std::vector<ReadingUnit> unitsOfText(const std::string& text, DisplayMethod method, int grade = 1)
 {
-    return layoutDocument(translateText(text, {}), DisplayMethod::Rows);
+    TranslationOptions o;
+    o.grade = grade;
+    return layoutDocument(translateText(text, o), method);
 }
 
 std::string lower(std::string s)
@@ -100,6 +103,50 @@ std::vector<char> gapLetters()
     return out;
 }
 
+std::vector<std::pair<std::string, std::string>> signShorthand(const std::vector<std::string>& words)
+{
+    std::vector<std::string> keys;
+    for (const std::string& w : words) {
+        std::string k;
+        for (unsigned char c : w)
+            if (std::isalpha(c)) k += static_cast<char>(std::tolower(c));
+        if (!k.empty() && std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
+    }
+    std::vector<std::pair<std::string, std::string>> out;
+    for (const std::string& k : keys) {
+        std::string shorthand = k;
+        for (std::size_t n = 1; n <= k.size(); ++n) {
+            const std::string prefix = k.substr(0, n);
+            bool unique = true;
+            for (const std::string& other : keys) unique = unique && (other == k || other.compare(0, n, prefix) != 0);
+            if (unique) {
+                shorthand = prefix;
+                break;
+            }
+        }
+        out.emplace_back(shorthand, k);
+    }
+    return out;
+}
+
+std::vector<std::string> contractionWords()
+{
+    // Candidates: UEB's one-cell wordsigns (the alphabetic wordsigns, the strong wordsigns and
+    // the strong contractions standing alone). The table decides which are really one cell.
+    static const char* const kCandidates[] {"and", "for", "of", "the", "with", "but", "can", "do", "every", "from", "go",
+                                            "have", "just", "knowledge", "like", "more", "not", "people", "quite",
+                                            "rather", "so", "that", "us", "very", "will", "it", "you", "as", "child",
+                                            "shall", "this", "which", "out", "still", "in", "enough", "were", "his", "was", "be"};
+    TranslationOptions o;
+    o.grade = 2;
+    std::vector<std::string> out;
+    for (const char* w : kCandidates) {
+        const BrailleDocument doc = translateText(w, o);
+        if (doc.cellCount() == 1) out.push_back(w);
+    }
+    return out;
+}
+
 std::vector<std::string> defaultSignWords(const std::string& resourceDir)
 {
     const ResourceFile file = readResource("Braille/signwords.txt", resourceDir);
@@ -144,7 +191,7 @@ TrainingSession::TrainingSession(const TrainingOptions& options)
             const Dots cells[3] {dotsFromNumbers("123"), dotsFromNumbers("456"), dotsFromNumbers("123456")};
             for (int i = 0; i < n; ++i) {
                 const std::size_t k = pick(3);
-                trials_.push_back({stage, "left, right or both?", kAnswers[k], 0, unitsOfCells({cells[k]})});
+                trials_.push_back({stage, "left, right or both?", kAnswers[k], 0, unitsOfCells({cells[k]}, options.method)});
             }
             break;
         }
@@ -153,7 +200,7 @@ TrainingSession::TrainingSession(const TrainingOptions& options)
                 const int row = static_cast<int>(pick(3)) + 1;
                 const Dots full = dotsFromNumbers("123456");
                 trials_.push_back({stage, "stop on row " + std::to_string(row) + " and hold it", "here", row,
-                                   unitsOfCells({full, full, full, full})});
+                                   unitsOfCells({full, full, full, full}, options.method)});
             }
             break;
         case TrainingStage::OneDotPerRow:
@@ -165,21 +212,38 @@ TrainingSession::TrainingSession(const TrainingOptions& options)
             else for (char c = 'a'; c <= 'z'; ++c) set.push_back(c);
             for (int i = 0; i < n; ++i) {
                 const char c = set[pick(set.size())];
-                trials_.push_back({stage, "which letter?", std::string(1, c), 0, unitsOfText(std::string(1, c))});
+                trials_.push_back({stage, "which letter?", std::string(1, c), 0, unitsOfText(std::string(1, c), options.method)});
             }
             break;
         }
         case TrainingStage::Alphabet:
             trials_.push_back({stage, "read the alphabet", "abcdefghijklmnopqrstuvwxyz", 0,
-                               unitsOfText("abcdefghijklmnopqrstuvwxyz")});
+                               unitsOfText("abcdefghijklmnopqrstuvwxyz", options.method)});
             break;
         case TrainingStage::Words:
             if (options.signWords.empty()) throw InputError("training", 0, "", "the words stage needs a word list");
             for (int i = 0; i < n; ++i) {
                 const std::string w = lower(options.signWords[pick(options.signWords.size())]);
-                trials_.push_back({stage, "which word?", w, 0, unitsOfText(w)});
+                trials_.push_back({stage, "which word?", w, 0, unitsOfText(w, options.method)});
             }
             break;
+        case TrainingStage::Signs: {
+            if (options.signWords.empty()) throw InputError("training", 0, "", "the signs stage needs a word list");
+            const auto table = signShorthand(options.signWords);
+            for (int i = 0; i < n; ++i) {
+                const auto& [shorthand, word] = table[pick(table.size())];
+                trials_.push_back({stage, "which sign?", word, 0, unitsOfText(shorthand, options.method)});
+            }
+            break;
+        }
+        case TrainingStage::Contractions: {
+            const auto words = contractionWords();
+            for (int i = 0; i < n; ++i) {
+                const std::string& w = words[pick(words.size())];
+                trials_.push_back({stage, "which word?", w, 0, unitsOfText(w, options.method, 2)});
+            }
+            break;
+        }
         }
     }
     cursors_.reserve(trials_.size());

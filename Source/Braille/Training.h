@@ -7,6 +7,9 @@
 //   alphabet  — the whole alphabet as one string; answer it
 //   letters   — random letters; answer the letter
 //   words     — random words from the 50 sign words (Resources/Braille/signwords.txt)
+//   signs     — the §5.3 sign shorthand: a sign word shown as its shortest unique prefix
+//               ("ex" = EXIT, "en" = ENTRANCE); answer the whole word
+//   contractions — Grade 2 (UEB) words written as one cell ("and", "the", "but" = b …); answer the word
 // Every movement (roll change ≥ 1° or posture change), every displayed step and every answer
 // is a row of the log, with its time.
 //
@@ -23,12 +26,13 @@
 #include <mutex>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace armadillo::braille {
 
-enum class TrainingStage : std::uint8_t { Sides, Hold, OneDotPerRow, Gaps, Alphabet, Letters, Words };
-inline constexpr int kTrainingStageCount = 7;
+enum class TrainingStage : std::uint8_t { Sides, Hold, OneDotPerRow, Gaps, Alphabet, Letters, Words, Signs, Contractions };
+inline constexpr int kTrainingStageCount = 9;
 const char* trainingStageName(TrainingStage s) noexcept;   ///< "sides", "hold", "one-dot", …
 bool parseTrainingStage(const std::string& name, TrainingStage& out) noexcept;
 
@@ -38,7 +42,8 @@ struct TrainingOptions {
                                        TrainingStage::Words};
     int trialsPerStage = 10;         ///< the alphabet stage always has one trial
     std::uint64_t seed = 1;
-    std::vector<std::string> signWords;   ///< the words stage draws from these (upper or lower case)
+    std::vector<std::string> signWords;   ///< the words and signs stages draw from these (upper or lower case)
+    DisplayMethod method = DisplayMethod::Rows;   ///< how cells are shown (`dots`: one dot at a time)
 };
 
 struct TrainingTrial {
@@ -53,6 +58,13 @@ struct TrainingTrial {
 std::vector<char> oneDotPerRowLetters();
 /// Letters of the Grade 1 alphabet with an empty middle row and a dot below it.
 std::vector<char> gapLetters();
+/// The §5.3 sign shorthand: for each word (lower-cased, letters only) the shortest prefix no other
+/// word of the list starts with ("exit" → "ex" next to "entrance" → "en"); the whole word when it
+/// is itself the start of another. Pairs (shorthand, word), in the list's order, duplicates dropped.
+std::vector<std::pair<std::string, std::string>> signShorthand(const std::vector<std::string>& words);
+/// Words Unified English Braille Grade 2 writes as a single cell (liblouis en-ueb-g2.ctb decides
+/// from a candidate list of wordsigns: and, for, of, the, with, but, can, do, …).
+std::vector<std::string> contractionWords();
 /// The shipped sign words, Braille/signwords.txt, from the first resource folder that has it or
 /// the copy built in (Core/Resources.h); `resourceDir` is searched first when not empty.
 std::vector<std::string> defaultSignWords(const std::string& resourceDir = {});

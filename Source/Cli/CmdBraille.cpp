@@ -5,6 +5,7 @@
 #include "Braille/Sensations.h"
 #include "Braille/Training.h"
 #include "Cli/CommandLine.h"
+#include "Cli/GuidedTraining.h"
 #include "Cli/Commands.h"
 #include "Core/AtomicFile.h"
 #include "Core/Csv.h"
@@ -117,12 +118,15 @@ TrainingOptions trainingOptions(const CommandLine& cl)
         for (std::string n; std::getline(names, n, ',');) {
             TrainingStage s {};
             if (!parseTrainingStage(n, s))
-                throw UsageError("unknown training stage '" + n + "' (sides, hold, one-dot, gaps, alphabet, letters, words)");
+                throw UsageError("unknown training stage '" + n + "' (sides, hold, one-dot, gaps, alphabet, letters, words, signs,\n"
+                                 "contractions)");
             o.stages.push_back(s);
         }
     }
     bool words = false;
-    for (auto s : o.stages) words = words || s == TrainingStage::Words;
+    for (auto s : o.stages) words = words || s == TrainingStage::Words || s == TrainingStage::Signs;
+    if (cl.has("--method") && !parseDisplayMethod(cl.value("--method"), o.method))
+        throw UsageError("--method is one of rows, whole, columns, dots");
     if (words) o.signWords = cl.has("--words") ? readWordList(cl.value("--words")) : defaultSignWords();
     return o;
 }
@@ -168,29 +172,46 @@ int replayTraining(const CommandLine& cl)
 int runBraille(const Arguments& args)
 {
     return guarded("braille", [&]() -> int {
-        CommandLine cl("braille", "(--text \"...\" | --brf FILE) [options]  |  --plan | --train ...",
-                       "Arm Braille (thesis §4.2-4.4). Prints each character's braille cells and the row\n"
-                       "sensations (motor sets) the forearm display shows for them, one after another.\n"
-                       "Grade 1 (uncontracted, as in the thesis) by default, Grade 2 with --grade 2, any\n"
-                       "liblouis table with --table. Also writes Braille ASCII (--out-brf), prints the\n"
-                       "training plan of §4.4.1 (--plan) and replays a training session offline (--train).",
-                       {{"--text", "TEXT", "the text to show (UTF-8; each line is one message)"},
+        std::vector<OptionSpec> options {
+                        {"--text", "TEXT", "the text to show (UTF-8; each line is one message)"},
                         {"--brf", "FILE", "read a Braille ASCII (.brf) file instead of --text"},
                         {"--grade", "1|2", "1 = uncontracted (default), 2 = contracted"},
                         {"--table", "TABLE", "a liblouis table list (default en-ueb-g1.ctb / en-ueb-g2.ctb)"},
                         {"--capitals", "", "keep capital signs (default: letters as the thesis shows them)"},
-                        {"--method", "M", "rows (default, §4.2.5), whole, columns, dots (§4.2.1-4.2.2)"},
+                        {"--method", "M", "rows (default, §4.2.5), whole, columns, dots (§4.2.1-4.2.2); also how training shows cells"},
                         {"--out-brf", "FILE", "also write the cells as Braille ASCII (atomic)"},
                         {"--plan", "", "print the training trials of §4.4.1 (with --seed, --trials, --stages)"},
                         {"--train", "", "replay a training session: --motion, --answers, --log"},
                         {"--motion", "FILE", "pose or quaternion file of the session (--train)"},
                         {"--answers", "FILE", "the reader's answers, 't,answer' lines (--train)"},
                         {"--log", "FILE", "where the training log goes (--train; CSV, atomic)"},
-                        {"--stages", "LIST", "comma list of sides,hold,one-dot,gaps,alphabet,letters,words"},
-                        {"--trials", "N", "trials per stage (default 10)"},
+                        {"--stages", "LIST", "comma list of sides,hold,one-dot,gaps,alphabet,letters,words, and (not in the\n"
+                                            "default list) signs (the §5.3 shorthand), contractions (Grade 2)"},
+                        {"--trials", "N", "trials per stage (default 10); with --adaptive: trials in all (default 30)"},
                         {"--seed", "N", "random choices of the training (default 1)"},
-                        {"--words", "FILE", "sign word list (default: the shipped Braille/signwords.txt)"}});
+                        {"--words", "FILE", "sign word list (default: the shipped Braille/signwords.txt)"}};
+        // The adaptive training on the device and the progress report (issue 26).
+        const auto guided = guidedTrainingOptionSpecs();
+        options.insert(options.end(), guided.begin(), guided.end());
+        CommandLine cl("braille", "(--text \"...\" | --brf FILE) [options]  |  --plan | --train ... | --train --adaptive ... | --report R",
+                       "Arm Braille (thesis §4.2-4.4). Prints each character's braille cells and the row\n"
+                       "sensations (motor sets) the forearm display shows for them, one after another.\n"
+                       "Grade 1 (uncontracted, as in the thesis) by default, Grade 2 with --grade 2, any\n"
+                       "liblouis table with --table. Also writes Braille ASCII (--out-brf), prints the\n"
+                       "training plan of §4.4.1 (--plan), replays a training session offline (--train),\n"
+                       "runs the adaptive training on the device for a reader alone (--train --adaptive:\n"
+                       "spoken, on a braille display, answered by chords; docs/ACCESSIBILITY.md) and\n"
+                       "reports a reader's progress (--report).",
+                       options);
+
         if (!cl.parse(args)) return kExitOk;
+        if (cl.has("--report")) return printProgressReport(cl);
+        if (cl.has("--adaptive")) {
+            if (!cl.has("--train")) throw UsageError("--adaptive is a kind of training: use --train --adaptive");
+            return runGuidedTraining(cl);
+        }
+        for (const auto& o : guided)
+            if (o.name != "--words" && cl.has(o.name)) throw UsageError(o.name + " belongs to --train --adaptive");
         if (cl.has("--plan")) return printPlan(cl);
         if (cl.has("--train")) return replayTraining(cl);
 

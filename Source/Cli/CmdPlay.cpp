@@ -1,6 +1,7 @@
 #include "Cli/CommandLine.h"
 #include "Cli/Commands.h"
 #include "Cli/MapOptions.h"
+#include "Cli/ReaderIo.h"
 #include "Cli/SceneOptions.h"
 #include "Live/MappingRig.h"
 #include "Core/Errors.h"
@@ -38,7 +39,8 @@ namespace {
 /// "right"/"wrong" belongs to its trial (the app's Training panel uses the same feeder).
 class TerminalTraining {
 public:
-    explicit TerminalTraining(braille::BrailleSceneControls& scene) : scene_(scene) {}
+    /// `voice` (optional): the prompts and results are also spoken and shown on a braille display.
+    TerminalTraining(braille::BrailleSceneControls& scene, ReaderIo* voice) : scene_(scene), voice_(voice) {}
 
     /// Waits up to `waitMs` for input, then reports a scored answer, shows the next prompt and
     /// hands over the next answer. Returns false once every trial is answered.
@@ -46,10 +48,13 @@ public:
     {
         readLines(waitMs);
         for (const braille::TrainingNotice& n : feeder_.poll(scene_)) {
-            if (n.kind == braille::TrainingNotice::Kind::Result)
+            if (n.kind == braille::TrainingNotice::Kind::Result) {
                 std::cerr << "  " << braille::resultText(n) << "\n";
-            else if (n.kind == braille::TrainingNotice::Kind::Prompt)
+                if (voice_) voice_->note(braille::resultText(n));
+            } else if (n.kind == braille::TrainingNotice::Kind::Prompt) {
                 std::cerr << "braille training " << n.trial + 1 << "/" << n.trialCount << ": " << n.prompt << "\n";
+                if (voice_) voice_->prompt("trial " + std::to_string(n.trial + 1) + " of " + std::to_string(n.trialCount) + ": " + n.prompt);
+            }
         }
         return !feeder_.finished();
     }
@@ -86,6 +91,7 @@ private:
     }
 
     braille::BrailleSceneControls& scene_;
+    ReaderIo* voice_ = nullptr;
     braille::TrainingAnswerFeeder feeder_;
     std::string pending_;
     bool stdinClosed_ = false;
@@ -191,6 +197,9 @@ int runPlay(const Arguments& args)
                                                 "the starting calibration)"},
                 };
                 o.insert(o.begin() + 1, own.begin(), own.end());
+                // Speech and a braille display for the training's prompts and the link's state.
+                const auto io = readerIoOptionSpecs();
+                o.insert(o.end(), io.begin(), io.end());
                 return o;
             }());
         if (!cl.parse(args)) return 0;
@@ -304,6 +313,10 @@ int runPlay(const Arguments& args)
         config.mapping = readMapOption(cl, engine);
         if (!config.audioIn.empty() && !cl.has("--sample-rate")) engine.sceneConfig.sampleRate = readWav(config.audioIn).sampleRate;
 
+        // Spoken / braille-display copy of what stderr says (stderr itself is unchanged).
+        std::unique_ptr<ReaderIo> voice;
+        if (cl.has("--speak") || cl.has("--speech") || cl.has("--brlapi") || cl.has("--braille-display")) voice = std::make_unique<ReaderIo>(cl, true);
+        else if (cl.has("--rate")) throw UsageError("--rate sets the speech rate: use it with --speak");
         installInterruptHandlers();
         device::LiveSession session(config);
         std::unique_ptr<TerminalTraining> training;
@@ -311,7 +324,7 @@ int runPlay(const Arguments& args)
         if (!trainingLog.empty()) {
             brailleScene = dynamic_cast<braille::BrailleSceneControls*>(&session.engine().scene());
             if (!brailleScene) throw UsageError("--training-log needs the braille scene");
-            training = std::make_unique<TerminalTraining>(*brailleScene);
+            training = std::make_unique<TerminalTraining>(*brailleScene, voice.get());
         }
         std::unique_ptr<device::CalibrationProcedure> calibration;
         if (!calibrateOut.empty()) {
@@ -382,7 +395,10 @@ int runPlay(const Arguments& args)
             }
             // Say once on stderr when the device goes away (the link keeps reconnecting).
             const std::string e = session.lastError();
-            if (!e.empty() && e != shownError) std::cerr << lineStart << "armadillo play: " << e << "\n";
+            if (!e.empty() && e != shownError) {
+                std::cerr << lineStart << "armadillo play: " << e << "\n";
+                if (voice) voice->status(e);
+            }
             shownError = e;
             if (device::OscReceiver* osc = session.oscReceiver(); osc && !shownFormat && osc->format() != device::OscFormat::Auto) {
                 const std::string who = osc->deviceName();
@@ -428,6 +444,9 @@ int runPlay(const Arguments& args)
                 if (!training->step(10)) {
                     std::cerr << "braille training complete: " << brailleScene->trainingCorrect() << " of "
                               << brailleScene->trainingTrialCount() << " right\n";
+                    if (voice)
+                        voice->status("braille training complete: " + std::to_string(brailleScene->trainingCorrect()) + " of " +
+                                      std::to_string(brailleScene->trainingTrialCount()) + " right");
                     break;
                 }
                 if (training->exhausted()) {

@@ -15,6 +15,7 @@ int runBraille(const Arguments& args);   // CmdBraille.cpp — cells and row sen
 int runResources(const Arguments& args); // CmdResources.cpp — search folders, scores, built-in files
 int runMap(const Arguments& args);       // CmdMap.cpp     — mapping files: check, show, learn a posture
 int runScore(const Arguments& args);     // CmdScore.cpp   — scores from MIDI and haptic files
+int runTouchProfile(const Arguments& args); // CmdTouchProfile.cpp — per-motor thresholds of the reader
 
 struct CommandInfo {
     const char* name;

@@ -1,4 +1,5 @@
 #include "Cli/SceneOptions.h"
+#include "Device/TouchProfile.h"
 #include <algorithm>
 
 namespace armadillo::cli {
@@ -22,6 +23,8 @@ std::vector<OptionSpec> sceneOptionSpecs()
         {"--audio", "FILE.wav", "cymbal: a recording to cut crash fragments from (mixed with the built-in bank)"},
         {"--arm", "right|left", "arm wearing the device (left mirrors motor columns; default right)"},
         {"--param", "ID=VALUE", "set one of the scene's own parameters (repeatable), e.g. braille.mode=passive"},
+        {"--profile", "PROFILE.json", "the reader's touch profile (armadillo touch-profile): each motor's levels scaled so\n"
+                                      "all are felt alike, before the safety stage"},
     };
 }
 
@@ -47,6 +50,10 @@ void readSceneOptions(const CommandLine& cl, EngineConfig& engine)
     for (const std::string& p : engine.parameters)
         if (const std::string problem = sceneParameterProblem(engine.scene, p); !problem.empty())
             throw UsageError("--param " + p + ": " + problem);
+    if (cl.has("--profile")) {
+        if (cl.value("--profile").empty()) throw UsageError("--profile needs a touch profile file");
+        engine.motorGain = device::touchProfileGains(device::loadTouchProfile(cl.value("--profile")));   // InputError: exit 3
+    }
     if (engine.scene == "score" && engine.sceneConfig.score.empty())
         throw UsageError("the score scene needs --score (rite-of-spring, polytope or a file)");
     // Training (play --training-log) brings its own material; reading needs a text.

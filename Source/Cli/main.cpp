@@ -20,6 +20,7 @@ const std::vector<CommandInfo>& commands()
         {"resources", "where scores and other files are found; the scores playable by name", runResources},
         {"map", "mapping files (--map): check one, show a preset, learn a posture", runMap},
         {"score", "tactile scores from MIDI files and haptic files (score import FILE --out SCORE)", runScore},
+        {"touch-profile", "the faintest level the reader feels on each motor, for --profile", runTouchProfile},
     };
     return table;
 }
@@ -36,7 +37,7 @@ std::string helpText()
                     "ARMadillo: forearm orientation, instruments you feel, Arm Braille.\n\ncommands:\n";
     for (const auto& c : armadillo::cli::commands()) {
         std::string name = "  " + std::string(c.name);
-        name.resize(12, ' ');
+        name.resize(16, ' ');
         s += name + c.summary + "\n";
     }
     s += "\noptions:\n"

@@ -31,6 +31,7 @@ Engine::Engine(const EngineConfig& config, std::unique_ptr<Scene> scene) : confi
     TactileConfig tactileConfig;
     tactileConfig.motorCount = config_.motorCount;
     tactileConfig.side = config_.sceneConfig.side;
+    tactileConfig.motorGain = config_.motorGain;
     tactile_->prepare(tactileConfig);
     events_ = std::make_unique<Events>(gestures_, time_);
     setSceneParameters(config_.parameters);

@@ -8,6 +8,7 @@
 #include "Core/Scene.h"
 #include "Core/SpscQueue.h"
 #include "Core/Types.h"
+#include "Tactile/TactileEngine.h"
 #include <array>
 #include <atomic>
 #include <memory>
@@ -32,6 +33,9 @@ struct EngineConfig {
     SceneConfig sceneConfig {};
     int motorCount = kGridMotors;   ///< 9, or 12 with the back motors
     std::vector<std::string> parameters;   ///< "id=value" scene settings applied after prepare()
+    /// The reader's touch profile as per-motor gains (TactileConfig::motorGain; physical motor
+    /// order m1…). All 1 = none. Device/TouchProfile.h makes them from a profile file.
+    std::array<float, kMaxMotors> motorGain = TactileConfig::unitMotorGains();
 };
 
 /// A gesture a scene emitted (for OSC /armadillo/gesture and MIDI). `name` is a string literal.

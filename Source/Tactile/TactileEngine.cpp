@@ -36,6 +36,14 @@ void TactileEngine::prepare(const TactileConfig& config)
     config_.jumpStartTime = std::max(0.0, config_.jumpStartTime);
     config_.jumpStartLevel = sanitise(config_.jumpStartLevel);
     safety_.prepare(config_.safety, config_.motorCount);
+    // The profile is per physical motor; intents are in the right-arm layout, mirrored after
+    // shaping for the left arm, so the gain of intent m is that of the motor it lands on.
+    for (int m = 0; m < kMaxMotors; ++m) {
+        int physical = m;
+        if (config_.side == ArmSide::Left && m < kGridMotors && m % 3 != 1) physical = m % 3 == 0 ? m + 2 : m - 2;
+        const float g = config_.motorGain[static_cast<std::size_t>(physical)];
+        gain_[static_cast<std::size_t>(m)] = std::isfinite(g) && g >= 0.0f ? g : 1.0f;
+    }
     for (auto& v : voices_) v = Voice {};
     clearDrive();
     triggerCount_ = 0;
@@ -156,6 +164,10 @@ MotorLevels TactileEngine::tick(double dt, double motorOnTime) noexcept
         v.elapsed += dt;
         if (v.elapsed >= v.length) v.active = false;
     }
+
+    // The reader's touch profile: each motor's level scaled so all are felt alike (no-op at gain 1).
+    for (std::size_t m = 0; m < kMaxMotors; ++m)
+        if (gain_[m] != 1.0f) desired[m] = std::min(desired[m] * gain_[m], float(kMaxLevel));
 
     // Drive shaping: jump-start and dithering, per motor.
     MotorLevels shaped {};

@@ -90,6 +90,19 @@ struct TactileConfig {
     float jumpUpThreshold = 4.0f;         ///< levels; a rise at least this big within one packet kicks too
     double targetFadeIn = 0.0;            ///< s for a sustained target to rise 15 levels (0 = step)
     double targetFadeOut = 0.0;           ///< s for a sustained target to fall 15 levels (0 = step)
+    /// The reader's touch profile (issue 26, docs/TACTILE.md "Touch fitted to the reader"): a gain
+    /// per motor in the order of the motor packet (m1 at index 0, the physical motor, whichever
+    /// arm), so that every motor is felt alike. Applied to the requested level before the drive
+    /// shaping and the safety stage (the result is clamped to 15; the safety stage still has the
+    /// last word). All 1 = no profile. Non-finite or negative gains count as 1.
+    std::array<float, kMaxMotors> motorGain = unitMotorGains();
+
+    static constexpr std::array<float, kMaxMotors> unitMotorGains() noexcept
+    {
+        std::array<float, kMaxMotors> g {};
+        for (float& x : g) x = 1.0f;
+        return g;
+    }
 };
 
 class TactileEngine final : public MotorCanvas {
@@ -136,6 +149,7 @@ private:
     TactileConfig config_ {};
     SafetyStage safety_;
     std::array<Voice, kPatternVoices> voices_ {};
+    std::array<float, kMaxMotors> gain_ {};        ///< config_.motorGain in the right-arm layout
     std::array<float, kMaxMotors> target_ {};      ///< sustained targets (right-arm layout)
     std::uint16_t softTargets_ = 0;                ///< targets set by setSoftLevel (never kicked)
     std::array<float, kMaxMotors> slewed_ {};      ///< targets after targetFadeIn/Out

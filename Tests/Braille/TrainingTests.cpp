@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 #include <cstdio>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 using namespace armadillo;
@@ -151,4 +152,53 @@ TEST_CASE("Holding on the wrong row is scored wrong", "[braille][training]")
     double t = 0.0, roll = 0.0;
     t = rollAndFeed(s, t, roll, 3 + (holdRow % 3) + 1);   // a different row of the second cell
     CHECK_FALSE(s.answer(t, "here"));
+}
+
+TEST_CASE("training: the §5.3 sign shorthand is each word's shortest unique prefix", "[training][signs]")
+{
+    // Worked by hand: ENTRANCE/EXIT share "e" (thesis §5.3: "EN" and "EX"); MEN is the start of
+    // MENU, so it keeps its whole word; DO NOT ENTER is letters only.
+    const auto t = signShorthand({"ENTRANCE", "EXIT", "MEN", "MENU", "WOMEN", "DO NOT ENTER", "exit"});
+    using P = std::pair<std::string, std::string>;
+    const std::vector<P> expect {{"en", "entrance"}, {"ex", "exit"}, {"men", "men"}, {"menu", "menu"}, {"w", "women"}, {"d", "donotenter"}};
+    CHECK(t == expect);
+    // The shipped list: every shorthand is unique and no longer than its word.
+    const auto shipped = signShorthand(defaultSignWords());
+    std::set<std::string> seen;
+    for (const auto& [s, w] : shipped) {
+        CHECK(seen.insert(s).second);
+        CHECK(w.compare(0, s.size(), s) == 0);
+    }
+}
+
+TEST_CASE("training: Grade 2 contractions are single cells; signs, contractions and the dots method in a plan", "[training][signs]")
+{
+    const auto words = contractionWords();
+    // UEB: "and" = dots 12346, "the" = 2346, "but" = the letter b alone (alphabetic wordsign).
+    for (const char* w : {"and", "the", "but", "can", "you"}) CHECK(std::find(words.begin(), words.end(), w) != words.end());
+    TranslationOptions g2;
+    g2.grade = 2;
+    CHECK(translateText("and", g2).messages.at(0).symbols.at(0).cells.at(0) == dotsFromNumbers("12346"));
+    for (const auto& w : words) CHECK(translateText(w, g2).cellCount() == 1);
+
+    TrainingOptions o;
+    o.stages = {TrainingStage::Signs, TrainingStage::Contractions, TrainingStage::Letters};
+    o.trialsPerStage = 5;
+    o.signWords = {"ENTRANCE", "EXIT"};
+    o.method = DisplayMethod::DotByDot;
+    const TrainingSession s(o);
+    REQUIRE(s.trials().size() == 15);
+    for (int i = 0; i < 5; ++i) {
+        const TrainingTrial& t = s.trials()[static_cast<std::size_t>(i)];
+        CHECK((t.expected == "entrance" || t.expected == "exit"));
+        REQUIRE(t.units.size() == 2);   // "en" or "ex": two cells
+    }
+    for (int i = 5; i < 10; ++i) CHECK(s.trials()[static_cast<std::size_t>(i)].units.size() == 1);   // one cell
+    // One dot at a time: a letter's steps are its raised dots, each a single motor.
+    for (int i = 10; i < 15; ++i) {
+        const TrainingTrial& t = s.trials()[static_cast<std::size_t>(i)];
+        const Dots d = t.units.at(0).cell;
+        CHECK(t.units.at(0).steps.size() == dotNumbers(d).size());
+        for (MotorSet m : t.units.at(0).steps) CHECK(__builtin_popcount(m) == 1);
+    }
 }

@@ -206,7 +206,11 @@ TEST_CASE("Pattern timing does not depend on the packet rate", "[shaping]")
 TEST_CASE("tick() allocates nothing, with 16 motors and every voice busy", "[shaping]")
 {
     TactileEngine e;
-    engineFor(e, ArmSide::Left, kMaxMotors);
+    TactileConfig c;
+    c.side = ArmSide::Left;
+    c.motorCount = kMaxMotors;
+    for (int m = 0; m < kGridMotors; ++m) c.motorGain[static_cast<std::size_t>(m)] = 0.5f + 0.25f * m;   // a touch profile too
+    e.prepare(c);
     for (int v = 0; v < kPatternVoices; ++v) {
         PatternRequest r;
         r.kind = static_cast<PatternKind>(4 + v);   // breathing .. gear-pull

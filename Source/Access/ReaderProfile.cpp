@@ -1,0 +1,152 @@
+#include "Access/ReaderProfile.h"
+#include "Core/AtomicFile.h"
+#include "Core/Csv.h"
+#include "Core/Errors.h"
+#include "Device/Json.h"
+#include <algorithm>
+#include <filesystem>
+
+namespace armadillo::access {
+
+using device::JsonValue;
+
+int ReaderProfile::nextSession() const noexcept
+{
+    int n = 0;
+    for (const auto& s : sessions) n = std::max(n, s.session);
+    for (const auto& a : answers) n = std::max(n, a.session);
+    return n + 1;
+}
+
+namespace {
+const JsonValue& member(const JsonValue& object, const char* key, JsonValue::Kind kind, const std::string& source)
+{
+    const JsonValue* v = object.find(key);
+    if (!v) throw InputError(source, object.line, key, "missing");
+    if (v->kind != kind)
+        throw InputError(source, v->line, key, std::string("is ") + JsonValue::kindName(v->kind) + ", expected " + JsonValue::kindName(kind));
+    return *v;
+}
+
+std::string optionalString(const JsonValue& object, const char* key, const std::string& source)
+{
+    const JsonValue* v = object.find(key);
+    if (!v) return {};
+    if (v->kind != JsonValue::Kind::String) throw InputError(source, v->line, key, "expected a string");
+    return v->string;
+}
+} // namespace
+
+ReaderProfile parseReaderProfile(std::string_view json, const std::string& source)
+{
+    const JsonValue root = device::parseJson(json, source);
+    if (root.kind != JsonValue::Kind::Object) throw InputError(source, root.line, "", "a reader profile is a JSON object");
+    const JsonValue& format = member(root, "format", JsonValue::Kind::String, source);
+    if (format.string != "armadillo-reader") throw InputError(source, format.line, "format", "not an armadillo reader profile");
+    if (const JsonValue* v = root.find("version"); v && (v->kind != JsonValue::Kind::Number || v->number != 1.0))
+        throw InputError(source, v->line, "version", "this program reads reader profile version 1");
+    ReaderProfile p;
+    p.name = optionalString(root, "name", source);
+    if (const JsonValue* s = root.find("sessions")) {
+        if (s->kind != JsonValue::Kind::Array) throw InputError(source, s->line, "sessions", "expected an array");
+        for (const JsonValue& e : s->array) {
+            if (e.kind != JsonValue::Kind::Object) throw InputError(source, e.line, "sessions", "expected objects");
+            ReaderSession r;
+            r.session = static_cast<int>(member(e, "session", JsonValue::Kind::Number, source).number);
+            r.date = optionalString(e, "date", source);
+            r.method = optionalString(e, "method", source);
+            if (const JsonValue* sec = e.find("seconds"); sec && sec->kind == JsonValue::Kind::Number) r.seconds = sec->number;
+            p.sessions.push_back(r);
+        }
+    }
+    if (const JsonValue* a = root.find("answers")) {
+        if (a->kind != JsonValue::Kind::Array) throw InputError(source, a->line, "answers", "expected an array");
+        for (const JsonValue& e : a->array) {
+            if (e.kind != JsonValue::Kind::Object) throw InputError(source, e.line, "answers", "expected objects");
+            ReaderAnswer r;
+            r.session = static_cast<int>(member(e, "session", JsonValue::Kind::Number, source).number);
+            if (r.session < 1) throw InputError(source, e.line, "session", "must be 1 or more");
+            r.stage = member(e, "stage", JsonValue::Kind::String, source).string;
+            r.method = optionalString(e, "method", source);
+            r.expected = member(e, "expected", JsonValue::Kind::String, source).string;
+            r.answer = member(e, "answer", JsonValue::Kind::String, source).string;
+            r.correct = member(e, "correct", JsonValue::Kind::Bool, source).boolean;
+            if (const JsonValue* rt = e.find("rt"); rt && rt->kind == JsonValue::Kind::Number) r.rt = rt->number;
+            if (const JsonValue* t = e.find("t"); t && t->kind == JsonValue::Kind::Number) r.t = t->number;
+            p.answers.push_back(r);
+        }
+    }
+    return p;
+}
+
+ReaderProfile loadReaderProfile(const std::string& path)
+{
+    if (!std::filesystem::exists(path)) return {};
+    return parseReaderProfile(readWholeFile(path), path);
+}
+
+std::string readerProfileToJson(const ReaderProfile& p)
+{
+    std::string out = "{\n  \"format\": \"armadillo-reader\",\n  \"version\": 1,\n  \"name\": ";
+    device::appendJsonString(out, p.name);
+    out += ",\n  \"sessions\": [";
+    for (std::size_t i = 0; i < p.sessions.size(); ++i) {
+        const ReaderSession& s = p.sessions[i];
+        out += std::string(i ? "," : "") + "\n    {\"session\": " + std::to_string(s.session) + ", \"date\": ";
+        device::appendJsonString(out, s.date);
+        out += ", \"method\": ";
+        device::appendJsonString(out, s.method);
+        out += ", \"seconds\": ";
+        appendNumber(out, s.seconds, 6);
+        out += "}";
+    }
+    out += "\n  ],\n  \"answers\": [";
+    for (std::size_t i = 0; i < p.answers.size(); ++i) {
+        const ReaderAnswer& a = p.answers[i];
+        out += std::string(i ? "," : "") + "\n    {\"session\": " + std::to_string(a.session) + ", \"stage\": ";
+        device::appendJsonString(out, a.stage);
+        out += ", \"method\": ";
+        device::appendJsonString(out, a.method);
+        out += ", \"expected\": ";
+        device::appendJsonString(out, a.expected);
+        out += ", \"answer\": ";
+        device::appendJsonString(out, a.answer);
+        out += std::string(", \"correct\": ") + (a.correct ? "true" : "false") + ", \"rt\": ";
+        if (a.rt >= 0.0) appendNumber(out, a.rt, 6);
+        else out += "null";
+        out += ", \"t\": ";
+        if (a.t >= 0.0) appendNumber(out, a.t, 6);
+        else out += "null";
+        out += "}";
+    }
+    out += "\n  ]\n}\n";
+    return out;
+}
+
+void saveReaderProfile(const std::string& path, const ReaderProfile& profile) { writeFileAtomically(path, readerProfileToJson(profile)); }
+
+std::map<std::string, ItemStats> itemStats(const std::vector<ReaderAnswer>& answers, const std::string& stage)
+{
+    std::map<std::string, ItemStats> out;
+    std::map<std::string, std::vector<double>> times;
+    for (std::size_t i = 0; i < answers.size(); ++i) {
+        const ReaderAnswer& a = answers[i];
+        if (!stage.empty() && a.stage != stage) continue;
+        ItemStats& s = out[a.expected];
+        ++s.seen;
+        s.right += a.correct;
+        s.lastSeen = static_cast<int>(i);
+        s.recent.push_back(a.correct);
+        if (s.recent.size() > 5) s.recent.erase(s.recent.begin());
+        if (!a.correct) ++s.confusedWith[a.answer];
+        if (a.rt >= 0.0) times[a.expected].push_back(a.rt);
+    }
+    for (auto& [item, t] : times) {
+        std::sort(t.begin(), t.end());
+        const std::size_t n = t.size();
+        out[item].medianRt = n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2]);
+    }
+    return out;
+}
+
+} // namespace armadillo::access
