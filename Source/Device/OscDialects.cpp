@@ -1,5 +1,6 @@
 #include "Device/OscDialects.h"
 #include "Core/Types.h"
+#include "Device/Json.h"
 #include <cctype>
 #include <cmath>
 #include <cstring>
@@ -188,6 +189,17 @@ bool splitZig(std::string_view a, std::string_view& uuid, std::string_view& name
     return true;
 }
 
+/// Core Location's portrait heading: the compass direction perpendicular to the phone's x axis.
+DecodeStatus zigHeading(double deg, SensorReading& out, const char** why) noexcept
+{
+    if (deg < -360.0 || deg > 720.0) return fail(why, DecodeStatus::Absurd, "compass heading outside 0..360 degrees");
+    out.kind = SensorReading::Kind::Heading;
+    out.headingDeg = deg;
+    out.headingAxis = Eigen::Vector3d(1, 0, 0);
+    out.headingNormalToAxis = true;
+    return DecodeStatus::Reading;
+}
+
 std::uint64_t fnv1a(std::string_view s) noexcept
 {
     std::uint64_t h = 1469598103934665603ull;
@@ -222,18 +234,17 @@ DecodeStatus decodeZigSim(const OscMessage& m, SensorReading& out, const char** 
         return orientationReading(enuToContract(), Eigen::Quaterniond(v[3], v[0], v[1], v[2]), false, out, why);
     }
     if (name == "compass") {
-        // heading (deg), then the heading orientation: 0 portrait (heading of the back, −z),
-        // 1 face up (heading of the top edge, +y).
-        if (m.count != 2) return fail(why, DecodeStatus::WrongTypes, "ZIG SIM compass carries a heading and an orientation flag");
-        double faceUp = 0.0;
-        if (!m.args[0].asNumber(v[0]) || !m.args[1].asNumber(faceUp))
-            return fail(why, DecodeStatus::WrongTypes, "ZIG SIM compass carries a heading and an orientation flag");
-        if (!std::isfinite(v[0]) || !std::isfinite(faceUp)) return fail(why, DecodeStatus::NonFinite, "NaN or infinity among the numbers");
-        if (v[0] < -360.0 || v[0] > 720.0) return fail(why, DecodeStatus::Absurd, "compass heading outside 0..360 degrees");
-        out.kind = SensorReading::Kind::Heading;
-        out.headingDeg = v[0];
-        out.headingAxis = faceUp != 0.0 ? Eigen::Vector3d(0, 1, 0) : Eigen::Vector3d(0, 0, -1);
-        return DecodeStatus::Reading;
+        // heading (deg), then (newer versions) the app's heading-orientation setting: 0 portrait,
+        // 1 face up (LocationService.swift: CLLocationManager.headingOrientation). Core Location
+        // ignores a face-up headingOrientation (CLLocationManager.h: "CLDeviceOrientationUnknown,
+        // CLDeviceOrientationFaceUp, and CLDeviceOrientationFaceDown are ignored"), so the value is
+        // the portrait heading either way: the flag is read and not used.
+        if (m.count != 1 && m.count != 2) return fail(why, DecodeStatus::WrongTypes, "ZIG SIM compass carries a heading (and an orientation flag)");
+        double flag = 0.0;
+        if (!m.args[0].asNumber(v[0]) || (m.count == 2 && !m.args[1].asNumber(flag)))
+            return fail(why, DecodeStatus::WrongTypes, "ZIG SIM compass carries a heading (and an orientation flag)");
+        if (!std::isfinite(v[0]) || !std::isfinite(flag)) return fail(why, DecodeStatus::NonFinite, "NaN or infinity among the numbers");
+        return zigHeading(v[0], out, why);
     }
     return DecodeStatus::Known;   // deviceinfo, touch, battery, gps, …
 }
@@ -282,7 +293,15 @@ DecodeStatus decodeTouchOsc(const OscMessage& m, SensorReading& out, const char*
 // --- x-io NGIMU ---------------------------------------------------------------------------------------
 // NGIMU-Software-Public, NgimuApi/Data/SensorsData.cs: /sensors = 10 floats: gyroscope (deg/s),
 // accelerometer (g), magnetometer (µT), barometer (hPa). QuaternionData.cs: /quaternion = w x y z,
-// the device relative to the Earth, NWU (SettingDocumentation.xml). Sent in time-tagged bundles.
+// Earth frame North-West-Up (SettingDocumentation.xml). Its DIRECTION is x-io's: the conjugate of
+// the rotation that takes sensor vectors into NWU — the GUI draws the board rotated by the
+// INVERSE of the received quaternion (NgimuGui/3DView/Form3DView.cs), and Maths/Quaternion.cs
+// builds it from Euler angles as Conjugate(textbook ZYX quaternion) and turns it into Euler
+// angles and a matrix with the textbook formulas applied to its conjugate. So:
+//   /quaternion w x y z  = conj(q sensor→NWU)
+//   /euler roll pitch yaw (deg, EulerAnglesData.cs) = the ZYX angles of sensor→NWU: Rz(yaw)·Ry(pitch)·Rx(roll)
+//   /matrix XX XY XZ YX … ZZ (RotationMatrixData.cs) = Quaternion.ToRotationMatrix(q) = R(sensor→NWU), row-major
+// Sent in time-tagged bundles (the NGIMU's own clock).
 
 DecodeStatus decodeNgimu(const OscMessage& m, SensorReading& out, const char** why) noexcept
 {
@@ -302,10 +321,30 @@ DecodeStatus decodeNgimu(const OscMessage& m, SensorReading& out, const char** w
     if (m.address == "/quaternion") {
         const DecodeStatus s = numbers(m, 4, false, 4, v, why, "NGIMU /quaternion carries 4 floats w x y z");
         if (s != DecodeStatus::Reading) return s;
-        return orientationReading(nwuToContract(), Eigen::Quaterniond(v[0], v[1], v[2], v[3]), true, out, why);
+        return orientationReading(nwuToContract(), Eigen::Quaterniond(v[0], v[1], v[2], v[3]).conjugate(), true, out, why);
     }
-    if (equalsAny(m.address, {"/euler", "/matrix", "/earth", "/linear", "/altitude", "/temperature", "/humidity", "/battery", "/analogue",
-                              "/rssi", "/button", "/magnitudes", "/ping", "/serial", "/error"}))
+    if (m.address == "/euler") {
+        const DecodeStatus s = numbers(m, 3, false, 3, v, why, "NGIMU /euler carries 3 floats roll pitch yaw (deg)");
+        if (s != DecodeStatus::Reading) return s;
+        if (std::abs(v[0]) > 720.0 || std::abs(v[1]) > 720.0 || std::abs(v[2]) > 720.0)
+            return fail(why, DecodeStatus::Absurd, "Euler angle beyond 720 degrees");
+        const Eigen::Quaterniond q = Eigen::AngleAxisd(degToRad(v[2]), Eigen::Vector3d::UnitZ()) *
+                                     Eigen::AngleAxisd(degToRad(v[1]), Eigen::Vector3d::UnitY()) *
+                                     Eigen::AngleAxisd(degToRad(v[0]), Eigen::Vector3d::UnitX());
+        return orientationReading(nwuToContract(), q, true, out, why);
+    }
+    if (m.address == "/matrix") {
+        const DecodeStatus s = numbers(m, 9, false, 9, v, why, "NGIMU /matrix carries 9 floats XX XY XZ YX YY YZ ZX ZY ZZ");
+        if (s != DecodeStatus::Reading) return s;
+        Eigen::Matrix3d r;
+        r << v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8];
+        // A rotation: orthonormal with determinant +1 (within float rounding).
+        if (!((r * r.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 0.05) || !(r.determinant() > 0.0))
+            return fail(why, DecodeStatus::Absurd, "NGIMU /matrix is not a rotation");
+        return orientationReading(nwuToContract(), Eigen::Quaterniond(r), true, out, why);
+    }
+    if (equalsAny(m.address, {"/earth", "/linear", "/altitude", "/temperature", "/humidity", "/battery", "/analogue", "/rssi", "/button",
+                              "/magnitudes", "/ping", "/serial", "/error"}))
         return DecodeStatus::Known;
     return DecodeStatus::NotMine;
 }
@@ -372,13 +411,128 @@ DecodeStatus decodeOscReading(OscFormat format, const OscMessage& m, SensorReadi
     return DecodeStatus::NotMine;
 }
 
+double parseIsoTimestamp(std::string_view s) noexcept
+{
+    auto digits = [&](std::size_t at, int n, int& v) {
+        if (at + static_cast<std::size_t>(n) > s.size()) return false;
+        v = 0;
+        for (int i = 0; i < n; ++i) {
+            const char c = s[at + static_cast<std::size_t>(i)];
+            if (c < '0' || c > '9') return false;
+            v = v * 10 + (c - '0');
+        }
+        return true;
+    };
+    int Y, Mo, D, h, mi, sec;
+    if (!digits(0, 4, Y) || s.size() < 19 || s[4] != '-' || !digits(5, 2, Mo) || s[7] != '-' || !digits(8, 2, D) || (s[10] != 'T' && s[10] != ' ') ||
+        !digits(11, 2, h) || s[13] != ':' || !digits(14, 2, mi) || s[16] != ':' || !digits(17, 2, sec))
+        return kNaN;
+    if (Mo < 1 || Mo > 12 || D < 1 || D > 31 || h > 23 || mi > 59 || sec > 60) return kNaN;
+    std::size_t i = 19;
+    double frac = 0.0;
+    if (i < s.size() && s[i] == '.') {
+        double scale = 0.1;
+        for (++i; i < s.size() && s[i] >= '0' && s[i] <= '9'; ++i, scale *= 0.1) frac += (s[i] - '0') * scale;
+    }
+    double zone = 0.0;
+    if (i < s.size() && s[i] == 'Z') {
+        ++i;
+    } else if (i < s.size() && (s[i] == '+' || s[i] == '-')) {
+        const double sign = s[i] == '-' ? -1.0 : 1.0;
+        int zh = 0, zm = 0;
+        if (!digits(i + 1, 2, zh)) return kNaN;
+        std::size_t j = i + 3;
+        if (j < s.size() && s[j] == ':') ++j;
+        if (!digits(j, 2, zm)) return kNaN;
+        zone = sign * (zh * 3600.0 + zm * 60.0);
+        i = j + 2;
+    } else {
+        return kNaN;
+    }
+    if (i != s.size()) return kNaN;
+    // Days since 1970-01-01 of a proleptic Gregorian date (the civil-from-days inverse).
+    const int y = Y - (Mo <= 2 ? 1 : 0);
+    const int era = (y >= 0 ? y : y - 399) / 400;
+    const int yoe = y - era * 400;
+    const int doy = (153 * (Mo + (Mo > 2 ? -3 : 9)) + 2) / 5 + D - 1;
+    const int doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
+    const double days = static_cast<double>(era) * 146097.0 + doe - 719468.0;
+    return days * 86400.0 + h * 3600.0 + mi * 60.0 + sec + frac - zone;
+}
+
+int decodeZigSimJson(std::string_view text, SensorReading* out, int capacity, double& senderSeconds, const char** why) noexcept
+{
+    senderSeconds = kNaN;
+    try {
+        const JsonValue root = parseJson(text, "ZIG SIM JSON");
+        if (root.kind != JsonValue::Kind::Object) return fail(why, DecodeStatus::WrongTypes, "JSON that is not an object"), -1;
+        const JsonValue* data = root.find("sensordata");
+        if (!data || data->kind != JsonValue::Kind::Object)
+            return fail(why, DecodeStatus::WrongTypes, "JSON without ZIG SIM's \"sensordata\" object"), -1;
+        std::string_view uuid;
+        if (const JsonValue* dev = root.find("device"); dev && dev->kind == JsonValue::Kind::Object)
+            if (const JsonValue* u = dev->find("uuid"); u && u->kind == JsonValue::Kind::String) uuid = u->string;
+        if (const JsonValue* ts = root.find("timestamp"); ts && ts->kind == JsonValue::Kind::String) senderSeconds = parseIsoTimestamp(ts->string);
+        auto num = [](const JsonValue* o, const char* key, double& v) {
+            const JsonValue* x = o ? o->find(key) : nullptr;
+            if (!x || x->kind != JsonValue::Kind::Number) return false;
+            v = x->number;
+            return true;
+        };
+        int n = 0;
+        const char* bad = nullptr;
+        auto add = [&](SensorReading r) {
+            if (n >= capacity) return;
+            if (!uuid.empty()) {
+                r.deviceKey = fnv1a(uuid);
+                const std::size_t k = std::min(uuid.size(), sizeof r.device - 1);
+                std::memcpy(r.device, uuid.data(), k);
+                r.device[k] = 0;
+            }
+            out[n++] = r;
+        };
+        for (const char* name : {"accel", "gravity", "gyro", "quaternion"}) {
+            const JsonValue* o = data->find(name);
+            if (!o) continue;
+            double v[4] {};
+            const bool quat = std::strcmp(name, "quaternion") == 0;
+            if (o->kind != JsonValue::Kind::Object || !num(o, "x", v[0]) || !num(o, "y", v[1]) || !num(o, "z", v[2]) || (quat && !num(o, "w", v[3]))) {
+                bad = quat ? "ZIG SIM JSON quaternion needs numbers x y z w" : "ZIG SIM JSON motion values need numbers x y z";
+                continue;
+            }
+            SensorReading r;
+            DecodeStatus st;
+            if (quat) st = orientationReading(enuToContract(), Eigen::Quaterniond(v[3], v[0], v[1], v[2]), false, r, &bad);
+            else if (std::strcmp(name, "gyro") == 0) st = gyroReading(v, r, &bad);
+            else st = accelReading(std::strcmp(name, "accel") == 0 ? SensorReading::Kind::UserAccel : SensorReading::Kind::Gravity,
+                                   -kStandardGravity * vec(v), r, &bad);
+            if (st == DecodeStatus::Reading) add(r);
+        }
+        if (const JsonValue* c = data->find("compass")) {
+            double deg = kNaN;
+            if (c->kind == JsonValue::Kind::Number) deg = c->number;
+            else if (c->kind == JsonValue::Kind::Object) num(c, "compass", deg);
+            SensorReading r;
+            if (!std::isfinite(deg)) bad = "ZIG SIM JSON compass needs a heading in degrees";
+            else if (zigHeading(deg, r, &bad) == DecodeStatus::Reading) add(r);
+        }
+        if (n == 0 && bad) return fail(why, DecodeStatus::WrongTypes, bad), -1;
+        return n;
+    } catch (const std::exception&) {
+        if (why) *why = "a datagram starting with '{' that is not valid JSON";
+        return -1;
+    }
+}
+
 OscFormat detectOscFormat(const OscMessage& m) noexcept
 {
     const std::string_view a = m.address;
     if (a == "/armadillo/imu" || a == "/armadillo/orientation") return OscFormat::Armadillo;
     if (a == "/gyrosc/rrate" || a == "/gyrosc/grav" || a == "/gyrosc/comp" || a == "/gyrosc/gyro" || a == "/gyrosc/quat") return OscFormat::GyrOsc;
     if (a == "/accxyz") return OscFormat::TouchOsc;
-    if ((a == "/sensors" && m.count == 10) || (a == "/quaternion" && m.count == 4)) return OscFormat::Ngimu;
+    if ((a == "/sensors" && m.count == 10) || (a == "/quaternion" && m.count == 4) || (a == "/euler" && m.count == 3) ||
+        (a == "/matrix" && m.count == 9))
+        return OscFormat::Ngimu;
     if (equalsAny(a, {"/accelerometer", "/gyroscope", "/magneticfield", "/rotationvector", "/gamerotationvector", "/georotationvector", "/gravity"}))
         return OscFormat::Sensors2Osc;
     std::string_view uuid, name;

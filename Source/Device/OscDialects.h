@@ -19,7 +19,7 @@ enum class OscFormat : std::uint8_t {
     ZigSim,       ///< ZIG SIM: /ZIGSIM/<uuid>/accel|gravity|gyro|quaternion|compass (or /<uuid>/…)
     GyrOsc,       ///< GyrOSC (iOS): /gyrosc/rrate, /gyrosc/grav, /gyrosc/comp, …
     TouchOsc,     ///< TouchOSC accelerometer: /accxyz (tilt only)
-    Ngimu,        ///< x-io NGIMU: /sensors (10 floats), /quaternion (w x y z, NWU)
+    Ngimu,        ///< x-io NGIMU: /sensors (10 floats), /quaternion (w x y z: Earth NWU → sensor), /euler, /matrix
 };
 inline constexpr int kOscFormatCount = 7;
 
@@ -48,6 +48,10 @@ struct SensorReading {
     bool qHasHeading = true;           ///< false: the sender's yaw reference is arbitrary (Core Motion default, game rotation vector)
     double headingDeg = 0.0;
     Eigen::Vector3d headingAxis {0, 1, 0};
+    /// true: the heading is that of the horizontal direction perpendicular to `headingAxis`
+    /// (up × axis): Core Location's portrait heading, perpendicular to the phone's x axis, which is
+    /// the top edge's heading lying flat and the back's held upright.
+    bool headingNormalToAxis = false;
     std::uint64_t deviceKey = 0;       ///< hash of a device id carried in the address (ZIG SIM uuid); 0 = none
     char device[40] {};                ///< that id, NUL-terminated (truncated)
 };
@@ -64,6 +68,17 @@ const char* decodeStatusName(DecodeStatus s) noexcept;
 
 /// Decodes `m` as `format` (not Auto). `why` gets a static explanation for the refusals.
 DecodeStatus decodeOscReading(OscFormat format, const OscMessage& m, SensorReading& out, const char** why) noexcept;
+/// ZIG SIM's JSON mode (ZIGSIMPlus ServiceManager.getJSON, MotionService/LocationService
+/// toJSON): {"device":{"uuid":…,…},"timestamp":"yyyy-MM-ddTHH:mm:ss.SSSZ","sensordata":{"accel":
+/// {"x","y","z"},"gravity":{…},"gyro":{…},"quaternion":{"x","y","z","w"},"compass":{"compass":deg,
+/// "faceup":0|1} (older versions: a bare number)}}, same units and axes as its OSC. Fills up to
+/// `capacity` readings (all carrying the uuid as device); `senderSeconds` gets the timestamp as
+/// seconds since 1970 (NaN when absent or unreadable). Returns the count, or −1 with `why` for
+/// text that is not such an object. Allocates (the JSON reader): receiver thread only.
+int decodeZigSimJson(std::string_view text, SensorReading* out, int capacity, double& senderSeconds, const char** why) noexcept;
+/// Seconds since 1970 of "YYYY-MM-DDTHH:MM:SS[.fff](Z|±HH:MM|±HHMM)"; NaN when not that form.
+double parseIsoTimestamp(std::string_view text) noexcept;
+
 /// The dialect whose address scheme `m` belongs to, or Auto when none claims it.
 OscFormat detectOscFormat(const OscMessage& m) noexcept;
 

@@ -33,6 +33,7 @@ struct OscInputOptions {
     double deviceTimeoutSeconds = 2.0;    ///< s: the chosen device silent this long lets another take over
     double floodFactor = 3.0;             ///< samples beyond this × the stream's measured rate are dropped
     double tiltLowPassSeconds = 0.05;     ///< s: accelerometer-only senders: low-pass of the gravity direction
+    double restPeriodSeconds = 0.02;      ///< s: Sensors2OSC at rest (nothing changed, nothing sent): one held sample per this
     double warmupSeconds = 0.3;           ///< s: a new stream's first readings only show which sensors it sends (a
                                           ///< first sample without the compass that follows it would start the
                                           ///< filter without heading); not for ARMadillo's own messages
@@ -59,7 +60,33 @@ struct OscInputStats {
     std::uint64_t clockResets = 0;    ///< the sender's time tags jumped (> 1 s against arrival): re-anchored
     std::uint64_t tiltOnly = 0;       ///< of `orientation`: tilt from an accelerometer alone (no heading)
     std::uint64_t synthesizedField = 0;    ///< samples whose magnetometer comes from a compass heading
+    std::uint64_t json = 0;           ///< datagrams (or stream objects) that were ZIG SIM JSON
+    std::uint64_t unchanged = 0;      ///< samples made while a Sensors2OSC sender at rest sent nothing (unchanged readings)
 };
+
+/// What each sensor stream of the chosen device measured: rates in Hz (0 = not seen).
+struct OscSensorRates {
+    double gyro = 0.0, accel = 0.0, gravity = 0.0, userAccel = 0.0, mag = 0.0, heading = 0.0, imu = 0.0, orientation = 0.0;
+    /// The rate the fusion gets (gyroscope or whole-IMU messages; the orientation for quaternion-only senders).
+    double fusion() const noexcept;
+};
+
+/// What arrived that was not used (for "nothing arrives" diagnostics): the first few distinct
+/// OSC addresses no dialect claimed, the first bytes of datagrams that were neither OSC nor
+/// JSON, and the senders heard.
+struct OscHeard {
+    static constexpr int kSlots = 4;
+    char addresses[kSlots][48] {};
+    std::uint64_t addressCount[kSlots] {};
+    char junk[kSlots][24] {};           ///< hex of the first bytes
+    char senders[kSlots][64] {};
+    std::uint64_t senderCount[kSlots] {};
+};
+/// One line in words: "OSC addresses /foo (12), …; not OSC or JSON: 48 65 …; senders: 10.0.0.2:5000 (3)".
+std::string describeHeard(const OscHeard& h);
+
+/// The app setting to change when `rate` Hz is too slow for `format` ("" when fine).
+std::string lowRateAdvice(OscFormat format, double rate);
 
 /// {"format":"ngimu","device":"…","malformed":…,…} (no braces around: the caller nests it).
 std::string oscStatsJson(const OscInputStats& s, const char* format, const std::string& device);
@@ -84,6 +111,13 @@ public:
     void handleDatagram(const std::uint8_t* data, std::size_t size, double arrival, std::uint64_t senderKey, const char* senderName) noexcept;
     /// One decoded message (public for tests).
     void handleMessage(const OscMessage& m, double arrival, std::uint64_t senderKey, const char* senderName) noexcept;
+    /// One ZIG SIM JSON object (ServiceManager.getJSON): a datagram starting with '{', or one
+    /// object cut from a TCP stream. Allocates (the JSON reader): receiver thread only.
+    void handleJson(const std::uint8_t* data, std::size_t size, double arrival, std::uint64_t senderKey, const char* senderName) noexcept;
+    /// Called by the receiver between datagrams (at least every 20 ms) with the arrival clock:
+    /// a Sensors2OSC sender at rest sends nothing (its unchanged-value filter), so its held
+    /// readings are sampled here; a sender that was moving and went silent is a gap (nothing made).
+    void tick(double now) noexcept;
 
     OscInputStats stats() const noexcept;
     OscFormat format() const noexcept { return format_.load(std::memory_order_acquire); }
@@ -92,6 +126,10 @@ public:
     const char* lastError() const noexcept;
     /// The mount in use (after detection when none was given).
     Mount mount() const;
+    /// Measured rate of each sensor stream of the chosen device.
+    OscSensorRates rates() const noexcept;
+    /// What arrived and was not used (any thread; a copy under the name lock).
+    OscHeard heard() const;
 
     /// Sensor-frame samples for the mount calibration: enable, then pop from one other thread.
     void enableSensorTap(bool on) noexcept { tapOn_.store(on, std::memory_order_release); }
@@ -104,6 +142,7 @@ private:
         bool fresh(double now, double hold) const noexcept { return now - t <= hold && now >= t - 1e-9; }
     };
     double timeOf(const OscMessage& m, double arrival) noexcept;
+    double senderTime(double senderSeconds, double arrival) noexcept;
     bool acceptDevice(const SensorReading& r, double arrival, std::uint64_t senderKey, const char* senderName) noexcept;
     void lockFormat(OscFormat f) noexcept;
     void onReading(const SensorReading& r, double t) noexcept;
@@ -113,6 +152,11 @@ private:
     void refuse(DecodeStatus s, const char* why) noexcept;
     void resetStreams() noexcept;
     Eigen::Vector3d fieldFromHeading(const Eigen::Vector3d& up) const noexcept;
+    void noteRate(int stream, double t) noexcept;
+    void noteAddress(std::string_view address) noexcept;
+    void noteJunk(const std::uint8_t* data, std::size_t size) noexcept;
+    void noteSender(const char* name) noexcept;
+    bool holdsUnchanged() const noexcept;
 
     OscInputOptions options_;
     ImuSink imuSink_ = nullptr;
@@ -135,6 +179,11 @@ private:
     // Latest readings, device frame.
     Held gyro_, accel_, gravity_, user_, mag_, heading_;
     Eigen::Vector3d headingAxis_ {0, 1, 0};
+    bool headingNormal_ = false;
+    bool gyroSeen_ = false;               // a gyroscope message arrived (Sensors2OSC: else its readings are all zero)
+    Eigen::Vector3d lastGyroRaw_ {0, 0, 0};
+    double lastArrival_ = -1e300;         // any message of the chosen device
+    double lastMade_ = -1e300;            // the latest sample made (message or held)
     double headingDeg_ = 0.0;
     double firstAccelT_ = -1.0;
     double streamStart_ = -1.0;
@@ -150,11 +199,17 @@ private:
     double tokens_ = 0.0;
     double tokensT_ = -1.0;
 
+    // Per-stream rates: an average interval per stream (gyro, accel, gravity, user, mag, heading, imu, orientation).
+    static constexpr int kStreams = 8;
+    double streamLast_[kStreams] {};
+    std::atomic<double> streamInterval_[kStreams] {};
+    OscHeard heard_ {};   // under nameLock_
+
     std::atomic<const char*> lastError_ {nullptr};
     struct Counters {
         std::atomic<std::uint64_t> datagrams {0}, imu {0}, orientation {0}, ignored {0}, malformed {0}, tooDeep {0}, wrongTypes {0},
             nonFinite {0}, absurd {0}, outOfOrder {0}, otherFormat {0}, otherDevice {0}, deviceSwitches {0}, flood {0}, incomplete {0},
-            unusedOrientation {0}, clockResets {0}, tiltOnly {0}, synthesizedField {0};
+            unusedOrientation {0}, clockResets {0}, tiltOnly {0}, synthesizedField {0}, json {0}, unchanged {0};
     } n_;
     std::atomic<bool> tapOn_ {false};
     SpscQueue<SensorFrameSample, 1024> tap_;

@@ -196,7 +196,10 @@ void OscReceiver::run()
     std::vector<std::uint8_t> buffer(65536);
     while (!stop_.load(std::memory_order_relaxed)) {
         pollfd p {fd_, POLLIN, 0};
-        if (::poll(&p, 1, 20) <= 0) continue;
+        const int ready = ::poll(&p, 1, 20);
+        // Held readings of a sender at rest (Sensors2OSC sends nothing unchanged) are sampled here.
+        merger_.tick(std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count());
+        if (ready <= 0) continue;
         sockaddr_storage from {};
         socklen_t fromLen = sizeof from;
         const ssize_t n = ::recvfrom(fd_, buffer.data(), buffer.size(), MSG_DONTWAIT, reinterpret_cast<sockaddr*>(&from), &fromLen);

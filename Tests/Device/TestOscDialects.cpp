@@ -81,6 +81,27 @@ TEST_CASE("osc dialects: each sender's addresses, units and frames", "[device][o
     CHECK((r.q * Eigen::Vector3d::UnitX()).isApprox(-Eigen::Vector3d::UnitZ(), 1e-9));
     CHECK((r.q * Eigen::Vector3d::UnitZ()).isApprox(Eigen::Vector3d::UnitY(), 1e-9));
     CHECK((r.q * Eigen::Vector3d::UnitY()).isApprox(-Eigen::Vector3d::UnitX(), 1e-9));   // west
+    // x-io's quaternion is the conjugate of sensor→NWU (NgimuGui/3DView/Form3DView.cs draws the
+    // board by its inverse; Maths/Quaternion.cs FromEulerAngles returns Conjugate(ZYX)). A board
+    // yawed 90° to the left (sensor x toward west): sensor→NWU = 90° about up, (cos 45°, 0, 0,
+    // sin 45°); x-io sends its conjugate (cos 45°, 0, 0, −sin 45°).
+    const double c45 = std::cos(kPi / 4);
+    REQUIRE(decodeAs(OscFormat::Ngimu, encodeOscMessage("/quaternion", floats({c45, 0, 0, -c45})), r) == DecodeStatus::Reading);
+    CHECK((r.q * Eigen::Vector3d::UnitX()).isApprox(-Eigen::Vector3d::UnitX(), 1e-6));   // west = −X east
+    CHECK((r.q * Eigen::Vector3d::UnitY()).isApprox(Eigen::Vector3d::UnitZ(), 1e-6));    // sensor y → south
+    // /euler roll pitch yaw (deg) of the same board: yaw +90°; and a board pitched nose-down by
+    // 30° (ZYX: pitch about y, positive turns x toward −z): sensor x → north, 30° below the horizon.
+    REQUIRE(decodeAs(OscFormat::Ngimu, encodeOscMessage("/euler", floats({0, 0, 90})), r, &d) == DecodeStatus::Reading);
+    CHECK(d == OscFormat::Ngimu);
+    CHECK((r.q * Eigen::Vector3d::UnitX()).isApprox(-Eigen::Vector3d::UnitX(), 1e-6));
+    REQUIRE(decodeAs(OscFormat::Ngimu, encodeOscMessage("/euler", floats({0, 30, 0})), r) == DecodeStatus::Reading);
+    CHECK((r.q * Eigen::Vector3d::UnitX()).isApprox(Eigen::Vector3d(0, -0.5, -std::sqrt(0.75)), 1e-6));
+    // /matrix = ToRotationMatrix(q) (Quaternion.cs): XY = 2(xy + wz) with x-io's q; for the
+    // yawed board (w = c45, z = −c45): XX = 0, XY = −1, YX = 1, ZZ = 1 → sensor x = (0, 1, 0) NWU = west.
+    REQUIRE(decodeAs(OscFormat::Ngimu, encodeOscMessage("/matrix", floats({0, -1, 0, 1, 0, 0, 0, 0, 1})), r, &d) == DecodeStatus::Reading);
+    CHECK(d == OscFormat::Ngimu);
+    CHECK((r.q * Eigen::Vector3d::UnitX()).isApprox(-Eigen::Vector3d::UnitX(), 1e-6));
+    CHECK(decodeAs(OscFormat::Ngimu, encodeOscMessage("/matrix", floats({2, 0, 0, 0, 1, 0, 0, 0, 1})), r) == DecodeStatus::Absurd);
 
     // Sensors2OSC: Android values as floats, m/s² and rad/s; rotation vector in East-North-Up.
     REQUIRE(decodeAs(OscFormat::Sensors2Osc, encodeOscMessage("/accelerometer", floats({0, 0, 9.81})), r, &d) == DecodeStatus::Reading);
@@ -109,7 +130,17 @@ TEST_CASE("osc dialects: each sender's addresses, units and frames", "[device][o
     REQUIRE(decodeAs(OscFormat::ZigSim, encodeOscMessage("/ZIGSIM/abc123/compass", {OscArg::float32(90.0f), OscArg::int32(1)}), r) ==
             DecodeStatus::Reading);
     CHECK(r.kind == SensorReading::Kind::Heading);
-    CHECK(r.headingAxis == Eigen::Vector3d(0, 1, 0));   // face up: heading of the top edge
+    // Core Location ignores a face-up headingOrientation (CLLocationManager.h): the flag changes
+    // nothing; the heading is the portrait one, perpendicular to the phone's x axis.
+    CHECK(r.headingAxis == Eigen::Vector3d(1, 0, 0));
+    CHECK(r.headingNormalToAxis);
+    SensorReading portrait;
+    REQUIRE(decodeAs(OscFormat::ZigSim, encodeOscMessage("/ZIGSIM/abc123/compass", {OscArg::float32(90.0f), OscArg::int32(0)}), portrait) ==
+            DecodeStatus::Reading);
+    CHECK(portrait.headingAxis == r.headingAxis);
+    CHECK(portrait.headingDeg == r.headingDeg);
+    REQUIRE(decodeAs(OscFormat::ZigSim, encodeOscMessage("/abc123/compass", floats({45})), r) == DecodeStatus::Reading);   // older: heading alone
+    CHECK(r.headingDeg == Approx(45.0));
     CHECK(decodeAs(OscFormat::ZigSim, encodeOscMessage("/ZIGSIM/abc123/deviceinfo", {OscArg::string("iPhone")}), r) == DecodeStatus::Known);
     CHECK(decodeAs(OscFormat::ZigSim, encodeOscMessage("/abc123/gyro", floats({0.1, 0, 0})), r, &d) == DecodeStatus::Reading);
     CHECK(d == OscFormat::ZigSim);   // the older address form without /ZIGSIM
@@ -168,7 +199,9 @@ TEST_CASE("osc merger: separate sensors at their own rates become samples at the
     feed(m, encodeOscMessage("/gyroscope", floats({0, 0, 0.1})), 3.51);
     REQUIRE(c.imu.size() == 171);
     CHECK(c.imu.back().t == Approx(3.51));
-    CHECK(c.imu.back().mag.hasNaN());   // the magnetometer went stale: 6-axis, not zeros
+    // Sensors2OSC resends a reading only when it changed (SensorConfiguration.sendingNotNeeded):
+    // the magnetometer not heard since is unchanged, held — not stale.
+    CHECK(c.imu.back().mag.isApprox(Eigen::Vector3d(20, -40, 0), 1e-6));
 }
 
 TEST_CASE("osc merger: bundle time tags are the sample times, mapped onto the receiver's clock", "[device][osc][merger]")
@@ -420,4 +453,112 @@ TEST_CASE("osc merger: decoding, merging and refusing allocate nothing and take 
         fuzz.handleDatagram(d.data(), d.size(), 0.001 * i, 1 + static_cast<std::uint64_t>(i % 2), "f");
     }
     CHECK(fuzz.stats().datagrams == 20000);
+}
+
+TEST_CASE("zig sim json: one object per datagram, on the OSC port, told apart by its first byte", "[device][osc][zigsim][json]")
+{
+    // 2024-01-01T00:00:00Z is 1704067200 s after 1970 (19723 days); March 1st is 60 days later (leap year).
+    CHECK(parseIsoTimestamp("2024-01-01T00:00:00Z") == Approx(1704067200.0));
+    CHECK(parseIsoTimestamp("2024-03-01T00:00:00.250Z") == Approx(1709251200.25));
+    CHECK(parseIsoTimestamp("2024-03-01T02:00:00.000+02:00") == Approx(1709251200.0));
+    CHECK(std::isnan(parseIsoTimestamp("2024/03/01 00:00:00")));
+    CHECK(std::isnan(parseIsoTimestamp("2024-13-01T00:00:00Z")));
+
+    // ServiceManager.getJSON: device, timestamp, sensordata (Core Motion units: G, rad/s).
+    const std::string text = R"({"device":{"name":"iPhone","uuid":"C0FFEE","os":"ios","osversion":"17.0","displaywidth":390,"displayheight":844},)"
+                             R"("timestamp":"2024-03-01T00:00:00.250Z","sensordata":{"accel":{"x":0,"y":0,"z":0.5},"gravity":{"x":0,"y":0,"z":-1},)"
+                             R"("gyro":{"x":0,"y":0,"z":0.25},"quaternion":{"x":0,"y":0,"z":0,"w":1},"compass":{"compass":30,"faceup":1}}})";
+    SensorReading r[6];
+    double stamp = 0.0;
+    const char* why = nullptr;
+    REQUIRE(decodeZigSimJson(text, r, 6, stamp, &why) == 5);
+    CHECK(stamp == Approx(1709251200.25));
+    CHECK(r[0].kind == SensorReading::Kind::UserAccel);
+    CHECK(r[0].accel.z() == Approx(-0.5 * kStandardGravity));
+    CHECK(r[1].kind == SensorReading::Kind::Gravity);
+    CHECK(r[1].accel.z() == Approx(kStandardGravity));   // screen up: specific force +g on z
+    CHECK(r[2].kind == SensorReading::Kind::Gyro);
+    CHECK(r[2].gyro.z() == Approx(0.25));
+    CHECK(r[3].kind == SensorReading::Kind::Orientation);
+    CHECK_FALSE(r[3].qHasHeading);
+    CHECK(r[4].kind == SensorReading::Kind::Heading);
+    CHECK(r[4].headingDeg == Approx(30.0));
+    CHECK(std::string(r[0].device) == "C0FFEE");
+    CHECK(r[0].deviceKey == r[4].deviceKey);
+    // Older versions send the compass as a bare number.
+    REQUIRE(decodeZigSimJson(R"({"sensordata":{"compass":12.5}})", r, 6, stamp, &why) == 1);
+    CHECK(r[0].headingDeg == Approx(12.5));
+    CHECK(std::isnan(stamp));
+    CHECK(decodeZigSimJson("{\"sensordata\":", r, 6, stamp, &why) == -1);
+    CHECK(std::string(why).find("not valid JSON") != std::string::npos);
+    CHECK(decodeZigSimJson(R"({"other":1})", r, 6, stamp, &why) == -1);
+    CHECK(std::string(why).find("sensordata") != std::string::npos);
+    CHECK(decodeZigSimJson(R"({"sensordata":{"gyro":{"x":"a"}}})", r, 6, stamp, &why) == -1);
+
+    // Through the merger on the same "port" as OSC: detected as ZIG SIM, samples made.
+    OscSampleMerger m;
+    Collected c;
+    attach(m, c);
+    for (int k = 0; k < 60; ++k) {
+        char buf[512];
+        std::snprintf(buf, sizeof buf,
+                      R"({"device":{"uuid":"C0FFEE"},"timestamp":"2024-03-01T00:00:%02d.%03dZ","sensordata":{"gravity":{"x":0,"y":0,"z":-1},"gyro":{"x":0,"y":0,"z":0}}})",
+                      k / 60, (k % 60) * 1000 / 60);
+        const std::string j = buf;
+        m.handleDatagram(reinterpret_cast<const std::uint8_t*>(j.data()), j.size(), 5.0 + k / 60.0 + 0.002 * (k % 3), 9, "10.0.0.9:5000");
+    }
+    CHECK(m.format() == OscFormat::ZigSim);
+    CHECK(m.stats().json == 60);
+    REQUIRE(c.imu.size() > 30);
+    // The timestamps' own spacing (1/60 s to the millisecond), not the jittered arrivals.
+    CHECK(c.imu[5].t - c.imu[4].t == Approx(1.0 / 60.0).margin(0.0011));
+    CHECK(m.rates().gyro == Approx(60.0).epsilon(0.05));
+    CHECK(lowRateAdvice(OscFormat::ZigSim, m.rates().fusion()).empty());
+    CHECK(lowRateAdvice(OscFormat::ZigSim, 10.0).find("MESSAGE RATE") != std::string::npos);
+    // A datagram that is neither: counted as malformed and listed by its first bytes.
+    const std::uint8_t junk[] = {'H', 'e', 'l', 'l', 'o'};
+    m.handleDatagram(junk, sizeof junk, 7.0, 9, "10.0.0.9:5000");
+    const std::string heard = describeHeard(m.heard());
+    CHECK(heard.find("48 65 6c 6c 6f") != std::string::npos);
+    CHECK(heard.find("10.0.0.9:5000 (61 datagrams)") != std::string::npos);
+}
+
+TEST_CASE("sensors2osc: a reading not resent is unchanged; a phone lying still has its orientation from its first readings",
+          "[device][osc][sensors2osc]")
+{
+    // SensorConfiguration.sendingNotNeeded (Sensors2OSC): a sensor's reading is sent only when it
+    // differs from the last one (starting from zeros). Lying perfectly still: the gyroscope (all
+    // zeros) never sends; the accelerometer and magnetometer send once.
+    OscSampleMerger m;
+    Collected c;
+    attach(m, c);
+    feed(m, encodeOscMessage("/accelerometer", floats({0, 0, 9.81})), 0.0);
+    feed(m, encodeOscMessage("/magneticfield", floats({0, 20, -40})), 0.001);
+    for (int k = 1; k <= 200; ++k) m.tick(0.02 * k);   // the receiver's idle calls: 4 s of nothing
+    // After the warm-up, samples of the held readings at the rest period (50 Hz), gyro zero.
+    REQUIRE(c.imu.size() > 180);
+    CHECK(c.imu.front().t < 0.4);
+    CHECK(c.imu.back().t == Approx(4.0));
+    CHECK(c.imu.back().gyro.norm() == 0.0);
+    CHECK(c.imu.back().accel.isApprox(Eigen::Vector3d(0, 9.81, 0), 1e-6));
+    CHECK(c.imu.back().mag.isApprox(Eigen::Vector3d(20, -40, 0), 1e-6));
+    CHECK(m.stats().unchanged == c.imu.size());
+    // It starts to turn: gyro messages drive the samples; then it stops turning and goes silent
+    // while its last gyroscope reading was not zero: that silence is a gap, nothing is made.
+    const std::size_t before = c.imu.size();
+    for (int k = 0; k < 50; ++k) feed(m, encodeOscMessage("/gyroscope", floats({0, 0, 0.3 + 0.001 * k})), 4.01 + 0.01 * k);
+    CHECK(c.imu.size() == before + 50);
+    for (int k = 1; k <= 100; ++k) m.tick(4.5 + 0.02 * k);
+    CHECK(c.imu.size() == before + 50);   // the gap stays a gap
+    // A gyroscope that said exactly zero last is at rest: held samples again.
+    feed(m, encodeOscMessage("/gyroscope", floats({0, 0, 0})), 6.6);
+    for (int k = 1; k <= 50; ++k) m.tick(6.6 + 0.02 * k);
+    CHECK(c.imu.size() > before + 50 + 40);
+    // Another format never holds: a silent ZIG SIM is a gap.
+    OscSampleMerger z;
+    Collected cz;
+    attach(z, cz);
+    feed(z, encodeOscMessage("/ZIGSIM/ab/gravity", floats({0, 0, -1})), 0.0);
+    for (int k = 1; k <= 100; ++k) z.tick(0.02 * k);
+    CHECK(cz.imu.empty());
 }
