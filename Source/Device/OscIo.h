@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 #include <atomic>
 #include <functional>
+#include <memory>
 #include <string>
 #include <thread>
 
@@ -17,6 +18,8 @@ struct Pose;
 }
 
 namespace armadillo::device {
+
+class LinkPort;
 
 struct HostPort {
     std::string host;
@@ -52,14 +55,25 @@ private:
     std::atomic<std::uint64_t> sent_ {0}, dropped_ {0};
 };
 
-/// Listens on a UDP port (all interfaces) on its own thread; handlers run on that thread.
+/// A serial port that carries SLIP-framed OSC (the NGIMU over USB): `play --port NAME --format ngimu-slip`.
+struct OscSerialSource {
+    std::string path;
+    int baud = 115200;   ///< a USB CDC port ignores it; the NGIMU's auxiliary serial default
+};
+
+/// Listens on a UDP port and the same TCP port (all interfaces) on its own thread, or reads
+/// SLIP-framed OSC from a serial port; handlers run on that thread. UDP datagrams are OSC or ZIG
+/// SIM JSON (first byte); TCP connections carry ZIG SIM's unframed stream (OscStream.h).
 class OscReceiver {
 public:
     using ImuHandler = std::function<void(const ImuSample&)>;
     using OrientationHandler = std::function<void(double t, const Eigen::Quaterniond& q)>;
 
-    /// Binds now (port 0 = any free port); throws IoError when the port is taken.
+    /// Binds now (port 0 = any free port); throws IoError when the UDP port is taken. A TCP port
+    /// that is taken only loses the TCP input (tcpError() says why).
     OscReceiver(int port, ImuHandler onImu, OrientationHandler onOrientation, const OscInputOptions& options = {});
+    /// Reads the serial port (opened now: IoError when it is not there; reopened when it goes away).
+    OscReceiver(const OscSerialSource& serial, ImuHandler onImu, OrientationHandler onOrientation, const OscInputOptions& options = {});
     ~OscReceiver();
     OscReceiver(const OscReceiver&) = delete;
     OscReceiver& operator=(const OscReceiver&) = delete;
@@ -67,6 +81,13 @@ public:
     void start();
     void stop();
     int port() const noexcept { return port_; }
+    /// "" when TCP listens on port() too; else why not.
+    const std::string& tcpError() const noexcept { return tcpError_; }
+    /// The serial port read (empty for UDP/TCP) and its latest I/O error ("" when none).
+    const std::string& serialPath() const noexcept { return serial_.path; }
+    std::string serialError() const;
+    /// TCP connections accepted so far.
+    std::uint64_t tcpConnections() const noexcept { return tcpAccepted_.load(); }
     OscInputStats stats() const noexcept { return merger_.stats(); }
     /// The latest reason a message was refused ("" when none). Not for the control path.
     std::string lastError() const { return merger_.lastError(); }
@@ -80,9 +101,20 @@ public:
     void handleDatagram(const std::uint8_t* data, std::size_t size, double t, std::uint64_t senderKey = 0, const char* senderName = "");
 
 private:
+    struct TcpClient;
     void run();
+    void runSerial();
+    void acceptTcp(double now);
+    double now() const noexcept;
     int fd_ = -1;
+    int tcpFd_ = -1;
     int port_ = 0;
+    std::string tcpError_;
+    std::atomic<std::uint64_t> tcpAccepted_ {0};
+    OscSerialSource serial_;
+    std::unique_ptr<LinkPort> serialPort_;
+    mutable std::atomic<bool> serialErrorLock_ {false};
+    std::string serialError_;
     ImuHandler onImu_;
     OrientationHandler onOrientation_;
     OscSampleMerger merger_;
