@@ -8,6 +8,7 @@
 #include "Device/OscIo.h"
 #include "Plugin/LiveInput.h"
 #include <atomic>
+#include <chrono>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -70,6 +71,7 @@ private:
     Eigen::Quaterniond openMount_ = Eigen::Quaterniond::Identity();
     bool openMountGiven_ = false;
     bool tapOn_ = false;
+    std::chrono::steady_clock::time_point openedAt_ {};   // when the receiver started listening
 };
 
 } // namespace armadillo::plugin
