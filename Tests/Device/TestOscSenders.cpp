@@ -169,6 +169,7 @@ struct Scenario {
     enum class Wire { Udp, Tcp, SlipPty } wire = Wire::Udp;      ///< how the bytes travel (SlipPty: `--port PTY --format ngimu-slip`)
     double stillUntil = -1.0;                                     ///< > 0: the sensor lies perfectly still until then
     bool checkStillPhase = false;                                 ///< also: the orientation from 1 s to stillUntil within 3°
+    std::string expectWarning;                                    ///< not empty: a rate warning with this text is expected (no accuracy check)
 };
 
 Scenario make(std::string name, std::string format, std::string mount, std::vector<Stream> streams, double loss, double jitter,
@@ -437,6 +438,9 @@ std::vector<Scenario> vendorScenarios()
     tcpJson->wire = Scenario::Wire::Tcp;
     Scenario* tcpOsc = add("vendor-zigsim-tcp-osc", "zigsim", {{1.0 / 60.0, [](Truth& w, double t) { return zigOsc(w, t, 1); }}}, 0.0, 0.003);
     tcpOsc->wire = Scenario::Wire::Tcp;
+    // ZIG SIM's default rate (10 messages/s, AppSettingModel.messageRatePerSecond): too slow to fuse well, and said so.
+    Scenario* slow = add("vendor-zigsim-10hz", "zigsim", {{0.1, [](Truth& w, double t) { return zigOsc(w, t, 0); }}}, 0.0, 0.003);
+    slow->expectWarning = "MESSAGE RATE (PER SEC) to 60";
     return out;
 }
 
@@ -764,6 +768,13 @@ TEST_CASE("osc senders: held-out senders written from the vendors' definitions g
         std::printf("\n");
         CHECK(o.exitCode == 0);
         CHECK(o.err.find("OSC input: " + sc.expectFormat + " (detected)") != std::string::npos);
+        CHECK(o.err.find("OSC rates: ") != std::string::npos);
+        if (!sc.expectWarning.empty()) {
+            CHECK(o.err.find("warning: the sensor stream arrives at 10 Hz") != std::string::npos);
+            CHECK(o.err.find(sc.expectWarning) != std::string::npos);
+            continue;
+        }
+        CHECK(o.err.find("too slow for good fusion") == std::string::npos);
         CHECK(o.rows > 100);
         CHECK(o.medianDeg < 3.0);
         if (sc.checkStillPhase) {
@@ -888,4 +899,36 @@ TEST_CASE("osc senders: play refuses a bad --osc-format, --mount or --calibrate-
     }
     CHECK(run("--osc-in " + port + " --mount '" + bad + "'") == 3);
     CHECK(run("--osc-in " + port + " --osc-format NGIMU --mount phone-screen-up") == 0);
+    // The serial OSC format and the wait for a sender.
+    CHECK(run("--simulate --format ngimu-slip") == 2);
+    CHECK(run("--port /dev/null --format morse") == 2);
+    CHECK(run("--port /dev/armadillo-no-such-port --format ngimu-slip --v2") == 2);
+    CHECK(run("--port /dev/armadillo-no-such-port --format ngimu-slip") == 4);
+    CHECK(run("--osc-in " + port + " --osc-wait -1") == 2);
+    CHECK(run("--simulate --osc-wait 3") == 2);
+}
+
+TEST_CASE("osc senders: nothing usable within --osc-wait ends play with exit 4, naming what was heard", "[osc][senders][cli]")
+{
+    const int port = freeUdpPort();
+    const std::string err = std::string(ARMADILLO_BINARY_DIR) + "/osc-sender-nothing.err";
+    std::thread junk([port] {
+        Udp udp(port);
+        for (int k = 0; k < 40; ++k) {   // a text datagram and an address no sender app uses
+            std::this_thread::sleep_for(std::chrono::milliseconds(25));
+            udp.send(Bytes {'p', 'i', 'n', 'g'});
+            udp.send(encodeOscMessage("/mixer/fader1", {OscArg::float32(0.5f)}));
+        }
+    });
+    const std::string cmd = std::string("'") + ARMADILLO_BINARY_DIR + "/bin/armadillo' play --scene monitor --no-audio --seconds 20 --osc-wait 1.5 --osc-in " +
+                            std::to_string(port) + " >/dev/null 2>'" + err + "'";
+    const int status = std::system(cmd.c_str());
+    junk.join();
+    CHECK((WIFEXITED(status) ? WEXITSTATUS(status) : -1) == 4);
+    const std::string text = slurp(err);
+    INFO(text);
+    CHECK(text.find("no usable sensor message arrived on UDP/TCP port " + std::to_string(port) + " within 1.5 s") != std::string::npos);
+    CHECK(text.find("/mixer/fader1") != std::string::npos);
+    CHECK(text.find("70 69 6e 67") != std::string::npos);   // "ping"
+    CHECK(text.find("127.0.0.1:") != std::string::npos);
 }
