@@ -236,9 +236,9 @@ DecodeStatus decodeZigSim(const OscMessage& m, SensorReading& out, const char** 
     if (name == "compass") {
         // heading (deg), then (newer versions) the app's heading-orientation setting: 0 portrait,
         // 1 face up (LocationService.swift: CLLocationManager.headingOrientation). Core Location
-        // ignores a face-up headingOrientation (CLLocationManager.h: "CLDeviceOrientationUnknown,
-        // CLDeviceOrientationFaceUp, and CLDeviceOrientationFaceDown are ignored"), so the value is
-        // the portrait heading either way: the flag is read and not used.
+        // ignores the face-up, face-down and unknown orientations for headingOrientation
+        // (Apple's CLLocationManager.h), so the value is the portrait heading either way: the
+        // flag is read and not used.
         if (m.count != 1 && m.count != 2) return fail(why, DecodeStatus::WrongTypes, "ZIG SIM compass carries a heading (and an orientation flag)");
         double flag = 0.0;
         if (!m.args[0].asNumber(v[0]) || (m.count == 2 && !m.args[1].asNumber(flag)))

@@ -656,7 +656,7 @@ std::string lowRateAdvice(OscFormat format, double rate)
     switch (format) {
     case OscFormat::ZigSim: return s + "in ZIG SIM set Settings > MESSAGE RATE (PER SEC) to 60";
     case OscFormat::Ngimu: return s + "in the NGIMU GUI raise Settings > Send Rates > Sensors (100 Hz or more)";
-    case OscFormat::Sensors2Osc: return s + "in Sensors2OSC set the sensor rate (Settings > Sensor rate) to the fastest";
+    case OscFormat::Sensors2Osc: return s + "in Sensors2OSC choose the fastest sensor speed its settings offer";
     case OscFormat::GyrOsc: return s + "in GyrOSC raise the update rate";
     default: return s + "raise the sender's rate";
     }
