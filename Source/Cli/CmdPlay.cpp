@@ -8,9 +8,9 @@
 #include "Core/AtomicFile.h"
 #include "Core/Wav.h"
 #include "Live/LiveSession.h"
-#include "Device/Calibration.h"
-#include "Device/OscIo.h"
-#include "Device/Mount.h"
+#include "Link/Calibration.h"
+#include "Osc/OscIo.h"
+#include "Osc/Mount.h"
 #include "Engine/Engine.h"
 #include <algorithm>
 #include <cerrno>

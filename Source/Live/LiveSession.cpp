@@ -1,10 +1,10 @@
 #include "Live/LiveSession.h"
 #include "Audio/SoundCard.h"
 #include "Core/Errors.h"
-#include "Device/Motion.h"
-#include "Device/OscIo.h"
+#include "Link/Motion.h"
+#include "Osc/OscIo.h"
 #include "Live/SessionWriters.h"
-#include "Device/Simulator.h"
+#include "Link/Simulator.h"
 #include "Engine/ArmTracker.h"
 #include <algorithm>
 #include <cmath>

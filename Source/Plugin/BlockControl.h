@@ -3,7 +3,7 @@
 // bounded fusion, Engine::control) at 200 Hz on the audio block timeline, renders the engine's
 // audio between steps, turns gestures and pose into MIDI, publishes each step's frame for the UI
 // and OSC, and hands each step's motor levels to the device link stamped with the step's time
-// (Device/LevelSchedule.h: the link sends them when that time comes and goes all-off when they
+// (Link/LevelSchedule.h: the link sends them when that time comes and goes all-off when they
 // stop coming, so the motor budget holds on the packet timeline whatever the host does).
 //
 // Threads:
@@ -13,7 +13,7 @@
 //  - prepare(): message thread, with the token held by the caller.
 //  - the accessors below: any thread (atomics, a seqlock, one SPSC queue for one consumer).
 #include "Core/SpscQueue.h"
-#include "Device/LevelSchedule.h"
+#include "Link/LevelSchedule.h"
 #include "Live/ControlLoop.h"
 #include "Plugin/ControlToken.h"
 #include "Plugin/OscLink.h"

@@ -1,6 +1,6 @@
 #include "Plugin/OscLink.h"
 #include "Core/Pose.h"
-#include "Device/Mount.h"
+#include "Osc/Mount.h"
 #include <cstdio>
 #include <exception>
 

@@ -5,7 +5,7 @@
 // with the options, and turned into the forearm's frame by the mount) into the live-input
 // mailbox. Neither runs on the audio thread.
 #include "Core/Types.h"
-#include "Device/OscIo.h"
+#include "Osc/OscIo.h"
 #include "Plugin/LiveInput.h"
 #include <atomic>
 #include <chrono>
