@@ -34,7 +34,7 @@ run_tsan() {
         -DCMAKE_CXX_FLAGS="-fsanitize=thread -fno-omit-frame-pointer" \
         -DCMAKE_C_FLAGS="-fsanitize=thread -fno-omit-frame-pointer" \
         -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=thread"
-    cmake --build build-tsan -j"$jobs" --target tests_core tests_device tests_live tests_live_realtime tests_audio tests_instruments armadillo
+    cmake --build build-tsan -j"$jobs" --target tests_core tests_link tests_osc tests_live tests_live_realtime tests_audio tests_instruments armadillo
     # setarch -R: TSan's shadow memory needs the address layout without ASLR on recent kernels.
     TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1" \
         setarch "$(uname -m)" -R ctest --test-dir build-tsan --output-on-failure --timeout 1800 -j"$jobs" \

@@ -5,9 +5,9 @@
 //  2. unpaced: how fast the host side can go (target ≥ 5 000 updates/s);
 //  3. sensor-packet arrival → motor-packet written, on the link thread (target < 1 ms).
 // Prints numbers; never passes or fails on time. Usage: bench_device [seconds per run, default 5]
-#include "Device/Calibration.h"
-#include "Device/DeviceLink.h"
-#include "Device/Simulator.h"
+#include "Link/Calibration.h"
+#include "Link/DeviceLink.h"
+#include "Link/Simulator.h"
 #include <algorithm>
 #include <cstdio>
 #include <mutex>

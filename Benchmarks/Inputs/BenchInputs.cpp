@@ -5,8 +5,8 @@
 // at each size against the one before (1.0 = linear, 4.0 = quadratic) are printed.
 // Thread CPU time, best of 3; prints numbers, never passes or fails.
 #include "Core/Csv.h"
-#include "Device/Calibration.h"
-#include "Device/Json.h"
+#include "Link/Calibration.h"
+#include "Core/Json.h"
 #include "Tactile/Score.h"
 #include "Tactile/ScorePlayer.h"
 #include <algorithm>

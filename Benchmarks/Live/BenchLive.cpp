@@ -4,7 +4,7 @@
 // rate as a fraction of the 57 600-baud lock-step rate, the unpaced rate, and the time from a
 // sensor packet's arrival to its motor packet leaving. Usage: bench_live [seconds] [scene…]
 #include "Live/LiveSession.h"
-#include "Device/Simulator.h"
+#include "Link/Simulator.h"
 #include <cstdio>
 #include <cstdlib>
 #include <string>

@@ -12,8 +12,8 @@
 // Usage: bench_mapping [seconds]
 #include "Audio/SequencerOut.h"
 #include "Core/Errors.h"
-#include "Device/Calibration.h"
-#include "Device/Simulator.h"
+#include "Link/Calibration.h"
+#include "Link/Simulator.h"
 #include "Live/ControlLoop.h"
 #include "Live/MappingRig.h"
 #include "Mapping/Mapper.h"

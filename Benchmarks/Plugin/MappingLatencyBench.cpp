@@ -12,7 +12,7 @@
 // a DAW plays it at (add the sound card's output latency for the ear). Prints p1/p50/p99/max and
 // the jitter (p99 − p1) at 64- and 1024-sample blocks. Numbers only: it never passes or fails.
 #include "Core/Pose.h"
-#include "Device/OscIo.h"
+#include "Osc/OscIo.h"
 #include <juce_audio_processors/juce_audio_processors.h>
 #include <algorithm>
 #include <array>

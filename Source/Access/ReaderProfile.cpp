@@ -2,7 +2,7 @@
 #include "Core/AtomicFile.h"
 #include "Core/Csv.h"
 #include "Core/Errors.h"
-#include "Device/Json.h"
+#include "Core/Json.h"
 #include <algorithm>
 #include <filesystem>
 

@@ -11,9 +11,9 @@
 #include "Core/AtomicFile.h"
 #include "Core/Wav.h"
 #include "Live/LiveSession.h"
-#include "Device/Calibration.h"
-#include "Device/OscIo.h"
-#include "Device/Mount.h"
+#include "Link/Calibration.h"
+#include "Osc/OscIo.h"
+#include "Osc/Mount.h"
 #include "Engine/Engine.h"
 #include <algorithm>
 #include <cerrno>
@@ -152,8 +152,13 @@ int runPlay(const Arguments& args)
                     {"--port", "NAME", "serial port of the device (see `armadillo ports`; ptys and /dev/rfcomm* work too)"},
                     {"--simulate", "", "the built-in simulated forearm (in-process, paced like a 57 600-baud link)"},
                     {"--motion", "FILE", "with --simulate: pose or quaternion CSV to act out (looped); default a wandering arm"},
-                    {"--osc-in", "PORT", "listen for OSC sensor messages on this UDP port (no motor output); the sender's\n"
-                                         "format is detected from its first messages and printed"},
+                    {"--osc-in", "PORT", "listen for OSC sensor messages on this UDP port, and on the same TCP port (ZIG SIM's\n"
+                                         "TCP option), no motor output; OSC and ZIG SIM's JSON are told apart by their first\n"
+                                         "byte; the sender's format is detected from its first messages and printed"},
+                    {"--format", "NAME", "with --port: what the serial port speaks: thesis (the board's protocol, default) or\n"
+                                         "ngimu-slip (an NGIMU over USB: SLIP-framed OSC, read like --osc-in)"},
+                    {"--osc-wait", "SECONDS", "with --osc-in or --format ngimu-slip: give up (exit 4) when no usable sensor message\n"
+                                              "arrived within this time, listing what was heard instead (default 5; 0 = wait forever)"},
                     {"--osc-format", "NAME", "with --osc-in: force the sender's format (auto, armadillo, sensors2osc, zigsim,\n"
                                              "gyrosc, touchosc, ngimu)"},
                     {"--mount", "FILE|PRESET", "with --osc-in: how the sensor is strapped on: a mount file (--calibrate-mount) or a\n"
@@ -211,7 +216,19 @@ int runPlay(const Arguments& args)
         if (cl.has("--unpaced") && !cl.has("--simulate")) throw UsageError("--unpaced applies to --simulate");
         if (cl.has("--baud") && !cl.has("--port")) throw UsageError("--baud applies to --port");
         if (cl.has("--v2") && !cl.has("--port")) throw UsageError("--v2 applies to --port");
-        if (cl.has("--port")) {
+        const std::string portFormat = cl.has("--format") ? cl.value("--format") : std::string("thesis");
+        if (cl.has("--format") && !cl.has("--port")) throw UsageError("--format applies to --port (--osc-in detects its format; --osc-format forces one)");
+        if (portFormat != "thesis" && portFormat != "ngimu-slip")
+            throw UsageError("--format: unknown serial format '" + portFormat + "' (thesis or ngimu-slip)");
+        const bool slipOsc = cl.has("--port") && portFormat == "ngimu-slip";
+        if (slipOsc) {
+            // The NGIMU over USB: SLIP-framed OSC through the same serial code as the board.
+            config.source = device::LiveConfig::Source::Osc;
+            config.oscSerialPort = cl.value("--port");
+            if (config.oscSerialPort.empty()) throw UsageError("--port needs a device name");
+            config.oscSerialBaud = static_cast<int>(cl.integer("--baud", 115200, 300, 4000000));
+            if (cl.has("--v2")) throw UsageError("--v2 is the thesis board's framing: not with --format ngimu-slip");
+        } else if (cl.has("--port")) {
             config.source = device::LiveConfig::Source::Port;
             config.port = cl.value("--port");
             if (config.port.empty()) throw UsageError("--port needs a device name");
@@ -225,8 +242,11 @@ int runPlay(const Arguments& args)
             config.source = device::LiveConfig::Source::Osc;
             config.oscInPort = static_cast<int>(cl.integer("--osc-in", 0, 1, 65535));
         }
-        for (const char* o : {"--osc-format", "--mount", "--calibrate-mount"})
-            if (cl.has(o) && !cl.has("--osc-in")) throw UsageError(std::string(o) + " applies to --osc-in");
+        const bool oscSource = cl.has("--osc-in") || slipOsc;
+        for (const char* o : {"--osc-format", "--mount", "--calibrate-mount", "--osc-wait"})
+            if (cl.has(o) && !oscSource) throw UsageError(std::string(o) + " applies to --osc-in (or --port with --format ngimu-slip)");
+        const double oscWait = cl.number("--osc-wait", 5.0);
+        if (!(oscWait >= 0.0 && oscWait <= 3600.0)) throw UsageError("--osc-wait must be 0 (wait forever) to 3600 seconds");
         if (cl.has("--osc-format") && !device::parseOscFormat(cl.value("--osc-format"), config.osc.format))
             throw UsageError("--osc-format: unknown format '" + cl.value("--osc-format") + "' (one of " + device::oscFormatNames() + ")");
         const std::string mountOut = cl.value("--calibrate-mount");
@@ -281,7 +301,7 @@ int runPlay(const Arguments& args)
         if (!(dataTimeout >= 0.0 && dataTimeout <= 3600.0)) throw UsageError("--data-timeout must lie in 0..3600 s");
 
         const std::string calibrateOut = cl.value("--calibrate");
-        if (cl.has("--calibrate") && cl.has("--osc-in")) throw UsageError("--calibrate needs raw counts: use --port or --simulate");
+        if (cl.has("--calibrate") && oscSource) throw UsageError("--calibrate needs raw counts: use --port or --simulate");
         if (cl.has("--calibrate") && calibrateOut.empty()) throw UsageError("--calibrate needs an output file");
 
         const std::string trainingLog = cl.value("--training-log");
@@ -356,6 +376,14 @@ int runPlay(const Arguments& args)
         const auto start = std::chrono::steady_clock::now();
         std::string shownError;
         bool shownFormat = false;
+        bool shownRates = false;
+        std::string shownSerialError, shownTcp;
+        if (device::OscReceiver* osc = session.oscReceiver()) {
+            if (!osc->serialPath().empty())
+                std::cerr << "armadillo play: OSC input: SLIP-framed OSC on serial port " << osc->serialPath() << "\n";
+            else if (!osc->tcpError().empty())
+                std::cerr << "armadillo play: OSC input: UDP port " << osc->port() << " only (no TCP input: " << osc->tcpError() << ")\n";
+        }
         bool shownCardError = false;
         // A progress line on a terminal (stderr only, so stdout keeps just the JSON summary), not
         // while a guided procedure prints its own instructions there.
@@ -400,6 +428,47 @@ int runPlay(const Arguments& args)
                 if (voice) voice->status(e);
             }
             shownError = e;
+            if (device::OscReceiver* osc = session.oscReceiver()) {
+                const device::OscInputStats st = osc->stats();
+                const bool usable = st.imu + st.orientation > 0;
+                if (!osc->serialPath().empty()) {
+                    const std::string se = osc->serialError();
+                    if (se != shownSerialError && !se.empty()) std::cerr << lineStart << "armadillo play: " << se << " (reopening)\n";
+                    shownSerialError = se;
+                }
+                // Nothing usable within --osc-wait: say what was heard instead, and give up (exit 4).
+                if (!usable && oscWait > 0.0 && elapsed >= oscWait) {
+                    const std::string where = osc->serialPath().empty() ? "UDP/TCP port " + std::to_string(osc->port())
+                                                                        : "serial port " + osc->serialPath();
+                    session.stop();
+                    session.finish();
+                    char secs[32];
+                    std::snprintf(secs, sizeof secs, "%g s", oscWait);
+                    throw IoError("no usable sensor message arrived on " + where + " within " + secs +
+                                  "; heard instead: " + device::describeHeard(osc->merger().heard()) +
+                                  (osc->lastError().empty() ? std::string() : "; last refusal: " + osc->lastError()) +
+                                  ". Check the sender's target address and port, that it sends to this computer's address on "
+                                  "the same network, and the firewall (docs/SENSORS.md)");
+                }
+                // Once the streams have run a while: the rate of each, and a warning when too slow.
+                if (usable && !shownRates && elapsed >= 3.0) {
+                    shownRates = true;
+                    const device::OscSensorRates r = osc->merger().rates();
+                    std::string line;
+                    for (const auto& [name, hz] : {std::pair<const char*, double> {"gyro", r.gyro}, {"accel", r.accel}, {"gravity", r.gravity},
+                                                   {"user accel", r.userAccel}, {"mag", r.mag}, {"compass", r.heading}, {"imu", r.imu},
+                                                   {"orientation", r.orientation}}) {
+                        if (!(hz > 0.0)) continue;
+                        char buf[48];
+                        std::snprintf(buf, sizeof buf, "%s%s %.0f Hz", line.empty() ? "" : ", ", name, hz);
+                        line += buf;
+                    }
+                    if (st.unchanged > 0) line += " (Sensors2OSC sends only changed readings: rates are of changes)";
+                    std::cerr << lineStart << "armadillo play: OSC rates: " << (line.empty() ? std::string("none measured") : line) << "\n";
+                    const std::string advice = device::lowRateAdvice(osc->format(), r.fusion());
+                    if (!advice.empty() && st.unchanged == 0) std::cerr << lineStart << "armadillo play: warning: " << advice << "\n";
+                }
+            }
             if (device::OscReceiver* osc = session.oscReceiver(); osc && !shownFormat && osc->format() != device::OscFormat::Auto) {
                 const std::string who = osc->deviceName();
                 if (!who.empty() || osc->stats().imu + osc->stats().orientation > 0) {

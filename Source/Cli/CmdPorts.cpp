@@ -1,6 +1,6 @@
 #include "Cli/CommandLine.h"
 #include "Cli/Commands.h"
-#include "Device/LinkPort.h"
+#include "Link/LinkPort.h"
 #include <cstdio>
 #include <iostream>
 

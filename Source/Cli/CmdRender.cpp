@@ -2,7 +2,7 @@
 #include "Cli/Commands.h"
 #include "Cli/MapOptions.h"
 #include "Cli/SceneOptions.h"
-#include "Device/OscIo.h"
+#include "Osc/OscIo.h"
 #include "Live/MappingRig.h"
 #include "Mapping/MidiFile.h"
 #include "Core/Csv.h"

@@ -2,7 +2,7 @@
 #include "Cli/Commands.h"
 #include "Core/AtomicFile.h"
 #include "Core/Errors.h"
-#include "Device/Json.h"
+#include "Core/Json.h"
 #include "Formats/ScoreImport.h"
 #include <iostream>
 

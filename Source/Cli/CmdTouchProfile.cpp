@@ -9,7 +9,7 @@
 #include "Cli/ReaderIo.h"
 #include "Cli/GuidedDevice.h"
 #include "Core/Errors.h"
-#include "Device/TouchProfile.h"
+#include "Link/TouchProfile.h"
 #include "Tactile/Staircase.h"
 #include "Tactile/TactileEngine.h"
 #include <algorithm>

@@ -2,8 +2,8 @@
 // The device side of the command line's guided procedures: a serial port (--port) or the
 // built-in simulator (--simulate) and a DeviceLink whose handler is an access::TactilePlayer.
 #include "Access/TactilePlayer.h"
-#include "Device/DeviceLink.h"
-#include "Device/Simulator.h"
+#include "Link/DeviceLink.h"
+#include "Link/Simulator.h"
 #include <functional>
 #include <memory>
 #include <string>

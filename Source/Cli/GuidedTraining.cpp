@@ -24,8 +24,8 @@
 #include "Core/AtomicFile.h"
 #include "Core/Csv.h"
 #include "Core/Errors.h"
-#include "Device/Calibration.h"
-#include "Device/TouchProfile.h"
+#include "Link/Calibration.h"
+#include "Link/TouchProfile.h"
 #include <algorithm>
 #include <atomic>
 #include <chrono>

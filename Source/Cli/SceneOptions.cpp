@@ -1,5 +1,5 @@
 #include "Cli/SceneOptions.h"
-#include "Device/TouchProfile.h"
+#include "Link/TouchProfile.h"
 #include <algorithm>
 
 namespace armadillo::cli {

@@ -1,7 +1,7 @@
 #pragma once
 // One monotonic clock for producers and consumers that meet on a timeline across threads (the
 // plugin's control ticks stamp motor levels with it, the device link sends them by it:
-// Device/LevelSchedule.h). Real-time safe: a vDSO clock read, no lock, no allocation.
+// Link/LevelSchedule.h). Real-time safe: a vDSO clock read, no lock, no allocation.
 #include <chrono>
 
 namespace armadillo {

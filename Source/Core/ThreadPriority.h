@@ -1,6 +1,6 @@
 #pragma once
 // Real-time scheduling for the threads that keep time (device link, simulator, sound card).
-// In Core so that Source/Audio needs nothing from Source/Device for it.
+// In Core so that Source/Audio needs nothing from Source/Link for it.
 namespace armadillo {
 
 /// Asks for SCHED_FIFO at `priority` (clamped to the system's range) for the calling thread.

@@ -14,7 +14,7 @@
 //    [{time, amplitude 0..1, emphasis {amplitude, frequency}}], optional frequency envelope.
 #include "Core/Errors.h"
 #include "Core/Wav.h"
-#include "Device/Json.h"
+#include "Core/Json.h"
 #include "Formats/ScoreImport.h"
 #include "Formats/ScoreText.h"
 #include <algorithm>

@@ -3,10 +3,10 @@
 #include "Live/MappingRig.h"
 #include "Audio/SoundCard.h"
 #include "Core/Errors.h"
-#include "Device/Motion.h"
-#include "Device/OscIo.h"
+#include "Link/Motion.h"
+#include "Osc/OscIo.h"
 #include "Live/SessionWriters.h"
-#include "Device/Simulator.h"
+#include "Link/Simulator.h"
 #include "Engine/ArmTracker.h"
 #include <algorithm>
 #include <array>
@@ -105,11 +105,15 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
         link_ = std::make_unique<DeviceLink>(simulator_->startInProcess(), deviceHandler, config_.link);
         break;
     }
-    case LiveConfig::Source::Osc:
-        oscIn_ = std::make_unique<OscReceiver>(
-            config_.oscInPort, [this](const ImuSample& s) { control(s.t, nullptr, &s, nullptr); },
-            [this](double t, const Eigen::Quaterniond& q) { control(t, nullptr, nullptr, &q); }, config_.osc);
+    case LiveConfig::Source::Osc: {
+        auto onImu = [this](const ImuSample& s) { control(s.t, nullptr, &s, nullptr); };
+        auto onQ = [this](double t, const Eigen::Quaterniond& q) { control(t, nullptr, nullptr, &q); };
+        if (!config_.oscSerialPort.empty())
+            oscIn_ = std::make_unique<OscReceiver>(OscSerialSource {config_.oscSerialPort, config_.oscSerialBaud}, onImu, onQ, config_.osc);
+        else
+            oscIn_ = std::make_unique<OscReceiver>(config_.oscInPort, onImu, onQ, config_.osc);
         break;
+    }
     }
 
     if (!config_.logOut.empty()) log_ = std::make_unique<StreamingCsvWriter>(config_.logOut, sessionLogHeader());

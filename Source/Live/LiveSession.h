@@ -15,9 +15,9 @@
 #include "Core/GapDetector.h"
 #include "Core/Pose.h"
 #include "Core/SpscQueue.h"
-#include "Device/Calibration.h"
-#include "Device/DeviceLink.h"
-#include "Device/OscInput.h"
+#include "Link/Calibration.h"
+#include "Link/DeviceLink.h"
+#include "Osc/OscInput.h"
 #include "Core/Wav.h"
 #include "Engine/Engine.h"
 #include "Live/ControlLoop.h"
@@ -50,7 +50,9 @@ struct LiveConfig {
     int baud = 57600;
     std::string motionFile;           ///< Source::Simulator: pose/quaternion CSV; empty = wandering arm
     double simulatorBaud = 57600.0;   ///< Source::Simulator: wire pacing (0 = as fast as possible)
-    int oscInPort = 0;                ///< Source::Osc: UDP port (0 = any free port)
+    int oscInPort = 0;                ///< Source::Osc: UDP (and TCP) port (0 = any free port)
+    std::string oscSerialPort;        ///< Source::Osc: read SLIP-framed OSC from this serial port instead (NGIMU over USB)
+    int oscSerialBaud = 115200;
     OscInputOptions osc {};           ///< Source::Osc: dialect (auto-detected by default) and mount
     Calibration calibration = defaultCalibration();
     EngineConfig engine {};

@@ -7,7 +7,7 @@
 //
 // Threads: built on the starting thread; step()/finish() on the control thread. step() allocates
 // nothing (the Mapper is real-time; sending is a non-blocking sendto and the sink's own work).
-#include "Device/OscIo.h"
+#include "Osc/OscIo.h"
 #include "Engine/Engine.h"
 #include "Mapping/Mapper.h"
 #include <memory>

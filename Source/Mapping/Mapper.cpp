@@ -1,7 +1,7 @@
 #include "Mapping/Mapper.h"
 #include "Core/Errors.h"
 #include "Core/Pose.h"
-#include "Device/Osc.h"
+#include "Osc/Osc.h"
 #include "Mapping/Posture.h"
 #include <algorithm>
 #include <cmath>

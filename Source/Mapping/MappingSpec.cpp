@@ -1,7 +1,7 @@
 #include "Mapping/MappingSpec.h"
 #include "Core/Errors.h"
 #include "Core/Resources.h"
-#include "Device/Json.h"
+#include "Core/Json.h"
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

@@ -4,7 +4,7 @@
 // audio between steps, runs the mapping (Mapping/Mapper.h: arm features and gestures → MIDI at
 // the step's sample offset, OSC, macros, scene parameters), publishes each step's frame for the
 // UI and OSC, and hands each step's motor levels to the device link stamped with the step's time
-// (Device/LevelSchedule.h: the link sends them when that time comes and goes all-off when they
+// (Link/LevelSchedule.h: the link sends them when that time comes and goes all-off when they
 // stop coming, so the motor budget holds on the packet timeline whatever the host does).
 //
 // Threads:
@@ -14,7 +14,7 @@
 //  - prepare(): message thread, with the token held by the caller.
 //  - the accessors below: any thread (atomics, a seqlock, one SPSC queue for one consumer).
 #include "Core/SpscQueue.h"
-#include "Device/LevelSchedule.h"
+#include "Link/LevelSchedule.h"
 #include "Live/ControlLoop.h"
 #include "Mapping/Mapper.h"
 #include "Plugin/ControlToken.h"

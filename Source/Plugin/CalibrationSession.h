@@ -6,8 +6,8 @@
 // feeds the procedure and owns everything else. The procedure never runs on the link or audio
 // thread, so its allocation and exceptions stay off them.
 #include "Core/SpscQueue.h"
-#include "Device/Calibration.h"
-#include "Device/DeviceLink.h"
+#include "Link/Calibration.h"
+#include "Link/DeviceLink.h"
 #include <atomic>
 #include <cstdint>
 #include <memory>

@@ -1,5 +1,5 @@
 #include "Plugin/Connections.h"
-#include "Device/Calibration.h"
+#include "Link/Calibration.h"
 
 namespace armadillo::plugin {
 

@@ -14,9 +14,9 @@
 //    simulated arm's steering is shared with the message thread under simMutex_, which the audio
 //    thread never takes.
 //  - device link thread (inside DeviceConnection): calibrates packets into the Device mailbox and
-//    answers with the motor levels due on the timeline (Device/LevelSchedule.h).
-#include "Device/LevelSchedule.h"
-#include "Device/SteerableArm.h"
+//    answers with the motor levels due on the timeline (Link/LevelSchedule.h).
+#include "Link/LevelSchedule.h"
+#include "Link/SteerableArm.h"
 #include "Live/ControlLoop.h"
 #include "Plugin/BlockControl.h"
 #include "Plugin/DeviceConnection.h"

@@ -1,8 +1,8 @@
 #include "Plugin/DeviceConnection.h"
-#include "Device/DeviceLink.h"
-#include "Device/LinkPort.h"
-#include "Device/Motion.h"
-#include "Device/Simulator.h"
+#include "Link/DeviceLink.h"
+#include "Link/LinkPort.h"
+#include "Link/Motion.h"
+#include "Link/Simulator.h"
 #include "Core/Clock.h"
 #include <csignal>
 #include <cstdio>

@@ -4,14 +4,14 @@
 // → SI, once, at the edge) and queued for the control loop, which fuses it (SR-UKF in
 // ArmTracker); the link answers with the latest motor levels the control loop published.
 // The link answers each sensor packet with the motor levels whose time has come on the control
-// step's timeline (Device/LevelSchedule.h): all-off when the control steps stop for 25 ms, and an
+// step's timeline (Link/LevelSchedule.h): all-off when the control steps stop for 25 ms, and an
 // all-off packet when the link stops (disconnect, shutdown).
 // A real port is claimed through PortRegistry first, so two instances never fight over it.
 // Raw packets also go to the guided calibration (CalibrationSession) while one runs, and a new
 // calibration reaches the running link through a seqlock: no reconnect, no lock on the link thread.
 #include "Core/Types.h"
-#include "Device/Calibration.h"
-#include "Device/LevelSchedule.h"
+#include "Link/Calibration.h"
+#include "Link/LevelSchedule.h"
 #include "Plugin/CalibrationSession.h"
 #include "Plugin/LiveInput.h"
 #include "Plugin/PortRegistry.h"

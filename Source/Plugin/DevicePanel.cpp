@@ -1,9 +1,9 @@
 #include "Plugin/DevicePanel.h"
 #include "Plugin/Accessibility.h"
 #include "Plugin/PluginProcessor.h"
-#include "Device/LinkPort.h"
-#include "Device/Mount.h"
-#include "Device/OscDialects.h"
+#include "Link/LinkPort.h"
+#include "Osc/Mount.h"
+#include "Osc/OscDialects.h"
 
 namespace armadillo::plugin {
 

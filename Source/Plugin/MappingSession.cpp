@@ -1,5 +1,5 @@
 #include "Plugin/MappingSession.h"
-#include "Device/OscIo.h"
+#include "Osc/OscIo.h"
 #include "Plugin/Connections.h"
 #include <cmath>
 #include <exception>

@@ -1,7 +1,7 @@
 #include "Plugin/MountCalibrationPanel.h"
 #include "Plugin/Accessibility.h"
 #include "Plugin/PluginProcessor.h"
-#include "Device/Mount.h"
+#include "Osc/Mount.h"
 
 namespace armadillo::plugin {
 

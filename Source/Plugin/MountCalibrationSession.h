@@ -5,8 +5,8 @@
 // into the merger's lock-free tap, and drain() pops from it on the panel's timer.
 // A pose that has enough still samples is frozen until Next, so moving on to the next pose
 // before pressing Next cannot overwrite it.
-#include "Device/Mount.h"
-#include "Device/OscInput.h"
+#include "Osc/Mount.h"
+#include "Osc/OscInput.h"
 #include <cstdint>
 #include <functional>
 #include <memory>

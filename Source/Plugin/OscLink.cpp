@@ -1,6 +1,7 @@
 #include "Plugin/OscLink.h"
 #include "Core/Pose.h"
-#include "Device/Mount.h"
+#include "Osc/Mount.h"
+#include <cstdio>
 #include <exception>
 
 namespace armadillo::plugin {
@@ -81,6 +82,7 @@ bool OscInput::configure(bool enabled, int port, std::string& whyNot, const devi
         return false;
     }
     openPort_ = port;
+    openedAt_ = std::chrono::steady_clock::now();
     openFormat_ = options.format;
     openMountGiven_ = options.mountGiven;
     openMount_ = options.mount.rotation;
@@ -126,6 +128,20 @@ std::string OscInput::statusText() const
     std::string text = std::string("OSC in: ") + device::oscFormatName(receiver_->format());
     if (receiver_->format() == device::OscFormat::Auto) text += " (waiting for a sender)";
     else text += " from " + receiver_->deviceName() + ", mount " + receiver_->merger().mount().name;
+    const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - openedAt_).count();
+    if (s.imu + s.orientation == 0 && waited >= 5.0) {
+        // Nothing usable after a few seconds: what was heard instead helps find out why.
+        text += "; nothing usable on UDP/TCP port " + std::to_string(receiver_->port()) + " for " + std::to_string(static_cast<int>(waited)) +
+                " s, heard: " + device::describeHeard(receiver_->merger().heard()) +
+                " (check the sender's target address and port, the network and the firewall)";
+    } else if (s.imu + s.orientation > 0) {
+        const device::OscSensorRates r = receiver_->merger().rates();
+        char rate[48];
+        std::snprintf(rate, sizeof rate, "; %.0f Hz", r.fusion());
+        text += rate;
+        const std::string advice = s.unchanged == 0 ? device::lowRateAdvice(receiver_->format(), r.fusion()) : std::string();
+        if (!advice.empty()) text += "; warning: " + advice;
+    }
     text += "; refused " + std::to_string(s.bad) + " (wrong types " + std::to_string(s.wrongTypes) + ", NaN/inf " + std::to_string(s.nonFinite)
             + ", absurd " + std::to_string(s.absurd) + ", malformed " + std::to_string(s.malformed + s.tooDeep) + "), other device "
             + std::to_string(s.otherDevice) + ", other app " + std::to_string(s.otherFormat) + ", flood " + std::to_string(s.flood);

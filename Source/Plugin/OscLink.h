@@ -5,9 +5,10 @@
 // with the options, and turned into the forearm's frame by the mount) into the live-input
 // mailbox. Neither runs on the audio thread.
 #include "Core/Types.h"
-#include "Device/OscIo.h"
+#include "Osc/OscIo.h"
 #include "Plugin/LiveInput.h"
 #include <atomic>
+#include <chrono>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -70,6 +71,7 @@ private:
     Eigen::Quaterniond openMount_ = Eigen::Quaterniond::Identity();
     bool openMountGiven_ = false;
     bool tapOn_ = false;
+    std::chrono::steady_clock::time_point openedAt_ {};   // when the receiver started listening
 };
 
 } // namespace armadillo::plugin

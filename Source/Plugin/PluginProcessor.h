@@ -10,7 +10,7 @@
 //  - TrainingAccess.h  braille training for the Training panel.
 // This class adds the AudioProcessor entry points, the message-thread timer (engine updates,
 // live orientation → parameters with change gestures, auto-connect) and the status line.
-#include "Device/LevelSchedule.h"
+#include "Link/LevelSchedule.h"
 #include "Live/ControlLoop.h"
 #include "Plugin/BlockControl.h"
 #include "Plugin/Connections.h"

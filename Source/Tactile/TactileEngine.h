@@ -116,7 +116,7 @@ public:
     /// voices → drive shaping → mirroring → SafetyStage (last). Allocates nothing.
     /// `motorOnTime` (≥ 0) is how long the previous packet really stayed on the motor when that
     /// differs from dt: a front end whose link schedules levels on the wall clock (the plugin:
-    /// Device/LevelSchedule.h) passes it after a host stall, so the safety stage charges what the
+    /// Link/LevelSchedule.h) passes it after a host stall, so the safety stage charges what the
     /// motor got, not the audio timeline's tick. Negative: the same as dt.
     MotorLevels tick(double dt, double motorOnTime = -1.0) noexcept;
     /// Stop, disconnect or error: everything off at once; patterns and targets cleared. The

@@ -4,7 +4,7 @@
 // arithmetic); OSC is caught on a loopback UDP socket. Expected values come from the motion file
 // the test writes, through the definitions in the issue and docs/MAPPING.md.
 #include "Cli/CliRun.h"
-#include "Device/Osc.h"
+#include "Osc/Osc.h"
 #include "Mapping/SmfReader.h"
 #include <catch2/catch.hpp>
 #include <algorithm>

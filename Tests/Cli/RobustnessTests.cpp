@@ -7,8 +7,8 @@
 #include "Core/Csv.h"
 #include "Core/Errors.h"
 #include "Core/Wav.h"
-#include "Device/Calibration.h"
-#include "Device/Json.h"
+#include "Link/Calibration.h"
+#include "Core/Json.h"
 #include "Tactile/Score.h"
 #include <catch2/catch.hpp>
 #include <arpa/inet.h>

@@ -1,7 +1,7 @@
 #pragma once
 // Simulated boards the calibration tests share: one whose ADC is not the default calibration's,
 // so a guided calibration has real numbers to find.
-#include "Device/Simulator.h"
+#include "Link/Simulator.h"
 
 namespace armadillo::testing {
 

@@ -4,8 +4,8 @@
 // UART0 bridged to an in-process byte queue (timestamps in simulated time), and the nine motor PWM
 // pins watched edge by edge so their duty can be read. Simulated time only: nothing here sleeps or
 // reads a wall clock, so every figure is deterministic.
-#include "Device/Motion.h"
-#include "Device/Simulator.h"
+#include "Link/Motion.h"
+#include "Link/Simulator.h"
 #include <array>
 #include <cstdint>
 #include <deque>

@@ -1,14 +1,14 @@
 // The firmware's protocol, safety and sensor-scaling code (firmware/core, plain C++) compiled for the
 // host: every malformed packet we could think of, the v2 negotiation against the host's own codec
-// (Source/Device/FramingV2), the watchdog and the heat limit, and the scaling against the host's
+// (Source/Link/FramingV2), the watchdog and the heat limit, and the scaling against the host's
 // default calibration.
 #include "core/Protocol.h"
 #include "core/Safety.h"
 #include "core/SensorScale.h"
-#include "Device/Calibration.h"
-#include "Device/DeviceProtocol.h"
-#include "Device/FramingV2.h"
-#include "Device/Packets.h"
+#include "Link/Calibration.h"
+#include "Link/DeviceProtocol.h"
+#include "Link/FramingV2.h"
+#include "Link/Packets.h"
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <random>

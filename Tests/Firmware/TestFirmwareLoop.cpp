@@ -5,11 +5,11 @@
 // issue asks for is printed ("[loop] ..." lines) before it is checked.
 #include "SimBoard.h"
 #include "core/Protocol.h"
-#include "Device/Calibration.h"
-#include "Device/DeviceLink.h"
-#include "Device/FramingV2.h"
-#include "Device/HostLink.h"
-#include "Device/Packets.h"
+#include "Link/Calibration.h"
+#include "Link/DeviceLink.h"
+#include "Link/FramingV2.h"
+#include "Link/HostLink.h"
+#include "Link/Packets.h"
 #include "Engine/ArmTracker.h"
 #include "Core/Pose.h"
 #include <catch2/catch.hpp>

@@ -4,10 +4,10 @@
 // the orientation again; the monitor scene must never put a non-zero level on the wire, faults or
 // not. Waits are event-driven (the link's and the simulator's own conditions); nothing sleeps.
 #include "Core/Pose.h"
-#include "Device/Calibration.h"
-#include "Device/DeviceLink.h"
+#include "Link/Calibration.h"
+#include "Link/DeviceLink.h"
 #include "Live/LiveSession.h"
-#include "Device/Simulator.h"
+#include "Link/Simulator.h"
 #include "Engine/ArmTracker.h"
 #include "Fusion/Quaternion.h"
 #include <catch2/catch.hpp>

@@ -4,8 +4,8 @@
 #include "Core/Errors.h"
 #include "Core/Wav.h"
 #include "Live/LiveSession.h"
-#include "Device/OscIo.h"
-#include "Device/Simulator.h"
+#include "Osc/OscIo.h"
+#include "Link/Simulator.h"
 #include "Common/Eventually.h"
 #include <catch2/catch.hpp>
 #include <array>

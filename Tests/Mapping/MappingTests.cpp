@@ -2,7 +2,7 @@
 // encoding. Expected values are computed here from the definitions (the text, the MIDI
 // 1.0 specification, docs/MAPPING.md), never read back from the code under test.
 #include "Core/Errors.h"
-#include "Device/Osc.h"
+#include "Osc/Osc.h"
 #include "Mapping/MappingHelpers.h"
 #include <catch2/catch.hpp>
 #include <algorithm>

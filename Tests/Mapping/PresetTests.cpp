@@ -7,7 +7,7 @@
 //    /SceneRotator/quaternions (w, x, y, z) (the same file, interceptOSCMessage);
 //  - classic: the plugin's MIDI out as docs/PLUGIN.md "MIDI out" describes it.
 #include "Core/Errors.h"
-#include "Device/Osc.h"
+#include "Osc/Osc.h"
 #include "Mapping/MappingHelpers.h"
 #include <catch2/catch.hpp>
 #include <algorithm>

@@ -5,7 +5,7 @@
 // reconnect.
 #include "Core/Pose.h"
 #include "Common/SimulatedBoards.h"
-#include "Device/Simulator.h"
+#include "Link/Simulator.h"
 #include "Plugin/CalibrationSession.h"
 #include "Plugin/DeviceConnection.h"
 #include <catch2/catch.hpp>

@@ -14,7 +14,7 @@
 #include <catch2/catch.hpp>
 
 #include "Common/RealtimeGuard.h"
-#include "Device/Osc.h"
+#include "Osc/Osc.h"
 #include "Plugin/HostedPlugin.h"
 #include <algorithm>
 #include <atomic>

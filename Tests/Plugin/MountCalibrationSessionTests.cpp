@@ -3,8 +3,8 @@
 // arm moving between poses), and the session recovers the strap rotation; the same through the
 // OSC merger's sensor-frame tap, which the app drains.
 #include "Core/Types.h"
-#include "Device/Osc.h"
-#include "Device/OscInput.h"
+#include "Osc/Osc.h"
+#include "Osc/OscInput.h"
 #include "Plugin/MountCalibrationSession.h"
 #include <catch2/catch.hpp>
 #include <cmath>

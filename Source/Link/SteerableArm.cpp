@@ -1,0 +1,36 @@
+#include "Link/SteerableArm.h"
+#include "Core/Types.h"
+#include <algorithm>
+#include <cmath>
+
+namespace armadillo::device {
+
+void SteerableArm::steerTo(const Pose& target) noexcept
+{
+    wandering_ = false;
+    target_.elevationDeg = std::clamp(target.elevationDeg, -90.0, 90.0);
+    target_.azimuthDeg = wrapDeg360(target.azimuthDeg);
+    target_.rollDeg = wrapDeg180(target.rollDeg);
+}
+
+Eigen::Quaterniond SteerableArm::advance(double dt)
+{
+    dt = std::clamp(dt, 0.0, 0.1);
+    t_ += dt;
+    if (wandering_) {
+        Eigen::Quaterniond q = path_.at(t_).q;
+        const double phase = std::fmod(t_, kFlickEvery);
+        if (phase < kFlickLength)   // roll is a turn about the forearm (device x)
+            q = q * Eigen::Quaterniond(Eigen::AngleAxisd(kPi / 4.0 * std::sin(kPi * phase / kFlickLength), Eigen::Vector3d::UnitX()));
+        current_ = quaternionToPose(q);
+        return q;
+    }
+    // Ease toward the steered pose so steering by keyboard is not a step.
+    const double k = 1.0 - std::exp(-dt / 0.08);
+    current_.elevationDeg += k * (target_.elevationDeg - current_.elevationDeg);
+    current_.azimuthDeg = wrapDeg360(current_.azimuthDeg + k * wrapDeg180(target_.azimuthDeg - current_.azimuthDeg));
+    current_.rollDeg = wrapDeg180(current_.rollDeg + k * wrapDeg180(target_.rollDeg - current_.rollDeg));
+    return poseToQuaternion(current_);
+}
+
+} // namespace armadillo::device
