@@ -123,10 +123,17 @@ std::string noDataMessage(device::LiveSession& session, const device::LiveConfig
     }
     const device::OscReceiver* osc = session.oscReceiver();
     const device::OscInputStats o = osc ? osc->stats() : device::OscInputStats {};
-    std::string m = "no sensor data on UDP port " + std::to_string(session.oscInPort()) + " within " + within + ": ";
+    const bool serial = osc && !osc->serialPath().empty();
+    std::string m = "no usable sensor data on " +
+                    (serial ? "serial port " + osc->serialPath() + " (SLIP-framed OSC)" : "UDP/TCP port " + std::to_string(session.oscInPort())) +
+                    " within " + within + ": ";
     if (o.datagrams == 0)
-        return m + "not a datagram arrived. Is the sender pointed at this machine's address and port (and not blocked by a firewall)?";
-    return m + std::to_string(o.datagrams) + " datagrams arrived but none carried usable sensor data (" + osc->statsJson() + ")";
+        return m + (serial ? std::string("not a message arrived. Is the NGIMU switched on, and is this its port? ('armadillo ports' lists them)")
+                           : std::string("not a datagram arrived. Is the sender pointed at this machine's address and port, on the same "
+                                         "network, and not blocked by a firewall? (docs/SENSORS.md)"));
+    return m + std::to_string(o.datagrams) + " datagrams arrived but none carried usable sensor data; heard instead: " +
+           device::describeHeard(osc->merger().heard()) + (osc->lastError().empty() ? std::string() : "; last refusal: " + osc->lastError()) +
+           " (" + osc->statsJson() + ")";
 }
 
 } // namespace
@@ -157,8 +164,6 @@ int runPlay(const Arguments& args)
                                          "byte; the sender's format is detected from its first messages and printed"},
                     {"--format", "NAME", "with --port: what the serial port speaks: thesis (the board's protocol, default) or\n"
                                          "ngimu-slip (an NGIMU over USB: SLIP-framed OSC, read like --osc-in)"},
-                    {"--osc-wait", "SECONDS", "with --osc-in or --format ngimu-slip: give up (exit 4) when no usable sensor message\n"
-                                              "arrived within this time, listing what was heard instead (default 5; 0 = wait forever)"},
                     {"--osc-format", "NAME", "with --osc-in: force the sender's format (auto, armadillo, sensors2osc, zigsim,\n"
                                              "gyrosc, touchosc, ngimu)"},
                     {"--mount", "FILE|PRESET", "with --osc-in: how the sensor is strapped on: a mount file (--calibrate-mount) or a\n"
@@ -181,8 +186,8 @@ int runPlay(const Arguments& args)
                                                "--sample-rate is given"},
                     {"--loop", "", "with --audio-in: start the recording again at its end (without it, the session\n"
                                    "ends with the recording unless --seconds ends it first)"},
-                    {"--data-timeout", "SECONDS", "with --port or --osc-in: no sensor data within this time is an error naming the\n"
-                                                  "port and what was heard (exit 4; default 3, 0 = wait for ever)"},
+                    {"--data-timeout", "SECONDS", "with --port or --osc-in: no usable sensor data within this time is an error naming\n"
+                                                  "the port and what was heard instead (exit 4; default 5, 0 = wait for ever)"},
                     {"--tactile", "T.csv", "every motor packet: t,m1..m9; the last row is the all-off sent at the end"},
                     {"--log", "SESSION.csv", "one row per sensor packet: t, raw counts, calibrated SI values, qw,qx,qy,qz"},
                     {"--osc-out", "HOST:PORT", "send orientation, pose, gyro, motors and gestures as OSC; with --map, the target of\n"
@@ -243,10 +248,8 @@ int runPlay(const Arguments& args)
             config.oscInPort = static_cast<int>(cl.integer("--osc-in", 0, 1, 65535));
         }
         const bool oscSource = cl.has("--osc-in") || slipOsc;
-        for (const char* o : {"--osc-format", "--mount", "--calibrate-mount", "--osc-wait"})
+        for (const char* o : {"--osc-format", "--mount", "--calibrate-mount"})
             if (cl.has(o) && !oscSource) throw UsageError(std::string(o) + " applies to --osc-in (or --port with --format ngimu-slip)");
-        const double oscWait = cl.number("--osc-wait", 5.0);
-        if (!(oscWait >= 0.0 && oscWait <= 3600.0)) throw UsageError("--osc-wait must be 0 (wait forever) to 3600 seconds");
         if (cl.has("--osc-format") && !device::parseOscFormat(cl.value("--osc-format"), config.osc.format))
             throw UsageError("--osc-format: unknown format '" + cl.value("--osc-format") + "' (one of " + device::oscFormatNames() + ")");
         const std::string mountOut = cl.value("--calibrate-mount");
@@ -297,8 +300,10 @@ int runPlay(const Arguments& args)
             config.audioInLoop = cl.has("--loop");
         }
         if (cl.has("--loop") && !cl.has("--audio-in")) throw UsageError("--loop repeats the --audio-in recording: use it with --audio-in");
-        const double dataTimeout = cl.number("--data-timeout", 3.0);
+        const double dataTimeout = cl.number("--data-timeout", 5.0);
         if (!(dataTimeout >= 0.0 && dataTimeout <= 3600.0)) throw UsageError("--data-timeout must lie in 0..3600 s");
+        if (cl.has("--data-timeout") && config.source == device::LiveConfig::Source::Simulator)
+            throw UsageError("--data-timeout applies to --port and --osc-in (the simulator always sends)");
 
         const std::string calibrateOut = cl.value("--calibrate");
         if (cl.has("--calibrate") && oscSource) throw UsageError("--calibrate needs raw counts: use --port or --simulate");
@@ -399,7 +404,7 @@ int runPlay(const Arguments& args)
             const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             if (seconds > 0.0 && elapsed >= seconds) break;
             if (needsData && dataTimeout > 0.0 && elapsed >= dataTimeout && session.summary().packets == 0) {
-                noData = noDataMessage(session, config, elapsed);
+                noData = noDataMessage(session, config, dataTimeout);
                 break;
             }
             if (session.recordingEnded()) {
@@ -435,20 +440,6 @@ int runPlay(const Arguments& args)
                     const std::string se = osc->serialError();
                     if (se != shownSerialError && !se.empty()) std::cerr << lineStart << "armadillo play: " << se << " (reopening)\n";
                     shownSerialError = se;
-                }
-                // Nothing usable within --osc-wait: say what was heard instead, and give up (exit 4).
-                if (!usable && oscWait > 0.0 && elapsed >= oscWait) {
-                    const std::string where = osc->serialPath().empty() ? "UDP/TCP port " + std::to_string(osc->port())
-                                                                        : "serial port " + osc->serialPath();
-                    session.stop();
-                    session.finish();
-                    char secs[32];
-                    std::snprintf(secs, sizeof secs, "%g s", oscWait);
-                    throw IoError("no usable sensor message arrived on " + where + " within " + secs +
-                                  "; heard instead: " + device::describeHeard(osc->merger().heard()) +
-                                  (osc->lastError().empty() ? std::string() : "; last refusal: " + osc->lastError()) +
-                                  ". Check the sender's target address and port, that it sends to this computer's address on "
-                                  "the same network, and the firewall (docs/SENSORS.md)");
                 }
                 // Once the streams have run a while: the rate of each, and a warning when too slow.
                 if (usable && !shownRates && elapsed >= 3.0) {

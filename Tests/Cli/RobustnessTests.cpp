@@ -572,7 +572,7 @@ TEST_CASE("robustness: play --osc-in with no sender, or only garbage, says what 
         const int port = freeUdpPort();
         const Run r = cli::runArmadilloWithin(kBound, "play --scene monitor --no-audio --data-timeout 1 --osc-in " + std::to_string(port));
         CHECK(r.code == 4);
-        CHECK(r.err.find("no sensor data on UDP port " + std::to_string(port) + " within") != std::string::npos);
+        CHECK(r.err.find("no usable sensor data on UDP/TCP port " + std::to_string(port) + " within 1.0 s") != std::string::npos);
         CHECK(r.err.find("not a datagram arrived") != std::string::npos);
     }
     {

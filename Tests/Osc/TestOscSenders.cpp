@@ -909,11 +909,11 @@ TEST_CASE("osc senders: play refuses a bad --osc-format, --mount or --calibrate-
     CHECK(run("--port /dev/null --format morse") == 2);
     CHECK(run("--port /dev/armadillo-no-such-port --format ngimu-slip --v2") == 2);
     CHECK(run("--port /dev/armadillo-no-such-port --format ngimu-slip") == 4);
-    CHECK(run("--osc-in " + port + " --osc-wait -1") == 2);
-    CHECK(run("--simulate --osc-wait 3") == 2);
+    CHECK(run("--osc-in " + port + " --data-timeout -1") == 2);
+    CHECK(run("--simulate --data-timeout 3") == 2);
 }
 
-TEST_CASE("osc senders: nothing usable within --osc-wait ends play with exit 4, naming what was heard", "[osc][senders][cli]")
+TEST_CASE("osc senders: nothing usable within --data-timeout ends play with exit 4, naming what was heard", "[osc][senders][cli]")
 {
     const int port = freeUdpPort();
     const std::string err = std::string(ARMADILLO_BINARY_DIR) + "/osc-sender-nothing.err";
@@ -925,14 +925,14 @@ TEST_CASE("osc senders: nothing usable within --osc-wait ends play with exit 4, 
             udp.send(encodeOscMessage("/mixer/fader1", {OscArg::float32(0.5f)}));
         }
     });
-    const std::string cmd = std::string("'") + ARMADILLO_BINARY_DIR + "/bin/armadillo' play --scene monitor --no-audio --seconds 20 --osc-wait 1.5 --osc-in " +
+    const std::string cmd = std::string("'") + ARMADILLO_BINARY_DIR + "/bin/armadillo' play --scene monitor --no-audio --seconds 20 --data-timeout 1.5 --osc-in " +
                             std::to_string(port) + " >/dev/null 2>'" + err + "'";
     const int status = std::system(cmd.c_str());
     junk.join();
     CHECK((WIFEXITED(status) ? WEXITSTATUS(status) : -1) == 4);
     const std::string text = slurp(err);
     INFO(text);
-    CHECK(text.find("no usable sensor message arrived on UDP/TCP port " + std::to_string(port) + " within 1.5 s") != std::string::npos);
+    CHECK(text.find("no usable sensor data on UDP/TCP port " + std::to_string(port) + " within 1.5 s") != std::string::npos);
     CHECK(text.find("/mixer/fader1") != std::string::npos);
     CHECK(text.find("70 69 6e 67") != std::string::npos);   // "ping"
     CHECK(text.find("127.0.0.1:") != std::string::npos);
