@@ -200,6 +200,8 @@ std::string ReaderIo::readLine()
                     displayLine_ += k;
                 }
             }
+        if (display_ && (display_->lost() || (p[1].revents & (POLLHUP | POLLERR | POLLNVAL)) != 0))
+            throw IoError("the braille display (" + display_->name() + ") went away");
     }
 }
 
