@@ -45,7 +45,7 @@ public:
     }
     ~BrlApiDisplay() override
     {
-        if (tty_) leave_();
+        if (tty_ && !lost_) leave_();   // nothing to tell a server that is gone
         if (connected_) close_();
         ::dlclose(lib_);
     }
@@ -53,7 +53,9 @@ public:
     std::string readKey() override
     {
         std::uint64_t code = 0;
-        if (readKey_(0, &code) != 1) return "";
+        const int got = readKey_(0, &code);
+        if (got < 0) lost_ = true;   // end of file or an error on the connection
+        if (got != 1) return "";
         if ((code & 0xE0000000ull) != 0) return "";   // a brltty command, not a typed key
         const std::uint64_t sym = code & 0x1FFFFFFFull;
         if (sym == 0xFF0D) return "\n";
@@ -75,6 +77,7 @@ public:
         return out;
     }
     int fd() const override { return fd_; }
+    bool lost() const override { return lost_; }
     std::string name() const override { return "brlapi"; }
 
 private:
@@ -108,7 +111,7 @@ private:
     WriteFn writeText_ = nullptr;
     ReadKeyFn readKey_ = nullptr;
     int fd_ = -1;
-    bool connected_ = false, tty_ = false;
+    bool connected_ = false, tty_ = false, lost_ = false;
 };
 
 class CaptureDisplay final : public BrailleDisplay {

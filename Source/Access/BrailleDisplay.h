@@ -23,6 +23,8 @@ public:
     virtual std::string readKey() = 0;
     /// The file descriptor to poll for keys (−1 when there is none).
     virtual int fd() const = 0;
+    /// True once the display's connection is gone (the server closed it, an error).
+    virtual bool lost() const { return false; }
     virtual std::string name() const = 0;
 };
 

@@ -69,6 +69,21 @@ std::string progressReport(const ReaderProfile& p)
                       seconds > 0.0 ? fixed(letters * 60.0 / seconds, 1).c_str() : "-");
         out += line;
     }
+    // Accuracy per stage within each session.
+    out += "\nsession  stage          answers  right\n";
+    {
+        std::map<std::pair<int, std::string>, std::pair<int, int>> cells;
+        for (const auto& a : p.answers) {
+            auto& c = cells[{a.session, a.stage}];
+            ++c.second;
+            c.first += a.correct;
+        }
+        for (const auto& [key, rn] : cells) {
+            char line[128];
+            std::snprintf(line, sizeof line, "%7d  %-13s  %7d  %s\n", key.first, key.second.c_str(), rn.second, percent(rn.first, rn.second).c_str());
+            out += line;
+        }
+    }
     // Confusion matrix of the letters: rows = shown, columns = answered; only letters involved.
     std::map<std::pair<char, char>, int> confusion;
     std::set<char> involved;

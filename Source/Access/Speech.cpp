@@ -91,7 +91,11 @@ public:
         }
         return s;
     }
-    ~EspeakProcess() override { stop(); }
+    ~EspeakProcess() override
+    {
+        // The last words (a final status) are heard out, not cut off as the program ends.
+        if (child_ > 0) ::waitpid(child_, nullptr, 0);
+    }
     void say(const std::string& text, bool) override
     {
         stop();

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <csignal>
 #include <iostream>
 #include "Access/Chords.h"
 #include <poll.h>
@@ -25,6 +26,9 @@ std::vector<OptionSpec> readerIoOptionSpecs()
 ReaderIo::ReaderIo(const CommandLine& cl, bool armOnly) : armOnly_(armOnly)
 {
     std::string why;
+    // speech-dispatcher and brltty are sockets: one that goes away must be an error the
+    // backends see (EPIPE), not SIGPIPE ending the reader's session.
+    if (cl.has("--speak") || cl.has("--speech") || cl.has("--brlapi") || cl.has("--braille-display")) std::signal(SIGPIPE, SIG_IGN);
     if (cl.has("--speak") || cl.has("--speech")) {
         const std::string spec = cl.value("--speech", "auto");
         speech_ = access::makeSpeech(spec, why);
@@ -200,6 +204,8 @@ std::string ReaderIo::readLine()
                     displayLine_ += k;
                 }
             }
+        if (display_ && (display_->lost() || (p[1].revents & (POLLHUP | POLLERR | POLLNVAL)) != 0))
+            throw IoError("the braille display (" + display_->name() + ") went away");
     }
 }
 

@@ -3,6 +3,7 @@
 #include "Access/Report.h"
 #include "Core/Errors.h"
 #include <catch2/catch.hpp>
+#include <cstdio>
 #include <map>
 
 using namespace armadillo;
@@ -86,6 +87,21 @@ TEST_CASE("adaptive: letters the reader confuses come back at least twice as oft
     CHECK(report.find("confusion matrix") != std::string::npos);
     CHECK(report.find("UbiBraille: 82 % after 10 min") != std::string::npos);
     CHECK(report.find("letters/min") != std::string::npos);
+    // Per stage and session: session 1's letters and pairs, each with its own count.
+    int letters1 = 0, pairs1 = 0, lettersRight1 = 0;
+    for (const ReaderAnswer& a : reloaded.answers) {
+        if (a.session != 1) continue;
+        letters1 += a.stage == "letters";
+        lettersRight1 += a.stage == "letters" && a.correct;
+        pairs1 += a.stage == "pairs";
+    }
+    char row[128];
+    std::snprintf(row, sizeof row, "%7d  %-13s  %7d", 1, "letters", letters1);
+    CHECK(report.find(row) != std::string::npos);
+    std::snprintf(row, sizeof row, "%7d  %-13s  %7d", 1, "pairs", pairs1);
+    CHECK(report.find(row) != std::string::npos);
+    CHECK(pairs1 > 0);
+    CHECK(lettersRight1 < letters1);
 }
 
 TEST_CASE("adaptive: a reader who knows every letter moves on to words; steady history skips letters", "[adaptive]")

@@ -10,7 +10,10 @@
 #include "Core/AtomicFile.h"
 #include "PtyDevice.h"
 #include <algorithm>
+#include <atomic>
 #include <map>
+#include <memory>
+#include <thread>
 #include <sstream>
 #include <termios.h>
 
@@ -415,4 +418,25 @@ TEST_CASE("adaptive training with a touch profile: cells at the reader's comfort
     const auto comfortable = levelsSeen({"--profile", file("comfort.json", "{\"threshold\": [4, 4, 4, 4, 4, 4, 4, 4, 4], \"comfort\": 8}")});
     CHECK(plain.count(8) == 0);   // default: cells at 5, cues at 4, the wrong buzz at 5
     CHECK(comfortable.count(8) == 1);
+}
+
+TEST_CASE("adaptive training: a braille display that goes away ends the session with exit 4, not a hang", "[cli][adaptive][brlapi]")
+{
+    auto server = std::make_unique<armadillo::test::FakeBrlApiServer>();
+    REQUIRE(server->ok());
+    std::atomic<bool> gone {false};
+    armadillo::test::FakeBrlApiServer* raw = server.get();
+    // The display vanishes at the first prompt (its server closes the connection).
+    std::thread killer;
+    raw->onWrite([&](const std::string& text) {
+        if (text.find("which letter?") != std::string::npos && !gone.exchange(true)) killer = std::thread([&] { server.reset(); });
+    });
+    const Run r = runArmadillo("braille --train --adaptive --reader " + path("gone-reader.json") + " --simulate --unpaced --trials 3" +
+                              " --braille-display brlapi:" + raw->host());
+    if (killer.joinable()) killer.join();
+    INFO(r.err);
+    if (r.code == 4 && r.err.find("not found") != std::string::npos) return;   // no libbrlapi here
+    CHECK(gone.load());
+    CHECK(r.code == 4);
+    CHECK(r.err.find("went away") != std::string::npos);
 }
