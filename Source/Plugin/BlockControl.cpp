@@ -208,6 +208,7 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
     }
     midi.clear();
     midiBytes_ = 0;
+    bypassed_ = false;
     const double wall = monotonicSeconds();
     lastAudioMs_.store(wall * 1e3, std::memory_order_relaxed);
     if (buffer.getNumChannels() < 2 || n <= 0 || ! token_.tryTake()) {   // the idle clock is finishing an update: one silent block
@@ -277,6 +278,24 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
     // Note-offs due before the block's end that no step reached (a gesture note's 50 ms).
     mapper_.flush(blockStart + (n - 0.5) / sr, mapOut_);
     deliver(&midi, blockStart, n);
+    token_.release();
+}
+
+void BlockControl::bypassBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi) noexcept
+{
+    buffer.clear();
+    if (! midiStorageGiven_) {
+        midi.swapWith(midiStorage_);
+        midiStorageGiven_ = true;
+    }
+    midi.clear();   // the MIDI input is never passed through, bypassed or not
+    midiBytes_ = 0;
+    lastAudioMs_.store(monotonicSeconds() * 1e3, std::memory_order_relaxed);
+    const int n = buffer.getNumSamples();
+    if (bypassed_ || n <= 0 || ! token_.tryTake()) return;
+    bypassed_ = true;
+    mapper_.allNotesOff(clock_, mapOut_);
+    deliver(&midi, clock_, n);
     token_.release();
 }
 

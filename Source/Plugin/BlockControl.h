@@ -63,6 +63,9 @@ public:
     /// non-realtime render (its blocks do not reach the motors: they get all-off).
     void processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi, juce::AudioPlayHead* playHead, bool offline,
                       const Listen& listen) noexcept;
+    /// Audio thread, the host's bypass: silence and an empty MIDI buffer, except the note-offs
+    /// of the mapping's sounding notes in the first bypassed block. No control step runs.
+    void bypassBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi) noexcept;
     /// The same without an audio input.
     void processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi, juce::AudioPlayHead* playHead, bool offline) noexcept;
     /// Idle control clock (no audio for a while): `dt` s since its previous call. Runs the
@@ -134,6 +137,7 @@ private:
     int blockSamples_ = 0;              ///< the current block's length
     std::atomic<std::uint64_t> midiDropped_ {0};
     std::atomic<bool> notesOffPending_ {false};
+    bool bypassed_ = false;             ///< audio thread: the previous block was bypassed
     // The mapping (control side): runner, its fixed-capacity output, the step's gestures.
     mapping::Mapper mapper_;
     mapping::MappingOutput mapOut_ {};

@@ -131,6 +131,11 @@ void ArmadilloProcessor::processBlock(juce::AudioBuffer<float>& buffer, juce::Mi
     control_.processBlock(buffer, midi, getPlayHead(), isNonRealtime(), listen_);
 }
 
+void ArmadilloProcessor::processBlockBypassed(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi)
+{
+    control_.bypassBlock(buffer, midi);
+}
+
 // ------------------------------------------------------------------------------------------------
 // Message thread
 
