@@ -7,6 +7,7 @@
 #include "Engine/Engine.h"
 #include "Engine/OfflineRenderer.h"
 #include <algorithm>
+#include <cstdio>
 #include <iostream>
 
 namespace armadillo::cli {
@@ -77,7 +78,12 @@ int runRender(const Arguments& args)
         };
         const RenderResult r = renderOffline(motion, settings);
         if (cl.has("--tactile")) writeTactile(tactile, r.tactile, engine.motorCount);
-        wav.finish();
+        try {
+            wav.finish();
+        } catch (const IoError&) {   // the WAV could not be completed: no half of the outputs stays
+            if (cl.has("--tactile")) std::remove(tactile.c_str());
+            throw;
+        }
         if (const std::string why = silenceReason(r, settings); !why.empty())
             std::cerr << "armadillo render: the output is silent: " << why << "\n";
         const double seconds = static_cast<double>(r.frames) / engine.sceneConfig.sampleRate;
