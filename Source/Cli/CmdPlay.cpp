@@ -125,7 +125,8 @@ int runPlay(const Arguments& args)
             "Audio goes to --out, or else to the sound card (ALSA 'default', or --audio-device); on a machine\n"
             "without one the session runs silently and says so once (--no-audio: silence, no message).\n"
             "A lost serial port is reopened on its own (backoff up to 0.25 s); a port missing at start is\n"
-            "an error (exit 4).",
+            "an error (exit 4), and so is a port or OSC source that sends no sensor data (--data-timeout).\n"
+            "Every output's folder is checked before the session starts; on failure no output is written.",
             [] {
                 auto o = sceneOptionSpecs();
                 const std::vector<OptionSpec> own {
@@ -243,6 +244,7 @@ int runPlay(const Arguments& args)
             config.audioInLoop = cl.has("--loop");
         }
         if (cl.has("--loop") && !cl.has("--audio-in")) throw UsageError("--loop repeats the --audio-in recording: use it with --audio-in");
+        if (cl.has("--data-timeout") && cl.has("--simulate")) throw UsageError("--data-timeout applies to --port and --osc-in");
         const double dataTimeout = cl.number("--data-timeout", 3.0);
         if (!(dataTimeout >= 0.0 && dataTimeout <= 3600.0)) throw UsageError("--data-timeout must lie in 0..3600 s");
 

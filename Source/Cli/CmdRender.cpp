@@ -25,7 +25,8 @@ int runRender(const Arguments& args)
                            o.insert(o.begin() + 1, {
                                {"--motion", "FILE", "motion CSV (IMU, quaternion or pose)", true},
                                {"--out", "OUT.wav", "stereo WAV, 16-bit (written whole or not at all)", true},
-                               {"--tactile", "T.csv", "motor levels of every packet: t,m1..m9 (m10..m12 with --back-motors)"},
+                               {"--tactile", "T.csv", "motor levels of every packet: t,m1..m9 (m10..m12 with --back-motors); the last\n"
+                                                    "row is the all-off sent at the end"},
                                {"--audio-in", "FILE.wav", "the recording the listener hears, from the first motion row on: scenes that listen\n"
                                                           "(score, audio-touch) follow it, and it is mixed into OUT.wav under the scene's\n"
                                                           "sound; its sample rate is used unless --sample-rate is given"},

@@ -240,6 +240,7 @@ TEST_CASE("robustness: bad usage exits 2 before anything is read, whatever the o
         {"--baud abc", "play --scene monitor --port /dev/null --baud abc", 2, "--baud"},
         {"--loop without --audio-in", "play --scene monitor --simulate --loop", 2, "--loop"},
         {"--data-timeout -1", "play --scene monitor --osc-in 9 --data-timeout -1", 2, "--data-timeout"},
+        {"--data-timeout with --simulate", "play --scene monitor --simulate --data-timeout 2", 2, "--data-timeout applies to --port and --osc-in"},
         {"fuse without --out", "fuse --in x.csv", 2, "--out"},
         {"braille --grade 3", "braille --text abc --grade 3", 2, "--grade"},
     });
