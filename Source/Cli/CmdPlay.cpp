@@ -152,7 +152,8 @@ int runPlay(const Arguments& args)
             "Audio goes to --out, or else to the sound card (ALSA 'default', or --audio-device); on a machine\n"
             "without one the session runs silently and says so once (--no-audio: silence, no message).\n"
             "A lost serial port is reopened on its own (backoff up to 0.25 s); a port missing at start is\n"
-            "an error (exit 4).",
+            "an error (exit 4), and so is a port or OSC source that sends no sensor data (--data-timeout).\n"
+            "Every output's folder is checked before the session starts; on failure no output is written.",
             [] {
                 auto o = sceneOptionSpecs();
                 const std::vector<OptionSpec> own {

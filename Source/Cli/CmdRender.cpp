@@ -13,6 +13,7 @@
 #include <optional>
 #include "Formats/ScoreImport.h"
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -36,7 +37,8 @@ int runRender(const Arguments& args)
                            o.insert(o.begin() + 1, {
                                {"--motion", "FILE", "motion CSV (IMU, quaternion or pose)", true},
                                {"--out", "OUT.wav", "stereo WAV, 16-bit (written whole or not at all); may be left out with --midi-out"},
-                               {"--tactile", "T.csv", "motor levels of every packet: t,m1..m9 (m10..m12 with --back-motors)"},
+                               {"--tactile", "T.csv", "motor levels of every packet: t,m1..m9 (m10..m12 with --back-motors); the last\n"
+                                                    "row is the all-off sent at the end"},
                                {"--audio-in", "FILE.wav", "the recording the listener hears, from the first motion row on: scenes that listen\n"
                                                           "(score, audio-touch) follow it, and it is mixed into OUT.wav under the scene's\n"
                                                           "sound; its sample rate is used unless --sample-rate is given.\n"
@@ -175,7 +177,13 @@ int runRender(const Arguments& args)
         if (cl.has("--tactile-wav"))
             writeTactileWav(tactileWav, r.tactile, engine.motorCount, engine.sceneConfig.sampleRate, 150.0, cl.has("--float"));
         if (wav) {
-            wav->finish();
+            try {
+                wav->finish();
+            } catch (const IoError&) {   // the WAV could not be completed: no part of the outputs stays
+                for (const std::string* f : {&tactile, &midiOut, &tactileWav})
+                    if (!f->empty()) std::remove(f->c_str());
+                throw;
+            }
             if (const std::string why = silenceReason(r, settings); !why.empty())
                 std::cerr << "armadillo render: the output is silent: " << why << "\n";
         }

@@ -100,8 +100,8 @@ void printManPage()
 
 int main(int argc, char** argv)
 {
-    if (argc < 2) {
-        std::cout << helpText();
+    if (argc < 2) {   // bad usage: the help goes to stderr, as every refusal does
+        std::cerr << helpText();
         return armadillo::kExitUsage;
     }
     const std::string command = argv[1];

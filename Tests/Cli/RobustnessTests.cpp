@@ -240,6 +240,7 @@ TEST_CASE("robustness: bad usage exits 2 before anything is read, whatever the o
         {"--baud abc", "play --scene monitor --port /dev/null --baud abc", 2, "--baud"},
         {"--loop without --audio-in", "play --scene monitor --simulate --loop", 2, "--loop"},
         {"--data-timeout -1", "play --scene monitor --osc-in 9 --data-timeout -1", 2, "--data-timeout"},
+        {"--data-timeout with --simulate", "play --scene monitor --simulate --data-timeout 2", 2, "--data-timeout applies to --port and --osc-in"},
         {"fuse without --out", "fuse --in x.csv", 2, "--out"},
         {"braille --grade 3", "braille --text abc --grade 3", 2, "--grade"},
     });
@@ -726,4 +727,65 @@ TEST_CASE("robustness: --help lists every scene, audio-touch included, everywher
     const Run bad = cli::runArmadillo("render --scene kazoo --motion x.csv --out y.wav");
     CHECK(bad.code == 2);
     CHECK(bad.err.find("audio-touch") != std::string::npos);
+}
+
+TEST_CASE("robustness: random command lines end with a documented exit code, never a crash or a hang", "[cli][robust][fuzz]")
+{
+    // Command lines drawn from a pool of real and broken tokens (a fixed seed, so a failure
+    // repeats). Every run is bounded: play always gets a short --seconds (a later --seconds
+    // wins), and every file named is in the test's own folder or does not exist.
+    const std::string motion = cli::file("fz-motion.csv", poseRows(30));
+    const std::string garbage = cli::file("fz-garbage.bin", randomBytes(700, 99));
+    const std::string dir = cli::workDir().string();
+    const std::string imu = cli::file("fz-imu.csv", "t,gx,gy,gz,ax,ay,az\n0,0,0,0,0,9.8,0\n0.01,0,0,0,0,9.8,0\n");
+    // Valid command lines, to which random tokens are added (a later value of an option wins, so
+    // a token can also replace a good value with a bad one): tokens of the command's own options
+    // mostly, any token sometimes.
+    struct Command {
+        std::string base;
+        std::vector<std::string> own;
+    };
+    const std::vector<Command> commands {
+        {"render --scene theremin --motion " + q(motion) + " --out " + q(dir + "/fz.wav"),
+         {"--motion " + q(garbage), "--motion /nonexistent/m.csv", "--motion " + q(imu), "--motion " + q(dir), "--out /nonexistent/d/x.wav",
+          "--tactile " + q(dir + "/fz.csv"), "--tactile " + q(dir), "--scene score --score " + q(garbage), "--scene score --score x.score",
+          "--scene score --score nameless", "--scene braille --text @" + q(garbage), "--scene audio-touch --audio-in " + q(garbage),
+          "--scene audio-touch --audio-in /nonexistent/a.wav", "--scene cymbal --audio " + q(garbage), "--param theremin.range=12",
+          "--param x", "--tail 0.2", "--float", "--back-motors", "--arm left", "--sample-rate 22050", "--seed 9"}},
+        {"play --scene monitor --simulate --no-audio",
+         {"--motion " + q(garbage), "--motion /nonexistent/m.csv", "--calibration " + q(garbage), "--calibration /nonexistent/c.json",
+          "--tactile " + q(dir + "/fz-p.csv"), "--log /nonexistent/d/l.csv", "--scene theremin", "--unpaced", "--param x=1"}},
+        {"fuse --in " + q(imu) + " --out " + q(dir + "/fz-q.csv"),
+         {"--in " + q(garbage), "--in /nonexistent/i.csv", "--in " + q(motion), "--out /nonexistent/d/q.csv", "--features", "--no-mag"}},
+        {"braille --text abc",
+         {"--grade 2", "--method whole", "--text ''", "--text '\xc3\x28'", "--out-brf " + q(dir + "/fz.brf"), "--capitals", "--table nope.ctb"}},
+        {"resources --scores", {"--export " + q(dir + "/fz-export")}},
+        {"juggle", {}},
+        {"", {}},
+    };
+    const std::vector<std::string> tokens {"--help", "--bogus", "=", "--", "-x", "'\xff\xfe'", "--text=", "--seconds=1e400", "--scene kazoo",
+                                           "--seed -3", "--sample-rate 1", "--arm", "--osc-in abc", "--port /nonexistent/tty", "--loop"};
+    std::mt19937 rng(2024);
+    int seen[5] = {0, 0, 0, 0, 0};
+    for (int k = 0; k < 150; ++k) {
+        const Command& c = commands[rng() % commands.size()];
+        std::string args = c.base;
+        const int n = static_cast<int>(rng() % 3);
+        for (int i = 0; i < n; ++i)
+            args += " " + (!c.own.empty() && rng() % 4 != 0 ? c.own[rng() % c.own.size()] : tokens[rng() % tokens.size()]);
+        if (args.rfind("play", 0) == 0) args += " --seconds 0.3 --data-timeout 0.2";
+        INFO("armadillo " << args);
+        const Run r = cli::runArmadilloWithin(kBound, args);
+        INFO("stderr: " << r.err);
+        REQUIRE(r.code >= 0);   // not killed by a signal (a crash, or the bound)
+        CHECK(r.code <= 4);
+        CHECK(r.code != 1);     // 1 = an exception no documented code covers
+        if (r.code >= 0 && r.code <= 4) ++seen[r.code];
+        if (r.code >= 2) CHECK_FALSE(r.err.empty());   // every refusal says something
+    }
+    INFO("exit codes 0..4 seen: " << seen[0] << " " << seen[1] << " " << seen[2] << " " << seen[3] << " " << seen[4]);
+    CHECK(seen[2] > 0);   // the pool reaches bad usage, bad input, I/O failure and success
+    CHECK(seen[3] > 0);
+    CHECK(seen[4] > 0);
+    CHECK(seen[0] > 0);
 }
