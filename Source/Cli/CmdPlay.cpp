@@ -123,7 +123,7 @@ std::string noDataMessage(device::LiveSession& session, const device::LiveConfig
                " bad packets, " + std::to_string(l.resyncs) + " resyncs, " + std::to_string(l.discardedBytes) +
                " bytes discarded): is the baud rate right (--baud), and is it an ARMadillo board?";
     }
-    const device::OscReceiver* osc = session.oscReceiver();
+    device::OscReceiver* osc = session.oscReceiver();
     const device::OscInputStats o = osc ? osc->stats() : device::OscInputStats {};
     const bool serial = osc && !osc->serialPath().empty();
     std::string m = "no usable sensor data on " +
