@@ -594,13 +594,14 @@ TEST_CASE("robustness: play --osc-in with no sender, or only garbage, says what 
 
 TEST_CASE("robustness: the OSC flood guard holds from the first packet", "[cli][robust][osc]")
 {
-    // 100 IMU messages every 10 ms (10 000/s, fifty times a phone's rate) from the start, for
-    // 0.6 s: before this issue the first second let all of them through.
+    // 200 IMU messages every 10 ms (20 000/s, a hundred times a phone's rate; still 4000/s should
+    // a loaded machine stretch the pause to 50 ms) from the start, for 0.6 s: before this issue
+    // the first second let all of them through.
     const int port = freeUdpPort();
     UdpSender sender(port);
     const std::string imu = oscMessage("/armadillo/imu", {0.01f, 0.0f, 0.0f, 0.0f, 9.8f, 0.0f, 20.0f, 0.0f, -40.0f});
-    sender.run(0.5, 0.6, 100, [&](int) { return imu; });
-    const Run r = cli::runArmadilloWithin(kBound, "play --scene monitor --no-audio --seconds 1.4 --osc-in " + std::to_string(port));
+    sender.run(0.8, 0.6, 200, [&](int) { return imu; });
+    const Run r = cli::runArmadilloWithin(kBound, "play --scene monitor --no-audio --seconds 2 --osc-in " + std::to_string(port));
     INFO(r.err << r.out);
     REQUIRE(r.code == 0);
     const long flood = jsonNumber(r.out, "flood"), delivered = jsonNumber(r.out, "imu");
