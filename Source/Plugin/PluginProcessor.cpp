@@ -17,16 +17,14 @@ BlockControl::Cells cellsOf(juce::AudioProcessorValueTreeState& apvts)
 } // namespace
 
 /// A main input as effects that listen have (the track the score follows, the music audio-touch
-/// turns into touch; played through to the output) — except in the VST3. The build compiles
-/// Debian's JUCE VST3 glue with the fix of its per-block copy of each input bus's channel mapping
-/// (cmake/JucePatchedAudioProcessors.cmake), but with the input declared the hosted VST3 tests
-/// crash in the plugin's message-thread timer (docs/PLUGIN.md, "Audio input": not understood yet),
-/// so the VST3 still declares none.
-juce::AudioProcessor::BusesProperties ArmadilloProcessor::busesFor(juce::AudioProcessor::WrapperType wrapper)
+/// turns into touch; played through to the output), in every format. The VST3 has it since the
+/// build compiles Debian's JUCE VST3 glue with the fix of its per-block copy of each input bus's
+/// channel mapping (cmake/JucePatchedAudioProcessors.cmake; docs/PLUGIN.md, "Audio input").
+juce::AudioProcessor::BusesProperties ArmadilloProcessor::busesFor(juce::AudioProcessor::WrapperType)
 {
-    auto buses = juce::AudioProcessor::BusesProperties().withOutput("Output", juce::AudioChannelSet::stereo(), true);
-    if (wrapper != juce::AudioProcessor::wrapperType_VST3) buses = buses.withInput("Input", juce::AudioChannelSet::stereo(), true);
-    return buses;
+    return juce::AudioProcessor::BusesProperties()
+        .withInput("Input", juce::AudioChannelSet::stereo(), true)
+        .withOutput("Output", juce::AudioChannelSet::stereo(), true);
 }
 
 ArmadilloProcessor::ArmadilloProcessor()
