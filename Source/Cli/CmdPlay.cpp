@@ -130,7 +130,7 @@ int runPlay(const Arguments& args)
                                                "cannot be opened"},
                     {"--no-audio", "", "no sound at all (no --out, no sound card)"},
                     {"--audio-in", "FILE.wav", "a recording to play out (to the sound card or --out, under the scene's sound) while\n"
-                                               "scenes that listen (score, audio-touch) follow it; its sample rate is used unless\n"
+                                               "scenes that listen (score, audio-touch, layered-keyboard) follow it; its sample rate is used unless\n"
                                                "--sample-rate is given"},
                     {"--tactile", "T.csv", "every motor packet: t,m1..m9"},
                     {"--log", "SESSION.csv", "one row per sensor packet: t, raw counts, calibrated SI values, qw,qx,qy,qz"},

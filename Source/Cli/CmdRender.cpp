@@ -6,6 +6,7 @@
 #include "Core/Wav.h"
 #include "Engine/Engine.h"
 #include "Engine/OfflineRenderer.h"
+#include "Instruments/LayeredKeyboard.h"
 #include <algorithm>
 #include <iostream>
 
@@ -26,7 +27,7 @@ int runRender(const Arguments& args)
                                {"--out", "OUT.wav", "stereo WAV, 16-bit (written whole or not at all)", true},
                                {"--tactile", "T.csv", "motor levels of every packet: t,m1..m9 (m10..m12 with --back-motors)"},
                                {"--audio-in", "FILE.wav", "the recording the listener hears, from the first motion row on: scenes that listen\n"
-                                                          "(score, audio-touch) follow it; its sample rate is used unless --sample-rate is given"},
+                                                          "(score, audio-touch, layered-keyboard) follow it; its sample rate is used unless --sample-rate is given"},
                            });
                            o.push_back({"--back-motors", "", "drive the three back motors 10..12 as well"});
                            o.push_back({"--tail", "SECONDS", "audio rendered after the last motion row (default 0)"});
@@ -52,6 +53,10 @@ int runRender(const Arguments& args)
         const CsvTable motion = CsvTable::read(cl.value("--motion"));
         const RenderResult r = renderOffline(motion, settings);
 
+        // The notes a listening scene captured (layered-keyboard), named, in capture order.
+        for (const GestureEvent& g : r.gestures)
+            if (std::string_view(g.name) == "captured-note")
+                std::cerr << "render: captured " << noteName(static_cast<int>(g.value)) << " at t = " << g.t << " s\n";
         writeWav(cl.value("--out"), r.audio, cl.has("--float"));
         if (cl.has("--tactile")) writeTactile(cl.value("--tactile"), r.tactile, engine.motorCount);
         std::cout << "{\"scene\":\"" << engine.scene << "\",\"control_updates\":" << r.controlUpdates

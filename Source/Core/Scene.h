@@ -147,7 +147,7 @@ public:
     {
         (void) in; (void) channels; (void) numSamples;
     }
-    /// True for scenes that use processInput() (score, audio-touch).
+    /// True for scenes that use processInput() (score, audio-touch, layered-keyboard).
     virtual bool listensToAudio() const { return false; }
     /// Entering the scene, or a transport jump: forget gestures in progress. Real-time, like
     /// control() (the plugin calls it on the audio thread).

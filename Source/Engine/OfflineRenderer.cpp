@@ -43,7 +43,7 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
     const AudioBuffer* input = settings.audioIn;
     if (input) {
         if (!engine.listensToAudio())
-            throw InputError("", 0, "--audio-in", "scene '" + settings.engine.scene + "' does not listen to audio (score and audio-touch do)");
+            throw InputError("", 0, "--audio-in", "scene '" + settings.engine.scene + "' does not listen to audio (score, audio-touch and layered-keyboard do)");
         if (input->channels.empty() || input->frames() == 0) throw InputError("", 0, "--audio-in", "the recording holds no audio");
         if (std::fabs(input->sampleRate - sampleRate) > 0.5)
             throw InputError("", 0, "--audio-in", "the recording's sample rate (" + std::to_string(static_cast<long>(input->sampleRate)) +

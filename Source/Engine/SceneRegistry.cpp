@@ -22,6 +22,7 @@ const Entry kScenes[] = {
     {"braille", makeBrailleScene},
     {"score", makeScoreScene},
     {"audio-touch", makeAudioTouchScene},
+    {"layered-keyboard", makeLayeredKeyboardScene},   // issue 28; new scenes go last (choice indices stay)
 };
 } // namespace
 

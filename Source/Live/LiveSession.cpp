@@ -103,7 +103,7 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
     }
     if (!config_.audioIn.empty()) {
         if (!engine_->listensToAudio())
-            throw InputError(config_.audioIn, 0, "--audio-in", "scene '" + config_.engine.scene + "' does not listen to audio (score and audio-touch do)");
+            throw InputError(config_.audioIn, 0, "--audio-in", "scene '" + config_.engine.scene + "' does not listen to audio (score, audio-touch and layered-keyboard do)");
         recording_ = readWav(config_.audioIn);   // InputError names a bad file
         if (recording_.channels.empty() || recording_.frames() == 0) throw InputError(config_.audioIn, 0, "--audio-in", "the recording holds no audio");
         if (std::fabs(recording_.sampleRate - config_.engine.sceneConfig.sampleRate) > 0.5)
