@@ -8,11 +8,13 @@
 #include "Core/AtomicFile.h"
 #include "Core/Wav.h"
 #include "Live/LiveSession.h"
+#include "Live/StageControl.h"
 #include "Device/Calibration.h"
 #include "Device/OscIo.h"
 #include "Device/Mount.h"
 #include "Engine/Engine.h"
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -140,6 +142,11 @@ int runPlay(const Arguments& args)
                                                   "prompt is printed on stderr; type the answers on stdin, one a line (left, right,\n"
                                                   "both, here, a letter or a word); right/wrong is said at once; the session ends when\n"
                                                   "every trial is answered and the log (docs/BRAILLE.md) is written to LOG.csv"},
+                    {"--control-in", "PORT", "stage commands as OSC on this UDP port (docs/STAGE.md): /armadillo/panic,\n"
+                                             "/armadillo/resume, /armadillo/cue/next, /armadillo/cue/prev, /armadillo/cue i"},
+                    {"--keys", "", "stage keys on stdin: p or Escape = panic, r = resume, n or Space = next cue,\n"
+                                   "b = previous cue, 0..9 = cue"},
+                    {"--panic-gesture", "", "the forearm hanging straight down (elevation <= -75 deg) for 2 s panics"},
                     {"--calibrate", "OUT.json", "run the guided calibration (thesis §2.4) on the device while playing; instructions on\n"
                                                 "stderr, each step finishes when it has enough data; writes OUT.json (unfinished steps keep\n"
                                                 "the starting calibration)"},
@@ -240,8 +247,33 @@ int runPlay(const Arguments& args)
                 throw IoError("--training-log: cannot write into " + dir.string());
         }
 
+        if (cl.has("--keys") && cl.has("--training-log")) throw UsageError("--keys and --training-log both read stdin: choose one");
+        engine.panicGesture = cl.has("--panic-gesture");
+        const int controlPort = cl.has("--control-in") ? static_cast<int>(cl.integer("--control-in", 0, 1, 65535)) : -1;
+
         installInterruptHandlers();
         device::LiveSession session(config);
+        // Stage commands (OSC control port, keys): panic and resume act on the engine at once
+        // (atomics, any thread); what happened is reported by the loop below.
+        std::atomic<int> lastCommand {-1};
+        const auto onCommand = [&session, &lastCommand](const live::StageCommand& c) {
+            if (c.kind == live::StageCommand::Kind::Panic) session.engine().panic();
+            else if (c.kind == live::StageCommand::Kind::Resume) session.engine().resume();
+            lastCommand.store(static_cast<int>(c.kind));
+        };
+        std::unique_ptr<live::StageControlReceiver> controlIn;
+        if (controlPort > 0) {
+            controlIn = std::make_unique<live::StageControlReceiver>(controlPort, onCommand);   // IoError (exit 4) when taken
+            controlIn->start();
+        }
+        std::unique_ptr<live::KeyReader> keys;
+        if (cl.has("--keys")) {
+            keys = std::make_unique<live::KeyReader>(STDIN_FILENO, onCommand);
+            keys->start();
+            std::cerr << "armadillo play: keys: p = panic, r = resume\n";
+        }
+        std::uint32_t shownPanics = 0;
+        bool shownPanicked = false;
         std::unique_ptr<TerminalTraining> training;
         braille::BrailleSceneControls* brailleScene = nullptr;
         if (!trainingLog.empty()) {
@@ -293,6 +325,16 @@ int runPlay(const Arguments& args)
                               static_cast<unsigned long long>(now.resyncs), static_cast<unsigned long long>(now.reconnects),
                               session.connected() ? (now.packets > 0 ? "up" : "waiting for data") : "down, reconnecting");
                 std::cerr << line << std::flush;
+            }
+            if (const std::uint32_t n = session.engine().panicCount(); n != shownPanics || session.engine().panicked() != shownPanicked) {
+                const int k = lastCommand.exchange(-1);
+                if (n != shownPanics)
+                    std::cerr << lineStart << "armadillo play: PANIC (" << (k == static_cast<int>(live::StageCommand::Kind::Panic) ? "command" : "gesture")
+                              << "): all sound and every motor off; resume with r or /armadillo/resume\n";
+                else if (!session.engine().panicked())
+                    std::cerr << lineStart << "armadillo play: resumed: scene '" << session.engine().config().scene << "' again\n";
+                shownPanics = n;
+                shownPanicked = session.engine().panicked();
             }
             if (session.engine().failed()) {   // the scene threw: its motors are off; stop and say so
                 std::cerr << "armadillo play: the scene failed and was stopped (motors off): " << session.engine().failure() << "\n";
@@ -360,6 +402,8 @@ int runPlay(const Arguments& args)
             }
         }
         if (progress) std::cerr << "\n";
+        if (keys) keys->stop();
+        if (controlIn) controlIn->stop();
         session.stop();
         const std::string trainingCsv = brailleScene ? brailleScene->trainingLogCsv() : std::string();   // control has stopped
         session.finish();   // the session's own files first: a failing training log must not lose them
@@ -384,7 +428,10 @@ int runPlay(const Arguments& args)
             device::Calibration result = calibration->result();
             device::saveCalibration(calibrateOut, result);
         }
-        std::cout << device::summaryJson(session.summary()) << "\n" << std::flush;
+        std::string summary = device::summaryJson(session.summary());
+        if (const std::uint32_t panics = session.engine().panicCount(); panics > 0)   // only after a panic (docs/STAGE.md)
+            summary.insert(summary.size() - 1, ",\"panics\":" + std::to_string(panics));
+        std::cout << summary << "\n" << std::flush;
         return session.engine().failed() ? int(kExitFailure) : int(kExitOk);
     });
 }

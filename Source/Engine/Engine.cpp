@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 
 namespace armadillo {
@@ -80,9 +81,33 @@ MotorLevels Engine::control(const ArmState& arm, const Transport& transport, dou
     if (!(dt >= 0.0)) dt = 0.0;
     dt = std::min(dt, 0.1);
     time_ = arm.t;
+    if (config_.panicGesture && arm.valid) {   // the forearm hanging straight down, held
+        if (arm.features.pose.elevationDeg <= kPanicGestureElevation) {
+            // (After a panic the arm must rise again before hanging counts anew: a resume while
+            // it still hangs does not panic again.)
+            if (hangingSince_ < 0.0) hangingSince_ = arm.t;
+            else if (std::isfinite(hangingSince_) && arm.t - hangingSince_ >= kPanicGestureSeconds) {
+                panic();
+                hangingSince_ = std::numeric_limits<double>::infinity();
+            }
+        } else {
+            hangingSince_ = -1.0;
+        }
+    }
+    if (panic_.load(std::memory_order_acquire)) {
+        // Every motor off through the tactile engine's all-off path; the safety stage keeps
+        // accounting the time (its heat history stays true for the resume).
+        controlPanicked_ = true;
+        tactile_->allOff();
+        return tactile_->tick(dt, std::isfinite(motorOnTime) ? motorOnTime : -1.0);
+    }
     ControlInput in {arm, transport, dt};
     SceneOutput out {*tactile_, *events_};
     try {
+        if (controlPanicked_) {   // back from a panic: the scene starts afresh
+            controlPanicked_ = false;
+            scene_->reset();
+        }
         scene_->control(in, out);
     } catch (const std::exception& e) {
         fail(e.what());
@@ -116,7 +141,25 @@ void Engine::renderAudio(float* left, float* right, int numSamples) noexcept
         left[i] = std::isfinite(left[i]) ? std::clamp(left[i], -1.0f, 1.0f) : 0.0f;
         right[i] = std::isfinite(right[i]) ? std::clamp(right[i], -1.0f, 1.0f) : 0.0f;
     }
+    // Panic: a 1 ms fade to silence (no click), then zeros; resume fades back in over 20 ms.
+    const bool silent = panic_.load(std::memory_order_acquire);
+    if (!silent && audioGain_ >= 1.0) return;
+    const double fs = config_.sceneConfig.sampleRate > 0.0 ? config_.sceneConfig.sampleRate : 48000.0;
+    const double step = silent ? -1.0 / std::max(1.0, kPanicFadeSeconds * fs) : 1.0 / std::max(1.0, kResumeFadeSeconds * fs);
+    for (int i = 0; i < numSamples; ++i) {
+        audioGain_ = std::clamp(audioGain_ + step, 0.0, 1.0);
+        const auto g = static_cast<float>(audioGain_);
+        left[i] *= g;
+        right[i] *= g;
+    }
 }
+
+void Engine::panic() noexcept
+{
+    if (!panic_.exchange(true, std::memory_order_acq_rel)) panicCount_.fetch_add(1, std::memory_order_relaxed);
+}
+
+void Engine::resume() noexcept { panic_.store(false, std::memory_order_release); }
 
 void Engine::processInput(const float* const* in, int channels, int numSamples) noexcept
 {

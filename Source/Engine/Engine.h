@@ -28,6 +28,9 @@ struct EngineConfig {
     SceneConfig sceneConfig {};
     int motorCount = kGridMotors;   ///< 9, or 12 with the back motors
     std::vector<std::string> parameters;   ///< "id=value" scene settings applied after prepare()
+    /// The panic gesture (docs/STAGE.md): the forearm hanging straight down (elevation ≤ −75°)
+    /// for 2 s panics the engine. Off by default (`play --panic-gesture` turns it on).
+    bool panicGesture = false;
 };
 
 /// A gesture a scene emitted (for OSC /armadillo/gesture and MIDI). `name` is a string literal.
@@ -65,6 +68,24 @@ public:
     /// Stop, disconnect or error: every motor off now; patterns and targets forgotten.
     void allOff() noexcept;
 
+    /// Panic (docs/STAGE.md): any thread, real-time, idempotent. From the next control()
+    /// every motor is off through the tactile engine's all-off path (and stays off, the safety
+    /// stage still accounting the time), the scene no longer runs; the next renderAudio() block
+    /// fades to silence within kPanicFadeSeconds and stays silent (the scene keeps rendering
+    /// underneath, so its timeline does not jump). Latches until resume().
+    void panic() noexcept;
+    /// Back to the current scene after a panic: any thread, real-time. The next control() resets
+    /// the scene (Scene::reset: gestures in progress forgotten) and runs it; audio fades back in
+    /// over kResumeFadeSeconds.
+    void resume() noexcept;
+    bool panicked() const noexcept { return panic_.load(std::memory_order_acquire); }
+    /// Panics so far (each panic() while not panicked, and each panic gesture, counts once).
+    std::uint32_t panicCount() const noexcept { return panicCount_.load(std::memory_order_relaxed); }
+    static constexpr double kPanicFadeSeconds = 0.001;
+    static constexpr double kResumeFadeSeconds = 0.020;
+    static constexpr double kPanicGestureElevation = -75.0;   ///< deg
+    static constexpr double kPanicGestureSeconds = 2.0;
+
     /// Sets one of the scene's own parameters by its stable id (ParamSpec::id). `value` is a
     /// number in the parameter's unit, or one of its choice names. Throws InputError naming the
     /// id and the allowed values when either is unknown or out of range. Not real-time.
@@ -93,6 +114,11 @@ private:
     double time_ = 0.0;
     std::array<char, 256> failure_ {};   // written once, before failed_ is set
     std::atomic<bool> failed_ {false};
+    std::atomic<bool> panic_ {false};
+    std::atomic<std::uint32_t> panicCount_ {0};
+    bool controlPanicked_ = false;       // control thread: the state of the previous control()
+    double hangingSince_ = -1.0;         // control thread: when the arm started hanging (panic gesture)
+    double audioGain_ = 1.0;             // audio thread: the panic/resume fade
 };
 
 } // namespace armadillo
