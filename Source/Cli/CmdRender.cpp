@@ -7,6 +7,8 @@
 #include "Engine/Engine.h"
 #include "Engine/OfflineRenderer.h"
 #include "Instruments/LayeredKeyboard.h"
+#include "Live/SetList.h"
+#include <stdexcept>
 #include <algorithm>
 #include <iostream>
 
@@ -22,7 +24,10 @@ int runRender(const Arguments& args)
                        "per row; the result is the same for the same inputs and --seed.",
                        [] {
                            auto o = sceneOptionSpecs();
+                           o.front().required = false;   // --scene or --setlist
                            o.insert(o.begin() + 1, {
+                               {"--setlist", "FILE", "a set list (docs/STAGE.md) instead of --scene: starts at cue 0"},
+                               {"--cue-at", "T:INDEX", "with --setlist: go to cue INDEX at T s (repeatable), cross-faded"},
                                {"--motion", "FILE", "motion CSV (IMU, quaternion or pose)", true},
                                {"--out", "OUT.wav", "stereo WAV, 16-bit (written whole or not at all)", true},
                                {"--tactile", "T.csv", "motor levels of every packet: t,m1..m9 (m10..m12 with --back-motors)"},
@@ -38,7 +43,21 @@ int runRender(const Arguments& args)
 
         RenderSettings settings;
         EngineConfig& engine = settings.engine;
-        readSceneOptions(cl, engine);
+        const bool setlist = cl.has("--setlist");
+        if (setlist == cl.has("--scene")) throw UsageError("give --scene SCENE or --setlist FILE (one of them)");
+        if (cl.has("--cue-at") && !setlist) throw UsageError("--cue-at applies to --setlist");
+        if (setlist) {
+            for (const char* o : {"--param", "--score", "--text", "--audio"})
+                if (cl.has(o)) throw UsageError(std::string(o) + " goes into the set list's cues, not on the command line");
+            engine.scene = "monitor";   // (each cue names its own)
+            engine.sceneConfig.sampleRate = static_cast<double>(cl.integer("--sample-rate", 48000, 8000, 384000));
+            engine.sceneConfig.seed = static_cast<std::uint64_t>(cl.integer("--seed", 1, 0, 1L << 62));
+            const std::string arm = cl.value("--arm", "right");
+            if (arm != "right" && arm != "left") throw UsageError("--arm must be right or left");
+            engine.sceneConfig.side = arm == "left" ? ArmSide::Left : ArmSide::Right;
+        } else {
+            readSceneOptions(cl, engine);
+        }
         engine.motorCount = cl.has("--back-motors") ? kGridMotors + kBackMotors : kGridMotors;
         settings.tailSeconds = cl.number("--tail", 0.0);
         if (settings.tailSeconds < 0.0 || settings.tailSeconds > 600.0) throw UsageError("--tail must lie in 0..600 s");
@@ -51,7 +70,23 @@ int runRender(const Arguments& args)
             settings.audioIn = &recording;
         }
         const CsvTable motion = CsvTable::read(cl.value("--motion"));
-        const RenderResult r = renderOffline(motion, settings);
+        RenderResult r;
+        if (setlist) {
+            const live::SetList list = live::loadSetList(cl.value("--setlist"));   // InputError names file, line, key
+            std::vector<live::CueChange> changes;
+            for (const std::string& c : cl.values("--cue-at")) {
+                try {
+                    changes.push_back(live::parseCueChange(c));
+                } catch (const std::invalid_argument& e) {
+                    throw UsageError(std::string("--cue-at: ") + e.what());
+                }
+            }
+            if (settings.audioIn) throw UsageError("--audio-in with --setlist is not supported yet");
+            r = live::renderSetList(motion, list, settings, changes);
+            engine.scene = "setlist";
+        } else {
+            r = renderOffline(motion, settings);
+        }
 
         // The notes a listening scene captured (layered-keyboard), named, in capture order.
         for (const GestureEvent& g : r.gestures)
