@@ -108,7 +108,10 @@ int runPlay(const Arguments& args)
             "an error (exit 4).",
             [] {
                 auto o = sceneOptionSpecs();
+                o.front().required = false;   // --scene or --setlist
                 const std::vector<OptionSpec> own {
+                    {"--setlist", "FILE", "a set list (docs/STAGE.md) instead of --scene: starts at cue 0; steps with --keys\n"
+                                          "(n, b, 0..9) and --control-in (/armadillo/cue/next, /armadillo/cue/prev, /armadillo/cue i)"},
                     {"--port", "NAME", "serial port of the device (see `armadillo ports`; ptys and /dev/rfcomm* work too)"},
                     {"--simulate", "", "the built-in simulated forearm (in-process, paced like a 57 600-baud link)"},
                     {"--motion", "FILE", "with --simulate: pose or quaternion CSV to act out (looped); default a wandering arm"},
@@ -194,7 +197,21 @@ int runPlay(const Arguments& args)
         }
 
         EngineConfig& engine = config.engine;
-        readSceneOptions(cl, engine);
+        if (cl.has("--setlist") == cl.has("--scene")) throw UsageError("give --scene SCENE or --setlist FILE (one of them)");
+        if (cl.has("--setlist")) {
+            for (const char* o : {"--param", "--score", "--text", "--audio", "--training-log"})
+                if (cl.has(o)) throw UsageError(std::string(o) + " goes into the set list's cues, not on the command line");
+            config.setList = cl.value("--setlist");
+            if (config.setList.empty()) throw UsageError("--setlist needs a file");
+            engine.scene = "monitor";
+            engine.sceneConfig.sampleRate = static_cast<double>(cl.integer("--sample-rate", 48000, 8000, 384000));
+            engine.sceneConfig.seed = static_cast<std::uint64_t>(cl.integer("--seed", 1, 0, 1L << 62));
+            const std::string arm = cl.value("--arm", "right");
+            if (arm != "right" && arm != "left") throw UsageError("--arm must be right or left");
+            engine.sceneConfig.side = arm == "left" ? ArmSide::Left : ArmSide::Right;
+        } else {
+            readSceneOptions(cl, engine);
+        }
 
         const double seconds = cl.number("--seconds", -1.0);
         if (cl.has("--seconds") && !(seconds > 0.0 && seconds <= 7 * 24 * 3600.0))
@@ -256,11 +273,27 @@ int runPlay(const Arguments& args)
         // Stage commands (OSC control port, keys): panic and resume act on the engine at once
         // (atomics, any thread); what happened is reported by the loop below.
         std::atomic<int> lastCommand {-1};
-        const auto onCommand = [&session, &lastCommand](const live::StageCommand& c) {
-            if (c.kind == live::StageCommand::Kind::Panic) session.engine().panic();
-            else if (c.kind == live::StageCommand::Kind::Resume) session.engine().resume();
+        live::CuePlayer* cues = session.cuePlayer();
+        const auto onCommand = [&session, &lastCommand, cues](const live::StageCommand& c) {
+            using K = live::StageCommand::Kind;
+            if (c.kind == K::Panic) cues ? cues->panic() : session.engine().panic();
+            else if (c.kind == K::Resume) cues ? cues->resume() : session.engine().resume();
+            else if (cues && c.kind == K::CueNext) cues->next();
+            else if (cues && c.kind == K::CuePrev) cues->previous();
+            else if (cues && c.kind == K::CueGoto) cues->request(c.cue);   // clamped to the list
             lastCommand.store(static_cast<int>(c.kind));
         };
+        // Panics of every cue (a set list) or of the one engine; a panic gesture in one cue
+        // panics them all (a cue change must not bring the sound back).
+        const auto panicTotal = [&session, cues] {
+            if (!cues) return session.engine().panicCount();
+            std::uint32_t n = 0;
+            for (int c = 0; c < cues->cueCount(); ++c) n = std::max(n, cues->engine(c).panicCount());
+            return n;
+        };
+        int shownCue = cues ? cues->current() : -1;
+        if (cues)
+            std::cerr << "armadillo play: set list of " << cues->cueCount() << " cues; cue 0 '" << cues->cue(0).name << "' (" << cues->cue(0).scene << ")\n";
         std::unique_ptr<live::StageControlReceiver> controlIn;
         if (controlPort > 0) {
             controlIn = std::make_unique<live::StageControlReceiver>(controlPort, onCommand);   // IoError (exit 4) when taken
@@ -270,7 +303,7 @@ int runPlay(const Arguments& args)
         if (cl.has("--keys")) {
             keys = std::make_unique<live::KeyReader>(STDIN_FILENO, onCommand);
             keys->start();
-            std::cerr << "armadillo play: keys: p = panic, r = resume\n";
+            std::cerr << "armadillo play: keys: p = panic, r = resume" << (cues ? ", n = next cue, b = previous cue, 0..9 = cue" : "") << "\n";
         }
         std::uint32_t shownPanics = 0;
         bool shownPanicked = false;
@@ -326,7 +359,17 @@ int runPlay(const Arguments& args)
                               session.connected() ? (now.packets > 0 ? "up" : "waiting for data") : "down, reconnecting");
                 std::cerr << line << std::flush;
             }
-            if (const std::uint32_t n = session.engine().panicCount(); n != shownPanics || session.engine().panicked() != shownPanicked) {
+            if (cues && session.engine().panicked()) {   // (a gesture panics the current cue only: spread it)
+                bool all = true;
+                for (int c = 0; c < cues->cueCount(); ++c) all = all && cues->engine(c).panicked();
+                if (!all) cues->panic();
+            }
+            if (cues && cues->current() != shownCue) {
+                shownCue = cues->current();
+                const live::Cue& q = cues->cue(shownCue);
+                std::cerr << lineStart << "armadillo play: cue " << shownCue << " '" << q.name << "' (" << q.scene << ")\n";
+            }
+            if (const std::uint32_t n = panicTotal(); n != shownPanics || session.engine().panicked() != shownPanicked) {
                 const int k = lastCommand.exchange(-1);
                 if (n != shownPanics)
                     std::cerr << lineStart << "armadillo play: PANIC (" << (k == static_cast<int>(live::StageCommand::Kind::Panic) ? "command" : "gesture")
@@ -429,8 +472,9 @@ int runPlay(const Arguments& args)
             device::saveCalibration(calibrateOut, result);
         }
         std::string summary = device::summaryJson(session.summary());
-        if (const std::uint32_t panics = session.engine().panicCount(); panics > 0)   // only after a panic (docs/STAGE.md)
+        if (const std::uint32_t panics = panicTotal(); panics > 0)   // only after a panic (docs/STAGE.md)
             summary.insert(summary.size() - 1, ",\"panics\":" + std::to_string(panics));
+        if (cues) summary.insert(summary.size() - 1, ",\"cue\":" + std::to_string(cues->current()) + ",\"cue_changes\":" + std::to_string(cues->changes()));
         std::cout << summary << "\n" << std::flush;
         return session.engine().failed() ? int(kExitFailure) : int(kExitOk);
     });

@@ -51,6 +51,11 @@ const std::vector<std::string>& sessionLogHeader()
 
 LiveSession::LiveSession(const LiveConfig& config) : config_(config)
 {
+    if (!config_.setList.empty()) {   // every cue prepared now; the loop's own engine only tracks the arm
+        cues_ = std::make_unique<live::CuePlayer>(live::loadSetList(config_.setList), config_.engine.sceneConfig, config_.engine.motorCount);
+        config_.engine.scene = "monitor";
+        config_.engine.parameters.clear();
+    }
     {
         auto slot = std::make_unique<live::EngineSlot>();
         slot->engine = std::make_unique<Engine>(config_.engine);   // InputError for an unknown scene
@@ -102,7 +107,7 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
         tactile_ = std::make_unique<StreamingCsvWriter>(config_.tactileOut, h);
     }
     if (!config_.audioIn.empty()) {
-        if (!engine_->listensToAudio())
+        if (!cues_ && !engine_->listensToAudio())
             throw InputError(config_.audioIn, 0, "--audio-in", "scene '" + config_.engine.scene + "' does not listen to audio (score, audio-touch and layered-keyboard do)");
         recording_ = readWav(config_.audioIn);   // InputError names a bad file
         if (recording_.channels.empty() || recording_.frames() == 0) throw InputError(config_.audioIn, 0, "--audio-in", "the recording holds no audio");
@@ -141,7 +146,10 @@ MotorLevels LiveSession::control(double t, const SensorCounts* counts, const Imu
     }
     double dt = lastT_ < 0.0 ? 0.0 : t - lastT_;
     // A source that went quiet (unplug, stall): forget patterns rather than resume mid-gesture.
-    if (dt > 0.25) engine_->allOff();
+    if (dt > 0.25) {
+        engine_->allOff();
+        if (cues_) engine().allOff();
+    }
     if (!link_ && dt > 0.0 && sourceGaps_.step(dt)) {
         oscGaps_.store(sourceGaps_.count(), std::memory_order_relaxed);
         oscLongestGap_.store(sourceGaps_.longest(), std::memory_order_relaxed);
@@ -174,7 +182,9 @@ MotorLevels LiveSession::control(double t, const SensorCounts* counts, const Imu
     step.dt = dt;
     const live::ControlResult result = loop_.tick(step);
     const ArmState& arm = result.arm;
-    const MotorLevels levels = result.levels;
+    // With a set list the loop tracked the arm (its monitor engine keeps the motors off) and the
+    // current cue plays it.
+    const MotorLevels levels = cues_ ? (arm.valid ? cues_->control(arm, step.transport, dt) : MotorLevels {}) : result.levels;
     updates_.fetch_add(1, std::memory_order_relaxed);
     pose_.store(arm.features.pose);
     levels_.store(levels);
@@ -216,13 +226,17 @@ MotorLevels LiveSession::control(double t, const SensorCounts* counts, const Imu
         oscOut_->sendMotors(levels, config_.engine.motorCount);
     }
     GestureEvent ev;
-    while (engine_->popGesture(ev))
+    while (engine().popGesture(ev))
         if (oscOut_) oscOut_->sendGesture(ev.name);
     return levels;
 }
 
 void LiveSession::renderBlock(float* left, float* right, int n) noexcept
 {
+    if (cues_ && recording_.channels.empty()) {
+        cues_->renderAudio(left, right, n);
+        return;
+    }
     if (recording_.channels.empty()) {
         engine_->renderAudio(left, right, n);
         return;
@@ -236,7 +250,8 @@ void LiveSession::renderBlock(float* left, float* right, int n) noexcept
     const float* second = recording_.channels[static_cast<std::size_t>(channels - 1)].data();
     if (recordingAt_ == 0) {   // the recording itself: followed from its first sample
         const float* in[2] = {first, second};
-        engine_->processInput(in, channels, 0);
+        if (cues_) cues_->processInput(in, channels, 0);
+        else engine_->processInput(in, channels, 0);
     }
     for (int done = 0; done < n;) {
         const std::uint64_t at = recordingAt_ + static_cast<std::uint64_t>(done);
@@ -244,10 +259,12 @@ void LiveSession::renderBlock(float* left, float* right, int n) noexcept
         const int len = inside ? static_cast<int>(std::min<std::uint64_t>(static_cast<std::uint64_t>(n - done), frames - at))
                                : std::min(n - done, static_cast<int>(recordingSilence_.size()));
         const float* in[2] = {inside ? first + at : recordingSilence_.data(), inside ? second + at : recordingSilence_.data()};
-        engine_->processInput(in, channels, len);
+        if (cues_) cues_->processInput(in, channels, len);
+        else engine_->processInput(in, channels, len);
         done += len;
     }
-    engine_->renderAudio(left, right, n);
+    if (cues_) cues_->renderAudio(left, right, n);
+    else engine_->renderAudio(left, right, n);
     for (int i = 0; i < n && recordingAt_ + static_cast<std::uint64_t>(i) < frames; ++i) {
         const std::uint64_t at = recordingAt_ + static_cast<std::uint64_t>(i);
         left[i] = std::clamp(left[i] + first[at], -1.0f, 1.0f);
@@ -309,6 +326,8 @@ void LiveSession::stop()
     if (oscIn_) oscIn_->stop();
     if (simulator_) simulator_->stop();
     engine_->allOff();
+    if (cues_)
+        for (int c = 0; c < cues_->cueCount(); ++c) cues_->engine(c).allOff();
     if (oscOut_) oscOut_->sendMotors(MotorLevels {}, config_.engine.motorCount);
     running_.store(false, std::memory_order_release);
     if (audioThread_.joinable()) audioThread_.join();

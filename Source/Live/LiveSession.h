@@ -21,6 +21,7 @@
 #include "Core/Wav.h"
 #include "Engine/Engine.h"
 #include "Live/ControlLoop.h"
+#include "Live/SetList.h"
 #include <atomic>
 #include <memory>
 #include <string>
@@ -63,6 +64,10 @@ struct LiveConfig {
     std::string logOut;               ///< session log CSV, one row per sensor packet
     std::string oscOut;               ///< HOST:PORT; empty = none
     DeviceLinkOptions link {};
+    /// A set list (docs/STAGE.md; `play --setlist`): its cues replace `engine.scene`, which then
+    /// only tracks the arm (monitor); sample rate, seed, arm side and motor count come from
+    /// `engine`. Empty = none.
+    std::string setList;
 };
 
 struct SessionSummary {
@@ -100,7 +105,10 @@ public:
     void finish();
 
     SessionSummary summary() const;
-    Engine& engine() noexcept { return *engine_; }
+    /// The engine that runs: the set list's current cue's, or the one scene's.
+    Engine& engine() noexcept { return cues_ ? cues_->engine(cues_->current()) : *engine_; }
+    /// The set list's player (null without --setlist): request/next/previous from any thread.
+    live::CuePlayer* cuePlayer() noexcept { return cues_.get(); }
     /// IMU samples the control step dropped (more than ControlLoop::kMaxImuPerStep waiting).
     std::uint64_t droppedImu() const noexcept { return loop_.droppedImu(); }
     /// Latest pose and motor levels (any thread, lock-free).
@@ -133,6 +141,7 @@ private:
     live::ControlLoop loop_;            // the control step: mailbox → fusion → Engine::control (owns the engine)
     live::SourceKind sourceKind_ = live::SourceKind::Device;
     Engine* engine_ = nullptr;          // the loop's engine; no other is ever offered
+    std::unique_ptr<live::CuePlayer> cues_;   // with a set list: what plays (the loop's engine only tracks)
     std::unique_ptr<SimulatedForearm> simulator_;
     std::unique_ptr<DeviceLink> link_;
     std::unique_ptr<OscReceiver> oscIn_;

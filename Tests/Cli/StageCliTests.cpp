@@ -1,6 +1,7 @@
 // `armadillo render --setlist` as a user runs it: the cue changes heard in the WAV, and every
 // mistake refused with its exit code (2 usage, 3 bad input) and a message naming the problem.
 #include "CliRun.h"
+#include "Core/AtomicFile.h"
 #include "Core/Wav.h"
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -54,4 +55,46 @@ TEST_CASE("cli: render --setlist steps cues at --cue-at times; mistakes are refu
     CHECK(bad.err.find("broken.json:2") != std::string::npos);
     CHECK(bad.err.find("kazoo") != std::string::npos);
     CHECK(runArmadillo(base + "--setlist '" + path("missing.json") + "'").code == 4);
+}
+
+TEST_CASE("cli: play --setlist steps cues by keys and panics them all; mistakes refused", "[cli][setlist][panic]")
+{
+    const std::string show = file("play-show.json", R"({"armadillo_setlist": 1, "cues": [
+        {"name": "one", "scene": "theremin"}, {"name": "two", "scene": "sound-design"},
+        {"name": "three", "scene": "theremin", "parameters": {"theremin.base": 330}}, {"name": "four", "scene": "panel"}]})");
+    // Keys typed 0.3 s apart (the pacing only keeps two keys out of one control step; nothing
+    // here is timed): next, next, next, back, 3 — four cues visited, ending on cue 3.
+    const std::string keys = path("play-keys.sh");
+    writeFileAtomically(keys, "for k in n n n b 3; do sleep 0.3; printf $k; done; sleep 0.5\n");
+    const std::string cmd = std::string("sh '") + keys + "' | '" + ARMADILLO_BIN + "' play --setlist '" + show +
+                            "' --simulate --keys --seconds 2.6 --out '" + path("play-sl.wav") + "' >'" + path("sl-out.txt") + "' 2>'" +
+                            path("sl-err.txt") + "'";
+    REQUIRE(std::system(cmd.c_str()) == 0);
+    const std::string out = readWholeFile(path("sl-out.txt")), err = readWholeFile(path("sl-err.txt"));
+    INFO(err);
+    CHECK(out.find("\"cue\":3,\"cue_changes\":5") != std::string::npos);
+    for (const char* line : {"cue 1 'two'", "cue 2 'three'", "cue 3 'four'"}) CHECK(err.find(line) != std::string::npos);
+    const AudioBuffer a = readWav(path("play-sl.wav"));
+    double peak = 0.0;
+    for (float v : a.channels[0]) peak = std::max(peak, std::fabs(static_cast<double>(v)));
+    CHECK(peak > 0.05);
+    // Panic with a set list: every cue silent, and a cue change does not bring the sound back.
+    writeFileAtomically(keys, "printf p; sleep 0.3; printf n; sleep 0.5\n");
+    const std::string cmd2 = std::string("sh '") + keys + "' | '" + ARMADILLO_BIN + "' play --setlist '" + show +
+                             "' --simulate --keys --seconds 1.2 --out '" + path("play-panic.wav") + "' >'" + path("sl-out.txt") + "' 2>'" +
+                             path("sl-err.txt") + "'";
+    REQUIRE(std::system(cmd2.c_str()) == 0);
+    CHECK(readWholeFile(path("sl-out.txt")).find("\"panics\":1") != std::string::npos);
+    const AudioBuffer p = readWav(path("play-panic.wav"));
+    double late = 0.0;   // after the first 0.3 s (the key arrives at once; 0.3 s is generous)
+    for (std::size_t i = static_cast<std::size_t>(0.3 * 48000); i < p.frames(); ++i) late = std::max(late, std::fabs(static_cast<double>(p.channels[0][i])));
+    CHECK(late == 0.0);
+
+    CHECK(runArmadillo("play --simulate --seconds 1 --no-audio").code == 2);   // neither --scene nor --setlist
+    CHECK(runArmadillo("play --setlist '" + show + "' --scene theremin --simulate --seconds 1 --no-audio").code == 2);
+    CHECK(runArmadillo("play --setlist '" + path("nope.json") + "' --simulate --seconds 1 --no-audio").code == 4);
+    const std::string broken = file("play-broken.json", "{\"armadillo_setlist\": 1, \"cues\": [{\"scene\": \"theremin\", \"parameters\": {\"theremin.range\": 999}}]}");
+    const Run bad = runArmadillo("play --setlist '" + broken + "' --simulate --seconds 1 --no-audio");
+    CHECK(bad.code == 3);
+    CHECK(bad.err.find("play-broken.json:1") != std::string::npos);
 }
