@@ -8,6 +8,7 @@
 #include "Engine/OfflineRenderer.h"
 #include "Instruments/LayeredKeyboard.h"
 #include "Live/SetList.h"
+#include "Core/AtomicFile.h"
 #include <stdexcept>
 #include <algorithm>
 #include <iostream>
@@ -28,6 +29,10 @@ int runRender(const Arguments& args)
                            o.insert(o.begin() + 1, {
                                {"--setlist", "FILE", "a set list (docs/STAGE.md) instead of --scene: starts at cue 0"},
                                {"--cue-at", "T:INDEX", "with --setlist: go to cue INDEX at T s (repeatable), cross-faded"},
+                               {"--motion-left", "FILE", "two arms: the left arm's motion CSV (same clock as --motion); scenes see both\n"
+                                                         "(theremin-duo is made for two); the left arm's motors are mirrored"},
+                               {"--tactile-left", "T.csv", "with --motion-left: the left arm's motor packets"},
+                               {"--arms-log", "A.csv", "with --motion-left: t,qw,qx,qy,qz,left_qw,left_qx,left_qy,left_qz per control update"},
                                {"--motion", "FILE", "motion CSV (IMU, quaternion or pose)", true},
                                {"--out", "OUT.wav", "stereo WAV, 16-bit (written whole or not at all)", true},
                                {"--tactile", "T.csv", "motor levels of every packet: t,m1..m9 (m10..m12 with --back-motors)"},
@@ -70,6 +75,15 @@ int runRender(const Arguments& args)
             settings.audioIn = &recording;
         }
         const CsvTable motion = CsvTable::read(cl.value("--motion"));
+        for (const char* o : {"--tactile-left", "--arms-log"})
+            if (cl.has(o) && !cl.has("--motion-left")) throw UsageError(std::string(o) + " applies to --motion-left");
+        CsvTable leftMotion;
+        if (cl.has("--motion-left")) {
+            if (setlist) throw UsageError("--motion-left with --setlist is not supported yet");
+            leftMotion = CsvTable::read(cl.value("--motion-left"));
+            settings.leftMotion = &leftMotion;
+            engine.twoArms = true;
+        }
         RenderResult r;
         if (setlist) {
             const live::SetList list = live::loadSetList(cl.value("--setlist"));   // InputError names file, line, key
@@ -94,6 +108,20 @@ int runRender(const Arguments& args)
                 std::cerr << "render: captured " << noteName(static_cast<int>(g.value)) << " at t = " << g.t << " s\n";
         writeWav(cl.value("--out"), r.audio, cl.has("--float"));
         if (cl.has("--tactile")) writeTactile(cl.value("--tactile"), r.tactile, engine.motorCount);
+        if (cl.has("--tactile-left")) writeTactile(cl.value("--tactile-left"), r.leftTactile, engine.motorCount);
+        if (cl.has("--arms-log")) {
+            std::string text = "t,qw,qx,qy,qz,left_qw,left_qx,left_qy,left_qz\n";
+            for (std::size_t i = 0; i < r.rightOrientation.size(); ++i) {
+                const auto& a = r.rightOrientation[i].q;
+                const auto& b = r.leftOrientation[i].q;
+                for (const double v : {r.rightOrientation[i].t, a.w(), a.x(), a.y(), a.z(), b.w(), b.x(), b.y(), b.z()}) {
+                    appendNumber(text, v, 9);
+                    text += ',';
+                }
+                text.back() = '\n';
+            }
+            writeFileAtomically(cl.value("--arms-log"), text);
+        }
         std::cout << "{\"scene\":\"" << engine.scene << "\",\"control_updates\":" << r.controlUpdates
                   << ",\"frames\":" << r.audio.frames() << ",\"seconds\":" << r.audio.frames() / r.audio.sampleRate
                   << ",\"gestures\":" << r.gestures.size() << ",\"rows_without_orientation\":" << r.invalidRows << "}\n";

@@ -81,14 +81,19 @@ public:
 };
 
 struct ControlInput {
-    ArmState arm {};
+    ArmState arm {};             ///< the arm (with two arms: the right one)
     Transport transport {};
     double dt = 0.005;           ///< s since the previous control update
+    /// Two arms (docs/STAGE.md): the left arm's state; invalid (valid = false) when only one arm
+    /// is worn. Every scene must keep working with one arm.
+    ArmState leftArm {};
 };
 
 struct SceneOutput {
-    MotorCanvas& motors;
+    MotorCanvas& motors;                 ///< the arm's motors (with two arms: the right arm's)
     EventSink& events;
+    /// Two arms: the left arm's motors (its own tactile engine and safety stage); null with one.
+    MotorCanvas* leftMotors = nullptr;
 };
 
 struct SceneConfig {

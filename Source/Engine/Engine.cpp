@@ -33,6 +33,12 @@ Engine::Engine(const EngineConfig& config, std::unique_ptr<Scene> scene) : confi
     tactileConfig.motorCount = config_.motorCount;
     tactileConfig.side = config_.sceneConfig.side;
     tactile_->prepare(tactileConfig);
+    if (config_.twoArms) {   // the left arm: its own shaping and safety stage, mirrored columns
+        leftTactile_ = std::make_unique<TactileEngine>();
+        TactileConfig left = tactileConfig;
+        left.side = ArmSide::Left;
+        leftTactile_->prepare(left);
+    }
     events_ = std::make_unique<Events>(gestures_, time_);
     setSceneParameters(config_.parameters);
 }
@@ -76,6 +82,17 @@ Engine::~Engine() = default;
 
 MotorLevels Engine::control(const ArmState& arm, const Transport& transport, double dt, double motorOnTime) noexcept
 {
+    return run(arm, nullptr, transport, dt, motorOnTime);
+}
+
+MotorLevels Engine::control(const ArmState& arm, const ArmState& leftArm, const Transport& transport, double dt) noexcept
+{
+    return run(arm, &leftArm, transport, dt, -1.0);
+}
+
+MotorLevels Engine::run(const ArmState& arm, const ArmState* leftArm, const Transport& transport, double dt, double motorOnTime) noexcept
+{
+    leftLevels_ = MotorLevels {};
     if (failed_.load(std::memory_order_relaxed)) return MotorLevels {};
     // A stalled or restarted source must not make shaping jump: dt is kept to 0..0.1 s.
     if (!(dt >= 0.0)) dt = 0.0;
@@ -99,10 +116,15 @@ MotorLevels Engine::control(const ArmState& arm, const Transport& transport, dou
         // accounting the time (its heat history stays true for the resume).
         controlPanicked_ = true;
         tactile_->allOff();
+        if (leftTactile_) {
+            leftTactile_->allOff();
+            leftLevels_ = leftTactile_->tick(dt);
+        }
         return tactile_->tick(dt, std::isfinite(motorOnTime) ? motorOnTime : -1.0);
     }
     ControlInput in {arm, transport, dt};
-    SceneOutput out {*tactile_, *events_};
+    if (leftArm) in.leftArm = *leftArm;
+    SceneOutput out {*tactile_, *events_, leftTactile_.get()};
     try {
         if (controlPanicked_) {   // back from a panic: the scene starts afresh
             controlPanicked_ = false;
@@ -116,6 +138,7 @@ MotorLevels Engine::control(const ArmState& arm, const Transport& transport, dou
         fail("unknown exception");
         return MotorLevels {};
     }
+    if (leftTactile_) leftLevels_ = leftTactile_->tick(dt);
     return tactile_->tick(dt, std::isfinite(motorOnTime) ? motorOnTime : -1.0);
 }
 
@@ -125,6 +148,7 @@ void Engine::fail(const char* what) noexcept
     // report (the plugin's status line, `armadillo play` and `render` with exit code 4). Nothing
     // is rethrown: on the audio thread an exception would reach the host.
     tactile_->allOff();
+    if (leftTactile_) leftTactile_->allOff();
     std::strncpy(failure_.data(), what ? what : "", failure_.size() - 1);
     failed_.store(true, std::memory_order_release);
 }
@@ -167,6 +191,11 @@ void Engine::processInput(const float* const* in, int channels, int numSamples) 
     scene_->processInput(in, channels, numSamples);
 }
 
-void Engine::allOff() noexcept { tactile_->allOff(); }
+void Engine::allOff() noexcept
+{
+    tactile_->allOff();
+    if (leftTactile_) leftTactile_->allOff();
+    leftLevels_ = MotorLevels {};
+}
 
 } // namespace armadillo

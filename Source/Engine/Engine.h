@@ -31,6 +31,9 @@ struct EngineConfig {
     /// The panic gesture (docs/STAGE.md): the forearm hanging straight down (elevation ≤ −75°)
     /// for 2 s panics the engine. Off by default (`play --panic-gesture` turns it on).
     bool panicGesture = false;
+    /// Two arms (docs/STAGE.md): a second tactile engine (its own shaping and safety stage,
+    /// left-arm mirroring) for the left arm's motors; control() then takes the left arm's state.
+    bool twoArms = false;
 };
 
 /// A gesture a scene emitted (for OSC /armadillo/gesture and MIDI). `name` is a string literal.
@@ -57,6 +60,12 @@ public:
     /// on the motor, when a link that sends levels on the wall clock says it differs from dt
     /// (TactileEngine::tick); negative: dt.
     MotorLevels control(const ArmState& arm, const Transport& transport, double dt, double motorOnTime = -1.0) noexcept;
+    /// Two arms: as control(), with the left arm's state (scenes see it as ControlInput::leftArm);
+    /// returns the right arm's levels, leftLevels() the left arm's (all-off without twoArms).
+    MotorLevels control(const ArmState& arm, const ArmState& leftArm, const Transport& transport, double dt) noexcept;
+    /// The left arm's motor levels of the last control() (control thread).
+    const MotorLevels& leftLevels() const noexcept { return leftLevels_; }
+    bool twoArms() const noexcept { return leftTactile_ != nullptr; }
     /// Audio thread: adds nothing but the scene's sound; no locks, allocation or I/O.
     void renderAudio(float* left, float* right, int numSamples) noexcept;
     /// Audio thread: the audio input (planar channels, n samples at the scene's sample rate),
@@ -109,6 +118,9 @@ private:
     EngineConfig config_;
     std::unique_ptr<Scene> scene_;
     std::unique_ptr<TactileEngine> tactile_;
+    std::unique_ptr<TactileEngine> leftTactile_;   // two arms only
+    MotorLevels leftLevels_ {};
+    MotorLevels run(const ArmState& arm, const ArmState* leftArm, const Transport& transport, double dt, double motorOnTime) noexcept;
     std::unique_ptr<Events> events_;
     SpscQueue<GestureEvent, 64> gestures_;
     double time_ = 0.0;

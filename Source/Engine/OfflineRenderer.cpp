@@ -54,6 +54,16 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
     std::vector<std::vector<float>> inputScratch(inputChannels.size(), std::vector<float>(static_cast<std::size_t>(std::clamp(settings.blockSize, 1, 8192)), 0.0f));
 
     RenderResult result;
+    const bool twoArms = settings.leftMotion != nullptr;
+    MotionSource leftSource;
+    ArmTracker leftTracker;
+    std::size_t leftRow = 0;
+    ArmState leftArm;
+    if (twoArms) {
+        if (!settings.engine.twoArms) throw InputError("", 0, "--motion-left", "two arms need EngineConfig::twoArms");
+        leftSource = loadMotion(*settings.leftMotion);
+        if (leftSource.size() == 0) throw InputError(settings.leftMotion->source(), 0, "--motion-left", "the left arm's motion file has no rows");
+    }
     const double t0 = source.time(0);
     const double tEnd = source.time(source.size() - 1) + std::max(0.0, settings.tailSeconds);
     const auto totalFrames = static_cast<std::size_t>(std::llround((tEnd - t0) * sampleRate)) + 1;
@@ -93,6 +103,8 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
         const double t = source.time(i);
         renderUntil(t);
         const ArmState arm = source.apply(tracker, i);
+        if (twoArms)   // the left arm's rows up to this time
+            while (leftRow < leftSource.size() && leftSource.time(leftRow) <= t + 1e-9) leftArm = leftSource.apply(leftTracker, leftRow++);
         Transport transport;
         transport.valid = true;
         transport.playing = true;
@@ -101,7 +113,7 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
         transport.ppq = transport.seconds * settings.bpm / 60.0;
         MotorLevels levels {};
         if (arm.valid) {
-            levels = engine.control(arm, transport, t - previous);
+            levels = twoArms ? engine.control(arm, leftArm, transport, t - previous) : engine.control(arm, transport, t - previous);
         } else {
             engine.allOff();
             ++result.invalidRows;
@@ -111,6 +123,11 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
                                      + " s (motors off): " + engine.failure());
         previous = t;
         result.tactile.push_back({t, levels});
+        if (twoArms) {
+            result.leftTactile.push_back({t, engine.leftLevels()});
+            result.rightOrientation.push_back({t, arm.valid ? arm.q : Eigen::Quaterniond::Identity()});
+            result.leftOrientation.push_back({t, leftArm.valid ? leftArm.q : Eigen::Quaterniond::Identity()});
+        }
         ++result.controlUpdates;
         GestureEvent g;
         while (engine.popGesture(g)) result.gestures.push_back(g);

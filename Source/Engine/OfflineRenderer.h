@@ -19,6 +19,10 @@ struct RenderSettings {
     /// input before each block is rendered, from sample 0 = the first motion row. Its sample
     /// rate must be the engine's (engine.sceneConfig.sampleRate); the scene must listen.
     const AudioBuffer* audioIn = nullptr;
+    /// Two arms (`--motion-left`): the left arm's motion file, on the same clock as the main one
+    /// (its rows up to each main row's time are applied before that row's control update).
+    /// Needs engine.twoArms. Null: one arm.
+    const CsvTable* leftMotion = nullptr;
 };
 
 struct RenderResult {
@@ -27,6 +31,9 @@ struct RenderResult {
     std::vector<GestureEvent> gestures;      ///< every gesture the scene emitted
     std::size_t controlUpdates = 0;
     std::size_t invalidRows = 0;             ///< rows before fusion had an orientation (motors stay off)
+    std::vector<TactileRow> leftTactile;     ///< two arms: the left arm's motor packets, one per control update
+    /// Two arms: each control update's orientations (right, left; identity while not tracked).
+    std::vector<TimedQuaternion> rightOrientation, leftOrientation;
 };
 
 /// Runs the scene over the motion table (IMU, quaternion or pose file); throws InputError for

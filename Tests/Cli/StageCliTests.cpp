@@ -2,6 +2,8 @@
 // mistake refused with its exit code (2 usage, 3 bad input) and a message naming the problem.
 #include "CliRun.h"
 #include "Core/AtomicFile.h"
+#include "Core/Csv.h"
+#include "Core/Pose.h"
 #include "Core/Wav.h"
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -97,4 +99,33 @@ TEST_CASE("cli: play --setlist steps cues by keys and panics them all; mistakes 
     const Run bad = runArmadillo("play --setlist '" + broken + "' --simulate --seconds 1 --no-audio");
     CHECK(bad.code == 3);
     CHECK(bad.err.find("play-broken.json:1") != std::string::npos);
+}
+
+TEST_CASE("cli: render --motion-left: two arms, the left arm's motors and both orientations written", "[cli][twoarms]")
+{
+    auto poseFile = [](const std::string& name, double el, double roll) {
+        std::string s = "t,elevation,azimuth,roll\n";
+        for (int i = 0; i <= 200; ++i) s += std::to_string(i / 200.0) + "," + std::to_string(el) + ",0," + std::to_string(roll) + "\n";
+        return file(name, s);
+    };
+    const std::string right = poseFile("duo-right.csv", 20.0, 0.0), left = poseFile("duo-left.csv", 40.0, -30.0);
+    const Run r = runArmadillo("render --scene theremin-duo --motion '" + right + "' --motion-left '" + left + "' --out '" + path("duo.wav") +
+                               "' --tactile-left '" + path("duo-left-tactile.csv") + "' --arms-log '" + path("duo-arms.csv") + "'");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const CsvTable arms = CsvTable::read(path("duo-arms.csv"));
+    REQUIRE(arms.rowCount() == 201);
+    CHECK(arms.header() == std::vector<std::string> {"t", "qw", "qx", "qy", "qz", "left_qw", "left_qx", "left_qy", "left_qz"});
+    // The logged orientations are the two files' poses (INTERFACES.md's pose → quaternion).
+    const Eigen::Quaterniond qr = poseToQuaternion(Pose {20.0, 0.0, 0.0}), ql = poseToQuaternion(Pose {40.0, 0.0, -30.0});
+    CHECK(std::fabs(std::fabs(arms.value(100, 1) * qr.w() + arms.value(100, 2) * qr.x() + arms.value(100, 3) * qr.y() + arms.value(100, 4) * qr.z()) - 1.0) < 1e-6);
+    CHECK(std::fabs(std::fabs(arms.value(100, 5) * ql.w() + arms.value(100, 6) * ql.x() + arms.value(100, 7) * ql.y() + arms.value(100, 8) * ql.z()) - 1.0) < 1e-6);
+    const CsvTable lt = CsvTable::read(path("duo-left-tactile.csv"));
+    CHECK(lt.rowCount() == 201);
+    const std::string base = "render --scene theremin-duo --motion '" + right + "' --out '" + path("x.wav") + "' ";
+    CHECK(runArmadillo(base + "--tactile-left '" + path("t.csv") + "'").code == 2);   // needs --motion-left
+    CHECK(runArmadillo(base + "--arms-log '" + path("a.csv") + "'").code == 2);
+    CHECK(runArmadillo(base + "--motion-left '" + path("none.csv") + "'").code == 4);
+    const std::string garbage = file("duo-garbage.csv", "a,b\n1,2\n");
+    CHECK(runArmadillo(base + "--motion-left '" + garbage + "'").code == 3);
 }

@@ -88,7 +88,7 @@ TEST_CASE("set list: the file's cues, and every kind of error with its file, lin
     CHECK(expectInputError("{\"cues\": [{\"scene\": \"theremin\"}]}").find("column 'armadillo_setlist': missing") != std::string::npos);
     CHECK(expectInputError("{\"armadillo_setlist\": 1, \"cues\": []}").find("column 'cues': needs a non-empty array") != std::string::npos);
     CHECK(expectInputError("{\"armadillo_setlist\": 1,\n \"cues\": [{\"scene\": \"theremin\"},\n {\"scene\": \"kazoo\"}]}") ==
-          "show.json:3: column 'cues[1].scene': unknown scene 'kazoo' (scenes: monitor, theremin, cymbal, panel, sound-design, compass, braille, score, audio-touch, layered-keyboard)");
+          "show.json:3: column 'cues[1].scene': unknown scene 'kazoo' (scenes: monitor, theremin, cymbal, panel, sound-design, compass, braille, score, audio-touch, layered-keyboard, theremin-duo)");
     CHECK(expectInputError("{\"armadillo_setlist\": 1,\n \"cues\": [{\"scene\": \"theremin\",\n \"tempo\": 3}]}").find("show.json:3: column 'cues[0].tempo': unknown key") == 0);
     CHECK(expectInputError("{\"armadillo_setlist\": 1, \"cues\": [{\"name\": \"x\"}]}").find("column 'cues[0].scene': missing") != std::string::npos);
     CHECK(expectInputError("{\"armadillo_setlist\": 1, \"cues\": [{\"scene\": 3}]}").find("column 'cues[0].scene': must be a string") != std::string::npos);
