@@ -145,6 +145,11 @@ int runPlay(const Arguments& args)
                                                   "prompt is printed on stderr; type the answers on stdin, one a line (left, right,\n"
                                                   "both, here, a letter or a word); right/wrong is said at once; the session ends when\n"
                                                   "every trial is answered and the log (docs/BRAILLE.md) is written to LOG.csv"},
+                    {"--motion-left", "FILE", "two arms: with --simulate, a second simulated forearm (the left arm) acting out FILE\n"
+                                              "(pose or quaternion CSV; - = a wandering arm); scenes see both arms"},
+                    {"--port-left", "NAME", "two arms: the left arm's own device (its motor packets go back to it)"},
+                    {"--calibration-left", "CAL.json", "the left arm's device calibration (default: the built-in one)"},
+                    {"--arms-log", "A.csv", "two arms: t,qw,qx,qy,qz,left_qw,left_qx,left_qy,left_qz per control update"},
                     {"--control-in", "PORT", "stage commands as OSC on this UDP port (docs/STAGE.md): /armadillo/panic,\n"
                                              "/armadillo/resume, /armadillo/cue/next, /armadillo/cue/prev, /armadillo/cue i"},
                     {"--keys", "", "stage keys on stdin: p or Escape = panic, r = resume, n or Space = next cue,\n"
@@ -225,6 +230,24 @@ int runPlay(const Arguments& args)
             }
         }
         if (cl.has("--calibration")) config.calibration = device::loadCalibration(cl.value("--calibration"));
+        if (cl.has("--motion-left") && cl.has("--port-left")) throw UsageError("the left arm is --motion-left (simulated) or --port-left (a device), not both");
+        if (cl.has("--motion-left")) {
+            if (!cl.has("--simulate")) throw UsageError("--motion-left drives a second simulated arm: use it with --simulate");
+            config.leftSource = device::LiveConfig::LeftSource::Simulator;
+            config.leftMotionFile = cl.value("--motion-left") == "-" ? std::string() : cl.value("--motion-left");
+            if (cl.value("--motion-left").empty()) throw UsageError("--motion-left needs a motion file (or - for a wandering arm)");
+        } else if (cl.has("--port-left")) {
+            config.leftSource = device::LiveConfig::LeftSource::Port;
+            config.leftPort = cl.value("--port-left");
+            if (config.leftPort.empty()) throw UsageError("--port-left needs a device name");
+            config.leftBaud = static_cast<int>(cl.integer("--baud", 57600, 300, 4000000));
+        }
+        for (const char* o : {"--calibration-left", "--arms-log"})
+            if (cl.has(o) && config.leftSource == device::LiveConfig::LeftSource::None) throw UsageError(std::string(o) + " applies to two arms (--motion-left or --port-left)");
+        if (cl.has("--calibration-left")) config.leftCalibration = device::loadCalibration(cl.value("--calibration-left"));
+        config.armsLog = cl.value("--arms-log");
+        if (cl.has("--setlist") && config.leftSource != device::LiveConfig::LeftSource::None)
+            throw UsageError("two arms with --setlist are not supported yet");
         // Steadier timing for the link (and the simulated device) where the system allows it.
         config.link.realtimePriority = 20;
         config.audioOut = cl.value("--out");
@@ -474,6 +497,8 @@ int runPlay(const Arguments& args)
         std::string summary = device::summaryJson(session.summary());
         if (const std::uint32_t panics = panicTotal(); panics > 0)   // only after a panic (docs/STAGE.md)
             summary.insert(summary.size() - 1, ",\"panics\":" + std::to_string(panics));
+        if (device::DeviceLink* leftLink = session.leftLink())
+            summary.insert(summary.size() - 1, ",\"left_packets\":" + std::to_string(leftLink->stats().packets));
         if (cues) summary.insert(summary.size() - 1, ",\"cue\":" + std::to_string(cues->current()) + ",\"cue_changes\":" + std::to_string(cues->changes()));
         std::cout << summary << "\n" << std::flush;
         return session.engine().failed() ? int(kExitFailure) : int(kExitOk);

@@ -51,6 +51,15 @@ const std::vector<std::string>& sessionLogHeader()
 
 LiveSession::LiveSession(const LiveConfig& config) : config_(config)
 {
+    if (config_.leftSource != LiveConfig::LeftSource::None) {
+        if (!config_.setList.empty()) throw InputError("--setlist", 0, "", "two arms with a set list are not supported yet");
+        EngineConfig duo = config_.engine;
+        duo.twoArms = true;
+        duo_ = std::make_unique<Engine>(duo);   // InputError for an unknown scene or parameter
+        config_.engine.scene = "monitor";        // the loop's own engine only tracks the right arm
+        config_.engine.parameters.clear();
+        leftTracker_ = std::make_unique<ArmTracker>();
+    }
     if (!config_.setList.empty()) {   // every cue prepared now; the loop's own engine only tracks the arm
         cues_ = std::make_unique<live::CuePlayer>(live::loadSetList(config_.setList), config_.engine.sceneConfig, config_.engine.motorCount);
         config_.engine.scene = "monitor";
@@ -100,6 +109,31 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
         break;
     }
 
+    if (config_.leftSource != LiveConfig::LeftSource::None) {
+        // The left arm's packets: calibrated with its own calibration, into its mailbox; answered
+        // with the left arm's latest motor levels (its own tactile engine and safety stage).
+        auto leftHandler = [this](const SensorCounts& counts, double t) {
+            if (motorsOff_.load(std::memory_order_acquire)) return MotorLevels {};
+            leftInput_.pushImu(config_.leftCalibration.apply(t, counts));
+            return leftLevels_.load();
+        };
+        if (config_.leftSource == LiveConfig::LeftSource::Port) {
+            auto port = std::make_unique<SerialPort>(config_.leftPort, config_.leftBaud);
+            port->open();
+            leftLink_ = std::make_unique<DeviceLink>(std::move(port), leftHandler, config_.link);
+        } else {
+            std::shared_ptr<const MotionSource> motion;
+            if (config_.leftMotionFile.empty()) motion = std::make_shared<WanderingMotion>(config_.engine.sceneConfig.seed + 1);
+            else motion = std::make_shared<FileMotion>(config_.leftMotionFile);
+            SimulatorOptions o;
+            o.baud = config_.simulatorBaud;
+            o.realtimePriority = config_.link.realtimePriority > 1 ? config_.link.realtimePriority - 1 : 0;
+            leftSimulator_ = std::make_unique<SimulatedForearm>(motion, o);
+            leftLink_ = std::make_unique<DeviceLink>(leftSimulator_->startInProcess(), leftHandler, config_.link);
+        }
+        if (!config_.armsLog.empty())
+            armsLog_ = std::make_unique<StreamingCsvWriter>(config_.armsLog, std::vector<std::string> {"t", "qw", "qx", "qy", "qz", "left_qw", "left_qx", "left_qy", "left_qz"});
+    }
     if (!config_.logOut.empty()) log_ = std::make_unique<StreamingCsvWriter>(config_.logOut, sessionLogHeader());
     if (!config_.tactileOut.empty()) {
         std::vector<std::string> h {"t"};
@@ -184,7 +218,26 @@ MotorLevels LiveSession::control(double t, const SensorCounts* counts, const Imu
     const ArmState& arm = result.arm;
     // With a set list the loop tracked the arm (its monitor engine keeps the motors off) and the
     // current cue plays it.
-    const MotorLevels levels = cues_ ? (arm.valid ? cues_->control(arm, step.transport, dt) : MotorLevels {}) : result.levels;
+    if (duo_) {   // the left arm: its samples since the last step through its own tracker (bounded)
+        live::LiveImu sample;
+        for (int i = 0; i < live::ControlLoop::kMaxImuPerStep && leftInput_.popImu(sample); ++i) leftArm_ = leftTracker_->update(live::toImuSample(sample));
+        while (leftInput_.popImu(sample)) {}   // more than a step's worth: the oldest are dropped
+        if (leftArm_.valid) leftPose_.store(leftArm_.features.pose);
+    }
+    MotorLevels levels = result.levels;
+    if (cues_) levels = arm.valid ? cues_->control(arm, step.transport, dt) : MotorLevels {};
+    if (duo_) {
+        levels = arm.valid ? duo_->control(arm, leftArm_, step.transport, dt) : MotorLevels {};
+        leftLevels_.store(arm.valid ? duo_->leftLevels() : MotorLevels {});
+        if (armsLog_) {
+            LogRow row;
+            row.count = 9;
+            const Eigen::Quaterniond qr = arm.valid ? arm.q : Eigen::Quaterniond::Identity(), ql = leftArm_.valid ? leftArm_.q : Eigen::Quaterniond::Identity();
+            const double v[9] = {t, qr.w(), qr.x(), qr.y(), qr.z(), ql.w(), ql.x(), ql.y(), ql.z()};
+            for (int i = 0; i < 9; ++i) row.v[static_cast<std::size_t>(i)] = v[i];
+            armsLog_->push(row);
+        }
+    }
     updates_.fetch_add(1, std::memory_order_relaxed);
     pose_.store(arm.features.pose);
     levels_.store(levels);
@@ -237,8 +290,9 @@ void LiveSession::renderBlock(float* left, float* right, int n) noexcept
         cues_->renderAudio(left, right, n);
         return;
     }
+    Engine* const plays = duo_ ? duo_.get() : engine_;
     if (recording_.channels.empty()) {
-        engine_->renderAudio(left, right, n);
+        plays->renderAudio(left, right, n);
         return;
     }
     // The recording's next n frames (silence after its end: the input stays connected), heard
@@ -251,7 +305,7 @@ void LiveSession::renderBlock(float* left, float* right, int n) noexcept
     if (recordingAt_ == 0) {   // the recording itself: followed from its first sample
         const float* in[2] = {first, second};
         if (cues_) cues_->processInput(in, channels, 0);
-        else engine_->processInput(in, channels, 0);
+        else plays->processInput(in, channels, 0);
     }
     for (int done = 0; done < n;) {
         const std::uint64_t at = recordingAt_ + static_cast<std::uint64_t>(done);
@@ -260,11 +314,11 @@ void LiveSession::renderBlock(float* left, float* right, int n) noexcept
                                : std::min(n - done, static_cast<int>(recordingSilence_.size()));
         const float* in[2] = {inside ? first + at : recordingSilence_.data(), inside ? second + at : recordingSilence_.data()};
         if (cues_) cues_->processInput(in, channels, len);
-        else engine_->processInput(in, channels, len);
+        else plays->processInput(in, channels, len);
         done += len;
     }
     if (cues_) cues_->renderAudio(left, right, n);
-    else engine_->renderAudio(left, right, n);
+    else plays->renderAudio(left, right, n);
     for (int i = 0; i < n && recordingAt_ + static_cast<std::uint64_t>(i) < frames; ++i) {
         const std::uint64_t at = recordingAt_ + static_cast<std::uint64_t>(i);
         left[i] = std::clamp(left[i] + first[at], -1.0f, 1.0f);
@@ -303,6 +357,7 @@ void LiveSession::start()
     if (running_.exchange(true)) return;
     started_ = std::chrono::steady_clock::now();
     if (link_) link_->start();
+    if (leftLink_) leftLink_->start();
     if (oscIn_) oscIn_->start();
     if (wav_) audioThread_ = std::thread([this] { audioLoop(); });
     if (soundCard_)
@@ -324,7 +379,13 @@ void LiveSession::stop()
         link_->stop();
     }
     if (oscIn_) oscIn_->stop();
+    if (leftLink_) {   // the left device's last packet all-off too (motorsOff_ is set)
+        if (leftLink_->stats().inSync) leftLink_->waitFor([](const LinkStats&) { return true; }, 0.05);
+        leftLink_->stop();
+    }
     if (simulator_) simulator_->stop();
+    if (leftSimulator_) leftSimulator_->stop();
+    if (duo_) duo_->allOff();
     engine_->allOff();
     if (cues_)
         for (int c = 0; c < cues_->cueCount(); ++c) cues_->engine(c).allOff();
@@ -339,7 +400,7 @@ void LiveSession::finish()
     stop();
     // Every file is attempted; the first failure is reported.
     std::string error;
-    for (StreamingCsvWriter* w : {log_.get(), tactile_.get()}) {
+    for (StreamingCsvWriter* w : {log_.get(), tactile_.get(), armsLog_.get()}) {
         if (!w) continue;
         try {
             w->finish();
