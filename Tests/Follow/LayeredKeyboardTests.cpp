@@ -401,3 +401,27 @@ TEST_CASE("layered-keyboard: random melodies and chords (accuracy measured)", "[
     CHECK(notesFound >= noteCount * 9 / 10);
     CHECK(wrongNotes <= noteCount / 20);
 }
+
+TEST_CASE("layered-keyboard: roll opens the filter (more high-frequency energy at +90° than at −90°)", "[layered][render]")
+{
+    const AudioBuffer piano = toBuffer(phrase(2.6));
+    const std::vector<double> starts {0.0, 2.6, 3.8};
+    auto share = [&](double roll) {
+        const std::vector<std::array<double, 3>> poses {{-20, 10, 0}, {52.5, 10, roll}, {52.5, 10, roll}};
+        RenderSettings settings;
+        settings.engine.scene = "layered-keyboard";
+        settings.audioIn = &piano;
+        const RenderResult r = renderOffline(poseSegments(starts, poses, 5.0), settings);
+        const auto& x = r.audio.channels[0];
+        double e = 0.0, d = 0.0;   // the first difference's energy against the signal's
+        for (std::size_t i = static_cast<std::size_t>(3.0 * kFs); i < static_cast<std::size_t>(4.9 * kFs); ++i) {
+            e += static_cast<double>(x[i]) * static_cast<double>(x[i]);
+            const double v = static_cast<double>(x[i]) - static_cast<double>(x[i - 1]);
+            d += v * v;
+        }
+        return d / std::max(e, 1e-20);
+    };
+    const double dark = share(-90.0), bright = share(90.0);
+    INFO("high-frequency share at roll -90: " << dark << ", +90: " << bright);
+    CHECK(bright > 1.5 * dark);
+}
