@@ -14,8 +14,10 @@
 #include "Link/Calibration.h"
 #include "Osc/OscIo.h"
 #include "Osc/Mount.h"
+#include "Live/StageControl.h"
 #include "Engine/Engine.h"
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -158,7 +160,10 @@ int runPlay(const Arguments& args)
             "Every output's folder is checked before the session starts; on failure no output is written.",
             [] {
                 auto o = sceneOptionSpecs();
+                o.front().required = false;   // --scene or --setlist
                 const std::vector<OptionSpec> own {
+                    {"--setlist", "FILE", "a set list (docs/STAGE.md) instead of --scene: starts at cue 0; steps with --keys\n"
+                                          "(n, b, 0..9) and --control-in (/armadillo/cue/next, /armadillo/cue/prev, /armadillo/cue i)"},
                     {"--port", "NAME", "serial port of the device (see `armadillo ports`; ptys and /dev/rfcomm* work too)"},
                     {"--simulate", "", "the built-in simulated forearm (in-process, paced like a 57 600-baud link)"},
                     {"--motion", "FILE", "with --simulate: pose or quaternion CSV to act out (looped); default a wandering arm"},
@@ -185,7 +190,7 @@ int runPlay(const Arguments& args)
                                                "cannot be opened"},
                     {"--no-audio", "", "no sound at all (no --out, no sound card)"},
                     {"--audio-in", "FILE.wav", "a recording to play out (to the sound card or --out, under the scene's sound) while\n"
-                                               "scenes that listen (score, audio-touch) follow it; its sample rate is used unless\n"
+                                               "scenes that listen (score, audio-touch, layered-keyboard) follow it; its sample rate is used unless\n"
                                                "--sample-rate is given"},
                     {"--loop", "", "with --audio-in: start the recording again at its end (without it, the session\n"
                                    "ends with the recording unless --seconds ends it first)"},
@@ -205,6 +210,16 @@ int runPlay(const Arguments& args)
                                                   "prompt is printed on stderr; type the answers on stdin, one a line (left, right,\n"
                                                   "both, here, a letter or a word); right/wrong is said at once; the session ends when\n"
                                                   "every trial is answered and the log (docs/BRAILLE.md) is written to LOG.csv"},
+                    {"--motion-left", "FILE", "two arms: with --simulate, a second simulated forearm (the left arm) acting out FILE\n"
+                                              "(pose or quaternion CSV; - = a wandering arm); scenes see both arms"},
+                    {"--port-left", "NAME", "two arms: the left arm's own device (its motor packets go back to it)"},
+                    {"--calibration-left", "CAL.json", "the left arm's device calibration (default: the built-in one)"},
+                    {"--arms-log", "A.csv", "two arms: t,qw,qx,qy,qz,left_qw,left_qx,left_qy,left_qz per control update"},
+                    {"--control-in", "PORT", "stage commands as OSC on this UDP port (docs/STAGE.md): /armadillo/panic,\n"
+                                             "/armadillo/resume, /armadillo/cue/next, /armadillo/cue/prev, /armadillo/cue i"},
+                    {"--keys", "", "stage keys on stdin: p or Escape = panic, r = resume, n or Space = next cue,\n"
+                                   "b = previous cue, 0..9 = cue"},
+                    {"--panic-gesture", "", "the forearm hanging straight down (elevation <= -75 deg) for 2 s panics"},
                     {"--calibrate", "OUT.json", "run the guided calibration (thesis §2.4) on the device while playing; instructions on\n"
                                                 "stderr, each step finishes when it has enough data; writes OUT.json (unfinished steps keep\n"
                                                 "the starting calibration)"},
@@ -264,7 +279,21 @@ int runPlay(const Arguments& args)
         }
 
         EngineConfig& engine = config.engine;
-        readSceneOptions(cl, engine);
+        if (cl.has("--setlist") == cl.has("--scene")) throw UsageError("give --scene SCENE or --setlist FILE (one of them)");
+        if (cl.has("--setlist")) {
+            for (const char* o : {"--param", "--score", "--text", "--audio", "--training-log"})
+                if (cl.has(o)) throw UsageError(std::string(o) + " goes into the set list's cues, not on the command line");
+            config.setList = cl.value("--setlist");
+            if (config.setList.empty()) throw UsageError("--setlist needs a file");
+            engine.scene = "monitor";
+            engine.sceneConfig.sampleRate = static_cast<double>(cl.integer("--sample-rate", 48000, 8000, 384000));
+            engine.sceneConfig.seed = static_cast<std::uint64_t>(cl.integer("--seed", 1, 0, 1L << 62));
+            const std::string arm = cl.value("--arm", "right");
+            if (arm != "right" && arm != "left") throw UsageError("--arm must be right or left");
+            engine.sceneConfig.side = arm == "left" ? ArmSide::Left : ArmSide::Right;
+        } else {
+            readSceneOptions(cl, engine);
+        }
 
         const double seconds = cl.number("--seconds", -1.0);
         if (cl.has("--seconds") && !(seconds > 0.0 && seconds <= 7 * 24 * 3600.0))
@@ -282,6 +311,24 @@ int runPlay(const Arguments& args)
         config.mappingName = cl.value("--map");
         config.midiOut = cl.value("--midi-out");
         config.forwardDeg = readForwardOption(cl);
+        if (cl.has("--motion-left") && cl.has("--port-left")) throw UsageError("the left arm is --motion-left (simulated) or --port-left (a device), not both");
+        if (cl.has("--motion-left")) {
+            if (!cl.has("--simulate")) throw UsageError("--motion-left drives a second simulated arm: use it with --simulate");
+            config.leftSource = device::LiveConfig::LeftSource::Simulator;
+            config.leftMotionFile = cl.value("--motion-left") == "-" ? std::string() : cl.value("--motion-left");
+            if (cl.value("--motion-left").empty()) throw UsageError("--motion-left needs a motion file (or - for a wandering arm)");
+        } else if (cl.has("--port-left")) {
+            config.leftSource = device::LiveConfig::LeftSource::Port;
+            config.leftPort = cl.value("--port-left");
+            if (config.leftPort.empty()) throw UsageError("--port-left needs a device name");
+            config.leftBaud = static_cast<int>(cl.integer("--baud", 57600, 300, 4000000));
+        }
+        for (const char* o : {"--calibration-left", "--arms-log"})
+            if (cl.has(o) && config.leftSource == device::LiveConfig::LeftSource::None) throw UsageError(std::string(o) + " applies to two arms (--motion-left or --port-left)");
+        if (cl.has("--calibration-left")) config.leftCalibration = device::loadCalibration(cl.value("--calibration-left"));
+        config.armsLog = cl.value("--arms-log");
+        if (cl.has("--setlist") && config.leftSource != device::LiveConfig::LeftSource::None)
+            throw UsageError("two arms with --setlist are not supported yet");
         // Steadier timing for the link (and the simulated device) where the system allows it.
         config.link.realtimePriority = 20;
         config.audioOut = cl.value("--out");
@@ -327,7 +374,8 @@ int runPlay(const Arguments& args)
         // or the session ran for an hour.
         const std::vector<std::pair<std::string, std::string>> outputs {
             {"--out", config.audioOut}, {"--tactile", config.tactileOut}, {"--log", config.logOut},
-            {"--calibrate", calibrateOut}, {"--calibrate-mount", mountOut}, {"--training-log", trainingLog}};
+            {"--calibrate", calibrateOut}, {"--calibrate-mount", mountOut}, {"--training-log", trainingLog},
+            {"--arms-log", config.armsLog}};
         for (const auto& [option, file] : outputs)
             if (cl.has(option)) checkOutputPath(option, file);
         checkDistinctOutputs(outputs);
@@ -345,8 +393,49 @@ int runPlay(const Arguments& args)
         std::unique_ptr<ReaderIo> voice;
         if (cl.has("--speak") || cl.has("--speech") || cl.has("--brlapi") || cl.has("--braille-display")) voice = std::make_unique<ReaderIo>(cl, true);
         else if (cl.has("--rate")) throw UsageError("--rate sets the speech rate: use it with --speak");
+        if (cl.has("--keys") && cl.has("--training-log")) throw UsageError("--keys and --training-log both read stdin: choose one");
+        engine.panicGesture = cl.has("--panic-gesture");
+        const int controlPort = cl.has("--control-in") ? static_cast<int>(cl.integer("--control-in", 0, 1, 65535)) : -1;
+
         installInterruptHandlers();
         device::LiveSession session(config);
+        // Stage commands (OSC control port, keys): panic and resume act on the engine at once
+        // (atomics, any thread); what happened is reported by the loop below.
+        std::atomic<int> lastCommand {-1};
+        live::CuePlayer* cues = session.cuePlayer();
+        const auto onCommand = [&session, &lastCommand, cues](const live::StageCommand& c) {
+            using K = live::StageCommand::Kind;
+            if (c.kind == K::Panic) cues ? cues->panic() : session.engine().panic();
+            else if (c.kind == K::Resume) cues ? cues->resume() : session.engine().resume();
+            else if (cues && c.kind == K::CueNext) cues->next();
+            else if (cues && c.kind == K::CuePrev) cues->previous();
+            else if (cues && c.kind == K::CueGoto) cues->request(c.cue);   // clamped to the list
+            lastCommand.store(static_cast<int>(c.kind));
+        };
+        // Panics of every cue (a set list) or of the one engine; a panic gesture in one cue
+        // panics them all (a cue change must not bring the sound back).
+        const auto panicTotal = [&session, cues] {
+            if (!cues) return session.engine().panicCount();
+            std::uint32_t n = 0;
+            for (int c = 0; c < cues->cueCount(); ++c) n = std::max(n, cues->engine(c).panicCount());
+            return n;
+        };
+        int shownCue = cues ? cues->current() : -1;
+        if (cues)
+            std::cerr << "armadillo play: set list of " << cues->cueCount() << " cues; cue 0 '" << cues->cue(0).name << "' (" << cues->cue(0).scene << ")\n";
+        std::unique_ptr<live::StageControlReceiver> controlIn;
+        if (controlPort > 0) {
+            controlIn = std::make_unique<live::StageControlReceiver>(controlPort, onCommand);   // IoError (exit 4) when taken
+            controlIn->start();
+        }
+        std::unique_ptr<live::KeyReader> keys;
+        if (cl.has("--keys")) {
+            keys = std::make_unique<live::KeyReader>(STDIN_FILENO, onCommand);
+            keys->start();
+            std::cerr << "armadillo play: keys: p = panic, r = resume" << (cues ? ", n = next cue, b = previous cue, 0..9 = cue" : "") << "\n";
+        }
+        std::uint32_t shownPanics = 0;
+        bool shownPanicked = false;
         std::unique_ptr<TerminalTraining> training;
         braille::BrailleSceneControls* brailleScene = nullptr;
         if (!trainingLog.empty()) {
@@ -424,6 +513,26 @@ int runPlay(const Arguments& args)
                               static_cast<unsigned long long>(now.resyncs), static_cast<unsigned long long>(now.reconnects),
                               session.connected() ? (now.packets > 0 ? "up" : "waiting for data") : "down, reconnecting");
                 std::cerr << line << std::flush;
+            }
+            if (cues && session.engine().panicked()) {   // (a gesture panics the current cue only: spread it)
+                bool all = true;
+                for (int c = 0; c < cues->cueCount(); ++c) all = all && cues->engine(c).panicked();
+                if (!all) cues->panic();
+            }
+            if (cues && cues->current() != shownCue) {
+                shownCue = cues->current();
+                const live::Cue& q = cues->cue(shownCue);
+                std::cerr << lineStart << "armadillo play: cue " << shownCue << " '" << q.name << "' (" << q.scene << ")\n";
+            }
+            if (const std::uint32_t n = panicTotal(); n != shownPanics || session.engine().panicked() != shownPanicked) {
+                const int k = lastCommand.exchange(-1);
+                if (n != shownPanics)
+                    std::cerr << lineStart << "armadillo play: PANIC (" << (k == static_cast<int>(live::StageCommand::Kind::Panic) ? "command" : "gesture")
+                              << "): all sound and every motor off; resume with r or /armadillo/resume\n";
+                else if (!session.engine().panicked())
+                    std::cerr << lineStart << "armadillo play: resumed: scene '" << session.engine().config().scene << "' again\n";
+                shownPanics = n;
+                shownPanicked = session.engine().panicked();
             }
             if (session.engine().failed()) {   // the scene threw: its motors are off; stop and say so
                 std::cerr << "armadillo play: the scene failed and was stopped (motors off): " << session.engine().failure() << "\n";
@@ -524,6 +633,8 @@ int runPlay(const Arguments& args)
             }
         }
         if (progress) std::cerr << "\n";
+        if (keys) keys->stop();
+        if (controlIn) controlIn->stop();
         session.stop();
         if (needsData && dataTimeout > 0.0 && noData.empty() && session.summary().packets == 0)
             noData = noDataMessage(session, config, session.summary().seconds);
@@ -561,6 +672,11 @@ int runPlay(const Arguments& args)
         if (const live::MappingRig* m = session.mapping())
             summary.insert(summary.size() - 1, ",\"mapping_midi_events\":" + std::to_string(m->midiEvents()) + ",\"mapping_osc_messages\":" +
                                                    std::to_string(m->oscMessages()) + ",\"mapping_dropped\":" + std::to_string(m->dropped()));
+        if (const std::uint32_t panics = panicTotal(); panics > 0)   // only after a panic (docs/STAGE.md)
+            summary.insert(summary.size() - 1, ",\"panics\":" + std::to_string(panics));
+        if (device::DeviceLink* leftLink = session.leftLink())
+            summary.insert(summary.size() - 1, ",\"left_packets\":" + std::to_string(leftLink->stats().packets));
+        if (cues) summary.insert(summary.size() - 1, ",\"cue\":" + std::to_string(cues->current()) + ",\"cue_changes\":" + std::to_string(cues->changes()));
         std::cout << summary << "\n" << std::flush;
         return session.engine().failed() ? int(kExitFailure) : int(kExitOk);
     });

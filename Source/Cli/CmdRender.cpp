@@ -10,13 +10,17 @@
 #include "Core/Wav.h"
 #include "Engine/Engine.h"
 #include "Engine/OfflineRenderer.h"
-#include <optional>
 #include "Formats/ScoreImport.h"
+#include "Instruments/LayeredKeyboard.h"
+#include "Live/SetList.h"
+#include "Core/AtomicFile.h"
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 namespace armadillo::cli {
@@ -34,13 +38,20 @@ int runRender(const Arguments& args)
                        "--osc-out sends its OSC messages (at render speed).",
                        [] {
                            auto o = sceneOptionSpecs();
+                           o.front().required = false;   // --scene or --setlist
                            o.insert(o.begin() + 1, {
+                               {"--setlist", "FILE", "a set list (docs/STAGE.md) instead of --scene: starts at cue 0"},
+                               {"--cue-at", "T:INDEX", "with --setlist: go to cue INDEX at T s (repeatable), cross-faded"},
+                               {"--motion-left", "FILE", "two arms: the left arm's motion CSV (same clock as --motion); scenes see both\n"
+                                                         "(theremin-duo is made for two); the left arm's motors are mirrored"},
+                               {"--tactile-left", "T.csv", "with --motion-left: the left arm's motor packets"},
+                               {"--arms-log", "A.csv", "with --motion-left: t,qw,qx,qy,qz,left_qw,left_qx,left_qy,left_qz per control update"},
                                {"--motion", "FILE", "motion CSV (IMU, quaternion or pose)", true},
                                {"--out", "OUT.wav", "stereo WAV, 16-bit (written whole or not at all); may be left out with --midi-out"},
                                {"--tactile", "T.csv", "motor levels of every packet: t,m1..m9 (m10..m12 with --back-motors); the last\n"
                                                     "row is the all-off sent at the end"},
                                {"--audio-in", "FILE.wav", "the recording the listener hears, from the first motion row on: scenes that listen\n"
-                                                          "(score, audio-touch) follow it, and it is mixed into OUT.wav under the scene's\n"
+                                                          "(score, audio-touch, layered-keyboard) follow it, and it is mixed into OUT.wav under the scene's\n"
                                                           "sound; its sample rate is used unless --sample-rate is given.\n"
                                                           "Given several times, each file is a stem named by its file name (drums.wav, bass.wav ...)"},
                                {"--no-audio-in-mix", "", "with --audio-in: leave the recording out of OUT.wav (the scene's sound alone)"},
@@ -63,7 +74,21 @@ int runRender(const Arguments& args)
 
         RenderSettings settings;
         EngineConfig& engine = settings.engine;
-        readSceneOptions(cl, engine);
+        const bool setlist = cl.has("--setlist");
+        if (setlist == cl.has("--scene")) throw UsageError("give --scene SCENE or --setlist FILE (one of them)");
+        if (cl.has("--cue-at") && !setlist) throw UsageError("--cue-at applies to --setlist");
+        if (setlist) {
+            for (const char* o : {"--param", "--score", "--text", "--audio"})
+                if (cl.has(o)) throw UsageError(std::string(o) + " goes into the set list's cues, not on the command line");
+            engine.scene = "monitor";   // (each cue names its own)
+            engine.sceneConfig.sampleRate = static_cast<double>(cl.integer("--sample-rate", 48000, 8000, 384000));
+            engine.sceneConfig.seed = static_cast<std::uint64_t>(cl.integer("--seed", 1, 0, 1L << 62));
+            const std::string arm = cl.value("--arm", "right");
+            if (arm != "right" && arm != "left") throw UsageError("--arm must be right or left");
+            engine.sceneConfig.side = arm == "left" ? ArmSide::Left : ArmSide::Right;
+        } else {
+            readSceneOptions(cl, engine);
+        }
         engine.motorCount = cl.has("--back-motors") ? kGridMotors + kBackMotors : kGridMotors;
         settings.tailSeconds = cl.number("--tail", 0.0);
         if (settings.tailSeconds < 0.0 || settings.tailSeconds > 600.0) throw UsageError("--tail must lie in 0..600 s");
@@ -91,7 +116,11 @@ int runRender(const Arguments& args)
         if (cl.has("--tactile")) checkOutputPath("--tactile", tactile);
         if (cl.has("--midi-out")) checkOutputPath("--midi-out", midiOut);
         if (cl.has("--tactile-wav")) checkOutputPath("--tactile-wav", tactileWav);
-        checkDistinctOutputs({{"--out", out}, {"--tactile", tactile}, {"--midi-out", midiOut}, {"--tactile-wav", tactileWav}});
+        const std::string tactileLeft = cl.value("--tactile-left"), armsLog = cl.value("--arms-log");
+        if (cl.has("--tactile-left")) checkOutputPath("--tactile-left", tactileLeft);
+        if (cl.has("--arms-log")) checkOutputPath("--arms-log", armsLog);
+        checkDistinctOutputs({{"--out", out}, {"--tactile", tactile}, {"--midi-out", midiOut}, {"--tactile-wav", tactileWav},
+                              {"--tactile-left", tactileLeft}, {"--arms-log", armsLog}});
 
         AudioBuffer recording;
         // Stems: --stem NAME=FILE, or several --audio-in files named after their stem.
@@ -132,6 +161,15 @@ int runRender(const Arguments& args)
         const auto map = readMapOption(cl, engine);
         const double forward = readForwardOption(cl);
         const CsvTable motion = CsvTable::read(cl.value("--motion"));
+        for (const char* o : {"--tactile-left", "--arms-log"})
+            if (cl.has(o) && !cl.has("--motion-left")) throw UsageError(std::string(o) + " applies to --motion-left");
+        CsvTable leftMotion;
+        if (cl.has("--motion-left")) {
+            if (setlist) throw UsageError("--motion-left with --setlist is not supported yet");
+            leftMotion = CsvTable::read(cl.value("--motion-left"));
+            settings.leftMotion = &leftMotion;
+            engine.twoArms = true;
+        }
 
         std::unique_ptr<live::MappingRig> rig;
         std::unique_ptr<mapping::MidiFileWriter> midi;
@@ -167,20 +205,66 @@ int runRender(const Arguments& args)
             }
             if (!wav->write(interleaved.data(), static_cast<std::size_t>(n))) wav->finish();   // throws IoError naming the file
         };
-        const RenderResult r = renderOffline(motion, settings);
+        RenderResult r;
+        if (setlist) {
+            if (map) throw UsageError("--map with --setlist is not supported yet");
+            const live::SetList list = live::loadSetList(cl.value("--setlist"));   // InputError names file, line, key
+            std::vector<live::CueChange> changes;
+            for (const std::string& c : cl.values("--cue-at")) {
+                try {
+                    changes.push_back(live::parseCueChange(c));
+                } catch (const std::invalid_argument& e) {
+                    throw UsageError(std::string("--cue-at: ") + e.what());
+                }
+            }
+            if (settings.audioIn) throw UsageError("--audio-in with --setlist is not supported yet");
+            r = live::renderSetList(motion, list, settings, changes);
+            engine.scene = "setlist";
+            // A set list renders into memory (bounded like any collected render): its audio goes
+            // to the WAV the same way the streamed render's does.
+            r.frames = r.audio.frames();
+            for (const auto& ch : r.audio.channels)
+                for (const float v : ch) r.peak = std::max(r.peak, std::fabs(v));
+            r.scenePeak = r.peak;
+            constexpr std::size_t kChunk = 4096;
+            for (std::size_t at = 0; at < r.frames && r.audio.channels.size() == 2; at += kChunk) {
+                const int n = static_cast<int>(std::min<std::size_t>(kChunk, r.frames - at));
+                settings.audioSink(r.audio.channels[0].data() + at, r.audio.channels[1].data() + at, n);
+            }
+        } else {
+            r = renderOffline(motion, settings);
+        }
+        // The notes a listening scene captured (layered-keyboard), named, in capture order.
+        for (const GestureEvent& g : r.gestures)
+            if (std::string_view(g.name) == "captured-note")
+                std::cerr << "render: captured " << noteName(static_cast<int>(g.value)) << " at t = " << g.t << " s\n";
         if (rig) rig->finish(lastRow);
         if (cl.has("--midi-out")) {
             if (!midi) midi = std::make_unique<mapping::MidiFileWriter>(0.0);
             midi->write(midiOut);
         }
         if (cl.has("--tactile")) writeTactile(tactile, r.tactile, engine.motorCount);
+        if (cl.has("--tactile-left")) writeTactile(cl.value("--tactile-left"), r.leftTactile, engine.motorCount);
+        if (cl.has("--arms-log")) {
+            std::string text = "t,qw,qx,qy,qz,left_qw,left_qx,left_qy,left_qz\n";
+            for (std::size_t i = 0; i < r.rightOrientation.size(); ++i) {
+                const auto& a = r.rightOrientation[i].q;
+                const auto& b = r.leftOrientation[i].q;
+                for (const double v : {r.rightOrientation[i].t, a.w(), a.x(), a.y(), a.z(), b.w(), b.x(), b.y(), b.z()}) {
+                    appendNumber(text, v, 9);
+                    text += ',';
+                }
+                text.back() = '\n';
+            }
+            writeFileAtomically(cl.value("--arms-log"), text);
+        }
         if (cl.has("--tactile-wav"))
             writeTactileWav(tactileWav, r.tactile, engine.motorCount, engine.sceneConfig.sampleRate, 150.0, cl.has("--float"));
         if (wav) {
             try {
                 wav->finish();
             } catch (const IoError&) {   // the WAV could not be completed: no part of the outputs stays
-                for (const std::string* f : {&tactile, &midiOut, &tactileWav})
+                for (const std::string* f : {&tactile, &midiOut, &tactileWav, &tactileLeft, &armsLog})
                     if (!f->empty()) std::remove(f->c_str());
                 throw;
             }

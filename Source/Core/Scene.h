@@ -82,9 +82,12 @@ public:
 };
 
 struct ControlInput {
-    ArmState arm {};
+    ArmState arm {};             ///< the arm (with two arms: the right one)
     Transport transport {};
     double dt = 0.005;           ///< s since the previous control update
+    /// Two arms (docs/STAGE.md): the left arm's state; invalid (valid = false) when only one arm
+    /// is worn. Every scene must keep working with one arm.
+    ArmState leftArm {};
 };
 
 /// A scene's own continuous outputs that a mapping may read (Mapping/, docs/MAPPING.md "Scene
@@ -97,8 +100,10 @@ struct SceneValues {
 };
 
 struct SceneOutput {
-    MotorCanvas& motors;
+    MotorCanvas& motors;                 ///< the arm's motors (with two arms: the right arm's)
     EventSink& events;
+    /// Two arms: the left arm's motors (its own tactile engine and safety stage); null with one.
+    MotorCanvas* leftMotors = nullptr;
 };
 
 struct SceneConfig {
@@ -160,7 +165,7 @@ public:
     {
         (void) in; (void) channels; (void) numSamples;
     }
-    /// True for scenes that use processInput() (score, audio-touch).
+    /// True for scenes that use processInput() (score, audio-touch, layered-keyboard).
     virtual bool listensToAudio() const { return false; }
     /// Entering the scene, or a transport jump: forget gestures in progress. Real-time, like
     /// control() (the plugin calls it on the audio thread).

@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 
 namespace armadillo {
@@ -33,6 +34,12 @@ Engine::Engine(const EngineConfig& config, std::unique_ptr<Scene> scene) : confi
     tactileConfig.side = config_.sceneConfig.side;
     tactileConfig.motorGain = config_.motorGain;
     tactile_->prepare(tactileConfig);
+    if (config_.twoArms) {   // the left arm: its own shaping and safety stage, mirrored columns
+        leftTactile_ = std::make_unique<TactileEngine>();
+        TactileConfig left = tactileConfig;
+        left.side = ArmSide::Left;
+        leftTactile_->prepare(left);
+    }
     events_ = std::make_unique<Events>(gestures_, time_);
     setSceneParameters(config_.parameters);
 }
@@ -104,14 +111,54 @@ Engine::~Engine() = default;
 
 MotorLevels Engine::control(const ArmState& arm, const Transport& transport, double dt, double motorOnTime) noexcept
 {
+    return run(arm, nullptr, transport, dt, motorOnTime);
+}
+
+MotorLevels Engine::control(const ArmState& arm, const ArmState& leftArm, const Transport& transport, double dt) noexcept
+{
+    return run(arm, &leftArm, transport, dt, -1.0);
+}
+
+MotorLevels Engine::run(const ArmState& arm, const ArmState* leftArm, const Transport& transport, double dt, double motorOnTime) noexcept
+{
+    leftLevels_ = MotorLevels {};
     if (failed_.load(std::memory_order_relaxed)) return MotorLevels {};
     // A stalled or restarted source must not make shaping jump: dt is kept to 0..0.1 s.
     if (!(dt >= 0.0)) dt = 0.0;
     dt = std::min(dt, 0.1);
     time_ = arm.t;
+    if (config_.panicGesture && arm.valid) {   // the forearm hanging straight down, held
+        if (arm.features.pose.elevationDeg <= kPanicGestureElevation) {
+            // (After a panic the arm must rise again before hanging counts anew: a resume while
+            // it still hangs does not panic again.)
+            if (hangingSince_ < 0.0) hangingSince_ = arm.t;
+            else if (std::isfinite(hangingSince_) && arm.t - hangingSince_ >= kPanicGestureSeconds) {
+                panic();
+                hangingSince_ = std::numeric_limits<double>::infinity();
+            }
+        } else {
+            hangingSince_ = -1.0;
+        }
+    }
+    if (panic_.load(std::memory_order_acquire)) {
+        // Every motor off through the tactile engine's all-off path; the safety stage keeps
+        // accounting the time (its heat history stays true for the resume).
+        controlPanicked_ = true;
+        tactile_->allOff();
+        if (leftTactile_) {
+            leftTactile_->allOff();
+            leftLevels_ = leftTactile_->tick(dt);
+        }
+        return tactile_->tick(dt, std::isfinite(motorOnTime) ? motorOnTime : -1.0);
+    }
     ControlInput in {arm, transport, dt};
-    SceneOutput out {*tactile_, *events_};
+    if (leftArm) in.leftArm = *leftArm;
+    SceneOutput out {*tactile_, *events_, leftTactile_.get()};
     try {
+        if (controlPanicked_) {   // back from a panic: the scene starts afresh
+            controlPanicked_ = false;
+            scene_->reset();
+        }
         scene_->control(in, out);
     } catch (const std::exception& e) {
         fail(e.what());
@@ -120,6 +167,7 @@ MotorLevels Engine::control(const ArmState& arm, const Transport& transport, dou
         fail("unknown exception");
         return MotorLevels {};
     }
+    if (leftTactile_) leftLevels_ = leftTactile_->tick(dt);
     return tactile_->tick(dt, std::isfinite(motorOnTime) ? motorOnTime : -1.0);
 }
 
@@ -129,6 +177,7 @@ void Engine::fail(const char* what) noexcept
     // report (the plugin's status line, `armadillo play` and `render` with exit code 4). Nothing
     // is rethrown: on the audio thread an exception would reach the host.
     tactile_->allOff();
+    if (leftTactile_) leftTactile_->allOff();
     std::strncpy(failure_.data(), what ? what : "", failure_.size() - 1);
     failed_.store(true, std::memory_order_release);
 }
@@ -145,7 +194,25 @@ void Engine::renderAudio(float* left, float* right, int numSamples) noexcept
         left[i] = std::isfinite(left[i]) ? std::clamp(left[i], -1.0f, 1.0f) : 0.0f;
         right[i] = std::isfinite(right[i]) ? std::clamp(right[i], -1.0f, 1.0f) : 0.0f;
     }
+    // Panic: a 1 ms fade to silence (no click), then zeros; resume fades back in over 20 ms.
+    const bool silent = panic_.load(std::memory_order_acquire);
+    if (!silent && audioGain_ >= 1.0) return;
+    const double fs = config_.sceneConfig.sampleRate > 0.0 ? config_.sceneConfig.sampleRate : 48000.0;
+    const double step = silent ? -1.0 / std::max(1.0, kPanicFadeSeconds * fs) : 1.0 / std::max(1.0, kResumeFadeSeconds * fs);
+    for (int i = 0; i < numSamples; ++i) {
+        audioGain_ = std::clamp(audioGain_ + step, 0.0, 1.0);
+        const auto g = static_cast<float>(audioGain_);
+        left[i] *= g;
+        right[i] *= g;
+    }
 }
+
+void Engine::panic() noexcept
+{
+    if (!panic_.exchange(true, std::memory_order_acq_rel)) panicCount_.fetch_add(1, std::memory_order_relaxed);
+}
+
+void Engine::resume() noexcept { panic_.store(false, std::memory_order_release); }
 
 void Engine::processInput(const float* const* in, int channels, int numSamples) noexcept
 {
@@ -153,6 +220,11 @@ void Engine::processInput(const float* const* in, int channels, int numSamples) 
     scene_->processInput(in, channels, numSamples);
 }
 
-void Engine::allOff() noexcept { tactile_->allOff(); }
+void Engine::allOff() noexcept
+{
+    tactile_->allOff();
+    if (leftTactile_) leftTactile_->allOff();
+    leftLevels_ = MotorLevels {};
+}
 
 } // namespace armadillo

@@ -36,6 +36,12 @@ struct EngineConfig {
     /// The reader's touch profile as per-motor gains (TactileConfig::motorGain; physical motor
     /// order m1…). All 1 = none. Device/TouchProfile.h makes them from a profile file.
     std::array<float, kMaxMotors> motorGain = TactileConfig::unitMotorGains();
+    /// The panic gesture (docs/STAGE.md): the forearm hanging straight down (elevation ≤ −75°)
+    /// for 2 s panics the engine. Off by default (`play --panic-gesture` turns it on).
+    bool panicGesture = false;
+    /// Two arms (docs/STAGE.md): a second tactile engine (its own shaping and safety stage,
+    /// left-arm mirroring) for the left arm's motors; control() then takes the left arm's state.
+    bool twoArms = false;
 };
 
 /// A gesture a scene emitted (for OSC /armadillo/gesture and MIDI). `name` is a string literal.
@@ -62,6 +68,12 @@ public:
     /// on the motor, when a link that sends levels on the wall clock says it differs from dt
     /// (TactileEngine::tick); negative: dt.
     MotorLevels control(const ArmState& arm, const Transport& transport, double dt, double motorOnTime = -1.0) noexcept;
+    /// Two arms: as control(), with the left arm's state (scenes see it as ControlInput::leftArm);
+    /// returns the right arm's levels, leftLevels() the left arm's (all-off without twoArms).
+    MotorLevels control(const ArmState& arm, const ArmState& leftArm, const Transport& transport, double dt) noexcept;
+    /// The left arm's motor levels of the last control() (control thread).
+    const MotorLevels& leftLevels() const noexcept { return leftLevels_; }
+    bool twoArms() const noexcept { return leftTactile_ != nullptr; }
     /// Audio thread: adds nothing but the scene's sound; no locks, allocation or I/O.
     void renderAudio(float* left, float* right, int numSamples) noexcept;
     /// Audio thread: the audio input (planar channels, n samples at the scene's sample rate),
@@ -72,6 +84,24 @@ public:
     bool listensToAudio() const { return scene_->listensToAudio(); }
     /// Stop, disconnect or error: every motor off now; patterns and targets forgotten.
     void allOff() noexcept;
+
+    /// Panic (docs/STAGE.md): any thread, real-time, idempotent. From the next control()
+    /// every motor is off through the tactile engine's all-off path (and stays off, the safety
+    /// stage still accounting the time), the scene no longer runs; the next renderAudio() block
+    /// fades to silence within kPanicFadeSeconds and stays silent (the scene keeps rendering
+    /// underneath, so its timeline does not jump). Latches until resume().
+    void panic() noexcept;
+    /// Back to the current scene after a panic: any thread, real-time. The next control() resets
+    /// the scene (Scene::reset: gestures in progress forgotten) and runs it; audio fades back in
+    /// over kResumeFadeSeconds.
+    void resume() noexcept;
+    bool panicked() const noexcept { return panic_.load(std::memory_order_acquire); }
+    /// Panics so far (each panic() while not panicked, and each panic gesture, counts once).
+    std::uint32_t panicCount() const noexcept { return panicCount_.load(std::memory_order_relaxed); }
+    static constexpr double kPanicFadeSeconds = 0.001;
+    static constexpr double kResumeFadeSeconds = 0.020;
+    static constexpr double kPanicGestureElevation = -75.0;   ///< deg
+    static constexpr double kPanicGestureSeconds = 2.0;
 
     /// Sets one of the scene's own parameters by its stable id (ParamSpec::id). `value` is a
     /// number in the parameter's unit, or one of its choice names. Throws InputError naming the
@@ -98,11 +128,19 @@ private:
     EngineConfig config_;
     std::unique_ptr<Scene> scene_;
     std::unique_ptr<TactileEngine> tactile_;
+    std::unique_ptr<TactileEngine> leftTactile_;   // two arms only
+    MotorLevels leftLevels_ {};
+    MotorLevels run(const ArmState& arm, const ArmState* leftArm, const Transport& transport, double dt, double motorOnTime) noexcept;
     std::unique_ptr<Events> events_;
     SpscQueue<GestureEvent, 64> gestures_;
     double time_ = 0.0;
     std::array<char, 256> failure_ {};   // written once, before failed_ is set
     std::atomic<bool> failed_ {false};
+    std::atomic<bool> panic_ {false};
+    std::atomic<std::uint32_t> panicCount_ {0};
+    bool controlPanicked_ = false;       // control thread: the state of the previous control()
+    double hangingSince_ = -1.0;         // control thread: when the arm started hanging (panic gesture)
+    double audioGain_ = 1.0;             // audio thread: the panic/resume fade
 };
 
 } // namespace armadillo

@@ -61,7 +61,7 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
     const AudioBuffer* input = settings.audioIn;
     if (input) {
         if (!engine.listensToAudio())
-            throw InputError(audioInName, 0, "", "--audio-in: scene '" + settings.engine.scene + "' does not listen to audio (score and audio-touch do)");
+            throw InputError(audioInName, 0, "", "--audio-in: scene '" + settings.engine.scene + "' does not listen to audio (score, audio-touch and layered-keyboard do)");
         if (input->channels.empty() || input->frames() == 0) throw InputError(audioInName, 0, "", "--audio-in: the recording holds no audio");
         if (std::fabs(input->sampleRate - sampleRate) > 0.5)
             throw InputError(audioInName, 0, "", "--audio-in: the recording's sample rate (" + std::to_string(static_cast<long>(input->sampleRate)) +
@@ -73,6 +73,16 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
     std::vector<std::vector<float>> inputScratch(inputChannels.size(), std::vector<float>(static_cast<std::size_t>(block), 0.0f));
 
     RenderResult result;
+    const bool twoArms = settings.leftMotion != nullptr;
+    MotionSource leftSource;
+    ArmTracker leftTracker;
+    std::size_t leftRow = 0;
+    ArmState leftArm;
+    if (twoArms) {
+        if (!settings.engine.twoArms) throw InputError("", 0, "--motion-left", "two arms need EngineConfig::twoArms");
+        leftSource = loadMotion(*settings.leftMotion);
+        if (leftSource.size() == 0) throw InputError(settings.leftMotion->source(), 0, "--motion-left", "the left arm's motion file has no rows");
+    }
     const double tEnd = source.time(source.size() - 1) + tail;
     const auto totalFrames = static_cast<std::size_t>(std::llround((tEnd - t0) * sampleRate)) + 1;
     result.audio.sampleRate = sampleRate;
@@ -132,6 +142,8 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
         const double t = source.time(i);
         renderUntil(t);
         const ArmState arm = source.apply(tracker, i);
+        if (twoArms)   // the left arm's rows up to this time
+            while (leftRow < leftSource.size() && leftSource.time(leftRow) <= t + 1e-9) leftArm = leftSource.apply(leftTracker, leftRow++);
         Transport transport;
         transport.valid = true;
         transport.playing = true;
@@ -140,7 +152,7 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
         transport.ppq = transport.seconds * settings.bpm / 60.0;
         MotorLevels levels {};
         if (arm.valid) {
-            levels = engine.control(arm, transport, t - previous);
+            levels = twoArms ? engine.control(arm, leftArm, transport, t - previous) : engine.control(arm, transport, t - previous);
             const Pose& p = arm.features.pose;
             if (std::isfinite(p.elevationDeg) && std::isfinite(p.azimuthDeg)) {
                 result.minElevation = anyPose ? std::min(result.minElevation, p.elevationDeg) : p.elevationDeg;
@@ -158,6 +170,11 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
                                      + " s (motors off): " + engine.failure());
         previous = t;
         result.tactile.push_back({t, levels});
+        if (twoArms) {
+            result.leftTactile.push_back({t, engine.leftLevels()});
+            result.rightOrientation.push_back({t, arm.valid ? arm.q : Eigen::Quaterniond::Identity()});
+            result.leftOrientation.push_back({t, leftArm.valid ? leftArm.q : Eigen::Quaterniond::Identity()});
+        }
         ++result.controlUpdates;
         const std::size_t firstGesture = result.gestures.size();
         GestureEvent g;

@@ -40,6 +40,10 @@ struct RenderSettings {
     /// streamed there and RenderResult::audio stays empty (memory does not grow with the span).
     /// Empty: the audio is collected in RenderResult::audio.
     std::function<void(const float* left, const float* right, int frames)> audioSink;
+    /// Two arms (`--motion-left`): the left arm's motion file, on the same clock as the main one
+    /// (its rows up to each main row's time are applied before that row's control update).
+    /// Needs engine.twoArms. Null: one arm.
+    const CsvTable* leftMotion = nullptr;
 };
 
 struct RenderResult {
@@ -54,6 +58,9 @@ struct RenderResult {
     float scenePeak = 0.0f;                  ///< largest |sample| of the scene's own sound (without the recording)
     double minElevation = 0.0, maxElevation = 0.0;   ///< degrees, over rows with an orientation
     double minAzimuth = 0.0, maxAzimuth = 0.0;       ///< degrees
+    std::vector<TactileRow> leftTactile;     ///< two arms: the left arm's motor packets, one per control update
+    /// Two arms: each control update's orientations (right, left; identity while not tracked).
+    std::vector<TimedQuaternion> rightOrientation, leftOrientation;
 };
 
 /// Why a render came out silent, in words for a user (empty when `r.peak` > 0): the scene makes

@@ -23,6 +23,8 @@ const Entry kScenes[] = {
     {"braille", makeBrailleScene},
     {"score", makeScoreScene},
     {"audio-touch", makeAudioTouchScene},
+    {"layered-keyboard", makeLayeredKeyboardScene},   // issue 28; new scenes go last (choice indices stay)
+    {"theremin-duo", makeThereminDuoScene},           // issue 28, two arms
 };
 } // namespace
 

@@ -10,4 +10,6 @@ std::unique_ptr<Scene> makePanelScene();        ///< "panel"        — virtual 
 std::unique_ptr<Scene> makeSoundDesignScene();  ///< "sound-design" — gesture sound design, thesis §3.7
 std::unique_ptr<Scene> makeCompassScene();      ///< "compass"      — tactile compass, thesis §4.1
 std::unique_ptr<Scene> makeAudioTouchScene();   ///< "audio-touch"  — any audio in, felt on the arm (bands → rows)
+std::unique_ptr<Scene> makeThereminDuoScene();      ///< "theremin-duo" — a theremin for two arms (docs/STAGE.md)
+std::unique_ptr<Scene> makeLayeredKeyboardScene();  ///< "layered-keyboard" — the arm plays over a real instrument, thesis §5.2
 } // namespace armadillo

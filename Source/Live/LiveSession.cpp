@@ -54,6 +54,20 @@ const std::vector<std::string>& sessionLogHeader()
 
 LiveSession::LiveSession(const LiveConfig& config) : config_(config)
 {
+    if (config_.leftSource != LiveConfig::LeftSource::None) {
+        if (!config_.setList.empty()) throw InputError("--setlist", 0, "", "two arms with a set list are not supported yet");
+        EngineConfig duo = config_.engine;
+        duo.twoArms = true;
+        duo_ = std::make_unique<Engine>(duo);   // InputError for an unknown scene or parameter
+        config_.engine.scene = "monitor";        // the loop's own engine only tracks the right arm
+        config_.engine.parameters.clear();
+        leftTracker_ = std::make_unique<ArmTracker>();
+    }
+    if (!config_.setList.empty()) {   // every cue prepared now; the loop's own engine only tracks the arm
+        cues_ = std::make_unique<live::CuePlayer>(live::loadSetList(config_.setList), config_.engine.sceneConfig, config_.engine.motorCount);
+        config_.engine.scene = "monitor";
+        config_.engine.parameters.clear();
+    }
     {
         auto slot = std::make_unique<live::EngineSlot>();
         slot->engine = std::make_unique<Engine>(config_.engine);   // InputError for an unknown scene
@@ -116,6 +130,31 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
     }
     }
 
+    if (config_.leftSource != LiveConfig::LeftSource::None) {
+        // The left arm's packets: calibrated with its own calibration, into its mailbox; answered
+        // with the left arm's latest motor levels (its own tactile engine and safety stage).
+        auto leftHandler = [this](const SensorCounts& counts, double t) {
+            if (motorsOff_.load(std::memory_order_acquire)) return MotorLevels {};
+            leftInput_.pushImu(config_.leftCalibration.apply(t, counts));
+            return leftLevels_.load();
+        };
+        if (config_.leftSource == LiveConfig::LeftSource::Port) {
+            auto port = std::make_unique<SerialPort>(config_.leftPort, config_.leftBaud);
+            port->open();
+            leftLink_ = std::make_unique<DeviceLink>(std::move(port), leftHandler, config_.link);
+        } else {
+            std::shared_ptr<const MotionSource> motion;
+            if (config_.leftMotionFile.empty()) motion = std::make_shared<WanderingMotion>(config_.engine.sceneConfig.seed + 1);
+            else motion = std::make_shared<FileMotion>(config_.leftMotionFile);
+            SimulatorOptions o;
+            o.baud = config_.simulatorBaud;
+            o.realtimePriority = config_.link.realtimePriority > 1 ? config_.link.realtimePriority - 1 : 0;
+            leftSimulator_ = std::make_unique<SimulatedForearm>(motion, o);
+            leftLink_ = std::make_unique<DeviceLink>(leftSimulator_->startInProcess(), leftHandler, config_.link);
+        }
+        if (!config_.armsLog.empty())
+            armsLog_ = std::make_unique<StreamingCsvWriter>(config_.armsLog, std::vector<std::string> {"t", "qw", "qx", "qy", "qz", "left_qw", "left_qx", "left_qy", "left_qz"});
+    }
     if (!config_.logOut.empty()) log_ = std::make_unique<StreamingCsvWriter>(config_.logOut, sessionLogHeader());
     if (!config_.tactileOut.empty()) {
         std::vector<std::string> h {"t"};
@@ -123,8 +162,8 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
         tactile_ = std::make_unique<StreamingCsvWriter>(config_.tactileOut, h);
     }
     if (!config_.audioIn.empty()) {
-        if (!engine_->listensToAudio())
-            throw InputError(config_.audioIn, 0, "", "--audio-in: scene '" + config_.engine.scene + "' does not listen to audio (score and audio-touch do)");
+        if (!cues_ && !engine_->listensToAudio())
+            throw InputError(config_.audioIn, 0, "", "--audio-in: scene '" + config_.engine.scene + "' does not listen to audio (score, audio-touch and layered-keyboard do)");
         recording_ = readWav(config_.audioIn);   // InputError names a bad file
         if (recording_.channels.empty() || recording_.frames() == 0) throw InputError(config_.audioIn, 0, "", "--audio-in: the recording holds no audio");
         if (std::fabs(recording_.sampleRate - config_.engine.sceneConfig.sampleRate) > 0.5)
@@ -163,7 +202,10 @@ MotorLevels LiveSession::control(double t, const SensorCounts* counts, const Imu
     }
     double dt = lastT_ < 0.0 ? 0.0 : t - lastT_;
     // A source that went quiet (unplug, stall): forget patterns rather than resume mid-gesture.
-    if (dt > 0.25) engine_->allOff();
+    if (dt > 0.25) {
+        engine_->allOff();
+        if (cues_) engine().allOff();
+    }
     if (!link_ && dt > 0.0 && sourceGaps_.step(dt)) {
         oscGaps_.store(sourceGaps_.count(), std::memory_order_relaxed);
         oscLongestGap_.store(sourceGaps_.longest(), std::memory_order_relaxed);
@@ -196,7 +238,28 @@ MotorLevels LiveSession::control(double t, const SensorCounts* counts, const Imu
     step.dt = dt;
     const live::ControlResult result = loop_.tick(step);
     const ArmState& arm = result.arm;
-    const MotorLevels levels = result.levels;
+    // With a set list the loop tracked the arm (its monitor engine keeps the motors off) and the
+    // current cue plays it.
+    if (duo_) {   // the left arm: its samples since the last step through its own tracker (bounded)
+        live::LiveImu sample;
+        for (int i = 0; i < live::ControlLoop::kMaxImuPerStep && leftInput_.popImu(sample); ++i) leftArm_ = leftTracker_->update(live::toImuSample(sample));
+        while (leftInput_.popImu(sample)) {}   // more than a step's worth: the oldest are dropped
+        if (leftArm_.valid) leftPose_.store(leftArm_.features.pose);
+    }
+    MotorLevels levels = result.levels;
+    if (cues_) levels = arm.valid ? cues_->control(arm, step.transport, dt) : MotorLevels {};
+    if (duo_) {
+        levels = arm.valid ? duo_->control(arm, leftArm_, step.transport, dt) : MotorLevels {};
+        leftLevels_.store(arm.valid ? duo_->leftLevels() : MotorLevels {});
+        if (armsLog_) {
+            LogRow row;
+            row.count = 9;
+            const Eigen::Quaterniond qr = arm.valid ? arm.q : Eigen::Quaterniond::Identity(), ql = leftArm_.valid ? leftArm_.q : Eigen::Quaterniond::Identity();
+            const double v[9] = {t, qr.w(), qr.x(), qr.y(), qr.z(), ql.w(), ql.x(), ql.y(), ql.z()};
+            for (int i = 0; i < 9; ++i) row.v[static_cast<std::size_t>(i)] = v[i];
+            armsLog_->push(row);
+        }
+    }
     updates_.fetch_add(1, std::memory_order_relaxed);
     pose_.store(arm.features.pose);
     levels_.store(levels);
@@ -240,18 +303,23 @@ MotorLevels LiveSession::control(double t, const SensorCounts* counts, const Imu
     std::array<GestureEvent, 64> gestures {};
     std::size_t gestureCount = 0;
     GestureEvent ev;
-    while (engine_->popGesture(ev)) {
+    while (engine().popGesture(ev)) {
         if (oscOut_) oscOut_->sendGesture(ev.name);
         if (gestureCount < gestures.size()) gestures[gestureCount++] = ev;
     }
-    if (mapping_ && result.ran) mapping_->step(t, arm, gestures.data(), gestureCount, *engine_);
+    if (mapping_ && result.ran) mapping_->step(t, arm, gestures.data(), gestureCount, engine());
     return levels;
 }
 
 void LiveSession::renderBlock(float* left, float* right, int n) noexcept
 {
+    if (cues_ && recording_.channels.empty()) {
+        cues_->renderAudio(left, right, n);
+        return;
+    }
+    Engine* const plays = duo_ ? duo_.get() : engine_;
     if (recording_.channels.empty()) {
-        engine_->renderAudio(left, right, n);
+        plays->renderAudio(left, right, n);
         return;
     }
     // The recording's next n frames (silence after its end: the input stays connected), heard
@@ -266,7 +334,8 @@ void LiveSession::renderBlock(float* left, float* right, int n) noexcept
     auto position = [&](std::uint64_t at) noexcept { return loop ? at % frames : at; };
     if (recordingAt_ == 0) {   // the recording itself: followed from its first sample
         const float* in[2] = {first, second};
-        engine_->processInput(in, channels, 0);
+        if (cues_) cues_->processInput(in, channels, 0);
+        else plays->processInput(in, channels, 0);
     }
     for (int done = 0; done < n;) {
         const std::uint64_t at = position(recordingAt_ + static_cast<std::uint64_t>(done));
@@ -274,10 +343,12 @@ void LiveSession::renderBlock(float* left, float* right, int n) noexcept
         const int len = inside ? static_cast<int>(std::min<std::uint64_t>(static_cast<std::uint64_t>(n - done), frames - at))
                                : std::min(n - done, static_cast<int>(recordingSilence_.size()));
         const float* in[2] = {inside ? first + at : recordingSilence_.data(), inside ? second + at : recordingSilence_.data()};
-        engine_->processInput(in, channels, len);
+        if (cues_) cues_->processInput(in, channels, len);
+        else plays->processInput(in, channels, len);
         done += len;
     }
-    engine_->renderAudio(left, right, n);
+    if (cues_) cues_->renderAudio(left, right, n);
+    else plays->renderAudio(left, right, n);
     for (int i = 0; i < n; ++i) {
         const std::uint64_t at = position(recordingAt_ + static_cast<std::uint64_t>(i));
         if (at >= frames) break;
@@ -331,6 +402,7 @@ void LiveSession::start()
     if (running_.exchange(true)) return;
     started_ = std::chrono::steady_clock::now();
     if (link_) link_->start();
+    if (leftLink_) leftLink_->start();
     if (oscIn_) oscIn_->start();
     if (wav_) audioThread_ = std::thread([this] { audioLoop(); });
     if (soundCard_)
@@ -352,8 +424,16 @@ void LiveSession::stop()
         link_->stop();
     }
     if (oscIn_) oscIn_->stop();
+    if (leftLink_) {   // the left device's last packet all-off too (motorsOff_ is set)
+        if (leftLink_->stats().inSync) leftLink_->waitFor([](const LinkStats&) { return true; }, 0.05);
+        leftLink_->stop();
+    }
     if (simulator_) simulator_->stop();
+    if (leftSimulator_) leftSimulator_->stop();
+    if (duo_) duo_->allOff();
     engine_->allOff();
+    if (cues_)
+        for (int c = 0; c < cues_->cueCount(); ++c) cues_->engine(c).allOff();
     // The tactile file ends with the all-off that was sent: the zero packet answered above (at
     // its packet's time), or the motors' off state at the last packet's time.
     if (tactile_ && updates_.load() > 0) {
@@ -375,7 +455,7 @@ void LiveSession::finish()
     stop();
     // Every file is attempted; the first failure is reported.
     std::string error;
-    for (StreamingCsvWriter* w : {log_.get(), tactile_.get()}) {
+    for (StreamingCsvWriter* w : {log_.get(), tactile_.get(), armsLog_.get()}) {
         if (!w) continue;
         try {
             w->finish();

@@ -22,6 +22,7 @@
 #include "Engine/Engine.h"
 #include "Live/ControlLoop.h"
 #include "Mapping/MappingSpec.h"
+#include "Live/SetList.h"
 #include <atomic>
 #include <memory>
 #include <string>
@@ -33,6 +34,9 @@ class SequencerOut;
 }
 namespace armadillo::live {
 class MappingRig;
+}
+namespace armadillo {
+class ArmTracker;
 }
 
 namespace armadillo::device {
@@ -78,6 +82,21 @@ struct LiveConfig {
     std::string midiOut;              ///< with a mapping: an ALSA sequencer output port of this name (IoError when absent)
     double forwardDeg = 0.0;          ///< with a mapping: the forward direction to start from (azimuth, °)
     DeviceLinkOptions link {};
+    /// A set list (docs/STAGE.md; `play --setlist`): its cues replace `engine.scene`, which then
+    /// only tracks the arm (monitor); sample rate, seed, arm side and motor count come from
+    /// `engine`. Empty = none.
+    std::string setList;
+    /// Two arms (docs/STAGE.md; `play --motion-left` / `--port-left`): the left arm's own source,
+    /// link, calibration and fusion; the scene sees both (EngineConfig::twoArms is set) and the
+    /// left arm's motor packets go back to its own device. None = one arm.
+    enum class LeftSource { None, Port, Simulator };
+    LeftSource leftSource = LeftSource::None;
+    std::string leftPort;             ///< LeftSource::Port
+    int leftBaud = 57600;
+    std::string leftMotionFile;       ///< LeftSource::Simulator: pose/quaternion CSV; empty = wandering arm
+    Calibration leftCalibration = defaultCalibration();
+    /// Two arms: t,qw,qx,qy,qz,left_qw,left_qx,left_qy,left_qz per control update. Empty = none.
+    std::string armsLog;
 };
 
 struct SessionSummary {
@@ -115,7 +134,13 @@ public:
     void finish();
 
     SessionSummary summary() const;
-    Engine& engine() noexcept { return *engine_; }
+    /// The engine that runs: the set list's current cue's, or the one scene's.
+    Engine& engine() noexcept { return sounding(); }
+    /// The set list's player (null without --setlist): request/next/previous from any thread.
+    live::CuePlayer* cuePlayer() noexcept { return cues_.get(); }
+    /// Two arms: the left arm's link (null with one arm) and its latest pose (any thread).
+    DeviceLink* leftLink() noexcept { return leftLink_.get(); }
+    Pose latestLeftPose() const noexcept { return leftPose_.load(); }
     /// IMU samples the control step dropped (more than ControlLoop::kMaxImuPerStep waiting).
     std::uint64_t droppedImu() const noexcept { return loop_.droppedImu(); }
     /// Latest pose and motor levels (any thread, lock-free).
@@ -157,6 +182,19 @@ private:
     live::ControlLoop loop_;            // the control step: mailbox → fusion → Engine::control (owns the engine)
     live::SourceKind sourceKind_ = live::SourceKind::Device;
     Engine* engine_ = nullptr;          // the loop's engine; no other is ever offered
+    std::unique_ptr<live::CuePlayer> cues_;   // with a set list: what plays (the loop's engine only tracks)
+    // Two arms: the left arm's source and link; its calibrated samples reach the control thread
+    // through a mailbox, where its own tracker fuses them; the two-arm engine plays both.
+    std::unique_ptr<SimulatedForearm> leftSimulator_;
+    std::unique_ptr<DeviceLink> leftLink_;
+    live::LiveInput leftInput_;
+    std::unique_ptr<ArmTracker> leftTracker_;
+    ArmState leftArm_ {};
+    std::unique_ptr<Engine> duo_;                 // two arms: what plays (the loop's engine only tracks)
+    SeqLock<MotorLevels> leftLevels_;
+    SeqLock<Pose> leftPose_;
+    std::unique_ptr<StreamingCsvWriter> armsLog_;
+    Engine& sounding() noexcept { return cues_ ? cues_->engine(cues_->current()) : duo_ ? *duo_ : *engine_; }
     std::unique_ptr<SimulatedForearm> simulator_;
     std::unique_ptr<DeviceLink> link_;
     std::unique_ptr<OscReceiver> oscIn_;

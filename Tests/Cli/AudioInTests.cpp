@@ -127,3 +127,43 @@ TEST_CASE("cli: play --audio-in plays the recording out while the score follows 
     CHECK(firstOn > 0.25);
     CHECK(firstOn < 1.0);
 }
+
+TEST_CASE("cli: play --keys: p panics: silence and every motor off, reported, counted in the summary", "[cli][panic]")
+{
+    using namespace armadillo::cli;
+    // The same session with and without the key: the theremin sounds and frets are felt without
+    // it; with it (read at once from stdin) nothing sounds after the first millisecond and every
+    // motor packet is all-off.
+    const std::string motion = file("panic-motion.csv", [] {
+        std::string s = "t,elevation,azimuth,roll\n";
+        for (int i = 0; i <= 400; ++i) s += std::to_string(i / 200.0) + "," + std::to_string(-40.0 + 0.2 * i) + ",0,0\n";
+        return s;
+    }());
+    const std::string keys = file("panic-keys.txt", "p");
+    const std::string base = "play --scene theremin --simulate --motion '" + motion + "' --seconds 1.5 --keys";
+    const Run normal = runArmadillo(base + " --out '" + path("normal.wav") + "' --tactile '" + path("normal.csv") + "'");
+    REQUIRE(normal.code == 0);
+    CHECK(normal.out.find("\"panics\"") == std::string::npos);
+    CHECK(normal.err.find("p = panic") != std::string::npos);
+    const Run panicked = runArmadillo(base + " --out '" + path("panic.wav") + "' --tactile '" + path("panic.csv") + "'", keys);
+    INFO(panicked.err);
+    REQUIRE(panicked.code == 0);
+    CHECK(panicked.err.find("PANIC") != std::string::npos);
+    CHECK(panicked.out.find("\"panics\":1") != std::string::npos);
+    auto energy = [](const AudioBuffer& b, std::size_t from) {
+        double e = 0.0;
+        for (std::size_t i = from; i < b.frames(); ++i) e += static_cast<double>(b.channels[0][i]) * static_cast<double>(b.channels[0][i]);
+        return e;
+    };
+    auto motorSum = [](const std::string& csvPath) {
+        const CsvTable t = CsvTable::read(csvPath);
+        double s = 0.0;
+        for (std::size_t r = 0; r < t.rowCount(); ++r)
+            for (int c = 1; c < static_cast<int>(t.header().size()); ++c) s += t.value(r, c);
+        return s;
+    };
+    CHECK(energy(readWav(path("normal.wav")), 0) > 1.0);
+    CHECK(energy(readWav(path("panic.wav")), 48) == 0.0);
+    CHECK(motorSum(path("normal.csv")) > 0.0);
+    CHECK(motorSum(path("panic.csv")) == 0.0);
+}

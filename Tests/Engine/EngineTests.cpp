@@ -21,7 +21,7 @@ std::string poseMotion(double seconds, double rate, double elevationDeg)
 
 TEST_CASE("Engine: scene names are those of INTERFACES.md; unknown names are refused", "[engine]")
 {
-    const std::vector<std::string> expected {"monitor", "theremin", "cymbal", "panel", "sound-design", "compass", "braille", "score", "audio-touch"};
+    const std::vector<std::string> expected {"monitor", "theremin", "cymbal", "panel", "sound-design", "compass", "braille", "score", "audio-touch", "layered-keyboard", "theremin-duo"};
     CHECK(sceneNames() == expected);
     CHECK_THROWS_AS(createScene("kazoo"), InputError);
     CHECK(createScene("monitor")->name() == "monitor");

@@ -1,0 +1,293 @@
+#include "Live/SetList.h"
+#include "Core/AtomicFile.h"
+#include "Core/Errors.h"
+#include "Core/Json.h"
+#include "Engine/ArmTracker.h"
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+namespace armadillo::live {
+
+namespace {
+using device::JsonValue;
+
+[[noreturn]] void refuse(const std::string& source, const JsonValue& at, const std::string& path, const std::string& message)
+{
+    throw InputError(source, at.line, path, message);
+}
+
+/// An InputError's message without its "<input>: column 'x': " prefix (to re-issue it with the
+/// set list's file and line).
+std::string bareMessage(const InputError& e)
+{
+    std::string m = e.what();
+    if (m.rfind("<input>: ", 0) == 0) m.erase(0, 9);
+    if (m.rfind("column '", 0) == 0) {
+        const auto end = m.find("': ");
+        if (end != std::string::npos) m.erase(0, end + 3);
+    }
+    return m;
+}
+
+std::string numberText(double v)
+{
+    std::string s;
+    appendNumber(s, v, 9);
+    return s;
+}
+
+const std::string& requireString(const std::string& source, const JsonValue& v, const std::string& path)
+{
+    if (v.kind != JsonValue::Kind::String) refuse(source, v, path, std::string("must be a string, not ") + JsonValue::kindName(v.kind));
+    return v.string;
+}
+} // namespace
+
+SetList parseSetList(std::string_view text, const std::string& source)
+{
+    const JsonValue root = device::parseJson(text, source);
+    if (root.kind != JsonValue::Kind::Object) refuse(source, root, "", "a set list is a JSON object");
+    SetList list;
+    list.source = source;
+    const JsonValue* version = root.find("armadillo_setlist");
+    if (!version) refuse(source, root, "armadillo_setlist", "missing: a set list starts with \"armadillo_setlist\": 1");
+    if (version->kind != JsonValue::Kind::Number || version->number != SetList::kVersion)
+        refuse(source, *version, "armadillo_setlist", "unsupported version (this program reads version 1)");
+    for (const auto& [key, value] : root.object)
+        if (key != "armadillo_setlist" && key != "cues") refuse(source, value, key, "unknown key (a set list has armadillo_setlist and cues)");
+    const JsonValue* cues = root.find("cues");
+    if (!cues || cues->kind != JsonValue::Kind::Array || cues->array.empty())
+        refuse(source, cues ? *cues : root, "cues", "needs a non-empty array of cues");
+    for (std::size_t i = 0; i < cues->array.size(); ++i) {
+        const JsonValue& c = cues->array[i];
+        const std::string path = "cues[" + std::to_string(i) + "]";
+        if (c.kind != JsonValue::Kind::Object) refuse(source, c, path, "a cue is an object with at least \"scene\"");
+        Cue cue;
+        cue.line = c.line;
+        cue.name = "cue " + std::to_string(i);
+        for (const auto& [key, value] : c.object) {
+            const std::string at = path + "." + key;
+            if (key == "name") cue.name = requireString(source, value, at);
+            else if (key == "scene") cue.scene = requireString(source, value, at);
+            else if (key == "mapping") cue.mapping = requireString(source, value, at);
+            else if (key == "profile") cue.profile = requireString(source, value, at);
+            else if (key == "score") cue.score = requireString(source, value, at);
+            else if (key == "text") cue.text = requireString(source, value, at);
+            else if (key == "parameters") {
+                if (value.kind != JsonValue::Kind::Object) refuse(source, value, at, "must be an object of \"id\": value");
+                for (const auto& [id, v] : value.object) {
+                    if (v.kind == JsonValue::Kind::Number) cue.parameters.push_back(id + "=" + numberText(v.number));
+                    else if (v.kind == JsonValue::Kind::String) cue.parameters.push_back(id + "=" + v.string);
+                    else if (v.kind == JsonValue::Kind::Bool) cue.parameters.push_back(id + "=" + (v.boolean ? "1" : "0"));
+                    else refuse(source, v, at + "." + id, "a parameter is a number or a choice name");
+                }
+            } else {
+                refuse(source, value, at, "unknown key (a cue has name, scene, parameters, mapping, profile, score, text)");
+            }
+        }
+        if (cue.scene.empty()) refuse(source, c, path + ".scene", "missing: every cue names its scene");
+        const auto& names = sceneNames();
+        if (std::find(names.begin(), names.end(), cue.scene) == names.end()) {
+            std::string all;
+            for (const auto& n : names) all += (all.empty() ? "" : ", ") + n;
+            refuse(source, *c.find("scene"), path + ".scene", "unknown scene '" + cue.scene + "' (scenes: " + all + ")");
+        }
+        list.cues.push_back(std::move(cue));
+    }
+    return list;
+}
+
+SetList loadSetList(const std::string& path) { return parseSetList(readWholeFile(path), path); }
+
+CuePlayer::CuePlayer(const SetList& list, const SceneConfig& base, int motorCount) : cues_(list.cues)
+{
+    if (cues_.empty()) throw InputError(list.source, 0, "cues", "the set list has no cues");
+    for (std::size_t i = 0; i < cues_.size(); ++i) {
+        const Cue& c = cues_[i];
+        EngineConfig config;
+        config.scene = c.scene;
+        config.sceneConfig = base;
+        config.sceneConfig.score = c.score;
+        config.sceneConfig.text = c.text;
+        config.motorCount = motorCount;
+        config.parameters = c.parameters;
+        try {
+            engines_.push_back(std::make_unique<Engine>(config));
+        } catch (const InputError& e) {
+            throw InputError(list.source, c.line, "cues[" + std::to_string(i) + "]" + (e.column().empty() ? "" : "." + e.column()), bareMessage(e));
+        } catch (const std::exception& e) {
+            throw InputError(list.source, c.line, "cues[" + std::to_string(i) + "]", std::string("scene '") + c.scene + "' cannot start: " + e.what());
+        }
+    }
+    SafetyParams safety;
+    safety_.prepare(safety, std::clamp(motorCount, kGridMotors, kMaxMotors));
+    const double fs = base.sampleRate > 0.0 ? base.sampleRate : 48000.0;
+    fadeLength_ = std::max(1, static_cast<int>(std::lround(kFadeSeconds * fs)));
+    scratchL_.assign(kMaxBlock, 0.0f);
+    scratchR_.assign(kMaxBlock, 0.0f);
+}
+
+CuePlayer::~CuePlayer() = default;
+
+void CuePlayer::request(int index) noexcept { requested_.store(std::clamp(index, 0, cueCount() - 1), std::memory_order_release); }
+
+void CuePlayer::next() noexcept
+{
+    int r = requested_.load(std::memory_order_acquire);
+    while (!requested_.compare_exchange_weak(r, std::min(r + 1, cueCount() - 1), std::memory_order_acq_rel)) {}
+}
+
+void CuePlayer::previous() noexcept
+{
+    int r = requested_.load(std::memory_order_acquire);
+    while (!requested_.compare_exchange_weak(r, std::max(r - 1, 0), std::memory_order_acq_rel)) {}
+}
+
+MotorLevels CuePlayer::control(const ArmState& arm, const Transport& transport, double dt) noexcept
+{
+    const int want = requested_.load(std::memory_order_acquire);
+    if (want != controlCue_) {
+        // The old cue's motors off through its own tactile engine; the new cue starts afresh.
+        engines_[static_cast<std::size_t>(controlCue_)]->allOff();
+        controlCue_ = want;
+        engines_[static_cast<std::size_t>(controlCue_)]->scene().reset();
+        active_.store(controlCue_, std::memory_order_release);
+        changes_.fetch_add(1, std::memory_order_relaxed);
+    }
+    const MotorLevels levels = engines_[static_cast<std::size_t>(controlCue_)]->control(arm, transport, dt);
+    // One safety stage across the whole set list: a cue change cannot restart the heat budget.
+    return safety_.process(levels, std::isfinite(dt) && dt >= 0.0 ? std::min(dt, 0.1) : 0.0);
+}
+
+void CuePlayer::processInput(const float* const* in, int channels, int numSamples) noexcept
+{
+    for (auto& e : engines_)
+        if (e->listensToAudio()) e->processInput(in, channels, numSamples);
+}
+
+void CuePlayer::renderAudio(float* left, float* right, int numSamples) noexcept
+{
+    for (int done = 0; done < numSamples;) {
+        const int n = std::min(kMaxBlock, numSamples - done);
+        renderChunk(left + done, right + done, n);
+        done += n;
+    }
+}
+
+void CuePlayer::renderChunk(float* left, float* right, int n) noexcept
+{
+    const int active = active_.load(std::memory_order_acquire);
+    if (active != audioCue_) {
+        // A change mid-fade starts a new fade from the cue that was fading in (the one that
+        // was fading out stops: it is at most kFadeSeconds from silence anyway).
+        fadeFrom_ = audioCue_;
+        audioCue_ = active;
+        fadePos_ = 0;
+    }
+    engines_[static_cast<std::size_t>(audioCue_)]->renderAudio(left, right, n);
+    if (fadeFrom_ < 0) return;
+    engines_[static_cast<std::size_t>(fadeFrom_)]->renderAudio(scratchL_.data(), scratchR_.data(), n);
+    for (int i = 0; i < n; ++i) {
+        // Equal-gain linear cross-fade: the step it adds is at most |old − new| / fade length.
+        const float g = fadePos_ < fadeLength_ ? static_cast<float>(fadePos_) / static_cast<float>(fadeLength_) : 1.0f;
+        left[i] = g * left[i] + (1.0f - g) * scratchL_[static_cast<std::size_t>(i)];
+        right[i] = g * right[i] + (1.0f - g) * scratchR_[static_cast<std::size_t>(i)];
+        if (fadePos_ < fadeLength_) ++fadePos_;
+    }
+    if (fadePos_ >= fadeLength_) fadeFrom_ = -1;
+}
+
+void CuePlayer::panic() noexcept
+{
+    for (auto& e : engines_) e->panic();
+}
+
+void CuePlayer::resume() noexcept
+{
+    for (auto& e : engines_) e->resume();
+}
+
+CueChange parseCueChange(const std::string& text)
+{
+    const auto colon = text.find(':');
+    if (colon == std::string::npos) throw std::invalid_argument("'" + text + "' is not T:INDEX (e.g. 2.5:1)");
+    CueChange c;
+    const char* b = text.data();
+    const auto [e1, ec1] = std::from_chars(b, b + colon, c.t);
+    const auto [e2, ec2] = std::from_chars(b + colon + 1, b + text.size(), c.cue);
+    if (ec1 != std::errc() || e1 != b + colon || ec2 != std::errc() || e2 != b + text.size() || !std::isfinite(c.t) || c.t < 0.0 || c.cue < 0)
+        throw std::invalid_argument("'" + text + "' is not T:INDEX (a time >= 0 in seconds, a cue index >= 0)");
+    return c;
+}
+
+RenderResult renderSetList(const CsvTable& motion, const SetList& list, const RenderSettings& settings, std::vector<CueChange> changes)
+{
+    const MotionKind kind = detectMotionKind(motion);
+    std::vector<ImuSample> imu;
+    std::vector<TimedQuaternion> orientations;
+    if (kind == MotionKind::Imu) imu = readImu(motion);
+    else orientations = motionAsQuaternions(motion);   // throws for unknown headers
+    const std::size_t rows = kind == MotionKind::Imu ? imu.size() : orientations.size();
+    if (rows == 0) throw InputError(motion.source(), 0, "", "the motion file has no rows");
+    auto timeOf = [&](std::size_t i) { return kind == MotionKind::Imu ? imu[i].t : orientations[i].t; };
+
+    const double sampleRate = settings.engine.sceneConfig.sampleRate;
+    if (!(sampleRate >= 8000.0 && sampleRate <= 384000.0)) throw InputError("", 0, "", "sample rate must lie in 8000..384000 Hz");
+    CuePlayer player(list, settings.engine.sceneConfig, settings.engine.motorCount);
+    for (const CueChange& c : changes)
+        if (c.cue >= player.cueCount())
+            throw InputError(list.source, 0, "--cue-at", "cue " + std::to_string(c.cue) + " does not exist (the set list has " +
+                                                             std::to_string(player.cueCount()) + " cues, 0.." + std::to_string(player.cueCount() - 1) + ")");
+    std::stable_sort(changes.begin(), changes.end(), [](const CueChange& a, const CueChange& b) { return a.t < b.t; });
+
+    ArmTracker tracker;
+    RenderResult result;
+    const double t0 = timeOf(0);
+    const double tEnd = timeOf(rows - 1) + std::max(0.0, settings.tailSeconds);
+    const auto totalFrames = static_cast<std::size_t>(std::llround((tEnd - t0) * sampleRate)) + 1;
+    result.audio.sampleRate = sampleRate;
+    result.audio.channels.assign(2, std::vector<float>(totalFrames, 0.0f));
+    const int block = std::clamp(settings.blockSize, 1, 8192);
+    std::size_t frame = 0;
+    const auto renderUntil = [&](double t) {
+        const auto target = std::min(totalFrames, static_cast<std::size_t>(std::llround((t - t0) * sampleRate)));
+        while (frame < target) {
+            const int n = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(block), target - frame));
+            player.renderAudio(result.audio.channels[0].data() + frame, result.audio.channels[1].data() + frame, n);
+            frame += static_cast<std::size_t>(n);
+        }
+    };
+    std::size_t nextChange = 0;
+    double previous = t0;
+    for (std::size_t i = 0; i < rows; ++i) {
+        const double t = timeOf(i);
+        renderUntil(t);
+        while (nextChange < changes.size() && changes[nextChange].t <= t - t0 + 1e-9) player.request(changes[nextChange++].cue);
+        const ArmState arm = kind == MotionKind::Imu ? tracker.update(imu[i]) : tracker.updateOrientation(orientations[i].t, orientations[i].q);
+        Transport transport;
+        transport.valid = true;
+        transport.playing = true;
+        transport.seconds = t - t0;
+        transport.bpm = settings.bpm;
+        transport.ppq = transport.seconds * settings.bpm / 60.0;
+        MotorLevels levels {};
+        if (arm.valid) levels = player.control(arm, transport, t - previous);
+        else ++result.invalidRows;
+        Engine& current = player.engine(player.current());
+        if (current.failed())
+            throw std::runtime_error("scene '" + current.config().scene + "' failed at t = " + std::to_string(t) + " s (motors off): " + current.failure());
+        previous = t;
+        result.tactile.push_back({t, levels});
+        ++result.controlUpdates;
+        GestureEvent g;
+        for (int c = 0; c < player.cueCount(); ++c)
+            while (player.engine(c).popGesture(g)) result.gestures.push_back(g);
+    }
+    renderUntil(tEnd + 1.0 / sampleRate);
+    return result;
+}
+
+} // namespace armadillo::live

@@ -1,0 +1,200 @@
+#include "Live/StageControl.h"
+#include "Core/Errors.h"
+#include <arpa/inet.h>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <termios.h>
+#include <unistd.h>
+#include <vector>
+
+namespace armadillo::live {
+
+static_assert(sizeof(termios) <= 128, "KeyReader::saved_ must hold a termios");
+
+bool stageCommandFromOsc(const device::OscMessage& m, StageCommand& out, std::string& why)
+{
+    const std::string_view a = m.address;
+    if (a == "/armadillo/panic") out = {StageCommand::Kind::Panic, 0};
+    else if (a == "/armadillo/resume") out = {StageCommand::Kind::Resume, 0};
+    else if (a == "/armadillo/cue/next") out = {StageCommand::Kind::CueNext, 0};
+    else if (a == "/armadillo/cue/prev") out = {StageCommand::Kind::CuePrev, 0};
+    else if (a == "/armadillo/cue") {
+        double v = 0.0;
+        if (m.count != 1 || !m.args[0].asNumber(v) || !(v >= 0.0) || v > 9999.0 || std::floor(v) != v) {
+            why = "/armadillo/cue needs one whole number >= 0 (the cue's index)";
+            return false;
+        }
+        out = {StageCommand::Kind::CueGoto, static_cast<int>(v)};
+    } else {
+        why = "not a stage command: " + std::string(a);
+        return false;
+    }
+    return true;
+}
+
+bool stageCommandFromKey(char key, StageCommand& out)
+{
+    switch (key) {
+    case 'p': case 'P': case 27: out = {StageCommand::Kind::Panic, 0}; return true;
+    case 'r': case 'R': out = {StageCommand::Kind::Resume, 0}; return true;
+    case 'n': case 'N': case ' ': out = {StageCommand::Kind::CueNext, 0}; return true;
+    case 'b': case 'B': out = {StageCommand::Kind::CuePrev, 0}; return true;
+    default:
+        if (key >= '0' && key <= '9') {
+            out = {StageCommand::Kind::CueGoto, key - '0'};
+            return true;
+        }
+        return false;
+    }
+}
+
+std::string describe(const StageCommand& c)
+{
+    switch (c.kind) {
+    case StageCommand::Kind::Panic: return "panic";
+    case StageCommand::Kind::Resume: return "resume";
+    case StageCommand::Kind::CueNext: return "next cue";
+    case StageCommand::Kind::CuePrev: return "previous cue";
+    case StageCommand::Kind::CueGoto: return "cue " + std::to_string(c.cue);
+    }
+    return "?";
+}
+
+StageControlReceiver::StageControlReceiver(int port, Handler handler) : handler_(std::move(handler))
+{
+    if (port < 0 || port > 65535) throw IoError("--control-in: port " + std::to_string(port) + " is outside 0..65535");
+    const auto bindOrThrow = [this, port](const sockaddr* address, socklen_t size) {
+        if (::bind(fd_, address, size) == 0) return;
+        const int e = errno;
+        ::close(fd_);
+        fd_ = -1;
+        throw IoError("--control-in: cannot listen on UDP port " + std::to_string(port) + ": " + std::strerror(e));
+    };
+    fd_ = ::socket(AF_INET6, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+    if (fd_ >= 0) {
+        const int off = 0;
+        ::setsockopt(fd_, IPPROTO_IPV6, IPV6_V6ONLY, &off, sizeof off);
+        sockaddr_in6 a {};
+        a.sin6_family = AF_INET6;
+        a.sin6_addr = in6addr_any;
+        a.sin6_port = htons(static_cast<std::uint16_t>(port));
+        bindOrThrow(reinterpret_cast<sockaddr*>(&a), sizeof a);
+    } else {
+        fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+        if (fd_ < 0) throw IoError(std::string("--control-in: cannot create a UDP socket: ") + std::strerror(errno));
+        sockaddr_in a {};
+        a.sin_family = AF_INET;
+        a.sin_addr.s_addr = htonl(INADDR_ANY);
+        a.sin_port = htons(static_cast<std::uint16_t>(port));
+        bindOrThrow(reinterpret_cast<sockaddr*>(&a), sizeof a);
+    }
+    sockaddr_storage bound {};
+    socklen_t len = sizeof bound;
+    ::getsockname(fd_, reinterpret_cast<sockaddr*>(&bound), &len);
+    port_ = bound.ss_family == AF_INET6 ? ntohs(reinterpret_cast<sockaddr_in6*>(&bound)->sin6_port)
+                                        : ntohs(reinterpret_cast<sockaddr_in*>(&bound)->sin_port);
+}
+
+StageControlReceiver::~StageControlReceiver()
+{
+    stop();
+    if (fd_ >= 0) ::close(fd_);
+}
+
+void StageControlReceiver::start()
+{
+    if (thread_.joinable()) return;
+    stop_.store(false);
+    thread_ = std::thread([this] { run(); });
+}
+
+void StageControlReceiver::stop()
+{
+    stop_.store(true);
+    if (thread_.joinable()) thread_.join();
+}
+
+void StageControlReceiver::handleDatagram(const std::uint8_t* data, std::size_t size)
+{
+    std::string error;
+    const bool ok = device::decodeOscPacket(
+        data, size,
+        [this](const device::OscMessage& m) {
+            StageCommand c;
+            std::string why;
+            if (!stageCommandFromOsc(m, c, why)) {
+                refused_.fetch_add(1);
+                return;
+            }
+            commands_.fetch_add(1);
+            if (handler_) handler_(c);
+        },
+        &error);
+    if (!ok) refused_.fetch_add(1);
+}
+
+void StageControlReceiver::run()
+{
+    std::vector<std::uint8_t> buffer(65536);
+    while (!stop_.load(std::memory_order_relaxed)) {
+        pollfd p {fd_, POLLIN, 0};
+        if (::poll(&p, 1, 20) <= 0) continue;
+        const ssize_t n = ::recv(fd_, buffer.data(), buffer.size(), MSG_DONTWAIT);
+        if (n > 0) handleDatagram(buffer.data(), static_cast<std::size_t>(n));
+    }
+}
+
+KeyReader::KeyReader(int fd, Handler handler) : fd_(fd), handler_(std::move(handler))
+{
+    termios t {};
+    if (::isatty(fd_) == 1 && ::tcgetattr(fd_, &t) == 0) {
+        std::memcpy(saved_, &t, sizeof t);
+        restore_ = true;
+        t.c_lflag &= ~static_cast<tcflag_t>(ICANON | ECHO);
+        t.c_cc[VMIN] = 0;
+        t.c_cc[VTIME] = 0;
+        ::tcsetattr(fd_, TCSANOW, &t);
+    }
+}
+
+KeyReader::~KeyReader() { stop(); }
+
+void KeyReader::start()
+{
+    if (thread_.joinable()) return;
+    stop_.store(false);
+    thread_ = std::thread([this] { run(); });
+}
+
+void KeyReader::stop()
+{
+    stop_.store(true);
+    if (thread_.joinable()) thread_.join();
+    if (restore_) {
+        termios t {};
+        std::memcpy(&t, saved_, sizeof t);
+        ::tcsetattr(fd_, TCSANOW, &t);
+        restore_ = false;
+    }
+}
+
+void KeyReader::run()
+{
+    while (!stop_.load(std::memory_order_relaxed)) {
+        pollfd p {fd_, POLLIN, 0};
+        const int r = ::poll(&p, 1, 20);
+        if (r <= 0) continue;
+        char c = 0;
+        const ssize_t n = ::read(fd_, &c, 1);
+        if (n == 0 || (n < 0 && errno != EINTR && errno != EAGAIN)) break;   // stdin ended
+        if (n != 1) continue;
+        StageCommand command;
+        if (stageCommandFromKey(c, command) && handler_) handler_(command);
+    }
+}
+
+} // namespace armadillo::live

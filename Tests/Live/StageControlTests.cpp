@@ -1,0 +1,108 @@
+// Stage commands (docs/STAGE.md): the OSC addresses and keys, refused input, and the control
+// port over loopback UDP.
+#include "Common/Eventually.h"
+#include "Osc/Osc.h"
+#include "Live/StageControl.h"
+#include <catch2/catch.hpp>
+#include <arpa/inet.h>
+#include <atomic>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+#include <vector>
+
+using namespace armadillo;
+using namespace armadillo::live;
+
+namespace {
+/// Decodes an encoded message back into an OscMessage and parses it as a stage command.
+bool parse(const std::vector<std::uint8_t>& bytes, StageCommand& out, std::string& why)
+{
+    bool result = false;
+    std::string error;
+    const bool ok = device::decodeOscPacket(bytes.data(), bytes.size(), [&](const device::OscMessage& m) { result = stageCommandFromOsc(m, out, why); }, &error);
+    return ok && result;
+}
+} // namespace
+
+TEST_CASE("stage: OSC addresses become commands; anything else is refused with a reason", "[stage]")
+{
+    using K = StageCommand::Kind;
+    StageCommand c;
+    std::string why;
+    REQUIRE(parse(device::encodeOscMessage("/armadillo/panic", {}), c, why));
+    CHECK(c.kind == K::Panic);
+    REQUIRE(parse(device::encodeOscMessage("/armadillo/resume", {}), c, why));
+    CHECK(c.kind == K::Resume);
+    REQUIRE(parse(device::encodeOscMessage("/armadillo/cue/next", {}), c, why));
+    CHECK(c.kind == K::CueNext);
+    REQUIRE(parse(device::encodeOscMessage("/armadillo/cue/prev", {}), c, why));
+    CHECK(c.kind == K::CuePrev);
+    REQUIRE(parse(device::encodeOscMessage("/armadillo/cue", {device::OscArg::int32(3)}), c, why));
+    CHECK(c.kind == K::CueGoto);
+    CHECK(c.cue == 3);
+    REQUIRE(parse(device::encodeOscMessage("/armadillo/cue", {device::OscArg::float32(2.0f)}), c, why));
+    CHECK(c.cue == 2);
+    CHECK(describe(c) == "cue 2");
+    for (const auto& bad : {device::encodeOscMessage("/armadillo/cue", {}), device::encodeOscMessage("/armadillo/cue", {device::OscArg::int32(-1)}),
+                            device::encodeOscMessage("/armadillo/cue", {device::OscArg::float32(1.5f)}),
+                            device::encodeOscMessage("/armadillo/cue", {device::OscArg::string("one")}),
+                            device::encodeOscMessage("/armadillo/panik", {})}) {
+        why.clear();
+        CHECK_FALSE(parse(bad, c, why));
+        CHECK_FALSE(why.empty());
+    }
+}
+
+TEST_CASE("stage: keys", "[stage]")
+{
+    using K = StageCommand::Kind;
+    StageCommand c;
+    REQUIRE(stageCommandFromKey('p', c));
+    CHECK(c.kind == K::Panic);
+    REQUIRE(stageCommandFromKey(27, c));
+    CHECK(c.kind == K::Panic);
+    REQUIRE(stageCommandFromKey('r', c));
+    CHECK(c.kind == K::Resume);
+    REQUIRE(stageCommandFromKey(' ', c));
+    CHECK(c.kind == K::CueNext);
+    REQUIRE(stageCommandFromKey('b', c));
+    CHECK(c.kind == K::CuePrev);
+    REQUIRE(stageCommandFromKey('7', c));
+    CHECK((c.kind == K::CueGoto && c.cue == 7));
+    CHECK_FALSE(stageCommandFromKey('x', c));
+    CHECK_FALSE(stageCommandFromKey('\n', c));
+}
+
+TEST_CASE("stage: the control port takes commands over loopback UDP and counts what it refuses", "[stage][osc]")
+{
+    std::atomic<int> panics {0}, cues {0}, lastCue {-1};
+    StageControlReceiver receiver(0, [&](const StageCommand& c) {
+        if (c.kind == StageCommand::Kind::Panic) ++panics;
+        if (c.kind == StageCommand::Kind::CueGoto) {
+            lastCue = c.cue;
+            ++cues;
+        }
+    });
+    REQUIRE(receiver.port() > 0);
+    receiver.start();
+    const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+    REQUIRE(fd >= 0);
+    sockaddr_in to {};
+    to.sin_family = AF_INET;
+    to.sin_port = htons(static_cast<std::uint16_t>(receiver.port()));
+    to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    auto send = [&](const std::vector<std::uint8_t>& bytes) {
+        ::sendto(fd, bytes.data(), bytes.size(), 0, reinterpret_cast<const sockaddr*>(&to), sizeof to);
+    };
+    send(device::encodeOscMessage("/armadillo/panic", {}));
+    send(device::encodeOscMessage("/armadillo/cue", {device::OscArg::int32(2)}));
+    send(device::encodeOscMessage("/armadillo/imu", {device::OscArg::float32(1.0f)}));   // not a stage command
+    send({0x01, 0x02, 0x03});                                                          // not OSC
+    CHECK(armadillo::testing::eventually([&] { return receiver.commands() == 2 && receiver.refused() == 2; }));
+    CHECK(panics == 1);
+    CHECK(cues == 1);
+    CHECK(lastCue == 2);
+    ::close(fd);
+    receiver.stop();
+}
