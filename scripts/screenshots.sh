@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# Screenshots of the standalone app for docs/images (issue 24), taken under Xvfb with a fresh
+# home folder (so the app starts as on a first run: the welcome shows, no device, and in a
+# container no sound card). Needs: xvfb imagemagick xdotool (apt-get install -y xvfb imagemagick
+# xdotool) and the built app (bash scripts/build.sh ARMadillo_Standalone).
+# Usage: bash scripts/screenshots.sh [OUTDIR]   (default docs/images)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+app="$PWD/build/Source/Plugin/ARMadillo_artefacts/Release/Standalone/ARMadillo"
+out="$(realpath -m "${1:-docs/images}")"
+mkdir -p "$out"
+[ -x "$app" ] || { echo "build the app first: bash scripts/build.sh ARMadillo_Standalone" >&2; exit 4; }
+if [ -z "${ARMADILLO_SHOTS_INNER:-}" ]; then
+    export ARMADILLO_SHOTS_INNER=1
+    exec xvfb-run -a -s '-screen 0 3000x2100x24' bash "$0" "$out"
+fi
+
+home="$(mktemp -d)"
+trap 'kill "$pid" 2>/dev/null || true; rm -rf "$home"' EXIT
+export HOME="$home" XDG_CONFIG_HOME="$home/.config" XDG_RUNTIME_DIR="$home"
+
+start_app() {   # $1 = scale (1 or 2)
+    ARMADILLO_UI_SCALE="$1" "$app" 2> "$home/app.log" &
+    pid=$!
+    for _ in $(seq 100); do
+        win=$(xdotool search --name '^ARMadillo$' 2>/dev/null | head -1 || true)
+        [ -n "$win" ] && break
+        sleep 0.2
+    done
+    [ -n "$win" ] || { echo "the app's window did not appear" >&2; cat "$home/app.log" >&2; exit 4; }
+    xdotool windowmove "$win" 0 0
+    sleep 2
+}
+stop_app() { kill "$pid"; wait "$pid" 2>/dev/null || true; }
+size() { xdotool windowsize "$win" "$1" "$2"; sleep 1.5; }
+shot() {   # $1 = name; crops to the window, keeps the PNG small (8-bit palette)
+    sleep 0.8
+    eval "$(xdotool getwindowgeometry --shell "$win")"
+    import -window root -crop "${WIDTH}x${HEIGHT}+${X}+${Y}" +repage -colors 256 -define png:compression-level=9 "$out/$1.png"
+    echo "$out/$1.png"
+}
+key() { xdotool key --window "$win" --delay 120 "$@"; sleep 0.3; }
+type_text() { xdotool type --window "$win" --delay 60 "$1"; sleep 0.2; }
+
+# 1. First run, laptop size: the welcome, then the app behind it (no device, no sound card).
+start_app 1
+size 1366 768
+shot app-welcome
+key Escape
+shot app-first-run
+# 2. The minimum size (720x520): main view, the welcome, a device calibration-free panel set.
+size 720 520
+shot app-minimum
+key F1
+shot app-minimum-welcome
+key Escape
+# 3. Keyboard-only braille training: Tab to Preset, open it, pick "Braille: training".
+size 1366 768
+xdotool mousemove 2900 2000
+key Tab Tab Tab            # Source, Scene, Preset
+key Return                 # opens the preset list
+key Down Down Down Down Down Down Down Down Down Return
+sleep 2
+shot app-training-start
+for answer in lefy; do type_text "$answer"; key Return; done
+shot app-training-typo
+key ctrl+a BackSpace
+type_text left; key Return
+sleep 1
+type_text right; key Return
+sleep 1
+key F6
+sleep 1
+shot app-training-feedback
+key Escape
+shot app-training-escaped
+key F8 || true
+stop_app
+
+# 4. 200 % scale at the minimum logical size (1440x1040 pixels), with the training panel.
+start_app 2
+size 1440 1040
+shot app-200-welcome
+key Escape
+shot app-200-minimum
+key Tab Tab Tab Return Down Down Down Down Down Down Down Down Down Return
+sleep 2
+shot app-200-training
+stop_app
+echo "done: $out"
