@@ -23,12 +23,13 @@ start_app() {   # $1 = scale (1 or 2)
     ARMADILLO_UI_SCALE="$1" "$app" 2> "$home/app.log" &
     pid=$!
     for _ in $(seq 100); do
-        win=$(xdotool search --name '^ARMadillo$' 2>/dev/null | head -1 || true)
+        win=$(xdotool search --onlyvisible --name '^ARMadillo$' 2>/dev/null | head -1 || true)
         [ -n "$win" ] && break
         sleep 0.2
     done
     [ -n "$win" ] || { echo "the app's window did not appear" >&2; cat "$home/app.log" >&2; exit 4; }
     xdotool windowmove "$win" 0 0
+    xdotool windowfocus "$win"   # no window manager under Xvfb: give the app the keyboard
     sleep 2
 }
 stop_app() { kill "$pid"; wait "$pid" 2>/dev/null || true; }
@@ -36,11 +37,11 @@ size() { xdotool windowsize "$win" "$1" "$2"; sleep 1.5; }
 shot() {   # $1 = name; crops to the window, keeps the PNG small (8-bit palette)
     sleep 0.8
     eval "$(xdotool getwindowgeometry --shell "$win")"
-    import -window root -crop "${WIDTH}x${HEIGHT}+${X}+${Y}" +repage -colors 256 -define png:compression-level=9 "$out/$1.png"
+    import -window root -crop "${WIDTH}x${HEIGHT}+${X}+${Y}" +repage -depth 8 -colors 256 -define png:compression-level=9 "PNG8:$out/$1.png"
     echo "$out/$1.png"
 }
-key() { xdotool key --window "$win" --delay 120 "$@"; sleep 0.3; }
-type_text() { xdotool type --window "$win" --delay 60 "$1"; sleep 0.2; }
+key() { xdotool key --delay 150 "$@"; sleep 0.4; }
+type_text() { xdotool type --delay 80 "$1"; sleep 0.3; }
 
 # 1. First run, laptop size: the welcome, then the app behind it (no device, no sound card).
 start_app 1
@@ -57,7 +58,7 @@ key Escape
 # 3. Keyboard-only braille training: Tab to Preset, open it, pick "Braille: training".
 size 1366 768
 xdotool mousemove 2900 2000
-key Tab Tab Tab            # Source, Scene, Preset
+key shift+Tab shift+Tab shift+Tab   # closing the welcome left the focus on Help: back to Preset
 key Return                 # opens the preset list
 key Down Down Down Down Down Down Down Down Down Return
 sleep 2
@@ -74,16 +75,36 @@ sleep 1
 shot app-training-feedback
 key Escape
 shot app-training-escaped
-key F8 || true
+# Back into the panel with Tab (Scene, Preset, Wander, Setup, Help, About, arm view, the panel),
+# then the whole training, answered from the prompts the app writes to stderr (as a screen reader
+# following the terminal hears them): keyboard only, to "Training complete".
+key Tab Tab Tab Tab Tab Tab Tab Tab
+for _ in $(seq 80); do
+    last=$(grep -a "ARMadillo training:" "$home/app.log" | tail -1 || true)
+    case "$last" in *"Training complete"*) break ;; esac
+    case "$last" in
+        *"left, right or both?") answer=both ;;
+        *"and hold it") answer=here ;;
+        *"which letter?") answer=e ;;
+        *"read the alphabet") answer=abcdefghijklmnopqrstuvwxyz ;;
+        *"which word?") answer=exit ;;
+        *) answer=both ;;
+    esac
+    type_text "$answer"
+    key Return
+    sleep 0.5
+done
+sleep 1
+shot app-training-complete
 stop_app
 
 # 4. 200 % scale at the minimum logical size (1440x1040 pixels), with the training panel.
 start_app 2
 size 1440 1040
 shot app-200-welcome
-key Escape
+key Escape; sleep 1; key Escape   # (the first may come before the window has the keyboard)
 shot app-200-minimum
-key Tab Tab Tab Return Down Down Down Down Down Down Down Down Down Return
+key shift+Tab shift+Tab shift+Tab Return Down Down Down Down Down Down Down Down Down Return
 sleep 2
 shot app-200-training
 stop_app

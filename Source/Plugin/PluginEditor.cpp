@@ -340,7 +340,7 @@ void ArmadilloEditor::resized()
         r.removeFromBottom(6);
     }
     armView_.setBounds(r);
-    motors_.setBounds(right.removeFromTop(right.getHeight() * 3 / 10));
+    motors_.setBounds(right.removeFromTop(juce::jmax(170, right.getHeight() * 3 / 10)));   // its four rows stay legible
     right.removeFromTop(6);
     const auto deviceArea = right.removeFromTop(right.getHeight() * 3 / 5);
     deviceView_.setBounds(deviceArea);

@@ -2,6 +2,7 @@
 #include "Plugin/Accessibility.h"
 #include "Plugin/PluginProcessor.h"
 #include "Plugin/StandaloneAccess.h"
+#include <cmath>
 
 namespace armadillo::plugin {
 
@@ -91,7 +92,7 @@ void WelcomePanel::open()
     refresh();
     setVisible(true);
     toFront(false);
-    startTimerHz(2);
+    startTimerHz(4);
     close_.grabKeyboardFocus();
     plugin::announce(processor_, "welcome", text(), juce::AccessibilityHandler::AnnouncementPriority::medium);
 }
@@ -106,6 +107,13 @@ void WelcomePanel::close()
 void WelcomePanel::timerCallback()
 {
     refresh();
+    // Opened before the window had the keyboard (the app's first start): once it has it, the
+    // focus comes here rather than staying on the window's own Options button.
+    if (isShowing() && ! hasKeyboardFocus(true)) {
+        auto* focused = juce::Component::getCurrentlyFocusedComponent();
+        auto* editor = getParentComponent();
+        if (editor != nullptr && (focused == nullptr || ! editor->isParentOf(focused))) close_.grabKeyboardFocus();
+    }
 }
 
 void WelcomePanel::refresh()
@@ -178,7 +186,7 @@ bool WelcomePanel::keyPressed(const juce::KeyPress& key)
 
 void WelcomePanel::paint(juce::Graphics& g)
 {
-    g.setColour(juce::Colour(0xf01a2430));
+    g.setColour(juce::Colour(0xff1a2430));
     g.fillRoundedRectangle(getLocalBounds().toFloat(), 8.0f);
     g.setColour(juce::Colour(0xff4fc3ff).withAlpha(0.6f));
     g.drawRoundedRectangle(getLocalBounds().toFloat().reduced(1.0f), 8.0f, 1.5f);
@@ -186,42 +194,57 @@ void WelcomePanel::paint(juce::Graphics& g)
 
 void WelcomePanel::resized()
 {
-    auto r = getLocalBounds().reduced(14, 10);
-    // Text size follows the height so that everything fits at the editor's minimum size.
-    const float font = juce::jlimit(12.0f, 18.0f, r.getHeight() / 26.0f);
-    const int line = juce::roundToInt(font * 1.25f);
-    const int button = juce::jmax(24, juce::roundToInt(font * 1.9f));
-    heading_.setFont(juce::Font(font + 6.0f, juce::Font::bold));
-    for (auto* l : {&playing_, &hearing_, &connecting_, &input_, &keys_}) l->setFont(juce::Font(font));
-    auto lines = [&](const juce::Label& l) {
-        const int width = juce::jmax(1, r.getWidth() - 8);
-        const int chars = juce::jmax(1, juce::roundToInt(juce::Font(font).getStringWidthFloat(l.getText()) / static_cast<float>(width)) + 1);
-        return chars * line + 4;
+    // The largest text size (18 down to 10 points) at which everything fits: the page never
+    // cuts off its own Close button, at the editor's minimum size or at 200 %.
+    const auto area = getLocalBounds().reduced(14, 10);
+    const int width = juce::jmax(1, area.getWidth() - 8);
+    float font = 18.0f;
+    int line = 0, button = 0, gap = 0;
+    const auto lines = [&](const juce::Label& l) {
+        // Word wrapping loses part of each line: count 15 % more than the bare width needs.
+        const float needed = juce::Font(font).getStringWidthFloat(l.getText()) * 1.15f / static_cast<float>(width);
+        return juce::jmax(1, static_cast<int>(std::ceil(needed))) * line + 4;
     };
-    heading_.setBounds(r.removeFromTop(juce::roundToInt(font * 2.0f)));
+    const auto measure = [&] {
+        line = juce::roundToInt(font * 1.2f);
+        button = juce::jmax(22, juce::roundToInt(font * 1.8f));
+        gap = juce::roundToInt(font * 0.4f);
+        return juce::roundToInt(font * 1.9f) + lines(playing_) + lines(hearing_) + button + gap + lines(connecting_) + button + gap
+               + lines(input_) + (unmute_.isVisible() ? button + gap : 0) + lines(keys_) + button;
+    };
+    while (font > 10.0f && measure() > area.getHeight()) font -= 0.5f;
+    measure();
+
+    auto r = area;
+    heading_.setFont(juce::Font(font + 5.0f, juce::Font::bold));
+    for (auto* l : {&playing_, &hearing_, &connecting_, &input_, &keys_}) l->setFont(juce::Font(font));
+    const auto buttonWidth = [&](const juce::Button& b) {
+        return juce::roundToInt(juce::Font(font).getStringWidthFloat(b.getButtonText())) + juce::roundToInt(font * 2.0f);
+    };
+    heading_.setBounds(r.removeFromTop(juce::roundToInt(font * 1.9f)));
     playing_.setBounds(r.removeFromTop(lines(playing_)));
     hearing_.setBounds(r.removeFromTop(lines(hearing_)));
     auto b1 = r.removeFromTop(button);
-    testTone_.setBounds(b1.removeFromLeft(juce::jmin(160, b1.getWidth() / 3)));
+    testTone_.setBounds(b1.removeFromLeft(buttonWidth(testTone_)));
     b1.removeFromLeft(8);
-    audioSettings_.setBounds(b1.removeFromLeft(juce::jmin(180, b1.getWidth() / 2)));
-    r.removeFromTop(6);
+    audioSettings_.setBounds(b1.removeFromLeft(buttonWidth(audioSettings_)));
+    r.removeFromTop(gap);
     connecting_.setBounds(r.removeFromTop(lines(connecting_)));
     auto b2 = r.removeFromTop(button);
-    device_.setBounds(b2.removeFromLeft(juce::jmin(160, b2.getWidth() / 3)));
+    device_.setBounds(b2.removeFromLeft(buttonWidth(device_)));
     b2.removeFromLeft(8);
-    osc_.setBounds(b2.removeFromLeft(juce::jmin(180, b2.getWidth() / 2)));
-    r.removeFromTop(6);
+    osc_.setBounds(b2.removeFromLeft(buttonWidth(osc_)));
+    r.removeFromTop(gap);
     input_.setBounds(r.removeFromTop(lines(input_)));
     if (unmute_.isVisible()) {
         auto b3 = r.removeFromTop(button);
-        unmute_.setBounds(b3.removeFromLeft(juce::jmin(160, b3.getWidth() / 3)));
-        r.removeFromTop(6);
+        unmute_.setBounds(b3.removeFromLeft(buttonWidth(unmute_)));
+        r.removeFromTop(gap);
     }
     auto bottom = r.removeFromBottom(button);
-    close_.setBounds(bottom.removeFromRight(juce::jmin(120, bottom.getWidth() / 4)));
+    close_.setBounds(bottom.removeFromRight(juce::jmax(buttonWidth(close_), 90)));
     bottom.removeFromRight(8);
-    atStart_.setBounds(bottom.removeFromLeft(juce::jmin(220, bottom.getWidth() / 2)));
+    atStart_.setBounds(bottom.removeFromLeft(buttonWidth(atStart_) + button));
     keys_.setBounds(r);
 }
 

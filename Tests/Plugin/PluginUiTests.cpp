@@ -405,7 +405,24 @@ TEST_CASE("editor: no panels overlap from the minimum size up, at 100 % and 200 
                     CHECK_FALSE(shown[i]->getBounds().intersects(shown[j]->getBounds()));
                 }
             }
-            // Inside the training panel and the device panel too (the latter scrolls rather than squeezes).
+            // The welcome fits its page whole: nothing (its Close button least of all) cut off.
+            app.editor->showHelp();
+            pumpFor(20);
+            std::vector<juce::Component*> page;
+            for (auto* c : app.editor->welcome().getChildren())
+                if (c->isVisible()) page.push_back(c);
+            for (std::size_t i = 0; i < page.size(); ++i) {
+                INFO("welcome: " << nameOf(page[i]) << " " << page[i]->getBounds().toString().toStdString() << " in "
+                                 << app.editor->welcome().getLocalBounds().toString().toStdString());
+                CHECK(app.editor->welcome().getLocalBounds().contains(page[i]->getBounds()));
+                CHECK(page[i]->getHeight() >= 12);
+                for (std::size_t j = i + 1; j < page.size(); ++j) {
+                    INFO("against " << nameOf(page[j]) << " " << page[j]->getBounds().toString().toStdString());
+                    CHECK_FALSE(page[i]->getBounds().intersects(page[j]->getBounds()));
+                }
+            }
+            app.editor->welcome().close();
+            // Inside the training panel too (the device panel scrolls rather than squeezes).
             for (juce::Component* panel : {static_cast<juce::Component*>(&app.editor->training())}) {
                 std::vector<juce::Component*> inner;
                 for (auto* c : panel->getChildren())
