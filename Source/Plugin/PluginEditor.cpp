@@ -336,7 +336,7 @@ void ArmadilloEditor::resized()
     r.removeFromRight(6);
     if (training_.isVisible()) {
         // The arm view gives up its lower part: a reader in training needs the prompt, not the sphere.
-        training_.setBounds(r.removeFromBottom(juce::jlimit(170, 260, r.getHeight() * 2 / 5)));
+        training_.setBounds(r.removeFromBottom(juce::jlimit(180, 300, r.getHeight() / 2)));
         r.removeFromBottom(6);
     }
     armView_.setBounds(r);

@@ -12,8 +12,8 @@ namespace {
 constexpr int kMaxTypedCharacters = 1024;   // a pasted book stops here; the feeder refuses > 63 bytes anyway
 const char* const kTypeHere = "type the answer, then Return";
 const char* const kHint = "Feel what the arm shows, type the answer, press Return.";
-const char* const kKeys = "Keys: type the answer (Backspace corrects it), Return sends; F5 repeats the prompt; F6 skips (counts as wrong); "
-                          "F8 stops the training; Escape leaves the panel; Tab moves inside it.";
+const char* const kKeys = "Keys: Return sends (Backspace corrects first); F5 repeats the prompt; F6 skips (counts as wrong); "
+                          "F8 stops the training; Escape leaves the panel; Tab stays inside it.";
 } // namespace
 
 TrainingPanel::TrainingPanel(ArmadilloProcessor& processor) : processor_(processor)
@@ -327,7 +327,11 @@ void TrainingPanel::paint(juce::Graphics& g) { paintPanel(g, *this); }
 void TrainingPanel::resized()
 {
     auto r = getLocalBounds().reduced(6, 4);
-    const int row = juce::jmax(18, r.getHeight() / 6);
+    // Narrow (the editor's minimum, 200 %): Repeat / Skip / Stop get a row of their own so the
+    // answer field stays wide, and the keys get two lines.
+    const bool narrow = r.getWidth() < 620;
+    const int rows = narrow ? 8 : 7;
+    const int row = juce::jmax(18, r.getHeight() / rows);
     const float font = juce::jlimit(12.0f, 20.0f, row * 0.6f);
     heading_.setFont(juce::Font(font, juce::Font::bold));
     trial_.setFont(juce::Font(font));
@@ -345,11 +349,13 @@ void TrainingPanel::resized()
     trial_.setBounds(top);
     prompt_.setBounds(r.removeFromTop(row));
     auto line = r.removeFromTop(row).reduced(0, 2);
-    const int buttonW = juce::jlimit(64, 120, line.getWidth() / 8);
+    const int buttonW = juce::jlimit(64, 120, line.getWidth() / (narrow ? 4 : 8));
+    auto actions = narrow ? r.removeFromTop(row).reduced(0, 2) : line;
     for (auto* b : {&stop_, &skip_, &repeat_}) {
-        b->setBounds(line.removeFromRight(buttonW));
-        line.removeFromRight(4);
+        b->setBounds(actions.removeFromRight(buttonW));
+        actions.removeFromRight(4);
     }
+    if (! narrow) line = line.withRight(actions.getRight());   // the buttons took the line's right end
     if (save_.isVisible()) {
         save_.setBounds(line.removeFromRight(buttonW));
         line.removeFromRight(4);
