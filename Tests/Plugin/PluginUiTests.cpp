@@ -7,6 +7,8 @@
 // the minimum size up, 200 % scale included; Connect switches the source.
 #define CATCH_CONFIG_RUNNER
 #include <catch2/catch.hpp>
+#define ARMADILLO_REALTIME_GUARD_IMPLEMENTATION
+#include "Common/RealtimeGuard.h"
 #include "Plugin/PluginEditor.h"
 #include "Plugin/PluginProcessor.h"
 #include "Braille/BrailleScene.h"
@@ -436,6 +438,52 @@ TEST_CASE("editor: no panels overlap from the minimum size up, at 100 % and 200 
         }
     }
     juce::Desktop::getInstance().setGlobalScaleFactor(1.0f);
+}
+
+TEST_CASE("processor: the welcome's test tone is heard for its length, and processBlock stays real-time", "[plugin][ui][tone]")
+{
+    using armadillo::test::RealtimeGuard;
+    ARMADILLO_REQUIRE_GUARD();
+    {
+        RealtimeGuard probe;   // the guard sees an allocation before its zero is trusted
+        auto p = std::make_unique<double>(1.0);
+        CHECK(probe.allocations() >= 1);
+    }
+    ArmadilloProcessor processor;
+    auto* scene = processor.parameters().getParameter(ParamIds::scene);
+    const auto& scenes = processor.sceneTable().scenes;
+    int monitor = -1;
+    for (std::size_t i = 0; i < scenes.size(); ++i)
+        if (scenes[i].scene == "monitor") monitor = static_cast<int>(i);
+    REQUIRE(monitor >= 0);
+    scene->setValueNotifyingHost(scene->convertTo0to1(static_cast<float>(monitor)));   // silent: the tone alone
+    constexpr int block = 480;   // 10 ms at 48 kHz
+    processor.prepareToPlay(48000.0, block);
+    juce::AudioBuffer<float> buffer(2, block);
+    juce::MidiBuffer midi;
+    const auto run = [&] {
+        buffer.clear();
+        midi.clear();
+        processor.processBlock(buffer, midi);
+        return std::max(buffer.getMagnitude(0, 0, block), buffer.getMagnitude(1, 0, block));
+    };
+    for (int i = 0; i < 20; ++i) run();
+    CHECK(run() < 1.0e-6f);
+    const auto before = processor.audioBlocks();
+    processor.takeOutputPeak();
+    processor.playTestTone(0.1);   // 4800 samples: 10 blocks
+    RealtimeGuard guard;
+    float peak = 0.0f;
+    for (int i = 0; i < 10; ++i) peak = std::max(peak, run());
+    const float after = run();
+    CHECK(guard.allocations() == 0);
+    CHECK(guard.locks() == 0);
+    CHECK(guard.throws() == 0);
+    CHECK(peak == Approx(0.125f).epsilon(0.01));          // -18 dBFS, 440 Hz
+    CHECK(after < 1.0e-6f);                               // it stops when its time is over
+    CHECK(processor.takeOutputPeak() == Approx(0.125f).epsilon(0.01));   // the status line's peak saw it
+    CHECK(processor.audioBlocks() - before == 11);
+    processor.releaseResources();
 }
 
 /// JUCE installs its forgiving X error handlers only in a JUCE application (a plugin's host
