@@ -117,8 +117,8 @@ ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
     // training, motors, device, scene controls) and the status line last.
     int order = 1;
     for (juce::Component* c : std::initializer_list<juce::Component*> {&source_, &scene_, &preset_, &wander_, &setup_, &help_, &about_,
-                                                                        &dismiss_, &armView_, &training_, &motors_, &deviceView_,
-                                                                        &sceneControls_, &statusLine_})
+                                                                        &status_, &dismiss_, &armView_, &training_, &motors_,
+                                                                        &deviceView_, &sceneControls_, &statusLine_})
         c->setExplicitFocusOrder(order++);
     setFocusContainerType(FocusContainerType::keyboardFocusContainer);
     juce::Desktop::getInstance().addFocusChangeListener(this);

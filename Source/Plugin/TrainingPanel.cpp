@@ -38,6 +38,7 @@ TrainingPanel::TrainingPanel(ArmadilloProcessor& processor) : processor_(process
     keys_.setText(kKeys, juce::dontSendNotification);
     keys_.setColour(juce::Label::textColourId, juce::Colours::lightgrey);
     tally_.setColour(juce::Label::textColourId, juce::Colour(0xffb8d8b0));
+    tally_.setMinimumHorizontalScale(0.6f);   // a long session's list squeezes before it is cut
     prompt_.setJustificationType(juce::Justification::centredLeft);
     prompt_.setMinimumHorizontalScale(0.8f);
     score_.setJustificationType(juce::Justification::centredRight);
