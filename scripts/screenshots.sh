@@ -42,6 +42,19 @@ shot() {   # $1 = name; crops to the window, keeps the PNG small (8-bit palette)
 }
 key() { xdotool key --delay 150 "$@"; sleep 0.4; }
 type_text() { xdotool type --delay 80 "$1"; sleep 0.3; }
+# The device panel with the guided calibration, keyboard only: F1, Shift+Tab x6 from Close to
+# "Device panel" (focus lands on the port list), pick the simulated forearm, Tab to Connect,
+# then Tab x3 to Calibrate...
+calibration_shot() {   # $1 = name
+    key F1
+    key shift+Tab shift+Tab shift+Tab shift+Tab shift+Tab shift+Tab Return
+    key Return Down Return
+    key Tab Return
+    sleep 2
+    key Tab Tab Tab Return
+    sleep 2
+    shot "$1"
+}
 
 # 1. First run, laptop size: the welcome, then the app behind it (no device, no sound card).
 start_app 1
@@ -96,6 +109,9 @@ for _ in $(seq 80); do
 done
 sleep 1
 shot app-training-complete
+key F8
+size 720 520
+calibration_shot app-minimum-calibration
 stop_app
 
 # 4. 200 % scale at the minimum logical size (1440x1040 pixels), with the training panel.
@@ -107,5 +123,7 @@ shot app-200-minimum
 key shift+Tab shift+Tab shift+Tab Return Down Down Down Down Down Down Down Down Down Return
 sleep 2
 shot app-200-training
+key F8
+calibration_shot app-200-calibration
 stop_app
 echo "done: $out"
