@@ -40,7 +40,8 @@ bool validUtf8(const std::string& s)
 
 std::string resultText(const TrainingNotice& result)
 {
-    return result.right ? std::string("right") : "wrong: it was '" + result.expected + "'";
+    // "correct", never "right": in the sides stage "right" is also an answer.
+    return result.right ? std::string("correct") : "wrong, it was '" + result.expected + "'";
 }
 
 std::string TrainingAnswerFeeder::refusalText(Refusal r)

@@ -27,7 +27,8 @@ struct TrainingNotice {
     bool right = false;      ///< Result
 };
 
-/// "right" or "wrong: it was 'x'" (the wording of the command line and the app).
+/// "correct" or "wrong, it was 'x'" (the wording of the command line and the app; never "right",
+/// which is also an answer of the sides stage).
 std::string resultText(const TrainingNotice& result);
 
 class TrainingAnswerFeeder {

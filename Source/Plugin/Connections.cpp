@@ -53,6 +53,7 @@ void Connections::clockTick(double dt)
             t = simulator_.time();
         }
         loop_.input(SourceKind::Simulator).storeOrientation(t, q);
+        simulatorSteps_.fetch_add(1, std::memory_order_relaxed);
     }
     control_.idleTick(dt);
 

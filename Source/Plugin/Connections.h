@@ -78,6 +78,11 @@ public:
     /// Link, OSC and control-rate lines for the device panel (message thread).
     juce::String linkStatus() const;
     double controlRateMeasured() const noexcept { return measuredRate_.load(std::memory_order_relaxed); }
+    /// Counters for the status line (message thread): simulator steps fed to the control loop,
+    /// the device link's good packets (0 when not connected), OSC input statistics.
+    std::uint64_t simulatorSteps() const noexcept { return simulatorSteps_.load(std::memory_order_relaxed); }
+    std::uint64_t devicePackets() const { return deviceConnected() ? device_->packetsReceived() : 0; }
+    device::OscInputStats oscInputStats() const { return oscIn_.stats(); }
 
 private:
     class Clock;
@@ -99,6 +104,7 @@ private:
     juce::String deviceMessage_;       // message thread
     juce::String networkStatus_;       // message thread
     std::atomic<double> measuredRate_ {0.0};
+    std::atomic<std::uint64_t> simulatorSteps_ {0};
     std::uint64_t lastSentSerial_ = 0; // clock thread
     double rateWindowStartMs_ = 0.0;   // clock thread
     std::uint64_t rateWindowTicks_ = 0;

@@ -182,6 +182,11 @@ std::uint64_t DeviceConnection::sentDropped() const noexcept
     return link_ == nullptr ? 0 : link_->sentLogDropped();
 }
 
+std::uint64_t DeviceConnection::packetsReceived() const noexcept
+{
+    return link_ == nullptr ? 0 : link_->stats().packets;
+}
+
 std::string DeviceConnection::status() const
 {
     if (link_ == nullptr) return "Not connected.";

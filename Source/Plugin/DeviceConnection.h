@@ -46,6 +46,8 @@ public:
     bool isOpen() const noexcept { return link_ != nullptr; }
     /// Link statistics for the UI (message thread).
     std::string status() const;
+    /// Good sensor packets the link has received since connect() (0 when not open).
+    std::uint64_t packetsReceived() const noexcept;
     /// Tests and diagnostics: from the next connect() on, every motor packet the link writes is
     /// logged (time on the monotonic clock, levels); `popSent` drains it (one consumer thread).
     void enableSentLog(bool on) noexcept { sentLog_ = on; }

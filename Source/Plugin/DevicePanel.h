@@ -4,6 +4,7 @@
 // its panel takes the place of the link statistics and the OSC settings; so does the guided
 // mount calibration of an OSC sensor (format and mount choices: docs/SENSORS.md).
 #include "Plugin/CalibrationPanel.h"
+#include "Plugin/Controls.h"
 #include "Plugin/MountCalibrationPanel.h"
 #include <juce_gui_basics/juce_gui_basics.h>
 
@@ -17,6 +18,11 @@ public:
     ~DevicePanel() override;
     void resized() override;
     void paint(juce::Graphics&) override;
+    /// The height below which rows would overlap: the editor scrolls the panel instead.
+    static constexpr int kMinimumHeight = 12 * 20 + 33 + 12;
+    /// The welcome's shortcuts: focus on the port list, or on the OSC input switch.
+    void focusDevice() { port_.grabKeyboardFocus(); }
+    void focusOscInput() { oscIn_.grabKeyboardFocus(); }
 
 private:
     void timerCallback() override;
@@ -30,18 +36,18 @@ private:
 
     ArmadilloProcessor& processor_;
     juce::Label deviceHeading_, oscHeading_;
-    juce::ComboBox port_;
+    ChoiceBox port_;
     juce::TextButton rescan_ {"Rescan"}, connect_ {"Connect"}, calibration_ {"Calibration file..."},
         calibrate_ {"Calibrate..."};
     juce::Label calibrationFile_, link_;
-    juce::ComboBox side_;
+    ChoiceBox side_;
     juce::ToggleButton backMotors_ {"Back motors (12)"};
     juce::ToggleButton connectOnStart_ {"Connect on start"};
     juce::ToggleButton oscOut_ {"OSC out"}, oscIn_ {"OSC in"};
     juce::TextEditor oscHost_, oscPort_, oscInPort_;
     juce::Label hostLabel_, portLabel_, inPortLabel_;
     // OSC sender format and mount (docs/SENSORS.md), and the input's status line.
-    juce::ComboBox oscFormat_, oscMount_;
+    ChoiceBox oscFormat_, oscMount_;
     juce::Label formatLabel_, mountLabel_, oscStatus_;
     juce::TextButton mountFile_ {"Mount file..."}, calibrateMount_ {"Calibrate mount..."};
     juce::StringArray mountPresets_;

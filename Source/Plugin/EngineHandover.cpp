@@ -28,6 +28,7 @@ std::unique_ptr<live::EngineSlot> EngineHandover::build(const EngineRequest& req
     // built into the core (Core/Resources.h), never from a path of the build machine.
     try {
         slot->engine = std::make_unique<Engine>(config);
+        status_({});   // the scene starts: an earlier "cannot start" no longer holds
     } catch (const std::exception& e) {
         status_("Scene \"" + juce::String(config.scene) + "\" cannot start (" + juce::String(e.what())
                 + "); running \"monitor\" instead.");

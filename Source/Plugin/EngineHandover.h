@@ -33,7 +33,8 @@ class EngineHandover {
 public:
     static constexpr double kControlRateHz = 200.0;   ///< thesis: the 2005 system ran at ~200 updates/s
 
-    /// `status` receives messages for the user (a scene that cannot start and its fallback).
+    /// `status` receives messages for the user (a scene that cannot start and its fallback), and
+    /// "" when a requested scene started, so the owner can take down a message that no longer holds.
     EngineHandover(live::ControlLoop& loop, const SceneParameterTable& table, juce::AudioProcessorValueTreeState& parameters,
                    std::function<void(const juce::String&)> status);
 

@@ -1,16 +1,30 @@
 #include "Plugin/PluginEditor.h"
 #include "Plugin/MappingPanel.h"
+#include "Plugin/Accessibility.h"
+#include "Plugin/FactoryPresets.h"
 #include "Plugin/PluginProcessor.h"
+#include "Plugin/StandaloneAccess.h"
 #include "Core/Resources.h"
 #include "Core/Version.h"
 
 namespace armadillo::plugin {
 
+namespace {
+/// Where the setup dialogs start: the Documents folder when it exists, else the home folder
+/// (a fresh account or a minimal desktop often has no "Documents").
+juce::File setupFolder()
+{
+    const auto documents = juce::File::getSpecialLocation(juce::File::userDocumentsDirectory);
+    return documents.isDirectory() ? documents : juce::File::getSpecialLocation(juce::File::userHomeDirectory);
+}
+} // namespace
+
 ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
     : AudioProcessorEditor(processor), processor_(processor), armView_(processor), motors_(processor),
-      device_(processor), sceneControls_(processor), training_(processor)
+      device_(processor), sceneControls_(processor), training_(processor), welcome_(processor)
 {
     setTitle("ARMadillo");
+    setDescription("Forearm controller and tactile display. F1 opens the help.");
     // Standalone only (a plugin must not rescale its host): ARMADILLO_UI_SCALE=2 for 200 % on a
     // Linux desktop that does not announce its scale to JUCE.
     if (processor_.wrapperType == juce::AudioProcessor::wrapperType_Standalone) {
@@ -23,28 +37,42 @@ ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
 
     sourceLabel_.setText("Source", juce::dontSendNotification);
     sceneLabel_.setText("Scene", juce::dontSendNotification);
+    presetLabel_.setText("Preset", juce::dontSendNotification);
     source_.addItemList(sourceChoiceNames(), 1);
-    source_.setTitle("Source");
-    source_.setDescription("Where the arm's orientation comes from: device, simulator, OSC or host automation.");
+    describe(source_, "Source", "Where the arm's orientation comes from: device, simulator, OSC or host automation. "
+                                "Arrows or Return open the list.");
     sourceAttachment_ = std::make_unique<juce::AudioProcessorValueTreeState::ComboBoxAttachment>(
         processor_.parameters(), ParamIds::source, source_);
     for (const auto& entry : processor_.sceneTable().scenes)
         scene_.addItem(juce::String(entry.scene) + (entry.available ? "" : " (unavailable)"), scene_.getNumItems() + 1);
-    scene_.setTitle("Scene");
-    scene_.setDescription("The application the arm plays: theremin, cymbal, panel, braille and the others.");
+    describe(scene_, "Scene", "The application the arm plays: theremin, cymbal, panel, braille and the others. "
+                              "Arrows or Return open the list.");
     sceneAttachment_ = std::make_unique<juce::AudioProcessorValueTreeState::ComboBoxAttachment>(
         processor_.parameters(), ParamIds::scene, scene_);
+    // The program menu: the factory presets (the host's programs), here for the standalone app too.
+    for (int i = 0; i < processor_.getNumPrograms(); ++i) preset_.addItem(processor_.getProgramName(i), i + 1);
+    preset_.setTextWhenNothingSelected("choose a preset");
+    describe(preset_, "Preset", "Factory presets (the programs): each sets a scene and its settings; the source stays yours.");
+    preset_.onChange = [this] {
+        const int index = preset_.getSelectedId() - 1;
+        if (index >= 0 && index != processor_.getCurrentProgram()) processor_.setCurrentProgram(index);
+    };
     sourceLabel_.attachToComponent(&source_, true);
     sceneLabel_.attachToComponent(&scene_, true);
-    wander_.setTitle("Simulator wandering");
-    wander_.setDescription("When on, the simulated arm wanders by itself; moving it by hand switches this off.");
+    presetLabel_.attachToComponent(&preset_, true);
+    describe(wander_, "Simulator wandering", "When on, the simulated arm wanders by itself; moving it by hand switches this off.");
     wander_.getToggleStateValue().referTo(processor_.settings().getPropertyAsValue(SettingIds::simWandering, nullptr));
-    status_.setTitle("Status message");
+    describe(status_, "Message", "The latest problem or notice; it goes away when it no longer holds, or with OK.");
     status_.setColour(juce::Label::backgroundColourId, juce::Colour(0xff5a3a12));
-    dismiss_.setTitle("Dismiss message");
+    describe(statusLine_, "Status", "Which source drives the arm and how many samples per second arrive, whether audio is "
+                                    "flowing, the audio input when the scene listens, and whether the motors are driven.");
+    statusLine_.setColour(juce::Label::backgroundColourId, juce::Colour(0xff111820));
+    statusLine_.setColour(juce::Label::textColourId, juce::Colour(0xffd8e4ee));
+    statusLine_.setJustificationType(juce::Justification::centredLeft);
+    statusLine_.setMinimumHorizontalScale(1.0f);
+    describe(dismiss_, "Dismiss message", "Hide the message.");
     dismiss_.onClick = [this] { processor_.clearStatusMessage(); timerCallback(); };
-    about_.setTitle("About ARMadillo");
-    about_.setDescription("Version, licence and where your own scores go.");
+    describe(about_, "About ARMadillo", "Version, licence and where your own scores go.");
     about_.onClick = [] {
         const juce::String version {std::string(kVersion)};
         juce::AlertWindow::showMessageBoxAsync(
@@ -54,34 +82,11 @@ ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
                 "Your own scores: " + juce::String(userResourceDir()) + "/Scores/NAME.score\n"
                 "Documentation: /usr/share/doc/armadillo (installed) or docs/ in the sources.");
     };
-    addAndMakeVisible(about_);
-    setup_.setTitle("Setup");
-    setup_.setDescription("Save the whole setup (scene, parameters, device, mount, OSC) to a file, or load one.");
-    setup_.onClick = [this] {
-        juce::PopupMenu menu;
-        menu.addItem(1, "Save setup...");
-        menu.addItem(2, "Load setup...");
-        menu.showMenuAsync(juce::PopupMenu::Options().withTargetComponent(&setup_), [this](int choice) {
-            if (choice == 0) return;
-            const bool save = choice == 1;
-            chooser_ = std::make_unique<juce::FileChooser>(save ? "Save the setup as" : "Load a setup",
-                                                           juce::File::getSpecialLocation(juce::File::userDocumentsDirectory), "*.armadillo");
-            const int flags = juce::FileBrowserComponent::canSelectFiles
-                              | (save ? juce::FileBrowserComponent::saveMode | juce::FileBrowserComponent::warnAboutOverwriting
-                                      : juce::FileBrowserComponent::openMode);
-            chooser_->launchAsync(flags, [this, save](const juce::FileChooser& fc) {
-                const auto file = fc.getResult();
-                if (file == juce::File()) return;
-                const auto target = save && !file.hasFileExtension("armadillo") ? file.withFileExtension("armadillo") : file;
-                const auto why = save ? processor_.saveSetup(target) : processor_.loadSetup(target);
-                if (why.isNotEmpty())
-                    juce::AlertWindow::showMessageBoxAsync(juce::MessageBoxIconType::WarningIcon, save ? "Save setup" : "Load setup", why);
-            });
-        });
-    };
-    addAndMakeVisible(setup_);
-    mappingButton_.setTitle("Mapping editor");
-    mappingButton_.setDescription("Open the mapping editor: arm features to MIDI, OSC, macros and scene parameters, with MIDI learn.");
+    describe(help_, "Help", "Opens the welcome page again: what plays, how to hear it, connecting an arm or a phone (F1).");
+    help_.onClick = [this] { showHelp(); };
+    describe(setup_, "Setup", "Save the whole setup (scene, parameters, device, mount, OSC) to a file, or load one.");
+    setup_.onClick = [this] { showSetupMenu(); };
+    describe(mappingButton_, "Mapping editor", "Open the mapping editor: arm features to MIDI, OSC, macros and scene parameters, with MIDI learn.");
     mappingButton_.onClick = [this] {
         if (mappingWindow_ != nullptr) {
             mappingWindow_->toFront(true);
@@ -97,19 +102,43 @@ ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
         o.escapeKeyTriggersCloseButton = true;
         mappingWindow_ = o.launchAsync();
     };
-    addAndMakeVisible(mappingButton_);
 
-    for (juce::Component* c : std::initializer_list<juce::Component*> {&source_, &scene_, &wander_, &armView_, &motors_,
-                                                                        &device_, &sceneControls_})
-        c->setWantsKeyboardFocus(true), addAndMakeVisible(*c);
+    deviceView_.setViewedComponent(&device_, false);
+    deviceView_.setScrollBarsShown(true, false);
+    deviceView_.setTitle("Device and OSC settings");
+    deviceView_.setDescription("The device panel; it scrolls (Page Up / Page Down, or Tab through it) when the window is low.");
+
+    for (juce::Component* c : std::initializer_list<juce::Component*> {&source_, &scene_, &preset_, &wander_, &mappingButton_, &setup_, &help_, &about_,
+                                                                        &armView_, &motors_, &deviceView_, &sceneControls_, &statusLine_})
+        addAndMakeVisible(*c);
+    armView_.setWantsKeyboardFocus(true);
+    motors_.setWantsKeyboardFocus(true);
     addChildComponent(status_);
     training_.onWantedChange = [this] {
         training_.setVisible(training_.wanted());
         resized();
     };
+    training_.onLeave = [this] {
+        if (scene_.isShowing()) scene_.grabKeyboardFocus();
+    };
     addChildComponent(training_);
     addChildComponent(dismiss_);
+    addChildComponent(welcome_);
+    welcome_.onShowDevice = [this] { device_.focusDevice(); };
+    welcome_.onShowOsc = [this] { device_.focusOscInput(); };
+    welcome_.onClose = [this] {
+        if (! help_.hasKeyboardFocus(false) && isShowing()) help_.grabKeyboardFocus();
+    };
+
+    // Tab order: the top bar left to right, the message, then the panels as laid out (arm view,
+    // training, motors, device, scene controls) and the status line last.
+    int order = 1;
+    for (juce::Component* c : std::initializer_list<juce::Component*> {&source_, &scene_, &preset_, &wander_, &mappingButton_, &setup_, &help_, &about_,
+                                                                        &status_, &dismiss_, &armView_, &training_, &motors_,
+                                                                        &deviceView_, &sceneControls_, &statusLine_})
+        c->setExplicitFocusOrder(order++);
     setFocusContainerType(FocusContainerType::keyboardFocusContainer);
+    juce::Desktop::getInstance().addFocusChangeListener(this);
 
     // Read the saved size before the limits are set: setting them resizes (and saves) at once.
     const int width = static_cast<int>(processor_.settings()[SettingIds::editorWidth]);
@@ -118,14 +147,55 @@ ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
     setResizeLimits(720, 520, 4000, 3000);
     setSize(juce::jlimit(720, 4000, width), juce::jlimit(520, 3000, height));
     timerCallback();
-    startTimerHz(5);
+    startTimerHz(10);
+    // The app's first start explains itself (a plugin's welcome waits for Help: a DAW user opened it on purpose).
+    if (processor_.wrapperType == juce::AudioProcessor::wrapperType_Standalone && WelcomePanel::showAtStart())
+        juce::MessageManager::callAsync([safe = juce::Component::SafePointer<ArmadilloEditor>(this)] {
+            if (safe != nullptr) safe->showHelp();
+        });
 }
 
 ArmadilloEditor::~ArmadilloEditor()
 {
     if (mappingWindow_ != nullptr) delete mappingWindow_.getComponent();   // its panel uses the processor
+    juce::Desktop::getInstance().removeFocusChangeListener(this);
     sourceAttachment_.reset();
     sceneAttachment_.reset();
+}
+
+void ArmadilloEditor::showHelp()
+{
+    resized();
+    welcome_.open();
+}
+
+void ArmadilloEditor::showSetupMenu()
+{
+    juce::PopupMenu menu;
+    menu.addItem(1, "Save setup...");
+    menu.addItem(2, "Load setup...");
+    menu.showMenuAsync(juce::PopupMenu::Options().withTargetComponent(&setup_), [this](int choice) {
+        if (choice == 0) return;
+        const bool save = choice == 1;
+        const auto folder = setupFolder();
+        chooser_ = std::make_unique<juce::FileChooser>(save ? "Save the setup as" : "Load a setup",
+                                                       save ? folder.getChildFile("my-setup.armadillo") : folder, "*.armadillo");
+        const int flags = juce::FileBrowserComponent::canSelectFiles
+                          | (save ? juce::FileBrowserComponent::saveMode | juce::FileBrowserComponent::warnAboutOverwriting
+                                  : juce::FileBrowserComponent::openMode);
+        chooser_->launchAsync(flags, [this, save](const juce::FileChooser& fc) {
+            const auto file = fc.getResult();
+            if (file == juce::File()) return;
+            const auto target = save && ! file.hasFileExtension("armadillo") ? file.withFileExtension("armadillo") : file;
+            const auto why = save ? processor_.saveSetup(target) : processor_.loadSetup(target);
+            const auto title = save ? juce::String("Save setup") : juce::String("Load setup");
+            const auto text = why.isNotEmpty() ? why
+                                               : (save ? "The setup was saved to " : "The setup was loaded from ") + target.getFullPathName();
+            juce::AlertWindow::showMessageBoxAsync(why.isNotEmpty() ? juce::MessageBoxIconType::WarningIcon : juce::MessageBoxIconType::InfoIcon,
+                                                   title, text);
+            plugin::announce(processor_, "setup", text, juce::AccessibilityHandler::AnnouncementPriority::medium);
+        });
+    });
 }
 
 void ArmadilloEditor::timerCallback()
@@ -138,6 +208,86 @@ void ArmadilloEditor::timerCallback()
         resized();
     }
     wander_.setEnabled(processor_.source() == SourceKind::Simulator);
+    if (const int program = processor_.getCurrentProgram() + 1; program != preset_.getSelectedId())
+        preset_.setSelectedId(program, juce::dontSendNotification);
+    updateStatusLine();
+    // The ring follows a focused control that scrolls or moves.
+    if (const auto ring = focusRingArea(); ring != lastRing_) {
+        repaint(lastRing_.expanded(4));
+        repaint(ring.expanded(4));
+        lastRing_ = ring;
+    }
+}
+
+void ArmadilloEditor::updateStatusLine()
+{
+    StatusSnapshot s;
+    s.now = juce::Time::getMillisecondCounterHiRes() * 1.0e-3;
+    s.source = processor_.source();
+    s.sourceSamples = processor_.sourceSamples(s.source);
+    s.deviceConnected = processor_.deviceConnected();
+    s.deviceName = processor_.settings()[SettingIds::serialPort].toString();
+    s.oscPort = static_cast<bool>(processor_.settings()[SettingIds::oscInEnabled]) ? static_cast<int>(processor_.settings()[SettingIds::oscInPort]) : 0;
+    s.audioBlocks = processor_.audioBlocks();
+    s.outputPeak = processor_.takeOutputPeak();
+    s.listens = processor_.sceneListens();
+    s.inputPeak = processor_.takeInputPeak();
+    s.inputMuted = standaloneAudio().inputMuted;
+    const auto frame = processor_.latestFrame();
+    s.motorCount = frame.motorCount;
+    for (int i = 0; i < frame.motorCount && i < static_cast<int>(frame.motors.size()); ++i)
+        if (frame.motors[static_cast<std::size_t>(i)] > 0) ++s.motorsActive;
+    const auto line = statusTracker_.update(s);
+    if (line != statusLine_.getText()) statusLine_.setText(line, juce::dontSendNotification);
+}
+
+bool ArmadilloEditor::keyPressed(const juce::KeyPress& key)
+{
+    if (key == juce::KeyPress::F1Key) {
+        showHelp();
+        return true;
+    }
+    return false;   // nothing global: arrows and the rest act on the focused control only
+}
+
+void ArmadilloEditor::mouseDown(const juce::MouseEvent&)
+{
+    // A click on the background takes the focus away from the last control, so keys pressed
+    // next cannot change a setting the eye has left.
+    juce::Component::unfocusAllComponents();
+}
+
+void ArmadilloEditor::globalFocusChanged(juce::Component* focused)
+{
+    if (focused != nullptr && isParentOf(focused)) scrollIntoView(*focused);
+    repaint(lastRing_.expanded(4));
+    lastRing_ = focusRingArea();
+    repaint(lastRing_.expanded(4));
+}
+
+void ArmadilloEditor::scrollIntoView(juce::Component& focused)
+{
+    // Tab into a scrolled panel: move its viewport so the focused control shows.
+    for (auto* p = focused.getParentComponent(); p != nullptr && p != this; p = p->getParentComponent()) {
+        auto* view = dynamic_cast<juce::Viewport*>(p);
+        if (view == nullptr || view->getViewedComponent() == nullptr) continue;
+        const auto area = view->getViewedComponent()->getLocalArea(&focused, focused.getLocalBounds());
+        auto pos = view->getViewPosition();
+        if (area.getY() < pos.y) pos.y = area.getY();
+        else if (area.getBottom() > pos.y + view->getViewHeight()) pos.y = area.getBottom() - view->getViewHeight();
+        view->setViewPosition(pos);
+    }
+}
+
+juce::Rectangle<int> ArmadilloEditor::focusRingArea() const
+{
+    auto* focused = juce::Component::getCurrentlyFocusedComponent();
+    if (focused == nullptr || ! isParentOf(focused) || ! focused->isShowing()) return {};
+    auto area = getLocalArea(focused, focused->getLocalBounds());
+    // Clipped to the viewports it sits in (a control scrolled half out of view).
+    for (auto* p = focused->getParentComponent(); p != nullptr && p != this; p = p->getParentComponent())
+        if (dynamic_cast<juce::Viewport*>(p) != nullptr) area = area.getIntersection(getLocalArea(p, p->getLocalBounds()));
+    return area;
 }
 
 void ArmadilloEditor::paint(juce::Graphics& g)
@@ -145,27 +295,60 @@ void ArmadilloEditor::paint(juce::Graphics& g)
     g.fillAll(juce::Colour(0xff0c1015));
 }
 
+void ArmadilloEditor::paintOverChildren(juce::Graphics& g)
+{
+    if (const auto ring = focusRingArea(); ! ring.isEmpty()) paintFocusRing(g, ring);
+}
+
 void ArmadilloEditor::resized()
 {
     auto r = getLocalBounds().reduced(6);
     const int bar = juce::jlimit(28, 48, getHeight() / 20);
+    const float font = juce::jlimit(13.0f, 20.0f, bar * 0.5f);
+
+    // Status line at the bottom: two lines when narrow, one when wide.
+    statusLine_.setFont(juce::Font(font - 1.0f));
+    const int statusLines = juce::Font(font - 1.0f).getStringWidthFloat(statusLine_.getText()) > r.getWidth() - 30 ? 2 : 1;
+    // (its right end leaves room for the window's resize corner)
+    statusLine_.setBounds(r.removeFromBottom(juce::roundToInt((font + 3.0f) * static_cast<float>(statusLines)) + 6).withTrimmedRight(16));
+    r.removeFromBottom(4);
+    // The welcome covers everything but the status line (which it talks about).
+    welcome_.setBounds(r.withSizeKeepingCentre(juce::jmin(r.getWidth() - 20, 760), juce::jmin(r.getHeight() - 10, 600)));
+
+    // Top bar: the labels sit left of their boxes (attachToComponent); the boxes share what is left.
     auto top = r.removeFromTop(bar);
-    title_.setBounds(top.removeFromLeft(150));
-    top.removeFromLeft(60);
-    source_.setBounds(top.removeFromLeft(std::min(200, top.getWidth() / 3)));
-    top.removeFromLeft(60);
-    scene_.setBounds(top.removeFromLeft(std::min(200, top.getWidth() / 2)));
-    top.removeFromLeft(12);
-    about_.setBounds(top.removeFromRight(70));
+    const auto textWidth = [&](const juce::String& s) { return juce::roundToInt(juce::Font(font).getStringWidthFloat(s)) + 14; };
+    const int labelsW = textWidth("Source") + textWidth("Scene") + textWidth("Preset");
+    const int buttonsW = textWidth("Wander") + 24 + textWidth("Mapping...") + textWidth("Setup...") + textWidth("Help") + textWidth("About") + 5 * 6;
+    const int titleW = textWidth("ARMadillo") + 10;
+    const bool showTitle = top.getWidth() - labelsW - buttonsW - titleW >= 3 * 150;
+    title_.setVisible(showTitle);
+    if (showTitle) title_.setBounds(top.removeFromLeft(titleW));
+    about_.setBounds(top.removeFromRight(textWidth("About")));
     top.removeFromRight(6);
-    setup_.setBounds(top.removeFromRight(80));
+    help_.setBounds(top.removeFromRight(textWidth("Help")));
     top.removeFromRight(6);
-    mappingButton_.setBounds(top.removeFromRight(90));
-    wander_.setBounds(top.removeFromLeft(100));
+    setup_.setBounds(top.removeFromRight(textWidth("Setup...")));
+    top.removeFromRight(6);
+    mappingButton_.setBounds(top.removeFromRight(textWidth("Mapping...")));
+    top.removeFromRight(6);
+    wander_.setBounds(top.removeFromRight(textWidth("Wander") + 24));
+    top.removeFromRight(6);
+    const int box = juce::jmin(220, (top.getWidth() - labelsW) / 3);
+    for (auto* pair : {&source_, &scene_, &preset_}) {
+        auto* label = pair == &source_ ? &sourceLabel_ : pair == &scene_ ? &sceneLabel_ : &presetLabel_;
+        label->setFont(juce::Font(font));
+        top.removeFromLeft(textWidth(label->getText()));
+        pair->setBounds(top.removeFromLeft(box).reduced(0, 2));
+    }
     r.removeFromTop(4);
     if (status_.isVisible()) {
-        auto s = r.removeFromTop(bar);
-        dismiss_.setBounds(s.removeFromRight(60));
+        // The message wraps: as many lines as it needs (at most four).
+        const int lines = juce::jlimit(1, 4, juce::roundToInt(std::ceil(juce::Font(font).getStringWidthFloat(status_.getText())
+                                                                        / juce::jmax(1.0f, r.getWidth() - 70.0f))));
+        auto s = r.removeFromTop(juce::jmax(bar, juce::roundToInt((font + 4.0f) * lines) + 6));
+        dismiss_.setBounds(s.removeFromRight(60).withSizeKeepingCentre(60, bar));
+        status_.setFont(juce::Font(font));
         status_.setBounds(s);
         r.removeFromTop(4);
     }
@@ -173,13 +356,17 @@ void ArmadilloEditor::resized()
     r.removeFromRight(6);
     if (training_.isVisible()) {
         // The arm view gives up its lower part: a reader in training needs the prompt, not the sphere.
-        training_.setBounds(r.removeFromBottom(juce::jlimit(130, 190, r.getHeight() / 3)));
+        training_.setBounds(r.removeFromBottom(juce::jlimit(180, 300, r.getHeight() / 2)));
         r.removeFromBottom(6);
     }
     armView_.setBounds(r);
-    motors_.setBounds(right.removeFromTop(right.getHeight() * 7 / 20));
+    motors_.setBounds(right.removeFromTop(juce::jmax(170, right.getHeight() * 3 / 10)));   // its four rows stay legible
     right.removeFromTop(6);
-    device_.setBounds(right.removeFromTop(right.getHeight() * 3 / 5));
+    const auto deviceArea = right.removeFromTop(right.getHeight() * 3 / 5);
+    deviceView_.setBounds(deviceArea);
+    const bool scrolls = deviceArea.getHeight() < DevicePanel::kMinimumHeight;
+    device_.setSize(deviceArea.getWidth() - (scrolls ? deviceView_.getScrollBarThickness() : 0),
+                    juce::jmax(deviceArea.getHeight(), DevicePanel::kMinimumHeight));
     right.removeFromTop(6);
     sceneControls_.setBounds(right);
     processor_.settings().setProperty(SettingIds::editorWidth, getWidth(), nullptr);

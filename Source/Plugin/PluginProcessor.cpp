@@ -33,7 +33,7 @@ ArmadilloProcessor::ArmadilloProcessor()
       sceneTable_(querySceneParameters()),
       apvts_(*this, nullptr, "PARAMETERS", createParameterLayout(sceneTable_)),
       settings_(PluginState::defaultSettings()),
-      engines_(loop_, sceneTable_, apvts_, [this](const juce::String& m) { setStatus(m); }),
+      engines_(loop_, sceneTable_, apvts_, [this](const juce::String& m) { setEngineStatus(m); }),
       training_(engines_),
       control_(loop_, token_, cellsOf(apvts_), motors_),
       connections_(loop_, control_, motors_),
@@ -128,7 +128,57 @@ void ArmadilloProcessor::prepareToPlay(double sampleRate, int)
 void ArmadilloProcessor::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi)
 {
     juce::ScopedNoDenormals noDenormals;
-    control_.processBlock(buffer, midi, getPlayHead(), isNonRealtime(), listen_);
+    const int n = buffer.getNumSamples();
+    const auto listen = listen_;
+    float inPeak = 0.0f;
+    for (int c = 0; c < listen.count; ++c)
+        if (listen.first + c < buffer.getNumChannels()) inPeak = std::max(inPeak, buffer.getMagnitude(listen.first + c, 0, n));
+    control_.processBlock(buffer, midi, getPlayHead(), isNonRealtime(), listen);
+    // The test tone (welcome panel): added over the scene's sound, on the main stereo output.
+    if (int left = testToneSamples_.load(std::memory_order_relaxed); left > 0) {
+        const int count = std::min(left, n);
+        const double step = 2.0 * juce::MathConstants<double>::pi * 440.0 / sampleRate_.load(std::memory_order_relaxed);
+        for (int i = 0; i < count; ++i) {
+            const auto v = static_cast<float>(0.125 * std::sin(testTonePhase_));
+            testTonePhase_ = std::fmod(testTonePhase_ + step, 2.0 * juce::MathConstants<double>::pi);
+            for (int c = 0; c < std::min(2, buffer.getNumChannels()); ++c) buffer.addSample(c, i, v);
+        }
+        testToneSamples_.store(left - count, std::memory_order_relaxed);
+    }
+    float outPeak = 0.0f;
+    for (int c = 0; c < std::min(2, buffer.getNumChannels()); ++c) outPeak = std::max(outPeak, buffer.getMagnitude(c, 0, n));
+    if (outPeak > outputPeak_.load(std::memory_order_relaxed)) outputPeak_.store(outPeak, std::memory_order_relaxed);
+    if (inPeak > inputPeak_.load(std::memory_order_relaxed)) inputPeak_.store(inPeak, std::memory_order_relaxed);
+    audioBlocks_.fetch_add(1, std::memory_order_relaxed);
+}
+
+void ArmadilloProcessor::playTestTone(double seconds) noexcept
+{
+    testToneSamples_.store(static_cast<int>(juce::jlimit(0.0, 10.0, seconds) * sampleRate_.load(std::memory_order_relaxed)),
+                           std::memory_order_relaxed);
+}
+
+std::uint64_t ArmadilloProcessor::sourceSamples(SourceKind kind) const
+{
+    switch (kind) {
+    case SourceKind::Simulator: return connections_.simulatorSteps();
+    case SourceKind::Device: return connections_.devicePackets();
+    case SourceKind::Osc: {
+        const auto in = connections_.oscInputStats();
+        return in.imu + in.orientation;
+    }
+    case SourceKind::HostAutomation: return 0;
+    }
+    return 0;
+}
+
+bool ArmadilloProcessor::sceneListens() const
+{
+    const auto& scenes = sceneTable_.scenes;
+    const int index = sceneIndex();
+    if (index < 0 || index >= static_cast<int>(scenes.size())) return false;
+    const auto& name = scenes[static_cast<std::size_t>(index)].scene;
+    return name == "score" || name == "audio-touch";
 }
 
 void ArmadilloProcessor::processBlockBypassed(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi)
@@ -168,7 +218,7 @@ void ArmadilloProcessor::applyRequestedProgram()
 void ArmadilloProcessor::timerCallback()
 {
     applyRequestedProgram();
-    if (const auto failure = engines_.takeNewFailure(); failure.isNotEmpty()) setStatus(failure);
+    if (const auto failure = engines_.takeNewFailure(); failure.isNotEmpty()) setEngineStatus(failure);
     training_.collect();   // keeps a braille training log's queue drained while no panel asks for it
     engines_.update(currentRequest());
     writeLiveOrientationToParameters();
@@ -302,6 +352,10 @@ void ArmadilloProcessor::connectDevice(bool connect)
         connections_.disconnectDevice();
         return;
     }
+    // Connect means "play from the device": the source follows, so the simulator (or OSC) can no
+    // longer move the arm while the device stays silent; the status line then says it is silent.
+    if (auto* p = apvts_.getParameter(ParamIds::source); p != nullptr && source() != SourceKind::Device)
+        p->setValueNotifyingHost(p->convertTo0to1(static_cast<float>(SourceKind::Device)));
     connections_.connectDevice(settings_[SettingIds::serialPort].toString(), static_cast<int>(settings_[SettingIds::baudRate]),
                                settings_[SettingIds::calibrationFile].toString());
 }
@@ -317,6 +371,20 @@ void ArmadilloProcessor::setStatus(const juce::String& message)
 {
     std::lock_guard<std::mutex> lock(statusMutex_);
     status_ = message;
+    statusFromEngine_ = false;
+}
+
+void ArmadilloProcessor::setEngineStatus(const juce::String& message)
+{
+    std::lock_guard<std::mutex> lock(statusMutex_);
+    if (message.isNotEmpty()) {
+        status_ = message;
+        statusFromEngine_ = true;
+    } else if (statusFromEngine_) {
+        // The scene (score, text...) that could not start now starts: the banner goes.
+        status_.clear();
+        statusFromEngine_ = false;
+    }
 }
 
 juce::String ArmadilloProcessor::statusMessage() const

@@ -121,6 +121,23 @@ public:
     /// The standalone app's MIDI port line ("" in a host), the mapping's OSC and drop counters.
     juce::String mappingStatus() const;
 
+    // The app's status line and welcome (message thread reads; the audio thread only counts).
+    /// Samples the given source has delivered so far: the simulator's steps, the device link's
+    /// good packets, OSC orientation/IMU messages (0 for host automation, which sends none).
+    std::uint64_t sourceSamples(SourceKind kind) const;
+    /// Audio blocks processed so far (counts only: a host or sound card that stops calling
+    /// processBlock stops it).
+    std::uint64_t audioBlocks() const noexcept { return audioBlocks_.load(std::memory_order_relaxed); }
+    /// The largest output / input magnitude since the previous call (the call resets it).
+    float takeOutputPeak() noexcept { return outputPeak_.exchange(0.0f, std::memory_order_relaxed); }
+    float takeInputPeak() noexcept { return inputPeak_.exchange(0.0f, std::memory_order_relaxed); }
+    /// Plays a 440 Hz tone at -18 dBFS for `seconds` over the scene's sound (how to check that
+    /// the output is heard). The audio thread adds it; without audio callbacks nothing plays.
+    void playTestTone(double seconds = 1.0) noexcept;
+    bool testTonePlaying() const noexcept { return testToneSamples_.load(std::memory_order_relaxed) > 0; }
+    /// Whether the current scene listens to the audio input (score, audio-touch).
+    bool sceneListens() const;
+
 private:
     static BusesProperties busesFor(WrapperType wrapper);
     // Message thread
@@ -131,6 +148,8 @@ private:
     void writeMacrosToParameters();
     void applyNetworkSettings();
     void setStatus(const juce::String& message);
+    /// The engine hand-over's messages: "" takes down an earlier engine message (only that).
+    void setEngineStatus(const juce::String& message);
 
     SceneParameterTable sceneTable_;             // before apvts_: the layout is built from it
     juce::AudioProcessorValueTreeState apvts_;
@@ -164,12 +183,19 @@ private:
     std::array<MacroWrite, ParamIds::kMacroCount> macroWrites_ {};
     bool autoConnectTried_ = false;              // one attempt per port/setting change
 
+    // Status counters: the audio thread writes, the message thread reads (relaxed atomics only).
+    std::atomic<std::uint64_t> audioBlocks_ {0};
+    std::atomic<float> outputPeak_ {0.0f}, inputPeak_ {0.0f};
+    std::atomic<int> testToneSamples_ {0};     // samples of test tone still to play
+    double testTonePhase_ = 0.0;               // audio thread only
+
     std::atomic<int> currentProgram_ {0};
     std::atomic<int> requestedProgram_ {-1};     // any thread → message thread's timer
     void applyRequestedProgram();
 
     mutable std::mutex statusMutex_;             // message thread and host state calls; never audio
     juce::String status_;
+    bool statusFromEngine_ = false;              // status_ came from the engine hand-over
 
     JUCE_DECLARE_NON_COPYABLE_WITH_LEAK_DETECTOR(ArmadilloProcessor)
 };

@@ -1,4 +1,5 @@
 #include "Plugin/SceneControls.h"
+#include "Plugin/Controls.h"
 #include "Plugin/PluginProcessor.h"
 #include "Core/Resources.h"
 
@@ -14,6 +15,7 @@ SceneControls::SceneControls(ArmadilloProcessor& processor) : processor_(process
     viewport_.setViewedComponent(&content_, false);
     viewport_.setScrollBarsShown(true, false);
     viewport_.setTitle("Scene controls");
+    viewport_.setDescription("The current scene's settings; the list scrolls when it is longer than the panel.");
     addAndMakeVisible(viewport_);
     setTitle("Scene controls");
     setFocusContainerType(FocusContainerType::focusContainer);
@@ -54,14 +56,16 @@ void SceneControls::rebuild()
         c.label = std::make_unique<juce::Label>();
         c.label->setText(name + (spec.unit.empty() ? "" : " (" + juce::String(spec.unit) + ")"), juce::dontSendNotification);
         if (! spec.choices.empty()) {
-            auto box = std::make_unique<juce::ComboBox>();
+            auto box = std::make_unique<ChoiceBox>();
             int itemId = 1;
             for (const auto& choice : spec.choices) box->addItem(juce::String(choice), itemId++);
             c.combo = std::make_unique<juce::AudioProcessorValueTreeState::ComboBoxAttachment>(apvts, id, *box);
             c.editor = std::move(box);
         } else {
-            auto slider = std::make_unique<juce::Slider>(juce::Slider::LinearHorizontal, juce::Slider::TextBoxRight);
-            slider->setTextBoxStyle(juce::Slider::TextBoxRight, false, 80, 20);
+            auto slider = std::make_unique<ValueSlider>(juce::Slider::LinearHorizontal, juce::Slider::TextBoxRight);
+            // The value shows beside the slider, read-only: the slider itself takes the keys (arrows,
+            // Page Up/Down, Home/End) and is the one Tab stop, with the value as its accessible value.
+            slider->setTextBoxStyle(juce::Slider::TextBoxRight, true, 80, 20);
             c.slider = std::make_unique<juce::AudioProcessorValueTreeState::SliderAttachment>(apvts, id, *slider);
             c.editor = std::move(slider);
         }
@@ -95,7 +99,7 @@ void SceneControls::rebuild()
         Control c;
         c.label = std::make_unique<juce::Label>();
         c.label->setText("Score", juce::dontSendNotification);
-        auto box = std::make_unique<juce::ComboBox>();
+        auto box = std::make_unique<ChoiceBox>();
         int itemId = 1;
         for (const ScoreEntry& s : listScores()) box->addItem(juce::String(s.name), itemId++);
         box->setEditableText(true);

@@ -12,6 +12,8 @@ namespace {
 constexpr int kMaxTypedCharacters = 1024;   // a pasted book stops here; the feeder refuses > 63 bytes anyway
 const char* const kTypeHere = "type the answer, then Return";
 const char* const kHint = "Feel what the arm shows, type the answer, press Return.";
+const char* const kKeys = "Keys: Return sends (Backspace corrects first); F5 repeats the prompt; F6 skips (counts as wrong); "
+                          "F8 stops the training; Escape leaves the panel; Tab stays inside it.";
 } // namespace
 
 TrainingPanel::TrainingPanel(ArmadilloProcessor& processor) : processor_(processor)
@@ -19,7 +21,9 @@ TrainingPanel::TrainingPanel(ArmadilloProcessor& processor) : processor_(process
     mode_ = processor_.parameters().getRawParameterValue("braille.mode");
     setTitle("Braille training");
     setDescription("The braille training of thesis section 4.4.1: feel what the arm shows, type the answer, press Return.");
-    setFocusContainerType(FocusContainerType::focusContainer);
+    // While the training runs the panel keeps Tab inside itself (Escape leaves it).
+    setFocusContainerType(FocusContainerType::keyboardFocusContainer);
+    setWantsKeyboardFocus(true);   // Tab reaches the panel; focusGained passes it on inside
 
     heading_.setText("Braille training", juce::dontSendNotification);
     heading_.setFont(juce::Font(15.0f, juce::Font::bold));
@@ -27,8 +31,14 @@ TrainingPanel::TrainingPanel(ArmadilloProcessor& processor) : processor_(process
     // A label's accessible name is its text: a screen reader reads the trial, prompt and result.
     describe(trial_, "Training trial", "Which trial this is, of how many.");
     describe(prompt_, "Training prompt", "What to feel for and answer in this trial.");
-    describe(score_, "Training score", "How many answers were right so far.");
-    describe(result_, "Training result", "Whether the last answer was right, or why it was not sent.");
+    describe(score_, "Training score", "How many answers were correct so far.");
+    describe(result_, "Training result", "Whether the last answer was correct, or why it was not sent.");
+    describe(tally_, "Results per answer", "For each expected answer (a side, a letter, a word): correct of asked.");
+    describe(keys_, "Training keys", kKeys);
+    keys_.setText(kKeys, juce::dontSendNotification);
+    keys_.setColour(juce::Label::textColourId, juce::Colours::lightgrey);
+    tally_.setColour(juce::Label::textColourId, juce::Colour(0xffb8d8b0));
+    tally_.setMinimumHorizontalScale(0.6f);   // a long session's list squeezes before it is cut
     prompt_.setJustificationType(juce::Justification::centredLeft);
     prompt_.setMinimumHorizontalScale(0.8f);
     score_.setJustificationType(juce::Justification::centredRight);
@@ -44,9 +54,16 @@ TrainingPanel::TrainingPanel(ArmadilloProcessor& processor) : processor_(process
     answerButton_.onClick = [this] { submit(); };
     describe(save_, "Save training log", "Write the training log (CSV, one row per event) to a file.");
     save_.onClick = [this] { save(); };
+    describe(repeat_, "Repeat the prompt", "Says the current trial's prompt again (F5).");
+    repeat_.onClick = [this] { repeatPrompt(); };
+    describe(skip_, "Skip this trial", "Goes on to the next trial; the skipped one counts as wrong (F6).");
+    skip_.onClick = [this] { skip(); };
+    describe(stop_, "Stop the training", "Ends the training: the braille scene goes back to active reading (F8).");
+    stop_.onClick = [this] { stop(); };
+    answer_.onEscapeKey = [this] { leave(); };
 
     for (juce::Component* c : std::initializer_list<juce::Component*> {&heading_, &trial_, &score_, &prompt_, &answer_,
-                                                                        &answerButton_, &result_})
+                                                                        &answerButton_, &repeat_, &skip_, &stop_, &result_, &tally_, &keys_})
         addAndMakeVisible(*c);
     addChildComponent(save_);
     result_.setText(kHint, juce::dontSendNotification);
@@ -83,6 +100,7 @@ void TrainingPanel::follow()
                                     feeder_.reset();
                                     complete_ = false;
                                     log_.clear();
+                                    tallyCounts_.clear();
                                 }
                                 notices = feeder_.poll(scene);
                                 trial = scene.trainingTrial();
@@ -103,11 +121,13 @@ void TrainingPanel::follow()
         answer_.setEnabled(true);
         answer_.setTextToShowWhenEmpty(kTypeHere, juce::Colours::grey);
         answerButton_.setEnabled(true);
+        for (auto* b : {&repeat_, &skip_, &stop_}) b->setEnabled(true);
+        tally_.setText({}, juce::dontSendNotification);
         save_.setVisible(false);
         result_.setText("The braille scene was restarted: the training begins again.", juce::dontSendNotification);
         resized();
     }
-    score_.setText(juce::String(correct) + " of " + juce::String(std::min(trial, count)) + " right", juce::dontSendNotification);
+    score_.setText(juce::String(correct) + " of " + juce::String(std::min(trial, count)) + " correct", juce::dontSendNotification);
     if (restarted && ! notices.empty()) announce(result_.getText());
     show(notices);
 }
@@ -119,22 +139,33 @@ void TrainingPanel::show(const std::vector<braille::TrainingNotice>& notices)
     for (const auto& n : notices) {
         switch (n.kind) {
         case Kind::Result: {
-            const auto text = juce::String(braille::resultText(n));
+            const bool skipped = n.answer == kSkipAnswer;
+            const auto text = skipped ? "skipped (counts as wrong), it was '" + juce::String(n.expected) + "'"
+                                      : juce::String(braille::resultText(n)) + (n.right ? juce::String() : ", you answered '" + juce::String(n.answer) + "'");
             result_.setText(text, juce::dontSendNotification);
-            say << text << ". " << n.correct << " of " << n.answered << " right. ";
+            say << text << ". " << n.correct << " of " << n.answered << " correct. ";
+            auto it = std::find_if(tallyCounts_.begin(), tallyCounts_.end(), [&](const auto& e) { return e.first == n.expected; });
+            if (it == tallyCounts_.end()) it = tallyCounts_.insert(tallyCounts_.end(), {n.expected, {0, 0}});
+            it->second.first += n.right ? 1 : 0;
+            it->second.second += 1;
+            juce::String tally = "Per answer (correct of asked): ";
+            for (const auto& e : tallyCounts_)
+                tally << juce::String(e.first) << " " << e.second.first << "/" << e.second.second << ",  ";
+            tally_.setText(tally.trimCharactersAtEnd(", "), juce::dontSendNotification);
             break;
         }
         case Kind::Prompt:
             trial_.setText("Trial " + juce::String(n.trial + 1) + " of " + juce::String(n.trialCount), juce::dontSendNotification);
             prompt_.setText(juce::String(n.prompt), juce::dontSendNotification);
-            say << trial_.getText() << ": " << prompt_.getText();
+            lastPrompt_ = trial_.getText() + ": " + prompt_.getText();
+            say << lastPrompt_;
             break;
         case Kind::Complete: {
             complete_ = true;
-            const auto text = "Training complete: " + juce::String(n.correct) + " of " + juce::String(n.trialCount) + " right";
+            const auto text = "Training complete: " + juce::String(n.correct) + " of " + juce::String(n.trialCount) + " correct";
             trial_.setText("All trials answered", juce::dontSendNotification);
             prompt_.setText(text, juce::dontSendNotification);
-            say << text << ". Save log to keep it.";
+            say << text << ". " << tally_.getText() << ". Save log to keep it.";
             // The log no longer changes once every trial is answered: keep it now, so a later
             // change of scene or text (which rebuilds the scene) cannot lose it before saving.
             juce::String why;
@@ -142,6 +173,7 @@ void TrainingPanel::show(const std::vector<braille::TrainingNotice>& notices)
             answer_.setEnabled(false);
             answer_.setTextToShowWhenEmpty("training complete", juce::Colours::grey);
             answerButton_.setEnabled(false);
+            for (auto* b : {&repeat_, &skip_}) b->setEnabled(false);
             save_.setVisible(true);
             resized();
             save_.grabKeyboardFocus();
@@ -155,8 +187,29 @@ void TrainingPanel::show(const std::vector<braille::TrainingNotice>& notices)
 void TrainingPanel::submit()
 {
     if (complete_) return;
-    const auto refusal = feeder_.add(answer_.getText().toStdString());
     answer_.grabKeyboardFocus();   // focus stays in the answer field between trials
+    const auto typed = answer_.getText().trim();
+    // The trial this answer will be scored for: the current one, after those still on their way.
+    juce::String expected;
+    processor_.withBrailleTraining([&](braille::BrailleSceneControls& scene, std::uint64_t generation) {
+        if (generation != generation_) return;
+        const int target = scene.trainingTrial() + (feeder_.awaitingScore() ? 1 : 0) + static_cast<int>(feeder_.waiting());
+        if (target >= 0 && target < scene.trainingTrialCount()) expected = juce::String(scene.trainingExpected(target));
+    });
+    if (const auto why = implausible(typed, expected); why.isNotEmpty()) {
+        // A typo is not an answer: it stays in the field to be corrected, nothing is scored.
+        const auto text = "Not sent: " + why + " Correct it, then press Return.";
+        result_.setText(text, juce::dontSendNotification);
+        announce(text);
+        answer_.moveCaretToEnd();
+        return;
+    }
+    send(answer_.getText());
+}
+
+void TrainingPanel::send(const juce::String& answer)
+{
+    const auto refusal = feeder_.add(answer.toStdString());
     if (refusal != braille::TrainingAnswerFeeder::Refusal::None) {
         const auto text = "Not sent: " + juce::String(braille::TrainingAnswerFeeder::refusalText(refusal));
         result_.setText(text, juce::dontSendNotification);
@@ -165,6 +218,76 @@ void TrainingPanel::submit()
     }
     answer_.clear();
     follow();   // hand it over now rather than on the next tick
+}
+
+juce::String TrainingPanel::implausible(const juce::String& answer, const juce::String& expected)
+{
+    const auto a = answer.trim().toLowerCase();
+    const auto e = expected.toLowerCase();
+    if (a.isEmpty() || e.isEmpty()) return {};   // the feeder explains an empty answer
+    if (e == "left" || e == "right" || e == "both") {
+        if (a != "left" && a != "right" && a != "both") return "'" + answer.trim() + "' is not left, right or both.";
+    } else if (e == "here") {
+        if (a != "here") return "'" + answer.trim() + "' is not here (answer here when the asked row shows).";
+    } else if (e.length() == 1 && juce::CharacterFunctions::isLetter(e[0])) {
+        if (a.length() != 1 || ! juce::CharacterFunctions::isLetter(a[0])) return "'" + answer.trim() + "' is not one letter.";
+    }
+    return {};
+}
+
+void TrainingPanel::repeatPrompt()
+{
+    if (! wanted_) return;
+    const auto text = lastPrompt_.isNotEmpty() ? lastPrompt_ : prompt_.getText();
+    result_.setText("Prompt again: " + text, juce::dontSendNotification);
+    announce(text);
+}
+
+void TrainingPanel::skip()
+{
+    if (! wanted_ || complete_) return;
+    answer_.clear();
+    send(kSkipAnswer);
+    answer_.grabKeyboardFocus();
+}
+
+void TrainingPanel::stop()
+{
+    if (! wanted_) return;
+    auto* mode = processor_.parameters().getParameter("braille.mode");
+    if (mode == nullptr) return;
+    const auto text = "Training stopped: " + score_.getText() + ". The braille scene reads actively again.";
+    announce(text);
+    mode->setValueNotifyingHost(mode->convertTo0to1(static_cast<float>(braille::BrailleMode::Active)));
+    follow();   // hides the panel now
+    if (onLeave) onLeave();
+}
+
+void TrainingPanel::leave()
+{
+    announce("Left the training panel; Tab back to it to go on.");
+    if (onLeave) onLeave();
+}
+
+void TrainingPanel::focusGained(FocusChangeType)
+{
+    if (complete_ && save_.isShowing()) save_.grabKeyboardFocus();
+    else if (answer_.isShowing() && answer_.isEnabled()) answer_.grabKeyboardFocus();
+}
+
+bool TrainingPanel::keyPressed(const juce::KeyPress& key)
+{
+    const bool ctrl = key.getModifiers().isCtrlDown();
+    const int code = key.getKeyCode();
+    if (code == juce::KeyPress::escapeKey) { leave(); return true; }
+    if (code == juce::KeyPress::F5Key || (ctrl && code == 'R')) { repeatPrompt(); return true; }
+    if (code == juce::KeyPress::F6Key) { skip(); return true; }
+    if (code == juce::KeyPress::F8Key) { stop(); return true; }
+    // Nothing else leaves the panel while it trains: arrows do not reach the arm view or a box.
+    if (code == juce::KeyPress::upKey || code == juce::KeyPress::downKey || code == juce::KeyPress::leftKey
+        || code == juce::KeyPress::rightKey || code == juce::KeyPress::pageUpKey || code == juce::KeyPress::pageDownKey)
+        return true;
+    return false;
 }
 
 void TrainingPanel::save()
@@ -205,13 +328,19 @@ void TrainingPanel::paint(juce::Graphics& g) { paintPanel(g, *this); }
 void TrainingPanel::resized()
 {
     auto r = getLocalBounds().reduced(6, 4);
-    const int row = juce::jmax(18, r.getHeight() / 4);
-    const float font = juce::jlimit(13.0f, 20.0f, row * 0.6f);
+    // Narrow (the editor's minimum, 200 %): Repeat / Skip / Stop get a row of their own so the
+    // answer field stays wide, and the keys get two lines.
+    const bool narrow = r.getWidth() < 620;
+    const int rows = narrow ? 8 : 7;
+    const int row = juce::jmax(18, r.getHeight() / rows);
+    const float font = juce::jlimit(12.0f, 20.0f, row * 0.6f);
     heading_.setFont(juce::Font(font, juce::Font::bold));
     trial_.setFont(juce::Font(font));
     score_.setFont(juce::Font(font));
     prompt_.setFont(juce::Font(font + 3.0f, juce::Font::bold));
     result_.setFont(juce::Font(font));
+    tally_.setFont(juce::Font(font - 1.0f));
+    keys_.setFont(juce::Font(juce::jmax(11.0f, font - 2.0f)));
     answer_.setFont(juce::Font(font + 1.0f));
     answer_.applyFontToAllText(juce::Font(font + 1.0f));
 
@@ -221,15 +350,23 @@ void TrainingPanel::resized()
     trial_.setBounds(top);
     prompt_.setBounds(r.removeFromTop(row));
     auto line = r.removeFromTop(row).reduced(0, 2);
-    const int buttonW = juce::jlimit(80, 130, line.getWidth() / 5);
+    const int buttonW = juce::jlimit(64, 120, line.getWidth() / (narrow ? 4 : 8));
+    auto actions = narrow ? r.removeFromTop(row).reduced(0, 2) : line;
+    for (auto* b : {&stop_, &skip_, &repeat_}) {
+        b->setBounds(actions.removeFromRight(buttonW));
+        actions.removeFromRight(4);
+    }
+    if (! narrow) line = line.withRight(actions.getRight());   // the buttons took the line's right end
     if (save_.isVisible()) {
         save_.setBounds(line.removeFromRight(buttonW));
-        line.removeFromRight(6);
+        line.removeFromRight(4);
     }
     answerButton_.setBounds(line.removeFromRight(buttonW));
     line.removeFromRight(6);
     answer_.setBounds(line);
-    result_.setBounds(r);
+    result_.setBounds(r.removeFromTop(row));
+    tally_.setBounds(r.removeFromTop(row));
+    keys_.setBounds(r);
 }
 
 } // namespace armadillo::plugin

@@ -130,7 +130,7 @@ TEST_CASE("Feeder: one answer at a time, each result belongs to its trial", "[br
     CHECK(n[0].answer == first);
     CHECK(n[0].correct == 1);
     CHECK(n[0].answered == 1);
-    CHECK(resultText(n[0]) == "right");
+    CHECK(resultText(n[0]) == "correct");
     CHECK(n[1].trial == 1);
     CHECK(n[1].prompt == s.controls->trainingPrompt(1));
     CHECK(feeder.waiting() == 0);   // the second answer went with that poll, for trial 2
@@ -142,7 +142,7 @@ TEST_CASE("Feeder: one answer at a time, each result belongs to its trial", "[br
     CHECK_FALSE(n[0].right);
     CHECK(n[0].answer == "zz");
     CHECK(n[0].correct == 1);
-    CHECK(resultText(n[0]) == "wrong: it was '" + s.controls->trainingExpected(1) + "'");
+    CHECK(resultText(n[0]) == "wrong, it was '" + s.controls->trainingExpected(1) + "'");
     CHECK(loggedAnswers(s.controls->trainingLogCsv()) == std::vector<std::string> {first, "zz"});
 }
 

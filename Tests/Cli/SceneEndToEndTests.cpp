@@ -310,7 +310,7 @@ TEST_CASE("e2e: braille training live through play: prompts out, typed answers i
     CHECK(r.out.find("\"packets\":") != std::string::npos);
     CHECK(r.err.find("braille training 1/" + std::to_string(expected.size()) + ": ") != std::string::npos);
     CHECK(r.err.find("braille training complete: ") != std::string::npos);
-    CHECK(r.err.find("wrong: it was '" + expected[3] + "'") != std::string::npos);
+    CHECK(r.err.find("wrong, it was '" + expected[3] + "'") != std::string::npos);
 
     // The log's answer rows, in order: what was typed, scored as the plan says.
     std::istringstream in(readWholeFile(log));

@@ -1,0 +1,90 @@
+#include "Plugin/StatusLine.h"
+#include <algorithm>
+#include <cmath>
+
+namespace armadillo::plugin {
+
+namespace {
+juce::String decibels(float peak)
+{
+    if (peak <= 1.0e-5f) return "silent";
+    return juce::String(juce::roundToInt(20.0 * std::log10(static_cast<double>(peak)))) + " dBFS peak";
+}
+
+} // namespace
+
+juce::String StatusLine::update(const StatusSnapshot& s)
+{
+    if (first_ || s.source != source_) {
+        first_ = false;
+        source_ = s.source;
+        sourceSince_ = s.now;
+        lastChange_ = -1.0;
+        history_.clear();
+    }
+    if (! history_.empty() && s.sourceSamples != history_.back().count) lastChange_ = s.now;
+    if (! history_.empty() && s.sourceSamples < history_.back().count) history_.clear();   // counter restarted (reconnect)
+    history_.push_back({s.now, s.sourceSamples});
+    while (history_.size() > 2 && s.now - history_[1].t >= kRateWindow) history_.pop_front();
+
+    const double since = lastChange_ >= 0.0 ? lastChange_ : sourceSince_;
+    // Nothing received since the source was chosen counts as silent at once (never "0/s, alive").
+    silent_ = lastChange_ < 0.0 || s.now - since >= kSilentAfter;
+    rate_ = 0.0;
+    if (! silent_ && history_.size() >= 2) {
+        const double dt = history_.back().t - history_.front().t;
+        if (dt > 0.0) rate_ = static_cast<double>(history_.back().count - history_.front().count) / dt;
+    }
+    if (silent_) rate_ = 0.0;
+
+    // Audio: blocks arriving within the last half second.
+    if (! audioHistory_.empty() && s.audioBlocks != audioHistory_.back().count) lastAudio_ = s.now;
+    audioHistory_.clear();
+    audioHistory_.push_back({s.now, s.audioBlocks});
+    audioFlowing_ = lastAudio_ >= 0.0 && s.now - lastAudio_ < kSilentAfter;
+    // Peaks held for a second, so a quiet moment between two notes does not flicker "silent".
+    if (s.now - peakSince_ >= kRateWindow) {
+        heldOutPeak_ = 0.0f;
+        heldInPeak_ = 0.0f;
+        peakSince_ = s.now;
+    }
+    heldOutPeak_ = std::max(heldOutPeak_, s.outputPeak);
+    heldInPeak_ = std::max(heldInPeak_, s.inputPeak);
+
+    juce::String line = "Source: ";
+    const auto samples = silent_ ? juce::String("silent, nothing received")
+                                 : juce::String(juce::roundToInt(rate_)) + " samples/s";
+    switch (s.source) {
+    case SourceKind::Simulator:
+        line << "simulated arm (" << (silent_ ? samples : juce::String(juce::roundToInt(rate_)) + " steps/s") << ")";
+        break;
+    case SourceKind::Device:
+        if (! s.deviceConnected) line << "device, not connected (choose a port, press Connect)";
+        else line << "device " << s.deviceName << " (" << (silent_ ? samples : juce::String(juce::roundToInt(rate_)) + " packets/s") << ")";
+        break;
+    case SourceKind::Osc:
+        if (s.oscPort <= 0) line << "OSC, but OSC in is off (turn it on in the device panel)";
+        else line << "OSC port " << s.oscPort << " (" << (silent_ ? samples : juce::String(juce::roundToInt(rate_)) + " messages/s") << ")";
+        break;
+    case SourceKind::HostAutomation:
+        line << "host automation (the elevation, azimuth and roll parameters)";
+        silent_ = false;
+        break;
+    }
+    line << "  |  Audio: ";
+    if (! audioFlowing_) line << "not running (no sound card or output device: the arm and motors still run)";
+    else line << "running, output " << decibels(heldOutPeak_);
+    if (s.listens) {
+        line << "  |  Input: ";
+        if (s.inputMuted == 1) line << "MUTED (this scene listens: unmute it in Help or Options)";
+        else if (! audioFlowing_) line << "no audio";
+        else line << decibels(heldInPeak_);
+    }
+    line << "  |  Motors: ";
+    if (! s.deviceConnected) line << "off (no device connected; the levels are only shown)";
+    else if (s.motorsActive > 0) line << "on (" << s.motorsActive << " of " << s.motorCount << " driven)";
+    else line << "off";
+    return line;
+}
+
+} // namespace armadillo::plugin

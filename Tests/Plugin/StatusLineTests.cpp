@@ -1,0 +1,105 @@
+// The app's status line (Plugin/StatusLine.h) reports only what the counters show: a source that
+// stops sending is "silent" within a second, a steady one its rate; audio and motors likewise.
+#include "Plugin/StatusLine.h"
+#include <catch2/catch.hpp>
+
+using armadillo::live::SourceKind;
+using armadillo::plugin::StatusLine;
+using armadillo::plugin::StatusSnapshot;
+
+namespace {
+StatusSnapshot at(double t, SourceKind source, std::uint64_t samples, std::uint64_t blocks = 0)
+{
+    StatusSnapshot s;
+    s.now = t;
+    s.source = source;
+    s.sourceSamples = samples;
+    s.audioBlocks = blocks;
+    return s;
+}
+} // namespace
+
+TEST_CASE("status line: a connected device that sends nothing is silent within a second, never alive", "[plugin][status]")
+{
+    StatusLine line;
+    double silentAt = -1.0;
+    for (int i = 0; i <= 30; ++i) {   // the editor's 10 Hz timer for 3 s; the packet counter never moves
+        auto s = at(100.0 + i * 0.1, SourceKind::Device, 0);
+        s.deviceConnected = true;
+        s.deviceName = "/dev/ttyUSB0";
+        const auto text = line.update(s);
+        CHECK_FALSE(text.contains("packets/s"));
+        CHECK(line.sourceRate() == 0.0);
+        if (line.sourceSilent() && silentAt < 0.0) silentAt = i * 0.1;
+        if (i * 0.1 >= 1.0) CHECK(text.contains("silent"));
+    }
+    CHECK(silentAt >= 0.0);
+    CHECK(silentAt <= 1.0);
+}
+
+TEST_CASE("status line: a steady source shows its rate; when it stops it turns silent within a second", "[plugin][status]")
+{
+    StatusLine line;
+    std::uint64_t packets = 0;
+    juce::String text;
+    for (int i = 0; i <= 20; ++i) {   // 200 packets/s for 2 s
+        auto s = at(i * 0.1, SourceKind::Device, packets);
+        s.deviceConnected = true;
+        s.deviceName = "sim";
+        text = line.update(s);
+        packets += 20;
+    }
+    CHECK_FALSE(line.sourceSilent());
+    CHECK(line.sourceRate() == Approx(200.0).margin(1.0));
+    CHECK(text.contains("200 packets/s"));
+    // It stops: the last count stays.
+    const auto last = packets - 20;
+    double silentAfter = -1.0;
+    for (int i = 1; i <= 15; ++i) {
+        auto s = at(2.0 + i * 0.1, SourceKind::Device, last);
+        s.deviceConnected = true;
+        s.deviceName = "sim";
+        text = line.update(s);
+        if (line.sourceSilent() && silentAfter < 0.0) silentAfter = i * 0.1;
+    }
+    CHECK(silentAfter > 0.0);
+    CHECK(silentAfter <= 1.0);
+    CHECK(text.contains("silent"));
+}
+
+TEST_CASE("status line: each source, the audio and the motors are named as they are", "[plugin][status]")
+{
+    StatusLine line;
+    // Simulator at 200 steps/s with audio flowing at 48 kHz / 512 (94 blocks/s).
+    juce::String text;
+    for (int i = 0; i <= 10; ++i) {
+        auto s = at(i * 0.1, SourceKind::Simulator, static_cast<std::uint64_t>(i * 20), static_cast<std::uint64_t>(i * 9));
+        s.outputPeak = 0.25f;
+        text = line.update(s);
+    }
+    CHECK(text.contains("simulated arm (200 steps/s)"));
+    CHECK(text.contains("Audio: running, output -12 dBFS peak"));
+    CHECK(text.contains("Motors: off (no device connected"));
+    CHECK(line.audioFlowing());
+
+    // The audio stops (no sound card): within half a second it says so.
+    for (int i = 11; i <= 16; ++i) text = line.update(at(i * 0.1, SourceKind::Simulator, static_cast<std::uint64_t>(i * 20), 90));
+    CHECK_FALSE(line.audioFlowing());
+    CHECK(text.contains("Audio: not running"));
+
+    // OSC chosen while OSC in is off; the device chosen while none is connected.
+    text = line.update(at(2.0, SourceKind::Osc, 0));
+    CHECK(text.contains("OSC in is off"));
+    text = line.update(at(2.1, SourceKind::Device, 0));
+    CHECK(text.contains("device, not connected"));
+
+    // A listening scene with the standalone's input muted says so; motors driven are counted.
+    auto s = at(2.2, SourceKind::Device, 0);
+    s.deviceConnected = true;
+    s.listens = true;
+    s.inputMuted = 1;
+    s.motorsActive = 3;
+    text = line.update(s);
+    CHECK(text.contains("Input: MUTED"));
+    CHECK(text.contains("Motors: on (3 of 9 driven)"));
+}
