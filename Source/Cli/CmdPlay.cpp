@@ -1,6 +1,8 @@
 #include "Cli/CommandLine.h"
 #include "Cli/Commands.h"
+#include "Cli/MapOptions.h"
 #include "Cli/SceneOptions.h"
+#include "Live/MappingRig.h"
 #include "Core/Errors.h"
 #include "Audio/SoundCard.h"
 #include "Braille/BrailleScene.h"
@@ -21,6 +23,8 @@
 #include <iostream>
 #include <memory>
 #include <thread>
+#include <atomic>
+#include <csignal>
 #include <poll.h>
 #include <unistd.h>
 
@@ -87,6 +91,18 @@ private:
     bool stdinClosed_ = false;
 };
 
+/// SIGUSR1 → the mapping's "set forward" (an atomic store: safe in a signal handler).
+std::atomic<mapping::Mapper*>& forwardTarget()
+{
+    static std::atomic<mapping::Mapper*> target {nullptr};
+    return target;
+}
+
+void onForwardSignal(int)
+{
+    if (mapping::Mapper* m = forwardTarget().load()) m->requestForward();
+}
+
 } // namespace
 
 int runPlay(const Arguments& args)
@@ -134,7 +150,13 @@ int runPlay(const Arguments& args)
                                                "--sample-rate is given"},
                     {"--tactile", "T.csv", "every motor packet: t,m1..m9"},
                     {"--log", "SESSION.csv", "one row per sensor packet: t, raw counts, calibrated SI values, qw,qx,qy,qz"},
-                    {"--osc-out", "HOST:PORT", "send orientation, pose, gyro, motors and gestures as OSC"},
+                    {"--osc-out", "HOST:PORT", "send orientation, pose, gyro, motors and gestures as OSC; with --map, the target of\n"
+                                               "the mapping's OSC destinations that name none (and only those are sent)"},
+                    {"--map", "PRESET|FILE", kMapHelp},
+                    {"--forward", "DEG", std::string(kForwardHelp) + "; SIGUSR1 (kill -USR1 PID) sets forward to where\n"
+                                         "the arm points now"},
+                    {"--midi-out", "NAME", "with --map: open an ALSA sequencer output port NAME (client \"ARMadillo\") and send the\n"
+                                           "mapped MIDI there as it happens; exit 4 naming the cause when there is no sequencer"},
                     {"--unpaced", "", "with --simulate: no wire pacing (as fast as the host can go)"},
                     {"--training-log", "LOG.csv", "with --scene braille: the training protocol (thesis §4.4.1) live. Each trial's\n"
                                                   "prompt is printed on stderr; type the answers on stdin, one a line (left, right,\n"
@@ -200,6 +222,12 @@ int runPlay(const Arguments& args)
                 throw UsageError(std::string("--osc-out: ") + e.what());
             }
         }
+        if (cl.has("--midi-out") && !cl.has("--map")) throw UsageError("--midi-out sends what a mapping makes: give --map PRESET|FILE too");
+        if (cl.has("--midi-out") && cl.value("--midi-out").empty()) throw UsageError("--midi-out needs a port name");
+        config.mapping = readMapOption(cl, engine);
+        config.mappingName = cl.value("--map");
+        config.midiOut = cl.value("--midi-out");
+        config.forwardDeg = readForwardOption(cl);
         if (cl.has("--calibration")) config.calibration = device::loadCalibration(cl.value("--calibration"));
         // Steadier timing for the link (and the simulated device) where the system allows it.
         config.link.realtimePriority = 20;
@@ -270,6 +298,11 @@ int runPlay(const Arguments& args)
             std::cerr << "mount calibration pose 1 (" << device::MountCalibration::poseName(mountCalibration->pose())
                       << "): " << device::MountCalibration::instruction(mountCalibration->pose()) << "\n";
         }
+        if (live::MappingRig* rig = session.mapping()) forwardTarget().store(&rig->mapper());
+        struct ForwardOff {
+            ~ForwardOff() { forwardTarget().store(nullptr); }
+        } forwardOff;
+        ::signal(SIGUSR1, onForwardSignal);   // "set forward" from outside: kill -USR1
         session.start();
         const auto start = std::chrono::steady_clock::now();
         std::string shownError;
@@ -384,7 +417,11 @@ int runPlay(const Arguments& args)
             device::Calibration result = calibration->result();
             device::saveCalibration(calibrateOut, result);
         }
-        std::cout << device::summaryJson(session.summary()) << "\n" << std::flush;
+        std::string summary = device::summaryJson(session.summary());
+        if (const live::MappingRig* m = session.mapping())
+            summary.insert(summary.size() - 1, ",\"mapping_midi_events\":" + std::to_string(m->midiEvents()) + ",\"mapping_osc_messages\":" +
+                                                   std::to_string(m->oscMessages()) + ",\"mapping_dropped\":" + std::to_string(m->dropped()));
+        std::cout << summary << "\n" << std::flush;
         return session.engine().failed() ? int(kExitFailure) : int(kExitOk);
     });
 }

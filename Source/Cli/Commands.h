@@ -13,6 +13,7 @@ int runRender(const Arguments& args);    // CmdRender.cpp  — offline determini
 int runPlay(const Arguments& args);      // CmdPlay.cpp    — the live engine, headless
 int runBraille(const Arguments& args);   // CmdBraille.cpp — cells and row sensations of a text
 int runResources(const Arguments& args); // CmdResources.cpp — search folders, scores, built-in files
+int runMap(const Arguments& args);       // CmdMap.cpp     — mapping files: check, show, learn a posture
 
 struct CommandInfo {
     const char* name;

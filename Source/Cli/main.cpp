@@ -17,6 +17,7 @@ const std::vector<CommandInfo>& commands()
         {"play", "the live engine headless: device/simulator/OSC in, motors and audio out", runPlay},
         {"braille", "the braille cells of a text and the row sensations the display shows", runBraille},
         {"resources", "where scores and other files are found; the scores playable by name", runResources},
+        {"map", "mapping files (--map): check one, show a preset, learn a posture", runMap},
     };
     return table;
 }

@@ -82,7 +82,7 @@ public:
     /// Gestures since the last call (control thread; at most 64 are kept between calls).
     bool popGesture(GestureEvent& out) noexcept { return gestures_.pop(out); }
     /// The scene's own outputs after the latest control() (Core/Scene.h SceneValues; control thread).
-    SceneValues sceneValues() const noexcept { return scene_->values(); }
+    SceneValues sceneValues() const noexcept { return failed() ? SceneValues {} : scene_->values(); }
 
 private:
     class Events;

@@ -112,8 +112,11 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
         previous = t;
         result.tactile.push_back({t, levels});
         ++result.controlUpdates;
+        const std::size_t firstGesture = result.gestures.size();
         GestureEvent g;
         while (engine.popGesture(g)) result.gestures.push_back(g);
+        if (settings.onControl)
+            settings.onControl(t, arm, result.gestures.data() + firstGesture, result.gestures.size() - firstGesture, engine);
     }
     renderUntil(tEnd + 1.0 / sampleRate);
     return result;

@@ -6,6 +6,7 @@
 #include "Core/Csv.h"
 #include "Core/Wav.h"
 #include "Engine/Engine.h"
+#include <functional>
 #include <vector>
 
 namespace armadillo {
@@ -19,6 +20,11 @@ struct RenderSettings {
     /// input before each block is rendered, from sample 0 = the first motion row. Its sample
     /// rate must be the engine's (engine.sceneConfig.sampleRate); the scene must listen.
     const AudioBuffer* audioIn = nullptr;
+    /// Called after every control update (one per motion row) with the row's time (s, the motion
+    /// file's clock), the arm, the gestures the scene emitted in that update and the engine (its
+    /// scene's outputs, Engine::sceneValues, and parameters): what a front end's mapping
+    /// (`render --map`, Source/Mapping) reads and drives. Empty: not called.
+    std::function<void(double t, const ArmState& arm, const GestureEvent* gestures, std::size_t count, Engine& engine)> onControl;
 };
 
 struct RenderResult {

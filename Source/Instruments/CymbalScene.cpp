@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 
 namespace armadillo {
 namespace {
@@ -174,6 +175,9 @@ public:
         else leaveInside(out);
     }
 
+    /// The latest strike's speed (deg/s, 0 before any), for mappings (Core/Scene.h).
+    SceneValues values() const noexcept override { return values_; }
+
     void renderAudio(float* left, float* right, int numSamples) noexcept override
     {
         CymbalCommand c;
@@ -186,6 +190,7 @@ public:
     }
 
 private:
+    SceneValues values_ {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::quiet_NaN(), 0.0f};   // control thread: strike 0 before any
     static constexpr int kStrikeVoice = 0, kDampVoice = 1, kGearVoice = 2;
     static constexpr double kRingSeconds = 10.0;   ///< how long a touch still counts as damping
 
@@ -235,6 +240,7 @@ private:
         jolt.voice = kStrikeVoice;
         out.motors.trigger(jolt);
         out.events.emit("strike", static_cast<float>(speedDegPerS));
+        values_.strike = static_cast<float>(speedDegPerS);
         ringingUntil_ = clock_ + kRingSeconds;
     }
 

@@ -9,6 +9,7 @@
 #include "Instruments/Theremin.h"
 #include <atomic>
 #include <cmath>
+#include <limits>
 
 namespace armadillo {
 namespace {
@@ -99,6 +100,7 @@ public:
         if (!in.arm.valid || !std::isfinite(f.axis.y()) || !std::isfinite(f.pose.azimuthDeg)) {
             targetAmplitude_.store(0.0, std::memory_order_relaxed);
             showFret(-1, out);
+            values_.pitch = std::numeric_limits<float>::quiet_NaN();
             return;
         }
 
@@ -118,15 +120,20 @@ public:
 
         targetHz_.store(playedHz, std::memory_order_relaxed);
         targetAmplitude_.store(volume * params_.get(kLevel), std::memory_order_relaxed);
+        values_.pitch = static_cast<float>(69.0 + 12.0 * std::log2(playedHz / 440.0));
 
         // Frets follow the controller's pitch (where the arm is), not the snapped sound.
         const int fret = frets_.update(controllerHz);
         showFret(fret, out);
+        if (fret >= 0) values_.fret = static_cast<float>(fret);
         if (fret != lastEmittedFret_ && fret >= 0) {
             out.events.emit("fret", static_cast<float>(fret));
             lastEmittedFret_ = fret;
         }
     }
+
+    /// The sounding pitch (MIDI note number) and the latest fret, for mappings (Core/Scene.h).
+    SceneValues values() const noexcept override { return values_; }
 
     void renderAudio(float* left, float* right, int numSamples) noexcept override
     {
@@ -187,6 +194,7 @@ private:
     bool clearPending_ = true;
     bool haveReference_ = false;
     double referenceAzimuthDeg_ = 0.0;
+    SceneValues values_ {};
 
     // Control → audio: latest targets (single words, lock-free).
     std::atomic<double> targetHz_ {0.0};

@@ -1,4 +1,6 @@
 #include "Live/LiveSession.h"
+#include "Audio/SequencerOut.h"
+#include "Live/MappingRig.h"
 #include "Audio/SoundCard.h"
 #include "Core/Errors.h"
 #include "Device/Motion.h"
@@ -7,6 +9,7 @@
 #include "Device/Simulator.h"
 #include "Engine/ArmTracker.h"
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -66,7 +69,21 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
         } catch (const std::invalid_argument& e) {
             throw InputError("--osc-out", 0, "", e.what());
         }
-        oscOut_ = std::make_unique<OscSender>(hp);
+        if (!config_.mapping) oscOut_ = std::make_unique<OscSender>(hp);   // with --map only what the mapping names leaves
+    }
+    if (config_.mapping) {
+        live::MappingRigOptions options;
+        options.oscDefault = config_.oscOut;
+        options.sourceName = config_.mappingName;
+        options.forwardDeg = config_.forwardDeg;
+        mapping_ = std::make_unique<live::MappingRig>(*config_.mapping, *engine_, options);
+        if (!config_.midiOut.empty()) {
+            midiOut_ = std::make_unique<audio::SequencerOut>(config_.midiOut);   // IoError naming the cause (exit 4)
+            mapping_->setMidiSink([](void* ctx, const mapping::MidiEvent& e) { static_cast<audio::SequencerOut*>(ctx)->send(e.bytes.data(), e.size); },
+                                  midiOut_.get());
+        }
+    } else if (!config_.midiOut.empty()) {
+        throw InputError("--midi-out", 0, "", "MIDI out follows a mapping: give --map PRESET|FILE (e.g. --map classic)");
     }
 
     auto deviceHandler = [this](const SensorCounts& counts, double t) { return control(t, &counts, nullptr, nullptr); };
@@ -215,9 +232,14 @@ MotorLevels LiveSession::control(double t, const SensorCounts* counts, const Imu
         oscOut_->sendGyro(arm.gyro);
         oscOut_->sendMotors(levels, config_.engine.motorCount);
     }
+    std::array<GestureEvent, 64> gestures {};
+    std::size_t gestureCount = 0;
     GestureEvent ev;
-    while (engine_->popGesture(ev))
+    while (engine_->popGesture(ev)) {
         if (oscOut_) oscOut_->sendGesture(ev.name);
+        if (gestureCount < gestures.size()) gestures[gestureCount++] = ev;
+    }
+    if (mapping_ && result.ran) mapping_->step(t, arm, gestures.data(), gestureCount, *engine_);
     return levels;
 }
 
@@ -310,6 +332,7 @@ void LiveSession::stop()
     if (simulator_) simulator_->stop();
     engine_->allOff();
     if (oscOut_) oscOut_->sendMotors(MotorLevels {}, config_.engine.motorCount);
+    if (mapping_) mapping_->finish(std::max(0.0, lastT_));   // the control thread has stopped: no note is left hanging
     running_.store(false, std::memory_order_release);
     if (audioThread_.joinable()) audioThread_.join();
     if (soundCard_) soundCard_->stop();

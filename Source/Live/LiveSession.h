@@ -21,6 +21,7 @@
 #include "Core/Wav.h"
 #include "Engine/Engine.h"
 #include "Live/ControlLoop.h"
+#include "Mapping/MappingSpec.h"
 #include <atomic>
 #include <memory>
 #include <string>
@@ -28,6 +29,10 @@
 
 namespace armadillo::audio {
 class SoundCard;
+class SequencerOut;
+}
+namespace armadillo::live {
+class MappingRig;
 }
 
 namespace armadillo::device {
@@ -61,7 +66,14 @@ struct LiveConfig {
     std::string audioIn;
     std::string tactileOut;           ///< t,m1..m9 CSV of every motor packet
     std::string logOut;               ///< session log CSV, one row per sensor packet
-    std::string oscOut;               ///< HOST:PORT; empty = none
+    std::string oscOut;               ///< HOST:PORT; empty = none. With a mapping: its OSC destinations' default
+                                      ///< target, and the fixed /armadillo/* messages are not sent
+    /// `--map`: the mapping matrix run at every control update (Source/Mapping); null = none, and
+    /// then nothing but the fixed OSC stream leaves.
+    std::shared_ptr<const mapping::MappingDocument> mapping;
+    std::string mappingName;          ///< for messages ("classic", a path)
+    std::string midiOut;              ///< with a mapping: an ALSA sequencer output port of this name (IoError when absent)
+    double forwardDeg = 0.0;          ///< with a mapping: the forward direction to start from (azimuth, °)
     DeviceLinkOptions link {};
 };
 
@@ -115,6 +127,9 @@ public:
     SpscQueue<RawPacket, 1024>* rawPackets() noexcept { return link_ ? &link_->packets() : nullptr; }
     /// Sensor-packet arrival → motor packet written (device sources; empty otherwise).
     LatencySummary latency() const;
+    /// The mapping's counters (null without --map).
+    const live::MappingRig* mapping() const noexcept { return mapping_.get(); }
+    live::MappingRig* mapping() noexcept { return mapping_.get(); }
     /// Source::Osc: the UDP port listened on (useful with oscInPort 0); 0 otherwise.
     int oscInPort() const noexcept;
     /// Source::Osc: the receiver (format, device, counters, the mount calibration's tap); null otherwise.
@@ -137,6 +152,8 @@ private:
     std::unique_ptr<DeviceLink> link_;
     std::unique_ptr<OscReceiver> oscIn_;
     std::unique_ptr<OscSender> oscOut_;
+    std::unique_ptr<live::MappingRig> mapping_;      // control thread once started
+    std::unique_ptr<audio::SequencerOut> midiOut_;   // written by the control thread only
     std::unique_ptr<StreamingCsvWriter> log_, tactile_;
     std::unique_ptr<StreamingWavWriter> wav_;
     /// Audio thread: the scene's block with the recording (audioIn) heard and played out.

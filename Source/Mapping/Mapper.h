@@ -71,6 +71,8 @@ struct SceneParamChange {
     bool normalised = true;                ///< true: 0…1 over the parameter's range; false: its own unit
 };
 
+/// About 60 KB: allocate it once off the audio thread (make_unique) and reuse it; clear() between
+/// deliveries.
 struct MappingOutput {
     static constexpr int kMaxMidi = 1024;
     static constexpr int kMaxOsc = 64;

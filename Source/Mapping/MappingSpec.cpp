@@ -555,6 +555,7 @@ int Reader::scaleIntervals(const std::string& name)
 
 std::string num(double x)
 {
+    if (x == std::floor(x) && std::fabs(x) < 1e15) return std::to_string(static_cast<long long>(x));
     char b[40];
     std::snprintf(b, sizeof b, "%.17g", x);
     // Shortest text that reads back to the same double.

@@ -160,7 +160,9 @@ struct ZoneSpec {
 enum class DestinationKind : std::uint8_t {
     Cc7,             ///< {"midi": "cc", "channel", "cc"}: 0…127
     Cc14,            ///< {"midi": "cc14", "channel", "cc"}: MSB on cc, LSB on cc+32, MSB first (MIDI 1.0 spec);
-                     ///< "lsbFirst": true for receivers that want the LSB first (IEM SceneRotator). 0…16383
+                     ///< "lsbFirst": true for receivers that latch the value on the MSB, e.g. IEM SceneRotator
+                     ///< (IEM plug-in suite, SceneRotator/Source/PluginProcessor.cpp, processBlock: CC 48…50 store
+                     ///< the LSB, CC 16…18 then apply (128·MSB + LSB)/16384). 0…16383
     Nrpn,            ///< {"midi": "nrpn", "channel", "param"}: CC 99/98 (parameter MSB/LSB), 6/38 (value MSB/LSB); 0…16383
     PitchBend,       ///< {"midi": "pitchbend", "channel"}: 0…16383 (8192 = centre)
     ChannelPressure, ///< {"midi": "pressure", "channel"}: 0…127

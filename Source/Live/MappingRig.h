@@ -1,0 +1,71 @@
+#pragma once
+// The mapping matrix (Source/Mapping) as the command line runs it, for `render --map` and
+// `play --map`: the set built for the engine's scene, the Mapper stepped once per control update,
+// and its outputs delivered — MIDI to a sink (a Standard MIDI File, an ALSA sequencer port), OSC
+// packets to their UDP targets, scene-parameter changes to the scene (Scene::setParameter, which
+// any thread may call). Macros have no host here and are ignored.
+//
+// Threads: built on the starting thread; step()/finish() on the control thread. step() allocates
+// nothing (the Mapper is real-time; sending is a non-blocking sendto and the sink's own work).
+#include "Device/OscIo.h"
+#include "Engine/Engine.h"
+#include "Mapping/Mapper.h"
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace armadillo::live {
+
+struct MappingRigOptions {
+    /// Where OSC destinations that name no host/port go ("HOST:PORT", `--osc-out`); empty: 127.0.0.1:9000.
+    std::string oscDefault;
+    bool sendOsc = true;        ///< false: OSC messages are counted, not sent (render without --osc-out)
+    std::string sourceName;     ///< the mapping's name for messages ("preset classic", a path)
+    double forwardDeg = 0.0;    ///< the forward direction to start from (azimuth, °; `--forward`)
+};
+
+/// Receives every MIDI event in order (allocation-free function pointer, unlike std::function).
+using MidiSink = void (*)(void* context, const mapping::MidiEvent& event);
+
+class MappingRig {
+public:
+    /// Builds the set for this engine's scene: InputError for a scene parameter the scene lacks or
+    /// an OSC message that does not encode; IoError for an OSC target that cannot be resolved.
+    MappingRig(const mapping::MappingDocument& doc, Engine& engine, const MappingRigOptions& options);
+    ~MappingRig();
+    MappingRig(const MappingRig&) = delete;
+    MappingRig& operator=(const MappingRig&) = delete;
+
+    void setMidiSink(MidiSink sink, void* context) noexcept
+    {
+        sink_ = sink;
+        sinkContext_ = context;
+    }
+    /// One control update at time t (s): the arm, the gestures the scene emitted in it.
+    void step(double t, const ArmState& arm, const GestureEvent* gestures, std::size_t count, Engine& engine) noexcept;
+    /// The end: gesture notes end at their due time, held notes (zones, postures) at t.
+    void finish(double t) noexcept;
+
+    mapping::Mapper& mapper() noexcept { return mapper_; }
+    std::uint64_t midiEvents() const noexcept { return midi_; }
+    std::uint64_t oscMessages() const noexcept { return osc_; }
+    std::uint64_t oscSent() const noexcept;
+    std::uint64_t dropped() const noexcept { return dropped_; }
+
+private:
+    void deliver(Engine* engine) noexcept;
+
+    mapping::Mapper mapper_;
+    std::unique_ptr<mapping::MappingOutput> out_;
+    std::vector<std::unique_ptr<device::OscSender>> senders_;   // per MappingSet::oscTargets() index (null: not sent)
+    struct Param {
+        int sceneIndex = -1;
+        float min = 0.0f, max = 1.0f;
+    };
+    std::vector<Param> params_;
+    MidiSink sink_ = nullptr;
+    void* sinkContext_ = nullptr;
+    std::uint64_t midi_ = 0, osc_ = 0, dropped_ = 0;
+};
+
+} // namespace armadillo::live
