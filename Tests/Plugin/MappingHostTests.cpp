@@ -417,6 +417,17 @@ TEST_CASE("VST3: processBlock allocates nothing with 64 mappings, automated")
     CHECK(c.allocations == 0);
     CHECK(c.deallocations == 0);
     CHECK(c.throws == 0);
+
+    // Swapping sets while it plays: each new set is compiled on the message thread and taken
+    // by pointer in the next control step, the old one freed back on the message thread.
+    for (int swap = 0; swap < 3; ++swap) {
+        INFO("swap " << swap);
+        setOwnState(h, stateWith(swap % 2 == 0 ? juce::String("name=\"scenerotator\"") : jsonAttribute(juce::String(json.str()))));
+        const BlockCounts s = countDuringProcessing(h, 50, true);
+        CHECK(s.allocations == 0);
+        CHECK(s.deallocations == 0);
+        CHECK(s.throws == 0);
+    }
 }
 
 TEST_CASE("VST3: the mapping's OSC destinations leave from the control clock to the OSC out target")
