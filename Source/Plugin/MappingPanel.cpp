@@ -103,7 +103,7 @@ juce::String MappingPanel::describeMapping(const mapping::MappingSpec& m)
     if (m.transform.hasIn) s << ", " << juce::String(m.transform.inLo, 1) << " to " << juce::String(m.transform.inHi, 1);
     if (! m.zones.empty()) s << ", " << static_cast<int>(m.zones.size()) << " zones";
     s << ", to " << destinationText(m.to);
-    if (m.label.size() > 0) s = juce::String(m.label) + ": " + s;
+    if (! m.label.empty() && m.label != mapping::sourceName(m.source)) s = juce::String(m.label) + ": " + s;
     if (m.muted) s << " (muted)";
     return s;
 }

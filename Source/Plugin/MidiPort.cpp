@@ -21,13 +21,14 @@ bool MidiPort::open(const juce::String& name, juce::String& why)
     if (! seq.exists()) {
         why_ = "No MIDI output port: the ALSA sequencer is not available (/dev/snd/seq does not exist; load the "
                "snd-seq kernel module, e.g. 'sudo modprobe snd-seq', and restart the app). The mapping still runs; "
-               "its MIDI goes nowhere.";
+               "its MIDI reaches only the MIDI output chosen in the app's audio/MIDI settings.";
         why = why_;
         return false;
     }
     if (! seq.hasReadAccess() || ! seq.hasWriteAccess()) {
         why_ = "No MIDI output port: /dev/snd/seq is not readable and writable by this user (add the user to the "
-               "'audio' group). The mapping still runs; its MIDI goes nowhere.";
+               "'audio' group). The mapping still runs; its MIDI reaches only the MIDI output chosen in the app's "
+               "audio/MIDI settings.";
         why = why_;
         return false;
     }

@@ -7,6 +7,7 @@
 
 #include <juce_audio_processors/juce_audio_processors.h>
 #include <juce_events/juce_events.h>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -236,6 +237,33 @@ inline std::unique_ptr<juce::XmlElement> ownState(Hosted& h)
     auto xml = juce::AudioProcessor::getXmlFromBinary(own.getData(), static_cast<int>(own.getSize()));
     REQUIRE(xml != nullptr);
     return xml;
+}
+
+/// Frequency from positive-going zero crossings (interpolated), over the whole span.
+inline double frequency(const std::vector<float>& x, std::size_t from)
+{
+    double first = -1.0, last = -1.0;
+    int crossings = 0;
+    for (std::size_t i = std::max<std::size_t>(from, 1); i < x.size(); ++i) {
+        if (x[i - 1] < 0.0f && x[i] >= 0.0f) {
+            const double t = static_cast<double>(i - 1) + x[i - 1] / static_cast<double>(x[i - 1] - x[i]);
+            if (first < 0.0) first = t;
+            last = t;
+            ++crossings;
+        }
+    }
+    if (crossings < 3) return 0.0;
+    return (crossings - 1) / ((last - first) / kRate);
+}
+
+/// The theremin's pitch map with its default parameters (thesis §3.5, Instruments/Frets.h):
+/// semitones linear in sin(elevation) from −45° (220 Hz) to +45° (440 Hz).
+inline double expectedThereminHz(double elevationDeg)
+{
+    const double s = std::sin(elevationDeg * M_PI / 180.0);
+    const double lo = std::sin(-M_PI / 4.0), hi = std::sin(M_PI / 4.0);
+    const double e = 12.0 * (std::clamp(s, lo, hi) - lo) / (hi - lo);
+    return 220.0 * std::pow(2.0, e / 12.0);
 }
 
 } // namespace armadillo::test::host

@@ -417,6 +417,17 @@ TEST_CASE("VST3: processBlock allocates nothing with 64 mappings, automated")
     CHECK(c.allocations == 0);
     CHECK(c.deallocations == 0);
     CHECK(c.throws == 0);
+
+    // Swapping sets while it plays: each new set is compiled on the message thread and taken
+    // by pointer in the next control step, the old one freed back on the message thread.
+    for (int swap = 0; swap < 3; ++swap) {
+        INFO("swap " << swap);
+        setOwnState(h, stateWith(swap % 2 == 0 ? juce::String("name=\"scenerotator\"") : jsonAttribute(juce::String(json.str()))));
+        const BlockCounts s = countDuringProcessing(h, 50, true);
+        CHECK(s.allocations == 0);
+        CHECK(s.deallocations == 0);
+        CHECK(s.throws == 0);
+    }
 }
 
 TEST_CASE("VST3: the mapping's OSC destinations leave from the control clock to the OSC out target")
@@ -454,4 +465,31 @@ TEST_CASE("VST3: the mapping's OSC destinations leave from the control clock to 
     }
     CHECK(address == "/synth/cutoff");
     CHECK(got == Approx(expected).margin(1e-4));
+}
+
+TEST_CASE("VST3: a scene-parameter destination plays the running scene's parameter")
+{
+    // roll → theremin.base (Hz at the bottom elevation; Instruments/Theremin.h), in its own unit:
+    // roll 90° of [-180, 180] → 110 + 0.75 × 220 = 275 Hz. The theremin's pitch map (thesis §3.5)
+    // then scales by 275/220 against the default base; the host's own parameter stays 220 Hz.
+    auto h = loadVst3();
+    prepare(h);
+    setOwnState(h, "<ARMADILLO version=\"1\"><PARAMETERS><PARAM id=\"source\" value=\"3\"/><PARAM id=\"scene\" value=\"1\"/>"
+                   "</PARAMETERS><MAPPING name=\"test\" json=\""
+                   + juce::String(R"({"version": 1, "mappings": [{"source": "roll", "in": [-180, 180], "out": [110, 330],
+                        "to": {"param": "theremin.base"}}]})").replace("\"", "&quot;")
+                   + "\"/></ARMADILLO>");
+    setValue(h, "Azimuth", 0.0f, 0.0f, 360.0f);
+    setValue(h, "Roll", 90.0f, -180.0f, 180.0f);
+    setValue(h, "Elevation", -20.0f, -90.0f, 90.0f);
+    render(h, 0.3);   // the theremin swaps in, the mapping sets its base
+    const auto audio = render(h, 0.35);
+    const double roll = valueOf(h, "Roll", -180.0f, 180.0f), elevation = valueOf(h, "Elevation", -90.0f, 90.0f);
+    const double base = 110.0 + (roll + 180.0) / 360.0 * 220.0;
+    const double hz = frequency(audio, static_cast<std::size_t>(0.12 * kRate));
+    INFO("roll " << roll << " -> base " << base << " Hz; measured " << hz << " Hz");
+    CHECK(hz == Approx(expectedThereminHz(elevation) * base / 220.0).epsilon(0.01));
+    auto* hostBase = h.param("theremin: Base frequency");
+    REQUIRE(hostBase != nullptr);
+    CHECK(hostBase->getCurrentValueAsText().getDoubleValue() == Approx(220.0).margin(0.5));
 }

@@ -22,38 +22,11 @@ using namespace armadillo::test::host;
 
 namespace {
 
-/// Frequency from positive-going zero crossings (interpolated), over the whole span.
-double frequency(const std::vector<float>& x, std::size_t from)
-{
-    double first = -1.0, last = -1.0;
-    int crossings = 0;
-    for (std::size_t i = std::max<std::size_t>(from, 1); i < x.size(); ++i) {
-        if (x[i - 1] < 0.0f && x[i] >= 0.0f) {
-            const double t = static_cast<double>(i - 1) + x[i - 1] / static_cast<double>(x[i - 1] - x[i]);
-            if (first < 0.0) first = t;
-            last = t;
-            ++crossings;
-        }
-    }
-    if (crossings < 3) return 0.0;
-    return (crossings - 1) / ((last - first) / kRate);
-}
-
 double rms(const std::vector<float>& x, std::size_t from)
 {
     double s = 0.0;
     for (std::size_t i = from; i < x.size(); ++i) s += double(x[i]) * x[i];
     return x.size() > from ? std::sqrt(s / double(x.size() - from)) : 0.0;
-}
-
-/// The theremin's pitch map with its default parameters (thesis §3.5, Instruments/Frets.h):
-/// semitones linear in sin(elevation) from −45° (220 Hz) to +45° (440 Hz).
-double expectedThereminHz(double elevationDeg)
-{
-    const double s = std::sin(elevationDeg * M_PI / 180.0);
-    const double lo = std::sin(-M_PI / 4.0), hi = std::sin(M_PI / 4.0);
-    const double e = 12.0 * (std::clamp(s, lo, hi) - lo) / (hi - lo);
-    return 220.0 * std::pow(2.0, e / 12.0);
 }
 
 void checkContractParameters(Hosted& h)
