@@ -353,8 +353,8 @@ TEST_CASE("play --training-log with speech and a braille display captured: the Â
         for (std::size_t at = 0; (at = text.find(what, at)) != std::string::npos; ++at) ++c;
         return c;
     };
-    CHECK(count(said, "say+: right") + count(said, "say+: wrong") == expected.size());
-    CHECK(count(shown, "write: right") + count(shown, "write: wrong") == expected.size());
+    CHECK(count(said, "say+: correct") + count(said, "say+: wrong") == expected.size());
+    CHECK(count(shown, "write: correct") + count(shown, "write: wrong") == expected.size());
     CHECK(said.find("say+: braille training complete") != std::string::npos);
     // stderr is what it always was.
     CHECK(r.err.find("braille training 1/" + n + ": ") != std::string::npos);

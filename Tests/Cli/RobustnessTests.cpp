@@ -719,7 +719,7 @@ TEST_CASE("robustness: a motion file spanning an absurd time is refused before a
 
 TEST_CASE("robustness: --help lists every scene, audio-touch included, everywhere", "[cli][robust]")
 {
-    const std::string all = "monitor theremin cymbal panel sound-design compass braille score audio-touch";
+    const std::string all = "monitor theremin cymbal panel sound-design compass braille score audio-touch layered-keyboard theremin-duo";
     CHECK(cli::runArmadillo("--help").out.find("scenes: " + all + "\n") != std::string::npos);
     for (const char* c : {"render", "play"}) {
         INFO(c);

@@ -252,6 +252,7 @@ TEST_CASE("layered-keyboard: the phrase is captured, and elevation plays its not
     RenderSettings settings;
     settings.engine.scene = "layered-keyboard";
     settings.audioIn = &piano;
+    settings.mixAudioIn = false;   // the scene's own sound is measured, not the recording under it
     const RenderResult r = renderOffline(poseSegments(starts, poses, 8.0), settings);
 
     std::vector<int> captured;
@@ -296,6 +297,7 @@ TEST_CASE("layered-keyboard: azimuth shifts the layer's pitch (±shift semitones
     RenderSettings settings;
     settings.engine.scene = "layered-keyboard";
     settings.audioIn = &piano;
+    settings.mixAudioIn = false;   // the scene's own sound is measured, not the recording under it
     const RenderResult r = renderOffline(poseSegments(starts, poses, 6.2), settings);
     const auto& out = r.audio.channels[0];
     const double expected[3] = {60.0, 66.0, 48.0};
@@ -411,6 +413,7 @@ TEST_CASE("layered-keyboard: roll opens the filter (more high-frequency energy a
         RenderSettings settings;
         settings.engine.scene = "layered-keyboard";
         settings.audioIn = &piano;
+        settings.mixAudioIn = false;   // the scene's own sound is measured, not the recording under it
         const RenderResult r = renderOffline(poseSegments(starts, poses, 5.0), settings);
         const auto& x = r.audio.channels[0];
         double e = 0.0, d = 0.0;   // the first difference's energy against the signal's
