@@ -6,6 +6,7 @@
 #include "Live/MappingRig.h"
 #include "Mapping/MidiFile.h"
 #include "Core/Csv.h"
+#include "Core/AtomicFile.h"
 #include "Core/Errors.h"
 #include "Core/Wav.h"
 #include "Engine/Engine.h"
@@ -57,6 +58,12 @@ int runRender(const Arguments& args)
                                                                   "without --osc-out no OSC is sent)"});
                            o.push_back({"--tactile-wav", "OUT.wav", "the motors as a multichannel WAV (docs/FORMATS.md): channel k = motor k,\n"
                                                                     "a 150 Hz sine at amplitude level/15 (9 channels, 12 with --back-motors)"});
+                           o.push_back({"--tactile-ahap", "OUT.ahap", "the motors as an Apple AHAP file: one actuator, level = 15 x HapticIntensity\n"
+                                                                      "(docs/FORMATS.md; sharpness is not written)"});
+                           o.push_back({"--tactile-haptic", "OUT.haptic", "the motors as a Meta Haptics Studio .haptic file: one actuator,\n"
+                                                                          "level = 15 x amplitude (docs/FORMATS.md)"});
+                           o.push_back({"--actuator-motors", "SET", "with --tactile-ahap/--tactile-haptic: the motors the one actuator carries\n"
+                                                                    "(the loudest of them at each packet; default all of the render's motors)"});
                            return o;
                        }());
         if (!cl.parse(args)) return 0;
@@ -86,12 +93,24 @@ int runRender(const Arguments& args)
             }
         }
         const std::string out = cl.value("--out"), tactile = cl.value("--tactile"), midiOut = cl.value("--midi-out"),
-                          tactileWav = cl.value("--tactile-wav");
+                          tactileWav = cl.value("--tactile-wav"), tactileAhap = cl.value("--tactile-ahap"),
+                          tactileHaptic = cl.value("--tactile-haptic");
         if (cl.has("--out")) checkOutputPath("--out", out);
         if (cl.has("--tactile")) checkOutputPath("--tactile", tactile);
         if (cl.has("--midi-out")) checkOutputPath("--midi-out", midiOut);
         if (cl.has("--tactile-wav")) checkOutputPath("--tactile-wav", tactileWav);
-        checkDistinctOutputs({{"--out", out}, {"--tactile", tactile}, {"--midi-out", midiOut}, {"--tactile-wav", tactileWav}});
+        if (cl.has("--tactile-ahap")) checkOutputPath("--tactile-ahap", tactileAhap);
+        if (cl.has("--tactile-haptic")) checkOutputPath("--tactile-haptic", tactileHaptic);
+        checkDistinctOutputs({{"--out", out}, {"--tactile", tactile}, {"--midi-out", midiOut}, {"--tactile-wav", tactileWav},
+                              {"--tactile-ahap", tactileAhap}, {"--tactile-haptic", tactileHaptic}});
+        std::uint16_t actuator = static_cast<std::uint16_t>((1u << engine.motorCount) - 1u);
+        if (cl.has("--actuator-motors")) {
+            if (!cl.has("--tactile-ahap") && !cl.has("--tactile-haptic")) throw UsageError("--actuator-motors applies to --tactile-ahap and --tactile-haptic");
+            actuator = 0;
+            if (!parseMotorSet(cl.value("--actuator-motors"), actuator) || actuator == 0)
+                throw UsageError("--actuator-motors: '" + cl.value("--actuator-motors") + "' is not a motor set (1-9, elbow, 1,3 ...)");
+            if (actuator >> engine.motorCount) throw UsageError("--actuator-motors names a back motor (10..12): add --back-motors");
+        }
 
         AudioBuffer recording;
         // Stems: --stem NAME=FILE, or several --audio-in files named after their stem.
@@ -176,11 +195,14 @@ int runRender(const Arguments& args)
         if (cl.has("--tactile")) writeTactile(tactile, r.tactile, engine.motorCount);
         if (cl.has("--tactile-wav"))
             writeTactileWav(tactileWav, r.tactile, engine.motorCount, engine.sceneConfig.sampleRate, 150.0, cl.has("--float"));
+        const std::string project = std::filesystem::path(cl.value("--motion")).stem().string();
+        if (cl.has("--tactile-ahap")) writeFileAtomically(tactileAhap, exportAhap(r.tactile, actuator, project));
+        if (cl.has("--tactile-haptic")) writeFileAtomically(tactileHaptic, exportMetaHaptic(r.tactile, actuator, project));
         if (wav) {
             try {
                 wav->finish();
             } catch (const IoError&) {   // the WAV could not be completed: no part of the outputs stays
-                for (const std::string* f : {&tactile, &midiOut, &tactileWav})
+                for (const std::string* f : {&tactile, &midiOut, &tactileWav, &tactileAhap, &tactileHaptic})
                     if (!f->empty()) std::remove(f->c_str());
                 throw;
             }

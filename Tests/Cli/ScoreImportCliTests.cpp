@@ -68,6 +68,30 @@ TEST_CASE("cli: render plays a MIDI file directly and writes the motors as a mul
     CHECK(runArmadillo("score import '" + tactileWav + "' --out '" + path("back.score") + "'").code == 0);
 }
 
+TEST_CASE("cli: render writes the motors as AHAP and .haptic files that import back; bad actuator sets exit 2", "[cli][import][export]")
+{
+    const std::string mid = path("exported.mid");
+    armadillo::test::writeFile(mid, armadillo::test::midiBytes({{0, 1, 60, 100, 0, 0}, {1, 1, 67, 100, 0, 0}}, {{0, 120}}, 1));
+    const std::string motion = stillMotion("still4.csv", 1.2);
+    const std::string ahap = path("exported.ahap"), haptic = path("exported.haptic");
+    const Run r = runArmadillo("render --scene score --score '" + mid + "' --motion '" + motion + "' --out '" + path("exported.wav") +
+                               "' --tactile-ahap '" + ahap + "' --tactile-haptic '" + haptic + "' --actuator-motors 1-9");
+    REQUIRE(r.code == 0);
+    const Run a = runArmadillo("score import '" + ahap + "' --out '" + path("from-ahap.score") + "' --motors wrist");
+    CHECK(a.code == 0);
+    CHECK(a.out.find("\"format\":\"ahap\"") != std::string::npos);
+    const Run h = runArmadillo("score import '" + haptic + "' --out '" + path("from-haptic.score") + "'");
+    CHECK(h.code == 0);
+    CHECK(h.out.find("\"format\":\"haptic\"") != std::string::npos);
+    const std::string never = path("never.ahap");
+    const std::string base = "render --scene score --score '" + mid + "' --motion '" + motion + "' --out '" + path("x.wav") + "'";
+    CHECK(runArmadillo(base + " --tactile-ahap '" + never + "' --actuator-motors nowhere").code == 2);
+    CHECK(runArmadillo(base + " --tactile-ahap '" + never + "' --actuator-motors 11").code == 2);   // a back motor without --back-motors
+    CHECK(runArmadillo(base + " --actuator-motors 1").code == 2);                                   // no AHAP or .haptic out
+    CHECK(runArmadillo(base + " --tactile-ahap '" + path("no-such-dir/x.ahap") + "'").code == 4);   // checked before the render
+    CHECK_FALSE(fs::exists(never));
+}
+
 TEST_CASE("cli: render takes stems for audio-touch; unknown stems and stems for other scenes are refused", "[cli][stems]")
 {
     armadillo::AudioBuffer tone;
