@@ -114,32 +114,10 @@ int runRender(const Arguments& args)
 
         AudioBuffer recording;
         // Stems: --stem NAME=FILE, or several --audio-in files named after their stem.
-        std::vector<std::pair<std::string, std::string>> stems;
-        for (const std::string& s : cl.values("--stem")) {
-            const auto eq = s.find('=');
-            if (eq == std::string::npos || eq == 0 || eq + 1 == s.size()) throw UsageError("--stem takes NAME=FILE.wav, not '" + s + "'");
-            stems.emplace_back(s.substr(0, eq), s.substr(eq + 1));
-        }
-        const std::vector<std::string> inputs = cl.values("--audio-in");
-        if (inputs.size() > 1)
-            for (const std::string& f : inputs) stems.emplace_back(std::filesystem::path(f).stem().string(), f);
-        if (!stems.empty() && inputs.size() == 1) throw UsageError("--stem and a single --audio-in: give the mix as stems, or one recording");
-        if (!stems.empty()) {
-            if (engine.scene != "audio-touch") throw UsageError("stems are felt by the audio-touch scene only (--scene audio-touch)");
-            recording.channels.clear();
-            for (const auto& [name, path] : stems) {
-                const AudioBuffer stem = readWav(path);   // InputError names a bad file
-                if (recording.channels.empty()) recording.sampleRate = stem.sampleRate;
-                else if (stem.sampleRate != recording.sampleRate) throw InputError(path, 0, "", "the stems must share one sample rate");
-                std::vector<float> mono(stem.frames(), 0.0f);
-                for (const auto& c : stem.channels)
-                    for (std::size_t i = 0; i < mono.size(); ++i) mono[i] += c[i] / static_cast<float>(stem.channels.size());
-                recording.channels.push_back(std::move(mono));
-                engine.sceneConfig.stems.push_back(name);
-            }
-            std::size_t longest = 0;
-            for (const auto& c : recording.channels) longest = std::max(longest, c.size());
-            for (auto& c : recording.channels) c.resize(longest, 0.0f);
+        const std::vector<std::string> paths = readStemOptions(cl, engine);
+        if (!paths.empty()) {
+            recording = readWavStems(paths);   // InputError names a bad file or a sample-rate mismatch
+            settings.audioInName = paths.front();
             if (!cl.has("--sample-rate")) engine.sceneConfig.sampleRate = recording.sampleRate;
             settings.audioIn = &recording;
         } else if (cl.has("--audio-in")) {
