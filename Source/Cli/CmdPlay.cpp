@@ -191,8 +191,11 @@ int runPlay(const Arguments& args)
                     {"--no-audio", "", "no sound at all (no --out, no sound card)"},
                     {"--audio-in", "FILE.wav", "a recording to play out (to the sound card or --out, under the scene's sound) while\n"
                                                "scenes that listen (score, audio-touch, layered-keyboard) follow it; its sample rate is used unless\n"
-                                               "--sample-rate is given"},
-                    {"--loop", "", "with --audio-in: start the recording again at its end (without it, the session\n"
+                                               "--sample-rate is given. Given several times, each file is a stem named by its file\n"
+                                               "name (drums.wav, bass.wav ...), as --stem"},
+                    {"--stem", "NAME=FILE.wav", "audio-touch: a stem felt apart on its own motors (drums, bass, other, vocals;\n"
+                                                "repeatable; docs/INSTRUMENTS.md); the stems are played out together"},
+                    {"--loop", "", "with --audio-in or --stem: start the recording again at its end (without it, the session\n"
                                    "ends with the recording unless --seconds ends it first)"},
                     {"--data-timeout", "SECONDS", "with --port or --osc-in: no usable sensor data within this time is an error naming\n"
                                                   "the port and what was heard instead (exit 4; default 5, 0 = wait for ever)"},
@@ -343,13 +346,16 @@ int runPlay(const Arguments& args)
         }
         config.tactileOut = cl.value("--tactile");
         config.logOut = cl.value("--log");
-        if (cl.has("--audio-in")) {
+        config.audioStems = readStemOptions(cl, engine);
+        if (!config.audioStems.empty() && cl.has("--no-audio")) throw UsageError("stems are played out: they cannot go with --no-audio");
+        if (config.audioStems.empty() && cl.has("--audio-in")) {
             if (cl.value("--audio-in").empty()) throw UsageError("--audio-in needs a WAV file");
             if (cl.has("--no-audio")) throw UsageError("--audio-in plays the recording out: it cannot go with --no-audio");
             config.audioIn = cl.value("--audio-in");
-            config.audioInLoop = cl.has("--loop");
         }
-        if (cl.has("--loop") && !cl.has("--audio-in")) throw UsageError("--loop repeats the --audio-in recording: use it with --audio-in");
+        config.audioInLoop = cl.has("--loop");
+        if (cl.has("--loop") && !cl.has("--audio-in") && !cl.has("--stem"))
+            throw UsageError("--loop repeats the --audio-in recording: use it with --audio-in or --stem");
         const double dataTimeout = cl.number("--data-timeout", 5.0);
         if (!(dataTimeout >= 0.0 && dataTimeout <= 3600.0)) throw UsageError("--data-timeout must lie in 0..3600 s");
         if (cl.has("--data-timeout") && config.source == device::LiveConfig::Source::Simulator)
@@ -388,6 +394,7 @@ int runPlay(const Arguments& args)
         if (cl.has("--calibration")) config.calibration = device::loadCalibration(cl.value("--calibration"));
         config.mapping = readMapOption(cl, engine);
         if (!config.audioIn.empty() && !cl.has("--sample-rate")) engine.sceneConfig.sampleRate = readWav(config.audioIn).sampleRate;
+        if (!config.audioStems.empty() && !cl.has("--sample-rate")) engine.sceneConfig.sampleRate = readWav(config.audioStems.front()).sampleRate;
 
         // Spoken / braille-display copy of what stderr says (stderr itself is unchanged).
         std::unique_ptr<ReaderIo> voice;

@@ -6,6 +6,7 @@
 #include "Live/MappingRig.h"
 #include "Mapping/MidiFile.h"
 #include "Core/Csv.h"
+#include "Core/AtomicFile.h"
 #include "Core/Errors.h"
 #include "Core/Wav.h"
 #include "Engine/Engine.h"
@@ -68,6 +69,12 @@ int runRender(const Arguments& args)
                                                                   "without --osc-out no OSC is sent)"});
                            o.push_back({"--tactile-wav", "OUT.wav", "the motors as a multichannel WAV (docs/FORMATS.md): channel k = motor k,\n"
                                                                     "a 150 Hz sine at amplitude level/15 (9 channels, 12 with --back-motors)"});
+                           o.push_back({"--tactile-ahap", "OUT.ahap", "the motors as an Apple AHAP file: one actuator, level = 15 x HapticIntensity\n"
+                                                                      "(docs/FORMATS.md; sharpness is not written)"});
+                           o.push_back({"--tactile-haptic", "OUT.haptic", "the motors as a Meta Haptics Studio .haptic file: one actuator,\n"
+                                                                          "level = 15 x amplitude (docs/FORMATS.md)"});
+                           o.push_back({"--actuator-motors", "SET", "with --tactile-ahap/--tactile-haptic: the motors the one actuator carries\n"
+                                                                    "(the loudest of them at each packet; default all of the render's motors)"});
                            return o;
                        }());
         if (!cl.parse(args)) return 0;
@@ -111,45 +118,35 @@ int runRender(const Arguments& args)
             }
         }
         const std::string out = cl.value("--out"), tactile = cl.value("--tactile"), midiOut = cl.value("--midi-out"),
-                          tactileWav = cl.value("--tactile-wav");
+                          tactileWav = cl.value("--tactile-wav"), tactileAhap = cl.value("--tactile-ahap"),
+                          tactileHaptic = cl.value("--tactile-haptic");
         if (cl.has("--out")) checkOutputPath("--out", out);
         if (cl.has("--tactile")) checkOutputPath("--tactile", tactile);
         if (cl.has("--midi-out")) checkOutputPath("--midi-out", midiOut);
         if (cl.has("--tactile-wav")) checkOutputPath("--tactile-wav", tactileWav);
+        if (cl.has("--tactile-ahap")) checkOutputPath("--tactile-ahap", tactileAhap);
+        if (cl.has("--tactile-haptic")) checkOutputPath("--tactile-haptic", tactileHaptic);
         const std::string tactileLeft = cl.value("--tactile-left"), armsLog = cl.value("--arms-log");
         if (cl.has("--tactile-left")) checkOutputPath("--tactile-left", tactileLeft);
         if (cl.has("--arms-log")) checkOutputPath("--arms-log", armsLog);
         checkDistinctOutputs({{"--out", out}, {"--tactile", tactile}, {"--midi-out", midiOut}, {"--tactile-wav", tactileWav},
+                              {"--tactile-ahap", tactileAhap}, {"--tactile-haptic", tactileHaptic},
                               {"--tactile-left", tactileLeft}, {"--arms-log", armsLog}});
+        std::uint16_t actuator = static_cast<std::uint16_t>((1u << engine.motorCount) - 1u);
+        if (cl.has("--actuator-motors")) {
+            if (!cl.has("--tactile-ahap") && !cl.has("--tactile-haptic")) throw UsageError("--actuator-motors applies to --tactile-ahap and --tactile-haptic");
+            actuator = 0;
+            if (!parseMotorSet(cl.value("--actuator-motors"), actuator) || actuator == 0)
+                throw UsageError("--actuator-motors: '" + cl.value("--actuator-motors") + "' is not a motor set (1-9, elbow, 1,3 ...)");
+            if (actuator >> engine.motorCount) throw UsageError("--actuator-motors names a back motor (10..12): add --back-motors");
+        }
 
         AudioBuffer recording;
         // Stems: --stem NAME=FILE, or several --audio-in files named after their stem.
-        std::vector<std::pair<std::string, std::string>> stems;
-        for (const std::string& s : cl.values("--stem")) {
-            const auto eq = s.find('=');
-            if (eq == std::string::npos || eq == 0 || eq + 1 == s.size()) throw UsageError("--stem takes NAME=FILE.wav, not '" + s + "'");
-            stems.emplace_back(s.substr(0, eq), s.substr(eq + 1));
-        }
-        const std::vector<std::string> inputs = cl.values("--audio-in");
-        if (inputs.size() > 1)
-            for (const std::string& f : inputs) stems.emplace_back(std::filesystem::path(f).stem().string(), f);
-        if (!stems.empty() && inputs.size() == 1) throw UsageError("--stem and a single --audio-in: give the mix as stems, or one recording");
-        if (!stems.empty()) {
-            if (engine.scene != "audio-touch") throw UsageError("stems are felt by the audio-touch scene only (--scene audio-touch)");
-            recording.channels.clear();
-            for (const auto& [name, path] : stems) {
-                const AudioBuffer stem = readWav(path);   // InputError names a bad file
-                if (recording.channels.empty()) recording.sampleRate = stem.sampleRate;
-                else if (stem.sampleRate != recording.sampleRate) throw InputError(path, 0, "", "the stems must share one sample rate");
-                std::vector<float> mono(stem.frames(), 0.0f);
-                for (const auto& c : stem.channels)
-                    for (std::size_t i = 0; i < mono.size(); ++i) mono[i] += c[i] / static_cast<float>(stem.channels.size());
-                recording.channels.push_back(std::move(mono));
-                engine.sceneConfig.stems.push_back(name);
-            }
-            std::size_t longest = 0;
-            for (const auto& c : recording.channels) longest = std::max(longest, c.size());
-            for (auto& c : recording.channels) c.resize(longest, 0.0f);
+        const std::vector<std::string> paths = readStemOptions(cl, engine);
+        if (!paths.empty()) {
+            recording = readWavStems(paths);   // InputError names a bad file or a sample-rate mismatch
+            settings.audioInName = paths.front();
             if (!cl.has("--sample-rate")) engine.sceneConfig.sampleRate = recording.sampleRate;
             settings.audioIn = &recording;
         } else if (cl.has("--audio-in")) {
@@ -260,11 +257,14 @@ int runRender(const Arguments& args)
         }
         if (cl.has("--tactile-wav"))
             writeTactileWav(tactileWav, r.tactile, engine.motorCount, engine.sceneConfig.sampleRate, 150.0, cl.has("--float"));
+        const std::string project = std::filesystem::path(cl.value("--motion")).stem().string();
+        if (cl.has("--tactile-ahap")) writeFileAtomically(tactileAhap, exportAhap(r.tactile, actuator, project));
+        if (cl.has("--tactile-haptic")) writeFileAtomically(tactileHaptic, exportMetaHaptic(r.tactile, actuator, project));
         if (wav) {
             try {
                 wav->finish();
             } catch (const IoError&) {   // the WAV could not be completed: no part of the outputs stays
-                for (const std::string* f : {&tactile, &midiOut, &tactileWav, &tactileLeft, &armsLog})
+                for (const std::string* f : {&tactile, &midiOut, &tactileWav, &tactileAhap, &tactileHaptic, &tactileLeft, &armsLog})
                     if (!f->empty()) std::remove(f->c_str());
                 throw;
             }

@@ -1,6 +1,7 @@
 #include "Cli/SceneOptions.h"
 #include "Link/TouchProfile.h"
 #include <algorithm>
+#include <filesystem>
 
 namespace armadillo::cli {
 
@@ -59,6 +60,31 @@ void readSceneOptions(const CommandLine& cl, EngineConfig& engine)
     // Training (play --training-log) brings its own material; reading needs a text.
     if (engine.scene == "braille" && engine.sceneConfig.text.empty() && !cl.has("--training-log"))
         throw UsageError("the braille scene needs --text");
+}
+
+std::vector<std::string> readStemOptions(const CommandLine& cl, EngineConfig& engine)
+{
+    std::vector<std::pair<std::string, std::string>> stems;
+    for (const std::string& s : cl.values("--stem")) {
+        const auto eq = s.find('=');
+        if (eq == std::string::npos || eq == 0 || eq + 1 == s.size()) throw UsageError("--stem takes NAME=FILE.wav, not '" + s + "'");
+        stems.emplace_back(s.substr(0, eq), s.substr(eq + 1));
+    }
+    const std::vector<std::string> inputs = cl.values("--audio-in");
+    if (inputs.size() > 1)
+        for (const std::string& f : inputs) {
+            if (f.empty()) throw UsageError("--audio-in needs a WAV file");
+            stems.emplace_back(std::filesystem::path(f).stem().string(), f);
+        }
+    if (!stems.empty() && inputs.size() == 1) throw UsageError("--stem and a single --audio-in: give the mix as stems, or one recording");
+    if (stems.empty()) return {};
+    if (engine.scene != "audio-touch") throw UsageError("stems are felt by the audio-touch scene only (--scene audio-touch)");
+    std::vector<std::string> paths;
+    for (const auto& [name, path] : stems) {
+        paths.push_back(path);
+        engine.sceneConfig.stems.push_back(name);
+    }
+    return paths;
 }
 
 } // namespace armadillo::cli

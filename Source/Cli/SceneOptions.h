@@ -14,4 +14,12 @@ std::vector<OptionSpec> sceneOptionSpecs();
 /// Fills `engine` from the parsed options; throws UsageError for bad values.
 void readSceneOptions(const CommandLine& cl, EngineConfig& engine);
 
+/// The stems audio-touch feels apart (docs/INSTRUMENTS.md "Stems felt apart"), as `render` and
+/// `play` take them: `--stem NAME=FILE` (repeatable), or several `--audio-in` files, each named by
+/// its file name (drums.wav → drums). Returns the files in order and appends their names to
+/// `engine.sceneConfig.stems`; empty when there are none (one --audio-in is a recording, not a
+/// stem). UsageError for a malformed --stem, --stem with a single --audio-in, or stems for a
+/// scene other than audio-touch.
+std::vector<std::string> readStemOptions(const CommandLine& cl, EngineConfig& engine);
+
 } // namespace armadillo::cli

@@ -106,6 +106,27 @@ void writeWav(const std::string& path, const AudioBuffer& audio, bool float32)
     out.finish();
 }
 
+AudioBuffer readWavStems(const std::vector<std::string>& paths)
+{
+    AudioBuffer out;
+    for (const std::string& path : paths) {
+        const AudioBuffer stem = readWav(path);
+        if (stem.channels.empty() || stem.frames() == 0) throw InputError(path, 0, "", "the stem holds no audio");
+        if (out.channels.empty()) out.sampleRate = stem.sampleRate;
+        else if (stem.sampleRate != out.sampleRate)
+            throw InputError(path, 0, "", "the stems must share one sample rate (" + std::to_string(static_cast<long>(stem.sampleRate)) + " Hz here, " +
+                                              std::to_string(static_cast<long>(out.sampleRate)) + " Hz in " + paths.front() + ")");
+        std::vector<float> mono(stem.frames(), 0.0f);
+        for (const auto& c : stem.channels)
+            for (std::size_t i = 0; i < mono.size(); ++i) mono[i] += c[i] / static_cast<float>(stem.channels.size());
+        out.channels.push_back(std::move(mono));
+    }
+    std::size_t longest = 0;
+    for (const auto& c : out.channels) longest = std::max(longest, c.size());
+    for (auto& c : out.channels) c.resize(longest, 0.0f);
+    return out;
+}
+
 AudioBuffer readWav(const std::string& path)
 {
     if (::access(path.c_str(), R_OK) != 0) throw IoError("cannot read " + path + ": " + std::strerror(errno));

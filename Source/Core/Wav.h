@@ -22,6 +22,11 @@ void writeWav(const std::string& path, const AudioBuffer& audio, bool float32 = 
 /// Reads any audio file libsndfile knows (despite the name: WAV, AIFF, FLAC, Ogg...). IoError
 /// when it cannot be opened for reading, InputError naming the file when it is not audio.
 AudioBuffer readWav(const std::string& path);
+/// Stems (audio-touch, docs/INSTRUMENTS.md "Stems felt apart"): each file read with readWav and
+/// mixed down to one mono channel (the mean of its channels), in the given order; shorter ones
+/// padded with silence to the longest. InputError naming the file when the sample rates differ
+/// or a file holds no audio.
+AudioBuffer readWavStems(const std::vector<std::string>& paths);
 
 /// A WAV written as audio arrives. Not real-time itself: call it from a writer thread, not an
 /// audio callback. Samples go to a temporary file; finish() closes it and renames it in place;

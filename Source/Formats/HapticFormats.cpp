@@ -39,9 +39,12 @@ std::string header(const std::string& source, const std::string& what)
 }
 
 /// A note line of an imported effect: soft (the file's levels exactly: no jump-start spike).
+/// Written 1 µs short: start + duration, added in floating point by the player, must not reach
+/// the packet at the end time, which belongs to whatever follows (the next step of a WAV channel,
+/// AHAP event or .haptic segment, or a gap).
 std::string noteLine(double start, double duration, std::uint16_t motors, double a, double b)
 {
-    std::string s = scoretext::number(start) + " note m=" + scoretext::motorSet(motors) + " dur=" + scoretext::number(duration) +
+    std::string s = scoretext::number(start) + " note m=" + scoretext::motorSet(motors) + " dur=" + scoretext::number(std::max(1e-6, duration - 1e-6)) +
                     " level=" + scoretext::number(std::clamp(a, 0.0, kFullScale), 3);
     if (std::fabs(a - b) > 1e-9) s += "->" + scoretext::number(std::clamp(b, 0.0, kFullScale), 3);
     return s + " start=soft\n";
@@ -151,9 +154,8 @@ ImportedScore importTactileWav(const std::string& path, const HapticImportOption
     std::string text = header(path, "Multichannel WAV");
     text += "# channel k drives motor k; level = 15 x the peak amplitude of each " + scoretext::number(frameSeconds * 1e3, 3) + " ms frame.\n";
     for (const Run& r : runs) {
-        // 1 µs short: start + duration, added in floating point, must not reach into the next
-        // frame's first packet (the frame times themselves are written exactly).
-        text += noteLine(r.start, static_cast<double>(r.frames) * frameSeconds - 1e-6, static_cast<std::uint16_t>(1u << r.motor), r.level, r.level);
+        // (noteLine writes it 1 µs short; the frame times themselves are written exactly.)
+        text += noteLine(r.start, static_cast<double>(r.frames) * frameSeconds, static_cast<std::uint16_t>(1u << r.motor), r.level, r.level);
         ++report.notes;
     }
     text += "length " + scoretext::lengthNumber(static_cast<double>(frames) * frameSeconds) + "\n";
@@ -370,6 +372,84 @@ void writeTactileWav(const std::string& path, const std::vector<TactileRow>& row
             out.channels[static_cast<std::size_t>(m)][n] = static_cast<float>(rows[row].levels[static_cast<std::size_t>(m)] / kFullScale * carrier);
     }
     writeWav(path, out, float32);
+}
+
+// ---- out: AHAP and .haptic ---------------------------------------------------------------
+
+std::vector<ActuatorRun> actuatorRuns(const std::vector<TactileRow>& rows, std::uint16_t motors)
+{
+    std::vector<ActuatorRun> runs;
+    if (rows.empty()) return runs;
+    const double t0 = rows.front().t;
+    const auto levelAt = [&](std::size_t i) {
+        int l = 0;
+        for (int m = 0; m < kMaxMotors; ++m)
+            if (motors & (1u << m)) l = std::max(l, static_cast<int>(rows[i].levels[static_cast<std::size_t>(m)]));
+        return std::min(l, static_cast<int>(kFullScale));
+    };
+    int current = 0;
+    double from = 0.0;
+    for (std::size_t i = 0; i <= rows.size(); ++i) {
+        // Past the last row: its level ends 5 ms later (the packet period) unless it is all-off.
+        const double t = i < rows.size() ? rows[i].t - t0 : rows.back().t - t0 + 0.005;
+        const int level = i < rows.size() ? levelAt(i) : 0;
+        if (level == current) continue;
+        if (current > 0 && t > from) runs.push_back({from, t - from, current});
+        current = level;
+        from = t;
+    }
+    return runs;
+}
+
+namespace {
+std::string jsonNumber(double v) { return scoretext::number(v, 6); }
+} // namespace
+
+std::string exportAhap(const std::vector<TactileRow>& rows, std::uint16_t motors, const std::string& project)
+{
+    constexpr double kMaxContinuous = 30.0;   // Core Haptics: a continuous event lasts at most 30 s
+    std::string s = "{\n  \"Version\": 1.0,\n  \"Metadata\": {\"Project\": ";
+    device::appendJsonString(s, project);
+    s += ", \"Description\": ";
+    device::appendJsonString(s, "ARMadillo motors " + scoretext::motorSet(motors) + " as one actuator: level = 15 x HapticIntensity (docs/FORMATS.md)");
+    s += "},\n  \"Pattern\": [";
+    bool first = true;
+    for (const ActuatorRun& r : actuatorRuns(rows, motors)) {
+        for (double a = 0.0; a < r.duration - 1e-9; a += kMaxContinuous) {
+            const double d = std::min(kMaxContinuous, r.duration - a);
+            s += first ? "\n" : ",\n";
+            first = false;
+            s += "    {\"Event\": {\"Time\": " + jsonNumber(r.start + a) + ", \"EventType\": \"HapticContinuous\", \"EventDuration\": " +
+                 jsonNumber(d) + ", \"EventParameters\": [{\"ParameterID\": \"HapticIntensity\", \"ParameterValue\": " +
+                 jsonNumber(r.level / kFullScale) + "}]}}";
+        }
+    }
+    return s + "\n  ]\n}\n";
+}
+
+std::string exportMetaHaptic(const std::vector<TactileRow>& rows, std::uint16_t motors, const std::string& project)
+{
+    // Steps: the envelope is linear between breakpoints, so each change of level is two
+    // breakpoints at the same time (v1.rs allows equal times: only a decreasing time is invalid).
+    std::vector<std::pair<double, double>> points {{0.0, 0.0}};
+    for (const ActuatorRun& r : actuatorRuns(rows, motors)) {
+        const double a = r.level / kFullScale;
+        if (r.start > points.back().first) {   // a gap: down to 0 where the last run ended, 0 until this one
+            if (points.back().second != 0.0) points.emplace_back(points.back().first, 0.0);
+            points.emplace_back(r.start, 0.0);
+        }
+        points.emplace_back(r.start, a);
+        points.emplace_back(r.start + r.duration, a);
+    }
+    if (points.back().second != 0.0) points.emplace_back(points.back().first, 0.0);
+    std::string s = "{\n  \"version\": {\"major\": 1, \"minor\": 0, \"patch\": 0},\n  \"metadata\": {\"editor\": \"armadillo\", \"project\": ";
+    device::appendJsonString(s, project);
+    s += ", \"description\": ";
+    device::appendJsonString(s, "ARMadillo motors " + scoretext::motorSet(motors) + " as one actuator: level = 15 x amplitude (docs/FORMATS.md)");
+    s += "},\n  \"signals\": {\"continuous\": {\"envelopes\": {\"amplitude\": [";
+    for (std::size_t i = 0; i < points.size(); ++i)
+        s += std::string(i ? ",\n" : "\n") + "    {\"time\": " + jsonNumber(points[i].first) + ", \"amplitude\": " + jsonNumber(points[i].second) + "}";
+    return s + "\n  ]}}}\n}\n";
 }
 
 namespace {

@@ -89,4 +89,24 @@ bool isImportableScorePath(const std::string& path) noexcept;
 void writeTactileWav(const std::string& path, const std::vector<TactileRow>& rows, int motors, double sampleRate,
                      double carrierHz = 150.0, bool float32 = false);
 
+/// The one actuator an AHAP or `.haptic` file describes, from motor rows (docs/FORMATS.md,
+/// "Out: AHAP and .haptic"): at each row, the largest level among `motors` (bit i = motor index
+/// i), held until the next row's time; the last row is held 5 ms when it is not all-off. Times
+/// start at the first row. A file for one motor set; several sets → several files.
+struct ActuatorRun {
+    double start = 0.0;      ///< s from the first row
+    double duration = 0.0;   ///< s
+    int level = 0;           ///< 1..15 (runs of level 0 are gaps)
+};
+std::vector<ActuatorRun> actuatorRuns(const std::vector<TactileRow>& rows, std::uint16_t motors);
+
+/// Apple AHAP text: one HapticContinuous event per run of equal level (split at Core Haptics'
+/// 30 s limit of a continuous event), HapticIntensity = level/15, no sharpness (an ERM motor has
+/// none), Version 1.0 and Metadata {Project, Description}.
+std::string exportAhap(const std::vector<TactileRow>& rows, std::uint16_t motors, const std::string& project);
+/// Meta Haptics Studio `.haptic` text (Lofelt data model 1.0.0): the amplitude envelope as steps
+/// (two breakpoints at each change: the old and the new amplitude, level/15), no frequency
+/// envelope, no emphasis.
+std::string exportMetaHaptic(const std::vector<TactileRow>& rows, std::uint16_t motors, const std::string& project);
+
 } // namespace armadillo

@@ -161,16 +161,20 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
         for (int m = 1; m <= config_.engine.motorCount; ++m) h.push_back("m" + std::to_string(m));
         tactile_ = std::make_unique<StreamingCsvWriter>(config_.tactileOut, h);
     }
-    if (!config_.audioIn.empty()) {
+    if (!config_.audioIn.empty() || !config_.audioStems.empty()) {
+        recordingIsStems_ = !config_.audioStems.empty();
+        const std::string& name = recordingIsStems_ ? config_.audioStems.front() : config_.audioIn;
         if (!cues_ && !engine_->listensToAudio())
-            throw InputError(config_.audioIn, 0, "", "--audio-in: scene '" + config_.engine.scene + "' does not listen to audio (score, audio-touch and layered-keyboard do)");
-        recording_ = readWav(config_.audioIn);   // InputError names a bad file
-        if (recording_.channels.empty() || recording_.frames() == 0) throw InputError(config_.audioIn, 0, "", "--audio-in: the recording holds no audio");
+            throw InputError(name, 0, "", "--audio-in: scene '" + config_.engine.scene + "' does not listen to audio (score, audio-touch and layered-keyboard do)");
+        if (config_.audioStems.size() > static_cast<std::size_t>(LiveConfig::kMaxAudioInChannels))
+            throw InputError(name, 0, "", "at most " + std::to_string(LiveConfig::kMaxAudioInChannels) + " stems");
+        recording_ = recordingIsStems_ ? readWavStems(config_.audioStems) : readWav(config_.audioIn);   // InputError names a bad file
+        if (recording_.channels.empty() || recording_.frames() == 0) throw InputError(name, 0, "", "--audio-in: the recording holds no audio");
         if (std::fabs(recording_.sampleRate - config_.engine.sceneConfig.sampleRate) > 0.5)
-            throw InputError(config_.audioIn, 0, "", "--audio-in: the recording's sample rate (" + std::to_string(static_cast<long>(recording_.sampleRate)) +
-                                                                  " Hz) differs from the engine's (" +
-                                                                  std::to_string(static_cast<long>(config_.engine.sceneConfig.sampleRate)) +
-                                                                  " Hz); give --sample-rate to match it");
+            throw InputError(name, 0, "", "--audio-in: the recording's sample rate (" + std::to_string(static_cast<long>(recording_.sampleRate)) +
+                                              " Hz) differs from the engine's (" +
+                                              std::to_string(static_cast<long>(config_.engine.sceneConfig.sampleRate)) +
+                                              " Hz); give --sample-rate to match it");
         recordingSilence_.assign(8192, 0.0f);
     }
     if (!config_.audioOut.empty()) {
@@ -325,26 +329,27 @@ void LiveSession::renderBlock(float* left, float* right, int n) noexcept
     // The recording's next n frames (silence after its end: the input stays connected), heard
     // by the scene first, in stretches that end where the recording ends, then played out under
     // the scene's own sound.
+    // A recording is heard as its first two channels (one if mono) and played out as them; stems
+    // are heard one channel each and played out as their sum (the mix they came from).
     const std::uint64_t frames = recording_.frames();
-    const int channels = recording_.channels.size() > 1 ? 2 : 1;
-    const float* first = recording_.channels[0].data();
-    const float* second = recording_.channels[static_cast<std::size_t>(channels - 1)].data();
+    const int channels = recordingIsStems_ ? static_cast<int>(recording_.channels.size()) : (recording_.channels.size() > 1 ? 2 : 1);
+    std::array<const float*, LiveConfig::kMaxAudioInChannels> base {}, in {};
+    for (int c = 0; c < channels; ++c) base[static_cast<std::size_t>(c)] = recording_.channels[static_cast<std::size_t>(c)].data();
     // Where frame `at` of the session falls in the recording (≥ frames: after its end).
     const bool loop = config_.audioInLoop;
     auto position = [&](std::uint64_t at) noexcept { return loop ? at % frames : at; };
     if (recordingAt_ == 0) {   // the recording itself: followed from its first sample
-        const float* in[2] = {first, second};
-        if (cues_) cues_->processInput(in, channels, 0);
-        else plays->processInput(in, channels, 0);
+        if (cues_) cues_->processInput(base.data(), channels, 0);
+        else plays->processInput(base.data(), channels, 0);
     }
     for (int done = 0; done < n;) {
         const std::uint64_t at = position(recordingAt_ + static_cast<std::uint64_t>(done));
         const bool inside = at < frames;
         const int len = inside ? static_cast<int>(std::min<std::uint64_t>(static_cast<std::uint64_t>(n - done), frames - at))
                                : std::min(n - done, static_cast<int>(recordingSilence_.size()));
-        const float* in[2] = {inside ? first + at : recordingSilence_.data(), inside ? second + at : recordingSilence_.data()};
-        if (cues_) cues_->processInput(in, channels, len);
-        else plays->processInput(in, channels, len);
+        for (int c = 0; c < channels; ++c) in[static_cast<std::size_t>(c)] = inside ? base[static_cast<std::size_t>(c)] + at : recordingSilence_.data();
+        if (cues_) cues_->processInput(in.data(), channels, len);
+        else plays->processInput(in.data(), channels, len);
         done += len;
     }
     if (cues_) cues_->renderAudio(left, right, n);
@@ -352,8 +357,14 @@ void LiveSession::renderBlock(float* left, float* right, int n) noexcept
     for (int i = 0; i < n; ++i) {
         const std::uint64_t at = position(recordingAt_ + static_cast<std::uint64_t>(i));
         if (at >= frames) break;
-        left[i] = std::clamp(left[i] + first[at], -1.0f, 1.0f);
-        right[i] = std::clamp(right[i] + second[at], -1.0f, 1.0f);
+        float l = base[0][at], r = base[static_cast<std::size_t>(channels - 1)][at];
+        if (recordingIsStems_) {
+            l = 0.0f;
+            for (int c = 0; c < channels; ++c) l += base[static_cast<std::size_t>(c)][at];
+            r = l;
+        }
+        left[i] = std::clamp(left[i] + l, -1.0f, 1.0f);
+        right[i] = std::clamp(right[i] + r, -1.0f, 1.0f);
     }
     recordingAt_ += static_cast<std::uint64_t>(n);
     recordingPlayed_.store(recordingAt_, std::memory_order_release);

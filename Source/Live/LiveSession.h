@@ -70,6 +70,12 @@ struct LiveConfig {
     /// into Engine::processInput and mixed into the output. Its sample rate must be the
     /// engine's; the scene must listen (InputError otherwise). Empty = none.
     std::string audioIn;
+    /// Instead of audioIn: stems (`play --stem NAME=FILE`, several `--audio-in`), one file each,
+    /// named in engine.sceneConfig.stems in the same order (audio-touch feels each on its own
+    /// motors, docs/INSTRUMENTS.md). Each is mixed to mono; the scene hears one channel per stem
+    /// and the listener their sum. At most kMaxAudioInChannels.
+    std::vector<std::string> audioStems;
+    static constexpr int kMaxAudioInChannels = 16;
     bool audioInLoop = false;         ///< the recording starts again at its end (`play --loop`); else silence follows it
     std::string tactileOut;           ///< t,m1..m9 CSV of every motor packet
     std::string logOut;               ///< session log CSV, one row per sensor packet
@@ -173,6 +179,7 @@ public:
     double recordingSeconds() const noexcept;
 
 private:
+    friend struct LiveSessionAudioProbe;   // Tests/Live/RealtimeLoopTests.cpp: renderBlock under the real-time guard
     MotorLevels control(double t, const SensorCounts* counts, const ImuSample* imu, const Eigen::Quaterniond* q);
     /// Packets, errors, reconnects and gaps of the source so far (any thread; no session length).
     SessionSummary linkCounters() const;
@@ -205,7 +212,8 @@ private:
     std::unique_ptr<StreamingWavWriter> wav_;
     /// Audio thread: the scene's block with the recording (audioIn) heard and played out.
     void renderBlock(float* left, float* right, int n) noexcept;
-    AudioBuffer recording_;                  ///< audioIn, read at construction
+    AudioBuffer recording_;                  ///< audioIn (or the stems, one channel each), read at construction
+    bool recordingIsStems_ = false;          ///< recording_ holds stems: all channels heard, their sum played out
     std::vector<float> recordingSilence_;    ///< zeros for after the recording's end
     std::uint64_t recordingAt_ = 0;          ///< audio thread: next frame of the recording (counts on past its end)
     std::atomic<std::uint64_t> recordingPlayed_ {0};   ///< recordingAt_, for other threads

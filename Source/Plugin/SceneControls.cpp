@@ -2,6 +2,7 @@
 #include "Plugin/Controls.h"
 #include "Plugin/PluginProcessor.h"
 #include "Core/Resources.h"
+#include "Formats/ScoreImport.h"
 
 namespace armadillo::plugin {
 
@@ -102,12 +103,19 @@ void SceneControls::rebuild()
         auto box = std::make_unique<ChoiceBox>();
         int itemId = 1;
         for (const ScoreEntry& s : listScores()) box->addItem(juce::String(s.name), itemId++);
+        box->addSeparator();
+        constexpr int kImportItem = 10000;
+        box->addItem("Import a file... (MIDI, WAV, AHAP, .haptic)", kImportItem);
         box->setEditableText(true);
         box->setText(processor_.settings()[SettingIds::score].toString(), juce::dontSendNotification);
         box->setTitle("Score");
         box->setDescription("A score by name (the shipped ones and yours in " + juce::String(userResourceDir())
-                            + "/Scores), or the path of a .score file.");
+                            + "/Scores), the path of a .score file, or Import a file: a MIDI file, a multichannel WAV, an AHAP or a .haptic file.");
         box->onChange = [this, b = box.get()] {
+            if (b->getSelectedId() == kImportItem) {
+                chooseScoreFile(*b);
+                return;
+            }
             if (b->getText().isNotEmpty()) processor_.settings().setProperty(SettingIds::score, b->getText(), nullptr);
         };
         c.editor = std::move(box);
@@ -116,6 +124,36 @@ void SceneControls::rebuild()
         controls_.push_back(std::move(c));
     }
     resized();
+}
+
+void SceneControls::chooseScoreFile(juce::ComboBox& box)
+{
+    const juce::String current = processor_.settings()[SettingIds::score].toString();
+    box.setText(current, juce::dontSendNotification);   // until a file is chosen and imports
+    chooser_ = std::make_unique<juce::FileChooser>("Import a score from a MIDI, WAV, AHAP or .haptic file",
+                                                   juce::File::getSpecialLocation(juce::File::userMusicDirectory),
+                                                   "*.mid;*.midi;*.wav;*.ahap;*.haptic;*.score");
+    juce::Component::SafePointer<juce::ComboBox> safeBox(&box);
+    chooser_->launchAsync(juce::FileBrowserComponent::openMode | juce::FileBrowserComponent::canSelectFiles,
+                          [this, safeBox](const juce::FileChooser& fc) {
+                              const juce::File f = fc.getResult();
+                              if (f == juce::File()) return;
+                              const std::string path = f.getFullPathName().toStdString();
+                              try {
+                                  // The same import the engine runs as it loads: its errors name the file and the byte or line.
+                                  const ImportedScore s = importScoreFile(path);
+                                  processor_.settings().setProperty(SettingIds::score, juce::String(path), nullptr);
+                                  if (safeBox != nullptr) safeBox->setText(juce::String(path), juce::dontSendNotification);
+                                  note_.setText("Imported " + f.getFileName() + ": " + juce::String(s.report.notes) + " notes, " +
+                                                    juce::String(s.score.length, 1) + " s",
+                                                juce::dontSendNotification);
+                              } catch (const std::exception& e) {
+                                  note_.setText("Not imported: " + juce::String(e.what()), juce::dontSendNotification);
+                                  juce::AlertWindow::showMessageBoxAsync(juce::MessageBoxIconType::WarningIcon, "Score not imported",
+                                                                         juce::String(e.what()));
+                              }
+                              resized();
+                          });
 }
 
 void SceneControls::paint(juce::Graphics& g)

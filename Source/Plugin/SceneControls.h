@@ -22,6 +22,9 @@ public:
 private:
     void timerCallback() override;
     void rebuild();
+    /// "Import a file…" in the score choice: a MIDI, WAV, AHAP or .haptic file, checked by importing
+    /// it here (an error says what is wrong), then set as the score (the engine imports it as it loads).
+    void chooseScoreFile(juce::ComboBox& box);
 
     struct Control {
         std::unique_ptr<juce::Label> label;
@@ -34,6 +37,7 @@ private:
     juce::Viewport viewport_;
     juce::Component content_;
     std::vector<Control> controls_;
+    std::unique_ptr<juce::FileChooser> chooser_;
     int shownScene_ = -1;
 };
 

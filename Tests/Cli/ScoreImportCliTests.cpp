@@ -2,6 +2,7 @@
 #include "CliRun.h"
 #include "Common/MidiWriter.h"
 #include "Core/AtomicFile.h"
+#include "Core/Csv.h"
 #include "Core/Wav.h"
 #include "Tactile/Score.h"
 #include <catch2/catch.hpp>
@@ -68,6 +69,30 @@ TEST_CASE("cli: render plays a MIDI file directly and writes the motors as a mul
     CHECK(runArmadillo("score import '" + tactileWav + "' --out '" + path("back.score") + "'").code == 0);
 }
 
+TEST_CASE("cli: render writes the motors as AHAP and .haptic files that import back; bad actuator sets exit 2", "[cli][import][export]")
+{
+    const std::string mid = path("exported.mid");
+    armadillo::test::writeFile(mid, armadillo::test::midiBytes({{0, 1, 60, 100, 0, 0}, {1, 1, 67, 100, 0, 0}}, {{0, 120}}, 1));
+    const std::string motion = stillMotion("still4.csv", 1.2);
+    const std::string ahap = path("exported.ahap"), haptic = path("exported.haptic");
+    const Run r = runArmadillo("render --scene score --score '" + mid + "' --motion '" + motion + "' --out '" + path("exported.wav") +
+                               "' --tactile-ahap '" + ahap + "' --tactile-haptic '" + haptic + "' --actuator-motors 1-9");
+    REQUIRE(r.code == 0);
+    const Run a = runArmadillo("score import '" + ahap + "' --out '" + path("from-ahap.score") + "' --motors wrist");
+    CHECK(a.code == 0);
+    CHECK(a.out.find("\"format\":\"ahap\"") != std::string::npos);
+    const Run h = runArmadillo("score import '" + haptic + "' --out '" + path("from-haptic.score") + "'");
+    CHECK(h.code == 0);
+    CHECK(h.out.find("\"format\":\"haptic\"") != std::string::npos);
+    const std::string never = path("never.ahap");
+    const std::string base = "render --scene score --score '" + mid + "' --motion '" + motion + "' --out '" + path("x.wav") + "'";
+    CHECK(runArmadillo(base + " --tactile-ahap '" + never + "' --actuator-motors nowhere").code == 2);
+    CHECK(runArmadillo(base + " --tactile-ahap '" + never + "' --actuator-motors 11").code == 2);   // a back motor without --back-motors
+    CHECK(runArmadillo(base + " --actuator-motors 1").code == 2);                                   // no AHAP or .haptic out
+    CHECK(runArmadillo(base + " --tactile-ahap '" + path("no-such-dir/x.ahap") + "'").code == 4);   // checked before the render
+    CHECK_FALSE(fs::exists(never));
+}
+
 TEST_CASE("cli: render takes stems for audio-touch; unknown stems and stems for other scenes are refused", "[cli][stems]")
 {
     armadillo::AudioBuffer tone;
@@ -83,4 +108,63 @@ TEST_CASE("cli: render takes stems for audio-touch; unknown stems and stems for 
     CHECK(runArmadillo("render --scene audio-touch --motion '" + motion + "' --out '" + out + "' --stem guitar='" + bass + "'").code == 3);
     CHECK(runArmadillo("render --scene audio-touch --motion '" + motion + "' --out '" + out + "' --stem bass").code == 2);
     CHECK(runArmadillo("render --scene monitor --motion '" + motion + "' --out '" + out + "' --stem bass='" + bass + "'").code == 2);
+}
+
+TEST_CASE("cli: play feels stems apart and plays them out together; bad stems are refused before the session", "[cli][stems][play]")
+{
+    // A bass line (55 Hz, 0.4) and a silent vocal stem: the bass's motors (7, 9: the elbow) run,
+    // the vocals' (1, 3: the wrist) never do, and the output holds the bass as it was.
+    const std::size_t n = 48000;
+    armadillo::AudioBuffer bassTone, silence;
+    bassTone.channels.assign(1, std::vector<float>(n));
+    for (std::size_t i = 0; i < n; ++i) bassTone.channels[0][i] = static_cast<float>(0.4 * std::sin(2.0 * 3.14159265358979 * 55.0 * static_cast<double>(i) / 48000.0));
+    silence.channels.assign(2, std::vector<float>(n / 2, 0.0f));   // stereo and shorter: mixed to mono, padded
+    const std::string bass = path("play-bass.wav"), vocals = path("play-vocals.wav");
+    armadillo::writeWav(bass, bassTone, true);
+    armadillo::writeWav(vocals, silence);
+    const std::string out = path("play-stems.wav"), csv = path("play-stems.csv");
+    const Run r = runArmadillo("play --scene audio-touch --simulate --seconds 2 --stem bass='" + bass + "' --stem vocals='" + vocals + "' --out '" + out +
+                               "' --tactile '" + csv + "'");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const auto rows = armadillo::readTactile(armadillo::CsvTable::read(csv));
+    int bassOn = 0, vocalsOn = 0;
+    for (const auto& row : rows) {
+        bassOn += row.levels[6] > 0 || row.levels[8] > 0;
+        vocalsOn += row.levels[0] > 0 || row.levels[2] > 0;
+    }
+    CHECK(bassOn > 20);
+    CHECK(vocalsOn == 0);
+    const armadillo::AudioBuffer played = armadillo::readWav(out);
+    REQUIRE(played.frames() > n / 2);
+    double err = 0.0, energy = 0.0;
+    for (std::size_t i = 0; i < n / 2; ++i) {
+        const double d = played.channels[0][i] - bassTone.channels[0][i];
+        err += d * d;
+        energy += double(bassTone.channels[0][i]) * double(bassTone.channels[0][i]);
+    }
+    CHECK(err < 1e-3 * energy);   // the audio-touch scene is silent: the stems' sum, 16-bit rounding only
+
+    // Two --audio-in files are stems too, named by their file names.
+    const std::string drums = path("drums.wav");
+    armadillo::writeWav(drums, bassTone);
+    CHECK(runArmadillo("play --scene audio-touch --simulate --seconds 0.5 --audio-in '" + drums + "' --audio-in '" + bass + "' --out '" + out + "'").code == 3);   // "play-bass" is no stem
+    const std::string bass2 = path("bass.wav");
+    armadillo::writeWav(bass2, bassTone);
+    CHECK(runArmadillo("play --scene audio-touch --simulate --seconds 0.5 --audio-in '" + drums + "' --audio-in '" + bass2 + "' --out '" + out + "'").code == 0);
+
+    const std::string base = "play --simulate --seconds 0.5 --out '" + out + "' ";
+    CHECK(runArmadillo(base + "--scene theremin --stem bass='" + bass + "'").code == 2);              // stems: audio-touch only
+    CHECK(runArmadillo(base + "--scene audio-touch --stem bass").code == 2);                            // NAME=FILE
+    CHECK(runArmadillo(base + "--scene audio-touch --stem bass='" + bass + "' --audio-in '" + bass + "'").code == 2);
+    CHECK(runArmadillo("play --simulate --seconds 0.5 --no-audio --scene audio-touch --stem bass='" + bass + "'").code == 2);
+    CHECK(runArmadillo(base + "--scene audio-touch --stem guitar='" + bass + "'").code == 3);          // no such stem preset
+    CHECK(runArmadillo(base + "--scene audio-touch --stem bass='" + path("absent.wav") + "'").code == 4);
+    armadillo::AudioBuffer other = bassTone;
+    other.sampleRate = 44100.0;
+    const std::string slow = path("vocals-44k.wav");
+    armadillo::writeWav(slow, other);
+    const Run rate = runArmadillo(base + "--scene audio-touch --stem bass='" + bass + "' --stem vocals='" + slow + "'");
+    CHECK(rate.code == 3);
+    CHECK(rate.err.find("vocals-44k.wav") != std::string::npos);
 }

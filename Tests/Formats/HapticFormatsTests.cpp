@@ -2,6 +2,7 @@
 // against levels computed here from each format's definition.
 #include "Core/Csv.h"
 #include "Core/Errors.h"
+#include "Core/Json.h"
 #include "Core/Wav.h"
 #include "Engine/OfflineRenderer.h"
 #include "Formats/ScoreImport.h"
@@ -236,4 +237,177 @@ TEST_CASE("meta .haptic: the amplitude envelope and an emphasis give the documen
     CHECK_THROWS_AS(importMetaHaptic(R"({"version": {"major": 1}, "signals": {"continuous": {"envelopes": {"amplitude": [{"time": 0, "amplitude": 1.5}]}}}})", "x.haptic", bad), InputError);
     CHECK_THROWS_AS(importMetaHaptic(R"({"version": {"major": 1}, "signals": {"continuous": {"envelopes": {"amplitude": [{"time": 1, "amplitude": 0.5}, {"time": 0.5, "amplitude": 0.5}]}}}})", "x.haptic", bad), InputError);
     CHECK_THROWS_AS(importMetaHaptic(R"({"version": {"major": 1}, "signals": {"continuous": {"envelopes": {"amplitude": [{"time": 0, "amplitude": 0.5, "emphasis": {"amplitude": 0.2, "frequency": 0}}]}}}})", "x.haptic", bad), InputError);
+}
+
+namespace {
+/// Packets every 5 ms from t = 2 s (a render's rows need not start at 0), random levels, and the
+/// all-off row a render ends with.
+std::vector<TactileRow> randomRows(std::size_t frames, std::uint64_t seed)
+{
+    const auto levels = randomLevels(frames, seed);
+    std::vector<TactileRow> rows(frames + 1);
+    for (std::size_t i = 0; i <= frames; ++i) {
+        rows[i].t = 2.0 + 0.005 * static_cast<double>(i);
+        if (i < frames)
+            for (std::size_t m = 0; m < 9; ++m) rows[i].levels[m] = static_cast<std::uint8_t>(levels[i][m]);
+    }
+    return rows;
+}
+
+/// The one actuator's level the files must carry: the loudest of `motors` at each packet.
+int loudest(const TactileRow& row, std::uint16_t motors)
+{
+    int l = 0;
+    for (std::size_t m = 0; m < 9; ++m)
+        if (motors & (1u << m)) l = std::max(l, static_cast<int>(row.levels[m]));
+    return l;
+}
+
+void writeText(const std::string& path, const std::string& text)
+{
+    std::FILE* f = std::fopen(path.c_str(), "wb");
+    REQUIRE(f);
+    std::fwrite(text.data(), 1, text.size(), f);
+    std::fclose(f);
+}
+} // namespace
+
+TEST_CASE("ahap export: the file says the loudest of the chosen motors at every packet, and imports back to it", "[formats][ahap][export]")
+{
+    const auto rows = randomRows(1200, 23);
+    const std::uint16_t three = 0x0007;   // motors 1,2,3: three motors collapse into the one actuator
+    const std::string text = exportAhap(rows, three, "random");
+    // Read with Apple's definition ("Representing haptic patterns in AHAP files"): a Pattern of
+    // Events; a HapticContinuous event lasts EventDuration (at most 30 s) from Time, at
+    // HapticIntensity 0..1; with no intensity control, the actuator's level is 15 x intensity.
+    const device::JsonValue root = device::parseJson(text, "export.ahap");
+    REQUIRE(root.find("Version"));
+    CHECK(root.find("Version")->number == 1.0);
+    const device::JsonValue* pattern = root.find("Pattern");
+    REQUIRE(pattern);
+    REQUIRE(pattern->kind == device::JsonValue::Kind::Array);
+    struct Ev { double time, duration, intensity; };
+    std::vector<Ev> events;
+    for (const auto& entry : pattern->array) {
+        const device::JsonValue* e = entry.find("Event");
+        REQUIRE(e);
+        REQUIRE(e->find("EventType")->string == "HapticContinuous");
+        const device::JsonValue* params = e->find("EventParameters");
+        REQUIRE(params);
+        REQUIRE(params->array.size() == 1);
+        REQUIRE(params->array[0].find("ParameterID")->string == "HapticIntensity");
+        events.push_back({e->find("Time")->number, e->find("EventDuration")->number, params->array[0].find("ParameterValue")->number});
+        CHECK(events.back().duration > 0.0);
+        CHECK(events.back().duration <= 30.0);
+        CHECK(events.back().intensity > 0.0);
+        CHECK(events.back().intensity <= 1.0);
+    }
+    REQUIRE(!events.empty());
+    for (std::size_t i = 0; i + 1 < rows.size(); ++i) {
+        const double t = rows[i].t - rows.front().t + 0.0025;   // the middle of packet i's 5 ms
+        double level = 0.0;
+        int covering = 0;
+        for (const Ev& e : events)
+            if (t >= e.time && t < e.time + e.duration) {
+                level = 15.0 * e.intensity;
+                ++covering;
+            }
+        REQUIRE(covering <= 1);   // one actuator, one event at a time
+        REQUIRE(std::lround(level) == loudest(rows[i], three));
+    }
+
+    // Imported back onto one motor (--motors 5) and played: the same level at every packet
+    // (within one step), the file's timing kept.
+    const std::uint16_t one = 0x0010;
+    const std::string single = exportAhap(rows, one, "random");
+    const std::string path = tempPath("export.ahap");
+    writeText(path, single);
+    HapticImportOptions o;
+    o.motors = one;
+    const ImportedScore s = importScoreFile(path, {}, o);
+    const std::string scorePath = tempPath("export-ahap.score");
+    writeText(scorePath, s.text);
+    const auto back = play(scorePath, 6.0);
+    REQUIRE(back.size() >= 1200);
+    int worst = 0;
+    for (std::size_t i = 0; i < 1200; ++i) {
+        const int d = std::abs(static_cast<int>(back[i].levels[4]) - loudest(rows[i], one));
+        if (d > 1) {
+            CAPTURE(i, static_cast<int>(back[i].levels[4]), loudest(rows[i], one));
+            CHECK(d <= 1);
+        }
+        worst = std::max(worst, d);
+    }
+    std::printf("ahap export -> import: 1200 packets, largest difference %d level(s)\n", worst);
+    CHECK(worst <= 1);
+}
+
+TEST_CASE("meta .haptic export: the amplitude envelope steps through the chosen motors' levels and imports back to them", "[formats][haptic][export]")
+{
+    const auto rows = randomRows(1200, 31);
+    const std::uint16_t elbow = 0x01C0;   // motors 7,8,9
+    const std::string text = exportMetaHaptic(rows, elbow, "random");
+    // Read with the Lofelt data model v1 (NiceVibrations core/datamodel/src/v1.rs): version
+    // {major 1}; signals.continuous.envelopes.amplitude: breakpoints {time, amplitude 0..1},
+    // times never decreasing, the amplitude linear between consecutive breakpoints.
+    const device::JsonValue root = device::parseJson(text, "export.haptic");
+    REQUIRE(root.find("version"));
+    CHECK(root.find("version")->find("major")->number == 1.0);
+    const device::JsonValue* amplitude = root.find("signals")->find("continuous")->find("envelopes")->find("amplitude");
+    REQUIRE(amplitude);
+    std::vector<std::pair<double, double>> points;
+    for (const auto& p : amplitude->array) {
+        points.emplace_back(p.find("time")->number, p.find("amplitude")->number);
+        CHECK(points.back().second >= 0.0);
+        CHECK(points.back().second <= 1.0);
+        if (points.size() > 1) REQUIRE(points.back().first >= points[points.size() - 2].first);
+    }
+    REQUIRE(points.size() >= 2);
+    const auto envelope = [&](double t) {
+        for (std::size_t i = 0; i + 1 < points.size(); ++i)
+            if (t >= points[i].first && t < points[i + 1].first)
+                return points[i].second + (points[i + 1].second - points[i].second) * (t - points[i].first) / (points[i + 1].first - points[i].first);
+        return 0.0;
+    };
+    for (std::size_t i = 0; i + 1 < rows.size(); ++i) {
+        const double t = rows[i].t - rows.front().t + 0.0025;
+        REQUIRE(std::lround(15.0 * envelope(t)) == loudest(rows[i], elbow));
+    }
+
+    const std::uint16_t one = 0x0010;
+    const std::string path = tempPath("export.haptic");
+    writeText(path, exportMetaHaptic(rows, one, "random"));
+    HapticImportOptions o;
+    o.motors = one;
+    const ImportedScore s = importScoreFile(path, {}, o);
+    const std::string scorePath = tempPath("export-haptic.score");
+    writeText(scorePath, s.text);
+    const auto back = play(scorePath, 6.0);
+    REQUIRE(back.size() >= 1200);
+    int worst = 0;
+    for (std::size_t i = 0; i < 1200; ++i) {
+        const int d = std::abs(static_cast<int>(back[i].levels[4]) - loudest(rows[i], one));
+        if (d > 1) {
+            CAPTURE(i, static_cast<int>(back[i].levels[4]), loudest(rows[i], one));
+            CHECK(d <= 1);
+        }
+        worst = std::max(worst, d);
+    }
+    std::printf(".haptic export -> import: 1200 packets, largest difference %d level(s)\n", worst);
+    CHECK(worst <= 1);
+}
+
+TEST_CASE("haptic export: no levels give an empty pattern; a last row that is not all-off is held one packet", "[formats][export]")
+{
+    std::vector<TactileRow> rows(2);
+    rows[0].t = 0.0;
+    rows[1].t = 0.005;
+    CHECK(actuatorRuns(rows, 0x01FF).empty());
+    rows[1].levels[0] = 7;
+    const auto runs = actuatorRuns(rows, 0x01FF);
+    REQUIRE(runs.size() == 1);
+    CHECK(runs[0].start == Approx(0.005));
+    CHECK(runs[0].duration == Approx(0.005));
+    CHECK(runs[0].level == 7);
+    CHECK(actuatorRuns(rows, 0x0002).empty());   // motor 2 is silent
 }

@@ -9,16 +9,20 @@
 #include "Common/RealtimeGuard.h"
 #include "Braille/BrailleScene.h"
 #include "Core/Pose.h"
+#include "Core/Wav.h"
 #include "Live/ControlLoop.h"
+#include "Live/LiveSession.h"
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
+#include <unistd.h>
 
 using namespace armadillo;
 using namespace armadillo::live;
@@ -353,6 +357,64 @@ TEST_CASE("every scene under every source: control step, audio and scene swap ar
             }
         }
     }
+}
+
+namespace armadillo::device {
+/// The session's audio block (LiveSession::renderBlock: the recording or the stems heard by the
+/// scene, then played out under its sound), called here as the audio thread calls it.
+struct LiveSessionAudioProbe {
+    static void render(LiveSession& s, float* left, float* right, int n) { s.renderBlock(left, right, n); }
+};
+} // namespace armadillo::device
+
+TEST_CASE("play's audio block with stems and with a recording is real-time, past the recording's end and looping", "[realtime][stems]")
+{
+    if (!guardUsableHere()) return;
+    const auto dir = std::filesystem::temp_directory_path() / ("armadillo-rt-stems-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    AudioBuffer tone;
+    tone.channels.assign(2, std::vector<float>(12000));
+    for (std::size_t i = 0; i < 12000; ++i)
+        tone.channels[0][i] = tone.channels[1][i] = static_cast<float>(0.3 * std::sin(2.0 * 3.14159265358979 * 80.0 * static_cast<double>(i) / 48000.0));
+    const std::string a = (dir / "bass.wav").string(), b = (dir / "drums.wav").string(), c = (dir / "vocals.wav").string();
+    writeWav(a, tone);
+    writeWav(b, tone);
+    tone.channels[0].resize(5000);   // a shorter stem, padded with silence
+    tone.channels[1].resize(5000);
+    writeWav(c, tone);
+    for (const bool stems : {true, false})
+        for (const bool loop : {false, true}) {
+            device::LiveConfig config;
+            config.engine.scene = "audio-touch";
+            config.engine.sceneConfig.sampleRate = 48000.0;
+            if (stems) {
+                config.audioStems = {a, b, c};
+                config.engine.sceneConfig.stems = {"bass", "drums", "vocals"};
+            } else {
+                config.audioIn = a;
+            }
+            config.audioInLoop = loop;
+            device::LiveSession session(config);
+            std::vector<float> left(1024), right(1024);
+            Totals totals;
+            float peak = 0.0f;
+            for (int k = 0; k < 80; ++k) {   // 80 blocks of 17..1024 frames: well past the 12000-frame recording
+                const int n = 17 + (k * 389) % 1008;
+                std::fill(left.begin(), left.end(), 0.0f);
+                std::fill(right.begin(), right.end(), 0.0f);
+                {
+                    RealtimeGuard guard;
+                    device::LiveSessionAudioProbe::render(session, left.data(), right.data(), n);
+                    totals.add(guard);
+                }
+                if (k < 10)
+                    for (int i = 0; i < n; ++i) peak = std::max(peak, std::fabs(left[static_cast<std::size_t>(i)]));
+            }
+            INFO((stems ? "stems" : "recording") << (loop ? ", looping: " : ": ") << totals.text());
+            CHECK(totals.clean());
+            CHECK(peak > (stems ? 0.45f : 0.25f));   // played out: the stems as their sum (two at 0.3 in phase), the recording as it is
+        }
+    std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("a burst of IMU samples is fused at most kMaxImuPerStep at a time; the rest are dropped and counted", "[realtime][loop]")
