@@ -208,6 +208,8 @@ TEST_CASE("robustness: a missing or unreadable input file of any kind exits 4 na
          4, "/nonexistent/m.json"},
         {"fuse input", "fuse --in /nonexistent/imu.csv --out " + q(cli::path("rb-f.csv")), 4, "/nonexistent/imu.csv"},
         {"braille .brf", "braille --brf /nonexistent/x.brf", 4, "/nonexistent/x.brf"},
+        {"mapping JSON", base + "--scene monitor --map /nonexistent/map.json", 4, "/nonexistent/map.json"},
+        {"set list JSON", "render --motion " + q(motion) + " --out " + q(out) + " --setlist /nonexistent/set.json", 4, "/nonexistent/set.json"},
     });
     CHECK_FALSE(fs::exists(out));
     // An unknown score NAME (not a path) is bad input, as documented: 3, with the known names.
@@ -383,6 +385,25 @@ TEST_CASE("robustness: malformed files of every kind exit 3 naming the file (and
     cases.push_back({"mount, duplicate key", "play --scene monitor --no-audio --seconds 0.5 --osc-in " + std::to_string(port) + " --mount " +
                                                  q(cli::file("mt-dup.json", "{\"mount\": {}, \"mount\": {}}")),
                      3, "mt-dup.json:1: at column 15: duplicate key"});
+    // Mapping JSON (docs/MAPPING.md): read before anything is rendered; errors name file, line, column.
+    const std::string renderMap = render + "--scene monitor --motion " + q(motion) + " --map ";
+    const std::vector<std::pair<std::string, std::string>> maps {
+        {"map-binary.json", randomBytes(3000, 7)},
+        {"map-truncated.json", "{\"version\": 1, \"mappings\": [{\"source\": \"roll\""},
+        {"map-version.json", "{\"version\": 99, \"mappings\": []}"},
+        {"map-source.json", "{\"version\": 1, \"mappings\": [{\"source\": \"elbow\", \"to\": {\"midi\": \"cc\", \"channel\": 1, \"cc\": 1}}]}"},
+        {"map-channel.json", "{\"version\": 1, \"mappings\": [{\"source\": \"roll\", \"to\": {\"midi\": \"cc14\", \"channel\": 17, \"cc\": 1}}]}"},
+        {"map-range.json", "{\"version\": 1, \"mappings\": [{\"source\": \"roll\", \"in\": [1e400, 2], \"to\": {\"midi\": \"pitchbend\", \"channel\": 1}}]}"},
+    };
+    for (const auto& [name, content] : maps) cases.push_back({"mapping " + name, renderMap + q(cli::file(name, content)), 3, name});
+    cases.push_back({"mapping, duplicate key: line and column",
+                     renderMap + q(cli::file("map-dup.json", "{\"version\": 1,\n  \"version\": 1, \"mappings\": []}")), 3,
+                     "map-dup.json:2: at column 3: duplicate key \"version\""});
+    // Set list JSON (docs/STAGE.md).
+    const std::string renderSet = render + "--motion " + q(motion) + " --setlist ";
+    cases.push_back({"set list, truncated", renderSet + q(cli::file("set-trunc.json", "{\"armadillo_setlist\": 1, \"cues\": [")), 3, "set-trunc.json"});
+    cases.push_back({"set list, unknown scene", renderSet + q(cli::file("set-scene.json", "{\"armadillo_setlist\": 1, \"cues\": [{\"scene\": \"kazoo\"}]}")),
+                     3, "set-scene.json"});
     runCases(cases);
     CHECK_FALSE(fs::exists(out));
 }
