@@ -96,7 +96,8 @@ inline void prepare(Hosted& h, bool withInput = false)
 inline int choiceIndex(const juce::String& name, const juce::String& choice)
 {
     static const juce::StringArray sources {"device", "simulator", "OSC", "host automation"};
-    static const juce::StringArray scenes {"monitor", "theremin", "cymbal", "panel", "sound-design", "compass", "braille", "score", "audio-touch"};
+    static const juce::StringArray scenes {"monitor", "theremin", "cymbal", "panel", "sound-design", "compass", "braille", "score", "audio-touch",
+                                                   "layered-keyboard", "theremin-duo"};
     return (name == "Source" ? sources : scenes).indexOf(choice);
 }
 

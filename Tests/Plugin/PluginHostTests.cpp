@@ -37,7 +37,7 @@ void checkContractParameters(Hosted& h)
     }
     REQUIRE(h.param("Source") != nullptr);
     CHECK(h.param("Source")->getNumSteps() == 4);
-    CHECK(h.param("Scene")->getNumSteps() == 9);
+    CHECK(h.param("Scene")->getNumSteps() == 11);   // the INTERFACES.md scene list, layered-keyboard and theremin-duo last
     CHECK(h.param("Elevation")->isAutomatable());
 }
 
