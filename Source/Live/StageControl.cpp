@@ -1,5 +1,6 @@
 #include "Live/StageControl.h"
 #include "Core/Errors.h"
+#include "Osc/OscIo.h"
 #include <arpa/inet.h>
 #include <cerrno>
 #include <cmath>
@@ -66,37 +67,7 @@ std::string describe(const StageCommand& c)
 
 StageControlReceiver::StageControlReceiver(int port, Handler handler) : handler_(std::move(handler))
 {
-    if (port < 0 || port > 65535) throw IoError("--control-in: port " + std::to_string(port) + " is outside 0..65535");
-    const auto bindOrThrow = [this, port](const sockaddr* address, socklen_t size) {
-        if (::bind(fd_, address, size) == 0) return;
-        const int e = errno;
-        ::close(fd_);
-        fd_ = -1;
-        throw IoError("--control-in: cannot listen on UDP port " + std::to_string(port) + ": " + std::strerror(e));
-    };
-    fd_ = ::socket(AF_INET6, SOCK_DGRAM | SOCK_CLOEXEC, 0);
-    if (fd_ >= 0) {
-        const int off = 0;
-        ::setsockopt(fd_, IPPROTO_IPV6, IPV6_V6ONLY, &off, sizeof off);
-        sockaddr_in6 a {};
-        a.sin6_family = AF_INET6;
-        a.sin6_addr = in6addr_any;
-        a.sin6_port = htons(static_cast<std::uint16_t>(port));
-        bindOrThrow(reinterpret_cast<sockaddr*>(&a), sizeof a);
-    } else {
-        fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
-        if (fd_ < 0) throw IoError(std::string("--control-in: cannot create a UDP socket: ") + std::strerror(errno));
-        sockaddr_in a {};
-        a.sin_family = AF_INET;
-        a.sin_addr.s_addr = htonl(INADDR_ANY);
-        a.sin_port = htons(static_cast<std::uint16_t>(port));
-        bindOrThrow(reinterpret_cast<sockaddr*>(&a), sizeof a);
-    }
-    sockaddr_storage bound {};
-    socklen_t len = sizeof bound;
-    ::getsockname(fd_, reinterpret_cast<sockaddr*>(&bound), &len);
-    port_ = bound.ss_family == AF_INET6 ? ntohs(reinterpret_cast<sockaddr_in6*>(&bound)->sin6_port)
-                                        : ntohs(reinterpret_cast<sockaddr_in*>(&bound)->sin_port);
+    fd_ = device::bindUdpAnyInterface(port, "--control-in", port_);
 }
 
 StageControlReceiver::~StageControlReceiver()

@@ -129,6 +129,42 @@ bool OscSender::sendGesture(const char* name) noexcept
     return send("/armadillo/gesture", a, 1);
 }
 
+int bindUdpAnyInterface(int port, const std::string& who, int& boundPort)
+{
+    if (port < 0 || port > 65535) throw IoError(who + ": port " + std::to_string(port) + " is outside 0..65535");
+    int fd = -1;
+    const auto bindOrThrow = [&fd, &who, port](const sockaddr* address, socklen_t size) {
+        if (::bind(fd, address, size) == 0) return;
+        const int e = errno;
+        ::close(fd);
+        throw IoError(who + ": cannot listen on UDP port " + std::to_string(port) + ": " + std::strerror(e));
+    };
+    fd = ::socket(AF_INET6, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+    if (fd >= 0) {
+        const int off = 0;
+        ::setsockopt(fd, IPPROTO_IPV6, IPV6_V6ONLY, &off, sizeof off);
+        sockaddr_in6 a {};
+        a.sin6_family = AF_INET6;
+        a.sin6_addr = in6addr_any;
+        a.sin6_port = htons(static_cast<std::uint16_t>(port));
+        bindOrThrow(reinterpret_cast<sockaddr*>(&a), sizeof a);
+    } else {
+        fd = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+        if (fd < 0) throw IoError(who + ": cannot create a UDP socket: " + std::strerror(errno));
+        sockaddr_in a {};
+        a.sin_family = AF_INET;
+        a.sin_addr.s_addr = htonl(INADDR_ANY);
+        a.sin_port = htons(static_cast<std::uint16_t>(port));
+        bindOrThrow(reinterpret_cast<sockaddr*>(&a), sizeof a);
+    }
+    sockaddr_storage bound {};
+    socklen_t len = sizeof bound;
+    ::getsockname(fd, reinterpret_cast<sockaddr*>(&bound), &len);
+    boundPort = bound.ss_family == AF_INET6 ? ntohs(reinterpret_cast<sockaddr_in6*>(&bound)->sin6_port)
+                                            : ntohs(reinterpret_cast<sockaddr_in*>(&bound)->sin_port);
+    return fd;
+}
+
 // --- OscReceiver -------------------------------------------------------------------------------
 
 OscReceiver::OscReceiver(int port, ImuHandler onImu, OrientationHandler onOrientation, const OscInputOptions& options)
@@ -145,39 +181,11 @@ OscReceiver::OscReceiver(int port, ImuHandler onImu, OrientationHandler onOrient
         },
         this);
     if (port < 0 || port > 65535) throw IoError("OSC in: port " + std::to_string(port) + " is outside 0..65535");
-    // One IPv6 socket that also takes IPv4 (as v4-mapped addresses), so phones and trackers on
-    // either protocol reach the same port, as the sender already resolves both; plain IPv4 when
-    // the machine has no IPv6.
-    const auto bindOrThrow = [this, port](const sockaddr* address, socklen_t size) {
-        if (::bind(fd_, address, size) == 0) return;
-        const int e = errno;
-        ::close(fd_);
-        fd_ = -1;
-        throw IoError("OSC in: cannot listen on UDP port " + std::to_string(port) + ": " + std::strerror(e));
-    };
-    fd_ = ::socket(AF_INET6, SOCK_DGRAM | SOCK_CLOEXEC, 0);
-    if (fd_ >= 0) {
-        const int off = 0;
-        ::setsockopt(fd_, IPPROTO_IPV6, IPV6_V6ONLY, &off, sizeof off);
-        sockaddr_in6 a {};
-        a.sin6_family = AF_INET6;
-        a.sin6_addr = in6addr_any;
-        a.sin6_port = htons(static_cast<std::uint16_t>(port));
-        bindOrThrow(reinterpret_cast<sockaddr*>(&a), sizeof a);
-    } else {
-        fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
-        if (fd_ < 0) throw IoError(std::string("OSC in: cannot create a UDP socket: ") + std::strerror(errno));
-        sockaddr_in a {};
-        a.sin_family = AF_INET;
-        a.sin_addr.s_addr = htonl(INADDR_ANY);
-        a.sin_port = htons(static_cast<std::uint16_t>(port));
-        bindOrThrow(reinterpret_cast<sockaddr*>(&a), sizeof a);
-    }
+    // Phones and trackers on either protocol reach the same port, as the sender already resolves both.
+    fd_ = bindUdpAnyInterface(port, "OSC in", port_);
     sockaddr_storage bound {};
     socklen_t len = sizeof bound;
     ::getsockname(fd_, reinterpret_cast<sockaddr*>(&bound), &len);
-    port_ = bound.ss_family == AF_INET6 ? ntohs(reinterpret_cast<sockaddr_in6*>(&bound)->sin6_port)
-                                        : ntohs(reinterpret_cast<sockaddr_in*>(&bound)->sin_port);
     // The same port number on TCP, for ZIG SIM's TCP option (same family as the UDP socket).
     const int family = bound.ss_family;
     tcpFd_ = ::socket(family, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);

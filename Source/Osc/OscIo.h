@@ -63,6 +63,11 @@ struct OscSerialSource {
     int baud = 115200;   ///< a USB CDC port ignores it; the NGIMU's auxiliary serial default
 };
 
+/// A UDP socket bound to `port` on every interface: one IPv6 socket that also takes IPv4 (as
+/// v4-mapped addresses), or plain IPv4 when the machine has no IPv6. Returns the descriptor and
+/// the port actually bound (`port` 0 picks a free one). Throws IoError starting with `who`.
+int bindUdpAnyInterface(int port, const std::string& who, int& boundPort);
+
 /// Listens on a UDP port and the same TCP port (all interfaces) on its own thread, or reads
 /// SLIP-framed OSC from a serial port; handlers run on that thread. UDP datagrams are OSC or ZIG
 /// SIM JSON (first byte); TCP connections carry ZIG SIM's unframed stream (OscStream.h).
