@@ -1,6 +1,7 @@
 #include "Plugin/PluginEditor.h"
 #include "Plugin/MappingPanel.h"
 #include "Plugin/PluginProcessor.h"
+#include "Plugin/ReaderPanel.h"
 #include "Core/Resources.h"
 #include "Core/Version.h"
 
@@ -98,6 +99,24 @@ ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
         mappingWindow_ = o.launchAsync();
     };
     addAndMakeVisible(mappingButton_);
+    readerButton_.setTitle("Reader settings");
+    readerButton_.setDescription("Self-voicing and braille display, the reader's touch profile, the progress report.");
+    readerButton_.onClick = [this] {
+        if (readerWindow_ != nullptr) {
+            readerWindow_->toFront(true);
+            return;
+        }
+        juce::DialogWindow::LaunchOptions o;
+        auto panel = std::make_unique<ReaderPanel>(processor_);
+        panel->setSize(640, 520);
+        o.content.setOwned(panel.release());
+        o.dialogTitle = "ARMadillo reader";
+        o.resizable = true;
+        o.useNativeTitleBar = true;
+        o.escapeKeyTriggersCloseButton = true;
+        readerWindow_ = o.launchAsync();
+    };
+    addAndMakeVisible(readerButton_);
 
     for (juce::Component* c : std::initializer_list<juce::Component*> {&source_, &scene_, &wander_, &armView_, &motors_,
                                                                         &device_, &sceneControls_})
@@ -124,6 +143,7 @@ ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
 ArmadilloEditor::~ArmadilloEditor()
 {
     if (mappingWindow_ != nullptr) delete mappingWindow_.getComponent();   // its panel uses the processor
+    if (readerWindow_ != nullptr) delete readerWindow_.getComponent();
     sourceAttachment_.reset();
     sceneAttachment_.reset();
 }
@@ -133,6 +153,7 @@ void ArmadilloEditor::timerCallback()
     const auto message = processor_.statusMessage();
     if (message != status_.getText()) {
         status_.setText(message, juce::dontSendNotification);
+        processor_.speakAnnouncement(message, false);   // a status change is spoken and brailled too
         status_.setVisible(message.isNotEmpty());
         dismiss_.setVisible(message.isNotEmpty());
         resized();
@@ -161,6 +182,8 @@ void ArmadilloEditor::resized()
     setup_.setBounds(top.removeFromRight(80));
     top.removeFromRight(6);
     mappingButton_.setBounds(top.removeFromRight(90));
+    top.removeFromRight(6);
+    readerButton_.setBounds(top.removeFromRight(80));
     wander_.setBounds(top.removeFromLeft(100));
     r.removeFromTop(4);
     if (status_.isVisible()) {

@@ -40,6 +40,7 @@ TrainingPanel::TrainingPanel(ArmadilloProcessor& processor) : processor_(process
     answer_.setInputRestrictions(kMaxTypedCharacters);
     answer_.setReturnKeyStartsNewLine(false);
     answer_.onReturnKey = [this] { submit(); };
+    keys_.attach(answer_, [this] { submit(); }, [this](const juce::String& t) { announce(t); }, &processor_.voice());
     describe(answerButton_, "Answer", "Send the answer in the field (the same as Return).");
     answerButton_.onClick = [this] { submit(); };
     describe(save_, "Save training log", "Write the training log (CSV, one row per event) to a file.");
@@ -56,10 +57,12 @@ TrainingPanel::TrainingPanel(ArmadilloProcessor& processor) : processor_(process
 TrainingPanel::~TrainingPanel()
 {
     stopTimer();
+    answer_.removeKeyListener(&keys_);
 }
 
 void TrainingPanel::timerCallback()
 {
+    if (wanted_ && ! complete_) keys_.pollDisplay();
     follow();
 }
 
@@ -121,6 +124,7 @@ void TrainingPanel::show(const std::vector<braille::TrainingNotice>& notices)
         case Kind::Result: {
             const auto text = juce::String(braille::resultText(n));
             result_.setText(text, juce::dontSendNotification);
+            processor_.armFeedback(n.right);   // felt on the arm when that setting is on (deafblind)
             say << text << ". " << n.correct << " of " << n.answered << " right. ";
             break;
         }
