@@ -1,4 +1,5 @@
 #include "Plugin/ReaderVoice.h"
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -63,11 +64,17 @@ void ReaderVoice::say(const std::string& text, bool interrupt)
         std::lock_guard<std::mutex> lock(mutex_);
         last_ = text;
         if (speech_ == nullptr && display_ == nullptr) return;
-        if (interrupt) ops_.clear();   // what was still waiting is out of date
+        if (interrupt) dropQueuedSpeech();   // what was still waiting to be said is out of date
         if (ops_.size() >= kMaxQueued) ops_.pop_front();
         ops_.push_back({Op::Kind::Say, text, interrupt, 0});
     }
     wake_.notify_all();
+}
+
+void ReaderVoice::dropQueuedSpeech()
+{
+    // Only texts: a rate change queued before them still applies.
+    ops_.erase(std::remove_if(ops_.begin(), ops_.end(), [](const Op& op) { return op.kind == Op::Kind::Say; }), ops_.end());
 }
 
 void ReaderVoice::repeat()
@@ -84,7 +91,7 @@ void ReaderVoice::stop()
 {
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        ops_.clear();
+        dropQueuedSpeech();
         ops_.push_back({Op::Kind::Stop, {}, true, 0});
     }
     wake_.notify_all();
@@ -164,7 +171,7 @@ void ReaderVoice::run()
         }
         lock.lock();
         busy_ = false;
-        if (ops_.empty()) idle_.notify_all();
+        idle_.notify_all();   // open() waits for !busy_, waitIdle() for an empty queue too
     }
     busy_ = false;
     idle_.notify_all();

@@ -67,6 +67,7 @@ private:
         int rate = 0;
     };
     void run();
+    void dropQueuedSpeech();   ///< under mutex_
 
     mutable std::mutex mutex_;
     std::condition_variable wake_, idle_;
