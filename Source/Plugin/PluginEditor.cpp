@@ -171,19 +171,21 @@ void ArmadilloEditor::resized()
     auto r = getLocalBounds().reduced(6);
     const int bar = juce::jlimit(28, 48, getHeight() / 20);
     auto top = r.removeFromTop(bar);
-    title_.setBounds(top.removeFromLeft(150));
-    top.removeFromLeft(60);
-    source_.setBounds(top.removeFromLeft(std::min(200, top.getWidth() / 3)));
-    top.removeFromLeft(60);
-    scene_.setBounds(top.removeFromLeft(std::min(200, top.getWidth() / 2)));
-    top.removeFromLeft(12);
-    about_.setBounds(top.removeFromRight(70));
-    top.removeFromRight(6);
-    setup_.setBounds(top.removeFromRight(80));
-    top.removeFromRight(6);
-    mappingButton_.setBounds(top.removeFromRight(90));
-    top.removeFromRight(6);
-    readerButton_.setBounds(top.removeFromRight(80));
+    title_.setBounds(top.removeFromLeft(130));
+    top.removeFromLeft(55);
+    source_.setBounds(top.removeFromLeft(std::min(190, top.getWidth() / 3)));
+    top.removeFromLeft(52);
+    scene_.setBounds(top.removeFromLeft(std::min(190, top.getWidth() / 2)));
+    top.removeFromLeft(10);
+    // Four buttons and Wander share the rest (at the default 1040 px each still fits its text).
+    about_.setBounds(top.removeFromRight(62));
+    top.removeFromRight(4);
+    setup_.setBounds(top.removeFromRight(72));
+    top.removeFromRight(4);
+    mappingButton_.setBounds(top.removeFromRight(86));
+    top.removeFromRight(4);
+    readerButton_.setBounds(top.removeFromRight(76));
+    top.removeFromRight(4);
     wander_.setBounds(top.removeFromLeft(100));
     r.removeFromTop(4);
     if (status_.isVisible()) {

@@ -2,6 +2,9 @@
 // (ReaderVoice, captured through the core's capture backends), Perkins chord entry (PerkinsChords,
 // TrainingKeys driven by simulated key presses as the Training panel's answer field gets them),
 // the detection that turns self-voicing on by default, and the touch profile kept in the state.
+#include "Access/Feedback.h"
+#include "Engine/Engine.h"
+#include "Plugin/BlockControl.h"
 #include "Plugin/PerkinsKeys.h"
 #include "Plugin/PluginState.h"
 #include "Plugin/ReaderVoice.h"
@@ -369,4 +372,90 @@ TEST_CASE("VST3: the reader's settings in the plugin's state; the profile applie
     h.plugin.reset();
     ::unsetenv("ARMADILLO_SPEECH");
     ::unsetenv("ARMADILLO_BRAILLE");
+}
+
+namespace {
+/// A scene that holds the underside middle motor (index 4) at level 3: what the stimulus replaces.
+class HoldScene final : public armadillo::Scene {
+public:
+    std::string_view name() const override { return "hold"; }
+    void prepare(const armadillo::SceneConfig&) override {}
+    void control(const armadillo::ControlInput&, armadillo::SceneOutput& out) override { out.motors.setLevel(4, 3.0f); }
+};
+} // namespace
+
+TEST_CASE("Arm feedback through the plugin's control path: the stimulus takes the motors, then gives them back, allocating nothing",
+          "[plugin][reader][realtime]")
+{
+    using namespace armadillo;
+    using armadillo::test::RealtimeGuard;
+    REQUIRE(RealtimeGuard::installed());
+    {
+        RealtimeGuard probe;   // the probe catches an allocation before a zero is trusted
+        int* volatile p = new int(3);
+        CHECK(probe.allocations() >= 1);
+        delete p;
+    }
+    constexpr double kRate = 48000.0;
+    constexpr int kBlock = 240;   // one 200 Hz control step per block
+    live::ControlLoop loop;
+    {
+        EngineConfig config;
+        config.scene = "hold";
+        config.sceneConfig.sampleRate = kRate;
+        auto slot = std::make_unique<live::EngineSlot>();
+        slot->engine = std::make_unique<Engine>(config, std::make_unique<HoldScene>());
+        slot->sceneName = "hold";
+        loop.replace(std::move(slot));
+    }
+    ControlToken token;
+    device::LevelSchedule motors;
+    std::atomic<float> elevation {0.0f}, azimuth {0.0f}, roll {0.0f}, source {static_cast<float>(SourceKind::HostAutomation)};
+    BlockControl control(loop, token, BlockControl::Cells {&elevation, &azimuth, &roll, &source}, motors);
+    control.prepare(kRate);
+    juce::AudioBuffer<float> buffer(2, kBlock);
+    juce::MidiBuffer midi;
+    auto run = [&](int blocks, std::array<int, kMaxMotors>& highest, std::uint64_t& allocations) {
+        highest.fill(0);
+        for (int b = 0; b < blocks; ++b) {
+            {
+                RealtimeGuard guard;
+                control.processBlock(buffer, midi, nullptr, false);
+                allocations += guard.allocations();
+            }
+            const auto f = control.latestFrame();
+            for (std::size_t m = 0; m < kMaxMotors; ++m) highest[m] = std::max(highest[m], static_cast<int>(f.motors[m]));
+        }
+    };
+    std::array<int, kMaxMotors> highest {};
+    std::uint64_t allocations = 0;
+    run(40, highest, allocations);   // the scene alone: its motor 4 only
+    CHECK(highest[4] > 0);
+    CHECK(highest[0] == 0);
+
+    // "wrong" (the outer columns, three buzzes) played in place of the scene.
+    access::TactilePlayer player(TactileConfig {}, 0.0);
+    const int id = player.play(access::feedbackSensation(false, 10.0f), access::feedbackPause(false));
+    control.setStimulus(&player);
+    allocations = 0;
+    int blocks = 0;
+    std::array<int, kMaxMotors> during {};
+    during.fill(0);
+    while (player.completed() < id && blocks < 2000) {
+        run(1, highest, allocations);
+        for (std::size_t m = 0; m < kMaxMotors; ++m) during[m] = std::max(during[m], highest[m]);
+        ++blocks;
+    }
+    REQUIRE(player.completed() >= id);
+    CHECK(allocations == 0);
+    for (int m : {0, 2, 3, 5, 6, 8}) CHECK(during[static_cast<std::size_t>(m)] > 0);   // the outer columns
+    for (int m : {1, 4, 7}) CHECK(during[static_cast<std::size_t>(m)] == 0);          // not the underside, not the scene's
+    for (int m : {0, 2, 3, 5, 6, 8}) CHECK(during[static_cast<std::size_t>(m)] <= 15);
+    INFO("the sensation and its pause took " << blocks << " control steps");
+    CHECK(blocks >= static_cast<int>((0.5 + access::feedbackPause(false)) * 200.0) - 2);
+
+    control.setStimulus(nullptr);   // the scene has the motors again
+    run(40, highest, allocations);
+    CHECK(highest[4] > 0);
+    CHECK(highest[0] == 0);
 }
