@@ -108,7 +108,7 @@ ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
         }
         juce::DialogWindow::LaunchOptions o;
         auto panel = std::make_unique<ReaderPanel>(processor_);
-        panel->setSize(640, 520);
+        panel->setSize(640, 600);
         o.content.setOwned(panel.release());
         o.dialogTitle = "ARMadillo reader";
         o.resizable = true;

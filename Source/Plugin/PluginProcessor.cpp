@@ -177,7 +177,8 @@ void ArmadilloProcessor::timerCallback()
     training_.collect();   // keeps a braille training log's queue drained while no panel asks for it
     if (feedbackUntil_ > 0 && feedbackPlayer_.completed() >= feedbackUntil_) {
         feedbackUntil_ = 0;
-        if (touchTest_.state() == TouchTestSession::State::Idle) control_.setStimulus(nullptr);   // the scene has the motors again
+        if (touchTest_.state() == TouchTestSession::State::Idle && adaptive_.state() == AdaptiveSession::State::Idle)
+            control_.setStimulus(nullptr);   // the scene has the motors again
     }
     engines_.update(currentRequest());
     writeLiveOrientationToParameters();
@@ -310,8 +311,28 @@ void ArmadilloProcessor::applyVoiceSettings()
     if (voiceOn_) voice_->say("ARMadillo. Self-voicing on. F3 repeats, F4 stops speech.", true);
 }
 
+bool ArmadilloProcessor::beginAdaptive(const juce::File& readerProfile, int trials, juce::String& why)
+{
+    if (touchTest_.state() != TouchTestSession::State::Idle) endTouchTest(false);
+    std::string reason;
+    control_.setStimulus(&feedbackPlayer_);   // before the first trial is queued: its cue plays at once
+    if (! adaptive_.begin(readerProfile.getFullPathName().toStdString(), trials, reason)) {
+        control_.setStimulus(nullptr);
+        why = juce::String(reason);
+        return false;
+    }
+    return true;
+}
+
+void ArmadilloProcessor::endAdaptive()
+{
+    adaptive_.stop();
+    if (touchTest_.state() == TouchTestSession::State::Idle) control_.setStimulus(nullptr);
+}
+
 void ArmadilloProcessor::beginTouchTest(std::uint64_t seed)
 {
+    if (adaptive_.state() != AdaptiveSession::State::Idle) endAdaptive();
     touchTest_.begin(seed);
     control_.setStimulus(&touchTest_.player());
 }
@@ -330,7 +351,7 @@ void ArmadilloProcessor::endTouchTest(bool keep)
 void ArmadilloProcessor::armFeedback(bool right)
 {
     if (! static_cast<bool>(settings_[SettingIds::armFeedback])) return;
-    if (touchTest_.state() != TouchTestSession::State::Idle) return;
+    if (touchTest_.state() != TouchTestSession::State::Idle || adaptive_.state() != AdaptiveSession::State::Idle) return;
     feedbackUntil_ = feedbackPlayer_.play(access::feedbackSensation(right, 10.0f), access::feedbackPause(right));
     control_.setStimulus(&feedbackPlayer_);
 }

@@ -20,6 +20,7 @@
 #include "Plugin/Parameters.h"
 #include "Plugin/PluginState.h"
 #include "Plugin/ReaderVoice.h"
+#include "Plugin/AdaptiveSession.h"
 #include "Plugin/TouchTestSession.h"
 #include "Plugin/TrainingAccess.h"
 #include "Plugin/Accessibility.h"
@@ -140,6 +141,11 @@ public:
     /// any threshold, so the touch profile is not applied to them).
     /// Not during the sensitivity test. Message thread.
     void armFeedback(bool right);
+    /// Adaptive training (AdaptiveSession.h; message thread): while it runs its cells and cues
+    /// take the motors in place of the scene.
+    AdaptiveSession& adaptive() noexcept { return adaptive_; }
+    bool beginAdaptive(const juce::File& readerProfile, int trials, juce::String& why);
+    void endAdaptive();
     /// The standalone app's MIDI port line ("" in a host), the mapping's OSC and drop counters.
     juce::String mappingStatus() const;
 
@@ -170,6 +176,7 @@ private:
     TrainingAccess training_;
     TouchTestSession touchTest_;                 // before control_: its player outlives the control step's pointer
     access::TactilePlayer feedbackPlayer_ {TactileConfig {}, 0.0};   // before control_ too
+    AdaptiveSession adaptive_ {feedbackPlayer_};   // plays through feedbackPlayer_
     int feedbackUntil_ = 0;                      // the sequence whose end gives the motors back to the scene
     BlockControl control_;
     Connections connections_;

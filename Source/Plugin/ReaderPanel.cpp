@@ -80,6 +80,24 @@ ReaderPanel::ReaderPanel(ArmadilloProcessor& processor) : processor_(processor)
     describe(saveTouch_, "Save touch profile", "Write the touch profile in use to a file (for armadillo --profile).");
     saveTouch_.onClick = [this] { saveProfile(); };
 
+    describe(adaptiveStart_, "Adaptive training",
+             "Train letters and words adapted to everything you answered before: choose or name your reader profile "
+             "file. 20 trials, drawn on the arm; answer in the field (letters and Return, or F2 and chords then Space). "
+             "Press again to stop.");
+    adaptiveStart_.onClick = [this] { startAdaptive(); };
+    describe(adaptiveAgain_, "Show again", "Draw the current trial on the arm again.");
+    adaptiveAgain_.onClick = [this] {
+        processor_.adaptive().again();
+        adaptiveAnswer_.grabKeyboardFocus();
+    };
+    describe(adaptiveAnswer_, "Adaptive answer", "Your answer to the adaptive trial; Return sends it. F2: chords.");
+    adaptiveAnswer_.setTextToShowWhenEmpty("answer here, then Return", juce::Colours::grey);
+    adaptiveAnswer_.setInputRestrictions(64);
+    adaptiveAnswer_.onReturnKey = [this] { answerAdaptive(); };
+    adaptiveKeys_.attach(adaptiveAnswer_, [this] { answerAdaptive(); }, [this](const juce::String& t) { announce(t); },
+                         &processor_.voice());
+    describe(adaptiveState_, "Adaptive training state", "The trial and its prompt, or the last feedback.");
+
     reportHeading_.setText("Progress", juce::dontSendNotification);
     describe(reportHeading_, "Progress", "The progress report of a reader profile.");
     describe(loadReport_, "Progress report",
@@ -95,7 +113,7 @@ ReaderPanel::ReaderPanel(ArmadilloProcessor& processor) : processor_(processor)
     report_.setTextToShowWhenEmpty("no report loaded", juce::Colours::grey);
 
     for (juce::Component* c : std::initializer_list<juce::Component*> {&heading_, &voice_, &rate_, &repeat_, &stop_, &voiceState_, &armFeedback_, &touch_,
-                                                                        &loadTouch_, &clearTouch_, &saveTouch_, &startTest_, &felt_, &notFelt_, &again_, &testState_, &reportHeading_, &loadReport_, &report_})
+                                                                        &loadTouch_, &clearTouch_, &saveTouch_, &startTest_, &felt_, &notFelt_, &again_, &testState_, &adaptiveStart_, &adaptiveAgain_, &adaptiveAnswer_, &adaptiveState_, &reportHeading_, &loadReport_, &report_})
         addAndMakeVisible(*c);
     refresh();
     startTimerHz(4);
@@ -104,13 +122,78 @@ ReaderPanel::ReaderPanel(ArmadilloProcessor& processor) : processor_(processor)
 ReaderPanel::~ReaderPanel()
 {
     stopTimer();
+    adaptiveAnswer_.removeKeyListener(&adaptiveKeys_);
+    if (processor_.adaptive().state() != AdaptiveSession::State::Idle) processor_.endAdaptive();
     if (processor_.touchTest().state() != TouchTestSession::State::Idle) processor_.endTouchTest(false);   // the motors back to the scene
 }
 
 void ReaderPanel::timerCallback()
 {
     followTest();
+    followAdaptive();
     refresh();
+}
+
+void ReaderPanel::startAdaptive()
+{
+    if (processor_.adaptive().state() == AdaptiveSession::State::Drawing || processor_.adaptive().state() == AdaptiveSession::State::Answering) {
+        processor_.endAdaptive();
+        adaptiveState_.setText("Adaptive training stopped; the reader profile keeps every answer.", juce::dontSendNotification);
+        announce(adaptiveState_.getText());
+        followAdaptive();
+        return;
+    }
+    auto start = juce::File::getSpecialLocation(juce::File::userDocumentsDirectory).getChildFile("reader.json");
+    if (readerFile_ != juce::File()) start = readerFile_;
+    chooser_ = std::make_unique<juce::FileChooser>("Your reader profile (a new name starts a new one)", start, "*.json");
+    chooser_->launchAsync(juce::FileBrowserComponent::saveMode | juce::FileBrowserComponent::canSelectFiles, [this](const juce::FileChooser& fc) {
+        auto file = fc.getResult();
+        if (file == juce::File()) return;
+        if (! file.hasFileExtension("json")) file = file.withFileExtension("json");
+        juce::String why;
+        if (! processor_.beginAdaptive(file, 20, why)) {
+            adaptiveState_.setText("Adaptive training cannot start: " + why, juce::dontSendNotification);
+            announce(adaptiveState_.getText());
+            return;
+        }
+        readerFile_ = file;
+        announce("Adaptive training, 20 trials, with " + file.getFileName() + ". Feel the arm, then answer.");
+        adaptiveAnswer_.grabKeyboardFocus();
+        followAdaptive();
+    });
+}
+
+void ReaderPanel::answerAdaptive()
+{
+    auto& session = processor_.adaptive();
+    if (session.state() != AdaptiveSession::State::Answering) {
+        announce(session.state() == AdaptiveSession::State::Drawing ? "Wait: the trial is still being drawn." : "No adaptive training is running.");
+        return;
+    }
+    const auto rt = (juce::Time::getMillisecondCounterHiRes() - promptedAt_) / 1000.0;
+    const auto feedback = juce::String(session.answer(adaptiveAnswer_.getText().toStdString(), rt));
+    adaptiveAnswer_.clear();
+    adaptiveState_.setText(feedback, juce::dontSendNotification);
+    announce(feedback);
+    if (session.state() == AdaptiveSession::State::Done) {
+        processor_.endAdaptive();
+        if (readerFile_.existsAsFile()) showReport(readerFile_);   // where the reader stands now
+    }
+    followAdaptive();
+}
+
+void ReaderPanel::followAdaptive()
+{
+    auto& session = processor_.adaptive();
+    if (session.poll()) {
+        promptedAt_ = juce::Time::getMillisecondCounterHiRes();
+        adaptiveState_.setText(juce::String(session.prompt()), juce::dontSendNotification);
+        announce(adaptiveState_.getText());
+    }
+    const bool running = session.state() == AdaptiveSession::State::Drawing || session.state() == AdaptiveSession::State::Answering;
+    adaptiveStart_.setButtonText(running ? "Stop training" : "Adaptive training...");
+    adaptiveAgain_.setEnabled(session.state() == AdaptiveSession::State::Answering);
+    adaptiveAnswer_.setEnabled(running);
 }
 
 void ReaderPanel::startTest()
@@ -327,6 +410,14 @@ void ReaderPanel::resized()
     line.removeFromLeft(6);
     again_.setBounds(line.removeFromLeft(90));
     testState_.setBounds(r.removeFromTop(row));
+    r.removeFromTop(4);
+    line = r.removeFromTop(row).reduced(0, 2);
+    adaptiveStart_.setBounds(line.removeFromLeft(160));
+    line.removeFromLeft(6);
+    adaptiveAgain_.setBounds(line.removeFromLeft(100));
+    line.removeFromLeft(6);
+    adaptiveAnswer_.setBounds(line);
+    adaptiveState_.setBounds(r.removeFromTop(row));
     r.removeFromTop(8);
     line = r.removeFromTop(row).reduced(0, 2);
     reportHeading_.setBounds(line.removeFromLeft(100));

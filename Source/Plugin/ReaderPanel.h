@@ -7,6 +7,7 @@
 // letters per minute, the confusion matrix, the published figures), readable line by line with
 // the arrow keys and spoken. Every control has a title, a description and keyboard focus; every
 // change is announced (and so spoken and shown on the display). Message thread only.
+#include "Plugin/PerkinsKeys.h"
 #include <juce_gui_basics/juce_gui_basics.h>
 #include <memory>
 
@@ -38,6 +39,9 @@ private:
     void answerTest(bool felt);
     void followTest();
     void saveProfile();
+    void startAdaptive();
+    void answerAdaptive();
+    void followAdaptive();
 
     ArmadilloProcessor& processor_;
     juce::Label heading_, voiceLabel_, rateLabel_, voiceState_, touch_, reportHeading_;
@@ -49,6 +53,12 @@ private:
     juce::TextButton startTest_ {"Sensitivity test"}, felt_ {"Felt (Y)"}, notFelt_ {"Not felt (N)"}, again_ {"Again (R)"};
     juce::TextButton saveTouch_ {"Save touch profile..."};
     juce::Label testState_;
+    juce::TextButton adaptiveStart_ {"Adaptive training..."}, adaptiveAgain_ {"Show again"};
+    juce::TextEditor adaptiveAnswer_;
+    juce::Label adaptiveState_;
+    TrainingKeys adaptiveKeys_;            // chords (F2), F3, F4 in the adaptive answer field
+    juce::File readerFile_;
+    double promptedAt_ = 0.0;              // ms, when the prompt was said (the response time)
     juce::TextButton loadReport_ {"Progress report..."};
     juce::TextEditor report_;
     std::unique_ptr<juce::FileChooser> chooser_;

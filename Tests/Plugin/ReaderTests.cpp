@@ -5,6 +5,8 @@
 #include "Access/Feedback.h"
 #include "Engine/Engine.h"
 #include "Plugin/BlockControl.h"
+#include "Access/ReaderProfile.h"
+#include "Plugin/AdaptiveSession.h"
 #include "Plugin/PerkinsKeys.h"
 #include "Plugin/PluginState.h"
 #include "Plugin/ReaderVoice.h"
@@ -458,4 +460,59 @@ TEST_CASE("Arm feedback through the plugin's control path: the stimulus takes th
     run(40, highest, allocations);
     CHECK(highest[4] > 0);
     CHECK(highest[0] == 0);
+}
+
+TEST_CASE("Adaptive training in the app: trials drawn on the arm, answers kept in the reader profile across sessions",
+          "[plugin][reader][adaptive]")
+{
+    using namespace armadillo;
+    const auto dir = freshDir("armadillo-reader-adaptive");
+    const auto profile = dir.getChildFile("reader.json").getFullPathName().toStdString();
+    access::TactilePlayer player(TactileConfig {}, 0.0);
+    double t = 0.0;
+    auto runUntil = [&](auto done) {   // the control step's side: one onPacket per 5 ms step (done() is asked once per step)
+        for (int i = 0; i < 200 * 120; ++i) {
+            if (done()) return true;
+            (void) player.onPacket(t);
+            t += 0.005;
+        }
+        return false;
+    };
+    for (int session = 1; session <= 2; ++session) {
+        AdaptiveSession s(player);
+        std::string why;
+        REQUIRE(s.begin(profile, 6, why));
+        int answered = 0, peak = 0;
+        std::vector<std::string> feedback;
+        while (s.state() != AdaptiveSession::State::Done) {
+            INFO("session " << session << " answered " << answered << " completed " << player.completed() << " clock " << player.clock());
+            REQUIRE(runUntil([&] { return s.poll(); }));
+            for (int m = 0; m < 9; ++m) peak = std::max(peak, player.maxLevel(m));
+            CHECK_THAT(s.prompt(), Catch::StartsWith("Trial " + std::to_string(answered + 1) + " of 6: "));
+            feedback.push_back(s.answer("q", 1.5));   // this reader always answers q
+            ++answered;
+        }
+        CHECK(answered == 6);
+        CHECK(peak > 0);   // the trials reached the motors (through the player's tactile engine)
+        CHECK_THAT(feedback.front(), Catch::StartsWith("wrong: it was '"));
+        CHECK_THAT(feedback.back(), Catch::Contains("Training complete: 0 of 6 right"));
+        const auto saved = access::loadReaderProfile(profile);
+        // One answer per trial, a "pairs" trial (a confused pair side by side) one per letter.
+        int thisSession = 0, wrong = 0;
+        for (const auto& a : saved.answers) {
+            thisSession += a.session == session;
+            wrong += a.session == session && ! a.correct;
+        }
+        CHECK(thisSession >= 6);
+        CHECK(wrong == thisSession);
+        REQUIRE(static_cast<int>(saved.sessions.size()) == session);
+        CHECK(saved.sessions.back().session == session);
+        CHECK(saved.answers.front().answer == "q");
+    }
+    // A profile that cannot be written is refused before the first trial.
+    AdaptiveSession s(player);
+    std::string why;
+    CHECK(! s.begin(dir.getChildFile("no/such/dir/reader.json").getFullPathName().toStdString(), 3, why));
+    CHECK(! why.empty());
+    CHECK(s.state() == AdaptiveSession::State::Idle);
 }
