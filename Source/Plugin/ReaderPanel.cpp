@@ -158,8 +158,8 @@ void ReaderPanel::startAdaptive()
         }
         readerFile_ = file;
         announce("Adaptive training, 20 trials, with " + file.getFileName() + ". Feel the arm, then answer.");
+        followAdaptive();                      // enables the answer field first: a disabled one takes no focus
         adaptiveAnswer_.grabKeyboardFocus();
-        followAdaptive();
     });
 }
 
@@ -189,6 +189,8 @@ void ReaderPanel::followAdaptive()
         promptedAt_ = juce::Time::getMillisecondCounterHiRes();
         adaptiveState_.setText(juce::String(session.prompt()), juce::dontSendNotification);
         announce(adaptiveState_.getText());
+        adaptiveAnswer_.setEnabled(true);
+        if (isShowing()) adaptiveAnswer_.grabKeyboardFocus();   // where the reader answers, whatever had focus
     }
     const bool running = session.state() == AdaptiveSession::State::Drawing || session.state() == AdaptiveSession::State::Answering;
     adaptiveStart_.setButtonText(running ? "Stop training" : "Adaptive training...");
