@@ -107,6 +107,8 @@ std::atomic<mapping::Mapper*>& forwardTarget()
 void onForwardSignal(int)
 {
     if (mapping::Mapper* m = forwardTarget().load()) m->requestForward();
+}
+
 /// What a port or OSC source that delivered no sensor data did send, in words naming it.
 std::string noDataMessage(device::LiveSession& session, const device::LiveConfig& config, double seconds)
 {
