@@ -15,6 +15,7 @@
 #include "Cli/GuidedTraining.h"
 #include "Access/AdaptivePlan.h"
 #include "Access/ArmGestures.h"
+#include "Access/Feedback.h"
 #include "Access/Chords.h"
 #include "Access/Report.h"
 #include "Braille/Reading.h"
@@ -186,11 +187,7 @@ public:
     void feedback(bool right, const access::PlannedTrial* trial, int number)
     {
         logRow(log_, now(), "feedback", trial, number, right ? "right" : "wrong", -1, 0, right ? kAllNine : kOuter, true, "", right ? 1 : 0);
-        if (right) device_.waitFor(player_.play({{0.0, 0.4, kAllNine, 4.0f, true, false}}, 0.3));
-        else
-            device_.waitFor(player_.play({{0.0, 0.1, kOuter, level_, false, false}, {0.2, 0.1, kOuter, level_, false, false},
-                                          {0.4, 0.1, kOuter, level_, false, false}},
-                                         0.6));
+        device_.waitFor(player_.play(access::feedbackSensation(right, level_), access::feedbackPause(right)));
     }
 
 private:

@@ -104,6 +104,7 @@ public:
     /// The counters as JSON members (for the session summary).
     std::string statsJson() const { return oscStatsJson(stats(), oscFormatName(format()), deviceName()); }
     OscSampleMerger& merger() noexcept { return merger_; }
+    const OscSampleMerger& merger() const noexcept { return merger_; }
     /// Decodes and dispatches one datagram at time t (what the thread does; public for tests/fuzz).
     void handleDatagram(const std::uint8_t* data, std::size_t size, double t, std::uint64_t senderKey = 0, const char* senderName = "");
 

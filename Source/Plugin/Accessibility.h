@@ -15,7 +15,17 @@ inline void describe(juce::Component& c, const juce::String& title, const juce::
     c.setWantsKeyboardFocus(true);
 }
 
-/// Says `text` to screen readers. JUCE 7.0.5 has no Linux accessibility backend (postAnnouncement
+/// What the processor implements so that every announcement is also self-voiced and shown on a
+/// braille display (ReaderVoice.h; issue 26). Message thread only.
+class SpokenAnnouncements {
+public:
+    virtual void speakAnnouncement(const juce::String& text, bool interrupt) const = 0;
+
+protected:
+    ~SpokenAnnouncements() = default;
+};
+
+/// Says `text` to screen readers, and through the app's own voice and braille display when on. JUCE 7.0.5 has no Linux accessibility backend (postAnnouncement
 /// does nothing there), so the standalone app on Linux also writes it to stderr, where a screen
 /// reader following the terminal reads it, as it reads `armadillo play`. `topic` prefixes that
 /// line ("training", "calibration").
@@ -24,6 +34,8 @@ inline void announce(const juce::AudioProcessor& processor, const char* topic, c
 {
     if (text.isEmpty()) return;
     juce::AccessibilityHandler::postAnnouncement(text, priority);
+    if (const auto* voiced = dynamic_cast<const SpokenAnnouncements*>(&processor))
+        voiced->speakAnnouncement(text, priority == juce::AccessibilityHandler::AnnouncementPriority::high);
 #if JUCE_LINUX
     if (processor.wrapperType == juce::AudioProcessor::wrapperType_Standalone)
         std::cerr << "ARMadillo " << topic << ": " << text << std::endl;

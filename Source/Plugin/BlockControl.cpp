@@ -1,4 +1,5 @@
 #include "Plugin/BlockControl.h"
+#include "Access/TactilePlayer.h"
 #include <algorithm>
 #include "Core/Clock.h"
 #include "Engine/Engine.h"
@@ -47,8 +48,10 @@ void BlockControl::step(double dt, double wall, bool toMotors, const Transport& 
                          cells_.roll->load(std::memory_order_relaxed)};
     s.transport = transport;
     s.dt = dt;
-    const live::ControlResult result = loop_.tick(s);   // swap-in, parameters, fusion, Engine::control
+    live::ControlResult result = loop_.tick(s);   // swap-in, parameters, fusion, Engine::control
     if (! result.ran) return;
+    if (auto* stimulus = stimulus_.load(std::memory_order_acquire))
+        result.levels = stimulus->onPacket(clock_ + dt);   // the sensitivity test has the motors
     if (toMotors) {
         motors_.push(stamp, result.levels);   // full (no link consuming): dropped and counted
         lastStamp_ = stamp;

@@ -27,6 +27,10 @@
 #include <atomic>
 #include <cstdint>
 
+namespace armadillo::access {
+class TactilePlayer;
+}
+
 namespace armadillo::plugin {
 
 class BlockControl {
@@ -51,6 +55,11 @@ public:
     /// app's MIDI port (nullptr in a host).
     void setSceneTable(const SceneParameterTable* table) noexcept { sceneTable_ = table; }
     void setMidiPort(MidiPort* port) noexcept { port_ = port; }
+    /// The app's sensitivity test (TouchTestSession.h, issue 26): while set, each control step's
+    /// levels come from this player (its own TactileEngine and SafetyStage) instead of the
+    /// scene's; nullptr gives the motors back to the scene. Any thread; the player must outlive
+    /// this object (the processor owns both).
+    void setStimulus(access::TactilePlayer* player) noexcept { stimulus_.store(player, std::memory_order_release); }
     /// Which channels of the host's buffer carry the audio the scenes listen to (the main input
     /// or the sidechain), and whether it is played through to the output (the main input: an
     /// effect that listens must not mute its track).
@@ -122,6 +131,7 @@ private:
     std::atomic<double> sampleRate_ {48000.0};
     std::atomic<double> lastAudioMs_ {-1.0e9};
     std::atomic<bool> idleDrivesMotors_ {false};
+    std::atomic<access::TactilePlayer*> stimulus_ {nullptr};
 
     // Token holder only.
     double clock_ = 0.0;              ///< s since start, advanced by dt per step

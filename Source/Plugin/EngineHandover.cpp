@@ -1,5 +1,6 @@
 #include "Plugin/EngineHandover.h"
 #include "Engine/Engine.h"
+#include "Link/TouchProfile.h"
 #include <limits>
 
 namespace armadillo::plugin {
@@ -24,6 +25,15 @@ std::unique_ptr<live::EngineSlot> EngineHandover::build(const EngineRequest& req
     config.sceneConfig.side = request.left ? ArmSide::Left : ArmSide::Right;
     config.sceneConfig.text = request.text;
     config.sceneConfig.score = request.score;
+    // The reader's touch profile scales each motor (TactileEngine, before the SafetyStage), so
+    // every scene gets it; the settings only keep a profile that parses (PluginState.cpp).
+    if (! request.touchProfile.empty()) {
+        try {
+            config.motorGain = device::touchProfileGains(device::parseTouchProfile(request.touchProfile, "the touch profile setting"));
+        } catch (const std::exception& e) {
+            status_("The touch profile is not used: " + juce::String(e.what()));
+        }
+    }
     // resourceDir stays empty: scores and word lists come from the user's folders or the copy
     // built into the core (Core/Resources.h), never from a path of the build machine.
     try {

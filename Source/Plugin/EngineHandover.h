@@ -26,6 +26,7 @@ struct EngineRequest {
     bool left = false;
     bool backMotors = false;
     std::string text, score;
+    std::string touchProfile;   ///< the reader's touch profile JSON ("" = none): EngineConfig::motorGain
     bool operator==(const EngineRequest&) const = default;
 };
 

@@ -4,6 +4,7 @@
 #include "Plugin/FactoryPresets.h"
 #include "Plugin/PluginProcessor.h"
 #include "Plugin/StandaloneAccess.h"
+#include "Plugin/ReaderPanel.h"
 #include "Core/Resources.h"
 #include "Core/Version.h"
 
@@ -102,13 +103,29 @@ ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
         o.escapeKeyTriggersCloseButton = true;
         mappingWindow_ = o.launchAsync();
     };
+    describe(readerButton_, "Reader settings", "Self-voicing and braille display, the reader's touch profile, the progress report.");
+    readerButton_.onClick = [this] {
+        if (readerWindow_ != nullptr) {
+            readerWindow_->toFront(true);
+            return;
+        }
+        juce::DialogWindow::LaunchOptions o;
+        auto panel = std::make_unique<ReaderPanel>(processor_);
+        panel->setSize(640, 600);
+        o.content.setOwned(panel.release());
+        o.dialogTitle = "ARMadillo reader";
+        o.resizable = true;
+        o.useNativeTitleBar = true;
+        o.escapeKeyTriggersCloseButton = true;
+        readerWindow_ = o.launchAsync();
+    };
 
     deviceView_.setViewedComponent(&device_, false);
     deviceView_.setScrollBarsShown(true, false);
     deviceView_.setTitle("Device and OSC settings");
     deviceView_.setDescription("The device panel; it scrolls (Page Up / Page Down, or Tab through it) when the window is low.");
 
-    for (juce::Component* c : std::initializer_list<juce::Component*> {&source_, &scene_, &preset_, &wander_, &mappingButton_, &setup_, &help_, &about_,
+    for (juce::Component* c : std::initializer_list<juce::Component*> {&source_, &scene_, &preset_, &wander_, &readerButton_, &mappingButton_, &setup_, &help_, &about_,
                                                                         &armView_, &motors_, &deviceView_, &sceneControls_, &statusLine_})
         addAndMakeVisible(*c);
     armView_.setWantsKeyboardFocus(true);
@@ -133,7 +150,7 @@ ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
     // Tab order: the top bar left to right, the message, then the panels as laid out (arm view,
     // training, motors, device, scene controls) and the status line last.
     int order = 1;
-    for (juce::Component* c : std::initializer_list<juce::Component*> {&source_, &scene_, &preset_, &wander_, &mappingButton_, &setup_, &help_, &about_,
+    for (juce::Component* c : std::initializer_list<juce::Component*> {&source_, &scene_, &preset_, &wander_, &readerButton_, &mappingButton_, &setup_, &help_, &about_,
                                                                         &status_, &dismiss_, &armView_, &training_, &motors_,
                                                                         &deviceView_, &sceneControls_, &statusLine_})
         c->setExplicitFocusOrder(order++);
@@ -159,6 +176,7 @@ ArmadilloEditor::~ArmadilloEditor()
 {
     if (mappingWindow_ != nullptr) delete mappingWindow_.getComponent();   // its panel uses the processor
     juce::Desktop::getInstance().removeFocusChangeListener(this);
+    if (readerWindow_ != nullptr) delete readerWindow_.getComponent();
     sourceAttachment_.reset();
     sceneAttachment_.reset();
 }
@@ -203,6 +221,7 @@ void ArmadilloEditor::timerCallback()
     const auto message = processor_.statusMessage();
     if (message != status_.getText()) {
         status_.setText(message, juce::dontSendNotification);
+        processor_.speakAnnouncement(message, false);   // a status change is spoken and brailled too
         status_.setVisible(message.isNotEmpty());
         dismiss_.setVisible(message.isNotEmpty());
         resized();
@@ -319,7 +338,8 @@ void ArmadilloEditor::resized()
     auto top = r.removeFromTop(bar);
     const auto textWidth = [&](const juce::String& s) { return juce::roundToInt(juce::Font(font).getStringWidthFloat(s)) + 14; };
     const int labelsW = textWidth("Source") + textWidth("Scene") + textWidth("Preset");
-    const int buttonsW = textWidth("Wander") + 24 + textWidth("Mapping...") + textWidth("Setup...") + textWidth("Help") + textWidth("About") + 5 * 6;
+    const int buttonsW = textWidth("Wander") + 24 + textWidth("Reader...") + textWidth("Mapping...") + textWidth("Setup...") + textWidth("Help") +
+                         textWidth("About") + 6 * 6;
     const int titleW = textWidth("ARMadillo") + 10;
     const bool showTitle = top.getWidth() - labelsW - buttonsW - titleW >= 3 * 150;
     title_.setVisible(showTitle);
@@ -331,6 +351,8 @@ void ArmadilloEditor::resized()
     setup_.setBounds(top.removeFromRight(textWidth("Setup...")));
     top.removeFromRight(6);
     mappingButton_.setBounds(top.removeFromRight(textWidth("Mapping...")));
+    top.removeFromRight(6);
+    readerButton_.setBounds(top.removeFromRight(textWidth("Reader...")));
     top.removeFromRight(6);
     wander_.setBounds(top.removeFromRight(textWidth("Wander") + 24));
     top.removeFromRight(6);

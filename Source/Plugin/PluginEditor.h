@@ -54,6 +54,8 @@ private:
     juce::TextButton setup_ {"Setup..."};
     juce::TextButton mappingButton_ {"Mapping..."};              // MappingPanel in its own window
     juce::Component::SafePointer<juce::DialogWindow> mappingWindow_;
+    juce::TextButton readerButton_ {"Reader..."};                // ReaderPanel in its own window (issue 26)
+    juce::Component::SafePointer<juce::DialogWindow> readerWindow_;
     std::unique_ptr<juce::FileChooser> chooser_;
     std::unique_ptr<juce::AudioProcessorValueTreeState::ComboBoxAttachment> sourceAttachment_, sceneAttachment_;
     ArmView armView_;

@@ -1,4 +1,6 @@
 #include "Plugin/PluginProcessor.h"
+#include "Link/TouchProfile.h"
+#include "Access/Feedback.h"
 #include "Plugin/FactoryPresets.h"
 #include "Plugin/PluginEditor.h"
 #include <iostream>
@@ -44,6 +46,7 @@ ArmadilloProcessor::ArmadilloProcessor()
     settings_.addListener(this);
     engines_.install(currentRequest(), token_);
     applyNetworkSettings();
+    applyVoiceSettings();
     // The mapping (before the control clock starts): scene parameters for its destinations, the
     // classic preset until a state says otherwise, and in the standalone app an ALSA sequencer
     // port for its MIDI (docs/PLUGIN.md "MIDI out").
@@ -70,6 +73,7 @@ ArmadilloProcessor::ArmadilloProcessor()
 ArmadilloProcessor::~ArmadilloProcessor()
 {
     stopTimer();
+    control_.setStimulus(nullptr);
     settings_.removeListener(this);
     if (gestureOpen_)
         for (auto* id : {ParamIds::elevation, ParamIds::azimuth, ParamIds::roll})
@@ -104,6 +108,7 @@ EngineRequest ArmadilloProcessor::currentRequest() const
     r.backMotors = static_cast<bool>(settings_[SettingIds::backMotors]);
     r.text = settings_[SettingIds::brailleText].toString().toStdString();
     r.score = settings_[SettingIds::score].toString().toStdString();
+    r.touchProfile = settings_[SettingIds::touchProfile].toString().toStdString();
     return r;
 }
 
@@ -220,6 +225,11 @@ void ArmadilloProcessor::timerCallback()
     applyRequestedProgram();
     if (const auto failure = engines_.takeNewFailure(); failure.isNotEmpty()) setEngineStatus(failure);
     training_.collect();   // keeps a braille training log's queue drained while no panel asks for it
+    if (feedbackUntil_ > 0 && feedbackPlayer_.completed() >= feedbackUntil_) {
+        feedbackUntil_ = 0;
+        if (touchTest_.state() == TouchTestSession::State::Idle && adaptive_.state() == AdaptiveSession::State::Idle)
+            control_.setStimulus(nullptr);   // the scene has the motors again
+    }
     engines_.update(currentRequest());
     writeLiveOrientationToParameters();
     writeMacrosToParameters();
@@ -319,11 +329,86 @@ void ArmadilloProcessor::valueTreePropertyChanged(juce::ValueTree&, const juce::
     } else if (id == SettingIds::midiChannel) {
         std::lock_guard<std::mutex> lock(mappingMutex_);
         if (mapping_.name() == "classic") mapping_.usePreset("classic");   // the classic wiring's channel
+    } else if (id == SettingIds::readerVoice || id == SettingIds::speechRate) {
+        applyVoiceSettings();
     } else if (id == SettingIds::oscOutEnabled || id == SettingIds::oscOutHost || id == SettingIds::oscOutPort
                || id == SettingIds::oscInEnabled || id == SettingIds::oscInPort || id == SettingIds::oscInFormat
                || id == SettingIds::oscInMount) {
         applyNetworkSettings();
     }
+}
+
+void ArmadilloProcessor::applyVoiceSettings()
+{
+    const auto mode = settings_[SettingIds::readerVoice].toString();
+    voice_->setRate(static_cast<int>(settings_[SettingIds::speechRate]));
+    if (mode == voiceOpened_) return;
+    voiceOpened_ = mode;
+    const bool on = mode == "on"
+                    || (mode == "auto" && wrapperType == wrapperType_Standalone
+                        && ReaderVoice::readerDetected("/proc", ReaderVoice::defaultSockets()));
+    if (! on) {
+        voice_->close();
+        voiceOn_ = false;
+        return;
+    }
+    const auto speech = juce::SystemStats::getEnvironmentVariable("ARMADILLO_SPEECH", "auto").toStdString();
+    const auto display = juce::SystemStats::getEnvironmentVariable("ARMADILLO_BRAILLE", "brlapi").toStdString();
+    const auto problems = voice_->open(speech, display);
+    voiceOn_ = voice_->speaking() || voice_->showing();
+    // A display or voice that is missing is said on what there is (and in the status line).
+    if (! problems.empty()) setStatus("Self-voicing: " + juce::String(problems));
+    if (voiceOn_) voice_->say("ARMadillo. Self-voicing on. F3 repeats, F4 stops speech.", true);
+}
+
+bool ArmadilloProcessor::beginAdaptive(const juce::File& readerProfile, int trials, juce::String& why)
+{
+    if (touchTest_.state() != TouchTestSession::State::Idle) endTouchTest(false);
+    std::string reason;
+    control_.setStimulus(&feedbackPlayer_);   // before the first trial is queued: its cue plays at once
+    if (! adaptive_.begin(readerProfile.getFullPathName().toStdString(), trials, reason)) {
+        control_.setStimulus(nullptr);
+        why = juce::String(reason);
+        return false;
+    }
+    return true;
+}
+
+void ArmadilloProcessor::endAdaptive()
+{
+    adaptive_.stop();
+    if (touchTest_.state() == TouchTestSession::State::Idle) control_.setStimulus(nullptr);
+}
+
+void ArmadilloProcessor::beginTouchTest(std::uint64_t seed)
+{
+    if (adaptive_.state() != AdaptiveSession::State::Idle) endAdaptive();
+    touchTest_.begin(seed);
+    control_.setStimulus(&touchTest_.player());
+}
+
+void ArmadilloProcessor::endTouchTest(bool keep)
+{
+    control_.setStimulus(nullptr);
+    if (keep && touchTest_.state() == TouchTestSession::State::Done) {
+        auto profile = touchTest_.profile();
+        profile.arm = settings_[SettingIds::armSide].toString().toStdString();
+        settings_.setProperty(SettingIds::touchProfile, juce::String(device::touchProfileToJson(profile)), nullptr);
+    }
+    touchTest_.cancel();
+}
+
+void ArmadilloProcessor::armFeedback(bool right)
+{
+    if (! static_cast<bool>(settings_[SettingIds::armFeedback])) return;
+    if (touchTest_.state() != TouchTestSession::State::Idle || adaptive_.state() != AdaptiveSession::State::Idle) return;
+    feedbackUntil_ = feedbackPlayer_.play(access::feedbackSensation(right, 10.0f), access::feedbackPause(right));
+    control_.setStimulus(&feedbackPlayer_);
+}
+
+void ArmadilloProcessor::speakAnnouncement(const juce::String& text, bool interrupt) const
+{
+    if (voiceOn_) voice_->say(text.toStdString(), interrupt);
 }
 
 void ArmadilloProcessor::applyNetworkSettings()

@@ -19,7 +19,11 @@
 #include "Plugin/MappingSession.h"
 #include "Plugin/Parameters.h"
 #include "Plugin/PluginState.h"
+#include "Plugin/ReaderVoice.h"
+#include "Plugin/AdaptiveSession.h"
+#include "Plugin/TouchTestSession.h"
 #include "Plugin/TrainingAccess.h"
+#include "Plugin/Accessibility.h"
 #include <juce_audio_processors/juce_audio_processors.h>
 #include <array>
 #include <atomic>
@@ -30,6 +34,7 @@
 namespace armadillo::plugin {
 
 class ArmadilloProcessor : public juce::AudioProcessor,
+                           public SpokenAnnouncements,
                            private juce::Timer,
                            private juce::ValueTree::Listener {
 public:
@@ -118,6 +123,29 @@ public:
         MappingSession* operator->() const noexcept { return &session; }
     };
     MappingAccess mapping() { return {std::unique_lock<std::mutex>(mappingMutex_), mapping_}; }
+    /// Self-voicing and the braille display (ReaderVoice.h; message thread). On when the
+    /// readerVoice setting is "on", or "auto" in the standalone app while a screen reader or
+    /// brltty runs. ARMADILLO_SPEECH / ARMADILLO_BRAILLE name the backends (default auto / brlapi).
+    ReaderVoice& voice() noexcept { return *voice_; }
+    bool voiceOn() const noexcept { return voiceOn_; }
+    void speakAnnouncement(const juce::String& text, bool interrupt) const override;
+    /// The sensitivity test (TouchTestSession.h; message thread): while it runs, the motors play
+    /// its stimuli instead of the scene. endTouchTest(true) keeps a finished test's profile as
+    /// the touchProfile setting (applied to every scene, saved in the state).
+    TouchTestSession& touchTest() noexcept { return touchTest_; }
+    void beginTouchTest(std::uint64_t seed);
+    void endTouchTest(bool keep);
+    /// Braille training's answer felt on the arm when the armFeedback setting is on (a deafblind
+    /// reader): Access/Feedback.h's "right" / "wrong" sensation in place of the scene's levels for
+    /// its 0.4–0.6 s (through its own TactileEngine and SafetyStage; levels 4 and 10, well above
+    /// any threshold, so the touch profile is not applied to them).
+    /// Not during the sensitivity test. Message thread.
+    void armFeedback(bool right);
+    /// Adaptive training (AdaptiveSession.h; message thread): while it runs its cells and cues
+    /// take the motors in place of the scene.
+    AdaptiveSession& adaptive() noexcept { return adaptive_; }
+    bool beginAdaptive(const juce::File& readerProfile, int trials, juce::String& why);
+    void endAdaptive();
     /// The standalone app's MIDI port line ("" in a host), the mapping's OSC and drop counters.
     juce::String mappingStatus() const;
 
@@ -147,6 +175,7 @@ private:
     void writeLiveOrientationToParameters();
     void writeMacrosToParameters();
     void applyNetworkSettings();
+    void applyVoiceSettings();
     void setStatus(const juce::String& message);
     /// The engine hand-over's messages: "" takes down an earlier engine message (only that).
     void setEngineStatus(const juce::String& message);
@@ -164,10 +193,17 @@ private:
     device::LevelSchedule motors_;               // control steps → device link
     EngineHandover engines_;
     TrainingAccess training_;
+    TouchTestSession touchTest_;                 // before control_: its player outlives the control step's pointer
+    access::TactilePlayer feedbackPlayer_ {TactileConfig {}, 0.0};   // before control_ too
+    AdaptiveSession adaptive_ {feedbackPlayer_};   // plays through feedbackPlayer_
+    int feedbackUntil_ = 0;                      // the sequence whose end gives the motors back to the scene
     BlockControl control_;
     Connections connections_;
     std::mutex mappingMutex_;                    // message thread vs a host's state calls; never audio
     MappingSession mapping_;
+    std::unique_ptr<ReaderVoice> voice_ = std::make_unique<ReaderVoice>();
+    bool voiceOn_ = false;
+    juce::String voiceOpened_;                   // the readerVoice setting the backends were opened for
 
     // Live → parameters (message thread)
     bool gestureOpen_ = false;

@@ -1,5 +1,6 @@
 #include "Plugin/PluginState.h"
 #include "Core/Version.h"
+#include "Link/TouchProfile.h"
 #include <cmath>
 #include <limits>
 
@@ -27,6 +28,10 @@ juce::ValueTree defaultSettings()
     s.setProperty(SettingIds::editorHeight, 700, nullptr);
     s.setProperty(SettingIds::simWandering, true, nullptr);
     s.setProperty(SettingIds::connectOnStart, false, nullptr);
+    s.setProperty(SettingIds::readerVoice, "auto", nullptr);
+    s.setProperty(SettingIds::speechRate, 0, nullptr);
+    s.setProperty(SettingIds::armFeedback, false, nullptr);
+    s.setProperty(SettingIds::touchProfile, "", nullptr);
     return s;
 }
 
@@ -58,6 +63,18 @@ void installSettings(juce::ValueTree& settings, const juce::ValueTree& loaded)
     clampInt(SettingIds::editorHeight, 300, 8000, 700);
     if (settings[SettingIds::armSide].toString() != "left") settings.setProperty(SettingIds::armSide, "right", nullptr);
     if (settings[SettingIds::score].toString().isEmpty()) settings.setProperty(SettingIds::score, "rite-of-spring", nullptr);
+    clampInt(SettingIds::speechRate, -100, 100, 0);
+    const auto voice = settings[SettingIds::readerVoice].toString();
+    if (voice != "on" && voice != "off") settings.setProperty(SettingIds::readerVoice, "auto", nullptr);
+    // A touch profile is kept only when it parses (Link/TouchProfile.h), so the engine never gets
+    // a gain from a damaged state; a refused one means none (every motor gain 1).
+    if (const auto json = settings[SettingIds::touchProfile].toString(); json.isNotEmpty()) {
+        try {
+            (void) device::parseTouchProfile(json.toStdString(), "the saved touch profile");
+        } catch (const std::exception&) {
+            settings.setProperty(SettingIds::touchProfile, "", nullptr);
+        }
+    }
 }
 
 void resetToDefaults(juce::AudioProcessor& processor, juce::ValueTree& settings)

@@ -31,6 +31,10 @@ inline const juce::Identifier editorWidth {"editorWidth"};
 inline const juce::Identifier editorHeight {"editorHeight"};
 inline const juce::Identifier simWandering {"simWandering"};
 inline const juce::Identifier connectOnStart {"connectOnStart"}; ///< bool: open the saved port when source = device
+inline const juce::Identifier readerVoice {"readerVoice"};   ///< "auto" | "on" | "off": self-voicing and braille display (ReaderVoice.h)
+inline const juce::Identifier speechRate {"speechRate"};     ///< −100..100, 0 = the voice's default
+inline const juce::Identifier armFeedback {"armFeedback"};   ///< bool: training feedback felt on the arm (Access/Feedback.h)
+inline const juce::Identifier touchProfile {"touchProfile"}; ///< the reader's touch profile (its JSON, Link/TouchProfile.h), "" = none
 } // namespace SettingIds
 
 namespace PluginState {

@@ -50,6 +50,7 @@ TrainingPanel::TrainingPanel(ArmadilloProcessor& processor) : processor_(process
     answer_.setInputRestrictions(kMaxTypedCharacters);
     answer_.setReturnKeyStartsNewLine(false);
     answer_.onReturnKey = [this] { submit(); };
+    keys_.attach(answer_, [this] { submit(); }, [this](const juce::String& t) { announce(t); }, &processor_.voice());
     describe(answerButton_, "Answer", "Send the answer in the field (the same as Return).");
     answerButton_.onClick = [this] { submit(); };
     describe(save_, "Save training log", "Write the training log (CSV, one row per event) to a file.");
@@ -73,10 +74,12 @@ TrainingPanel::TrainingPanel(ArmadilloProcessor& processor) : processor_(process
 TrainingPanel::~TrainingPanel()
 {
     stopTimer();
+    answer_.removeKeyListener(&keys_);
 }
 
 void TrainingPanel::timerCallback()
 {
+    if (wanted_ && ! complete_) keys_.pollDisplay();
     follow();
 }
 
@@ -143,6 +146,7 @@ void TrainingPanel::show(const std::vector<braille::TrainingNotice>& notices)
             const auto text = skipped ? "skipped (counts as wrong), it was '" + juce::String(n.expected) + "'"
                                       : juce::String(braille::resultText(n)) + (n.right ? juce::String() : ", you answered '" + juce::String(n.answer) + "'");
             result_.setText(text, juce::dontSendNotification);
+            processor_.armFeedback(n.right);   // felt on the arm when that setting is on (deafblind)
             say << text << ". " << n.correct << " of " << n.answered << " correct. ";
             auto it = std::find_if(tallyCounts_.begin(), tallyCounts_.end(), [&](const auto& e) { return e.first == n.expected; });
             if (it == tallyCounts_.end()) it = tallyCounts_.insert(tallyCounts_.end(), {n.expected, {0, 0}});

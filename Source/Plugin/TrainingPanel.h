@@ -15,6 +15,7 @@
 // listed on the panel: Return send, F5 repeat the prompt, F6 skip, F8 stop; Escape leaves it). Threads: message thread only (its own timer polls the scene's lock-free
 // progress); it never keeps a pointer to the scene, which the processor may replace at any time.
 #include "Braille/TrainingFeeder.h"
+#include "Plugin/PerkinsKeys.h"
 #include <juce_gui_basics/juce_gui_basics.h>
 #include <atomic>
 #include <cstdint>
@@ -85,6 +86,7 @@ private:
     juce::String lastPrompt_;
     std::string log_;                      // the complete training's log, copied once at the end
     std::unique_ptr<juce::FileChooser> chooser_;
+    TrainingKeys keys_;                    // Perkins chords (F2), repeat (F3), stop speech (F4), display keys
 };
 
 } // namespace armadillo::plugin

@@ -150,15 +150,16 @@ TEST_CASE("editor: Tab reaches every control in layout order; each has an access
         CHECK(s.described);
     }
     // The top bar comes first, left to right; the status line last.
-    REQUIRE(names.size() > 8);
+    REQUIRE(names.size() > 9);
     CHECK(names[0] == "Source");
     CHECK(names[1] == "Scene");
     CHECK(names[2] == "Preset");
     CHECK(names[3] == "Simulator wandering");
-    CHECK(names[4] == "Mapping editor");
-    CHECK(names[5] == "Setup");
-    CHECK(names[6] == "Help");
-    CHECK(names[7] == "About ARMadillo");
+    CHECK(names[4] == "Reader settings");
+    CHECK(names[5] == "Mapping editor");
+    CHECK(names[6] == "Setup");
+    CHECK(names[7] == "Help");
+    CHECK(names[8] == "About ARMadillo");
     CHECK(names.back() == "Status");
     // The panels in between: arm view before the motors before the device panel's port list.
     const auto at = [&](const juce::String& n) { return std::find(names.begin(), names.end(), n) - names.begin(); };

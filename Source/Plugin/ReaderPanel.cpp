@@ -1,0 +1,431 @@
+#include "Plugin/ReaderPanel.h"
+#include "Access/ReaderProfile.h"
+#include "Access/Report.h"
+#include "Link/TouchProfile.h"
+#include "Plugin/Accessibility.h"
+#include "Plugin/PluginProcessor.h"
+
+namespace armadillo::plugin {
+
+ReaderPanel::ReaderPanel(ArmadilloProcessor& processor) : processor_(processor)
+{
+    setTitle("Reader settings");
+    setDescription("Self-voicing and braille display, the reader's touch profile, and the progress report.");
+    setFocusContainerType(FocusContainerType::focusContainer);
+    heading_.setText("Reader: speech, braille display, touch, progress", juce::dontSendNotification);
+    heading_.setFont(juce::Font(16.0f, juce::Font::bold));
+    describe(heading_, "Reader settings", "Settings for a reader who cannot see or hear the screen.");
+
+    voiceLabel_.setText("Speak and braille", juce::dontSendNotification);
+    voice_.addItemList({"Auto (when a screen reader or brltty runs)", "On", "Off"}, 1);
+    describe(voice_, "Self-voicing",
+             "Speak every prompt, answer and message, and write it to the braille display. Auto: on when Orca, "
+             "speech-dispatcher or brltty is running.");
+    const auto mode = processor_.settings()[SettingIds::readerVoice].toString();
+    voice_.setSelectedId(mode == "on" ? 2 : (mode == "off" ? 3 : 1), juce::dontSendNotification);
+    voice_.onChange = [this] {
+        const int id = voice_.getSelectedId();
+        processor_.settings().setProperty(SettingIds::readerVoice, id == 2 ? "on" : (id == 3 ? "off" : "auto"), nullptr);
+        refresh();
+    };
+    voiceLabel_.attachToComponent(&voice_, true);
+
+    rateLabel_.setText("Speech rate", juce::dontSendNotification);
+    rate_.setRange(-100.0, 100.0, 10.0);
+    rate_.setSliderStyle(juce::Slider::LinearHorizontal);
+    rate_.setTextBoxStyle(juce::Slider::TextBoxRight, false, 50, 20);
+    describe(rate_, "Speech rate", "From -100 (slowest) through 0 (the voice's own) to +100 (fastest). Arrow keys change it.");
+    rate_.setValue(static_cast<int>(processor_.settings()[SettingIds::speechRate]), juce::dontSendNotification);
+    rate_.onDragEnd = [this] { announce("Speech rate " + juce::String(static_cast<int>(rate_.getValue()))); };
+    rate_.onValueChange = [this] {
+        processor_.settings().setProperty(SettingIds::speechRate, static_cast<int>(rate_.getValue()), nullptr);
+        if (! rate_.isMouseButtonDown()) announce("Speech rate " + juce::String(static_cast<int>(rate_.getValue())));
+    };
+    rateLabel_.attachToComponent(&rate_, true);
+    describe(repeat_, "Repeat", "Say the last prompt or message again (F3 in the training answer field).");
+    repeat_.onClick = [this] { processor_.voice().repeat(); };
+    describe(stop_, "Stop speech", "Stop speaking now (F4 in the training answer field).");
+    stop_.onClick = [this] { processor_.voice().stop(); };
+    describe(armFeedback_, "Feedback on the arm",
+             "After each training answer the arm says right (all nine motors hum softly) or wrong (the outer columns buzz "
+             "three times), so a reader who cannot see or hear the screen trains alone.");
+    armFeedback_.getToggleStateValue().referTo(processor_.settings().getPropertyAsValue(SettingIds::armFeedback, nullptr));
+    armFeedback_.onClick = [this] { announce(armFeedback_.getToggleState() ? "Feedback on the arm: on" : "Feedback on the arm: off"); };
+    describe(voiceState_, "Speech and display state", "Which voice and braille display are in use.");
+
+    describe(touch_, "Touch profile", "The reader's touch profile: each motor's threshold, used to scale it.");
+    describe(loadTouch_, "Load touch profile",
+             "Load a touch profile made by armadillo touch-profile. It is saved with the setup and scales every motor.");
+    loadTouch_.onClick = [this] { choose(true); };
+    describe(clearTouch_, "No touch profile", "Drive every motor alike again.");
+    clearTouch_.onClick = [this] {
+        processor_.settings().setProperty(SettingIds::touchProfile, "", nullptr);
+        refresh();
+    };
+
+    describe(startTest_, "Sensitivity test",
+             "Measure how strongly you feel each of the nine motors: one motor buzzes at a time; answer felt (Y) or "
+             "not felt (N). About 5 minutes. The result becomes your touch profile. Press again to stop.");
+    startTest_.onClick = [this] { startTest(); };
+    describe(felt_, "Felt", "You felt the last buzz (key Y).");
+    felt_.onClick = [this] { answerTest(true); };
+    describe(notFelt_, "Not felt", "You did not feel the last buzz (key N).");
+    notFelt_.onClick = [this] { answerTest(false); };
+    describe(again_, "Again", "Play the last buzz again (key R).");
+    again_.onClick = [this] {
+        processor_.touchTest().again();
+        followTest();
+    };
+    describe(testState_, "Sensitivity test state", "Which motor and level the test is at, or its result.");
+    describe(saveTouch_, "Save touch profile", "Write the touch profile in use to a file (for armadillo --profile).");
+    saveTouch_.onClick = [this] { saveProfile(); };
+
+    describe(adaptiveStart_, "Adaptive training",
+             "Train letters and words adapted to everything you answered before: choose or name your reader profile "
+             "file. 20 trials, drawn on the arm; answer in the field (letters and Return, or F2 and chords then Space). "
+             "Press again to stop.");
+    adaptiveStart_.onClick = [this] { startAdaptive(); };
+    describe(adaptiveAgain_, "Show again", "Draw the current trial on the arm again.");
+    adaptiveAgain_.onClick = [this] {
+        processor_.adaptive().again();
+        adaptiveAnswer_.grabKeyboardFocus();
+    };
+    describe(adaptiveAnswer_, "Adaptive answer", "Your answer to the adaptive trial; Return sends it. F2: chords.");
+    adaptiveAnswer_.setTextToShowWhenEmpty("answer here, then Return", juce::Colours::grey);
+    adaptiveAnswer_.setInputRestrictions(64);
+    adaptiveAnswer_.onReturnKey = [this] { answerAdaptive(); };
+    adaptiveKeys_.attach(adaptiveAnswer_, [this] { answerAdaptive(); }, [this](const juce::String& t) { announce(t); },
+                         &processor_.voice());
+    describe(adaptiveState_, "Adaptive training state", "The trial and its prompt, or the last feedback.");
+
+    reportHeading_.setText("Progress", juce::dontSendNotification);
+    describe(reportHeading_, "Progress", "The progress report of a reader profile.");
+    describe(loadReport_, "Progress report",
+             "Open a reader profile (the file armadillo braille --adaptive keeps) and show its progress report.");
+    loadReport_.onClick = [this] { choose(false); };
+    describe(report_, "Progress report text",
+             "Accuracy per stage and session, letters per minute, the confusion matrix and the published figures. "
+             "Read it line by line with the arrow keys.");
+    report_.setMultiLine(true, false);
+    report_.setReadOnly(true);
+    report_.setCaretVisible(true);   // the caret is where a braille reader reads
+    report_.setFont(juce::Font(juce::Font::getDefaultMonospacedFontName(), 14.0f, juce::Font::plain));
+    report_.setTextToShowWhenEmpty("no report loaded", juce::Colours::grey);
+
+    for (juce::Component* c : std::initializer_list<juce::Component*> {&heading_, &voice_, &rate_, &repeat_, &stop_, &voiceState_, &armFeedback_, &touch_,
+                                                                        &loadTouch_, &clearTouch_, &saveTouch_, &startTest_, &felt_, &notFelt_, &again_, &testState_, &adaptiveStart_, &adaptiveAgain_, &adaptiveAnswer_, &adaptiveState_, &reportHeading_, &loadReport_, &report_})
+        addAndMakeVisible(*c);
+    refresh();
+    startTimerHz(4);
+}
+
+ReaderPanel::~ReaderPanel()
+{
+    stopTimer();
+    adaptiveAnswer_.removeKeyListener(&adaptiveKeys_);
+    if (processor_.adaptive().state() != AdaptiveSession::State::Idle) processor_.endAdaptive();
+    if (processor_.touchTest().state() != TouchTestSession::State::Idle) processor_.endTouchTest(false);   // the motors back to the scene
+}
+
+void ReaderPanel::timerCallback()
+{
+    followTest();
+    followAdaptive();
+    refresh();
+}
+
+void ReaderPanel::startAdaptive()
+{
+    if (processor_.adaptive().state() == AdaptiveSession::State::Drawing || processor_.adaptive().state() == AdaptiveSession::State::Answering) {
+        processor_.endAdaptive();
+        adaptiveState_.setText("Adaptive training stopped; the reader profile keeps every answer.", juce::dontSendNotification);
+        announce(adaptiveState_.getText());
+        followAdaptive();
+        return;
+    }
+    auto start = juce::File::getSpecialLocation(juce::File::userDocumentsDirectory).getChildFile("reader.json");
+    if (readerFile_ != juce::File()) start = readerFile_;
+    chooser_ = std::make_unique<juce::FileChooser>("Your reader profile (a new name starts a new one)", start, "*.json");
+    chooser_->launchAsync(juce::FileBrowserComponent::saveMode | juce::FileBrowserComponent::canSelectFiles, [this](const juce::FileChooser& fc) {
+        auto file = fc.getResult();
+        if (file == juce::File()) return;
+        if (! file.hasFileExtension("json")) file = file.withFileExtension("json");
+        juce::String why;
+        if (! processor_.beginAdaptive(file, 20, why)) {
+            adaptiveState_.setText("Adaptive training cannot start: " + why, juce::dontSendNotification);
+            announce(adaptiveState_.getText());
+            return;
+        }
+        readerFile_ = file;
+        announce("Adaptive training, 20 trials, with " + file.getFileName() + ". Feel the arm, then answer.");
+        followAdaptive();                      // enables the answer field first: a disabled one takes no focus
+        adaptiveAnswer_.grabKeyboardFocus();
+    });
+}
+
+void ReaderPanel::answerAdaptive()
+{
+    auto& session = processor_.adaptive();
+    if (session.state() != AdaptiveSession::State::Answering) {
+        announce(session.state() == AdaptiveSession::State::Drawing ? "Wait: the trial is still being drawn." : "No adaptive training is running.");
+        return;
+    }
+    const auto rt = (juce::Time::getMillisecondCounterHiRes() - promptedAt_) / 1000.0;
+    const auto feedback = juce::String(session.answer(adaptiveAnswer_.getText().toStdString(), rt));
+    adaptiveAnswer_.clear();
+    adaptiveState_.setText(feedback, juce::dontSendNotification);
+    announce(feedback);
+    if (session.state() == AdaptiveSession::State::Done) {
+        processor_.endAdaptive();
+        if (readerFile_.existsAsFile()) showReport(readerFile_);   // where the reader stands now
+    }
+    followAdaptive();
+}
+
+void ReaderPanel::followAdaptive()
+{
+    auto& session = processor_.adaptive();
+    if (session.poll()) {
+        promptedAt_ = juce::Time::getMillisecondCounterHiRes();
+        adaptiveState_.setText(juce::String(session.prompt()), juce::dontSendNotification);
+        announce(adaptiveState_.getText());
+        adaptiveAnswer_.setEnabled(true);
+        if (isShowing()) adaptiveAnswer_.grabKeyboardFocus();   // where the reader answers, whatever had focus
+    }
+    const bool running = session.state() == AdaptiveSession::State::Drawing || session.state() == AdaptiveSession::State::Answering;
+    adaptiveStart_.setButtonText(running ? "Stop training" : "Adaptive training...");
+    adaptiveAgain_.setEnabled(session.state() == AdaptiveSession::State::Answering);
+    adaptiveAnswer_.setEnabled(running);
+}
+
+void ReaderPanel::startTest()
+{
+    auto& test = processor_.touchTest();
+    if (test.state() == TouchTestSession::State::Presenting || test.state() == TouchTestSession::State::Asking) {
+        processor_.endTouchTest(false);
+        testState_.setText("Sensitivity test stopped; nothing kept.", juce::dontSendNotification);
+        announce(testState_.getText());
+        followTest();
+        return;
+    }
+    processor_.beginTouchTest(static_cast<std::uint64_t>(juce::Time::currentTimeMillis()));
+    announce("Sensitivity test: one motor buzzes at a time. After each, press Y if you felt it, N if not, R to feel it again.");
+    felt_.grabKeyboardFocus();
+    followTest();
+}
+
+void ReaderPanel::answerTest(bool felt)
+{
+    processor_.touchTest().answer(felt);
+    followTest();
+}
+
+void ReaderPanel::followTest()
+{
+    auto& test = processor_.touchTest();
+    using State = TouchTestSession::State;
+    if (test.poll()) {   // a stimulus was just played: ask
+        testState_.setText("Stimulus " + juce::String(test.stimuli()) + ": " + juce::String(test.question()), juce::dontSendNotification);
+        announce(testState_.getText());
+    } else if (test.state() == State::Presenting) {
+        testState_.setText("Stimulus " + juce::String(test.stimuli()) + ": feel...", juce::dontSendNotification);
+    } else if (test.state() == State::Done) {
+        processor_.endTouchTest(true);   // the profile becomes the setting; refresh() announces the thresholds
+        testState_.setText("Sensitivity test complete: the profile is in use.", juce::dontSendNotification);
+        announce(testState_.getText());
+    }
+    const bool asking = test.state() == State::Asking;
+    felt_.setEnabled(asking);
+    notFelt_.setEnabled(asking);
+    again_.setEnabled(asking);
+    const bool running = asking || test.state() == State::Presenting;
+    startTest_.setButtonText(running ? "Stop the test" : "Sensitivity test");
+}
+
+bool ReaderPanel::keyPressed(const juce::KeyPress& key)
+{
+    const auto c = juce::CharacterFunctions::toLowerCase(key.getTextCharacter());
+    if (processor_.touchTest().state() == TouchTestSession::State::Asking && (c == 'y' || c == 'n' || c == 'r')) {
+        if (c == 'r') processor_.touchTest().again();
+        else answerTest(c == 'y');
+        followTest();
+        return true;
+    }
+    if (key.getKeyCode() == juce::KeyPress::F3Key) {
+        processor_.voice().repeat();
+        return true;
+    }
+    if (key.getKeyCode() == juce::KeyPress::F4Key) {
+        processor_.voice().stop();
+        return true;
+    }
+    return false;
+}
+
+void ReaderPanel::saveProfile()
+{
+    const auto json = processor_.settings()[SettingIds::touchProfile].toString();
+    if (json.isEmpty()) {
+        announce("No touch profile in use: load one or run the sensitivity test first.");
+        return;
+    }
+    chooser_ = std::make_unique<juce::FileChooser>("Save the touch profile",
+                                                   juce::File::getSpecialLocation(juce::File::userDocumentsDirectory).getChildFile("touch-profile.json"),
+                                                   "*.json");
+    chooser_->launchAsync(juce::FileBrowserComponent::saveMode | juce::FileBrowserComponent::canSelectFiles
+                              | juce::FileBrowserComponent::warnAboutOverwriting,
+                          [this, json](const juce::FileChooser& fc) {
+                              const auto file = fc.getResult();
+                              if (file == juce::File()) return;
+                              try {
+                                  device::saveTouchProfile(file.getFullPathName().toStdString(),
+                                                           device::parseTouchProfile(json.toStdString(), "the touch profile setting"));
+                                  announce("Touch profile saved to " + file.getFullPathName());
+                              } catch (const std::exception& e) {
+                                  announce("The touch profile was not saved: " + juce::String(e.what()));
+                              }
+                          });
+}
+
+void ReaderPanel::refresh()
+{
+    const auto json = processor_.settings()[SettingIds::touchProfile].toString();
+    if (json != shownTouch_) {
+        const bool first = shownTouch_ == "?";
+        shownTouch_ = json;
+        juce::String text = "Touch profile: none (every motor alike)";
+        if (json.isNotEmpty()) {
+            try {
+                const auto profile = device::parseTouchProfile(json.toStdString(), "the touch profile setting");
+                text = "Touch profile: thresholds";
+                for (int m = 0; m < device::kProfileMotors; ++m)
+                    text << " m" << (m + 1) << "=" << profile.threshold[static_cast<std::size_t>(m)];
+            } catch (const std::exception& e) {
+                text = "Touch profile not used: " + juce::String(e.what());
+            }
+        }
+        touch_.setText(text, juce::dontSendNotification);
+        if (! first) announce(text);
+    }
+    const juce::String state = processor_.voiceOn()
+                                   ? juce::String("On: ") + (processor_.voice().speaking() ? "speech" : "no speech") + ", "
+                                         + (processor_.voice().showing() ? "braille display" : "no braille display")
+                                   : juce::String("Off");
+    if (state != shownVoice_) {
+        const bool first = shownVoice_.isEmpty();
+        shownVoice_ = state;
+        voiceState_.setText("Self-voicing: " + state, juce::dontSendNotification);
+        if (! first) announce(voiceState_.getText());
+    }
+}
+
+juce::String ReaderPanel::loadTouchProfile(const juce::File& file)
+{
+    juce::String message;
+    try {
+        const auto profile = device::loadTouchProfile(file.getFullPathName().toStdString());
+        processor_.settings().setProperty(SettingIds::touchProfile, juce::String(device::touchProfileToJson(profile)), nullptr);
+        refresh();   // announces the thresholds
+        return {};
+    } catch (const std::exception& e) {
+        message = "The touch profile was not loaded: " + juce::String(e.what());
+    }
+    announce(message);
+    return message;
+}
+
+juce::String ReaderPanel::showReport(const juce::File& file)
+{
+    try {
+        const auto path = file.getFullPathName().toStdString();
+        if (! file.existsAsFile()) throw std::runtime_error(path + ": no such file");
+        const auto text = juce::String(access::progressReport(access::parseReaderProfile(file.loadFileAsString().toStdString(), path)));
+        report_.setText(text, false);
+        report_.moveCaretToTop(false);
+        report_.grabKeyboardFocus();
+        announce("Progress report of " + file.getFileName() + ". " + text.upToFirstOccurrenceOf("\n", false, false));
+        return {};
+    } catch (const std::exception& e) {
+        const auto message = "The progress report cannot be made: " + juce::String(e.what());
+        report_.setText(message, false);
+        announce(message);
+        return message;
+    }
+}
+
+void ReaderPanel::choose(bool profile)
+{
+    auto folder = juce::File::getSpecialLocation(juce::File::userDocumentsDirectory);
+    chooser_ = std::make_unique<juce::FileChooser>(profile ? "Load a touch profile" : "Open a reader profile", folder, "*.json");
+    chooser_->launchAsync(juce::FileBrowserComponent::openMode | juce::FileBrowserComponent::canSelectFiles,
+                          [this, profile](const juce::FileChooser& fc) {
+                              const auto file = fc.getResult();
+                              if (file == juce::File()) return;
+                              if (profile) loadTouchProfile(file);
+                              else showReport(file);
+                          });
+}
+
+void ReaderPanel::announce(const juce::String& text)
+{
+    plugin::announce(processor_, "reader", text, juce::AccessibilityHandler::AnnouncementPriority::high);
+}
+
+void ReaderPanel::paint(juce::Graphics& g) { paintPanel(g, *this); }
+
+void ReaderPanel::resized()
+{
+    auto r = getLocalBounds().reduced(8);
+    const int row = 28;
+    heading_.setBounds(r.removeFromTop(row));
+    auto line = r.removeFromTop(row).reduced(0, 2);
+    line.removeFromLeft(130);
+    voice_.setBounds(line.removeFromLeft(juce::jmin(320, line.getWidth())));
+    r.removeFromTop(4);
+    line = r.removeFromTop(row).reduced(0, 2);
+    line.removeFromLeft(130);
+    rate_.setBounds(line.removeFromLeft(juce::jmin(320, line.getWidth())));
+    r.removeFromTop(4);
+    line = r.removeFromTop(row).reduced(0, 2);
+    repeat_.setBounds(line.removeFromLeft(120));
+    line.removeFromLeft(6);
+    stop_.setBounds(line.removeFromLeft(140));
+    line.removeFromLeft(10);
+    voiceState_.setBounds(line);
+    r.removeFromTop(4);
+    armFeedback_.setBounds(r.removeFromTop(row));
+    r.removeFromTop(8);
+    touch_.setBounds(r.removeFromTop(row));
+    line = r.removeFromTop(row).reduced(0, 2);
+    loadTouch_.setBounds(line.removeFromLeft(170));
+    line.removeFromLeft(6);
+    clearTouch_.setBounds(line.removeFromLeft(140));
+    line.removeFromLeft(6);
+    saveTouch_.setBounds(line.removeFromLeft(170));
+    r.removeFromTop(4);
+    line = r.removeFromTop(row).reduced(0, 2);
+    startTest_.setBounds(line.removeFromLeft(140));
+    line.removeFromLeft(6);
+    felt_.setBounds(line.removeFromLeft(90));
+    line.removeFromLeft(6);
+    notFelt_.setBounds(line.removeFromLeft(110));
+    line.removeFromLeft(6);
+    again_.setBounds(line.removeFromLeft(90));
+    testState_.setBounds(r.removeFromTop(row));
+    r.removeFromTop(4);
+    line = r.removeFromTop(row).reduced(0, 2);
+    adaptiveStart_.setBounds(line.removeFromLeft(160));
+    line.removeFromLeft(6);
+    adaptiveAgain_.setBounds(line.removeFromLeft(100));
+    line.removeFromLeft(6);
+    adaptiveAnswer_.setBounds(line);
+    adaptiveState_.setBounds(r.removeFromTop(row));
+    r.removeFromTop(8);
+    line = r.removeFromTop(row).reduced(0, 2);
+    reportHeading_.setBounds(line.removeFromLeft(100));
+    loadReport_.setBounds(line.removeFromLeft(170));
+    r.removeFromTop(4);
+    report_.setBounds(r);
+}
+
+} // namespace armadillo::plugin

@@ -1,0 +1,518 @@
+// The app's reader functions (issue 26) without a window: self-voicing and the braille display
+// (ReaderVoice, captured through the core's capture backends), Perkins chord entry (PerkinsChords,
+// TrainingKeys driven by simulated key presses as the Training panel's answer field gets them),
+// the detection that turns self-voicing on by default, and the touch profile kept in the state.
+#include "Access/Feedback.h"
+#include "Engine/Engine.h"
+#include "Plugin/BlockControl.h"
+#include "Access/ReaderProfile.h"
+#include "Plugin/AdaptiveSession.h"
+#include "Plugin/PerkinsKeys.h"
+#include "Plugin/PluginState.h"
+#include "Plugin/ReaderVoice.h"
+#include "Plugin/TouchTestSession.h"
+#include "HostedPlugin.h"
+#include "Common/Eventually.h"
+#include "Common/FakeBrlApi.h"
+#include <catch2/catch.hpp>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+using namespace armadillo::plugin;
+
+namespace {
+
+juce::File freshDir(const char* name)
+{
+    auto dir = juce::File::getSpecialLocation(juce::File::tempDirectory).getChildFile(name);
+    dir.deleteRecursively();
+    REQUIRE(dir.createDirectory());
+    return dir;
+}
+
+juce::StringArray linesOf(const juce::File& f)
+{
+    juce::StringArray lines;
+    lines.addLines(f.loadFileAsString());
+    lines.removeEmptyStrings();
+    return lines;
+}
+
+/// Grade 1 letters a–z as dot numbers, written from the braille alphabet (World Braille Usage,
+/// UNESCO 2013, the English/French base letters) — not from the code under test.
+const char* const kLetterDots[26] = {"1",    "12",   "14",   "145",  "15",    "124",  "1245", "125",  "24",
+                                     "245",  "13",   "123",  "134",  "1345",  "135",  "1234", "12345", "1235",
+                                     "234",  "2345", "136",  "1236", "2456",  "1346", "13456", "1356"};
+
+/// The key of each dot on the Perkins home row: dots 1 2 3 = F D S, dots 4 5 6 = J K L.
+char keyOfDot(char dot)
+{
+    return "fdsjkl"[dot - '1'];
+}
+
+/// Presses and releases a chord on `keys` the way JUCE delivers it: a keyPressed per key going
+/// down, then keyStateChanged(false) as each comes up (`held` is what isKeyCurrentlyDown sees).
+void chord(TrainingKeys& keys, juce::Component& field, const std::string& chordKeys, std::set<int>& held)
+{
+    for (char k : chordKeys) {
+        held.insert(k);
+        CHECK(keys.keyPressed(juce::KeyPress(k, 0, static_cast<juce::juce_wchar>(k)), &field));
+    }
+    for (char k : chordKeys) {   // released one at a time: the cell is taken when the last comes up
+        held.erase(k);
+        keys.keyStateChanged(false, &field);
+    }
+}
+
+} // namespace
+
+TEST_CASE("Perkins chords: every letter from its dots, keys released in any order", "[plugin][reader]")
+{
+    for (int i = 0; i < 26; ++i) {
+        PerkinsChords c;
+        std::string keys;
+        for (const char* d = kLetterDots[i]; *d != '\0'; ++d) keys += keyOfDot(*d);
+        for (char k : keys) CHECK(c.down(k));
+        // Released in reverse: nothing until the last key comes up.
+        for (std::size_t j = keys.size(); j-- > 1;) CHECK(c.up(keys[j]).kind == PerkinsChords::Event::Kind::None);
+        const auto e = c.up(keys[0]);
+        INFO("letter " << char('a' + i) << " keys " << keys);
+        REQUIRE(e.kind == PerkinsChords::Event::Kind::Letter);
+        CHECK(e.letter == 'a' + i);
+        CHECK(! c.holding());
+    }
+    PerkinsChords c;
+    CHECK(! c.down('a'));   // not a chord key
+    CHECK(c.down('S'));     // either case
+    const auto e = c.up('s');
+    CHECK(e.kind == PerkinsChords::Event::Kind::NotLetter);   // dot 3 alone is no letter
+    CHECK(e.why == "dots 3 is not a letter");
+    CHECK(c.up('s').kind == PerkinsChords::Event::Kind::None);   // an up with nothing down
+}
+
+TEST_CASE("Self-voicing: every text reaches the speech and the braille display; repeat, stop, rate", "[plugin][reader]")
+{
+    const auto dir = freshDir("armadillo-reader-voice");
+    const auto speech = dir.getChildFile("speech.txt"), display = dir.getChildFile("display.txt");
+    ReaderVoice voice;
+    voice.say("not heard: nothing is open");   // remembered for repeat, but no backend yet
+    REQUIRE(voice.open("capture:" + speech.getFullPathName().toStdString(), "capture:" + display.getFullPathName().toStdString()) == "");
+    CHECK(voice.speaking());
+    CHECK(voice.showing());
+    // Each step waited for: a new interrupting text (and stop) drops what is still queued, by design.
+    voice.setRate(40);
+    voice.say("Trial 1 of 3: which letter?");
+    voice.waitIdle();
+    voice.say("right. 1 of 1 right.", false);
+    voice.waitIdle();
+    voice.repeat();
+    voice.waitIdle();
+    voice.stop();
+    voice.setRate(500);   // clamped
+    voice.waitIdle();
+    CHECK(voice.rate() == 100);
+    const auto said = linesOf(speech);
+    REQUIRE(said.size() >= 6);
+    // open() sets the rate it has (0), then the queue in order.
+    CHECK(said.contains("rate: 40"));
+    CHECK(said.contains("say: Trial 1 of 3: which letter?"));
+    CHECK(said.contains("say+: right. 1 of 1 right."));
+    CHECK(said.indexOf("say: right. 1 of 1 right.") > said.indexOf("say+: right. 1 of 1 right."));   // repeated
+    CHECK(said.contains("stop"));
+    CHECK(said.contains("rate: 100"));
+    CHECK(! said.joinIntoString("\n").contains("not heard"));
+    const auto shown = linesOf(display);
+    CHECK(shown.contains("write: Trial 1 of 3: which letter?"));
+    CHECK(shown.contains("write: right. 1 of 1 right."));
+
+    // A backend that cannot be opened is named; the other one still works.
+    const auto why = voice.open("capture:" + dir.getChildFile("no-such-dir/x.txt").getFullPathName().toStdString(),
+                                "capture:" + display.getFullPathName().toStdString());
+    CHECK_THAT(why, Catch::Contains("No speech"));
+    CHECK(! voice.speaking());
+    CHECK(voice.showing());
+    voice.close();
+    CHECK(! voice.showing());
+}
+
+TEST_CASE("Self-voicing is on by default when a screen reader or brltty runs", "[plugin][reader]")
+{
+    const auto dir = freshDir("armadillo-reader-detect");
+    const auto proc = dir.getChildFile("proc");
+    REQUIRE(proc.getChildFile("1").createDirectory());
+    REQUIRE(proc.getChildFile("1/comm").replaceWithText("systemd\n", false, false, "\n"));
+    CHECK(! ReaderVoice::readerDetected(proc.getFullPathName().toStdString(), {}));
+    CHECK(! ReaderVoice::readerDetected(proc.getFullPathName().toStdString(), {dir.getChildFile("BrlAPI/0").getFullPathName().toStdString()}));
+    for (const char* reader : {"orca", "brltty", "speech-dispatch"}) {   // comm is cut at 15 characters
+        REQUIRE(proc.getChildFile("77").createDirectory());
+        REQUIRE(proc.getChildFile("77/comm").replaceWithText(juce::String(reader) + "\n", false, false, "\n"));
+        CHECK(ReaderVoice::readerDetected(proc.getFullPathName().toStdString(), {}));
+        REQUIRE(proc.getChildFile("77").deleteRecursively());
+    }
+    // The BrlAPI socket alone (brltty started by the system, not visible in this /proc).
+    REQUIRE(dir.getChildFile("BrlAPI/0").create());
+    CHECK(ReaderVoice::readerDetected(proc.getFullPathName().toStdString(), {dir.getChildFile("BrlAPI/0").getFullPathName().toStdString()}));
+}
+
+TEST_CASE("Keyboard only: a scripted answer session with chords, letters, repeat and the display's keys", "[plugin][reader]")
+{
+    juce::ScopedJuceInitialiser_GUI juce;
+    const auto dir = freshDir("armadillo-reader-keys");
+    const auto speech = dir.getChildFile("speech.txt");
+    // The braille display: a fake BrlAPI server (Tests/Common/FakeBrlApi.h) behind the real
+    // BrlAPI backend, so its writes and its keys go the whole way.
+    armadillo::test::FakeBrlApiServer server;
+    REQUIRE(server.ok());
+    ReaderVoice voice;
+    const auto why = voice.open("capture:" + speech.getFullPathName().toStdString(), "brlapi:" + server.host());
+    if (why.find("not found") != std::string::npos) {
+        WARN("libbrlapi is not installed here (Debian: libbrlapi0.8): " + why);
+        return;
+    }
+    REQUIRE(why == "");
+
+    // What the Training panel does with an answer (TrainingPanel::submit, announce): the field's
+    // text is the answer, the feedback is announced, which the app speaks and brailles.
+    juce::TextEditor field;
+    TrainingKeys keys;
+    std::set<int> held;
+    keys.isDown = [&held](int code) { return held.count(code) > 0; };
+    const std::vector<std::string> expected {"b", "e", "x", "k", "z"};
+    std::vector<std::string> answers;
+    auto announce = [&voice](const juce::String& t) {
+        voice.say(t.toStdString());
+        voice.waitIdle();   // each text whole on the display before the next (the test reads them all)
+    };
+    auto prompt = [&] { announce("Trial " + juce::String(answers.size() + 1) + " of 5: which letter?"); };
+    keys.attach(field, [&] {
+        const auto given = field.getText().toStdString();
+        const auto& want = expected[answers.size()];
+        answers.push_back(given);
+        field.clear();
+        announce(given == want ? juce::String("right") : "wrong: it was '" + juce::String(want) + "'");
+        if (answers.size() < expected.size()) prompt();
+    }, announce, &voice);
+
+    prompt();
+    keys.keyPressed(juce::KeyPress(juce::KeyPress::F2Key), &field);   // chord entry on
+    CHECK(keys.chordMode());
+    chord(keys, field, "fd", held);                 // dots 1 2 = b
+    CHECK(field.getText() == "b");
+    CHECK(keys.keyPressed(juce::KeyPress(juce::KeyPress::spaceKey, 0, ' '), &field));   // Space answers
+    chord(keys, field, "s", held);                  // dot 3 alone: not a letter, said, nothing typed
+    CHECK(field.getText().isEmpty());
+    chord(keys, field, "kf", held);                 // dots 1 5 = e
+    CHECK(keys.keyPressed(juce::KeyPress(juce::KeyPress::F3Key), &field));   // repeat: "e" again
+    voice.waitIdle();   // (a new text interrupts: the repeat is said before the answer's feedback)
+    keys.keyPressed(juce::KeyPress(juce::KeyPress::spaceKey, 0, ' '), &field);
+    chord(keys, field, "fd", held);                 // b, taken back with Backspace, then x = 1 3 4 6
+    keys.keyPressed(juce::KeyPress(juce::KeyPress::backspaceKey), &field);
+    chord(keys, field, "fsjl", held);
+    CHECK(! keys.keyPressed(juce::KeyPress('x', juce::ModifierKeys::ctrlModifier, 0), &field));   // shortcuts pass
+    keys.keyPressed(juce::KeyPress(juce::KeyPress::spaceKey, 0, ' '), &field);
+    // Chords off: typed letters are the field's own (the listener lets them through to it) and
+    // Return is the field's onReturnKey, which the panel points at submit as Space is here.
+    keys.keyPressed(juce::KeyPress(juce::KeyPress::F2Key), &field);
+    CHECK(! keys.chordMode());
+    CHECK(! keys.keyPressed(juce::KeyPress('k', 0, 'k'), &field));
+    field.insertTextAtCaret("k");
+    keys.onSubmit();
+    // The braille display's own keys answer the last trial: "z" then Enter, polled as the
+    // panel's timer does.
+    server.type("z\n");
+    CHECK(armadillo::testing::eventually([&] {
+        keys.pollDisplay();
+        return answers.size() == expected.size();
+    }, 20.0));
+    voice.waitIdle();
+    CHECK(armadillo::testing::eventually([&] { return ! server.writes().empty() && server.writes().back() == "right"; }, 20.0));
+
+    CHECK(answers == expected);
+    const auto said = linesOf(speech);
+    const auto shownList = server.writes();
+    juce::StringArray shown;
+    for (const auto& w : shownList) shown.add(juce::String(w));
+    // Every prompt and every feedback reached both the speech and the braille display.
+    for (const char* line : {"Trial 1 of 5: which letter?", "Trial 2 of 5: which letter?", "Trial 3 of 5: which letter?",
+                             "Trial 4 of 5: which letter?", "Trial 5 of 5: which letter?", "right", "dots 3 is not a letter",
+                             "b", "e", "x", "erased b"}) {
+        INFO(line);
+        CHECK(said.contains(juce::String("say: ") + line));
+        CHECK(shown.contains(line));
+    }
+    CHECK(said.joinIntoString("\n").contains("Chord entry on"));
+    CHECK(said.joinIntoString("\n").contains("Chord entry off"));
+    // F3 said the echo "e" again, and all five answers were right.
+    CHECK(said.joinIntoString("\n").contains("say: e\nsay: e"));
+    CHECK(said.joinIntoString("\n").contains("right") );
+    CHECK(! said.joinIntoString("\n").contains("wrong"));
+    field.removeKeyListener(&keys);
+}
+
+TEST_CASE("Touch profile in the plugin state: kept when it parses, refused when damaged", "[plugin][reader][state]")
+{
+    const std::string profile = R"({"format": "armadillo-touch-profile", "version": 1, "threshold": [3, 4, 5, 6, 7, 8, 9, 10, 11]})";
+    juce::ValueTree loaded(SettingIds::root);
+    loaded.setProperty(SettingIds::touchProfile, juce::String(profile), nullptr);
+    loaded.setProperty(SettingIds::readerVoice, "on", nullptr);
+    loaded.setProperty(SettingIds::speechRate, 30, nullptr);
+    juce::ValueTree settings(SettingIds::root);
+    PluginState::installSettings(settings, loaded);
+    CHECK(settings[SettingIds::touchProfile].toString().toStdString() == profile);
+    CHECK(settings[SettingIds::readerVoice].toString() == "on");
+    CHECK(static_cast<int>(settings[SettingIds::speechRate]) == 30);
+
+    // Damaged: a threshold out of 1..15, not JSON, a rate out of range, an unknown voice mode.
+    for (const char* bad : {R"({"threshold": [3, 4, 5, 6, 7, 8, 9, 10, 99]})", "{not json", R"({"threshold": [1, 2]})"}) {
+        loaded.setProperty(SettingIds::touchProfile, bad, nullptr);
+        loaded.setProperty(SettingIds::speechRate, 1000, nullptr);
+        loaded.setProperty(SettingIds::readerVoice, "loud", nullptr);
+        PluginState::installSettings(settings, loaded);
+        INFO(bad);
+        CHECK(settings[SettingIds::touchProfile].toString().isEmpty());
+        CHECK(static_cast<int>(settings[SettingIds::speechRate]) == 0);
+        CHECK(settings[SettingIds::readerVoice].toString() == "auto");
+    }
+}
+
+TEST_CASE("Sensitivity test in the app: a simulated reader's nine thresholds found within one level", "[plugin][reader][touch]")
+{
+    // The simulated reader feels a stimulus when the level that reached the motor (after the
+    // tactile engine and the safety stage) is at least that motor's threshold.
+    const std::array<int, 9> truth {3, 5, 7, 9, 11, 4, 6, 8, 10};
+    using armadillo::test::RealtimeGuard;
+    REQUIRE(RealtimeGuard::installed());
+    {
+        RealtimeGuard probe;   // the probe catches an allocation before a zero is trusted
+        int* volatile p = new int(7);
+        CHECK(probe.allocations() >= 1);
+        delete p;
+    }
+    TouchTestSession test;
+    test.begin(7);
+    double t = 0.0;
+    const double dt = 1.0 / 200.0;   // the plugin's control rate: one onPacket per control step
+    int guardSteps = 0;
+    std::uint64_t allocations = 0;
+    while (test.state() != TouchTestSession::State::Done && t < 3600.0) {
+        {
+            RealtimeGuard guard;   // the control step's side: no allocation
+            (void) test.player().onPacket(t);
+            allocations += guard.allocations();
+        }
+        ++guardSteps;
+        t += dt;
+        if (test.poll()) {
+            const int m = test.motor();
+            test.answer(test.player().maxLevel(m) >= truth[static_cast<std::size_t>(m)]);
+        }
+    }
+    REQUIRE(test.state() == TouchTestSession::State::Done);
+    CHECK(allocations == 0);
+    const auto profile = test.profile();
+    for (std::size_t m = 0; m < 9; ++m) {
+        INFO("motor m" << (m + 1) << ": found " << profile.threshold[m] << ", true " << truth[m]);
+        CHECK(std::abs(profile.threshold[m] - truth[m]) <= 1);
+    }
+    INFO(profile.stimuli << " stimuli over " << t << " s of stimulus clock");
+    CHECK(t < 5.0 * 60.0 * 2.0);   // the issue asks for < 5 min of stimuli from the CLI; the app adds the rests
+    // The profile round-trips through its JSON (what the state keeps).
+    const auto back = armadillo::device::parseTouchProfile(armadillo::device::touchProfileToJson(profile), "test");
+    CHECK(back.threshold == profile.threshold);
+}
+
+TEST_CASE("VST3: the reader's settings in the plugin's state; the profile applied with no allocation in processBlock",
+          "[plugin][reader][state]")
+{
+    using namespace armadillo::test::host;
+    const auto dir = freshDir("armadillo-reader-vst3");
+    const auto speech = dir.getChildFile("speech.txt"), display = dir.getChildFile("display.txt");
+    // The backends self-voicing opens (PluginProcessor::applyVoiceSettings): captured.
+    ::setenv("ARMADILLO_SPEECH", ("capture:" + speech.getFullPathName()).toRawUTF8(), 1);
+    ::setenv("ARMADILLO_BRAILLE", ("capture:" + display.getFullPathName()).toRawUTF8(), 1);
+    auto h = loadVst3();
+    prepare(h);
+    auto setSettings = [&h](const juce::String& attributes) {
+        const auto xml = juce::parseXML("<ARMADILLO version=\"1\"><PARAMETERS><PARAM id=\"scene\" value=\"5\"/></PARAMETERS><SETTINGS "
+                                        + attributes + "/></ARMADILLO>");
+        REQUIRE(xml != nullptr);
+        juce::MemoryBlock payload;
+        juce::AudioProcessor::copyXmlToBinary(*xml, payload);
+        juce::XmlElement state("VST3PluginState");
+        state.createNewChildElement("IComponent")->addTextElement(payload.toBase64Encoding());
+        juce::MemoryBlock blob;
+        juce::AudioProcessor::copyXmlToBinary(state, blob);
+        h.plugin->setStateInformation(blob.getData(), static_cast<int>(blob.getSize()));
+        for (int i = 0; i < 5; ++i) juce::MessageManager::getInstance()->runDispatchLoopUntil(5);
+    };
+    const juce::String profile = R"({"format": "armadillo-touch-profile", "version": 1, "threshold": [2, 4, 6, 8, 10, 12, 14, 3, 5]})";
+    setSettings("readerVoice=\"on\" speechRate=\"20\" touchProfile=\""
+                + profile.replace("\"", "&quot;") + "\"");
+    auto own = ownState(h);
+    const auto* settings = own->getChildByName("SETTINGS");
+    REQUIRE(settings != nullptr);
+    CHECK(settings->getStringAttribute("touchProfile") == profile);   // saved back as it was restored
+    CHECK(settings->getStringAttribute("readerVoice") == "on");
+    CHECK(settings->getIntAttribute("speechRate") == 20);
+    // Self-voicing on in a host too when asked: its first words reach the speech and the display.
+    CHECK(armadillo::testing::eventually([&] { return speech.loadFileAsString().contains("say: ARMadillo. Self-voicing on."); }, 20.0));
+    CHECK(speech.loadFileAsString().contains("rate: 20"));
+    CHECK(display.loadFileAsString().contains("write: ARMadillo. Self-voicing on."));
+
+    // The engine built with the profile's gains plays without allocating on the audio thread.
+    render(h, 0.1);
+    countDuringProcessing(h, 20, false);
+    const auto counts = countDuringProcessing(h, 200, false);
+    CHECK(counts.allocations == 0);
+    CHECK(counts.throws == 0);
+
+    // A damaged profile is refused: none is kept (every motor alike), and the state says so.
+    setSettings("touchProfile=\"{&quot;threshold&quot;: [99]}\"");
+    own = ownState(h);
+    CHECK(own->getChildByName("SETTINGS")->getStringAttribute("touchProfile").isEmpty());
+    h.plugin.reset();
+    ::unsetenv("ARMADILLO_SPEECH");
+    ::unsetenv("ARMADILLO_BRAILLE");
+}
+
+namespace {
+/// A scene that holds the underside middle motor (index 4) at level 3: what the stimulus replaces.
+class HoldScene final : public armadillo::Scene {
+public:
+    std::string_view name() const override { return "hold"; }
+    void prepare(const armadillo::SceneConfig&) override {}
+    void control(const armadillo::ControlInput&, armadillo::SceneOutput& out) override { out.motors.setLevel(4, 3.0f); }
+};
+} // namespace
+
+TEST_CASE("Arm feedback through the plugin's control path: the stimulus takes the motors, then gives them back, allocating nothing",
+          "[plugin][reader][realtime]")
+{
+    using namespace armadillo;
+    using armadillo::test::RealtimeGuard;
+    REQUIRE(RealtimeGuard::installed());
+    {
+        RealtimeGuard probe;   // the probe catches an allocation before a zero is trusted
+        int* volatile p = new int(3);
+        CHECK(probe.allocations() >= 1);
+        delete p;
+    }
+    constexpr double kRate = 48000.0;
+    constexpr int kBlock = 240;   // one 200 Hz control step per block
+    live::ControlLoop loop;
+    {
+        EngineConfig config;
+        config.scene = "hold";
+        config.sceneConfig.sampleRate = kRate;
+        auto slot = std::make_unique<live::EngineSlot>();
+        slot->engine = std::make_unique<Engine>(config, std::make_unique<HoldScene>());
+        slot->sceneName = "hold";
+        loop.replace(std::move(slot));
+    }
+    ControlToken token;
+    device::LevelSchedule motors;
+    std::atomic<float> elevation {0.0f}, azimuth {0.0f}, roll {0.0f}, source {static_cast<float>(SourceKind::HostAutomation)};
+    BlockControl control(loop, token, BlockControl::Cells {&elevation, &azimuth, &roll, &source}, motors);
+    control.prepare(kRate);
+    juce::AudioBuffer<float> buffer(2, kBlock);
+    juce::MidiBuffer midi;
+    auto run = [&](int blocks, std::array<int, kMaxMotors>& highest, std::uint64_t& allocations) {
+        highest.fill(0);
+        for (int b = 0; b < blocks; ++b) {
+            {
+                RealtimeGuard guard;
+                control.processBlock(buffer, midi, nullptr, false);
+                allocations += guard.allocations();
+            }
+            const auto f = control.latestFrame();
+            for (std::size_t m = 0; m < kMaxMotors; ++m) highest[m] = std::max(highest[m], static_cast<int>(f.motors[m]));
+        }
+    };
+    std::array<int, kMaxMotors> highest {};
+    std::uint64_t allocations = 0;
+    run(40, highest, allocations);   // the scene alone: its motor 4 only
+    CHECK(highest[4] > 0);
+    CHECK(highest[0] == 0);
+
+    // "wrong" (the outer columns, three buzzes) played in place of the scene.
+    access::TactilePlayer player(TactileConfig {}, 0.0);
+    const int id = player.play(access::feedbackSensation(false, 10.0f), access::feedbackPause(false));
+    control.setStimulus(&player);
+    allocations = 0;
+    int blocks = 0;
+    std::array<int, kMaxMotors> during {};
+    during.fill(0);
+    while (player.completed() < id && blocks < 2000) {
+        run(1, highest, allocations);
+        for (std::size_t m = 0; m < kMaxMotors; ++m) during[m] = std::max(during[m], highest[m]);
+        ++blocks;
+    }
+    REQUIRE(player.completed() >= id);
+    CHECK(allocations == 0);
+    for (int m : {0, 2, 3, 5, 6, 8}) CHECK(during[static_cast<std::size_t>(m)] > 0);   // the outer columns
+    for (int m : {1, 4, 7}) CHECK(during[static_cast<std::size_t>(m)] == 0);          // not the underside, not the scene's
+    for (int m : {0, 2, 3, 5, 6, 8}) CHECK(during[static_cast<std::size_t>(m)] <= 15);
+    INFO("the sensation and its pause took " << blocks << " control steps");
+    CHECK(blocks >= static_cast<int>((0.5 + access::feedbackPause(false)) * 200.0) - 2);
+
+    control.setStimulus(nullptr);   // the scene has the motors again
+    run(40, highest, allocations);
+    CHECK(highest[4] > 0);
+    CHECK(highest[0] == 0);
+}
+
+TEST_CASE("Adaptive training in the app: trials drawn on the arm, answers kept in the reader profile across sessions",
+          "[plugin][reader][adaptive]")
+{
+    using namespace armadillo;
+    const auto dir = freshDir("armadillo-reader-adaptive");
+    const auto profile = dir.getChildFile("reader.json").getFullPathName().toStdString();
+    access::TactilePlayer player(TactileConfig {}, 0.0);
+    double t = 0.0;
+    auto runUntil = [&](auto done) {   // the control step's side: one onPacket per 5 ms step (done() is asked once per step)
+        for (int i = 0; i < 200 * 120; ++i) {
+            if (done()) return true;
+            (void) player.onPacket(t);
+            t += 0.005;
+        }
+        return false;
+    };
+    for (int session = 1; session <= 2; ++session) {
+        AdaptiveSession s(player);
+        std::string why;
+        REQUIRE(s.begin(profile, 6, why));
+        int answered = 0, peak = 0;
+        std::vector<std::string> feedback;
+        while (s.state() != AdaptiveSession::State::Done) {
+            INFO("session " << session << " answered " << answered << " completed " << player.completed() << " clock " << player.clock());
+            REQUIRE(runUntil([&] { return s.poll(); }));
+            for (int m = 0; m < 9; ++m) peak = std::max(peak, player.maxLevel(m));
+            CHECK_THAT(s.prompt(), Catch::StartsWith("Trial " + std::to_string(answered + 1) + " of 6: "));
+            feedback.push_back(s.answer("q", 1.5));   // this reader always answers q
+            ++answered;
+        }
+        CHECK(answered == 6);
+        CHECK(peak > 0);   // the trials reached the motors (through the player's tactile engine)
+        CHECK_THAT(feedback.front(), Catch::StartsWith("wrong: it was '"));
+        CHECK_THAT(feedback.back(), Catch::Contains("Training complete: 0 of 6 right"));
+        const auto saved = access::loadReaderProfile(profile);
+        // One answer per trial, a "pairs" trial (a confused pair side by side) one per letter.
+        int thisSession = 0, wrong = 0;
+        for (const auto& a : saved.answers) {
+            thisSession += a.session == session;
+            wrong += a.session == session && ! a.correct;
+        }
+        CHECK(thisSession >= 6);
+        CHECK(wrong == thisSession);
+        REQUIRE(static_cast<int>(saved.sessions.size()) == session);
+        CHECK(saved.sessions.back().session == session);
+        CHECK(saved.answers.front().answer == "q");
+    }
+    // A profile that cannot be written is refused before the first trial.
+    AdaptiveSession s(player);
+    std::string why;
+    CHECK(! s.begin(dir.getChildFile("no/such/dir/reader.json").getFullPathName().toStdString(), 3, why));
+    CHECK(! why.empty());
+    CHECK(s.state() == AdaptiveSession::State::Idle);
+}
