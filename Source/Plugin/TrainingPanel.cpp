@@ -12,8 +12,9 @@ namespace {
 constexpr int kMaxTypedCharacters = 1024;   // a pasted book stops here; the feeder refuses > 63 bytes anyway
 const char* const kTypeHere = "type the answer, then Return";
 const char* const kHint = "Feel what the arm shows, type the answer, press Return.";
-const char* const kKeys = "Keys: Return sends (Backspace corrects first); F5 repeats the prompt; F6 skips (counts as wrong); "
-                          "F8 stops the training; Escape leaves the panel; Tab stays inside it.";
+const char* const kKeys = "Keys: Return sends (Backspace corrects first); F2 Perkins chords (S D F J K L, Space answers); "
+                          "F5 repeats the prompt; F6 skips (counts as wrong); F8 stops the training; F3 says it again, "
+                          "F4 hushes; Escape leaves the panel; Tab stays inside it.";
 } // namespace
 
 TrainingPanel::TrainingPanel(ArmadilloProcessor& processor) : processor_(processor)
@@ -50,7 +51,7 @@ TrainingPanel::TrainingPanel(ArmadilloProcessor& processor) : processor_(process
     answer_.setInputRestrictions(kMaxTypedCharacters);
     answer_.setReturnKeyStartsNewLine(false);
     answer_.onReturnKey = [this] { submit(); };
-    keys_.attach(answer_, [this] { submit(); }, [this](const juce::String& t) { announce(t); }, &processor_.voice());
+    chordKeys_.attach(answer_, [this] { submit(); }, [this](const juce::String& t) { announce(t); }, &processor_.voice());
     describe(answerButton_, "Answer", "Send the answer in the field (the same as Return).");
     answerButton_.onClick = [this] { submit(); };
     describe(save_, "Save training log", "Write the training log (CSV, one row per event) to a file.");
@@ -74,12 +75,12 @@ TrainingPanel::TrainingPanel(ArmadilloProcessor& processor) : processor_(process
 TrainingPanel::~TrainingPanel()
 {
     stopTimer();
-    answer_.removeKeyListener(&keys_);
+    answer_.removeKeyListener(&chordKeys_);
 }
 
 void TrainingPanel::timerCallback()
 {
-    if (wanted_ && ! complete_) keys_.pollDisplay();
+    if (wanted_ && ! complete_) chordKeys_.pollDisplay();
     follow();
 }
 

@@ -86,7 +86,7 @@ private:
     juce::String lastPrompt_;
     std::string log_;                      // the complete training's log, copied once at the end
     std::unique_ptr<juce::FileChooser> chooser_;
-    TrainingKeys keys_;                    // Perkins chords (F2), repeat (F3), stop speech (F4), display keys
+    TrainingKeys chordKeys_;                   // Perkins chords (F2), repeat (F3), stop speech (F4), display keys
 };
 
 } // namespace armadillo::plugin

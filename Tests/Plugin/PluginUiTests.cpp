@@ -527,3 +527,63 @@ int main(int argc, char* argv[])
     home.deleteRecursively();
     return result;
 }
+
+TEST_CASE("processor: MIDI learn takes the next message at the plugin's MIDI input as a mapping's destination", "[plugin][mapping][learn]")
+{
+    // Issue 23: "learn" a destination from the next CC another plugin's automation lane or a
+    // controller sends. The message goes in through processBlock's MIDI buffer, as a host sends it.
+    ArmadilloProcessor processor;
+    constexpr int block = 480;
+    processor.prepareToPlay(48000.0, block);
+    juce::AudioBuffer<float> buffer(2, block);
+    juce::MidiBuffer midi;
+    const auto run = [&](const juce::MidiMessage* in) {
+        buffer.clear();
+        midi.clear();
+        if (in != nullptr) midi.addEvent(*in, 17);
+        processor.processBlock(buffer, midi);
+    };
+    for (int i = 0; i < 5; ++i) run(nullptr);
+    {
+        auto m = processor.mapping();
+        REQUIRE(! m->document().mappings.empty());
+        m->startDestinationLearn(0);
+    }
+    const auto cc = juce::MidiMessage::controllerEvent(5, 74, 90);   // channel 5, CC 74
+    run(&cc);
+    for (int i = 0; i < 3; ++i) run(nullptr);
+    armadillo::mapping::DestinationSpec learned;
+    juce::String notice;
+    for (int tick = 0; tick < 20 && notice.isEmpty(); ++tick) {
+        auto m = processor.mapping();
+        m->timerTick();
+        notice = m->takeNotice();
+        learned = m->document().mappings[0].to;
+    }
+    INFO(notice);
+    CHECK(notice.isNotEmpty());
+    CHECK(learned.kind == armadillo::mapping::DestinationKind::Cc7);
+    CHECK(learned.channel == 5);
+    CHECK(learned.number == 74);
+    CHECK(processor.mapping()->destinationLearnIndex() == -1);   // one message learns once
+
+    // A CC 0-31 followed by its +32 partner is learned as a 14-bit pair.
+    processor.mapping()->startDestinationLearn(0);
+    const auto msb = juce::MidiMessage::controllerEvent(2, 7, 64), lsb = juce::MidiMessage::controllerEvent(2, 39, 0);
+    buffer.clear();
+    midi.clear();
+    midi.addEvent(msb, 3);
+    midi.addEvent(lsb, 4);
+    processor.processBlock(buffer, midi);
+    notice.clear();
+    for (int tick = 0; tick < 20 && notice.isEmpty(); ++tick) {
+        auto m = processor.mapping();
+        m->timerTick();
+        notice = m->takeNotice();
+        learned = m->document().mappings[0].to;
+    }
+    INFO(notice);
+    CHECK(learned.kind == armadillo::mapping::DestinationKind::Cc14);
+    CHECK(learned.channel == 2);
+    CHECK(learned.number == 7);
+}
