@@ -43,10 +43,10 @@ examples="$prefix/share/doc/armadillo/examples"
 for score in rite-of-spring polytope; do
     run render --scene score --score "$score" --motion "$examples/poses.csv" --out "$work/$score.wav" \
         --tactile "$work/$score.csv" > /dev/null
-    # 1201 motion rows → 1201 tactile rows plus the header, and some motor moved.
+    # 1201 motion rows → 1201 tactile rows, the closing all-off row and the header, and some motor moved.
     rows=$(wc -l < "$work/$score.csv")
     moved=$(tail -n +2 "$work/$score.csv" | cut -d, -f2- | tr ',' '\n' | grep -vc '^0$' || true)
-    if [ "$rows" -eq 1202 ] && [ "$moved" -gt 0 ]; then
+    if [ "$rows" -eq 1203 ] && [ "$moved" -gt 0 ]; then
         echo "installed armadillo renders score $score ($moved nonzero motor levels)"
     else
         echo "installed armadillo: score $score rendered $rows rows, $moved nonzero levels"; fail=1
