@@ -20,6 +20,8 @@ packages=(
     juce-modules-source lv2-dev libasound2-dev libjack-jackd2-dev libfreetype-dev libfontconfig1-dev
     libx11-dev libxcomposite-dev libxcursor-dev libxext-dev libxinerama-dev libxrandr-dev libxrender-dev
     libgl-dev libgtk-3-dev
+    # the editor's own tests (tests_plugin_ui) drive a real window under Xvfb
+    xvfb xauth
     # benchmarks' scoring scripts (scripts/bench_gaps.py, BROAD)
     python3-numpy
     # the reference firmware (docs/HARDWARE.md): AVR toolchain and its simavr loop test
