@@ -71,7 +71,7 @@ key Escape
 # 3. Keyboard-only braille training: Tab to Preset, open it, pick "Braille: training".
 size 1366 768
 xdotool mousemove 2900 2000
-key shift+Tab shift+Tab shift+Tab   # closing the welcome left the focus on Help: back to Preset
+key shift+Tab shift+Tab shift+Tab shift+Tab shift+Tab   # closing the welcome left the focus on Help: back to Preset (past Setup, Mapping, Reader, Wander)
 key Return                 # opens the preset list
 key Down Down Down Down Down Down Down Down Down Return
 sleep 2
@@ -88,10 +88,11 @@ sleep 1
 shot app-training-feedback
 key Escape
 shot app-training-escaped
-# Back into the panel with Tab (Scene, Preset, Wander, Setup, Help, About, arm view, the panel),
+# Back into the panel with Tab (Scene, Preset, Wander, Reader, Mapping, Setup, Help, About, the
+# message and its OK when one shows, arm view, the panel),
 # then the whole training, answered from the prompts the app writes to stderr (as a screen reader
 # following the terminal hears them): keyboard only, to "Training complete".
-key Tab Tab Tab Tab Tab Tab Tab Tab
+key Tab Tab Tab Tab Tab Tab Tab Tab Tab Tab Tab Tab
 for _ in $(seq 80); do
     last=$(grep -a "ARMadillo training:" "$home/app.log" | tail -1 || true)
     case "$last" in *"Training complete"*) break ;; esac
@@ -120,7 +121,7 @@ size 1440 1040
 shot app-200-welcome
 key Escape; sleep 1; key Escape   # (the first may come before the window has the keyboard)
 shot app-200-minimum
-key shift+Tab shift+Tab shift+Tab Return Down Down Down Down Down Down Down Down Down Return
+key shift+Tab shift+Tab shift+Tab shift+Tab shift+Tab Return Down Down Down Down Down Down Down Down Down Return
 sleep 2
 shot app-200-training
 key F8

@@ -335,27 +335,35 @@ void ArmadilloEditor::resized()
     welcome_.setBounds(r.withSizeKeepingCentre(juce::jmin(r.getWidth() - 20, 760), juce::jmin(r.getHeight() - 10, 600)));
 
     // Top bar: the labels sit left of their boxes (attachToComponent); the boxes share what is left.
+    // When the buttons would leave the three boxes less than 120 px each, they get a row of their own.
     auto top = r.removeFromTop(bar);
     const auto textWidth = [&](const juce::String& s) { return juce::roundToInt(juce::Font(font).getStringWidthFloat(s)) + 14; };
     const int labelsW = textWidth("Source") + textWidth("Scene") + textWidth("Preset");
     const int buttonsW = textWidth("Wander") + 24 + textWidth("Reader...") + textWidth("Mapping...") + textWidth("Setup...") + textWidth("Help") +
                          textWidth("About") + 6 * 6;
     const int titleW = textWidth("ARMadillo") + 10;
-    const bool showTitle = top.getWidth() - labelsW - buttonsW - titleW >= 3 * 150;
+    const bool twoRows = top.getWidth() - labelsW - buttonsW < 3 * 120;
+    const bool showTitle = ! twoRows && top.getWidth() - labelsW - buttonsW - titleW >= 3 * 150;
     title_.setVisible(showTitle);
     if (showTitle) title_.setBounds(top.removeFromLeft(titleW));
-    about_.setBounds(top.removeFromRight(textWidth("About")));
-    top.removeFromRight(6);
-    help_.setBounds(top.removeFromRight(textWidth("Help")));
-    top.removeFromRight(6);
-    setup_.setBounds(top.removeFromRight(textWidth("Setup...")));
-    top.removeFromRight(6);
-    mappingButton_.setBounds(top.removeFromRight(textWidth("Mapping...")));
-    top.removeFromRight(6);
-    readerButton_.setBounds(top.removeFromRight(textWidth("Reader...")));
-    top.removeFromRight(6);
-    wander_.setBounds(top.removeFromRight(textWidth("Wander") + 24));
-    top.removeFromRight(6);
+    juce::Rectangle<int> buttonRow;
+    if (twoRows) {
+        r.removeFromTop(4);
+        buttonRow = r.removeFromTop(bar);
+    }
+    auto& row = twoRows ? buttonRow : top;
+    about_.setBounds(row.removeFromRight(textWidth("About")));
+    row.removeFromRight(6);
+    help_.setBounds(row.removeFromRight(textWidth("Help")));
+    row.removeFromRight(6);
+    setup_.setBounds(row.removeFromRight(textWidth("Setup...")));
+    row.removeFromRight(6);
+    mappingButton_.setBounds(row.removeFromRight(textWidth("Mapping...")));
+    row.removeFromRight(6);
+    readerButton_.setBounds(row.removeFromRight(textWidth("Reader...")));
+    row.removeFromRight(6);
+    wander_.setBounds(row.removeFromRight(textWidth("Wander") + 24));
+    row.removeFromRight(6);
     const int box = juce::jmin(220, (top.getWidth() - labelsW) / 3);
     for (auto* pair : {&source_, &scene_, &preset_}) {
         auto* label = pair == &source_ ? &sourceLabel_ : pair == &scene_ ? &sceneLabel_ : &presetLabel_;
