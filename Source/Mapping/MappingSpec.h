@@ -163,7 +163,7 @@ enum class DestinationKind : std::uint8_t {
                      ///< "lsbFirst": true for receivers that latch the value on the MSB, e.g. IEM SceneRotator
                      ///< (IEM plug-in suite, SceneRotator/Source/PluginProcessor.cpp, processBlock: CC 48…50 store
                      ///< the LSB, CC 16…18 then apply (128·MSB + LSB)/16384). 0…16383
-    Nrpn,            ///< {"midi": "nrpn", "channel", "param"}: CC 99/98 (parameter MSB/LSB), 6/38 (value MSB/LSB); 0…16383
+    Nrpn,            ///< {"midi": "nrpn", "channel", "number"}: CC 99/98 (parameter MSB/LSB), 6/38 (value MSB/LSB); 0…16383
     PitchBend,       ///< {"midi": "pitchbend", "channel"}: 0…16383 (8192 = centre)
     ChannelPressure, ///< {"midi": "pressure", "channel"}: 0…127
     Notes,           ///< {"midi": "notes", "channel", "velocity", "zones"} zones → note on enter, off on leave;
