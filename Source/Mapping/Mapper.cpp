@@ -337,7 +337,7 @@ struct Mapper::Impl {
     MappingSet* active = nullptr;
     std::atomic<MappingSet*> pending {nullptr};
     std::atomic<MappingSet*> retired {nullptr};
-    MappingSet* newest = nullptr;
+    MappingSet* newest = nullptr;   // builder side only: the last set offered or installed
     std::atomic<double> forwardShared {0.0};
     std::atomic<bool> forwardRequest {false};
     std::atomic<std::uint64_t> forwardSerial {0};
@@ -915,8 +915,10 @@ void Mapper::replace(std::unique_ptr<MappingSet> set) noexcept
 
 MappingSet* Mapper::newest() noexcept
 {
-    MappingSet* p = impl_->pending.load(std::memory_order_acquire);
-    return p != nullptr ? p : impl_->active;
+    // The builder's own record of what it last offered or installed: that set is pending or has
+    // become active, and only the builder's collect()/replace() can free an older one. Reading the
+    // control side's `active` pointer from here would race with its swap.
+    return impl_->newest;
 }
 
 MappingSet* Mapper::active() noexcept { return impl_->active; }

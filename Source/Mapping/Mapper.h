@@ -166,7 +166,8 @@ public:
     /// Installs a set at once: only while process() cannot run (CLI start-up, the plugin with
     /// its control token). Drops anything pending or retired.
     void replace(std::unique_ptr<MappingSet> set) noexcept;
-    /// The newest set (pending, else active), for UIs reading meters. Valid until collect()/replace().
+    /// The newest set (the last one offered or installed: pending, else active), for UIs reading
+    /// meters; builder thread. Valid until the next replace(), or the next offer() and collect().
     MappingSet* newest() noexcept;
 
     // Control side (REAL-TIME) --------------------------------------------------------------
