@@ -32,6 +32,21 @@ MotionSource loadMotion(const CsvTable& table)
 }
 } // namespace
 
+void checkRenderSpan(const CsvTable& motion, std::size_t rows, const std::function<double(std::size_t)>& timeOf, double tailSeconds,
+                     double maxSeconds)
+{
+    if (rows == 0) return;
+    const double t0 = timeOf(0);
+    const double tail = std::max(0.0, tailSeconds);
+    for (std::size_t i = 0; i < rows; ++i)
+        if (timeOf(i) - t0 + tail > maxSeconds) {
+            char what[160];
+            std::snprintf(what, sizeof what, "the file would render %.6g s from its first row (at most %.6g s): is the time column in seconds?",
+                          timeOf(i) - t0 + tail, maxSeconds);
+            motion.fail(i, motion.columnIndex("t"), what);
+        }
+}
+
 RenderResult renderOffline(const CsvTable& motion, const RenderSettings& settings)
 {
     const MotionSource source = loadMotion(motion);
@@ -46,14 +61,7 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
     const double t0 = source.time(0);
     const double tail = std::max(0.0, settings.tailSeconds);
     const double maxSeconds = settings.audioSink ? settings.maxSeconds : std::min(settings.maxSeconds, kMaxCollectedRenderSeconds);
-    for (std::size_t i = 0; i < source.size(); ++i)
-        if (source.time(i) - t0 + tail > maxSeconds) {
-            const int tc = motion.columnIndex("t");
-            char what[160];
-            std::snprintf(what, sizeof what, "the file would render %.6g s from its first row (at most %.6g s): is the time column in seconds?",
-                          source.time(i) - t0 + tail, maxSeconds);
-            motion.fail(i, tc, what);
-        }
+    checkRenderSpan(motion, source.size(), [&](std::size_t i) { return source.time(i); }, tail, maxSeconds);
 
     Engine engine(settings.engine);
     ArmTracker tracker;

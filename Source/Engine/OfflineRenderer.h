@@ -72,4 +72,10 @@ std::string silenceReason(const RenderResult& r, const RenderSettings& settings)
 /// a file that is not a motion file.
 RenderResult renderOffline(const CsvTable& motion, const RenderSettings& settings);
 
+/// Refuses (InputError naming the row and the time column) a motion file whose rows, plus the
+/// tail, span more than `maxSeconds` from the first row — before anything is allocated for them.
+/// `timeOf(i)` is row i's time in seconds. Every offline render checks its span with it.
+void checkRenderSpan(const CsvTable& motion, std::size_t rows, const std::function<double(std::size_t)>& timeOf, double tailSeconds,
+                     double maxSeconds);
+
 } // namespace armadillo

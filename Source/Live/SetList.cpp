@@ -233,6 +233,8 @@ RenderResult renderSetList(const CsvTable& motion, const SetList& list, const Re
     const std::size_t rows = kind == MotionKind::Imu ? imu.size() : orientations.size();
     if (rows == 0) throw InputError(motion.source(), 0, "", "the motion file has no rows");
     auto timeOf = [&](std::size_t i) { return kind == MotionKind::Imu ? imu[i].t : orientations[i].t; };
+    // A set list renders into memory: its span is bounded like any collected render.
+    checkRenderSpan(motion, rows, timeOf, settings.tailSeconds, std::min(settings.maxSeconds, kMaxCollectedRenderSeconds));
 
     const double sampleRate = settings.engine.sceneConfig.sampleRate;
     if (!(sampleRate >= 8000.0 && sampleRate <= 384000.0)) throw InputError("", 0, "", "sample rate must lie in 8000..384000 Hz");

@@ -730,6 +730,14 @@ TEST_CASE("robustness: a motion file spanning an absurd time is refused before a
     CHECK(absurd.err.find("rb-span.csv:3: column 't': the file would render 1e+300 s") != std::string::npos);
     CHECK(absurd.err.find("bad_alloc") == std::string::npos);
     CHECK_FALSE(fs::exists(out));
+    // A set list renders into memory: the same check, with the in-memory bound.
+    const std::string setlist = cli::file("rb-span-set.json", "{\"armadillo_setlist\": 1, \"cues\": [{\"scene\": \"theremin\"}]}");
+    const Run absurdSet = cli::runArmadilloWithin(kBound, "render --setlist " + q(setlist) + " --motion " + q(cli::path("rb-span.csv")) +
+                                                              " --out " + q(out));
+    CHECK(absurdSet.code == 3);
+    CHECK(absurdSet.err.find("rb-span.csv:3: column 't': the file would render 1e+300 s") != std::string::npos);
+    CHECK(absurdSet.err.find("bad_alloc") == std::string::npos);
+    CHECK_FALSE(fs::exists(out));
     // Ten minutes from two rows: rendered (streamed to the file), every frame there.
     const Run tenMinutes = cli::runArmadilloWithin(120.0, "render --scene monitor --sample-rate 8000 --motion " +
                                                               q(cli::file("rb-long.csv", "t,elevation,azimuth,roll\n0,0,0,0\n600,0,0,0\n")) + " --out " + q(out));
