@@ -270,6 +270,33 @@ void writeText(const std::string& path, const std::string& text)
     std::fwrite(text.data(), 1, text.size(), f);
     std::fclose(f);
 }
+
+/// Writes an exported file, imports it onto motor 5 alone, plays the score and returns the largest
+/// difference from the loudest of motor 5 in `rows` over the first 1200 packets (each beyond one
+/// step is reported).
+int roundTripWorst(const std::vector<TactileRow>& rows, const std::string& file, const std::string& text)
+{
+    const std::uint16_t one = 0x0010;
+    const std::string path = tempPath(file);
+    writeText(path, text);
+    HapticImportOptions o;
+    o.motors = one;
+    const ImportedScore s = importScoreFile(path, {}, o);
+    const std::string scorePath = tempPath(file + ".score");
+    writeText(scorePath, s.text);
+    const auto back = play(scorePath, 6.0);
+    REQUIRE(back.size() >= 1200);
+    int worst = 0;
+    for (std::size_t i = 0; i < 1200; ++i) {
+        const int d = std::abs(static_cast<int>(back[i].levels[4]) - loudest(rows[i], one));
+        if (d > 1) {
+            CAPTURE(i, static_cast<int>(back[i].levels[4]), loudest(rows[i], one));
+            CHECK(d <= 1);
+        }
+        worst = std::max(worst, d);
+    }
+    return worst;
+}
 } // namespace
 
 TEST_CASE("ahap export: the file says the loudest of the chosen motors at every packet, and imports back to it", "[formats][ahap][export]")
@@ -319,25 +346,7 @@ TEST_CASE("ahap export: the file says the loudest of the chosen motors at every 
     // Imported back onto one motor (--motors 5) and played: the same level at every packet
     // (within one step), the file's timing kept.
     const std::uint16_t one = 0x0010;
-    const std::string single = exportAhap(rows, one, "random");
-    const std::string path = tempPath("export.ahap");
-    writeText(path, single);
-    HapticImportOptions o;
-    o.motors = one;
-    const ImportedScore s = importScoreFile(path, {}, o);
-    const std::string scorePath = tempPath("export-ahap.score");
-    writeText(scorePath, s.text);
-    const auto back = play(scorePath, 6.0);
-    REQUIRE(back.size() >= 1200);
-    int worst = 0;
-    for (std::size_t i = 0; i < 1200; ++i) {
-        const int d = std::abs(static_cast<int>(back[i].levels[4]) - loudest(rows[i], one));
-        if (d > 1) {
-            CAPTURE(i, static_cast<int>(back[i].levels[4]), loudest(rows[i], one));
-            CHECK(d <= 1);
-        }
-        worst = std::max(worst, d);
-    }
+    const int worst = roundTripWorst(rows, "export.ahap", exportAhap(rows, one, "random"));
     std::printf("ahap export -> import: 1200 packets, largest difference %d level(s)\n", worst);
     CHECK(worst <= 1);
 }
@@ -374,25 +383,7 @@ TEST_CASE("meta .haptic export: the amplitude envelope steps through the chosen 
         REQUIRE(std::lround(15.0 * envelope(t)) == loudest(rows[i], elbow));
     }
 
-    const std::uint16_t one = 0x0010;
-    const std::string path = tempPath("export.haptic");
-    writeText(path, exportMetaHaptic(rows, one, "random"));
-    HapticImportOptions o;
-    o.motors = one;
-    const ImportedScore s = importScoreFile(path, {}, o);
-    const std::string scorePath = tempPath("export-haptic.score");
-    writeText(scorePath, s.text);
-    const auto back = play(scorePath, 6.0);
-    REQUIRE(back.size() >= 1200);
-    int worst = 0;
-    for (std::size_t i = 0; i < 1200; ++i) {
-        const int d = std::abs(static_cast<int>(back[i].levels[4]) - loudest(rows[i], one));
-        if (d > 1) {
-            CAPTURE(i, static_cast<int>(back[i].levels[4]), loudest(rows[i], one));
-            CHECK(d <= 1);
-        }
-        worst = std::max(worst, d);
-    }
+    const int worst = roundTripWorst(rows, "export.haptic", exportMetaHaptic(rows, 0x0010, "random"));
     std::printf(".haptic export -> import: 1200 packets, largest difference %d level(s)\n", worst);
     CHECK(worst <= 1);
 }
