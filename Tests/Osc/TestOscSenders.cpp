@@ -720,19 +720,25 @@ Outcome runScenario(const Scenario& sc, std::uint32_t seed)
     return o;
 }
 
+/// Runs the scenarios four at a time (each its own port, binary and log); seeds from `seed0`.
+std::vector<Outcome> runBatched(const std::vector<Scenario>& all, std::uint32_t seed0)
+{
+    std::vector<Outcome> results(all.size());
+    for (std::size_t batch = 0; batch < all.size(); batch += 4) {
+        std::vector<std::thread> threads;
+        for (std::size_t i = batch; i < std::min(all.size(), batch + 4); ++i)
+            threads.emplace_back([&, i] { results[i] = runScenario(all[i], seed0 + static_cast<std::uint32_t>(i)); });
+        for (auto& t : threads) t.join();
+    }
+    return results;
+}
+
 } // namespace
 
 TEST_CASE("osc senders: each format detected without a flag, orientation within 3 degrees through `armadillo play`", "[osc][senders]")
 {
     const auto all = scenarios();
-    // Two batches of four senders at once (each its own port, binary and log).
-    std::vector<Outcome> results(all.size());
-    for (std::size_t batch = 0; batch < all.size(); batch += 4) {
-        std::vector<std::thread> threads;
-        for (std::size_t i = batch; i < std::min(all.size(), batch + 4); ++i)
-            threads.emplace_back([&, i] { results[i] = runScenario(all[i], 100 + static_cast<std::uint32_t>(i)); });
-        for (auto& t : threads) t.join();
-    }
+    const std::vector<Outcome> results = runBatched(all, 100);
     for (std::size_t i = 0; i < all.size(); ++i) {
         const Scenario& sc = all[i];
         const Outcome& o = results[i];
@@ -751,13 +757,7 @@ TEST_CASE("osc senders: each format detected without a flag, orientation within 
 TEST_CASE("osc senders: held-out senders written from the vendors' definitions give the truth within 3 degrees", "[osc][senders][vendor]")
 {
     const auto all = vendorScenarios();
-    std::vector<Outcome> results(all.size());
-    for (std::size_t batch = 0; batch < all.size(); batch += 4) {
-        std::vector<std::thread> threads;
-        for (std::size_t i = batch; i < std::min(all.size(), batch + 4); ++i)
-            threads.emplace_back([&, i] { results[i] = runScenario(all[i], 500 + static_cast<std::uint32_t>(i)); });
-        for (auto& t : threads) t.join();
-    }
+    const std::vector<Outcome> results = runBatched(all, 500);
     for (std::size_t i = 0; i < all.size(); ++i) {
         const Scenario& sc = all[i];
         const Outcome& o = results[i];
