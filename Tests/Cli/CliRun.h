@@ -1,5 +1,6 @@
 #pragma once
 // Runs the real `armadillo` binary as a user would, in a private temporary folder.
+#include "Common/ScratchDir.h"
 #include "Core/AtomicFile.h"
 #include <cstdlib>
 #include <filesystem>
@@ -16,12 +17,7 @@ struct Run {
 
 inline std::filesystem::path workDir()
 {
-    static const std::filesystem::path dir = [] {
-        auto p = std::filesystem::temp_directory_path() / ("armadillo-cli-" + std::to_string(::getpid()));
-        std::filesystem::create_directories(p);
-        return p;
-    }();
-    return dir;
+    return test::scratchDir("armadillo-cli");
 }
 
 inline std::string path(const std::string& name) { return (workDir() / name).string(); }

@@ -1,5 +1,6 @@
 // Where the shipped files are found: the built-in copy is the source tree's bytes, folders on
 // disk override it in a fixed order, and a user's own scores are listed by name.
+#include "Common/ScratchDir.h"
 #include "Core/AtomicFile.h"
 #include "Core/Errors.h"
 #include "Core/Resources.h"
@@ -37,7 +38,7 @@ private:
 
 fs::path tempDir(const std::string& name)
 {
-    const fs::path p = fs::temp_directory_path() / ("armadillo-res-" + std::to_string(::getpid())) / name;
+    const fs::path p = test::scratchDir("armadillo-res") / name;
     fs::remove_all(p);
     fs::create_directories(p);
     return p;

@@ -1,5 +1,6 @@
 // Haptic files in and out (docs/FORMATS.md): what an imported file plays through the engine,
 // against levels computed here from each format's definition.
+#include "Common/ScratchDir.h"
 #include "Core/Csv.h"
 #include "Core/Errors.h"
 #include "Core/Json.h"
@@ -18,9 +19,7 @@ using namespace armadillo;
 namespace {
 std::string tempPath(const std::string& name)
 {
-    const auto dir = std::filesystem::temp_directory_path() / ("armadillo-formats-" + std::to_string(::getpid()));
-    std::filesystem::create_directories(dir);
-    return (dir / name).string();
+    return (test::scratchDir("armadillo-formats") / name).string();
 }
 
 CsvTable stillMotion(double seconds)
