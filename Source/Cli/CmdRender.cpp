@@ -73,6 +73,7 @@ int runRender(const Arguments& args)
                                                                       "(docs/FORMATS.md; sharpness is not written)"});
                            o.push_back({"--tactile-haptic", "OUT.haptic", "the motors as a Meta Haptics Studio .haptic file: one actuator,\n"
                                                                           "level = 15 x amplitude (docs/FORMATS.md)"});
+                           o.push_back({"--tactile-tact", "OUT.tact", "the motors as a bHaptics .tact forearm (ForearmR) effect (docs/FORMATS.md)"});
                            o.push_back({"--actuator-motors", "SET", "with --tactile-ahap/--tactile-haptic: the motors the one actuator carries\n"
                                                                     "(the loudest of them at each packet; default all of the render's motors)"});
                            return o;
@@ -119,18 +120,19 @@ int runRender(const Arguments& args)
         }
         const std::string out = cl.value("--out"), tactile = cl.value("--tactile"), midiOut = cl.value("--midi-out"),
                           tactileWav = cl.value("--tactile-wav"), tactileAhap = cl.value("--tactile-ahap"),
-                          tactileHaptic = cl.value("--tactile-haptic");
+                          tactileHaptic = cl.value("--tactile-haptic"), tactileTact = cl.value("--tactile-tact");
         if (cl.has("--out")) checkOutputPath("--out", out);
         if (cl.has("--tactile")) checkOutputPath("--tactile", tactile);
         if (cl.has("--midi-out")) checkOutputPath("--midi-out", midiOut);
         if (cl.has("--tactile-wav")) checkOutputPath("--tactile-wav", tactileWav);
         if (cl.has("--tactile-ahap")) checkOutputPath("--tactile-ahap", tactileAhap);
         if (cl.has("--tactile-haptic")) checkOutputPath("--tactile-haptic", tactileHaptic);
+        if (cl.has("--tactile-tact")) checkOutputPath("--tactile-tact", tactileTact);
         const std::string tactileLeft = cl.value("--tactile-left"), armsLog = cl.value("--arms-log");
         if (cl.has("--tactile-left")) checkOutputPath("--tactile-left", tactileLeft);
         if (cl.has("--arms-log")) checkOutputPath("--arms-log", armsLog);
         checkDistinctOutputs({{"--out", out}, {"--tactile", tactile}, {"--midi-out", midiOut}, {"--tactile-wav", tactileWav},
-                              {"--tactile-ahap", tactileAhap}, {"--tactile-haptic", tactileHaptic},
+                              {"--tactile-ahap", tactileAhap}, {"--tactile-haptic", tactileHaptic}, {"--tactile-tact", tactileTact},
                               {"--tactile-left", tactileLeft}, {"--arms-log", armsLog}});
         std::uint16_t actuator = static_cast<std::uint16_t>((1u << engine.motorCount) - 1u);
         if (cl.has("--actuator-motors")) {
@@ -260,11 +262,12 @@ int runRender(const Arguments& args)
         const std::string project = std::filesystem::path(cl.value("--motion")).stem().string();
         if (cl.has("--tactile-ahap")) writeFileAtomically(tactileAhap, exportAhap(r.tactile, actuator, project));
         if (cl.has("--tactile-haptic")) writeFileAtomically(tactileHaptic, exportMetaHaptic(r.tactile, actuator, project));
+        if (cl.has("--tactile-tact")) writeFileAtomically(tactileTact, exportTact(r.tactile, project));
         if (wav) {
             try {
                 wav->finish();
             } catch (const IoError&) {   // the WAV could not be completed: no part of the outputs stays
-                for (const std::string* f : {&tactile, &midiOut, &tactileWav, &tactileAhap, &tactileHaptic, &tactileLeft, &armsLog})
+                for (const std::string* f : {&tactile, &midiOut, &tactileWav, &tactileAhap, &tactileHaptic, &tactileTact, &tactileLeft, &armsLog})
                     if (!f->empty()) std::remove(f->c_str());
                 throw;
             }
