@@ -55,6 +55,8 @@ int runRender(const Arguments& args)
                                                           "(score, audio-touch, layered-keyboard) follow it, and it is mixed into OUT.wav under the scene's\n"
                                                           "sound; its sample rate is used unless --sample-rate is given.\n"
                                                           "Given several times, each file is a stem named by its file name (drums.wav, bass.wav ...)"},
+                               {"--midi-in", "PIECE.mid", "with --audio-in: the instrument's MIDI notes on the recording's clock (a Standard MIDI\n"
+                                                          "File, t = 0 at its first sample): layered-keyboard takes its notes from them (docs/STAGE.md)"},
                                {"--no-audio-in-mix", "", "with --audio-in: leave the recording out of OUT.wav (the scene's sound alone)"},
                                {"--stem", "NAME=FILE.wav", "audio-touch: a stem felt apart on its own motors (drums, bass, other, vocals;\n"
                                                           "repeatable; docs/INSTRUMENTS.md)"},
@@ -156,6 +158,18 @@ int runRender(const Arguments& args)
             if (!cl.has("--sample-rate")) engine.sceneConfig.sampleRate = recording.sampleRate;
             settings.audioIn = &recording;
             settings.audioInName = cl.value("--audio-in");
+        }
+        std::vector<TimedMidiNote> midiIn;   // --midi-in: every note-on and note-off, in time order
+        if (cl.has("--midi-in")) {
+            if (!settings.audioIn) throw UsageError("--midi-in needs --audio-in (the notes' sound is sampled from the recording)");
+            const MidiFile piece = readMidiFile(cl.value("--midi-in"));   // InputError (3) naming the file and byte
+            for (const MidiNote& n : piece.notes) {
+                midiIn.push_back({piece.secondsAt(n.start), n.key, n.velocity, n.channel});
+                midiIn.push_back({piece.secondsAt(n.end), n.key, 0, n.channel});
+            }
+            std::stable_sort(midiIn.begin(), midiIn.end(), [](const TimedMidiNote& a, const TimedMidiNote& b) { return a.t < b.t; });
+            settings.midiIn = &midiIn;
+            settings.midiInName = cl.value("--midi-in");
         }
         const auto map = readMapOption(cl, engine);
         const double forward = readForwardOption(cl);
