@@ -65,6 +65,18 @@ const JsonValue& member(const JsonValue& object, std::string_view key, JsonValue
     return *v;
 }
 
+constexpr double kMaxMillis = 3600.0 * 1000.0;   // an effect file's times: at most an hour
+constexpr std::size_t kMaxOverlap = 256;         // pieces sounding at once on one motor
+
+/// A time in ms (0 .. one hour), in seconds.
+double seconds(const JsonValue& object, std::string_view key, const std::string& source, bool optional = false)
+{
+    const double zero = 0.0;
+    const double ms = tactNumber(object, key, source, optional ? &zero : nullptr);
+    if (ms < 0.0 || ms > kMaxMillis) throw InputError(source, object.line, std::string(key), "a time in ms must lie in 0..3600000 (one hour)");
+    return ms / 1000.0;
+}
+
 double intensityOf(const JsonValue& point, const std::string& source)
 {
     const double i = tactNumber(point, "intensity", source);
@@ -189,10 +201,8 @@ ImportedScore importTact(std::string_view json, const std::string& source, const
             const JsonValue* mode = member(effect, "modes", JsonValue::Kind::Object, source).find(deviceName);
             if (!mode) continue;
             if (mode->kind != JsonValue::Kind::Object) throw InputError(source, mode->line, deviceName, "must be an object");
-            const double zero = 0.0;
-            const double start = tactNumber(effect, "startTime", source, &zero) / 1000.0;
-            const double length = tactNumber(effect, "offsetTime", source, &zero) / 1000.0;
-            if (start < 0.0 || length < 0.0) throw InputError(source, effect.line, "startTime", "effect times must not be negative");
+            const double start = seconds(effect, "startTime", source, true);
+            const double length = seconds(effect, "offsetTime", source, true);
             const double limit = length > 0.0 ? length : 1e9;   // a feedback past the effect's length is cut there
             const std::string& kind = member(*mode, "mode", JsonValue::Kind::String, source).string;
             if (kind == "DOT_MODE") {
@@ -201,9 +211,9 @@ ImportedScore importTact(std::string_view json, const std::string& source, const
                     if (fb.kind != JsonValue::Kind::Object) throw InputError(source, fb.line, "feedback", "each feedback is an object");
                     std::string playback;
                     checkPlayback(fb, source, playback);
-                    const double s = tactNumber(fb, "startTime", source) / 1000.0;
-                    double e = tactNumber(fb, "endTime", source) / 1000.0;
-                    if (s < 0.0 || e < s) throw InputError(source, fb.line, "endTime", "a feedback ends before it starts");
+                    const double s = seconds(fb, "startTime", source);
+                    double e = seconds(fb, "endTime", source);
+                    if (e < s) throw InputError(source, fb.line, "endTime", "a feedback ends before it starts");
                     const double fullEnd = e;
                     if (e > limit) {
                         e = limit;
@@ -240,9 +250,9 @@ ImportedScore importTact(std::string_view json, const std::string& source, const
                     std::vector<Key> keys;
                     for (const JsonValue& p : member(fb, "pointList", JsonValue::Kind::Array, source).array) {
                         if (p.kind != JsonValue::Kind::Object) throw InputError(source, p.line, "pointList", "each point is an object");
-                        Key k {tactNumber(p, "time", source) / 1000.0, tactNumber(p, "x", source), tactNumber(p, "y", source), intensityOf(p, source)};
+                        Key k {seconds(p, "time", source), tactNumber(p, "x", source), tactNumber(p, "y", source), intensityOf(p, source)};
                         if (k.x < 0.0 || k.x > 1.0 || k.y < 0.0 || k.y > 1.0) throw InputError(source, p.line, "x", "a path point lies in 0..1 × 0..1");
-                        if (k.t < 0.0 || (!keys.empty() && k.t < keys.back().t)) throw InputError(source, p.line, "time", "path point times must not decrease");
+                        if (!keys.empty() && k.t < keys.back().t) throw InputError(source, p.line, "time", "path point times must not decrease");
                         if (mirror) k.x = 1.0 - k.x;
                         keys.push_back(k);
                     }
@@ -297,6 +307,9 @@ ImportedScore importTact(std::string_view json, const std::string& source, const
     };
     std::vector<Line> lines;
     double end = 0.0;
+    // A sweep over each motor's pieces in time order: the pieces sounding in each part are the
+    // active ones (bounded: a file with more than kMaxOverlap at once on a motor is refused).
+    std::stable_sort(pieces.begin(), pieces.end(), [](const Piece& x, const Piece& y) { return x.start < y.start; });
     for (int m = 0; m < 9; ++m) {
         std::vector<const Piece*> mine;
         std::vector<double> cuts;
@@ -308,14 +321,19 @@ ImportedScore importTact(std::string_view json, const std::string& source, const
             }
         std::sort(cuts.begin(), cuts.end());
         cuts.erase(std::unique(cuts.begin(), cuts.end(), [](double x, double y) { return std::fabs(x - y) < 1e-9; }), cuts.end());
+        std::vector<const Piece*> active;
+        std::size_t next = 0;
         for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
             const double a = cuts[i], b = cuts[i + 1];
+            while (next < mine.size() && mine[next]->start <= a + 1e-9) active.push_back(mine[next++]);
+            active.erase(std::remove_if(active.begin(), active.end(), [&](const Piece* p) { return p->end < b - 1e-9; }), active.end());
+            if (active.size() > kMaxOverlap)
+                throw InputError(source, project.line, "tracks", "more than " + std::to_string(kMaxOverlap) + " effects at once on one motor");
             double la = 0.0, lb = 0.0;
-            for (const Piece* p : mine)
-                if (p->start <= a + 1e-9 && p->end >= b - 1e-9) {
-                    la = std::max(la, p->at(a));
-                    lb = std::max(lb, p->at(b));
-                }
+            for (const Piece* p : active) {
+                la = std::max(la, p->at(a));
+                lb = std::max(lb, p->at(b));
+            }
             if (la <= 0.0 && lb <= 0.0) continue;
             std::string s = scoretext::number(a) + " note m=" + scoretext::motorSet(static_cast<std::uint16_t>(1u << m)) +
                             " dur=" + scoretext::number(std::max(1e-6, b - a - 1e-6)) + " level=" + scoretext::number(std::clamp(la, 0.0, kFullScale), 3);

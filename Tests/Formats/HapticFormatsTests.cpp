@@ -573,3 +573,46 @@ TEST_CASE("tact export: every motor of a render survives the round trip within o
     CHECK(worst <= 1);
     std::printf("tact round trip: 1200 packets x 9 motors, largest difference %d\n", worst);
 }
+
+TEST_CASE("tact: mutated files never crash or hang: imported or refused with an InputError", "[formats][tact][fuzz]")
+{
+    // An exported file (dots and paths) and a hand-written one with fades and a moving path,
+    // each mutated byte by byte and number by number (huge, negative, fractional values).
+    const std::vector<std::string> seeds {
+        exportTact(randomRows(200, 7), "fuzz"),
+        R"({"project":{"tracks":[{"effects":[{"startTime":10,"offsetTime":500,"modes":{"ForearmL":{"mode":"PATH_MODE","dotMode":{"feedback":[]},)"
+        R"("pathMode":{"feedback":[{"playbackType":"FADE_IN_OUT","pointList":[{"time":0,"x":0.1,"y":0.9,"intensity":0.7},{"time":250,"x":0.9,"y":0.2,"intensity":"0.3"},)"
+        R"({"time":500,"x":0.5,"y":0.5,"intensity":1}]}]}}}},{"startTime":0,"offsetTime":300,"modes":{"ForearmL":{"mode":"DOT_MODE","dotMode":{"feedback":[)"
+        R"({"startTime":0,"endTime":300,"playbackType":"FADE_IN","pointList":[{"index":0,"intensity":0.5},{"index":4,"intensity":0.9}]}]},"pathMode":{"feedback":[]}}}}]}]}})"};
+    std::mt19937_64 rng(99);
+    const char* replacements[] = {"1e308", "-1", "3600001", "0.5", "7", "\"x\"", "[]", "{}", "null", "1e-300", "2.5"};
+    int imported = 0, refused = 0;
+    for (int i = 0; i < 3000; ++i) {
+        std::string m = seeds[static_cast<std::size_t>(i % 2)];
+        const int edits = 1 + static_cast<int>(rng() % 4);
+        for (int e = 0; e < edits; ++e) {
+            const std::size_t at = rng() % m.size();
+            if (rng() % 2 == 0) {
+                m[at] = static_cast<char>(rng() % 128);
+            } else {   // a number replaced
+                std::size_t from = at;
+                while (from < m.size() && !(m[from] >= '0' && m[from] <= '9')) ++from;
+                std::size_t to = from;
+                while (to < m.size() && ((m[to] >= '0' && m[to] <= '9') || m[to] == '.')) ++to;
+                if (from < m.size()) m.replace(from, to - from, replacements[rng() % (sizeof replacements / sizeof *replacements)]);
+            }
+        }
+        try {
+            const ImportedScore s = importTact(m, "fuzz.tact", HapticImportOptions {});
+            CHECK(s.report.notes > 0);
+            ++imported;
+        } catch (const InputError& e) {
+            CHECK(std::string(e.what()).find("fuzz.tact") != std::string::npos);
+            ++refused;
+        }
+    }
+    CHECK(imported + refused == 3000);
+    CHECK(imported > 0);
+    CHECK(refused > 0);
+    std::printf("tact fuzz: 3000 mutated files, %d imported, %d refused\n", imported, refused);
+}
