@@ -616,3 +616,33 @@ TEST_CASE("tact: mutated files never crash or hang: imported or refused with an 
     CHECK(refused > 0);
     std::printf("tact fuzz: 3000 mutated files, %d imported, %d refused\n", imported, refused);
 }
+
+TEST_CASE("tact: a diagonal path crosses the 3x3 through the middle row (bilinear spreading)", "[formats][tact]")
+{
+    // ForearmR, one path effect at 200 ms: (0, 0) → (1, 1) over 400 ms at intensity 0.6, FADE_IN
+    // off (NONE). Documented rule: motor (row, col) = 15 × 0.6 × max(0, 1 − |2x − col|) ×
+    // max(0, 1 − |2y − row|), x = y = the fraction of the path done.
+    const std::string tact = R"({"project":{"tracks":[{"enable":true,"effects":[{"startTime":200,"offsetTime":400,"modes":{"ForearmR":{"mode":"PATH_MODE",
+      "dotMode":{"feedback":[]},"pathMode":{"feedback":[{"movingPattern":"CONST_TDM","playbackType":"NONE","visible":true,
+      "pointList":[{"time":0,"x":0,"y":0,"intensity":0.6},{"time":400,"x":1,"y":1,"intensity":0.6}]}]}}}}]}]}})";
+    const std::string path = tempPath("diagonal.tact");
+    writeText(path, tact);
+    const auto rows = play(path, 0.8);
+    int checked = 0, middle = 0;
+    for (const auto& r : rows) {
+        if (std::fabs(r.t - 0.2) < 0.006 || std::fabs(r.t - 0.6) < 0.006) continue;
+        for (int m = 0; m < 9; ++m) {
+            double want = 0.0;
+            if (r.t >= 0.2 && r.t < 0.6) {
+                const double u = (r.t - 0.2) / 0.4;
+                want = 15.0 * 0.6 * std::max(0.0, 1.0 - std::fabs(2.0 * u - m % 3)) * std::max(0.0, 1.0 - std::fabs(2.0 * u - m / 3));
+            }
+            CAPTURE(r.t, m, want);
+            CHECK(std::fabs(r.levels[static_cast<std::size_t>(m)] - want) <= 1.0);
+        }
+        middle += r.levels[4] > 0;
+        ++checked;
+    }
+    CHECK(checked > 150);
+    CHECK(middle > 20);   // the middle row, which dot mode cannot reach, is felt
+}
