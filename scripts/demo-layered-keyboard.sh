@@ -6,7 +6,9 @@
 #   piano.wav   the phrase the scene listens to
 #   motion.csv  the arm (pose file: t,elevation,azimuth,roll)
 #   layered.wav what the scene plays
-# and the captured notes are printed by `armadillo render` on stderr.
+#   piano.mid   the same phrase as MIDI notes (what a digital piano's MIDI out would send)
+#   layered-midi.wav  what the scene plays when it takes its notes from piano.mid (--midi-in)
+# and the captured notes of both renders are printed by `armadillo render` on stderr.
 # Usage: scripts/demo-layered-keyboard.sh [ARMADILLO_BINARY] [OUTDIR]
 set -euo pipefail
 bin=${1:-build/bin/armadillo}
@@ -36,6 +38,23 @@ for m in [60, 64, 67]:
 with wave.open(out + "/piano.wav", "wb") as w:
     w.setnchannels(1); w.setsampwidth(2); w.setframerate(fs)
     w.writeframes(b"".join(struct.pack("<h", int(max(-1, min(1, v)) * 32767)) for v in x))
+# The same notes as a Standard MIDI File (format 0, 480 ticks per quarter at 120 bpm: 960 per s).
+notes = [(0.2 + 0.5 * k, 0.45, m) for k, m in enumerate([60, 64, 67, 72])] + [(2.2, 1.0, m) for m in [60, 64, 67]]
+events = sorted([(round(t * 960), 1, m) for t, d, m in notes] + [(round((t + d) * 960), 0, m) for t, d, m in notes])
+def vlq(v):
+    b = [v & 0x7F]
+    v >>= 7
+    while v:
+        b.insert(0, (v & 0x7F) | 0x80)
+        v >>= 7
+    return bytes(b)
+track, now = b"", 0
+for tick, on, m in events:
+    track += vlq(tick - now) + bytes([0x90, m, 90 if on else 0])
+    now = tick
+track += b"\x00\xff\x2f\x00"
+with open(out + "/piano.mid", "wb") as f:
+    f.write(b"MThd" + struct.pack(">IHHH", 6, 0, 1, 480) + b"MTrk" + struct.pack(">I", len(track)) + track)
 # The arm: on the keys (-20°) until 3.2 s, then 1.2 s in each of the five layers (bands of 12°
 # from 0° to 60°), a turn of +30° azimuth and a roll sweep on the last, then back down.
 rows = ["t,elevation,azimuth,roll"]
@@ -55,3 +74,6 @@ EOF
 "$bin" render --scene layered-keyboard --motion "$out/motion.csv" --audio-in "$out/piano.wav" \
     --out "$out/layered.wav" --tactile "$out/tactile.csv" --tail 0.5
 echo "wrote $out/piano.wav, $out/motion.csv, $out/layered.wav, $out/tactile.csv" >&2
+"$bin" render --scene layered-keyboard --motion "$out/motion.csv" --audio-in "$out/piano.wav" --midi-in "$out/piano.mid" \
+    --out "$out/layered-midi.wav" --tail 0.5
+echo "wrote $out/piano.mid, $out/layered-midi.wav (notes from MIDI)" >&2

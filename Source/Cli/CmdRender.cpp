@@ -55,6 +55,8 @@ int runRender(const Arguments& args)
                                                           "(score, audio-touch, layered-keyboard) follow it, and it is mixed into OUT.wav under the scene's\n"
                                                           "sound; its sample rate is used unless --sample-rate is given.\n"
                                                           "Given several times, each file is a stem named by its file name (drums.wav, bass.wav ...)"},
+                               {"--midi-in", "PIECE.mid", "with --audio-in: the instrument's MIDI notes on the recording's clock (a Standard MIDI\n"
+                                                          "File, t = 0 at its first sample): layered-keyboard takes its notes from them (docs/STAGE.md)"},
                                {"--no-audio-in-mix", "", "with --audio-in: leave the recording out of OUT.wav (the scene's sound alone)"},
                                {"--stem", "NAME=FILE.wav", "audio-touch: a stem felt apart on its own motors (drums, bass, other, vocals;\n"
                                                           "repeatable; docs/INSTRUMENTS.md)"},
@@ -73,6 +75,7 @@ int runRender(const Arguments& args)
                                                                       "(docs/FORMATS.md; sharpness is not written)"});
                            o.push_back({"--tactile-haptic", "OUT.haptic", "the motors as a Meta Haptics Studio .haptic file: one actuator,\n"
                                                                           "level = 15 x amplitude (docs/FORMATS.md)"});
+                           o.push_back({"--tactile-tact", "OUT.tact", "the motors as a bHaptics .tact forearm (ForearmR) effect (docs/FORMATS.md)"});
                            o.push_back({"--actuator-motors", "SET", "with --tactile-ahap/--tactile-haptic: the motors the one actuator carries\n"
                                                                     "(the loudest of them at each packet; default all of the render's motors)"});
                            return o;
@@ -119,18 +122,19 @@ int runRender(const Arguments& args)
         }
         const std::string out = cl.value("--out"), tactile = cl.value("--tactile"), midiOut = cl.value("--midi-out"),
                           tactileWav = cl.value("--tactile-wav"), tactileAhap = cl.value("--tactile-ahap"),
-                          tactileHaptic = cl.value("--tactile-haptic");
+                          tactileHaptic = cl.value("--tactile-haptic"), tactileTact = cl.value("--tactile-tact");
         if (cl.has("--out")) checkOutputPath("--out", out);
         if (cl.has("--tactile")) checkOutputPath("--tactile", tactile);
         if (cl.has("--midi-out")) checkOutputPath("--midi-out", midiOut);
         if (cl.has("--tactile-wav")) checkOutputPath("--tactile-wav", tactileWav);
         if (cl.has("--tactile-ahap")) checkOutputPath("--tactile-ahap", tactileAhap);
         if (cl.has("--tactile-haptic")) checkOutputPath("--tactile-haptic", tactileHaptic);
+        if (cl.has("--tactile-tact")) checkOutputPath("--tactile-tact", tactileTact);
         const std::string tactileLeft = cl.value("--tactile-left"), armsLog = cl.value("--arms-log");
         if (cl.has("--tactile-left")) checkOutputPath("--tactile-left", tactileLeft);
         if (cl.has("--arms-log")) checkOutputPath("--arms-log", armsLog);
         checkDistinctOutputs({{"--out", out}, {"--tactile", tactile}, {"--midi-out", midiOut}, {"--tactile-wav", tactileWav},
-                              {"--tactile-ahap", tactileAhap}, {"--tactile-haptic", tactileHaptic},
+                              {"--tactile-ahap", tactileAhap}, {"--tactile-haptic", tactileHaptic}, {"--tactile-tact", tactileTact},
                               {"--tactile-left", tactileLeft}, {"--arms-log", armsLog}});
         std::uint16_t actuator = static_cast<std::uint16_t>((1u << engine.motorCount) - 1u);
         if (cl.has("--actuator-motors")) {
@@ -154,6 +158,18 @@ int runRender(const Arguments& args)
             if (!cl.has("--sample-rate")) engine.sceneConfig.sampleRate = recording.sampleRate;
             settings.audioIn = &recording;
             settings.audioInName = cl.value("--audio-in");
+        }
+        std::vector<TimedMidiNote> midiIn;   // --midi-in: every note-on and note-off, in time order
+        if (cl.has("--midi-in")) {
+            if (!settings.audioIn) throw UsageError("--midi-in needs --audio-in (the notes' sound is sampled from the recording)");
+            const MidiFile piece = readMidiFile(cl.value("--midi-in"));   // InputError (3) naming the file and byte
+            for (const MidiNote& n : piece.notes) {
+                midiIn.push_back({piece.secondsAt(n.start), n.key, n.velocity, n.channel});
+                midiIn.push_back({piece.secondsAt(n.end), n.key, 0, n.channel});
+            }
+            std::stable_sort(midiIn.begin(), midiIn.end(), [](const TimedMidiNote& a, const TimedMidiNote& b) { return a.t < b.t; });
+            settings.midiIn = &midiIn;
+            settings.midiInName = cl.value("--midi-in");
         }
         const auto map = readMapOption(cl, engine);
         const double forward = readForwardOption(cl);
@@ -260,11 +276,12 @@ int runRender(const Arguments& args)
         const std::string project = std::filesystem::path(cl.value("--motion")).stem().string();
         if (cl.has("--tactile-ahap")) writeFileAtomically(tactileAhap, exportAhap(r.tactile, actuator, project));
         if (cl.has("--tactile-haptic")) writeFileAtomically(tactileHaptic, exportMetaHaptic(r.tactile, actuator, project));
+        if (cl.has("--tactile-tact")) writeFileAtomically(tactileTact, exportTact(r.tactile, project));
         if (wav) {
             try {
                 wav->finish();
             } catch (const IoError&) {   // the WAV could not be completed: no part of the outputs stays
-                for (const std::string* f : {&tactile, &midiOut, &tactileWav, &tactileAhap, &tactileHaptic, &tactileLeft, &armsLog})
+                for (const std::string* f : {&tactile, &midiOut, &tactileWav, &tactileAhap, &tactileHaptic, &tactileTact, &tactileLeft, &armsLog})
                     if (!f->empty()) std::remove(f->c_str());
                 throw;
             }

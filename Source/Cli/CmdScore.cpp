@@ -39,6 +39,8 @@ int runImport(const Arguments& args)
                    "  .wav         9 or 12 channels, channel k = motor k, level = 15 x peak amplitude per frame\n"
                    "  .ahap        Apple AHAP: transient and continuous events, intensity and its curves\n"
                    "  .haptic      Meta Haptics Studio: amplitude envelope and emphasis\n"
+                   "  .tact        bHaptics Designer, the forearm (Tactosy) device: its 3x2 grid on the wrist and\n"
+                   "               elbow rows, dot and path modes (an interpretation: docs/FORMATS.md)\n"
                    "The score is written whole or not at all; one JSON line on stdout says what was imported.",
                    {{"--out", "SCORE", "the score file to write (armadillo-score 2)", true},
                     {"--max-motors", "N", "MIDI: at most N notes at once (1..9, default 4)"},
@@ -46,6 +48,8 @@ int runImport(const Arguments& args)
                                             "N=off leaves the track out (repeatable)"},
                     {"--no-follow", "", "MIDI: no pitch=, parts follow=none (the score plays by time only)"},
                     {"--motors", "SET", "AHAP, .haptic: the motors the one actuator drives (default all: 1-9)"},
+                    {"--device", "ForearmR|ForearmL", ".tact: which forearm's effects (default: the one that plays, ForearmR\n"
+                                                      "when both do; ForearmL is mirrored into the right-arm layout)"},
                     {"--frame-ms", "MS", "WAV: the analysis frame (default 5 ms; the carrier must reach its peak\n"
                                          "within a frame: >= 100 Hz at 5 ms)"}});
     if (args.empty() || args[0].rfind("--", 0) == 0) {
@@ -64,6 +68,9 @@ int runImport(const Arguments& args)
         if (!parseMotorSet(cl.value("--motors"), haptic.motors) || haptic.motors == 0)
             throw UsageError("--motors: '" + cl.value("--motors") + "' is not a motor set");
     }
+    haptic.tactDevice = cl.value("--device");
+    if (cl.has("--device") && haptic.tactDevice != "ForearmR" && haptic.tactDevice != "ForearmL")
+        throw UsageError("--device: '" + haptic.tactDevice + "' is not ForearmR or ForearmL");
     const double frameMs = cl.number("--frame-ms", 5.0);
     if (!(frameMs >= 1.0 && frameMs <= 100.0)) throw UsageError("--frame-ms must lie in 1..100");
     haptic.frameSeconds = frameMs / 1000.0;
@@ -90,8 +97,8 @@ int runScore(const Arguments& args)
         if (args.empty() || args[0] == "--help" || args[0] == "-h") {
             std::cout << "usage: armadillo score import FILE --out SCORE [options]\n\n"
                          "Tactile scores from other files (docs/FORMATS.md).\n\nsubcommands:\n"
-                         "  import      a MIDI file (.mid), a multichannel WAV (.wav), an AHAP (.ahap) or a Meta\n"
-                         "              .haptic file -> a tactile score (see armadillo score import --help)\n";
+                         "  import      a MIDI file (.mid), a multichannel WAV (.wav), an AHAP (.ahap), a Meta\n"
+                         "              .haptic or a bHaptics .tact file -> a tactile score (see armadillo score import --help)\n";
             if (args.empty()) throw UsageError("score needs a subcommand (import)");
             return 0;
         }

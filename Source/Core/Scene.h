@@ -81,6 +81,15 @@ public:
     virtual void emit(const char* gesture, float value) = 0;
 };
 
+/// A MIDI note from the instrument a scene listens to (the layered keyboard's MIDI input:
+/// docs/STAGE.md, docs/INTERFACES.md "MIDI input"). Plain data, copied by value.
+struct MidiNoteEvent {
+    int offset = 0;              ///< sample offset inside the audio block it belongs to (0..numSamples-1)
+    std::uint8_t note = 60;      ///< 0..127, 60 = C4
+    std::uint8_t velocity = 0;   ///< 1..127 = note-on; 0 = note-off
+    std::uint8_t channel = 0;    ///< 0..15
+};
+
 struct ControlInput {
     ArmState arm {};             ///< the arm (with two arms: the right one)
     Transport transport {};
@@ -167,6 +176,18 @@ public:
     }
     /// True for scenes that use processInput() (score, audio-touch, layered-keyboard).
     virtual bool listensToAudio() const { return false; }
+    /// MIDI notes from the instrument (a keyboard's MIDI out): the `count` note events of the
+    /// coming audio block, in time order, their offsets relative to its first sample. Called on
+    /// the audio thread BEFORE processInput() of the same block (so an offset names a sample of
+    /// the audio that follows). REAL-TIME like processInput(): the caller owns the events (a
+    /// fixed buffer); the scene copies what it keeps into fixed capacity, never allocates, locks
+    /// or throws. A scene without MIDI input ignores it (the default).
+    virtual void processMidi(const MidiNoteEvent* events, int count) noexcept
+    {
+        (void) events; (void) count;
+    }
+    /// True for scenes that use processMidi() (layered-keyboard).
+    virtual bool listensToMidi() const { return false; }
     /// Entering the scene, or a transport jump: forget gestures in progress. Real-time, like
     /// control() (the plugin calls it on the audio thread).
     virtual void reset() {}

@@ -220,6 +220,12 @@ void Engine::processInput(const float* const* in, int channels, int numSamples) 
     scene_->processInput(in, channels, numSamples);
 }
 
+void Engine::processMidi(const MidiNoteEvent* events, int count) noexcept
+{
+    if (!events || count <= 0 || failed_.load(std::memory_order_acquire)) return;
+    scene_->processMidi(events, count);
+}
+
 void Engine::allOff() noexcept
 {
     tactile_->allOff();

@@ -82,6 +82,11 @@ public:
     /// recording itself" (render/play --audio-in say so before the first block; Core/Scene.h).
     void processInput(const float* const* in, int channels, int numSamples) noexcept;
     bool listensToAudio() const { return scene_->listensToAudio(); }
+    /// Audio thread: the instrument's MIDI notes for the coming block (Core/Scene.h,
+    /// Scene::processMidi), handed to the scene before processInput() of the same block.
+    /// Real-time; ignored by scenes without MIDI input and once the scene failed.
+    void processMidi(const MidiNoteEvent* events, int count) noexcept;
+    bool listensToMidi() const { return scene_->listensToMidi(); }
     /// Stop, disconnect or error: every motor off now; patterns and targets forgotten.
     void allOff() noexcept;
 

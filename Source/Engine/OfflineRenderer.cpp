@@ -76,6 +76,11 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
                                                       " Hz) differs from the engine's (" + std::to_string(static_cast<long>(sampleRate)) +
                                                       " Hz); give --sample-rate to match it");
     }
+    if (settings.midiIn && !engine.listensToMidi())
+        throw InputError(settings.midiInName.empty() ? std::string("--midi-in") : settings.midiInName, 0, "",
+                         "--midi-in: scene '" + settings.engine.scene + "' does not listen to MIDI (layered-keyboard does)");
+    std::vector<MidiNoteEvent> midiBlock(settings.midiIn ? settings.midiIn->size() : 0);
+    std::size_t nextMidi = 0;
     const int block = std::clamp(settings.blockSize, 1, 8192);
     std::vector<const float*> inputChannels(input ? input->channels.size() : 0, nullptr);
     std::vector<std::vector<float>> inputScratch(inputChannels.size(), std::vector<float>(static_cast<std::size_t>(block), 0.0f));
@@ -103,6 +108,21 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
         const auto target = std::min(totalFrames, static_cast<std::size_t>(std::llround((t - t0) * sampleRate)));
         while (frame < target) {
             const int n = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(block), target - frame));
+            if (settings.midiIn) {   // the block's MIDI notes, before its audio (Scene::processMidi)
+                int count = 0;
+                const auto& notes = *settings.midiIn;
+                while (nextMidi < notes.size()) {
+                    const auto at = static_cast<std::size_t>(std::max(0.0, std::round(notes[nextMidi].t * sampleRate)));
+                    if (at >= frame + static_cast<std::size_t>(n)) break;
+                    const TimedMidiNote& m = notes[nextMidi++];
+                    MidiNoteEvent& e = midiBlock[static_cast<std::size_t>(count++)];
+                    e.offset = at > frame ? static_cast<int>(at - frame) : 0;
+                    e.note = static_cast<std::uint8_t>(std::clamp(m.note, 0, 127));
+                    e.velocity = static_cast<std::uint8_t>(std::clamp(m.velocity, 0, 127));
+                    e.channel = static_cast<std::uint8_t>(std::clamp(m.channel, 0, 15));
+                }
+                if (count > 0) engine.processMidi(midiBlock.data(), count);
+            }
             if (input) {   // past the recording's end silence still comes in (the input stays connected)
                 for (std::size_t c = 0; c < inputChannels.size(); ++c) {
                     if (frame + static_cast<std::size_t>(n) <= input->frames()) {

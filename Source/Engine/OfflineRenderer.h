@@ -14,6 +14,14 @@ namespace armadillo {
 /// Longest render whose audio is collected in RenderResult::audio (no audioSink): one hour.
 inline constexpr double kMaxCollectedRenderSeconds = 3600.0;
 
+/// A MIDI note of the instrument on the render's clock (`render --midi-in`, docs/STAGE.md).
+struct TimedMidiNote {
+    double t = 0.0;        ///< s from the first motion row (= sample 0 of the audio input)
+    int note = 60;         ///< 0..127
+    int velocity = 0;      ///< 1..127 note-on, 0 note-off
+    int channel = 0;       ///< 0..15
+};
+
 struct RenderSettings {
     EngineConfig engine {};
     double tailSeconds = 0.0;      ///< audio rendered after the last row (e.g. to hear a crash ring out)
@@ -29,6 +37,11 @@ struct RenderSettings {
     /// (`render --map`, Source/Mapping) reads and drives. Empty: not called.
     std::function<void(double t, const ArmState& arm, const GestureEvent* gestures, std::size_t count, Engine& engine)> onControl;
     std::string audioInName;       ///< the file audioIn came from, named in messages
+    /// The instrument's MIDI notes (`--midi-in`), sorted by t: each note goes to the engine's
+    /// MIDI input (Engine::processMidi) with the block that holds its sample, before that
+    /// block's audio input. The scene must listen to MIDI (layered-keyboard). Null: none.
+    const std::vector<TimedMidiNote>* midiIn = nullptr;
+    std::string midiInName;        ///< the file midiIn came from, named in messages
     /// Mix the recording (audioIn) into the rendered audio, as the listener hears it (the scene's
     /// sound over the recording, clipped to ±1). False: the scene's sound alone.
     bool mixAudioIn = true;

@@ -472,7 +472,7 @@ std::string readText(const std::string& path)
 bool isImportableScorePath(const std::string& path) noexcept
 {
     const std::string e = lowerExtension(path);
-    return e == ".mid" || e == ".midi" || e == ".wav" || e == ".ahap" || e == ".haptic";
+    return e == ".mid" || e == ".midi" || e == ".wav" || e == ".ahap" || e == ".haptic" || e == ".tact";
 }
 
 ImportedScore importScoreFile(const std::string& path, const MidiImportOptions& midi, const HapticImportOptions& haptic)
@@ -483,6 +483,7 @@ ImportedScore importScoreFile(const std::string& path, const MidiImportOptions& 
     if (e == ".wav") return importTactileWav(path, haptic);
     if (e == ".ahap") return importAhap(readText(path), path, haptic);
     if (e == ".haptic") return importMetaHaptic(readText(path), path, haptic);
+    if (e == ".tact") return importTact(readText(path), path, haptic);
     if (e == ".score") {
         ImportedScore s;
         s.text = readText(path);
@@ -491,7 +492,7 @@ ImportedScore importScoreFile(const std::string& path, const MidiImportOptions& 
         s.report.notes = static_cast<int>(s.score.notes.size());
         return s;
     }
-    throw InputError(path, 0, "", "unknown score format '" + e + "' (known: .score .mid .midi .wav .ahap .haptic)");
+    throw InputError(path, 0, "", "unknown score format '" + e + "' (known: .score .mid .midi .wav .ahap .haptic .tact)");
 }
 
 Score loadAnyScore(const std::string& path) { return importScoreFile(path).score; }

@@ -35,7 +35,7 @@ struct MidiImportOptions {
 
 /// What an import did, besides the score text.
 struct ImportReport {
-    std::string format;          ///< "midi", "wav", "ahap", "haptic"
+    std::string format;          ///< "midi", "wav", "ahap", "haptic", "tact"
     int notes = 0;               ///< notes written
     int dropped = 0;             ///< notes left out (over the budget, or every motor busy)
     int shortened = 0;           ///< held notes ended early to make room for a new onset
@@ -66,6 +66,8 @@ struct HapticImportOptions {
     std::uint16_t motors = 0x01FF;        ///< AHAP / .haptic: the motors the one actuator drives (default all nine)
     double transientSeconds = 0.030;      ///< AHAP: how long a transient event is held
     double emphasisSeconds = 0.030;       ///< .haptic: how long an emphasis is held (Lofelt's emphasis length)
+    std::string tactDevice;               ///< .tact: "ForearmR" or "ForearmL"; empty: the forearm that plays (ForearmR when both)
+    double tactPathStep = 0.020;          ///< .tact: a path is followed in steps of this (s; the Designer's 20 ms frame)
 };
 
 /// A multichannel WAV (9 or 12 channels, or up to 16): channel k → motor k; each frame's level is
@@ -76,7 +78,13 @@ ImportedScore importAhap(std::string_view json, const std::string& source, const
 /// Meta Haptics Studio `.haptic` (Lofelt data model v1, JSON text).
 ImportedScore importMetaHaptic(std::string_view json, const std::string& source, const HapticImportOptions& options);
 
-/// By extension: .score (parsed as is), .mid/.midi, .wav, .ahap, .haptic. InputError for an
+/// bHaptics `.tact` (Designer JSON), the forearm device (docs/FORMATS.md, "bHaptics .tact"):
+/// Tactosy index i (x = (i mod 3)/2, y = ⌊i/3⌋) → our column (mirrored for ForearmL), y = 0 →
+/// the wrist row, y = 1 → the elbow row; level = 15 × intensity; fades linear; path points
+/// spread bilinearly over the 3 × 3 (column 2x, row 2y); overlaps: the louder.
+ImportedScore importTact(std::string_view json, const std::string& source, const HapticImportOptions& options);
+
+/// By extension: .score (parsed as is), .mid/.midi, .wav, .ahap, .haptic, .tact. InputError for an
 /// unknown extension, naming the ones known.
 ImportedScore importScoreFile(const std::string& path, const MidiImportOptions& midi = {}, const HapticImportOptions& haptic = {});
 /// importScoreFile(path).score: what `--score FILE` plays for a file of any of those formats.
@@ -108,5 +116,9 @@ std::string exportAhap(const std::vector<TactileRow>& rows, std::uint16_t motors
 /// (two breakpoints at each change: the old and the new amplitude, level/15), no frequency
 /// envelope, no emphasis.
 std::string exportMetaHaptic(const std::vector<TactileRow>& rows, std::uint16_t motors, const std::string& project);
+/// bHaptics `.tact` text for ForearmR (docs/FORMATS.md): one effect per run of equal packets;
+/// the wrist and elbow rows in dot mode (Tactosy indices 0-2 and 3-5, intensity level/15), a
+/// middle-row motor as a still path point at (column/2, 0.5); times in whole ms from the first row.
+std::string exportTact(const std::vector<TactileRow>& rows, const std::string& project);
 
 } // namespace armadillo

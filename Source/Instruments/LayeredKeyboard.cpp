@@ -100,7 +100,53 @@ void NoteListener::clear()
     recordingSlot_ = -1;
     first_ = layerCount_ = nextSlot_ = 0;
     open_ = CapturedLayer {};
+    midiHead_ = midiCount_ = 0;
+    midiOpen_ = false;
     ++phrase_;
+}
+
+void NoteListener::noteOn(std::int64_t at, int note) noexcept
+{
+    if (midiCount_ == kMidiQueue || note < 0 || note > 127) {
+        ++midiDropped_;
+        return;
+    }
+    const int i = (midiHead_ + midiCount_) % kMidiQueue;
+    midiAt_[static_cast<std::size_t>(i)] = std::max<std::int64_t>(at, 0);
+    midiNote_[static_cast<std::size_t>(i)] = note;
+    ++midiCount_;
+}
+
+void NoteListener::completeMidiLayer(int& completed) noexcept
+{
+    midiOpen_ = false;
+    layers_[static_cast<std::size_t>(open_.slot)] = open_;
+    ++layerCount_;
+    ++completed;
+}
+
+void NoteListener::midiNote(std::int64_t at, int note, const ListenerSettings& s, int& completed) noexcept
+{
+    if (s.hold) return;
+    const int maxNotes = std::clamp(s.maxNotes, 1, kMaxChordNotes);
+    const auto chord = static_cast<std::int64_t>(kMidiChordSeconds * fs_);
+    if (midiOpen_ && at - midiOpenAt_ < chord) {   // one more note of the chord
+        for (int k = 0; k < open_.noteCount; ++k)
+            if (open_.notes[static_cast<std::size_t>(k)] == note) return;
+        if (open_.noteCount < maxNotes) open_.notes[static_cast<std::size_t>(open_.noteCount++)] = note;
+        return;
+    }
+    if (midiOpen_) completeMidiLayer(completed);
+    if (pendingHops_ > 0) {   // an audio onset still waiting for its analysis (before MIDI took over): dropped
+        pendingHops_ = -1;
+        if (recordingSlot_ == open_.slot) recordingSlot_ = -1;
+        slotLength_[static_cast<std::size_t>(open_.slot)] = 0;
+    }
+    onOnset(at, s);
+    open_.notes[0] = note;
+    open_.noteCount = 1;
+    midiOpen_ = true;
+    midiOpenAt_ = at;
 }
 
 const CapturedLayer& NoteListener::layer(int index) const noexcept
@@ -276,6 +322,15 @@ int NoteListener::process(const float* mono, int n, const ListenerSettings& s) n
             if (static_cast<std::size_t>(len) < slotFrames_) slots_[static_cast<std::size_t>(recordingSlot_) * slotFrames_ + static_cast<std::size_t>(len++)] = x;
             else recordingSlot_ = -1;
         }
+        // MIDI note-ons whose sample has now been heard, and the chord window of the open one.
+        while (midiCount_ > 0 && midiAt_[static_cast<std::size_t>(midiHead_)] < written_) {
+            const std::int64_t at = midiAt_[static_cast<std::size_t>(midiHead_)];
+            const int note = midiNote_[static_cast<std::size_t>(midiHead_)];
+            midiHead_ = (midiHead_ + 1) % kMidiQueue;
+            --midiCount_;
+            if (s.midi) midiNote(at, note, s, completed);
+        }
+        if (midiOpen_ && written_ - midiOpenAt_ >= static_cast<std::int64_t>(kMidiChordSeconds * fs_)) completeMidiLayer(completed);
         if (++hopFill_ < hop_) continue;
         hopFill_ = 0;
         if (refractory_ > 0) --refractory_;
@@ -302,7 +357,7 @@ int NoteListener::process(const float* mono, int n, const ListenerSettings& s) n
         lastFlux_ = flux;
         lastRise_ = rise;
         lastLoud_ = loud;
-        if (onset && !s.hold) {
+        if (onset && !s.hold && !s.midi) {
             refractory_ = kRefractoryHops;
             const std::int64_t at = std::max<std::int64_t>(0, written_ - hop_ - fft_.size() / 2);
             if (pendingHops_ > 0) {   // a short note: analysed on the window that ends where the next one starts

@@ -27,6 +27,11 @@
 //   (2 s each) which copies the input from one hop before the onset until the next onset or
 //   until full. A layer whose analysis finds no pitch is dropped. A new phrase (an onset after
 //   `phraseGap` s of no onset) forgets the previous phrase's layers.
+// - MIDI input (an instrument that has it: `settings.midi`): the onsets and pitches come from its
+//   note-ons instead (noteOn()), exact; note-ons within kMidiChordSeconds of a layer's first note
+//   join it (a chord, at most `maxNotes`, in arrival order); the layer is complete
+//   kMidiChordSeconds after its first note. The audio is still what is captured (from one hop
+//   before the first note-on), and the audio's own onsets are not looked for.
 //
 // Real-time: every buffer is sized in prepare(); process() allocates, locks and throws nothing,
 // and its work per sample is bounded (one FFT of N points per onset and one per analysis).
@@ -73,6 +78,7 @@ struct ListenerSettings {
     double floorDb = -50.0;      ///< dBFS: a hop must be this loud for an onset, a partial for a note
     double phraseGap = 3.0;      ///< s without an onset that ends a phrase
     bool hold = false;           ///< true: capture nothing new (the layers stay as they are)
+    bool midi = false;           ///< true: the notes come from MIDI (noteOn()); the audio's onsets are ignored
 };
 
 class NoteListener {
@@ -81,6 +87,8 @@ public:
     static constexpr int kAnalysisDelayHops = 9;     ///< the pitch window ends N + H after the onset
     static constexpr int kRefractoryHops = 8;
     static constexpr double kSlotSeconds = 2.0;
+    static constexpr double kMidiChordSeconds = 0.030;   ///< note-ons this close to a layer's first are one chord
+    static constexpr int kMidiQueue = 64;                ///< note-ons waiting for their sample
 
     /// Not real-time: sizes every buffer for this sample rate.
     void prepare(double sampleRate);
@@ -89,6 +97,14 @@ public:
     /// Audio thread: mono input. Returns the number of layers completed in this call (their
     /// pitch known); read them with layer(). Real-time.
     int process(const float* mono, int n, const ListenerSettings& settings) noexcept;
+
+    /// A MIDI note-on (audio thread, real-time) at sample `at` of the input: samplesProcessed()
+    /// plus its offset in the block process() is given next. Used when settings.midi is set;
+    /// at most kMidiQueue wait for their sample (more are dropped: midiDropped()).
+    void noteOn(std::int64_t at, int note) noexcept;
+    /// Samples given to process() so far (the listener's clock).
+    std::int64_t samplesProcessed() const noexcept { return written_; }
+    std::uint32_t midiDropped() const noexcept { return midiDropped_; }
 
     /// Layers of the current phrase in capture order, index 0 the oldest (audio thread).
     int layerCount() const noexcept { return layerCount_; }
@@ -117,6 +133,8 @@ private:
     void spectrumEndingAt(std::int64_t endSample, float* magnitude) noexcept;
     void onOnset(std::int64_t onsetSample, const ListenerSettings& settings) noexcept;
     void analyse(const ListenerSettings& settings, int& completed, std::int64_t endSample) noexcept;
+    void midiNote(std::int64_t at, int note, const ListenerSettings& settings, int& completed) noexcept;
+    void completeMidiLayer(int& completed) noexcept;
 
     double fs_ = 48000.0;
     Fft fft_;
@@ -149,6 +167,12 @@ private:
     int first_ = 0, layerCount_ = 0, nextSlot_ = 0;
     CapturedLayer open_ {};                       ///< the layer waiting for its analysis
     std::uint32_t phrase_ = 0;
+    std::array<std::int64_t, kMidiQueue> midiAt_ {};   ///< ring of waiting note-ons: sample …
+    std::array<int, kMidiQueue> midiNote_ {};          ///< … and note
+    int midiHead_ = 0, midiCount_ = 0;
+    std::uint32_t midiDropped_ = 0;
+    bool midiOpen_ = false;                            ///< open_ is a MIDI layer still taking chord notes
+    std::int64_t midiOpenAt_ = 0;
 };
 
 } // namespace armadillo

@@ -14,6 +14,9 @@
 // - the tactile display shows the layer under the hand: the layer's motor (the fret order of the
 //   theremin, elbow → wrist as the layers rise) held soft at the rated level, a point when the
 //   hand enters a layer, and a short accent on the wrist row when a note is captured.
+// With MIDI input (an instrument that has it: processMidi, `render --midi-in`), from its first
+// note-on the notes come from MIDI — exact pitches, chords as played — while the sound of each
+// layer is still sampled from the audio input (NoteListener, "MIDI input").
 // Captured notes leave as gestures "captured-note" (value = MIDI note number) in capture order,
 // a change of layer as "layer" (value = layer index).
 //
@@ -96,6 +99,18 @@ public:
     std::vector<ParamSpec> parameters() const override { return params_.specs(); }
     void setParameter(int index, float value) noexcept override { params_.set(index, value); }
     bool listensToAudio() const override { return true; }
+    bool listensToMidi() const override { return true; }
+
+    void processMidi(const MidiNoteEvent* events, int count) noexcept override
+    {
+        if (!events) return;
+        const std::int64_t base = listener_.samplesProcessed();   // the block's first sample (called before processInput)
+        for (int i = 0; i < count; ++i)
+            if (events[i].velocity > 0) {
+                listener_.noteOn(base + std::max(0, events[i].offset), events[i].note);
+                midi_ = true;
+            }
+    }
     bool producesAudio() const override { return true; }
 
     void prepare(const SceneConfig& config) override
@@ -111,6 +126,7 @@ public:
         cutoffSmooth_.value = 12000.0;
         filter_.setup(12000.0, 0.7071, fs_);
         for (auto& p : players_) p = GrainPlayer {};
+        midi_ = false;
         published_.store(0u);
         targetLayer_.store(-1);
         resetControl();
@@ -126,6 +142,7 @@ public:
         s.floorDb = params_.get(kSensitivity);
         s.phraseGap = params_.get(kPhraseGap);
         s.hold = params_.get(kCapture) >= 0.5;
+        s.midi = midi_;
         for (int done = 0; done < n;) {
             const int m = std::min(n - done, static_cast<int>(mono_.size()));
             for (int i = 0; i < m; ++i) {
@@ -322,6 +339,7 @@ private:
     double fs_ = 48000.0;
     NoteListener listener_;
     std::vector<float> mono_;
+    bool midi_ = false;                              ///< audio thread: a MIDI note-on came (the notes come from MIDI from then on)
     dsp::Random random_ {1};
     double fadeStep_ = 0.001;
     std::array<GrainPlayer, 2> players_ {};

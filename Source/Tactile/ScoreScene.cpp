@@ -17,7 +17,7 @@ namespace {
 
 /// SceneConfig::score → a score: a name is looked up as Scores/<name>.score in the resource
 /// folders (a user's own scores live there) and then among the built-in ones; anything with a
-/// slash or ending in ".score" is a path, and a MIDI or haptic file (.mid, .wav, .ahap, .haptic)
+/// slash or ending in ".score" is a path, and a MIDI or haptic file (.mid, .wav, .ahap, .haptic, .tact)
 /// is imported by the reader the engine installed (docs/FORMATS.md).
 Score resolveScore(const SceneConfig& config)
 {

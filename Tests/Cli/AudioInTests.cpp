@@ -167,3 +167,50 @@ TEST_CASE("cli: play --keys: p panics: silence and every motor off, reported, co
     CHECK(motorSum(path("normal.csv")) > 0.0);
     CHECK(motorSum(path("panic.csv")) == 0.0);
 }
+
+#include "Common/MidiWriter.h"
+
+TEST_CASE("cli: render --midi-in: the layered keyboard logs the MIDI file's notes as it captures them; bad uses refused", "[cli][layered][midi]")
+{
+    // A synthesised phrase (A2 E4 G4 C5, one every 0.5 s from 0.2 s, partials 1..6 at 1/h decaying)
+    // and the MIDI file that played it (120 bpm: beat 0.4 + i, 0.9 beats long).
+    const int notes[4] = {45, 64, 67, 72};
+    const double fs = 48000.0;
+    AudioBuffer wav;
+    wav.sampleRate = fs;
+    wav.channels.assign(1, std::vector<float>(static_cast<std::size_t>(2.6 * fs), 0.0f));
+    for (int k = 0; k < 4; ++k) {
+        const double f0 = 440.0 * std::pow(2.0, (notes[k] - 69) / 12.0);
+        for (std::size_t i = static_cast<std::size_t>((0.2 + 0.5 * k) * fs); i < wav.channels[0].size(); ++i) {
+            const double t = static_cast<double>(i) / fs - (0.2 + 0.5 * k);
+            double v = 0.0;
+            for (int h = 1; h <= 6; ++h) v += std::exp(-t * h / 0.6) * std::sin(2.0 * 3.14159265358979 * h * f0 * t) / h;
+            wav.channels[0][i] += static_cast<float>(0.2 * std::min(1.0, t / 0.002) * v);
+        }
+    }
+    const std::string audio = cli::path("phrase.wav"), mid = cli::path("phrase.mid");
+    writeWav(audio, wav, true);
+    std::vector<test::WrittenNote> written;
+    for (int k = 0; k < 4; ++k) written.push_back({0.4 + k, 0.9, notes[k], 90, 0, 0});
+    test::writeFile(mid, test::midiBytes(written, {{0, 120}}, 1));
+    std::string motion = "t,elevation,azimuth,roll\n";
+    for (int i = 0; i <= 800; ++i) motion += std::to_string(i / 200.0) + "," + std::to_string(i < 520 ? -20.0 : 60.0 * (i - 520) / 280.0) + ",10,0\n";
+    const std::string pose = cli::file("rise.csv", motion);
+    const std::string base = "render --scene layered-keyboard --motion '" + pose + "' --out '" + cli::path("layered.wav") + "' --audio-in '" + audio + "'";
+    const cli::Run r = cli::runArmadillo(base + " --midi-in '" + mid + "'");
+    REQUIRE(r.code == 0);
+    std::size_t at = 0;
+    for (const char* name : {"A2", "E4", "G4", "C5"}) {
+        INFO(r.err);
+        const std::size_t found = r.err.find(std::string("render: captured ") + name + " at", at);
+        REQUIRE(found != std::string::npos);   // in order
+        at = found + 1;
+    }
+    CHECK(cli::runArmadillo("render --scene layered-keyboard --motion '" + pose + "' --out '" + cli::path("x.wav") + "' --midi-in '" + mid + "'").code == 2);
+    const cli::Run bad = cli::runArmadillo(base + " --midi-in '" + cli::file("bad.mid", "MThd\x00\x00\x00\x06") + "'");
+    CHECK(bad.code == 3);
+    CHECK(bad.err.find("bad.mid") != std::string::npos);
+    const cli::Run score = cli::runArmadillo("render --scene audio-touch --motion '" + pose + "' --out '" + cli::path("y.wav") + "' --audio-in '" + audio + "' --midi-in '" + mid + "'");
+    CHECK(score.code == 3);
+    CHECK(score.err.find("does not listen to MIDI") != std::string::npos);
+}

@@ -168,3 +168,35 @@ TEST_CASE("cli: play feels stems apart and plays them out together; bad stems ar
     CHECK(rate.code == 3);
     CHECK(rate.err.find("vocals-44k.wav") != std::string::npos);
 }
+
+TEST_CASE("cli: render writes the motors as a bHaptics .tact that imports back; a malformed .tact exits 3", "[cli][import][export][tact]")
+{
+    const std::string mid = path("to-tact.mid");
+    armadillo::test::writeFile(mid, armadillo::test::midiBytes({{0, 1, 60, 100, 0, 0}, {1, 1, 67, 100, 0, 0}}, {{0, 120}}, 1));
+    const std::string motion = stillMotion("still-tact.csv", 1.2);
+    const std::string tact = path("exported.tact"), csv = path("exported-tact.csv");
+    const Run r = runArmadillo("render --scene score --score '" + mid + "' --motion '" + motion + "' --out '" + path("tact.wav") +
+                               "' --tactile '" + csv + "' --tactile-tact '" + tact + "'");
+    REQUIRE(r.code == 0);
+    const Run t = runArmadillo("score import '" + tact + "' --out '" + path("from-tact.score") + "'");
+    CHECK(t.code == 0);
+    CHECK(t.out.find("\"format\":\"tact\"") != std::string::npos);
+    // --score takes the .tact directly: the same motor levels as the render it came from.
+    const std::string csv2 = path("replayed-tact.csv");
+    REQUIRE(runArmadillo("render --scene score --score '" + tact + "' --motion '" + motion + "' --out '" + path("tact2.wav") + "' --tactile '" + csv2 + "'").code == 0);
+    const auto first = armadillo::readTactile(armadillo::CsvTable::read(csv)), second = armadillo::readTactile(armadillo::CsvTable::read(csv2));
+    REQUIRE(second.size() >= 200);
+    int worst = 0;
+    for (std::size_t i = 0; i < 200; ++i)
+        for (std::size_t m = 0; m < 9; ++m) worst = std::max(worst, std::abs(int(first[i].levels[m]) - int(second[i].levels[m])));
+    CHECK(worst <= 1);
+
+    const std::string never = path("never-tact.score");
+    const Run bad = runArmadillo("score import '" + file("bad.tact", R"({"project":{"tracks":[{"effects":[{"startTime":0,"offsetTime":100,"modes":{"ForearmR":{"mode":"DOT_MODE","dotMode":{"feedback":[{"startTime":0,"endTime":100,"pointList":[{"index":9,"intensity":0.5}]}]}}}}]}]}})") + "' --out '" + never + "'");
+    CHECK(bad.code == 3);
+    CHECK(bad.err.find("bad.tact") != std::string::npos);
+    CHECK(bad.err.find("index") != std::string::npos);
+    CHECK(runArmadillo("score import '" + tact + "' --out '" + never + "' --device ForearmX").code == 2);
+    CHECK(runArmadillo("score import '" + tact + "' --out '" + never + "' --device ForearmL").code == 3);   // nothing on the left
+    CHECK_FALSE(fs::exists(never));
+}

@@ -10,6 +10,8 @@
 #include "Instruments/Frets.h"
 #include "Instruments/LayeredKeyboard.h"
 #include <catch2/catch.hpp>
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <complex>
@@ -427,4 +429,174 @@ TEST_CASE("layered-keyboard: roll opens the filter (more high-frequency energy a
     const double dark = share(-90.0), bright = share(90.0);
     INFO("high-frequency share at roll -90: " << dark << ", +90: " << bright);
     CHECK(bright > 1.5 * dark);
+}
+
+// ---- MIDI input (an instrument that has it) ----------------------------------------------
+
+namespace {
+/// A2 (below the audio analysis' C3..C7 range: the audio alone cannot name it), E4, G4, C5: one
+/// every 0.5 s from 0.2 s, legato, with the MIDI notes that played them (0.45 s long).
+const int kMidiPhrase[4] = {45, 64, 67, 72};
+std::vector<double> midiPhraseAudio(double seconds)
+{
+    std::vector<double> x(static_cast<std::size_t>(seconds * kFs), 0.0);
+    for (int i = 0; i < 4; ++i) addTone(x, 0.2 + 0.5 * i, kMidiPhrase[i], 0.25);
+    return x;
+}
+std::vector<TimedMidiNote> midiPhraseNotes()
+{
+    std::vector<TimedMidiNote> v;
+    for (int i = 0; i < 4; ++i) {
+        v.push_back({0.2 + 0.5 * i, kMidiPhrase[i], 90, 0});
+        v.push_back({0.2 + 0.5 * i + 0.45, kMidiPhrase[i], 0, 0});
+    }
+    std::stable_sort(v.begin(), v.end(), [](const TimedMidiNote& a, const TimedMidiNote& b) { return a.t < b.t; });
+    return v;
+}
+} // namespace
+
+TEST_CASE("layered-keyboard: with MIDI the captured notes are the MIDI notes, and elevation plays them in order (pitch measured)", "[layered][render][midi]")
+{
+    const AudioBuffer piano = toBuffer(midiPhraseAudio(2.6));
+    const std::vector<TimedMidiNote> notes = midiPhraseNotes();
+    const std::vector<double> starts {0.0, 2.6, 3.8, 5.0, 6.2, 7.4};
+    const std::vector<std::array<double, 3>> poses {{-20, 10, 0}, {7.5, 10, 0}, {22.5, 10, 0}, {37.5, 10, 0}, {52.5, 10, 0}, {-20, 10, 0}};
+    RenderSettings settings;
+    settings.engine.scene = "layered-keyboard";
+    settings.audioIn = &piano;
+    settings.mixAudioIn = false;
+    const auto captured = [](const RenderResult& r) {
+        std::vector<int> v;
+        for (const auto& g : r.gestures)
+            if (std::string(g.name) == "captured-note") v.push_back(static_cast<int>(g.value));
+        return v;
+    };
+    // The audio alone cannot name A2 (the analysis covers C3..C7) …
+    const RenderResult audioOnly = renderOffline(poseSegments(starts, poses, 8.0), settings);
+    CHECK(captured(audioOnly) != std::vector<int> {45, 64, 67, 72});
+    // … the MIDI notes are taken as they are.
+    settings.midiIn = &notes;
+    const RenderResult r = renderOffline(poseSegments(starts, poses, 8.0), settings);
+    CHECK(captured(r) == std::vector<int> {45, 64, 67, 72});
+    const auto& out = r.audio.channels[0];
+    CHECK(rms(out, 0, static_cast<std::size_t>(2.6 * kFs)) == 0.0);
+    for (int k = 0; k < 4; ++k) {
+        const auto from = static_cast<std::size_t>((starts[static_cast<std::size_t>(k + 1)] + 0.2) * kFs);
+        const auto to = static_cast<std::size_t>((starts[static_cast<std::size_t>(k + 2)] - 0.05) * kFs);
+        INFO("layer " << k << " (" << noteName(kMidiPhrase[k]) << ")");
+        CHECK(rms(out, from, to) > 0.01);   // the sound is the recording's, sampled
+        CHECK(measuredMidi(out, from, to) == Approx(kMidiPhrase[k]).margin(0.3));
+    }
+    // A scene that does not listen to MIDI refuses it, naming the option.
+    settings.engine.scene = "theremin";
+    settings.audioIn = nullptr;
+    settings.midiInName = "piece.mid";
+    CHECK_THROWS_WITH(renderOffline(poseSegments(starts, poses, 1.0), settings), Catch::Contains("piece.mid") && Catch::Contains("MIDI"));
+}
+
+TEST_CASE("layered-keyboard: MIDI note-ons make the layers: chords within 30 ms, exact notes, the audio's onsets ignored", "[layered][midi]")
+{
+    // Audio: C4 at 0.2 s, G4 at 0.8 s (the audio analysis would find them). MIDI says otherwise:
+    // a chord C4+C5+E5 (an octave the audio merges) at 0.2 s (spread over 20 ms), then D4 at 1.4 s.
+    std::vector<double> x(static_cast<std::size_t>(2.4 * kFs), 0.0);
+    addTone(x, 0.2, 60, 0.25);
+    addTone(x, 0.8, 67, 0.25);
+    NoteListener listener;
+    listener.prepare(kFs);
+    ListenerSettings s;
+    s.midi = true;
+    struct On {
+        double t;
+        int note;
+    };
+    const std::vector<On> ons {{0.2, 60}, {0.21, 72}, {0.22, 76}, {1.4, 62}};
+    std::size_t next = 0;
+    std::vector<float> block(256);
+    std::vector<std::vector<int>> layers;
+    std::vector<double> onsets;
+    for (std::size_t at = 0; at < x.size(); at += block.size()) {
+        const std::size_t n = std::min(block.size(), x.size() - at);
+        while (next < ons.size() && static_cast<std::size_t>(ons[next].t * kFs) < at + n) {   // the block's notes, before its audio
+            listener.noteOn(static_cast<std::int64_t>(ons[next].t * kFs), ons[next].note);
+            ++next;
+        }
+        for (std::size_t i = 0; i < n; ++i) block[i] = static_cast<float>(x[at + i]);
+        const int done = listener.process(block.data(), static_cast<int>(n), s);
+        for (int k = done; k > 0; --k) {
+            const CapturedLayer& l = listener.layer(listener.layerCount() - k);
+            layers.emplace_back(l.notes.begin(), l.notes.begin() + l.noteCount);
+            onsets.push_back(l.onsetSeconds);
+            // The layer's audio starts one hop before its first note-on.
+            CHECK(listener.slotLength(l.slot) > 0);
+        }
+    }
+    REQUIRE(layers.size() == 2);
+    CHECK(layers[0] == std::vector<int> {60, 72, 76});
+    CHECK(layers[1] == std::vector<int> {62});
+    CHECK(onsets[0] == Approx(0.2).margin(1.0 / kFs));
+    CHECK(onsets[1] == Approx(1.4).margin(1.0 / kFs));
+    CHECK(listener.midiDropped() == 0);
+    // The polyphony limit holds for MIDI chords too; hold captures nothing new.
+    NoteListener two;
+    two.prepare(kFs);
+    s.maxNotes = 2;
+    for (const On& o : ons) two.noteOn(static_cast<std::int64_t>(o.t * kFs), o.note);
+    std::vector<float> all(x.begin(), x.end());
+    REQUIRE(two.process(all.data(), static_cast<int>(all.size()), s) == 2);
+    CHECK(two.layer(0).noteCount == 2);
+    NoteListener held;
+    held.prepare(kFs);
+    s.hold = true;
+    for (const On& o : ons) held.noteOn(static_cast<std::int64_t>(o.t * kFs), o.note);
+    CHECK(held.process(all.data(), static_cast<int>(all.size()), s) == 0);
+}
+
+TEST_CASE("layered-keyboard: MIDI input allocates, locks and throws nothing", "[layered][realtime][midi]")
+{
+    ARMADILLO_REQUIRE_GUARD();
+    const AudioBuffer piano = toBuffer(midiPhraseAudio(2.6));
+    const std::vector<TimedMidiNote> notes = midiPhraseNotes();
+    for (const int block : {1, 64, 512}) {
+        EngineConfig config;
+        config.scene = "layered-keyboard";
+        Engine engine(config);
+        REQUIRE(engine.listensToMidi());
+        std::vector<float> l(static_cast<std::size_t>(block)), rr(static_cast<std::size_t>(block));
+        std::vector<float> silence(static_cast<std::size_t>(block), 0.0f);
+        std::array<MidiNoteEvent, 16> events {};
+        std::size_t next = 0;
+        ArmState arm;
+        arm.valid = true;
+        int captured = 0;
+        RealtimeGuard guard;
+        for (std::size_t at = 0; at + static_cast<std::size_t>(block) <= static_cast<std::size_t>(4.0 * kFs); at += static_cast<std::size_t>(block)) {
+            int count = 0;
+            while (next < notes.size() && static_cast<std::size_t>(notes[next].t * kFs) < at + static_cast<std::size_t>(block) && count < 16) {
+                MidiNoteEvent& e = events[static_cast<std::size_t>(count++)];
+                e.offset = static_cast<int>(static_cast<std::size_t>(notes[next].t * kFs) - std::min(at, static_cast<std::size_t>(notes[next].t * kFs)));
+                e.note = static_cast<std::uint8_t>(notes[next].note);
+                e.velocity = static_cast<std::uint8_t>(notes[next].velocity);
+                ++next;
+            }
+            engine.processMidi(events.data(), count);
+            const bool playing = at + static_cast<std::size_t>(block) <= piano.frames();
+            const float* in[2] = {playing ? piano.channels[0].data() + at : silence.data(), playing ? piano.channels[1].data() + at : silence.data()};
+            engine.processInput(in, 2, block);
+            engine.renderAudio(l.data(), rr.data(), block);
+            const double t = static_cast<double>(at) / kFs;
+            Pose pose {t < 2.6 ? -20.0 : 60.0 * (t - 2.6) / 1.4, 10.0, 0.0};
+            arm.q = poseToQuaternion(pose);
+            arm.features.pose = pose;
+            (void) engine.control(arm, Transport {}, static_cast<double>(block) / kFs);
+            GestureEvent g;
+            while (engine.popGesture(g))
+                if (std::string_view(g.name) == "captured-note") ++captured;
+        }
+        INFO("block " << block);
+        CHECK(guard.allocations() == 0);
+        CHECK(guard.deallocations() == 0);
+        CHECK(guard.locks() == 0);
+        CHECK(guard.throws() == 0);
+        CHECK(captured == 4);   // the work was done
+    }
 }

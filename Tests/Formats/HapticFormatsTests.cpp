@@ -401,3 +401,247 @@ TEST_CASE("haptic export: no levels give an empty pattern; a last row that is no
     CHECK(runs[0].level == 7);
     CHECK(actuatorRuns(rows, 0x0002).empty());   // motor 2 is silent
 }
+
+// ---- bHaptics .tact ----------------------------------------------------------------------
+// The structure is that of bHaptics Designer's exports (docs/FORMATS.md, "bHaptics .tact");
+// the expected levels follow the rule documented there, computed here on their own:
+// Tactosy index i → our row 0 (i < 3) or 2 (i ≥ 3), column i mod 3 (mirrored for ForearmL);
+// level = 15 × intensity; FADE_OUT falls linearly to 0 at endTime; a path point at (x, y) gives
+// motor (row, col) 15 × intensity × max(0, 1 − |2x − col|) × max(0, 1 − |2y − row|).
+
+TEST_CASE("tact: a dot-mode and a path-mode effect give the documented motor levels over time", "[formats][tact]")
+{
+    // Track 1: a dot effect at 100 ms (length 600): index 1 at 0.3 for 100..400 ms (below the rated level: the safety stage leaves it) of it (NONE),
+    // index 5 at 0.8 fading out over 0..300 ms of it. Track 2: a path effect at 1000 ms (length
+    // 400): from (0, 0) to (1, 0) at intensity 0.8 over 400 ms. A vest effect is left out.
+    const std::string tact = R"({"project":{"name":"test","layout":{"name":"Tactosy2","type":"Tactosy2","layouts":{}},
+      "tracks":[
+       {"enable":true,"effects":[
+        {"name":"dots","startTime":100,"offsetTime":600,"modes":{
+          "ForearmR":{"mode":"DOT_MODE","dotMode":{"dotConnected":false,"feedback":[
+             {"startTime":100,"endTime":400,"playbackType":"NONE","pointList":[{"index":1,"intensity":0.3}]},
+             {"startTime":0,"endTime":300,"playbackType":"FADE_OUT","pointList":[{"index":5,"intensity":"0.800"}]}]},
+           "pathMode":{"feedback":[]}},
+          "VestFront":{"mode":"DOT_MODE","dotMode":{"feedback":[{"startTime":0,"endTime":300,"playbackType":"NONE","pointList":[{"index":3,"intensity":1}]}]},
+           "pathMode":{"feedback":[]}}}}]},
+       {"enable":true,"effects":[
+        {"name":"path","startTime":1000,"offsetTime":400,"modes":{
+          "ForearmR":{"mode":"PATH_MODE","dotMode":{"feedback":[]},"pathMode":{"feedback":[
+             {"movingPattern":"CONST_SPEED","playbackType":"NONE","visible":true,
+              "pointList":[{"time":0,"x":0,"y":0,"intensity":0.8},{"time":400,"x":1,"y":0,"intensity":0.8}]}]}}}}]},
+       {"enable":false,"effects":[
+        {"name":"disabled","startTime":0,"offsetTime":2000,"modes":{
+          "ForearmR":{"mode":"DOT_MODE","dotMode":{"feedback":[{"startTime":0,"endTime":2000,"playbackType":"NONE","pointList":[{"index":0,"intensity":1}]}]},
+           "pathMode":{"feedback":[]}}}}]}]},
+      "durationMillis":0,"intervalMillis":20,"size":20})";
+    const auto expected = [](double t, int motor) {
+        double l = 0.0;
+        if (motor == 1 && t >= 0.2 && t < 0.5) l = std::max(l, 15.0 * 0.3);           // index 1 → wrist, middle column
+        if (motor == 8 && t >= 0.1 && t < 0.4) l = std::max(l, 15.0 * 0.8 * (1.0 - (t - 0.1) / 0.3));   // index 5 → elbow, right
+        if (t >= 1.0 && t < 1.4 && motor < 3) {                                       // the path along the wrist row
+            const double x = (t - 1.0) / 0.4;
+            l = std::max(l, 15.0 * 0.8 * std::max(0.0, 1.0 - std::fabs(2.0 * x - motor)));
+        }
+        return l;
+    };
+    const std::string path = tempPath("effect.tact");
+    writeText(path, tact);
+    const ImportedScore s = importScoreFile(path);
+    CHECK(s.report.format == "tact");
+    REQUIRE(s.report.warnings.size() == 1);   // the vest effect
+    CHECK(s.report.warnings[0].find("VestFront") != std::string::npos);
+    const auto rows = play(path, 1.7);        // --score takes the .tact directly
+    int checked = 0;
+    for (const auto& r : rows) {
+        // Skip the packets at an edge (the level changes inside them).
+        bool edge = false;
+        for (const double e : {0.1, 0.2, 0.4, 0.5, 1.0, 1.4})
+            if (std::fabs(r.t - e) < 0.006) edge = true;
+        if (edge) continue;
+        for (int m = 0; m < 9; ++m) {
+            const double want = expected(r.t, m);
+            CAPTURE(r.t, m, want);
+            CHECK(std::fabs(r.levels[static_cast<std::size_t>(m)] - want) <= 1.0);   // dithered: the neighbouring integers
+        }
+        ++checked;
+    }
+    CHECK(checked > 300);
+
+    // ForearmL: the same grid mirrored into the right-arm layout (index 5 → elbow, left column).
+    std::string left = tact;
+    for (std::size_t at; (at = left.find("ForearmR")) != std::string::npos;) left.replace(at, 8, "ForearmL");
+    HapticImportOptions o;
+    const ImportedScore mirrored = importTact(left, "left.tact", o);
+    bool elbowLeft = false, elbowRight = false;
+    for (const auto& n : mirrored.score.notes) {
+        elbowLeft = elbowLeft || n.motors == (1u << 6);
+        elbowRight = elbowRight || n.motors == (1u << 8);
+    }
+    CHECK(elbowLeft);
+    CHECK_FALSE(elbowRight);
+    // Asking for the other forearm names what the file plays on.
+    o.tactDevice = "ForearmR";
+    CHECK_THROWS_WITH(importTact(left, "left.tact", o), Catch::Contains("ForearmL") && Catch::Contains("nothing to feel"));
+}
+
+TEST_CASE("tact: malformed files are refused naming what is wrong", "[formats][tact]")
+{
+    const auto effect = [](const std::string& mode) {
+        return R"({"project":{"tracks":[{"effects":[{"startTime":0,"offsetTime":500,"modes":{"ForearmR":)" + mode + "}}]}]}}";
+    };
+    const std::string dot = R"({"mode":"DOT_MODE","dotMode":{"feedback":[{"startTime":0,"endTime":100,"playbackType":"NONE","pointList":[{"index":2,"intensity":0.5}]}]},"pathMode":{"feedback":[]}})";
+    HapticImportOptions o;
+    CHECK_NOTHROW(importTact(effect(dot), "ok.tact", o));
+    const std::vector<std::pair<std::string, std::string>> bad {
+        {"[1, 2]", "JSON object"},
+        {R"({"tracks":[]})", "project"},
+        {R"({"project":{"tracks":{}}})", "tracks"},
+        {R"({"project":{"tracks":[]}})", "nothing to feel"},
+        {effect(R"({"mode":"DOT_MODE","dotMode":{"feedback":[{"startTime":0,"endTime":100,"pointList":[{"index":6,"intensity":0.5}]}]}})"), "index"},
+        {effect(R"({"mode":"DOT_MODE","dotMode":{"feedback":[{"startTime":0,"endTime":100,"pointList":[{"index":1,"intensity":50}]}]}})"), "intensity"},
+        {effect(R"({"mode":"DOT_MODE","dotMode":{"feedback":[{"startTime":0,"endTime":100,"pointList":[{"index":1,"intensity":"loud"}]}]}})"), "not a number"},
+        {effect(R"({"mode":"DOT_MODE","dotMode":{"feedback":[{"startTime":200,"endTime":100,"pointList":[{"index":1,"intensity":0.5}]}]}})"), "ends before"},
+        {effect(R"({"mode":"DOT_MODE","dotMode":{"feedback":[{"startTime":0,"endTime":100,"playbackType":"WOBBLE","pointList":[{"index":1,"intensity":0.5}]}]}})"), "WOBBLE"},
+        {effect(R"({"mode":"SPIRAL_MODE","dotMode":{"feedback":[{"startTime":0,"endTime":100,"pointList":[{"index":1,"intensity":0.5}]}]}})"), "SPIRAL_MODE"},
+        {effect(R"({"mode":"PATH_MODE","pathMode":{"feedback":[{"pointList":[{"time":100,"x":0,"y":0,"intensity":1},{"time":50,"x":1,"y":0,"intensity":1}]}]}})"), "must not decrease"},
+        {effect(R"({"mode":"PATH_MODE","pathMode":{"feedback":[{"pointList":[{"time":0,"x":2,"y":0,"intensity":1}]}]}})"), "0..1"},
+        {effect(R"({"mode":"PATH_MODE","pathMode":{"feedback":[{"pointList":[{"time":0,"y":0,"intensity":1}]}]}})"), "x"},
+        {effect(R"({"mode":"DOT_MODE","dotMode":{"feedback":[{"startTime":0,"endTime":100,"pointList":[{"index":1,"intensity":0}]}]}})"), "every intensity is 0"},
+        {R"({"project":{"tracks":[{"effects":[{"modes":{"ForearmR":{"mode":"DOT_MODE","dotMode":{"feedback":[{"startTime":0,"endTime":100,"pointList":[{"index":1,"intensity":0.5}]}]}}}}]}]}})", ""},
+        {"{\"project\":", "column"},
+    };
+    for (const auto& [text, why] : bad) {
+        CAPTURE(text);
+        if (why.empty()) {   // offsetTime absent: the effect is not cut (valid)
+            CHECK_NOTHROW(importTact(text, "f.tact", o));
+            continue;
+        }
+        CHECK_THROWS_AS(importTact(text, "f.tact", o), InputError);
+        CHECK_THROWS_WITH(importTact(text, "f.tact", o), Catch::Contains("f.tact") && Catch::Contains(why));
+    }
+}
+
+TEST_CASE("tact export: every motor of a render survives the round trip within one step", "[formats][tact][export]")
+{
+    // Random levels on all nine motors (the wrist and elbow rows as dots, the middle row as
+    // still path points), written, read back as JSON with the .tact structure, and imported.
+    const auto rows = randomRows(1200, 41);
+    const std::string text = exportTact(rows, "round trip");
+    const device::JsonValue root = device::parseJson(text, "out.tact");
+    REQUIRE(root.find("project"));
+    const auto* tracks = root.find("project")->find("tracks");
+    REQUIRE(tracks);
+    REQUIRE(tracks->array.size() == 1);
+    // Each effect, read with the documented rule, gives the packet's levels at its start.
+    const auto& effects = tracks->array[0].find("effects")->array;
+    REQUIRE(effects.size() > 100);
+    for (const auto& e : effects) {
+        const double start = e.find("startTime")->number / 1000.0;
+        const auto i = static_cast<std::size_t>(std::lround(start / 0.005));
+        REQUIRE(i < rows.size());
+        const auto& mode = *e.find("modes")->find("ForearmR");
+        if (mode.find("mode")->string == "DOT_MODE") {
+            for (const auto& p : mode.find("dotMode")->find("feedback")->array[0].find("pointList")->array) {
+                const int index = static_cast<int>(p.find("index")->number);
+                const int motor = (index < 3 ? 0 : 6) + index % 3;
+                CHECK(std::lround(15.0 * p.find("intensity")->number) == rows[i].levels[static_cast<std::size_t>(motor)]);
+            }
+        } else {
+            for (const auto& fb : mode.find("pathMode")->find("feedback")->array) {
+                const auto& p = fb.find("pointList")->array[0];
+                CHECK(p.find("y")->number == 0.5);
+                const int motor = 3 + static_cast<int>(std::lround(2.0 * p.find("x")->number));
+                CHECK(std::lround(15.0 * p.find("intensity")->number) == rows[i].levels[static_cast<std::size_t>(motor)]);
+            }
+        }
+    }
+    const std::string path = tempPath("roundtrip.tact");
+    writeText(path, text);
+    const auto back = play(path, 6.0);
+    REQUIRE(back.size() >= 1200);
+    int worst = 0;
+    for (std::size_t i = 0; i < 1200; ++i)
+        for (std::size_t m = 0; m < 9; ++m) {
+            const int d = std::abs(static_cast<int>(back[i].levels[m]) - static_cast<int>(rows[i].levels[m]));
+            if (d > 1) {
+                CAPTURE(i, m, static_cast<int>(back[i].levels[m]), static_cast<int>(rows[i].levels[m]));
+                CHECK(d <= 1);
+            }
+            worst = std::max(worst, d);
+        }
+    CHECK(worst <= 1);
+    std::printf("tact round trip: 1200 packets x 9 motors, largest difference %d\n", worst);
+}
+
+TEST_CASE("tact: mutated files never crash or hang: imported or refused with an InputError", "[formats][tact][fuzz]")
+{
+    // An exported file (dots and paths) and a hand-written one with fades and a moving path,
+    // each mutated byte by byte and number by number (huge, negative, fractional values).
+    const std::vector<std::string> seeds {
+        exportTact(randomRows(200, 7), "fuzz"),
+        R"({"project":{"tracks":[{"effects":[{"startTime":10,"offsetTime":500,"modes":{"ForearmL":{"mode":"PATH_MODE","dotMode":{"feedback":[]},)"
+        R"("pathMode":{"feedback":[{"playbackType":"FADE_IN_OUT","pointList":[{"time":0,"x":0.1,"y":0.9,"intensity":0.7},{"time":250,"x":0.9,"y":0.2,"intensity":"0.3"},)"
+        R"({"time":500,"x":0.5,"y":0.5,"intensity":1}]}]}}}},{"startTime":0,"offsetTime":300,"modes":{"ForearmL":{"mode":"DOT_MODE","dotMode":{"feedback":[)"
+        R"({"startTime":0,"endTime":300,"playbackType":"FADE_IN","pointList":[{"index":0,"intensity":0.5},{"index":4,"intensity":0.9}]}]},"pathMode":{"feedback":[]}}}}]}]}})"};
+    std::mt19937_64 rng(99);
+    const char* replacements[] = {"1e308", "-1", "3600001", "0.5", "7", "\"x\"", "[]", "{}", "null", "1e-300", "2.5"};
+    int imported = 0, refused = 0;
+    for (int i = 0; i < 3000; ++i) {
+        std::string m = seeds[static_cast<std::size_t>(i % 2)];
+        const int edits = 1 + static_cast<int>(rng() % 4);
+        for (int e = 0; e < edits; ++e) {
+            const std::size_t at = rng() % m.size();
+            if (rng() % 2 == 0) {
+                m[at] = static_cast<char>(rng() % 128);
+            } else {   // a number replaced
+                std::size_t from = at;
+                while (from < m.size() && !(m[from] >= '0' && m[from] <= '9')) ++from;
+                std::size_t to = from;
+                while (to < m.size() && ((m[to] >= '0' && m[to] <= '9') || m[to] == '.')) ++to;
+                if (from < m.size()) m.replace(from, to - from, replacements[rng() % (sizeof replacements / sizeof *replacements)]);
+            }
+        }
+        try {
+            const ImportedScore s = importTact(m, "fuzz.tact", HapticImportOptions {});
+            CHECK(s.report.notes > 0);
+            ++imported;
+        } catch (const InputError& e) {
+            CHECK(std::string(e.what()).find("fuzz.tact") != std::string::npos);
+            ++refused;
+        }
+    }
+    CHECK(imported + refused == 3000);
+    CHECK(imported > 0);
+    CHECK(refused > 0);
+    std::printf("tact fuzz: 3000 mutated files, %d imported, %d refused\n", imported, refused);
+}
+
+TEST_CASE("tact: a diagonal path crosses the 3x3 through the middle row (bilinear spreading)", "[formats][tact]")
+{
+    // ForearmR, one path effect at 200 ms: (0, 0) → (1, 1) over 400 ms at intensity 0.6, FADE_IN
+    // off (NONE). Documented rule: motor (row, col) = 15 × 0.6 × max(0, 1 − |2x − col|) ×
+    // max(0, 1 − |2y − row|), x = y = the fraction of the path done.
+    const std::string tact = R"({"project":{"tracks":[{"enable":true,"effects":[{"startTime":200,"offsetTime":400,"modes":{"ForearmR":{"mode":"PATH_MODE",
+      "dotMode":{"feedback":[]},"pathMode":{"feedback":[{"movingPattern":"CONST_TDM","playbackType":"NONE","visible":true,
+      "pointList":[{"time":0,"x":0,"y":0,"intensity":0.6},{"time":400,"x":1,"y":1,"intensity":0.6}]}]}}}}]}]}})";
+    const std::string path = tempPath("diagonal.tact");
+    writeText(path, tact);
+    const auto rows = play(path, 0.8);
+    int checked = 0, middle = 0;
+    for (const auto& r : rows) {
+        if (std::fabs(r.t - 0.2) < 0.006 || std::fabs(r.t - 0.6) < 0.006) continue;
+        for (int m = 0; m < 9; ++m) {
+            double want = 0.0;
+            if (r.t >= 0.2 && r.t < 0.6) {
+                const double u = (r.t - 0.2) / 0.4;
+                want = 15.0 * 0.6 * std::max(0.0, 1.0 - std::fabs(2.0 * u - m % 3)) * std::max(0.0, 1.0 - std::fabs(2.0 * u - m / 3));
+            }
+            CAPTURE(r.t, m, want);
+            CHECK(std::fabs(r.levels[static_cast<std::size_t>(m)] - want) <= 1.0);
+        }
+        middle += r.levels[4] > 0;
+        ++checked;
+    }
+    CHECK(checked > 150);
+    CHECK(middle > 20);   // the middle row, which dot mode cannot reach, is felt
+}
