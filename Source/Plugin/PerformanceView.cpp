@@ -1,5 +1,5 @@
 #include "Plugin/PerformanceView.h"
-#include "Plugin/Accessibility.h"
+#include "Plugin/Accessibility.h"   // describe(): title, description, focus (a screen reader lands on each line)
 #include "Plugin/PluginProcessor.h"
 
 namespace armadillo::plugin {
@@ -39,13 +39,12 @@ PerformanceView::PerformanceView(ArmadilloProcessor& processor) : processor_(pro
         label->setColour(juce::Label::textColourId, juce::Colours::white);
         label->setJustificationType(juce::Justification::centredLeft);
         label->setMinimumHorizontalScale(0.6f);
-        label->setWantsKeyboardFocus(true);   // a screen reader lands on each line
         addAndMakeVisible(*label);
     }
-    cue_.setTitle("Current cue");
-    nextCue_.setTitle("Next cue");
-    arms_.setTitle("Arms");
-    state_.setTitle("Panic state");
+    describe(cue_, "Current cue", "The cue playing: its number of how many, its name and scene.");
+    describe(nextCue_, "Coming next", "The cue Next goes to.");
+    describe(arms_, "Arms", "Each arm's source, and whether its samples arrive (live) or not (silent).");
+    describe(state_, "Panic state", "PANIC while everything is off; Playing otherwise.");
     int order = 1;
     for (juce::Component* c : std::initializer_list<juce::Component*> {&state_, &cue_, &nextCue_, &arms_, &panic_, &resume_, &previous_, &next_, &close_}) {
         addAndMakeVisible(*c);
@@ -119,7 +118,8 @@ void PerformanceView::refresh()
 
 bool PerformanceView::keyPressed(const juce::KeyPress& key)
 {
-    const auto c = key.getTextCharacter();
+    // The typed character, else the key code (letters: either case; digits: the digit).
+    const auto c = key.getTextCharacter() != 0 ? key.getTextCharacter() : static_cast<juce::juce_wchar>(key.getKeyCode());
     if (key == juce::KeyPress::escapeKey || c == 'p' || c == 'P') processor_.panic();
     else if (c == 'r' || c == 'R') processor_.resume();
     else if (key == juce::KeyPress::spaceKey || c == 'n' || c == 'N') processor_.nextCue();
