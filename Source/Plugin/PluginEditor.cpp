@@ -211,6 +211,9 @@ void ArmadilloEditor::showStageMenu()
     menu.addSeparator();
     menu.addItem(4, "Panic (Escape)", ! info.panicked);
     menu.addItem(5, "Resume", info.panicked);
+    menu.addSeparator();
+    const bool oscOn = static_cast<bool>(processor_.settings()[SettingIds::stageOscEnabled]);
+    menu.addItem(6, "OSC stage commands on UDP " + processor_.settings()[SettingIds::stageOscPort].toString(), true, oscOn);
     menu.showMenuAsync(juce::PopupMenu::Options().withTargetComponent(&stage_), [this](int choice) {
         switch (choice) {
         case 1: showPerformance(); break;
@@ -218,6 +221,9 @@ void ArmadilloEditor::showStageMenu()
         case 3: processor_.clearSetList(); break;
         case 4: processor_.panic(); break;
         case 5: processor_.resume(); break;
+        case 6:
+            processor_.settings().setProperty(SettingIds::stageOscEnabled, ! static_cast<bool>(processor_.settings()[SettingIds::stageOscEnabled]), nullptr);
+            break;
         default: break;
         }
     });

@@ -53,6 +53,7 @@ ArmadilloProcessor::ArmadilloProcessor()
     control_.setSceneTable(&sceneTable_);
     control_.setStage(&stage_);
     stage_.setCueNotes(static_cast<int>(settings_[SettingIds::cueNextNote]), static_cast<int>(settings_[SettingIds::cuePrevNote]));
+    applyStageOsc();
     mapping_.setControlStopped(true);   // nothing runs the control step yet: install, not offer
     if (const auto why = mapping_.fromState({}); why.isNotEmpty()) setStatus(why);
     mapping_.setControlStopped(false);
@@ -355,6 +356,8 @@ void ArmadilloProcessor::valueTreePropertyChanged(juce::ValueTree&, const juce::
     } else if (id == SettingIds::midiChannel) {
         std::lock_guard<std::mutex> lock(mappingMutex_);
         if (mapping_.name() == "classic") mapping_.usePreset("classic");   // the classic wiring's channel
+    } else if (id == SettingIds::stageOscEnabled || id == SettingIds::stageOscPort) {
+        applyStageOsc();
     } else if (id == SettingIds::cueNextNote || id == SettingIds::cuePrevNote) {
         stage_.setCueNotes(static_cast<int>(settings_[SettingIds::cueNextNote]), static_cast<int>(settings_[SettingIds::cuePrevNote]));
     } else if (id == SettingIds::readerVoice || id == SettingIds::speechRate) {
@@ -660,6 +663,38 @@ void ArmadilloProcessor::stageTick()
         }
         reportedCue_ = cue;
     }
+}
+
+void ArmadilloProcessor::applyStageOsc()
+{
+    const bool on = static_cast<bool>(settings_[SettingIds::stageOscEnabled]);
+    const int port = static_cast<int>(settings_[SettingIds::stageOscPort]);
+    if (stageOsc_ != nullptr && on && (port == 0 || stageOsc_->port() == port)) return;
+    if (stageOsc_ != nullptr) stageOsc_->stop();
+    stageOsc_.reset();
+    if (! on) return;
+    try {
+        // live/StageControl.h: /armadillo/panic, /armadillo/resume, /armadillo/cue/next|prev,
+        // /armadillo/cue i, as `armadillo play --control-in` takes them. Its own thread: atomics only.
+        stageOsc_ = std::make_unique<live::StageControlReceiver>(port, [this](const live::StageCommand& c) {
+            switch (c.kind) {
+            case live::StageCommand::Kind::Panic: stage_.panic(); break;
+            case live::StageCommand::Kind::Resume: stage_.resume(); break;
+            case live::StageCommand::Kind::CueNext: stage_.next(); break;
+            case live::StageCommand::Kind::CuePrev: stage_.previous(); break;
+            case live::StageCommand::Kind::CueGoto: stage_.cue(c.cue); break;
+            }
+        });
+        stageOsc_->start();
+    } catch (const std::exception& e) {
+        stageOsc_.reset();
+        setStatus("OSC stage commands: " + juce::String(e.what()));
+    }
+}
+
+int ArmadilloProcessor::stageOscPort() const
+{
+    return stageOsc_ != nullptr ? stageOsc_->port() : 0;
 }
 
 ArmadilloProcessor::StageInfo ArmadilloProcessor::stageInfo() const

@@ -20,6 +20,7 @@
 #include "Plugin/Parameters.h"
 #include "Plugin/PluginState.h"
 #include "Plugin/Stage.h"
+#include "Live/StageControl.h"
 #include "Plugin/ReaderVoice.h"
 #include "Plugin/AdaptiveSession.h"
 #include "Plugin/TouchTestSession.h"
@@ -182,6 +183,8 @@ public:
     void previousCue() noexcept { stage_.previous(); }
     void goToCue(int index) noexcept { stage_.cue(index); }
     bool panicked() const noexcept { return stage_.panicked(); }
+    /// The UDP port the OSC stage commands are heard on (the stageOsc settings), 0 when off.
+    int stageOscPort() const;
     std::uint32_t panics() const noexcept { return stage_.panics(); }
     /// What the performance view shows.
     struct StageInfo {
@@ -211,6 +214,7 @@ private:
     juce::String applySavedSetList();
     void offerCues(std::unique_ptr<live::CuePlayer> player);
     void stageTick();   ///< timer: hand-over, and the status line's panic / cue reports
+    void applyStageOsc();
     void setStatus(const juce::String& message);
     /// The engine hand-over's messages: "" takes down an earlier engine message (only that).
     void setEngineStatus(const juce::String& message);
@@ -277,6 +281,9 @@ private:
     mutable std::mutex statusMutex_;             // message thread and host state calls; never audio
     juce::String status_;
     bool statusFromEngine_ = false;              // status_ came from the engine hand-over
+
+    // Last, so it goes first: its thread calls into stage_.
+    std::unique_ptr<live::StageControlReceiver> stageOsc_;   // message thread
 
     JUCE_DECLARE_NON_COPYABLE_WITH_LEAK_DETECTOR(ArmadilloProcessor)
 };

@@ -36,6 +36,8 @@ juce::ValueTree defaultSettings()
     s.setProperty(SettingIds::setListName, "", nullptr);
     s.setProperty(SettingIds::cueNextNote, 0, nullptr);   // Stage::kNextNote
     s.setProperty(SettingIds::cuePrevNote, 1, nullptr);   // Stage::kPrevNote
+    s.setProperty(SettingIds::stageOscEnabled, false, nullptr);
+    s.setProperty(SettingIds::stageOscPort, 9002, nullptr);
     return s;
 }
 
@@ -70,6 +72,7 @@ void installSettings(juce::ValueTree& settings, const juce::ValueTree& loaded)
     clampInt(SettingIds::speechRate, -100, 100, 0);
     clampInt(SettingIds::cueNextNote, -1, 127, 0);
     clampInt(SettingIds::cuePrevNote, -1, 127, 1);
+    clampInt(SettingIds::stageOscPort, 0, 65535, 9002);
     // The set list's text is checked (parsed, every cue prepared) by the processor, which says
     // in the status line why a saved one is not used (ArmadilloProcessor::applySavedSetList).
     const auto voice = settings[SettingIds::readerVoice].toString();

@@ -39,6 +39,8 @@ inline const juce::Identifier setList {"setList"};           ///< the set list's
 inline const juce::Identifier setListName {"setListName"};   ///< the file it came from (for messages)
 inline const juce::Identifier cueNextNote {"cueNextNote"};   ///< MIDI note that steps to the next cue, −1 = none (Stage.h)
 inline const juce::Identifier cuePrevNote {"cuePrevNote"};   ///< MIDI note that steps back, −1 = none
+inline const juce::Identifier stageOscEnabled {"stageOscEnabled"}; ///< bool: listen for OSC stage commands (docs/STAGE.md)
+inline const juce::Identifier stageOscPort {"stageOscPort"}; ///< their UDP port (0: any free port)
 } // namespace SettingIds
 
 namespace PluginState {

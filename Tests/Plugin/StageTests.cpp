@@ -8,6 +8,7 @@
 #include <catch2/catch.hpp>
 #include "Common/RealtimeGuard.h"
 #include "Mapping/MappingSpec.h"
+#include "Osc/OscIo.h"
 #include "Plugin/PluginProcessor.h"
 #include <cmath>
 #include <cstdio>
@@ -311,4 +312,40 @@ TEST_CASE("stage: the set list is kept in the state; a damaged one is refused wi
     CHECK(why.contains(bad.getFileName()));
     CHECK(rig.processor.stageInfo().setList);
     CHECK(rig.processor.loadSetList(juce::File("/nonexistent/show.json")).contains("no such file"));
+}
+
+TEST_CASE("stage: the OSC stage commands reach the plugin's set list over loopback UDP", "[plugin][stage][osc]")
+{
+    Rig rig;
+    REQUIRE(rig.processor.useSetList(kFourCues, "show.json") == "");
+    CHECK(rig.processor.stageOscPort() == 0);   // off by default
+    rig.processor.settings().setProperty(SettingIds::stageOscPort, 0, nullptr);   // any free port
+    rig.processor.settings().setProperty(SettingIds::stageOscEnabled, true, nullptr);
+    const int port = rig.processor.stageOscPort();
+    REQUIRE(port > 0);
+    device::OscSender sender(device::HostPort {"127.0.0.1", port});
+    const auto until = [&](auto done) {
+        // Polls with a deadline (UDP and the receiver's thread): each try runs one block.
+        const double end = juce::Time::getMillisecondCounterHiRes() + 3000.0;
+        while (! done() && juce::Time::getMillisecondCounterHiRes() < end) {
+            rig.run();
+            juce::Thread::sleep(2);
+        }
+        return done();
+    };
+    const device::OscArg two = device::OscArg::int32(2);
+    REQUIRE(sender.send("/armadillo/cue", &two, 1));
+    CHECK(until([&] { return rig.processor.stageInfo().cue == 2; }));
+    REQUIRE(sender.send("/armadillo/cue/next", nullptr, 0));
+    CHECK(until([&] { return rig.processor.stageInfo().cue == 3; }));
+    REQUIRE(sender.send("/armadillo/cue/prev", nullptr, 0));
+    CHECK(until([&] { return rig.processor.stageInfo().cue == 2; }));
+    REQUIRE(sender.send("/armadillo/panic", nullptr, 0));
+    CHECK(until([&] { return rig.processor.panicked(); }));
+    rig.run();
+    CHECK(rig.buffer.getMagnitude(0, 0, kBlock) == 0.0f);
+    REQUIRE(sender.send("/armadillo/resume", nullptr, 0));
+    CHECK(until([&] { return ! rig.processor.panicked(); }));
+    rig.processor.settings().setProperty(SettingIds::stageOscEnabled, false, nullptr);
+    CHECK(rig.processor.stageOscPort() == 0);
 }
