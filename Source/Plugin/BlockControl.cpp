@@ -26,6 +26,7 @@ void BlockControl::prepare(double sampleRate)
     midiStorage_.ensureSize(kMidiStorageBytes);   // off the audio thread; processBlock hands it over
     midiStorageGiven_ = false;
     notesOffPending_.store(true, std::memory_order_relaxed);   // a restart: nothing may hang
+    cues_ = nullptr;   // the stage may have replaced its player (prepareToPlay): taken again at the next block
 }
 
 void BlockControl::step(double dt, double wall, bool toMotors, const Transport& transport, juce::MidiBuffer* midi,

@@ -88,7 +88,7 @@ ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
     help_.onClick = [this] { showHelp(); };
     describe(setup_, "Setup", "Save the whole setup (scene, parameters, device, mount, OSC) to a file, or load one.");
     setup_.onClick = [this] { showSetupMenu(); };
-    describe(stage_, "Stage", "On stage: the performance view (F11), load or clear a set list, panic (Escape) and resume.");
+    describe(stage_, "Stage", "On stage: the performance view (F11), load or clear a set list, panic (F12) and resume.");
     stage_.onClick = [this] { showStageMenu(); };
     describe(mappingButton_, "Mapping editor", "Open the mapping editor: arm features to MIDI, OSC, macros and scene parameters, with MIDI learn.");
     mappingButton_.onClick = [this] {
@@ -209,7 +209,7 @@ void ArmadilloEditor::showStageMenu()
     menu.addItem(2, "Load set list...");
     menu.addItem(3, "Clear set list" + (info.setList ? " (" + info.listName + ")" : juce::String()), info.setList);
     menu.addSeparator();
-    menu.addItem(4, "Panic (Escape)", ! info.panicked);
+    menu.addItem(4, "Panic (F12)", ! info.panicked);
     menu.addItem(5, "Resume", info.panicked);
     menu.addSeparator();
     const bool oscOn = static_cast<bool>(processor_.settings()[SettingIds::stageOscEnabled]);
@@ -325,7 +325,7 @@ bool ArmadilloEditor::keyPressed(const juce::KeyPress& key)
         showPerformance();
         return true;
     }
-    if (key == juce::KeyPress::escapeKey) {   // the panic key (docs/STAGE.md); panels that use Escape take it first
+    if (key == juce::KeyPress::F12Key) {   // the panic key (docs/STAGE.md): no control uses it, so it works from anywhere
         processor_.panic();
         return true;
     }
