@@ -342,7 +342,8 @@ TEST_CASE("stage: the OSC stage commands reach the plugin's set list over loopba
     CHECK(until([&] { return rig.processor.stageInfo().cue == 2; }));
     REQUIRE(sender.send("/armadillo/panic", nullptr, 0));
     CHECK(until([&] { return rig.processor.panicked(); }));
-    rig.run();
+    rig.run();   // the block that applies it (fading in its first 48 samples) …
+    rig.run();   // … and the next one: silent
     CHECK(rig.buffer.getMagnitude(0, 0, kBlock) == 0.0f);
     REQUIRE(sender.send("/armadillo/resume", nullptr, 0));
     CHECK(until([&] { return ! rig.processor.panicked(); }));
