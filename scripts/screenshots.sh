@@ -58,7 +58,7 @@ calibration_shot() {   # $1 = name
 }
 
 # The performance view (issue 28): a four-cue set list loaded with the keyboard (Stage... >
-# Load set list..., the path typed into JUCE's own file dialog), F11, then n: cue 2 of 4.
+# Load set list..., the file named in JUCE's own file dialog), the view, then n n: cue 3 of 4.
 performance_shot() {
     cat > "$home/show.json" <<'JSON'
 {"armadillo_setlist": 1,
@@ -72,12 +72,19 @@ JSON
     key shift+Tab shift+Tab Return     # from Help, past Setup, to Stage...: its menu
     key Down Down Return               # Load set list...
     sleep 1.5
-    key ctrl+a
-    type_text "$home/show.json"
+    # JUCE's own dialog (no zenity here) opens in the home folder, where show.json is; its "file:" field, clicked
+    # (the window sits at 0,0 with a fixed size, so the dialog's place is fixed), takes the path.
+    xdotool mousemove 690 570 click 1; sleep 0.3
+    xdotool mousemove 2900 2000
+    type_text "show.json"
     key Return
     sleep 2
-    key F11
-    key n
+    # No window manager: the closed dialog leaves no window focused, so a click on Stage...
+    # gives the app the keyboard back; the menu's first item opens the view.
+    xdotool mousemove 1123 83 click 1; sleep 0.5
+    xdotool mousemove 2900 2000
+    key Down Return
+    key n n   # cue 3 of 4: a theremin, so the motors show levels
     sleep 1
     shot app-performance-view
 }

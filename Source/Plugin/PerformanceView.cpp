@@ -31,6 +31,7 @@ PerformanceView::PerformanceView(ArmadilloProcessor& processor) : processor_(pro
     panic_.setColour(juce::TextButton::buttonColourId, juce::Colour(0xffb01818));
     panic_.setColour(juce::TextButton::textColourOffId, juce::Colours::white);
     panic_.onClick = [this] { processor_.panic(); refresh(); };
+    for (auto* b : {&panic_, &resume_, &previous_, &next_, &close_}) b->setLookAndFeel(&largeText_);
     resume_.onClick = [this] { processor_.resume(); refresh(); };
     previous_.onClick = [this] { processor_.previousCue(); };
     next_.onClick = [this] { processor_.nextCue(); };
@@ -53,7 +54,10 @@ PerformanceView::PerformanceView(ArmadilloProcessor& processor) : processor_(pro
     setFocusContainerType(FocusContainerType::keyboardFocusContainer);
 }
 
-PerformanceView::~PerformanceView() = default;
+PerformanceView::~PerformanceView()
+{
+    for (auto* b : {&panic_, &resume_, &previous_, &next_, &close_}) b->setLookAndFeel(nullptr);
+}
 
 void PerformanceView::open()
 {

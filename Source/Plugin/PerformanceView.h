@@ -43,6 +43,15 @@ private:
     void timerCallback() override { refresh(); }
     juce::Rectangle<int> motorArea() const;
 
+    /// The buttons' text in proportion to their height (the stock look caps it at 16 px): PANIC
+    /// and the steps must be readable from across a stage.
+    struct LargeText : juce::LookAndFeel_V4 {
+        juce::Font getTextButtonFont(juce::TextButton&, int buttonHeight) override
+        {
+            return juce::Font(juce::jlimit(14.0f, 96.0f, static_cast<float>(buttonHeight) * 0.45f), juce::Font::bold);
+        }
+    };
+    LargeText largeText_;   // before the buttons: they use it until they are gone
     ArmadilloProcessor& processor_;
     juce::TextButton panic_ {"PANIC"}, resume_ {"Resume"}, previous_ {"< Previous"}, next_ {"Next >"}, close_ {"Close"};
     juce::Label cue_, nextCue_, arms_, state_;

@@ -233,6 +233,7 @@ void ArmadilloEditor::chooseSetList()
 {
     chooser_ = std::make_unique<juce::FileChooser>("Load a set list", setupFolder(), "*.json");
     chooser_->launchAsync(juce::FileBrowserComponent::canSelectFiles | juce::FileBrowserComponent::openMode, [this](const juce::FileChooser& fc) {
+        if (stage_.isShowing()) stage_.grabKeyboardFocus();   // the keys (F11, F12) work again at once
         const auto file = fc.getResult();
         if (file == juce::File()) return;
         if (const auto why = processor_.loadSetList(file); why.isNotEmpty()) {
