@@ -192,8 +192,9 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
     // The input channels are read step by step below; the output is written over them.
     const int listenCount = (listen.first >= 0 && listen.first + listen.count <= buffer.getNumChannels()) ? std::min(listen.count, 2) : 0;
     const int throughCount = std::min({listen.through, 2, buffer.getNumChannels()});
-    // The MIDI input is only listened to for the mapping editor's "learn destination": its
-    // channel messages go to the message thread, nothing of it is played or passed through.
+    // The MIDI input is never played or passed through: its stage messages (Stage.h: program
+    // change, the cue notes, CC 120/119) act at this block's start (beginStage), its other
+    // channel messages go to the message thread for the mapping editor's "learn destination".
     for (const auto event : midi) {
         if (stage_ != nullptr && stage_->handleMidi(event.data, event.numBytes)) continue;   // cue steps, panic, resume
         if (event.numBytes < 1 || event.numBytes > 3 || event.data[0] < 0x80 || event.data[0] >= 0xF0) continue;

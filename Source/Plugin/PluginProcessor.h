@@ -7,7 +7,8 @@
 //  - Connections.h     device link and guided calibration, simulated arm, OSC, the idle clock;
 //  - PluginState.h     saved state and settings, validated on the way in;
 //  - MappingSession.h  the mapping set: presets, files, state, hand-over to the control side, learn;
-//  - TrainingAccess.h  braille training for the Training panel.
+//  - TrainingAccess.h  braille training for the Training panel;
+//  - Stage.h           the set list's CuePlayer handed over lock-free, panic/resume, MIDI stage messages.
 // This class adds the AudioProcessor entry points, the message-thread timer (engine updates,
 // live orientation → parameters with change gestures, auto-connect) and the status line.
 #include "Link/LevelSchedule.h"
@@ -60,7 +61,7 @@ public:
     juce::AudioProcessorEditor* createEditor() override;
     bool hasEditor() const override { return true; }
     const juce::String getName() const override { return "ARMadillo"; }
-    bool acceptsMidi() const override { return true; }   // MIDI learn (the mapping editor); the input is not played
+    bool acceptsMidi() const override { return true; }   // stage messages and MIDI learn; the input is not played
     bool producesMidi() const override { return true; }
     bool isMidiEffect() const override { return false; }
     double getTailLengthSeconds() const override { return kTailSeconds; }
