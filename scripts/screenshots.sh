@@ -4,6 +4,7 @@
 # container no sound card). Needs: xvfb imagemagick xdotool (apt-get install -y xvfb imagemagick
 # xdotool) and the built app (bash scripts/build.sh ARMadillo_Standalone).
 # Usage: bash scripts/screenshots.sh [OUTDIR]   (default docs/images)
+#        ARMADILLO_SHOTS=performance bash scripts/screenshots.sh   (only the performance view)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 app="$PWD/build/Source/Plugin/ARMadillo_artefacts/Release/Standalone/ARMadillo"
@@ -56,6 +57,47 @@ calibration_shot() {   # $1 = name
     shot "$1"
 }
 
+# The performance view (issue 28): a four-cue set list loaded with the keyboard (Stage... >
+# Load set list..., the file named in JUCE's own file dialog), the view, then n n: cue 3 of 4.
+performance_shot() {
+    cat > "$home/show.json" <<'JSON'
+{"armadillo_setlist": 1,
+ "cues": [
+  {"name": "Intro", "scene": "theremin"},
+  {"name": "Gestures", "scene": "sound-design"},
+  {"name": "Wide", "scene": "theremin", "parameters": {"theremin.range": 24, "theremin.scale": "minor pentatonic"}},
+  {"name": "Over the piano", "scene": "layered-keyboard"}
+ ]}
+JSON
+    key shift+Tab shift+Tab Return     # from Help, past Setup, to Stage...: its menu
+    key Down Down Return               # Load set list...
+    sleep 1.5
+    # JUCE's own dialog (no zenity here) opens in the home folder, where show.json is; its "file:" field, clicked
+    # (the window sits at 0,0 with a fixed size, so the dialog's place is fixed), takes the path.
+    xdotool mousemove 690 570 click 1; sleep 0.3
+    xdotool mousemove 2900 2000
+    type_text "show.json"
+    key Return
+    sleep 2
+    # No window manager: the closed dialog leaves no window focused, so a click on Stage...
+    # gives the app the keyboard back; the menu's first item opens the view.
+    xdotool mousemove 1123 83 click 1; sleep 0.5
+    xdotool mousemove 2900 2000
+    key Down Return
+    key n n   # cue 3 of 4: a theremin, so the motors show levels
+    sleep 1
+    shot app-performance-view
+}
+if [ "${ARMADILLO_SHOTS:-}" = performance ]; then
+    start_app 1
+    size 1366 768
+    key Escape
+    performance_shot
+    stop_app
+    echo "done: $out"
+    exit 0
+fi
+
 # 1. First run, laptop size: the welcome, then the app behind it (no device, no sound card).
 start_app 1
 size 1366 768
@@ -71,7 +113,7 @@ key Escape
 # 3. Keyboard-only braille training: Tab to Preset, open it, pick "Braille: training".
 size 1366 768
 xdotool mousemove 2900 2000
-key shift+Tab shift+Tab shift+Tab shift+Tab shift+Tab   # closing the welcome left the focus on Help: back to Preset (past Setup, Mapping, Reader, Wander)
+key shift+Tab shift+Tab shift+Tab shift+Tab shift+Tab shift+Tab   # closing the welcome left the focus on Help: back to Preset (past Setup, Stage, Mapping, Reader, Wander)
 key Return                 # opens the preset list
 key Down Down Down Down Down Down Down Down Down Return
 sleep 2
@@ -88,11 +130,11 @@ sleep 1
 shot app-training-feedback
 key Escape
 shot app-training-escaped
-# Back into the panel with Tab (Scene, Preset, Wander, Reader, Mapping, Setup, Help, About, the
-# message and its OK when one shows, arm view, the panel),
+# Back into the panel with Tab (Scene, Preset, Wander, Reader, Mapping, Stage, Setup, Help, About,
+# the message and its OK when one shows, arm view, the panel),
 # then the whole training, answered from the prompts the app writes to stderr (as a screen reader
 # following the terminal hears them): keyboard only, to "Training complete".
-key Tab Tab Tab Tab Tab Tab Tab Tab Tab Tab Tab Tab
+key Tab Tab Tab Tab Tab Tab Tab Tab Tab Tab Tab Tab Tab
 for _ in $(seq 80); do
     last=$(grep -a "ARMadillo training:" "$home/app.log" | tail -1 || true)
     case "$last" in *"Training complete"*) break ;; esac
@@ -114,6 +156,12 @@ key F8
 size 720 520
 calibration_shot app-minimum-calibration
 stop_app
+# 3b. The performance view, laptop size.
+start_app 1
+size 1366 768
+key Escape
+performance_shot
+stop_app
 
 # 4. 200 % scale at the minimum logical size (1440x1040 pixels), with the training panel.
 start_app 2
@@ -121,7 +169,7 @@ size 1440 1040
 shot app-200-welcome
 key Escape; sleep 1; key Escape   # (the first may come before the window has the keyboard)
 shot app-200-minimum
-key shift+Tab shift+Tab shift+Tab shift+Tab shift+Tab Return Down Down Down Down Down Down Down Down Down Return
+key shift+Tab shift+Tab shift+Tab shift+Tab shift+Tab shift+Tab Return Down Down Down Down Down Down Down Down Down Return
 sleep 2
 shot app-200-training
 key F8

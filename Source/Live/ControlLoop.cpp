@@ -1,4 +1,5 @@
 #include "Live/ControlLoop.h"
+#include "Live/SetList.h"
 #include <cmath>
 
 namespace armadillo::live {
@@ -106,6 +107,10 @@ ControlResult ControlLoop::tick(const ControlStep& step) noexcept
     if (active_ == nullptr || active_->engine == nullptr) return result;
     EngineSlot& slot = *active_;
     Engine& engine = *slot.engine;
+    if (step.panic) {   // idempotent: two atomics per engine
+        engine.panic();
+        if (step.cues != nullptr) step.cues->panic();
+    }
 
     for (std::size_t i = 0; i < slot.params.size() && i < slot.sent.size(); ++i) {
         if (slot.params[i] == nullptr) continue;
@@ -135,7 +140,8 @@ ControlResult ControlLoop::tick(const ControlStep& step) noexcept
         arm = fuse(input(step.source));
     }
     result.arm = arm;
-    result.levels = engine.control(arm, step.transport, dt, step.motorOnTime);
+    result.levels = step.cues != nullptr ? step.cues->control(arm, step.transport, dt)
+                                         : engine.control(arm, step.transport, dt, step.motorOnTime);
     result.ran = true;
     return result;
 }

@@ -23,6 +23,8 @@
 
 namespace armadillo::live {
 
+class CuePlayer;
+
 /// Where the arm comes from (the plugin's `source` choice, INTERFACES.md order).
 enum class SourceKind : int { Device = 0, Simulator = 1, Osc = 2, HostAutomation = 3 };
 inline constexpr int kSourceCount = 4;
@@ -46,6 +48,13 @@ struct ControlStep {
     /// s the previous step's levels really stayed on the motor when that is not dt (a front end
     /// whose link sends levels at their time: after a host stall, LevelSchedule::onTime); < 0: dt.
     double motorOnTime = -1.0;
+    /// A set list's cues (Live/SetList.h) run in place of the active engine: the arm is fused as
+    /// always, then CuePlayer::control gives the levels (null: the active engine's control()).
+    /// The front end keeps the player alive while it passes it here.
+    CuePlayer* cues = nullptr;
+    /// The front end is in panic (docs/STAGE.md): the engine (and every cue) is panicked before
+    /// its control() runs, so an engine swapped in at this step is all-off from its first step.
+    bool panic = false;
 };
 
 struct ControlResult {

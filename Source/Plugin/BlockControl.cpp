@@ -26,6 +26,7 @@ void BlockControl::prepare(double sampleRate)
     midiStorage_.ensureSize(kMidiStorageBytes);   // off the audio thread; processBlock hands it over
     midiStorageGiven_ = false;
     notesOffPending_.store(true, std::memory_order_relaxed);   // a restart: nothing may hang
+    cues_ = nullptr;   // the stage may have replaced its player (prepareToPlay): taken again at the next block
 }
 
 void BlockControl::step(double dt, double wall, bool toMotors, const Transport& transport, juce::MidiBuffer* midi,
@@ -48,6 +49,8 @@ void BlockControl::step(double dt, double wall, bool toMotors, const Transport& 
                          cells_.roll->load(std::memory_order_relaxed)};
     s.transport = transport;
     s.dt = dt;
+    s.cues = cues_;              // a set list's cues run in place of the engine
+    s.panic = panicApplied_;
     live::ControlResult result = loop_.tick(s);   // swap-in, parameters, fusion, Engine::control
     if (! result.ran) return;
     if (auto* stimulus = stimulus_.load(std::memory_order_acquire))
@@ -62,7 +65,7 @@ void BlockControl::step(double dt, double wall, bool toMotors, const Transport& 
         lastStamp_ = -1.0;
     }
 
-    Engine& engine = *loop_.active()->engine;
+    Engine& engine = *runningEngine();
     clock_ += dt;
     const ArmState& arm = result.arm;
     ArmFrame f;
@@ -99,7 +102,7 @@ void BlockControl::step(double dt, double wall, bool toMotors, const Transport& 
     in.scene = engine.sceneValues();
     in.gestures = stepGestures_.data();
     in.gestureCount = gestureCount;
-    mapper_.process(in, mapOut_);
+    if (! panicApplied_) mapper_.process(in, mapOut_);   // in panic no note is sent until resume
     learnRange(in);
     deliver(midi, clock_ - sampleOffset / sampleRate_.load(std::memory_order_relaxed), midi != nullptr ? blockSamples_ : 0);
 }
@@ -189,9 +192,11 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
     // The input channels are read step by step below; the output is written over them.
     const int listenCount = (listen.first >= 0 && listen.first + listen.count <= buffer.getNumChannels()) ? std::min(listen.count, 2) : 0;
     const int throughCount = std::min({listen.through, 2, buffer.getNumChannels()});
-    // The MIDI input is only listened to for the mapping editor's "learn destination": its
-    // channel messages go to the message thread, nothing of it is played or passed through.
+    // The MIDI input is never played or passed through: its stage messages (Stage.h: program
+    // change, the cue notes, CC 120/119) act at this block's start (beginStage), its other
+    // channel messages go to the message thread for the mapping editor's "learn destination".
     for (const auto event : midi) {
+        if (stage_ != nullptr && stage_->handleMidi(event.data, event.numBytes)) continue;   // cue steps, panic, resume
         if (event.numBytes < 1 || event.numBytes > 3 || event.data[0] < 0x80 || event.data[0] >= 0xF0) continue;
         IncomingMidi m;
         for (int i = 0; i < event.numBytes; ++i) m.bytes[i] = event.data[i];
@@ -241,6 +246,7 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
         mapper_.allNotesOff(blockStart, mapOut_);   // after prepare(): nothing left hanging
         deliver(&midi, blockStart, n);
     }
+    beginStage(&midi, blockStart, n);
     float* left = buffer.getWritePointer(0);
     float* right = buffer.getWritePointer(1);
     int pos = 0;
@@ -263,13 +269,13 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
             const float* in[2] {input_[0].data(), input_[1].data()};
             for (int c = 0; c < listenCount; ++c)
                 std::copy_n(buffer.getReadPointer(listen.first + c) + pos, len, input_[static_cast<std::size_t>(c)].begin());
-            loop_.processInput(in, listenCount, len);
+            inputRunning(in, listenCount, len);
         }
         for (int c = 0; c < throughCount; ++c)   // the main input, before the output overwrites it
             std::copy_n(buffer.getReadPointer(c) + pos, len, through_[static_cast<std::size_t>(c)].begin());
         juce::FloatVectorOperations::clear(left + pos, len);
         juce::FloatVectorOperations::clear(right + pos, len);
-        loop_.render(left + pos, right + pos, len);
+        renderRunning(left + pos, right + pos, len);
         if (throughCount > 0) {
             juce::FloatVectorOperations::add(left + pos, through_[0].data(), len);
             juce::FloatVectorOperations::add(right + pos, through_[throughCount > 1 ? 1 : 0].data(), len);
@@ -310,8 +316,76 @@ void BlockControl::idleTick(double dt) noexcept
     // at 200 Hz on average, as it does under an audio callback.
     const int updates = juce::jlimit(1, 4, static_cast<int>(std::lround(dt * kControlRateHz)));
     const bool toMotors = idleDrivesMotors_.load(std::memory_order_relaxed);
+    beginStage(nullptr, clock_, 0);
     for (int i = 0; i < updates; ++i) step(dt / updates, now - (updates - 1 - i) * dt / updates, toMotors, Transport {}, nullptr, 0);
     token_.release();
+}
+
+// ------------------------------------------------------------------------------------------------
+// Stage (Stage.h): set list, panic, resume
+
+Engine* BlockControl::runningEngine() noexcept
+{
+    if (cues_ != nullptr) return &cues_->engine(cues_->current());
+    auto* slot = loop_.active();
+    return slot != nullptr ? slot->engine.get() : nullptr;
+}
+
+void BlockControl::renderRunning(float* left, float* right, int numSamples) noexcept
+{
+    if (cues_ != nullptr) cues_->renderAudio(left, right, numSamples);
+    else loop_.render(left, right, numSamples);
+}
+
+void BlockControl::inputRunning(const float* const* in, int channels, int numSamples) noexcept
+{
+    if (cues_ != nullptr) cues_->processInput(in, channels, numSamples);
+    else loop_.processInput(in, channels, numSamples);
+}
+
+void BlockControl::addMidi(juce::MidiBuffer* midi, const std::uint8_t* bytes, int size, int offset) noexcept
+{
+    if (port_ != nullptr) port_->push(bytes, size);
+    if (midi == nullptr) return;
+    const std::size_t record = static_cast<std::size_t>(size) + sizeof(juce::int32) + sizeof(juce::uint16);   // MidiBuffer's record
+    if (midiBytes_ + record > kMidiStorageBytes) {
+        midiDropped_.fetch_add(1, std::memory_order_relaxed);
+        return;
+    }
+    midi->addEvent(bytes, size, offset);
+    midiBytes_ += record;
+}
+
+void BlockControl::beginStage(juce::MidiBuffer* midi, double blockStart, int blockSamples) noexcept
+{
+    if (stage_ == nullptr) return;
+    cues_ = stage_->beginStep();
+    const bool panic = stage_->panicked();
+    Engine* engine = nullptr;
+    if (auto* slot = loop_.active(); slot != nullptr) engine = slot->engine.get();
+    if (panic) {
+        // Every block while in panic: idempotent, and it reaches an engine or a set list that
+        // took over since. Before anything of this block is rendered: silent within the block.
+        if (engine != nullptr) engine->panic();
+        if (cues_ != nullptr) cues_->panic();
+    }
+    if (panic == panicApplied_) return;
+    panicApplied_ = panic;
+    if (! panic) {   // resume: the current scene (or cue) from reset(), sound fading back in
+        if (engine != nullptr) engine->resume();
+        if (cues_ != nullptr) cues_->resume();
+        return;
+    }
+    // Every note the mapping has sounding ends now, then All Sound Off and All Notes Off on all
+    // 16 channels (MIDI 1.0, CC 120 / CC 123, value 0) for whatever the receivers still hold.
+    mapper_.allNotesOff(blockStart, mapOut_);
+    deliver(midi, blockStart, blockSamples);
+    for (std::uint8_t channel = 0; channel < 16; ++channel) {
+        const std::uint8_t soundOff[3] {static_cast<std::uint8_t>(0xB0 | channel), 120, 0};
+        const std::uint8_t notesOff[3] {static_cast<std::uint8_t>(0xB0 | channel), 123, 0};
+        addMidi(midi, soundOff, 3, 0);
+        addMidi(midi, notesOff, 3, 0);
+    }
 }
 
 } // namespace armadillo::plugin

@@ -22,6 +22,7 @@
 #include "Plugin/MidiPort.h"
 #include "Plugin/OscLink.h"
 #include "Plugin/Parameters.h"
+#include "Plugin/Stage.h"
 #include <juce_audio_processors/juce_audio_processors.h>
 #include <array>
 #include <atomic>
@@ -55,6 +56,9 @@ public:
     /// app's MIDI port (nullptr in a host).
     void setSceneTable(const SceneParameterTable* table) noexcept { sceneTable_ = table; }
     void setMidiPort(MidiPort* port) noexcept { port_ = port; }
+    /// Before the control side runs: the stage (set list, panic, MIDI stage messages; Stage.h).
+    /// Its commands act at the start of the next block (or idle step), never mid-block.
+    void setStage(Stage* stage) noexcept { stage_ = stage; }
     /// The app's sensitivity test (TouchTestSession.h, issue 26): while set, each control step's
     /// levels come from this player (its own TactileEngine and SafetyStage) instead of the
     /// scene's; nullptr gives the motors back to the scene. Any thread; the player must outlive
@@ -122,6 +126,16 @@ private:
     /// parameters to the active scene. Clears `mapOut_`.
     void deliver(juce::MidiBuffer* midi, double blockStart, int blockSamples) noexcept;
     void applySceneParam(const mapping::SceneParamChange& change) noexcept;
+    /// The stage at the start of a block or idle step (token holder): takes an offered set
+    /// list, applies cue requests, panic and resume. On panic: every engine (and cue) panicked
+    /// before anything of this block is rendered, the mapping's sounding notes ended and CC 120
+    /// + CC 123 sent on all 16 channels, into `midi` at offset 0 (when not null) and the port.
+    void beginStage(juce::MidiBuffer* midi, double blockStart, int blockSamples) noexcept;
+    void addMidi(juce::MidiBuffer* midi, const std::uint8_t* bytes, int size, int offset) noexcept;
+    /// The current cue's engine with a set list, else the active engine (null: none).
+    Engine* runningEngine() noexcept;
+    void renderRunning(float* left, float* right, int numSamples) noexcept;
+    void inputRunning(const float* const* in, int channels, int numSamples) noexcept;
     void learnRange(const mapping::MappingInput& in) noexcept;
 
     live::ControlLoop& loop_;
@@ -157,6 +171,9 @@ private:
     std::uint32_t learnGeneration_ = 0;
     const SceneParameterTable* sceneTable_ = nullptr;
     MidiPort* port_ = nullptr;
+    Stage* stage_ = nullptr;
+    live::CuePlayer* cues_ = nullptr;   ///< token holder: the set list's player this block (null: none)
+    bool panicApplied_ = false;         ///< token holder: the stage's panic as applied
     std::uint64_t frameSerial_ = 0;
     /// The listened-to input of one control step (≤ 192 kHz / 200 Hz samples), fixed size.
     static constexpr int kInputScratch = 1024;

@@ -22,7 +22,8 @@ juce::File setupFolder()
 
 ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
     : AudioProcessorEditor(processor), processor_(processor), armView_(processor), motors_(processor),
-      device_(processor), sceneControls_(processor), training_(processor), welcome_(processor)
+      device_(processor), sceneControls_(processor), training_(processor), welcome_(processor),
+      performance_(processor)
 {
     setTitle("ARMadillo");
     setDescription("Forearm controller and tactile display. F1 opens the help.");
@@ -87,6 +88,8 @@ ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
     help_.onClick = [this] { showHelp(); };
     describe(setup_, "Setup", "Save the whole setup (scene, parameters, device, mount, OSC) to a file, or load one.");
     setup_.onClick = [this] { showSetupMenu(); };
+    describe(stage_, "Stage", "On stage: the performance view (F11), load or clear a set list, panic (F12) and resume.");
+    stage_.onClick = [this] { showStageMenu(); };
     describe(mappingButton_, "Mapping editor", "Open the mapping editor: arm features to MIDI, OSC, macros and scene parameters, with MIDI learn.");
     mappingButton_.onClick = [this] {
         if (mappingWindow_ != nullptr) {
@@ -125,7 +128,7 @@ ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
     deviceView_.setTitle("Device and OSC settings");
     deviceView_.setDescription("The device panel; it scrolls (Page Up / Page Down, or Tab through it) when the window is low.");
 
-    for (juce::Component* c : std::initializer_list<juce::Component*> {&source_, &scene_, &preset_, &wander_, &readerButton_, &mappingButton_, &setup_, &help_, &about_,
+    for (juce::Component* c : std::initializer_list<juce::Component*> {&source_, &scene_, &preset_, &wander_, &readerButton_, &mappingButton_, &stage_, &setup_, &help_, &about_,
                                                                         &armView_, &motors_, &deviceView_, &sceneControls_, &statusLine_})
         addAndMakeVisible(*c);
     armView_.setWantsKeyboardFocus(true);
@@ -141,6 +144,10 @@ ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
     addChildComponent(training_);
     addChildComponent(dismiss_);
     addChildComponent(welcome_);
+    addChildComponent(performance_);
+    performance_.onClose = [this] {
+        if (stage_.isShowing()) stage_.grabKeyboardFocus();
+    };
     welcome_.onShowDevice = [this] { device_.focusDevice(); };
     welcome_.onShowOsc = [this] { device_.focusOscInput(); };
     welcome_.onClose = [this] {
@@ -150,7 +157,7 @@ ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
     // Tab order: the top bar left to right, the message, then the panels as laid out (arm view,
     // training, motors, device, scene controls) and the status line last.
     int order = 1;
-    for (juce::Component* c : std::initializer_list<juce::Component*> {&source_, &scene_, &preset_, &wander_, &readerButton_, &mappingButton_, &setup_, &help_, &about_,
+    for (juce::Component* c : std::initializer_list<juce::Component*> {&source_, &scene_, &preset_, &wander_, &readerButton_, &mappingButton_, &stage_, &setup_, &help_, &about_,
                                                                         &status_, &dismiss_, &armView_, &training_, &motors_,
                                                                         &deviceView_, &sceneControls_, &statusLine_})
         c->setExplicitFocusOrder(order++);
@@ -185,6 +192,55 @@ void ArmadilloEditor::showHelp()
 {
     resized();
     welcome_.open();
+}
+
+void ArmadilloEditor::showPerformance()
+{
+    resized();
+    performance_.open();
+}
+
+void ArmadilloEditor::showStageMenu()
+{
+    const auto info = processor_.stageInfo();
+    juce::PopupMenu menu;
+    menu.addItem(1, "Performance view (F11)");
+    menu.addSeparator();
+    menu.addItem(2, "Load set list...");
+    menu.addItem(3, "Clear set list" + (info.setList ? " (" + info.listName + ")" : juce::String()), info.setList);
+    menu.addSeparator();
+    menu.addItem(4, "Panic (F12)", ! info.panicked);
+    menu.addItem(5, "Resume", info.panicked);
+    menu.addSeparator();
+    const bool oscOn = static_cast<bool>(processor_.settings()[SettingIds::stageOscEnabled]);
+    menu.addItem(6, "OSC stage commands on UDP " + processor_.settings()[SettingIds::stageOscPort].toString(), true, oscOn);
+    menu.showMenuAsync(juce::PopupMenu::Options().withTargetComponent(&stage_), [this](int choice) {
+        switch (choice) {
+        case 1: showPerformance(); break;
+        case 2: chooseSetList(); break;
+        case 3: processor_.clearSetList(); break;
+        case 4: processor_.panic(); break;
+        case 5: processor_.resume(); break;
+        case 6:
+            processor_.settings().setProperty(SettingIds::stageOscEnabled, ! static_cast<bool>(processor_.settings()[SettingIds::stageOscEnabled]), nullptr);
+            break;
+        default: break;
+        }
+    });
+}
+
+void ArmadilloEditor::chooseSetList()
+{
+    chooser_ = std::make_unique<juce::FileChooser>("Load a set list", setupFolder(), "*.json");
+    chooser_->launchAsync(juce::FileBrowserComponent::canSelectFiles | juce::FileBrowserComponent::openMode, [this](const juce::FileChooser& fc) {
+        if (stage_.isShowing()) stage_.grabKeyboardFocus();   // the keys (F11, F12) work again at once
+        const auto file = fc.getResult();
+        if (file == juce::File()) return;
+        if (const auto why = processor_.loadSetList(file); why.isNotEmpty()) {
+            juce::AlertWindow::showMessageBoxAsync(juce::MessageBoxIconType::WarningIcon, "Load set list", why);
+            plugin::announce(processor_, "stage", why, juce::AccessibilityHandler::AnnouncementPriority::medium);
+        }
+    });
 }
 
 void ArmadilloEditor::showSetupMenu()
@@ -266,6 +322,14 @@ bool ArmadilloEditor::keyPressed(const juce::KeyPress& key)
         showHelp();
         return true;
     }
+    if (key == juce::KeyPress::F11Key) {
+        showPerformance();
+        return true;
+    }
+    if (key == juce::KeyPress::F12Key) {   // the panic key (docs/STAGE.md): no control uses it, so it works from anywhere
+        processor_.panic();
+        return true;
+    }
     return false;   // nothing global: arrows and the rest act on the focused control only
 }
 
@@ -333,14 +397,15 @@ void ArmadilloEditor::resized()
     r.removeFromBottom(4);
     // The welcome covers everything but the status line (which it talks about).
     welcome_.setBounds(r.withSizeKeepingCentre(juce::jmin(r.getWidth() - 20, 760), juce::jmin(r.getHeight() - 10, 600)));
+    performance_.setBounds(r);   // the performance view too, full size: it is read from afar
 
     // Top bar: the labels sit left of their boxes (attachToComponent); the boxes share what is left.
     // When the buttons would leave the three boxes less than 120 px each, they get a row of their own.
     auto top = r.removeFromTop(bar);
     const auto textWidth = [&](const juce::String& s) { return juce::roundToInt(juce::Font(font).getStringWidthFloat(s)) + 14; };
     const int labelsW = textWidth("Source") + textWidth("Scene") + textWidth("Preset");
-    const int buttonsW = textWidth("Wander") + 24 + textWidth("Reader...") + textWidth("Mapping...") + textWidth("Setup...") + textWidth("Help") +
-                         textWidth("About") + 6 * 6;
+    const int buttonsW = textWidth("Wander") + 24 + textWidth("Reader...") + textWidth("Mapping...") + textWidth("Stage...") + textWidth("Setup...") +
+                         textWidth("Help") + textWidth("About") + 7 * 6;
     const int titleW = textWidth("ARMadillo") + 10;
     const bool twoRows = top.getWidth() - labelsW - buttonsW < 3 * 120;
     const bool showTitle = ! twoRows && top.getWidth() - labelsW - buttonsW - titleW >= 3 * 150;
@@ -357,6 +422,8 @@ void ArmadilloEditor::resized()
     help_.setBounds(row.removeFromRight(textWidth("Help")));
     row.removeFromRight(6);
     setup_.setBounds(row.removeFromRight(textWidth("Setup...")));
+    row.removeFromRight(6);
+    stage_.setBounds(row.removeFromRight(textWidth("Stage...")));
     row.removeFromRight(6);
     mappingButton_.setBounds(row.removeFromRight(textWidth("Mapping...")));
     row.removeFromRight(6);

@@ -8,6 +8,7 @@
 #include "Plugin/Controls.h"
 #include "Plugin/DevicePanel.h"
 #include "Plugin/MotorDisplay.h"
+#include "Plugin/PerformanceView.h"
 #include "Plugin/SceneControls.h"
 #include "Plugin/StatusLine.h"
 #include "Plugin/TrainingPanel.h"
@@ -32,14 +33,19 @@ public:
     WelcomePanel& welcome() noexcept { return welcome_; }
     TrainingPanel& training() noexcept { return training_; }
     juce::Label& statusLine() noexcept { return statusLine_; }
+    PerformanceView& performance() noexcept { return performance_; }
     /// Opens the welcome (Help button, F1).
     void showHelp();
+    /// Opens the performance view (Stage menu, F11).
+    void showPerformance();
 
 private:
     void timerCallback() override;
     void globalFocusChanged(juce::Component* focused) override;
     void updateStatusLine();
     void showSetupMenu();
+    void showStageMenu();
+    void chooseSetList();
     void scrollIntoView(juce::Component& focused);
     juce::Rectangle<int> focusRingArea() const;
 
@@ -52,6 +58,7 @@ private:
     juce::TextButton about_ {"About"};
     juce::TextButton help_ {"Help"};
     juce::TextButton setup_ {"Setup..."};
+    juce::TextButton stage_ {"Stage..."};                        // set list, performance view, panic (issue 28)
     juce::TextButton mappingButton_ {"Mapping..."};              // MappingPanel in its own window
     juce::Component::SafePointer<juce::DialogWindow> mappingWindow_;
     juce::TextButton readerButton_ {"Reader..."};                // ReaderPanel in its own window (issue 26)
@@ -65,6 +72,7 @@ private:
     SceneControls sceneControls_;
     TrainingPanel training_;   // below the arm view while the braille scene trains
     WelcomePanel welcome_;
+    PerformanceView performance_;
     StatusLine statusTracker_;
     juce::Rectangle<int> lastRing_;
 };

@@ -51,6 +51,9 @@ ArmadilloProcessor::ArmadilloProcessor()
     // classic preset until a state says otherwise, and in the standalone app an ALSA sequencer
     // port for its MIDI (docs/PLUGIN.md "MIDI out").
     control_.setSceneTable(&sceneTable_);
+    control_.setStage(&stage_);
+    stage_.setCueNotes(static_cast<int>(settings_[SettingIds::cueNextNote]), static_cast<int>(settings_[SettingIds::cuePrevNote]));
+    applyStageOsc();
     mapping_.setControlStopped(true);   // nothing runs the control step yet: install, not offer
     if (const auto why = mapping_.fromState({}); why.isNotEmpty()) setStatus(why);
     mapping_.setControlStopped(false);
@@ -125,7 +128,30 @@ void ArmadilloProcessor::prepareToPlay(double sampleRate, int)
     }
     listen_ = listen;
     engines_.install(currentRequest(), token_);
+    // A set list prepared for another sample rate is built again for this one (audio is stopped).
+    std::unique_ptr<live::CuePlayer> cues;
+    bool replaceCues = false;
+    {
+        std::lock_guard<std::mutex> lock(stageMutex_);
+        const auto text = settings_[SettingIds::setList].toString();
+        if (text.isNotEmpty() && cuesRate_ != sampleRate_.load()) {
+            try {
+                cues = buildCues(live::parseSetList(text.toStdString(), settings_[SettingIds::setListName].toString().toStdString()),
+                                 sampleRate_.load());
+                cuesRate_ = sampleRate_.load();
+                replaceCues = true;
+            } catch (const std::exception& e) {
+                setStatus("The set list cannot be prepared at " + juce::String(sampleRate_.load()) + " Hz: " + juce::String(e.what()));
+            }
+        }
+    }
     token_.take();   // the idle clock holds it for < 1 ms; audio is stopped during prepareToPlay
+    if (replaceCues) {
+        std::lock_guard<std::mutex> lock(stageMutex_);
+        cuesWaiting_.reset();
+        cuesWaitingSet_ = false;
+        stage_.replace(std::move(cues));
+    }
     control_.prepare(sampleRate_.load());
     token_.release();
 }
@@ -223,6 +249,7 @@ void ArmadilloProcessor::applyRequestedProgram()
 void ArmadilloProcessor::timerCallback()
 {
     applyRequestedProgram();
+    stageTick();
     if (const auto failure = engines_.takeNewFailure(); failure.isNotEmpty()) setEngineStatus(failure);
     training_.collect();   // keeps a braille training log's queue drained while no panel asks for it
     if (feedbackUntil_ > 0 && feedbackPlayer_.completed() >= feedbackUntil_) {
@@ -329,6 +356,10 @@ void ArmadilloProcessor::valueTreePropertyChanged(juce::ValueTree&, const juce::
     } else if (id == SettingIds::midiChannel) {
         std::lock_guard<std::mutex> lock(mappingMutex_);
         if (mapping_.name() == "classic") mapping_.usePreset("classic");   // the classic wiring's channel
+    } else if (id == SettingIds::stageOscEnabled || id == SettingIds::stageOscPort) {
+        applyStageOsc();
+    } else if (id == SettingIds::cueNextNote || id == SettingIds::cuePrevNote) {
+        stage_.setCueNotes(static_cast<int>(settings_[SettingIds::cueNextNote]), static_cast<int>(settings_[SettingIds::cuePrevNote]));
     } else if (id == SettingIds::readerVoice || id == SettingIds::speechRate) {
         applyVoiceSettings();
     } else if (id == SettingIds::oscOutEnabled || id == SettingIds::oscOutHost || id == SettingIds::oscOutPort
@@ -511,9 +542,183 @@ void ArmadilloProcessor::setStateInformation(const void* data, int sizeInBytes)
 {
     juce::ValueTree mapping;
     auto message = PluginState::restore(*this, apvts_, settings_, data, sizeInBytes, &mapping);
+    if (const auto why = applySavedSetList(); why.isNotEmpty()) message = (message + " " + why).trim();
     std::lock_guard<std::mutex> lock(mappingMutex_);
     if (const auto why = mapping_.fromState(mapping); why.isNotEmpty()) message = (message + " " + why).trim();
     setStatus(message);
+}
+
+// ------------------------------------------------------------------------------------------------
+// On stage (Stage.h, docs/STAGE.md)
+
+std::unique_ptr<live::CuePlayer> ArmadilloProcessor::buildCues(const live::SetList& list, double sampleRate) const
+{
+    SceneConfig base;
+    base.sampleRate = sampleRate > 0.0 ? sampleRate : 48000.0;
+    base.controlRateHz = kControlRateHz;
+    base.seed = 1;
+    base.side = settings_[SettingIds::armSide].toString() == "left" ? ArmSide::Left : ArmSide::Right;
+    const int motors = static_cast<bool>(settings_[SettingIds::backMotors]) ? kGridMotors + kBackMotors : kGridMotors;
+    return std::make_unique<live::CuePlayer>(list, base, motors);   // every cue's engine, prepared now
+}
+
+void ArmadilloProcessor::offerCues(std::unique_ptr<live::CuePlayer> player)
+{
+    // Under stageMutex_. One hand-over in flight: a newer set list waits for the timer.
+    cuesWaiting_ = std::move(player);
+    cuesWaitingSet_ = true;
+    stage_.collect();
+    if (stage_.offer(cuesWaiting_)) cuesWaitingSet_ = false;
+}
+
+juce::String ArmadilloProcessor::useSetList(const juce::String& text, const juce::String& name)
+{
+    if (text.length() > PluginState::kMaxSetListChars)
+        return name + ": the set list is longer than " + juce::String(PluginState::kMaxSetListChars) + " characters";
+    std::unique_ptr<live::CuePlayer> player;
+    try {
+        player = buildCues(live::parseSetList(text.toStdString(), name.toStdString()), sampleRate_.load());
+    } catch (const std::exception& e) {
+        return juce::String(e.what());
+    }
+    const auto summary = "Set list " + name + ": " + juce::String(player->cueCount()) + " cues, cue 1 '" + juce::String(player->cue(0).name)
+                         + "' (" + juce::String(player->cue(0).scene) + ")";
+    {
+        std::lock_guard<std::mutex> lock(stageMutex_);
+        cuesRate_ = sampleRate_.load();
+        offerCues(std::move(player));
+        reportedCue_ = 0;
+    }
+    settings_.setProperty(SettingIds::setListName, name, nullptr);
+    settings_.setProperty(SettingIds::setList, text, nullptr);
+    setStatus(summary);
+    return {};
+}
+
+juce::String ArmadilloProcessor::loadSetList(const juce::File& file)
+{
+    if (! file.existsAsFile()) return "no such file: " + file.getFullPathName();
+    if (file.getSize() > PluginState::kMaxSetListChars) return file.getFullPathName() + " is too large to be a set list";
+    juce::FileInputStream in(file);
+    if (! in.openedOk()) return "cannot read " + file.getFullPathName();
+    return useSetList(in.readEntireStreamAsString(), file.getFileName());
+}
+
+void ArmadilloProcessor::clearSetList()
+{
+    {
+        std::lock_guard<std::mutex> lock(stageMutex_);
+        offerCues(nullptr);
+        cuesRate_ = 0.0;
+        reportedCue_ = -1;
+    }
+    settings_.setProperty(SettingIds::setList, "", nullptr);
+    settings_.setProperty(SettingIds::setListName, "", nullptr);
+}
+
+juce::String ArmadilloProcessor::applySavedSetList()
+{
+    const auto text = settings_[SettingIds::setList].toString();
+    const auto name = settings_[SettingIds::setListName].toString();
+    if (text.isEmpty()) {
+        bool loaded = false;
+        {
+            std::lock_guard<std::mutex> lock(stageMutex_);
+            loaded = cuesWaitingSet_ ? cuesWaiting_ != nullptr : stage_.newest() != nullptr;
+        }
+        if (loaded) clearSetList();
+        return {};
+    }
+    const auto why = useSetList(text, name.isNotEmpty() ? name : juce::String("the saved set list"));
+    if (why.isEmpty()) return {};
+    clearSetList();   // nothing half-used: the single scene plays
+    return "The saved set list is not used: " + why;
+}
+
+void ArmadilloProcessor::stageTick()
+{
+    std::lock_guard<std::mutex> lock(stageMutex_);
+    stage_.collect();   // the player the control side gave up is deleted here, never on the audio thread
+    if (cuesWaitingSet_ && stage_.offer(cuesWaiting_)) cuesWaitingSet_ = false;
+    const bool panicked = stage_.panicked();
+    const auto count = stage_.panics();
+    if (panicked && (! reportedPanicked_ || count != reportedPanics_)) {
+        setStatus("PANIC: all sound and every motor off, the notes sent ended (CC 120 and 123 on all channels). "
+                  "Resume: R in the performance view, Stage > Resume, or MIDI CC 119.");
+        announce(*this, "stage", "Panic: all sound and every motor off.", juce::AccessibilityHandler::AnnouncementPriority::high);
+    } else if (! panicked && reportedPanicked_) {
+        setStatus("Resumed.");
+        announce(*this, "stage", "Resumed.", juce::AccessibilityHandler::AnnouncementPriority::high);
+    }
+    reportedPanicked_ = panicked;
+    reportedPanics_ = count;
+    if (auto* player = stage_.newest(); player != nullptr && ! cuesWaitingSet_) {
+        const int cue = player->current();
+        if (cue != reportedCue_ && reportedCue_ >= 0) {
+            const auto& c = player->cue(cue);
+            const auto text = "Cue " + juce::String(cue + 1) + " of " + juce::String(player->cueCount()) + ": '" + juce::String(c.name) + "' ("
+                              + juce::String(c.scene) + ")";
+            if (! panicked) setStatus(text);
+            announce(*this, "stage", text, juce::AccessibilityHandler::AnnouncementPriority::medium);
+        }
+        reportedCue_ = cue;
+    }
+}
+
+void ArmadilloProcessor::applyStageOsc()
+{
+    const bool on = static_cast<bool>(settings_[SettingIds::stageOscEnabled]);
+    const int port = static_cast<int>(settings_[SettingIds::stageOscPort]);
+    if (stageOsc_ != nullptr && on && (port == 0 || stageOsc_->port() == port)) return;
+    if (stageOsc_ != nullptr) stageOsc_->stop();
+    stageOsc_.reset();
+    if (! on) return;
+    try {
+        // live/StageControl.h: /armadillo/panic, /armadillo/resume, /armadillo/cue/next|prev,
+        // /armadillo/cue i, as `armadillo play --control-in` takes them. Its own thread: atomics only.
+        stageOsc_ = std::make_unique<live::StageControlReceiver>(port, [this](const live::StageCommand& c) {
+            switch (c.kind) {
+            case live::StageCommand::Kind::Panic: stage_.panic(); break;
+            case live::StageCommand::Kind::Resume: stage_.resume(); break;
+            case live::StageCommand::Kind::CueNext: stage_.next(); break;
+            case live::StageCommand::Kind::CuePrev: stage_.previous(); break;
+            case live::StageCommand::Kind::CueGoto: stage_.cue(c.cue); break;
+            }
+        });
+        stageOsc_->start();
+    } catch (const std::exception& e) {
+        stageOsc_.reset();
+        setStatus("OSC stage commands: " + juce::String(e.what()));
+    }
+}
+
+int ArmadilloProcessor::stageOscPort() const
+{
+    return stageOsc_ != nullptr ? stageOsc_->port() : 0;
+}
+
+ArmadilloProcessor::StageInfo ArmadilloProcessor::stageInfo() const
+{
+    StageInfo info;
+    info.panicked = stage_.panicked();
+    info.panics = stage_.panics();
+    std::lock_guard<std::mutex> lock(stageMutex_);
+    const live::CuePlayer* player = cuesWaitingSet_ ? cuesWaiting_.get() : stage_.newest();
+    if (player == nullptr) return info;
+    info.setList = true;
+    info.listName = settings_[SettingIds::setListName].toString();
+    info.cueCount = player->cueCount();
+    info.cue = cuesWaitingSet_ ? 0 : player->current();
+    const auto& c = player->cue(info.cue);
+    info.cueName = juce::String(c.name);
+    info.cueScene = juce::String(c.scene);
+    if (info.cue + 1 < info.cueCount) {
+        info.next = info.cue + 1;
+        const auto& n = player->cue(info.next);
+        info.nextName = juce::String(n.name);
+        info.nextScene = juce::String(n.scene);
+    }
+    return info;
 }
 
 juce::AudioProcessorEditor* ArmadilloProcessor::createEditor()

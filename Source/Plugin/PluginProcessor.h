@@ -7,7 +7,8 @@
 //  - Connections.h     device link and guided calibration, simulated arm, OSC, the idle clock;
 //  - PluginState.h     saved state and settings, validated on the way in;
 //  - MappingSession.h  the mapping set: presets, files, state, hand-over to the control side, learn;
-//  - TrainingAccess.h  braille training for the Training panel.
+//  - TrainingAccess.h  braille training for the Training panel;
+//  - Stage.h           the set list's CuePlayer handed over lock-free, panic/resume, MIDI stage messages.
 // This class adds the AudioProcessor entry points, the message-thread timer (engine updates,
 // live orientation → parameters with change gestures, auto-connect) and the status line.
 #include "Link/LevelSchedule.h"
@@ -19,6 +20,8 @@
 #include "Plugin/MappingSession.h"
 #include "Plugin/Parameters.h"
 #include "Plugin/PluginState.h"
+#include "Plugin/Stage.h"
+#include "Live/StageControl.h"
 #include "Plugin/ReaderVoice.h"
 #include "Plugin/AdaptiveSession.h"
 #include "Plugin/TouchTestSession.h"
@@ -58,7 +61,7 @@ public:
     juce::AudioProcessorEditor* createEditor() override;
     bool hasEditor() const override { return true; }
     const juce::String getName() const override { return "ARMadillo"; }
-    bool acceptsMidi() const override { return true; }   // MIDI learn (the mapping editor); the input is not played
+    bool acceptsMidi() const override { return true; }   // stage messages and MIDI learn; the input is not played
     bool producesMidi() const override { return true; }
     bool isMidiEffect() const override { return false; }
     double getTailLengthSeconds() const override { return kTailSeconds; }
@@ -166,6 +169,37 @@ public:
     /// Whether the current scene listens to the audio input (score, audio-touch).
     bool sceneListens() const;
 
+    // On stage (docs/STAGE.md, Stage.h). Message thread unless said; the host's state calls too.
+    /// Reads a set list file and plays it (cue 0 first): "" or why not (file, line and key
+    /// named); the set list used before stays then. The text is kept in the state.
+    juce::String loadSetList(const juce::File& file);
+    /// The same from a set list's text (`name`: the file, for messages).
+    juce::String useSetList(const juce::String& text, const juce::String& name);
+    /// Back to the single scene (the Scene box).
+    void clearSetList();
+    /// Panic, resume and cue steps: any thread (atomics); they act at the next block's start.
+    void panic() noexcept { stage_.panic(); }
+    void resume() noexcept { stage_.resume(); }
+    void nextCue() noexcept { stage_.next(); }
+    void previousCue() noexcept { stage_.previous(); }
+    void goToCue(int index) noexcept { stage_.cue(index); }
+    bool panicked() const noexcept { return stage_.panicked(); }
+    /// The UDP port the OSC stage commands are heard on (the stageOsc settings), 0 when off.
+    int stageOscPort() const;
+    std::uint32_t panics() const noexcept { return stage_.panics(); }
+    /// What the performance view shows.
+    struct StageInfo {
+        bool setList = false;
+        juce::String listName;
+        int cue = -1, cueCount = 0;            ///< the cue playing (0-based), how many
+        juce::String cueName, cueScene;
+        int next = -1;                         ///< the next cue (−1: the last cue plays)
+        juce::String nextName, nextScene;
+        bool panicked = false;
+        std::uint32_t panics = 0;
+    };
+    StageInfo stageInfo() const;
+
 private:
     static BusesProperties busesFor(WrapperType wrapper);
     // Message thread
@@ -176,6 +210,12 @@ private:
     void writeMacrosToParameters();
     void applyNetworkSettings();
     void applyVoiceSettings();
+    std::unique_ptr<live::CuePlayer> buildCues(const live::SetList& list, double sampleRate) const;
+    /// After a state was restored: the saved set list is used, or cleared with the reason.
+    juce::String applySavedSetList();
+    void offerCues(std::unique_ptr<live::CuePlayer> player);
+    void stageTick();   ///< timer: hand-over, and the status line's panic / cue reports
+    void applyStageOsc();
     void setStatus(const juce::String& message);
     /// The engine hand-over's messages: "" takes down an earlier engine message (only that).
     void setEngineStatus(const juce::String& message);
@@ -197,6 +237,7 @@ private:
     access::TactilePlayer feedbackPlayer_ {TactileConfig {}, 0.0};   // before control_ too
     AdaptiveSession adaptive_ {feedbackPlayer_};   // plays through feedbackPlayer_
     int feedbackUntil_ = 0;                      // the sequence whose end gives the motors back to the scene
+    Stage stage_;                                // before control_: the control step keeps a pointer
     BlockControl control_;
     Connections connections_;
     std::mutex mappingMutex_;                    // message thread vs a host's state calls; never audio
@@ -229,9 +270,21 @@ private:
     std::atomic<int> requestedProgram_ {-1};     // any thread → message thread's timer
     void applyRequestedProgram();
 
+    // The set list's builder side (Stage.h): message thread and the host's state calls.
+    mutable std::mutex stageMutex_;
+    std::unique_ptr<live::CuePlayer> cuesWaiting_;   // built, not yet taken by Stage::offer
+    bool cuesWaitingSet_ = false;                    // cuesWaiting_ (maybe null: "no set list") is to be offered
+    double cuesRate_ = 0.0;                          // the sample rate the newest player was built for
+    std::uint32_t reportedPanics_ = 0;               // timer: what the status line said last
+    bool reportedPanicked_ = false;
+    int reportedCue_ = -1;
+
     mutable std::mutex statusMutex_;             // message thread and host state calls; never audio
     juce::String status_;
     bool statusFromEngine_ = false;              // status_ came from the engine hand-over
+
+    // Last, so it goes first: its thread calls into stage_.
+    std::unique_ptr<live::StageControlReceiver> stageOsc_;   // message thread
 
     JUCE_DECLARE_NON_COPYABLE_WITH_LEAK_DETECTOR(ArmadilloProcessor)
 };

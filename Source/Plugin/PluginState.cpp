@@ -32,6 +32,12 @@ juce::ValueTree defaultSettings()
     s.setProperty(SettingIds::speechRate, 0, nullptr);
     s.setProperty(SettingIds::armFeedback, false, nullptr);
     s.setProperty(SettingIds::touchProfile, "", nullptr);
+    s.setProperty(SettingIds::setList, "", nullptr);
+    s.setProperty(SettingIds::setListName, "", nullptr);
+    s.setProperty(SettingIds::cueNextNote, 0, nullptr);   // Stage::kNextNote
+    s.setProperty(SettingIds::cuePrevNote, 1, nullptr);   // Stage::kPrevNote
+    s.setProperty(SettingIds::stageOscEnabled, false, nullptr);
+    s.setProperty(SettingIds::stageOscPort, 9002, nullptr);
     return s;
 }
 
@@ -47,7 +53,7 @@ void installSettings(juce::ValueTree& settings, const juce::ValueTree& loaded)
             const auto& v = loaded[id];
             if (fallback.isBool()) value = static_cast<bool>(v);
             else if (fallback.isInt()) value = static_cast<int>(v);
-            else value = v.toString().substring(0, 4096);
+            else value = v.toString().substring(0, id == SettingIds::setList ? kMaxSetListChars : 4096);
         }
         settings.setProperty(id, value, nullptr);
     }
@@ -64,6 +70,11 @@ void installSettings(juce::ValueTree& settings, const juce::ValueTree& loaded)
     if (settings[SettingIds::armSide].toString() != "left") settings.setProperty(SettingIds::armSide, "right", nullptr);
     if (settings[SettingIds::score].toString().isEmpty()) settings.setProperty(SettingIds::score, "rite-of-spring", nullptr);
     clampInt(SettingIds::speechRate, -100, 100, 0);
+    clampInt(SettingIds::cueNextNote, -1, 127, 0);
+    clampInt(SettingIds::cuePrevNote, -1, 127, 1);
+    clampInt(SettingIds::stageOscPort, 0, 65535, 9002);
+    // The set list's text is checked (parsed, every cue prepared) by the processor, which says
+    // in the status line why a saved one is not used (ArmadilloProcessor::applySavedSetList).
     const auto voice = settings[SettingIds::readerVoice].toString();
     if (voice != "on" && voice != "off") settings.setProperty(SettingIds::readerVoice, "auto", nullptr);
     // A touch profile is kept only when it parses (Link/TouchProfile.h), so the engine never gets

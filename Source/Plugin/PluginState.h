@@ -35,11 +35,19 @@ inline const juce::Identifier readerVoice {"readerVoice"};   ///< "auto" | "on" 
 inline const juce::Identifier speechRate {"speechRate"};     ///< −100..100, 0 = the voice's default
 inline const juce::Identifier armFeedback {"armFeedback"};   ///< bool: training feedback felt on the arm (Access/Feedback.h)
 inline const juce::Identifier touchProfile {"touchProfile"}; ///< the reader's touch profile (its JSON, Link/TouchProfile.h), "" = none
+inline const juce::Identifier setList {"setList"};           ///< the set list's text (docs/STAGE.md JSON), "" = none
+inline const juce::Identifier setListName {"setListName"};   ///< the file it came from (for messages)
+inline const juce::Identifier cueNextNote {"cueNextNote"};   ///< MIDI note that steps to the next cue, −1 = none (Stage.h)
+inline const juce::Identifier cuePrevNote {"cuePrevNote"};   ///< MIDI note that steps back, −1 = none
+inline const juce::Identifier stageOscEnabled {"stageOscEnabled"}; ///< bool: listen for OSC stage commands (docs/STAGE.md)
+inline const juce::Identifier stageOscPort {"stageOscPort"}; ///< their UDP port (0: any free port)
 } // namespace SettingIds
 
 namespace PluginState {
 
 inline constexpr int kVersion = 1;   ///< the saved state's format version
+/// The longest set list text kept in the state (other text settings keep 4096 characters).
+inline constexpr int kMaxSetListChars = 1 << 20;
 
 /// Every setting with its default value.
 juce::ValueTree defaultSettings();

@@ -150,16 +150,17 @@ TEST_CASE("editor: Tab reaches every control in layout order; each has an access
         CHECK(s.described);
     }
     // The top bar comes first, left to right; the status line last.
-    REQUIRE(names.size() > 9);
+    REQUIRE(names.size() > 10);
     CHECK(names[0] == "Source");
     CHECK(names[1] == "Scene");
     CHECK(names[2] == "Preset");
     CHECK(names[3] == "Simulator wandering");
     CHECK(names[4] == "Reader settings");
     CHECK(names[5] == "Mapping editor");
-    CHECK(names[6] == "Setup");
-    CHECK(names[7] == "Help");
-    CHECK(names[8] == "About ARMadillo");
+    CHECK(names[6] == "Stage");
+    CHECK(names[7] == "Setup");
+    CHECK(names[8] == "Help");
+    CHECK(names[9] == "About ARMadillo");
     CHECK(names.back() == "Status");
     // The panels in between: arm view before the motors before the device panel's port list.
     const auto at = [&](const juce::String& n) { return std::find(names.begin(), names.end(), n) - names.begin(); };
@@ -394,7 +395,7 @@ TEST_CASE("editor: no panels overlap from the minimum size up, at 100 % and 200 
             std::vector<juce::Component*> shown;
             // (the window's resize corner sits over the corner of the editor, by design)
             for (auto* c : app.editor->getChildren())
-                if (c->isVisible() && c != &app.editor->welcome() && dynamic_cast<juce::Label*>(c) == nullptr
+                if (c->isVisible() && c != &app.editor->welcome() && c != &app.editor->performance() && dynamic_cast<juce::Label*>(c) == nullptr
                     && dynamic_cast<juce::ResizableCornerComponent*>(c) == nullptr)
                     shown.push_back(c);
             for (auto* c : app.editor->getChildren())
@@ -426,6 +427,23 @@ TEST_CASE("editor: no panels overlap from the minimum size up, at 100 % and 200 
                 }
             }
             app.editor->welcome().close();
+            // The performance view (issue 28): its lines, PANIC and buttons fit and do not overlap.
+            app.editor->showPerformance();
+            pumpFor(20);
+            std::vector<juce::Component*> perf;
+            for (auto* c : app.editor->performance().getChildren())
+                if (c->isVisible()) perf.push_back(c);
+            REQUIRE(perf.size() == 9);
+            for (std::size_t i = 0; i < perf.size(); ++i) {
+                INFO("performance: " << nameOf(perf[i]) << " " << perf[i]->getBounds().toString().toStdString());
+                CHECK(app.editor->performance().getLocalBounds().contains(perf[i]->getBounds()));
+                CHECK(perf[i]->getHeight() >= 20);
+                for (std::size_t j = i + 1; j < perf.size(); ++j) {
+                    INFO("against " << nameOf(perf[j]) << " " << perf[j]->getBounds().toString().toStdString());
+                    CHECK_FALSE(perf[i]->getBounds().intersects(perf[j]->getBounds()));
+                }
+            }
+            app.editor->performance().close();
             // Inside the training panel too (the device panel scrolls rather than squeezes).
             for (juce::Component* panel : {static_cast<juce::Component*>(&app.editor->training())}) {
                 std::vector<juce::Component*> inner;
@@ -440,6 +458,70 @@ TEST_CASE("editor: no panels overlap from the minimum size up, at 100 % and 200 
         }
     }
     juce::Desktop::getInstance().setGlobalScaleFactor(1.0f);
+}
+
+TEST_CASE("editor: the performance view steps the set list by key and Escape panics (F12 in the editor); Tab reaches its controls", "[plugin][ui][stage]")
+{
+    App app;
+    const char* cues = R"({"armadillo_setlist": 1, "cues": [
+        {"name": "Intro", "scene": "theremin"}, {"name": "Gestures", "scene": "sound-design"},
+        {"name": "Wide", "scene": "theremin", "parameters": {"theremin.range": 24}}, {"name": "Panel", "scene": "panel"}]})";
+    REQUIRE(app.processor->useSetList(cues, "show.json") == "");
+    // No audio device here: the app's idle control clock runs the control step (as on a laptop
+    // without a sound card), so the keys act within a few of its steps.
+    auto& ed = *app.editor;
+    CHECK(app.press(ed, juce::KeyPress(juce::KeyPress::F11Key)));
+    auto& view = ed.performance();
+    REQUIRE(pumpUntil([&] { return view.isShowing() && view.hasKeyboardFocus(true); }));
+    view.refresh();
+    CHECK(view.cueLine().contains("Cue 1/4: Intro"));
+    CHECK(view.nextLine().contains("Next 2: Gestures"));
+    CHECK(view.armLine().contains("Right arm: simulator"));
+    CHECK(view.armLine().contains("Left: none"));
+    CHECK(view.stateLine() == "Playing");
+    auto* focused = juce::Component::getCurrentlyFocusedComponent();
+    REQUIRE(focused != nullptr);
+    CHECK(app.press(*focused, juce::KeyPress('n')));
+    REQUIRE(pumpUntil([&] { return app.processor->stageInfo().cue == 1; }));
+    CHECK(app.press(*focused, juce::KeyPress(juce::KeyPress::spaceKey)));
+    REQUIRE(pumpUntil([&] { return app.processor->stageInfo().cue == 2; }));
+    CHECK(app.press(*focused, juce::KeyPress('b')));
+    REQUIRE(pumpUntil([&] { return app.processor->stageInfo().cue == 1; }));
+    REQUIRE(pumpUntil([&] { view.refresh(); return view.cueLine().contains("Cue 2/4: Gestures"); }));
+    CHECK(pumpUntil([&] { return app.processor->statusMessage().contains("Cue 2 of 4"); }));
+    // The panic key: all motors off on the next idle steps, PANIC shown, reported in the status line.
+    CHECK(app.press(*focused, juce::KeyPress(juce::KeyPress::escapeKey)));
+    CHECK(app.processor->panicked());
+    REQUIRE(pumpUntil([&] { return app.processor->statusMessage().startsWith("PANIC"); }));
+    pumpFor(100);
+    const auto f = app.processor->latestFrame();
+    for (int i = 0; i < f.motorCount; ++i) CHECK(f.motors[static_cast<std::size_t>(i)] == 0);
+    view.refresh();
+    CHECK(view.stateLine().startsWith("PANIC"));
+    CHECK(app.press(*focused, juce::KeyPress('r')));
+    CHECK_FALSE(app.processor->panicked());
+    REQUIRE(pumpUntil([&] { return app.processor->statusMessage() == "Resumed."; }));
+    CHECK(app.processor->stageInfo().cue == 1);   // back to the current cue
+    // The big button panics too.
+    view.panicButton().triggerClick();
+    REQUIRE(pumpUntil([&] { return app.processor->panicked(); }));
+    app.processor->resume();
+    // Tab: the view's lines and buttons, each named and described.
+    std::vector<juce::String> names;
+    for (const auto& s : tabWalk(view.panicButton())) {
+        INFO(s.name << " (" << s.type << ")");
+        CHECK(s.hasHandler);
+        CHECK(s.accessibleTitle.isNotEmpty());
+        names.push_back(s.name);
+    }
+    for (const char* n : {"Panic", "Resume", "Previous cue", "Next cue", "Close the performance view", "Current cue", "Coming next", "Arms", "Panic state"})
+        CHECK(std::find(names.begin(), names.end(), juce::String(n)) != names.end());
+    // c closes; in the editor F12 panics (the panic key), whichever control has the focus.
+    CHECK(app.press(view, juce::KeyPress('c')));
+    CHECK_FALSE(view.isVisible());
+    CHECK(app.press(ed, juce::KeyPress(juce::KeyPress::F12Key)));
+    CHECK(app.processor->panicked());
+    app.processor->resume();
 }
 
 TEST_CASE("processor: the welcome's test tone is heard for its length, and processBlock stays real-time", "[plugin][ui][tone]")

@@ -1,0 +1,352 @@
+// On stage in the plugin (issue 28, docs/STAGE.md): a set list of four cues stepped by MIDI
+// program change through processBlock — no discontinuity above −60 dBFS at the switches beyond
+// the signal's own, no allocation, lock or throw on the audio thread; panic by CC 120 silences
+// the audio and every motor within the block and sends CC 120 / CC 123 on all 16 channels and
+// the note-off of the mapping's sounding note (none sent again until resume); the notes that step
+// cues; the set list kept in the state, a damaged one refused with a message and nothing else lost.
+// Part of tests_plugin_ui (it links the processor); no window is opened here.
+#include <catch2/catch.hpp>
+#include "Common/RealtimeGuard.h"
+#include "Mapping/MappingSpec.h"
+#include "Osc/OscIo.h"
+#include "Plugin/PluginProcessor.h"
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+using namespace armadillo;
+using namespace armadillo::plugin;
+
+namespace {
+constexpr double kFs = 48000.0;
+constexpr int kBlock = 480;   // 10 ms
+
+const char* kFourCues = R"({"armadillo_setlist": 1,
+ "cues": [
+  {"name": "Intro", "scene": "theremin"},
+  {"name": "Gestures", "scene": "sound-design"},
+  {"name": "Wide", "scene": "theremin", "parameters": {"theremin.range": 24, "theremin.scale": "minor pentatonic"}},
+  {"name": "Panel", "scene": "panel"}
+ ]})";
+
+/// The processor under host automation (deterministic: no simulator, no device), prepared.
+struct Rig {
+    ArmadilloProcessor processor;
+    juce::AudioBuffer<float> buffer {2, kBlock};
+    juce::MidiBuffer midi;
+    std::atomic<float>* elevation = processor.parameters().getRawParameterValue(ParamIds::elevation);
+    std::atomic<float>* azimuth = processor.parameters().getRawParameterValue(ParamIds::azimuth);
+    std::atomic<float>* roll = processor.parameters().getRawParameterValue(ParamIds::roll);
+    double t = 0.0;
+    Rig()
+    {
+        auto* source = processor.parameters().getParameter(ParamIds::source);
+        source->setValueNotifyingHost(source->convertTo0to1(static_cast<float>(SourceKind::HostAutomation)));
+        processor.prepareToPlay(kFs, kBlock);
+    }
+    /// One block; `in` (when given) at sample `offset`. The arm sways as a host's automation
+    /// would move it (the parameter cells the control step reads; a store, no allocation).
+    void run(const juce::MidiMessage* in = nullptr, int offset = 0)
+    {
+        elevation->store(static_cast<float>(-20.0 + 30.0 * std::sin(0.7 * t)));
+        azimuth->store(static_cast<float>(45.0 + 10.0 * std::sin(0.3 * t)));
+        roll->store(static_cast<float>(40.0 * std::sin(2.0 * t)));
+        buffer.clear();
+        midi.clear();
+        if (in != nullptr) midi.addEvent(*in, offset);
+        processor.processBlock(buffer, midi);
+        t += kBlock / kFs;
+    }
+};
+
+double maxStep(const std::vector<float>& x, std::size_t from, std::size_t to)
+{
+    double m = 0.0;
+    for (std::size_t i = std::max<std::size_t>(from, 1); i < std::min(to, x.size()); ++i)
+        m = std::max(m, std::fabs(static_cast<double>(x[i]) - static_cast<double>(x[i - 1])));
+    return m;
+}
+
+/// As Tests/Live/SetListTests.cpp: the largest step within the switch's fade (plus a block)
+/// above the largest step in the 200 ms before it and the 200 ms after the fade.
+double switchExcess(const std::vector<float>& x, std::size_t s)
+{
+    const auto fade = static_cast<std::size_t>(live::CuePlayer::kFadeSeconds * kFs) + kBlock;
+    const double around = std::max(maxStep(x, s - 9600, s), maxStep(x, s + fade, s + fade + 9600));
+    return std::max(0.0, maxStep(x, s, s + fade) - around);
+}
+
+bool hasEvent(const juce::MidiBuffer& midi, int status, int data1, int* offset = nullptr)
+{
+    for (const auto e : midi)
+        if (e.numBytes >= 2 && e.data[0] == status && e.data[1] == data1) {
+            if (offset != nullptr) *offset = e.samplePosition;
+            return true;
+        }
+    return false;
+}
+
+bool anyMotorOn(const ArmFrame& f)
+{
+    for (int i = 0; i < f.motorCount; ++i)
+        if (f.motors[static_cast<std::size_t>(i)] > 0) return true;
+    return false;
+}
+} // namespace
+
+TEST_CASE("stage: four cues stepped by MIDI program change switch click-free, allocation-free", "[plugin][stage]")
+{
+    using armadillo::test::RealtimeGuard;
+    ARMADILLO_REQUIRE_GUARD();
+    {
+        RealtimeGuard probe;   // the guard sees an allocation before its zero is trusted
+        auto p = std::make_unique<double>(1.0);
+        CHECK(probe.allocations() >= 1);
+    }
+    Rig rig;
+    REQUIRE(rig.processor.useSetList(kFourCues, "show.json") == "");
+    for (int i = 0; i < 20; ++i) rig.run();   // the set list takes over at the first block
+    REQUIRE(rig.processor.stageInfo().setList);
+    CHECK(rig.processor.stageInfo().cueCount == 4);
+    CHECK(rig.processor.stageInfo().cue == 0);
+
+    // 5 s; program change 1, 2, 3, 0 at 1, 2, 3, 4 s (sample 100 of the block: it acts at the
+    // block's start, documented).
+    const int blocks = static_cast<int>(5.0 * kFs) / kBlock;
+    std::vector<float> out;
+    out.reserve(static_cast<std::size_t>(blocks * kBlock));
+    const int programs[4] {1, 2, 3, 0};
+    std::vector<juce::MidiMessage> changes;
+    for (int p : programs) changes.push_back(juce::MidiMessage::programChange(1, p));
+    std::vector<int> cueAt(static_cast<std::size_t>(blocks), -1);
+    RealtimeGuard guard;
+    for (int b = 0; b < blocks; ++b) {
+        const int second = b * kBlock / static_cast<int>(kFs);
+        const bool change = b > 0 && b * kBlock % static_cast<int>(kFs) == 0 && second >= 1 && second <= 4;
+        rig.run(change ? &changes[static_cast<std::size_t>(second - 1)] : nullptr, 100);
+        const float* l = rig.buffer.getReadPointer(0);
+        out.insert(out.end(), l, l + kBlock);   // reserved: no allocation
+    }
+    const auto allocations = guard.allocations(), locks = guard.locks(), throws = guard.throws();
+    CHECK(allocations == 0);
+    CHECK(locks == 0);
+    CHECK(throws == 0);
+    CHECK(rig.processor.stageInfo().cue == 0);   // the last change went back to cue 0
+
+    const double minus60 = std::pow(10.0, -60.0 / 20.0);
+    for (int s = 1; s <= 4; ++s) {
+        const double excess = switchExcess(out, static_cast<std::size_t>(s * kFs));
+        std::printf("plugin set list: program change %d at %d s: largest step above its neighbourhood %.2e (%.1f dBFS)\n",
+                    programs[s - 1], s, excess, 20.0 * std::log10(std::max(excess, 1e-12)));
+        CHECK(excess <= minus60);
+    }
+    // The cues sound (a silent output would pass the step test vacuously).
+    CHECK(maxStep(out, 24000, 48000) > 1e-3);
+    CHECK(maxStep(out, static_cast<std::size_t>(2.2 * kFs), static_cast<std::size_t>(2.9 * kFs)) > 1e-3);
+    // A hard cut between two points of this very output, 0.5 s apart, would have been caught.
+    std::vector<float> cut(out.begin(), out.begin() + 96000);
+    cut.insert(cut.end(), out.begin() + 96000 + 24000 + 137, out.end());
+    CHECK(switchExcess(cut, 96000) > minus60);
+}
+
+TEST_CASE("stage: CC 120 panics within the block: audio, motors, notes; CC 119 resumes", "[plugin][stage][panic]")
+{
+    using armadillo::test::RealtimeGuard;
+    ARMADILLO_REQUIRE_GUARD();
+    Rig rig;
+    // A mapping that holds a note: azimuth 0–90° plays note 60 on channel 4 (the arm sways 35–55°).
+    const char* json = R"({"version": 1, "name": "held note", "mappings": [
+        {"source": "azimuth", "to": {"midi": "notes", "channel": 4, "velocity": 100, "zones": [[0, 90, 60], [90, 360, 62]]}}]})";
+    REQUIRE(rig.processor.mapping()->setDocument(mapping::parseMappingDocument(json, "held.json"), "held") == "");
+    REQUIRE(rig.processor.useSetList(kFourCues, "show.json") == "");
+    bool noteOn = false, motorsOn = false;
+    float sound = 0.0f;
+    for (int i = 0; i < 100; ++i) {
+        rig.run();
+        noteOn = noteOn || hasEvent(rig.midi, 0x93, 60);
+        motorsOn = motorsOn || anyMotorOn(rig.processor.latestFrame());
+        sound = std::max(sound, rig.buffer.getMagnitude(0, 0, kBlock));
+    }
+    REQUIRE(noteOn);
+    REQUIRE(motorsOn);      // the theremin's cue drives the motors …
+    REQUIRE(sound > 0.01f); // … and sounds
+
+    const auto panic = juce::MidiMessage::allSoundOff(1);   // CC 120 on channel 1
+    RealtimeGuard guard;
+    rig.run(&panic, 200);
+    const auto allocations = guard.allocations();
+    CHECK(allocations == 0);
+    // The audio: faded in 1 ms (48 samples) from the block's start, then exactly 0.
+    const float* l = rig.buffer.getReadPointer(0);
+    const float* r = rig.buffer.getReadPointer(1);
+    float tail = 0.0f;
+    for (int i = 48; i < kBlock; ++i) tail = std::max({tail, std::fabs(l[i]), std::fabs(r[i])});
+    CHECK(tail == 0.0f);
+    // Every motor off from the block's first control step: what went to the link's schedule.
+    CHECK_FALSE(anyMotorOn(rig.processor.latestFrame()));
+    // The MIDI out: the held note ended, CC 120 and CC 123 on all 16 channels.
+    CHECK((hasEvent(rig.midi, 0x83, 60) || hasEvent(rig.midi, 0x93, 60)));
+    for (int ch = 0; ch < 16; ++ch) {
+        INFO("channel " << ch + 1);
+        CHECK(hasEvent(rig.midi, 0xB0 | ch, 120));
+        CHECK(hasEvent(rig.midi, 0xB0 | ch, 123));
+    }
+    CHECK(rig.processor.panicked());
+    CHECK(rig.processor.panics() == 1);
+    // Still silent, still off, no note sent again while in panic (a cue change does not resume).
+    const auto next = juce::MidiMessage::programChange(1, 2);
+    bool resent = false, on = false;
+    float after = 0.0f;
+    for (int i = 0; i < 100; ++i) {
+        rig.run(i == 10 ? &next : nullptr);
+        resent = resent || hasEvent(rig.midi, 0x93, 60);
+        on = on || anyMotorOn(rig.processor.latestFrame());
+        after = std::max(after, rig.buffer.getMagnitude(0, 0, kBlock));
+    }
+    CHECK_FALSE(resent);
+    CHECK_FALSE(on);
+    CHECK(after == 0.0f);
+    CHECK(rig.processor.stageInfo().cue == 2);
+
+    // CC 119 ≥ 64 resumes: the current cue sounds again, the note is sent again.
+    const auto resume = juce::MidiMessage::controllerEvent(1, 119, 127);
+    rig.run(&resume);
+    bool again = hasEvent(rig.midi, 0x93, 60);
+    float back = 0.0f;
+    for (int i = 0; i < 50; ++i) {
+        rig.run();
+        again = again || hasEvent(rig.midi, 0x93, 60);
+        back = std::max(back, rig.buffer.getMagnitude(0, 0, kBlock));
+    }
+    CHECK_FALSE(rig.processor.panicked());
+    CHECK(again);
+    CHECK(back > 0.01f);
+}
+
+TEST_CASE("stage: without a set list CC 120 still panics the scene; notes step cues; settable notes", "[plugin][stage]")
+{
+    Rig rig;
+    for (int i = 0; i < 30; ++i) rig.run();
+    const auto panic = juce::MidiMessage::allSoundOff(9);
+    rig.run(&panic);
+    CHECK(rig.processor.panicked());
+    for (int i = 0; i < 5; ++i) rig.run();
+    CHECK(rig.buffer.getMagnitude(0, 0, kBlock) == 0.0f);
+    CHECK_FALSE(anyMotorOn(rig.processor.latestFrame()));
+    rig.processor.resume();
+
+    REQUIRE(rig.processor.useSetList(kFourCues, "show.json") == "");
+    const auto nextNote = juce::MidiMessage::noteOn(16, Stage::kNextNote, 1.0f);
+    const auto prevNote = juce::MidiMessage::noteOn(16, Stage::kPrevNote, 1.0f);
+    const auto release = juce::MidiMessage::noteOff(16, Stage::kNextNote);
+    rig.run(&nextNote);
+    rig.run(&release);   // a note-off steps nothing
+    rig.run(&nextNote);
+    CHECK(rig.processor.stageInfo().cue == 2);
+    rig.run(&prevNote);
+    CHECK(rig.processor.stageInfo().cue == 1);
+    const auto far = juce::MidiMessage::programChange(1, 99);   // past the end: the last cue
+    rig.run(&far);
+    CHECK(rig.processor.stageInfo().cue == 3);
+    // The notes are a setting (−1: off).
+    rig.processor.settings().setProperty(SettingIds::cueNextNote, 36, nullptr);
+    rig.processor.settings().setProperty(SettingIds::cuePrevNote, -1, nullptr);
+    rig.run(&prevNote);
+    CHECK(rig.processor.stageInfo().cue == 3);
+    const auto c1 = juce::MidiMessage::noteOn(1, 36, 0.5f);
+    rig.run(&c1);
+    CHECK(rig.processor.stageInfo().cue == 3);   // already the last
+    const auto first = juce::MidiMessage::programChange(1, 0);
+    rig.run(&first);
+    rig.run(&c1);
+    CHECK(rig.processor.stageInfo().cue == 1);
+}
+
+TEST_CASE("stage: the set list is kept in the state; a damaged one is refused with a message, nothing else lost", "[plugin][stage][state]")
+{
+    juce::MemoryBlock state;
+    {
+        Rig rig;
+        REQUIRE(rig.processor.useSetList(kFourCues, "show.json") == "");
+        rig.processor.settings().setProperty(SettingIds::midiChannel, 7, nullptr);
+        rig.processor.getStateInformation(state);
+    }
+    {
+        Rig rig;
+        rig.processor.setStateInformation(state.getData(), static_cast<int>(state.getSize()));
+        const auto info = rig.processor.stageInfo();
+        CHECK(info.setList);
+        CHECK(info.cueCount == 4);
+        CHECK(info.listName == "show.json");
+        CHECK(info.cueName == "Intro");
+        CHECK(static_cast<int>(rig.processor.settings()[SettingIds::midiChannel]) == 7);
+    }
+    // The same state with the set list's text damaged (an unknown scene in cue 2).
+    auto xml = juce::AudioProcessor::getXmlFromBinary(state.getData(), static_cast<int>(state.getSize()));
+    REQUIRE(xml != nullptr);
+    auto* settings = xml->getChildByName("SETTINGS");
+    REQUIRE(settings != nullptr);
+    settings->setAttribute("setList", juce::String(kFourCues).replace("sound-design", "kazoo"));
+    juce::MemoryBlock damaged;
+    juce::AudioProcessor::copyXmlToBinary(*xml, damaged);
+    Rig rig;
+    REQUIRE(rig.processor.useSetList(kFourCues, "before.json") == "");   // one in use before: it goes too
+    rig.processor.setStateInformation(damaged.getData(), static_cast<int>(damaged.getSize()));
+    const auto message = rig.processor.statusMessage();
+    INFO(message);
+    CHECK(message.contains("The saved set list is not used"));
+    CHECK(message.contains("show.json"));
+    CHECK(message.contains("kazoo"));
+    CHECK_FALSE(rig.processor.stageInfo().setList);
+    CHECK(rig.processor.settings()[SettingIds::setList].toString().isEmpty());
+    CHECK(static_cast<int>(rig.processor.settings()[SettingIds::midiChannel]) == 7);   // the rest is taken
+    for (int i = 0; i < 5; ++i) rig.run();
+    CHECK(rig.processor.latestFrame().valid);   // the single scene plays
+    // A file that is not a set list names itself, and the set list in use stays.
+    const auto bad = juce::File::createTempFile(".json");
+    bad.replaceWithText("{\"armadillo_setlist\": 1, \"cues\": []}");
+    REQUIRE(rig.processor.useSetList(kFourCues, "show.json") == "");
+    const auto why = rig.processor.loadSetList(bad);
+    bad.deleteFile();
+    INFO(why);
+    CHECK(why.contains(bad.getFileName()));
+    CHECK(rig.processor.stageInfo().setList);
+    CHECK(rig.processor.loadSetList(juce::File("/nonexistent/show.json")).contains("no such file"));
+}
+
+TEST_CASE("stage: the OSC stage commands reach the plugin's set list over loopback UDP", "[plugin][stage][osc]")
+{
+    Rig rig;
+    REQUIRE(rig.processor.useSetList(kFourCues, "show.json") == "");
+    CHECK(rig.processor.stageOscPort() == 0);   // off by default
+    rig.processor.settings().setProperty(SettingIds::stageOscPort, 0, nullptr);   // any free port
+    rig.processor.settings().setProperty(SettingIds::stageOscEnabled, true, nullptr);
+    const int port = rig.processor.stageOscPort();
+    REQUIRE(port > 0);
+    device::OscSender sender(device::HostPort {"127.0.0.1", port});
+    const auto until = [&](auto done) {
+        // Polls with a deadline (UDP and the receiver's thread): each try runs one block.
+        const double end = juce::Time::getMillisecondCounterHiRes() + 3000.0;
+        while (! done() && juce::Time::getMillisecondCounterHiRes() < end) {
+            rig.run();
+            juce::Thread::sleep(2);
+        }
+        return done();
+    };
+    const device::OscArg two = device::OscArg::int32(2);
+    REQUIRE(sender.send("/armadillo/cue", &two, 1));
+    CHECK(until([&] { return rig.processor.stageInfo().cue == 2; }));
+    REQUIRE(sender.send("/armadillo/cue/next", nullptr, 0));
+    CHECK(until([&] { return rig.processor.stageInfo().cue == 3; }));
+    REQUIRE(sender.send("/armadillo/cue/prev", nullptr, 0));
+    CHECK(until([&] { return rig.processor.stageInfo().cue == 2; }));
+    REQUIRE(sender.send("/armadillo/panic", nullptr, 0));
+    CHECK(until([&] { return rig.processor.panicked(); }));
+    rig.run();   // the block that applies it (fading in its first 48 samples) …
+    rig.run();   // … and the next one: silent
+    CHECK(rig.buffer.getMagnitude(0, 0, kBlock) == 0.0f);
+    REQUIRE(sender.send("/armadillo/resume", nullptr, 0));
+    CHECK(until([&] { return ! rig.processor.panicked(); }));
+    rig.processor.settings().setProperty(SettingIds::stageOscEnabled, false, nullptr);
+    CHECK(rig.processor.stageOscPort() == 0);
+}
