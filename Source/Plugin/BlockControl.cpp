@@ -189,6 +189,14 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
     // The input channels are read step by step below; the output is written over them.
     const int listenCount = (listen.first >= 0 && listen.first + listen.count <= buffer.getNumChannels()) ? std::min(listen.count, 2) : 0;
     const int throughCount = std::min({listen.through, 2, buffer.getNumChannels()});
+    // Stems whose channels all lie in the buffer (a host that hands fewer channels than the
+    // layout promised gets the stems up to the first that does not fit).
+    int stemCount = 0;
+    while (stemCount < std::min(listen.stemCount, kMaxStems)) {
+        const Bus& bus = listen.stems[static_cast<std::size_t>(stemCount)];
+        if (bus.first < 0 || bus.count < 1 || bus.count > 2 || bus.first + bus.count > buffer.getNumChannels()) break;
+        ++stemCount;
+    }
     // The MIDI input is only listened to for the mapping editor's "learn destination": its
     // channel messages go to the message thread, nothing of it is played or passed through.
     for (const auto event : midi) {
@@ -258,7 +266,21 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
             samplesToTick_ = samplesPerTick;
         }
         const int len = std::min({n - pos, samplesToTick_, kInputScratch});
-        if (listenCount > 0) {
+        if (const int stems = engineStems(); stems > 0) {
+            // Stems: each bus mixed to one mono channel, in the engine's stem order; an engine
+            // built for another number of stems hears nothing (a layout change in flight).
+            if (stems == stemCount) {
+                const float* in[kMaxStems] {input_[0].data(), input_[1].data(), input_[2].data(), input_[3].data()};
+                for (int k = 0; k < stemCount; ++k) {
+                    const Bus& bus = listen.stems[static_cast<std::size_t>(k)];
+                    float* mono = input_[static_cast<std::size_t>(k)].data();
+                    std::copy_n(buffer.getReadPointer(bus.first) + pos, len, mono);
+                    for (int c = 1; c < bus.count; ++c) juce::FloatVectorOperations::add(mono, buffer.getReadPointer(bus.first + c) + pos, len);
+                    if (bus.count > 1) juce::FloatVectorOperations::multiply(mono, 1.0f / static_cast<float>(bus.count), len);
+                }
+                loop_.processInput(in, stemCount, len);
+            }
+        } else if (listenCount > 0) {
             // The scene hears this stretch of the input before its sound for it is rendered.
             const float* in[2] {input_[0].data(), input_[1].data()};
             for (int c = 0; c < listenCount; ++c)
@@ -282,6 +304,13 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
     mapper_.flush(blockStart + (n - 0.5) / sr, mapOut_);
     deliver(&midi, blockStart, n);
     token_.release();
+}
+
+int BlockControl::engineStems() noexcept
+{
+    const live::EngineSlot* slot = loop_.active();
+    if (slot == nullptr || slot->engine == nullptr) return 0;
+    return static_cast<int>(slot->engine->config().sceneConfig.stems.size());
 }
 
 void BlockControl::bypassBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi) noexcept
