@@ -270,7 +270,8 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
             // Stems: each bus mixed to one mono channel, in the engine's stem order; an engine
             // built for another number of stems hears nothing (a layout change in flight).
             if (stems == stemCount) {
-                const float* in[kMaxStems] {input_[0].data(), input_[1].data(), input_[2].data(), input_[3].data()};
+                const float* in[kMaxStems + 2] {input_[0].data(), input_[1].data(), input_[2].data(),
+                                                input_[3].data(), input_[4].data(), input_[5].data()};
                 for (int k = 0; k < stemCount; ++k) {
                     const Bus& bus = listen.stems[static_cast<std::size_t>(k)];
                     float* mono = input_[static_cast<std::size_t>(k)].data();
@@ -278,7 +279,11 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
                     for (int c = 1; c < bus.count; ++c) juce::FloatVectorOperations::add(mono, buffer.getReadPointer(bus.first + c) + pos, len);
                     if (bus.count > 1) juce::FloatVectorOperations::multiply(mono, 1.0f / static_cast<float>(bus.count), len);
                 }
-                loop_.processInput(in, stemCount, len);
+                // The main input after them (audio-touch's `mixed`, and its fallback while the
+                // stems are silent).
+                for (int c = 0; c < listenCount; ++c)
+                    std::copy_n(buffer.getReadPointer(listen.first + c) + pos, len, input_[static_cast<std::size_t>(stemCount + c)].begin());
+                loop_.processInput(in, stemCount + listenCount, len);
             }
         } else if (listenCount > 0) {
             // The scene hears this stretch of the input before its sound for it is rendered.

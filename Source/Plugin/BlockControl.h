@@ -65,10 +65,11 @@ public:
     /// effect that listens must not mute its track).
     ///
     /// Stems (the VST3's sidechain buses, docs/PLUGIN.md "Stems"): each is one bus, mixed to one
-    /// mono channel (the mean of its channels, as `render --stem` mixes a stem file). They are
-    /// heard instead of `first`/`count` while the active engine's scene was built with as many
-    /// stems (SceneConfig::stems, in the same order: audio-touch feels each on its own motors);
-    /// any other engine hears `first`/`count` as before. An engine built with a different number
+    /// mono channel (the mean of its channels, as `render --stem` mixes a stem file). While the
+    /// active engine's scene was built with as many stems (SceneConfig::stems, in the same order:
+    /// audio-touch feels each on its own motors) it hears the stems, then the `first`/`count`
+    /// channels after them (audio-touch's `mixed` choice and its fallback when the stems are
+    /// silent); any other engine hears `first`/`count` alone, as before. An engine built with a different number
     /// of stems (a hand-over in flight across a layout change) hears nothing until it matches.
     static constexpr int kMaxStems = 4;
     struct Bus {
@@ -174,7 +175,7 @@ private:
     std::uint64_t frameSerial_ = 0;
     /// The listened-to input of one control step (≤ 192 kHz / 200 Hz samples), fixed size.
     static constexpr int kInputScratch = 1024;
-    std::array<std::array<float, kInputScratch>, kMaxStems> input_ {};
+    std::array<std::array<float, kInputScratch>, kMaxStems + 2> input_ {};   // the stems, then the main input
     std::array<std::array<float, kInputScratch>, 2> through_ {};
     /// Control side: how many stems the active engine's scene takes (SceneConfig::stems).
     int engineStems() noexcept;

@@ -25,7 +25,7 @@ public:
     bool listensToAudio() const override { return true; }
     void processInput(const float* const* in, int channels, int n) noexcept override
     {
-        for (int c = 0; c < std::min(channels, 2); ++c)
+        for (int c = 0; c < std::min(channels, 4); ++c)
             for (int i = 0; i < n; ++i) {
                 sum[static_cast<std::size_t>(c)] += in[c][i];
                 weighted[static_cast<std::size_t>(c)] += static_cast<double>(in[c][i]) * static_cast<double>(heard + i);
@@ -34,7 +34,7 @@ public:
         lastChannels = channels;
     }
     void control(const ControlInput&, SceneOutput&) override {}
-    std::array<double, 2> sum {}, weighted {};
+    std::array<double, 4> sum {}, weighted {};
     long heard = 0;
     int lastChannels = 0;
 };
@@ -128,7 +128,7 @@ TEST_CASE("plugin audio input: without an input nothing is heard and the output 
     CHECK(buffer.getMagnitude(0, 256) == 0.0f);
 }
 
-TEST_CASE("plugin audio input: stems (sidechain buses) are heard one mono channel each by an engine built for them", "[plugin][audio-in]")
+TEST_CASE("plugin audio input: stems (sidechain buses) are heard one mono channel each, then the main input, by an engine built for them", "[plugin][audio-in]")
 {
     ARMADILLO_REQUIRE_GUARD();
     // Main input 0–1, a stereo stem bus at 2–3, a mono one at 4 (a host's buffer with the
@@ -149,7 +149,7 @@ TEST_CASE("plugin audio input: stems (sidechain buses) are heard one mono channe
             Rig rig(names);
             juce::AudioBuffer<float> buffer(5, block);
             juce::MidiBuffer midi;
-            std::array<double, 2> expectSum {}, expectWeighted {};
+            std::array<double, 4> expectSum {}, expectWeighted {};
             double worstThrough = 0.0;
             long at = 0;
             RealtimeGuard guard;
@@ -162,6 +162,11 @@ TEST_CASE("plugin audio input: stems (sidechain buses) are heard one mono channe
                         const double x = engineStems == 2 ? double(stem(c, at + i)) : double(signal(c, at + i));
                         expectSum[static_cast<std::size_t>(c)] += x;
                         expectWeighted[static_cast<std::size_t>(c)] += x * static_cast<double>(at + i);
+                        if (engineStems == 2) {   // then the main input
+                            const double m = signal(c, at + i);
+                            expectSum[static_cast<std::size_t>(c + 2)] += m;
+                            expectWeighted[static_cast<std::size_t>(c + 2)] += m * static_cast<double>(at + i);
+                        }
                     }
                 rig.control->processBlock(buffer, midi, nullptr, false, listen);
                 for (int c = 0; c < 2; ++c)
@@ -177,8 +182,9 @@ TEST_CASE("plugin audio input: stems (sidechain buses) are heard one mono channe
                 continue;
             }
             CHECK(rig.ear->heard == at);
-            CHECK(rig.ear->lastChannels == 2);
-            for (std::size_t c = 0; c < 2; ++c) {
+            CHECK(rig.ear->lastChannels == (engineStems == 2 ? 4 : 2));   // the stems, then the main input
+            for (std::size_t c = 0; c < (engineStems == 2 ? 4u : 2u); ++c) {
+                CAPTURE(c);
                 CHECK(rig.ear->sum[c] == Approx(expectSum[c]).epsilon(1e-6));
                 CHECK(rig.ear->weighted[c] == Approx(expectWeighted[c]).epsilon(1e-6));
             }

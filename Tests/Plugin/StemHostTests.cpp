@@ -43,6 +43,7 @@ constexpr int kMainIn = 0, kBassIn = 4, kVocalsIn = 8, kChannels = 10;   // Drum
 struct Phase {
     const char* name;
     bool bass, vocals;
+    bool kick = false;   ///< a 50 Hz tone on the main input alone (the stems silent)
 };
 
 struct Felt {
@@ -81,6 +82,12 @@ TEST_CASE("VST3: sidechain buses Drums, Bass, Other, Vocals are declared, disabl
     REQUIRE(h.plugin->enableAllBuses());
     CHECK(h.plugin->getTotalNumInputChannels() == kChannels);
 
+    // The scene's choice between the stems apart and one mix (appended to audio-touch's parameters).
+    auto* stems = h.param("audio-touch: Stems");
+    REQUIRE(stems != nullptr);
+    CHECK(stems->getNumSteps() == 2);
+    CHECK(stems->getCurrentValueAsText() == "apart");
+
     auto lv2 = loadLv2();
     CHECK(lv2.plugin->getBusCount(true) == 1);
 }
@@ -109,14 +116,18 @@ TEST_CASE("VST3: audio-touch feels the Bass bus at the elbow and the Vocals bus 
     }
 
     // Distinct signals: a bass line (82 Hz) on Bass, a sung 440 Hz on Vocals; the main input
-    // carries the mix of both (played through, not felt while stems are routed). Drums and Other
-    // stay silent.
+    // carries the mix of both (played through, not felt while a stem sounds). Drums and Other
+    // stay silent. Last, the stems fall silent and a 50 Hz tone comes on the main input alone:
+    // with `audio-touch.stems` = apart (the default) the main input is felt again once the stems
+    // have been silent for 1 s (a host that enables the sidechains and routes nothing).
     const auto bassAt = [](double t) { return 0.3 * std::sin(2.0 * M_PI * 82.41 * t); };
     const auto voiceAt = [](double t) { return 0.3 * std::sin(2.0 * M_PI * 440.0 * t); };
     juce::AudioBuffer<float> buffer(kChannels, kBlock);
     juce::MidiBuffer midi;
     midi.ensureSize(8192);
-    const Phase phases[] {{"bass only", true, false}, {"vocals only", false, true}, {"both", true, true}, {"silence", false, false}};
+    const Phase phases[] {{"bass only", true, false}, {"vocals only", false, true}, {"both", true, true}, {"silence", false, false},
+                          {"main input only", false, false, true}};
+    const auto kickAt = [](double t) { return 0.3 * std::sin(2.0 * M_PI * 50.0 * t); };
     // A stem's level falls from −13.5 dB to the −40 dB floor in 0.9 s (bass, 150 ms release) and
     // 1.5 s (vocals, 250 ms): each phase is judged after that.
     constexpr double kPhaseSeconds = 3.0, kSettle = 1.8;
@@ -133,8 +144,9 @@ TEST_CASE("VST3: audio-touch feels the Bass bus at the elbow and the Vocals bus 
                 const double t = static_cast<double>(sample + i) / kRate;
                 const auto bass = static_cast<float>(phase.bass ? bassAt(t) : 0.0);
                 const auto voice = static_cast<float>(phase.vocals ? voiceAt(t) : 0.0);
+                const auto kick = static_cast<float>(phase.kick ? kickAt(t) : 0.0);
                 for (int c = 0; c < 2; ++c) {
-                    buffer.setSample(kMainIn + c, i, bass + voice);
+                    buffer.setSample(kMainIn + c, i, bass + voice + kick);
                     buffer.setSample(kBassIn + c, i, bass);
                     buffer.setSample(kVocalsIn + c, i, voice);
                 }
@@ -153,8 +165,9 @@ TEST_CASE("VST3: audio-touch feels the Bass bus at the elbow and the Vocals bus 
             for (int c = 0; c < 2; ++c)   // the scene is silent: the output is the main input
                 for (int i = 0; i < kBlock; ++i) {
                     const double t = static_cast<double>(sample + i) / kRate;
-                    const double expected = (phase.bass ? bassAt(t) : 0.0) + (phase.vocals ? voiceAt(t) : 0.0);
-                    worstThrough = std::max(worstThrough, std::fabs(double(buffer.getSample(c, i)) - static_cast<double>(static_cast<float>(expected))));
+                    const auto expected = static_cast<float>(phase.bass ? bassAt(t) : 0.0) + static_cast<float>(phase.vocals ? voiceAt(t) : 0.0)
+                                          + static_cast<float>(phase.kick ? kickAt(t) : 0.0);
+                    worstThrough = std::max(worstThrough, std::fabs(double(buffer.getSample(c, i)) - double(expected)));
                 }
             sample += kBlock;
             // In real time: the plugin's control clock sends the motor levels over OSC.
@@ -178,11 +191,16 @@ TEST_CASE("VST3: audio-touch feels the Bass bus at the elbow and the Vocals bus 
         for (int v : f.highest) levels << v << " ";
         INFO(phase.name << ": highest level per motor m1..m9 " << levels << "over " << f.messages << " OSC messages");
         REQUIRE(f.messages >= 20);
+        for (int v : f.highest) CHECK(v <= 15);
+        if (phase.kick) {   // the main input's lows on the whole elbow row (m8 too: no stem drives it alone)
+            for (int k : {6, 7, 8}) CHECK(f.highest[static_cast<std::size_t>(k)] > 0);
+            for (int k : {0, 1, 2}) CHECK(f.highest[static_cast<std::size_t>(k)] == 0);
+            continue;
+        }
         for (int k : kBassMotors) CHECK((f.highest[static_cast<std::size_t>(k)] > 0) == phase.bass);
         for (int k : kVocalMotors) CHECK((f.highest[static_cast<std::size_t>(k)] > 0) == phase.vocals);
         // Drums (m2, m5, m8) and Other (m4, m6) are silent; the main input's mix is not felt.
         for (int k : {1, 3, 4, 5, 7}) CHECK(f.highest[static_cast<std::size_t>(k)] == 0);
-        for (int v : f.highest) CHECK(v <= 15);
     }
     INFO("guarded blocks: " << guarded);
     CHECK(guarded > 1000);
