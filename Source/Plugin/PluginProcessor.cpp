@@ -3,6 +3,7 @@
 #include "Access/Feedback.h"
 #include "Plugin/FactoryPresets.h"
 #include "Plugin/PluginEditor.h"
+#include <algorithm>
 #include <iostream>
 
 namespace armadillo::plugin {
@@ -168,9 +169,11 @@ void ArmadilloProcessor::processBlock(juce::AudioBuffer<float>& buffer, juce::Mi
     float inPeak = 0.0f;
     for (int c = 0; c < listen.count; ++c)
         if (listen.first + c < buffer.getNumChannels()) inPeak = std::max(inPeak, buffer.getMagnitude(listen.first + c, 0, n));
-    for (int k = 0; k < listen.stemCount; ++k)   // the stems (VST3 sidechain buses) count as input too
-        for (int c = listen.stems[static_cast<std::size_t>(k)].first; c < listen.stems[static_cast<std::size_t>(k)].first + listen.stems[static_cast<std::size_t>(k)].count; ++c)
-            if (c < buffer.getNumChannels()) inPeak = std::max(inPeak, buffer.getMagnitude(c, 0, n));
+    for (int k = 0; k < listen.stemCount; ++k) {   // the stems (VST3 sidechain buses) count as input too
+        const auto& stem = listen.stems[static_cast<std::size_t>(k)];
+        for (int c = stem.first; c < std::min(stem.first + stem.count, buffer.getNumChannels()); ++c)
+            inPeak = std::max(inPeak, buffer.getMagnitude(c, 0, n));
+    }
     control_.processBlock(buffer, midi, getPlayHead(), isNonRealtime(), listen);
     // The test tone (welcome panel): added over the scene's sound, on the main stereo output.
     if (int left = testToneSamples_.load(std::memory_order_relaxed); left > 0) {
