@@ -44,6 +44,7 @@ struct Phase {
     const char* name;
     bool bass, vocals;
     bool kick = false;   ///< a 50 Hz tone on the main input alone (the stems silent)
+    bool mixed = false;  ///< audio-touch.stems = mixed for this phase
 };
 
 struct Felt {
@@ -126,7 +127,9 @@ TEST_CASE("VST3: audio-touch feels the Bass bus at the elbow and the Vocals bus 
     juce::MidiBuffer midi;
     midi.ensureSize(8192);
     const Phase phases[] {{"bass only", true, false}, {"vocals only", false, true}, {"both", true, true}, {"silence", false, false},
-                          {"main input only", false, false, true}};
+                          {"main input only", false, false, true}, {"both, audio-touch.stems = mixed", true, true, false, true}};
+    auto* stemsChoice = h.param("audio-touch: Stems");
+    REQUIRE(stemsChoice != nullptr);
     const auto kickAt = [](double t) { return 0.3 * std::sin(2.0 * M_PI * 50.0 * t); };
     // A stem's level falls from −13.5 dB to the −40 dB floor in 0.9 s (bass, 150 ms release) and
     // 1.5 s (vocals, 250 ms): each phase is judged after that.
@@ -138,6 +141,7 @@ TEST_CASE("VST3: audio-touch feels the Bass bus at the elbow and the Vocals bus 
     double worstThrough = 0.0;
     for (const Phase& phase : phases) {
         Felt f;
+        stemsChoice->setValueNotifyingHost(phase.mixed ? 1.0f : 0.0f);
         for (int b = 0; b < blocksPerPhase; ++b) {
             buffer.clear();
             for (int i = 0; i < kBlock; ++i) {
@@ -192,6 +196,11 @@ TEST_CASE("VST3: audio-touch feels the Bass bus at the elbow and the Vocals bus 
         INFO(phase.name << ": highest level per motor m1..m9 " << levels << "over " << f.messages << " OSC messages");
         REQUIRE(f.messages >= 20);
         for (int v : f.highest) CHECK(v <= 15);
+        if (phase.mixed) {   // the main input's mix through the three bands: 82 Hz on the elbow row, 440 Hz in the middle
+            for (int k : {3, 4, 5, 6, 7, 8}) CHECK(f.highest[static_cast<std::size_t>(k)] > 0);
+            for (int k : {0, 1, 2}) CHECK(f.highest[static_cast<std::size_t>(k)] == 0);   // the voice is not at the wrist
+            continue;
+        }
         if (phase.kick) {   // the main input's lows on the whole elbow row (m8 too: no stem drives it alone)
             for (int k : {6, 7, 8}) CHECK(f.highest[static_cast<std::size_t>(k)] > 0);
             for (int k : {0, 1, 2}) CHECK(f.highest[static_cast<std::size_t>(k)] == 0);
