@@ -3,6 +3,7 @@
 #include "Access/Feedback.h"
 #include "Plugin/FactoryPresets.h"
 #include "Plugin/PluginEditor.h"
+#include <algorithm>
 #include <iostream>
 
 namespace armadillo::plugin {
@@ -22,12 +23,21 @@ BlockControl::Cells cellsOf(juce::AudioProcessorValueTreeState& apvts)
 /// A main input as effects that listen have (the track the score follows, the music audio-touch
 /// turns into touch; played through to the output), in every format. The VST3 has it since the
 /// build compiles Debian's JUCE VST3 glue with the fix of its per-block copy of each input bus's
-/// channel mapping (cmake/JucePatchedAudioProcessors.cmake; docs/PLUGIN.md, "Audio input").
-juce::AudioProcessor::BusesProperties ArmadilloProcessor::busesFor(juce::AudioProcessor::WrapperType)
+/// channel mapping (cmake/JucePatchedAudioProcessors.cmake; docs/PLUGIN.md, "Audio input"); the
+/// fix is in the wrapper's loop over every input bus, so it covers the sidechains too.
+///
+/// The VST3 alone also declares the stems as sidechain buses (VST3 aux inputs, stereo, disabled
+/// by default: a host that routes nothing to them is unaffected). The LV2 does not: JUCE 7.0.5's
+/// LV2 hosting crashed with a declared, disabled sidechain (docs/PLUGIN.md), and the standalone
+/// app has one sound-card input.
+juce::AudioProcessor::BusesProperties ArmadilloProcessor::busesFor(juce::AudioProcessor::WrapperType wrapper)
 {
-    return juce::AudioProcessor::BusesProperties()
-        .withInput("Input", juce::AudioChannelSet::stereo(), true)
-        .withOutput("Output", juce::AudioChannelSet::stereo(), true);
+    auto buses = juce::AudioProcessor::BusesProperties()
+                     .withInput("Input", juce::AudioChannelSet::stereo(), true)
+                     .withOutput("Output", juce::AudioChannelSet::stereo(), true);
+    if (wrapper == wrapperType_VST3)
+        for (const char* name : kStemBuses) buses = buses.withInput(name, juce::AudioChannelSet::stereo(), false);
+    return buses;
 }
 
 ArmadilloProcessor::ArmadilloProcessor()
@@ -93,7 +103,9 @@ bool ArmadilloProcessor::isBusesLayoutSupported(const BusesLayout& layouts) cons
     const auto inputOk = [](const juce::AudioChannelSet& set) {
         return set.isDisabled() || set == juce::AudioChannelSet::mono() || set == juce::AudioChannelSet::stereo();
     };
-    return layouts.getMainOutputChannelSet() == juce::AudioChannelSet::stereo() && inputOk(layouts.getMainInputChannelSet());
+    if (layouts.getMainOutputChannelSet() != juce::AudioChannelSet::stereo() || layouts.outputBuses.size() != 1) return false;
+    // The main input and every sidechain (stem) bus: enabled (mono or stereo) or disabled.
+    return std::all_of(layouts.inputBuses.begin(), layouts.inputBuses.end(), inputOk);
 }
 
 int ArmadilloProcessor::sceneIndex() const noexcept
@@ -112,6 +124,11 @@ EngineRequest ArmadilloProcessor::currentRequest() const
     r.text = settings_[SettingIds::brailleText].toString().toStdString();
     r.score = settings_[SettingIds::score].toString().toStdString();
     r.touchProfile = settings_[SettingIds::touchProfile].toString().toStdString();
+    const auto& scenes = sceneTable_.scenes;
+    if (r.scene >= 0 && r.scene < static_cast<int>(scenes.size()) && scenes[static_cast<std::size_t>(r.scene)].scene == "audio-touch") {
+        std::lock_guard<std::mutex> lock(stemsMutex_);
+        r.stems = stems_;
+    }
     return r;
 }
 
@@ -125,6 +142,20 @@ void ArmadilloProcessor::prepareToPlay(double sampleRate, int)
         listen.first = input->getChannelIndexInProcessBlockBuffer(0);
         listen.count = input->getNumberOfChannels();
         listen.through = listen.count;
+    }
+    // The sidechain buses the host enabled (VST3 only): audio-touch's stems, in bus order.
+    std::vector<std::string> stems;
+    for (int b = 1; b < getBusCount(true) && listen.stemCount < BlockControl::kMaxStems; ++b) {
+        const auto* bus = getBus(true, b);
+        if (bus == nullptr || ! bus->isEnabled() || bus->getNumberOfChannels() < 1) continue;
+        auto& stem = listen.stems[static_cast<std::size_t>(listen.stemCount++)];
+        stem.first = bus->getChannelIndexInProcessBlockBuffer(0);
+        stem.count = std::min(bus->getNumberOfChannels(), 2);
+        stems.push_back(bus->getName().toLowerCase().toStdString());
+    }
+    {
+        std::lock_guard<std::mutex> lock(stemsMutex_);
+        stems_ = std::move(stems);
     }
     listen_ = listen;
     engines_.install(currentRequest(), token_);
@@ -164,6 +195,11 @@ void ArmadilloProcessor::processBlock(juce::AudioBuffer<float>& buffer, juce::Mi
     float inPeak = 0.0f;
     for (int c = 0; c < listen.count; ++c)
         if (listen.first + c < buffer.getNumChannels()) inPeak = std::max(inPeak, buffer.getMagnitude(listen.first + c, 0, n));
+    for (int k = 0; k < listen.stemCount; ++k) {   // the stems (VST3 sidechain buses) count as input too
+        const auto& stem = listen.stems[static_cast<std::size_t>(k)];
+        for (int c = stem.first; c < std::min(stem.first + stem.count, buffer.getNumChannels()); ++c)
+            inPeak = std::max(inPeak, buffer.getMagnitude(c, 0, n));
+    }
     control_.processBlock(buffer, midi, getPlayHead(), isNonRealtime(), listen);
     // The test tone (welcome panel): added over the scene's sound, on the main stereo output.
     if (int left = testToneSamples_.load(std::memory_order_relaxed); left > 0) {

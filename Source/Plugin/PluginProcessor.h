@@ -33,6 +33,8 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <string>
+#include <vector>
 
 namespace armadillo::plugin {
 
@@ -200,6 +202,11 @@ public:
     };
     StageInfo stageInfo() const;
 
+    /// The VST3's sidechain input buses, after its main input (input buses 1…4, stereo, disabled
+    /// until the host routes them): each is a stem of audio-touch with the scene's preset of the
+    /// same name in lower case (docs/PLUGIN.md "Stems"; INTERFACES.md "Plugin buses").
+    static constexpr std::array<const char*, BlockControl::kMaxStems> kStemBuses {"Drums", "Bass", "Other", "Vocals"};
+
 private:
     static BusesProperties busesFor(WrapperType wrapper);
     // Message thread
@@ -226,6 +233,8 @@ private:
     juce::ValueTree settings_;
     std::atomic<double> sampleRate_ {48000.0};
     BlockControl::Listen listen_ {};             // set in prepareToPlay (audio stopped), read by processBlock
+    mutable std::mutex stemsMutex_;              // prepareToPlay vs the message thread's requests; never audio
+    std::vector<std::string> stems_;             // under stemsMutex_: the enabled sidechain buses' stem names
 
     // The live rig, in the order it is built (and the reverse of teardown).
     live::ControlLoop loop_;
