@@ -172,7 +172,7 @@ int runRender(const Arguments& args)
         std::unique_ptr<mapping::MidiFileWriter> midi;
         double lastRow = 0.0;
         if (map) {
-            settings.onControl = [&](double t, const ArmState& arm, const GestureEvent* g, std::size_t n, Engine& e) {
+            settings.onControl = [&](double t, const ArmState& arm, const ArmState* leftArm, const GestureEvent* g, std::size_t n, Engine& e) {
                 if (!rig) {   // the engine exists only inside the render: the mapping is built for its scene
                     live::MappingRigOptions options;
                     options.oscDefault = cl.value("--osc-out");
@@ -184,7 +184,7 @@ int runRender(const Arguments& args)
                     rig->setMidiSink([](void* ctx, const mapping::MidiEvent& ev) { static_cast<mapping::MidiFileWriter*>(ctx)->add(ev); }, midi.get());
                 }
                 lastRow = t;
-                if (arm.valid) rig->step(t, arm, g, n, e);
+                if (arm.valid) rig->step(t, arm, leftArm, g, n, e);
             };
         }
 

@@ -188,7 +188,8 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
         GestureEvent g;
         while (engine.popGesture(g)) result.gestures.push_back(g);
         if (settings.onControl)
-            settings.onControl(t, arm, result.gestures.data() + firstGesture, result.gestures.size() - firstGesture, engine);
+            settings.onControl(t, arm, twoArms ? &leftArm : nullptr, result.gestures.data() + firstGesture, result.gestures.size() - firstGesture,
+                               engine);
     }
     renderUntil(tEnd + 1.0 / sampleRate);
     // The render ends as a session does: every motor off, in one last packet (the tactile file's

@@ -26,8 +26,10 @@ struct RenderSettings {
     /// Called after every control update (one per motion row) with the row's time (s, the motion
     /// file's clock), the arm, the gestures the scene emitted in that update and the engine (its
     /// scene's outputs, Engine::sceneValues, and parameters): what a front end's mapping
-    /// (`render --map`, Source/Mapping) reads and drives. Empty: not called.
-    std::function<void(double t, const ArmState& arm, const GestureEvent* gestures, std::size_t count, Engine& engine)> onControl;
+    /// (`render --map`, Source/Mapping) reads and drives; with two arms (leftMotion) also the left
+    /// arm's state as of that update (null with one arm). Empty: not called.
+    std::function<void(double t, const ArmState& arm, const ArmState* leftArm, const GestureEvent* gestures, std::size_t count, Engine& engine)>
+        onControl;
     std::string audioInName;       ///< the file audioIn came from, named in messages
     /// Mix the recording (audioIn) into the rendered audio, as the listener hears it (the scene's
     /// sound over the recording, clipped to ±1). False: the scene's sound alone.

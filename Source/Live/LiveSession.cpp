@@ -90,7 +90,7 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
         options.oscDefault = config_.oscOut;
         options.sourceName = config_.mappingName;
         options.forwardDeg = config_.forwardDeg;
-        mapping_ = std::make_unique<live::MappingRig>(*config_.mapping, *engine_, options);
+        mapping_ = std::make_unique<live::MappingRig>(*config_.mapping, duo_ ? *duo_ : *engine_, options);   // for the scene that plays
         if (!config_.midiOut.empty()) {
             midiOut_ = std::make_unique<audio::SequencerOut>(config_.midiOut);   // IoError naming the cause (exit 4)
             mapping_->setMidiSink([](void* ctx, const mapping::MidiEvent& e) { static_cast<audio::SequencerOut*>(ctx)->send(e.bytes.data(), e.size); },
@@ -311,7 +311,7 @@ MotorLevels LiveSession::control(double t, const SensorCounts* counts, const Imu
         if (oscOut_) oscOut_->sendGesture(ev.name);
         if (gestureCount < gestures.size()) gestures[gestureCount++] = ev;
     }
-    if (mapping_ && result.ran) mapping_->step(t, arm, gestures.data(), gestureCount, engine());
+    if (mapping_ && result.ran) mapping_->step(t, arm, duo_ ? &leftArm_ : nullptr, gestures.data(), gestureCount, engine());
     return levels;
 }
 
