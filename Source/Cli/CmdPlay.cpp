@@ -146,7 +146,8 @@ int runPlay(const Arguments& args)
 {
     return guarded("play", [&] {
         CommandLine cl(
-            "play", "--scene SCENE (--port NAME | --simulate [--motion FILE] | --osc-in PORT) [options]",
+            "play", "--scene SCENE (--port NAME | --simulate [--motion FILE] | --osc-in PORT) [--motion-left FILE | --port-left NAME |\n"
+                    "--osc-in-left PORT] [options]",
             "The live engine, headless: sensor packets from a serial device (thesis protocol), the built-in\n"
             "simulated forearm or OSC (/armadillo/imu, /armadillo/orientation, or a phone app or NGIMU: see\n"
             "docs/SENSORS.md) go through calibration,\n"
@@ -216,6 +217,10 @@ int runPlay(const Arguments& args)
                     {"--motion-left", "FILE", "two arms: with --simulate, a second simulated forearm (the left arm) acting out FILE\n"
                                               "(pose or quaternion CSV; - = a wandering arm); scenes see both arms"},
                     {"--port-left", "NAME", "two arms: the left arm's own device (its motor packets go back to it)"},
+                    {"--osc-in-left", "PORT", "two arms: the left arm is an OSC sender on this UDP (and TCP) port, read like --osc-in\n"
+                                              "(format detected, its own mount); with any right-arm source"},
+                    {"--osc-format-left", "NAME", "with --osc-in-left: force the left sender's format (as --osc-format)"},
+                    {"--mount-left", "FILE|PRESET", "with --osc-in-left: how the left arm's sensor is strapped on (as --mount)"},
                     {"--calibration-left", "CAL.json", "the left arm's device calibration (default: the built-in one)"},
                     {"--arms-log", "A.csv", "two arms: t,qw,qx,qy,qz,left_qw,left_qx,left_qy,left_qz per control update"},
                     {"--control-in", "PORT", "stage commands as OSC on this UDP port (docs/STAGE.md): /armadillo/panic,\n"
@@ -314,7 +319,10 @@ int runPlay(const Arguments& args)
         config.mappingName = cl.value("--map");
         config.midiOut = cl.value("--midi-out");
         config.forwardDeg = readForwardOption(cl);
-        if (cl.has("--motion-left") && cl.has("--port-left")) throw UsageError("the left arm is --motion-left (simulated) or --port-left (a device), not both");
+        if (int(cl.has("--motion-left")) + int(cl.has("--port-left")) + int(cl.has("--osc-in-left")) > 1)
+            throw UsageError("the left arm is --motion-left (simulated), --port-left (a device) or --osc-in-left (an OSC sender): one of them");
+        for (const char* o : {"--osc-format-left", "--mount-left"})
+            if (cl.has(o) && !cl.has("--osc-in-left")) throw UsageError(std::string(o) + " applies to --osc-in-left");
         if (cl.has("--motion-left")) {
             if (!cl.has("--simulate")) throw UsageError("--motion-left drives a second simulated arm: use it with --simulate");
             config.leftSource = device::LiveConfig::LeftSource::Simulator;
@@ -325,9 +333,19 @@ int runPlay(const Arguments& args)
             config.leftPort = cl.value("--port-left");
             if (config.leftPort.empty()) throw UsageError("--port-left needs a device name");
             config.leftBaud = static_cast<int>(cl.integer("--baud", 57600, 300, 4000000));
+        } else if (cl.has("--osc-in-left")) {
+            config.leftSource = device::LiveConfig::LeftSource::Osc;
+            config.leftOscInPort = static_cast<int>(cl.integer("--osc-in-left", 0, 1, 65535));
+            if (config.source == device::LiveConfig::Source::Osc && config.oscSerialPort.empty() && config.oscInPort == config.leftOscInPort)
+                throw UsageError("--osc-in-left needs a port of its own (--osc-in listens on " + std::to_string(config.oscInPort) + ")");
+            if (cl.has("--osc-format-left") && !device::parseOscFormat(cl.value("--osc-format-left"), config.leftOsc.format))
+                throw UsageError("--osc-format-left: unknown format '" + cl.value("--osc-format-left") + "' (one of " + device::oscFormatNames() + ")");
         }
         for (const char* o : {"--calibration-left", "--arms-log"})
-            if (cl.has(o) && config.leftSource == device::LiveConfig::LeftSource::None) throw UsageError(std::string(o) + " applies to two arms (--motion-left or --port-left)");
+            if (cl.has(o) && config.leftSource == device::LiveConfig::LeftSource::None)
+                throw UsageError(std::string(o) + " applies to two arms (--motion-left, --port-left or --osc-in-left)");
+        if (cl.has("--calibration-left") && config.leftSource == device::LiveConfig::LeftSource::Osc)
+            throw UsageError("--calibration-left is a device's calibration: an OSC sender sends SI units (--mount-left says how it is worn)");
         if (cl.has("--calibration-left")) config.leftCalibration = device::loadCalibration(cl.value("--calibration-left"));
         config.armsLog = cl.value("--arms-log");
         if (cl.has("--setlist") && config.leftSource != device::LiveConfig::LeftSource::None)
@@ -390,6 +408,10 @@ int runPlay(const Arguments& args)
         if (cl.has("--mount")) {
             config.osc.mount = device::mountFromArgument(cl.value("--mount"));
             config.osc.mountGiven = true;
+        }
+        if (cl.has("--mount-left")) {
+            config.leftOsc.mount = device::mountFromArgument(cl.value("--mount-left"));
+            config.leftOsc.mountGiven = true;
         }
         if (cl.has("--calibration")) config.calibration = device::loadCalibration(cl.value("--calibration"));
         config.mapping = readMapOption(cl, engine);
@@ -479,7 +501,7 @@ int runPlay(const Arguments& args)
         session.start();
         const auto start = std::chrono::steady_clock::now();
         std::string shownError;
-        bool shownFormat = false;
+        bool shownFormat = false, shownLeftFormat = false;
         bool shownRates = false;
         std::string shownSerialError, shownTcp;
         if (device::OscReceiver* osc = session.oscReceiver()) {
@@ -588,6 +610,13 @@ int runPlay(const Arguments& args)
                     shownFormat = true;
                 }
             }
+            if (device::OscReceiver* osc = session.leftOscReceiver(); osc && !shownLeftFormat && osc->format() != device::OscFormat::Auto &&
+                                                                     osc->stats().imu + osc->stats().orientation > 0) {
+                std::cerr << lineStart << "armadillo play: left arm OSC input: " << device::oscFormatName(osc->format())
+                          << (cl.has("--osc-format-left") ? " (forced)" : " (detected)") << " from "
+                          << (osc->deviceName().empty() ? std::string("?") : osc->deviceName()) << ", mount " << osc->merger().mount().name << "\n";
+                shownLeftFormat = true;
+            }
             if (mountCalibration && mountCalibration->pose() != device::MountCalibration::Pose::Done) {
                 device::SensorFrameSample p;
                 while (mountCalibration->pose() != device::MountCalibration::Pose::Done && session.oscReceiver()->merger().popSensorSample(p)) {
@@ -683,6 +712,9 @@ int runPlay(const Arguments& args)
             summary.insert(summary.size() - 1, ",\"panics\":" + std::to_string(panics));
         if (device::DeviceLink* leftLink = session.leftLink())
             summary.insert(summary.size() - 1, ",\"left_packets\":" + std::to_string(leftLink->stats().packets));
+        if (device::OscReceiver* leftOsc = session.leftOscReceiver())   // the left sender's usable samples and its input's counters
+            summary.insert(summary.size() - 1, ",\"left_packets\":" + std::to_string(leftOsc->stats().imu + leftOsc->stats().orientation) +
+                                                   ",\"left_osc\":{" + leftOsc->statsJson() + "}");
         if (cues) summary.insert(summary.size() - 1, ",\"cue\":" + std::to_string(cues->current()) + ",\"cue_changes\":" + std::to_string(cues->changes()));
         std::cout << summary << "\n" << std::flush;
         return session.engine().failed() ? int(kExitFailure) : int(kExitOk);

@@ -138,7 +138,13 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
             leftInput_.pushImu(config_.leftCalibration.apply(t, counts));
             return leftLevels_.load();
         };
-        if (config_.leftSource == LiveConfig::LeftSource::Port) {
+        if (config_.leftSource == LiveConfig::LeftSource::Osc) {
+            // An OSC sender as the left arm: its own dialect detection and mount; its samples (or
+            // its own orientations) into the left arm's mailbox. It has no motors.
+            auto onImu = [this](const ImuSample& s) { leftInput_.pushImu(s); };
+            auto onQ = [this](double t, const Eigen::Quaterniond& q) { leftInput_.storeOrientation(t, q); };
+            leftOscIn_ = std::make_unique<OscReceiver>(config_.leftOscInPort, onImu, onQ, config_.leftOsc);   // IoError when taken
+        } else if (config_.leftSource == LiveConfig::LeftSource::Port) {
             auto port = std::make_unique<SerialPort>(config_.leftPort, config_.leftBaud);
             port->open();
             leftLink_ = std::make_unique<DeviceLink>(std::move(port), leftHandler, config_.link);
@@ -245,9 +251,19 @@ MotorLevels LiveSession::control(double t, const SensorCounts* counts, const Imu
     // With a set list the loop tracked the arm (its monitor engine keeps the motors off) and the
     // current cue plays it.
     if (duo_) {   // the left arm: its samples since the last step through its own tracker (bounded)
+        // As the right arm's step (live::ControlLoop): more than a step's worth waiting, the oldest
+        // are dropped and the newest fused.
         live::LiveImu sample;
-        for (int i = 0; i < live::ControlLoop::kMaxImuPerStep && leftInput_.popImu(sample); ++i) leftArm_ = leftTracker_->update(live::toImuSample(sample));
-        while (leftInput_.popImu(sample)) {}   // more than a step's worth: the oldest are dropped
+        for (std::size_t waiting = leftInput_.imuWaiting(); waiting > static_cast<std::size_t>(live::ControlLoop::kMaxImuPerStep) && leftInput_.popImu(sample);)
+            --waiting;
+        bool fused = false;
+        for (int i = 0; i < live::ControlLoop::kMaxImuPerStep && leftInput_.popImu(sample); ++i, fused = true)
+            leftArm_ = leftTracker_->update(live::toImuSample(sample));
+        // A sender that fuses itself (an OSC orientation, no IMU samples): its newest orientation, once.
+        const std::uint64_t seen = leftOrientation_.serial;
+        leftOrientation_ = leftInput_.latest(leftOrientation_);
+        if (!fused && leftOrientation_.serial != 0 && leftOrientation_.serial != seen)
+            leftArm_ = leftTracker_->updateOrientation(leftOrientation_.t, Eigen::Quaterniond(leftOrientation_.w, leftOrientation_.x, leftOrientation_.y, leftOrientation_.z));
         if (leftArm_.valid) leftPose_.store(leftArm_.features.pose);
     }
     MotorLevels levels = result.levels;
@@ -415,6 +431,7 @@ void LiveSession::start()
     if (link_) link_->start();
     if (leftLink_) leftLink_->start();
     if (oscIn_) oscIn_->start();
+    if (leftOscIn_) leftOscIn_->start();
     if (wav_) audioThread_ = std::thread([this] { audioLoop(); });
     if (soundCard_)
         soundCard_->start([this](float* l, float* r, int n) { renderBlock(l, r, n); },
@@ -435,6 +452,7 @@ void LiveSession::stop()
         link_->stop();
     }
     if (oscIn_) oscIn_->stop();
+    if (leftOscIn_) leftOscIn_->stop();
     if (leftLink_) {   // the left device's last packet all-off too (motorsOff_ is set)
         if (leftLink_->stats().inSync) leftLink_->waitFor([](const LinkStats&) { return true; }, 0.05);
         leftLink_->stop();

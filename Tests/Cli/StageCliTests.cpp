@@ -5,7 +5,15 @@
 #include "Core/Csv.h"
 #include "Core/Pose.h"
 #include "Core/Wav.h"
+#include "Osc/OscIo.h"
 #include <catch2/catch.hpp>
+#include <arpa/inet.h>
+#include <atomic>
+#include <chrono>
+#include <functional>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <thread>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -200,4 +208,122 @@ TEST_CASE("cli: play with two simulated arms logs two independent orientations, 
     CHECK(runArmadillo("play --scene theremin --simulate --arms-log '" + path("x.csv") + "' --seconds 1 --no-audio").code == 2);
     CHECK(runArmadillo("play --scene theremin --simulate --motion-left '" + path("none.csv") + "' --seconds 1 --no-audio").code == 4);
     CHECK(runArmadillo("play --scene theremin --simulate --motion-left - --port-left /dev/null --seconds 1 --no-audio").code == 2);
+}
+
+namespace {
+/// A UDP port free right now on loopback.
+int freeLoopbackPort()
+{
+    const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+    sockaddr_in a {};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
+    socklen_t len = sizeof a;
+    ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
+    ::close(fd);
+    return ntohs(a.sin_port);
+}
+
+/// Runs `armadillo ARGS` while OSC senders on loopback send /armadillo/orientation at 100 Hz,
+/// each the quaternion its function gives for the seconds since sending began. (The pacing
+/// only keeps the rate sane; what the test checks does not depend on it.)
+Run playWithSenders(const std::string& args, const std::vector<std::pair<int, std::function<Eigen::Quaterniond(double)>>>& senders)
+{
+    std::atomic<bool> done {false};
+    std::thread sending([&] {
+        std::vector<std::unique_ptr<device::OscSender>> out;
+        for (const auto& s : senders) out.push_back(std::make_unique<device::OscSender>(device::HostPort {"127.0.0.1", s.first}));
+        const auto start = std::chrono::steady_clock::now();
+        while (!done.load()) {
+            const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            for (std::size_t i = 0; i < senders.size(); ++i) out[i]->sendOrientation(senders[i].second(t));
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+    });
+    const Run r = runArmadilloWithin(60.0, args);
+    done.store(true);
+    sending.join();
+    return r;
+}
+
+double angleDeg(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b)
+{
+    return 2.0 * std::acos(std::min(1.0, std::fabs(a.normalized().dot(b.normalized())))) * 180.0 / 3.14159265358979323846;
+}
+} // namespace
+
+TEST_CASE("cli: play --osc-in-left: an OSC sender as the left arm, with its own mount, beside a simulated or an OSC right arm", "[cli][twoarms][osc]")
+{
+    // The left sender holds pose A for 2.5 s, then pose B; its sensor is strapped on turned 90°
+    // about its own z axis (a mount file), so the forearm's orientation is q_sent · M⁻¹
+    // (INTERFACES.md, docs/SENSORS.md "Mount").
+    const Eigen::Quaterniond qa = poseToQuaternion(Pose {20.0, 100.0, 0.0}), qb = poseToQuaternion(Pose {-30.0, 250.0, 40.0});
+    const Eigen::Quaterniond mount(Eigen::AngleAxisd(3.14159265358979323846 / 2.0, Eigen::Vector3d::UnitZ()));
+    const std::string mountFile = file("left-mount.json", "{\"mount\": {\"quaternion\": [" + std::to_string(mount.w()) + ", " + std::to_string(mount.x()) +
+                                                             ", " + std::to_string(mount.y()) + ", " + std::to_string(mount.z()) + "]}}");
+    const Eigen::Quaterniond ea = qa * mount.conjugate(), eb = qb * mount.conjugate();
+    std::string r = "t,elevation,azimuth,roll\n";
+    for (int i = 0; i <= 200; ++i) r += std::to_string(i / 100.0) + ",10,0,0\n";
+    const std::string right = file("osc-left-right.csv", r);
+    const int port = freeLoopbackPort();
+    const Run run = playWithSenders("play --scene theremin-duo --simulate --motion '" + right + "' --osc-in-left " + std::to_string(port) +
+                                        " --mount-left '" + mountFile + "' --seconds 5 --no-audio --arms-log '" + path("osc-left-arms.csv") + "'",
+                                    {{port, [&](double t) { return t < 2.5 ? qa : qb; }}});
+    INFO(run.err);
+    REQUIRE(run.code == 0);
+    CHECK(run.err.find("left arm OSC input: armadillo (detected)") != std::string::npos);
+    CHECK(run.out.find("\"left_packets\":") != std::string::npos);
+    const CsvTable arms = CsvTable::read(path("osc-left-arms.csv"));
+    int inA = 0, inB = 0, other = 0, aAfterB = 0;
+    double rightWorst = 0.0;
+    const Eigen::Quaterniond rightTruth = poseToQuaternion(Pose {10.0, 0.0, 0.0});
+    for (std::size_t i = 0; i < arms.rowCount(); ++i) {
+        const Eigen::Quaterniond left(arms.value(i, 5), arms.value(i, 6), arms.value(i, 7), arms.value(i, 8));
+        if (angleDeg(left, Eigen::Quaterniond::Identity()) < 1e-9) continue;   // nothing from the sender yet
+        if (angleDeg(left, ea) < 0.01) {
+            ++inA;
+            aAfterB += inB > 0;
+        } else if (angleDeg(left, eb) < 0.01) {
+            ++inB;
+        } else {
+            ++other;
+        }
+        if (arms.value(i, 0) > 1.0 && inB > 0)   // the right arm, fused from its simulator, while the left arm changed
+            rightWorst = std::max(rightWorst, angleDeg(Eigen::Quaterniond(arms.value(i, 1), arms.value(i, 2), arms.value(i, 3), arms.value(i, 4)), rightTruth));
+    }
+    std::printf("play --osc-in-left: %d control updates with pose A, %d with pose B, %d other; right arm within %.2f deg of its file meanwhile\n",
+                inA, inB, other, rightWorst);
+    CHECK(inA > 20);
+    CHECK(inB > 20);
+    CHECK(other == 0);
+    CHECK(aAfterB == 0);
+    CHECK(rightWorst < 5.0);
+
+    // Both arms OSC senders, each on its own port, each logged as sent.
+    const int rightPort = freeLoopbackPort(), leftPort = freeLoopbackPort() + 1;
+    const Eigen::Quaterniond qr = poseToQuaternion(Pose {35.0, 20.0, -10.0});
+    const Run both = playWithSenders("play --scene theremin-duo --osc-in " + std::to_string(rightPort) + " --osc-in-left " + std::to_string(leftPort) +
+                                         " --seconds 2 --no-audio --arms-log '" + path("osc-both-arms.csv") + "'",
+                                     {{rightPort, [&](double) { return qr; }}, {leftPort, [&](double) { return qb; }}});
+    INFO(both.err);
+    REQUIRE(both.code == 0);
+    const CsvTable two = CsvTable::read(path("osc-both-arms.csv"));
+    REQUIRE(two.rowCount() > 20);
+    const std::size_t last = two.rowCount() - 1;
+    CHECK(angleDeg(Eigen::Quaterniond(two.value(last, 1), two.value(last, 2), two.value(last, 3), two.value(last, 4)), qr) < 0.01);
+    CHECK(angleDeg(Eigen::Quaterniond(two.value(last, 5), two.value(last, 6), two.value(last, 7), two.value(last, 8)), qb) < 0.01);
+
+    // Mistakes.
+    const std::string p = std::to_string(port);
+    CHECK(runArmadillo("play --scene theremin --osc-in " + p + " --osc-in-left " + p + " --seconds 1 --no-audio").code == 2);   // one port for both
+    CHECK(runArmadillo("play --scene theremin --simulate --osc-in-left " + p + " --motion-left - --seconds 1 --no-audio").code == 2);
+    CHECK(runArmadillo("play --scene theremin --simulate --mount-left ngimu --seconds 1 --no-audio").code == 2);   // needs --osc-in-left
+    CHECK(runArmadillo("play --scene theremin --simulate --osc-in-left " + p + " --osc-format-left kazoo --seconds 1 --no-audio").code == 2);
+    CHECK(runArmadillo("play --scene theremin --simulate --osc-in-left " + p + " --calibration-left x.json --seconds 1 --no-audio").code == 2);
+    CHECK(runArmadillo("play --scene theremin --simulate --osc-in-left " + p + " --mount-left /nonexistent/m.json --seconds 1 --no-audio").code == 4);
+    const Run badMount = runArmadillo("play --scene theremin --simulate --osc-in-left " + p + " --mount-left '" +
+                                      file("bad-left-mount.json", "{\"mount\": {\"quaternion\": [0, 0, 0, 0]}}") + "' --seconds 1 --no-audio");
+    CHECK(badMount.code == 3);
+    CHECK(badMount.err.find("bad-left-mount.json") != std::string::npos);
 }
