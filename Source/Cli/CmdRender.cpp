@@ -3,6 +3,7 @@
 #include "Cli/MapOptions.h"
 #include "Cli/SceneOptions.h"
 #include "Osc/OscIo.h"
+#include "Osc/Mount.h"
 #include "Live/MappingRig.h"
 #include "Mapping/MidiFile.h"
 #include "Core/Csv.h"
@@ -47,6 +48,9 @@ int runRender(const Arguments& args)
                                                          "(theremin-duo is made for two); the left arm's motors are mirrored"},
                                {"--tactile-left", "T.csv", "with --motion-left: the left arm's motor packets"},
                                {"--arms-log", "A.csv", "with --motion-left: t,qw,qx,qy,qz,left_qw,left_qx,left_qy,left_qz per control update"},
+                               {"--mount", "FILE|PRESET", "how the sensor that recorded --motion (an IMU or quaternion file) was strapped on:\n"
+                                                          "a mount file (play --calibrate-mount) or a preset (identity, phone-screen-up, ngimu ...)"},
+                               {"--mount-left", "FILE|PRESET", "the same for --motion-left"},
                                {"--motion", "FILE", "motion CSV (IMU, quaternion or pose)", true},
                                {"--out", "OUT.wav", "stereo WAV, 16-bit (written whole or not at all); may be left out with --midi-out"},
                                {"--tactile", "T.csv", "motor levels of every packet: t,m1..m9 (m10..m12 with --back-motors); the last\n"
@@ -157,6 +161,9 @@ int runRender(const Arguments& args)
         }
         const auto map = readMapOption(cl, engine);
         const double forward = readForwardOption(cl);
+        if (cl.has("--mount-left") && !cl.has("--motion-left")) throw UsageError("--mount-left applies to --motion-left");
+        if (cl.has("--mount")) settings.mount = device::mountFromArgument(cl.value("--mount")).rotation;   // IoError / InputError naming the file
+        if (cl.has("--mount-left")) settings.leftMount = device::mountFromArgument(cl.value("--mount-left")).rotation;
         const CsvTable motion = CsvTable::read(cl.value("--motion"));
         for (const char* o : {"--tactile-left", "--arms-log"})
             if (cl.has(o) && !cl.has("--motion-left")) throw UsageError(std::string(o) + " applies to --motion-left");

@@ -22,12 +22,24 @@ struct MotionSource {
     }
 };
 
-MotionSource loadMotion(const CsvTable& table)
+/// `mount` (sensor → device frame, Osc/Mount.h): v_device = mount · v_sensor for IMU samples,
+/// q_device = q_sensor · mount⁻¹ for orientations. A pose file is the forearm's own pose: no mount.
+MotionSource loadMotion(const CsvTable& table, const Eigen::Quaterniond& mount, const char* mountOption)
 {
     MotionSource m;
     m.kind = detectMotionKind(table);
     if (m.kind == MotionKind::Imu) m.imu = readImu(table);
     else m.orientations = motionAsQuaternions(table);   // throws for unknown headers
+    if (mount.angularDistance(Eigen::Quaterniond::Identity()) == 0.0) return m;
+    if (m.kind == MotionKind::Pose)
+        throw InputError(table.source(), 0, mountOption, "a pose file is the forearm's own pose, not a sensor's: a mount applies to IMU and quaternion files");
+    const Eigen::Quaterniond r = mount.normalized();
+    for (ImuSample& s : m.imu) {
+        s.gyro = r * s.gyro;
+        s.accel = r * s.accel;
+        if (s.mag.allFinite()) s.mag = r * s.mag;
+    }
+    for (TimedQuaternion& q : m.orientations) q.q = (q.q * r.conjugate()).normalized();
     return m;
 }
 } // namespace
@@ -49,7 +61,7 @@ void checkRenderSpan(const CsvTable& motion, std::size_t rows, const std::functi
 
 RenderResult renderOffline(const CsvTable& motion, const RenderSettings& settings)
 {
-    const MotionSource source = loadMotion(motion);
+    const MotionSource source = loadMotion(motion, settings.mount, "--mount");
     const double sampleRate = settings.engine.sceneConfig.sampleRate;
     if (!(sampleRate >= 8000.0 && sampleRate <= 384000.0))
         throw InputError("", 0, "", "sample rate must lie in 8000..384000 Hz");
@@ -88,7 +100,7 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
     ArmState leftArm;
     if (twoArms) {
         if (!settings.engine.twoArms) throw InputError("", 0, "--motion-left", "two arms need EngineConfig::twoArms");
-        leftSource = loadMotion(*settings.leftMotion);
+        leftSource = loadMotion(*settings.leftMotion, settings.leftMount, "--mount-left");
         if (leftSource.size() == 0) throw InputError(settings.leftMotion->source(), 0, "--motion-left", "the left arm's motion file has no rows");
     }
     const double tEnd = source.time(source.size() - 1) + tail;

@@ -327,3 +327,59 @@ TEST_CASE("cli: play --osc-in-left: an OSC sender as the left arm, with its own 
     CHECK(badMount.code == 3);
     CHECK(badMount.err.find("bad-left-mount.json") != std::string::npos);
 }
+
+TEST_CASE("cli: render --mount / --mount-left: each arm's recording turned from its sensor's axes into the forearm's", "[cli][twoarms][mount]")
+{
+    // Each sensor strapped on its own way (a mount file per arm); the files hold the sensors'
+    // orientations q_s = q_forearm · M (so the forearm's is q_s · M⁻¹, docs/SENSORS.md "Mount").
+    const double halfPi = 3.14159265358979323846 / 2.0;
+    const Eigen::Quaterniond mr(Eigen::AngleAxisd(halfPi, Eigen::Vector3d::UnitZ()));
+    const Eigen::Quaterniond ml(Eigen::AngleAxisd(2.0 * halfPi / 3.0, Eigen::Vector3d(1.0, -1.0, 2.0).normalized()));
+    const auto mountFile = [](const std::string& name, const Eigen::Quaterniond& m) {
+        char b[200];
+        std::snprintf(b, sizeof b, "{\"mount\": {\"quaternion\": [%.12f, %.12f, %.12f, %.12f]}}", m.w(), m.x(), m.y(), m.z());
+        return file(name, b);
+    };
+    const Eigen::Quaterniond fr = poseToQuaternion(Pose {25.0, 40.0, 10.0}), fl = poseToQuaternion(Pose {-15.0, 280.0, -60.0});
+    const auto quatFile = [](const std::string& name, const Eigen::Quaterniond& q) {
+        std::string s = "t,qw,qx,qy,qz\n";
+        char b[160];
+        for (int i = 0; i <= 100; ++i) {
+            std::snprintf(b, sizeof b, "%.3f,%.12f,%.12f,%.12f,%.12f\n", i / 100.0, q.w(), q.x(), q.y(), q.z());
+            s += b;
+        }
+        return file(name, s);
+    };
+    const std::string right = quatFile("mount-right.csv", fr * mr), left = quatFile("mount-left.csv", fl * ml);
+    const std::string cmd = "render --scene theremin-duo --motion '" + right + "' --motion-left '" + left + "' --out '" + path("mount.wav") +
+                            "' --arms-log '" + path("mount-arms.csv") + "'";
+    const auto lastRow = [&](int column) {
+        const CsvTable a = CsvTable::read(path("mount-arms.csv"));
+        const std::size_t r = a.rowCount() - 1;
+        return Eigen::Quaterniond(a.value(r, column), a.value(r, column + 1), a.value(r, column + 2), a.value(r, column + 3));
+    };
+    Run r = runArmadillo(cmd + " --mount '" + mountFile("mr.json", mr) + "' --mount-left '" + mountFile("ml.json", ml) + "'");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK(angleDeg(lastRow(1), fr) < 1e-4);
+    CHECK(angleDeg(lastRow(5), fl) < 1e-4);
+    // Each mount acts on its own arm only.
+    r = runArmadillo(cmd + " --mount-left '" + path("ml.json") + "'");
+    REQUIRE(r.code == 0);
+    CHECK(angleDeg(lastRow(1), fr * mr) < 1e-4);
+    CHECK(angleDeg(lastRow(5), fl) < 1e-4);
+    r = runArmadillo(cmd);
+    REQUIRE(r.code == 0);
+    CHECK(angleDeg(lastRow(5), fl * ml) < 1e-4);
+    CHECK(angleDeg(lastRow(5), fl) > 10.0);
+
+    // Mistakes.
+    const std::string base = "render --scene theremin --motion '" + right + "' --out '" + path("m.wav") + "' ";
+    CHECK(runArmadillo(base + "--mount-left '" + path("ml.json") + "'").code == 2);   // no --motion-left
+    CHECK(runArmadillo(base + "--mount /nonexistent/mount.json").code == 4);
+    const std::string poses = file("mount-poses.csv", "t,elevation,azimuth,roll\n0,0,0,0\n0.1,0,0,0\n");
+    const Run pose = runArmadillo("render --scene theremin --motion '" + poses + "' --mount ngimu --out '" + path("m.wav") + "'");
+    CHECK(pose.code == 3);
+    CHECK(pose.err.find("mount-poses.csv") != std::string::npos);
+    CHECK(pose.err.find("pose file") != std::string::npos);
+}
