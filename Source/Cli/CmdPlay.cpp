@@ -348,8 +348,6 @@ int runPlay(const Arguments& args)
             throw UsageError("--calibration-left is a device's calibration: an OSC sender sends SI units (--mount-left says how it is worn)");
         if (cl.has("--calibration-left")) config.leftCalibration = device::loadCalibration(cl.value("--calibration-left"));
         config.armsLog = cl.value("--arms-log");
-        if (cl.has("--setlist") && config.leftSource != device::LiveConfig::LeftSource::None)
-            throw UsageError("two arms with --setlist are not supported yet");
         // Steadier timing for the link (and the simulated device) where the system allows it.
         config.link.realtimePriority = 20;
         config.audioOut = cl.value("--out");

@@ -169,7 +169,6 @@ int runRender(const Arguments& args)
             if (cl.has(o) && !cl.has("--motion-left")) throw UsageError(std::string(o) + " applies to --motion-left");
         CsvTable leftMotion;
         if (cl.has("--motion-left")) {
-            if (setlist) throw UsageError("--motion-left with --setlist is not supported yet");
             leftMotion = CsvTable::read(cl.value("--motion-left"));
             settings.leftMotion = &leftMotion;
             engine.twoArms = true;
@@ -221,7 +220,6 @@ int runRender(const Arguments& args)
                     throw UsageError(std::string("--cue-at: ") + e.what());
                 }
             }
-            if (settings.audioIn) throw UsageError("--audio-in with --setlist is not supported yet");
             r = live::renderSetList(motion, list, settings, changes);
             engine.scene = "setlist";
             // A set list renders into memory (bounded like any collected render): its audio goes
@@ -229,7 +227,6 @@ int runRender(const Arguments& args)
             r.frames = r.audio.frames();
             for (const auto& ch : r.audio.channels)
                 for (const float v : ch) r.peak = std::max(r.peak, std::fabs(v));
-            r.scenePeak = r.peak;
             constexpr std::size_t kChunk = 4096;
             for (std::size_t at = 0; at < r.frames && r.audio.channels.size() == 2; at += kChunk) {
                 const int n = static_cast<int>(std::min<std::size_t>(kChunk, r.frames - at));

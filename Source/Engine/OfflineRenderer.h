@@ -71,6 +71,22 @@ struct RenderResult {
     std::vector<TimedQuaternion> rightOrientation, leftOrientation;
 };
 
+class ArmTracker;
+
+/// A motion file as per-row arm updates, whatever its kind: IMU rows (fused by the tracker) or
+/// orientations (quaternion and pose files). `load` turns a sensor's recording into the forearm's
+/// axes with `mount` (RenderSettings::mount; InputError naming `mountOption` for a pose file).
+struct MotionRows {
+    MotionKind kind = MotionKind::Unknown;
+    std::vector<ImuSample> imu;
+    std::vector<TimedQuaternion> orientations;
+    std::size_t size() const;
+    double time(std::size_t i) const;
+    ArmState apply(ArmTracker& tracker, std::size_t i) const;
+    static MotionRows load(const CsvTable& table, const Eigen::Quaterniond& mount = Eigen::Quaterniond::Identity(),
+                           const char* mountOption = "--mount");
+};
+
 /// Why a render came out silent, in words for a user (empty when `r.peak` > 0): the scene makes
 /// no sound, a listening scene without a recording, no row with an orientation, or the arm's
 /// range over the file.

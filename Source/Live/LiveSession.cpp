@@ -54,17 +54,19 @@ const std::vector<std::string>& sessionLogHeader()
 
 LiveSession::LiveSession(const LiveConfig& config) : config_(config)
 {
-    if (config_.leftSource != LiveConfig::LeftSource::None) {
-        if (!config_.setList.empty()) throw InputError("--setlist", 0, "", "two arms with a set list are not supported yet");
-        EngineConfig duo = config_.engine;
-        duo.twoArms = true;
-        duo_ = std::make_unique<Engine>(duo);   // InputError for an unknown scene or parameter
-        config_.engine.scene = "monitor";        // the loop's own engine only tracks the right arm
-        config_.engine.parameters.clear();
+    const bool twoArms = config_.leftSource != LiveConfig::LeftSource::None;
+    if (twoArms) {
+        if (config_.setList.empty()) {   // (with a set list every cue's engine takes both arms)
+            EngineConfig duo = config_.engine;
+            duo.twoArms = true;
+            duo_ = std::make_unique<Engine>(duo);   // InputError for an unknown scene or parameter
+            config_.engine.scene = "monitor";        // the loop's own engine only tracks the right arm
+            config_.engine.parameters.clear();
+        }
         leftTracker_ = std::make_unique<ArmTracker>();
     }
     if (!config_.setList.empty()) {   // every cue prepared now; the loop's own engine only tracks the arm
-        cues_ = std::make_unique<live::CuePlayer>(live::loadSetList(config_.setList), config_.engine.sceneConfig, config_.engine.motorCount);
+        cues_ = std::make_unique<live::CuePlayer>(live::loadSetList(config_.setList), config_.engine.sceneConfig, config_.engine.motorCount, twoArms);
         config_.engine.scene = "monitor";
         config_.engine.parameters.clear();
     }
@@ -250,7 +252,7 @@ MotorLevels LiveSession::control(double t, const SensorCounts* counts, const Imu
     const ArmState& arm = result.arm;
     // With a set list the loop tracked the arm (its monitor engine keeps the motors off) and the
     // current cue plays it.
-    if (duo_) {   // the left arm: its samples since the last step through its own tracker (bounded)
+    if (leftTracker_) {   // the left arm: its samples since the last step through its own tracker (bounded)
         // As the right arm's step (live::ControlLoop): more than a step's worth waiting, the oldest
         // are dropped and the newest fused.
         live::LiveImu sample;
@@ -267,10 +269,17 @@ MotorLevels LiveSession::control(double t, const SensorCounts* counts, const Imu
         if (leftArm_.valid) leftPose_.store(leftArm_.features.pose);
     }
     MotorLevels levels = result.levels;
-    if (cues_) levels = arm.valid ? cues_->control(arm, step.transport, dt) : MotorLevels {};
+    if (cues_ && leftTracker_) {
+        levels = arm.valid ? cues_->control(arm, leftArm_, step.transport, dt) : MotorLevels {};
+        leftLevels_.store(arm.valid ? cues_->leftLevels() : MotorLevels {});
+    } else if (cues_) {
+        levels = arm.valid ? cues_->control(arm, step.transport, dt) : MotorLevels {};
+    }
     if (duo_) {
         levels = arm.valid ? duo_->control(arm, leftArm_, step.transport, dt) : MotorLevels {};
         leftLevels_.store(arm.valid ? duo_->leftLevels() : MotorLevels {});
+    }
+    if (leftTracker_) {
         if (armsLog_) {
             LogRow row;
             row.count = 9;
@@ -327,7 +336,7 @@ MotorLevels LiveSession::control(double t, const SensorCounts* counts, const Imu
         if (oscOut_) oscOut_->sendGesture(ev.name);
         if (gestureCount < gestures.size()) gestures[gestureCount++] = ev;
     }
-    if (mapping_ && result.ran) mapping_->step(t, arm, duo_ ? &leftArm_ : nullptr, gestures.data(), gestureCount, engine());
+    if (mapping_ && result.ran) mapping_->step(t, arm, leftTracker_ ? &leftArm_ : nullptr, gestures.data(), gestureCount, engine());
     return levels;
 }
 

@@ -383,3 +383,131 @@ TEST_CASE("cli: render --mount / --mount-left: each arm's recording turned from 
     CHECK(pose.err.find("mount-poses.csv") != std::string::npos);
     CHECK(pose.err.find("pose file") != std::string::npos);
 }
+
+namespace {
+/// RMS of channel 0 of `a` over [from, to) s.
+double rmsOf(const AudioBuffer& a, double from, double to)
+{
+    double s = 0.0;
+    const auto i0 = static_cast<std::size_t>(from * a.sampleRate), i1 = std::min(a.frames(), static_cast<std::size_t>(to * a.sampleRate));
+    for (std::size_t i = i0; i < i1; ++i) s += static_cast<double>(a.channels[0][i]) * static_cast<double>(a.channels[0][i]);
+    return i1 > i0 ? std::sqrt(s / static_cast<double>(i1 - i0)) : 0.0;
+}
+
+/// A constant pose held for `seconds` at 200 Hz.
+std::string heldPose(const std::string& name, double el, double az, double roll, double seconds)
+{
+    std::string s = "t,elevation,azimuth,roll\n";
+    for (int i = 0; i <= static_cast<int>(seconds * 200.0); ++i)
+        s += std::to_string(i / 200.0) + "," + std::to_string(el) + "," + std::to_string(az) + "," + std::to_string(roll) + "\n";
+    return file(name, s);
+}
+} // namespace
+
+TEST_CASE("cli: render --setlist --audio-in: every listening cue hears the recording, also while another cue plays", "[cli][setlist][audioin]")
+{
+    // A piano-like phrase C4 E4 G4 C5 in the first 1.6 s (partials h·f0, amplitude 1/h, decaying),
+    // then silence to 3 s. Cue 0 (theremin) does not listen; cue 1 (layered-keyboard) does and
+    // becomes current only at 2 s: it must have captured the phrase played before.
+    const double fs = 48000.0, pi = 3.14159265358979323846;
+    AudioBuffer piano;
+    piano.sampleRate = fs;
+    piano.channels.assign(2, std::vector<float>(static_cast<std::size_t>(3.0 * fs), 0.0f));
+    const int notes[] = {60, 64, 67, 72};
+    for (int k = 0; k < 4; ++k) {
+        const double f0 = 440.0 * std::pow(2.0, (notes[k] - 69) / 12.0), onset = 0.1 + 0.4 * k;
+        for (std::size_t i = static_cast<std::size_t>(onset * fs); i < piano.frames(); ++i) {
+            const double t = static_cast<double>(i) / fs - onset;
+            double v = 0.0;
+            for (int h = 1; h <= 6; ++h) v += std::exp(-t * (1.0 + 0.3 * (h - 1)) / 0.5) * std::sin(2.0 * pi * h * f0 * t) / h;
+            piano.channels[0][i] += static_cast<float>(0.25 * std::min(1.0, t / 0.002) * v);
+        }
+    }
+    piano.channels[1] = piano.channels[0];
+    writeWav(path("phrase.wav"), piano);
+    const std::string motion = heldPose("keys.csv", -20.0, 10.0, 0.0, 3.0);   // the hand on the keys
+    const std::string show = file("listen-show.json", R"({"armadillo_setlist": 1, "cues": [
+        {"name": "theremin", "scene": "theremin"}, {"name": "over the piano", "scene": "layered-keyboard"}]})");
+    const std::string base = "render --setlist '" + show + "' --motion '" + motion + "' --audio-in '" + path("phrase.wav") + "' --cue-at 2:1 ";
+    const Run mixed = runArmadillo(base + "--out '" + path("listen-mixed.wav") + "'");
+    INFO(mixed.err);
+    REQUIRE(mixed.code == 0);
+    std::vector<std::string> captured;
+    for (std::size_t at = mixed.err.find("render: captured "); at != std::string::npos; at = mixed.err.find("render: captured ", at + 1)) {
+        const std::size_t t = mixed.err.find("at t = ", at);
+        REQUIRE(t != std::string::npos);
+        // Reported by the scene at its cue's first control update (2 s); the notes' onsets were
+        // at 0.1 … 1.3 s, heard while cue 0 played (after 2 s only their tails come in).
+        CHECK(std::stod(mixed.err.substr(t + 7)) < 2.01);
+        captured.push_back(mixed.err.substr(at + 17, mixed.err.find(' ', at + 17) - at - 17));
+    }
+    CHECK(captured == std::vector<std::string> {"C4", "E4", "G4", "C5"});
+    // The recording is mixed in under the cues' sound: the two renders differ by the recording.
+    const Run alone = runArmadillo(base + "--no-audio-in-mix --out '" + path("listen-alone.wav") + "'");
+    REQUIRE(alone.code == 0);
+    const AudioBuffer a = readWav(path("listen-mixed.wav")), b = readWav(path("listen-alone.wav"));
+    REQUIRE(a.frames() == b.frames());
+    double worst = 0.0;
+    for (std::size_t i = 0; i < a.frames(); ++i) {
+        const double want = i < piano.frames() ? static_cast<double>(piano.channels[0][i]) : 0.0;
+        if (std::fabs(static_cast<double>(a.channels[0][i])) < 0.99) worst = std::max(worst, std::fabs(static_cast<double>(a.channels[0][i] - b.channels[0][i]) - want));
+    }
+    CHECK(worst < 3.0 / 32768.0);   // 16-bit rounding of the two files
+    CHECK(rmsOf(b, 0.3, 1.5) > 0.01);   // cue 0 (theremin) plays meanwhile
+    // No cue listens: refused, naming the set list.
+    const std::string deaf = file("deaf-show.json", R"({"armadillo_setlist": 1, "cues": [{"scene": "theremin"}, {"scene": "panel"}]})");
+    const Run refused = runArmadillo("render --setlist '" + deaf + "' --motion '" + motion + "' --audio-in '" + path("phrase.wav") + "' --out '" + path("x.wav") + "'");
+    CHECK(refused.code == 3);
+    CHECK(refused.err.find("deaf-show.json listens to audio") != std::string::npos);
+}
+
+TEST_CASE("cli: a set list with two arms, in render and play: the cue hears both arms", "[cli][setlist][twoarms]")
+{
+    // Cue 0: theremin-duo, whose note stops while the left arm hangs (below −60°); cue 1: theremin.
+    const std::string show = file("duo-show.json", R"({"armadillo_setlist": 1, "cues": [
+        {"name": "duo", "scene": "theremin-duo"}, {"name": "solo", "scene": "theremin"}]})");
+    const std::string right = heldPose("sl-right.csv", 10.0, 0.0, 0.0, 3.0);
+    const std::string raised = heldPose("sl-left-up.csv", 0.0, 180.0, 0.0, 3.0), hanging = heldPose("sl-left-down.csv", -80.0, 180.0, 0.0, 3.0);
+    const auto render = [&](const std::string& left, const std::string& wav) {
+        return runArmadillo("render --setlist '" + show + "' --motion '" + right + "' --motion-left '" + left + "' --cue-at 1.5:1 --out '" + path(wav) +
+                            "' --tactile-left '" + path("sl-left-tactile.csv") + "' --arms-log '" + path("sl-arms.csv") + "'");
+    };
+    Run r = render(hanging, "sl-down.wav");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const AudioBuffer down = readWav(path("sl-down.wav"));
+    r = render(raised, "sl-up.wav");
+    REQUIRE(r.code == 0);
+    const AudioBuffer up = readWav(path("sl-up.wav"));
+    std::printf("render --setlist, two arms: cue 0 (duo) RMS left arm raised %.4f, hanging %.4f; cue 1 (theremin) %.4f / %.4f\n", rmsOf(up, 0.3, 1.4),
+                rmsOf(down, 0.3, 1.4), rmsOf(up, 1.7, 2.9), rmsOf(down, 1.7, 2.9));
+    CHECK(rmsOf(up, 0.3, 1.4) > 0.01);      // the duo sounds with the left arm up …
+    CHECK(rmsOf(down, 0.3, 1.4) < 0.001);   // … and stops while it hangs
+    CHECK(rmsOf(up, 1.7, 2.9) > 0.01);      // the one-arm cue plays either way
+    CHECK(rmsOf(down, 1.7, 2.9) > 0.01);
+    const CsvTable arms = CsvTable::read(path("sl-arms.csv"));
+    REQUIRE(arms.rowCount() == 601);
+    const Eigen::Quaterniond ql = poseToQuaternion(Pose {0.0, 180.0, 0.0});
+    CHECK(angleDeg(Eigen::Quaterniond(arms.value(300, 5), arms.value(300, 6), arms.value(300, 7), arms.value(300, 8)), ql) < 1e-4);
+    CHECK(CsvTable::read(path("sl-left-tactile.csv")).rowCount() == 601);
+
+    // play: the same set list with two simulated arms; the left arm hanging silences the duo.
+    const auto play = [&](const std::string& left, const std::string& wav) {
+        return runArmadilloWithin(60.0, "play --setlist '" + show + "' --simulate --motion '" + right + "' --motion-left '" + left +
+                                            "' --seconds 2 --out '" + path(wav) + "' --arms-log '" + path("sl-play-arms.csv") + "'");
+    };
+    r = play(raised, "sl-play-up.wav");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK(r.out.find("\"left_packets\":") != std::string::npos);
+    CHECK(r.out.find("\"cue\":0") != std::string::npos);
+    const AudioBuffer playUp = readWav(path("sl-play-up.wav"));
+    const CsvTable playArms = CsvTable::read(path("sl-play-arms.csv"));
+    REQUIRE(playArms.rowCount() > 100);
+    r = play(hanging, "sl-play-down.wav");
+    REQUIRE(r.code == 0);
+    const AudioBuffer playDown = readWav(path("sl-play-down.wav"));
+    std::printf("play --setlist, two arms: duo RMS left arm raised %.4f, hanging %.4f\n", rmsOf(playUp, 1.0, 1.9), rmsOf(playDown, 1.0, 1.9));
+    CHECK(rmsOf(playUp, 1.0, 1.9) > 0.01);
+    CHECK(rmsOf(playDown, 1.0, 1.9) < 0.001);
+}
