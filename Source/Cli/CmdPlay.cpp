@@ -26,6 +26,8 @@
 #include <iostream>
 #include <memory>
 #include <thread>
+#include <tuple>
+#include <vector>
 #include <atomic>
 #include <csignal>
 #include <poll.h>
@@ -110,6 +112,50 @@ void onForwardSignal(int)
 {
     if (mapping::Mapper* m = forwardTarget().load()) m->requestForward();
 }
+
+/// The guided mount calibration of one OSC sender (`--calibrate-mount` for the right arm,
+/// `--calibrate-mount-left` for the left): its sensor-frame samples through the poses, the
+/// instructions on stderr, the mount file written at the end.
+struct GuidedMount {
+    device::MountCalibration calibration;
+    device::OscReceiver* osc = nullptr;
+    std::string out, option, arm;   // arm: "" or "left arm " in the messages
+
+    void begin()
+    {
+        osc->merger().enableSensorTap(true);
+        std::cerr << arm << "mount calibration pose 1 (" << device::MountCalibration::poseName(calibration.pose())
+                  << "): " << device::MountCalibration::instruction(calibration.pose()) << "\n";
+    }
+    bool active() const { return calibration.pose() != device::MountCalibration::Pose::Done; }
+    void step()
+    {
+        device::SensorFrameSample p;
+        while (active() && osc->merger().popSensorSample(p)) {
+            calibration.feed(Eigen::Vector3d(p.accel[0], p.accel[1], p.accel[2]), Eigen::Vector3d(p.gyro[0], p.gyro[1], p.gyro[2]));
+            if (!calibration.ready()) continue;
+            calibration.finishStep();
+            const auto pose = calibration.pose();
+            std::cerr << arm
+                      << (pose == device::MountCalibration::Pose::Done
+                              ? std::string("mount calibration complete")
+                              : "mount calibration pose " + std::to_string(static_cast<int>(pose) + 1) + " (" + device::MountCalibration::poseName(pose) +
+                                    "): " + device::MountCalibration::instruction(pose))
+                      << "\n";
+        }
+    }
+    void finish()
+    {
+        calibration.skipRoll();   // the third pose is optional
+        device::Mount mount;
+        std::string why;
+        if (!calibration.solve(mount, why))
+            throw IoError(option + ": no mount written: " + why + " (stopped at pose '" + device::MountCalibration::poseName(calibration.pose()) + "')");
+        mount.device = osc->deviceName();
+        device::saveMount(out, mount);
+        std::cerr << arm << "mount calibration written to " << out << "\n";
+    }
+};
 
 /// What a port or OSC source that delivered no sensor data did send, in words naming it.
 std::string noDataMessage(device::LiveSession& session, const device::LiveConfig& config, double seconds)
@@ -221,6 +267,8 @@ int runPlay(const Arguments& args)
                                               "(format detected, its own mount); with any right-arm source"},
                     {"--osc-format-left", "NAME", "with --osc-in-left: force the left sender's format (as --osc-format)"},
                     {"--mount-left", "FILE|PRESET", "with --osc-in-left: how the left arm's sensor is strapped on (as --mount)"},
+                    {"--calibrate-mount-left", "OUT.json", "with --osc-in-left: the guided mount calibration of the left arm's sensor\n"
+                                                           "(as --calibrate-mount; instructions on stderr prefixed 'left arm')"},
                     {"--calibration-left", "CAL.json", "the left arm's device calibration (default: the built-in one)"},
                     {"--arms-log", "A.csv", "two arms: t,qw,qx,qy,qz,left_qw,left_qx,left_qy,left_qz per control update"},
                     {"--control-in", "PORT", "stage commands as OSC on this UDP port (docs/STAGE.md): /armadillo/panic,\n"
@@ -321,8 +369,12 @@ int runPlay(const Arguments& args)
         config.forwardDeg = readForwardOption(cl);
         if (int(cl.has("--motion-left")) + int(cl.has("--port-left")) + int(cl.has("--osc-in-left")) > 1)
             throw UsageError("the left arm is --motion-left (simulated), --port-left (a device) or --osc-in-left (an OSC sender): one of them");
-        for (const char* o : {"--osc-format-left", "--mount-left"})
+        for (const char* o : {"--osc-format-left", "--mount-left", "--calibrate-mount-left"})
             if (cl.has(o) && !cl.has("--osc-in-left")) throw UsageError(std::string(o) + " applies to --osc-in-left");
+        const std::string leftMountOut = cl.value("--calibrate-mount-left");
+        if (cl.has("--calibrate-mount-left") && leftMountOut.empty()) throw UsageError("--calibrate-mount-left needs an output file");
+        if (cl.has("--calibrate-mount-left") && cl.has("--mount-left"))
+            throw UsageError("--calibrate-mount-left finds the mount: it cannot go with --mount-left");
         if (cl.has("--motion-left")) {
             if (!cl.has("--simulate")) throw UsageError("--motion-left drives a second simulated arm: use it with --simulate");
             config.leftSource = device::LiveConfig::LeftSource::Simulator;
@@ -396,7 +448,7 @@ int runPlay(const Arguments& args)
         // or the session ran for an hour.
         const std::vector<std::pair<std::string, std::string>> outputs {
             {"--out", config.audioOut}, {"--tactile", config.tactileOut}, {"--log", config.logOut},
-            {"--calibrate", calibrateOut}, {"--calibrate-mount", mountOut}, {"--training-log", trainingLog},
+            {"--calibrate", calibrateOut}, {"--calibrate-mount", mountOut}, {"--calibrate-mount-left", leftMountOut}, {"--training-log", trainingLog},
             {"--arms-log", config.armsLog}};
         for (const auto& [option, file] : outputs)
             if (cl.has(option)) checkOutputPath(option, file);
@@ -407,8 +459,8 @@ int runPlay(const Arguments& args)
             config.osc.mount = device::mountFromArgument(cl.value("--mount"));
             config.osc.mountGiven = true;
         }
-        if (cl.has("--mount-left")) {
-            config.leftOsc.mount = device::mountFromArgument(cl.value("--mount-left"));
+        if (cl.has("--mount-left") || !leftMountOut.empty()) {   // (a calibration sees the sensor's own axes)
+            config.leftOsc.mount = leftMountOut.empty() ? device::mountFromArgument(cl.value("--mount-left")) : device::Mount {};
             config.leftOsc.mountGiven = true;
         }
         if (cl.has("--calibration")) config.calibration = device::loadCalibration(cl.value("--calibration"));
@@ -484,12 +536,17 @@ int runPlay(const Arguments& args)
             std::cerr << "armadillo play: no sound: " << session.soundCardWarning()
                       << " (--out FILE records the audio instead; --no-audio silences this message)\n";
         }
-        std::unique_ptr<device::MountCalibration> mountCalibration;
-        if (!mountOut.empty()) {
-            mountCalibration = std::make_unique<device::MountCalibration>();
-            session.oscReceiver()->merger().enableSensorTap(true);
-            std::cerr << "mount calibration pose 1 (" << device::MountCalibration::poseName(mountCalibration->pose())
-                      << "): " << device::MountCalibration::instruction(mountCalibration->pose()) << "\n";
+        std::vector<std::unique_ptr<GuidedMount>> mountCalibrations;   // the right arm's, the left arm's
+        for (const auto& [out, osc, option, arm] : {std::tuple {mountOut, session.oscReceiver(), "--calibrate-mount", ""},
+                                                    std::tuple {leftMountOut, session.leftOscReceiver(), "--calibrate-mount-left", "left arm "}}) {
+            if (out.empty() || !osc) continue;
+            mountCalibrations.push_back(std::make_unique<GuidedMount>());
+            GuidedMount& g = *mountCalibrations.back();
+            g.osc = osc;
+            g.out = out;
+            g.option = option;
+            g.arm = arm;
+            g.begin();
         }
         if (live::MappingRig* rig = session.mapping()) forwardTarget().store(&rig->mapper());
         struct ForwardOff {
@@ -511,7 +568,7 @@ int runPlay(const Arguments& args)
         bool shownCardError = false;
         // A progress line on a terminal (stderr only, so stdout keeps just the JSON summary), not
         // while a guided procedure prints its own instructions there.
-        const bool progress = ::isatty(STDERR_FILENO) == 1 && !calibration && !mountCalibration && !training;
+        const bool progress = ::isatty(STDERR_FILENO) == 1 && !calibration && mountCalibrations.empty() && !training;
         const char* lineStart = progress ? "\r\033[K" : "";   // a message replaces the progress line
         double shownAt = -1.0;
         // A port or OSC source that sends nothing is not a session: said, with what was heard,
@@ -615,20 +672,7 @@ int runPlay(const Arguments& args)
                           << (osc->deviceName().empty() ? std::string("?") : osc->deviceName()) << ", mount " << osc->merger().mount().name << "\n";
                 shownLeftFormat = true;
             }
-            if (mountCalibration && mountCalibration->pose() != device::MountCalibration::Pose::Done) {
-                device::SensorFrameSample p;
-                while (mountCalibration->pose() != device::MountCalibration::Pose::Done && session.oscReceiver()->merger().popSensorSample(p)) {
-                    mountCalibration->feed(Eigen::Vector3d(p.accel[0], p.accel[1], p.accel[2]), Eigen::Vector3d(p.gyro[0], p.gyro[1], p.gyro[2]));
-                    if (!mountCalibration->ready()) continue;
-                    mountCalibration->finishStep();
-                    const auto pose = mountCalibration->pose();
-                    std::cerr << (pose == device::MountCalibration::Pose::Done
-                                      ? std::string("mount calibration complete")
-                                      : "mount calibration pose " + std::to_string(static_cast<int>(pose) + 1) + " (" +
-                                            device::MountCalibration::poseName(pose) + "): " + device::MountCalibration::instruction(pose))
-                              << "\n";
-                }
-            }
+            for (const auto& g : mountCalibrations) g->step();
             if (const audio::SoundCard* card = session.soundCard(); card && card->failed() && !shownCardError) {
                 std::cerr << lineStart << "armadillo play: " << card->lastError() << "; playing on without sound\n";
                 shownCardError = true;
@@ -684,17 +728,7 @@ int runPlay(const Arguments& args)
         if (brailleScene) writeFileAtomically(trainingLog, trainingCsv);
         if (const audio::SoundCard* card = session.soundCard(); card && card->underruns() > 0)
             std::cerr << "armadillo play: the sound card ran dry " << card->underruns() << " time(s) (audible clicks)\n";
-        if (mountCalibration) {
-            mountCalibration->skipRoll();   // the third pose is optional
-            device::Mount mount;
-            std::string why;
-            if (!mountCalibration->solve(mount, why))
-                throw IoError("--calibrate-mount: no mount written: " + why + " (stopped at pose '" +
-                              device::MountCalibration::poseName(mountCalibration->pose()) + "')");
-            mount.device = session.oscReceiver()->deviceName();
-            device::saveMount(mountOut, mount);
-            std::cerr << "mount calibration written to " << mountOut << "\n";
-        }
+        for (const auto& g : mountCalibrations) g->finish();
         if (calibration) {
             if (calibration->step() != device::CalibrationProcedure::Step::Done)
                 std::cerr << "calibration stopped at step '" << device::CalibrationProcedure::stepName(calibration->step())

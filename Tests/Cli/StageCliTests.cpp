@@ -5,6 +5,8 @@
 #include "Core/Csv.h"
 #include "Core/Pose.h"
 #include "Core/Wav.h"
+#include "Osc/Mount.h"
+#include "Osc/Osc.h"
 #include "Osc/OscIo.h"
 #include <catch2/catch.hpp>
 #include <arpa/inet.h>
@@ -510,4 +512,50 @@ TEST_CASE("cli: a set list with two arms, in render and play: the cue hears both
     std::printf("play --setlist, two arms: duo RMS left arm raised %.4f, hanging %.4f\n", rmsOf(playUp, 1.0, 1.9), rmsOf(playDown, 1.0, 1.9));
     CHECK(rmsOf(playUp, 1.0, 1.9) > 0.01);
     CHECK(rmsOf(playDown, 1.0, 1.9) < 0.001);
+}
+
+TEST_CASE("cli: play --calibrate-mount-left: the guided mount calibration of the left arm's OSC sender", "[cli][twoarms][osc][mount]")
+{
+    // The left sensor strapped on at an arbitrary rotation M (v_device = M · v_sensor). It sends
+    // /armadillo/imu (gyro, accel: specific force) while the arm holds the first calibration pose
+    // (level ahead: up is the device's +y) for 2 s, then the second (hanging down: up is −x).
+    const Eigen::Quaterniond strap = Eigen::Quaterniond(0.3, -0.5, 0.7, 0.2).normalized();
+    const double g = 9.80665;
+    const int port = freeLoopbackPort();
+    const std::string out = path("left-mount-calibrated.json");
+    std::remove(out.c_str());
+    std::atomic<bool> done {false};
+    std::thread sending([&] {
+        device::OscSender sender(device::HostPort {"127.0.0.1", port});
+        const auto start = std::chrono::steady_clock::now();
+        while (!done.load()) {
+            const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            const Eigen::Vector3d up = t < 2.0 ? Eigen::Vector3d(0.0, g, 0.0) : Eigen::Vector3d(-g, 0.0, 0.0);
+            const Eigen::Vector3d a = strap.conjugate() * up;   // in the sensor's own axes
+            const std::vector<device::OscArg> args {device::OscArg::float32(0.0f), device::OscArg::float32(0.0f), device::OscArg::float32(0.0f),
+                                                    device::OscArg::float32(static_cast<float>(a.x())), device::OscArg::float32(static_cast<float>(a.y())),
+                                                    device::OscArg::float32(static_cast<float>(a.z()))};
+            const std::vector<std::uint8_t> packet = device::encodeOscMessage("/armadillo/imu", args);
+            sender.sendPacket(packet.data(), packet.size());
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+    });
+    const Run r = runArmadilloWithin(60.0, "play --scene theremin-duo --simulate --osc-in-left " + std::to_string(port) + " --calibrate-mount-left '" + out +
+                                               "' --seconds 4.5 --no-audio");
+    done.store(true);
+    sending.join();
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK(r.err.find("left arm mount calibration pose 2") != std::string::npos);
+    CHECK(r.err.find("left arm mount calibration written to") != std::string::npos);
+    const device::Mount solved = device::loadMount(out);
+    const double err = angleDeg(solved.rotation, strap);
+    std::printf("play --calibrate-mount-left: the left sensor's strap recovered within %.3f deg\n", err);
+    CHECK(err < 1.0);
+    CHECK(solved.device.find("127.0.0.1:") == 0);
+    // Mistakes: with --mount-left, without --osc-in-left, without a file.
+    const std::string p = std::to_string(port);
+    CHECK(runArmadillo("play --scene theremin --simulate --osc-in-left " + p + " --mount-left ngimu --calibrate-mount-left x.json --seconds 1 --no-audio").code == 2);
+    CHECK(runArmadillo("play --scene theremin --simulate --calibrate-mount-left x.json --seconds 1 --no-audio").code == 2);
+    CHECK(runArmadillo("play --scene theremin --simulate --osc-in-left " + p + " --calibrate-mount-left '' --seconds 1 --no-audio").code == 2);
 }
