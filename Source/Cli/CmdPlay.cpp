@@ -157,25 +157,36 @@ struct GuidedMount {
     }
 };
 
-/// What a port or OSC source that delivered no sensor data did send, in words naming it.
-std::string noDataMessage(device::LiveSession& session, const device::LiveConfig& config, double seconds)
+/// The left arm's usable sensor packets so far (its device's, or its OSC sender's samples).
+std::uint64_t leftPackets(device::LiveSession& session)
+{
+    if (device::OscReceiver* osc = session.leftOscReceiver()) return osc->stats().imu + osc->stats().orientation;
+    return session.leftLink() ? session.leftLink()->stats().packets : 0;
+}
+
+/// What a port or OSC source that delivered no sensor data did send, in words naming it (`left`:
+/// the left arm's source, `--port-left` or `--osc-in-left`).
+std::string noDataMessage(device::LiveSession& session, const device::LiveConfig& config, double seconds, bool left = false)
 {
     char within[64];
     std::snprintf(within, sizeof within, "%.1f s", seconds);
-    if (config.source == device::LiveConfig::Source::Port) {
-        const device::LinkStats l = session.deviceLink() ? session.deviceLink()->stats() : device::LinkStats {};
-        std::string m = "no sensor data from " + config.port + " (" + std::to_string(config.baud) + " baud) within " + within + ": ";
+    const bool port = left ? config.leftSource == device::LiveConfig::LeftSource::Port : config.source == device::LiveConfig::Source::Port;
+    if (port) {
+        device::DeviceLink* link = left ? session.leftLink() : session.deviceLink();
+        const device::LinkStats l = link ? link->stats() : device::LinkStats {};
+        std::string m = std::string(left ? "the left arm: " : "") + "no sensor data from " + (left ? config.leftPort : config.port) + " (" +
+                        std::to_string(left ? config.leftBaud : config.baud) + " baud) within " + within + ": ";
         if (l.bytesIn == 0)
             return m + "not a byte was heard. Is the device switched on, and is this its port? ('armadillo ports' lists them)";
         return m + std::to_string(l.bytesIn) + " bytes were heard but no valid sensor packet (" + std::to_string(l.badPackets) +
                " bad packets, " + std::to_string(l.resyncs) + " resyncs, " + std::to_string(l.discardedBytes) +
                " bytes discarded): is the baud rate right (--baud), and is it an ARMadillo board?";
     }
-    device::OscReceiver* osc = session.oscReceiver();
+    device::OscReceiver* osc = left ? session.leftOscReceiver() : session.oscReceiver();
     const device::OscInputStats o = osc ? osc->stats() : device::OscInputStats {};
     const bool serial = osc && !osc->serialPath().empty();
-    std::string m = "no usable sensor data on " +
-                    (serial ? "serial port " + osc->serialPath() + " (SLIP-framed OSC)" : "UDP/TCP port " + std::to_string(session.oscInPort())) +
+    std::string m = std::string(left ? "the left arm: " : "") + "no usable sensor data on " +
+                    (serial ? "serial port " + osc->serialPath() + " (SLIP-framed OSC)" : "UDP/TCP port " + std::to_string(osc ? osc->port() : 0)) +
                     " within " + within + ": ";
     if (o.datagrams == 0)
         return m + (serial ? std::string("not a message arrived. Is the NGIMU switched on, and is this its port? ('armadillo ports' lists them)")
@@ -244,8 +255,9 @@ int runPlay(const Arguments& args)
                                                 "repeatable; docs/INSTRUMENTS.md); the stems are played out together"},
                     {"--loop", "", "with --audio-in or --stem: start the recording again at its end (without it, the session\n"
                                    "ends with the recording unless --seconds ends it first)"},
-                    {"--data-timeout", "SECONDS", "with --port or --osc-in: no usable sensor data within this time is an error naming\n"
-                                                  "the port and what was heard instead (exit 4; default 5, 0 = wait for ever)"},
+                    {"--data-timeout", "SECONDS", "with --port or --osc-in (and --port-left, --osc-in-left): no usable sensor data from\n"
+                                                  "either arm within this time is an error naming the port and what was heard instead\n"
+                                                  "(exit 4; default 5, 0 = wait for ever)"},
                     {"--tactile", "T.csv", "every motor packet: t,m1..m9; the last row is the all-off sent at the end"},
                     {"--log", "SESSION.csv", "one row per sensor packet: t, raw counts, calibrated SI values, qw,qx,qy,qz"},
                     {"--osc-out", "HOST:PORT", "send orientation, pose, gyro, motors and gestures as OSC; with --map, the target of\n"
@@ -426,7 +438,8 @@ int runPlay(const Arguments& args)
             throw UsageError("--loop repeats the --audio-in recording: use it with --audio-in or --stem");
         const double dataTimeout = cl.number("--data-timeout", 5.0);
         if (!(dataTimeout >= 0.0 && dataTimeout <= 3600.0)) throw UsageError("--data-timeout must lie in 0..3600 s");
-        if (cl.has("--data-timeout") && config.source == device::LiveConfig::Source::Simulator)
+        const bool leftNeedsData = config.leftSource == device::LiveConfig::LeftSource::Port || config.leftSource == device::LiveConfig::LeftSource::Osc;
+        if (cl.has("--data-timeout") && config.source == device::LiveConfig::Source::Simulator && !leftNeedsData)
             throw UsageError("--data-timeout applies to --port and --osc-in (the simulator always sends)");
 
         const std::string calibrateOut = cl.value("--calibrate");
@@ -583,6 +596,10 @@ int runPlay(const Arguments& args)
                 noData = noDataMessage(session, config, dataTimeout);
                 break;
             }
+            if (leftNeedsData && dataTimeout > 0.0 && elapsed >= dataTimeout && leftPackets(session) == 0) {   // the left arm's source too
+                noData = noDataMessage(session, config, dataTimeout, true);
+                break;
+            }
             if (session.recordingEnded()) {
                 recordingEnded = true;
                 break;
@@ -716,6 +733,8 @@ int runPlay(const Arguments& args)
         session.stop();
         if (needsData && dataTimeout > 0.0 && noData.empty() && session.summary().packets == 0)
             noData = noDataMessage(session, config, session.summary().seconds);
+        if (leftNeedsData && dataTimeout > 0.0 && noData.empty() && leftPackets(session) == 0)
+            noData = noDataMessage(session, config, session.summary().seconds, true);
         if (!noData.empty()) {   // nothing was played: no file is written
             std::cout << device::summaryJson(session.summary()) << "\n" << std::flush;
             throw IoError(noData);

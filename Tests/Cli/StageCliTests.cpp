@@ -324,6 +324,11 @@ TEST_CASE("cli: play --osc-in-left: an OSC sender as the left arm, with its own 
     CHECK(runArmadillo("play --scene theremin --simulate --osc-in-left " + p + " --osc-format-left kazoo --seconds 1 --no-audio").code == 2);
     CHECK(runArmadillo("play --scene theremin --simulate --osc-in-left " + p + " --calibration-left x.json --seconds 1 --no-audio").code == 2);
     CHECK(runArmadillo("play --scene theremin --simulate --osc-in-left " + p + " --mount-left /nonexistent/m.json --seconds 1 --no-audio").code == 4);
+    // A left sender that sends nothing is no session (as a right-arm source): exit 4, naming its port.
+    const Run silent = runArmadilloWithin(60.0, "play --scene theremin-duo --simulate --osc-in-left " + p + " --data-timeout 1 --seconds 5 --no-audio");
+    CHECK(silent.code == 4);
+    CHECK(silent.err.find("the left arm: no usable sensor data on UDP/TCP port " + p) != std::string::npos);
+    CHECK(silent.err.find("not a datagram arrived") != std::string::npos);
     const Run badMount = runArmadillo("play --scene theremin --simulate --osc-in-left " + p + " --mount-left '" +
                                       file("bad-left-mount.json", "{\"mount\": {\"quaternion\": [0, 0, 0, 0]}}") + "' --seconds 1 --no-audio");
     CHECK(badMount.code == 3);
