@@ -473,6 +473,13 @@ TEST_CASE("render --motion-left --map: each arm's sources from its own file, the
     Run r = runArmadillo("map check '" + map + "'");
     CHECK(r.code == 0);
     CHECK_THAT(r.out, Catch::Contains("\"two_arm_mappings\":3"));
+    r = runArmadillo("map show '" + map + "'");   // written back with the same names, and read back
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("\"left.elevation\"") && Catch::Contains("\"arms.angle\"") && Catch::Contains("\"arms.raised\""));
+    CHECK(runArmadillo("map check '" + file("two-arm-map-shown.json", r.out) + "'").code == 0);
+    r = runArmadillo("map check '" + file("two-arm-bad.json", "{\"version\": 1, \"mappings\": [\n  {\"source\": \"left.arms.angle\", \"to\": {\"macro\": 1}}]}") + "'");
+    CHECK(r.code == 3);
+    CHECK_THAT(r.err, Catch::Contains("two-arm-bad.json:2: column 14: mappings[0].source") && Catch::Contains("unknown source \"left.arms.angle\""));
     const std::string mid = path("two-arms.mid");
     r = runArmadillo("render --scene theremin-duo --motion '" + file("two-right.csv", posesCsv(right)) + "' --motion-left '" +
                      file("two-left.csv", posesCsv(left)) + "' --map '" + map + "' --midi-out '" + mid + "'");
