@@ -258,13 +258,12 @@ MotorLevels LiveSession::control(double t, const SensorCounts* counts, const Imu
         live::LiveImu sample;
         for (std::size_t waiting = leftInput_.imuWaiting(); waiting > static_cast<std::size_t>(live::ControlLoop::kMaxImuPerStep) && leftInput_.popImu(sample);)
             --waiting;
-        bool fused = false;
-        for (int i = 0; i < live::ControlLoop::kMaxImuPerStep && leftInput_.popImu(sample); ++i, fused = true)
-            leftArm_ = leftTracker_->update(live::toImuSample(sample));
+        int fused = 0;
+        for (; fused < live::ControlLoop::kMaxImuPerStep && leftInput_.popImu(sample); ++fused) leftArm_ = leftTracker_->update(live::toImuSample(sample));
         // A sender that fuses itself (an OSC orientation, no IMU samples): its newest orientation, once.
         const std::uint64_t seen = leftOrientation_.serial;
         leftOrientation_ = leftInput_.latest(leftOrientation_);
-        if (!fused && leftOrientation_.serial != 0 && leftOrientation_.serial != seen)
+        if (fused == 0 && leftOrientation_.serial != 0 && leftOrientation_.serial != seen)
             leftArm_ = leftTracker_->updateOrientation(leftOrientation_.t, Eigen::Quaterniond(leftOrientation_.w, leftOrientation_.x, leftOrientation_.y, leftOrientation_.z));
         if (leftArm_.valid) leftPose_.store(leftArm_.features.pose);
     }
