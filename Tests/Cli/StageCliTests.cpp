@@ -564,3 +564,39 @@ TEST_CASE("cli: play --calibrate-mount-left: the guided mount calibration of the
     CHECK(runArmadillo("play --scene theremin --simulate --calibrate-mount-left x.json --seconds 1 --no-audio").code == 2);
     CHECK(runArmadillo("play --scene theremin --simulate --osc-in-left " + p + " --calibrate-mount-left '' --seconds 1 --no-audio").code == 2);
 }
+
+TEST_CASE("cli: play --osc-in-left with an IMU sender: the left arm's own fusion follows the sensor", "[cli][twoarms][osc]")
+{
+    // The left sender sends /armadillo/imu of a still forearm at pose P (gravity as specific
+    // force, a 65°-dip field, no rotation); the left arm's SR-UKF must settle on P.
+    const Pose p {25.0, 120.0, -30.0};
+    const Eigen::Quaterniond q = poseToQuaternion(p);
+    const double dip = 65.0 * 3.14159265358979323846 / 180.0;
+    const Eigen::Vector3d a = q.conjugate() * Eigen::Vector3d(0.0, 9.80665, 0.0);
+    const Eigen::Vector3d m = q.conjugate() * Eigen::Vector3d(0.0, -std::sin(dip), -std::cos(dip));   // earth: X east, Y up, Z south
+    const int port = freeLoopbackPort();
+    std::atomic<bool> done {false};
+    std::thread sending([&] {
+        device::OscSender sender(device::HostPort {"127.0.0.1", port});
+        std::vector<device::OscArg> args(3, device::OscArg::float32(0.0f));
+        for (const Eigen::Vector3d* v : {&a, &m})
+            for (int k = 0; k < 3; ++k) args.push_back(device::OscArg::float32(static_cast<float>((*v)[k])));
+        const std::vector<std::uint8_t> packet = device::encodeOscMessage("/armadillo/imu", args);
+        while (!done.load()) {
+            sender.sendPacket(packet.data(), packet.size());
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+    });
+    const Run r = runArmadilloWithin(60.0, "play --scene theremin-duo --simulate --osc-in-left " + std::to_string(port) + " --seconds 3 --no-audio --arms-log '" +
+                                               path("osc-imu-arms.csv") + "'");
+    done.store(true);
+    sending.join();
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const CsvTable arms = CsvTable::read(path("osc-imu-arms.csv"));
+    REQUIRE(arms.rowCount() > 100);
+    const std::size_t last = arms.rowCount() - 1;
+    const double err = angleDeg(Eigen::Quaterniond(arms.value(last, 5), arms.value(last, 6), arms.value(last, 7), arms.value(last, 8)), q);
+    std::printf("play --osc-in-left, IMU sender at a still pose: left orientation %.2f deg from it after 3 s\n", err);
+    CHECK(err < 2.0);
+}
