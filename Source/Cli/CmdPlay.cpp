@@ -203,8 +203,7 @@ int runPlay(const Arguments& args)
 {
     return guarded("play", [&] {
         CommandLine cl(
-            "play", "--scene SCENE (--port NAME | --simulate [--motion FILE] | --osc-in PORT) [--motion-left FILE | --port-left NAME |\n"
-                    "--osc-in-left PORT] [options]",
+            "play", "--scene SCENE (--port NAME | --simulate [--motion FILE] | --osc-in PORT) [options]",
             "The live engine, headless: sensor packets from a serial device (thesis protocol), the built-in\n"
             "simulated forearm or OSC (/armadillo/imu, /armadillo/orientation, or a phone app or NGIMU: see\n"
             "docs/SENSORS.md) go through calibration,\n"
