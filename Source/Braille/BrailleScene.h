@@ -55,6 +55,12 @@ public:
     virtual int trainingTrialCount() const noexcept = 0;
     virtual std::string trainingPrompt(int trial) const = 0;
     virtual std::string trainingExpected(int trial) const = 0;   ///< the right answer, lower case
+    /// "Here" answered by the arm (the hold stage's push, Braille/ArmPush.h): how many so far,
+    /// and the last one's trial and score. Any thread, lock-free; the scene publishes these
+    /// before the trial that follows (read trainingTrial() first, as for the score).
+    virtual int trainingArmAnswers() const noexcept { return 0; }
+    virtual int trainingLastArmTrial() const noexcept { return -1; }
+    virtual bool trainingLastArmRight() const noexcept { return false; }
 };
 
 /// Default text when SceneConfig::text is empty (the plugin's scene choice starts with it).

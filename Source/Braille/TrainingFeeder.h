@@ -25,10 +25,11 @@ struct TrainingNotice {
     std::string answer;      ///< Result: what was handed to the scene (trimmed)
     std::string expected;    ///< Result: the right answer
     bool right = false;      ///< Result
+    bool byArm = false;      ///< Result: "here" answered by the arm (a push), not typed
 };
 
 /// "correct" or "wrong, it was 'x'" (the wording of the command line and the app; never "right",
-/// which is also an answer of the sides stage).
+/// which is also an answer of the sides stage); an answer by the arm adds " (here, by the arm)".
 std::string resultText(const TrainingNotice& result);
 
 class TrainingAnswerFeeder {
@@ -60,7 +61,7 @@ private:
     std::deque<std::string> lines_;
     std::string submitted_;
     bool awaiting_ = false, finished_ = false;
-    int announced_ = -1, submittedAt_ = -1, rightBefore_ = 0;
+    int announced_ = -1, submittedAt_ = -1, rightBefore_ = 0, armSeen_ = 0;
 };
 
 } // namespace armadillo::braille
