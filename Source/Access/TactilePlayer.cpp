@@ -22,8 +22,10 @@ int TactilePlayer::play(std::vector<TactileSegment> segments, double after)
     return queued_.fetch_add(1) + 1;
 }
 
-MotorLevels TactilePlayer::onPacket(double t) noexcept
+MotorLevels TactilePlayer::onPacket(double t, double rollRate) noexcept
 {
+    if (const ArmGesture g = twist_.update(t, rollRate); g == ArmGesture::Repeat) repeats_.fetch_add(1, std::memory_order_relaxed);
+    else if (g == ArmGesture::Skip) skips_.fetch_add(1, std::memory_order_relaxed);
     double dt = packetPeriod_;
     if (packetPeriod_ <= 0.0) dt = lastT_ < 0.0 ? 0.0 : std::clamp(t - lastT_, 0.0, 0.1);
     lastT_ = t;

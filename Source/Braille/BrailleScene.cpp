@@ -183,6 +183,10 @@ public:
                 out.events.emit("answer", right ? 1.0f : 0.0f);
                 if (training_->finished()) out.events.emit("training-done", static_cast<float>(training_->correctCount()));
             }
+            if (restartTrial_.exchange(false, std::memory_order_acq_rel)) {
+                training_->restartTrial();
+                shown_ = {};
+            }
             // The hold stage's "here" by the arm: a push along the forearm (ArmPush.h). The
             // detector follows every sample so its gravity baseline is ready when a hold comes.
             if (push_.update(t_, in.arm.valid ? in.arm.accel.x() : kNaN, in.arm.gyro.norm()) && !training_->finished() &&
@@ -251,6 +255,12 @@ public:
         return training_->trials()[static_cast<std::size_t>(trial)].expected;
     }
 
+    std::string trainingStage(int trial) const override
+    {
+        if (!training_ || trial < 0 || trial >= trainingTrialCount()) return {};
+        return trainingStageName(training_->trials()[static_cast<std::size_t>(trial)].stage);
+    }
+    void restartTrainingTrial() noexcept override { restartTrial_.store(true, std::memory_order_release); }
     int trainingArmAnswers() const noexcept override { return armAnswers_.load(std::memory_order_acquire); }
     int trainingLastArmTrial() const noexcept override { return lastArmTrial_.load(std::memory_order_relaxed); }
     bool trainingLastArmRight() const noexcept override { return lastArmRight_.load(std::memory_order_relaxed); }
@@ -366,7 +376,7 @@ private:
     std::unique_ptr<TrainingSession> training_;
     std::atomic<int> trialShown_ {0}, trialsRight_ {0};   // published by control() for the UI
     std::atomic<int> armAnswers_ {0}, lastArmTrial_ {-1};  // "here" by the arm, published likewise
-    std::atomic<bool> lastArmRight_ {false};
+    std::atomic<bool> lastArmRight_ {false}, restartTrial_ {false};
     PushDetector push_;
     SpscQueue<AnswerText, 16> answers_;
     BurstPlayer player_;

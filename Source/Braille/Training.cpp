@@ -384,6 +384,16 @@ bool TrainingSession::answer(double t, std::string_view given)
     return score(t, given, shown_);
 }
 
+void TrainingSession::restartTrial() noexcept
+{
+    if (!started_ || finished()) return;
+    ReadingCursor& cursor = cursors_[static_cast<std::size_t>(index_)];
+    cursor.rewind();
+    reading_.setCursor(&cursor);
+    shown_ = {};
+    previous_ = {};
+}
+
 bool TrainingSession::answerHere(double t, double pushStart)
 {
     if (!started_) start(t);

@@ -119,6 +119,9 @@ public:
     /// have rolled the arm on by a step). Logs a `gesture` row ("push"), then the answer row.
     /// False (and nothing logged) when the current trial is not a hold trial. Real-time.
     bool answerHere(double t, double pushStart);
+    /// Shows the current trial again from its first row (nothing logged: the rows shown next
+    /// are). Real-time.
+    void restartTrial() noexcept;
 
     RollReader& roll() noexcept { return reading_.roll(); }
     int correctCount() const noexcept { return correct_; }

@@ -95,6 +95,7 @@ std::vector<TrainingNotice> TrainingAnswerFeeder::poll(BrailleSceneControls& sce
         n.answered = trial;
         n.answer = "here";
         n.expected = scene.trainingExpected(n.trial);
+        n.stage = scene.trainingStage(n.trial);
         n.right = scene.trainingLastArmRight();
         n.byArm = true;
         if (awaiting_ && submittedAt_ == n.trial) {
@@ -112,6 +113,7 @@ std::vector<TrainingNotice> TrainingAnswerFeeder::poll(BrailleSceneControls& sce
         n.answered = trial;
         n.answer = submitted_;
         n.expected = scene.trainingExpected(submittedAt_);
+        n.stage = scene.trainingStage(submittedAt_);
         n.right = correct > rightBefore_;
         out.push_back(std::move(n));
         awaiting_ = false;
@@ -136,6 +138,8 @@ std::vector<TrainingNotice> TrainingAnswerFeeder::poll(BrailleSceneControls& sce
         n.correct = correct;
         n.answered = trial;
         n.prompt = scene.trainingPrompt(trial);
+        n.expected = scene.trainingExpected(trial);
+        n.stage = scene.trainingStage(trial);
         out.push_back(std::move(n));
         announced_ = trial;
     }

@@ -23,7 +23,8 @@ struct TrainingNotice {
     int answered = 0;        ///< answers scored so far, this one included
     std::string prompt;      ///< Prompt: what the teacher says ("left, right or both?")
     std::string answer;      ///< Result: what was handed to the scene (trimmed)
-    std::string expected;    ///< Result: the right answer
+    std::string expected;    ///< Result and Prompt: the right answer
+    std::string stage;       ///< Result and Prompt: the trial's stage ("sides", "letters", …)
     bool right = false;      ///< Result
     bool byArm = false;      ///< Result: "here" answered by the arm (a push), not typed
 };
