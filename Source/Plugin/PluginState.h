@@ -35,6 +35,12 @@ inline const juce::Identifier readerVoice {"readerVoice"};   ///< "auto" | "on" 
 inline const juce::Identifier speechRate {"speechRate"};     ///< −100..100, 0 = the voice's default
 inline const juce::Identifier armFeedback {"armFeedback"};   ///< bool: training feedback felt on the arm (Access/Feedback.h)
 inline const juce::Identifier touchProfile {"touchProfile"}; ///< the reader's touch profile (its JSON, Link/TouchProfile.h), "" = none
+// The app's adaptive braille training (AdaptiveSession.h; the CLI's --trials --stages --method --level)
+inline const juce::Identifier adaptiveTrials {"adaptiveTrials"};   ///< 1..10000 (20)
+inline const juce::Identifier adaptiveStages {"adaptiveStages"};   ///< comma list of letters, words, signs, contractions
+inline const juce::Identifier adaptiveMethod {"adaptiveMethod"};   ///< rows | whole | columns | dots
+inline const juce::Identifier adaptiveLevel {"adaptiveLevel"};     ///< 1..15 (8)
+inline const juce::Identifier readerProfile {"readerProfile"};     ///< the reader profile file (Access/ReaderProfile.h), "" = none
 } // namespace SettingIds
 
 namespace PluginState {
