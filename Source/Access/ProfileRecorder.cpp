@@ -27,10 +27,14 @@ void ProfileRecorder::record(const std::string& stage, const std::string& expect
     a.correct = correct;
     a.rt = rt;
     a.t = t;
-    profile_.answers.push_back(std::move(a));
-    if (t > 0.0) profile_.sessions.back().seconds = std::max(profile_.sessions.back().seconds, t);
+    // The file as it is now: another session (the adaptive training) may have saved it since.
+    ReaderProfile now = loadReaderProfile(path_);
+    auto it = std::find_if(now.sessions.begin(), now.sessions.end(), [&](const ReaderSession& x) { return x.session == session_; });
+    if (it == now.sessions.end()) it = now.sessions.insert(now.sessions.end(), profile_.sessions.back());
+    if (t > 0.0) it->seconds = std::max(it->seconds, t);
+    now.answers.push_back(std::move(a));
+    saveReaderProfile(path_, now);
     ++recorded_;
-    saveReaderProfile(path_, profile_);
 }
 
 } // namespace armadillo::access

@@ -15,7 +15,8 @@ public:
     /// the new session, so an unreadable or unwritable file is refused now (InputError, IoError).
     ProfileRecorder(std::string path, std::string method, std::string date);
     /// One answer (stage, expected and answer as the training logs them; rt and t in s, < 0 =
-    /// unknown; t also extends the session's length). Saves; IoError when it cannot.
+    /// unknown; t also extends the session's length), added to the file as it is now (another
+    /// session may have saved it meanwhile). Saves; InputError / IoError when it cannot.
     void record(const std::string& stage, const std::string& expected, const std::string& answer, bool correct, double rt, double t);
     int session() const noexcept { return session_; }
     const std::string& path() const noexcept { return path_; }

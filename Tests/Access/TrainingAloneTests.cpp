@@ -118,9 +118,18 @@ TEST_CASE("profile recorder: the §4.4.1 answers become one session of the reade
     ProfileRecorder second(path, "rows", "2026-01-02T00:00:00Z");
     CHECK(second.session() == 2);
     second.record("hold", "here", "here", true, -1.0, 1.0);
+    // Another session saves the file meanwhile (the app's adaptive training): nothing is lost.
+    auto other = loadReaderProfile(path);
+    other.sessions.push_back({3, "2026-01-02T00:05:00Z", "dots", 60.0});
+    other.answers.push_back({3, "letters", "dots", "k", "k", true, 1.0, 2.0});
+    saveReaderProfile(path, other);
+    second.record("letters", "e", "i", false, 2.0, 90.0);
     const auto saved = loadReaderProfile(path);
-    CHECK(saved.answers.size() == 3);
-    CHECK(saved.sessions.size() == 2);
+    CHECK(saved.answers.size() == 5);
+    CHECK(saved.sessions.size() == 3);
+    CHECK(saved.answers[3].session == 3);
+    CHECK(saved.answers[4].session == 2);
+    CHECK(saved.sessions[1].seconds == Approx(90.0));
     std::remove(path.c_str());
     CHECK_THROWS(ProfileRecorder("/nonexistent-dir/reader.json", "rows", "x"));
 }

@@ -551,16 +551,28 @@ TEST_CASE("Adaptive training in the app: trials drawn on the arm, answers kept i
 }
 
 namespace {
-/// Reads a CSV log into rows of fields (no quoted commas in these logs).
+/// Reads a CSV log into rows of fields (RFC 4180 quoting: a motor list "2,5,8" is one field).
 std::vector<std::vector<std::string>> csvRows(const std::string& text)
 {
     std::vector<std::vector<std::string>> rows;
     std::istringstream in(text);
     for (std::string line; std::getline(in, line);) {
-        std::vector<std::string> f;
-        std::istringstream l(line);
-        for (std::string x; std::getline(l, x, ',');) f.push_back(x);
-        if (! line.empty() && line.back() == ',') f.push_back("");
+        std::vector<std::string> f(1);
+        bool quoted = false;
+        for (std::size_t i = 0; i < line.size(); ++i) {
+            const char c = line[i];
+            if (quoted) {
+                if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') f.back() += '"', ++i;
+                else if (c == '"') quoted = false;
+                else f.back() += c;
+            } else if (c == '"') {
+                quoted = true;
+            } else if (c == ',') {
+                f.emplace_back();
+            } else {
+                f.back() += c;
+            }
+        }
         rows.push_back(f);
     }
     return rows;
