@@ -27,6 +27,7 @@ bool PushDetector::update(double t, double a, double rate) noexcept
         if (e * sign_ < -p_.accel) {   // the stop: the other way
             sign_ = 0;
             armed_ = false;
+            if (t - firstAt_ < p_.minPush) return false;   // too soon: a tap
             firedAt_ = t;
             return true;
         }

@@ -6,8 +6,9 @@
 // same). Here gravity's forearm-axis component is the accelerometer's own, low-passed while no
 // push is in progress (so no orientation or sign convention is needed, and a slow change of
 // posture moves the baseline with it); a push is that component's departure beyond `accel` one
-// way, then beyond `accel` the other way (the stop) within `maxPush` s, with the angular rate
-// below `maxRate` throughout. It fires once, on the way back; another push is taken only after
+// way, then beyond `accel` the other way (the stop) between `minPush` and `maxPush` s later, with
+// the angular rate below `maxRate` throughout (a tap on the device swings both ways within a few
+// ms: too soon). It fires once, on the way back; another push is taken only after
 // `refractory` s and a calm arm.
 // Not a push: reading by roll (rotation about the forearm axis leaves the axial component of
 // gravity alone), a twist (angular rate far above maxRate), a slow posture change (followed by
@@ -19,6 +20,7 @@ struct PushParams {
     double accel = 4.0;        ///< m/s² from gravity's forearm-axis component, each way (≈ 0.4 g)
     double maxRate = 1.5;      ///< rad/s (≈ 86 °/s): above it the arm turns; no push (twist: 3 rad/s)
     double maxPush = 0.5;      ///< s from the push out to the stop
+    double minPush = 0.06;     ///< s: a stop sooner than this is a tap or a knock on the device, not a push
     double baselineTau = 0.3;  ///< s: time constant of the gravity baseline
     double refractory = 0.6;   ///< s after a push before the next can start
 };

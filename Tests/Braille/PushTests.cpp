@@ -131,6 +131,21 @@ TEST_CASE("push: reading by roll, twists, slow posture changes and noise do not 
         s.rateNoise = 0.15;
         for (std::uint32_t seed : {1u, 2u, 3u}) CHECK(run(s, 60.0, seed).empty());
     }
+    SECTION("taps and knocks on the device: sharp, both ways within a few ms")
+    {
+        Stream s;
+        // Three knocks, each ±15 m/s² for 10 ms one way then 10 ms the other.
+        s.linear = [](double t) {
+            for (const double at : {1.0, 2.0, 3.0})
+                if (t >= at && t < at + 0.02) return t < at + 0.01 ? 15.0 : -15.0;
+            return 0.0;
+        };
+        CHECK(run(s, 4.0).empty());
+        PushParams noMinimum;   // (the probe: without the minimum push time each knock would be one)
+        noMinimum.minPush = 0.0;
+        PushDetector probe(noMinimum);
+        CHECK(run(s, 4.0, 1, &probe).size() == 3);
+    }
     SECTION("too slow to be a push: 6 cm out and back in 2 s")
     {
         Stream s;
