@@ -273,13 +273,16 @@ int runGuidedTraining(const CommandLine& cl)
     GuidedDevice device(cl.value("--port"), baud, cl.has("--simulate"), unpaced, player,
                         cl.has("--no-gestures") ? GuidedDevice::SensorHook {} : GuidedDevice::SensorHook(onSensor));
     int repeatsTaken = 0, skipsTaken = 0;
+    std::string armGesture;   // the gesture behind the last "?" / "-" (the log's gesture row)
     io.setExtraInput([&]() -> std::string {
         if (skips.load() > skipsTaken) {
             skipsTaken = skips.load();
+            armGesture = "two twists";
             return "-";
         }
         if (repeats.load() > repeatsTaken) {
             repeatsTaken = repeats.load();
+            armGesture = "twist";
             return "?";
         }
         return "";
@@ -312,6 +315,9 @@ int runGuidedTraining(const CommandLine& cl)
             shownAt = session.wall();
             io.prompt("trial " + header + ": " + trial.prompt, header + " " + trial.prompt);
             answer = io.readLine();
+            if (!armGesture.empty() && (answer == "?" || answer == "-"))   // it came from the arm
+                logRow(session.log(), session.now(), "gesture", &trial, n, "", -1, 0, 0, false, armGesture, -1);
+            armGesture.clear();
             if (answer == "?") continue;   // show it again
             if (answer == "-") break;
             if (cl.has("--chords")) {
