@@ -44,6 +44,12 @@ public:
     /// answering motor packet. `rollRate` (rad/s, the gyro's x: the forearm axis), when given,
     /// feeds the arm gestures (ArmGestures.h: a twist and back = repeat, two = skip).
     MotorLevels onPacket(double t, double rollRate = std::numeric_limits<double>::quiet_NaN()) noexcept;
+    /// Main thread (any time): the reader's touch profile as a gain per motor index (the player's
+    /// right-arm layout: index i = motor m(i+1), as device::touchProfileGains gives them), applied
+    /// to every segment's level before the engine's drive shaping and safety stage, as
+    /// TactileConfig::motorGain is in a scene (result clamped to 15; non-finite or negative = 1).
+    /// All 1 (the default) = none. The sensitivity test's player never gets one (raw thresholds).
+    void setMotorGains(const std::array<float, kMaxMotors>& gains) noexcept;
     /// Main thread: twists seen so far (the app's adaptive training takes them as repeat / skip).
     int repeats() const noexcept { return repeats_.load(std::memory_order_relaxed); }
     int skips() const noexcept { return skips_.load(std::memory_order_relaxed); }
@@ -57,6 +63,7 @@ private:
     std::atomic<double> clock_ {0.0};
     std::atomic<std::uint64_t> packets_ {0};
     std::atomic<int> repeats_ {0}, skips_ {0};
+    std::array<std::atomic<float>, kMaxMotors> gains_ {};
     TwistDetector twist_;   // link thread only
     // Link thread only.
     std::array<TactileSegment, 128> active_ {};

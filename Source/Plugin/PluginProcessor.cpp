@@ -365,6 +365,22 @@ void ArmadilloProcessor::applyVoiceSettings()
     if (voiceOn_) voice_->say("ARMadillo. Self-voicing on. F3 repeats, F4 stops speech.", true);
 }
 
+namespace {
+/// The reader's touch profile (the setting) on the training player, as every scene has it; none
+/// (all 1) when there is none or it does not parse.
+void fitToReader(access::TactilePlayer& player, const juce::ValueTree& settings)
+{
+    auto gains = TactileConfig::unitMotorGains();
+    if (const auto json = settings[SettingIds::touchProfile].toString(); json.isNotEmpty()) {
+        try {
+            gains = device::touchProfileGains(device::parseTouchProfile(json.toStdString(), "the touch profile setting"));
+        } catch (const std::exception&) {
+        }
+    }
+    player.setMotorGains(gains);
+}
+} // namespace
+
 AdaptiveChoices ArmadilloProcessor::adaptiveChoices() const
 {
     AdaptiveChoices c;
@@ -379,6 +395,7 @@ bool ArmadilloProcessor::beginAdaptive(const juce::File& readerProfile, juce::St
 {
     if (touchTest_.state() != TouchTestSession::State::Idle) endTouchTest(false);
     std::string reason;
+    fitToReader(feedbackPlayer_, settings_);   // the cells and cues felt alike on every motor, as in a scene
     control_.setStimulus(&feedbackPlayer_);   // before the first trial is queued: its cue plays at once
     if (! adaptive_.begin(readerProfile.getFullPathName().toStdString(), adaptiveChoices(), reason)) {
         control_.setStimulus(nullptr);
@@ -417,6 +434,7 @@ void ArmadilloProcessor::armFeedback(bool right, const std::string& expected)
 {
     if (! static_cast<bool>(settings_[SettingIds::armFeedback])) return;
     if (touchTest_.state() != TouchTestSession::State::Idle || adaptive_.state() != AdaptiveSession::State::Idle) return;
+    fitToReader(feedbackPlayer_, settings_);
     // Right / wrong, then (wrong) the right letters or words again, then the "next" cue.
     feedbackUntil_ = feedbackPlayer_.play(access::feedbackSequence(right, expected, 10.0f), 0.2);
     feedbackRestart_ = true;

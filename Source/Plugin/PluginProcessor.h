@@ -139,15 +139,15 @@ public:
     /// reader): Access/Feedback.h's "right" / "wrong" sensation in place of the scene's levels,
     /// then, when wrong and `expected` is letters or words, its cells drawn again (passive
     /// drawing, as the CLI's --arm-only), then the "next" cue (through its own TactileEngine and
-    /// SafetyStage; levels 4 and 10, well above any threshold, so the touch profile is not applied
-    /// to the two sensations). Until it has played armFeedbackPlaying() is true: the Training
+    /// SafetyStage, with the reader's touch profile as every scene has it). Until it has played
+    /// armFeedbackPlaying() is true: the Training
     /// panel holds the next prompt back, and the scene's trial starts again from its first row
     /// once it is over (so rows rolled past under the feedback are shown again).
     /// Not during the sensitivity test or the adaptive training. Message thread.
     void armFeedback(bool right, const std::string& expected = {});
     bool armFeedbackPlaying() const noexcept { return feedbackUntil_ > 0 && feedbackPlayer_.completed() < feedbackUntil_; }
     /// Adaptive training (AdaptiveSession.h; message thread): while it runs its cells and cues
-    /// take the motors in place of the scene. Its choices come from the settings
+    /// take the motors in place of the scene, with the reader's touch profile. Its choices come from the settings
     /// (adaptiveChoices(); SettingIds::adaptiveTrials …); the reader profile becomes the
     /// readerProfile setting (the Training panel adds its answers there too).
     AdaptiveSession& adaptive() noexcept { return adaptive_; }

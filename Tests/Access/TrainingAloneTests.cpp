@@ -148,3 +148,32 @@ TEST_CASE("session log: a row has the §4.4.1 log's thirteen columns", "[adaptiv
     CHECK(log == "0.25,gesture,letters,3,e,,,,,,,two twists,\n");
     CHECK(std::string(kSessionLogHeader) == "t,event,stage,trial,expected,prompt,posture,roll_deg,unit,step,motors,answer,correct\n");
 }
+
+TEST_CASE("tactile player: the reader's touch profile scales each motor's level before the engine", "[player]")
+{
+    TactilePlayer p(TactileConfig {}, 0.005);
+    auto gains = TactileConfig::unitMotorGains();
+    gains[0] = 1.5f;    // m1 felt weakly: raised
+    gains[2] = 0.5f;    // m3 felt strongly: lowered
+    gains[4] = -1.0f;   // refused: counts as 1
+    p.setMotorGains(gains);
+    TactileSegment s;
+    s.duration = 0.3;
+    s.motors = bit(0, 0) | bit(0, 2) | bit(1, 1);   // motors m1, m3, m5
+    s.level = 6.0f;
+    s.soft = true;   // no jump-start spike: the level asked is the level sent
+    p.play({s}, 0.0);
+    for (int i = 0; i < 200 && p.completed() < 1; ++i) (void) p.onPacket(0.0);
+    REQUIRE(p.completed() == 1);
+    CHECK(p.maxLevel(0) == 9);   // 6 × 1.5
+    CHECK(p.maxLevel(2) == 3);   // 6 × 0.5
+    CHECK(p.maxLevel(4) == 6);
+    gains.fill(1.0f);
+    gains[1] = 4.0f;   // clamped to the top level (the safety stage still has the last word)
+    p.setMotorGains(gains);
+    s.motors = bit(0, 1);
+    p.play({s}, 0.0);
+    for (int i = 0; i < 200 && p.completed() < 2; ++i) (void) p.onPacket(0.0);
+    CHECK(p.maxLevel(1) <= 15);
+    CHECK(p.maxLevel(1) >= 14);
+}
