@@ -1,8 +1,10 @@
 // The one-at-a-time answer feeder of live training (the CLI's and the app's), against the real
 // braille scene through the Scene API, and against a fake scene for what the real one cannot
 // be made to do on demand (a full answer queue).
+#define ARMADILLO_REALTIME_GUARD_IMPLEMENTATION
 #include "Braille/BrailleScene.h"
 #include "Braille/TrainingFeeder.h"
+#include "Common/RealtimeGuard.h"
 #include "TestArm.h"
 #include <catch2/catch.hpp>
 #include <sstream>
@@ -364,4 +366,44 @@ TEST_CASE("Feeder: 'here' answered by a push of the arm in the hold stage, logge
         }
     CHECK(gestures == 2);
     CHECK(loggedAnswers(s.controls->trainingLogCsv()).back() == "here");
+}
+
+TEST_CASE("The scene's control in training stays real-time: typed answers, a push's answer, a trial restarted", "[braille][training][realtime]")
+{
+    using armadillo::test::RealtimeGuard;
+    REQUIRE(RealtimeGuard::installed());
+    {
+        RealtimeGuard probe;   // the probe catches an allocation before a zero is trusted
+        int* volatile p = new int(5);
+        CHECK(probe.allocations() >= 1);
+        delete p;
+    }
+    TrainingScene s(7);
+    for (int i = 0; i < 10; ++i) s.feed(hangingArm(0.0, 0.0, 0.0));
+    int hold = 0;
+    while (s.controls->trainingExpected(hold) != "here") ++hold;
+    std::uint64_t allocations = 0, locks = 0;
+    auto guarded = [&](const ArmState& a) {
+        RealtimeGuard guard;
+        s.feed(a);
+        allocations += guard.allocations();
+        locks += guard.locks();
+    };
+    for (int i = 0; i < hold; ++i) {   // (submitted from this thread, outside the guard)
+        REQUIRE(s.controls->submitAnswer(s.controls->trainingExpected(i)));
+        guarded(hangingArm(0.0, 0.0, 0.0));
+        s.controls->collectTrainingLog();
+    }
+    REQUIRE(s.controls->trainingTrial() == hold);
+    s.controls->restartTrainingTrial();
+    for (int i = 0; i < 100; ++i) guarded(hangingArm(0.0, 0.0, 0.0));
+    for (int i = 0; i < 80; ++i) {   // the push (as pushArm), each update guarded
+        const double u = (i % 40) / 40.0, a = 0.06 / 0.04 * (60.0 * u - 180.0 * u * u + 120.0 * u * u * u);
+        guarded(hangingArm(0.0, 0.0, i < 40 ? a : -a));
+    }
+    for (int i = 0; i < 100; ++i) guarded(hangingArm(0.0, 0.0, 0.0));
+    CHECK(s.controls->trainingArmAnswers() == 1);
+    CHECK(s.controls->trainingTrial() == hold + 1);
+    CHECK(allocations == 0);
+    CHECK(locks == 0);
 }
