@@ -171,6 +171,7 @@ ReaderPanel::ReaderPanel(ArmadilloProcessor& processor) : processor_(processor)
 ReaderPanel::~ReaderPanel()
 {
     stopTimer();
+    adaptiveStages_.onFocusLost = nullptr;   // no announcement from a field being destroyed
     adaptiveAnswer_.removeKeyListener(&adaptiveKeys_);
     if (processor_.adaptive().state() != AdaptiveSession::State::Idle) processor_.endAdaptive();
     if (processor_.touchTest().state() != TouchTestSession::State::Idle) processor_.endTouchTest(false);   // the motors back to the scene
