@@ -15,7 +15,8 @@ const char* const kTypeHere = "type the answer, then Return";
 const char* const kHint = "Feel what the arm shows, type the answer, press Return.";
 const char* const kKeys = "Keys: Return sends (Backspace corrects first); F2 Perkins chords (S D F J K L, Space answers); "
                           "F5 repeats the prompt; F6 skips (counts as wrong); F8 stops the training; F3 says it again, "
-                          "F4 hushes; Escape leaves the panel; Tab stays inside it.";
+                          "F4 hushes; Escape leaves the panel; Tab stays inside it. In the hold stage a push of the forearm "
+                          "along its axis and back answers here.";
 } // namespace
 
 TrainingPanel::TrainingPanel(ArmadilloProcessor& processor) : processor_(processor)
