@@ -56,7 +56,9 @@ public:
                 std::cerr << "  " << braille::resultText(n) << "\n";
                 if (voice_) voice_->note(braille::resultText(n));
             } else if (n.kind == braille::TrainingNotice::Kind::Prompt) {
-                std::cerr << "braille training " << n.trial + 1 << "/" << n.trialCount << ": " << n.prompt << "\n";
+                // The hold stage is also answered by the arm: a push along the forearm (Braille/ArmPush.h).
+                const std::string how = scene_.trainingExpected(n.trial) == "here" ? " (type here, or push the forearm along its axis and back)" : "";
+                std::cerr << "braille training " << n.trial + 1 << "/" << n.trialCount << ": " << n.prompt << how << "\n";
                 if (voice_) voice_->prompt("trial " + std::to_string(n.trial + 1) + " of " + std::to_string(n.trialCount) + ": " + n.prompt);
             }
         }

@@ -54,7 +54,8 @@ void BlockControl::step(double dt, double wall, bool toMotors, const Transport& 
     live::ControlResult result = loop_.tick(s);   // swap-in, parameters, fusion, Engine::control
     if (! result.ran) return;
     if (auto* stimulus = stimulus_.load(std::memory_order_acquire))
-        result.levels = stimulus->onPacket(clock_ + dt);   // the sensitivity test has the motors
+        // The sensitivity test or the training has the motors; the roll rate feeds its arm gestures.
+        result.levels = stimulus->onPacket(clock_ + dt, result.arm.valid ? result.arm.gyro.x() : std::nan(""));
     if (toMotors) {
         motors_.push(stamp, result.levels);   // full (no link consuming): dropped and counted
         lastStamp_ = stamp;

@@ -5,6 +5,7 @@
 #include "Plugin/PluginEditor.h"
 #include <algorithm>
 #include <iostream>
+#include <utility>
 
 namespace armadillo::plugin {
 
@@ -290,6 +291,8 @@ void ArmadilloProcessor::timerCallback()
     training_.collect();   // keeps a braille training log's queue drained while no panel asks for it
     if (feedbackUntil_ > 0 && feedbackPlayer_.completed() >= feedbackUntil_) {
         feedbackUntil_ = 0;
+        if (std::exchange(feedbackRestart_, false))   // the trial from its first row, now felt
+            training_.with([](braille::BrailleSceneControls& scene, std::uint64_t) { scene.restartTrainingTrial(); });
         if (touchTest_.state() == TouchTestSession::State::Idle && adaptive_.state() == AdaptiveSession::State::Idle)
             control_.setStimulus(nullptr);   // the scene has the motors again
     }
@@ -428,16 +431,44 @@ void ArmadilloProcessor::applyVoiceSettings()
     if (voiceOn_) voice_->say("ARMadillo. Self-voicing on. F3 repeats, F4 stops speech.", true);
 }
 
-bool ArmadilloProcessor::beginAdaptive(const juce::File& readerProfile, int trials, juce::String& why)
+namespace {
+/// The reader's touch profile (the setting) on the training player, as every scene has it; none
+/// (all 1) when there is none or it does not parse.
+void fitToReader(access::TactilePlayer& player, const juce::ValueTree& settings)
+{
+    auto gains = TactileConfig::unitMotorGains();
+    if (const auto json = settings[SettingIds::touchProfile].toString(); json.isNotEmpty()) {
+        try {
+            gains = device::touchProfileGains(device::parseTouchProfile(json.toStdString(), "the touch profile setting"));
+        } catch (const std::exception&) {
+        }
+    }
+    player.setMotorGains(gains);
+}
+} // namespace
+
+AdaptiveChoices ArmadilloProcessor::adaptiveChoices() const
+{
+    AdaptiveChoices c;
+    c.trials = static_cast<int>(settings_[SettingIds::adaptiveTrials]);
+    c.stages = settings_[SettingIds::adaptiveStages].toString().toStdString();
+    c.method = settings_[SettingIds::adaptiveMethod].toString().toStdString();
+    c.level = static_cast<int>(settings_[SettingIds::adaptiveLevel]);
+    return c;
+}
+
+bool ArmadilloProcessor::beginAdaptive(const juce::File& readerProfile, juce::String& why)
 {
     if (touchTest_.state() != TouchTestSession::State::Idle) endTouchTest(false);
     std::string reason;
+    fitToReader(feedbackPlayer_, settings_);   // the cells and cues felt alike on every motor, as in a scene
     control_.setStimulus(&feedbackPlayer_);   // before the first trial is queued: its cue plays at once
-    if (! adaptive_.begin(readerProfile.getFullPathName().toStdString(), trials, reason)) {
+    if (! adaptive_.begin(readerProfile.getFullPathName().toStdString(), adaptiveChoices(), reason)) {
         control_.setStimulus(nullptr);
         why = juce::String(reason);
         return false;
     }
+    settings_.setProperty(SettingIds::readerProfile, readerProfile.getFullPathName(), nullptr);
     return true;
 }
 
@@ -465,11 +496,14 @@ void ArmadilloProcessor::endTouchTest(bool keep)
     touchTest_.cancel();
 }
 
-void ArmadilloProcessor::armFeedback(bool right)
+void ArmadilloProcessor::armFeedback(bool right, const std::string& expected)
 {
     if (! static_cast<bool>(settings_[SettingIds::armFeedback])) return;
     if (touchTest_.state() != TouchTestSession::State::Idle || adaptive_.state() != AdaptiveSession::State::Idle) return;
-    feedbackUntil_ = feedbackPlayer_.play(access::feedbackSensation(right, 10.0f), access::feedbackPause(right));
+    fitToReader(feedbackPlayer_, settings_);
+    // Right / wrong, then (wrong) the right letters or words again, then the "next" cue.
+    feedbackUntil_ = feedbackPlayer_.play(access::feedbackSequence(right, expected, 10.0f), 0.2);
+    feedbackRestart_ = true;
     control_.setStimulus(&feedbackPlayer_);
 }
 

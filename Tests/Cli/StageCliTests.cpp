@@ -143,9 +143,10 @@ TEST_CASE("cli: render --motion-left: two arms, the left arm's motors and both o
 }
 
 namespace {
-/// RMS angle (deg) between each logged orientation and the motion file's pose at that time
-/// (linear in time between rows; the simulator loops the file), after the first second.
-double rmsAgainstMotion(const CsvTable& log, int qwColumn, const CsvTable& motion)
+/// RMS angle (deg) between each logged orientation and the motion file's pose at the log's time
+/// minus `lag` s (linear in time between rows; the simulator loops the file), after the first
+/// second.
+double rmsAgainstMotion(const CsvTable& log, int qwColumn, const CsvTable& motion, double lag)
 {
     const auto rows = readPoses(motion);
     const double period = rows.back().t;
@@ -154,7 +155,7 @@ double rmsAgainstMotion(const CsvTable& log, int qwColumn, const CsvTable& motio
     for (std::size_t r = 0; r < log.rowCount(); ++r) {
         const double t = log.value(r, 0);
         if (t < 1.0 || !std::isfinite(log.value(r, qwColumn))) continue;
-        const double u = std::fmod(t, period);
+        const double u = std::fmod(t - lag, period);
         std::size_t k = 0;
         while (k + 2 < rows.size() && rows[k + 1].t <= u) ++k;
         const double f = std::clamp((u - rows[k].t) / (rows[k + 1].t - rows[k].t), 0.0, 1.0);
@@ -168,6 +169,23 @@ double rmsAgainstMotion(const CsvTable& log, int qwColumn, const CsvTable& motio
         ++n;
     }
     return n > 0 ? std::sqrt(sum / n) : 1e9;
+}
+
+/// The same at the lag (0…300 ms, 5 ms steps) that fits best: a live run's log is stamped on the
+/// session's clock, the simulator reads the file on its own, and how far the two are apart
+/// depends on how busy the machine is — the fit takes that out, so what is compared is the
+/// fusion's accuracy, not the scheduling. Returns the error; `lagOut` the lag.
+double rmsAgainstMotionAligned(const CsvTable& log, int qwColumn, const CsvTable& motion, double& lagOut)
+{
+    double best = 1e9;
+    for (int k = 0; k <= 60; ++k) {
+        const double e = rmsAgainstMotion(log, qwColumn, motion, k * 0.005);
+        if (e < best) {
+            best = e;
+            lagOut = k * 0.005;
+        }
+    }
+    return best;
 }
 } // namespace
 
@@ -193,14 +211,17 @@ TEST_CASE("cli: play with two simulated arms logs two independent orientations, 
     const CsvTable arms = CsvTable::read(path("two-arms.csv"));
     const CsvTable ra = CsvTable::read(path("right-alone.csv")), la = CsvTable::read(path("left-alone.csv"));
     REQUIRE(arms.rowCount() > 300);
-    const double eRight = rmsAgainstMotion(arms, 1, CsvTable::read(right)), eLeft = rmsAgainstMotion(arms, 5, CsvTable::read(left));
-    const double eRightAlone = rmsAgainstMotion(ra, ra.requireColumn("qw"), CsvTable::read(right));
-    const double eLeftAlone = rmsAgainstMotion(la, la.requireColumn("qw"), CsvTable::read(left));
-    std::printf("play, two simulated arms: RMS orientation error right %.2f deg (alone %.2f), left %.2f deg (alone %.2f)\n", eRight, eRightAlone, eLeft,
-                eLeftAlone);
-    // Within the accuracy of one arm alone: no worse than alone by more than half (live runs
-    // differ in timing; the error here is mostly the simulator's lag against the file's time)
-    // plus half a degree. Measured 1.34° vs 1.32° (right) and 4.16° vs 3.49° (left).
+    double lagR = 0, lagL = 0, lagRA = 0, lagLA = 0;
+    const double eRight = rmsAgainstMotionAligned(arms, 1, CsvTable::read(right), lagR);
+    const double eLeft = rmsAgainstMotionAligned(arms, 5, CsvTable::read(left), lagL);
+    const double eRightAlone = rmsAgainstMotionAligned(ra, ra.requireColumn("qw"), CsvTable::read(right), lagRA);
+    const double eLeftAlone = rmsAgainstMotionAligned(la, la.requireColumn("qw"), CsvTable::read(left), lagLA);
+    std::printf("play, two simulated arms: RMS orientation error right %.2f deg at lag %.0f ms (alone %.2f at %.0f ms), left %.2f deg at %.0f ms "
+                "(alone %.2f at %.0f ms)\n",
+                eRight, lagR * 1e3, eRightAlone, lagRA * 1e3, eLeft, lagL * 1e3, eLeftAlone, lagLA * 1e3);
+    // Within the accuracy of one arm alone: no worse than alone by more than half plus one
+    // degree, each log aligned in time to its file first (the unaligned error was mostly the
+    // run's scheduling and failed now and then on a loaded machine).
     CHECK(eRight <= 1.5 * eRightAlone + 1.0);
     CHECK(eLeft <= 1.5 * eLeftAlone + 1.0);
     CHECK(eRight < 5.0);
