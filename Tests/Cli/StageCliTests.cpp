@@ -171,14 +171,14 @@ double rmsAgainstMotion(const CsvTable& log, int qwColumn, const CsvTable& motio
     return n > 0 ? std::sqrt(sum / n) : 1e9;
 }
 
-/// The same at the lag (0…300 ms, 5 ms steps) that fits best: a live run's log is stamped on the
+/// The same at the lag (−150…300 ms, 5 ms steps) that fits best: a live run's log is stamped on the
 /// session's clock, the simulator reads the file on its own, and how far the two are apart
 /// depends on how busy the machine is — the fit takes that out, so what is compared is the
 /// fusion's accuracy, not the scheduling. Returns the error; `lagOut` the lag.
 double rmsAgainstMotionAligned(const CsvTable& log, int qwColumn, const CsvTable& motion, double& lagOut)
 {
     double best = 1e9;
-    for (int k = 0; k <= 60; ++k) {
+    for (int k = -30; k <= 60; ++k) {
         const double e = rmsAgainstMotion(log, qwColumn, motion, k * 0.005);
         if (e < best) {
             best = e;
