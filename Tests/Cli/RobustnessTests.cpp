@@ -3,6 +3,7 @@
 // 3 bad input, 4 device or I/O), that the message names the input at fault, that nothing is
 // written, and that the program neither crashes nor hangs (every run is killed after a bound,
 // which then fails the exit-code check). Sizes are bounded; nothing is timed.
+#include "Common/FreePort.h"
 #include "CliRun.h"
 #include "Core/Csv.h"
 #include "Core/Errors.h"
@@ -67,20 +68,6 @@ void runCases(const std::vector<Case>& cases)
         CHECK(r.code == c.code);
         CHECK(r.err.find(c.names) != std::string::npos);
     }
-}
-
-/// A UDP port free right now on loopback.
-int freeUdpPort()
-{
-    const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
-    sockaddr_in a {};
-    a.sin_family = AF_INET;
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
-    socklen_t len = sizeof a;
-    ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
-    ::close(fd);
-    return ntohs(a.sin_port);
 }
 
 /// An OSC 1.0 message (address, type tags, big-endian float32 arguments), written here from the
@@ -204,7 +191,7 @@ TEST_CASE("robustness: a missing or unreadable input file of any kind exits 4 na
          cli::workDir().string()},
         {"calibration JSON", "play --scene monitor --simulate --seconds 1 --no-audio --calibration /nonexistent/cal.json", 4,
          "/nonexistent/cal.json"},
-        {"mount JSON", "play --scene monitor --osc-in " + std::to_string(freeUdpPort()) + " --seconds 1 --no-audio --mount /nonexistent/m.json",
+        {"mount JSON", "play --scene monitor --osc-in " + std::to_string(test::freeUdpPort()) + " --seconds 1 --no-audio --mount /nonexistent/m.json",
          4, "/nonexistent/m.json"},
         {"fuse input", "fuse --in /nonexistent/imu.csv --out " + q(cli::path("rb-f.csv")), 4, "/nonexistent/imu.csv"},
         {"braille .brf", "braille --brf /nonexistent/x.brf", 4, "/nonexistent/x.brf"},
@@ -378,7 +365,7 @@ TEST_CASE("robustness: malformed files of every kind exit 3 naming the file (and
     cases.push_back({"duplicate key: line and column", playCal + q(cli::path("c-duplicate.json")), 3,
                      "c-duplicate.json:2: at column 14: duplicate key \"accel\""});
     // Mount JSON.
-    const int port = freeUdpPort();
+    const int port = test::freeUdpPort();
     cases.push_back({"mount, quaternion 1e200", "play --scene monitor --no-audio --seconds 0.5 --osc-in " + std::to_string(port) + " --mount " +
                                                    q(cli::file("mt-big.json", "{\"mount\": {\"quaternion\": [1e200, 0, 0, 0]}}")),
                      3, "mt-big.json"});
@@ -591,14 +578,14 @@ TEST_CASE("robustness: play --port on a port that sends nothing, or only noise, 
 TEST_CASE("robustness: play --osc-in with no sender, or only garbage, says what was heard and exits 4", "[cli][robust][play][osc]")
 {
     {
-        const int port = freeUdpPort();
+        const int port = test::freeUdpPort();
         const Run r = cli::runArmadilloWithin(kBound, "play --scene monitor --no-audio --data-timeout 1 --osc-in " + std::to_string(port));
         CHECK(r.code == 4);
         CHECK(r.err.find("no usable sensor data on UDP/TCP port " + std::to_string(port) + " within 1.0 s") != std::string::npos);
         CHECK(r.err.find("not a datagram arrived") != std::string::npos);
     }
     {
-        const int port = freeUdpPort();
+        const int port = test::freeUdpPort();
         UdpSender sender(port);
         sender.run(0.2, 3.0, 5, [](int n) { return randomBytes(static_cast<std::size_t>(1 + n % 200), static_cast<unsigned>(n)); });
         const Run r = cli::runArmadilloWithin(kBound, "play --scene monitor --no-audio --data-timeout 1.5 --osc-in " + std::to_string(port));
@@ -608,7 +595,7 @@ TEST_CASE("robustness: play --osc-in with no sender, or only garbage, says what 
     {
         // --data-timeout 0: waiting is the user's choice; no data is then no error.
         const Run r = cli::runArmadilloWithin(kBound, "play --scene monitor --no-audio --data-timeout 0 --seconds 0.5 --osc-in " +
-                                                          std::to_string(freeUdpPort()));
+                                                          std::to_string(test::freeUdpPort()));
         CHECK(r.code == 0);
     }
 }
@@ -618,7 +605,7 @@ TEST_CASE("robustness: the OSC flood guard holds from the first packet", "[cli][
     // 200 IMU messages every 10 ms (20 000/s, a hundred times a phone's rate; still 4000/s should
     // a loaded machine stretch the pause to 50 ms) from the start, for 0.6 s: before this issue
     // the first second let all of them through.
-    const int port = freeUdpPort();
+    const int port = test::freeUdpPort();
     UdpSender sender(port);
     const std::string imu = oscMessage("/armadillo/imu", {0.01f, 0.0f, 0.0f, 0.0f, 9.8f, 0.0f, 20.0f, 0.0f, -40.0f});
     sender.run(0.8, 0.6, 200, [&](int) { return imu; });
@@ -643,7 +630,7 @@ TEST_CASE("robustness: serial noise and malformed datagrams never crash or hang 
     CHECK((serial.code == 0 || serial.code == 4));
     CHECK(serial.out.find("\"packets\":") != std::string::npos);
     // Truncated, oversized and mistyped OSC messages among good ones.
-    const int osc = freeUdpPort();
+    const int osc = test::freeUdpPort();
     UdpSender sender(osc);
     const std::string good = oscMessage("/armadillo/imu", {0.0f, 0.0f, 0.0f, 0.0f, 9.8f, 0.0f, 20.0f, 0.0f, -40.0f});
     sender.run(0.3, 1.2, 2, [&](int n) -> std::string {

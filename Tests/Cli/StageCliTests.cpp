@@ -1,5 +1,6 @@
 // `armadillo render --setlist` as a user runs it: the cue changes heard in the WAV, and every
 // mistake refused with its exit code (2 usage, 3 bad input) and a message naming the problem.
+#include "Common/FreePort.h"
 #include "CliRun.h"
 #include "Core/AtomicFile.h"
 #include "Core/Csv.h"
@@ -234,20 +235,6 @@ TEST_CASE("cli: play with two simulated arms logs two independent orientations, 
 }
 
 namespace {
-/// A UDP port free right now on loopback.
-int freeLoopbackPort()
-{
-    const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
-    sockaddr_in a {};
-    a.sin_family = AF_INET;
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
-    socklen_t len = sizeof a;
-    ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
-    ::close(fd);
-    return ntohs(a.sin_port);
-}
-
 /// Runs `armadillo ARGS` while OSC senders on loopback send /armadillo/orientation at 100 Hz,
 /// each the quaternion its function gives for the seconds since sending began. (The pacing
 /// only keeps the rate sane; what the test checks does not depend on it.)
@@ -289,7 +276,7 @@ TEST_CASE("cli: play --osc-in-left: an OSC sender as the left arm, with its own 
     std::string r = "t,elevation,azimuth,roll\n";
     for (int i = 0; i <= 200; ++i) r += std::to_string(i / 100.0) + ",10,0,0\n";
     const std::string right = file("osc-left-right.csv", r);
-    const int port = freeLoopbackPort();
+    const int port = test::freeUdpPort();
     const Run run = playWithSenders("play --scene theremin-duo --simulate --motion '" + right + "' --osc-in-left " + std::to_string(port) +
                                         " --mount-left '" + mountFile + "' --seconds 5 --no-audio --arms-log '" + path("osc-left-arms.csv") + "'",
                                     {{port, [&](double t) { return t < 2.5 ? qa : qb; }}});
@@ -324,7 +311,7 @@ TEST_CASE("cli: play --osc-in-left: an OSC sender as the left arm, with its own 
     CHECK(rightWorst < 5.0);
 
     // Both arms OSC senders, each on its own port, each logged as sent.
-    const int rightPort = freeLoopbackPort(), leftPort = freeLoopbackPort() + 1;
+    const int rightPort = test::freeUdpPort(), leftPort = test::freeUdpPort() + 1;
     const Eigen::Quaterniond qr = poseToQuaternion(Pose {35.0, 20.0, -10.0});
     const Run both = playWithSenders("play --scene theremin-duo --osc-in " + std::to_string(rightPort) + " --osc-in-left " + std::to_string(leftPort) +
                                          " --seconds 2 --no-audio --arms-log '" + path("osc-both-arms.csv") + "'",
@@ -547,7 +534,7 @@ TEST_CASE("cli: play --calibrate-mount-left: the guided mount calibration of the
     // (level ahead: up is the device's +y) for 2 s, then the second (hanging down: up is −x).
     const Eigen::Quaterniond strap = Eigen::Quaterniond(0.3, -0.5, 0.7, 0.2).normalized();
     const double g = 9.80665;
-    const int port = freeLoopbackPort();
+    const int port = test::freeUdpPort();
     const std::string out = path("left-mount-calibrated.json");
     std::remove(out.c_str());
     std::atomic<bool> done {false};
@@ -595,7 +582,7 @@ TEST_CASE("cli: play --osc-in-left with an IMU sender: the left arm's own fusion
     const double dip = 65.0 * 3.14159265358979323846 / 180.0;
     const Eigen::Vector3d a = q.conjugate() * Eigen::Vector3d(0.0, 9.80665, 0.0);
     const Eigen::Vector3d m = q.conjugate() * Eigen::Vector3d(0.0, -std::sin(dip), -std::cos(dip));   // earth: X east, Y up, Z south
-    const int port = freeLoopbackPort();
+    const int port = test::freeUdpPort();
     std::atomic<bool> done {false};
     std::thread sending([&] {
         device::OscSender sender(device::HostPort {"127.0.0.1", port});

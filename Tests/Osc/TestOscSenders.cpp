@@ -6,6 +6,7 @@
 // also drives the plugin's OSC source class (Source/Plugin/OscLink: plain C++, built here without
 // JUCE). Sending is paced in real time (the receiver stamps arrivals); the assertions are on the
 // logged results, never on timing.
+#include "Common/FreePort.h"
 #include "Core/Csv.h"
 #include "Core/Pose.h"
 #include "Core/Types.h"
@@ -41,19 +42,6 @@ namespace {
 
 constexpr double kFieldMicroTesla = 50.0;
 constexpr double kDipDeg = 65.0;
-
-int freeUdpPort()
-{
-    const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
-    sockaddr_in a {};
-    a.sin_family = AF_INET;
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
-    socklen_t len = sizeof a;
-    ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
-    ::close(fd);
-    return ntohs(a.sin_port);
-}
 
 class Udp {
 public:
@@ -632,7 +620,7 @@ std::string slurp(const std::string& path)
 
 Outcome runScenarioOnce(const Scenario& sc, std::uint32_t seed)
 {
-    const int port = freeUdpPort();
+    const int port = test::freeUdpPort();
     const std::string base = std::string(ARMADILLO_BINARY_DIR) + "/osc-sender-" + sc.name;
     const std::string log = base + ".csv", errPath = base + ".err", outPath = base + ".out";
     const double seconds = 7.0;
@@ -793,7 +781,7 @@ TEST_CASE("osc senders: the plugin's OSC source detects the NGIMU and delivers d
 {
     plugin::LiveInput live;
     plugin::OscInput input(live);
-    const int port = freeUdpPort();
+    const int port = test::freeUdpPort();
     std::string why;
     REQUIRE(input.configure(true, port, why));
     Truth w;
@@ -884,7 +872,7 @@ TEST_CASE("osc senders: a dropout stays a gap in the log; the mount calibration 
 
 TEST_CASE("osc senders: play refuses a bad --osc-format, --mount or --calibrate-mount with a clear exit code", "[osc][senders][cli]")
 {
-    const std::string port = std::to_string(freeUdpPort());
+    const std::string port = std::to_string(test::freeUdpPort());
     auto run = [](const std::string& args) {
         const std::string cmd = std::string("'") + ARMADILLO_BINARY_DIR + "/bin/armadillo' play --scene monitor --no-audio --seconds 0.2 " + args +
                                 " >/dev/null 2>&1";
@@ -917,7 +905,7 @@ TEST_CASE("osc senders: play refuses a bad --osc-format, --mount or --calibrate-
 
 TEST_CASE("osc senders: nothing usable within --data-timeout ends play with exit 4, naming what was heard", "[osc][senders][cli]")
 {
-    const int port = freeUdpPort();
+    const int port = test::freeUdpPort();
     const std::string err = std::string(ARMADILLO_BINARY_DIR) + "/osc-sender-nothing.err";
     std::thread junk([port] {
         Udp udp(port);
