@@ -54,6 +54,7 @@ public:
     /// mount detected). Returns "" or what was refused (the left arm is then off).
     juce::String configureLeftArmOsc(bool enabled, int port);
     LeftArm& leftArm() noexcept { return leftArm_; }
+    bool leftArmOn() const noexcept { return leftArm_.on(); }
     OscInput& leftOscInput() noexcept { return leftOscIn_; }
     device::OscInputStats leftOscInputStats() const { return leftOscIn_.stats(); }
     std::uint64_t oscMessagesSent() const noexcept { return oscOut_.messagesSent(); }

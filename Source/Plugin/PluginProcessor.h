@@ -168,7 +168,7 @@ public:
     std::uint64_t sourceSamples(SourceKind kind) const;
     /// The left arm (docs/STAGE.md "Two arms"): whether its OSC sender is in use and listened to,
     /// its port, and the orientation/IMU messages it delivered so far.
-    bool leftArmOn() noexcept { return connections_.leftArm().on(); }
+    bool leftArmOn() const noexcept { return connections_.leftArmOn(); }
     int leftArmPort() const { return static_cast<int>(settings_[SettingIds::leftArmOscPort]); }
     std::uint64_t leftArmSamples() const;
     /// Audio blocks processed so far (counts only: a host or sound card that stops calling
