@@ -53,7 +53,7 @@ double duoRms(ControlLoop& loop, ArmTracker& left, double leftElevation, int ste
             if (violations != nullptr) *violations += guard.allocations() + guard.deallocations() + guard.locks() + guard.throws();
         }
         if (i >= steps / 2) {
-            for (float v : l) sum += double(v) * v;
+            for (float v : l) sum += double(v) * double(v);
             counted += 240;
         }
     }

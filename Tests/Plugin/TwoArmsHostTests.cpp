@@ -67,7 +67,7 @@ Block sendAndRender(Hosted& h, armadillo::device::OscSender& sender, const armad
     h.plugin->processBlock(buffer, midi);
     Block b;
     double s = 0.0;
-    for (int i = 0; i < kBlock; ++i) s += double(buffer.getSample(0, i)) * buffer.getSample(0, i);
+    for (int i = 0; i < kBlock; ++i) s += double(buffer.getSample(0, i)) * double(buffer.getSample(0, i));
     b.rms = std::sqrt(s / kBlock);
     for (const auto m : midi) b.midi.emplace_back(m.data, m.data + m.numBytes);
     juce::MessageManager::getInstance()->runDispatchLoopUntil(1);
