@@ -140,8 +140,9 @@ ControlResult ControlLoop::tick(const ControlStep& step) noexcept
         arm = fuse(input(step.source));
     }
     result.arm = arm;
-    result.levels = step.cues != nullptr ? step.cues->control(arm, step.transport, dt)
-                                         : engine.control(arm, step.transport, dt, step.motorOnTime);
+    if (step.cues != nullptr) result.levels = step.cues->control(arm, step.transport, dt);
+    else if (step.leftArm != nullptr && engine.twoArms()) result.levels = engine.control(arm, *step.leftArm, step.transport, dt);
+    else result.levels = engine.control(arm, step.transport, dt, step.motorOnTime);
     result.ran = true;
     return result;
 }

@@ -55,6 +55,10 @@ struct ControlStep {
     /// The front end is in panic (docs/STAGE.md): the engine (and every cue) is panicked before
     /// its control() runs, so an engine swapped in at this step is all-off from its first step.
     bool panic = false;
+    /// Two arms (docs/STAGE.md): the left arm's state this step, fused by the front end from its
+    /// own source (null: one arm). An engine built with EngineConfig::twoArms hears both arms
+    /// (Engine::control(right, left, …)); any other engine, and a set list's cues, the right one.
+    const ArmState* leftArm = nullptr;
 };
 
 struct ControlResult {

@@ -51,6 +51,7 @@ void BlockControl::step(double dt, double wall, bool toMotors, const Transport& 
     s.dt = dt;
     s.cues = cues_;              // a set list's cues run in place of the engine
     s.panic = panicApplied_;
+    s.leftArm = leftArm_ != nullptr ? leftArm_->fuse() : nullptr;   // null: one arm
     live::ControlResult result = loop_.tick(s);   // swap-in, parameters, fusion, Engine::control
     if (! result.ran) return;
     if (auto* stimulus = stimulus_.load(std::memory_order_acquire))
@@ -100,6 +101,7 @@ void BlockControl::step(double dt, double wall, bool toMotors, const Transport& 
     mapping::MappingInput in;
     in.t = clock_;
     in.arm[0] = &result.arm;
+    in.arm[1] = s.leftArm;
     in.scene = engine.sceneValues();
     in.gestures = stepGestures_.data();
     in.gestureCount = gestureCount;

@@ -18,6 +18,7 @@
 #include "Live/ControlLoop.h"
 #include "Mapping/Mapper.h"
 #include "Plugin/ControlToken.h"
+#include "Plugin/LeftArm.h"
 #include "Plugin/MappingOutputs.h"
 #include "Plugin/MidiPort.h"
 #include "Plugin/OscLink.h"
@@ -59,6 +60,10 @@ public:
     /// Before the control side runs: the stage (set list, panic, MIDI stage messages; Stage.h).
     /// Its commands act at the start of the next block (or idle step), never mid-block.
     void setStage(Stage* stage) noexcept { stage_ = stage; }
+    /// Before the control side runs: the left arm (LeftArm.h, docs/STAGE.md "Two arms"). While it
+    /// is on, each step fuses it and hands it to the engine (Engine::control with both arms when
+    /// the engine was built with twoArms) and to the mapping (`left.*`, `arms.*` sources).
+    void setLeftArm(LeftArm* arm) noexcept { leftArm_ = arm; }
     /// The app's sensitivity test (TouchTestSession.h, issue 26): while set, each control step's
     /// levels come from this player (its own TactileEngine and SafetyStage) instead of the
     /// scene's; nullptr gives the motors back to the scene. Any thread; the player must outlive
@@ -187,6 +192,7 @@ private:
     const SceneParameterTable* sceneTable_ = nullptr;
     MidiPort* port_ = nullptr;
     Stage* stage_ = nullptr;
+    LeftArm* leftArm_ = nullptr;
     live::CuePlayer* cues_ = nullptr;   ///< token holder: the set list's player this block (null: none)
     bool panicApplied_ = false;         ///< token holder: the stage's panic as applied
     std::uint64_t frameSerial_ = 0;

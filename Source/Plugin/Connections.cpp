@@ -21,7 +21,7 @@ private:
 };
 
 Connections::Connections(live::ControlLoop& loop, BlockControl& control, device::LevelSchedule& motors)
-    : loop_(loop), control_(control), oscIn_(loop.input(SourceKind::Osc)),
+    : loop_(loop), control_(control), oscIn_(loop.input(SourceKind::Osc)), leftOscIn_(leftArm_.input()),
       device_(std::make_unique<DeviceConnection>(loop.input(SourceKind::Device), motors))
 {
 }
@@ -150,6 +150,14 @@ juce::String Connections::configureOsc(bool outEnabled, const juce::String& outH
     return networkStatus_;
 }
 
+juce::String Connections::configureLeftArmOsc(bool enabled, int port)
+{
+    std::string why;
+    const bool ok = leftOscIn_.configure(enabled, port, why);
+    leftArm_.setOn(enabled && ok);   // the control side fuses it (and the engine hears two arms) only while it listens
+    return ok ? juce::String() : "Left arm OSC in: " + juce::String(why) + ".";
+}
+
 // ------------------------------------------------------------------------------------------------
 // Device and guided calibration
 
@@ -238,6 +246,7 @@ juce::String Connections::linkStatus() const
       << juce::String(static_cast<juce::int64>(oscOut_.messagesSent())) << ", received "
       << juce::String(static_cast<juce::int64>(in.imu + in.orientation)) << " (bad " << juce::String(static_cast<juce::int64>(in.bad)) << ")";
     s << "\n" << juce::String(oscIn_.statusText());   // sender format, device, mount, refusals by kind
+    if (leftArm_.on()) s << "\nLeft arm " << juce::String(leftOscIn_.statusText());
     if (networkStatus_.isNotEmpty()) s << "\n" << networkStatus_;
     return s.trim();
 }

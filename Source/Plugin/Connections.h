@@ -20,6 +20,7 @@
 #include "Live/ControlLoop.h"
 #include "Plugin/BlockControl.h"
 #include "Plugin/DeviceConnection.h"
+#include "Plugin/LeftArm.h"
 #include "Plugin/MidiPort.h"
 #include "Plugin/OscLink.h"
 #include <juce_audio_processors/juce_audio_processors.h>
@@ -48,6 +49,14 @@ public:
     juce::String configureOsc(bool outEnabled, const juce::String& outHost, int outPort, bool inEnabled, int inPort,
                               const juce::String& inFormat, const juce::String& inMount);
     OscInput& oscInput() noexcept { return oscIn_; }
+    /// The left arm's OSC sender (docs/STAGE.md "Two arms"; message thread): on/off and its
+    /// port, the same dialects, detection and mount as the right arm's OSC input (format and
+    /// mount detected). Returns "" or what was refused (the left arm is then off).
+    juce::String configureLeftArmOsc(bool enabled, int port);
+    LeftArm& leftArm() noexcept { return leftArm_; }
+    bool leftArmOn() const noexcept { return leftArm_.on(); }
+    OscInput& leftOscInput() noexcept { return leftOscIn_; }
+    device::OscInputStats leftOscInputStats() const { return leftOscIn_.stats(); }
     std::uint64_t oscMessagesSent() const noexcept { return oscOut_.messagesSent(); }
     /// The mapping's OSC targets (index = mapping::OscPacket::target), opened here (message
     /// thread). Returns "" or which targets could not be used (their packets are dropped).
@@ -96,6 +105,8 @@ private:
     device::SteerableArm simulator_;
     OscOutput oscOut_;
     OscInput oscIn_;
+    LeftArm leftArm_;                  // before leftOscIn_: its mailbox outlives the receiver
+    OscInput leftOscIn_;
     std::mutex mappingOscMutex_;       // mapping OSC senders: message ↔ clock thread only
     std::vector<std::unique_ptr<device::OscSender>> mappingOsc_;
     std::atomic<std::uint64_t> mappingOscSent_ {0}, mappingOscDropped_ {0};

@@ -63,6 +63,15 @@ DevicePanel::DevicePanel(ArmadilloProcessor& processor)
     describe(oscInPort_, "OSC input port", "UDP port to listen on.");
     oscInPort_.setInputRestrictions(5, "0123456789");
     oscInPort_.getTextValue().referTo(settings.getPropertyAsValue(SettingIds::oscInPort, nullptr));
+    describe(leftArmOsc_, "Left arm OSC input",
+             "Listen for a second OSC sender as the left arm: two-arm scenes such as theremin-duo hear both arms, "
+             "and the mapping's left and arms sources send.");
+    leftArmOsc_.getToggleStateValue().referTo(settings.getPropertyAsValue(SettingIds::leftArmOsc, nullptr));
+    describe(leftArmPort_, "Left arm OSC input port", "UDP port the left arm's sender sends to.");
+    leftArmPort_.setInputRestrictions(5, "0123456789");
+    leftArmPort_.getTextValue().referTo(settings.getPropertyAsValue(SettingIds::leftArmOscPort, nullptr));
+    leftPortLabel_.setText("port", juce::dontSendNotification);
+    leftPortLabel_.attachToComponent(&leftArmPort_, true);
     hostLabel_.setText("host", juce::dontSendNotification);
     portLabel_.setText("port", juce::dontSendNotification);
     inPortLabel_.setText("port", juce::dontSendNotification);
@@ -107,7 +116,7 @@ DevicePanel::DevicePanel(ArmadilloProcessor& processor)
 
     for (juce::Component* c : std::initializer_list<juce::Component*> {&port_, &rescan_, &connect_, &calibration_, &calibrate_, &calibrationFile_, &connectOnStart_,
                                 &side_, &backMotors_, &link_, &oscOut_, &oscHost_, &oscPort_, &oscIn_, &oscInPort_,
-                                &oscFormat_, &oscMount_, &mountFile_, &calibrateMount_, &oscStatus_})
+                                &oscFormat_, &oscMount_, &mountFile_, &calibrateMount_, &leftArmOsc_, &leftArmPort_, &oscStatus_})
         addAndMakeVisible(*c);
     addChildComponent(calibrationPanel_);
     addChildComponent(mountPanel_);
@@ -233,7 +242,8 @@ void DevicePanel::timerCallback()
         const bool either = calibrating_ || mountCalibrating_;
         for (juce::Component* c : std::initializer_list<juce::Component*> {&link_, &oscHeading_, &oscOut_, &oscHost_, &oscPort_, &oscIn_, &oscInPort_,
                                                                             &hostLabel_, &portLabel_, &inPortLabel_, &oscFormat_, &oscMount_,
-                                                                            &formatLabel_, &mountLabel_, &mountFile_, &calibrateMount_, &oscStatus_})
+                                                                            &formatLabel_, &mountLabel_, &mountFile_, &calibrateMount_, &oscStatus_,
+                                                                            &leftArmOsc_, &leftArmPort_, &leftPortLabel_})
             c->setVisible(! either);
         if (either) startTimerHz(20); else startTimerHz(5);   // the Next button follows the data promptly
         resized();
@@ -316,6 +326,10 @@ void DevicePanel::resized()
     mountFile_.setBounds(l6.removeFromLeft(l6.getWidth() / 2 - 3));
     l6.removeFromLeft(6);
     calibrateMount_.setBounds(l6);
+    auto l7 = line();
+    leftArmOsc_.setBounds(l7.removeFromLeft(l7.getWidth() / 4));
+    l7.removeFromLeft(40);
+    leftArmPort_.setBounds(l7.removeFromLeft(l7.getWidth() / 4));
     oscStatus_.setBounds(r.removeFromTop(row * 2 + 3));
     oscStatus_.setFont(juce::Font(juce::jlimit(11.0f, 16.0f, row * 0.5f)));
 }

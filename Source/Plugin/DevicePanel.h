@@ -46,6 +46,10 @@ private:
     juce::ToggleButton oscOut_ {"OSC out"}, oscIn_ {"OSC in"};
     juce::TextEditor oscHost_, oscPort_, oscInPort_;
     juce::Label hostLabel_, portLabel_, inPortLabel_;
+    // Two arms (docs/STAGE.md): an OSC sender as the left arm, and its port.
+    juce::ToggleButton leftArmOsc_ {"Left arm OSC in"};
+    juce::TextEditor leftArmPort_;
+    juce::Label leftPortLabel_;
     // OSC sender format and mount (docs/SENSORS.md), and the input's status line.
     ChoiceBox oscFormat_, oscMount_;
     juce::Label formatLabel_, mountLabel_, oscStatus_;

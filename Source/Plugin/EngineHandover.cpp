@@ -23,6 +23,7 @@ std::unique_ptr<live::EngineSlot> EngineHandover::build(const EngineRequest& req
     config.sceneConfig.controlRateHz = kControlRateHz;
     config.sceneConfig.seed = 1;
     config.sceneConfig.side = request.left ? ArmSide::Left : ArmSide::Right;
+    config.twoArms = request.twoArms;   // issue 28: the left arm's own tactile engine and safety stage
     config.sceneConfig.text = request.text;
     config.sceneConfig.score = request.score;
     config.sceneConfig.stems = request.stems;   // audio-touch: the sidechain buses, one stem each

@@ -26,6 +26,7 @@ struct EngineRequest {
     double sampleRate = 48000.0;
     bool left = false;
     bool backMotors = false;
+    bool twoArms = false;       ///< the left arm is on (EngineConfig::twoArms)
     std::string text, score;
     std::string touchProfile;   ///< the reader's touch profile JSON ("" = none): EngineConfig::motorGain
     /// audio-touch's stems (SceneConfig::stems: the enabled sidechain buses' presets, in bus

@@ -97,11 +97,17 @@ void PerformanceView::refresh()
     s.sourceSamples = processor_.sourceSamples(s.source);
     s.deviceConnected = processor_.deviceConnected();
     s.audioBlocks = processor_.audioBlocks();
+    s.leftArmPort = processor_.leftArmOn() ? processor_.leftArmPort() : 0;
+    s.leftArmSamples = processor_.leftArmSamples();
     sourceTracker_.update(s);
     const bool automation = s.source == SourceKind::HostAutomation;
     const auto left = processor_.settings()[SettingIds::armSide].toString() == "left";
     const juce::String arm = sourceName(s.source) + (automation ? juce::String() : sourceTracker_.sourceSilent() ? " SILENT" : " live");
-    armLine_ = left ? "Left arm: " + arm + "   Right: none" : "Right arm: " + arm + "   Left: none";
+    if (s.leftArmPort > 0)   // two arms (issue 28): the left arm's OSC sender
+        armLine_ = "Right arm: " + arm + "   Left arm: OSC port " + juce::String(s.leftArmPort)
+                   + (sourceTracker_.leftArmSilent() ? " SILENT" : " live");
+    else
+        armLine_ = left ? "Left arm: " + arm + "   Right: none" : "Right arm: " + arm + "   Left: none";
     stateLine_ = info.panicked ? juce::String("PANIC - all off") : juce::String("Playing");
     const auto f = processor_.latestFrame();
     if (f.motors != levels_ || f.motorCount != motorCount_) {

@@ -303,6 +303,8 @@ void ArmadilloEditor::updateStatusLine()
     s.deviceConnected = processor_.deviceConnected();
     s.deviceName = processor_.settings()[SettingIds::serialPort].toString();
     s.oscPort = static_cast<bool>(processor_.settings()[SettingIds::oscInEnabled]) ? static_cast<int>(processor_.settings()[SettingIds::oscInPort]) : 0;
+    s.leftArmPort = processor_.leftArmOn() ? processor_.leftArmPort() : 0;   // issue 28: the left arm's sender
+    s.leftArmSamples = processor_.leftArmSamples();
     s.audioBlocks = processor_.audioBlocks();
     s.outputPeak = processor_.takeOutputPeak();
     s.listens = processor_.sceneListens();

@@ -63,6 +63,8 @@ ArmadilloProcessor::ArmadilloProcessor()
     // port for its MIDI (docs/PLUGIN.md "MIDI out").
     control_.setSceneTable(&sceneTable_);
     control_.setStage(&stage_);
+    control_.setLeftArm(&connections_.leftArm());
+    applyLeftArm();
     stage_.setCueNotes(static_cast<int>(settings_[SettingIds::cueNextNote]), static_cast<int>(settings_[SettingIds::cuePrevNote]));
     applyStageOsc();
     mapping_.setControlStopped(true);   // nothing runs the control step yet: install, not offer
@@ -125,6 +127,7 @@ EngineRequest ArmadilloProcessor::currentRequest() const
     r.text = settings_[SettingIds::brailleText].toString().toStdString();
     r.score = settings_[SettingIds::score].toString().toStdString();
     r.touchProfile = settings_[SettingIds::touchProfile].toString().toStdString();
+    r.twoArms = static_cast<bool>(settings_[SettingIds::leftArmOsc]);   // every scene hears the left arm too
     const auto& scenes = sceneTable_.scenes;
     if (r.scene >= 0 && r.scene < static_cast<int>(scenes.size()) && scenes[static_cast<std::size_t>(r.scene)].scene == "audio-touch") {
         std::lock_guard<std::mutex> lock(stemsMutex_);
@@ -395,6 +398,8 @@ void ArmadilloProcessor::valueTreePropertyChanged(juce::ValueTree&, const juce::
     } else if (id == SettingIds::midiChannel) {
         std::lock_guard<std::mutex> lock(mappingMutex_);
         if (mapping_.name() == "classic") mapping_.usePreset("classic");   // the classic wiring's channel
+    } else if (id == SettingIds::leftArmOsc || id == SettingIds::leftArmOscPort) {
+        applyLeftArm();
     } else if (id == SettingIds::stageOscEnabled || id == SettingIds::stageOscPort) {
         applyStageOsc();
     } else if (id == SettingIds::cueNextNote || id == SettingIds::cuePrevNote) {
@@ -520,6 +525,21 @@ void ArmadilloProcessor::applyNetworkSettings()
                               settings_[SettingIds::oscInMount].toString());
     std::lock_guard<std::mutex> lock(mappingMutex_);
     mapping_.setDefaultOscTarget(settings_[SettingIds::oscOutHost].toString(), static_cast<int>(settings_[SettingIds::oscOutPort]));
+}
+
+void ArmadilloProcessor::applyLeftArm()
+{
+    // The receiver opens (or closes) here; the engine is rebuilt with twoArms by the timer's
+    // request (currentRequest), and the control side fuses the left arm only while it listens.
+    const auto why = connections_.configureLeftArmOsc(static_cast<bool>(settings_[SettingIds::leftArmOsc]),
+                                                      static_cast<int>(settings_[SettingIds::leftArmOscPort]));
+    if (why.isNotEmpty()) setStatus(why);
+}
+
+std::uint64_t ArmadilloProcessor::leftArmSamples() const
+{
+    const auto in = connections_.leftOscInputStats();
+    return in.imu + in.orientation;
 }
 
 juce::String ArmadilloProcessor::mappingStatus() const

@@ -166,6 +166,11 @@ public:
     /// Samples the given source has delivered so far: the simulator's steps, the device link's
     /// good packets, OSC orientation/IMU messages (0 for host automation, which sends none).
     std::uint64_t sourceSamples(SourceKind kind) const;
+    /// The left arm (docs/STAGE.md "Two arms"): whether its OSC sender is in use and listened to,
+    /// its port, and the orientation/IMU messages it delivered so far.
+    bool leftArmOn() const noexcept { return connections_.leftArmOn(); }
+    int leftArmPort() const { return static_cast<int>(settings_[SettingIds::leftArmOscPort]); }
+    std::uint64_t leftArmSamples() const;
     /// Audio blocks processed so far (counts only: a host or sound card that stops calling
     /// processBlock stops it).
     std::uint64_t audioBlocks() const noexcept { return audioBlocks_.load(std::memory_order_relaxed); }
@@ -224,6 +229,7 @@ private:
     void writeLiveOrientationToParameters();
     void writeMacrosToParameters();
     void applyNetworkSettings();
+    void applyLeftArm();
     void applyVoiceSettings();
     std::unique_ptr<live::CuePlayer> buildCues(const live::SetList& list, double sampleRate) const;
     /// After a state was restored: the saved set list is used, or cleared with the reason.

@@ -39,6 +39,8 @@ juce::ValueTree defaultSettings()
     s.setProperty(SettingIds::cuePrevNote, 1, nullptr);   // Stage::kPrevNote
     s.setProperty(SettingIds::stageOscEnabled, false, nullptr);
     s.setProperty(SettingIds::stageOscPort, 9002, nullptr);
+    s.setProperty(SettingIds::leftArmOsc, false, nullptr);
+    s.setProperty(SettingIds::leftArmOscPort, 9003, nullptr);
     s.setProperty(SettingIds::adaptiveTrials, 20, nullptr);
     s.setProperty(SettingIds::adaptiveStages, "letters,words", nullptr);
     s.setProperty(SettingIds::adaptiveMethod, "rows", nullptr);
@@ -79,6 +81,7 @@ void installSettings(juce::ValueTree& settings, const juce::ValueTree& loaded)
     clampInt(SettingIds::cueNextNote, -1, 127, 0);
     clampInt(SettingIds::cuePrevNote, -1, 127, 1);
     clampInt(SettingIds::stageOscPort, 0, 65535, 9002);
+    clampInt(SettingIds::leftArmOscPort, 1, 65535, 9003);
     // The set list's text is checked (parsed, every cue prepared) by the processor, which says
     // in the status line why a saved one is not used (ArmadilloProcessor::applySavedSetList).
     const auto voice = settings[SettingIds::readerVoice].toString();

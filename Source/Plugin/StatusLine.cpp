@@ -71,6 +71,9 @@ juce::String StatusLine::update(const StatusSnapshot& s)
         silent_ = false;
         break;
     }
+    updateLeftArm(s);
+    if (s.leftArmPort > 0)
+        line << "  |  Left arm: OSC port " << s.leftArmPort << " (" << (leftSilent_ ? "silent, nothing received" : "live") << ")";
     line << "  |  Audio: ";
     if (! audioFlowing_) line << "not running (no sound card or output device: the arm and motors still run)";
     else line << "running, output " << decibels(heldOutPeak_);
@@ -85,6 +88,15 @@ juce::String StatusLine::update(const StatusSnapshot& s)
     else if (s.motorsActive > 0) line << "on (" << s.motorsActive << " of " << s.motorCount << " driven)";
     else line << "off";
     return line;
+}
+
+void StatusLine::updateLeftArm(const StatusSnapshot& s)
+{
+    if (s.leftArmPort != leftPort_ || s.leftArmSamples < leftCount_) leftLastChange_ = -1.0;   // turned on, moved, or restarted
+    else if (s.leftArmSamples != leftCount_) leftLastChange_ = s.now;
+    leftPort_ = s.leftArmPort;
+    leftCount_ = s.leftArmSamples;
+    leftSilent_ = leftPort_ <= 0 || leftLastChange_ < 0.0 || s.now - leftLastChange_ >= kSilentAfter;
 }
 
 } // namespace armadillo::plugin

@@ -29,6 +29,8 @@ struct StatusSnapshot {
     int inputMuted = -1;               ///< 1 muted (standalone's mute), 0 not, -1 unknown (plugin)
     int motorsActive = 0;              ///< motors above level 0 in the newest frame
     int motorCount = 9;
+    int leftArmPort = 0;               ///< the left arm's OSC port (0: no left arm; docs/STAGE.md "Two arms")
+    std::uint64_t leftArmSamples = 0;  ///< its orientation/IMU messages so far
 };
 
 class StatusLine {
@@ -45,6 +47,8 @@ public:
     double sourceRate() const noexcept { return rate_; }
     bool sourceSilent() const noexcept { return silent_; }
     bool audioFlowing() const noexcept { return audioFlowing_; }
+    /// After update(): whether the left arm's sender is silent (true while there is no left arm).
+    bool leftArmSilent() const noexcept { return leftSilent_; }
 
 private:
     struct Sample { double t; std::uint64_t count; };
@@ -58,6 +62,12 @@ private:
     double peakSince_ = 0.0;
     double rate_ = 0.0;
     bool silent_ = true, audioFlowing_ = false;
+    // The left arm's sender: live while its counter moved within kSilentAfter.
+    void updateLeftArm(const StatusSnapshot& s);
+    std::uint64_t leftCount_ = 0;
+    double leftLastChange_ = -1.0;
+    int leftPort_ = 0;
+    bool leftSilent_ = true;
 };
 
 } // namespace armadillo::plugin

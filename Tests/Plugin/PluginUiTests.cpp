@@ -170,6 +170,8 @@ TEST_CASE("editor: Tab reaches every control in layout order; each has an access
     CHECK(at("Arm view") < at("Motor display"));
     CHECK(at("Motor display") < at("Serial port"));
     CHECK(at("Serial port") < at("OSC input"));
+    CHECK(at("OSC input") < at("Left arm OSC input"));   // issue 28: the left arm's sender, then its port
+    CHECK(at("Left arm OSC input") + 1 == at("Left arm OSC input port"));
     // Every showing control that wants the keyboard is in the order (nothing unreachable).
     std::function<void(juce::Component&)> visit = [&](juce::Component& c) {
         for (auto* child : c.getChildren()) {
@@ -481,6 +483,21 @@ TEST_CASE("editor: the performance view steps the set list by key and Escape pan
     CHECK(view.nextLine().contains("Next 2: Gestures"));
     CHECK(view.armLine().contains("Right arm: simulator"));
     CHECK(view.armLine().contains("Left: none"));
+    // Issue 28: with an OSC sender as the left arm the line names its port, silent until it sends.
+    {
+        juce::DatagramSocket probe;
+        REQUIRE(probe.bindToPort(0, "127.0.0.1"));
+        const int port = probe.getBoundPort();
+        probe.shutdown();
+        app.processor->settings().setProperty(SettingIds::leftArmOscPort, port, nullptr);
+        app.processor->settings().setProperty(SettingIds::leftArmOsc, true, nullptr);
+        REQUIRE(app.processor->leftArmOn());
+        view.refresh();
+        CHECK(view.armLine().contains("Left arm: OSC port " + juce::String(port) + " SILENT"));
+        app.processor->settings().setProperty(SettingIds::leftArmOsc, false, nullptr);
+        view.refresh();
+        CHECK(view.armLine().contains("Left: none"));
+    }
     CHECK(view.stateLine() == "Playing");
     auto* focused = juce::Component::getCurrentlyFocusedComponent();
     REQUIRE(focused != nullptr);

@@ -103,3 +103,35 @@ TEST_CASE("status line: each source, the audio and the motors are named as they 
     CHECK(text.contains("Input: MUTED"));
     CHECK(text.contains("Motors: on (3 of 9 driven)"));
 }
+
+TEST_CASE("status line: the left arm's sender is live while its counter moves, silent when it stops, absent when off", "[plugin][status][two-arms]")
+{
+    StatusLine line;
+    // Off: no left-arm part at all (the line as before issue 28's left arm).
+    auto off = at(10.0, SourceKind::HostAutomation, 0);
+    CHECK_FALSE(line.update(off).contains("Left arm"));
+    CHECK(line.leftArmSilent());
+    // On, nothing received yet: silent at once (never "live" without a sample).
+    auto s = at(10.1, SourceKind::HostAutomation, 0);
+    s.leftArmPort = 9003;
+    auto text = line.update(s);
+    CHECK(text.contains("Left arm: OSC port 9003 (silent, nothing received)"));
+    // 100 messages/s for a second: live.
+    for (int i = 1; i <= 10; ++i) {
+        s.now = 10.1 + i * 0.1;
+        s.leftArmSamples = static_cast<std::uint64_t>(i * 10);
+        text = line.update(s);
+    }
+    CHECK(text.contains("Left arm: OSC port 9003 (live)"));
+    CHECK_FALSE(line.leftArmSilent());
+    // The sender stops: silent within kSilentAfter (+ one 10 Hz tick).
+    double silentAfter = -1.0;
+    for (int i = 1; i <= 20 && silentAfter < 0.0; ++i) {
+        s.now = 11.1 + i * 0.1;
+        text = line.update(s);
+        if (line.leftArmSilent()) silentAfter = i * 0.1;
+    }
+    CHECK(silentAfter > 0.0);
+    CHECK(silentAfter <= StatusLine::kSilentAfter + 0.1 + 1e-9);
+    CHECK(text.contains("Left arm: OSC port 9003 (silent"));
+}
