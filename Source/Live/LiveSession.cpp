@@ -64,7 +64,8 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
         leftTracker_ = std::make_unique<ArmTracker>();
     }
     if (!config_.setList.empty()) {   // every cue prepared now; the loop's own engine only tracks the arm
-        cues_ = std::make_unique<live::CuePlayer>(live::loadSetList(config_.setList), config_.engine.sceneConfig, config_.engine.motorCount);
+        cues_ = std::make_unique<live::CuePlayer>(live::loadSetList(config_.setList), config_.engine.sceneConfig, config_.engine.motorCount,
+                                                  config_.engine.motorGain);   // the reader's touch profile for every cue
         config_.engine.scene = "monitor";
         config_.engine.parameters.clear();
     }

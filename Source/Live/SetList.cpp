@@ -102,7 +102,8 @@ SetList parseSetList(std::string_view text, const std::string& source)
 
 SetList loadSetList(const std::string& path) { return parseSetList(readWholeFile(path), path); }
 
-CuePlayer::CuePlayer(const SetList& list, const SceneConfig& base, int motorCount) : cues_(list.cues)
+CuePlayer::CuePlayer(const SetList& list, const SceneConfig& base, int motorCount, const std::array<float, kMaxMotors>& motorGain)
+    : cues_(list.cues)
 {
     if (cues_.empty()) throw InputError(list.source, 0, "cues", "the set list has no cues");
     for (std::size_t i = 0; i < cues_.size(); ++i) {
@@ -114,6 +115,7 @@ CuePlayer::CuePlayer(const SetList& list, const SceneConfig& base, int motorCoun
         config.sceneConfig.text = c.text;
         config.motorCount = motorCount;
         config.parameters = c.parameters;
+        config.motorGain = motorGain;   // the reader's touch profile, as the single engine has it
         try {
             engines_.push_back(std::make_unique<Engine>(config));
         } catch (const InputError& e) {
@@ -166,6 +168,12 @@ void CuePlayer::processInput(const float* const* in, int channels, int numSample
 {
     for (auto& e : engines_)
         if (e->listensToAudio()) e->processInput(in, channels, numSamples);
+}
+
+void CuePlayer::processMidi(const MidiNoteEvent* events, int count) noexcept
+{
+    for (auto& e : engines_)
+        if (e->listensToMidi()) e->processMidi(events, count);
 }
 
 void CuePlayer::renderAudio(float* left, float* right, int numSamples) noexcept
@@ -238,7 +246,7 @@ RenderResult renderSetList(const CsvTable& motion, const SetList& list, const Re
 
     const double sampleRate = settings.engine.sceneConfig.sampleRate;
     if (!(sampleRate >= 8000.0 && sampleRate <= 384000.0)) throw InputError("", 0, "", "sample rate must lie in 8000..384000 Hz");
-    CuePlayer player(list, settings.engine.sceneConfig, settings.engine.motorCount);
+    CuePlayer player(list, settings.engine.sceneConfig, settings.engine.motorCount, settings.engine.motorGain);
     for (const CueChange& c : changes)
         if (c.cue >= player.cueCount())
             throw InputError(list.source, 0, "--cue-at", "cue " + std::to_string(c.cue) + " does not exist (the set list has " +

@@ -58,8 +58,10 @@ public:
 
     /// Not real-time: builds and prepares every cue's engine (`base` gives the sample rate, seed,
     /// arm side and resource folder). Throws InputError naming the set list's file and the cue's
-    /// line for an unknown scene or a bad parameter.
-    CuePlayer(const SetList& list, const SceneConfig& base, int motorCount = kGridMotors);
+    /// line for an unknown scene or a bad parameter. `motorGain`: the reader's touch profile
+    /// (EngineConfig::motorGain), given to every cue's engine as the single engine gets it.
+    CuePlayer(const SetList& list, const SceneConfig& base, int motorCount = kGridMotors,
+              const std::array<float, kMaxMotors>& motorGain = TactileConfig::unitMotorGains());
     ~CuePlayer();
     CuePlayer(const CuePlayer&) = delete;
     CuePlayer& operator=(const CuePlayer&) = delete;
@@ -83,6 +85,9 @@ public:
     MotorLevels control(const ArmState& arm, const Transport& transport, double dt) noexcept;
     /// Audio thread, real-time: every listening cue hears the input (a follower keeps its place).
     void processInput(const float* const* in, int channels, int numSamples) noexcept;
+    /// Audio thread, real-time: the instrument's MIDI notes of the coming block (Engine::processMidi),
+    /// to every cue whose scene takes MIDI input, before processInput() of the same samples.
+    void processMidi(const MidiNoteEvent* events, int count) noexcept;
     /// Audio thread, real-time: the current cue, cross-faded from the previous one after a change.
     void renderAudio(float* left, float* right, int numSamples) noexcept;
     /// Panic / resume every cue's engine (any thread).
