@@ -101,6 +101,10 @@ public:
     std::uint64_t midiDropped() const noexcept { return midiDropped_.load(std::memory_order_relaxed); }
     /// Bytes of MIDI events one block may carry (the storage handed to the host's buffer).
     static constexpr std::size_t kMidiStorageBytes = 64 * 1024;
+    /// Note-ons/offs of the MIDI input one block hands to the scene (Scene::processMidi); more
+    /// are dropped and counted (any thread).
+    static constexpr int kMaxNotesIn = 256;
+    std::uint64_t notesInDropped() const noexcept { return notesInDropped_.load(std::memory_order_relaxed); }
 
     // Published (any thread).
     ArmFrame latestFrame() const noexcept { return frame_.load(); }
@@ -136,6 +140,9 @@ private:
     Engine* runningEngine() noexcept;
     void renderRunning(float* left, float* right, int numSamples) noexcept;
     void inputRunning(const float* const* in, int channels, int numSamples) noexcept;
+    /// The MIDI input's notes that fall in [from, from + len) of the block, offsets made
+    /// relative to `from`, to the running engine or the set list's cues (before their input).
+    void notesRunning(int from, int len) noexcept;
     void learnRange(const mapping::MappingInput& in) noexcept;
 
     live::ControlLoop& loop_;
@@ -178,6 +185,10 @@ private:
     /// The listened-to input of one control step (≤ 192 kHz / 200 Hz samples), fixed size.
     static constexpr int kInputScratch = 1024;
     std::array<std::array<float, kInputScratch>, 2> input_ {}, through_ {};
+    /// The MIDI input's notes of the current block, in time order (audio thread; fixed size).
+    std::array<MidiNoteEvent, kMaxNotesIn> notesIn_ {};
+    int notesInCount_ = 0, notesInNext_ = 0;
+    std::atomic<std::uint64_t> notesInDropped_ {0};
 
     MappingOutputs outputs_;
     SeqLock<ArmFrame> frame_;

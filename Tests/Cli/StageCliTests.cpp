@@ -201,3 +201,49 @@ TEST_CASE("cli: play with two simulated arms logs two independent orientations, 
     CHECK(runArmadillo("play --scene theremin --simulate --motion-left '" + path("none.csv") + "' --seconds 1 --no-audio").code == 4);
     CHECK(runArmadillo("play --scene theremin --simulate --motion-left - --port-left /dev/null --seconds 1 --no-audio").code == 2);
 }
+
+TEST_CASE("cli: render/play --setlist --profile: every cue feels the reader's touch profile", "[cli][setlist][touch-profile]")
+{
+    // As `render --profile` for one scene (TouchProfileTests.cpp): thresholds 8, 4, 2 on the wrist
+    // row, 4 elsewhere; median 4, so m1 ×2, m2 ×1, m3 ×0.5 — here for a braille cue.
+    const std::string profile = file("sl-fit.json", "{\"threshold\": [8, 4, 2, 4, 4, 4, 4, 4, 4]}");
+    const std::string show = file("sl-braille.json", R"({"armadillo_setlist": 1, "cues": [{"name": "word", "scene": "braille", "text": "exit"}]})");
+    const std::string motion = std::string(ARMADILLO_SOURCE_DIR) + "/Resources/Braille/read-word.pose.csv";
+    auto levels = [&](const std::string& extra) {
+        const Run r = runArmadillo("render --setlist '" + show + "' --motion '" + motion + "' --out '" + path("slp.wav") + "' --tactile '" +
+                                   path("slp.csv") + "'" + extra);
+        INFO(r.err);
+        REQUIRE(r.code == 0);
+        // How often each wrist-row motor took each level: rows "t,m1,…".
+        std::array<std::map<int, int>, 3> seen;
+        std::istringstream in(readWholeFile(path("slp.csv")));
+        std::string line;
+        std::getline(in, line);
+        while (std::getline(in, line)) {
+            std::istringstream f(line);
+            std::string cell;
+            std::getline(f, cell, ',');
+            for (std::size_t m = 0; m < 3; ++m) {
+                std::getline(f, cell, ',');
+                ++seen[m][std::stoi(cell)];
+            }
+        }
+        return seen;
+    };
+    const auto plain = levels("");
+    const auto fitted = levels(" --profile '" + profile + "'");
+    for (std::size_t m = 0; m < 3; ++m) CHECK(plain[m].count(5) == 1);   // the cells at level 5
+    CHECK(fitted[0].count(10) == 1);   // m1 twice as hard
+    CHECK(fitted[0].count(5) == 0);
+    CHECK(fitted[1].count(5) == 1);    // m2 unchanged
+    CHECK(fitted[2].count(5) == 0);    // m3 at half (2.5, dithered)
+    CHECK((fitted[2].count(2) + fitted[2].count(3)) > 0);
+    // A bad profile is refused before anything runs, by render and by play, naming the file.
+    const std::string bad = file("sl-bad-profile.json", "{\"threshold\": [1, 2]}");
+    for (const std::string& cmd : {"render --motion '" + motion + "' --out '" + path("slx.wav") + "'", std::string("play --simulate --seconds 0.2")}) {
+        const Run r = runArmadillo(cmd + " --setlist '" + show + "' --profile '" + bad + "'");
+        CAPTURE(cmd, r.err);
+        CHECK(r.code == 3);
+        CHECK(r.err.find("sl-bad-profile.json") != std::string::npos);
+    }
+}
