@@ -312,7 +312,13 @@ MotorLevels LiveSession::control(double t, const SensorCounts* counts, const Imu
         if (oscOut_) oscOut_->sendGesture(ev.name);
         if (gestureCount < gestures.size()) gestures[gestureCount++] = ev;
     }
-    if (mapping_ && result.ran) mapping_->step(t, arm, gestures.data(), gestureCount, engine());
+    // A panic (a command, a key, the gesture) also silences what the mapping sent, as the plugin
+    // does: its sounding notes end and CC 120 + CC 123 go out on all 16 channels as it starts,
+    // and the mapping sends nothing more until resume.
+    const bool panicNow = sounding().panicked() || engine().panicked();
+    if (mapping_ && panicNow && !mappingPanicked_) mapping_->panic(t);
+    mappingPanicked_ = panicNow;
+    if (mapping_ && result.ran && !panicNow) mapping_->step(t, arm, gestures.data(), gestureCount, engine());
     return levels;
 }
 

@@ -371,19 +371,6 @@ void BlockControl::notesRunning(int from, int len) noexcept
     else loop_.processMidi(notesIn_.data() + first, count);
 }
 
-void BlockControl::addMidi(juce::MidiBuffer* midi, const std::uint8_t* bytes, int size, int offset) noexcept
-{
-    if (port_ != nullptr) port_->push(bytes, size);
-    if (midi == nullptr) return;
-    const std::size_t record = static_cast<std::size_t>(size) + sizeof(juce::int32) + sizeof(juce::uint16);   // MidiBuffer's record
-    if (midiBytes_ + record > kMidiStorageBytes) {
-        midiDropped_.fetch_add(1, std::memory_order_relaxed);
-        return;
-    }
-    midi->addEvent(bytes, size, offset);
-    midiBytes_ += record;
-}
-
 void BlockControl::beginStage(juce::MidiBuffer* midi, double blockStart, int blockSamples) noexcept
 {
     if (stage_ == nullptr) return;
@@ -405,15 +392,10 @@ void BlockControl::beginStage(juce::MidiBuffer* midi, double blockStart, int blo
         return;
     }
     // Every note the mapping has sounding ends now, then All Sound Off and All Notes Off on all
-    // 16 channels (MIDI 1.0, CC 120 / CC 123, value 0) for whatever the receivers still hold.
-    mapper_.allNotesOff(blockStart, mapOut_);
+    // 16 channels (MIDI 1.0, CC 120 / CC 123, value 0) for whatever the receivers still hold
+    // (Mapper::panic, which `play --midi-out` sends too), at the block's first sample.
+    mapper_.panic(blockStart, mapOut_);
     deliver(midi, blockStart, blockSamples);
-    for (std::uint8_t channel = 0; channel < 16; ++channel) {
-        const std::uint8_t soundOff[3] {static_cast<std::uint8_t>(0xB0 | channel), 120, 0};
-        const std::uint8_t notesOff[3] {static_cast<std::uint8_t>(0xB0 | channel), 123, 0};
-        addMidi(midi, soundOff, 3, 0);
-        addMidi(midi, notesOff, 3, 0);
-    }
 }
 
 } // namespace armadillo::plugin

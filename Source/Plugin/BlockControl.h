@@ -135,7 +135,6 @@ private:
     /// before anything of this block is rendered, the mapping's sounding notes ended and CC 120
     /// + CC 123 sent on all 16 channels, into `midi` at offset 0 (when not null) and the port.
     void beginStage(juce::MidiBuffer* midi, double blockStart, int blockSamples) noexcept;
-    void addMidi(juce::MidiBuffer* midi, const std::uint8_t* bytes, int size, int offset) noexcept;
     /// The current cue's engine with a set list, else the active engine (null: none).
     Engine* runningEngine() noexcept;
     void renderRunning(float* left, float* right, int numSamples) noexcept;

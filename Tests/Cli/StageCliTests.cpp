@@ -247,3 +247,26 @@ TEST_CASE("cli: render/play --setlist --profile: every cue feels the reader's to
         CHECK(r.err.find("sl-bad-profile.json") != std::string::npos);
     }
 }
+
+TEST_CASE("cli: play --map: a panic ends the mapping's notes and sends CC 120 + CC 123 on 16 channels, then nothing until resume", "[cli][panic][mapping]")
+{
+    // Zones over the whole circle of azimuth: one note always sounds on channel 3 while the
+    // mapping runs, so a panic ends exactly one note (1 note-off + 16 × 2 controllers = 33).
+    const std::string map = file("panic-map.json", R"({"version": 1, "mappings": [
+        {"source": "azimuth", "to": {"midi": "notes", "channel": 3, "velocity": 100,
+         "zones": [[0, 90, 60], [90, 180, 62], [180, 270, 64], [270, 360, 65]]}}]})");
+    const std::string keys = path("panic-map-keys.sh");
+    writeFileAtomically(keys, "sleep 0.3; printf p; sleep 0.8\n");
+    const std::string cmd = std::string("sh '") + keys + "' | '" + ARMADILLO_BIN + "' play --scene theremin --map '" + map +
+                            "' --simulate --keys --seconds 1.0 --no-audio >'" + path("pm-out.txt") + "' 2>'" + path("pm-err.txt") + "'";
+    REQUIRE(std::system(cmd.c_str()) == 0);
+    const std::string out = readWholeFile(path("pm-out.txt"));
+    INFO(out << readWholeFile(path("pm-err.txt")));
+    CHECK(out.find("\"panics\":1") != std::string::npos);
+    CHECK(out.find("\"panic_midi_events\":33") != std::string::npos);
+    // Without a panic the key is absent (and the mapping ran).
+    const Run calm = runArmadillo("play --scene theremin --map '" + map + "' --simulate --seconds 0.5 --no-audio");
+    REQUIRE(calm.code == 0);
+    CHECK(calm.out.find("panic_midi_events") == std::string::npos);
+    CHECK(calm.out.find("\"mapping_midi_events\":0") == std::string::npos);
+}
