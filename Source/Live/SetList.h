@@ -69,6 +69,7 @@ public:
     int cueCount() const noexcept { return static_cast<int>(engines_.size()); }
     const Cue& cue(int index) const { return cues_[static_cast<std::size_t>(index)]; }
     Engine& engine(int index) { return *engines_[static_cast<std::size_t>(index)]; }
+    const Engine& engine(int index) const { return *engines_[static_cast<std::size_t>(index)]; }
 
     /// Any thread: the cue to run from the next control update (clamped to the list).
     void request(int index) noexcept;
