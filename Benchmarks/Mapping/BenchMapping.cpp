@@ -119,7 +119,7 @@ void latency(const std::string& preset, double seconds, audio::SequencerOut* seq
         GestureEvent g;
         while (engine.popGesture(g))
             if (count < gestures.size()) gestures[count++] = g;
-        if (result.ran) rig.step(t, result.arm, gestures.data(), count, engine);
+        if (result.ran) rig.step(t, result.arm, nullptr, gestures.data(), count, engine);
         if (sink.latencyUs >= 0.0) {
             lat.push_back(sink.latencyUs);
             ++updatesWithMidi;

@@ -1,12 +1,22 @@
 #include "Access/TactilePlayer.h"
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <stdexcept>
 #include <thread>
 
 namespace armadillo::access {
 
-TactilePlayer::TactilePlayer(const TactileConfig& config, double packetPeriod) : packetPeriod_(packetPeriod) { engine_.prepare(config); }
+TactilePlayer::TactilePlayer(const TactileConfig& config, double packetPeriod) : packetPeriod_(packetPeriod)
+{
+    engine_.prepare(config);
+    for (auto& g : gains_) g.store(1.0f);
+}
+
+void TactilePlayer::setMotorGains(const std::array<float, kMaxMotors>& gains) noexcept
+{
+    for (std::size_t m = 0; m < gains_.size(); ++m) gains_[m].store(std::isfinite(gains[m]) && gains[m] >= 0.0f ? gains[m] : 1.0f);
+}
 
 int TactilePlayer::play(std::vector<TactileSegment> segments, double after)
 {
@@ -22,8 +32,10 @@ int TactilePlayer::play(std::vector<TactileSegment> segments, double after)
     return queued_.fetch_add(1) + 1;
 }
 
-MotorLevels TactilePlayer::onPacket(double t) noexcept
+MotorLevels TactilePlayer::onPacket(double t, double rollRate) noexcept
 {
+    if (const ArmGesture g = twist_.update(t, rollRate); g == ArmGesture::Repeat) repeats_.fetch_add(1, std::memory_order_relaxed);
+    else if (g == ArmGesture::Skip) skips_.fetch_add(1, std::memory_order_relaxed);
     double dt = packetPeriod_;
     if (packetPeriod_ <= 0.0) dt = lastT_ < 0.0 ? 0.0 : std::clamp(t - lastT_, 0.0, 0.1);
     lastT_ = t;
@@ -54,7 +66,8 @@ MotorLevels TactilePlayer::onPacket(double t) noexcept
                 }
         }
     for (int m = 0; m < kMaxMotors; ++m) {
-        const float l = level[static_cast<std::size_t>(m)];
+        const float l = std::min(level[static_cast<std::size_t>(m)] * gains_[static_cast<std::size_t>(m)].load(std::memory_order_relaxed),
+                                 static_cast<float>(kMaxLevel));
         if ((soft >> m) & 1u) engine_.setSoftLevel(m, l);
         else engine_.setLevel(m, l);
     }

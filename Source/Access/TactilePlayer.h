@@ -6,10 +6,12 @@
 // onPacket() per sensor packet) plays it and reports when it is over. Real-time on the control
 // thread: segments cross in an SPSC queue, progress in atomics; onPacket() allocates, locks and
 // throws nothing (tests_access proves it with the RealtimeGuard).
+#include "Access/ArmGestures.h"
 #include "Core/SpscQueue.h"
 #include "Tactile/TactileEngine.h"
 #include <array>
 #include <atomic>
+#include <limits>
 #include <vector>
 
 namespace armadillo::access {
@@ -39,8 +41,18 @@ public:
     std::uint64_t packets() const noexcept { return packets_.load(); }
 
     /// Control thread: one call per sensor packet (t = the link's clock, s); the levels of the
-    /// answering motor packet.
-    MotorLevels onPacket(double t) noexcept;
+    /// answering motor packet. `rollRate` (rad/s, the gyro's x: the forearm axis), when given,
+    /// feeds the arm gestures (ArmGestures.h: a twist and back = repeat, two = skip).
+    MotorLevels onPacket(double t, double rollRate = std::numeric_limits<double>::quiet_NaN()) noexcept;
+    /// Main thread (any time): the reader's touch profile as a gain per motor index (the player's
+    /// right-arm layout: index i = motor m(i+1), as device::touchProfileGains gives them), applied
+    /// to every segment's level before the engine's drive shaping and safety stage, as
+    /// TactileConfig::motorGain is in a scene (result clamped to 15; non-finite or negative = 1).
+    /// All 1 (the default) = none. The sensitivity test's player never gets one (raw thresholds).
+    void setMotorGains(const std::array<float, kMaxMotors>& gains) noexcept;
+    /// Main thread: twists seen so far (the app's adaptive training takes them as repeat / skip).
+    int repeats() const noexcept { return repeats_.load(std::memory_order_relaxed); }
+    int skips() const noexcept { return skips_.load(std::memory_order_relaxed); }
 
 private:
     TactileEngine engine_;
@@ -50,6 +62,9 @@ private:
     std::array<std::atomic<int>, kMaxMotors> maxSent_ {};
     std::atomic<double> clock_ {0.0};
     std::atomic<std::uint64_t> packets_ {0};
+    std::atomic<int> repeats_ {0}, skips_ {0};
+    std::array<std::atomic<float>, kMaxMotors> gains_ {};
+    TwistDetector twist_;   // link thread only
     // Link thread only.
     std::array<TactileSegment, 128> active_ {};
     int activeCount_ = 0;

@@ -2,6 +2,7 @@
 // Everything that allocates (liblouis, layouts, the training plan) happens in prepare(); control()
 // only moves cursors, schedules short vibration bursts and states motor targets on the canvas.
 #include "Braille/BrailleScene.h"
+#include "Braille/ArmPush.h"
 #include "Braille/Cells.h"
 #include "Braille/Reading.h"
 #include "Braille/Training.h"
@@ -138,6 +139,7 @@ public:
         reading_.reset();
         player_.clear();
         shown_ = {};
+        push_.reset();
         nextPassiveAt_ = t_;
         passiveDone_ = false;
         clearPending_ = true;
@@ -180,6 +182,22 @@ public:
                 const bool right = training_->answer(t_, a.text.data());
                 out.events.emit("answer", right ? 1.0f : 0.0f);
                 if (training_->finished()) out.events.emit("training-done", static_cast<float>(training_->correctCount()));
+            }
+            if (restartTrial_.exchange(false, std::memory_order_acq_rel)) {
+                training_->restartTrial();
+                shown_ = {};
+            }
+            // The hold stage's "here" by the arm: a push along the forearm (ArmPush.h). The
+            // detector follows every sample so its gravity baseline is ready when a hold comes.
+            if (push_.update(t_, in.arm.valid ? in.arm.accel.x() : kNaN, in.arm.gyro.norm()) && !training_->finished() &&
+                training_->trials()[static_cast<std::size_t>(training_->trialIndex())].stage == TrainingStage::Hold) {
+                const int trial = training_->trialIndex();
+                const bool right = training_->answerHere(t_, push_.startedAt());
+                out.events.emit("answer", right ? 1.0f : 0.0f);
+                if (training_->finished()) out.events.emit("training-done", static_cast<float>(training_->correctCount()));
+                lastArmTrial_.store(trial, std::memory_order_relaxed);
+                lastArmRight_.store(right, std::memory_order_relaxed);
+                armAnswers_.fetch_add(1, std::memory_order_release);
             }
             handle(training_->update(t_, axis, normal, valid), out);
             // Score first, then the trial: a reader that sees the new trial sees its score too.
@@ -236,6 +254,16 @@ public:
         if (!training_ || trial < 0 || trial >= trainingTrialCount()) return {};
         return training_->trials()[static_cast<std::size_t>(trial)].expected;
     }
+
+    std::string trainingStage(int trial) const override
+    {
+        if (!training_ || trial < 0 || trial >= trainingTrialCount()) return {};
+        return trainingStageName(training_->trials()[static_cast<std::size_t>(trial)].stage);
+    }
+    void restartTrainingTrial() noexcept override { restartTrial_.store(true, std::memory_order_release); }
+    int trainingArmAnswers() const noexcept override { return armAnswers_.load(std::memory_order_acquire); }
+    int trainingLastArmTrial() const noexcept override { return lastArmTrial_.load(std::memory_order_relaxed); }
+    bool trainingLastArmRight() const noexcept override { return lastArmRight_.load(std::memory_order_relaxed); }
 
 private:
     double param(int i) const noexcept { return static_cast<double>(params_[static_cast<std::size_t>(i)].load()); }
@@ -347,6 +375,9 @@ private:
     ActiveReading reading_;
     std::unique_ptr<TrainingSession> training_;
     std::atomic<int> trialShown_ {0}, trialsRight_ {0};   // published by control() for the UI
+    std::atomic<int> armAnswers_ {0}, lastArmTrial_ {-1};  // "here" by the arm, published likewise
+    std::atomic<bool> lastArmRight_ {false}, restartTrial_ {false};
+    PushDetector push_;
     SpscQueue<AnswerText, 16> answers_;
     BurstPlayer player_;
     std::array<float, kGridMotors> sent_ {};

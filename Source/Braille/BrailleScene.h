@@ -55,6 +55,18 @@ public:
     virtual int trainingTrialCount() const noexcept = 0;
     virtual std::string trainingPrompt(int trial) const = 0;
     virtual std::string trainingExpected(int trial) const = 0;   ///< the right answer, lower case
+    /// The trial's stage name ("sides", "hold", "letters", …; Braille/Training.h); "" unknown.
+    virtual std::string trainingStage(int) const { return {}; }
+    /// Starts the current trial again from its first row (any thread, lock-free; taken at the
+    /// next control update). The app's arm feedback asks for it once the feedback has played,
+    /// so rows the reader rolled past while the motors gave feedback are shown again.
+    virtual void restartTrainingTrial() noexcept {}
+    /// "Here" answered by the arm (the hold stage's push, Braille/ArmPush.h): how many so far,
+    /// and the last one's trial and score. Any thread, lock-free; the scene publishes these
+    /// before the trial that follows (read trainingTrial() first, as for the score).
+    virtual int trainingArmAnswers() const noexcept { return 0; }
+    virtual int trainingLastArmTrial() const noexcept { return -1; }
+    virtual bool trainingLastArmRight() const noexcept { return false; }
 };
 
 /// Default text when SceneConfig::text is empty (the plugin's scene choice starts with it).

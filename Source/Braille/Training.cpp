@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstring>
 #include <iterator>
 #include <random>
 #include <string_view>
@@ -253,7 +254,7 @@ TrainingSession::TrainingSession(const TrainingOptions& options)
 
 const char* trainingEventName(TrainingEvent e) noexcept
 {
-    static constexpr const char* kNames[] {"trial", "move", "direction", "row", "word-gap", "message-gap", "text-end", "answer", "end"};
+    static constexpr const char* kNames[] {"trial", "move", "direction", "row", "word-gap", "message-gap", "text-end", "answer", "end", "gesture"};
     const auto i = static_cast<std::size_t>(e);
     return i < std::size(kNames) ? kNames[i] : "?";
 }
@@ -324,6 +325,7 @@ void TrainingSession::beginTrial(double t)
     cursor.rewind();
     reading_.setCursor(&cursor);
     shown_ = {};
+    previous_ = {};
     log(record(t, TrainingEvent::Trial));
 }
 
@@ -357,7 +359,9 @@ ReadEvent TrainingSession::update(double t, const Eigen::Vector3d& axis, const E
         log(r);
     }
     if (e.stepped) {
+        previous_ = shown_;
         shown_ = e.step;
+        shownSince_ = t;
         TrainingLogRecord r = record(t, e.step.kind == StepKind::Cell ? TrainingEvent::Row
                                       : e.step.kind == StepKind::WordGap ? TrainingEvent::WordGap
                                       : e.step.kind == StepKind::MessageGap ? TrainingEvent::MessageGap : TrainingEvent::TextEnd);
@@ -377,6 +381,32 @@ bool TrainingSession::answer(double t, std::string_view given)
 {
     if (!started_) start(t);
     if (finished()) return false;
+    return score(t, given, shown_);
+}
+
+void TrainingSession::restartTrial() noexcept
+{
+    if (!started_ || finished()) return;
+    ReadingCursor& cursor = cursors_[static_cast<std::size_t>(index_)];
+    cursor.rewind();
+    reading_.setCursor(&cursor);
+    shown_ = {};
+    previous_ = {};
+}
+
+bool TrainingSession::answerHere(double t, double pushStart)
+{
+    if (!started_) start(t);
+    if (finished() || trials_[static_cast<std::size_t>(index_)].stage != TrainingStage::Hold) return false;
+    TrainingLogRecord g = record(t, TrainingEvent::Gesture);
+    std::memcpy(g.answer.data(), "push", 5);
+    log(g);
+    // A step shown after the push began was shown by the push itself (it rolled the arm on).
+    return score(t, "here", shownSince_ > pushStart ? previous_ : shown_);
+}
+
+bool TrainingSession::score(double t, std::string_view given, const ReadingStep& shown)
+{
     // Trimmed and lower-cased into the record's fixed buffer: no string is built here.
     const char* space = " \t\r\n";
     const auto b = given.find_first_not_of(space);
@@ -389,11 +419,11 @@ bool TrainingSession::answer(double t, std::string_view given)
     const TrainingTrial& trial = trials_[static_cast<std::size_t>(index_)];
     bool right = a == std::string_view(trial.expected);
     if (trial.stage == TrainingStage::Hold)
-        right = right && shown_.kind == StepKind::Cell && shown_.step + 1 == trial.holdRow;
+        right = right && shown.kind == StepKind::Cell && shown.step + 1 == trial.holdRow;
     ++answered_;
     if (right) ++correct_;
-    r.unit = shown_.kind == StepKind::Cell ? shown_.unit : -1;
-    r.step = shown_.step;
+    r.unit = shown.kind == StepKind::Cell ? shown.unit : -1;
+    r.step = shown.step;
     r.correct = right ? 1 : 0;
     log(r);
     ++index_;

@@ -74,8 +74,10 @@ std::vector<std::string> readWordList(const std::string& path);
 std::vector<std::string> parseWordList(std::string_view text, const std::string& path);
 
 /// What happened, one per log row (the CSV's `event` column).
-enum class TrainingEvent : std::uint8_t { Trial, Move, Direction, Row, WordGap, MessageGap, TextEnd, Answer, End };
-const char* trainingEventName(TrainingEvent e) noexcept;   ///< "trial", "move", …, "end"
+/// Gesture (since 0.3.x): an answer given by the arm (the `answer` column names the gesture,
+/// "push"); the answer row follows it at the same time.
+enum class TrainingEvent : std::uint8_t { Trial, Move, Direction, Row, WordGap, MessageGap, TextEnd, Answer, End, Gesture };
+const char* trainingEventName(TrainingEvent e) noexcept;   ///< "trial", "move", …, "end", "gesture"
 
 /// One log row as the control thread records it: fixed size, no strings to build.
 struct TrainingLogRecord {
@@ -112,6 +114,14 @@ public:
     /// Returns whether it was right. Ignored (false) once finished. Real-time: the answer is
     /// trimmed and lower-cased in a fixed buffer (answers beyond 63 bytes are cut).
     bool answer(double t, std::string_view answer);
+    /// The hold stage answered by the arm: the "button pushing" movement (ArmPush.h) that began
+    /// at `pushStart` s means "here", scored on the row shown when the push began (the push may
+    /// have rolled the arm on by a step). Logs a `gesture` row ("push"), then the answer row.
+    /// False (and nothing logged) when the current trial is not a hold trial. Real-time.
+    bool answerHere(double t, double pushStart);
+    /// Shows the current trial again from its first row (nothing logged: the rows shown next
+    /// are). Real-time.
+    void restartTrial() noexcept;
 
     RollReader& roll() noexcept { return reading_.roll(); }
     int correctCount() const noexcept { return correct_; }
@@ -129,6 +139,7 @@ public:
 
 private:
     void beginTrial(double t);
+    bool score(double t, std::string_view answer, const ReadingStep& shown);
     void log(const TrainingLogRecord& record) noexcept;
     TrainingLogRecord record(double t, TrainingEvent event) const noexcept;
     void appendRow(const TrainingLogRecord& r);
@@ -138,6 +149,8 @@ private:
     int index_ = 0;
     ActiveReading reading_;
     ReadingStep shown_ {};
+    ReadingStep previous_ {};      ///< the step shown before shown_ (hold answers by the arm)
+    double shownSince_ = 0.0;      ///< s: when shown_ was shown
     bool started_ = false;
     ReadingPosture loggedPosture_ = ReadingPosture::Invalid;
     double loggedRoll_ = 0.0;

@@ -41,7 +41,8 @@ bool validUtf8(const std::string& s)
 std::string resultText(const TrainingNotice& result)
 {
     // "correct", never "right": in the sides stage "right" is also an answer.
-    return result.right ? std::string("correct") : "wrong, it was '" + result.expected + "'";
+    const std::string what = result.right ? std::string("correct") : "wrong, it was '" + result.expected + "'";
+    return result.byArm ? what + " (here, by the arm)" : what;
 }
 
 std::string TrainingAnswerFeeder::refusalText(Refusal r)
@@ -82,6 +83,27 @@ std::vector<TrainingNotice> TrainingAnswerFeeder::poll(BrailleSceneControls& sce
     // it is not newer either.
     const int trial = scene.trainingTrial();
     const int correct = scene.trainingCorrect();
+    // "Here" by the arm (published before the trial, so seen with it). A typed answer already
+    // on its way then answers the trial after (the scene scores answers in arrival order).
+    if (const int arm = scene.trainingArmAnswers(); arm > armSeen_) {
+        armSeen_ = arm;
+        TrainingNotice n;
+        n.kind = TrainingNotice::Kind::Result;
+        n.trial = scene.trainingLastArmTrial();
+        n.trialCount = count;
+        n.correct = correct;
+        n.answered = trial;
+        n.answer = "here";
+        n.expected = scene.trainingExpected(n.trial);
+        n.stage = scene.trainingStage(n.trial);
+        n.right = scene.trainingLastArmRight();
+        n.byArm = true;
+        if (awaiting_ && submittedAt_ == n.trial) {
+            ++submittedAt_;
+            rightBefore_ += n.right ? 1 : 0;
+        }
+        out.push_back(std::move(n));
+    }
     if (awaiting_ && trial > submittedAt_) {
         TrainingNotice n;
         n.kind = TrainingNotice::Kind::Result;
@@ -91,6 +113,7 @@ std::vector<TrainingNotice> TrainingAnswerFeeder::poll(BrailleSceneControls& sce
         n.answered = trial;
         n.answer = submitted_;
         n.expected = scene.trainingExpected(submittedAt_);
+        n.stage = scene.trainingStage(submittedAt_);
         n.right = correct > rightBefore_;
         out.push_back(std::move(n));
         awaiting_ = false;
@@ -115,6 +138,8 @@ std::vector<TrainingNotice> TrainingAnswerFeeder::poll(BrailleSceneControls& sce
         n.correct = correct;
         n.answered = trial;
         n.prompt = scene.trainingPrompt(trial);
+        n.expected = scene.trainingExpected(trial);
+        n.stage = scene.trainingStage(trial);
         out.push_back(std::move(n));
         announced_ = trial;
     }

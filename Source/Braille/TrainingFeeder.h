@@ -23,12 +23,14 @@ struct TrainingNotice {
     int answered = 0;        ///< answers scored so far, this one included
     std::string prompt;      ///< Prompt: what the teacher says ("left, right or both?")
     std::string answer;      ///< Result: what was handed to the scene (trimmed)
-    std::string expected;    ///< Result: the right answer
+    std::string expected;    ///< Result and Prompt: the right answer
+    std::string stage;       ///< Result and Prompt: the trial's stage ("sides", "letters", …)
     bool right = false;      ///< Result
+    bool byArm = false;      ///< Result: "here" answered by the arm (a push), not typed
 };
 
 /// "correct" or "wrong, it was 'x'" (the wording of the command line and the app; never "right",
-/// which is also an answer of the sides stage).
+/// which is also an answer of the sides stage); an answer by the arm adds " (here, by the arm)".
 std::string resultText(const TrainingNotice& result);
 
 class TrainingAnswerFeeder {
@@ -60,7 +62,7 @@ private:
     std::deque<std::string> lines_;
     std::string submitted_;
     bool awaiting_ = false, finished_ = false;
-    int announced_ = -1, submittedAt_ = -1, rightBefore_ = 0;
+    int announced_ = -1, submittedAt_ = -1, rightBefore_ = 0, armSeen_ = 0;
 };
 
 } // namespace armadillo::braille

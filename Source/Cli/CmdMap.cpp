@@ -18,8 +18,13 @@ int check(const std::vector<std::string>& rest)
     if (rest.size() != 1) throw UsageError("map check needs one PRESET|FILE");
     const mapping::MappingDocument doc = mapping::loadMapping(rest[0]);
     const auto set = mapping::MappingSet::build(doc, {{}, rest[0]});
+    // Mappings that need a second arm (a left-arm or arms.* source): with one arm they send nothing.
+    std::size_t twoArms = 0;
+    for (const mapping::MappingSpec& m : doc.mappings)
+        twoArms += m.source.arm == 1 || mapping::isTwoArmSource(m.source.kind);
     std::cout << "{\"mappings\":" << doc.mappings.size() << ",\"postures\":" << doc.postures.size()
-              << ",\"osc_targets\":" << set->oscTargets().size() << ",\"scene_parameters\":" << set->sceneParamIds().size() << "}\n";
+              << ",\"osc_targets\":" << set->oscTargets().size() << ",\"scene_parameters\":" << set->sceneParamIds().size()
+              << ",\"two_arm_mappings\":" << twoArms << "}\n";
     return 0;
 }
 

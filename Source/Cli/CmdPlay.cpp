@@ -26,6 +26,8 @@
 #include <iostream>
 #include <memory>
 #include <thread>
+#include <tuple>
+#include <vector>
 #include <atomic>
 #include <csignal>
 #include <poll.h>
@@ -54,7 +56,9 @@ public:
                 std::cerr << "  " << braille::resultText(n) << "\n";
                 if (voice_) voice_->note(braille::resultText(n));
             } else if (n.kind == braille::TrainingNotice::Kind::Prompt) {
-                std::cerr << "braille training " << n.trial + 1 << "/" << n.trialCount << ": " << n.prompt << "\n";
+                // The hold stage is also answered by the arm: a push along the forearm (Braille/ArmPush.h).
+                const std::string how = scene_.trainingExpected(n.trial) == "here" ? " (type here, or push the forearm along its axis and back)" : "";
+                std::cerr << "braille training " << n.trial + 1 << "/" << n.trialCount << ": " << n.prompt << how << "\n";
                 if (voice_) voice_->prompt("trial " + std::to_string(n.trial + 1) + " of " + std::to_string(n.trialCount) + ": " + n.prompt);
             }
         }
@@ -111,25 +115,80 @@ void onForwardSignal(int)
     if (mapping::Mapper* m = forwardTarget().load()) m->requestForward();
 }
 
-/// What a port or OSC source that delivered no sensor data did send, in words naming it.
-std::string noDataMessage(device::LiveSession& session, const device::LiveConfig& config, double seconds)
+/// The guided mount calibration of one OSC sender (`--calibrate-mount` for the right arm,
+/// `--calibrate-mount-left` for the left): its sensor-frame samples through the poses, the
+/// instructions on stderr, the mount file written at the end.
+struct GuidedMount {
+    device::MountCalibration calibration;
+    device::OscReceiver* osc = nullptr;
+    std::string out, option, arm;   // arm: "" or "left arm " in the messages
+
+    void begin()
+    {
+        osc->merger().enableSensorTap(true);
+        std::cerr << arm << "mount calibration pose 1 (" << device::MountCalibration::poseName(calibration.pose())
+                  << "): " << device::MountCalibration::instruction(calibration.pose()) << "\n";
+    }
+    bool active() const { return calibration.pose() != device::MountCalibration::Pose::Done; }
+    void step()
+    {
+        device::SensorFrameSample p;
+        while (active() && osc->merger().popSensorSample(p)) {
+            calibration.feed(Eigen::Vector3d(p.accel[0], p.accel[1], p.accel[2]), Eigen::Vector3d(p.gyro[0], p.gyro[1], p.gyro[2]));
+            if (!calibration.ready()) continue;
+            calibration.finishStep();
+            const auto pose = calibration.pose();
+            std::cerr << arm
+                      << (pose == device::MountCalibration::Pose::Done
+                              ? std::string("mount calibration complete")
+                              : "mount calibration pose " + std::to_string(static_cast<int>(pose) + 1) + " (" + device::MountCalibration::poseName(pose) +
+                                    "): " + device::MountCalibration::instruction(pose))
+                      << "\n";
+        }
+    }
+    void finish()
+    {
+        calibration.skipRoll();   // the third pose is optional
+        device::Mount mount;
+        std::string why;
+        if (!calibration.solve(mount, why))
+            throw IoError(option + ": no mount written: " + why + " (stopped at pose '" + device::MountCalibration::poseName(calibration.pose()) + "')");
+        mount.device = osc->deviceName();
+        device::saveMount(out, mount);
+        std::cerr << arm << "mount calibration written to " << out << "\n";
+    }
+};
+
+/// The left arm's usable sensor packets so far (its device's, or its OSC sender's samples).
+std::uint64_t leftPackets(device::LiveSession& session)
+{
+    if (device::OscReceiver* osc = session.leftOscReceiver()) return osc->stats().imu + osc->stats().orientation;
+    return session.leftLink() ? session.leftLink()->stats().packets : 0;
+}
+
+/// What a port or OSC source that delivered no sensor data did send, in words naming it (`left`:
+/// the left arm's source, `--port-left` or `--osc-in-left`).
+std::string noDataMessage(device::LiveSession& session, const device::LiveConfig& config, double seconds, bool left = false)
 {
     char within[64];
     std::snprintf(within, sizeof within, "%.1f s", seconds);
-    if (config.source == device::LiveConfig::Source::Port) {
-        const device::LinkStats l = session.deviceLink() ? session.deviceLink()->stats() : device::LinkStats {};
-        std::string m = "no sensor data from " + config.port + " (" + std::to_string(config.baud) + " baud) within " + within + ": ";
+    const bool port = left ? config.leftSource == device::LiveConfig::LeftSource::Port : config.source == device::LiveConfig::Source::Port;
+    if (port) {
+        device::DeviceLink* link = left ? session.leftLink() : session.deviceLink();
+        const device::LinkStats l = link ? link->stats() : device::LinkStats {};
+        std::string m = std::string(left ? "the left arm: " : "") + "no sensor data from " + (left ? config.leftPort : config.port) + " (" +
+                        std::to_string(left ? config.leftBaud : config.baud) + " baud) within " + within + ": ";
         if (l.bytesIn == 0)
             return m + "not a byte was heard. Is the device switched on, and is this its port? ('armadillo ports' lists them)";
         return m + std::to_string(l.bytesIn) + " bytes were heard but no valid sensor packet (" + std::to_string(l.badPackets) +
                " bad packets, " + std::to_string(l.resyncs) + " resyncs, " + std::to_string(l.discardedBytes) +
                " bytes discarded): is the baud rate right (--baud), and is it an ARMadillo board?";
     }
-    device::OscReceiver* osc = session.oscReceiver();
+    device::OscReceiver* osc = left ? session.leftOscReceiver() : session.oscReceiver();
     const device::OscInputStats o = osc ? osc->stats() : device::OscInputStats {};
     const bool serial = osc && !osc->serialPath().empty();
-    std::string m = "no usable sensor data on " +
-                    (serial ? "serial port " + osc->serialPath() + " (SLIP-framed OSC)" : "UDP/TCP port " + std::to_string(session.oscInPort())) +
+    std::string m = std::string(left ? "the left arm: " : "") + "no usable sensor data on " +
+                    (serial ? "serial port " + osc->serialPath() + " (SLIP-framed OSC)" : "UDP/TCP port " + std::to_string(osc ? osc->port() : 0)) +
                     " within " + within + ": ";
     if (o.datagrams == 0)
         return m + (serial ? std::string("not a message arrived. Is the NGIMU switched on, and is this its port? ('armadillo ports' lists them)")
@@ -197,8 +256,9 @@ int runPlay(const Arguments& args)
                                                 "repeatable; docs/INSTRUMENTS.md); the stems are played out together"},
                     {"--loop", "", "with --audio-in or --stem: start the recording again at its end (without it, the session\n"
                                    "ends with the recording unless --seconds ends it first)"},
-                    {"--data-timeout", "SECONDS", "with --port or --osc-in: no usable sensor data within this time is an error naming\n"
-                                                  "the port and what was heard instead (exit 4; default 5, 0 = wait for ever)"},
+                    {"--data-timeout", "SECONDS", "with --port or --osc-in (and --port-left, --osc-in-left): no usable sensor data from\n"
+                                                  "either arm within this time is an error naming the port and what was heard instead\n"
+                                                  "(exit 4; default 5, 0 = wait for ever)"},
                     {"--tactile", "T.csv", "every motor packet: t,m1..m9; the last row is the all-off sent at the end"},
                     {"--log", "SESSION.csv", "one row per sensor packet: t, raw counts, calibrated SI values, qw,qx,qy,qz"},
                     {"--osc-out", "HOST:PORT", "send orientation, pose, gyro, motors and gestures as OSC; with --map, the target of\n"
@@ -216,6 +276,12 @@ int runPlay(const Arguments& args)
                     {"--motion-left", "FILE", "two arms: with --simulate, a second simulated forearm (the left arm) acting out FILE\n"
                                               "(pose or quaternion CSV; - = a wandering arm); scenes see both arms"},
                     {"--port-left", "NAME", "two arms: the left arm's own device (its motor packets go back to it)"},
+                    {"--osc-in-left", "PORT", "two arms: the left arm is an OSC sender on this UDP (and TCP) port, read like --osc-in\n"
+                                              "(format detected, its own mount); with any right-arm source"},
+                    {"--osc-format-left", "NAME", "with --osc-in-left: force the left sender's format (as --osc-format)"},
+                    {"--mount-left", "FILE|PRESET", "with --osc-in-left: how the left arm's sensor is strapped on (as --mount)"},
+                    {"--calibrate-mount-left", "OUT.json", "with --osc-in-left: the guided mount calibration of the left arm's sensor\n"
+                                                           "(as --calibrate-mount; instructions on stderr prefixed 'left arm')"},
                     {"--calibration-left", "CAL.json", "the left arm's device calibration (default: the built-in one)"},
                     {"--arms-log", "A.csv", "two arms: t,qw,qx,qy,qz,left_qw,left_qx,left_qy,left_qz per control update"},
                     {"--control-in", "PORT", "stage commands as OSC on this UDP port (docs/STAGE.md): /armadillo/panic,\n"
@@ -315,7 +381,14 @@ int runPlay(const Arguments& args)
         config.mappingName = cl.value("--map");
         config.midiOut = cl.value("--midi-out");
         config.forwardDeg = readForwardOption(cl);
-        if (cl.has("--motion-left") && cl.has("--port-left")) throw UsageError("the left arm is --motion-left (simulated) or --port-left (a device), not both");
+        if (int(cl.has("--motion-left")) + int(cl.has("--port-left")) + int(cl.has("--osc-in-left")) > 1)
+            throw UsageError("the left arm is --motion-left (simulated), --port-left (a device) or --osc-in-left (an OSC sender): one of them");
+        for (const char* o : {"--osc-format-left", "--mount-left", "--calibrate-mount-left"})
+            if (cl.has(o) && !cl.has("--osc-in-left")) throw UsageError(std::string(o) + " applies to --osc-in-left");
+        const std::string leftMountOut = cl.value("--calibrate-mount-left");
+        if (cl.has("--calibrate-mount-left") && leftMountOut.empty()) throw UsageError("--calibrate-mount-left needs an output file");
+        if (cl.has("--calibrate-mount-left") && cl.has("--mount-left"))
+            throw UsageError("--calibrate-mount-left finds the mount: it cannot go with --mount-left");
         if (cl.has("--motion-left")) {
             if (!cl.has("--simulate")) throw UsageError("--motion-left drives a second simulated arm: use it with --simulate");
             config.leftSource = device::LiveConfig::LeftSource::Simulator;
@@ -326,13 +399,21 @@ int runPlay(const Arguments& args)
             config.leftPort = cl.value("--port-left");
             if (config.leftPort.empty()) throw UsageError("--port-left needs a device name");
             config.leftBaud = static_cast<int>(cl.integer("--baud", 57600, 300, 4000000));
+        } else if (cl.has("--osc-in-left")) {
+            config.leftSource = device::LiveConfig::LeftSource::Osc;
+            config.leftOscInPort = static_cast<int>(cl.integer("--osc-in-left", 0, 1, 65535));
+            if (config.source == device::LiveConfig::Source::Osc && config.oscSerialPort.empty() && config.oscInPort == config.leftOscInPort)
+                throw UsageError("--osc-in-left needs a port of its own (--osc-in listens on " + std::to_string(config.oscInPort) + ")");
+            if (cl.has("--osc-format-left") && !device::parseOscFormat(cl.value("--osc-format-left"), config.leftOsc.format))
+                throw UsageError("--osc-format-left: unknown format '" + cl.value("--osc-format-left") + "' (one of " + device::oscFormatNames() + ")");
         }
         for (const char* o : {"--calibration-left", "--arms-log"})
-            if (cl.has(o) && config.leftSource == device::LiveConfig::LeftSource::None) throw UsageError(std::string(o) + " applies to two arms (--motion-left or --port-left)");
+            if (cl.has(o) && config.leftSource == device::LiveConfig::LeftSource::None)
+                throw UsageError(std::string(o) + " applies to two arms (--motion-left, --port-left or --osc-in-left)");
+        if (cl.has("--calibration-left") && config.leftSource == device::LiveConfig::LeftSource::Osc)
+            throw UsageError("--calibration-left is a device's calibration: an OSC sender sends SI units (--mount-left says how it is worn)");
         if (cl.has("--calibration-left")) config.leftCalibration = device::loadCalibration(cl.value("--calibration-left"));
         config.armsLog = cl.value("--arms-log");
-        if (cl.has("--setlist") && config.leftSource != device::LiveConfig::LeftSource::None)
-            throw UsageError("two arms with --setlist are not supported yet");
         // Steadier timing for the link (and the simulated device) where the system allows it.
         config.link.realtimePriority = 20;
         config.audioOut = cl.value("--out");
@@ -359,7 +440,8 @@ int runPlay(const Arguments& args)
             throw UsageError("--loop repeats the --audio-in recording: use it with --audio-in or --stem");
         const double dataTimeout = cl.number("--data-timeout", 5.0);
         if (!(dataTimeout >= 0.0 && dataTimeout <= 3600.0)) throw UsageError("--data-timeout must lie in 0..3600 s");
-        if (cl.has("--data-timeout") && config.source == device::LiveConfig::Source::Simulator)
+        const bool leftNeedsData = config.leftSource == device::LiveConfig::LeftSource::Port || config.leftSource == device::LiveConfig::LeftSource::Osc;
+        if (cl.has("--data-timeout") && config.source == device::LiveConfig::Source::Simulator && !leftNeedsData)
             throw UsageError("--data-timeout applies to --port and --osc-in (the simulator always sends)");
 
         const std::string calibrateOut = cl.value("--calibrate");
@@ -381,7 +463,7 @@ int runPlay(const Arguments& args)
         // or the session ran for an hour.
         const std::vector<std::pair<std::string, std::string>> outputs {
             {"--out", config.audioOut}, {"--tactile", config.tactileOut}, {"--log", config.logOut},
-            {"--calibrate", calibrateOut}, {"--calibrate-mount", mountOut}, {"--training-log", trainingLog},
+            {"--calibrate", calibrateOut}, {"--calibrate-mount", mountOut}, {"--calibrate-mount-left", leftMountOut}, {"--training-log", trainingLog},
             {"--arms-log", config.armsLog}};
         for (const auto& [option, file] : outputs)
             if (cl.has(option)) checkOutputPath(option, file);
@@ -391,6 +473,10 @@ int runPlay(const Arguments& args)
         if (cl.has("--mount")) {
             config.osc.mount = device::mountFromArgument(cl.value("--mount"));
             config.osc.mountGiven = true;
+        }
+        if (cl.has("--mount-left") || !leftMountOut.empty()) {   // (a calibration sees the sensor's own axes)
+            config.leftOsc.mount = leftMountOut.empty() ? device::mountFromArgument(cl.value("--mount-left")) : device::Mount {};
+            config.leftOsc.mountGiven = true;
         }
         if (cl.has("--calibration")) config.calibration = device::loadCalibration(cl.value("--calibration"));
         config.mapping = readMapOption(cl, engine);
@@ -465,12 +551,17 @@ int runPlay(const Arguments& args)
             std::cerr << "armadillo play: no sound: " << session.soundCardWarning()
                       << " (--out FILE records the audio instead; --no-audio silences this message)\n";
         }
-        std::unique_ptr<device::MountCalibration> mountCalibration;
-        if (!mountOut.empty()) {
-            mountCalibration = std::make_unique<device::MountCalibration>();
-            session.oscReceiver()->merger().enableSensorTap(true);
-            std::cerr << "mount calibration pose 1 (" << device::MountCalibration::poseName(mountCalibration->pose())
-                      << "): " << device::MountCalibration::instruction(mountCalibration->pose()) << "\n";
+        std::vector<std::unique_ptr<GuidedMount>> mountCalibrations;   // the right arm's, the left arm's
+        for (const auto& [out, osc, option, arm] : {std::tuple {mountOut, session.oscReceiver(), "--calibrate-mount", ""},
+                                                    std::tuple {leftMountOut, session.leftOscReceiver(), "--calibrate-mount-left", "left arm "}}) {
+            if (out.empty() || !osc) continue;
+            mountCalibrations.push_back(std::make_unique<GuidedMount>());
+            GuidedMount& g = *mountCalibrations.back();
+            g.osc = osc;
+            g.out = out;
+            g.option = option;
+            g.arm = arm;
+            g.begin();
         }
         if (live::MappingRig* rig = session.mapping()) forwardTarget().store(&rig->mapper());
         struct ForwardOff {
@@ -480,7 +571,7 @@ int runPlay(const Arguments& args)
         session.start();
         const auto start = std::chrono::steady_clock::now();
         std::string shownError;
-        bool shownFormat = false;
+        bool shownFormat = false, shownLeftFormat = false;
         bool shownRates = false;
         std::string shownSerialError, shownTcp;
         if (device::OscReceiver* osc = session.oscReceiver()) {
@@ -492,7 +583,7 @@ int runPlay(const Arguments& args)
         bool shownCardError = false;
         // A progress line on a terminal (stderr only, so stdout keeps just the JSON summary), not
         // while a guided procedure prints its own instructions there.
-        const bool progress = ::isatty(STDERR_FILENO) == 1 && !calibration && !mountCalibration && !training;
+        const bool progress = ::isatty(STDERR_FILENO) == 1 && !calibration && mountCalibrations.empty() && !training;
         const char* lineStart = progress ? "\r\033[K" : "";   // a message replaces the progress line
         double shownAt = -1.0;
         // A port or OSC source that sends nothing is not a session: said, with what was heard,
@@ -505,6 +596,10 @@ int runPlay(const Arguments& args)
             if (seconds > 0.0 && elapsed >= seconds) break;
             if (needsData && dataTimeout > 0.0 && elapsed >= dataTimeout && session.summary().packets == 0) {
                 noData = noDataMessage(session, config, dataTimeout);
+                break;
+            }
+            if (leftNeedsData && dataTimeout > 0.0 && elapsed >= dataTimeout && leftPackets(session) == 0) {   // the left arm's source too
+                noData = noDataMessage(session, config, dataTimeout, true);
                 break;
             }
             if (session.recordingEnded()) {
@@ -589,20 +684,14 @@ int runPlay(const Arguments& args)
                     shownFormat = true;
                 }
             }
-            if (mountCalibration && mountCalibration->pose() != device::MountCalibration::Pose::Done) {
-                device::SensorFrameSample p;
-                while (mountCalibration->pose() != device::MountCalibration::Pose::Done && session.oscReceiver()->merger().popSensorSample(p)) {
-                    mountCalibration->feed(Eigen::Vector3d(p.accel[0], p.accel[1], p.accel[2]), Eigen::Vector3d(p.gyro[0], p.gyro[1], p.gyro[2]));
-                    if (!mountCalibration->ready()) continue;
-                    mountCalibration->finishStep();
-                    const auto pose = mountCalibration->pose();
-                    std::cerr << (pose == device::MountCalibration::Pose::Done
-                                      ? std::string("mount calibration complete")
-                                      : "mount calibration pose " + std::to_string(static_cast<int>(pose) + 1) + " (" +
-                                            device::MountCalibration::poseName(pose) + "): " + device::MountCalibration::instruction(pose))
-                              << "\n";
-                }
+            if (device::OscReceiver* osc = session.leftOscReceiver(); osc && !shownLeftFormat && osc->format() != device::OscFormat::Auto &&
+                                                                     osc->stats().imu + osc->stats().orientation > 0) {
+                std::cerr << lineStart << "armadillo play: left arm OSC input: " << device::oscFormatName(osc->format())
+                          << (cl.has("--osc-format-left") ? " (forced)" : " (detected)") << " from "
+                          << (osc->deviceName().empty() ? std::string("?") : osc->deviceName()) << ", mount " << osc->merger().mount().name << "\n";
+                shownLeftFormat = true;
             }
+            for (const auto& g : mountCalibrations) g->step();
             if (const audio::SoundCard* card = session.soundCard(); card && card->failed() && !shownCardError) {
                 std::cerr << lineStart << "armadillo play: " << card->lastError() << "; playing on without sound\n";
                 shownCardError = true;
@@ -646,6 +735,8 @@ int runPlay(const Arguments& args)
         session.stop();
         if (needsData && dataTimeout > 0.0 && noData.empty() && session.summary().packets == 0)
             noData = noDataMessage(session, config, session.summary().seconds);
+        if (leftNeedsData && dataTimeout > 0.0 && noData.empty() && leftPackets(session) == 0)
+            noData = noDataMessage(session, config, session.summary().seconds, true);
         if (!noData.empty()) {   // nothing was played: no file is written
             std::cout << device::summaryJson(session.summary()) << "\n" << std::flush;
             throw IoError(noData);
@@ -658,17 +749,7 @@ int runPlay(const Arguments& args)
         if (brailleScene) writeFileAtomically(trainingLog, trainingCsv);
         if (const audio::SoundCard* card = session.soundCard(); card && card->underruns() > 0)
             std::cerr << "armadillo play: the sound card ran dry " << card->underruns() << " time(s) (audible clicks)\n";
-        if (mountCalibration) {
-            mountCalibration->skipRoll();   // the third pose is optional
-            device::Mount mount;
-            std::string why;
-            if (!mountCalibration->solve(mount, why))
-                throw IoError("--calibrate-mount: no mount written: " + why + " (stopped at pose '" +
-                              device::MountCalibration::poseName(mountCalibration->pose()) + "')");
-            mount.device = session.oscReceiver()->deviceName();
-            device::saveMount(mountOut, mount);
-            std::cerr << "mount calibration written to " << mountOut << "\n";
-        }
+        for (const auto& g : mountCalibrations) g->finish();
         if (calibration) {
             if (calibration->step() != device::CalibrationProcedure::Step::Done)
                 std::cerr << "calibration stopped at step '" << device::CalibrationProcedure::stepName(calibration->step())
@@ -687,6 +768,9 @@ int runPlay(const Arguments& args)
         }
         if (device::DeviceLink* leftLink = session.leftLink())
             summary.insert(summary.size() - 1, ",\"left_packets\":" + std::to_string(leftLink->stats().packets));
+        if (device::OscReceiver* leftOsc = session.leftOscReceiver())   // the left sender's usable samples and its input's counters
+            summary.insert(summary.size() - 1, ",\"left_packets\":" + std::to_string(leftOsc->stats().imu + leftOsc->stats().orientation) +
+                                                   ",\"left_osc\":{" + leftOsc->statsJson() + "}");
         if (cues) summary.insert(summary.size() - 1, ",\"cue\":" + std::to_string(cues->current()) + ",\"cue_changes\":" + std::to_string(cues->changes()));
         std::cout << summary << "\n" << std::flush;
         return session.engine().failed() ? int(kExitFailure) : int(kExitOk);

@@ -3,6 +3,7 @@
 #include "Cli/MapOptions.h"
 #include "Cli/SceneOptions.h"
 #include "Osc/OscIo.h"
+#include "Osc/Mount.h"
 #include "Live/MappingRig.h"
 #include "Mapping/MidiFile.h"
 #include "Core/Csv.h"
@@ -47,6 +48,9 @@ int runRender(const Arguments& args)
                                                          "(theremin-duo is made for two); the left arm's motors are mirrored"},
                                {"--tactile-left", "T.csv", "with --motion-left: the left arm's motor packets"},
                                {"--arms-log", "A.csv", "with --motion-left: t,qw,qx,qy,qz,left_qw,left_qx,left_qy,left_qz per control update"},
+                               {"--mount", "FILE|PRESET", "how the sensor that recorded --motion (an IMU or quaternion file) was strapped on:\n"
+                                                          "a mount file (play --calibrate-mount) or a preset (identity, phone-screen-up, ngimu ...)"},
+                               {"--mount-left", "FILE|PRESET", "the same for --motion-left"},
                                {"--motion", "FILE", "motion CSV (IMU, quaternion or pose)", true},
                                {"--out", "OUT.wav", "stereo WAV, 16-bit (written whole or not at all); may be left out with --midi-out"},
                                {"--tactile", "T.csv", "motor levels of every packet: t,m1..m9 (m10..m12 with --back-motors); the last\n"
@@ -174,12 +178,14 @@ int runRender(const Arguments& args)
         }
         const auto map = readMapOption(cl, engine);
         const double forward = readForwardOption(cl);
+        if (cl.has("--mount-left") && !cl.has("--motion-left")) throw UsageError("--mount-left applies to --motion-left");
+        if (cl.has("--mount")) settings.mount = device::mountFromArgument(cl.value("--mount")).rotation;   // IoError / InputError naming the file
+        if (cl.has("--mount-left")) settings.leftMount = device::mountFromArgument(cl.value("--mount-left")).rotation;
         const CsvTable motion = CsvTable::read(cl.value("--motion"));
         for (const char* o : {"--tactile-left", "--arms-log"})
             if (cl.has(o) && !cl.has("--motion-left")) throw UsageError(std::string(o) + " applies to --motion-left");
         CsvTable leftMotion;
         if (cl.has("--motion-left")) {
-            if (setlist) throw UsageError("--motion-left with --setlist is not supported yet");
             leftMotion = CsvTable::read(cl.value("--motion-left"));
             settings.leftMotion = &leftMotion;
             engine.twoArms = true;
@@ -189,7 +195,7 @@ int runRender(const Arguments& args)
         std::unique_ptr<mapping::MidiFileWriter> midi;
         double lastRow = 0.0;
         if (map) {
-            settings.onControl = [&](double t, const ArmState& arm, const GestureEvent* g, std::size_t n, Engine& e) {
+            settings.onControl = [&](double t, const ArmState& arm, const ArmState* leftArm, const GestureEvent* g, std::size_t n, Engine& e) {
                 if (!rig) {   // the engine exists only inside the render: the mapping is built for its scene
                     live::MappingRigOptions options;
                     options.oscDefault = cl.value("--osc-out");
@@ -201,7 +207,7 @@ int runRender(const Arguments& args)
                     rig->setMidiSink([](void* ctx, const mapping::MidiEvent& ev) { static_cast<mapping::MidiFileWriter*>(ctx)->add(ev); }, midi.get());
                 }
                 lastRow = t;
-                if (arm.valid) rig->step(t, arm, g, n, e);
+                if (arm.valid) rig->step(t, arm, leftArm, g, n, e);
             };
         }
 
@@ -231,7 +237,6 @@ int runRender(const Arguments& args)
                     throw UsageError(std::string("--cue-at: ") + e.what());
                 }
             }
-            if (settings.audioIn) throw UsageError("--audio-in with --setlist is not supported yet");
             r = live::renderSetList(motion, list, settings, changes);
             engine.scene = "setlist";
             // A set list renders into memory (bounded like any collected render): its audio goes
@@ -239,7 +244,6 @@ int runRender(const Arguments& args)
             r.frames = r.audio.frames();
             for (const auto& ch : r.audio.channels)
                 for (const float v : ch) r.peak = std::max(r.peak, std::fabs(v));
-            r.scenePeak = r.peak;
             constexpr std::size_t kChunk = 4096;
             for (std::size_t at = 0; at < r.frames && r.audio.channels.size() == 2; at += kChunk) {
                 const int n = static_cast<int>(std::min<std::size_t>(kChunk, r.frames - at));

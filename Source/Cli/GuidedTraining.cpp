@@ -18,6 +18,7 @@
 #include "Access/Feedback.h"
 #include "Access/Chords.h"
 #include "Access/Report.h"
+#include "Access/SessionLog.h"
 #include "Braille/Reading.h"
 #include "Braille/Training.h"
 #include "Cli/ReaderIo.h"
@@ -77,42 +78,11 @@ struct Timing {
     double on = 0.4, gap = 0.2, letterGap = 0.5, wordGap = 1.2;   // docs/BRAILLE.md "Passive drawing"
 };
 
-/// One log row in the columns of the §4.4.1 log.
+/// One log row in the columns of the §4.4.1 log (Access/SessionLog.h).
 void logRow(std::string& log, double t, const char* event, const access::PlannedTrial* trial, int number, const std::string& prompt,
             int unit, int step, MotorSet motors, bool hasMotors, const std::string& answer, int correct)
 {
-    auto field = [&](const std::string& f) {
-        if (f.find_first_of(",\"\n\r") == std::string::npos) {
-            log += f;
-            return;
-        }
-        log += '"';
-        for (char c : f) {
-            if (c == '"') log += '"';
-            log += c;
-        }
-        log += '"';
-    };
-    appendNumber(log, t, 9);
-    log += std::string(",") + event + ",";
-    if (trial) {
-        log += trial->stage + "," + std::to_string(number) + ",";
-        field(trial->expected);
-    } else {
-        log += ",,";
-    }
-    log += ",";
-    field(prompt);
-    log += ",,,";   // posture, roll: nothing moves in passive drawing
-    if (unit >= 0) log += std::to_string(unit + 1) + "," + std::to_string(step + 1);
-    else log += ",";
-    log += ",";
-    if (hasMotors) field(motorList(motors));
-    log += ",";
-    field(answer);
-    log += ",";
-    if (correct >= 0) log += std::to_string(correct);
-    log += "\n";
+    access::appendSessionLogRow(log, t, event, trial, number, prompt, unit, step, motors, hasMotors, answer, correct);
 }
 
 class Session {
@@ -120,7 +90,7 @@ public:
     Session(TactilePlayer& player, GuidedDevice& device, DisplayMethod method, float level)
         : player_(player), device_(device), method_(method), level_(level), start_(std::chrono::steady_clock::now())
     {
-        log_ = "t,event,stage,trial,expected,prompt,posture,roll_deg,unit,step,motors,answer,correct\n";
+        log_ = access::kSessionLogHeader;
     }
 
     /// s of session time: the device link's clock (with --unpaced, the packet clock), so the log's
@@ -303,13 +273,16 @@ int runGuidedTraining(const CommandLine& cl)
     GuidedDevice device(cl.value("--port"), baud, cl.has("--simulate"), unpaced, player,
                         cl.has("--no-gestures") ? GuidedDevice::SensorHook {} : GuidedDevice::SensorHook(onSensor));
     int repeatsTaken = 0, skipsTaken = 0;
+    std::string armGesture;   // the gesture behind the last "?" / "-" (the log's gesture row)
     io.setExtraInput([&]() -> std::string {
         if (skips.load() > skipsTaken) {
             skipsTaken = skips.load();
+            armGesture = "two twists";
             return "-";
         }
         if (repeats.load() > repeatsTaken) {
             repeatsTaken = repeats.load();
+            armGesture = "twist";
             return "?";
         }
         return "";
@@ -342,6 +315,9 @@ int runGuidedTraining(const CommandLine& cl)
             shownAt = session.wall();
             io.prompt("trial " + header + ": " + trial.prompt, header + " " + trial.prompt);
             answer = io.readLine();
+            if (!armGesture.empty() && (answer == "?" || answer == "-"))   // it came from the arm
+                logRow(session.log(), session.now(), "gesture", &trial, n, "", -1, 0, 0, false, armGesture, -1);
+            armGesture.clear();
             if (answer == "?") continue;   // show it again
             if (answer == "-") break;
             if (cl.has("--chords")) {

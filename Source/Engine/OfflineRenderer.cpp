@@ -8,29 +8,31 @@
 
 namespace armadillo {
 
-namespace {
-/// The motion file as a list of per-row arm updates, whatever its kind.
-struct MotionSource {
-    MotionKind kind = MotionKind::Unknown;
-    std::vector<ImuSample> imu;
-    std::vector<TimedQuaternion> orientations;
-    std::size_t size() const { return kind == MotionKind::Imu ? imu.size() : orientations.size(); }
-    double time(std::size_t i) const { return kind == MotionKind::Imu ? imu[i].t : orientations[i].t; }
-    ArmState apply(ArmTracker& tracker, std::size_t i) const
-    {
-        return kind == MotionKind::Imu ? tracker.update(imu[i]) : tracker.updateOrientation(orientations[i].t, orientations[i].q);
-    }
-};
-
-MotionSource loadMotion(const CsvTable& table)
+std::size_t MotionRows::size() const { return kind == MotionKind::Imu ? imu.size() : orientations.size(); }
+double MotionRows::time(std::size_t i) const { return kind == MotionKind::Imu ? imu[i].t : orientations[i].t; }
+ArmState MotionRows::apply(ArmTracker& tracker, std::size_t i) const
 {
-    MotionSource m;
+    return kind == MotionKind::Imu ? tracker.update(imu[i]) : tracker.updateOrientation(orientations[i].t, orientations[i].q);
+}
+
+MotionRows MotionRows::load(const CsvTable& table, const Eigen::Quaterniond& mount, const char* mountOption)
+{
+    MotionRows m;
     m.kind = detectMotionKind(table);
     if (m.kind == MotionKind::Imu) m.imu = readImu(table);
     else m.orientations = motionAsQuaternions(table);   // throws for unknown headers
+    if (mount.angularDistance(Eigen::Quaterniond::Identity()) == 0.0) return m;
+    if (m.kind == MotionKind::Pose)
+        throw InputError(table.source(), 0, mountOption, "a pose file is the forearm's own pose, not a sensor's: a mount applies to IMU and quaternion files");
+    const Eigen::Quaterniond r = mount.normalized();
+    for (ImuSample& s : m.imu) {
+        s.gyro = r * s.gyro;
+        s.accel = r * s.accel;
+        if (s.mag.allFinite()) s.mag = r * s.mag;
+    }
+    for (TimedQuaternion& q : m.orientations) q.q = (q.q * r.conjugate()).normalized();
     return m;
 }
-} // namespace
 
 void checkRenderSpan(const CsvTable& motion, std::size_t rows, const std::function<double(std::size_t)>& timeOf, double tailSeconds,
                      double maxSeconds)
@@ -49,7 +51,7 @@ void checkRenderSpan(const CsvTable& motion, std::size_t rows, const std::functi
 
 RenderResult renderOffline(const CsvTable& motion, const RenderSettings& settings)
 {
-    const MotionSource source = loadMotion(motion);
+    const MotionRows source = MotionRows::load(motion, settings.mount, "--mount");
     const double sampleRate = settings.engine.sceneConfig.sampleRate;
     if (!(sampleRate >= 8000.0 && sampleRate <= 384000.0))
         throw InputError("", 0, "", "sample rate must lie in 8000..384000 Hz");
@@ -87,13 +89,13 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
 
     RenderResult result;
     const bool twoArms = settings.leftMotion != nullptr;
-    MotionSource leftSource;
+    MotionRows leftSource;
     ArmTracker leftTracker;
     std::size_t leftRow = 0;
     ArmState leftArm;
     if (twoArms) {
         if (!settings.engine.twoArms) throw InputError("", 0, "--motion-left", "two arms need EngineConfig::twoArms");
-        leftSource = loadMotion(*settings.leftMotion);
+        leftSource = MotionRows::load(*settings.leftMotion, settings.leftMount, "--mount-left");
         if (leftSource.size() == 0) throw InputError(settings.leftMotion->source(), 0, "--motion-left", "the left arm's motion file has no rows");
     }
     const double tEnd = source.time(source.size() - 1) + tail;
@@ -208,7 +210,8 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
         GestureEvent g;
         while (engine.popGesture(g)) result.gestures.push_back(g);
         if (settings.onControl)
-            settings.onControl(t, arm, result.gestures.data() + firstGesture, result.gestures.size() - firstGesture, engine);
+            settings.onControl(t, arm, twoArms ? &leftArm : nullptr, result.gestures.data() + firstGesture, result.gestures.size() - firstGesture,
+                               engine);
     }
     renderUntil(tEnd + 1.0 / sampleRate);
     // The render ends as a session does: every motor off, in one last packet (the tactile file's

@@ -34,8 +34,10 @@ struct RenderSettings {
     /// Called after every control update (one per motion row) with the row's time (s, the motion
     /// file's clock), the arm, the gestures the scene emitted in that update and the engine (its
     /// scene's outputs, Engine::sceneValues, and parameters): what a front end's mapping
-    /// (`render --map`, Source/Mapping) reads and drives. Empty: not called.
-    std::function<void(double t, const ArmState& arm, const GestureEvent* gestures, std::size_t count, Engine& engine)> onControl;
+    /// (`render --map`, Source/Mapping) reads and drives; with two arms (leftMotion) also the left
+    /// arm's state as of that update (null with one arm). Empty: not called.
+    std::function<void(double t, const ArmState& arm, const ArmState* leftArm, const GestureEvent* gestures, std::size_t count, Engine& engine)>
+        onControl;
     std::string audioInName;       ///< the file audioIn came from, named in messages
     /// The instrument's MIDI notes (`--midi-in`), sorted by t: each note goes to the engine's
     /// MIDI input (Engine::processMidi) with the block that holds its sample, before that
@@ -57,6 +59,12 @@ struct RenderSettings {
     /// (its rows up to each main row's time are applied before that row's control update).
     /// Needs engine.twoArms. Null: one arm.
     const CsvTable* leftMotion = nullptr;
+    /// How the sensor that recorded the motion file was strapped on (`render --mount`): the rotation
+    /// sensor → device frame (Osc/Mount.h's Mount::rotation). IMU samples are turned into the
+    /// device frame, orientations become q · mount⁻¹; a pose file is refused (it is the forearm's
+    /// own pose). Identity: the file is in the device frame already.
+    Eigen::Quaterniond mount = Eigen::Quaterniond::Identity();
+    Eigen::Quaterniond leftMount = Eigen::Quaterniond::Identity();   ///< the same for leftMotion (`--mount-left`)
 };
 
 struct RenderResult {
@@ -74,6 +82,22 @@ struct RenderResult {
     std::vector<TactileRow> leftTactile;     ///< two arms: the left arm's motor packets, one per control update
     /// Two arms: each control update's orientations (right, left; identity while not tracked).
     std::vector<TimedQuaternion> rightOrientation, leftOrientation;
+};
+
+class ArmTracker;
+
+/// A motion file as per-row arm updates, whatever its kind: IMU rows (fused by the tracker) or
+/// orientations (quaternion and pose files). `load` turns a sensor's recording into the forearm's
+/// axes with `mount` (RenderSettings::mount; InputError naming `mountOption` for a pose file).
+struct MotionRows {
+    MotionKind kind = MotionKind::Unknown;
+    std::vector<ImuSample> imu;
+    std::vector<TimedQuaternion> orientations;
+    std::size_t size() const;
+    double time(std::size_t i) const;
+    ArmState apply(ArmTracker& tracker, std::size_t i) const;
+    static MotionRows load(const CsvTable& table, const Eigen::Quaterniond& mount = Eigen::Quaterniond::Identity(),
+                           const char* mountOption = "--mount");
 };
 
 /// Why a render came out silent, in words for a user (empty when `r.peak` > 0): the scene makes

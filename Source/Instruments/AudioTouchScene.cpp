@@ -16,6 +16,13 @@
 // envelope, and accents or not (kStemPresets below; docs/INSTRUMENTS.md). Bass is felt at the
 // elbow, the voice at the wrist, the beat along the underside, the rest in the middle — each
 // apart, whatever the others do.
+//
+// The plugin's stems are its VST3 sidechain buses; it appends its main input after them (the
+// channels from stems.size() on: the whole mix). `audio-touch.stems` chooses: `apart` (default)
+// feels the stems on their own motors while any of them carries sound — when none has been over
+// the sensitivity floor for 1 s and a main input comes after them, the main input is felt as the
+// mixed input above (a host that enables the sidechains but routes nothing to them); `mixed`
+// feels the main input (without one: the stems' sum) as one mix through the three bands.
 #include "Core/Errors.h"
 #include "Instruments/ParameterSet.h"
 #include "Instruments/Scenes.h"
@@ -27,7 +34,8 @@
 namespace armadillo {
 namespace {
 
-enum AudioTouchIndex : int { kIntensity, kSensitivity, kAccents };
+enum AudioTouchIndex : int { kIntensity, kSensitivity, kAccents, kStemsMode };
+enum StemsMode : int { kStemsApart = 0, kStemsMixed = 1 };
 
 std::vector<ParamSpec> audioTouchSpecs()
 {
@@ -35,6 +43,7 @@ std::vector<ParamSpec> audioTouchSpecs()
         {"audio-touch.intensity", "Intensity", 0.0f, 100.0f, 80.0f, "%", {}},
         {"audio-touch.sensitivity", "Sensitivity (quietest sound felt)", -80.0f, -20.0f, -40.0f, "dBFS", {}},
         {"audio-touch.accents", "Beats and hits", 0.0f, 100.0f, 60.0f, "%", {}},
+        {"audio-touch.stems", "Stems", 0.0f, 1.0f, 0.0f, "", {"apart", "mixed"}},   // appended (issue 27)
     };
 }
 
@@ -135,6 +144,10 @@ public:
         for (auto& a : stemPubStrength_) a.store(0.0f);
         stemSeenHits_.fill(0u);
         hopFill_ = 0;
+        stemHopFill_ = 0;
+        stemQuietHops_ = kStemQuietHops;
+        stemsSounding_.store(false);
+        mainHeard_.store(false);
         clearPending_ = true;
     }
 
@@ -149,10 +162,48 @@ public:
     {
         if (!in || channels < 1 || n <= 0) return;
         if (stemCount_ > 0) {
-            processStems(in, channels, n);
+            // Stems first; what comes after them is the main input (the plugin's whole mix).
+            const int mains = std::max(0, channels - stemCount_);
+            mainHeard_.store(mains > 0, std::memory_order_relaxed);
+            if (params_.get(kStemsMode) < 0.5) {
+                processStems(in, std::min(channels, stemCount_), n);
+                if (mains > 0) processMixed(in + stemCount_, mains, n, 1.0 / mains);   // the fallback's
+            } else if (mains > 0) {
+                processMixed(in + stemCount_, mains, n, 1.0 / mains);
+            } else {
+                processMixed(in, std::min(channels, stemCount_), n, 1.0);   // the stems' sum: the mix
+            }
             return;
         }
-        const double scale = 1.0 / channels;
+        processMixed(in, channels, n, 1.0 / channels);
+    }
+
+    void control(const ControlInput& /*in*/, SceneOutput& out) override
+    {
+        if (clearPending_) {
+            out.motors.clearLevels();
+            for (int v = 0; v < std::max(kBands, stemCount_); ++v) out.motors.stopVoice(v);
+            clearPending_ = false;
+        }
+        const double intensity = params_.get(kIntensity) / 100.0;
+        const double floorDb = params_.get(kSensitivity);
+        const double accents = params_.get(kAccents) / 100.0;
+        const bool apart = stemCount_ > 0 && params_.get(kStemsMode) < 0.5
+                           && (stemsSounding_.load(std::memory_order_relaxed) || !mainHeard_.load(std::memory_order_relaxed));
+        if (apart) {
+            for (int b = 0; b < kBands; ++b) seenHits_[static_cast<std::size_t>(b)] = pubHits_[static_cast<std::size_t>(b)].load();
+            controlStems(out, intensity, floorDb, accents);
+            return;
+        }
+        for (int k = 0; k < stemCount_; ++k) stemSeenHits_[static_cast<std::size_t>(k)] = stemPubHits_[static_cast<std::size_t>(k)].load();
+        controlMixed(out, intensity, floorDb, accents);
+    }
+
+private:
+    /// The mixed input: `channels` channels from `in`, summed and scaled by `scale`, through the
+    /// three bands.
+    void processMixed(const float* const* in, int channels, int n, double scale) noexcept
+    {
         const double floor = std::pow(10.0, params_.get(kSensitivity) / 10.0);   // power
         for (int i = 0; i < n; ++i) {
             double x = 0.0;
@@ -194,20 +245,8 @@ public:
         }
     }
 
-    void control(const ControlInput& /*in*/, SceneOutput& out) override
+    void controlMixed(SceneOutput& out, double intensity, double floorDb, double accents)
     {
-        if (clearPending_) {
-            out.motors.clearLevels();
-            for (int v = 0; v < std::max(kBands, stemCount_); ++v) out.motors.stopVoice(v);
-            clearPending_ = false;
-        }
-        const double intensity = params_.get(kIntensity) / 100.0;
-        const double floorDb = params_.get(kSensitivity);
-        const double accents = params_.get(kAccents) / 100.0;
-        if (stemCount_ > 0) {
-            controlStems(out, intensity, floorDb, accents);
-            return;
-        }
         for (int b = 0; b < kBands; ++b) {
             const auto bi = static_cast<std::size_t>(b);
             // Loudness → level: the band's envelope from the sensitivity floor to 30 dB above it,
@@ -234,7 +273,6 @@ public:
         }
     }
 
-private:
     /// Stems: each channel its own band, envelopes and transients (the mixed path's rules).
     void processStems(const float* const* in, int channels, int n) noexcept
     {
@@ -252,8 +290,12 @@ private:
                 b.fast += (p - b.fast) * (p > b.fast ? fastAttack_ : fastRelease_);
                 b.slow += (p - b.slow) * slow_;
             }
-            if (++hopFill_ < hop_) continue;
-            hopFill_ = 0;
+            if (++stemHopFill_ < hop_) continue;
+            stemHopFill_ = 0;
+            bool sounding = false;
+            for (int k = 0; k < stemCount_; ++k) sounding = sounding || stems_[static_cast<std::size_t>(k)].band.level > floor;
+            stemQuietHops_ = sounding ? 0 : std::min(stemQuietHops_ + 1, kStemQuietHops);
+            stemsSounding_.store(stemQuietHops_ < kStemQuietHops, std::memory_order_relaxed);
             for (int k = 0; k < stemCount_; ++k) {
                 const auto ki = static_cast<std::size_t>(k);
                 BandState& b = stems_[ki].band;
@@ -311,6 +353,12 @@ private:
     std::array<Biquad, 4> low_ {}, midHp_ {}, midLp_ {}, high_ {};
     double levelAttack_ = 0, levelRelease_ = 0, fastAttack_ = 0, fastRelease_ = 0, slow_ = 0;
     int hop_ = 120, hopFill_ = 0, refractoryHops_ = 32;
+    int stemHopFill_ = 0;
+    /// Hops (2.5 ms) the stems have all been under the floor, up to 1 s's worth (audio thread).
+    static constexpr int kStemQuietHops = 400;
+    int stemQuietHops_ = kStemQuietHops;
+    std::atomic<bool> stemsSounding_ {false};   ///< a stem over the floor within the last second
+    std::atomic<bool> mainHeard_ {false};       ///< the input carries a main input after the stems
     std::array<BandState, kBands> band_ {};
     std::array<std::atomic<float>, kBands> pubLevel_ {};
     std::array<std::atomic<unsigned>, kBands> pubHits_ {};

@@ -54,17 +54,19 @@ const std::vector<std::string>& sessionLogHeader()
 
 LiveSession::LiveSession(const LiveConfig& config) : config_(config)
 {
-    if (config_.leftSource != LiveConfig::LeftSource::None) {
-        if (!config_.setList.empty()) throw InputError("--setlist", 0, "", "two arms with a set list are not supported yet");
-        EngineConfig duo = config_.engine;
-        duo.twoArms = true;
-        duo_ = std::make_unique<Engine>(duo);   // InputError for an unknown scene or parameter
-        config_.engine.scene = "monitor";        // the loop's own engine only tracks the right arm
-        config_.engine.parameters.clear();
+    const bool twoArms = config_.leftSource != LiveConfig::LeftSource::None;
+    if (twoArms) {
+        if (config_.setList.empty()) {   // (with a set list every cue's engine takes both arms)
+            EngineConfig duo = config_.engine;
+            duo.twoArms = true;
+            duo_ = std::make_unique<Engine>(duo);   // InputError for an unknown scene or parameter
+            config_.engine.scene = "monitor";        // the loop's own engine only tracks the right arm
+            config_.engine.parameters.clear();
+        }
         leftTracker_ = std::make_unique<ArmTracker>();
     }
     if (!config_.setList.empty()) {   // every cue prepared now; the loop's own engine only tracks the arm
-        cues_ = std::make_unique<live::CuePlayer>(live::loadSetList(config_.setList), config_.engine.sceneConfig, config_.engine.motorCount,
+        cues_ = std::make_unique<live::CuePlayer>(live::loadSetList(config_.setList), config_.engine.sceneConfig, config_.engine.motorCount, twoArms,
                                                   config_.engine.motorGain);   // the reader's touch profile for every cue
         config_.engine.scene = "monitor";
         config_.engine.parameters.clear();
@@ -91,7 +93,7 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
         options.oscDefault = config_.oscOut;
         options.sourceName = config_.mappingName;
         options.forwardDeg = config_.forwardDeg;
-        mapping_ = std::make_unique<live::MappingRig>(*config_.mapping, *engine_, options);
+        mapping_ = std::make_unique<live::MappingRig>(*config_.mapping, duo_ ? *duo_ : *engine_, options);   // for the scene that plays
         if (!config_.midiOut.empty()) {
             midiOut_ = std::make_unique<audio::SequencerOut>(config_.midiOut);   // IoError naming the cause (exit 4)
             mapping_->setMidiSink([](void* ctx, const mapping::MidiEvent& e) { static_cast<audio::SequencerOut*>(ctx)->send(e.bytes.data(), e.size); },
@@ -139,7 +141,13 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
             leftInput_.pushImu(config_.leftCalibration.apply(t, counts));
             return leftLevels_.load();
         };
-        if (config_.leftSource == LiveConfig::LeftSource::Port) {
+        if (config_.leftSource == LiveConfig::LeftSource::Osc) {
+            // An OSC sender as the left arm: its own dialect detection and mount; its samples (or
+            // its own orientations) into the left arm's mailbox. It has no motors.
+            auto onImu = [this](const ImuSample& s) { leftInput_.pushImu(s); };
+            auto onQ = [this](double t, const Eigen::Quaterniond& q) { leftInput_.storeOrientation(t, q); };
+            leftOscIn_ = std::make_unique<OscReceiver>(config_.leftOscInPort, onImu, onQ, config_.leftOsc);   // IoError when taken
+        } else if (config_.leftSource == LiveConfig::LeftSource::Port) {
             auto port = std::make_unique<SerialPort>(config_.leftPort, config_.leftBaud);
             port->open();
             leftLink_ = std::make_unique<DeviceLink>(std::move(port), leftHandler, config_.link);
@@ -245,17 +253,33 @@ MotorLevels LiveSession::control(double t, const SensorCounts* counts, const Imu
     const ArmState& arm = result.arm;
     // With a set list the loop tracked the arm (its monitor engine keeps the motors off) and the
     // current cue plays it.
-    if (duo_) {   // the left arm: its samples since the last step through its own tracker (bounded)
+    if (leftTracker_) {   // the left arm: its samples since the last step through its own tracker (bounded)
+        // As the right arm's step (live::ControlLoop): more than a step's worth waiting, the oldest
+        // are dropped and the newest fused.
         live::LiveImu sample;
-        for (int i = 0; i < live::ControlLoop::kMaxImuPerStep && leftInput_.popImu(sample); ++i) leftArm_ = leftTracker_->update(live::toImuSample(sample));
-        while (leftInput_.popImu(sample)) {}   // more than a step's worth: the oldest are dropped
+        for (std::size_t waiting = leftInput_.imuWaiting(); waiting > static_cast<std::size_t>(live::ControlLoop::kMaxImuPerStep) && leftInput_.popImu(sample);)
+            --waiting;
+        int fused = 0;
+        for (; fused < live::ControlLoop::kMaxImuPerStep && leftInput_.popImu(sample); ++fused) leftArm_ = leftTracker_->update(live::toImuSample(sample));
+        // A sender that fuses itself (an OSC orientation, no IMU samples): its newest orientation, once.
+        const std::uint64_t seen = leftOrientation_.serial;
+        leftOrientation_ = leftInput_.latest(leftOrientation_);
+        if (fused == 0 && leftOrientation_.serial != 0 && leftOrientation_.serial != seen)
+            leftArm_ = leftTracker_->updateOrientation(leftOrientation_.t, Eigen::Quaterniond(leftOrientation_.w, leftOrientation_.x, leftOrientation_.y, leftOrientation_.z));
         if (leftArm_.valid) leftPose_.store(leftArm_.features.pose);
     }
     MotorLevels levels = result.levels;
-    if (cues_) levels = arm.valid ? cues_->control(arm, step.transport, dt) : MotorLevels {};
+    if (cues_ && leftTracker_) {
+        levels = arm.valid ? cues_->control(arm, leftArm_, step.transport, dt) : MotorLevels {};
+        leftLevels_.store(arm.valid ? cues_->leftLevels() : MotorLevels {});
+    } else if (cues_) {
+        levels = arm.valid ? cues_->control(arm, step.transport, dt) : MotorLevels {};
+    }
     if (duo_) {
         levels = arm.valid ? duo_->control(arm, leftArm_, step.transport, dt) : MotorLevels {};
         leftLevels_.store(arm.valid ? duo_->leftLevels() : MotorLevels {});
+    }
+    if (leftTracker_) {
         if (armsLog_) {
             LogRow row;
             row.count = 9;
@@ -318,7 +342,7 @@ MotorLevels LiveSession::control(double t, const SensorCounts* counts, const Imu
     const bool panicNow = sounding().panicked() || engine().panicked();
     if (mapping_ && panicNow && !mappingPanicked_) mapping_->panic(t);
     mappingPanicked_ = panicNow;
-    if (mapping_ && result.ran && !panicNow) mapping_->step(t, arm, gestures.data(), gestureCount, engine());
+    if (mapping_ && result.ran && !panicNow) mapping_->step(t, arm, leftTracker_ ? &leftArm_ : nullptr, gestures.data(), gestureCount, engine());
     return levels;
 }
 
@@ -422,6 +446,7 @@ void LiveSession::start()
     if (link_) link_->start();
     if (leftLink_) leftLink_->start();
     if (oscIn_) oscIn_->start();
+    if (leftOscIn_) leftOscIn_->start();
     if (wav_) audioThread_ = std::thread([this] { audioLoop(); });
     if (soundCard_)
         soundCard_->start([this](float* l, float* r, int n) { renderBlock(l, r, n); },
@@ -442,6 +467,7 @@ void LiveSession::stop()
         link_->stop();
     }
     if (oscIn_) oscIn_->stop();
+    if (leftOscIn_) leftOscIn_->stop();
     if (leftLink_) {   // the left device's last packet all-off too (motorsOff_ is set)
         if (leftLink_->stats().inSync) leftLink_->waitFor([](const LinkStats&) { return true; }, 0.05);
         leftLink_->stop();

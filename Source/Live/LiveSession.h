@@ -92,14 +92,17 @@ struct LiveConfig {
     /// only tracks the arm (monitor); sample rate, seed, arm side and motor count come from
     /// `engine`. Empty = none.
     std::string setList;
-    /// Two arms (docs/STAGE.md; `play --motion-left` / `--port-left`): the left arm's own source,
-    /// link, calibration and fusion; the scene sees both (EngineConfig::twoArms is set) and the
-    /// left arm's motor packets go back to its own device. None = one arm.
-    enum class LeftSource { None, Port, Simulator };
+    /// Two arms (docs/STAGE.md; `play --motion-left` / `--port-left` / `--osc-in-left`): the left
+    /// arm's own source, link, calibration (or mount) and fusion; the scene sees both
+    /// (EngineConfig::twoArms is set) and the left arm's motor packets go back to its own device
+    /// (an OSC sender has no motors). None = one arm.
+    enum class LeftSource { None, Port, Simulator, Osc };
     LeftSource leftSource = LeftSource::None;
     std::string leftPort;             ///< LeftSource::Port
     int leftBaud = 57600;
     std::string leftMotionFile;       ///< LeftSource::Simulator: pose/quaternion CSV; empty = wandering arm
+    int leftOscInPort = 0;            ///< LeftSource::Osc: UDP (and TCP) port (0 = any free port)
+    OscInputOptions leftOsc {};       ///< LeftSource::Osc: its own dialect detection and mount (`--mount-left`)
     Calibration leftCalibration = defaultCalibration();
     /// Two arms: t,qw,qx,qy,qz,left_qw,left_qx,left_qy,left_qz per control update. Empty = none.
     std::string armsLog;
@@ -146,6 +149,8 @@ public:
     live::CuePlayer* cuePlayer() noexcept { return cues_.get(); }
     /// Two arms: the left arm's link (null with one arm) and its latest pose (any thread).
     DeviceLink* leftLink() noexcept { return leftLink_.get(); }
+    /// Two arms with an OSC sender as the left arm: its receiver (format, device, counters); null otherwise.
+    OscReceiver* leftOscReceiver() noexcept { return leftOscIn_.get(); }
     Pose latestLeftPose() const noexcept { return leftPose_.load(); }
     /// IMU samples the control step dropped (more than ControlLoop::kMaxImuPerStep waiting).
     std::uint64_t droppedImu() const noexcept { return loop_.droppedImu(); }
@@ -196,8 +201,10 @@ private:
     std::unique_ptr<SimulatedForearm> leftSimulator_;
     std::unique_ptr<DeviceLink> leftLink_;
     live::LiveInput leftInput_;
+    std::unique_ptr<OscReceiver> leftOscIn_;
     std::unique_ptr<ArmTracker> leftTracker_;
     ArmState leftArm_ {};
+    live::LiveOrientation leftOrientation_ {};   // control thread: the left sender's last orientation read
     std::unique_ptr<Engine> duo_;                 // two arms: what plays (the loop's engine only tracks)
     SeqLock<MotorLevels> leftLevels_;
     SeqLock<Pose> leftPose_;

@@ -84,7 +84,7 @@ void MappingRig::deliver(Engine* engine) noexcept
     o.clear();
 }
 
-void MappingRig::step(double t, const ArmState& arm, const GestureEvent* gestures, std::size_t count, Engine& engine) noexcept
+void MappingRig::step(double t, const ArmState& arm, const ArmState* leftArm, const GestureEvent* gestures, std::size_t count, Engine& engine) noexcept
 {
     std::array<mapping::GestureIn, 64> g {};
     const std::size_t n = std::min(count, g.size());
@@ -92,6 +92,7 @@ void MappingRig::step(double t, const ArmState& arm, const GestureEvent* gesture
     mapping::MappingInput in;
     in.t = t;
     in.arm[0] = &arm;
+    in.arm[1] = leftArm;
     in.scene = engine.sceneValues();
     in.gestures = g.data();
     in.gestureCount = static_cast<int>(n);

@@ -41,8 +41,10 @@ public:
         sink_ = sink;
         sinkContext_ = context;
     }
-    /// One control update at time t (s): the arm, the gestures the scene emitted in it.
-    void step(double t, const ArmState& arm, const GestureEvent* gestures, std::size_t count, Engine& engine) noexcept;
+    /// One control update at time t (s): the arm (the right arm, or the only one), the left arm
+    /// (null with one arm: its sources and the relative arms.* sources then have no value and send
+    /// nothing), the gestures the scene emitted in it.
+    void step(double t, const ArmState& arm, const ArmState* leftArm, const GestureEvent* gestures, std::size_t count, Engine& engine) noexcept;
     /// The end: gesture notes end at their due time, held notes (zones, postures) at t.
     void finish(double t) noexcept;
     /// Panic at t (docs/STAGE.md), as the plugin does: every sounding note ended, then CC 120 and

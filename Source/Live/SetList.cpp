@@ -102,8 +102,8 @@ SetList parseSetList(std::string_view text, const std::string& source)
 
 SetList loadSetList(const std::string& path) { return parseSetList(readWholeFile(path), path); }
 
-CuePlayer::CuePlayer(const SetList& list, const SceneConfig& base, int motorCount, const std::array<float, kMaxMotors>& motorGain)
-    : cues_(list.cues)
+CuePlayer::CuePlayer(const SetList& list, const SceneConfig& base, int motorCount, bool twoArms, const std::array<float, kMaxMotors>& motorGain)
+    : cues_(list.cues), twoArms_(twoArms)
 {
     if (cues_.empty()) throw InputError(list.source, 0, "cues", "the set list has no cues");
     for (std::size_t i = 0; i < cues_.size(); ++i) {
@@ -115,6 +115,7 @@ CuePlayer::CuePlayer(const SetList& list, const SceneConfig& base, int motorCoun
         config.sceneConfig.text = c.text;
         config.motorCount = motorCount;
         config.parameters = c.parameters;
+        config.twoArms = twoArms;
         config.motorGain = motorGain;   // the reader's touch profile, as the single engine has it
         try {
             engines_.push_back(std::make_unique<Engine>(config));
@@ -126,6 +127,7 @@ CuePlayer::CuePlayer(const SetList& list, const SceneConfig& base, int motorCoun
     }
     SafetyParams safety;
     safety_.prepare(safety, std::clamp(motorCount, kGridMotors, kMaxMotors));
+    leftSafety_.prepare(safety, std::clamp(motorCount, kGridMotors, kMaxMotors));
     const double fs = base.sampleRate > 0.0 ? base.sampleRate : 48000.0;
     fadeLength_ = std::max(1, static_cast<int>(std::lround(kFadeSeconds * fs)));
     scratchL_.assign(kMaxBlock, 0.0f);
@@ -148,20 +150,30 @@ void CuePlayer::previous() noexcept
     while (!requested_.compare_exchange_weak(r, std::max(r - 1, 0), std::memory_order_acq_rel)) {}
 }
 
-MotorLevels CuePlayer::control(const ArmState& arm, const Transport& transport, double dt) noexcept
+MotorLevels CuePlayer::control(const ArmState& arm, const Transport& transport, double dt) noexcept { return step(arm, nullptr, transport, dt); }
+
+MotorLevels CuePlayer::control(const ArmState& arm, const ArmState& leftArm, const Transport& transport, double dt) noexcept
+{
+    return step(arm, twoArms_ ? &leftArm : nullptr, transport, dt);
+}
+
+MotorLevels CuePlayer::step(const ArmState& arm, const ArmState* leftArm, const Transport& transport, double dt) noexcept
 {
     const int want = requested_.load(std::memory_order_acquire);
     if (want != controlCue_) {
-        // The old cue's motors off through its own tactile engine; the new cue starts afresh.
+        // The old cue's motors (both arms') off through its own tactile engines; the new cue starts afresh.
         engines_[static_cast<std::size_t>(controlCue_)]->allOff();
         controlCue_ = want;
         engines_[static_cast<std::size_t>(controlCue_)]->scene().reset();
         active_.store(controlCue_, std::memory_order_release);
         changes_.fetch_add(1, std::memory_order_relaxed);
     }
-    const MotorLevels levels = engines_[static_cast<std::size_t>(controlCue_)]->control(arm, transport, dt);
-    // One safety stage across the whole set list: a cue change cannot restart the heat budget.
-    return safety_.process(levels, std::isfinite(dt) && dt >= 0.0 ? std::min(dt, 0.1) : 0.0);
+    Engine& e = *engines_[static_cast<std::size_t>(controlCue_)];
+    const MotorLevels levels = leftArm ? e.control(arm, *leftArm, transport, dt) : e.control(arm, transport, dt);
+    // One safety stage per arm across the whole set list: a cue change cannot restart a heat budget.
+    const double step = std::isfinite(dt) && dt >= 0.0 ? std::min(dt, 0.1) : 0.0;
+    leftLevels_ = twoArms_ ? leftSafety_.process(e.leftLevels(), step) : MotorLevels {};
+    return safety_.process(levels, step);
 }
 
 void CuePlayer::processInput(const float* const* in, int channels, int numSamples) noexcept
@@ -233,27 +245,46 @@ CueChange parseCueChange(const std::string& text)
 
 RenderResult renderSetList(const CsvTable& motion, const SetList& list, const RenderSettings& settings, std::vector<CueChange> changes)
 {
-    const MotionKind kind = detectMotionKind(motion);
-    std::vector<ImuSample> imu;
-    std::vector<TimedQuaternion> orientations;
-    if (kind == MotionKind::Imu) imu = readImu(motion);
-    else orientations = motionAsQuaternions(motion);   // throws for unknown headers
-    const std::size_t rows = kind == MotionKind::Imu ? imu.size() : orientations.size();
+    const MotionRows source = MotionRows::load(motion, settings.mount, "--mount");
+    const std::size_t rows = source.size();
     if (rows == 0) throw InputError(motion.source(), 0, "", "the motion file has no rows");
-    auto timeOf = [&](std::size_t i) { return kind == MotionKind::Imu ? imu[i].t : orientations[i].t; };
+    auto timeOf = [&](std::size_t i) { return source.time(i); };
     // A set list renders into memory: its span is bounded like any collected render.
     checkRenderSpan(motion, rows, timeOf, settings.tailSeconds, std::min(settings.maxSeconds, kMaxCollectedRenderSeconds));
 
     const double sampleRate = settings.engine.sceneConfig.sampleRate;
     if (!(sampleRate >= 8000.0 && sampleRate <= 384000.0)) throw InputError("", 0, "", "sample rate must lie in 8000..384000 Hz");
-    CuePlayer player(list, settings.engine.sceneConfig, settings.engine.motorCount, settings.engine.motorGain);
+    const bool twoArms = settings.leftMotion != nullptr;
+    MotionRows leftSource;
+    if (twoArms) {
+        leftSource = MotionRows::load(*settings.leftMotion, settings.leftMount, "--mount-left");
+        if (leftSource.size() == 0) throw InputError(settings.leftMotion->source(), 0, "--motion-left", "the left arm's motion file has no rows");
+    }
+    CuePlayer player(list, settings.engine.sceneConfig, settings.engine.motorCount, twoArms, settings.engine.motorGain);
     for (const CueChange& c : changes)
         if (c.cue >= player.cueCount())
             throw InputError(list.source, 0, "--cue-at", "cue " + std::to_string(c.cue) + " does not exist (the set list has " +
                                                              std::to_string(player.cueCount()) + " cues, 0.." + std::to_string(player.cueCount() - 1) + ")");
     std::stable_sort(changes.begin(), changes.end(), [](const CueChange& a, const CueChange& b) { return a.t < b.t; });
 
-    ArmTracker tracker;
+    // The recording (`--audio-in`): every listening cue hears it all the time (a follower keeps
+    // its place while another cue plays), from sample 0 = the first motion row.
+    const AudioBuffer* input = settings.audioIn;
+    const std::string inputName = settings.audioInName.empty() ? std::string("--audio-in") : settings.audioInName;
+    if (input) {
+        bool listens = false;
+        for (int c = 0; c < player.cueCount(); ++c) listens = listens || player.engine(c).listensToAudio();
+        if (!listens) throw InputError(inputName, 0, "", "--audio-in: no cue of " + list.source + " listens to audio (score, audio-touch and layered-keyboard do)");
+        if (input->channels.empty() || input->frames() == 0) throw InputError(inputName, 0, "", "--audio-in: the recording holds no audio");
+        if (std::fabs(input->sampleRate - sampleRate) > 0.5)
+            throw InputError(inputName, 0, "", "--audio-in: the recording's sample rate (" + std::to_string(static_cast<long>(input->sampleRate)) +
+                                                   " Hz) differs from the engine's (" + std::to_string(static_cast<long>(sampleRate)) +
+                                                   " Hz); give --sample-rate to match it");
+    }
+
+    ArmTracker tracker, leftTracker;
+    ArmState leftArm;
+    std::size_t leftRow = 0;
     RenderResult result;
     const double t0 = timeOf(0);
     const double tEnd = timeOf(rows - 1) + std::max(0.0, settings.tailSeconds);
@@ -261,22 +292,52 @@ RenderResult renderSetList(const CsvTable& motion, const SetList& list, const Re
     result.audio.sampleRate = sampleRate;
     result.audio.channels.assign(2, std::vector<float>(totalFrames, 0.0f));
     const int block = std::clamp(settings.blockSize, 1, 8192);
+    std::vector<const float*> inputChannels(input ? input->channels.size() : 0, nullptr);
+    std::vector<std::vector<float>> inputScratch(inputChannels.size(), std::vector<float>(static_cast<std::size_t>(block), 0.0f));
     std::size_t frame = 0;
     const auto renderUntil = [&](double t) {
         const auto target = std::min(totalFrames, static_cast<std::size_t>(std::llround((t - t0) * sampleRate)));
         while (frame < target) {
             const int n = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(block), target - frame));
-            player.renderAudio(result.audio.channels[0].data() + frame, result.audio.channels[1].data() + frame, n);
+            if (input) {   // past the recording's end silence still comes in
+                for (std::size_t c = 0; c < inputChannels.size(); ++c) {
+                    auto& scratch = inputScratch[c];
+                    for (int i = 0; i < n; ++i) {
+                        const std::size_t at = frame + static_cast<std::size_t>(i);
+                        scratch[static_cast<std::size_t>(i)] = at < input->frames() ? input->channels[c][at] : 0.0f;
+                    }
+                    inputChannels[c] = scratch.data();
+                }
+                player.processInput(inputChannels.data(), static_cast<int>(inputChannels.size()), n);
+            }
+            float* left = result.audio.channels[0].data() + frame;
+            float* right = result.audio.channels[1].data() + frame;
+            player.renderAudio(left, right, n);
+            for (int i = 0; i < n; ++i) result.scenePeak = std::max({result.scenePeak, std::fabs(left[i]), std::fabs(right[i])});
+            if (input && settings.mixAudioIn) {   // the recording as the listener hears it, under the cues' sound
+                const float* first = inputChannels[0];
+                const float* second = inputChannels[inputChannels.size() > 1 ? 1 : 0];
+                for (int i = 0; i < n; ++i) {
+                    left[i] = std::clamp(left[i] + first[i], -1.0f, 1.0f);
+                    right[i] = std::clamp(right[i] + second[i], -1.0f, 1.0f);
+                }
+            }
             frame += static_cast<std::size_t>(n);
         }
     };
+    if (input) {   // the recording itself, from sample 0
+        for (std::size_t c = 0; c < inputChannels.size(); ++c) inputChannels[c] = input->channels[c].data();
+        player.processInput(inputChannels.data(), static_cast<int>(inputChannels.size()), 0);
+    }
     std::size_t nextChange = 0;
     double previous = t0;
     for (std::size_t i = 0; i < rows; ++i) {
         const double t = timeOf(i);
         renderUntil(t);
         while (nextChange < changes.size() && changes[nextChange].t <= t - t0 + 1e-9) player.request(changes[nextChange++].cue);
-        const ArmState arm = kind == MotionKind::Imu ? tracker.update(imu[i]) : tracker.updateOrientation(orientations[i].t, orientations[i].q);
+        const ArmState arm = source.apply(tracker, i);
+        if (twoArms)   // the left arm's rows up to this time (both files on one clock)
+            while (leftRow < leftSource.size() && leftSource.time(leftRow) <= t + 1e-9) leftArm = leftSource.apply(leftTracker, leftRow++);
         Transport transport;
         transport.valid = true;
         transport.playing = true;
@@ -284,13 +345,18 @@ RenderResult renderSetList(const CsvTable& motion, const SetList& list, const Re
         transport.bpm = settings.bpm;
         transport.ppq = transport.seconds * settings.bpm / 60.0;
         MotorLevels levels {};
-        if (arm.valid) levels = player.control(arm, transport, t - previous);
+        if (arm.valid) levels = twoArms ? player.control(arm, leftArm, transport, t - previous) : player.control(arm, transport, t - previous);
         else ++result.invalidRows;
         Engine& current = player.engine(player.current());
         if (current.failed())
             throw std::runtime_error("scene '" + current.config().scene + "' failed at t = " + std::to_string(t) + " s (motors off): " + current.failure());
         previous = t;
         result.tactile.push_back({t, levels});
+        if (twoArms) {
+            result.leftTactile.push_back({t, arm.valid ? player.leftLevels() : MotorLevels {}});
+            result.rightOrientation.push_back({t, arm.valid ? arm.q : Eigen::Quaterniond::Identity()});
+            result.leftOrientation.push_back({t, leftArm.valid ? leftArm.q : Eigen::Quaterniond::Identity()});
+        }
         ++result.controlUpdates;
         GestureEvent g;
         for (int c = 0; c < player.cueCount(); ++c)

@@ -58,9 +58,12 @@ public:
 
     /// Not real-time: builds and prepares every cue's engine (`base` gives the sample rate, seed,
     /// arm side and resource folder). Throws InputError naming the set list's file and the cue's
-    /// line for an unknown scene or a bad parameter. `motorGain`: the reader's touch profile
-    /// (EngineConfig::motorGain), given to every cue's engine as the single engine gets it.
-    CuePlayer(const SetList& list, const SceneConfig& base, int motorCount = kGridMotors,
+    /// line for an unknown scene or a bad parameter.
+    /// `twoArms`: every cue's engine takes a left arm too (EngineConfig::twoArms), and the left
+    /// arm's motors have a safety stage of their own spanning the set list. `motorGain`: the
+    /// reader's touch profile (EngineConfig::motorGain), given to every cue's engine as the
+    /// single engine gets it.
+    CuePlayer(const SetList& list, const SceneConfig& base, int motorCount = kGridMotors, bool twoArms = false,
               const std::array<float, kMaxMotors>& motorGain = TactileConfig::unitMotorGains());
     ~CuePlayer();
     CuePlayer(const CuePlayer&) = delete;
@@ -84,6 +87,11 @@ public:
     /// Control thread, real-time: takes a requested cue change (old cue's motors off, new
     /// cue's scene reset), runs the current cue's engine, then the set list's safety stage.
     MotorLevels control(const ArmState& arm, const Transport& transport, double dt) noexcept;
+    /// Two arms (constructed with twoArms): as above with the left arm's state; the left arm's
+    /// levels (after its own set-list safety stage) are leftLevels() until the next call.
+    MotorLevels control(const ArmState& arm, const ArmState& leftArm, const Transport& transport, double dt) noexcept;
+    const MotorLevels& leftLevels() const noexcept { return leftLevels_; }
+    bool twoArms() const noexcept { return twoArms_; }
     /// Audio thread, real-time: every listening cue hears the input (a follower keeps its place).
     void processInput(const float* const* in, int channels, int numSamples) noexcept;
     /// Audio thread, real-time: the instrument's MIDI notes of the coming block (Engine::processMidi),
@@ -100,6 +108,10 @@ private:
     std::vector<Cue> cues_;
     std::vector<std::unique_ptr<Engine>> engines_;
     SafetyStage safety_;
+    SafetyStage leftSafety_;                 ///< two arms: the left arm's own heat budget across the set list
+    MotorLevels leftLevels_ {};
+    bool twoArms_ = false;
+    MotorLevels step(const ArmState& arm, const ArmState* leftArm, const Transport& transport, double dt) noexcept;
     std::atomic<int> requested_ {0};
     std::atomic<int> active_ {0};
     std::atomic<std::uint32_t> changes_ {0};
@@ -119,7 +131,10 @@ CueChange parseCueChange(const std::string& text);
 
 /// `armadillo render --setlist`: as renderOffline (Engine/OfflineRenderer.h) with the set list's
 /// CuePlayer in place of one engine; starts at cue 0 and changes cue at the given times (sorted
-/// by time; requested before the control update at or after each time).
+/// by time; requested before the control update at or after each time). Honours the settings'
+/// audioIn (every listening cue hears it; mixed in unless mixAudioIn is false; InputError when
+/// no cue listens), leftMotion (two arms: leftTactile and both orientations are filled), mount
+/// and leftMount. onControl and audioSink are not used (the audio is collected).
 RenderResult renderSetList(const CsvTable& motion, const SetList& list, const RenderSettings& settings, std::vector<CueChange> changes);
 
 } // namespace armadillo::live

@@ -15,7 +15,10 @@ namespace {
 constexpr long kNone = std::numeric_limits<long>::min();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-bool periodic(SourceKind k) noexcept { return k == SourceKind::Azimuth || k == SourceKind::Yaw || k == SourceKind::Roll; }
+bool periodic(SourceKind k) noexcept
+{
+    return k == SourceKind::Azimuth || k == SourceKind::Yaw || k == SourceKind::Roll || k == SourceKind::ArmsRoll;
+}
 
 double wrap360(double d) noexcept
 {
@@ -200,7 +203,13 @@ std::unique_ptr<MappingSet> MappingSet::build(const MappingDocument& doc, const 
         c.smooth.dCutoff = t.derivativeCutoffHz > 0.0 ? t.derivativeCutoffHz : 1.0;
         c.eventDriven = isEventSource(m.source.kind) || t.hasThreshold;
         c.muted.store(m.muted);
-        if (m.source.arm != 0) throw InputError(where, 0, "", name + ": a second arm is not supported yet");
+        if (m.source.arm < 0 || m.source.arm >= kMaxArms || (m.source.arm != 0 && !isArmSource(m.source.kind)))
+            throw InputError(where, 0, "", name + ": arm " + std::to_string(m.source.arm) + " has no source \"" + sourceName(m.source) + "\"");
+        if (m.source.kind == SourceKind::ArmsRaised && !c.spec.transform.hasThreshold) {   // a gate (documents built in code)
+            c.spec.transform.hasThreshold = true;
+            c.spec.transform.threshold = kDefaultArmsRaisedDeg;
+            c.eventDriven = true;
+        }
         if (m.source.kind == SourceKind::Posture) {
             c.posture = s.postures.indexOf(m.source.name);
             if (c.posture < 0) throw InputError(where, 0, "", name + ": no posture named \"" + m.source.name + "\"");
@@ -285,6 +294,20 @@ double readSource(const SourceSpec& source, const MappingInput& in, double forwa
     case SourceKind::Gesture:
     case SourceKind::Posture:
     case SourceKind::GestureValue: return kNaN;
+    case SourceKind::ArmsAngle:
+    case SourceKind::ArmsRoll:
+    case SourceKind::ArmsRaised: {   // both arms, or no value
+        const ArmState* r = in.arm[0];
+        const ArmState* l = in.arm[1];
+        if (r == nullptr || l == nullptr || !r->valid || !l->valid) return kNaN;
+        if (source.kind == SourceKind::ArmsRaised) return std::min(r->features.pose.elevationDeg, l->features.pose.elevationDeg);
+        if (source.kind == SourceKind::ArmsRoll) return wrap180(l->features.pose.rollDeg - r->features.pose.rollDeg);
+        // The forearm axis is device x in earth (INTERFACES.md "Pose"); the angle from the cross and
+        // dot products (exact near 0° and 180°, where acos of the dot is not).
+        const Eigen::Vector3d a = r->q.normalized() * Eigen::Vector3d::UnitX();
+        const Eigen::Vector3d b = l->q.normalized() * Eigen::Vector3d::UnitX();
+        return radToDeg(std::atan2(a.cross(b).norm(), a.dot(b)));
+    }
     default: break;
     }
     if (source.arm < 0 || source.arm >= kMaxArms) return kNaN;
@@ -822,7 +845,8 @@ struct Mapper::Impl {
 
         if (!m.zones.empty()) {
             double el = kNaN;
-            if (in.arm[0] && in.arm[0]->valid) el = in.arm[0]->features.pose.elevationDeg;
+            const ArmState* own = in.arm[isArmSource(m.source.kind) ? m.source.arm : 0];   // a sector's elevation: the same arm's
+            if (own && own->valid) el = own->features.pose.elevationDeg;
             const int z = zoneFor(c, x, el);
             if (z != c.zone) {
                 const int old = c.zone;

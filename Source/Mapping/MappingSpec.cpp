@@ -11,6 +11,7 @@
 #include <iterator>
 #include <set>
 #include <sstream>
+#include <utility>
 
 namespace armadillo::mapping {
 
@@ -28,7 +29,8 @@ constexpr SourceNameEntry kSourceNames[] {
     {SourceKind::RollTrigger, "rollTrigger"}, {SourceKind::Punch, "punch"},   {SourceKind::ScenePitch, "scene.pitch"},
     {SourceKind::SceneFret, "scene.fret"}, {SourceKind::SceneStrike, "scene.strike"}, {SourceKind::GestureValue, "value"},
     {SourceKind::YprQuatW, "ypr.qw"},      {SourceKind::YprQuatX, "ypr.qx"},   {SourceKind::YprQuatY, "ypr.qy"},
-    {SourceKind::YprQuatZ, "ypr.qz"},
+    {SourceKind::YprQuatZ, "ypr.qz"},      {SourceKind::ArmsAngle, "arms.angle"}, {SourceKind::ArmsRoll, "arms.roll"},
+    {SourceKind::ArmsRaised, "arms.raised"},
 };
 
 std::string allSourceNames()
@@ -39,7 +41,7 @@ std::string allSourceNames()
         s += e.name;
         s += ", ";
     }
-    return s + "gesture:NAME, posture:NAME";
+    return s + "left.NAME (the left arm's NAME for every arm source), gesture:NAME, posture:NAME";
 }
 
 // ---- reading ---------------------------------------------------------------------------------
@@ -475,14 +477,30 @@ public:
         s.source = source(*src, path + ".source");
         if (s.source.kind == SourceKind::GestureValue) fail(*src, path + ".source", "\"value\" is only a velocity/aux source of an event mapping");
         if (const JsonValue* arm = m.find("arm")) {
+            // "arm": "left" (or 1) is the same as the "left." name; "right" (or 0) the unprefixed one.
+            int which = 0;
             if (arm->kind == JsonValue::Kind::String) {
-                if (arm->string == "left") fail(*arm, path + ".arm", "a second arm is not supported yet (only \"right\", the worn arm)");
-                if (arm->string != "right") fail(*arm, path + ".arm", "unknown arm \"" + arm->string + "\" (right)");
-            } else if (integerIn(*arm, path + ".arm", 0, 1) != 0) {
-                fail(*arm, path + ".arm", "a second arm is not supported yet (only 0, the worn arm)");
+                if (arm->string != "right" && arm->string != "left") fail(*arm, path + ".arm", "unknown arm \"" + arm->string + "\" (right, left)");
+                which = arm->string == "left" ? 1 : 0;
+            } else {
+                which = integerIn(*arm, path + ".arm", 0, 1);
             }
+            if (!isArmSource(s.source.kind) && which != 0)
+                fail(*arm, path + ".arm", "\"" + sourceName(s.source) + "\" is not read from one arm (only arm sources have a left arm: " +
+                                              "elevation, azimuth, roll, yaw, pitch, qw…qz, ypr.q*, speed, fluxFace, fluxEdge, rollTrigger, punch)");
+            if (isArmSource(s.source.kind) && s.source.arm == 1 && which == 0)
+                fail(*arm, path + ".arm", "\"" + sourceName(s.source) + "\" is the left arm's, but \"arm\" says right");
+            if (isArmSource(s.source.kind)) s.source.arm = std::max(s.source.arm, which);
         }
         s.transform = transform(m, path, s.source);
+        if (s.source.kind == SourceKind::ArmsRaised) {   // a gate: always a threshold (docs/MAPPING.md "Two arms")
+            if (m.find("zones") || (m.find("to") && m.find("to")->find("zones")))
+                fail(*src, path + ".source", "\"arms.raised\" is a gate (both elevations above a threshold): no zones");
+            if (!s.transform.hasThreshold) {
+                s.transform.hasThreshold = true;
+                s.transform.threshold = kDefaultArmsRaisedDeg;
+            }
+        }
         if (const JsonValue* z = m.find("zones")) s.zones = zones(*z, path + ".zones");
         if (const JsonValue* mu = m.find("muted")) s.muted = boolean(*mu, path + ".muted");
         const JsonValue* to = m.find("to");
@@ -669,13 +687,23 @@ std::string sourceName(const SourceSpec& s)
 {
     if (s.kind == SourceKind::Gesture) return "gesture:" + s.name;
     if (s.kind == SourceKind::Posture) return "posture:" + s.name;
+    const std::string prefix = s.arm == 1 && isArmSource(s.kind) ? "left." : "";
     for (const auto& e : kSourceNames)
-        if (e.kind == s.kind) return e.name;
+        if (e.kind == s.kind) return prefix + e.name;
     return "?";
 }
 
 bool parseSourceName(std::string_view text, SourceSpec& out)
 {
+    // "left.NAME" / "right.NAME": one arm's NAME, for the sources read from one arm.
+    for (const auto& [prefix, arm] : {std::pair<std::string_view, int> {"left.", 1}, {"right.", 0}}) {
+        if (text.substr(0, prefix.size()) != prefix) continue;
+        SourceSpec s;
+        if (!parseSourceName(text.substr(prefix.size()), s) || !isArmSource(s.kind) || s.arm != 0) return false;
+        s.arm = arm;
+        out = s;
+        return true;
+    }
     SourceSpec s;
     if (text.substr(0, 8) == "gesture:" && text.size() > 8) {
         s.kind = SourceKind::Gesture;
@@ -704,14 +732,38 @@ bool isEventSource(SourceKind k) noexcept { return k == SourceKind::Gesture || k
 bool isAngleSource(SourceKind k) noexcept
 {
     return k == SourceKind::Elevation || k == SourceKind::Azimuth || k == SourceKind::Roll || k == SourceKind::Yaw ||
-           k == SourceKind::Pitch;
+           k == SourceKind::Pitch || k == SourceKind::ArmsAngle || k == SourceKind::ArmsRoll || k == SourceKind::ArmsRaised;
+}
+
+bool isArmSource(SourceKind k) noexcept
+{
+    switch (k) {
+    case SourceKind::ScenePitch:
+    case SourceKind::SceneFret:
+    case SourceKind::SceneStrike:
+    case SourceKind::Gesture:
+    case SourceKind::Posture:
+    case SourceKind::GestureValue:
+    case SourceKind::ArmsAngle:
+    case SourceKind::ArmsRoll:
+    case SourceKind::ArmsRaised: return false;
+    default: return true;
+    }
+}
+
+bool isTwoArmSource(SourceKind k) noexcept
+{
+    return k == SourceKind::ArmsAngle || k == SourceKind::ArmsRoll || k == SourceKind::ArmsRaised;
 }
 
 void defaultInputRange(SourceKind k, double& lo, double& hi) noexcept
 {
     switch (k) {
     case SourceKind::Elevation:
-    case SourceKind::Pitch: lo = -90.0; hi = 90.0; return;
+    case SourceKind::Pitch:
+    case SourceKind::ArmsRaised: lo = -90.0; hi = 90.0; return;
+    case SourceKind::ArmsAngle: lo = 0.0; hi = 180.0; return;
+    case SourceKind::ArmsRoll: lo = -180.0; hi = 180.0; return;
     case SourceKind::Azimuth: lo = 0.0; hi = 360.0; return;
     case SourceKind::Roll:
     case SourceKind::Yaw: lo = -180.0; hi = 180.0; return;

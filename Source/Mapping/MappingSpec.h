@@ -17,7 +17,7 @@
 namespace armadillo::mapping {
 
 inline constexpr int kMappingFileVersion = 1;
-inline constexpr int kMaxArms = 2;           ///< a source names an arm; only arm 0 (right/worn) runs today
+inline constexpr int kMaxArms = 2;           ///< a source names an arm: 0 = the right arm (or the only one), 1 = the left arm
 inline constexpr int kMacroCount = 8;        ///< the plugin's generic parameters macro1…macro8
 inline constexpr int kMaxTablePoints = 16;   ///< curve "table": at most this many [in, out] points
 inline constexpr int kMaxZones = 16;         ///< zones per mapping
@@ -65,18 +65,36 @@ enum class SourceKind : std::uint8_t {
     YprQuatX,       ///< "ypr.qx"   (axes x forward, y left, z up: IEM SceneRotator's default sequence
     YprQuatY,       ///< "ypr.qy"    "roll → pitch → yaw", extrinsic; w ≥ 0)
     YprQuatZ,       ///< "ypr.qz"
+    // Relative sources (two arms, docs/MAPPING.md "Two arms"): no value unless both arms are tracked.
+    ArmsAngle,      ///< "arms.angle": the angle between the two forearm axes (device x in earth), deg, 0…180
+    ArmsRoll,       ///< "arms.roll": left roll − right roll wrapped to ±180°, deg
+    ArmsRaised,     ///< "arms.raised": "both arms raised", a gate: its value is the lower of the two elevations
+                    ///< (deg); always read with a threshold (default kDefaultArmsRaisedDeg) and its hysteresis
 };
+
+/// "arms.raised" without a "threshold": both elevations at or above this many degrees (above the
+/// horizontal) is "raised"; it ends once either falls below it less the hysteresis (default 3°).
+inline constexpr double kDefaultArmsRaisedDeg = 30.0;
 
 struct SourceSpec {
     SourceKind kind = SourceKind::Elevation;
     std::string name;   ///< Gesture: the gesture name ("*", "other"); Posture: the posture name; else empty
-    int arm = 0;        ///< 0 = the arm that wears the device (right by default); 1 reserved for a second arm
+    /// Arm sources (isArmSource): 0 = the right arm, or the only one (unprefixed names); 1 = the
+    /// left arm ("left." names, or "arm": "left"). Other sources: always 0.
+    int arm = 0;
 };
 
-/// The file's spelling of a source ("elevation", "gesture:punch", "posture:up").
+/// The file's spelling of a source ("elevation", "left.roll", "arms.angle", "gesture:punch",
+/// "posture:up").
 std::string sourceName(const SourceSpec& s);
-/// Parses a source name; false for an unknown one.
+/// Parses a source name; false for an unknown one. "left.NAME" is the left arm's NAME for every
+/// arm source; "right.NAME" is accepted for NAME (the right arm, or the only one).
 bool parseSourceName(std::string_view text, SourceSpec& out);
+/// True for sources read from one arm's state (elevation … punch, qw…qz, ypr.q*): these exist
+/// per arm. Scene outputs, gestures, postures and the relative arms.* sources do not.
+bool isArmSource(SourceKind k) noexcept;
+/// True for the relative sources (arms.angle, arms.roll, arms.raised): both arms or no value.
+bool isTwoArmSource(SourceKind k) noexcept;
 /// True for Gesture and Posture (they drive events); zones and thresholds turn any continuous
 /// source into events too (MappingSpec::zones, TransformSpec::threshold).
 bool isEventSource(SourceKind k) noexcept;
@@ -87,7 +105,8 @@ int scaleMask(const std::string& name);
 /// The natural range of a continuous source, the `in` default: elevation/pitch [−90, 90],
 /// azimuth [0, 360], roll/yaw [−180, 180], quaternion [−1, 1], speed/flux [0|−720, 720] deg/s,
 /// rollTrigger [−5, 5], punch [−20, 20] m/s², scene.pitch [0, 127], scene.fret [0, 24],
-/// scene.strike [0, 1000], posture [0, 1].
+/// scene.strike [0, 1000], posture [0, 1], arms.angle [0, 180], arms.roll [−180, 180],
+/// arms.raised [−90, 90]; a left-arm source as its right-arm name.
 void defaultInputRange(SourceKind k, double& lo, double& hi) noexcept;
 
 /// A second, auxiliary source: velocity from a source, MPE per-note expressions. Normalised

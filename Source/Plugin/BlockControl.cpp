@@ -54,7 +54,8 @@ void BlockControl::step(double dt, double wall, bool toMotors, const Transport& 
     live::ControlResult result = loop_.tick(s);   // swap-in, parameters, fusion, Engine::control
     if (! result.ran) return;
     if (auto* stimulus = stimulus_.load(std::memory_order_acquire))
-        result.levels = stimulus->onPacket(clock_ + dt);   // the sensitivity test has the motors
+        // The sensitivity test or the training has the motors; the roll rate feeds its arm gestures.
+        result.levels = stimulus->onPacket(clock_ + dt, result.arm.valid ? result.arm.gyro.x() : std::nan(""));
     if (toMotors) {
         motors_.push(stamp, result.levels);   // full (no link consuming): dropped and counted
         lastStamp_ = stamp;
@@ -192,6 +193,14 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
     // The input channels are read step by step below; the output is written over them.
     const int listenCount = (listen.first >= 0 && listen.first + listen.count <= buffer.getNumChannels()) ? std::min(listen.count, 2) : 0;
     const int throughCount = std::min({listen.through, 2, buffer.getNumChannels()});
+    // Stems whose channels all lie in the buffer (a host that hands fewer channels than the
+    // layout promised gets the stems up to the first that does not fit).
+    int stemCount = 0;
+    while (stemCount < std::min(listen.stemCount, kMaxStems)) {
+        const Bus& bus = listen.stems[static_cast<std::size_t>(stemCount)];
+        if (bus.first < 0 || bus.count < 1 || bus.count > 2 || bus.first + bus.count > buffer.getNumChannels()) break;
+        ++stemCount;
+    }
     // The MIDI input is never played or passed through: its stage messages (Stage.h: program
     // change, the cue notes, CC 120/119) act at this block's start (beginStage), its other
     // channel messages go to the message thread for the mapping editor's "learn destination".
@@ -281,7 +290,26 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
         }
         const int len = std::min({n - pos, samplesToTick_, kInputScratch});
         notesRunning(pos, len);   // the notes of this stretch, before its input (Scene::processMidi)
-        if (listenCount > 0) {
+        if (const int stems = engineStems(); stems > 0) {
+            // Stems: each bus mixed to one mono channel, in the engine's stem order; an engine
+            // built for another number of stems hears nothing (a layout change in flight).
+            if (stems == stemCount) {
+                const float* in[kMaxStems + 2] {input_[0].data(), input_[1].data(), input_[2].data(),
+                                                input_[3].data(), input_[4].data(), input_[5].data()};
+                for (int k = 0; k < stemCount; ++k) {
+                    const Bus& bus = listen.stems[static_cast<std::size_t>(k)];
+                    float* mono = input_[static_cast<std::size_t>(k)].data();
+                    std::copy_n(buffer.getReadPointer(bus.first) + pos, len, mono);
+                    for (int c = 1; c < bus.count; ++c) juce::FloatVectorOperations::add(mono, buffer.getReadPointer(bus.first + c) + pos, len);
+                    if (bus.count > 1) juce::FloatVectorOperations::multiply(mono, 1.0f / static_cast<float>(bus.count), len);
+                }
+                // The main input after them (audio-touch's `mixed`, and its fallback while the
+                // stems are silent).
+                for (int c = 0; c < listenCount; ++c)
+                    std::copy_n(buffer.getReadPointer(listen.first + c) + pos, len, input_[static_cast<std::size_t>(stemCount + c)].begin());
+                inputRunning(in, stemCount + listenCount, len);
+            }
+        } else if (listenCount > 0) {
             // The scene hears this stretch of the input before its sound for it is rendered.
             const float* in[2] {input_[0].data(), input_[1].data()};
             for (int c = 0; c < listenCount; ++c)
@@ -305,6 +333,12 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
     mapper_.flush(blockStart + (n - 0.5) / sr, mapOut_);
     deliver(&midi, blockStart, n);
     token_.release();
+}
+
+int BlockControl::engineStems() noexcept
+{
+    const Engine* engine = runningEngine();   // a set list's current cue, else the single engine
+    return engine != nullptr ? static_cast<int>(engine->config().sceneConfig.stems.size()) : 0;
 }
 
 void BlockControl::bypassBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi) noexcept

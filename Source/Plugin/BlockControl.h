@@ -67,10 +67,25 @@ public:
     /// Which channels of the host's buffer carry the audio the scenes listen to (the main input
     /// or the sidechain), and whether it is played through to the output (the main input: an
     /// effect that listens must not mute its track).
+    ///
+    /// Stems (the VST3's sidechain buses, docs/PLUGIN.md "Stems"): each is one bus, mixed to one
+    /// mono channel (the mean of its channels, as `render --stem` mixes a stem file). While the
+    /// active engine's scene was built with as many stems (SceneConfig::stems, in the same order:
+    /// audio-touch feels each on its own motors) it hears the stems, then the `first`/`count`
+    /// channels after them (audio-touch's `mixed` choice and its fallback when the stems are
+    /// silent); any other engine hears `first`/`count` alone, as before. An engine built with a different number
+    /// of stems (a hand-over in flight across a layout change) hears nothing until it matches.
+    static constexpr int kMaxStems = 4;
+    struct Bus {
+        int first = 0;          ///< first channel of the bus in the host's buffer
+        int count = 0;          ///< its channels (1 or 2)
+    };
     struct Listen {
         int first = 0;
         int count = 0;          ///< channels listened to from `first` (0: no audio input)
         int through = 0;        ///< main-input channels (from channel 0) played through to the output
+        std::array<Bus, kMaxStems> stems {};
+        int stemCount = 0;      ///< stems in use, stems[0 .. stemCount)
     };
     /// Audio thread: the whole block. `playHead` may be null; `offline` is the host's
     /// non-realtime render (its blocks do not reach the motors: they get all-off).
@@ -183,7 +198,10 @@ private:
     std::uint64_t frameSerial_ = 0;
     /// The listened-to input of one control step (≤ 192 kHz / 200 Hz samples), fixed size.
     static constexpr int kInputScratch = 1024;
-    std::array<std::array<float, kInputScratch>, 2> input_ {}, through_ {};
+    std::array<std::array<float, kInputScratch>, kMaxStems + 2> input_ {};   // the stems, then the main input
+    std::array<std::array<float, kInputScratch>, 2> through_ {};
+    /// Control side: how many stems the active engine's scene takes (SceneConfig::stems).
+    int engineStems() noexcept;
     /// The MIDI input's notes of the current block, in time order (audio thread; fixed size).
     std::array<MidiNoteEvent, kMaxNotesIn> notesIn_ {};
     int notesInCount_ = 0, notesInNext_ = 0;

@@ -25,6 +25,7 @@ std::unique_ptr<live::EngineSlot> EngineHandover::build(const EngineRequest& req
     config.sceneConfig.side = request.left ? ArmSide::Left : ArmSide::Right;
     config.sceneConfig.text = request.text;
     config.sceneConfig.score = request.score;
+    config.sceneConfig.stems = request.stems;   // audio-touch: the sidechain buses, one stem each
     // The reader's touch profile scales each motor (TactileEngine, before the SafetyStage), so
     // every scene gets it; the settings only keep a profile that parses (PluginState.cpp).
     if (! request.touchProfile.empty()) {

@@ -16,6 +16,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <vector>
 
 namespace armadillo::plugin {
 
@@ -27,6 +28,9 @@ struct EngineRequest {
     bool backMotors = false;
     std::string text, score;
     std::string touchProfile;   ///< the reader's touch profile JSON ("" = none): EngineConfig::motorGain
+    /// audio-touch's stems (SceneConfig::stems: the enabled sidechain buses' presets, in bus
+    /// order); empty for every other scene and when no sidechain bus is enabled.
+    std::vector<std::string> stems;
     bool operator==(const EngineRequest&) const = default;
 };
 

@@ -114,7 +114,7 @@ ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
         }
         juce::DialogWindow::LaunchOptions o;
         auto panel = std::make_unique<ReaderPanel>(processor_);
-        panel->setSize(640, 600);
+        panel->setSize(640, 690);   // the adaptive training's choices take two rows
         o.content.setOwned(panel.release());
         o.dialogTitle = "ARMadillo reader";
         o.resizable = true;

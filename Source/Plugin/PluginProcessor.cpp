@@ -3,7 +3,9 @@
 #include "Access/Feedback.h"
 #include "Plugin/FactoryPresets.h"
 #include "Plugin/PluginEditor.h"
+#include <algorithm>
 #include <iostream>
+#include <utility>
 
 namespace armadillo::plugin {
 
@@ -22,12 +24,21 @@ BlockControl::Cells cellsOf(juce::AudioProcessorValueTreeState& apvts)
 /// A main input as effects that listen have (the track the score follows, the music audio-touch
 /// turns into touch; played through to the output), in every format. The VST3 has it since the
 /// build compiles Debian's JUCE VST3 glue with the fix of its per-block copy of each input bus's
-/// channel mapping (cmake/JucePatchedAudioProcessors.cmake; docs/PLUGIN.md, "Audio input").
-juce::AudioProcessor::BusesProperties ArmadilloProcessor::busesFor(juce::AudioProcessor::WrapperType)
+/// channel mapping (cmake/JucePatchedAudioProcessors.cmake; docs/PLUGIN.md, "Audio input"); the
+/// fix is in the wrapper's loop over every input bus, so it covers the sidechains too.
+///
+/// The VST3 alone also declares the stems as sidechain buses (VST3 aux inputs, stereo, disabled
+/// by default: a host that routes nothing to them is unaffected). The LV2 does not: JUCE 7.0.5's
+/// LV2 hosting crashed with a declared, disabled sidechain (docs/PLUGIN.md), and the standalone
+/// app has one sound-card input.
+juce::AudioProcessor::BusesProperties ArmadilloProcessor::busesFor(juce::AudioProcessor::WrapperType wrapper)
 {
-    return juce::AudioProcessor::BusesProperties()
-        .withInput("Input", juce::AudioChannelSet::stereo(), true)
-        .withOutput("Output", juce::AudioChannelSet::stereo(), true);
+    auto buses = juce::AudioProcessor::BusesProperties()
+                     .withInput("Input", juce::AudioChannelSet::stereo(), true)
+                     .withOutput("Output", juce::AudioChannelSet::stereo(), true);
+    if (wrapper == wrapperType_VST3)
+        for (const char* name : kStemBuses) buses = buses.withInput(name, juce::AudioChannelSet::stereo(), false);
+    return buses;
 }
 
 ArmadilloProcessor::ArmadilloProcessor()
@@ -93,7 +104,9 @@ bool ArmadilloProcessor::isBusesLayoutSupported(const BusesLayout& layouts) cons
     const auto inputOk = [](const juce::AudioChannelSet& set) {
         return set.isDisabled() || set == juce::AudioChannelSet::mono() || set == juce::AudioChannelSet::stereo();
     };
-    return layouts.getMainOutputChannelSet() == juce::AudioChannelSet::stereo() && inputOk(layouts.getMainInputChannelSet());
+    if (layouts.getMainOutputChannelSet() != juce::AudioChannelSet::stereo() || layouts.outputBuses.size() != 1) return false;
+    // The main input and every sidechain (stem) bus: enabled (mono or stereo) or disabled.
+    return std::all_of(layouts.inputBuses.begin(), layouts.inputBuses.end(), inputOk);
 }
 
 int ArmadilloProcessor::sceneIndex() const noexcept
@@ -112,6 +125,11 @@ EngineRequest ArmadilloProcessor::currentRequest() const
     r.text = settings_[SettingIds::brailleText].toString().toStdString();
     r.score = settings_[SettingIds::score].toString().toStdString();
     r.touchProfile = settings_[SettingIds::touchProfile].toString().toStdString();
+    const auto& scenes = sceneTable_.scenes;
+    if (r.scene >= 0 && r.scene < static_cast<int>(scenes.size()) && scenes[static_cast<std::size_t>(r.scene)].scene == "audio-touch") {
+        std::lock_guard<std::mutex> lock(stemsMutex_);
+        r.stems = stems_;
+    }
     return r;
 }
 
@@ -125,6 +143,20 @@ void ArmadilloProcessor::prepareToPlay(double sampleRate, int)
         listen.first = input->getChannelIndexInProcessBlockBuffer(0);
         listen.count = input->getNumberOfChannels();
         listen.through = listen.count;
+    }
+    // The sidechain buses the host enabled (VST3 only): audio-touch's stems, in bus order.
+    std::vector<std::string> stems;
+    for (int b = 1; b < getBusCount(true) && listen.stemCount < BlockControl::kMaxStems; ++b) {
+        const auto* bus = getBus(true, b);
+        if (bus == nullptr || ! bus->isEnabled() || bus->getNumberOfChannels() < 1) continue;
+        auto& stem = listen.stems[static_cast<std::size_t>(listen.stemCount++)];
+        stem.first = bus->getChannelIndexInProcessBlockBuffer(0);
+        stem.count = std::min(bus->getNumberOfChannels(), 2);
+        stems.push_back(bus->getName().toLowerCase().toStdString());
+    }
+    {
+        std::lock_guard<std::mutex> lock(stemsMutex_);
+        stems_ = std::move(stems);
     }
     listen_ = listen;
     engines_.install(currentRequest(), token_);
@@ -164,6 +196,11 @@ void ArmadilloProcessor::processBlock(juce::AudioBuffer<float>& buffer, juce::Mi
     float inPeak = 0.0f;
     for (int c = 0; c < listen.count; ++c)
         if (listen.first + c < buffer.getNumChannels()) inPeak = std::max(inPeak, buffer.getMagnitude(listen.first + c, 0, n));
+    for (int k = 0; k < listen.stemCount; ++k) {   // the stems (VST3 sidechain buses) count as input too
+        const auto& stem = listen.stems[static_cast<std::size_t>(k)];
+        for (int c = stem.first; c < std::min(stem.first + stem.count, buffer.getNumChannels()); ++c)
+            inPeak = std::max(inPeak, buffer.getMagnitude(c, 0, n));
+    }
     control_.processBlock(buffer, midi, getPlayHead(), isNonRealtime(), listen);
     // The test tone (welcome panel): added over the scene's sound, on the main stereo output.
     if (int left = testToneSamples_.load(std::memory_order_relaxed); left > 0) {
@@ -254,6 +291,8 @@ void ArmadilloProcessor::timerCallback()
     training_.collect();   // keeps a braille training log's queue drained while no panel asks for it
     if (feedbackUntil_ > 0 && feedbackPlayer_.completed() >= feedbackUntil_) {
         feedbackUntil_ = 0;
+        if (std::exchange(feedbackRestart_, false))   // the trial from its first row, now felt
+            training_.with([](braille::BrailleSceneControls& scene, std::uint64_t) { scene.restartTrainingTrial(); });
         if (touchTest_.state() == TouchTestSession::State::Idle && adaptive_.state() == AdaptiveSession::State::Idle)
             control_.setStimulus(nullptr);   // the scene has the motors again
     }
@@ -392,16 +431,44 @@ void ArmadilloProcessor::applyVoiceSettings()
     if (voiceOn_) voice_->say("ARMadillo. Self-voicing on. F3 repeats, F4 stops speech.", true);
 }
 
-bool ArmadilloProcessor::beginAdaptive(const juce::File& readerProfile, int trials, juce::String& why)
+namespace {
+/// The reader's touch profile (the setting) on the training player, as every scene has it; none
+/// (all 1) when there is none or it does not parse.
+void fitToReader(access::TactilePlayer& player, const juce::ValueTree& settings)
+{
+    auto gains = TactileConfig::unitMotorGains();
+    if (const auto json = settings[SettingIds::touchProfile].toString(); json.isNotEmpty()) {
+        try {
+            gains = device::touchProfileGains(device::parseTouchProfile(json.toStdString(), "the touch profile setting"));
+        } catch (const std::exception&) {
+        }
+    }
+    player.setMotorGains(gains);
+}
+} // namespace
+
+AdaptiveChoices ArmadilloProcessor::adaptiveChoices() const
+{
+    AdaptiveChoices c;
+    c.trials = static_cast<int>(settings_[SettingIds::adaptiveTrials]);
+    c.stages = settings_[SettingIds::adaptiveStages].toString().toStdString();
+    c.method = settings_[SettingIds::adaptiveMethod].toString().toStdString();
+    c.level = static_cast<int>(settings_[SettingIds::adaptiveLevel]);
+    return c;
+}
+
+bool ArmadilloProcessor::beginAdaptive(const juce::File& readerProfile, juce::String& why)
 {
     if (touchTest_.state() != TouchTestSession::State::Idle) endTouchTest(false);
     std::string reason;
+    fitToReader(feedbackPlayer_, settings_);   // the cells and cues felt alike on every motor, as in a scene
     control_.setStimulus(&feedbackPlayer_);   // before the first trial is queued: its cue plays at once
-    if (! adaptive_.begin(readerProfile.getFullPathName().toStdString(), trials, reason)) {
+    if (! adaptive_.begin(readerProfile.getFullPathName().toStdString(), adaptiveChoices(), reason)) {
         control_.setStimulus(nullptr);
         why = juce::String(reason);
         return false;
     }
+    settings_.setProperty(SettingIds::readerProfile, readerProfile.getFullPathName(), nullptr);
     return true;
 }
 
@@ -429,11 +496,14 @@ void ArmadilloProcessor::endTouchTest(bool keep)
     touchTest_.cancel();
 }
 
-void ArmadilloProcessor::armFeedback(bool right)
+void ArmadilloProcessor::armFeedback(bool right, const std::string& expected)
 {
     if (! static_cast<bool>(settings_[SettingIds::armFeedback])) return;
     if (touchTest_.state() != TouchTestSession::State::Idle || adaptive_.state() != AdaptiveSession::State::Idle) return;
-    feedbackUntil_ = feedbackPlayer_.play(access::feedbackSensation(right, 10.0f), access::feedbackPause(right));
+    fitToReader(feedbackPlayer_, settings_);
+    // Right / wrong, then (wrong) the right letters or words again, then the "next" cue.
+    feedbackUntil_ = feedbackPlayer_.play(access::feedbackSequence(right, expected, 10.0f), 0.2);
+    feedbackRestart_ = true;
     control_.setStimulus(&feedbackPlayer_);
 }
 
@@ -568,7 +638,7 @@ std::unique_ptr<live::CuePlayer> ArmadilloProcessor::buildCues(const live::SetLi
         } catch (const std::exception&) {
         }
     }
-    return std::make_unique<live::CuePlayer>(list, base, motors, gains);   // every cue's engine, prepared now
+    return std::make_unique<live::CuePlayer>(list, base, motors, false, gains);   // every cue's engine, prepared now
 }
 
 void ArmadilloProcessor::offerCues(std::unique_ptr<live::CuePlayer> player)

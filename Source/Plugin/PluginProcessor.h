@@ -33,6 +33,8 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <string>
+#include <vector>
 
 namespace armadillo::plugin {
 
@@ -139,15 +141,23 @@ public:
     void beginTouchTest(std::uint64_t seed);
     void endTouchTest(bool keep);
     /// Braille training's answer felt on the arm when the armFeedback setting is on (a deafblind
-    /// reader): Access/Feedback.h's "right" / "wrong" sensation in place of the scene's levels for
-    /// its 0.4–0.6 s (through its own TactileEngine and SafetyStage; levels 4 and 10, well above
-    /// any threshold, so the touch profile is not applied to them).
-    /// Not during the sensitivity test. Message thread.
-    void armFeedback(bool right);
+    /// reader): Access/Feedback.h's "right" / "wrong" sensation in place of the scene's levels,
+    /// then, when wrong and `expected` is letters or words, its cells drawn again (passive
+    /// drawing, as the CLI's --arm-only), then the "next" cue (through its own TactileEngine and
+    /// SafetyStage, with the reader's touch profile as every scene has it). Until it has played
+    /// armFeedbackPlaying() is true: the Training
+    /// panel holds the next prompt back, and the scene's trial starts again from its first row
+    /// once it is over (so rows rolled past under the feedback are shown again).
+    /// Not during the sensitivity test or the adaptive training. Message thread.
+    void armFeedback(bool right, const std::string& expected = {});
+    bool armFeedbackPlaying() const noexcept { return feedbackUntil_ > 0 && feedbackPlayer_.completed() < feedbackUntil_; }
     /// Adaptive training (AdaptiveSession.h; message thread): while it runs its cells and cues
-    /// take the motors in place of the scene.
+    /// take the motors in place of the scene, with the reader's touch profile. Its choices come from the settings
+    /// (adaptiveChoices(); SettingIds::adaptiveTrials …); the reader profile becomes the
+    /// readerProfile setting (the Training panel adds its answers there too).
     AdaptiveSession& adaptive() noexcept { return adaptive_; }
-    bool beginAdaptive(const juce::File& readerProfile, int trials, juce::String& why);
+    AdaptiveChoices adaptiveChoices() const;
+    bool beginAdaptive(const juce::File& readerProfile, juce::String& why);
     void endAdaptive();
     /// The standalone app's MIDI port line ("" in a host), the mapping's OSC and drop counters.
     juce::String mappingStatus() const;
@@ -202,6 +212,11 @@ public:
     };
     StageInfo stageInfo() const;
 
+    /// The VST3's sidechain input buses, after its main input (input buses 1…4, stereo, disabled
+    /// until the host routes them): each is a stem of audio-touch with the scene's preset of the
+    /// same name in lower case (docs/PLUGIN.md "Stems"; INTERFACES.md "Plugin buses").
+    static constexpr std::array<const char*, BlockControl::kMaxStems> kStemBuses {"Drums", "Bass", "Other", "Vocals"};
+
 private:
     static BusesProperties busesFor(WrapperType wrapper);
     // Message thread
@@ -228,6 +243,8 @@ private:
     juce::ValueTree settings_;
     std::atomic<double> sampleRate_ {48000.0};
     BlockControl::Listen listen_ {};             // set in prepareToPlay (audio stopped), read by processBlock
+    mutable std::mutex stemsMutex_;              // prepareToPlay vs the message thread's requests; never audio
+    std::vector<std::string> stems_;             // under stemsMutex_: the enabled sidechain buses' stem names
 
     // The live rig, in the order it is built (and the reverse of teardown).
     live::ControlLoop loop_;
@@ -240,6 +257,7 @@ private:
     AdaptiveSession adaptive_ {feedbackPlayer_};   // plays through feedbackPlayer_
     int feedbackUntil_ = 0;                      // the sequence whose end gives the motors back to the scene
     Stage stage_;                                // before control_: the control step keeps a pointer
+    bool feedbackRestart_ = false;               // then the braille trial starts again from its first row
     BlockControl control_;
     Connections connections_;
     std::mutex mappingMutex_;                    // message thread vs a host's state calls; never audio

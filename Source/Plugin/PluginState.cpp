@@ -1,6 +1,7 @@
 #include "Plugin/PluginState.h"
 #include "Core/Version.h"
 #include "Link/TouchProfile.h"
+#include "Plugin/AdaptiveSession.h"
 #include <cmath>
 #include <limits>
 
@@ -38,6 +39,11 @@ juce::ValueTree defaultSettings()
     s.setProperty(SettingIds::cuePrevNote, 1, nullptr);   // Stage::kPrevNote
     s.setProperty(SettingIds::stageOscEnabled, false, nullptr);
     s.setProperty(SettingIds::stageOscPort, 9002, nullptr);
+    s.setProperty(SettingIds::adaptiveTrials, 20, nullptr);
+    s.setProperty(SettingIds::adaptiveStages, "letters,words", nullptr);
+    s.setProperty(SettingIds::adaptiveMethod, "rows", nullptr);
+    s.setProperty(SettingIds::adaptiveLevel, 8, nullptr);
+    s.setProperty(SettingIds::readerProfile, "", nullptr);
     return s;
 }
 
@@ -77,6 +83,15 @@ void installSettings(juce::ValueTree& settings, const juce::ValueTree& loaded)
     // in the status line why a saved one is not used (ArmadilloProcessor::applySavedSetList).
     const auto voice = settings[SettingIds::readerVoice].toString();
     if (voice != "on" && voice != "off") settings.setProperty(SettingIds::readerVoice, "auto", nullptr);
+    clampInt(SettingIds::adaptiveTrials, 1, 10000, 20);
+    clampInt(SettingIds::adaptiveLevel, 1, 15, 8);
+    if (const auto m = settings[SettingIds::adaptiveMethod].toString(); m != "rows" && m != "whole" && m != "columns" && m != "dots")
+        settings.setProperty(SettingIds::adaptiveMethod, "rows", nullptr);
+    {
+        AdaptiveChoices c;   // the stages as the session checks them
+        c.stages = settings[SettingIds::adaptiveStages].toString().toStdString();
+        if (! c.problem().empty()) settings.setProperty(SettingIds::adaptiveStages, "letters,words", nullptr);
+    }
     // A touch profile is kept only when it parses (Link/TouchProfile.h), so the engine never gets
     // a gain from a damaged state; a refused one means none (every motor gain 1).
     if (const auto json = settings[SettingIds::touchProfile].toString(); json.isNotEmpty()) {

@@ -41,6 +41,12 @@ inline const juce::Identifier cueNextNote {"cueNextNote"};   ///< MIDI note that
 inline const juce::Identifier cuePrevNote {"cuePrevNote"};   ///< MIDI note that steps back, −1 = none
 inline const juce::Identifier stageOscEnabled {"stageOscEnabled"}; ///< bool: listen for OSC stage commands (docs/STAGE.md)
 inline const juce::Identifier stageOscPort {"stageOscPort"}; ///< their UDP port (0: any free port)
+// The app's adaptive braille training (AdaptiveSession.h; the CLI's --trials --stages --method --level)
+inline const juce::Identifier adaptiveTrials {"adaptiveTrials"};   ///< 1..10000 (20)
+inline const juce::Identifier adaptiveStages {"adaptiveStages"};   ///< comma list of letters, words, signs, contractions
+inline const juce::Identifier adaptiveMethod {"adaptiveMethod"};   ///< rows | whole | columns | dots
+inline const juce::Identifier adaptiveLevel {"adaptiveLevel"};     ///< 1..15 (8)
+inline const juce::Identifier readerProfile {"readerProfile"};     ///< the reader profile file (Access/ReaderProfile.h), "" = none
 } // namespace SettingIds
 
 namespace PluginState {

@@ -4,6 +4,7 @@
 #include "Link/TouchProfile.h"
 #include "Plugin/Accessibility.h"
 #include "Plugin/PluginProcessor.h"
+#include "Plugin/AdaptiveSession.h"
 
 namespace armadillo::plugin {
 
@@ -65,7 +66,8 @@ ReaderPanel::ReaderPanel(ArmadilloProcessor& processor) : processor_(processor)
 
     describe(startTest_, "Sensitivity test",
              "Measure how strongly you feel each of the nine motors: one motor buzzes at a time; answer felt (Y) or "
-             "not felt (N). About 5 minutes. The result becomes your touch profile. Press again to stop.");
+             "not felt (N). Then a comfortable level on motor m5: Y when clear and comfortable, N while too faint. "
+             "About 5 minutes. The result becomes your touch profile. Press again to stop.");
     startTest_.onClick = [this] { startTest(); };
     describe(felt_, "Felt", "You felt the last buzz (key Y).");
     felt_.onClick = [this] { answerTest(true); };
@@ -82,8 +84,8 @@ ReaderPanel::ReaderPanel(ArmadilloProcessor& processor) : processor_(processor)
 
     describe(adaptiveStart_, "Adaptive training",
              "Train letters and words adapted to everything you answered before: choose or name your reader profile "
-             "file. 20 trials, drawn on the arm; answer in the field (letters and Return, or F2 and chords then Space). "
-             "Press again to stop.");
+             "file. The trials, stages, method and level below; drawn on the arm; answer in the field (letters and Return, "
+             "or F2 and chords then Space), or twist the forearm and back to feel it again, twice to skip. Press again to stop.");
     adaptiveStart_.onClick = [this] { startAdaptive(); };
     describe(adaptiveAgain_, "Show again", "Draw the current trial on the arm again.");
     adaptiveAgain_.onClick = [this] {
@@ -97,6 +99,53 @@ ReaderPanel::ReaderPanel(ArmadilloProcessor& processor) : processor_(processor)
     adaptiveKeys_.attach(adaptiveAnswer_, [this] { answerAdaptive(); }, [this](const juce::String& t) { announce(t); },
                          &processor_.voice());
     describe(adaptiveState_, "Adaptive training state", "The trial and its prompt, or the last feedback.");
+
+    // The adaptive training's choices, kept in the settings (the CLI's --trials --stages --method --level).
+    auto& settings = processor_.settings();
+    trialsLabel_.setText("Trials", juce::dontSendNotification);
+    adaptiveTrials_.setRange(1.0, 500.0, 1.0);
+    adaptiveTrials_.setSliderStyle(juce::Slider::IncDecButtons);
+    adaptiveTrials_.setTextBoxStyle(juce::Slider::TextBoxLeft, false, 50, 20);
+    describe(adaptiveTrials_, "Trials", "How many trials the adaptive training gives (1 to 500; arrow keys change it).");
+    adaptiveTrials_.setValue(static_cast<int>(settings[SettingIds::adaptiveTrials]), juce::dontSendNotification);
+    adaptiveTrials_.onValueChange = [this] {
+        processor_.settings().setProperty(SettingIds::adaptiveTrials, static_cast<int>(adaptiveTrials_.getValue()), nullptr);
+        announce("Trials " + juce::String(static_cast<int>(adaptiveTrials_.getValue())));
+    };
+    trialsLabel_.attachToComponent(&adaptiveTrials_, true);
+    levelLabel_.setText("Level", juce::dontSendNotification);
+    adaptiveLevel_.setRange(1.0, 15.0, 1.0);
+    adaptiveLevel_.setSliderStyle(juce::Slider::IncDecButtons);
+    adaptiveLevel_.setTextBoxStyle(juce::Slider::TextBoxLeft, false, 40, 20);
+    describe(adaptiveLevel_, "Level", "How strongly the cells are drawn, 1 to 15 (arrow keys change it).");
+    adaptiveLevel_.setValue(static_cast<int>(settings[SettingIds::adaptiveLevel]), juce::dontSendNotification);
+    adaptiveLevel_.onValueChange = [this] {
+        processor_.settings().setProperty(SettingIds::adaptiveLevel, static_cast<int>(adaptiveLevel_.getValue()), nullptr);
+        announce("Level " + juce::String(static_cast<int>(adaptiveLevel_.getValue())));
+    };
+    levelLabel_.attachToComponent(&adaptiveLevel_, true);
+    methodLabel_.setText("Method", juce::dontSendNotification);
+    adaptiveMethod_.addItemList({"rows", "whole", "columns", "dots"}, 1);
+    describe(adaptiveMethod_, "Method", "How a cell is drawn: rows (the thesis), whole, columns, or dots (one dot at a time).");
+    adaptiveMethod_.setText(settings[SettingIds::adaptiveMethod].toString(), juce::dontSendNotification);
+    adaptiveMethod_.onChange = [this] {
+        processor_.settings().setProperty(SettingIds::adaptiveMethod, adaptiveMethod_.getText(), nullptr);
+        announce("Method " + adaptiveMethod_.getText());
+    };
+    methodLabel_.attachToComponent(&adaptiveMethod_, true);
+    stagesLabel_.setText("Stages", juce::dontSendNotification);
+    describe(adaptiveStages_, "Stages",
+             "What the adaptive training trains, in order, separated by commas: letters, words, signs, contractions. Return keeps it.");
+    adaptiveStages_.setText(settings[SettingIds::adaptiveStages].toString(), false);
+    adaptiveStages_.onReturnKey = [this] { takeStages(); };
+    adaptiveStages_.onFocusLost = [this] { takeStages(); };
+    stagesLabel_.attachToComponent(&adaptiveStages_, true);
+    describe(readerProfile_, "Reader profile", "The reader profile in use: the adaptive training and the Training panel add every answer to it.");
+    describe(forgetReader_, "No reader profile", "Stop adding the Training panel's answers to a reader profile.");
+    forgetReader_.onClick = [this] {
+        processor_.settings().setProperty(SettingIds::readerProfile, "", nullptr);
+        showReaderProfile();
+    };
 
     reportHeading_.setText("Progress", juce::dontSendNotification);
     describe(reportHeading_, "Progress", "The progress report of a reader profile.");
@@ -113,7 +162,7 @@ ReaderPanel::ReaderPanel(ArmadilloProcessor& processor) : processor_(processor)
     report_.setTextToShowWhenEmpty("no report loaded", juce::Colours::grey);
 
     for (juce::Component* c : std::initializer_list<juce::Component*> {&heading_, &voice_, &rate_, &repeat_, &stop_, &voiceState_, &armFeedback_, &touch_,
-                                                                        &loadTouch_, &clearTouch_, &saveTouch_, &startTest_, &felt_, &notFelt_, &again_, &testState_, &adaptiveStart_, &adaptiveAgain_, &adaptiveAnswer_, &adaptiveState_, &reportHeading_, &loadReport_, &report_})
+                                                                        &loadTouch_, &clearTouch_, &saveTouch_, &startTest_, &felt_, &notFelt_, &again_, &testState_, &adaptiveStart_, &adaptiveAgain_, &adaptiveAnswer_, &adaptiveState_, &adaptiveTrials_, &adaptiveLevel_, &adaptiveMethod_, &adaptiveStages_, &readerProfile_, &forgetReader_, &reportHeading_, &loadReport_, &report_})
         addAndMakeVisible(*c);
     refresh();
     startTimerHz(4);
@@ -122,6 +171,7 @@ ReaderPanel::ReaderPanel(ArmadilloProcessor& processor) : processor_(processor)
 ReaderPanel::~ReaderPanel()
 {
     stopTimer();
+    adaptiveStages_.onFocusLost = nullptr;   // no announcement from a field being destroyed
     adaptiveAnswer_.removeKeyListener(&adaptiveKeys_);
     if (processor_.adaptive().state() != AdaptiveSession::State::Idle) processor_.endAdaptive();
     if (processor_.touchTest().state() != TouchTestSession::State::Idle) processor_.endTouchTest(false);   // the motors back to the scene
@@ -132,6 +182,38 @@ void ReaderPanel::timerCallback()
     followTest();
     followAdaptive();
     refresh();
+    showReaderProfile();
+}
+
+void ReaderPanel::showReaderProfile()
+{
+    const auto path = processor_.settings()[SettingIds::readerProfile].toString();
+    if (path == shownReader_) return;
+    const bool first = shownReader_ == "?";
+    shownReader_ = path;
+    readerProfile_.setText(path.isEmpty() ? juce::String("Reader profile: none (the Training panel keeps no answers)")
+                                          : "Reader profile: " + path + " (the Training panel adds its answers too)",
+                           juce::dontSendNotification);
+    forgetReader_.setEnabled(path.isNotEmpty());
+    if (! first) announce(readerProfile_.getText());
+}
+
+juce::String ReaderPanel::takeStages()
+{
+    AdaptiveChoices c;
+    c.stages = adaptiveStages_.getText().removeCharacters(" ").toLowerCase().toStdString();
+    if (const auto why = c.problem(); ! why.empty()) {
+        const auto text = "Stages not changed: " + juce::String(why);
+        announce(text);
+        adaptiveStages_.setText(processor_.settings()[SettingIds::adaptiveStages].toString(), false);
+        return text;
+    }
+    if (juce::String(c.stages) != processor_.settings()[SettingIds::adaptiveStages].toString()) {
+        processor_.settings().setProperty(SettingIds::adaptiveStages, juce::String(c.stages), nullptr);
+        announce("Stages " + juce::String(c.stages));
+    }
+    adaptiveStages_.setText(juce::String(c.stages), false);
+    return {};
 }
 
 void ReaderPanel::startAdaptive()
@@ -144,6 +226,7 @@ void ReaderPanel::startAdaptive()
         return;
     }
     auto start = juce::File::getSpecialLocation(juce::File::userDocumentsDirectory).getChildFile("reader.json");
+    if (const auto saved = processor_.settings()[SettingIds::readerProfile].toString(); juce::File::isAbsolutePath(saved)) start = juce::File(saved);
     if (readerFile_ != juce::File()) start = readerFile_;
     chooser_ = std::make_unique<juce::FileChooser>("Your reader profile (a new name starts a new one)", start, "*.json");
     chooser_->launchAsync(juce::FileBrowserComponent::saveMode | juce::FileBrowserComponent::canSelectFiles, [this](const juce::FileChooser& fc) {
@@ -151,13 +234,17 @@ void ReaderPanel::startAdaptive()
         if (file == juce::File()) return;
         if (! file.hasFileExtension("json")) file = file.withFileExtension("json");
         juce::String why;
-        if (! processor_.beginAdaptive(file, 20, why)) {
+        if (! processor_.beginAdaptive(file, why)) {
             adaptiveState_.setText("Adaptive training cannot start: " + why, juce::dontSendNotification);
             announce(adaptiveState_.getText());
             return;
         }
         readerFile_ = file;
-        announce("Adaptive training, 20 trials, with " + file.getFileName() + ". Feel the arm, then answer.");
+        const auto c = processor_.adaptiveChoices();
+        announce("Adaptive training, " + juce::String(c.trials) + " trials of " + juce::String(c.stages) + ", method " + juce::String(c.method)
+                 + ", level " + juce::String(c.level) + ", with " + file.getFileName()
+                 + ". Feel the arm, then answer. A twist of the forearm and back shows it again; two twists skip. The session log goes to "
+                 + juce::File(processor_.adaptive().logPath()).getFileName() + ".");
         followAdaptive();                      // enables the answer field first: a disabled one takes no focus
         adaptiveAnswer_.grabKeyboardFocus();
     });
@@ -185,6 +272,25 @@ void ReaderPanel::answerAdaptive()
 void ReaderPanel::followAdaptive()
 {
     auto& session = processor_.adaptive();
+    // The arm's twists (read by the control step while the training has the motors).
+    switch (session.takeGesture()) {
+    case AdaptiveSession::Gesture::Repeat:
+        session.again();
+        announce("Again (a twist of the arm).");
+        break;
+    case AdaptiveSession::Gesture::Skip: {
+        const auto rt = (juce::Time::getMillisecondCounterHiRes() - promptedAt_) / 1000.0;
+        const auto feedback = "Skipped by the arm: " + juce::String(session.skip(rt));
+        adaptiveState_.setText(feedback, juce::dontSendNotification);
+        announce(feedback);
+        if (session.state() == AdaptiveSession::State::Done) {
+            processor_.endAdaptive();
+            if (readerFile_.existsAsFile()) showReport(readerFile_);
+        }
+        break;
+    }
+    case AdaptiveSession::Gesture::None: break;
+    }
     if (session.poll()) {
         promptedAt_ = juce::Time::getMillisecondCounterHiRes();
         adaptiveState_.setText(juce::String(session.prompt()), juce::dontSendNotification);
@@ -209,6 +315,7 @@ void ReaderPanel::startTest()
         return;
     }
     processor_.beginTouchTest(static_cast<std::uint64_t>(juce::Time::currentTimeMillis()));
+    comfortAnnounced_ = false;
     announce("Sensitivity test: one motor buzzes at a time. After each, press Y if you felt it, N if not, R to feel it again.");
     felt_.grabKeyboardFocus();
     followTest();
@@ -224,6 +331,11 @@ void ReaderPanel::followTest()
 {
     auto& test = processor_.touchTest();
     using State = TouchTestSession::State;
+    const bool wasComfort = comfortAnnounced_;
+    if (test.comfortStep() && ! wasComfort) {
+        comfortAnnounced_ = true;
+        announce("Thresholds measured. Now a comfortable level on motor m5: press Y when it is clear and comfortable, N while it is too faint.");
+    }
     if (test.poll()) {   // a stimulus was just played: ask
         testState_.setText("Stimulus " + juce::String(test.stimuli()) + ": " + juce::String(test.question()), juce::dontSendNotification);
         announce(testState_.getText());
@@ -300,6 +412,7 @@ void ReaderPanel::refresh()
                 text = "Touch profile: thresholds";
                 for (int m = 0; m < device::kProfileMotors; ++m)
                     text << " m" << (m + 1) << "=" << profile.threshold[static_cast<std::size_t>(m)];
+                if (profile.comfort > 0) text << "; comfortable level " << profile.comfort << " (m" << profile.comfortMotor << ")";
             } catch (const std::exception& e) {
                 text = "Touch profile not used: " + juce::String(e.what());
             }
@@ -420,6 +533,18 @@ void ReaderPanel::resized()
     line.removeFromLeft(6);
     adaptiveAnswer_.setBounds(line);
     adaptiveState_.setBounds(r.removeFromTop(row));
+    line = r.removeFromTop(row).reduced(0, 2);
+    line.removeFromLeft(50);
+    adaptiveTrials_.setBounds(line.removeFromLeft(120));
+    line.removeFromLeft(60);
+    adaptiveLevel_.setBounds(line.removeFromLeft(100));
+    line.removeFromLeft(60);
+    adaptiveMethod_.setBounds(line.removeFromLeft(100));
+    line.removeFromLeft(60);
+    adaptiveStages_.setBounds(line);
+    line = r.removeFromTop(row).reduced(0, 2);
+    forgetReader_.setBounds(line.removeFromRight(140));
+    readerProfile_.setBounds(line);
     r.removeFromTop(8);
     line = r.removeFromTop(row).reduced(0, 2);
     reportHeading_.setBounds(line.removeFromLeft(100));

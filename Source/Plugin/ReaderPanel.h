@@ -29,6 +29,19 @@ public:
     juce::String touchSummary() const { return touch_.getText(); }
     /// Y = felt, N = not felt, R = again while the sensitivity test asks; F3 repeats, F4 stops speech.
     bool keyPressed(const juce::KeyPress& key) override;
+    /// The adaptive training's choices as shown (tests).
+    juce::Slider& trialsControl() noexcept { return adaptiveTrials_; }
+    juce::Slider& levelControl() noexcept { return adaptiveLevel_; }
+    juce::TextEditor& stagesControl() noexcept { return adaptiveStages_; }
+    juce::ComboBox& methodControl() noexcept { return adaptiveMethod_; }
+    juce::String adaptiveStateText() const { return adaptiveState_.getText(); }
+    juce::TextEditor& adaptiveAnswerField() noexcept { return adaptiveAnswer_; }
+    juce::String testStateText() const { return testState_.getText(); }
+    /// The panel's actions as its buttons and keys run them (tests).
+    void answerTestForTests(bool felt) { answerTest(felt); }
+    void followForTests() { timerCallback(); }
+    /// The adaptive stages as typed: kept in the settings when usable, else refused (announced).
+    juce::String takeStages();
 
 private:
     void timerCallback() override;
@@ -42,6 +55,7 @@ private:
     void startAdaptive();
     void answerAdaptive();
     void followAdaptive();
+    void showReaderProfile();
 
     ArmadilloProcessor& processor_;
     juce::Label heading_, voiceLabel_, rateLabel_, voiceState_, touch_, reportHeading_;
@@ -56,6 +70,14 @@ private:
     juce::TextButton adaptiveStart_ {"Adaptive training..."}, adaptiveAgain_ {"Show again"};
     juce::TextEditor adaptiveAnswer_;
     juce::Label adaptiveState_;
+    // The adaptive training's choices (the settings adaptiveTrials … : the CLI's --trials --stages --method --level).
+    juce::Label trialsLabel_, stagesLabel_, methodLabel_, levelLabel_, readerProfile_;
+    juce::Slider adaptiveTrials_, adaptiveLevel_;
+    juce::TextEditor adaptiveStages_;
+    juce::ComboBox adaptiveMethod_;
+    juce::TextButton forgetReader_ {"No reader profile"};
+    juce::String shownReader_ {"?"};
+    bool comfortAnnounced_ = false;
     TrainingKeys adaptiveKeys_;            // chords (F2), F3, F4 in the adaptive answer field
     juce::File readerFile_;
     double promptedAt_ = 0.0;              // ms, when the prompt was said (the response time)

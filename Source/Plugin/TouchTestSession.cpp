@@ -6,8 +6,11 @@ namespace armadillo::plugin {
 // Right-arm layout: index i = motor m(i+1), as the CLI's touch-profile (the profile's order).
 TouchTestSession::TouchTestSession() : player_(TactileConfig {}, 0.0) {}
 
-void TouchTestSession::begin(std::uint64_t seed)
+void TouchTestSession::begin(std::uint64_t seed, bool comfort)
 {
+    askComfort_ = comfort;
+    comfortStep_ = false;
+    comfort_ = 0;
     stairs_ = {};
     lastStart_.fill(-1e9);
     order_.clear();
@@ -24,7 +27,21 @@ void TouchTestSession::next()
         for (int m = 0; m < device::kProfileMotors; ++m)
             if (! stairs_[static_cast<std::size_t>(m)].done()) order_.push_back(m);
         if (order_.empty()) {
-            state_ = State::Done;
+            if (! askComfort_ || comfortStep_) {
+                state_ = State::Done;
+                return;
+            }
+            // The comfortable level (CmdTouchProfile.cpp): from the comfort motor's threshold + 1
+            // upwards; at the top level it is taken without asking.
+            comfortStep_ = true;
+            motor_ = device::TouchProfile {}.comfortMotor - 1;
+            level_ = std::min(kMaxLevel, stairs_[static_cast<std::size_t>(motor_)].threshold() + 1);
+            if (level_ >= kMaxLevel) {
+                comfort_ = kMaxLevel;
+                state_ = State::Done;
+                return;
+            }
+            present();
             return;
         }
         // Fisher-Yates with `%` as the CLI does: a seed gives the same order everywhere.
@@ -62,6 +79,16 @@ bool TouchTestSession::poll()
 void TouchTestSession::answer(bool felt)
 {
     if (state_ != State::Asking) return;
+    if (comfortStep_) {   // felt = "comfortable"
+        if (felt || level_ + 1 >= kMaxLevel) {
+            comfort_ = felt ? level_ : kMaxLevel;
+            state_ = State::Done;
+            return;
+        }
+        ++level_;
+        present();
+        return;
+    }
     stairs_[static_cast<std::size_t>(motor_)].answer(felt);
     previous_ = motor_;
     next();
@@ -75,7 +102,7 @@ void TouchTestSession::again()
 std::string TouchTestSession::question() const
 {
     if (state_ != State::Asking) return {};
-    return "motor m" + std::to_string(motor_ + 1) + ", level " + std::to_string(level_) + ": felt it?";
+    return "motor m" + std::to_string(motor_ + 1) + ", level " + std::to_string(level_) + (comfortStep_ ? ": comfortable?" : ": felt it?");
 }
 
 device::TouchProfile TouchTestSession::profile() const
@@ -85,6 +112,7 @@ device::TouchProfile TouchTestSession::profile() const
         p.threshold[m] = stairs_[m].threshold();
         p.felt[m] = stairs_[m].felt();
     }
+    p.comfort = comfort_;
     p.stimuli = stimuli_;
     p.stimulusSeconds = stimuli_ * (kOnSeconds + kGapSeconds);
     return p;

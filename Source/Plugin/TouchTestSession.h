@@ -5,8 +5,10 @@
 // a row, each stimulus a soft 0.25 s level on one motor through an access::TactilePlayer (its own
 // TactileEngine and SafetyStage, the touch profile NOT applied: the raw threshold is measured),
 // played by the control step in place of the scene's levels (BlockControl::setStimulus). The
-// reader answers felt / not felt after each stimulus (buttons, Y / N keys); the result is a
-// device::TouchProfile. JUCE-free, message thread only (the player's control side runs in the
+// reader answers felt / not felt after each stimulus (buttons, Y / N keys). Then, as the CLI, a
+// comfortable level on the profile's comfort motor (m5): ascending from its threshold + 1, one
+// level a step, until the reader answers "comfortable" (or level 15). The result is a
+// device::TouchProfile (the CLI's JSON, "comfort" included). JUCE-free, message thread only (the player's control side runs in the
 // control step).
 #include "Access/TactilePlayer.h"
 #include "Link/TouchProfile.h"
@@ -29,8 +31,11 @@ public:
 
     enum class State { Idle, Presenting, Asking, Done };
     State state() const noexcept { return state_; }
-    /// Starts a new test (the seed fixes the order of the motors).
-    void begin(std::uint64_t seed = 1);
+    /// Starts a new test (the seed fixes the order of the motors); `comfort` false skips the
+    /// comfortable-level step (the CLI's --no-comfort).
+    void begin(std::uint64_t seed = 1, bool comfort = true);
+    /// The thresholds are measured: the stimuli now ask for a comfortable level.
+    bool comfortStep() const noexcept { return comfortStep_; }
     /// Ends a test early; nothing is kept.
     void cancel() noexcept { state_ = State::Idle; }
     /// Timer: a stimulus that has been played moves the test on to Asking. True when it did
@@ -41,7 +46,7 @@ public:
     void answer(bool felt);
     /// Shows the current stimulus again (only in Asking).
     void again();
-    /// "motor m3, level 8: felt it?"; "" when not asking.
+    /// "motor m3, level 8: felt it?" ("…: comfortable?" in the comfort step); "" when not asking.
     std::string question() const;
     int motor() const noexcept { return motor_; }       ///< 0-based, the motor of the current stimulus
     int level() const noexcept { return level_; }
@@ -59,7 +64,8 @@ private:
     std::vector<int> order_;
     std::mt19937_64 rng_ {1};
     State state_ = State::Idle;
-    int motor_ = -1, previous_ = -1, level_ = 0, stimuli_ = 0, waitingFor_ = 0;
+    int motor_ = -1, previous_ = -1, level_ = 0, stimuli_ = 0, waitingFor_ = 0, comfort_ = 0;
+    bool askComfort_ = true, comfortStep_ = false;
 };
 
 } // namespace armadillo::plugin

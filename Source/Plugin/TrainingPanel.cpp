@@ -4,6 +4,7 @@
 #include "Core/AtomicFile.h"
 #include <algorithm>
 #include <cmath>
+#include <ctime>
 #include <iostream>
 
 namespace armadillo::plugin {
@@ -14,7 +15,8 @@ const char* const kTypeHere = "type the answer, then Return";
 const char* const kHint = "Feel what the arm shows, type the answer, press Return.";
 const char* const kKeys = "Keys: Return sends (Backspace corrects first); F2 Perkins chords (S D F J K L, Space answers); "
                           "F5 repeats the prompt; F6 skips (counts as wrong); F8 stops the training; F3 says it again, "
-                          "F4 hushes; Escape leaves the panel; Tab stays inside it.";
+                          "F4 hushes; Escape leaves the panel; Tab stays inside it. In the hold stage a push of the forearm "
+                          "along its axis and back answers here.";
 } // namespace
 
 TrainingPanel::TrainingPanel(ArmadilloProcessor& processor) : processor_(processor)
@@ -105,6 +107,8 @@ void TrainingPanel::follow()
                                     complete_ = false;
                                     log_.clear();
                                     tallyCounts_.clear();
+                                    heldBack_.clear();
+                                    recorder_.reset();   // a new training: a new session in the profile
                                 }
                                 notices = feeder_.poll(scene);
                                 trial = scene.trainingTrial();
@@ -133,6 +137,11 @@ void TrainingPanel::follow()
     }
     score_.setText(juce::String(correct) + " of " + juce::String(std::min(trial, count)) + " correct", juce::dontSendNotification);
     if (restarted && ! notices.empty()) announce(result_.getText());
+    // The next prompt waits until the arm's feedback (and the right cell again) has played.
+    if (! heldBack_.empty() && ! processor_.armFeedbackPlaying()) {
+        notices.insert(notices.begin(), heldBack_.begin(), heldBack_.end());
+        heldBack_.clear();
+    }
     show(notices);
 }
 
@@ -147,7 +156,10 @@ void TrainingPanel::show(const std::vector<braille::TrainingNotice>& notices)
             const auto text = skipped ? "skipped (counts as wrong), it was '" + juce::String(n.expected) + "'"
                                       : juce::String(braille::resultText(n)) + (n.right ? juce::String() : ", you answered '" + juce::String(n.answer) + "'");
             result_.setText(text, juce::dontSendNotification);
-            processor_.armFeedback(n.right);   // felt on the arm when that setting is on (deafblind)
+            // Felt on the arm when that setting is on (deafblind): right / wrong, the right cell again.
+            // (A side or "here" has no cell to show again.)
+            processor_.armFeedback(n.right, n.stage == "sides" || n.stage == "hold" ? std::string() : n.expected);
+            record(n);
             say << text << ". " << n.correct << " of " << n.answered << " correct. ";
             auto it = std::find_if(tallyCounts_.begin(), tallyCounts_.end(), [&](const auto& e) { return e.first == n.expected; });
             if (it == tallyCounts_.end()) it = tallyCounts_.insert(tallyCounts_.end(), {n.expected, {0, 0}});
@@ -160,8 +172,15 @@ void TrainingPanel::show(const std::vector<braille::TrainingNotice>& notices)
             break;
         }
         case Kind::Prompt:
+            if (processor_.armFeedbackPlaying()) {
+                heldBack_.push_back(n);
+                break;
+            }
+            promptedAtMs_ = juce::Time::getMillisecondCounterHiRes();
             trial_.setText("Trial " + juce::String(n.trial + 1) + " of " + juce::String(n.trialCount), juce::dontSendNotification);
-            prompt_.setText(juce::String(n.prompt), juce::dontSendNotification);
+            // The hold stage is also answered by the arm: a push along the forearm and back.
+            prompt_.setText(juce::String(n.prompt) + (n.expected == "here" ? " (type here, or push the forearm along its axis and back)" : ""),
+                            juce::dontSendNotification);
             lastPrompt_ = trial_.getText() + ": " + prompt_.getText();
             say << lastPrompt_;
             break;
@@ -187,6 +206,31 @@ void TrainingPanel::show(const std::vector<braille::TrainingNotice>& notices)
         }
     }
     announce(say);
+}
+
+void TrainingPanel::record(const braille::TrainingNotice& n)
+{
+    const auto path = processor_.settings()[SettingIds::readerProfile].toString();
+    if (path.isEmpty()) return;
+    const double nowMs = juce::Time::getMillisecondCounterHiRes();
+    try {
+        if (! recorder_ || recorderPath_ != path) {
+            recorderPath_ = path;
+            recorderStartMs_ = nowMs;
+            const std::time_t now = std::time(nullptr);
+            char date[32];
+            std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+            recorder_ = std::make_unique<access::ProfileRecorder>(path.toStdString(), "rows", date);
+        }
+        recorder_->record(n.stage, n.expected, n.answer, n.right, promptedAtMs_ > 0.0 ? (nowMs - promptedAtMs_) / 1000.0 : -1.0,
+                          (nowMs - recorderStartMs_) / 1000.0);
+        recorderError_.clear();
+    } catch (const std::exception& e) {
+        recorder_.reset();
+        const auto text = "The reader profile was not updated: " + juce::String(e.what());
+        if (text != recorderError_) announce(text);   // said once, not after every answer
+        recorderError_ = text;
+    }
 }
 
 void TrainingPanel::submit()

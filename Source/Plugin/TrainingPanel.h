@@ -14,6 +14,7 @@
 // between trials. While a training runs the panel owns the keyboard (Tab cycles inside it; keys
 // listed on the panel: Return send, F5 repeat the prompt, F6 skip, F8 stop; Escape leaves it). Threads: message thread only (its own timer polls the scene's lock-free
 // progress); it never keeps a pointer to the scene, which the processor may replace at any time.
+#include "Access/ProfileRecorder.h"
 #include "Braille/TrainingFeeder.h"
 #include "Plugin/PerkinsKeys.h"
 #include <juce_gui_basics/juce_gui_basics.h>
@@ -57,6 +58,9 @@ public:
     juce::String scoreText() const { return score_.getText(); }
     juce::String tallyText() const { return tally_.getText(); }
     juce::String promptText() const { return prompt_.getText(); }
+    juce::String trialText() const { return trial_.getText(); }
+    /// Answers added to the reader profile by this training (0 without one).
+    int recordedAnswers() const noexcept { return recorder_ ? recorder_->recorded() : 0; }
     juce::TextEditor& answerField() noexcept { return answer_; }
 
     /// Why `answer` cannot be an answer to a trial whose right answer is `expected` ("" when it
@@ -72,6 +76,7 @@ private:
     void save();
     void show(const std::vector<braille::TrainingNotice>& notices);
     void announce(const juce::String& text);
+    void record(const braille::TrainingNotice& result);
 
     ArmadilloProcessor& processor_;
     std::atomic<float>* mode_ = nullptr;   // braille.mode (nullptr if this build has no braille scene)
@@ -84,6 +89,10 @@ private:
         stop_ {"Stop (F8)"};
     std::vector<std::pair<std::string, std::pair<int, int>>> tallyCounts_;   // expected → (correct, asked), in first-seen order
     juce::String lastPrompt_;
+    std::vector<braille::TrainingNotice> heldBack_;   // prompts waiting for the arm feedback to end
+    std::unique_ptr<access::ProfileRecorder> recorder_;   // this training's session in the reader profile
+    juce::String recorderPath_, recorderError_;
+    double promptedAtMs_ = 0.0, recorderStartMs_ = 0.0;
     std::string log_;                      // the complete training's log, copied once at the end
     std::unique_ptr<juce::FileChooser> chooser_;
     TrainingKeys chordKeys_;                   // Perkins chords (F2), repeat (F3), stop speech (F4), display keys

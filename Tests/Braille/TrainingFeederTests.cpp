@@ -1,8 +1,10 @@
 // The one-at-a-time answer feeder of live training (the CLI's and the app's), against the real
 // braille scene through the Scene API, and against a fake scene for what the real one cannot
 // be made to do on demand (a full answer queue).
+#define ARMADILLO_REALTIME_GUARD_IMPLEMENTATION
 #include "Braille/BrailleScene.h"
 #include "Braille/TrainingFeeder.h"
+#include "Common/RealtimeGuard.h"
 #include "TestArm.h"
 #include <catch2/catch.hpp>
 #include <sstream>
@@ -44,6 +46,15 @@ struct TrainingScene {
         scene->setParameter(kParamMode, 2.0f);
         controls = dynamic_cast<BrailleSceneControls*>(scene.get());
         REQUIRE(controls);
+    }
+    /// One control update with the arm's full state (orientation, gyro, accelerometer).
+    void feed(const ArmState& arm)
+    {
+        SceneOutput out {canvas, events};
+        ControlInput in;
+        in.arm = arm;
+        in.dt = kDt;
+        scene->control(in, out);
     }
     void idle(int updates)
     {
@@ -258,4 +269,141 @@ TEST_CASE("Feeder: a full answer queue keeps the answer waiting, handed over on 
     CHECK(feeder.finished());
     CHECK(feeder.poll(fresh).empty());
     CHECK(feeder.add("x") == Refusal::Finished);
+}
+
+namespace {
+/// The hanging arm rolled by `rollDeg`, turning at `rollRate` rad/s about the forearm, with an
+/// extra acceleration `push` m/s² along it: the accelerometer is gravity (+g up, as the arm
+/// tracker gives it) plus the push, in the device frame (x = the forearm axis).
+ArmState hangingArm(double rollDeg, double rollRate, double push)
+{
+    ArmState a;
+    a.q = poseToQuaternion(hanging(rollDeg));
+    a.gyro = Eigen::Vector3d(rollRate, 0.0, 0.0);
+    a.accel = a.q.conjugate() * Eigen::Vector3d(0.0, 9.80665, 0.0) + Eigen::Vector3d(push, 0.0, 0.0);
+    a.valid = true;
+    return a;
+}
+
+/// A push along the forearm (6 cm out in 0.2 s and back, minimum jerk) at roll `rollDeg`.
+void pushArm(TrainingScene& s, double rollDeg)
+{
+    for (int i = 0; i < 80; ++i) {
+        const double u = (i % 40) / 40.0, a = 0.06 / 0.04 * (60.0 * u - 180.0 * u * u + 120.0 * u * u * u);
+        s.feed(hangingArm(rollDeg, 0.0, i < 40 ? a : -a));
+    }
+    for (int i = 0; i < 100; ++i) s.feed(hangingArm(rollDeg, 0.0, 0.0));
+}
+
+/// Rolls by `steps` steps of 16° (0.2 s each, ≈ 1.4 rad/s), a still moment after each.
+double rollArm(TrainingScene& s, double roll, int steps)
+{
+    for (int i = 0; i < steps; ++i) {
+        for (int k = 1; k <= 40; ++k) s.feed(hangingArm(roll + 16.0 * k / 40.0, 1.4, 0.0));
+        roll += 16.0;
+        for (int k = 0; k < 60; ++k) s.feed(hangingArm(roll, 0.0, 0.0));
+    }
+    return roll;
+}
+} // namespace
+
+TEST_CASE("Feeder: 'here' answered by a push of the arm in the hold stage, logged as a gesture", "[braille][training][feeder][push]")
+{
+    TrainingScene s(7);
+    TrainingAnswerFeeder feeder;
+    feeder.poll(*s.controls);
+    for (int i = 0; i < 100; ++i) s.feed(hangingArm(0.0, 0.0, 0.0));
+    // A push outside the hold stage answers nothing.
+    REQUIRE(s.controls->trainingExpected(0) != "here");
+    pushArm(s, 0.0);
+    CHECK(s.controls->trainingTrial() == 0);
+    CHECK(s.controls->trainingArmAnswers() == 0);
+    // The sides trials typed; then the first hold trial.
+    int hold = 0;
+    while (s.controls->trainingExpected(hold) != "here") REQUIRE(feeder.add(s.controls->trainingExpected(hold++)) == Refusal::None);
+    for (int round = 0; round < 100 && s.controls->trainingTrial() < hold; ++round) {
+        feeder.poll(*s.controls);
+        s.feed(hangingArm(0.0, 0.0, 0.0));
+    }
+    REQUIRE(s.controls->trainingTrial() == hold);
+    CHECK(kinds(feeder.poll(*s.controls)).back() == Kind::Prompt);
+    const std::string prompt = s.controls->trainingPrompt(hold);
+    REQUIRE(prompt.rfind("stop on row ", 0) == 0);
+    const int row = prompt[12] - '0';
+
+    double roll = rollArm(s, 0.0, 3 + row);   // one full cell, then the asked row of the next
+    pushArm(s, roll);
+    auto n = feeder.poll(*s.controls);
+    REQUIRE(kinds(n) == std::vector<Kind> {Kind::Result, Kind::Prompt});
+    CHECK(n[0].byArm);
+    CHECK(n[0].trial == hold);
+    CHECK(n[0].answer == "here");
+    CHECK(n[0].right);
+    CHECK(resultText(n[0]) == "correct (here, by the arm)");
+    CHECK(n[1].trial == hold + 1);
+
+    // The next hold trial: stopped a row short, the push is scored wrong.
+    const int row2 = s.controls->trainingPrompt(hold + 1)[12] - '0';
+    roll = rollArm(s, roll, 3 + (row2 % 3) + 1 + (3 - row));   // to the next cell's start, then a wrong row
+    pushArm(s, roll);
+    n = feeder.poll(*s.controls);
+    REQUIRE_FALSE(n.empty());
+    CHECK(n[0].byArm);
+    CHECK_FALSE(n[0].right);
+    CHECK(resultText(n[0]) == "wrong, it was 'here' (here, by the arm)");
+
+    // The log: a gesture row ("push") right before each arm answer, same trial and time.
+    std::istringstream log(s.controls->trainingLogCsv());
+    std::vector<std::string> rows;
+    for (std::string l; std::getline(log, l);) rows.push_back(l);
+    int gestures = 0;
+    for (std::size_t i = 0; i + 1 < rows.size(); ++i)
+        if (rows[i].find(",gesture,hold,") != std::string::npos) {
+            ++gestures;
+            CHECK(rows[i].substr(rows[i].size() - 6) == ",push,");
+            CHECK(rows[i + 1].find(",answer,hold,") != std::string::npos);
+            CHECK(rows[i].substr(0, rows[i].find(',')) == rows[i + 1].substr(0, rows[i + 1].find(',')));
+        }
+    CHECK(gestures == 2);
+    CHECK(loggedAnswers(s.controls->trainingLogCsv()).back() == "here");
+}
+
+TEST_CASE("The scene's control in training stays real-time: typed answers, a push's answer, a trial restarted", "[braille][training][realtime]")
+{
+    using armadillo::test::RealtimeGuard;
+    REQUIRE(RealtimeGuard::installed());
+    {
+        RealtimeGuard probe;   // the probe catches an allocation before a zero is trusted
+        int* volatile p = new int(5);
+        CHECK(probe.allocations() >= 1);
+        delete p;
+    }
+    TrainingScene s(7);
+    for (int i = 0; i < 10; ++i) s.feed(hangingArm(0.0, 0.0, 0.0));
+    int hold = 0;
+    while (s.controls->trainingExpected(hold) != "here") ++hold;
+    std::uint64_t allocations = 0, locks = 0;
+    auto guarded = [&](const ArmState& a) {
+        RealtimeGuard guard;
+        s.feed(a);
+        allocations += guard.allocations();
+        locks += guard.locks();
+    };
+    for (int i = 0; i < hold; ++i) {   // (submitted from this thread, outside the guard)
+        REQUIRE(s.controls->submitAnswer(s.controls->trainingExpected(i)));
+        guarded(hangingArm(0.0, 0.0, 0.0));
+        s.controls->collectTrainingLog();
+    }
+    REQUIRE(s.controls->trainingTrial() == hold);
+    s.controls->restartTrainingTrial();
+    for (int i = 0; i < 100; ++i) guarded(hangingArm(0.0, 0.0, 0.0));
+    for (int i = 0; i < 80; ++i) {   // the push (as pushArm), each update guarded
+        const double u = (i % 40) / 40.0, a = 0.06 / 0.04 * (60.0 * u - 180.0 * u * u + 120.0 * u * u * u);
+        guarded(hangingArm(0.0, 0.0, i < 40 ? a : -a));
+    }
+    for (int i = 0; i < 100; ++i) guarded(hangingArm(0.0, 0.0, 0.0));
+    CHECK(s.controls->trainingArmAnswers() == 1);
+    CHECK(s.controls->trainingTrial() == hold + 1);
+    CHECK(allocations == 0);
+    CHECK(locks == 0);
 }

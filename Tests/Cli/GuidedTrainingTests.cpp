@@ -212,6 +212,15 @@ TEST_CASE("adaptive training with no screen and no sound: the arm alone carries 
     CHECK(nextCues["4"] == 2);
     CHECK(nextCues["3"] == 1);
     CHECK(nextCues["5"] == 1);
+    // ... and the log says it came from the arm: one gesture row, trial 4, "twist".
+    int gestures = 0;
+    for (const auto& row : rows)
+        if (row.size() == 13 && row[1] == "gesture") {
+            ++gestures;
+            CHECK(row[3] == "4");
+            CHECK(row[11] == "twist");
+        }
+    CHECK(gestures == 1);
     // The profile kept every answer.
     const std::string profile = armadillo::readWholeFile(reader);
     CHECK(profile.find("\"format\": \"armadillo-reader\"") != std::string::npos);

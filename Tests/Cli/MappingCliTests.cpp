@@ -454,3 +454,112 @@ TEST_CASE("render --map --osc-out: the issue example's OSC destination sends out
         }));
     }
 }
+
+TEST_CASE("render --motion-left --map: each arm's sources from its own file, the angle between the forearms, both arms raised", "[cli][mapping][twoarms]")
+{
+    // 4 s at 100 Hz. The right arm rises (−20 → 60°) in the first 2 s and then holds; the left
+    // arm holds 45° and then falls (45 → −30°) in the last 2 s. Right points north, left east.
+    std::vector<Row> right, left;
+    for (int i = 0; i <= 400; ++i) {
+        const double t = i * 0.01;
+        right.push_back({t, t < 2.0 ? -20.0 + 40.0 * t : 60.0, 0.0, 0.0});
+        left.push_back({t, t < 2.0 ? 45.0 : 45.0 - 37.5 * (t - 2.0), 90.0, 0.0});
+    }
+    const std::string map = file("two-arm-map.json", R"({"version": 1, "mappings": [
+        {"source": "elevation", "to": {"midi": "cc", "channel": 1, "cc": 1}},
+        {"source": "left.elevation", "to": {"midi": "cc", "channel": 1, "cc": 2}},
+        {"source": "arms.angle", "in": [0, 180], "to": {"midi": "cc14", "channel": 2, "cc": 3}},
+        {"source": "arms.raised", "to": {"midi": "note", "channel": 3, "note": 40}}]})");
+    Run r = runArmadillo("map check '" + map + "'");
+    CHECK(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("\"two_arm_mappings\":3"));
+    r = runArmadillo("map show '" + map + "'");   // written back with the same names, and read back
+    REQUIRE(r.code == 0);
+    CHECK_THAT(r.out, Catch::Contains("\"left.elevation\"") && Catch::Contains("\"arms.angle\"") && Catch::Contains("\"arms.raised\""));
+    CHECK(runArmadillo("map check '" + file("two-arm-map-shown.json", r.out) + "'").code == 0);
+    r = runArmadillo("map check '" + file("two-arm-bad.json", "{\"version\": 1, \"mappings\": [\n  {\"source\": \"left.arms.angle\", \"to\": {\"macro\": 1}}]}") + "'");
+    CHECK(r.code == 3);
+    CHECK_THAT(r.err, Catch::Contains("two-arm-bad.json:2: column 14: mappings[0].source") && Catch::Contains("unknown source \"left.arms.angle\""));
+    const std::string mid = path("two-arms.mid");
+    r = runArmadillo("render --scene theremin-duo --motion '" + file("two-right.csv", posesCsv(right)) + "' --motion-left '" +
+                     file("two-left.csv", posesCsv(left)) + "' --map '" + map + "' --midi-out '" + mid + "'");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const Smf smf = readSmf(readBytes(mid));
+    int cc1 = 0, cc2 = 0, msb = -1, lsb = -1;
+    double noteOn = -1.0, noteOff = -1.0, worstAngle = 0.0;
+    std::vector<std::vector<const armadillo::mapping::test::SmfEvent*>> byRow(right.size());
+    for (const auto& e : smf.events) {
+        double d = 0.0;
+        byRow[nearestRow(right, e.seconds, d)].push_back(&e);
+        if (e.bytes[0] == 0xB0 && e.bytes[1] == 1) {   // the right arm's CC: only while it moves (and its first value)
+            ++cc1;
+            CHECK((e.seconds <= 2.0 + 0.011 || e.seconds == 0.0));
+        }
+        if (e.bytes[0] == 0xB0 && e.bytes[1] == 2) {   // the left arm's: only while it moves
+            ++cc2;
+            CHECK((e.seconds >= 2.0 - 0.011 || e.seconds == 0.0));
+        }
+        if (e.bytes[0] == 0x92 && e.bytes[2] > 0) noteOn = e.seconds;
+        if (e.bytes[0] == 0x82) noteOff = e.seconds;
+    }
+    CHECK(cc1 > 50);
+    CHECK(cc2 > 50);
+    // The angle between the forearms, row by row, against the spherical law of cosines on the
+    // two files' poses (azimuths 0° and 90°: cos θ = sin e₁ sin e₂).
+    for (std::size_t i = 0; i < right.size(); ++i) {
+        for (const auto* e : byRow[i]) {
+            if (e->bytes[0] == 0xB1 && e->bytes[1] == 3) msb = e->bytes[2];
+            if (e->bytes[0] == 0xB1 && e->bytes[1] == 35) lsb = e->bytes[2];
+        }
+        const double d = 3.14159265358979323846 / 180.0;
+        const double truth = std::acos(std::sin(right[i].el * d) * std::sin(left[i].el * d)) / d;
+        const double got = (128 * msb + lsb) / 16383.0 * 180.0;
+        worstAngle = std::max(worstAngle, std::fabs(got - truth));
+    }
+    std::printf("render two arms: arms.angle from the MIDI file vs the files' geometry, largest difference %.4f deg\n", worstAngle);
+    CHECK(worstAngle < 0.03);   // one 14-bit step over 180° is 0.011°
+    // Both arms raised (≥ 30°) once the right arm passes 30° at 1.25 s; over once the left arm
+    // falls below 30 − 3 = 27° at 2.48 s.
+    CHECK(noteOn == Approx(1.25).margin(0.011));
+    CHECK(noteOff == Approx(2.48).margin(0.011));
+
+    // With one arm the same file sends only the right arm's CC.
+    r = runArmadillo("render --scene theremin --motion '" + path("two-right.csv") + "' --map '" + map + "' --midi-out '" + path("one-arm.mid") + "'");
+    REQUIRE(r.code == 0);
+    const Smf one = readSmf(readBytes(path("one-arm.mid")));
+    REQUIRE_FALSE(one.events.empty());
+    for (const auto& e : one.events) CHECK((e.bytes[0] == 0xB0 && e.bytes[1] == 1));
+}
+
+TEST_CASE("play with two simulated arms --map: the left arm's and the relative sources reach the mapping", "[cli][mapping][twoarms]")
+{
+    Loopback udp;
+    const std::string map = file("play-two.json", R"({"version": 1, "mappings": [
+        {"source": "elevation", "to": {"osc": "/right", "args": ["$elevation"]}},
+        {"source": "left.elevation", "to": {"osc": "/left", "args": ["$left.elevation"]}},
+        {"source": "arms.angle", "to": {"osc": "/angle", "args": ["$arms.angle"]}}]})");
+    const std::string rightFile = file("play-two-right.csv", posesCsv({{0.0, 30.0, 0.0, 0.0}, {1.0, 30.0, 0.0, 0.0}}));
+    const std::string leftFile = file("play-two-left.csv", posesCsv({{0.0, -40.0, 90.0, 0.0}, {1.0, -40.0, 90.0, 0.0}}));
+    const Run r = runArmadillo("play --scene theremin-duo --simulate --motion '" + rightFile + "' --motion-left '" + leftFile +
+                               "' --seconds 2.5 --no-audio --map '" + map + "' --osc-out 127.0.0.1:" + std::to_string(udp.port));
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    std::map<std::string, double> last;
+    std::map<std::string, int> count;
+    for (const auto& p : udp.drain())
+        device::decodeOscPacket(p.data(), p.size(), [&](const device::OscMessage& m) {
+            last[std::string(m.address)] = static_cast<double>(m.args[0].f);
+            ++count[std::string(m.address)];
+        });
+    REQUIRE(count["/right"] > 0);
+    REQUIRE(count["/left"] > 0);
+    REQUIRE(count["/angle"] > 0);
+    // Each arm as its file holds it (the fusion's accuracy), the angle as the geometry says.
+    const double d = 3.14159265358979323846 / 180.0;
+    const double angle = std::acos(std::sin(30.0 * d) * std::sin(-40.0 * d)) / d;   // azimuths 0° and 90°
+    std::printf("play two arms --map: last right %.2f (30), left %.2f (-40), angle %.2f (%.2f) deg\n", last["/right"], last["/left"], last["/angle"], angle);
+    CHECK(std::fabs(last["/right"] - 30.0) < 3.0);
+    CHECK(std::fabs(last["/left"] + 40.0) < 3.0);
+    CHECK(std::fabs(last["/angle"] - angle) < 4.0);
+}

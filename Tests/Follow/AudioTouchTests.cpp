@@ -189,10 +189,13 @@ TEST_CASE("audio-touch: silence is felt as nothing; the parameters are the liste
     for (const auto& row : renderOffline(stillMotion(1.0), settings).tactile)
         for (int m = 0; m < kMaxMotors; ++m) REQUIRE(row.levels[static_cast<std::size_t>(m)] == 0);
     const auto specs = createScene("audio-touch")->parameters();
-    REQUIRE(specs.size() == 3);
+    REQUIRE(specs.size() == 4);
     CHECK(specs[0].id == "audio-touch.intensity");
     CHECK(specs[1].id == "audio-touch.sensitivity");
     CHECK(specs[2].id == "audio-touch.accents");
+    CHECK(specs[3].id == "audio-touch.stems");   // appended in issue 27: the IDs before it keep their places
+    CHECK(specs[3].choices == std::vector<std::string> {"apart", "mixed"});
+    CHECK(specs[3].defaultValue == 0.0f);
     // Intensity 0: nothing sustained; accents 0: no accents.
     const Groove g = groove();
     settings.audioIn = &g.audio;
@@ -353,6 +356,57 @@ TEST_CASE("audio-touch: stems felt apart — bass at the elbow, the voice at the
 
     settings.engine.sceneConfig.stems = {"drums", "guitar"};
     CHECK_THROWS_AS(renderOffline(stillMotion(0.1), settings), InputError);
+}
+
+TEST_CASE("audio-touch: audio-touch.stems mixes the stems; the main input after the stems is felt while they are silent", "[audio-touch][stems]")
+{
+    const Stems s = stems();
+    // Mixed, without a main input (the command line): the stems' sum through the three bands, as
+    // the mixed input: the bass and the voice in the middle band, felt on motors 4 and 6 that
+    // no stem here drives apart (there is no `other` stem).
+    RenderSettings settings;
+    settings.engine.scene = "audio-touch";
+    settings.engine.sceneConfig.stems = {"drums", "bass", "vocals"};
+    settings.audioIn = &s.audio;
+    const auto apart = renderOffline(stillMotion(4.0), settings).tactile;
+    settings.engine.parameters = {"audio-touch.stems=mixed"};
+    const auto mixed = renderOffline(stillMotion(4.0), settings).tactile;
+    std::printf("audio-touch.stems: m4 m6 under the bass and voice %.2f apart, %.2f mixed\n", motorsMean(apart, {4, 6}, 1.2, 3.5),
+                motorsMean(mixed, {4, 6}, 1.2, 3.5));
+    CHECK(motorsMean(apart, {4, 6}, 0.0, 4.0) == 0.0);
+    CHECK(motorsMean(mixed, {4, 6}, 1.2, 3.5) > 1.0);
+
+    // The plugin's layout: the stems (bass, vocals), then its main input (here a 50 Hz tone
+    // throughout, 7 s). Apart: the main input is felt (the mixed path: the elbow row, m8 too)
+    // until a stem sounds, the stems alone while one does, and the main input again once they
+    // have all been under the floor for 1 s.
+    AudioBuffer plugin;
+    plugin.sampleRate = s.audio.sampleRate;
+    const auto frames = static_cast<std::size_t>(7.0 * plugin.sampleRate);
+    plugin.channels.assign(3, std::vector<float>(frames, 0.0f));
+    for (std::size_t i = 0; i < s.audio.frames(); ++i) {
+        plugin.channels[0][i] = s.audio.channels[1][i];   // bass, 1–3 s
+        plugin.channels[1][i] = s.audio.channels[2][i];   // vocals, 2.2–3.6 s
+    }
+    for (std::size_t i = 0; i < frames; ++i)
+        plugin.channels[2][i] = static_cast<float>(0.3 * std::sin(2.0 * 3.14159265358979 * 50.0 * static_cast<double>(i) / plugin.sampleRate));
+    settings.engine.sceneConfig.stems = {"bass", "vocals"};
+    settings.engine.parameters.clear();
+    settings.audioIn = &plugin;
+    const auto rows = renderOffline(stillMotion(7.0), settings).tactile;
+    // The voice (quiet, 250 ms release) is under the floor by about 4.75 s; the main input is
+    // back 1 s later (measured: m8 0 up to 5.75 s, 3.58 from 6 s).
+    const double before = motorsMean(rows, {8}, 0.3, 0.95), during = motorsMean(rows, {8}, 1.3, 3.5), after = motorsMean(rows, {8}, 6.0, 7.0);
+    std::printf("audio-touch stems + main: m8 (main only) %.2f before the stems, %.2f while they sound, %.2f after\n", before, during, after);
+    CHECK(before > 1.0);
+    CHECK(during == 0.0);
+    CHECK(motorsMean(rows, {7, 9}, 1.3, 2.9) > 2.0);   // the bass stem's own motors
+    CHECK(after > 1.0);
+    // Mixed: the main input throughout, the stems not apart (the wrist stays still under the voice).
+    settings.engine.parameters = {"audio-touch.stems=mixed"};
+    const auto main = renderOffline(stillMotion(7.0), settings).tactile;
+    CHECK(motorsMean(main, {8}, 1.3, 3.5) > 1.0);
+    CHECK(motorsMean(main, {1, 3}, 2.4, 3.5) == 0.0);
 }
 
 TEST_CASE("audio-touch: stems on the audio thread allocate, lock and throw nothing", "[audio-touch][stems][realtime]")

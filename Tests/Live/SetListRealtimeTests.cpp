@@ -45,3 +45,39 @@ TEST_CASE("set list: stepping through cues allocates, frees, locks and throws no
     CHECK(guard.throws() == 0);
     CHECK(player.changes() > 20u);
 }
+
+TEST_CASE("set list with two arms: cue changes and both arms' control steps allocate, free, lock and throw nothing", "[realtime][setlist][twoarms]")
+{
+    ARMADILLO_REQUIRE_GUARD();
+    const SetList list = parseSetList(R"({"armadillo_setlist": 1, "cues": [
+        {"scene": "theremin-duo"}, {"scene": "theremin"}, {"scene": "cymbal"}, {"scene": "theremin-duo", "parameters": {"theremin-duo.base": 330}}]})",
+                                      "rt-two.json");
+    CuePlayer player(list, SceneConfig {}, kGridMotors, true);
+    REQUIRE(player.twoArms());
+    std::vector<float> l(512), r(512);
+    ArmState arm, left;
+    arm.valid = left.valid = true;
+    double leftMotors = 0.0;
+    RealtimeGuard guard;
+    double t = 0.0;
+    for (int i = 0; i < 2000; ++i) {
+        if (i % 97 == 0) player.next();
+        if (i % 389 == 0) player.request(0);
+        const int n = 64 + (i % 5) * 64;
+        arm.t = left.t = t;
+        arm.features.pose = Pose {40.0 * std::sin(t), 20.0 * std::sin(0.7 * t), 30.0 * std::sin(1.3 * t)};
+        arm.q = poseToQuaternion(arm.features.pose);
+        left.features.pose = Pose {30.0 * std::sin(0.9 * t), 200.0, 80.0 * std::sin(0.5 * t)};
+        left.q = poseToQuaternion(left.features.pose);
+        (void) player.control(arm, left, Transport {}, n / 48000.0);
+        for (const auto v : player.leftLevels()) leftMotors += v;
+        player.renderAudio(l.data(), r.data(), n);
+        t += n / 48000.0;
+    }
+    CHECK(guard.allocations() == 0);
+    CHECK(guard.deallocations() == 0);
+    CHECK(guard.locks() == 0);
+    CHECK(guard.throws() == 0);
+    CHECK(player.changes() > 10u);
+    CHECK(leftMotors > 0.0);   // the left arm's motors ran (the duo shows its brightness on them)
+}

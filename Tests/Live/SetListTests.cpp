@@ -177,7 +177,7 @@ TEST_CASE("set list: every cue feels the reader's touch profile (motor gains)", 
     // A profile that halves every motor's level (a reader who feels them all strongly).
     std::array<float, kMaxMotors> gains {};
     gains.fill(0.5f);
-    CuePlayer plain(list, SceneConfig {}), profiled(list, SceneConfig {}, kGridMotors, gains);
+    CuePlayer plain(list, SceneConfig {}), profiled(list, SceneConfig {}, kGridMotors, false, gains);
     for (int c = 0; c < profiled.cueCount(); ++c) {
         CHECK(profiled.engine(c).config().motorGain == gains);
         CHECK(plain.engine(c).config().motorGain == TactileConfig::unitMotorGains());

@@ -128,8 +128,8 @@ TEST_CASE("Bad mapping files are refused with file, line, column and the reason"
     CHECK_THAT(e, Catch::Contains("notes need zones"));
     e = what(R"({"version": 1, "mappings": [{"source": "posture:up", "to": {"macro": 1}}]})");
     CHECK_THAT(e, Catch::Contains("no posture named \"up\""));
-    e = what(R"({"version": 1, "mappings": [{"source": "roll", "arm": "left", "to": {"macro": 1}}]})");
-    CHECK_THAT(e, Catch::Contains("second arm is not supported"));
+    e = what(R"({"version": 1, "mappings": [{"source": "roll", "arm": "both", "to": {"macro": 1}}]})");
+    CHECK_THAT(e, Catch::Contains("mappings[0].arm") && Catch::Contains("unknown arm \"both\""));
     e = what(R"({"version": 1, "mappings": [{"source": "roll", "to": {"macro": 9}}]})");
     CHECK_THAT(e, Catch::Contains("to.macro"));
     e = what(R"({"version": 1, "mappings": [{"source": "roll", "to": {"osc": "synth"}}]})");

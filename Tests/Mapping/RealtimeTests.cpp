@@ -126,3 +126,53 @@ TEST_CASE("64 mappings run without allocation, free, lock or throw", "[mapping][
     CHECK(macros > 10);
     mapper.collect();
 }
+
+TEST_CASE("Two-arm sources (left.*, arms.*) run without allocation, free, lock or throw", "[mapping][realtime][twoarms]")
+{
+#ifdef ARMADILLO_GUARD_UNDER_SANITIZER
+    WARN("sanitizer build: the real-time guard is not installed");
+    return;
+#endif
+    REQUIRE(RealtimeGuard::installed());
+    const MappingDocument doc = parseMappingDocument(R"({"version": 1, "mappings": [
+        {"source": "left.elevation", "smoothMs": 10, "to": {"midi": "cc14", "channel": 2, "cc": 1}},
+        {"source": "left.azimuth", "to": {"midi": "notes", "channel": 3, "zones": [[0, 120, 60], [120, 240, 64], [240, 360, 67], [350, 10, 70]]}},
+        {"source": "left.roll", "to": {"osc": "/left/{arm}/roll", "args": ["$value", "$left.ypr.qw", "$arms.angle"]}},
+        {"source": "arms.angle", "to": {"midi": "cc", "channel": 4, "cc": 20}},
+        {"source": "arms.roll", "smoothMs": 20, "to": {"midi": "pitchbend", "channel": 5}},
+        {"source": "arms.raised", "to": {"midi": "note", "channel": 6, "note": 40, "velocity": {"source": "left.speed", "in": [0, 300]}}},
+        {"source": "elevation", "to": {"midi": "cc", "channel": 1, "cc": 7}}]})",
+                                                     "two-arms.json");
+    Mapper mapper;
+    mapper.replace(MappingSet::build(doc));
+    auto out = std::make_unique<MappingOutput>();
+    std::uint64_t allocations = 0, frees = 0, locks = 0, throws = 0;
+    std::size_t midi = 0, osc = 0;
+    for (int i = 0; i < 3000; ++i) {
+        const double t = i * 0.005;
+        ArmState right = armAt(50.0 * std::sin(t * 0.7), std::fmod(t * 30.0, 360.0), 90.0 * std::sin(t * 1.3), t);
+        ArmState left = armAt(50.0 * std::sin(t * 0.5 + 1.0), std::fmod(300.0 + t * 50.0, 360.0), 170.0 * std::sin(t * 0.9), t);
+        left.gyro = Eigen::Vector3d(std::sin(t), 1.0, 0.2);
+        MappingInput in;
+        in.t = t;
+        in.arm[0] = &right;
+        in.arm[1] = i % 700 < 50 ? nullptr : &left;   // the second arm drops out now and then
+        {
+            RealtimeGuard guard;
+            mapper.process(in, *out);
+            allocations += guard.allocations();
+            frees += guard.deallocations();
+            locks += guard.locks();
+            throws += guard.throws();
+        }
+        midi += static_cast<std::size_t>(out->midiCount);
+        osc += static_cast<std::size_t>(out->oscCount);
+        out->clear();
+    }
+    CHECK(allocations == 0);
+    CHECK(frees == 0);
+    CHECK(locks == 0);
+    CHECK(throws == 0);
+    CHECK(midi > 3000);
+    CHECK(osc > 1000);
+}

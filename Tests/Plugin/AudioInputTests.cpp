@@ -8,6 +8,8 @@
 #include "Plugin/BlockControl.h"
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <string>
+#include <vector>
 
 using namespace armadillo;
 using namespace armadillo::plugin;
@@ -23,7 +25,7 @@ public:
     bool listensToAudio() const override { return true; }
     void processInput(const float* const* in, int channels, int n) noexcept override
     {
-        for (int c = 0; c < std::min(channels, 2); ++c)
+        for (int c = 0; c < std::min(channels, 4); ++c)
             for (int i = 0; i < n; ++i) {
                 sum[static_cast<std::size_t>(c)] += in[c][i];
                 weighted[static_cast<std::size_t>(c)] += static_cast<double>(in[c][i]) * static_cast<double>(heard + i);
@@ -32,7 +34,7 @@ public:
         lastChannels = channels;
     }
     void control(const ControlInput&, SceneOutput&) override {}
-    std::array<double, 2> sum {}, weighted {};
+    std::array<double, 4> sum {}, weighted {};
     long heard = 0;
     int lastChannels = 0;
 };
@@ -44,10 +46,12 @@ struct Rig {
     std::atomic<float> elevation {0.0f}, azimuth {0.0f}, roll {0.0f}, source {static_cast<float>(SourceKind::HostAutomation)};
     EarScene* ear = nullptr;
     std::unique_ptr<BlockControl> control;
-    Rig()
+    /// `stems`: the engine's SceneConfig::stems (audio-touch's, built from the VST3's sidechains).
+    explicit Rig(std::vector<std::string> stems = {})
     {
         EngineConfig config;
         config.scene = "ear";
+        config.sceneConfig.stems = std::move(stems);
         auto scene = std::make_unique<EarScene>();
         ear = scene.get();
         auto slot = std::make_unique<live::EngineSlot>();
@@ -122,4 +126,68 @@ TEST_CASE("plugin audio input: without an input nothing is heard and the output 
     rig.control->processBlock(buffer, midi, nullptr, false);
     CHECK(rig.ear->heard == 0);
     CHECK(buffer.getMagnitude(0, 256) == 0.0f);
+}
+
+TEST_CASE("plugin audio input: stems (sidechain buses) are heard one mono channel each, then the main input, by an engine built for them", "[plugin][audio-in]")
+{
+    ARMADILLO_REQUIRE_GUARD();
+    // Main input 0–1, a stereo stem bus at 2–3, a mono one at 4 (a host's buffer with the
+    // main input and two sidechains enabled).
+    BlockControl::Listen listen;
+    listen.first = 0;
+    listen.count = 2;
+    listen.through = 2;
+    listen.stems[0] = {2, 2};
+    listen.stems[1] = {4, 1};
+    listen.stemCount = 2;
+    const auto stem = [](int k, long i) { return k == 0 ? 0.5f * (signal(2, i) + signal(3, i)) : signal(4, i); };
+    for (const int engineStems : {2, 0, 1}) {
+        for (const int block : {1, 480, 4096}) {
+            CAPTURE(engineStems, block);
+            std::vector<std::string> names {"bass", "vocals"};
+            names.resize(static_cast<std::size_t>(engineStems));
+            Rig rig(names);
+            juce::AudioBuffer<float> buffer(5, block);
+            juce::MidiBuffer midi;
+            std::array<double, 4> expectSum {}, expectWeighted {};
+            double worstThrough = 0.0;
+            long at = 0;
+            RealtimeGuard guard;
+            while (at < 24000) {
+                for (int c = 0; c < 5; ++c)
+                    for (int i = 0; i < block; ++i) buffer.setSample(c, i, signal(c, at + i));
+                for (int c = 0; c < 2; ++c)
+                    for (int i = 0; i < block; ++i) {
+                        // An engine with the stems hears them; one without hears the main input.
+                        const double x = engineStems == 2 ? double(stem(c, at + i)) : double(signal(c, at + i));
+                        expectSum[static_cast<std::size_t>(c)] += x;
+                        expectWeighted[static_cast<std::size_t>(c)] += x * static_cast<double>(at + i);
+                        if (engineStems == 2) {   // then the main input
+                            const double m = signal(c, at + i);
+                            expectSum[static_cast<std::size_t>(c + 2)] += m;
+                            expectWeighted[static_cast<std::size_t>(c + 2)] += m * static_cast<double>(at + i);
+                        }
+                    }
+                rig.control->processBlock(buffer, midi, nullptr, false, listen);
+                for (int c = 0; c < 2; ++c)
+                    for (int i = 0; i < block; ++i) worstThrough = std::max(worstThrough, std::fabs(double(buffer.getSample(c, i)) - signal(c, at + i)));
+                at += block;
+            }
+            CHECK(guard.allocations() == 0);
+            CHECK(guard.locks() == 0);
+            CHECK(guard.throws() == 0);
+            CHECK(worstThrough < 1e-6);   // the main input plays through whatever is heard
+            if (engineStems == 1) {
+                CHECK(rig.ear->heard == 0);   // built for another layout: nothing until it matches
+                continue;
+            }
+            CHECK(rig.ear->heard == at);
+            CHECK(rig.ear->lastChannels == (engineStems == 2 ? 4 : 2));   // the stems, then the main input
+            for (std::size_t c = 0; c < (engineStems == 2 ? 4u : 2u); ++c) {
+                CAPTURE(c);
+                CHECK(rig.ear->sum[c] == Approx(expectSum[c]).epsilon(1e-6));
+                CHECK(rig.ear->weighted[c] == Approx(expectWeighted[c]).epsilon(1e-6));
+            }
+        }
+    }
 }

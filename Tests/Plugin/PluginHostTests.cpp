@@ -380,7 +380,9 @@ namespace {
 /// Debian JUCE's per-block copy of each input bus's channel mapping; docs/PLUGIN.md).
 void checkInputPlaysThrough(Hosted& h)
 {
-    REQUIRE(h.plugin->getBusesLayout().inputBuses.size() == 1);
+    // The LV2 has its main input only; the VST3 also its four stem sidechains (disabled here:
+    // Tests/Plugin/StemHostTests.cpp routes them).
+    REQUIRE(h.plugin->getBusesLayout().inputBuses.size() == (h.lv2 ? 1 : 5));
     prepare(h, true);
     setChoice(h, "Source", "host automation");
     auto tone = [](int c, double t) { return 0.3 * std::sin(2.0 * 3.14159265358979 * (c ? 523.25 : 110.0) * t); };

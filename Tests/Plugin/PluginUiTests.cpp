@@ -12,6 +12,9 @@
 #include "Plugin/PluginEditor.h"
 #include "Plugin/PluginProcessor.h"
 #include "Braille/BrailleScene.h"
+#include "Access/ReaderProfile.h"
+#include "Common/FakeBrlApi.h"
+#include "Plugin/ReaderPanel.h"
 #include <cstdlib>
 #include <functional>
 #include <dlfcn.h>
@@ -689,4 +692,134 @@ TEST_CASE("editor: the score list's Import a file item and its description name 
     CHECK(import.startsWith("Import a file"));
     CHECK(import.contains(".tact"));
     CHECK(box->getDescription().contains(".tact"));
+}
+
+TEST_CASE("keyboard only, no screen, no sound: arm feedback waits before the next trial; the answers go to the reader profile; "
+          "the adaptive choices; every prompt and feedback spoken and brailled",
+          "[plugin][ui][training][reader]")
+{
+    // The speech is captured to a file (the core's capture backend) and the braille display is a
+    // fake BrlAPI server behind the real BrlAPI backend (Tests/Common/FakeBrlApi.h).
+    const auto dir = juce::File::createTempFile("armadillo-alone");
+    REQUIRE(dir.createDirectory());
+    const auto speech = dir.getChildFile("speech.txt");
+    const auto profile = dir.getChildFile("reader.json");
+    armadillo::test::FakeBrlApiServer server;
+    REQUIRE(server.ok());
+    setenv("ARMADILLO_SPEECH", ("capture:" + speech.getFullPathName()).toRawUTF8(), 1);
+    setenv("ARMADILLO_BRAILLE", ("brlapi:" + server.host()).c_str(), 1);
+    App app;
+    auto& settings = app.processor->settings();
+    settings.setProperty(SettingIds::readerVoice, "on", nullptr);
+    if (! app.processor->voice().showing()) {
+        WARN("no braille display through libbrlapi here (Debian: libbrlapi0.8): the test needs it");
+        return;
+    }
+    settings.setProperty(SettingIds::armFeedback, true, nullptr);
+    settings.setProperty(SettingIds::readerProfile, profile.getFullPathName(), nullptr);
+
+    auto& panel = app.editor->training();
+    app.setParam(ParamIds::scene, static_cast<float>(app.sceneIndexOf("braille")));
+    app.setParam("braille.mode", static_cast<float>(braille::BrailleMode::Training));
+    REQUIRE(pumpUntil([&] { return panel.isShowing() && panel.promptText().isNotEmpty(); }));
+    REQUIRE(pumpUntil([&] { return panel.answerField().hasKeyboardFocus(false); }, 2000.0));
+    std::string expected0, expected1;
+    app.processor->withBrailleTraining([&](braille::BrailleSceneControls& s, std::uint64_t) {
+        expected0 = s.trainingExpected(0);
+        expected1 = s.trainingExpected(1);
+    });
+    const juce::String firstPrompt = panel.trialText() + ": " + panel.promptText();
+
+    // A wrong answer, typed and sent with Return: felt on the arm; the next trial waits for it.
+    auto& field = panel.answerField();
+    const std::string wrong = expected0 == "left" ? "right" : "left";
+    field.setText(juce::String(wrong));
+    CHECK(app.press(field, juce::KeyPress(juce::KeyPress::returnKey)));
+    REQUIRE(pumpUntil([&] { return panel.resultText().startsWith("wrong"); }));
+    CHECK(app.processor->armFeedbackPlaying());
+    CHECK(panel.trialText().startsWith("Trial 1 of"));   // the next trial is not announced yet
+    REQUIRE(pumpUntil([&] { return ! app.processor->armFeedbackPlaying(); }, 8000.0));
+    REQUIRE(pumpUntil([&] { return panel.trialText().startsWith("Trial 2 of"); }, 2000.0));
+    // Right: the arm hums, then the next trial.
+    field.setText(juce::String(expected1));
+    CHECK(app.press(field, juce::KeyPress(juce::KeyPress::returnKey)));
+    REQUIRE(pumpUntil([&] { return panel.resultText() == "correct"; }));
+    REQUIRE(pumpUntil([&] { return panel.trialText().startsWith("Trial 3 of"); }, 8000.0));
+
+    // Both answers are in the reader profile, as one new session.
+    CHECK(panel.recordedAnswers() == 2);
+    const auto saved = access::loadReaderProfile(profile.getFullPathName().toStdString());
+    REQUIRE(saved.answers.size() == 2);
+    CHECK(saved.answers[0].stage == "sides");
+    CHECK(saved.answers[0].answer == wrong);
+    CHECK_FALSE(saved.answers[0].correct);
+    CHECK(saved.answers[1].correct);
+    CHECK(saved.sessions.size() == 1);
+    // F8 stops the training.
+    CHECK(app.press(field, juce::KeyPress(juce::KeyPress::F8Key)));
+
+    // The Reader window's adaptive choices, by keyboard: arrows step the trials and the level,
+    // the stages are typed (a bad list refused, said), the method chosen.
+    ReaderPanel reader(*app.processor);
+    reader.setSize(640, 690);
+    reader.addToDesktop(0);
+    reader.setVisible(true);
+    REQUIRE(pumpUntil([&] { return reader.isShowing(); }));
+    auto& trials = reader.trialsControl();
+    trials.grabKeyboardFocus();
+    CHECK(app.press(trials, juce::KeyPress(juce::KeyPress::downKey)));
+    CHECK(static_cast<int>(settings[SettingIds::adaptiveTrials]) == 19);
+    app.processor->voice().waitIdle();   // (a new text interrupts one not yet said: each is heard out here)
+    for (int i = 0; i < 16; ++i) app.press(trials, juce::KeyPress(juce::KeyPress::downKey));
+    CHECK(static_cast<int>(settings[SettingIds::adaptiveTrials]) == 3);
+    app.processor->voice().waitIdle();
+    auto& stages = reader.stagesControl();
+    stages.setText("letters, hold");
+    CHECK(reader.takeStages().startsWith("Stages not changed: "));
+    app.processor->voice().waitIdle();
+    CHECK(settings[SettingIds::adaptiveStages].toString() == "letters,words");
+    stages.setText("letters");
+    CHECK(reader.takeStages().isEmpty());
+    CHECK(settings[SettingIds::adaptiveStages].toString() == "letters");
+    app.processor->voice().waitIdle();
+    reader.methodControl().setText("dots", juce::sendNotificationSync);
+    CHECK(settings[SettingIds::adaptiveMethod].toString() == "dots");
+
+    // The adaptive training with those choices, answered from the keyboard.
+    juce::String why;
+    REQUIRE(app.processor->beginAdaptive(profile, why));
+    auto& answer = reader.adaptiveAnswerField();
+    for (int n = 1; n <= 3; ++n) {
+        REQUIRE(pumpUntil([&] {
+            reader.followForTests();
+            return reader.adaptiveStateText().startsWith("Trial " + juce::String(n) + " of 3: ");
+        }, 30000.0));
+        answer.setText("q");
+        CHECK(app.press(answer, juce::KeyPress(juce::KeyPress::returnKey)));
+    }
+    REQUIRE(pumpUntil([&] { return reader.adaptiveStateText().contains("Training complete"); }, 5000.0));
+    const auto log = dir.getChildFile("reader-session2.csv");   // next to the profile: the §4.4.1 training was session 1
+    REQUIRE(log.existsAsFile());
+    CHECK(log.loadFileAsString().contains(",end,"));
+    CHECK(access::loadReaderProfile(profile.getFullPathName().toStdString()).sessions.back().method == "dots");
+
+    // Every prompt and feedback reached the speech and the braille display.
+    app.processor->voice().waitIdle();
+    juce::StringArray said;
+    said.addLines(speech.loadFileAsString());
+    juce::StringArray shown;
+    for (const auto& w : server.writes()) shown.add(juce::String(w));
+    const auto saidText = said.joinIntoString("\n"), shownText = shown.joinIntoString("\n");
+    for (const juce::String& line : {firstPrompt, juce::String("wrong, it was '" + expected0 + "'"), juce::String("Trial 2 of"),
+                                     juce::String("correct"), juce::String("Trials 19"), juce::String("Trials 3"), juce::String("Stages not changed"),
+                                     juce::String("Stages letters"), juce::String("Method dots"), juce::String("Trial 1 of 3: "),
+                                     juce::String("Training complete")}) {
+        INFO(line);
+        CHECK(saidText.contains(line));
+        CHECK(shownText.contains(line));
+    }
+    reader.removeFromDesktop();
+    unsetenv("ARMADILLO_SPEECH");
+    unsetenv("ARMADILLO_BRAILLE");
+    dir.deleteRecursively();
 }

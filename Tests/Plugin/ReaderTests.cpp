@@ -15,6 +15,7 @@
 #include "Common/Eventually.h"
 #include "Common/FakeBrlApi.h"
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -291,6 +292,7 @@ TEST_CASE("Sensitivity test in the app: a simulated reader's nine thresholds fou
     }
     TouchTestSession test;
     test.begin(7);
+    std::vector<int> comfortAsked;
     double t = 0.0;
     const double dt = 1.0 / 200.0;   // the plugin's control rate: one onPacket per control step
     int guardSteps = 0;
@@ -305,7 +307,16 @@ TEST_CASE("Sensitivity test in the app: a simulated reader's nine thresholds fou
         t += dt;
         if (test.poll()) {
             const int m = test.motor();
-            test.answer(test.player().maxLevel(m) >= truth[static_cast<std::size_t>(m)]);
+            // The comfort step (after every threshold): "comfortable" once the level reaching the
+            // motor is three above its threshold.
+            if (test.comfortStep()) {
+                CHECK_THAT(test.question(), Catch::EndsWith(": comfortable?"));
+                CHECK(m == 4);   // the profile's comfort motor, m5
+                comfortAsked.push_back(test.level());
+                test.answer(test.player().maxLevel(m) >= truth[static_cast<std::size_t>(m)] + 3);
+            } else {
+                test.answer(test.player().maxLevel(m) >= truth[static_cast<std::size_t>(m)]);
+            }
         }
     }
     REQUIRE(test.state() == TouchTestSession::State::Done);
@@ -317,9 +328,29 @@ TEST_CASE("Sensitivity test in the app: a simulated reader's nine thresholds fou
     }
     INFO(profile.stimuli << " stimuli over " << t << " s of stimulus clock");
     CHECK(t < 5.0 * 60.0 * 2.0);   // the issue asks for < 5 min of stimuli from the CLI; the app adds the rests
-    // The profile round-trips through its JSON (what the state keeps).
+    // The comfortable level, as `armadillo touch-profile` finds it: ascending one level a step
+    // from the found threshold + 1 until "comfortable".
+    REQUIRE(! comfortAsked.empty());
+    CHECK(comfortAsked.front() == profile.threshold[4] + 1);
+    for (std::size_t i = 1; i < comfortAsked.size(); ++i) CHECK(comfortAsked[i] == comfortAsked[i - 1] + 1);
+    CHECK(profile.comfort == truth[4] + 3);
+    CHECK(profile.comfortMotor == 5);
+    // The profile round-trips through its JSON (what the state keeps), the comfort included.
     const auto back = armadillo::device::parseTouchProfile(armadillo::device::touchProfileToJson(profile), "test");
     CHECK(back.threshold == profile.threshold);
+    CHECK(back.comfort == profile.comfort);
+    // Without the comfort step (the CLI's --no-comfort) the test ends with the thresholds.
+    TouchTestSession quick;
+    quick.begin(7, false);
+    for (double q = 0.0; quick.state() != TouchTestSession::State::Done && q < 3600.0; q += dt) {
+        (void) quick.player().onPacket(q);
+        if (quick.poll()) {
+            CHECK_FALSE(quick.comfortStep());
+            quick.answer(quick.player().maxLevel(quick.motor()) >= truth[static_cast<std::size_t>(quick.motor())]);
+        }
+    }
+    CHECK(quick.state() == TouchTestSession::State::Done);
+    CHECK(quick.profile().comfort == 0);
 }
 
 TEST_CASE("VST3: the reader's settings in the plugin's state; the profile applied with no allocation in processBlock",
@@ -481,7 +512,9 @@ TEST_CASE("Adaptive training in the app: trials drawn on the arm, answers kept i
     for (int session = 1; session <= 2; ++session) {
         AdaptiveSession s(player);
         std::string why;
-        REQUIRE(s.begin(profile, 6, why));
+        AdaptiveChoices six;
+        six.trials = 6;
+        REQUIRE(s.begin(profile, six, why));
         int answered = 0, peak = 0;
         std::vector<std::string> feedback;
         while (s.state() != AdaptiveSession::State::Done) {
@@ -512,7 +545,181 @@ TEST_CASE("Adaptive training in the app: trials drawn on the arm, answers kept i
     // A profile that cannot be written is refused before the first trial.
     AdaptiveSession s(player);
     std::string why;
-    CHECK(! s.begin(dir.getChildFile("no/such/dir/reader.json").getFullPathName().toStdString(), 3, why));
+    CHECK(! s.begin(dir.getChildFile("no/such/dir/reader.json").getFullPathName().toStdString(), AdaptiveChoices {}, why));
     CHECK(! why.empty());
     CHECK(s.state() == AdaptiveSession::State::Idle);
+}
+
+namespace {
+/// Reads a CSV log into rows of fields (RFC 4180 quoting: a motor list "2,5,8" is one field).
+std::vector<std::vector<std::string>> csvRows(const std::string& text)
+{
+    std::vector<std::vector<std::string>> rows;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) {
+        std::vector<std::string> f(1);
+        bool quoted = false;
+        for (std::size_t i = 0; i < line.size(); ++i) {
+            const char c = line[i];
+            if (quoted) {
+                if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') f.back() += '"', ++i;
+                else if (c == '"') quoted = false;
+                else f.back() += c;
+            } else if (c == '"') {
+                quoted = true;
+            } else if (c == ',') {
+                f.emplace_back();
+            } else {
+                f.back() += c;
+            }
+        }
+        rows.push_back(f);
+    }
+    return rows;
+}
+} // namespace
+
+TEST_CASE("Adaptive training in the app: the CLI's choices, a session log, and the arm's twists", "[plugin][reader][adaptive]")
+{
+    using namespace armadillo;
+    const auto dir = freshDir("armadillo-reader-adaptive-choices");
+    const auto profile = dir.getChildFile("reader.json").getFullPathName().toStdString();
+    access::TactilePlayer player(TactileConfig {}, 0.0);
+    double t = 0.0;
+    double rollRate = 0.0;
+    auto step = [&] {
+        (void) player.onPacket(t, rollRate);
+        t += 0.005;
+    };
+    auto runUntil = [&](auto done) {
+        for (int i = 0; i < 200 * 120; ++i) {
+            if (done()) return true;
+            step();
+        }
+        return false;
+    };
+    // A twist of the forearm and back: the roll rate one full sine period, ±6 rad/s in 0.3 s.
+    auto twist = [&] {
+        for (double u = 0.0; u < 0.3; u += 0.005) {
+            rollRate = 6.0 * std::sin(2.0 * 3.14159265358979323846 * u / 0.3);
+            step();
+        }
+        rollRate = 0.0;
+    };
+
+    AdaptiveChoices bad;
+    std::string why;
+    AdaptiveSession refused(player);
+    bad.trials = 0;
+    CHECK(! refused.begin(profile, bad, why));
+    CHECK_THAT(why, Catch::Contains("trials"));
+    bad = {};
+    bad.stages = "letters,hold";
+    CHECK(! refused.begin(profile, bad, why));
+    CHECK_THAT(why, Catch::Contains("'hold'"));
+    bad = {};
+    bad.method = "braille";
+    CHECK(! refused.begin(profile, bad, why));
+    CHECK_THAT(why, Catch::Contains("method"));
+    bad = {};
+    bad.level = 16;
+    CHECK(! refused.begin(profile, bad, why));
+    CHECK_THAT(why, Catch::Contains("level"));
+
+    AdaptiveChoices c;
+    c.trials = 4;
+    c.stages = "letters";
+    c.method = "dots";
+    c.level = 5;
+    AdaptiveSession s(player);
+    REQUIRE(s.begin(profile, c, why));
+    CHECK(s.logPath() == dir.getChildFile("reader-session1.csv").getFullPathName().toStdString());
+
+    // Trial 1: one twist shows it again; trial 2: two twists skip it; trials 3 and 4 answered.
+    REQUIRE(runUntil([&] { return s.poll(); }));
+    CHECK_THAT(s.prompt(), Catch::StartsWith("Trial 1 of 4: "));
+    twist();
+    REQUIRE(runUntil([&] { return player.repeats() == 1; }));   // reported once the pair window is over
+    CHECK(s.takeGesture() == AdaptiveSession::Gesture::Repeat);
+    CHECK(s.takeGesture() == AdaptiveSession::Gesture::None);   // taken once
+    s.again();
+    CHECK(s.state() == AdaptiveSession::State::Drawing);
+    REQUIRE(runUntil([&] { return s.poll(); }));
+    s.answer("q", 1.0);
+    REQUIRE(runUntil([&] { return s.poll(); }));
+    CHECK_THAT(s.prompt(), Catch::StartsWith("Trial 2 of 4: "));
+    twist();
+    twist();
+    REQUIRE(runUntil([&] { return player.skips() == 1; }));
+    REQUIRE(s.takeGesture() == AdaptiveSession::Gesture::Skip);
+    CHECK_THAT(s.skip(2.0), Catch::StartsWith("skipped: it was '"));
+    for (int n = 3; n <= 4; ++n) {
+        REQUIRE(runUntil([&] { return s.poll(); }));
+        s.answer("q", 1.0);
+    }
+    CHECK(s.state() == AdaptiveSession::State::Done);
+
+    // The log: the CLI's columns; every trial's cue, rows, answer and feedback; the gestures; the end.
+    const auto rows = csvRows(juce::File(s.logPath()).loadFileAsString().toStdString());
+    REQUIRE(rows.size() > 10);
+    CHECK(rows[0] == std::vector<std::string> {"t", "event", "stage", "trial", "expected", "prompt", "posture", "roll_deg", "unit", "step",
+                                               "motors", "answer", "correct"});
+    int trials = 0, answers = 0, feedbacks = 0, ends = 0;
+    std::vector<std::string> gestures;
+    double lastFeedbackEnd = -1.0;
+    for (std::size_t i = 1; i < rows.size(); ++i) {
+        const auto& r = rows[i];
+        REQUIRE(r.size() == 13);
+        trials += r[1] == "trial";
+        answers += r[1] == "answer";
+        ends += r[1] == "end";
+        if (r[1] == "gesture") gestures.push_back(r[11]);
+        if (r[1] == "feedback") {
+            ++feedbacks;
+            lastFeedbackEnd = std::stod(r[0]) + 0.5;   // the longer sensation ("wrong") lasts 0.5 s
+        }
+        // The next trial's "next" cue comes after the feedback (and the right cell again) has played.
+        if (r[1] == "cue" && r[5] == "next" && lastFeedbackEnd > 0.0) CHECK(std::stod(r[0]) >= lastFeedbackEnd);
+        // The dots method: one motor a step.
+        if (r[1] == "row") CHECK(r[10].find(',') == std::string::npos);
+    }
+    CHECK(trials == 4);
+    CHECK(answers == 4);
+    CHECK(feedbacks == 4);
+    CHECK(ends == 1);
+    CHECK(gestures == std::vector<std::string> {"twist", "two twists"});
+    // The reader profile: the four answers, the skip logged as "(skipped)", the method "dots".
+    const auto saved = access::loadReaderProfile(profile);
+    REQUIRE(saved.answers.size() >= 4);
+    CHECK(saved.sessions.back().method == "dots");
+    int skipped = 0;
+    for (const auto& a : saved.answers) skipped += a.answer == "(skipped)";
+    CHECK(skipped == 1);
+}
+
+TEST_CASE("Adaptive choices in the settings: kept when usable, the defaults otherwise", "[plugin][reader][state]")
+{
+    juce::ValueTree loaded("SETTINGS");
+    loaded.setProperty(SettingIds::adaptiveTrials, 35, nullptr);
+    loaded.setProperty(SettingIds::adaptiveStages, "letters,signs", nullptr);
+    loaded.setProperty(SettingIds::adaptiveMethod, "dots", nullptr);
+    loaded.setProperty(SettingIds::adaptiveLevel, 11, nullptr);
+    loaded.setProperty(SettingIds::readerProfile, "/home/reader/reader.json", nullptr);
+    juce::ValueTree settings("SETTINGS");
+    PluginState::installSettings(settings, loaded);
+    CHECK(static_cast<int>(settings[SettingIds::adaptiveTrials]) == 35);
+    CHECK(settings[SettingIds::adaptiveStages].toString() == "letters,signs");
+    CHECK(settings[SettingIds::adaptiveMethod].toString() == "dots");
+    CHECK(static_cast<int>(settings[SettingIds::adaptiveLevel]) == 11);
+    CHECK(settings[SettingIds::readerProfile].toString() == "/home/reader/reader.json");
+    juce::ValueTree damaged("SETTINGS");
+    damaged.setProperty(SettingIds::adaptiveTrials, 0, nullptr);
+    damaged.setProperty(SettingIds::adaptiveStages, "letters,hold", nullptr);
+    damaged.setProperty(SettingIds::adaptiveMethod, "braille", nullptr);
+    damaged.setProperty(SettingIds::adaptiveLevel, 99, nullptr);
+    PluginState::installSettings(settings, damaged);
+    CHECK(static_cast<int>(settings[SettingIds::adaptiveTrials]) == 20);
+    CHECK(settings[SettingIds::adaptiveStages].toString() == "letters,words");
+    CHECK(settings[SettingIds::adaptiveMethod].toString() == "rows");
+    CHECK(static_cast<int>(settings[SettingIds::adaptiveLevel]) == 8);
 }
