@@ -360,6 +360,7 @@ int runPlay(const Arguments& args)
             const std::string arm = cl.value("--arm", "right");
             if (arm != "right" && arm != "left") throw UsageError("--arm must be right or left");
             engine.sceneConfig.side = arm == "left" ? ArmSide::Left : ArmSide::Right;
+            readProfileOption(cl, engine);   // every cue feels the reader's touch profile
         } else {
             readSceneOptions(cl, engine);
         }
@@ -760,8 +761,11 @@ int runPlay(const Arguments& args)
         if (const live::MappingRig* m = session.mapping())
             summary.insert(summary.size() - 1, ",\"mapping_midi_events\":" + std::to_string(m->midiEvents()) + ",\"mapping_osc_messages\":" +
                                                    std::to_string(m->oscMessages()) + ",\"mapping_dropped\":" + std::to_string(m->dropped()));
-        if (const std::uint32_t panics = panicTotal(); panics > 0)   // only after a panic (docs/STAGE.md)
+        if (const std::uint32_t panics = panicTotal(); panics > 0) {   // only after a panic (docs/STAGE.md)
             summary.insert(summary.size() - 1, ",\"panics\":" + std::to_string(panics));
+            if (const live::MappingRig* m = session.mapping())   // note-offs, CC 120 and CC 123 the mapping's MIDI sent
+                summary.insert(summary.size() - 1, ",\"panic_midi_events\":" + std::to_string(m->panicMidiEvents()));
+        }
         if (device::DeviceLink* leftLink = session.leftLink())
             summary.insert(summary.size() - 1, ",\"left_packets\":" + std::to_string(leftLink->stats().packets));
         if (device::OscReceiver* leftOsc = session.leftOscReceiver())   // the left sender's usable samples and its input's counters

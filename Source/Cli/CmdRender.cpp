@@ -100,6 +100,7 @@ int runRender(const Arguments& args)
             const std::string arm = cl.value("--arm", "right");
             if (arm != "right" && arm != "left") throw UsageError("--arm must be right or left");
             engine.sceneConfig.side = arm == "left" ? ArmSide::Left : ArmSide::Right;
+            readProfileOption(cl, engine);   // every cue feels the reader's touch profile
         } else {
             readSceneOptions(cl, engine);
         }

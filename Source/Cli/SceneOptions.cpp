@@ -29,6 +29,13 @@ std::vector<OptionSpec> sceneOptionSpecs()
     };
 }
 
+void readProfileOption(const CommandLine& cl, EngineConfig& engine)
+{
+    if (!cl.has("--profile")) return;
+    if (cl.value("--profile").empty()) throw UsageError("--profile needs a touch profile file");
+    engine.motorGain = device::touchProfileGains(device::loadTouchProfile(cl.value("--profile")));   // InputError: exit 3
+}
+
 void readSceneOptions(const CommandLine& cl, EngineConfig& engine)
 {
     engine.scene = cl.value("--scene");
@@ -51,10 +58,7 @@ void readSceneOptions(const CommandLine& cl, EngineConfig& engine)
     for (const std::string& p : engine.parameters)
         if (const std::string problem = sceneParameterProblem(engine.scene, p); !problem.empty())
             throw UsageError("--param " + p + ": " + problem);
-    if (cl.has("--profile")) {
-        if (cl.value("--profile").empty()) throw UsageError("--profile needs a touch profile file");
-        engine.motorGain = device::touchProfileGains(device::loadTouchProfile(cl.value("--profile")));   // InputError: exit 3
-    }
+    readProfileOption(cl, engine);
     if (engine.scene == "score" && engine.sceneConfig.score.empty())
         throw UsageError("the score scene needs --score (rite-of-spring, polytope or a file)");
     // Training (play --training-log) brings its own material; reading needs a text.

@@ -13,6 +13,9 @@ std::string sceneList();
 std::vector<OptionSpec> sceneOptionSpecs();
 /// Fills `engine` from the parsed options; throws UsageError for bad values.
 void readSceneOptions(const CommandLine& cl, EngineConfig& engine);
+/// `--profile FILE` alone into engine.motorGain (readSceneOptions reads it too; a set list's cues
+/// take it from here). UsageError without a file, InputError for a bad profile.
+void readProfileOption(const CommandLine& cl, EngineConfig& engine);
 
 /// The stems audio-touch feels apart (docs/INSTRUMENTS.md "Stems felt apart"), as `render` and
 /// `play` take them: `--stem NAME=FILE` (repeatable), or several `--audio-in` files, each named by

@@ -157,4 +157,9 @@ void ControlLoop::processInput(const float* const* in, int channels, int numSamp
     if (active_ != nullptr && active_->engine != nullptr) active_->engine->processInput(in, channels, numSamples);
 }
 
+void ControlLoop::processMidi(const MidiNoteEvent* events, int count) noexcept
+{
+    if (active_ != nullptr && active_->engine != nullptr) active_->engine->processMidi(events, count);
+}
+
 } // namespace armadillo::live

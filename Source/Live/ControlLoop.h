@@ -108,6 +108,9 @@ public:
     /// The audio input the active engine's scene listens to (Engine::processInput), before
     /// render() of the same samples.
     void processInput(const float* const* in, int channels, int numSamples) noexcept;
+    /// The instrument's MIDI notes of the coming block for the active engine's scene
+    /// (Engine::processMidi), before processInput() of the same samples.
+    void processMidi(const MidiNoteEvent* events, int count) noexcept;
     EngineSlot* active() noexcept { return active_; }
     /// Forgets the arm (tracker) and which source ran: the next tick starts afresh.
     void resetArm() noexcept;

@@ -66,7 +66,8 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
         leftTracker_ = std::make_unique<ArmTracker>();
     }
     if (!config_.setList.empty()) {   // every cue prepared now; the loop's own engine only tracks the arm
-        cues_ = std::make_unique<live::CuePlayer>(live::loadSetList(config_.setList), config_.engine.sceneConfig, config_.engine.motorCount, twoArms);
+        cues_ = std::make_unique<live::CuePlayer>(live::loadSetList(config_.setList), config_.engine.sceneConfig, config_.engine.motorCount, twoArms,
+                                                  config_.engine.motorGain);   // the reader's touch profile for every cue
         config_.engine.scene = "monitor";
         config_.engine.parameters.clear();
     }
@@ -335,7 +336,13 @@ MotorLevels LiveSession::control(double t, const SensorCounts* counts, const Imu
         if (oscOut_) oscOut_->sendGesture(ev.name);
         if (gestureCount < gestures.size()) gestures[gestureCount++] = ev;
     }
-    if (mapping_ && result.ran) mapping_->step(t, arm, leftTracker_ ? &leftArm_ : nullptr, gestures.data(), gestureCount, engine());
+    // A panic (a command, a key, the gesture) also silences what the mapping sent, as the plugin
+    // does: its sounding notes end and CC 120 + CC 123 go out on all 16 channels as it starts,
+    // and the mapping sends nothing more until resume.
+    const bool panicNow = sounding().panicked() || engine().panicked();
+    if (mapping_ && panicNow && !mappingPanicked_) mapping_->panic(t);
+    mappingPanicked_ = panicNow;
+    if (mapping_ && result.ran && !panicNow) mapping_->step(t, arm, leftTracker_ ? &leftArm_ : nullptr, gestures.data(), gestureCount, engine());
     return levels;
 }
 

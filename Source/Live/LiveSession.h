@@ -195,6 +195,7 @@ private:
     live::SourceKind sourceKind_ = live::SourceKind::Device;
     Engine* engine_ = nullptr;          // the loop's engine; no other is ever offered
     std::unique_ptr<live::CuePlayer> cues_;   // with a set list: what plays (the loop's engine only tracks)
+    bool mappingPanicked_ = false;      // control thread: the mapping's panic MIDI went out for this panic
     // Two arms: the left arm's source and link; its calibrated samples reach the control thread
     // through a mailbox, where its own tracker fuses them; the two-arm engine plays both.
     std::unique_ptr<SimulatedForearm> leftSimulator_;

@@ -107,4 +107,12 @@ void MappingRig::finish(double t) noexcept
     deliver(nullptr);
 }
 
+void MappingRig::panic(double t) noexcept
+{
+    const std::uint64_t before = midi_;
+    mapper_.panic(t, *out_);
+    deliver(nullptr);
+    panicMidi_ += midi_ - before;
+}
+
 } // namespace armadillo::live

@@ -47,6 +47,11 @@ public:
     void step(double t, const ArmState& arm, const ArmState* leftArm, const GestureEvent* gestures, std::size_t count, Engine& engine) noexcept;
     /// The end: gesture notes end at their due time, held notes (zones, postures) at t.
     void finish(double t) noexcept;
+    /// Panic at t (docs/STAGE.md), as the plugin does: every sounding note ended, then CC 120 and
+    /// CC 123 on all 16 channels (Mapper::panic), to the sink (`play --midi-out`'s port).
+    void panic(double t) noexcept;
+    /// MIDI events panics sent (counted in midiEvents() too).
+    std::uint64_t panicMidiEvents() const noexcept { return panicMidi_; }
 
     mapping::Mapper& mapper() noexcept { return mapper_; }
     std::uint64_t midiEvents() const noexcept { return midi_; }
@@ -67,7 +72,7 @@ private:
     std::vector<Param> params_;
     MidiSink sink_ = nullptr;
     void* sinkContext_ = nullptr;
-    std::uint64_t midi_ = 0, osc_ = 0, dropped_ = 0;
+    std::uint64_t midi_ = 0, osc_ = 0, dropped_ = 0, panicMidi_ = 0;
 };
 
 } // namespace armadillo::live

@@ -102,7 +102,8 @@ SetList parseSetList(std::string_view text, const std::string& source)
 
 SetList loadSetList(const std::string& path) { return parseSetList(readWholeFile(path), path); }
 
-CuePlayer::CuePlayer(const SetList& list, const SceneConfig& base, int motorCount, bool twoArms) : cues_(list.cues), twoArms_(twoArms)
+CuePlayer::CuePlayer(const SetList& list, const SceneConfig& base, int motorCount, bool twoArms, const std::array<float, kMaxMotors>& motorGain)
+    : cues_(list.cues), twoArms_(twoArms)
 {
     if (cues_.empty()) throw InputError(list.source, 0, "cues", "the set list has no cues");
     for (std::size_t i = 0; i < cues_.size(); ++i) {
@@ -115,6 +116,7 @@ CuePlayer::CuePlayer(const SetList& list, const SceneConfig& base, int motorCoun
         config.motorCount = motorCount;
         config.parameters = c.parameters;
         config.twoArms = twoArms;
+        config.motorGain = motorGain;   // the reader's touch profile, as the single engine has it
         try {
             engines_.push_back(std::make_unique<Engine>(config));
         } catch (const InputError& e) {
@@ -178,6 +180,12 @@ void CuePlayer::processInput(const float* const* in, int channels, int numSample
 {
     for (auto& e : engines_)
         if (e->listensToAudio()) e->processInput(in, channels, numSamples);
+}
+
+void CuePlayer::processMidi(const MidiNoteEvent* events, int count) noexcept
+{
+    for (auto& e : engines_)
+        if (e->listensToMidi()) e->processMidi(events, count);
 }
 
 void CuePlayer::renderAudio(float* left, float* right, int numSamples) noexcept
@@ -252,7 +260,7 @@ RenderResult renderSetList(const CsvTable& motion, const SetList& list, const Re
         leftSource = MotionRows::load(*settings.leftMotion, settings.leftMount, "--mount-left");
         if (leftSource.size() == 0) throw InputError(settings.leftMotion->source(), 0, "--motion-left", "the left arm's motion file has no rows");
     }
-    CuePlayer player(list, settings.engine.sceneConfig, settings.engine.motorCount, twoArms);
+    CuePlayer player(list, settings.engine.sceneConfig, settings.engine.motorCount, twoArms, settings.engine.motorGain);
     for (const CueChange& c : changes)
         if (c.cue >= player.cueCount())
             throw InputError(list.source, 0, "--cue-at", "cue " + std::to_string(c.cue) + " does not exist (the set list has " +

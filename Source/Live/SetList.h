@@ -60,8 +60,11 @@ public:
     /// arm side and resource folder). Throws InputError naming the set list's file and the cue's
     /// line for an unknown scene or a bad parameter.
     /// `twoArms`: every cue's engine takes a left arm too (EngineConfig::twoArms), and the left
-    /// arm's motors have a safety stage of their own spanning the set list.
-    CuePlayer(const SetList& list, const SceneConfig& base, int motorCount = kGridMotors, bool twoArms = false);
+    /// arm's motors have a safety stage of their own spanning the set list. `motorGain`: the
+    /// reader's touch profile (EngineConfig::motorGain), given to every cue's engine as the
+    /// single engine gets it.
+    CuePlayer(const SetList& list, const SceneConfig& base, int motorCount = kGridMotors, bool twoArms = false,
+              const std::array<float, kMaxMotors>& motorGain = TactileConfig::unitMotorGains());
     ~CuePlayer();
     CuePlayer(const CuePlayer&) = delete;
     CuePlayer& operator=(const CuePlayer&) = delete;
@@ -69,6 +72,7 @@ public:
     int cueCount() const noexcept { return static_cast<int>(engines_.size()); }
     const Cue& cue(int index) const { return cues_[static_cast<std::size_t>(index)]; }
     Engine& engine(int index) { return *engines_[static_cast<std::size_t>(index)]; }
+    const Engine& engine(int index) const { return *engines_[static_cast<std::size_t>(index)]; }
 
     /// Any thread: the cue to run from the next control update (clamped to the list).
     void request(int index) noexcept;
@@ -90,6 +94,9 @@ public:
     bool twoArms() const noexcept { return twoArms_; }
     /// Audio thread, real-time: every listening cue hears the input (a follower keeps its place).
     void processInput(const float* const* in, int channels, int numSamples) noexcept;
+    /// Audio thread, real-time: the instrument's MIDI notes of the coming block (Engine::processMidi),
+    /// to every cue whose scene takes MIDI input, before processInput() of the same samples.
+    void processMidi(const MidiNoteEvent* events, int count) noexcept;
     /// Audio thread, real-time: the current cue, cross-faded from the previous one after a change.
     void renderAudio(float* left, float* right, int numSamples) noexcept;
     /// Panic / resume every cue's engine (any thread).

@@ -980,6 +980,15 @@ void Mapper::allNotesOff(double t, MappingOutput& out) noexcept
     if (impl_->active) impl_->endAll(impl_->active->impl(), t, out);
 }
 
+void Mapper::panic(double t, MappingOutput& out) noexcept
+{
+    allNotesOff(t, out);
+    for (int channel = 0; channel < 16; ++channel) {
+        Impl::cc(out, t, channel, 120, 0);   // All Sound Off
+        Impl::cc(out, t, channel, 123, 0);   // All Notes Off
+    }
+}
+
 void Mapper::requestForward() noexcept { impl_->forwardRequest.store(true, std::memory_order_release); }
 
 void Mapper::setForwardAzimuth(double deg) noexcept

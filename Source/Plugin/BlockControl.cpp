@@ -206,9 +206,25 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
     // The MIDI input is never played or passed through: its stage messages (Stage.h: program
     // change, the cue notes, CC 120/119) act at this block's start (beginStage), its other
     // channel messages go to the message thread for the mapping editor's "learn destination".
+    // Its notes (note-on, note-off) also go to the scene (Scene::processMidi: the layered
+    // keyboard takes exact notes from them), except the cue notes, on and off.
+    notesInCount_ = notesInNext_ = 0;
     for (const auto event : midi) {
         if (stage_ != nullptr && stage_->handleMidi(event.data, event.numBytes)) continue;   // cue steps, panic, resume
         if (event.numBytes < 1 || event.numBytes > 3 || event.data[0] < 0x80 || event.data[0] >= 0xF0) continue;
+        const int status = event.data[0] & 0xF0;
+        if ((status == 0x80 || status == 0x90) && event.numBytes == 3
+            && (stage_ == nullptr || (event.data[1] != stage_->nextNote() && event.data[1] != stage_->previousNote()))) {
+            if (notesInCount_ < kMaxNotesIn) {
+                MidiNoteEvent& e = notesIn_[static_cast<std::size_t>(notesInCount_++)];
+                e.offset = juce::jlimit(0, std::max(0, n - 1), event.samplePosition);
+                e.note = static_cast<std::uint8_t>(event.data[1] & 0x7F);
+                e.velocity = static_cast<std::uint8_t>(status == 0x80 ? 0 : event.data[2] & 0x7F);
+                e.channel = static_cast<std::uint8_t>(event.data[0] & 0x0F);
+            } else {
+                notesInDropped_.fetch_add(1, std::memory_order_relaxed);
+            }
+        }
         IncomingMidi m;
         for (int i = 0; i < event.numBytes; ++i) m.bytes[i] = event.data[i];
         m.size = static_cast<std::uint8_t>(event.numBytes);
@@ -275,6 +291,7 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
             samplesToTick_ = samplesPerTick;
         }
         const int len = std::min({n - pos, samplesToTick_, kInputScratch});
+        notesRunning(pos, len);   // the notes of this stretch, before its input (Scene::processMidi)
         if (const int stems = engineStems(); stems > 0) {
             // Stems: each bus mixed to one mono channel, in the engine's stem order; an engine
             // built for another number of stems hears nothing (a layout change in flight).
@@ -379,17 +396,15 @@ void BlockControl::inputRunning(const float* const* in, int channels, int numSam
     else loop_.processInput(in, channels, numSamples);
 }
 
-void BlockControl::addMidi(juce::MidiBuffer* midi, const std::uint8_t* bytes, int size, int offset) noexcept
+void BlockControl::notesRunning(int from, int len) noexcept
 {
-    if (port_ != nullptr) port_->push(bytes, size);
-    if (midi == nullptr) return;
-    const std::size_t record = static_cast<std::size_t>(size) + sizeof(juce::int32) + sizeof(juce::uint16);   // MidiBuffer's record
-    if (midiBytes_ + record > kMidiStorageBytes) {
-        midiDropped_.fetch_add(1, std::memory_order_relaxed);
-        return;
-    }
-    midi->addEvent(bytes, size, offset);
-    midiBytes_ += record;
+    const int first = notesInNext_;
+    while (notesInNext_ < notesInCount_ && notesIn_[static_cast<std::size_t>(notesInNext_)].offset < from + len)
+        notesIn_[static_cast<std::size_t>(notesInNext_++)].offset -= from;
+    const int count = notesInNext_ - first;
+    if (count == 0) return;
+    if (cues_ != nullptr) cues_->processMidi(notesIn_.data() + first, count);
+    else loop_.processMidi(notesIn_.data() + first, count);
 }
 
 void BlockControl::beginStage(juce::MidiBuffer* midi, double blockStart, int blockSamples) noexcept
@@ -413,15 +428,10 @@ void BlockControl::beginStage(juce::MidiBuffer* midi, double blockStart, int blo
         return;
     }
     // Every note the mapping has sounding ends now, then All Sound Off and All Notes Off on all
-    // 16 channels (MIDI 1.0, CC 120 / CC 123, value 0) for whatever the receivers still hold.
-    mapper_.allNotesOff(blockStart, mapOut_);
+    // 16 channels (MIDI 1.0, CC 120 / CC 123, value 0) for whatever the receivers still hold
+    // (Mapper::panic, which `play --midi-out` sends too), at the block's first sample.
+    mapper_.panic(blockStart, mapOut_);
     deliver(midi, blockStart, blockSamples);
-    for (std::uint8_t channel = 0; channel < 16; ++channel) {
-        const std::uint8_t soundOff[3] {static_cast<std::uint8_t>(0xB0 | channel), 120, 0};
-        const std::uint8_t notesOff[3] {static_cast<std::uint8_t>(0xB0 | channel), 123, 0};
-        addMidi(midi, soundOff, 3, 0);
-        addMidi(midi, notesOff, 3, 0);
-    }
 }
 
 } // namespace armadillo::plugin

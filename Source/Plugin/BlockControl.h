@@ -121,6 +121,10 @@ public:
     std::uint64_t midiDropped() const noexcept { return midiDropped_.load(std::memory_order_relaxed); }
     /// Bytes of MIDI events one block may carry (the storage handed to the host's buffer).
     static constexpr std::size_t kMidiStorageBytes = 64 * 1024;
+    /// Note-ons/offs of the MIDI input one block hands to the scene (Scene::processMidi); more
+    /// are dropped and counted (any thread).
+    static constexpr int kMaxNotesIn = 256;
+    std::uint64_t notesInDropped() const noexcept { return notesInDropped_.load(std::memory_order_relaxed); }
 
     // Published (any thread).
     ArmFrame latestFrame() const noexcept { return frame_.load(); }
@@ -151,11 +155,13 @@ private:
     /// before anything of this block is rendered, the mapping's sounding notes ended and CC 120
     /// + CC 123 sent on all 16 channels, into `midi` at offset 0 (when not null) and the port.
     void beginStage(juce::MidiBuffer* midi, double blockStart, int blockSamples) noexcept;
-    void addMidi(juce::MidiBuffer* midi, const std::uint8_t* bytes, int size, int offset) noexcept;
     /// The current cue's engine with a set list, else the active engine (null: none).
     Engine* runningEngine() noexcept;
     void renderRunning(float* left, float* right, int numSamples) noexcept;
     void inputRunning(const float* const* in, int channels, int numSamples) noexcept;
+    /// The MIDI input's notes that fall in [from, from + len) of the block, offsets made
+    /// relative to `from`, to the running engine or the set list's cues (before their input).
+    void notesRunning(int from, int len) noexcept;
     void learnRange(const mapping::MappingInput& in) noexcept;
 
     live::ControlLoop& loop_;
@@ -202,6 +208,10 @@ private:
     std::array<std::array<float, kInputScratch>, 2> through_ {};
     /// Control side: how many stems the active engine's scene takes (SceneConfig::stems).
     int engineStems() noexcept;
+    /// The MIDI input's notes of the current block, in time order (audio thread; fixed size).
+    std::array<MidiNoteEvent, kMaxNotesIn> notesIn_ {};
+    int notesInCount_ = 0, notesInNext_ = 0;
+    std::atomic<std::uint64_t> notesInDropped_ {0};
 
     MappingOutputs outputs_;
     SeqLock<ArmFrame> frame_;

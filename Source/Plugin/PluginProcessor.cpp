@@ -649,7 +649,16 @@ std::unique_ptr<live::CuePlayer> ArmadilloProcessor::buildCues(const live::SetLi
     base.seed = 1;
     base.side = settings_[SettingIds::armSide].toString() == "left" ? ArmSide::Left : ArmSide::Right;
     const int motors = static_cast<bool>(settings_[SettingIds::backMotors]) ? kGridMotors + kBackMotors : kGridMotors;
-    return std::make_unique<live::CuePlayer>(list, base, motors);   // every cue's engine, prepared now
+    // The reader's touch profile for every cue, as the Scene box's engine gets it (EngineHandover);
+    // the settings only keep a profile that parses (PluginState.cpp), so a failure here is moot.
+    auto gains = TactileConfig::unitMotorGains();
+    if (const auto json = settings_[SettingIds::touchProfile].toString(); json.isNotEmpty()) {
+        try {
+            gains = device::touchProfileGains(device::parseTouchProfile(json.toStdString(), "the touch profile setting"));
+        } catch (const std::exception&) {
+        }
+    }
+    return std::make_unique<live::CuePlayer>(list, base, motors, false, gains);   // every cue's engine, prepared now
 }
 
 void ArmadilloProcessor::offerCues(std::unique_ptr<live::CuePlayer> player)

@@ -199,6 +199,8 @@ public:
     void previousCue() noexcept { stage_.previous(); }
     void goToCue(int index) noexcept { stage_.cue(index); }
     bool panicked() const noexcept { return stage_.panicked(); }
+    /// Message thread: the newest set list's player (null: none), for tests and the UI.
+    const live::CuePlayer* cuePlayer() const noexcept { return stage_.newest(); }
     /// The UDP port the OSC stage commands are heard on (the stageOsc settings), 0 when off.
     int stageOscPort() const;
     std::uint32_t panics() const noexcept { return stage_.panics(); }

@@ -234,6 +234,75 @@ TEST_CASE("cli: play with two simulated arms logs two independent orientations, 
     CHECK(runArmadillo("play --scene theremin --simulate --motion-left - --port-left /dev/null --seconds 1 --no-audio").code == 2);
 }
 
+TEST_CASE("cli: render/play --setlist --profile: every cue feels the reader's touch profile", "[cli][setlist][touch-profile]")
+{
+    // As `render --profile` for one scene (TouchProfileTests.cpp): thresholds 8, 4, 2 on the wrist
+    // row, 4 elsewhere; median 4, so m1 ×2, m2 ×1, m3 ×0.5 — here for a braille cue.
+    const std::string profile = file("sl-fit.json", "{\"threshold\": [8, 4, 2, 4, 4, 4, 4, 4, 4]}");
+    const std::string show = file("sl-braille.json", R"({"armadillo_setlist": 1, "cues": [{"name": "word", "scene": "braille", "text": "exit"}]})");
+    const std::string motion = std::string(ARMADILLO_SOURCE_DIR) + "/Resources/Braille/read-word.pose.csv";
+    auto levels = [&](const std::string& extra) {
+        const Run r = runArmadillo("render --setlist '" + show + "' --motion '" + motion + "' --out '" + path("slp.wav") + "' --tactile '" +
+                                   path("slp.csv") + "'" + extra);
+        INFO(r.err);
+        REQUIRE(r.code == 0);
+        // How often each wrist-row motor took each level: rows "t,m1,…".
+        std::array<std::map<int, int>, 3> seen;
+        std::istringstream in(readWholeFile(path("slp.csv")));
+        std::string line;
+        std::getline(in, line);
+        while (std::getline(in, line)) {
+            std::istringstream f(line);
+            std::string cell;
+            std::getline(f, cell, ',');
+            for (std::size_t m = 0; m < 3; ++m) {
+                std::getline(f, cell, ',');
+                ++seen[m][std::stoi(cell)];
+            }
+        }
+        return seen;
+    };
+    const auto plain = levels("");
+    const auto fitted = levels(" --profile '" + profile + "'");
+    for (std::size_t m = 0; m < 3; ++m) CHECK(plain[m].count(5) == 1);   // the cells at level 5
+    CHECK(fitted[0].count(10) == 1);   // m1 twice as hard
+    CHECK(fitted[0].count(5) == 0);
+    CHECK(fitted[1].count(5) == 1);    // m2 unchanged
+    CHECK(fitted[2].count(5) == 0);    // m3 at half (2.5, dithered)
+    CHECK((fitted[2].count(2) + fitted[2].count(3)) > 0);
+    // A bad profile is refused before anything runs, by render and by play, naming the file.
+    const std::string bad = file("sl-bad-profile.json", "{\"threshold\": [1, 2]}");
+    for (const std::string& cmd : {"render --motion '" + motion + "' --out '" + path("slx.wav") + "'", std::string("play --simulate --seconds 0.2")}) {
+        const Run r = runArmadillo(cmd + " --setlist '" + show + "' --profile '" + bad + "'");
+        CAPTURE(cmd, r.err);
+        CHECK(r.code == 3);
+        CHECK(r.err.find("sl-bad-profile.json") != std::string::npos);
+    }
+}
+
+TEST_CASE("cli: play --map: a panic ends the mapping's notes and sends CC 120 + CC 123 on 16 channels, then nothing until resume", "[cli][panic][mapping]")
+{
+    // Zones over the whole circle of azimuth: one note always sounds on channel 3 while the
+    // mapping runs, so a panic ends exactly one note (1 note-off + 16 × 2 controllers = 33).
+    const std::string map = file("panic-map.json", R"({"version": 1, "mappings": [
+        {"source": "azimuth", "to": {"midi": "notes", "channel": 3, "velocity": 100,
+         "zones": [[0, 90, 60], [90, 180, 62], [180, 270, 64], [270, 360, 65]]}}]})");
+    const std::string keys = path("panic-map-keys.sh");
+    writeFileAtomically(keys, "sleep 0.3; printf p; sleep 0.8\n");
+    const std::string cmd = std::string("sh '") + keys + "' | '" + ARMADILLO_BIN + "' play --scene theremin --map '" + map +
+                            "' --simulate --keys --seconds 1.0 --no-audio >'" + path("pm-out.txt") + "' 2>'" + path("pm-err.txt") + "'";
+    REQUIRE(std::system(cmd.c_str()) == 0);
+    const std::string out = readWholeFile(path("pm-out.txt"));
+    INFO(out << readWholeFile(path("pm-err.txt")));
+    CHECK(out.find("\"panics\":1") != std::string::npos);
+    CHECK(out.find("\"panic_midi_events\":33") != std::string::npos);
+    // Without a panic the key is absent (and the mapping ran).
+    const Run calm = runArmadillo("play --scene theremin --map '" + map + "' --simulate --seconds 0.5 --no-audio");
+    REQUIRE(calm.code == 0);
+    CHECK(calm.out.find("panic_midi_events") == std::string::npos);
+    CHECK(calm.out.find("\"mapping_midi_events\":0") == std::string::npos);
+}
+
 namespace {
 /// Runs `armadillo ARGS` while OSC senders on loopback send /armadillo/orientation at 100 Hz,
 /// each the quaternion its function gives for the seconds since sending began. (The pacing

@@ -3,6 +3,7 @@
 // switch against the largest in its neighbourhood), each cue's own sound after its switch.
 #include "Core/Csv.h"
 #include "Core/Errors.h"
+#include "Core/Pose.h"
 #include "Live/SetList.h"
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -168,4 +169,48 @@ TEST_CASE("set list: requests from any thread are clamped; next/previous step; p
     for (int c = 0; c < 4; ++c) CHECK(player.engine(c).panicked());
     player.resume();
     for (int c = 0; c < 4; ++c) CHECK_FALSE(player.engine(c).panicked());
+}
+
+TEST_CASE("set list: every cue feels the reader's touch profile (motor gains)", "[setlist][profile]")
+{
+    const SetList list = parseSetList(kFourCues, "show.json");
+    // A profile that halves every motor's level (a reader who feels them all strongly).
+    std::array<float, kMaxMotors> gains {};
+    gains.fill(0.5f);
+    CuePlayer plain(list, SceneConfig {}), profiled(list, SceneConfig {}, kGridMotors, false, gains);
+    for (int c = 0; c < profiled.cueCount(); ++c) {
+        CHECK(profiled.engine(c).config().motorGain == gains);
+        CHECK(plain.engine(c).config().motorGain == TactileConfig::unitMotorGains());
+    }
+    std::array<long, kMaxMotors> plainSum {}, profiledSum {};   // level × steps per motor
+    ArmState arm;
+    arm.valid = true;
+    for (int cue = 0; cue < 2; ++cue) {   // the theremin and the sound-design cue
+        plain.request(cue);
+        profiled.request(cue);
+        for (int i = 0; i < 1000; ++i) {
+            const double t = i * 0.005;
+            arm.t = t;
+            arm.features.pose = Pose {-30.0 + 12.0 * t, 40.0 * std::sin(t), 60.0 * std::sin(2.0 * t)};
+            arm.q = poseToQuaternion(arm.features.pose);
+            const MotorLevels a = plain.control(arm, Transport {}, 0.005);
+            const MotorLevels b = profiled.control(arm, Transport {}, 0.005);
+            for (std::size_t m = 0; m < kGridMotors; ++m) {
+                plainSum[m] += a[m];
+                profiledSum[m] += b[m];
+            }
+        }
+    }
+    int driven = 0;
+    for (std::size_t m = 0; m < kGridMotors; ++m) {
+        CAPTURE(m, plainSum[m], profiledSum[m]);
+        if (plainSum[m] == 0) {
+            CHECK(profiledSum[m] == 0);
+            continue;
+        }
+        ++driven;
+        CHECK(profiledSum[m] > 0);                // still felt …
+        CHECK(profiledSum[m] < plainSum[m]);      // … at the profile's lower levels
+    }
+    CHECK(driven > 0);
 }

@@ -577,3 +577,35 @@ TEST_CASE("Quaternion sources keep w ≥ 0 and the SceneRotator quaternion compo
     MappingInput none;
     CHECK(std::isnan(readSource(s, none, 0.0)));
 }
+
+TEST_CASE("Panic: the sounding notes end, then CC 120 and CC 123 (value 0) on all 16 channels", "[mapping][panic]")
+{
+    Rig rig(kIssueExample);
+    rig.pose(0.0, 80.0, 0.0, 0.0);   // azimuth 80°: zone note 60 sounds on channel 3
+    std::size_t mark = rig.midi.size();
+    rig.mapper.panic(0.5, *rig.out);
+    rig.collect();
+    // MIDI 1.0 Channel Mode messages: Bn 78 00 (All Sound Off), Bn 7B 00 (All Notes Off).
+    std::vector<std::array<int, 3>> expected {{0x82, 60, 0}};   // the note-off first (channel 3 = n 2)
+    for (int n = 0; n < 16; ++n) {
+        expected.push_back({0xB0 + n, 0x78, 0});
+        expected.push_back({0xB0 + n, 0x7B, 0});
+    }
+    const auto since = [&](std::size_t from, double t) {
+        std::vector<std::array<int, 3>> v;
+        for (std::size_t i = from; i < rig.midi.size(); ++i) {
+            const MidiEvent& e = rig.midi[i];
+            // A note-off may be sent as 8n or as 9n with velocity 0 (MIDI 1.0): compare as 8n.
+            const bool off = (e.bytes[0] & 0xF0) == 0x90 && e.bytes[2] == 0;
+            v.push_back({off ? (0x80 | (e.bytes[0] & 0x0F)) : e.bytes[0], e.bytes[1], off ? 0 : e.bytes[2]});
+            CHECK(e.t == t);
+        }
+        return v;
+    };
+    CHECK(since(mark, 0.5) == expected);
+    // Nothing sounding: the 32 controller messages alone.
+    mark = rig.midi.size();
+    rig.mapper.panic(0.6, *rig.out);
+    rig.collect();
+    CHECK(since(mark, 0.6) == std::vector<std::array<int, 3>>(expected.begin() + 1, expected.end()));
+}

@@ -16,6 +16,7 @@
 #include "Common/FakeBrlApi.h"
 #include "Plugin/ReaderPanel.h"
 #include <cstdlib>
+#include <functional>
 #include <dlfcn.h>
 #include <memory>
 
@@ -688,6 +689,26 @@ TEST_CASE("processor: MIDI learn takes the next message at the plugin's MIDI inp
     CHECK(learned.kind == armadillo::mapping::DestinationKind::Cc14);
     CHECK(learned.channel == 2);
     CHECK(learned.number == 7);
+}
+
+TEST_CASE("editor: the score list's Import a file item and its description name bHaptics .tact", "[plugin][ui][score]")
+{
+    App app;
+    app.setParam(ParamIds::scene, static_cast<float>(app.sceneIndexOf("score")));
+    juce::ComboBox* box = nullptr;
+    const std::function<void(juce::Component&)> find = [&](juce::Component& c) {
+        if (auto* b = dynamic_cast<juce::ComboBox*>(&c); b != nullptr && b->getTitle() == "Score") box = b;
+        for (auto* child : c.getChildren()) find(*child);
+    };
+    REQUIRE(pumpUntil([&] {
+        box = nullptr;
+        find(*app.editor);
+        return box != nullptr;
+    }));
+    const juce::String import = box->getItemText(box->indexOfItemId(10000));
+    CHECK(import.startsWith("Import a file"));
+    CHECK(import.contains(".tact"));
+    CHECK(box->getDescription().contains(".tact"));
 }
 
 TEST_CASE("keyboard only, no screen, no sound: arm feedback waits before the next trial; the answers go to the reader profile; "

@@ -350,3 +350,31 @@ TEST_CASE("stage: the OSC stage commands reach the plugin's set list over loopba
     rig.processor.settings().setProperty(SettingIds::stageOscEnabled, false, nullptr);
     CHECK(rig.processor.stageOscPort() == 0);
 }
+
+TEST_CASE("stage: every cue of a set list takes the reader's touch profile setting", "[plugin][stage][profile]")
+{
+    Rig rig;
+    // Thresholds 8, 4, 2 on the wrist row, 4 elsewhere: the gains are threshold / median
+    // (Link/TouchProfile.h): m1 ×2, m2 ×1, m3 ×0.5, the rest ×1.
+    const std::string profile = R"({"threshold": [8, 4, 2, 4, 4, 4, 4, 4, 4]})";
+    rig.processor.settings().setProperty(SettingIds::touchProfile, juce::String(profile), nullptr);
+    REQUIRE(rig.processor.useSetList(kFourCues, "show.json") == "");
+    const live::CuePlayer* cues = rig.processor.cuePlayer();
+    REQUIRE(cues != nullptr);
+    for (int c = 0; c < cues->cueCount(); ++c) {
+        CAPTURE(c);
+        const auto& g = cues->engine(c).config().motorGain;
+        CHECK(g[0] == Approx(2.0f));
+        CHECK(g[1] == Approx(1.0f));
+        CHECK(g[2] == Approx(0.5f));
+        for (std::size_t m = 3; m < kGridMotors; ++m) CHECK(g[m] == Approx(1.0f));
+    }
+    // Without a profile the cues are as they were.
+    rig.processor.settings().setProperty(SettingIds::touchProfile, "", nullptr);
+    for (int i = 0; i < 5; ++i) rig.run();   // the first set list takes over; the next may be offered
+    REQUIRE(rig.processor.useSetList(kFourCues, "show.json") == "");
+    for (int i = 0; i < 5; ++i) rig.run();
+    const live::CuePlayer* plain = rig.processor.cuePlayer();
+    REQUIRE(plain != nullptr);
+    CHECK(plain->engine(0).config().motorGain == TactileConfig::unitMotorGains());
+}
