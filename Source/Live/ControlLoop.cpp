@@ -140,7 +140,8 @@ ControlResult ControlLoop::tick(const ControlStep& step) noexcept
         arm = fuse(input(step.source));
     }
     result.arm = arm;
-    if (step.cues != nullptr) result.levels = step.cues->control(arm, step.transport, dt);
+    if (step.cues != nullptr && step.leftArm != nullptr && step.cues->twoArms()) result.levels = step.cues->control(arm, *step.leftArm, step.transport, dt);
+    else if (step.cues != nullptr) result.levels = step.cues->control(arm, step.transport, dt);
     else if (step.leftArm != nullptr && engine.twoArms()) result.levels = engine.control(arm, *step.leftArm, step.transport, dt);
     else result.levels = engine.control(arm, step.transport, dt, step.motorOnTime);
     result.ran = true;

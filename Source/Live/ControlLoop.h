@@ -57,7 +57,8 @@ struct ControlStep {
     bool panic = false;
     /// Two arms (docs/STAGE.md): the left arm's state this step, fused by the front end from its
     /// own source (null: one arm). An engine built with EngineConfig::twoArms hears both arms
-    /// (Engine::control(right, left, …)); any other engine, and a set list's cues, the right one.
+    /// (Engine::control(right, left, …)), and so do a set list's cues built with twoArms; any
+    /// other engine, the right one.
     const ArmState* leftArm = nullptr;
 };
 

@@ -400,6 +400,11 @@ void ArmadilloProcessor::valueTreePropertyChanged(juce::ValueTree&, const juce::
         if (mapping_.name() == "classic") mapping_.usePreset("classic");   // the classic wiring's channel
     } else if (id == SettingIds::leftArmOsc || id == SettingIds::leftArmOscPort) {
         applyLeftArm();
+        // A set list's cues are built for one or two arms: switching the left arm rebuilds them
+        // (from cue 1, as loading it does).
+        if (id == SettingIds::leftArmOsc && settings_[SettingIds::setList].toString().isNotEmpty())
+            if (const auto why = useSetList(settings_[SettingIds::setList].toString(), settings_[SettingIds::setListName].toString()); why.isNotEmpty())
+                setStatus(why);
     } else if (id == SettingIds::stageOscEnabled || id == SettingIds::stageOscPort) {
         applyStageOsc();
     } else if (id == SettingIds::cueNextNote || id == SettingIds::cuePrevNote) {
@@ -658,7 +663,9 @@ std::unique_ptr<live::CuePlayer> ArmadilloProcessor::buildCues(const live::SetLi
         } catch (const std::exception&) {
         }
     }
-    return std::make_unique<live::CuePlayer>(list, base, motors, false, gains);   // every cue's engine, prepared now
+    // With the left arm on, every cue's engine takes it too (as the Scene box's engine does).
+    const bool twoArms = static_cast<bool>(settings_[SettingIds::leftArmOsc]);
+    return std::make_unique<live::CuePlayer>(list, base, motors, twoArms, gains);   // every cue's engine, prepared now
 }
 
 void ArmadilloProcessor::offerCues(std::unique_ptr<live::CuePlayer> player)

@@ -6,6 +6,8 @@
 #include "Core/Pose.h"
 #include "Engine/ArmTracker.h"
 #include "Live/ControlLoop.h"
+#include "Live/SetList.h"
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <memory>
@@ -100,4 +102,42 @@ TEST_CASE("control loop: the step with a left arm allocates, frees, locks and th
     std::uint64_t violations = 0;
     for (double elevation : {30.0, -85.0, 10.0, -70.0}) (void) duoRms(loop, left, elevation, 250, &violations);
     CHECK(violations == 0);
+}
+
+TEST_CASE("control loop: a two-arm set list's cue hears the left arm given with the step", "[live][two-arms][setlist]")
+{
+    const SetList list = parseSetList(R"({"armadillo_setlist": 1, "cues": [{"name": "Duo", "scene": "theremin-duo"}]})", "duo.json");
+    SceneConfig base;
+    base.sampleRate = 48000.0;
+    base.controlRateHz = 200.0;
+    CuePlayer cues(list, base, kGridMotors, true);
+    ControlLoop loop;
+    loop.replace(duoSlot(false));   // the loop's own engine only tracks the arm while cues play
+    ArmTracker left;
+    double t = 0.0;
+    auto rms = [&](double leftElevation) {
+        std::vector<float> l(240), r(240);
+        double sum = 0.0;
+        for (int i = 0; i < 200; ++i) {
+            t += 0.005;
+            ControlStep step;
+            step.source = SourceKind::HostAutomation;
+            step.automation = Pose {20.0, 0.0, 0.0};
+            step.dt = 0.005;
+            step.cues = &cues;
+            const ArmState leftArm = left.updateOrientation(t, poseToQuaternion(Pose {leftElevation, 0.0, 0.0}));
+            step.leftArm = &leftArm;
+            (void) loop.tick(step);
+            std::fill(l.begin(), l.end(), 0.0f);
+            std::fill(r.begin(), r.end(), 0.0f);
+            cues.renderAudio(l.data(), r.data(), 240);
+            if (i >= 100)
+                for (float v : l) sum += double(v) * double(v);
+        }
+        return std::sqrt(sum / (100.0 * 240.0));
+    };
+    const double raised = rms(30.0), hanging = rms(-85.0);
+    INFO("raised " << raised << ", hanging " << hanging);
+    CHECK(raised > 0.02);
+    CHECK(hanging < 1e-4);   // the duo's articulation: the left arm hanging stops the note
 }
