@@ -140,7 +140,7 @@ for _ in $(seq 80); do
     case "$last" in *"Training complete"*) break ;; esac
     case "$last" in
         *"left, right or both?") answer=both ;;
-        *"and hold it") answer=here ;;
+        *"and hold it"*) answer=here ;;
         *"which letter?") answer=e ;;
         *"read the alphabet") answer=abcdefghijklmnopqrstuvwxyz ;;
         *"which word?") answer=exit ;;
