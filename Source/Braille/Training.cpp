@@ -54,20 +54,6 @@ std::string trim(const std::string& s)
     const auto e = s.find_last_not_of(" \t\r\n");
     return s.substr(b, e - b + 1);
 }
-
-void appendCsvField(std::string& out, const std::string& field)
-{
-    if (field.find_first_of(",\"\n\r") == std::string::npos) {
-        out += field;
-        return;
-    }
-    out += '"';
-    for (char c : field) {
-        if (c == '"') out += '"';
-        out += c;
-    }
-    out += '"';
-}
 } // namespace
 
 const char* trainingStageName(TrainingStage s) noexcept { return kStageNames[static_cast<int>(s)]; }

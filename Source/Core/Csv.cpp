@@ -155,6 +155,20 @@ void appendNumber(std::string& out, double value, int precision)
     out.append(buf, ec == std::errc() ? end : buf);
 }
 
+void appendCsvField(std::string& out, std::string_view field)
+{
+    if (field.find_first_of(",\"\n\r") == std::string_view::npos) {
+        out += field;
+        return;
+    }
+    out += '"';
+    for (char c : field) {
+        if (c == '"') out += '"';
+        out += c;
+    }
+    out += '"';
+}
+
 CsvWriter::CsvWriter(const std::vector<std::string>& header) : columns_(header.size())
 {
     for (std::size_t i = 0; i < header.size(); ++i) {

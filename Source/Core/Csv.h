@@ -60,6 +60,9 @@ private:
 
 /// Appends a number in the shortest form with at most `precision` significant digits; NaN as "nan".
 void appendNumber(std::string& out, double value, int precision = 9);
+/// Appends one text field, quoted as RFC 4180 when it holds a comma, a quote or a line break
+/// (quotes doubled); as it is otherwise.
+void appendCsvField(std::string& out, std::string_view field);
 
 // --- The typed formats -------------------------------------------------------------------------
 

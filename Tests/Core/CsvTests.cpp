@@ -187,3 +187,18 @@ TEST_CASE("CSV: writers round-trip and write whole or nothing", "[csv][io]")
     CHECK_THROWS_AS(CsvTable::read((dir / "absent.csv").string()), IoError);
     fs::remove_all(dir);
 }
+
+TEST_CASE("appendCsvField quotes only fields that need it, doubling quotes (RFC 4180)", "[core][csv]")
+{
+    std::string out;
+    appendCsvField(out, "plain");
+    out += ',';
+    appendCsvField(out, "a,b");
+    out += ',';
+    appendCsvField(out, "say \"here\"");
+    out += ',';
+    appendCsvField(out, "two\nlines");
+    out += ',';
+    appendCsvField(out, "");
+    CHECK(out == "plain,\"a,b\",\"say \"\"here\"\"\",\"two\nlines\",");
+}
