@@ -22,9 +22,11 @@ int check(const std::vector<std::string>& rest)
     std::size_t twoArms = 0;
     for (const mapping::MappingSpec& m : doc.mappings)
         twoArms += m.source.arm == 1 || mapping::isTwoArmSource(m.source.kind);
+    std::size_t stage = 0;   // mappings that step the set list or panic (docs/STAGE.md)
+    for (const mapping::MappingSpec& m : doc.mappings) stage += m.to.kind == mapping::DestinationKind::Stage;
     std::cout << "{\"mappings\":" << doc.mappings.size() << ",\"postures\":" << doc.postures.size()
               << ",\"osc_targets\":" << set->oscTargets().size() << ",\"scene_parameters\":" << set->sceneParamIds().size()
-              << ",\"two_arm_mappings\":" << twoArms << "}\n";
+              << ",\"two_arm_mappings\":" << twoArms << ",\"stage_mappings\":" << stage << "}\n";
     return 0;
 }
 

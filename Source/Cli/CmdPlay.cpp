@@ -529,6 +529,7 @@ int runPlay(const Arguments& args)
             std::cerr << "armadillo play: keys: p = panic, r = resume" << (cues ? ", n = next cue, b = previous cue, 0..9 = cue" : "") << "\n";
         }
         std::uint32_t shownPanics = 0;
+        std::uint32_t shownMappingPanics = 0;
         bool shownPanicked = false;
         std::unique_ptr<TerminalTraining> training;
         braille::BrailleSceneControls* brailleScene = nullptr;
@@ -629,8 +630,12 @@ int runPlay(const Arguments& args)
             }
             if (const std::uint32_t n = panicTotal(); n != shownPanics || session.engine().panicked() != shownPanicked) {
                 const int k = lastCommand.exchange(-1);
+                const std::uint32_t mapped = session.mappingPanics();   // a mapping's "stage": "panic"
+                const bool byMapping = mapped != shownMappingPanics;
+                shownMappingPanics = mapped;
                 if (n != shownPanics)
-                    std::cerr << lineStart << "armadillo play: PANIC (" << (k == static_cast<int>(live::StageCommand::Kind::Panic) ? "command" : "gesture")
+                    std::cerr << lineStart << "armadillo play: PANIC ("
+                              << (k == static_cast<int>(live::StageCommand::Kind::Panic) ? "command" : byMapping ? "mapping" : "gesture")
                               << "): all sound and every motor off; resume with r or /armadillo/resume\n";
                 else if (!session.engine().panicked())
                     std::cerr << lineStart << "armadillo play: resumed: scene '" << session.engine().config().scene << "' again\n";
@@ -761,6 +766,8 @@ int runPlay(const Arguments& args)
         if (const live::MappingRig* m = session.mapping())
             summary.insert(summary.size() - 1, ",\"mapping_midi_events\":" + std::to_string(m->midiEvents()) + ",\"mapping_osc_messages\":" +
                                                    std::to_string(m->oscMessages()) + ",\"mapping_dropped\":" + std::to_string(m->dropped()));
+        if (const live::MappingRig* m = session.mapping(); m && m->stageCommands() > 0)   // "stage" destinations fired (docs/STAGE.md)
+            summary.insert(summary.size() - 1, ",\"mapping_stage_commands\":" + std::to_string(m->stageCommands()));
         if (const std::uint32_t panics = panicTotal(); panics > 0) {   // only after a panic (docs/STAGE.md)
             summary.insert(summary.size() - 1, ",\"panics\":" + std::to_string(panics));
             if (const live::MappingRig* m = session.mapping())   // note-offs, CC 120 and CC 123 the mapping's MIDI sent

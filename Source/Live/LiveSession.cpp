@@ -94,6 +94,7 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
         options.sourceName = config_.mappingName;
         options.forwardDeg = config_.forwardDeg;
         mapping_ = std::make_unique<live::MappingRig>(*config_.mapping, duo_ ? *duo_ : *engine_, options);   // for the scene that plays
+        mapping_->setStageSink(&LiveSession::applyStage, this);
         if (!config_.midiOut.empty()) {
             midiOut_ = std::make_unique<audio::SequencerOut>(config_.midiOut);   // IoError naming the cause (exit 4)
             mapping_->setMidiSink([](void* ctx, const mapping::MidiEvent& e) { static_cast<audio::SequencerOut*>(ctx)->send(e.bytes.data(), e.size); },
@@ -342,8 +343,36 @@ MotorLevels LiveSession::control(double t, const SensorCounts* counts, const Imu
     const bool panicNow = sounding().panicked() || engine().panicked();
     if (mapping_ && panicNow && !mappingPanicked_) mapping_->panic(t);
     mappingPanicked_ = panicNow;
-    if (mapping_ && result.ran && !panicNow) mapping_->step(t, arm, leftTracker_ ? &leftArm_ : nullptr, gestures.data(), gestureCount, engine());
+    // In panic only the stage-command mappings run (a mapped resume), nothing else is sent.
+    if (mapping_ && result.ran)
+        mapping_->step(t, arm, leftTracker_ ? &leftArm_ : nullptr, gestures.data(), gestureCount, engine(), panicNow);
     return levels;
+}
+
+void LiveSession::applyStage(void* self, const mapping::StageEvent& e) noexcept
+{
+    auto& s = *static_cast<LiveSession*>(self);
+    live::CuePlayer* cues = s.cues_.get();
+    switch (e.action) {
+    case mapping::StageAction::Panic:
+        s.mappingPanics_.fetch_add(1, std::memory_order_relaxed);
+        if (cues) cues->panic();
+        else s.engine().panic();
+        return;
+    case mapping::StageAction::Resume:
+        if (cues) cues->resume();
+        else s.engine().resume();
+        return;
+    case mapping::StageAction::Next:
+        if (cues) cues->next();
+        return;
+    case mapping::StageAction::Previous:
+        if (cues) cues->previous();
+        return;
+    case mapping::StageAction::Cue:
+        if (cues) cues->request(e.cue);   // clamped to the list
+        return;
+    }
 }
 
 void LiveSession::renderBlock(float* left, float* right, int n) noexcept

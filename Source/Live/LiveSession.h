@@ -35,6 +35,9 @@ class SequencerOut;
 namespace armadillo::live {
 class MappingRig;
 }
+namespace armadillo::mapping {
+struct StageEvent;
+}
 namespace armadillo {
 class ArmTracker;
 }
@@ -169,6 +172,8 @@ public:
     /// The mapping's counters (null without --map).
     const live::MappingRig* mapping() const noexcept { return mapping_.get(); }
     live::MappingRig* mapping() noexcept { return mapping_.get(); }
+    /// Panics the mapping fired (a `"stage": "panic"` destination; docs/STAGE.md), any thread.
+    std::uint32_t mappingPanics() const noexcept { return mappingPanics_.load(std::memory_order_relaxed); }
     /// Source::Osc: the UDP port listened on (useful with oscInPort 0); 0 otherwise.
     int oscInPort() const noexcept;
     /// Source::Osc: the receiver (format, device, counters, the mount calibration's tap); null otherwise.
@@ -196,6 +201,9 @@ private:
     Engine* engine_ = nullptr;          // the loop's engine; no other is ever offered
     std::unique_ptr<live::CuePlayer> cues_;   // with a set list: what plays (the loop's engine only tracks)
     bool mappingPanicked_ = false;      // control thread: the mapping's panic MIDI went out for this panic
+    std::atomic<std::uint32_t> mappingPanics_ {0};
+    /// The mapping's stage commands (control thread, real-time): as `play`'s keys and OSC do.
+    static void applyStage(void* self, const mapping::StageEvent& event) noexcept;
     // Two arms: the left arm's source and link; its calibrated samples reach the control thread
     // through a mailbox, where its own tracker fuses them; the two-arm engine plays both.
     std::unique_ptr<SimulatedForearm> leftSimulator_;

@@ -70,6 +70,10 @@ void MappingRig::deliver(Engine* engine) noexcept
         const auto target = static_cast<std::size_t>(p.target);
         if (target < senders_.size() && senders_[target]) senders_[target]->sendPacket(p.bytes.data(), p.size);
     }
+    for (int i = 0; i < o.stageCount; ++i) {
+        ++stage_;
+        if (stageSink_) stageSink_(stageContext_, o.stage[static_cast<std::size_t>(i)]);
+    }
     if (engine) {
         for (int i = 0; i < o.paramCount; ++i) {
             const mapping::SceneParamChange& c = o.params[static_cast<std::size_t>(i)];
@@ -84,7 +88,8 @@ void MappingRig::deliver(Engine* engine) noexcept
     o.clear();
 }
 
-void MappingRig::step(double t, const ArmState& arm, const ArmState* leftArm, const GestureEvent* gestures, std::size_t count, Engine& engine) noexcept
+void MappingRig::step(double t, const ArmState& arm, const ArmState* leftArm, const GestureEvent* gestures, std::size_t count, Engine& engine,
+                      bool stageOnly) noexcept
 {
     std::array<mapping::GestureIn, 64> g {};
     const std::size_t n = std::min(count, g.size());
@@ -96,6 +101,7 @@ void MappingRig::step(double t, const ArmState& arm, const ArmState* leftArm, co
     in.scene = engine.sceneValues();
     in.gestures = g.data();
     in.gestureCount = static_cast<int>(n);
+    in.stageOnly = stageOnly;
     mapper_.process(in, *out_);
     deliver(&engine);
 }

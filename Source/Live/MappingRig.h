@@ -26,6 +26,8 @@ struct MappingRigOptions {
 
 /// Receives every MIDI event in order (allocation-free function pointer, unlike std::function).
 using MidiSink = void (*)(void* context, const mapping::MidiEvent& event);
+/// Receives every stage command a `"stage"` destination fired (docs/STAGE.md), on the control thread.
+using StageSink = void (*)(void* context, const mapping::StageEvent& event);
 
 class MappingRig {
 public:
@@ -41,10 +43,18 @@ public:
         sink_ = sink;
         sinkContext_ = context;
     }
+    /// Where stage commands go (`play` applies them to its set list / engine); none: counted only.
+    void setStageSink(StageSink sink, void* context) noexcept
+    {
+        stageSink_ = sink;
+        stageContext_ = context;
+    }
     /// One control update at time t (s): the arm (the right arm, or the only one), the left arm
     /// (null with one arm: its sources and the relative arms.* sources then have no value and send
     /// nothing), the gestures the scene emitted in it.
-    void step(double t, const ArmState& arm, const ArmState* leftArm, const GestureEvent* gestures, std::size_t count, Engine& engine) noexcept;
+    /// stageOnly: only the stage-command mappings run (in panic, so a mapped resume is still heard).
+    void step(double t, const ArmState& arm, const ArmState* leftArm, const GestureEvent* gestures, std::size_t count, Engine& engine,
+              bool stageOnly = false) noexcept;
     /// The end: gesture notes end at their due time, held notes (zones, postures) at t.
     void finish(double t) noexcept;
     /// Panic at t (docs/STAGE.md), as the plugin does: every sounding note ended, then CC 120 and
@@ -58,6 +68,8 @@ public:
     std::uint64_t oscMessages() const noexcept { return osc_; }
     std::uint64_t oscSent() const noexcept;
     std::uint64_t dropped() const noexcept { return dropped_; }
+    /// Stage commands the mapping fired.
+    std::uint64_t stageCommands() const noexcept { return stage_; }
 
 private:
     void deliver(Engine* engine) noexcept;
@@ -72,7 +84,9 @@ private:
     std::vector<Param> params_;
     MidiSink sink_ = nullptr;
     void* sinkContext_ = nullptr;
-    std::uint64_t midi_ = 0, osc_ = 0, dropped_ = 0, panicMidi_ = 0;
+    StageSink stageSink_ = nullptr;
+    void* stageContext_ = nullptr;
+    std::uint64_t midi_ = 0, osc_ = 0, dropped_ = 0, panicMidi_ = 0, stage_ = 0;
 };
 
 } // namespace armadillo::live

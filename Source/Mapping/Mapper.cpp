@@ -76,6 +76,7 @@ void MappingOutput::clear() noexcept
     midiCount = 0;
     oscCount = 0;
     paramCount = 0;
+    stageCount = 0;
     macroChanged = 0;
     dropped = 0;
     forwardChanged = false;
@@ -92,6 +93,8 @@ struct Compiled {
     int param = -1;                    // SceneParam: index into sceneParamIds
     std::vector<std::string> addresses;   // OSC: one per zone (or one)
     bool eventDriven = false;          // gesture, posture, threshold (not zones)
+    int index = 0;                     // in the document
+    bool stage = false;                // a Stage destination
 
     // control-side state
     OneEuro smooth;
@@ -107,6 +110,10 @@ struct Compiled {
     int mpeNext = 0;
     bool mpeAnnounced = false;
     bool wasMuted = false;
+    // Stage destinations: the first reading only learns where the source is (a threshold already
+    // passed or a zone already entered when the set is loaded does not fire); then only a rising
+    // edge does. Kept through allNotesOff/panic, so a source still held then does not fire again.
+    bool primed = false;
 
     // any thread
     std::atomic<bool> muted {false};
@@ -181,6 +188,8 @@ std::unique_ptr<MappingSet> MappingSet::build(const MappingDocument& doc, const 
         const std::string name = "mappings[" + std::to_string(i) + "]";
         Compiled& c = s.maps[i];
         c.spec = m;
+        c.index = static_cast<int>(i);
+        c.stage = m.to.kind == DestinationKind::Stage;
         const TransformSpec& t = m.transform;
         if (t.hasIn) {
             c.inLo = t.inLo;
@@ -733,6 +742,17 @@ struct Mapper::Impl {
             c.active.store(true, std::memory_order_relaxed);
             return;
         }
+        case DestinationKind::Stage:
+            // Once per rising edge: eventOn runs only as the event begins (a gesture, a zone or
+            // posture entered, a threshold crossed upward), never while it is held.
+            if (out.stageCount >= MappingOutput::kMaxStage) {
+                ++out.dropped;
+                return;
+            }
+            out.stage[static_cast<std::size_t>(out.stageCount++)] = {t, d.stage, d.number, c.index};
+            c.active.store(true, std::memory_order_relaxed);
+            c.meter.store(1.0f, std::memory_order_relaxed);
+            return;
         case DestinationKind::ProgramChange:
             if (zoned) midi(out, t, static_cast<std::uint8_t>(0xC0 | (d.channel - 1)), static_cast<std::uint8_t>(static_cast<int>(zoneValue) & 0x7F), 0, 2);
             else midi(out, t, static_cast<std::uint8_t>(0xC0 | (d.channel - 1)), static_cast<std::uint8_t>(d.number & 0x7F), 0, 2);
@@ -776,6 +796,9 @@ struct Mapper::Impl {
             c.meter.store(0.0f, std::memory_order_relaxed);
             sendOsc(c, t, scaleOut(c, 0.0), zoneValue, false, in, out, false);
             return;
+        case DestinationKind::Stage:
+            c.meter.store(0.0f, std::memory_order_relaxed);
+            return;
         case DestinationKind::SetForward:
         case DestinationKind::ProgramChange: return;
         default:
@@ -792,6 +815,7 @@ struct Mapper::Impl {
             if (!c.wasMuted) {
                 noteOff(c, t, out);
                 c.forget();
+                c.primed = false;   // unmuted: a stage source held meanwhile does not fire
                 c.active.store(false, std::memory_order_relaxed);
                 c.wasMuted = true;
             }
@@ -822,7 +846,14 @@ struct Mapper::Impl {
             if (!arm || !arm->valid) return;
             const PostureState& ps = s.postures.state(c.posture);
             const bool eventDest = m.to.kind == DestinationKind::Notes || m.to.kind == DestinationKind::Osc ||
-                                   m.to.kind == DestinationKind::SetForward || m.to.kind == DestinationKind::ProgramChange;
+                                   m.to.kind == DestinationKind::SetForward || m.to.kind == DestinationKind::ProgramChange ||
+                                   m.to.kind == DestinationKind::Stage;
+            if (c.stage && !c.primed) {
+                c.primed = true;
+                c.on = ps.inside;
+                c.active.store(c.on, std::memory_order_relaxed);
+                return;
+            }
             if (eventDest) {
                 if (ps.inside && !c.on) {
                     c.on = true;
@@ -848,6 +879,12 @@ struct Mapper::Impl {
             const ArmState* own = in.arm[isArmSource(m.source.kind) ? m.source.arm : 0];   // a sector's elevation: the same arm's
             if (own && own->valid) el = own->features.pose.elevationDeg;
             const int z = zoneFor(c, x, el);
+            if (c.stage && !c.primed) {
+                c.primed = true;
+                c.zone = z;
+                c.active.store(z >= 0, std::memory_order_relaxed);
+                return;
+            }
             if (z != c.zone) {
                 const int old = c.zone;
                 if (old >= 0) {
@@ -863,6 +900,12 @@ struct Mapper::Impl {
         }
 
         if (m.transform.hasThreshold) {
+            if (c.stage && !c.primed) {
+                c.primed = true;
+                c.on = x >= m.transform.threshold;
+                c.active.store(c.on, std::memory_order_relaxed);
+                return;
+            }
             if (!c.on && x >= m.transform.threshold) {
                 c.on = true;
                 eventOn(c, t, x, x, in, out);
@@ -890,6 +933,7 @@ struct Mapper::Impl {
         for (std::size_t i = 0; i < s.count; ++i) {
             Compiled& c = s.maps[i];
             if (c.note.on) noteOff(c, std::min(t, c.note.offAt), out);
+            if (c.stage) continue;   // its edge state stays: a source held through a panic does not fire again
             c.forget();
             c.active.store(false, std::memory_order_relaxed);
         }
@@ -967,7 +1011,8 @@ void Mapper::process(const MappingInput& in, MappingOutput& out) noexcept
     m.dueNoteOffs(s, in.t, out);
     if (s.hasPostures && arm && arm->valid)
         s.postures.update(arm->q, arm->gyro.allFinite() ? radToDeg(arm->gyro.norm()) : kNaN);
-    for (std::size_t i = 0; i < s.count; ++i) m.run(s, s.maps[i], in, out);
+    for (std::size_t i = 0; i < s.count; ++i)
+        if (!in.stageOnly || s.maps[i].spec.to.kind == DestinationKind::Stage) m.run(s, s.maps[i], in, out);
 }
 
 void Mapper::flush(double t, MappingOutput& out) noexcept

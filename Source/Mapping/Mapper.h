@@ -4,7 +4,7 @@
 // per-mapping state preallocated). A Mapper runs the active set once per control update:
 // process() is REAL-TIME — no allocation, lock, I/O or throw (Tests/Mapping proves it with 64
 // mappings) — and writes MIDI events, encoded OSC packets, macro values and scene-parameter
-// changes into a caller-owned fixed-capacity MappingOutput. The front ends deliver them: the
+// changes (and stage commands) into a caller-owned fixed-capacity MappingOutput. The front ends deliver them: the
 // plugin into its MidiBuffer and parameters, the CLI into a Standard MIDI File or an ALSA
 // sequencer port and UDP.
 //
@@ -45,6 +45,10 @@ struct MappingInput {
     SceneValues scene {};                             ///< the scene's own outputs (Core/Scene.h; NaN = the scene has none)
     const GestureIn* gestures = nullptr;              ///< gestures since the previous update
     int gestureCount = 0;
+    /// Only the mappings whose destination is a stage command run (the others keep their state):
+    /// the front ends set it while in panic, when nothing else may be sent but a mapped resume
+    /// must still be heard.
+    bool stageOnly = false;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -65,6 +69,14 @@ struct OscPacket {
     std::array<std::uint8_t, kOscPacketCapacity> bytes {};   ///< encoded with Device/Osc.h (OSC 1.0)
 };
 
+/// A stage command a Stage destination fired (docs/STAGE.md): once per rising edge of its source.
+struct StageEvent {
+    double t = 0.0;
+    StageAction action = StageAction::Next;
+    int cue = 0;                           ///< StageAction::Cue: the cue (0-based)
+    int mapping = 0;                       ///< index of the mapping that fired it
+};
+
 struct SceneParamChange {
     int index = 0;                         ///< into MappingSet::sceneParamIds()
     float value = 0.0f;
@@ -77,6 +89,7 @@ struct MappingOutput {
     static constexpr int kMaxMidi = 1024;
     static constexpr int kMaxOsc = 64;
     static constexpr int kMaxParams = 64;
+    static constexpr int kMaxStage = 16;
 
     std::array<MidiEvent, kMaxMidi> midi {};
     int midiCount = 0;
@@ -86,6 +99,8 @@ struct MappingOutput {
     std::uint32_t macroChanged = 0;
     std::array<SceneParamChange, kMaxParams> params {};
     int paramCount = 0;
+    std::array<StageEvent, kMaxStage> stage {};      ///< stage commands in the order fired
+    int stageCount = 0;
     std::uint64_t dropped = 0;                       ///< events that did not fit (cumulative until clear())
     bool forwardChanged = false;                     ///< the forward reference was set during this update
 

@@ -224,8 +224,9 @@ public:
         const JsonValue* macro = v.find("macro");
         const JsonValue* param = v.find("param");
         const JsonValue* action = v.find("action");
-        const int kinds = (midi != nullptr) + (osc != nullptr) + (macro != nullptr) + (param != nullptr) + (action != nullptr);
-        if (kinds != 1) fail(v, path, "a destination names exactly one of \"midi\", \"osc\", \"macro\", \"param\", \"action\"");
+        const JsonValue* stage = v.find("stage");
+        const int kinds = (midi != nullptr) + (osc != nullptr) + (macro != nullptr) + (param != nullptr) + (action != nullptr) + (stage != nullptr);
+        if (kinds != 1) fail(v, path, "a destination names exactly one of \"midi\", \"osc\", \"macro\", \"param\", \"action\", \"stage\"");
         const auto channel = [&](int& out) {
             if (const JsonValue* c = v.find("channel")) out = integerIn(*c, path + ".channel", 1, 16);
         };
@@ -348,6 +349,25 @@ public:
             d.kind = DestinationKind::SceneParam;
             d.paramId = string(*param, path + ".param");
             if (d.paramId.empty()) fail(*param, path + ".param", "empty parameter id");
+            zonesHere();
+        } else if (stage) {
+            onlyKeys(v, path, {"stage", "cue", "zones"});
+            d.kind = DestinationKind::Stage;
+            const std::string& a = string(*stage, path + ".stage");
+            bool known = false;
+            for (StageAction k : {StageAction::Next, StageAction::Previous, StageAction::Cue, StageAction::Panic, StageAction::Resume})
+                if (a == stageActionName(k)) {
+                    d.stage = k;
+                    known = true;
+                }
+            if (!known) fail(*stage, path + ".stage", "unknown stage command \"" + a + "\" (next, prev, cue, panic, resume)");
+            const JsonValue* cue = v.find("cue");
+            if (d.stage == StageAction::Cue) {
+                if (!cue) fail(v, path, "\"stage\": \"cue\" needs \"cue\": the cue's number (0-based)");
+                d.number = integerIn(*cue, path + ".cue", 0, 9999);
+            } else if (cue) {
+                fail(*cue, path + ".cue", "\"cue\" goes only with \"stage\": \"cue\"");
+            }
             zonesHere();
         } else {
             onlyKeys(v, path, {"action"});
@@ -532,6 +552,9 @@ public:
         case DestinationKind::SetForward:
             if (!event && !zoned) fail(at, path, "\"action\": \"forward\" needs an event (gesture, posture, threshold or zones)");
             break;
+        case DestinationKind::Stage:
+            if (!event && !zoned) fail(at, path, "\"stage\" needs an event (gesture, posture, threshold or zones): it acts once as it begins");
+            break;
         default:
             break;
         }
@@ -675,6 +698,9 @@ std::string destinationJson(const MappingSpec& m)
     case DestinationKind::Macro: return "{\"macro\": " + std::to_string(d.number) + "}";
     case DestinationKind::SceneParam: return "{\"param\": " + str(d.paramId) + "}";
     case DestinationKind::SetForward: return "{\"action\": \"forward\"}";
+    case DestinationKind::Stage:
+        return std::string("{\"stage\": \"") + stageActionName(d.stage) + "\"" +
+               (d.stage == StageAction::Cue ? ", \"cue\": " + std::to_string(d.number) : std::string()) + "}";
     }
     return "{}";
 }
@@ -682,6 +708,18 @@ std::string destinationJson(const MappingSpec& m)
 } // namespace
 
 // ---- public ----------------------------------------------------------------------------------
+
+const char* stageActionName(StageAction a) noexcept
+{
+    switch (a) {
+    case StageAction::Next: return "next";
+    case StageAction::Previous: return "prev";
+    case StageAction::Cue: return "cue";
+    case StageAction::Panic: return "panic";
+    case StageAction::Resume: return "resume";
+    }
+    return "next";
+}
 
 std::string sourceName(const SourceSpec& s)
 {

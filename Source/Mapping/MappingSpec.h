@@ -196,7 +196,15 @@ enum class DestinationKind : std::uint8_t {
     SceneParam,      ///< {"param": "theremin.range"}: a scene parameter; 0…1 over its range unless `out` is given
                      ///< (then in the parameter's own unit)
     SetForward,      ///< {"action": "forward"}: an event sets the forward reference to the current azimuth
+    Stage,           ///< {"stage": "next"|"prev"|"panic"|"resume"} or {"stage": "cue", "cue": N}: an event (its rising
+                     ///< edge: a gesture, a posture or zone entered, a threshold crossed upward) steps the set list or
+                     ///< panics (docs/STAGE.md); nothing while held, nothing on leaving
 };
+
+/// What a Stage destination does (DestinationSpec::stage).
+enum class StageAction : std::uint8_t { Next, Previous, Cue, Panic, Resume };
+/// The file's spelling: "next", "prev", "cue", "panic", "resume".
+const char* stageActionName(StageAction a) noexcept;
 
 /// One argument of a templated OSC message: a constant or a value of the moment.
 struct OscArgSpec {
@@ -230,6 +238,7 @@ struct DestinationSpec {
     std::string host;         ///< OSC target; empty = the front end's default target (--osc-out, else 127.0.0.1)
     int port = 0;             ///< OSC target port; 0 = the front end's default (9000)
     std::string paramId;      ///< SceneParam: the scene parameter's stable id
+    StageAction stage = StageAction::Next;   ///< Stage: what it does; Cue: `number` is the cue (0-based)
 };
 
 // ---------------------------------------------------------------------------------------------

@@ -105,7 +105,9 @@ void BlockControl::step(double dt, double wall, bool toMotors, const Transport& 
     in.scene = engine.sceneValues();
     in.gestures = stepGestures_.data();
     in.gestureCount = gestureCount;
-    if (! panicApplied_) mapper_.process(in, mapOut_);   // in panic no note is sent until resume
+    in.stageOnly = panicApplied_;   // in panic no note is sent until resume; a mapped resume still runs
+    mapper_.process(in, mapOut_);
+    applyMappedStage();
     learnRange(in);
     deliver(midi, clock_ - sampleOffset / sampleRate_.load(std::memory_order_relaxed), midi != nullptr ? blockSamples_ : 0);
 }
@@ -376,6 +378,25 @@ void BlockControl::idleTick(double dt) noexcept
 
 // ------------------------------------------------------------------------------------------------
 // Stage (Stage.h): set list, panic, resume
+
+void BlockControl::applyMappedStage() noexcept
+{
+    // A mapping's "stage" destinations (docs/STAGE.md): to the stage as its MIDI and OSC
+    // commands go (atomics), applied at the start of the next block.
+    for (int i = 0; i < mapOut_.stageCount; ++i) {
+        const mapping::StageEvent& e = mapOut_.stage[static_cast<std::size_t>(i)];
+        stageCommands_.fetch_add(1, std::memory_order_relaxed);
+        if (stage_ == nullptr) continue;
+        switch (e.action) {
+        case mapping::StageAction::Next: stage_->next(); break;
+        case mapping::StageAction::Previous: stage_->previous(); break;
+        case mapping::StageAction::Cue: stage_->cue(e.cue); break;
+        case mapping::StageAction::Panic: stage_->panic(); break;
+        case mapping::StageAction::Resume: stage_->resume(); break;
+        }
+    }
+    mapOut_.stageCount = 0;
+}
 
 Engine* BlockControl::runningEngine() noexcept
 {

@@ -137,6 +137,8 @@ public:
     /// last all-off. The token holder's thread, or any thread while no control step runs (tests).
     double lastMotorStamp() const noexcept { return lastStamp_; }
     /// The mapping's outputs for the non-real-time side (macros, meters, OSC, MIDI learn).
+    /// Stage commands the mapping's "stage" destinations fired (any thread; docs/STAGE.md).
+    std::uint64_t mappedStageCommands() const noexcept { return stageCommands_.load(std::memory_order_relaxed); }
     MappingOutputs& mappingOutputs() noexcept { return outputs_; }
     const MappingOutputs& mappingOutputs() const noexcept { return outputs_; }
 
@@ -163,6 +165,8 @@ private:
     /// relative to `from`, to the running engine or the set list's cues (before their input).
     void notesRunning(int from, int len) noexcept;
     void learnRange(const mapping::MappingInput& in) noexcept;
+    /// The stage commands the mapping fired this step, to the stage (token holder).
+    void applyMappedStage() noexcept;
 
     live::ControlLoop& loop_;
     ControlToken& token_;
@@ -201,6 +205,7 @@ private:
     LeftArm* leftArm_ = nullptr;
     live::CuePlayer* cues_ = nullptr;   ///< token holder: the set list's player this block (null: none)
     bool panicApplied_ = false;         ///< token holder: the stage's panic as applied
+    std::atomic<std::uint64_t> stageCommands_ {0};   ///< stage commands the mapping fired
     std::uint64_t frameSerial_ = 0;
     /// The listened-to input of one control step (≤ 192 kHz / 200 Hz samples), fixed size.
     static constexpr int kInputScratch = 1024;
