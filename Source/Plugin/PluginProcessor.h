@@ -204,6 +204,8 @@ public:
     /// The UDP port the OSC stage commands are heard on (the stageOsc settings), 0 when off.
     int stageOscPort() const;
     std::uint32_t panics() const noexcept { return stage_.panics(); }
+    /// Stage commands the mapping's "stage" destinations fired (any thread; docs/STAGE.md).
+    std::uint64_t mappedStageCommands() const noexcept { return control_.mappedStageCommands(); }
     /// What the performance view shows.
     struct StageInfo {
         bool setList = false;

@@ -677,3 +677,57 @@ TEST_CASE("cli: play --osc-in-left with an IMU sender: the left arm's own fusion
     std::printf("play --osc-in-left, IMU sender at a still pose: left orientation %.2f deg from it after 3 s\n", err);
     CHECK(err < 2.0);
 }
+
+TEST_CASE("cli: play --setlist --map: raising the arm past a mapped threshold steps the cue; a mapped zone panics", "[cli][setlist][mapping][stage]")
+{
+    // The simulated forearm: level, raised to 50° at 0.3–0.4 s, lowered to −10° at 0.8–0.9 s,
+    // raised again at 1.2–1.3 s and held: two rising edges of "elevation ≥ 30°" (the fusion
+    // follows the simulated IMU; the ramps are slow enough for it).
+    std::string s = "t,elevation,azimuth,roll\n";
+    const auto elevationAt = [](double t) {
+        const auto ramp = [](double t0, double t1, double a, double b, double t) { return a + (b - a) * std::clamp((t - t0) / (t1 - t0), 0.0, 1.0); };
+        if (t < 0.8) return ramp(0.3, 0.4, 0.0, 50.0, t);
+        if (t < 1.2) return ramp(0.8, 0.9, 50.0, -10.0, t);
+        return ramp(1.2, 1.3, -10.0, 50.0, t);
+    };
+    for (int i = 0; i <= 400; ++i) s += std::to_string(i / 100.0) + "," + std::to_string(elevationAt(i / 100.0)) + ",0,0\n";
+    const std::string motion = file("stage-map-motion.csv", s);
+    const std::string show = file("stage-map-show.json", R"({"armadillo_setlist": 1, "cues": [
+        {"name": "one", "scene": "theremin"}, {"name": "two", "scene": "sound-design"}, {"name": "three", "scene": "panel"}]})");
+    const std::string map = file("stage-map.json", R"({"version": 1, "mappings": [
+        {"source": "elevation", "threshold": 30, "to": {"stage": "next"}}]})");
+    const Run run = runArmadillo("play --setlist '" + show + "' --map '" + map + "' --simulate --motion '" + motion +
+                                 "' --seconds 1.9 --no-audio");
+    INFO(run.err << run.out);
+    REQUIRE(run.code == 0);
+    CHECK(run.err.find("cue 1 'two'") != std::string::npos);
+    CHECK(run.err.find("cue 2 'three'") != std::string::npos);
+    CHECK(run.out.find("\"cue\":2,\"cue_changes\":2") != std::string::npos);   // held at 50° for 0.6 s: no third step
+    CHECK(run.out.find("\"mapping_stage_commands\":2") != std::string::npos);
+
+    // The forearm hanging (a zone below −60°) panics the one scene; said as a mapping's panic.
+    std::string h = "t,elevation,azimuth,roll\n";
+    for (int i = 0; i <= 200; ++i) {
+        const double t = i / 100.0;
+        h += std::to_string(t) + "," + std::to_string(t < 0.4 ? 0.0 : t < 0.6 ? -400.0 * (t - 0.4) : -80.0) + ",0,0\n";
+    }
+    const std::string hang = file("stage-map-hang.csv", h);
+    const std::string panicMap = file("stage-map-panic.json", R"({"version": 1, "mappings": [
+        {"source": "elevation", "zones": [[-90, -60, 1]], "to": {"stage": "panic"}}]})");
+    const Run p = runArmadillo("play --scene theremin --map '" + panicMap + "' --simulate --motion '" + hang + "' --seconds 1.2 --no-audio");
+    INFO(p.err << p.out);
+    REQUIRE(p.code == 0);
+    CHECK(p.err.find("PANIC (mapping)") != std::string::npos);
+    CHECK(p.out.find("\"panics\":1") != std::string::npos);
+    CHECK(p.out.find("\"mapping_stage_commands\":1") != std::string::npos);
+
+    // map check counts them; a bad one names file, line and column (exit 3).
+    const Run check = runArmadillo("map check '" + map + "'");
+    CHECK(check.code == 0);
+    CHECK(check.out.find("\"stage_mappings\":1") != std::string::npos);
+    const std::string bad = file("stage-map-bad.json", "{\"version\": 1, \"mappings\": [\n {\"source\": \"elevation\", \"threshold\": 30,\n  \"to\": {\"stage\": \"later\"}}]}");
+    const Run refused = runArmadillo("map check '" + bad + "'");
+    CHECK(refused.code == 3);
+    CHECK(refused.err.find("stage-map-bad.json:3") != std::string::npos);
+    CHECK(refused.err.find("unknown stage command") != std::string::npos);
+}

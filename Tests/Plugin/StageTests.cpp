@@ -57,6 +57,17 @@ struct Rig {
         processor.processBlock(buffer, midi);
         t += kBlock / kFs;
     }
+    /// One block with the arm held at this pose (as a host's automation would set it).
+    void runAt(double el, double rollDeg = 0.0)
+    {
+        elevation->store(static_cast<float>(el));
+        azimuth->store(45.0f);
+        roll->store(static_cast<float>(rollDeg));
+        buffer.clear();
+        midi.clear();
+        processor.processBlock(buffer, midi);
+        t += kBlock / kFs;
+    }
 };
 
 double maxStep(const std::vector<float>& x, std::size_t from, std::size_t to)
@@ -221,6 +232,81 @@ TEST_CASE("stage: CC 120 panics within the block: audio, motors, notes; CC 119 r
     CHECK_FALSE(rig.processor.panicked());
     CHECK(again);
     CHECK(back > 0.01f);
+}
+
+TEST_CASE("stage: a mapping's \"stage\" destinations step the set list and panic as the arm crosses them", "[plugin][stage][mapping]")
+{
+    using armadillo::test::RealtimeGuard;
+    ARMADILLO_REQUIRE_GUARD();
+    {
+        RealtimeGuard probe;   // the guard sees an allocation before its zero is trusted
+        auto p = std::make_unique<double>(1.0);
+        CHECK(probe.allocations() >= 1);
+    }
+    Rig rig;
+    // Raising the forearm past 30° = next cue; hanging it below −60° = panic; rolling past 60° = resume.
+    const char* json = R"({"version": 1, "name": "stage by arm", "mappings": [
+        {"source": "elevation", "threshold": 30, "to": {"stage": "next"}},
+        {"source": "elevation", "zones": [[-90, -60, 1]], "to": {"stage": "panic"}},
+        {"source": "roll", "zones": [[60, 180, 1]], "to": {"stage": "resume"}}]})";
+    REQUIRE(rig.processor.mapping()->setDocument(mapping::parseMappingDocument(json, "stage.json"), "stage") == "");
+    REQUIRE(rig.processor.useSetList(kFourCues, "show.json") == "");
+    for (int i = 0; i < 30; ++i) rig.runAt(0.0);
+    REQUIRE(rig.processor.stageInfo().setList);
+    REQUIRE(rig.processor.stageInfo().cue == 0);
+
+    RealtimeGuard guard;
+    int cueRaised = -1, cueHeld = -1, cueTwice = -1;
+    for (int i = 0; i < 30; ++i) rig.runAt(45.0);   // across the threshold: one step
+    cueRaised = rig.processor.stageInfo().cue;
+    for (int i = 0; i < 100; ++i) rig.runAt(50.0 + 5.0 * std::sin(i * 0.3));   // held (1 s): no further step
+    cueHeld = rig.processor.stageInfo().cue;
+    for (int i = 0; i < 30; ++i) rig.runAt(0.0);
+    for (int i = 0; i < 30; ++i) rig.runAt(45.0);   // a second crossing: one more
+    cueTwice = rig.processor.stageInfo().cue;
+    float before = 0.0f;
+    for (int i = 0; i < 30; ++i) {   // cue 2 (the theremin) sounds
+        rig.runAt(0.0);
+        before = std::max(before, rig.buffer.getMagnitude(0, 0, kBlock));
+    }
+    bool panicked = false;
+    float tail = 1.0f;
+    for (int i = 0; i < 60; ++i) {   // the forearm hangs: panic from the next block on
+        rig.runAt(-80.0);
+        panicked = panicked || rig.processor.panicked();
+        if (i >= 20) tail = std::min(tail, rig.buffer.getMagnitude(0, 0, kBlock) == 0.0f ? 0.0f : 1.0f);
+    }
+    float silentMax = 0.0f;
+    for (int i = 0; i < 30; ++i) {
+        rig.runAt(0.0);   // raised again: still silent until resume
+        silentMax = std::max(silentMax, rig.buffer.getMagnitude(0, 0, kBlock));
+    }
+    const bool stillPanicked = rig.processor.panicked();
+    float back = 0.0f;
+    for (int i = 0; i < 60; ++i) {   // rolled past 60°: resume
+        rig.runAt(0.0, 90.0);
+        back = std::max(back, rig.buffer.getMagnitude(0, 0, kBlock));
+    }
+    const auto allocations = guard.allocations(), locks = guard.locks(), throws = guard.throws();
+    std::printf("plugin stage mapping: cue after raising %d, after holding 1 s %d, after a second raise %d; "
+                "panicked %d, in panic peak %.3g, after resume peak %.3g; %llu stage commands\n",
+                cueRaised, cueHeld, cueTwice, panicked ? 1 : 0, static_cast<double>(silentMax), static_cast<double>(back),
+                static_cast<unsigned long long>(rig.processor.mappedStageCommands()));
+    CHECK(cueRaised == 1);
+    CHECK(cueHeld == 1);
+    CHECK(cueTwice == 2);
+    CHECK(before > 0.01f);
+    CHECK(panicked);
+    CHECK(tail == 0.0f);
+    CHECK(stillPanicked);
+    CHECK(silentMax == 0.0f);
+    CHECK_FALSE(rig.processor.panicked());
+    CHECK(back > 0.01f);
+    CHECK(rig.processor.panics() == 1);
+    CHECK(rig.processor.mappedStageCommands() == 4);   // next, next, panic, resume
+    CHECK(allocations == 0);
+    CHECK(locks == 0);
+    CHECK(throws == 0);
 }
 
 TEST_CASE("stage: without a set list CC 120 still panics the scene; notes step cues; settable notes", "[plugin][stage]")
