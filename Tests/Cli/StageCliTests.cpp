@@ -685,7 +685,7 @@ TEST_CASE("cli: play --setlist --map: raising the arm past a mapped threshold st
     // follows the simulated IMU; the ramps are slow enough for it).
     std::string s = "t,elevation,azimuth,roll\n";
     const auto elevationAt = [](double t) {
-        const auto ramp = [](double t0, double t1, double a, double b, double t) { return a + (b - a) * std::clamp((t - t0) / (t1 - t0), 0.0, 1.0); };
+        const auto ramp = [](double t0, double t1, double a, double b, double x) { return a + (b - a) * std::clamp((x - t0) / (t1 - t0), 0.0, 1.0); };
         if (t < 0.8) return ramp(0.3, 0.4, 0.0, 50.0, t);
         if (t < 1.2) return ramp(0.8, 0.9, 50.0, -10.0, t);
         return ramp(1.2, 1.3, -10.0, 50.0, t);

@@ -255,43 +255,51 @@ TEST_CASE("stage: a mapping's \"stage\" destinations step the set list and panic
     REQUIRE(rig.processor.stageInfo().setList);
     REQUIRE(rig.processor.stageInfo().cue == 0);
 
-    RealtimeGuard guard;
+    // Only the blocks are guarded (stageInfo() is the message thread's and builds strings).
+    std::uint64_t allocations = 0, locks = 0, throws = 0;
+    const auto block = [&](double el, double rollDeg) {
+        RealtimeGuard guard;
+        rig.runAt(el, rollDeg);
+        allocations += guard.allocations();
+        locks += guard.locks();
+        throws += guard.throws();
+    };
     int cueRaised = -1, cueHeld = -1, cueTwice = -1;
-    for (int i = 0; i < 30; ++i) rig.runAt(45.0);   // across the threshold: one step
+    for (int i = 0; i < 30; ++i) block(45.0, 0.0);   // across the threshold: one step
     cueRaised = rig.processor.stageInfo().cue;
-    for (int i = 0; i < 100; ++i) rig.runAt(50.0 + 5.0 * std::sin(i * 0.3));   // held (1 s): no further step
+    for (int i = 0; i < 100; ++i) block(50.0 + 5.0 * std::sin(i * 0.3), 0.0);   // held (1 s): no further step
     cueHeld = rig.processor.stageInfo().cue;
-    for (int i = 0; i < 30; ++i) rig.runAt(0.0);
-    for (int i = 0; i < 30; ++i) rig.runAt(45.0);   // a second crossing: one more
+    for (int i = 0; i < 30; ++i) block(0.0, 0.0);
+    for (int i = 0; i < 30; ++i) block(45.0, 0.0);   // a second crossing: one more
     cueTwice = rig.processor.stageInfo().cue;
     float before = 0.0f;
     for (int i = 0; i < 30; ++i) {   // cue 2 (the theremin) sounds
-        rig.runAt(0.0);
+        block(0.0, 0.0);
         before = std::max(before, rig.buffer.getMagnitude(0, 0, kBlock));
     }
     bool panicked = false;
-    float tail = 1.0f;
+    float tail = 0.0f;
     for (int i = 0; i < 60; ++i) {   // the forearm hangs: panic from the next block on
-        rig.runAt(-80.0);
+        block(-80.0, 0.0);
         panicked = panicked || rig.processor.panicked();
-        if (i >= 20) tail = std::min(tail, rig.buffer.getMagnitude(0, 0, kBlock) == 0.0f ? 0.0f : 1.0f);
+        if (i >= 20) tail = std::max(tail, rig.buffer.getMagnitude(0, 0, kBlock));   // (the fusion reaches −60° well within 20 blocks)
     }
     float silentMax = 0.0f;
     for (int i = 0; i < 30; ++i) {
-        rig.runAt(0.0);   // raised again: still silent until resume
+        block(0.0, 0.0);   // raised again: still silent until resume
         silentMax = std::max(silentMax, rig.buffer.getMagnitude(0, 0, kBlock));
     }
     const bool stillPanicked = rig.processor.panicked();
     float back = 0.0f;
     for (int i = 0; i < 60; ++i) {   // rolled past 60°: resume
-        rig.runAt(0.0, 90.0);
+        block(0.0, 90.0);
         back = std::max(back, rig.buffer.getMagnitude(0, 0, kBlock));
     }
-    const auto allocations = guard.allocations(), locks = guard.locks(), throws = guard.throws();
     std::printf("plugin stage mapping: cue after raising %d, after holding 1 s %d, after a second raise %d; "
-                "panicked %d, in panic peak %.3g, after resume peak %.3g; %llu stage commands\n",
+                "panicked %d, in panic peak %.3g, after resume peak %.3g; %llu stage commands; %llu allocations, %llu locks, %llu throws\n",
                 cueRaised, cueHeld, cueTwice, panicked ? 1 : 0, static_cast<double>(silentMax), static_cast<double>(back),
-                static_cast<unsigned long long>(rig.processor.mappedStageCommands()));
+                static_cast<unsigned long long>(rig.processor.mappedStageCommands()),
+                static_cast<unsigned long long>(allocations), static_cast<unsigned long long>(locks), static_cast<unsigned long long>(throws));
     CHECK(cueRaised == 1);
     CHECK(cueHeld == 1);
     CHECK(cueTwice == 2);
