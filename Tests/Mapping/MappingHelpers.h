@@ -1,6 +1,7 @@
 #pragma once
 // Shared helpers of the mapping tests: an arm at a pose, a runner that collects every output,
 // and MIDI decoding written from the MIDI 1.0 specification (not from the code under test).
+#include "Core/Errors.h"
 #include "Core/Pose.h"
 #include "Mapping/Mapper.h"
 #include <cmath>
@@ -10,6 +11,18 @@
 #include <vector>
 
 namespace armadillo::mapping::test {
+
+/// What parsing `json` as a mapping file (named `source` in messages) says: the error's text, or
+/// "(accepted)".
+inline std::string parseMessage(const std::string& json, const std::string& source = "bad.json")
+{
+    try {
+        parseMappingDocument(json, source);
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "(accepted)";
+}
 
 inline ArmState armAt(double elevation, double azimuth, double roll, double t = 0.0)
 {

@@ -15,16 +15,6 @@ using armadillo::test::RealtimeGuard;
 
 namespace {
 
-std::string what(const std::string& json)
-{
-    try {
-        parseMappingDocument(json, "bad.json");
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "(accepted)";
-}
-
 /// A Mapper stepping poses and gestures, keeping every stage command it fired.
 struct StageRig {
     Mapper mapper;
@@ -76,18 +66,18 @@ TEST_CASE("Stage destinations are read, written back and refused when wrong, nam
     CHECK(toJson(doc).find(R"("stage": "cue", "cue": 3)") != std::string::npos);
 
     // Line 2, column of the bad value.
-    const std::string unknown = what("{\"version\": 1, \"mappings\": [\n  {\"source\": \"gesture:roll\", \"to\": {\"stage\": \"skip\"}}]}");
+    const std::string unknown = parseMessage("{\"version\": 1, \"mappings\": [\n  {\"source\": \"gesture:roll\", \"to\": {\"stage\": \"skip\"}}]}");
     CHECK_THAT(unknown, Catch::Contains("bad.json:2"));
     CHECK_THAT(unknown, Catch::Contains("column"));
     CHECK_THAT(unknown, Catch::Contains("unknown stage command \"skip\""));
-    CHECK_THAT(what(R"({"version": 1, "mappings": [{"source": "gesture:roll", "to": {"stage": "cue"}}]})"), Catch::Contains("needs \"cue\""));
-    CHECK_THAT(what(R"({"version": 1, "mappings": [{"source": "gesture:roll", "to": {"stage": "cue", "cue": -1}}]})"), Catch::Contains("cue"));
-    CHECK_THAT(what(R"({"version": 1, "mappings": [{"source": "gesture:roll", "to": {"stage": "next", "cue": 2}}]})"),
+    CHECK_THAT(parseMessage(R"({"version": 1, "mappings": [{"source": "gesture:roll", "to": {"stage": "cue"}}]})"), Catch::Contains("needs \"cue\""));
+    CHECK_THAT(parseMessage(R"({"version": 1, "mappings": [{"source": "gesture:roll", "to": {"stage": "cue", "cue": -1}}]})"), Catch::Contains("cue"));
+    CHECK_THAT(parseMessage(R"({"version": 1, "mappings": [{"source": "gesture:roll", "to": {"stage": "next", "cue": 2}}]})"),
                Catch::Contains("only with \"stage\": \"cue\""));
-    CHECK_THAT(what(R"({"version": 1, "mappings": [{"source": "gesture:roll", "to": {"stage": "next", "channel": 2}}]})"), Catch::Contains("channel"));
+    CHECK_THAT(parseMessage(R"({"version": 1, "mappings": [{"source": "gesture:roll", "to": {"stage": "next", "channel": 2}}]})"), Catch::Contains("channel"));
     // A continuous source without threshold or zones has no edge to act on.
-    CHECK_THAT(what(R"({"version": 1, "mappings": [{"source": "elevation", "to": {"stage": "next"}}]})"), Catch::Contains("needs an event"));
-    CHECK_THAT(what(R"({"version": 1, "mappings": [{"source": "gesture:roll", "to": {"stage": 1}}]})"), Catch::Contains("bad.json:1"));
+    CHECK_THAT(parseMessage(R"({"version": 1, "mappings": [{"source": "elevation", "to": {"stage": "next"}}]})"), Catch::Contains("needs an event"));
+    CHECK_THAT(parseMessage(R"({"version": 1, "mappings": [{"source": "gesture:roll", "to": {"stage": 1}}]})"), Catch::Contains("bad.json:1"));
 }
 
 TEST_CASE("A threshold fires its stage command once as it is crossed upward, not while held", "[mapping][stage]")

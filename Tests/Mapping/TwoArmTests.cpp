@@ -16,16 +16,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-std::string what(const std::string& json)
-{
-    try {
-        parseMappingDocument(json, "two.json");
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "(accepted)";
-}
-
 /// An arm at a pose that is also turning and accelerating (so speed, fluxes and punch have values).
 ArmState movingArm(double el, double az, double roll, double spin)
 {
@@ -135,15 +125,15 @@ TEST_CASE("Two arms: every arm source has a left-arm name; relative sources; the
     REQUIRE_NOTHROW(MappingSet::build(doc));
 
     // Mistakes name the file, line, column and place.
-    std::string e = what("{\"version\": 1, \"mappings\": [\n {\"source\": \"left.scene.pitch\", \"to\": {\"macro\": 1}}]}");
+    std::string e = parseMessage("{\"version\": 1, \"mappings\": [\n {\"source\": \"left.scene.pitch\", \"to\": {\"macro\": 1}}]}", "two.json");
     CHECK_THAT(e, Catch::Contains("two.json:2: column 13: mappings[0].source") && Catch::Contains("left.NAME"));
-    e = what("{\"version\": 1, \"mappings\": [\n {\"source\": \"left.roll\", \"arm\": \"right\", \"to\": {\"macro\": 1}}]}");
+    e = parseMessage("{\"version\": 1, \"mappings\": [\n {\"source\": \"left.roll\", \"arm\": \"right\", \"to\": {\"macro\": 1}}]}", "two.json");
     CHECK_THAT(e, Catch::Contains("two.json:2:") && Catch::Contains("mappings[0].arm") && Catch::Contains("left arm's"));
-    e = what(R"({"version": 1, "mappings": [{"source": "scene.pitch", "arm": "left", "to": {"macro": 1}}]})");
+    e = parseMessage(R"({"version": 1, "mappings": [{"source": "scene.pitch", "arm": "left", "to": {"macro": 1}}]})", "two.json");
     CHECK_THAT(e, Catch::Contains("mappings[0].arm") && Catch::Contains("not read from one arm"));
-    e = what(R"({"version": 1, "mappings": [{"source": "roll", "arm": "middle", "to": {"macro": 1}}]})");
+    e = parseMessage(R"({"version": 1, "mappings": [{"source": "roll", "arm": "middle", "to": {"macro": 1}}]})", "two.json");
     CHECK_THAT(e, Catch::Contains("unknown arm \"middle\""));
-    e = what(R"({"version": 1, "mappings": [{"source": "arms.raised", "to": {"midi": "notes", "zones": [[0, 90, 60]]}}]})");
+    e = parseMessage(R"({"version": 1, "mappings": [{"source": "arms.raised", "to": {"midi": "notes", "zones": [[0, 90, 60]]}}]})", "two.json");
     CHECK_THAT(e, Catch::Contains("mappings[0].source") && Catch::Contains("a gate"));
 }
 
