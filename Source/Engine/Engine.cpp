@@ -127,19 +127,8 @@ MotorLevels Engine::run(const ArmState& arm, const ArmState* leftArm, const Tran
     if (!(dt >= 0.0)) dt = 0.0;
     dt = std::min(dt, 0.1);
     time_ = arm.t;
-    if (config_.panicGesture && arm.valid) {   // the forearm hanging straight down, held
-        if (arm.features.pose.elevationDeg <= kPanicGestureElevation) {
-            // (After a panic the arm must rise again before hanging counts anew: a resume while
-            // it still hangs does not panic again.)
-            if (hangingSince_ < 0.0) hangingSince_ = arm.t;
-            else if (std::isfinite(hangingSince_) && arm.t - hangingSince_ >= kPanicGestureSeconds) {
-                panic();
-                hangingSince_ = std::numeric_limits<double>::infinity();
-            }
-        } else {
-            hangingSince_ = -1.0;
-        }
-    }
+    // The forearm hanging straight down, held (PanicGesture.h: once per hang).
+    if (config_.panicGesture && panicGesture_.update(arm.t, arm)) panic();
     if (panic_.load(std::memory_order_acquire)) {
         // Every motor off through the tactile engine's all-off path; the safety stage keeps
         // accounting the time (its heat history stays true for the resume).

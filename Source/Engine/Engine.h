@@ -8,6 +8,7 @@
 #include "Core/Scene.h"
 #include "Core/SpscQueue.h"
 #include "Core/Types.h"
+#include "Engine/PanicGesture.h"
 #include "Tactile/TactileEngine.h"
 #include <array>
 #include <atomic>
@@ -105,8 +106,8 @@ public:
     std::uint32_t panicCount() const noexcept { return panicCount_.load(std::memory_order_relaxed); }
     static constexpr double kPanicFadeSeconds = 0.001;
     static constexpr double kResumeFadeSeconds = 0.020;
-    static constexpr double kPanicGestureElevation = -75.0;   ///< deg
-    static constexpr double kPanicGestureSeconds = 2.0;
+    static constexpr double kPanicGestureElevation = PanicGesture::kElevationDeg;   ///< deg
+    static constexpr double kPanicGestureSeconds = PanicGesture::kSeconds;
 
     /// Sets one of the scene's own parameters by its stable id (ParamSpec::id). `value` is a
     /// number in the parameter's unit, or one of its choice names. Throws InputError naming the
@@ -144,7 +145,7 @@ private:
     std::atomic<bool> panic_ {false};
     std::atomic<std::uint32_t> panicCount_ {0};
     bool controlPanicked_ = false;       // control thread: the state of the previous control()
-    double hangingSince_ = -1.0;         // control thread: when the arm started hanging (panic gesture)
+    PanicGesture panicGesture_;          // control thread: the hang detector (config_.panicGesture)
     double audioGain_ = 1.0;             // audio thread: the panic/resume fade
 };
 

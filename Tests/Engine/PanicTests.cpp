@@ -192,3 +192,37 @@ TEST_CASE("panic and resume allocate, lock and throw nothing, from another threa
     CHECK(guard.throws() == 0);
     CHECK(rig.engine->panicCount() >= 6u);
 }
+
+TEST_CASE("PanicGesture: fires once per hang of 2 s at ≤ −75°; an invalid arm neither starts nor ends a hang", "[engine][panic]")
+{
+    PanicGesture g;
+    ArmState arm;
+    arm.valid = true;
+    const auto at = [&](double t, double el) {
+        arm.features.pose.elevationDeg = el;
+        return g.update(t, arm);
+    };
+    // The threshold is inclusive (docs/STAGE.md: elevation ≤ −75°); −74.9° is not hanging.
+    CHECK_FALSE(at(0.0, -74.9));
+    CHECK_FALSE(g.hanging());
+    CHECK_FALSE(at(0.0, -75.0));
+    CHECK(g.hanging());
+    CHECK_FALSE(at(1.999, -80.0));
+    arm.valid = false;                 // a lost source: the hang goes on
+    CHECK_FALSE(at(1.9995, 0.0));
+    arm.valid = true;
+    CHECK(at(2.0, -80.0));             // 2 s after it began: fires …
+    int again = 0;
+    for (int i = 1; i <= 1000; ++i) again += at(2.0 + i * 0.005, -89.0) ? 1 : 0;   // … once (5 s more hanging)
+    CHECK(again == 0);
+    CHECK_FALSE(at(8.0, -60.0));       // risen
+    CHECK_FALSE(at(8.25, -80.0));
+    CHECK_FALSE(at(10.0, -80.0));      // 1.75 s
+    CHECK_FALSE(at(10.24, -80.0));     // 1.99 s
+    CHECK(at(10.25, -80.0));           // 2 s: fires again
+    g.reset();
+    CHECK_FALSE(at(11.0, -80.0));      // reset: a new hang begins
+    CHECK(at(13.0, -80.0));
+    CHECK_FALSE(at(14.0, std::nan("")));   // an unknown elevation is not hanging
+    CHECK_FALSE(g.hanging());
+}
