@@ -70,6 +70,13 @@ void BlockControl::step(double dt, double wall, bool toMotors, const Transport& 
     Engine& engine = *runningEngine();
     clock_ += dt;
     const ArmState& arm = result.arm;
+    // The panic gesture (docs/STAGE.md): the right forearm hanging down for 2 s panics the stage,
+    // as CC 120 or F12 do, from the next block on. Off: a hang in progress is forgotten.
+    if (stage_ != nullptr && stage_->panicGesture()) {
+        if (panicGesture_.update(clock_, arm)) stage_->panic();
+    } else {
+        panicGesture_.reset();
+    }
     ArmFrame f;
     f.t = clock_;
     f.valid = arm.valid;

@@ -88,7 +88,7 @@ ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
     help_.onClick = [this] { showHelp(); };
     describe(setup_, "Setup", "Save the whole setup (scene, parameters, device, mount, OSC) to a file, or load one.");
     setup_.onClick = [this] { showSetupMenu(); };
-    describe(stage_, "Stage", "On stage: the performance view (F11), load or clear a set list, panic (F12) and resume.");
+    describe(stage_, "Stage", "On stage: the performance view (F11), load or clear a set list, panic (F12) and resume, the panic gesture.");
     stage_.onClick = [this] { showStageMenu(); };
     describe(mappingButton_, "Mapping editor", "Open the mapping editor: arm features to MIDI, OSC, macros and scene parameters, with MIDI learn.");
     mappingButton_.onClick = [this] {
@@ -214,6 +214,8 @@ void ArmadilloEditor::showStageMenu()
     menu.addSeparator();
     const bool oscOn = static_cast<bool>(processor_.settings()[SettingIds::stageOscEnabled]);
     menu.addItem(6, "OSC stage commands on UDP " + processor_.settings()[SettingIds::stageOscPort].toString(), true, oscOn);
+    const bool gestureOn = static_cast<bool>(processor_.settings()[SettingIds::panicGesture]);
+    menu.addItem(7, "Panic gesture: arm hanging down for 2 s", true, gestureOn);
     menu.showMenuAsync(juce::PopupMenu::Options().withTargetComponent(&stage_), [this](int choice) {
         switch (choice) {
         case 1: showPerformance(); break;
@@ -223,6 +225,9 @@ void ArmadilloEditor::showStageMenu()
         case 5: processor_.resume(); break;
         case 6:
             processor_.settings().setProperty(SettingIds::stageOscEnabled, ! static_cast<bool>(processor_.settings()[SettingIds::stageOscEnabled]), nullptr);
+            break;
+        case 7:
+            processor_.settings().setProperty(SettingIds::panicGesture, ! static_cast<bool>(processor_.settings()[SettingIds::panicGesture]), nullptr);
             break;
         default: break;
         }

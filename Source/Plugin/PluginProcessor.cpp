@@ -66,6 +66,7 @@ ArmadilloProcessor::ArmadilloProcessor()
     control_.setLeftArm(&connections_.leftArm());
     applyLeftArm();
     stage_.setCueNotes(static_cast<int>(settings_[SettingIds::cueNextNote]), static_cast<int>(settings_[SettingIds::cuePrevNote]));
+    stage_.setPanicGesture(static_cast<bool>(settings_[SettingIds::panicGesture]));
     applyStageOsc();
     mapping_.setControlStopped(true);   // nothing runs the control step yet: install, not offer
     if (const auto why = mapping_.fromState({}); why.isNotEmpty()) setStatus(why);
@@ -409,6 +410,8 @@ void ArmadilloProcessor::valueTreePropertyChanged(juce::ValueTree&, const juce::
         applyStageOsc();
     } else if (id == SettingIds::cueNextNote || id == SettingIds::cuePrevNote) {
         stage_.setCueNotes(static_cast<int>(settings_[SettingIds::cueNextNote]), static_cast<int>(settings_[SettingIds::cuePrevNote]));
+    } else if (id == SettingIds::panicGesture) {
+        stage_.setPanicGesture(static_cast<bool>(settings_[SettingIds::panicGesture]));
     } else if (id == SettingIds::readerVoice || id == SettingIds::speechRate) {
         applyVoiceSettings();
     } else if (id == SettingIds::oscOutEnabled || id == SettingIds::oscOutHost || id == SettingIds::oscOutPort

@@ -40,6 +40,7 @@ inline const juce::Identifier setListName {"setListName"};   ///< the file it ca
 inline const juce::Identifier cueNextNote {"cueNextNote"};   ///< MIDI note that steps to the next cue, −1 = none (Stage.h)
 inline const juce::Identifier cuePrevNote {"cuePrevNote"};   ///< MIDI note that steps back, −1 = none
 inline const juce::Identifier stageOscEnabled {"stageOscEnabled"}; ///< bool: listen for OSC stage commands (docs/STAGE.md)
+inline const juce::Identifier panicGesture {"panicGesture"}; ///< bool: the arm hanging down for 2 s panics (docs/STAGE.md)
 inline const juce::Identifier stageOscPort {"stageOscPort"}; ///< their UDP port (0: any free port)
 inline const juce::Identifier leftArmOsc {"leftArmOsc"};     ///< bool: an OSC sender as the left arm (docs/STAGE.md "Two arms")
 inline const juce::Identifier leftArmOscPort {"leftArmOscPort"}; ///< its UDP (and TCP) port, 1..65535 (9003)

@@ -76,6 +76,10 @@ public:
     }
     int nextNote() const noexcept { return nextNote_.load(std::memory_order_relaxed); }
     int previousNote() const noexcept { return prevNote_.load(std::memory_order_relaxed); }
+    /// The panic gesture (the panicGesture setting; Engine/PanicGesture.h): while on, the
+    /// control step panics when the right forearm hangs straight down for 2 s.
+    void setPanicGesture(bool on) noexcept { panicGesture_.store(on, std::memory_order_relaxed); }
+    bool panicGesture() const noexcept { return panicGesture_.load(std::memory_order_relaxed); }
 
     // Control side (real-time) --------------------------------------------------------------------
     /// Start of a block (or an idle step): takes an offered player, applies the cue requests
@@ -94,6 +98,7 @@ private:
     std::atomic<int> delta_ {0};                   // next/previous steps not applied yet
     std::atomic<int> goto_ {-1};                   // a cue asked for by index, not applied yet
     std::atomic<int> nextNote_ {kNextNote}, prevNote_ {kPrevNote};
+    std::atomic<bool> panicGesture_ {false};
 };
 
 } // namespace armadillo::plugin

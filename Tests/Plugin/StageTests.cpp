@@ -315,6 +315,16 @@ TEST_CASE("stage: a mapping's \"stage\" destinations step the set list and panic
     CHECK(allocations == 0);
     CHECK(locks == 0);
     CHECK(throws == 0);
+
+    // The setting is saved in the state and acts again after loading it.
+    juce::MemoryBlock state;
+    rig.processor.getStateInformation(state);
+    Rig loaded;
+    loaded.processor.setStateInformation(state.getData(), static_cast<int>(state.getSize()));
+    CHECK(static_cast<bool>(loaded.processor.settings()[SettingIds::panicGesture]));
+    for (int i = 0; i < 50; ++i) loaded.runAt(-70.0);
+    for (int i = 0; i < 210; ++i) loaded.runAt(-85.0);
+    CHECK(loaded.processor.panicked());
 }
 
 TEST_CASE("stage: without a set list CC 120 still panics the scene; notes step cues; settable notes", "[plugin][stage]")
@@ -471,4 +481,94 @@ TEST_CASE("stage: every cue of a set list takes the reader's touch profile setti
     const live::CuePlayer* plain = rig.processor.cuePlayer();
     REQUIRE(plain != nullptr);
     CHECK(plain->engine(0).config().motorGain == TactileConfig::unitMotorGains());
+}
+
+TEST_CASE("stage: the panic gesture setting — the right forearm hanging down 2 s panics, once per hang", "[plugin][stage][panic][gesture]")
+{
+    using armadillo::test::RealtimeGuard;
+    ARMADILLO_REQUIRE_GUARD();
+    {
+        RealtimeGuard probe;   // the guard sees an allocation before its zero is trusted
+        auto p = std::make_unique<double>(1.0);
+        CHECK(probe.allocations() >= 1);
+    }
+    const bool withSetList = GENERATE(true, false);
+    INFO((withSetList ? "with a set list" : "the single scene"));
+    Rig rig;
+    if (withSetList) REQUIRE(rig.processor.useSetList(kFourCues, "show.json") == "");   // cue 1: the theremin
+    REQUIRE_FALSE(static_cast<bool>(rig.processor.settings()[SettingIds::panicGesture]));   // off by default
+
+    std::uint64_t allocations = 0, locks = 0, throws = 0;
+    float peak = 0.0f;
+    bool motorsOn = false;
+    const auto hold = [&](double el, int blocks) {   // the arm held at `el` for blocks × 10 ms
+        peak = 0.0f;
+        motorsOn = false;
+        for (int i = 0; i < blocks; ++i) {
+            RealtimeGuard guard;
+            rig.runAt(el);
+            allocations += guard.allocations();
+            locks += guard.locks();
+            throws += guard.throws();
+            peak = std::max(peak, rig.buffer.getMagnitude(0, 0, kBlock));
+            motorsOn = motorsOn || anyMotorOn(rig.processor.latestFrame());
+        }
+    };
+    // Just above the gesture's −75° (the fusion settles there), then hanging at −85°.
+    hold(-70.0, 100);
+    REQUIRE(peak > 0.01f);   // it sounds (the set list's theremin, the Scene box's default scene)
+    if (withSetList) REQUIRE(motorsOn);   // the theremin's cue drives the motors
+    hold(-85.0, 300);        // off: 3 s hanging does nothing
+    const bool offPanicked = rig.processor.panicked();
+    const float offPeak = peak;
+
+    rig.processor.settings().setProperty(SettingIds::panicGesture, true, nullptr);
+    hold(-70.0, 50);
+    hold(-85.0, 190);        // 1.9 s: not yet
+    const bool shortPanicked = rig.processor.panicked();
+    hold(-70.0, 50);         // risen: the hang is over
+    const bool shortAfter = rig.processor.panicked();
+    hold(-85.0, 210);        // 2.1 s: panic
+    const bool longPanicked = rig.processor.panicked();
+    hold(-85.0, 10);         // from the next block on: audio exactly 0, motors all-off
+    const float panicPeak = peak;
+    const bool panicMotors = motorsOn;
+
+    rig.processor.resume();  // resumed while still hanging: no panic again …
+    hold(-85.0, 300);
+    const bool resumedPanicked = rig.processor.panicked();
+    const float resumedPeak = peak;
+    hold(-70.0, 50);         // … until the arm rose and hangs 2 s again
+    hold(-85.0, 210);
+    const bool againPanicked = rig.processor.panicked();
+    std::printf("plugin panic gesture (%s): off 3 s -> %d; on 1.9 s -> %d; 2.1 s -> %d, then peak %.3g motors %d; "
+                "resumed hanging 3 s -> %d (peak %.3g); risen and 2.1 s -> %d; %u panics; %llu allocations, %llu locks, %llu throws\n",
+                withSetList ? "set list" : "single scene", offPanicked ? 1 : 0, shortPanicked ? 1 : 0, longPanicked ? 1 : 0,
+                static_cast<double>(panicPeak), panicMotors ? 1 : 0, resumedPanicked ? 1 : 0, static_cast<double>(resumedPeak),
+                againPanicked ? 1 : 0, rig.processor.panics(), static_cast<unsigned long long>(allocations),
+                static_cast<unsigned long long>(locks), static_cast<unsigned long long>(throws));
+    CHECK_FALSE(offPanicked);
+    CHECK(offPeak > 0.0f);
+    CHECK_FALSE(shortPanicked);
+    CHECK_FALSE(shortAfter);
+    CHECK(longPanicked);
+    CHECK(panicPeak == 0.0f);
+    CHECK_FALSE(panicMotors);
+    CHECK_FALSE(resumedPanicked);
+    CHECK(resumedPeak > 0.0f);
+    CHECK(againPanicked);
+    CHECK(rig.processor.panics() == 2);
+    CHECK(allocations == 0);
+    CHECK(locks == 0);
+    CHECK(throws == 0);
+
+    // The setting is saved in the state and acts again after loading it.
+    juce::MemoryBlock state;
+    rig.processor.getStateInformation(state);
+    Rig loaded;
+    loaded.processor.setStateInformation(state.getData(), static_cast<int>(state.getSize()));
+    CHECK(static_cast<bool>(loaded.processor.settings()[SettingIds::panicGesture]));
+    for (int i = 0; i < 50; ++i) loaded.runAt(-70.0);
+    for (int i = 0; i < 210; ++i) loaded.runAt(-85.0);
+    CHECK(loaded.processor.panicked());
 }
