@@ -74,25 +74,30 @@ void ControlLoop::resetArm() noexcept
 
 ArmState ControlLoop::fuse(LiveInput& in) noexcept
 {
+    return fuseStep(in, tracker_, lastOrientation_, lastOrientationSerial_, &droppedImu_);
+}
+
+ArmState fuseStep(LiveInput& in, ArmTracker& tracker, LiveOrientation& last, std::uint64_t& lastUsedSerial,
+                  std::atomic<std::uint64_t>* dropped) noexcept
+{
     // Bounded: at most kMaxImuPerStep samples, the newest; older ones are dropped and counted.
     std::size_t waiting = in.imuWaiting();
     LiveImu imu;
-    while (waiting > static_cast<std::size_t>(kMaxImuPerStep) && in.popImu(imu)) {
+    while (waiting > static_cast<std::size_t>(ControlLoop::kMaxImuPerStep) && in.popImu(imu)) {
         --waiting;
-        droppedImu_.fetch_add(1, std::memory_order_relaxed);
+        if (dropped != nullptr) dropped->fetch_add(1, std::memory_order_relaxed);
     }
-    ArmState arm = tracker_.state();
+    ArmState arm = tracker.state();
     bool fused = false;
-    for (int i = 0; i < kMaxImuPerStep && in.popImu(imu); ++i) {
-        arm = tracker_.update(toImuSample(imu));
+    for (int i = 0; i < ControlLoop::kMaxImuPerStep && in.popImu(imu); ++i) {
+        arm = tracker.update(toImuSample(imu));
         fused = true;
     }
     if (!fused) {
-        lastOrientation_ = in.latest(lastOrientation_);
-        if (lastOrientation_.serial != 0 && lastOrientation_.serial != lastOrientationSerial_) {
-            lastOrientationSerial_ = lastOrientation_.serial;
-            const LiveOrientation& o = lastOrientation_;
-            arm = tracker_.updateOrientation(o.t, Eigen::Quaterniond(o.w, o.x, o.y, o.z));
+        last = in.latest(last);
+        if (last.serial != 0 && last.serial != lastUsedSerial) {
+            lastUsedSerial = last.serial;
+            arm = tracker.updateOrientation(last.t, Eigen::Quaterniond(last.w, last.x, last.y, last.z));
         }
     }
     return arm;

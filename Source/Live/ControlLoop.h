@@ -140,4 +140,14 @@ private:
     std::atomic<std::uint64_t> swaps_ {0};
 };
 
+/// One arm's fusion for one control step — the right arm's source in ControlLoop, a left arm's in
+/// `play` (LiveSession) and in the plugin (Plugin/LeftArm.h): more than
+/// ControlLoop::kMaxImuPerStep IMU samples waiting → the oldest are dropped (counted in
+/// `dropped` when given) and the newest fused; no IMU sample this step → the newest orientation
+/// of a sender that fuses itself, once (`last` is what was read, `lastUsedSerial` the serial
+/// last fused; both the caller's, zero to start afresh). Returns the tracker's state after it.
+/// Real-time: no allocation, lock or throw.
+ArmState fuseStep(LiveInput& in, ArmTracker& tracker, LiveOrientation& last, std::uint64_t& lastUsedSerial,
+                  std::atomic<std::uint64_t>* dropped = nullptr) noexcept;
+
 } // namespace armadillo::live

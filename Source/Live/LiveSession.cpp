@@ -255,18 +255,9 @@ MotorLevels LiveSession::control(double t, const SensorCounts* counts, const Imu
     // With a set list the loop tracked the arm (its monitor engine keeps the motors off) and the
     // current cue plays it.
     if (leftTracker_) {   // the left arm: its samples since the last step through its own tracker (bounded)
-        // As the right arm's step (live::ControlLoop): more than a step's worth waiting, the oldest
-        // are dropped and the newest fused.
-        live::LiveImu sample;
-        for (std::size_t waiting = leftInput_.imuWaiting(); waiting > static_cast<std::size_t>(live::ControlLoop::kMaxImuPerStep) && leftInput_.popImu(sample);)
-            --waiting;
-        int fused = 0;
-        for (; fused < live::ControlLoop::kMaxImuPerStep && leftInput_.popImu(sample); ++fused) leftArm_ = leftTracker_->update(live::toImuSample(sample));
-        // A sender that fuses itself (an OSC orientation, no IMU samples): its newest orientation, once.
-        const std::uint64_t seen = leftOrientation_.serial;
-        leftOrientation_ = leftInput_.latest(leftOrientation_);
-        if (fused == 0 && leftOrientation_.serial != 0 && leftOrientation_.serial != seen)
-            leftArm_ = leftTracker_->updateOrientation(leftOrientation_.t, Eigen::Quaterniond(leftOrientation_.w, leftOrientation_.x, leftOrientation_.y, leftOrientation_.z));
+        // As the right arm's step (live::fuseStep): the newest samples, or a self-fusing
+        // sender's newest orientation once.
+        leftArm_ = live::fuseStep(leftInput_, *leftTracker_, leftOrientation_, leftOrientationUsed_);
         if (leftArm_.valid) leftPose_.store(leftArm_.features.pose);
     }
     MotorLevels levels = result.levels;

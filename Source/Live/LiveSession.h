@@ -213,6 +213,7 @@ private:
     std::unique_ptr<ArmTracker> leftTracker_;
     ArmState leftArm_ {};
     live::LiveOrientation leftOrientation_ {};   // control thread: the left sender's last orientation read
+    std::uint64_t leftOrientationUsed_ = 0;       // control thread: the serial of the one last fused
     std::unique_ptr<Engine> duo_;                 // two arms: what plays (the loop's engine only tracks)
     SeqLock<MotorLevels> leftLevels_;
     SeqLock<Pose> leftPose_;

@@ -2,7 +2,7 @@
 // The plugin's left arm (docs/STAGE.md "Two arms", issue 28): a second source, an OSC sender,
 // with its own mailbox and tracker (its own SR-UKF for IMU samples, its own orientations for a
 // sender that fuses itself), fused on the control side each step as the right arm's source is
-// (live::ControlLoop::fuse: at most kMaxImuPerStep samples, the newest). Its receiver (same
+// (live::fuseStep: at most kMaxImuPerStep samples, the newest). Its receiver (same
 // dialects, detection and mount as the right arm's OSC input) lives in Connections.
 //
 // Threads: setOn() on the message thread; the OSC receiver's thread fills input(); fuse() on the
@@ -36,16 +36,7 @@ public:
             return nullptr;
         }
         wasOn_ = true;
-        live::LiveImu sample;
-        for (std::size_t waiting = input_.imuWaiting();
-             waiting > static_cast<std::size_t>(live::ControlLoop::kMaxImuPerStep) && input_.popImu(sample);)
-            --waiting;   // a burst: the newest are fused, the oldest dropped
-        int fused = 0;
-        for (; fused < live::ControlLoop::kMaxImuPerStep && input_.popImu(sample); ++fused) arm_ = tracker_.update(live::toImuSample(sample));
-        const std::uint64_t seen = orientation_.serial;
-        orientation_ = input_.latest(orientation_);
-        if (fused == 0 && orientation_.serial != 0 && orientation_.serial != seen)
-            arm_ = tracker_.updateOrientation(orientation_.t, Eigen::Quaterniond(orientation_.w, orientation_.x, orientation_.y, orientation_.z));
+        arm_ = live::fuseStep(input_, tracker_, orientation_, orientationUsed_);
         return &arm_;
     }
 
@@ -56,6 +47,7 @@ private:
     ArmTracker tracker_;
     ArmState arm_ {};
     live::LiveOrientation orientation_ {};
+    std::uint64_t orientationUsed_ = 0;
     bool wasOn_ = false;
 };
 
