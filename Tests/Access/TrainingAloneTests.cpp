@@ -69,13 +69,7 @@ TEST_CASE("deafblind feedback: wrong, then the right cell again, then the next c
 
 TEST_CASE("tactile player: the roll rate it is given is read for twists, with no allocation", "[player][gestures][realtime]")
 {
-    REQUIRE(RealtimeGuard::installed());
-    {
-        RealtimeGuard probe;   // the probe catches an allocation before a zero is trusted
-        int* volatile x = new int(3);
-        CHECK(probe.allocations() >= 1);
-        delete x;
-    }
+    ARMADILLO_REQUIRE_GUARD_SEES_ALLOCATION();
     TactilePlayer p(TactileConfig {}, 0.005);
     auto twist = [](double t, double start) { return t >= start && t < start + 0.3 ? 6.0 * std::sin(2.0 * kPi * (t - start) / 0.3) : 0.0; };
     std::uint64_t allocations = 0;

@@ -371,7 +371,7 @@ TEST_CASE("Feeder: 'here' answered by a push of the arm in the hold stage, logge
 TEST_CASE("The scene's control in training stays real-time: typed answers, a push's answer, a trial restarted", "[braille][training][realtime]")
 {
     using armadillo::test::RealtimeGuard;
-    REQUIRE(RealtimeGuard::installed());
+    ARMADILLO_REQUIRE_GUARD();
     {
         RealtimeGuard probe;   // the probe catches an allocation before a zero is trusted
         int* volatile p = new int(5);

@@ -343,3 +343,14 @@ extern "C" void __cxa_throw(void* object, std::type_info* type, void (_GLIBCXX_C
 #else
 #define ARMADILLO_REQUIRE_GUARD() REQUIRE(::armadillo::test::RealtimeGuard::installed())
 #endif
+
+// The guard installed (or the test stops under a sanitizer, as above), then proved on this
+// thread: a probe sees an allocation before any zero it counts is trusted.
+#define ARMADILLO_REQUIRE_GUARD_SEES_ALLOCATION()                                                  \
+    ARMADILLO_REQUIRE_GUARD();                                                                     \
+    do {                                                                                           \
+        ::armadillo::test::RealtimeGuard armadilloProbe;                                           \
+        int* volatile armadilloProbed = new int(1);                                                \
+        CHECK(armadilloProbe.allocations() >= 1);                                                  \
+        delete armadilloProbed;                                                                    \
+    } while (false)

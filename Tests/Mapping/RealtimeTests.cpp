@@ -53,11 +53,7 @@ std::string sixtyFour()
 
 TEST_CASE("The guard sees an allocation (so its zeros below mean something)", "[mapping][realtime]")
 {
-#ifdef ARMADILLO_GUARD_UNDER_SANITIZER
-    WARN("sanitizer build: the real-time guard is not installed");
-    return;
-#endif
-    REQUIRE(RealtimeGuard::installed());
+    ARMADILLO_REQUIRE_GUARD();
     RealtimeGuard guard;
     auto p = std::make_unique<std::vector<int>>(100);
     CHECK(guard.allocations() >= 2);
@@ -67,11 +63,7 @@ TEST_CASE("The guard sees an allocation (so its zeros below mean something)", "[
 
 TEST_CASE("64 mappings run without allocation, free, lock or throw", "[mapping][realtime]")
 {
-#ifdef ARMADILLO_GUARD_UNDER_SANITIZER
-    WARN("sanitizer build: the real-time guard is not installed");
-    return;
-#endif
-    REQUIRE(RealtimeGuard::installed());
+    ARMADILLO_REQUIRE_GUARD();
     const MappingDocument doc = parseMappingDocument(sixtyFour(), "sixty-four.json");
     REQUIRE(doc.mappings.size() == 64);
     Mapper mapper;
@@ -129,11 +121,7 @@ TEST_CASE("64 mappings run without allocation, free, lock or throw", "[mapping][
 
 TEST_CASE("Two-arm sources (left.*, arms.*) run without allocation, free, lock or throw", "[mapping][realtime][twoarms]")
 {
-#ifdef ARMADILLO_GUARD_UNDER_SANITIZER
-    WARN("sanitizer build: the real-time guard is not installed");
-    return;
-#endif
-    REQUIRE(RealtimeGuard::installed());
+    ARMADILLO_REQUIRE_GUARD();
     const MappingDocument doc = parseMappingDocument(R"({"version": 1, "mappings": [
         {"source": "left.elevation", "smoothMs": 10, "to": {"midi": "cc14", "channel": 2, "cc": 1}},
         {"source": "left.azimuth", "to": {"midi": "notes", "channel": 3, "zones": [[0, 120, 60], [120, 240, 64], [240, 360, 67], [350, 10, 70]]}},

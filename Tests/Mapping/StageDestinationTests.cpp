@@ -187,11 +187,7 @@ TEST_CASE("In panic only stage mappings run, and a panic does not make a held so
 
 TEST_CASE("Stage commands are emitted without allocation, free, lock or throw", "[mapping][stage][realtime]")
 {
-#ifdef ARMADILLO_GUARD_UNDER_SANITIZER
-    WARN("sanitizer build: the real-time guard is not installed");
-    return;
-#endif
-    REQUIRE(RealtimeGuard::installed());
+    ARMADILLO_REQUIRE_GUARD();
     {   // the probe first: it sees an allocation
         RealtimeGuard probe;
         auto p = std::make_unique<std::vector<int>>(10);

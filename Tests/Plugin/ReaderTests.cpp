@@ -283,7 +283,7 @@ TEST_CASE("Sensitivity test in the app: a simulated reader's nine thresholds fou
     // tactile engine and the safety stage) is at least that motor's threshold.
     const std::array<int, 9> truth {3, 5, 7, 9, 11, 4, 6, 8, 10};
     using armadillo::test::RealtimeGuard;
-    REQUIRE(RealtimeGuard::installed());
+    ARMADILLO_REQUIRE_GUARD();
     {
         RealtimeGuard probe;   // the probe catches an allocation before a zero is trusted
         int* volatile p = new int(7);
@@ -422,7 +422,7 @@ TEST_CASE("Arm feedback through the plugin's control path: the stimulus takes th
 {
     using namespace armadillo;
     using armadillo::test::RealtimeGuard;
-    REQUIRE(RealtimeGuard::installed());
+    ARMADILLO_REQUIRE_GUARD();
     {
         RealtimeGuard probe;   // the probe catches an allocation before a zero is trusted
         int* volatile p = new int(3);
