@@ -480,8 +480,10 @@ int runPlay(const Arguments& args)
         }
         if (cl.has("--calibration")) config.calibration = device::loadCalibration(cl.value("--calibration"));
         config.mapping = readMapOption(cl, engine);
-        if (!config.audioIn.empty() && !cl.has("--sample-rate")) engine.sceneConfig.sampleRate = readWav(config.audioIn).sampleRate;
-        if (!config.audioStems.empty() && !cl.has("--sample-rate")) engine.sceneConfig.sampleRate = readWav(config.audioStems.front()).sampleRate;
+        if (!config.audioIn.empty() && !cl.has("--sample-rate"))
+            engine.sceneConfig.sampleRate = engineSampleRate(readWav(config.audioIn).sampleRate, config.audioIn);
+        if (!config.audioStems.empty() && !cl.has("--sample-rate"))
+            engine.sceneConfig.sampleRate = engineSampleRate(readWav(config.audioStems.front()).sampleRate, config.audioStems.front());
 
         // Spoken / braille-display copy of what stderr says (stderr itself is unchanged).
         std::unique_ptr<ReaderIo> voice;

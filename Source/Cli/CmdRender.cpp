@@ -156,11 +156,11 @@ int runRender(const Arguments& args)
         if (!paths.empty()) {
             recording = readWavStems(paths);   // InputError names a bad file or a sample-rate mismatch
             settings.audioInName = paths.front();
-            if (!cl.has("--sample-rate")) engine.sceneConfig.sampleRate = recording.sampleRate;
+            if (!cl.has("--sample-rate")) engine.sceneConfig.sampleRate = engineSampleRate(recording.sampleRate, paths.front());
             settings.audioIn = &recording;
         } else if (cl.has("--audio-in")) {
             recording = readWav(cl.value("--audio-in"));   // IoError (4) when unreadable, InputError (3) naming the file when not audio
-            if (!cl.has("--sample-rate")) engine.sceneConfig.sampleRate = recording.sampleRate;
+            if (!cl.has("--sample-rate")) engine.sceneConfig.sampleRate = engineSampleRate(recording.sampleRate, cl.value("--audio-in"));
             settings.audioIn = &recording;
             settings.audioInName = cl.value("--audio-in");
         }

@@ -1,9 +1,11 @@
 #include "Core/Csv.h"
 #include "Core/AtomicFile.h"
 #include "Core/Errors.h"
+#include "Core/Pose.h"
 #include <charconv>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 
 namespace armadillo {
@@ -266,11 +268,18 @@ std::vector<TimedQuaternion> readQuaternions(const CsvTable& t)
             v[i] = t.value(r, c[i]);
             if (!std::isfinite(v[i])) t.fail(r, c[i], "quaternion component must be a finite number");
         }
-        // Normalised after scaling by the largest component, so neither 1e200 (whose square
-        // overflows) nor 1e-200 (whose square underflows) loses the direction.
-        const double big = std::max({std::abs(v[0]), std::abs(v[1]), std::abs(v[2]), std::abs(v[3])});
-        if (!(big > 0.0)) t.fail(r, c[0], "quaternion has zero length");
-        for (double& x : v) x /= big;
+        // A rotation's quaternion has length 1; within 10 % it is rounding and is normalised,
+        // beyond it the row is refused (Core/Pose.h, isRotationLength).
+        if (!isRotationLength(v[0], v[1], v[2], v[3])) {
+            // The length for the message, scaled so that 1e200 and 1e-300 are said as they are.
+            const double big = std::max({std::abs(v[0]), std::abs(v[1]), std::abs(v[2]), std::abs(v[3])});
+            double sum = 0.0;
+            for (double x : v) sum += big > 0.0 ? (x / big) * (x / big) : 0.0;
+            char what[160];
+            std::snprintf(what, sizeof what, "quaternion has length %.3g; a rotation's quaternion has length 1 (within 10%%)",
+                          big * std::sqrt(sum));
+            t.fail(r, c[0], what);
+        }
         const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] + v[3] * v[3]);
         out[r].t = t.value(r, ct);
         out[r].q = Eigen::Quaterniond(v[0] / n, v[1] / n, v[2] / n, v[3] / n);

@@ -127,6 +127,14 @@ AudioBuffer readWavStems(const std::vector<std::string>& paths)
     return out;
 }
 
+double engineSampleRate(double rate, const std::string& source)
+{
+    if (rate >= kMinEngineSampleRate && rate <= kMaxEngineSampleRate) return rate;
+    char what[160];
+    std::snprintf(what, sizeof what, "sample rate %.6g Hz: the engine runs at 8000..384000 Hz (resample the file, or give --sample-rate)", rate);
+    throw InputError(source.empty() ? std::string("--sample-rate") : source, 0, "", what);
+}
+
 AudioBuffer readWav(const std::string& path)
 {
     if (::access(path.c_str(), R_OK) != 0) throw IoError("cannot read " + path + ": " + std::strerror(errno));

@@ -28,6 +28,13 @@ AudioBuffer readWav(const std::string& path);
 /// or a file holds no audio.
 AudioBuffer readWavStems(const std::vector<std::string>& paths);
 
+/// The sample rates the engine runs at, in Hz.
+constexpr double kMinEngineSampleRate = 8000.0;
+constexpr double kMaxEngineSampleRate = 384000.0;
+/// `rate` (Hz) when the engine can run at it; otherwise an InputError naming `source`: the file
+/// whose rate the engine was to take (a recording), or the option that set it.
+double engineSampleRate(double rate, const std::string& source);
+
 /// A WAV written as audio arrives. Not real-time itself: call it from a writer thread, not an
 /// audio callback. Samples go to a temporary file; finish() closes it and renames it in place;
 /// destroyed without finish(), it leaves nothing behind.

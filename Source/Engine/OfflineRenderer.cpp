@@ -52,9 +52,10 @@ void checkRenderSpan(const CsvTable& motion, std::size_t rows, const std::functi
 RenderResult renderOffline(const CsvTable& motion, const RenderSettings& settings)
 {
     const MotionRows source = MotionRows::load(motion, settings.mount, "--mount");
-    const double sampleRate = settings.engine.sceneConfig.sampleRate;
-    if (!(sampleRate >= 8000.0 && sampleRate <= 384000.0))
-        throw InputError("", 0, "", "sample rate must lie in 8000..384000 Hz");
+    // A rate taken from the recording names the recording; any other names the option.
+    const bool rateOfInput = settings.audioIn != nullptr && settings.audioIn->sampleRate == settings.engine.sceneConfig.sampleRate;
+    const double sampleRate = engineSampleRate(settings.engine.sceneConfig.sampleRate,
+                                               rateOfInput && !settings.audioInName.empty() ? settings.audioInName : std::string("--sample-rate"));
 
     // The span is checked before the engine starts or anything is rendered: a time column that
     // jumps to 1e12 s is a bad file, not a request for a year of audio.

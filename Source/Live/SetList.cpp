@@ -252,8 +252,9 @@ RenderResult renderSetList(const CsvTable& motion, const SetList& list, const Re
     // A set list renders into memory: its span is bounded like any collected render.
     checkRenderSpan(motion, rows, timeOf, settings.tailSeconds, std::min(settings.maxSeconds, kMaxCollectedRenderSeconds));
 
-    const double sampleRate = settings.engine.sceneConfig.sampleRate;
-    if (!(sampleRate >= 8000.0 && sampleRate <= 384000.0)) throw InputError("", 0, "", "sample rate must lie in 8000..384000 Hz");
+    const bool rateOfInput = settings.audioIn != nullptr && settings.audioIn->sampleRate == settings.engine.sceneConfig.sampleRate;
+    const double sampleRate = engineSampleRate(settings.engine.sceneConfig.sampleRate,
+                                               rateOfInput && !settings.audioInName.empty() ? settings.audioInName : std::string("--sample-rate"));
     const bool twoArms = settings.leftMotion != nullptr;
     MotionRows leftSource;
     if (twoArms) {

@@ -112,12 +112,11 @@ DecodeStatus decodeArmadillo(const OscMessage& m, SensorReading& out, const char
         return DecodeStatus::Reading;
     }
     if (m.address == "/armadillo/orientation") {
-        const char* wrong = "/armadillo/orientation needs 4 finite numbers w x y z, not all zero";
+        const char* wrong = "/armadillo/orientation needs 4 finite numbers w x y z";
         const DecodeStatus s = numbers(m, 4, false, 4, v, why, wrong);
         if (s != DecodeStatus::Reading) return s;
-        const Eigen::Quaterniond q(v[0], v[1], v[2], v[3]);
-        if (!(q.norm() > 1e-9)) return fail(why, DecodeStatus::WrongTypes, wrong);
-        return orientationReading(Eigen::Quaterniond::Identity(), q.normalized(), true, out, why);   // any length: normalised
+        // A rotation: length 1 within 10 % (Core/Pose.h), as every dialect here and a motion file.
+        return orientationReading(Eigen::Quaterniond::Identity(), Eigen::Quaterniond(v[0], v[1], v[2], v[3]), true, out, why);
     }
     if (m.address.substr(0, 11) == "/armadillo/") return DecodeStatus::Known;   // our own outputs looped back
     return DecodeStatus::NotMine;

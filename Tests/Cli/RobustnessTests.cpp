@@ -416,35 +416,75 @@ TEST_CASE("robustness: fuse refuses absurd gyro values naming the cell instead o
     for (const auto& row : rows) CHECK(row.q.coeffs().allFinite());
 }
 
-TEST_CASE("robustness: quaternions of any scale are normalised, not turned into a zero quaternion", "[cli][robust]")
+TEST_CASE("robustness: a motion file's quaternions are rotations: rounding is normalised, absurd lengths are refused", "[cli][robust]")
 {
-    // Rows at 1e200 and 1e-200 times the same rotation render exactly as the unit rotation does.
+    // 0.5.0 (issue 32): a length within 10 % of 1 is rounding and renders exactly as the unit
+    // rotation does; 1e200, 1e-200, 1e-300 and 2 are a broken writer and are refused with the
+    // file, line and column (0.4.0 normalised any non-zero length, so 1e-300 passed as a pose).
     const double h = std::sqrt(0.5);
-    auto file = [&](double scale) {
+    auto file = [&](double scale, int badRow) {
         std::string s = "t,qw,qx,qy,qz\n";
         for (int i = 0; i < 100; ++i) {
+            const double k = i == badRow || badRow < 0 ? scale : 1.0;
             char row[200];
-            std::snprintf(row, sizeof row, "%g,%.17g,0,%.17g,0\n", i * 0.01, h * scale, h * scale);
+            std::snprintf(row, sizeof row, "%g,%.17g,0,%.17g,0\n", i * 0.01, h * k, h * k);
             s += row;
         }
         return s;
     };
-    const std::string unit = cli::file("rb-q1.csv", file(1.0)), big = cli::file("rb-qbig.csv", file(1e200)),
-                      tiny = cli::file("rb-qtiny.csv", file(1e-200));
-    const auto table = CsvTable::parse(file(1e200), "big");
+    const std::string unit = cli::file("rb-q1.csv", file(1.0, -1)), rounded = cli::file("rb-q105.csv", file(1.05, -1));
+    const auto table = CsvTable::parse(file(1.05, -1), "rounded");
     for (const auto& row : readQuaternions(table)) {
         CHECK(std::fabs(row.q.norm() - 1.0) < 1e-12);
         CHECK(std::fabs(row.q.w() - h) < 1e-12);
     }
-    for (const std::string& f : {unit, big, tiny}) {
+    for (const std::string& f : {unit, rounded}) {
         INFO(f);
         const Run r = cli::runArmadilloWithin(kBound, "render --scene compass --motion " + q(f) + " --out " + q(cli::path("rb-q.wav")) +
                                                           " --tactile " + q(f + ".t.csv"));
         CHECK(r.code == 0);
         CHECK(r.out.find("\"rows_without_orientation\":0") != std::string::npos);
     }
-    CHECK(readWholeFile(big + ".t.csv") == readWholeFile(unit + ".t.csv"));
-    CHECK(readWholeFile(tiny + ".t.csv") == readWholeFile(unit + ".t.csv"));
+    CHECK(readWholeFile(rounded + ".t.csv") == readWholeFile(unit + ".t.csv"));
+    int k = 0;
+    for (const double scale : {1e200, 1e-200, 1e-300, 2.0, 0.5}) {
+        INFO(scale);
+        const std::string name = "rb-qbad" + std::to_string(k++) + ".csv";
+        const std::string bad = cli::file(name, file(scale, 41));   // row 41 = line 43
+        const Run r = cli::runArmadilloWithin(kBound, "render --scene compass --motion " + q(bad) + " --out " + q(cli::path("rb-qbad.wav")));
+        CHECK(r.code == 3);
+        CHECK(r.err.find(name + ":43") != std::string::npos);
+        CHECK(r.err.find("quaternion has length") != std::string::npos);
+        CHECK_THROWS_AS(readQuaternions(CsvTable::parse(file(scale, 41), "bad")), InputError);
+    }
+}
+
+TEST_CASE("robustness: a recording at a rate the engine cannot run names the file", "[cli][robust]")
+{
+    // 0.4.0 said "<input>: sample rate must lie in 8000..384000 Hz" when the rate came from the
+    // recording; every path that takes the engine's rate from a file now names that file.
+    const std::string motion = cli::file("rb-rate.csv", poseRows(20));
+    for (const double rate : {4000.0, 1.0, 768000.0}) {
+        INFO(rate);
+        AudioBuffer a;
+        a.sampleRate = rate;
+        a.channels.assign(1, std::vector<float>(64, 0.1f));
+        const std::string wav = cli::path("rb-rate-" + std::to_string(static_cast<long>(rate)) + ".wav");
+        writeWav(wav, a);
+        const std::string name = wav.substr(wav.rfind('/') + 1);
+        const std::vector<std::string> commands {
+            "render --scene score --motion " + q(motion) + " --audio-in " + q(wav) + " --out " + q(cli::path("rb-rate-out.wav")),
+            "render --scene audio-touch --motion " + q(motion) + " --stem bass=" + q(wav) + " --out " + q(cli::path("rb-rate-out.wav")),
+            "play --scene score --simulate --unpaced --seconds 0.2 --audio-in " + q(wav) + " --out " + q(cli::path("rb-rate-play.wav")),
+        };
+        for (const std::string& c : commands) {
+            INFO(c);
+            const Run r = cli::runArmadilloWithin(kBound, c);
+            CHECK(r.code == 3);
+            CHECK(r.err.find(name) != std::string::npos);
+            CHECK(r.err.find("<input>") == std::string::npos);
+        }
+    }
 }
 
 TEST_CASE("robustness: a silent render says why on stderr; one with sound says nothing", "[cli][robust]")

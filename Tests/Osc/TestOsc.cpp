@@ -117,7 +117,7 @@ TEST_CASE("osc: UDP input drives IMU and orientation handlers; sender speaks the
     std::vector<OscArg> nine;
     for (int i = 0; i < 9; ++i) nine.push_back(OscArg::float32(static_cast<float>(i) + 0.5f));
     REQUIRE(tx.send("/armadillo/imu", nine.data(), nine.size()));
-    REQUIRE(tx.sendOrientation(Eigen::Quaterniond(2.0, 0.0, 0.0, 0.0)));   // normalised on arrival
+    REQUIRE(tx.sendOrientation(Eigen::Quaterniond(1.05, 0.0, 0.0, 0.0)));   // rounding: normalised on arrival
     const OscArg wrong[] = {OscArg::float32(1.0f), OscArg::string("x")};
     REQUIRE(tx.send("/armadillo/imu", wrong, 2));
     REQUIRE(tx.sendGesture("roll"));

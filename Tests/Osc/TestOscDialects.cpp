@@ -285,6 +285,25 @@ TEST_CASE("osc merger: bad input is counted by kind and never moves the orientat
     CHECK(m.stats().deviceSwitches == 1);
 }
 
+TEST_CASE("osc merger: /armadillo/orientation takes a rotation's quaternion, not any length", "[device][osc][merger]")
+{
+    // Length 1 within 10 % is rounding and is normalised; 1e-30, 1e-300, 2 and 1e30 are absurd
+    // (Core/Pose.h isRotationLength; 0.4.0 normalised any non-zero length).
+    OscSampleMerger m;
+    Collected c;
+    attach(m, c);
+    double t = 0.0;
+    feed(m, encodeOscMessage("/armadillo/orientation", floats({1.05, 0, 0, 0})), t += 0.01);
+    REQUIRE(c.q.size() == 1);
+    CHECK(c.q[0].second.norm() == Approx(1.0).margin(1e-12));
+    for (const double w : {1e-30, 1e-300, 0.0, 2.0, 1e30}) {
+        INFO(w);
+        feed(m, encodeOscMessage("/armadillo/orientation", floats({w, 0, 0, 0})), t += 0.01);
+    }
+    CHECK(c.q.size() == 1);   // none of them moved the orientation
+    CHECK(m.stats().absurd == 5);
+}
+
 TEST_CASE("osc merger: an accelerometer alone gives tilt, and a compass gives a heading", "[device][osc][merger]")
 {
     {
