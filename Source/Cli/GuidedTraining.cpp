@@ -12,6 +12,10 @@
 //   5. every answer goes into the reader profile (saved at the end, and after every answer so a
 //      crash loses nothing) and the session log (the §4.4.1 log's columns; events trial, row,
 //      word-gap, cue, answer, feedback, end).
+//   A session may stop early — the answers end (stdin closed), Ctrl-C, the braille display goes
+//   away: what was answered is kept in every file asked for (profile and --log; the log's `end`
+//   row then says `stopped`); the first two are a normal end (exit 0), the display's loss still
+//   exit 4.
 #include "Cli/GuidedTraining.h"
 #include "Access/AdaptivePlan.h"
 #include "Access/ArmGestures.h"
@@ -300,61 +304,80 @@ int runGuidedTraining(const CommandLine& cl)
     io.status("braille training, session " + std::to_string(o.session) + ": " + std::to_string(trials) + " trials. '?' repeats, '-' skips" +
               (cl.has("--chords") ? "; answer in chords: S D F J K L = dots 3 2 1 4 5 6" : "") +
               (perkinsKeys ? ", Space after each cell, Space again or Enter to answer" : ""));
-    int right = 0;
-    for (int n = 1; n <= trials; ++n) {
-        const access::PlannedTrial trial = plan.next();
-        const int grade = trial.stage == "contractions" ? 2 : 1;
-        const std::string header = std::to_string(n) + "/" + std::to_string(trials);
-        logRow(session.log(), session.now(), "trial", &trial, n, trial.prompt, -1, 0, 0, false, "", -1);
-        std::string answer;
-        double shownAt = 0.0;
-        for (;;) {
-            session.nextTrial(&trial, n);
-            session.draw(trial.shown, grade, &trial, n);
-            session.yourTurn(&trial, n);
-            shownAt = session.wall();
-            io.prompt("trial " + header + ": " + trial.prompt, header + " " + trial.prompt);
-            answer = io.readLine();
-            if (!armGesture.empty() && (answer == "?" || answer == "-"))   // it came from the arm
-                logRow(session.log(), session.now(), "gesture", &trial, n, "", -1, 0, 0, false, armGesture, -1);
-            armGesture.clear();
-            if (answer == "?") continue;   // show it again
-            if (answer == "-") break;
-            if (cl.has("--chords")) {
-                std::string letters, why;
-                if (!access::chordsToLetters(answer, letters, why)) {
-                    io.note("not understood: " + why + "; the letter again");
-                    continue;
+    int right = 0, done = 0;
+    // Whatever ends the session, the files asked for keep what was answered.
+    auto finish = [&](bool early) {
+        logRow(session.log(), session.now(), "end", nullptr, 0, "", -1, 0, 0, false, early ? "stopped" : "", -1);
+        save(session.now());
+        if (!logPath.empty()) writeFileAtomically(logPath, session.log());
+    };
+    bool stopped = false;
+    try {
+        for (int n = 1; n <= trials; ++n) {
+            const access::PlannedTrial trial = plan.next();
+            const int grade = trial.stage == "contractions" ? 2 : 1;
+            const std::string header = std::to_string(n) + "/" + std::to_string(trials);
+            logRow(session.log(), session.now(), "trial", &trial, n, trial.prompt, -1, 0, 0, false, "", -1);
+            std::string answer;
+            double shownAt = 0.0;
+            for (;;) {
+                session.nextTrial(&trial, n);
+                session.draw(trial.shown, grade, &trial, n);
+                session.yourTurn(&trial, n);
+                shownAt = session.wall();
+                io.prompt("trial " + header + ": " + trial.prompt, header + " " + trial.prompt);
+                answer = io.readLine();
+                if (!armGesture.empty() && (answer == "?" || answer == "-"))   // it came from the arm
+                    logRow(session.log(), session.now(), "gesture", &trial, n, "", -1, 0, 0, false, armGesture, -1);
+                armGesture.clear();
+                if (answer == "?") continue;   // show it again
+                if (answer == "-") break;
+                if (cl.has("--chords")) {
+                    std::string letters, why;
+                    if (!access::chordsToLetters(answer, letters, why)) {
+                        io.note("not understood: " + why + "; the letter again");
+                        continue;
+                    }
+                    answer = letters;
                 }
-                answer = letters;
+                if (!answer.empty()) break;
             }
-            if (!answer.empty()) break;
+            const double rt = session.wall() - shownAt;
+            const bool skipped = answer == "-";
+            const std::string given = skipped ? "(skipped)" : normalised(answer);
+            const bool correct = !skipped && given == normalised(trial.expected);   // spaces do not count
+            right += correct;
+            plan.record(trial, given, correct, rt, session.now());
+            logRow(session.log(), session.now(), "answer", &trial, n, "", -1, 0, 0, false, given, correct ? 1 : 0);
+            if (correct) io.note("right");
+            else io.note("wrong: it was '" + trial.expected + "'" + (skipped ? "" : ", you said '" + given + "'"));
+            session.feedback(correct, &trial, n);
+            if (!correct) {
+                // The right cell again; when the answer was another letter, that one next to it.
+                std::string again = trial.shown;
+                if (trial.stage == "letters" && given.size() == 1 && given[0] >= 'a' && given[0] <= 'z') again += " " + given;
+                session.draw(again, grade, &trial, n);
+            }
+            save(session.now());   // nothing lost if the session is cut short
+            ++done;
+            // Stillness between trials (the reader can tell the next trial from the replay).
+            device.waitFor(player.play({}, 2.0));
         }
-        const double rt = session.wall() - shownAt;
-        const bool skipped = answer == "-";
-        const std::string given = skipped ? "(skipped)" : normalised(answer);
-        const bool correct = !skipped && given == normalised(trial.expected);   // spaces do not count
-        right += correct;
-        plan.record(trial, given, correct, rt, session.now());
-        logRow(session.log(), session.now(), "answer", &trial, n, "", -1, 0, 0, false, given, correct ? 1 : 0);
-        if (correct) io.note("right");
-        else io.note("wrong: it was '" + trial.expected + "'" + (skipped ? "" : ", you said '" + given + "'"));
-        session.feedback(correct, &trial, n);
-        if (!correct) {
-            // The right cell again; when the answer was another letter, that one next to it.
-            std::string again = trial.shown;
-            if (trial.stage == "letters" && given.size() == 1 && given[0] >= 'a' && given[0] <= 'z') again += " " + given;
-            session.draw(again, grade, &trial, n);
+    } catch (const AnswersEnded&) {
+        stopped = true;   // the reader stopped answering: a normal end
+    } catch (const IoError&) {
+        if (!interrupted()) {   // the display went away, the device failed: keep the answers, then say so
+            finish(true);
+            throw;
         }
-        save(session.now());   // nothing lost if the session is cut short
-        // Stillness between trials (the reader can tell the next trial from the replay).
-        device.waitFor(player.play({}, 2.0));
+        stopped = true;   // Ctrl-C
     }
-    logRow(session.log(), session.now(), "end", nullptr, 0, "", -1, 0, 0, false, "", -1);
-    save(session.now());
-    if (!logPath.empty()) writeFileAtomically(logPath, session.log());
-    io.status("training complete: " + std::to_string(right) + " of " + std::to_string(trials) + " right");
-    std::cout << "{\"session\":" << o.session << ",\"trials\":" << trials << ",\"correct\":" << right
+    finish(stopped);
+    if (stopped) io.status("training stopped after " + std::to_string(done) + " of " + std::to_string(trials) + " trials: " +
+                           std::to_string(right) + " right; the answers are kept");
+    else io.status("training complete: " + std::to_string(right) + " of " + std::to_string(trials) + " right");
+    std::cout << "{\"session\":" << o.session << ",\"trials\":" << trials << ",\"trials_done\":" << done
+              << ",\"stopped\":" << (stopped ? "true" : "false") << ",\"correct\":" << right
               << ",\"answers_in_profile\":" << plan.answers().size() << ",\"history\":" << historyAnswers << "}\n";
     return kExitOk;
 }

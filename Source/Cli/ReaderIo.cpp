@@ -154,7 +154,7 @@ std::string ReaderIo::readLine()
             pending_ += '\n';
             continue;
         } else if (closed_ && !display_) {
-            throw InputError("stdin", 0, "", "the answers ended before the procedure was complete");
+            throw AnswersEnded();
         }
         if (got) {
             const auto b = line.find_first_not_of(" \t\r");

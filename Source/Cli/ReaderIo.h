@@ -12,6 +12,7 @@
 #include "Access/BrailleDisplay.h"
 #include "Access/Speech.h"
 #include "Cli/CommandLine.h"
+#include "Core/Errors.h"
 #include <functional>
 #include <memory>
 #include <string>
@@ -21,6 +22,13 @@ namespace armadillo::cli {
 
 /// Options of every reader-facing procedure: --speak, --speech, --rate, --brlapi, --braille-display.
 std::vector<OptionSpec> readerIoOptionSpecs();
+
+/// readLine()'s "the answers ended" (standard input closed, no display to answer from): an
+/// InputError for a procedure that needs every answer, and a normal end for one that can stop
+/// early and keep what was answered (the adaptive training).
+struct AnswersEnded : InputError {
+    AnswersEnded() : InputError("stdin", 0, "", "the answers ended before the procedure was complete") {}
+};
 
 class ReaderIo {
 public:
@@ -34,9 +42,10 @@ public:
     /// "? text": spoken at once (interrupting), shown on the display as `brief` (or text).
     void prompt(const std::string& text, const std::string& brief = {});
     /// prompt(question), then one line: "y" or "n" (also yes/no, any case), "r"/"?" (repeat),
-    /// or "" for anything else. InputError when the answers end first.
+    /// or "" for anything else. AnswersEnded (an InputError) when the answers end first.
     std::string askYesNo(const std::string& question);
-    /// One answer line as typed (trimmed), commands handled. InputError when the answers end.
+    /// One answer line as typed (trimmed), commands handled. AnswersEnded when the answers end;
+    /// IoError("interrupted") after SIGINT/SIGTERM.
     std::string readLine();
     /// Perkins keys on a terminal (stdin a tty): raw mode, no echo. S D F J K L add dots 3 2 1 4 5 6
     /// to the cell being typed, Space ends the cell (its letter is spoken), Space on an empty cell

@@ -10,6 +10,7 @@
 #include "Core/AtomicFile.h"
 #include "PtyDevice.h"
 #include <algorithm>
+#include <filesystem>
 #include <atomic>
 #include <map>
 #include <memory>
@@ -261,6 +262,56 @@ TEST_CASE("adaptive training with speech and a braille display captured: every p
     const Run report = runArmadillo("braille --report " + reader);
     CHECK(report.code == 0);
     CHECK(report.out.find("confusions") != std::string::npos);
+}
+
+TEST_CASE("adaptive training stopped early keeps every answer given, in the log and the profile", "[cli][adaptive]")
+{
+    // Issue 32: a reader who stops answering after 20 of 60 trials (end of input) ended with exit 3
+    // and no log. Stopping is a normal end: exit 0, the log asked for holds the 20 answers and an
+    // `end` row that says `stopped`, the profile keeps them, the summary says so.
+    const std::string reader = path("stop-reader.json"), log = path("stop-training.csv");
+    std::filesystem::remove(reader);
+    std::filesystem::remove(log);
+    std::string lines;
+    for (int i = 0; i < 20; ++i) lines += (i % 2 ? "e\n" : "a\n");
+    const std::string answers = file("stop-answers.txt", lines);
+    const Run r = runArmadilloWithin(300, "braille --train --adaptive --reader " + reader + " --simulate --unpaced --trials 60 --seed 4 --log " + log,
+                                     answers);
+    INFO(r.err);
+    CHECK(r.code == 0);
+    CHECK(r.out.find("\"trials\":60") != std::string::npos);
+    CHECK(r.out.find("\"trials_done\":20") != std::string::npos);
+    CHECK(r.out.find("\"stopped\":true") != std::string::npos);
+    CHECK(r.err.find("training stopped after 20 of 60 trials") != std::string::npos);
+    REQUIRE(std::filesystem::exists(log));
+    const auto rows = csvRows(armadillo::readWholeFile(log));
+    int answered = 0, ends = 0;
+    for (const auto& row : rows) {
+        if (row.size() != 13) continue;
+        if (row[1] == "answer") ++answered;
+        if (row[1] == "end") {
+            ++ends;
+            CHECK(row[11] == "stopped");
+        }
+    }
+    CHECK(answered == 20);
+    CHECK(ends == 1);
+    CHECK(rows.back()[1] == "end");
+    const std::string profile = armadillo::readWholeFile(reader);
+    std::size_t n = 0;
+    for (std::size_t at = 0; (at = profile.find("\"expected\"", at)) != std::string::npos; ++at) ++n;
+    CHECK(n >= 20);   // a confused pair is also recorded as its letters
+    CHECK(n < 60);
+    // A session that runs to its end says so too: no `stopped`.
+    const std::string log2 = path("full-training.csv");
+    const Run full = runArmadilloWithin(300, "braille --train --adaptive --reader " + path("full-reader.json") +
+                                                 " --simulate --unpaced --trials 3 --seed 4 --log " + log2, file("full-answers.txt", "a\nb\nc\n"));
+    CHECK(full.code == 0);
+    CHECK(full.out.find("\"stopped\":false") != std::string::npos);
+    const auto rows2 = csvRows(armadillo::readWholeFile(log2));
+    REQUIRE(!rows2.empty());
+    CHECK(rows2.back()[1] == "end");
+    CHECK(rows2.back()[11].empty());
 }
 
 TEST_CASE("adaptive training: bad usage and bad files are refused", "[cli][adaptive]")
