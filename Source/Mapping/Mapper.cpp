@@ -1,5 +1,6 @@
 #include "Mapping/Mapper.h"
 #include "Core/Errors.h"
+#include "Core/Handover.h"
 #include "Core/Pose.h"
 #include "Osc/Osc.h"
 #include "Mapping/Posture.h"
@@ -366,22 +367,12 @@ double readSource(const SourceSpec& source, const MappingInput& in, double forwa
 // ---------------------------------------------------------------------------------------------
 
 struct Mapper::Impl {
-    MappingSet* active = nullptr;
-    std::atomic<MappingSet*> pending {nullptr};
-    std::atomic<MappingSet*> retired {nullptr};
-    MappingSet* newest = nullptr;   // builder side only: the last set offered or installed
+    Handover<MappingSet> sets;   // builder → control side; the replaced set back to be freed
     std::atomic<double> forwardShared {0.0};
     std::atomic<bool> forwardRequest {false};
     std::atomic<std::uint64_t> forwardSerial {0};
     std::uint64_t forwardSeen = 0;
     double forward = 0.0;   // control side
-
-    ~Impl()
-    {
-        delete active;
-        delete pending.load();
-        delete retired.load();
-    }
 
     // ---- output ------------------------------------------------------------------------------
     static void midi(MappingOutput& out, double t, std::uint8_t b0, std::uint8_t b1, std::uint8_t b2, std::uint8_t size) noexcept
@@ -941,55 +932,27 @@ struct Mapper::Impl {
 
     void swapIn(double t, MappingOutput& out) noexcept
     {
-        MappingSet* next = pending.exchange(nullptr, std::memory_order_acq_rel);
-        if (next == nullptr) return;
-        if (active != nullptr) {
-            endAll(active->impl(), t, out);
-            retired.store(active, std::memory_order_release);
-        }
-        active = next;
+        // The old set's sounding notes end before it goes back to the builder to be freed.
+        sets.takeOffered([&](MappingSet* old) noexcept {
+            if (old != nullptr) endAll(old->impl(), t, out);
+        });
     }
 };
 
 Mapper::Mapper() : impl_(std::make_unique<Impl>()) {}
 Mapper::~Mapper() = default;
 
-bool Mapper::offer(std::unique_ptr<MappingSet>& set) noexcept
-{
-    if (!set || !canOffer()) return false;
-    impl_->newest = set.get();
-    impl_->pending.store(set.release(), std::memory_order_release);
-    return true;
-}
+bool Mapper::offer(std::unique_ptr<MappingSet>& set) noexcept { return impl_->sets.offer(set); }
 
-bool Mapper::canOffer() const noexcept
-{
-    return impl_->pending.load(std::memory_order_acquire) == nullptr && impl_->retired.load(std::memory_order_acquire) == nullptr;
-}
+bool Mapper::canOffer() const noexcept { return impl_->sets.canOffer(); }
 
-void Mapper::collect() noexcept
-{
-    delete impl_->retired.exchange(nullptr, std::memory_order_acq_rel);
-}
+void Mapper::collect() noexcept { impl_->sets.collect(); }
 
-void Mapper::replace(std::unique_ptr<MappingSet> set) noexcept
-{
-    delete impl_->pending.exchange(nullptr);
-    delete impl_->retired.exchange(nullptr);
-    delete impl_->active;
-    impl_->active = set.release();
-    impl_->newest = impl_->active;
-}
+void Mapper::replace(std::unique_ptr<MappingSet> set) noexcept { impl_->sets.replace(std::move(set)); }
 
-MappingSet* Mapper::newest() noexcept
-{
-    // The builder's own record of what it last offered or installed: that set is pending or has
-    // become active, and only the builder's collect()/replace() can free an older one. Reading the
-    // control side's `active` pointer from here would race with its swap.
-    return impl_->newest;
-}
+MappingSet* Mapper::newest() noexcept { return impl_->sets.newest(); }
 
-MappingSet* Mapper::active() noexcept { return impl_->active; }
+MappingSet* Mapper::active() noexcept { return impl_->sets.active(); }
 
 void Mapper::process(const MappingInput& in, MappingOutput& out) noexcept
 {
@@ -1006,8 +969,8 @@ void Mapper::process(const MappingInput& in, MappingOutput& out) noexcept
         m.forwardShared.store(m.forward, std::memory_order_relaxed);
         out.forwardChanged = true;
     }
-    if (m.active == nullptr) return;
-    MappingSet::Impl& s = m.active->impl();
+    if (m.sets.active() == nullptr) return;
+    MappingSet::Impl& s = m.sets.active()->impl();
     m.dueNoteOffs(s, in.t, out);
     if (s.hasPostures && arm && arm->valid)
         s.postures.update(arm->q, arm->gyro.allFinite() ? radToDeg(arm->gyro.norm()) : kNaN);
@@ -1017,12 +980,12 @@ void Mapper::process(const MappingInput& in, MappingOutput& out) noexcept
 
 void Mapper::flush(double t, MappingOutput& out) noexcept
 {
-    if (impl_->active) impl_->dueNoteOffs(impl_->active->impl(), t, out);
+    if (MappingSet* set = impl_->sets.active()) impl_->dueNoteOffs(set->impl(), t, out);
 }
 
 void Mapper::allNotesOff(double t, MappingOutput& out) noexcept
 {
-    if (impl_->active) impl_->endAll(impl_->active->impl(), t, out);
+    if (MappingSet* set = impl_->sets.active()) impl_->endAll(set->impl(), t, out);
 }
 
 void Mapper::panic(double t, MappingOutput& out) noexcept

@@ -2,35 +2,24 @@
 
 namespace armadillo::plugin {
 
-Stage::~Stage()
-{
-    delete pending_.exchange(nullptr);
-    delete retired_.exchange(nullptr);
-    delete active_;
-}
+Stage::~Stage() = default;
 
 bool Stage::offer(std::unique_ptr<live::CuePlayer>& player) noexcept
 {
-    if (! canOffer()) return false;
-    auto* slot = new (std::nothrow) Slot(std::move(player));   // message thread
+    if (! canOffer()) return false;   // the player stays the caller's
+    std::unique_ptr<Slot> slot(new (std::nothrow) Slot(std::move(player)));   // message thread
     if (slot == nullptr) return false;
-    newest_ = slot->get();
-    pending_.store(slot, std::memory_order_release);
-    return true;
+    return players_.offer(slot);
 }
 
 void Stage::replace(std::unique_ptr<live::CuePlayer> player) noexcept
 {
-    delete pending_.exchange(nullptr);
-    delete retired_.exchange(nullptr);
-    delete active_;
-    active_ = new (std::nothrow) Slot(std::move(player));
-    newest_ = active_ != nullptr ? active_->get() : nullptr;
+    players_.replace(std::unique_ptr<Slot>(new (std::nothrow) Slot(std::move(player))));
 }
 
 void Stage::collect() noexcept
 {
-    delete retired_.exchange(nullptr, std::memory_order_acq_rel);
+    players_.collect();
 }
 
 void Stage::panic() noexcept
@@ -78,10 +67,7 @@ bool Stage::handleMidi(const std::uint8_t* bytes, int size) noexcept
 
 live::CuePlayer* Stage::beginStep() noexcept
 {
-    if (auto* offered = pending_.exchange(nullptr, std::memory_order_acq_rel)) {
-        retired_.store(active_, std::memory_order_release);   // offer() waits until it is collected
-        active_ = offered;
-    }
+    players_.takeOffered();   // the replaced player goes back to the message thread (collect)
     auto* player = cues();
     const int index = goto_.exchange(-1, std::memory_order_acq_rel);
     const int delta = delta_.exchange(0, std::memory_order_acq_rel);

@@ -20,6 +20,7 @@
 //   CC 120 All Sound Off    → panic
 //   CC 119, value ≥ 64      → resume (CC 119 is undefined in the MIDI 1.0 table; CC 121 is
 //                             Reset All Controllers and is left alone)
+#include "Core/Handover.h"
 #include "Live/SetList.h"
 #include <atomic>
 #include <cstdint>
@@ -49,13 +50,14 @@ public:
     void replace(std::unique_ptr<live::CuePlayer> player) noexcept;
     /// Deletes the player the control side gave up.
     void collect() noexcept;
-    bool canOffer() const noexcept
-    {
-        return pending_.load(std::memory_order_acquire) == nullptr && retired_.load(std::memory_order_acquire) == nullptr;
-    }
+    bool canOffer() const noexcept { return players_.canOffer(); }
     /// The newest player (pending, else active; null: no set list), valid until the next
     /// collect()/replace() on this thread: for the UI's cue names and current cue.
-    live::CuePlayer* newest() const noexcept { return newest_; }
+    live::CuePlayer* newest() const noexcept
+    {
+        const Slot* slot = players_.newest();
+        return slot != nullptr ? slot->get() : nullptr;
+    }
 
     // Any thread ----------------------------------------------------------------------------------
     void panic() noexcept;
@@ -85,14 +87,15 @@ public:
     /// Start of a block (or an idle step): takes an offered player, applies the cue requests
     /// that came since. Returns the player to run (null: the single engine).
     live::CuePlayer* beginStep() noexcept;
-    live::CuePlayer* cues() const noexcept { return active_ != nullptr ? active_->get() : nullptr; }
+    live::CuePlayer* cues() const noexcept
+    {
+        const Slot* slot = players_.active();
+        return slot != nullptr ? slot->get() : nullptr;
+    }
 
 private:
     using Slot = std::unique_ptr<live::CuePlayer>;
-    Slot* active_ = nullptr;                       // control side
-    std::atomic<Slot*> pending_ {nullptr};
-    std::atomic<Slot*> retired_ {nullptr};
-    live::CuePlayer* newest_ = nullptr;            // message thread
+    Handover<Slot> players_;                       // message thread → control side (Core/Handover.h)
     std::atomic<bool> panic_ {false};
     std::atomic<std::uint32_t> panics_ {0};
     std::atomic<int> delta_ {0};                   // next/previous steps not applied yet
