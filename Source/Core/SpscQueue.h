@@ -36,6 +36,15 @@ public:
         return true;
     }
 
+    /// Consumer only: a copy of the oldest element without taking it; false when empty.
+    bool peek(T& out) const noexcept
+    {
+        const std::size_t tail = tail_.load(std::memory_order_relaxed);
+        if (head_.load(std::memory_order_acquire) == tail) return false;
+        out = slots_[tail & (Capacity - 1)];
+        return true;
+    }
+
     std::size_t size() const noexcept
     {
         return head_.load(std::memory_order_acquire) - tail_.load(std::memory_order_acquire);

@@ -1,17 +1,14 @@
 #include "Live/ControlLoop.h"
 #include "Live/SetList.h"
+#include <array>
 #include <cmath>
+#include <limits>
 
 namespace armadillo::live {
 
 ControlLoop::ControlLoop() = default;
 
-ControlLoop::~ControlLoop()
-{
-    delete pending_.exchange(nullptr);
-    delete retired_.exchange(nullptr);
-    delete active_;
-}
+ControlLoop::~ControlLoop() = default;
 
 LiveInput& ControlLoop::input(SourceKind kind) noexcept
 {
@@ -26,41 +23,18 @@ LiveInput& ControlLoop::input(SourceKind kind) noexcept
 
 // Builder side ------------------------------------------------------------------------------------
 
-bool ControlLoop::offer(std::unique_ptr<EngineSlot>& slot) noexcept
-{
-    if (!slot || pending_.load(std::memory_order_acquire) != nullptr || retired_.load(std::memory_order_acquire) != nullptr)
-        return false;
-    newest_ = slot.get();
-    pending_.store(slot.release(), std::memory_order_release);
-    return true;
-}
-
-void ControlLoop::collect() noexcept
-{
-    delete retired_.exchange(nullptr, std::memory_order_acq_rel);
-}
-
 void ControlLoop::replace(std::unique_ptr<EngineSlot> slot) noexcept
 {
-    delete pending_.exchange(nullptr);
-    delete retired_.exchange(nullptr);
-    delete active_;
-    active_ = slot.release();
-    newest_ = active_;
+    engines_.replace(std::move(slot));
     tracker_.reset();
     lastSource_ = -1;
 }
-
-EngineSlot* ControlLoop::newest() noexcept { return newest_; }
 
 // Control side ------------------------------------------------------------------------------------
 
 void ControlLoop::swapInPending() noexcept
 {
-    if (EngineSlot* next = pending_.exchange(nullptr, std::memory_order_acq_rel)) {
-        // The retired slot is empty: offer() refuses while it is not.
-        retired_.store(active_, std::memory_order_release);
-        active_ = next;
+    if (engines_.takeOffered()) {
         tracker_.reset();   // a new scene starts from the next sample, not from the old one's history
         swaps_.fetch_add(1, std::memory_order_relaxed);
     }
@@ -72,35 +46,50 @@ void ControlLoop::resetArm() noexcept
     lastSource_ = -1;
 }
 
-ArmState ControlLoop::fuse(LiveInput& in) noexcept
+ArmState ControlLoop::fuse(LiveInput& in, double cutoff) noexcept
 {
-    return fuseStep(in, tracker_, lastOrientation_, lastOrientationSerial_, &droppedImu_);
+    return fuseStep(in, tracker_, lastOrientation_, lastOrientationSerial_, &droppedImu_, cutoff);
 }
 
 ArmState fuseStep(LiveInput& in, ArmTracker& tracker, LiveOrientation& last, std::uint64_t& lastUsedSerial,
-                  std::atomic<std::uint64_t>* dropped) noexcept
+                  std::atomic<std::uint64_t>* dropped, double cutoff) noexcept
 {
-    // Bounded: at most kMaxImuPerStep samples, the newest; older ones are dropped and counted.
-    std::size_t waiting = in.imuWaiting();
+    // Bounded: of the samples due (arrived by `cutoff`), at most kMaxImuPerStep, the newest, are
+    // fused; older ones are dropped and counted. The loop takes at most what was waiting when it
+    // began, so a producer that keeps pushing cannot keep it going.
+    constexpr std::size_t kMax = static_cast<std::size_t>(ControlLoop::kMaxImuPerStep);
+    std::array<LiveImu, kMax> newest {};
+    std::size_t due = 0;
     LiveImu imu;
-    while (waiting > static_cast<std::size_t>(ControlLoop::kMaxImuPerStep) && in.popImu(imu)) {
-        --waiting;
-        if (dropped != nullptr) dropped->fetch_add(1, std::memory_order_relaxed);
+    for (std::size_t budget = in.imuWaiting(); budget > 0 && in.peekImu(imu) && imu.arrival <= cutoff; --budget) {
+        in.popImu(imu);
+        if (due >= kMax && dropped != nullptr) dropped->fetch_add(1, std::memory_order_relaxed);
+        newest[due % kMax] = imu;
+        ++due;
     }
     ArmState arm = tracker.state();
-    bool fused = false;
-    for (int i = 0; i < ControlLoop::kMaxImuPerStep && in.popImu(imu); ++i) {
-        arm = tracker.update(toImuSample(imu));
-        fused = true;
-    }
-    if (!fused) {
+    for (std::size_t i = due > kMax ? due - kMax : 0; i < due; ++i) arm = tracker.update(toImuSample(newest[i % kMax]));
+    if (due == 0) {
         last = in.latest(last);
-        if (last.serial != 0 && last.serial != lastUsedSerial) {
+        if (last.serial != 0 && last.serial != lastUsedSerial && last.arrival <= cutoff) {
             lastUsedSerial = last.serial;
             arm = tracker.updateOrientation(last.t, Eigen::Quaterniond(last.w, last.x, last.y, last.z));
         }
     }
     return arm;
+}
+
+double ControlLoop::nextArrival(SourceKind source) noexcept
+{
+    if (!isLiveSource(source)) return std::numeric_limits<double>::infinity();
+    LiveInput& in = input(source);
+    LiveImu imu;
+    if (in.peekImu(imu)) return imu.arrival;
+    // A new source starts its serials afresh at its first tick (lastSource_ below).
+    const std::uint64_t used = static_cast<int>(source) == lastSource_ ? lastOrientationSerial_ : 0;
+    lastOrientation_ = in.latest(lastOrientation_);
+    if (lastOrientation_.serial != 0 && lastOrientation_.serial != used) return lastOrientation_.arrival;
+    return std::numeric_limits<double>::infinity();
 }
 
 ControlResult ControlLoop::tick(const ControlStep& step) noexcept
@@ -109,8 +98,9 @@ ControlResult ControlLoop::tick(const ControlStep& step) noexcept
     const std::uint64_t swapsBefore = swaps_.load(std::memory_order_relaxed);
     swapInPending();
     result.swapped = swaps_.load(std::memory_order_relaxed) != swapsBefore;
-    if (active_ == nullptr || active_->engine == nullptr) return result;
-    EngineSlot& slot = *active_;
+    EngineSlot* const current = engines_.active();
+    if (current == nullptr || current->engine == nullptr) return result;
+    EngineSlot& slot = *current;
     Engine& engine = *slot.engine;
     if (step.panic) {   // idempotent: two atomics per engine
         engine.panic();
@@ -142,7 +132,7 @@ ControlResult ControlLoop::tick(const ControlStep& step) noexcept
         // same angular velocity from successive orientations), so playback sounds as recorded.
         arm = tracker_.updateOrientation(clock_, poseToQuaternion(step.automation));
     } else {
-        arm = fuse(input(step.source));
+        arm = fuse(input(step.source), step.arrivalCutoff);
     }
     result.arm = arm;
     if (step.cues != nullptr && step.leftArm != nullptr && step.cues->twoArms()) result.levels = step.cues->control(arm, *step.leftArm, step.transport, dt);
@@ -155,17 +145,17 @@ ControlResult ControlLoop::tick(const ControlStep& step) noexcept
 
 void ControlLoop::render(float* left, float* right, int numSamples) noexcept
 {
-    if (active_ != nullptr && active_->engine != nullptr) active_->engine->renderAudio(left, right, numSamples);
+    if (EngineSlot* slot = engines_.active(); slot != nullptr && slot->engine != nullptr) slot->engine->renderAudio(left, right, numSamples);
 }
 
 void ControlLoop::processInput(const float* const* in, int channels, int numSamples) noexcept
 {
-    if (active_ != nullptr && active_->engine != nullptr) active_->engine->processInput(in, channels, numSamples);
+    if (EngineSlot* slot = engines_.active(); slot != nullptr && slot->engine != nullptr) slot->engine->processInput(in, channels, numSamples);
 }
 
 void ControlLoop::processMidi(const MidiNoteEvent* events, int count) noexcept
 {
-    if (active_ != nullptr && active_->engine != nullptr) active_->engine->processMidi(events, count);
+    if (EngineSlot* slot = engines_.active(); slot != nullptr && slot->engine != nullptr) slot->engine->processMidi(events, count);
 }
 
 } // namespace armadillo::live

@@ -10,6 +10,7 @@
 //  - builder side (message thread, prepareToPlay): offer(), collect(), replace(). Engines are
 //    built and destroyed here, never on the control side.
 //  - producers (device link, OSC receiver, simulator clock): input(kind).push…/store….
+#include "Core/Handover.h"
 #include "Core/Pose.h"
 #include "Core/Scene.h"
 #include "Engine/ArmTracker.h"
@@ -18,6 +19,7 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -60,6 +62,10 @@ struct ControlStep {
     /// (Engine::control(right, left, …)), and so do a set list's cues built with twoArms; any
     /// other engine, the right one.
     const ArmState* leftArm = nullptr;
+    /// s on the monotonic clock: only live samples that arrived by then are fused at this step
+    /// (LiveImu::arrival). The plugin places each step at the block position of its sample's
+    /// arrival (BlockControl, issue 36); +∞ (the default): everything waiting.
+    double arrivalCutoff = std::numeric_limits<double>::infinity();
 };
 
 struct ControlResult {
@@ -88,20 +94,17 @@ public:
     /// Hands an engine to the control side; it takes over at the start of the next tick(). False
     /// (the slot is given back untouched) while an earlier hand-over or retired engine is pending:
     /// call collect() and offer it again.
-    bool offer(std::unique_ptr<EngineSlot>& slot) noexcept;
+    bool offer(std::unique_ptr<EngineSlot>& slot) noexcept { return engines_.offer(slot); }
     /// Whether offer() would take an engine now (nothing pending, nothing retired left to collect).
-    bool canOffer() const noexcept
-    {
-        return pending_.load(std::memory_order_acquire) == nullptr && retired_.load(std::memory_order_acquire) == nullptr;
-    }
+    bool canOffer() const noexcept { return engines_.canOffer(); }
     /// Deletes the engine the control side gave up, if any. Builder side only.
-    void collect() noexcept;
+    void collect() noexcept { engines_.collect(); }
     /// Installs an engine at once. Only while the control side is known not to run (the caller
     /// holds the control token, or nothing runs yet); drops anything pending or retired.
     void replace(std::unique_ptr<EngineSlot> slot) noexcept;
     /// The newest engine: the pending one, else the active one (builder side, for UIs that ask
     /// the scene lock-free questions). Valid until the next collect()/replace().
-    EngineSlot* newest() noexcept;
+    EngineSlot* newest() noexcept { return engines_.newest(); }
 
     // Control side (real-time) ----------------------------------------------------------------
     ControlResult tick(const ControlStep& step) noexcept;
@@ -112,7 +115,11 @@ public:
     /// The instrument's MIDI notes of the coming block for the active engine's scene
     /// (Engine::processMidi), before processInput() of the same samples.
     void processMidi(const MidiNoteEvent* events, int count) noexcept;
-    EngineSlot* active() noexcept { return active_; }
+    EngineSlot* active() noexcept { return engines_.active(); }
+    /// Control side: the arrival (monotonic s) of the oldest sample of `source` not yet fused —
+    /// the front IMU sample, else a new orientation — or +∞ when none waits (always for host
+    /// automation). The plugin steps at that sample's place in the block.
+    double nextArrival(SourceKind source) noexcept;
     /// Forgets the arm (tracker) and which source ran: the next tick starts afresh.
     void resetArm() noexcept;
 
@@ -123,13 +130,10 @@ public:
 
 private:
     void swapInPending() noexcept;
-    ArmState fuse(LiveInput& in) noexcept;
+    ArmState fuse(LiveInput& in, double cutoff) noexcept;
 
     std::array<LiveInput, 3> inputs_;   // device, simulator, OSC
-    EngineSlot* active_ = nullptr;      // control side
-    std::atomic<EngineSlot*> pending_ {nullptr};
-    std::atomic<EngineSlot*> retired_ {nullptr};
-    EngineSlot* newest_ = nullptr;      // builder side
+    Handover<EngineSlot> engines_;      // builder → control side (Core/Handover.h)
 
     ArmTracker tracker_;                // control side
     double clock_ = 0.0;                // s, advanced by dt per step
@@ -147,7 +151,10 @@ private:
 /// of a sender that fuses itself, once (`last` is what was read, `lastUsedSerial` the serial
 /// last fused; both the caller's, zero to start afresh). Returns the tracker's state after it.
 /// Real-time: no allocation, lock or throw.
+/// With a finite `cutoff` (monotonic s) only samples that arrived by then are fused (IMU samples
+/// in order; the orientation when its arrival is not later).
 ArmState fuseStep(LiveInput& in, ArmTracker& tracker, LiveOrientation& last, std::uint64_t& lastUsedSerial,
-                  std::atomic<std::uint64_t>* dropped = nullptr) noexcept;
+                  std::atomic<std::uint64_t>* dropped = nullptr,
+                  double cutoff = std::numeric_limits<double>::infinity()) noexcept;
 
 } // namespace armadillo::live

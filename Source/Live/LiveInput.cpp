@@ -1,4 +1,5 @@
 #include "Live/LiveInput.h"
+#include "Core/Clock.h"
 
 namespace armadillo::live {
 
@@ -11,8 +12,16 @@ void LiveInput::storeOrientation(double t, const Eigen::Quaterniond& q) noexcept
     o.x = n.x();
     o.y = n.y();
     o.z = n.z();
+    o.arrival = monotonicSeconds();
     o.serial = serial_.fetch_add(1, std::memory_order_relaxed) + 1;
     orientation_.store(o);
+}
+
+bool LiveInput::pushImu(const LiveImu& sample) noexcept
+{
+    LiveImu stamped = sample;
+    stamped.arrival = monotonicSeconds();
+    return imu_.push(stamped);
 }
 
 LiveImu toLiveImu(const ImuSample& s) noexcept

@@ -14,6 +14,9 @@ namespace armadillo::live {
 /// One orientation from a live source, q = (w, x, y, z) device → earth (INTERFACES.md).
 struct LiveOrientation {
     double t = 0.0;                  ///< s, source clock
+    /// s on the monotonic clock (Core/Clock.h) when the mailbox took it: where the plugin places
+    /// its control step in the host's block (BlockControl, issue 36).
+    double arrival = 0.0;
     double w = 1.0, x = 0.0, y = 0.0, z = 0.0;
     std::uint64_t serial = 0;        ///< increments with every new value; 0 = nothing yet
 };
@@ -21,6 +24,7 @@ struct LiveOrientation {
 /// A calibrated inertial sample as plain numbers (Eigen vectors are not trivially copyable).
 struct LiveImu {
     double t = 0.0;                  ///< s
+    double arrival = 0.0;            ///< s, monotonic clock, stamped by LiveInput::pushImu
     float g[3] {};                   ///< rad/s, device frame
     float a[3] {};                   ///< m/s², device frame
     float m[3] {};                   ///< any unit; NaN when absent
@@ -34,9 +38,10 @@ class LiveInput {
 public:
     /// One producer at a time (whichever source is selected).
     void storeOrientation(double t, const Eigen::Quaterniond& q) noexcept;
-    bool pushImu(const LiveImu& sample) noexcept { return imu_.push(sample); }
+    /// Stamps the sample's arrival on the monotonic clock; false when the queue is full.
+    bool pushImu(const LiveImu& sample) noexcept;
     /// The same from a calibrated sample (device link, OSC receiver); false when the queue is full.
-    bool pushImu(const ImuSample& sample) noexcept { return imu_.push(toLiveImu(sample)); }
+    bool pushImu(const ImuSample& sample) noexcept { return pushImu(toLiveImu(sample)); }
 
     /// Not for the audio thread (may wait for a pre-empted writer).
     LiveOrientation latest() const noexcept { return orientation_.load(); }
@@ -44,6 +49,8 @@ public:
     LiveOrientation latest(const LiveOrientation& lastGood) const noexcept { return orientation_.load(lastGood); }
     /// Consumer (control loop) only.
     bool popImu(LiveImu& out) noexcept { return imu_.pop(out); }
+    /// Consumer only: the oldest waiting sample, left in the queue.
+    bool peekImu(LiveImu& out) const noexcept { return imu_.peek(out); }
     std::size_t imuWaiting() const noexcept { return imu_.size(); }
 
 private:

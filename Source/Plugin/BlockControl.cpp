@@ -5,6 +5,7 @@
 #include "Engine/Engine.h"
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 namespace armadillo::plugin {
 
@@ -23,6 +24,7 @@ void BlockControl::prepare(double sampleRate)
 {
     sampleRate_.store(sampleRate > 0.0 ? sampleRate : 48000.0);
     samplesToTick_ = 0;
+    samplesSinceStep_ = std::max(1, static_cast<int>(std::lround(sampleRate_.load() / kControlRateHz)));
     midiStorage_.ensureSize(kMidiStorageBytes);   // off the audio thread; processBlock hands it over
     midiStorageGiven_ = false;
     notesOffPending_.store(true, std::memory_order_relaxed);   // a restart: nothing may hang
@@ -30,7 +32,7 @@ void BlockControl::prepare(double sampleRate)
 }
 
 void BlockControl::step(double dt, double wall, bool toMotors, const Transport& transport, juce::MidiBuffer* midi,
-                        int sampleOffset) noexcept
+                        int sampleOffset, double cutoff) noexcept
 {
     // The motor timeline. Levels leave the link at their stamp: the audio timeline's steady
     // spacing while the host keeps time, the wall clock when it falls behind (late, stalled) or
@@ -52,6 +54,7 @@ void BlockControl::step(double dt, double wall, bool toMotors, const Transport& 
     s.cues = cues_;              // a set list's cues run in place of the engine
     s.panic = panicApplied_;
     s.leftArm = leftArm_ != nullptr ? leftArm_->fuse() : nullptr;   // null: one arm
+    s.arrivalCutoff = cutoff;
     live::ControlResult result = loop_.tick(s);   // swap-in, parameters, fusion, Engine::control
     if (! result.ran) return;
     if (auto* stimulus = stimulus_.load(std::memory_order_acquire))
@@ -274,9 +277,15 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
     }
 
     const int samplesPerTick = std::max(1, static_cast<int>(std::lround(sr / kControlRateHz)));
-    // The mapping's timeline at this block's first sample: the next step (at samplesToTick_, or
-    // now) will be stamped clock_ + one step.
-    const double blockStart = clock_ + (samplesPerTick - std::max(0, samplesToTick_)) / sr;
+    // The mapping's timeline at this block's first sample: the previous step's time plus the
+    // samples rendered since.
+    const double blockStart = clock_ + samplesSinceStep_ / sr;
+    // Live samples step at their arrival's place (kMinStepSeconds): this block stands for the
+    // wall-clock stretch [blockWall0, wall) just before this call.
+    const SourceKind stepSource = source();
+    const bool byArrival = ! offline && isLiveSource(stepSource);
+    const double blockWall0 = wall - n / sr;
+    const int minSpacing = std::max(1, static_cast<int>(std::lround(sr * kMinStepSeconds)));
     blockSamples_ = n;
     if (notesOffPending_.exchange(false, std::memory_order_relaxed)) {
         mapper_.allNotesOff(blockStart, mapOut_);   // after prepare(): nothing left hanging
@@ -287,6 +296,14 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
     float* right = buffer.getWritePointer(1);
     int pos = 0;
     while (pos < n) {
+        if (byArrival && samplesToTick_ > 0) {
+            const double next = loop_.nextArrival(stepSource);
+            if (next < wall) {   // arrived within (or before) this block's stretch
+                const int at = juce::jlimit(0, n - 1, static_cast<int>(std::floor((next - blockWall0) * sr)));
+                const int when = std::max({at, pos, pos + minSpacing - samplesSinceStep_});
+                if (when < pos + samplesToTick_) samplesToTick_ = when - pos;   // 0: now
+            }
+        }
         if (samplesToTick_ <= 0) {
             Transport t = transport;
             if (t.valid && t.playing) {
@@ -296,8 +313,10 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
             }
             // Each step's levels belong to its place in the block: a 4096-sample block's 17 steps
             // reach the motors over 85 ms, not all at once.
-            step(samplesPerTick / sr, wall + pos / sr, ! offline, t, &midi, pos);
+            step(samplesSinceStep_ / sr, wall + pos / sr, ! offline, t, &midi, pos,
+                 byArrival ? blockWall0 + (pos + 1) / sr : std::numeric_limits<double>::infinity());
             samplesToTick_ = samplesPerTick;
+            samplesSinceStep_ = 0;
         }
         const int len = std::min({n - pos, samplesToTick_, kInputScratch});
         notesRunning(pos, len);   // the notes of this stretch, before its input (Scene::processMidi)
@@ -338,6 +357,7 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
         }
         pos += len;
         samplesToTick_ -= len;
+        samplesSinceStep_ += len;
     }
     for (int c = 2; c < buffer.getNumChannels(); ++c) buffer.clear(c, 0, n);   // sidechain / extra inputs
     // Note-offs due before the block's end that no step reached (a gesture note's 50 ms).

@@ -29,6 +29,7 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <limits>
 
 namespace armadillo::access {
 class TactilePlayer;
@@ -116,6 +117,14 @@ public:
     /// renders ahead); further ahead, stamps follow the wall clock. Behind by kMaxLag, they jump
     /// to it (a late or stalled host).
     static constexpr double kMaxLead = 0.5, kMaxLag = 0.010;
+    /// Live sources (issue 36): a sample that arrives while the host runs blocks gets its control
+    /// step (fusion, scene, mapping, motor levels) at the block position of its arrival time — the
+    /// block stands for the wall-clock stretch just before its call, [call − n/fs, call), as JUCE's
+    /// MidiMessageCollector places timestamped MIDI input — instead of at the next 200 Hz grid
+    /// point. The grid still steps when no sample comes (at most 5 ms apart); steps are at least
+    /// this far apart (a burst is fused together). Host automation and offline renders keep the
+    /// grid alone, so renders stay sample-exact.
+    static constexpr double kMinStepSeconds = 0.00025;
     /// The mapping runner (its builder side belongs to the message thread, MappingSession).
     mapping::Mapper& mapper() noexcept { return mapper_; }
     /// MIDI events the mapping produced that did not fit the block's MIDI storage (any thread).
@@ -146,7 +155,9 @@ public:
 private:
     /// One control step; `wall` is the monotonic time its levels belong to by the wall clock, and
     /// `toMotors` whether they go to the link.
-    void step(double dt, double wall, bool toMotors, const Transport& transport, juce::MidiBuffer* midi, int sampleOffset) noexcept;
+    /// `cutoff` (monotonic s): only live samples that arrived by then are fused (+∞: all waiting).
+    void step(double dt, double wall, bool toMotors, const Transport& transport, juce::MidiBuffer* midi, int sampleOffset,
+              double cutoff = std::numeric_limits<double>::infinity()) noexcept;
     /// Hands out what the mapping produced: MIDI into `midi` (when not null) at the offset of
     /// each event's time from `blockStart` (s, the mapping's timeline), clamped to the block's
     /// `blockSamples`, and to the standalone's port; OSC to the clock's queue; macros; scene
@@ -180,7 +191,8 @@ private:
 
     // Token holder only.
     double clock_ = 0.0;              ///< s since start, advanced by dt per step
-    int samplesToTick_ = 0;
+    int samplesToTick_ = 0;           ///< samples to the next step on the 200 Hz grid (or sooner: a live sample's arrival)
+    int samplesSinceStep_ = 0;        ///< samples since the previous step: its dt
     double lastStamp_ = -1.0;         ///< monotonic s of the previous step's levels (< 0: none)
     bool motorsOff_ = true;           ///< the schedule was told allOff and nothing pushed since
     // MIDI out storage, sized on the message thread and given to the host's buffer on the first
