@@ -11,7 +11,7 @@
 
 namespace armadillo::plugin {
 
-DeviceConnection::DeviceConnection(LiveInput& input, device::LevelSchedule& motors)
+DeviceConnection::DeviceConnection(live::LiveInput& input, device::LevelSchedule& motors)
     : input_(input), motors_(motors), calibration_(device::defaultCalibration())
 {
 }

@@ -13,7 +13,7 @@
 #include "Link/Calibration.h"
 #include "Link/LevelSchedule.h"
 #include "Plugin/CalibrationSession.h"
-#include "Plugin/LiveInput.h"
+#include "Live/LiveInput.h"
 #include "Plugin/PortRegistry.h"
 #include "Tactile/TactileEngine.h"
 #include <atomic>
@@ -37,7 +37,7 @@ public:
     static constexpr int kLinkPriority = 20;
 
     /// `motors`: the control steps' stamped levels; this connection's link thread is its consumer.
-    DeviceConnection(LiveInput& input, device::LevelSchedule& motors);
+    DeviceConnection(live::LiveInput& input, device::LevelSchedule& motors);
     ~DeviceConnection();
 
     /// Message thread. Returns false with `message` saying why (port owned elsewhere, cannot open…).
@@ -79,7 +79,7 @@ private:
     static void fromNumbers(const CalibrationNumbers& n, device::Calibration& c) noexcept;
     void publishCalibration() noexcept;
 
-    LiveInput& input_;
+    live::LiveInput& input_;
     device::LevelSchedule& motors_;
     bool sentLog_ = false;
     double linkEpoch_ = 0.0;                   // monotonic s at the link's start (its clock's 0)

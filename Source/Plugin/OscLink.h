@@ -6,7 +6,7 @@
 // mailbox. Neither runs on the audio thread.
 #include "Core/Types.h"
 #include "Osc/OscIo.h"
-#include "Plugin/LiveInput.h"
+#include "Live/LiveInput.h"
 #include <atomic>
 #include <chrono>
 #include <memory>
@@ -43,7 +43,7 @@ private:
 
 class OscInput {
 public:
-    explicit OscInput(LiveInput& live) : live_(live) {}
+    explicit OscInput(live::LiveInput& live) : live_(live) {}
     ~OscInput();
     /// Message thread. Opens (or closes with enabled = false) the UDP port; `options` force a
     /// format and/or give a mount (default: detect, and the detected format's usual mount).
@@ -63,7 +63,7 @@ public:
     bool popSensorSample(device::SensorFrameSample& out);
 
 private:
-    LiveInput& live_;
+    live::LiveInput& live_;
     mutable std::mutex mutex_;
     std::unique_ptr<device::OscReceiver> receiver_;
     int openPort_ = 0;

@@ -779,7 +779,7 @@ TEST_CASE("osc senders: held-out senders written from the vendors' definitions g
 
 TEST_CASE("osc senders: the plugin's OSC source detects the NGIMU and delivers device-frame samples", "[osc][senders][plugin]")
 {
-    plugin::LiveInput live;
+    live::LiveInput live;
     plugin::OscInput input(live);
     const int port = test::freeUdpPort();
     std::string why;
@@ -787,7 +787,7 @@ TEST_CASE("osc senders: the plugin's OSC source detects the NGIMU and delivers d
     Truth w;
     REQUIRE(mountPreset("ngimu", w.mount));
     Udp udp(port);
-    std::vector<plugin::LiveImu> got;
+    std::vector<live::LiveImu> got;
     const auto start = Clock::now();
     for (int k = 0; k < 200 && got.size() < 100; ++k) {
         const double t = 0.01 * k;
@@ -797,12 +797,12 @@ TEST_CASE("osc senders: the plugin's OSC source detects the NGIMU and delivers d
         a.push_back(OscArg::float32(1013.25f));
         std::this_thread::sleep_until(start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(t)));
         udp.send(encodeOscBundle(ntp(t), {encodeOscMessage("/sensors", a)}));
-        plugin::LiveImu s;
+        live::LiveImu s;
         while (live.popImu(s)) got.push_back(s);
     }
     for (int i = 0; i < 100 && got.size() < 100; ++i) {   // the last datagrams may still be in flight
         std::this_thread::sleep_for(std::chrono::milliseconds(10));
-        plugin::LiveImu s;
+        live::LiveImu s;
         while (live.popImu(s)) got.push_back(s);
     }
     REQUIRE(got.size() >= 100);

@@ -19,8 +19,8 @@ using namespace armadillo;
 using namespace armadillo::device;
 using armadillo::plugin::CalibrationSession;
 using armadillo::plugin::DeviceConnection;
-using armadillo::plugin::LiveImu;
-using armadillo::plugin::LiveInput;
+using armadillo::live::LiveImu;
+using armadillo::live::LiveInput;
 using Step = CalibrationSession::Step;
 
 namespace {
