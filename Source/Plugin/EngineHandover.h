@@ -32,6 +32,9 @@ struct EngineRequest {
     /// audio-touch's stems (SceneConfig::stems: the enabled sidechain buses' presets, in bus
     /// order); empty for every other scene and when no sidechain bus is enabled.
     std::vector<std::string> stems;
+    /// Counts the states loaded (setStateInformation): a session reopened starts from a fresh
+    /// engine and arm, not from what the instance played before its state came (issue 32).
+    std::uint64_t session = 0;
     bool operator==(const EngineRequest&) const = default;
 };
 

@@ -129,6 +129,7 @@ EngineRequest ArmadilloProcessor::currentRequest() const
     r.score = settings_[SettingIds::score].toString().toStdString();
     r.touchProfile = settings_[SettingIds::touchProfile].toString().toStdString();
     r.twoArms = static_cast<bool>(settings_[SettingIds::leftArmOsc]);   // every scene hears the left arm too
+    r.session = statesLoaded_.load(std::memory_order_relaxed);
     const auto& scenes = sceneTable_.scenes;
     if (r.scene >= 0 && r.scene < static_cast<int>(scenes.size()) && scenes[static_cast<std::size_t>(r.scene)].scene == "audio-touch") {
         std::lock_guard<std::mutex> lock(stemsMutex_);
@@ -640,6 +641,10 @@ void ArmadilloProcessor::setStateInformation(const void* data, int sizeInBytes)
 {
     juce::ValueTree mapping;
     auto message = PluginState::restore(*this, apvts_, settings_, data, sizeInBytes, &mapping);
+    // The session plays as it was saved: a fresh engine (the scene's own state — a reference
+    // heading, a glide, a follower's place — and the arm's history) from the next timer tick on,
+    // not what this instance played before its state came.
+    statesLoaded_.fetch_add(1, std::memory_order_relaxed);
     if (const auto why = applySavedSetList(); why.isNotEmpty()) message = (message + " " + why).trim();
     std::lock_guard<std::mutex> lock(mappingMutex_);
     if (const auto why = mapping_.fromState(mapping); why.isNotEmpty()) message = (message + " " + why).trim();

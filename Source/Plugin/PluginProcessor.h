@@ -250,6 +250,7 @@ private:
     std::atomic<float>* scene_ = nullptr;
     juce::ValueTree settings_;
     std::atomic<double> sampleRate_ {48000.0};
+    std::atomic<std::uint64_t> statesLoaded_ {0};   ///< EngineRequest::session
     BlockControl::Listen listen_ {};             // set in prepareToPlay (audio stopped), read by processBlock
     mutable std::mutex stemsMutex_;              // prepareToPlay vs the message thread's requests; never audio
     std::vector<std::string> stems_;             // under stemsMutex_: the enabled sidechain buses' stem names
