@@ -473,9 +473,9 @@ TEST_CASE("robustness: a recording at a rate the engine cannot run names the fil
         writeWav(wav, a);
         const std::string name = wav.substr(wav.rfind('/') + 1);
         const std::vector<std::string> commands {
-            "render --scene score --motion " + q(motion) + " --audio-in " + q(wav) + " --out " + q(cli::path("rb-rate-out.wav")),
+            "render --scene score --score rite-of-spring --motion " + q(motion) + " --audio-in " + q(wav) + " --out " + q(cli::path("rb-rate-out.wav")),
             "render --scene audio-touch --motion " + q(motion) + " --stem bass=" + q(wav) + " --out " + q(cli::path("rb-rate-out.wav")),
-            "play --scene score --simulate --unpaced --seconds 0.2 --audio-in " + q(wav) + " --out " + q(cli::path("rb-rate-play.wav")),
+            "play --scene score --score rite-of-spring --simulate --unpaced --seconds 0.2 --audio-in " + q(wav) + " --out " + q(cli::path("rb-rate-play.wav")),
         };
         for (const std::string& c : commands) {
             INFO(c);
