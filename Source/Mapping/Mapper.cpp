@@ -988,6 +988,15 @@ void Mapper::allNotesOff(double t, MappingOutput& out) noexcept
     if (MappingSet* set = impl_->sets.active()) impl_->endAll(set->impl(), t, out);
 }
 
+void Mapper::resendSceneParams() noexcept
+{
+    MappingSet* set = impl_->sets.active();
+    if (set == nullptr) return;
+    MappingSet::Impl& s = set->impl();
+    for (std::size_t i = 0; i < s.count; ++i)
+        if (s.maps[i].spec.to.kind == DestinationKind::SceneParam) s.maps[i].lastEncoded = kNone;
+}
+
 void Mapper::panic(double t, MappingOutput& out) noexcept
 {
     allNotesOff(t, out);

@@ -195,6 +195,9 @@ public:
     /// Ends every sounding note now (stop, bypass, transport jump) and forgets the last sent
     /// values, so the next update sends every destination afresh.
     void allNotesOff(double t, MappingOutput& out) noexcept;
+    /// A new engine took over (a state loaded, a rebuild): its scene has its defaults, so every
+    /// scene-parameter destination is sent again at the next update, changed or not. Control side.
+    void resendSceneParams() noexcept;
     /// Panic (docs/STAGE.md): allNotesOff(), then All Sound Off (CC 120) and All Notes Off
     /// (CC 123), value 0, on all 16 channels at t (MIDI 1.0 Channel Mode messages), for whatever
     /// the receivers still hold. The plugin and `play --midi-out` send the same.

@@ -57,6 +57,7 @@ void BlockControl::step(double dt, double wall, bool toMotors, const Transport& 
     s.arrivalCutoff = cutoff;
     live::ControlResult result = loop_.tick(s);   // swap-in, parameters, fusion, Engine::control
     if (! result.ran) return;
+    if (result.swapped) mapper_.resendSceneParams();   // the new scene starts from its defaults
     if (auto* stimulus = stimulus_.load(std::memory_order_acquire))
         // The sensitivity test or the training has the motors; the roll rate feeds its arm gestures.
         result.levels = stimulus->onPacket(clock_ + dt, result.arm.valid ? result.arm.gyro.x() : std::nan(""));
