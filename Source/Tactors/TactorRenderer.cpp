@@ -94,7 +94,7 @@ ChannelMap parseChannelMap(std::string_view text, int motors)
             const int k = std::stoi(std::string(s));
             if (k < 1 || k > motors)
                 throw InputError(src, 0, "", "motor " + std::to_string(k) + " does not exist: this rig has motors 1.." + std::to_string(motors) +
-                                                 (motors < 12 && k <= 12 ? " (--back-motors adds m10..m12)" : ""));
+                                                 (motors < 12 && k <= 12 ? " (m10..m12 are the back motors: render and tactors test take --back-motors)" : ""));
             return k;
         };
         int from = -1, to = -1;
