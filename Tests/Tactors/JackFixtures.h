@@ -20,6 +20,9 @@ public:
     /// can open (false from running() when it never does).
     JackServer(int rate = 48000, int period = 256, int playback = 2)
     {
+        // libjack reports every refused connection on stderr while the server starts: not the test's business.
+        jack_set_error_function([](const char*) {});
+        jack_set_info_function([](const char*) {});
         name_ = "armadillo_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter()++);
         ::setenv("JACK_DEFAULT_SERVER", name_.c_str(), 1);
         const std::string r = std::to_string(rate), p = std::to_string(period), P = std::to_string(playback);
