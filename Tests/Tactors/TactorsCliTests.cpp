@@ -189,6 +189,25 @@ TEST_CASE("tactors cli: errors name the cause with INTERFACES.md's exit codes, a
     CHECK(runCli(base + "--tactor-model lra").code == 2);
     CHECK(runCli(base + "--tactors null --tactor-connect x").code == 2);
     CHECK_FALSE(std::filesystem::exists(csv));
+    // An ALSA device with fewer channels than the map: a 4-channel PCM of the test's own (ALSA's
+    // multi plugin over the null PCM, in a configuration that includes the system's).
+    const std::string conf = scratch("four.conf");
+    writeFileAtomically(conf, "</usr/share/alsa/alsa.conf>\npcm.four {\n type multi\n slaves.a.pcm \"null\"\n slaves.a.channels 4\n"
+                              " bindings.0 { slave a; channel 0; }\n bindings.1 { slave a; channel 1; }\n"
+                              " bindings.2 { slave a; channel 2; }\n bindings.3 { slave a; channel 3; }\n}\n");
+    ::setenv("ALSA_CONFIG_PATH", conf.c_str(), 1);
+    r = runCli(base + "--tactors four");
+    CHECK(r.code == 4);
+    CHECK(r.err.find("sound card 'four': 4 output channels, 9 needed") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(csv));
+    r = runCli(base + "--tactors four --tactor-map 2,4,6,8 --tactor-model voice-coil");
+    ::unsetenv("ALSA_CONFIG_PATH");
+    INFO(r.err);
+    CHECK(r.code == 0);
+    CHECK(r.err.find("tactors on ALSA 'four': 4 channels (motors 2,4,6,8)") != std::string::npos);
+    CHECK(r.out.find("\"tactor_frames\":0") == std::string::npos);   // it played
+    CHECK(r.out.find("\"tactor_limited\":0") != std::string::npos);  // the guard passed the engine's levels untouched
+    std::filesystem::remove(csv);
     // A JACK server whose pattern matches fewer ports than the map has channels.
     test::JackServer server(48000, 256, 2);
     REQUIRE(server.running());
