@@ -5,6 +5,7 @@
 #include "Common/Eventually.h"
 #include <jack/jack.h>
 #include <atomic>
+#include <chrono>
 #include <csignal>
 #include <cstdlib>
 #include <string>
@@ -16,8 +17,9 @@ namespace armadillo::test {
 
 class JackServer {
 public:
-    /// Starts `jackd -r -n NAME -d dummy -r RATE -p PERIOD -P PLAYBACK` and waits until a client
-    /// can open (false from running() when it never does).
+    /// Starts `jackd -n NAME -d dummy -r RATE -p PERIOD -P PLAYBACK -C 0` (real-time scheduling
+    /// where the system grants it, as a rig runs; jackd goes on without it otherwise) and waits
+    /// until a client can open (false from running() when it never does).
     JackServer(int rate = 48000, int period = 256, int playback = 2)
     {
         // libjack reports every refused connection on stderr while the server starts: not the test's business.
@@ -31,7 +33,7 @@ public:
             // Quiet child: jackd's banner is not the test's business.
             std::freopen("/dev/null", "w", stdout);
             std::freopen("/dev/null", "w", stderr);
-            ::execlp("jackd", "jackd", "-r", "-n", name_.c_str(), "-d", "dummy", "-r", r.c_str(), "-p", p.c_str(), "-P", P.c_str(), "-C", "0",
+            ::execlp("jackd", "jackd", "-n", name_.c_str(), "-d", "dummy", "-r", r.c_str(), "-p", p.c_str(), "-P", P.c_str(), "-C", "0",
                      static_cast<char*>(nullptr));
             ::_exit(127);
         }
@@ -78,7 +80,11 @@ private:
 };
 
 /// A JACK client "rec" with input ports in_1…in_N that records every period into preallocated
-/// buffers (up to `seconds`), from its activation on.
+/// buffers (up to `seconds`), from its activation on, and the steady-clock time at which each
+/// period reached it (right after the clients upstream of it, the tactor output among them, ran
+/// that period): a server that falls behind on a loaded machine does not make up for lost time,
+/// so the frame count alone is not a clock. (JACK's own cycle times, jack_get_cycle_times, are the
+/// driver's filtered estimates: with the dummy backend they even run backwards after a stall.)
 class JackRecorder {
 public:
     JackRecorder(int channels, double seconds)
@@ -92,6 +98,7 @@ public:
             ports_.push_back(jack_port_register(client_, ("in_" + std::to_string(k)).c_str(), JACK_DEFAULT_AUDIO_TYPE, JackPortIsInput, 0));
             data_.emplace_back(capacity_, 0.0f);
         }
+        cycles_.assign(capacity_ / 16 + 16, Cycle {});
         jack_set_process_callback(client_, &JackRecorder::process, this);
         ok_ = jack_activate(client_) == 0;
     }
@@ -110,6 +117,18 @@ public:
     {
         const std::size_t n = frames();
         return std::vector<float>(data_[static_cast<std::size_t>(k)].begin(), data_[static_cast<std::size_t>(k)].begin() + static_cast<long>(n));
+    }
+    /// Steady-clock seconds at which frame `f`'s period reached the recorder, plus the frame's
+    /// place in the period.
+    double frameTime(std::size_t f) const
+    {
+        const std::size_t n = cycleCount_.load(std::memory_order_acquire);
+        std::size_t lo = 0, hi = n;   // the last cycle starting at or before f
+        while (hi - lo > 1) {
+            const std::size_t mid = (lo + hi) / 2;
+            (cycles_[mid].frame <= f ? lo : hi) = mid;
+        }
+        return n == 0 ? 0.0 : cycles_[lo].time + static_cast<double>(f - cycles_[lo].frame) / static_cast<double>(rate_);
     }
     /// The ports connected to in_(k+1).
     std::vector<std::string> connections(int k) const
@@ -132,6 +151,11 @@ private:
             const auto* in = static_cast<const float*>(jack_port_get_buffer(r.ports_[c], n));
             std::copy(in, in + len, r.data_[c].begin() + static_cast<long>(at));
         }
+        const std::size_t c = r.cycleCount_.load(std::memory_order_relaxed);
+        if (len > 0 && c < r.cycles_.size()) {
+            r.cycles_[c] = Cycle {at, std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count()};
+            r.cycleCount_.store(c + 1, std::memory_order_release);
+        }
         r.frames_.store(at + len, std::memory_order_release);
         return 0;
     }
@@ -141,6 +165,12 @@ private:
     std::vector<jack_port_t*> ports_;
     std::vector<std::vector<float>> data_;
     std::atomic<std::size_t> frames_ {0};
+    struct Cycle {
+        std::size_t frame = 0;
+        double time = 0.0;
+    };
+    std::vector<Cycle> cycles_;
+    std::atomic<std::size_t> cycleCount_ {0};
     bool ok_ = false;
 };
 
