@@ -120,8 +120,9 @@ std::string TactorOutput::describe() const
         std::snprintf(buf, sizeof buf, "JACK client '%s': ports tactor_1..tactor_%d (motors %s), %.0f Hz, %d frames a period, model %s",
                       jack_->clientName().c_str(), channels(), map.c_str(), sampleRate_, periodFrames_, tactors::modelName(config_.params.model));
     } else {
-        std::snprintf(buf, sizeof buf, "ALSA '%s': %d channels (motors %s), %.0f Hz %s, %d frames a period, model %s", config_.device.c_str(), channels(),
-                      map.c_str(), sampleRate_, card_->info().format.c_str(), periodFrames_, tactors::modelName(config_.params.model));
+        std::snprintf(buf, sizeof buf, "ALSA '%s': %d channel%s (motors %s), %.0f Hz %s, %d frames a period, model %s", config_.device.c_str(), channels(),
+                      channels() == 1 ? "" : "s", map.c_str(), sampleRate_, card_->info().format.c_str(), periodFrames_,
+                      tactors::modelName(config_.params.model));
     }
     return buf;
 }
