@@ -22,6 +22,8 @@ packages=(
     libgl-dev libgtk-3-dev
     # the editor's own tests (tests_plugin_ui) drive a real window under Xvfb
     xvfb xauth
+    # the tactor output's tests and benchmark start their own JACK server (dummy backend; issue 33)
+    jackd2
     # benchmarks' scoring scripts (scripts/bench_gaps.py, BROAD)
     python3-numpy
     # the reference firmware (docs/HARDWARE.md): AVR toolchain and its simavr loop test

@@ -34,6 +34,11 @@ struct SoundCard::Pcm {
 };
 
 SoundCard::SoundCard(const std::string& device, double sampleRate, double latencySeconds)
+    : SoundCard(device, sampleRate, latencySeconds, 2)
+{
+}
+
+SoundCard::SoundCard(const std::string& device, double sampleRate, double latencySeconds, int channels)
     : pcm_(std::make_unique<Pcm>())
 {
     static std::once_flag quiet;
@@ -47,16 +52,28 @@ SoundCard::SoundCard(const std::string& device, double sampleRate, double latenc
         pcm_->handle = nullptr;
         throw IoError(reason(device, "cannot open", err));
     }
+    if (channels < 1 || channels > 32) throw IoError("sound card '" + device + "': 1..32 channels, not " + std::to_string(channels));
+    {
+        // A device that has fewer outputs than asked is named as such (ALSA's own reason, "Invalid
+        // argument", says nothing); plug devices ("default", "plughw:") take any count.
+        snd_pcm_hw_params_t* hw = nullptr;
+        snd_pcm_hw_params_malloc(&hw);
+        unsigned most = 0;
+        const bool known = hw && snd_pcm_hw_params_any(pcm_->handle, hw) >= 0 && snd_pcm_hw_params_get_channels_max(hw, &most) >= 0;
+        if (hw) snd_pcm_hw_params_free(hw);
+        if (known && most < static_cast<unsigned>(channels))
+            throw IoError("sound card '" + device + "': " + std::to_string(most) + " output channels, " + std::to_string(channels) + " needed");
+    }
     const auto rate = static_cast<unsigned>(std::lround(sampleRate));
     const auto latencyUs = static_cast<unsigned>(std::clamp(latencySeconds, 0.002, 1.0) * 1e6);
     // Float first (no conversion on the way), 16-bit for cards opened directly ("hw:N") that
     // have no float format; soft resampling on, so a 44.1 kHz card still plays at our rate.
-    err = snd_pcm_set_params(pcm_->handle, SND_PCM_FORMAT_FLOAT_LE, SND_PCM_ACCESS_RW_INTERLEAVED, 2, rate, 1, latencyUs);
+    err = snd_pcm_set_params(pcm_->handle, SND_PCM_FORMAT_FLOAT_LE, SND_PCM_ACCESS_RW_INTERLEAVED, static_cast<unsigned>(channels), rate, 1, latencyUs);
     if (err < 0) {
         pcm_->isFloat = false;
-        err = snd_pcm_set_params(pcm_->handle, SND_PCM_FORMAT_S16_LE, SND_PCM_ACCESS_RW_INTERLEAVED, 2, rate, 1, latencyUs);
+        err = snd_pcm_set_params(pcm_->handle, SND_PCM_FORMAT_S16_LE, SND_PCM_ACCESS_RW_INTERLEAVED, static_cast<unsigned>(channels), rate, 1, latencyUs);
     }
-    if (err < 0) throw IoError(reason(device, "no 2-channel float or 16-bit format at " + std::to_string(rate) + " Hz", err));
+    if (err < 0) throw IoError(reason(device, "no " + std::to_string(channels) + "-channel float or 16-bit format at " + std::to_string(rate) + " Hz", err));
     snd_pcm_uframes_t buffer = 0, period = 0;
     err = snd_pcm_get_params(pcm_->handle, &buffer, &period);
     if (err < 0 || period == 0) throw IoError(reason(device, "cannot read buffer sizes", err < 0 ? err : -EINVAL));
@@ -65,6 +82,7 @@ SoundCard::SoundCard(const std::string& device, double sampleRate, double latenc
     info_.periodFrames = static_cast<int>(std::min<snd_pcm_uframes_t>(period, 8192));
     info_.bufferFrames = static_cast<int>(buffer);
     info_.format = pcm_->isFloat ? "FLOAT_LE" : "S16_LE";
+    info_.channels = channels;
 }
 
 SoundCard::~SoundCard() { stop(); }
@@ -74,6 +92,17 @@ void SoundCard::start(Render render, int realtimePriority)
     if (running_.exchange(true)) return;
     if (thread_.joinable()) thread_.join();   // a thread that ended on its own (card gone)
     render_ = std::move(render);
+    renderChannels_ = nullptr;
+    failed_.store(false, std::memory_order_relaxed);
+    thread_ = std::thread([this, realtimePriority] { loop(realtimePriority); });
+}
+
+void SoundCard::start(RenderChannels render, int realtimePriority)
+{
+    if (running_.exchange(true)) return;
+    if (thread_.joinable()) thread_.join();
+    renderChannels_ = std::move(render);
+    render_ = nullptr;
     failed_.store(false, std::memory_order_relaxed);
     thread_ = std::thread([this, realtimePriority] { loop(realtimePriority); });
 }
@@ -94,10 +123,14 @@ void SoundCard::loop(int realtimePriority)
 {
     if (realtimePriority > 0) requestRealtimePriority(realtimePriority);
     const int n = info_.periodFrames;
+    const int channels = info_.channels;
+    const auto nc = static_cast<std::size_t>(channels);
     // Everything the loop touches is allocated here, before the first period.
-    std::vector<float> left(static_cast<std::size_t>(n)), right(static_cast<std::size_t>(n));
-    std::vector<float> interleavedF(pcm_->isFloat ? 2 * static_cast<std::size_t>(n) : 0);
-    std::vector<std::int16_t> interleavedS(pcm_->isFloat ? 0 : 2 * static_cast<std::size_t>(n));
+    std::vector<std::vector<float>> buffers(nc, std::vector<float>(static_cast<std::size_t>(n)));
+    std::vector<float*> pointers(nc);
+    for (std::size_t c = 0; c < nc; ++c) pointers[c] = buffers[c].data();
+    std::vector<float> interleavedF(pcm_->isFloat ? nc * static_cast<std::size_t>(n) : 0);
+    std::vector<std::int16_t> interleavedS(pcm_->isFloat ? 0 : nc * static_cast<std::size_t>(n));
     const double bufferSeconds = info_.bufferFrames / info_.sampleRate;
     // Pacing reference: re-anchored whenever the device makes the loop wait (a real card, whose
     // clock is the one that counts, even when it runs a little fast against the system's).
@@ -106,28 +139,29 @@ void SoundCard::loop(int realtimePriority)
     snd_pcm_prepare(pcm_->handle);
 
     while (running_.load(std::memory_order_acquire)) {
-        std::fill(left.begin(), left.end(), 0.0f);
-        std::fill(right.begin(), right.end(), 0.0f);
-        render_(left.data(), right.data(), n);
+        for (auto& b : buffers) std::fill(b.begin(), b.end(), 0.0f);
+        snd_pcm_sframes_t delay = 0;
+        queued_.store(snd_pcm_delay(pcm_->handle, &delay) == 0 && delay > 0 ? static_cast<int>(delay) : 0, std::memory_order_relaxed);
+        if (renderChannels_) renderChannels_(pointers.data(), channels, n);
+        else render_(pointers[0], pointers[std::min<std::size_t>(1, nc - 1)], n);
         const void* data;
         if (pcm_->isFloat) {
-            for (int i = 0; i < n; ++i) {
-                interleavedF[2 * static_cast<std::size_t>(i)] = std::isfinite(left[i]) ? left[i] : 0.0f;
-                interleavedF[2 * static_cast<std::size_t>(i) + 1] = std::isfinite(right[i]) ? right[i] : 0.0f;
-            }
+            for (int i = 0; i < n; ++i)
+                for (std::size_t c = 0; c < nc; ++c) {
+                    const float x = buffers[c][static_cast<std::size_t>(i)];
+                    interleavedF[nc * static_cast<std::size_t>(i) + c] = std::isfinite(x) ? x : 0.0f;
+                }
             data = interleavedF.data();
         } else {
             const auto toS16 = [](float x) {
                 const float c = std::isfinite(x) ? std::clamp(x, -1.0f, 1.0f) : 0.0f;
                 return static_cast<std::int16_t>(std::lround(c * 32767.0f));
             };
-            for (int i = 0; i < n; ++i) {
-                interleavedS[2 * static_cast<std::size_t>(i)] = toS16(left[i]);
-                interleavedS[2 * static_cast<std::size_t>(i) + 1] = toS16(right[i]);
-            }
+            for (int i = 0; i < n; ++i)
+                for (std::size_t c = 0; c < nc; ++c) interleavedS[nc * static_cast<std::size_t>(i) + c] = toS16(buffers[c][static_cast<std::size_t>(i)]);
             data = interleavedS.data();
         }
-        const std::size_t frameBytes = pcm_->isFloat ? 2 * sizeof(float) : 2 * sizeof(std::int16_t);
+        const std::size_t frameBytes = pcm_->isFloat ? nc * sizeof(float) : nc * sizeof(std::int16_t);
         int done = 0;
         bool waited = false;
         while (done < n && running_.load(std::memory_order_acquire)) {

@@ -28,15 +28,21 @@ struct SoundCardInfo {
     int periodFrames = 0;        ///< frames per write
     int bufferFrames = 0;        ///< frames the card queues (≈ output latency)
     std::string format;          ///< "FLOAT_LE" or "S16_LE"
+    int channels = 2;            ///< interleaved output channels
 };
 
 class SoundCard {
 public:
     using Render = std::function<void(float* left, float* right, int numSamples)>;
+    /// N channels (the tactor output, issue 33): one buffer per channel, zeroed before the call.
+    using RenderChannels = std::function<void(float* const* channels, int numChannels, int numSamples)>;
 
     /// Opens `device` for 2-channel playback at `sampleRate` with about `latencySeconds` of
     /// buffer. IoError ("sound card 'NAME': <ALSA's reason>") when it cannot be opened/configured.
     SoundCard(const std::string& device, double sampleRate, double latencySeconds = 0.02);
+    /// The same for `channels` (1…32) output channels. IoError also when the device has fewer
+    /// ("sound card 'hw:1': 8 output channels, 9 needed").
+    SoundCard(const std::string& device, double sampleRate, double latencySeconds, int channels);
     ~SoundCard();
     SoundCard(const SoundCard&) = delete;
     SoundCard& operator=(const SoundCard&) = delete;
@@ -44,6 +50,8 @@ public:
     /// Starts the audio thread; `render` is called on it for every period (it must be real-time
     /// safe). `realtimePriority` > 0 asks for SCHED_FIFO (falls back silently).
     void start(Render render, int realtimePriority = 0);
+    /// Starts the audio thread with an N-channel callback (a card opened with N channels).
+    void start(RenderChannels render, int realtimePriority = 0);
     /// Stops the thread (what is queued in the card is dropped: silence at once) and joins it.
     void stop();
 
@@ -54,6 +62,10 @@ public:
     /// once failed() is true.
     std::string lastError() const;
     bool failed() const noexcept { return failed_.load(std::memory_order_acquire); }
+    /// Frames queued in the device ahead of the period being rendered, read by the audio thread
+    /// just before it calls the render callback (snd_pcm_delay): how long that period's first
+    /// sample waits before it is played. Any thread; read it from inside the callback for that period.
+    int queuedFrames() const noexcept { return queued_.load(std::memory_order_relaxed); }
 
 private:
     void loop(int realtimePriority);
@@ -62,6 +74,8 @@ private:
     std::unique_ptr<Pcm> pcm_;
     SoundCardInfo info_;
     Render render_;
+    RenderChannels renderChannels_;
+    std::atomic<int> queued_ {0};
     std::thread thread_;
     std::atomic<bool> running_ {false}, failed_ {false};
     std::atomic<std::uint64_t> frames_ {0}, underruns_ {0};

@@ -3,6 +3,7 @@
 #include "Cli/MapOptions.h"
 #include "Cli/ReaderIo.h"
 #include "Cli/SceneOptions.h"
+#include "Cli/TactorOptions.h"
 #include "Live/MappingRig.h"
 #include "Core/Errors.h"
 #include "Audio/SoundCard.h"
@@ -294,6 +295,9 @@ int runPlay(const Arguments& args)
                                                 "the starting calibration)"},
                 };
                 o.insert(o.begin() + 1, own.begin(), own.end());
+                // The motor grid live as audio (docs/TACTORS.md), beside the device.
+                const auto tactorOptions = tactorOptionSpecs(true);
+                o.insert(o.end(), tactorOptions.begin(), tactorOptions.end());
                 // Speech and a braille display for the training's prompts and the link's state.
                 const auto io = readerIoOptionSpecs();
                 o.insert(o.end(), io.begin(), io.end());
@@ -493,6 +497,9 @@ int runPlay(const Arguments& args)
         engine.panicGesture = cl.has("--panic-gesture");
         const int controlPort = cl.has("--control-in") ? static_cast<int>(cl.integer("--control-in", 0, 1, 65535)) : -1;
 
+        if (cl.has("--tactors")) config.tactors = tactorConfig(cl, config.engine.motorCount);
+        else if (anyTactorSetting(cl)) throw UsageError("the --tactor-* options set up --tactors DEVICE|jack: give it too");
+
         installInterruptHandlers();
         device::LiveSession session(config);
         // Stage commands (OSC control port, keys): panic and resume act on the engine at once
@@ -554,6 +561,7 @@ int runPlay(const Arguments& args)
             std::cerr << "armadillo play: no sound: " << session.soundCardWarning()
                       << " (--out FILE records the audio instead; --no-audio silences this message)\n";
         }
+        if (live::TactorOutput* t = session.tactors()) std::cerr << "armadillo play: tactors on " << t->describe() << "\n";
         std::vector<std::unique_ptr<GuidedMount>> mountCalibrations;   // the right arm's, the left arm's
         for (const auto& [out, osc, option, arm] : {std::tuple {mountOut, session.oscReceiver(), "--calibrate-mount", ""},
                                                     std::tuple {leftMountOut, session.leftOscReceiver(), "--calibrate-mount-left", "left arm "}}) {
@@ -583,7 +591,7 @@ int runPlay(const Arguments& args)
             else if (!osc->tcpError().empty())
                 std::cerr << "armadillo play: OSC input: UDP port " << osc->port() << " only (no TCP input: " << osc->tcpError() << ")\n";
         }
-        bool shownCardError = false;
+        bool shownCardError = false, shownTactorError = false;
         // A progress line on a terminal (stderr only, so stdout keeps just the JSON summary), not
         // while a guided procedure prints its own instructions there.
         const bool progress = ::isatty(STDERR_FILENO) == 1 && !calibration && mountCalibrations.empty() && !training;
@@ -703,6 +711,10 @@ int runPlay(const Arguments& args)
                 std::cerr << lineStart << "armadillo play: " << card->lastError() << "; playing on without sound\n";
                 shownCardError = true;
             }
+            if (live::TactorOutput* t = session.tactors(); t && t->failed() && !shownTactorError) {
+                std::cerr << lineStart << "armadillo play: the tactor output stopped (its JACK server or sound card went away); the device plays on\n";
+                shownTactorError = true;
+            }
             if (calibration && calibration->step() != device::CalibrationProcedure::Step::Done) {
                 device::RawPacket p;
                 while (session.rawPackets()->pop(p)) calibration->feed(p.t, p.counts);
@@ -781,6 +793,9 @@ int runPlay(const Arguments& args)
             summary.insert(summary.size() - 1, ",\"left_packets\":" + std::to_string(leftOsc->stats().imu + leftOsc->stats().orientation) +
                                                    ",\"left_osc\":{" + leftOsc->statsJson() + "}");
         if (cues) summary.insert(summary.size() - 1, ",\"cue\":" + std::to_string(cues->current()) + ",\"cue_changes\":" + std::to_string(cues->changes()));
+        if (live::TactorOutput* t = session.tactors())   // the tactor output's own counters (docs/TACTORS.md)
+            summary.insert(summary.size() - 1, ",\"tactor_frames\":" + std::to_string(t->framesRendered()) + ",\"tactor_dropped\":" +
+                                                   std::to_string(t->recordsDropped()) + ",\"tactor_limited\":" + std::to_string(t->limited()));
         std::cout << summary << "\n" << std::flush;
         return session.engine().failed() ? int(kExitFailure) : int(kExitOk);
     });

@@ -2,6 +2,7 @@
 #include "Cli/Commands.h"
 #include "Cli/MapOptions.h"
 #include "Cli/SceneOptions.h"
+#include "Cli/TactorOptions.h"
 #include "Osc/OscIo.h"
 #include "Osc/Mount.h"
 #include "Live/MappingRig.h"
@@ -75,6 +76,10 @@ int runRender(const Arguments& args)
                                                                   "without --osc-out no OSC is sent)"});
                            o.push_back({"--tactile-wav", "OUT.wav", "the motors as a multichannel WAV (docs/FORMATS.md): channel k = motor k,\n"
                                                                     "a 150 Hz sine at amplitude level/15 (9 channels, 12 with --back-motors)"});
+                           for (const OptionSpec& t : tactorOptionSpecs(false)) {   // the --tactile-wav's actuators (docs/TACTORS.md)
+                               o.push_back(t);
+                               o.back().help = "with --tactile-wav: " + o.back().help;
+                           }
                            o.push_back({"--tactile-ahap", "OUT.ahap", "the motors as an Apple AHAP file: one actuator, level = 15 x HapticIntensity\n"
                                                                       "(docs/FORMATS.md; sharpness is not written)"});
                            o.push_back({"--tactile-haptic", "OUT.haptic", "the motors as a Meta Haptics Studio .haptic file: one actuator,\n"
@@ -105,6 +110,18 @@ int runRender(const Arguments& args)
             readSceneOptions(cl, engine);
         }
         engine.motorCount = cl.has("--back-motors") ? kGridMotors + kBackMotors : kGridMotors;
+        // The tactile WAV's actuators: the tactor renderer's model, map and gains (docs/TACTORS.md);
+        // without any of them, the voice-coil model at 150 Hz, one channel per motor (docs/FORMATS.md).
+        if (anyTactorSetting(cl) && !cl.has("--tactile-wav")) throw UsageError("the --tactor-* options shape --tactile-wav: give it too");
+        live::TactorOutputConfig tactorWav;
+        if (anyTactorSetting(cl)) {
+            tactorWav = tactorConfig(cl, engine.motorCount);   // UsageError / InputError before the render starts
+            tactors::validate(tactorWav.params, engine.sceneConfig.sampleRate, "--tactor-model");
+        } else {
+            tactorWav.params.model = tactors::TactorModel::VoiceCoil;
+            tactorWav.params.voiceCoilHz = 150.0;
+            tactorWav.map = tactors::ChannelMap::identity(engine.motorCount);
+        }
         settings.tailSeconds = cl.number("--tail", 0.0);
         if (settings.tailSeconds < 0.0 || settings.tailSeconds > 600.0) throw UsageError("--tail must lie in 0..600 s");
         if (cl.has("--no-audio-in-mix") && !cl.has("--audio-in")) throw UsageError("--no-audio-in-mix applies to --audio-in");
@@ -277,7 +294,7 @@ int runRender(const Arguments& args)
             writeFileAtomically(cl.value("--arms-log"), text);
         }
         if (cl.has("--tactile-wav"))
-            writeTactileWav(tactileWav, r.tactile, engine.motorCount, engine.sceneConfig.sampleRate, 150.0, cl.has("--float"));
+            writeTactileWav(tactileWav, r.tactile, tactorWav.params, tactorWav.map, tactorWav.gains, engine.sceneConfig.sampleRate, cl.has("--float"));
         const std::string project = std::filesystem::path(cl.value("--motion")).stem().string();
         if (cl.has("--tactile-ahap")) writeFileAtomically(tactileAhap, exportAhap(r.tactile, actuator, project));
         if (cl.has("--tactile-haptic")) writeFileAtomically(tactileHaptic, exportMetaHaptic(r.tactile, actuator, project));

@@ -351,27 +351,20 @@ void writeTactileWav(const std::string& path, const std::vector<TactileRow>& row
 {
     if (motors < 1 || motors > kMaxMotors) throw InputError(path, 0, "motors", "1..16 motors");
     if (!(carrierHz > 0.0 && carrierHz < sampleRate / 2.0)) throw InputError(path, 0, "carrier", "the carrier must lie below half the sample rate");
-    AudioBuffer out;
-    out.sampleRate = sampleRate;
-    if (rows.empty()) {
-        out.channels.assign(static_cast<std::size_t>(motors), {});
-        writeWav(path, out, float32);
-        return;
-    }
-    const double t0 = rows.front().t;
-    const double lastHold = rows.size() > 1 ? rows.back().t - rows[rows.size() - 2].t : 0.005;
-    const double total = rows.back().t + std::max(0.0, lastHold) - t0;
-    const auto frames = static_cast<std::size_t>(std::ceil(total * sampleRate - 1e-9));
-    out.channels.assign(static_cast<std::size_t>(motors), std::vector<float>(frames, 0.0f));
-    std::size_t row = 0;
-    for (std::size_t n = 0; n < frames; ++n) {
-        const double t = t0 + static_cast<double>(n) / sampleRate;
-        while (row + 1 < rows.size() && rows[row + 1].t <= t + 1e-9) ++row;
-        const double carrier = std::sin(2.0 * 3.14159265358979323846 * carrierHz * static_cast<double>(n) / sampleRate);
-        for (int m = 0; m < motors; ++m)
-            out.channels[static_cast<std::size_t>(m)][n] = static_cast<float>(rows[row].levels[static_cast<std::size_t>(m)] / kFullScale * carrier);
-    }
-    writeWav(path, out, float32);
+    // The file's carrier is a plain sine of the level's amplitude: the voice-coil model.
+    tactors::TactorParams params;
+    params.model = tactors::TactorModel::VoiceCoil;
+    params.voiceCoilHz = carrierHz;
+    writeTactileWav(path, rows, params, tactors::ChannelMap::identity(motors), tactors::TactorGains {}, sampleRate, float32);
+}
+
+void writeTactileWav(const std::string& path, const std::vector<TactileRow>& rows, const tactors::TactorParams& params,
+                     const tactors::ChannelMap& map, const tactors::TactorGains& gains, double sampleRate, bool float32)
+{
+    // The live tactor output's renderer, fed row by row (one code path: Tests/Tactors compares them).
+    tactors::TactorRenderer renderer;
+    renderer.prepare(params, map, gains, sampleRate);
+    writeWav(path, tactors::renderTactileRows(rows, renderer), float32);
 }
 
 // ---- out: AHAP and .haptic ---------------------------------------------------------------

@@ -8,6 +8,7 @@
 #include "Formats/MidiFile.h"
 #include "Tactile/Score.h"
 #include "Tactile/TactileEngine.h"
+#include "Tactors/TactorRenderer.h"
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -94,8 +95,13 @@ bool isImportableScorePath(const std::string& path) noexcept;
 
 /// Writes the motors as a multichannel WAV (docs/FORMATS.md): rows of 0..15 levels, each held
 /// until the next row's time; channel k = motor k at amplitude level/15 of a `carrierHz` sine.
+/// Rendered by the tactor renderer (Tactors/TactorRenderer.h) as the voice-coil model.
 void writeTactileWav(const std::string& path, const std::vector<TactileRow>& rows, int motors, double sampleRate,
                      double carrierHz = 150.0, bool float32 = false);
+/// The same with any actuator model, channel map and calibration gains (`render --tactile-wav`
+/// with `--tactor-model`, `--tactor-map`, `--tactor-gain`): exactly what the live output plays.
+void writeTactileWav(const std::string& path, const std::vector<TactileRow>& rows, const tactors::TactorParams& params,
+                     const tactors::ChannelMap& map, const tactors::TactorGains& gains, double sampleRate, bool float32 = false);
 
 /// The one actuator an AHAP or `.haptic` file describes, from motor rows (docs/FORMATS.md,
 /// "Out: AHAP and .haptic"): at each row, the largest level among `motors` (bit i = motor index

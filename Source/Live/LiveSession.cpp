@@ -197,6 +197,8 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
             soundCardWarning_ = e.what();
         }
     }
+    // Last, so a bad tactor setting or a missing device leaves nothing open (IoError/InputError).
+    if (!config_.tactors.device.empty()) tactors_ = std::make_unique<live::TactorOutput>(config_.tactors);
 }
 
 LiveSession::~LiveSession()
@@ -212,6 +214,7 @@ MotorLevels LiveSession::control(double t, const SensorCounts* counts, const Imu
     if (motorsOff_.load(std::memory_order_acquire)) {
         if (zeroPacketT_.load(std::memory_order_relaxed) < 0.0) zeroPacketT_.store(t, std::memory_order_relaxed);
         zeroPacketsSent_.fetch_add(1, std::memory_order_release);
+        if (tactors_) tactors_->push(t, MotorLevels {});
         return MotorLevels {};
     }
     double dt = lastT_ < 0.0 ? 0.0 : t - lastT_;
@@ -284,6 +287,7 @@ MotorLevels LiveSession::control(double t, const SensorCounts* counts, const Imu
     updates_.fetch_add(1, std::memory_order_relaxed);
     pose_.store(arm.features.pose);
     levels_.store(levels);
+    if (tactors_) tactors_->push(t, levels);   // the same levels as the device's packet, at once
 
     if (log_) {
         LogRow row;
@@ -462,6 +466,15 @@ void LiveSession::audioLoop()
 void LiveSession::start()
 {
     if (running_.exchange(true)) return;
+    // The tactor output first: a JACK connection that cannot be made throws before anything runs.
+    if (tactors_) {
+        try {
+            tactors_->start();
+        } catch (...) {
+            running_.store(false);
+            throw;
+        }
+    }
     started_ = std::chrono::steady_clock::now();
     if (link_) link_->start();
     if (leftLink_) leftLink_->start();
@@ -512,6 +525,10 @@ void LiveSession::stop()
     running_.store(false, std::memory_order_release);
     if (audioThread_.joinable()) audioThread_.join();
     if (soundCard_) soundCard_->stop();
+    if (tactors_) {
+        tactors_->push(std::max(0.0, latestT_.load()), MotorLevels {});   // (the control thread has stopped)
+        tactors_->stop();
+    }
 }
 
 void LiveSession::finish()

@@ -23,6 +23,7 @@
 #include "Live/ControlLoop.h"
 #include "Mapping/MappingSpec.h"
 #include "Live/SetList.h"
+#include "Live/TactorOutput.h"
 #include <atomic>
 #include <memory>
 #include <string>
@@ -109,6 +110,10 @@ struct LiveConfig {
     Calibration leftCalibration = defaultCalibration();
     /// Two arms: t,qw,qx,qy,qz,left_qw,left_qx,left_qy,left_qz per control update. Empty = none.
     std::string armsLog;
+    /// The motor grid live as audio (`play --tactors`, docs/TACTORS.md): every control step's
+    /// levels (the right arm's, as sent to its device) onto an ALSA PCM or JACK ports, beside
+    /// the device. tactors.device empty = none.
+    live::TactorOutputConfig tactors {};
 };
 
 struct SessionSummary {
@@ -181,6 +186,8 @@ public:
     /// The sound card in use (null without one) and why an optional one is not in use.
     const audio::SoundCard* soundCard() const noexcept { return soundCard_.get(); }
     const std::string& soundCardWarning() const noexcept { return soundCardWarning_; }
+    /// The tactor output (null without LiveConfig::tactors.device).
+    live::TactorOutput* tactors() noexcept { return tactors_.get(); }
     /// The recording (LiveConfig::audioIn) has been played to its end (never with audioInLoop or
     /// without a recording): by the audio thread's position, or by the wall clock when no audio
     /// thread runs (a sound card that could not be opened).
@@ -235,6 +242,7 @@ private:
     std::uint64_t recordingAt_ = 0;          ///< audio thread: next frame of the recording (counts on past its end)
     std::atomic<std::uint64_t> recordingPlayed_ {0};   ///< recordingAt_, for other threads
     std::unique_ptr<audio::SoundCard> soundCard_;
+    std::unique_ptr<live::TactorOutput> tactors_;
     std::string soundCardWarning_;
     std::thread audioThread_;
     std::atomic<bool> running_ {false};

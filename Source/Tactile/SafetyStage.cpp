@@ -166,6 +166,12 @@ MotorLevels SafetyStage::process(const MotorLevels& requested, double dt) noexce
             // Fast path: the whole last window plus the new level for all of H fits.
             const bool fits = total - atFrom + double(level * level) * horizon <= energyLimit;
             if (!fits) {
+                // The record the window's tail starts in may itself begin inside (from, to]: the
+                // very first one, while the window still reaches back before the history (a stage
+                // whose first call had dt = 0 starts its first level at time 0). Its start is a
+                // level change too.
+                if (start_[r0] > from && start_[r0] <= to)
+                    maxSquare = std::min(maxSquare, (energyLimit - (total - cumE_[r0])) / (start_[r0] - from));
                 while (s < newest_[mi] && start_[base + ((s + 1) & mask)] <= to) {
                     ++s;
                     const std::size_t r = base + (s & mask);

@@ -1,0 +1,309 @@
+#include "Tactors/TactorRenderer.h"
+#include "Core/Errors.h"
+#include "Core/Json.h"
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace armadillo::tactors {
+
+namespace {
+constexpr double kTwoPi = 6.28318530717958647692;
+constexpr double kFullScale = 15.0;   // the level of a full-scale signal (docs/FORMATS.md)
+
+std::string num(double v)
+{
+    std::ostringstream s;
+    s << v;
+    return s.str();
+}
+} // namespace
+
+const char* modelName(TactorModel m) noexcept
+{
+    switch (m) {
+    case TactorModel::Erm: return "erm";
+    case TactorModel::Lra: return "lra";
+    case TactorModel::VoiceCoil: return "voice-coil";
+    }
+    return "?";
+}
+
+bool parseModel(std::string_view text, TactorModel& out) noexcept
+{
+    for (TactorModel m : {TactorModel::Erm, TactorModel::Lra, TactorModel::VoiceCoil})
+        if (text == modelName(m)) {
+            out = m;
+            return true;
+        }
+    return false;
+}
+
+void validate(const TactorParams& p, double sampleRate, const std::string& source)
+{
+    const auto in = [](double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; };
+    if (!in(sampleRate, 8000.0, 384000.0)) throw InputError(source, 0, "sample rate", "sample rate " + num(sampleRate) + " Hz is outside 8000…384000");
+    if (!in(p.ermStartHz, 40.0, 400.0)) throw InputError(source, 0, "erm start", "the ERM's start frequency must lie in 40…400 Hz (got " + num(p.ermStartHz) + ")");
+    if (!in(p.ermFullHz, p.ermStartHz, 400.0))
+        throw InputError(source, 0, "erm full", "the ERM's full-drive frequency must lie in " + num(p.ermStartHz) + "…400 Hz (got " + num(p.ermFullHz) + ")");
+    if (!in(p.ermSpinTime, 0.0, 0.2)) throw InputError(source, 0, "erm spin", "the ERM's spin-up time must lie in 0…0.2 s (got " + num(p.ermSpinTime) + ")");
+    if (!in(p.lraHz, 40.0, 400.0)) throw InputError(source, 0, "lra", "the LRA's resonance must lie in 40…400 Hz (got " + num(p.lraHz) + ")");
+    if (!in(p.lraBrakeTime, 0.0, 0.02)) throw InputError(source, 0, "lra brake", "the LRA's braking pulse must last 0…0.02 s (got " + num(p.lraBrakeTime) + ")");
+    if (!in(p.voiceCoilHz, 40.0, 400.0)) throw InputError(source, 0, "voice-coil", "the voice coil's carrier must lie in 40…400 Hz (got " + num(p.voiceCoilHz) + ")");
+    const double highest = p.model == TactorModel::Erm ? p.ermFullHz : p.model == TactorModel::Lra ? p.lraHz : p.voiceCoilHz;
+    if (!(highest < sampleRate / 2.0)) throw InputError(source, 0, "carrier", "the carrier must lie below half the sample rate");
+}
+
+double carrierHz(const TactorParams& p, double level) noexcept
+{
+    switch (p.model) {
+    case TactorModel::Erm: {
+        // A DC motor's speed follows its drive voltage (back-EMF ∝ speed; docs/TACTORS.md), and an
+        // eccentric mass vibrates once per turn: the frequency rises linearly with the level.
+        const double x = std::clamp(level, 0.0, kFullScale) / kFullScale;
+        return p.ermStartHz + (p.ermFullHz - p.ermStartHz) * x;
+    }
+    case TactorModel::Lra: return p.lraHz;
+    case TactorModel::VoiceCoil: return p.voiceCoilHz;
+    }
+    return p.voiceCoilHz;
+}
+
+ChannelMap ChannelMap::identity(int motors) noexcept
+{
+    ChannelMap m;
+    m.channels = std::clamp(motors, 0, kMaxChannels);
+    for (int c = 0; c < kMaxChannels; ++c) m.motor[static_cast<std::size_t>(c)] = c < m.channels ? c : -1;
+    return m;
+}
+
+ChannelMap parseChannelMap(std::string_view text, int motors)
+{
+    const std::string src = "--tactor-map";
+    ChannelMap map;
+    map.motor.fill(-1);
+    if (text.empty()) throw InputError(src, 0, "", "empty map: give one motor per channel, e.g. 1,2,3,4,5,6,7,8,9 (- for a silent channel)");
+    std::size_t at = 0;
+    while (true) {
+        const std::size_t comma = text.find(',', at);
+        const std::string_view item = text.substr(at, comma == std::string_view::npos ? std::string_view::npos : comma - at);
+        const auto motorNumber = [&](std::string_view s) {
+            if (s.empty() || s.size() > 2 || !std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; }))
+                throw InputError(src, 0, "", "'" + std::string(item) + "' is not a motor number (1.." + std::to_string(motors) + ") or -");
+            const int k = std::stoi(std::string(s));
+            if (k < 1 || k > motors)
+                throw InputError(src, 0, "", "motor " + std::to_string(k) + " does not exist: this rig has motors 1.." + std::to_string(motors) +
+                                                 (motors < 12 && k <= 12 ? " (m10..m12 are the back motors: render and tactors test take --back-motors)" : ""));
+            return k;
+        };
+        int from = -1, to = -1;
+        if (item == "-") {
+            from = to = 0;
+        } else if (const std::size_t dash = item.find('-'); dash != std::string_view::npos) {
+            from = motorNumber(item.substr(0, dash));
+            to = motorNumber(item.substr(dash + 1));
+            if (to < from) throw InputError(src, 0, "", "range '" + std::string(item) + "' runs backwards");
+        } else {
+            from = to = motorNumber(item);
+        }
+        for (int k = from; k <= to; ++k) {
+            if (map.channels == kMaxChannels) throw InputError(src, 0, "", "at most " + std::to_string(kMaxChannels) + " channels");
+            map.motor[static_cast<std::size_t>(map.channels++)] = k - 1;   // "-" → -1
+        }
+        if (comma == std::string_view::npos) break;
+        at = comma + 1;
+    }
+    return map;
+}
+
+std::string channelMapText(const ChannelMap& map)
+{
+    std::string s;
+    for (int c = 0; c < map.channels; ++c) {
+        if (c) s += ',';
+        const int m = map.motor[static_cast<std::size_t>(c)];
+        s += m < 0 ? std::string("-") : std::to_string(m + 1);
+    }
+    return s;
+}
+
+TactorGains parseTactorGains(std::string_view json, const std::string& source)
+{
+    const device::JsonValue root = device::parseJson(json, source);   // InputError with the line of a syntax error
+    if (root.kind != device::JsonValue::Kind::Object) throw InputError(source, root.line, "", "a tactor gain file is a JSON object");
+    for (const auto& [key, value] : root.object)
+        if (key != "armadillo" && key != "version" && key != "gain" && key != "comment")
+            throw InputError(source, value.line, key, "unknown key (known: armadillo, version, gain, comment)");
+    const device::JsonValue* kind = root.find("armadillo");
+    if (!kind || kind->kind != device::JsonValue::Kind::String || kind->string != "tactor-gains")
+        throw InputError(source, kind ? kind->line : root.line, "armadillo", "not a tactor gain file: \"armadillo\": \"tactor-gains\" is missing");
+    const device::JsonValue* version = root.find("version");
+    if (!version || version->kind != device::JsonValue::Kind::Number || version->number != 1.0)
+        throw InputError(source, version ? version->line : root.line, "version", "version 1 is the only one known");
+    const device::JsonValue* gain = root.find("gain");
+    if (!gain || gain->kind != device::JsonValue::Kind::Array)
+        throw InputError(source, gain ? gain->line : root.line, "gain", "\"gain\" must be an array of 1..16 numbers in 0..1, channel 1 first");
+    if (gain->array.empty() || gain->array.size() > static_cast<std::size_t>(kMaxChannels))
+        throw InputError(source, gain->line, "gain", "\"gain\" holds " + std::to_string(gain->array.size()) + " numbers: 1..16 (one per channel)");
+    TactorGains g;
+    g.source = source;
+    for (const device::JsonValue& v : gain->array) {
+        const std::string channel = "gain[" + std::to_string(g.count + 1) + "]";
+        if (v.kind != device::JsonValue::Kind::Number) throw InputError(source, v.line, channel, "channel " + std::to_string(g.count + 1) + ": a number in 0..1");
+        if (!(std::isfinite(v.number) && v.number >= 0.0 && v.number <= 1.0))
+            throw InputError(source, v.line, channel,
+                             "channel " + std::to_string(g.count + 1) + ": gain " + num(v.number) +
+                                 " is outside 0..1 (gains only attenuate: turn the amplifier up for the weakest tactor)");
+        g.gain[static_cast<std::size_t>(g.count++)] = static_cast<float>(v.number);
+    }
+    return g;
+}
+
+TactorGains loadTactorGains(const std::string& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw IoError("tactor gain file '" + path + "': cannot be read");
+    std::ostringstream s;
+    s << in.rdbuf();
+    if (in.bad()) throw IoError("tactor gain file '" + path + "': read error");
+    return parseTactorGains(s.str(), path);
+}
+
+void TactorRenderer::prepare(const TactorParams& params, const ChannelMap& map, const TactorGains& gains, double sampleRate,
+                             const SafetyParams& safety)
+{
+    validate(params, sampleRate, "tactor settings");
+    if (map.channels < 1 || map.channels > kMaxChannels) throw InputError("--tactor-map", 0, "", "1..16 channels");
+    if (gains.count > map.channels)
+        throw InputError(gains.source.empty() ? std::string("tactor gains") : gains.source, 0, "gain",
+                         "the file gives " + std::to_string(gains.count) + " gains but the map has " + std::to_string(map.channels) + " channels");
+    params_ = params;
+    map_ = map;
+    gains_ = gains;
+    sampleRate_ = sampleRate;
+    slew_ = params.model == TactorModel::Erm && params.ermSpinTime > 0.0 ? 1.0 - std::exp(-1.0 / (params.ermSpinTime * sampleRate)) : 1.0;
+    brakeSamples_ = params.model == TactorModel::Lra ? static_cast<int>(std::lround(params.lraBrakeTime * sampleRate)) : 0;
+    ratedLevel_ = safety.ratedLevel;
+    guard_.prepare(safety, map.channels);
+    limited_ = 0;
+    for (Channel& c : ch_) {
+        c = Channel {};
+        c.hz = c.targetHz = carrierHz(params, 0.0);
+    }
+}
+
+void TactorRenderer::setLevels(const MotorLevels& levels, double dt) noexcept
+{
+    MotorLevels want {};
+    const int n = map_.channels;
+    for (int c = 0; c < n; ++c) {
+        Channel& s = ch_[static_cast<std::size_t>(c)];
+        const int m = map_.motor[static_cast<std::size_t>(c)];
+        const std::uint8_t level = m >= 0 ? std::min<std::uint8_t>(levels[static_cast<std::size_t>(m)], 15) : 0;
+        // An LRA that stops is braked: the drive in antiphase for about one period, at most at the
+        // rated level, so the mass stops instead of ringing down for tens of ms. The pulse is
+        // asked of the guard like any level, for as long as it plays.
+        const bool stopping = level == 0 && brakeSamples_ > 0 && (s.level > 0 || s.brakeLeft > 0);
+        if (stopping && s.level > 0) {
+            s.brakeLeft = brakeSamples_;
+            s.brakeAmplitude = static_cast<float>(std::min<int>(guard_.lastOutput()[static_cast<std::size_t>(c)], ratedLevel_));
+        }
+        if (level > 0) s.brakeLeft = 0;
+        want[static_cast<std::size_t>(c)] = s.brakeLeft > 0 ? static_cast<std::uint8_t>(s.brakeAmplitude) : level;
+        s.level = level;
+    }
+    const MotorLevels got = guard_.process(want, dt);
+    for (int c = 0; c < n; ++c) {
+        Channel& s = ch_[static_cast<std::size_t>(c)];
+        const std::size_t i = static_cast<std::size_t>(c);
+        if (got[i] < want[i]) ++limited_;
+        const float scale = gains_.gain[i] / static_cast<float>(kFullScale);
+        if (s.brakeLeft > 0) {
+            s.brakeAmplitude = static_cast<float>(got[i]);   // levels until it plays, then scaled below
+            if (got[i] == 0) s.brakeLeft = 0;
+            s.amplitude = 0.0f;
+        } else {
+            s.amplitude = static_cast<float>(got[i]) * scale;
+        }
+        s.targetHz = carrierHz(params_, s.level > 0 ? static_cast<double>(got[i]) : 0.0);
+        if (params_.model != TactorModel::Erm || params_.ermSpinTime <= 0.0) s.hz = s.targetHz;
+    }
+}
+
+void TactorRenderer::allOff() noexcept
+{
+    guard_.allOff();
+    mute();
+}
+
+void TactorRenderer::mute() noexcept
+{
+    for (int c = 0; c < map_.channels; ++c) {
+        Channel& s = ch_[static_cast<std::size_t>(c)];
+        s.amplitude = 0.0f;
+        s.brakeLeft = 0;
+        s.level = 0;
+        s.targetHz = carrierHz(params_, 0.0);
+    }
+}
+
+void TactorRenderer::render(float* const* out, int n) noexcept
+{
+    if (n <= 0) return;
+    const double toStep = kTwoPi / sampleRate_;
+    const bool erm = params_.model == TactorModel::Erm;
+    for (int c = 0; c < map_.channels; ++c) {
+        Channel& s = ch_[static_cast<std::size_t>(c)];
+        float* o = out[c];
+        const float brake = -s.brakeAmplitude * gains_.gain[static_cast<std::size_t>(c)] / static_cast<float>(kFullScale);
+        for (int i = 0; i < n; ++i) {
+            const float x = static_cast<float>(std::sin(s.phase));
+            if (s.brakeLeft > 0) {
+                o[i] = brake * x;   // antiphase
+                --s.brakeLeft;
+            } else {
+                o[i] = s.amplitude * x;
+            }
+            if (erm) s.hz += (s.targetHz - s.hz) * slew_;
+            s.phase += toStep * s.hz;
+            if (s.phase >= kTwoPi) s.phase -= kTwoPi;
+        }
+    }
+}
+
+AudioBuffer renderTactileRows(const std::vector<TactileRow>& rows, TactorRenderer& renderer)
+{
+    AudioBuffer out;
+    out.sampleRate = renderer.sampleRate();
+    const auto channels = static_cast<std::size_t>(renderer.channels());
+    if (rows.empty()) {
+        out.channels.assign(channels, {});
+        return out;
+    }
+    const double sr = renderer.sampleRate();
+    const double t0 = rows.front().t;
+    const double lastHold = rows.size() > 1 ? rows.back().t - rows[rows.size() - 2].t : 0.005;
+    const double total = rows.back().t + std::max(0.0, lastHold) - t0;
+    const auto frames = static_cast<std::size_t>(std::ceil(total * sr - 1e-9));
+    out.channels.assign(channels, std::vector<float>(frames, 0.0f));
+    std::array<float*, kMaxChannels> ptr {};
+    // Row r starts at the first sample n with t0 + n/sr ≥ t_r (within 1 ns).
+    const auto startOf = [&](std::size_t r) {
+        const double n = std::ceil((rows[r].t - t0 - 1e-9) * sr);
+        return static_cast<std::size_t>(std::clamp(n, 0.0, static_cast<double>(frames)));
+    };
+    std::size_t at = 0;
+    for (std::size_t r = 0; r < rows.size(); ++r) {
+        const std::size_t end = r + 1 < rows.size() ? std::max(startOf(r + 1), at) : frames;
+        renderer.setLevels(rows[r].levels, r == 0 ? 0.0 : rows[r].t - rows[r - 1].t);
+        if (end > at) {
+            for (std::size_t c = 0; c < channels; ++c) ptr[c] = out.channels[c].data() + at;
+            renderer.render(ptr.data(), static_cast<int>(end - at));
+            at = end;
+        }
+    }
+    return out;
+}
+
+} // namespace armadillo::tactors

@@ -1,0 +1,265 @@
+// `armadillo play --tactors jack` and `armadillo tactors test` as a user runs them: a JACK server
+// of the test's own (dummy backend, a unique name through JACK_DEFAULT_SERVER), the tactor ports
+// recorded by a JACK client of the test, compared with the tactile CSV of the same run.
+#include "Common/ScratchDir.h"
+#include "Tactors/JackFixtures.h"
+#include "Tactors/SignalMeasure.h"
+#include "Core/AtomicFile.h"
+#include "Core/Csv.h"
+#include <catch2/catch.hpp>
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+#include <sys/wait.h>
+
+using namespace armadillo;
+
+namespace {
+
+std::string scratch(const std::string& name) { return (test::scratchDir("armadillo-tactors-cli") / name).string(); }
+
+struct Run {
+    int code = -1;
+    std::string out, err;
+};
+
+Run runCli(const std::string& args, double timeout = 60.0)
+{
+    const std::string out = scratch("stdout.txt"), err = scratch("stderr.txt");
+    const std::string cmd = "timeout -s KILL " + std::to_string(timeout) + " '" + std::string(ARMADILLO_BIN) + "' " + args + " >'" + out + "' 2>'" +
+                            err + "' </dev/null";
+    const int status = std::system(cmd.c_str());
+    Run r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = readWholeFile(out);
+    r.err = readWholeFile(err);
+    return r;
+}
+
+/// The CSV's level of motor k at source time s (the row in force), and whether a change of more
+/// than one level (a dither step of one level is within the tolerance) happens within [from, to].
+struct Levels {
+    std::vector<TactileRow> rows;
+    int at(int k, double s) const
+    {
+        auto it = std::upper_bound(rows.begin(), rows.end(), s, [](double v, const TactileRow& r) { return v < r.t; });
+        if (it == rows.begin()) return 0;
+        return (it - 1)->levels[static_cast<std::size_t>(k)];
+    }
+    /// The largest level in force during [s, e).
+    int maxOver(int k, double s, double e) const
+    {
+        int l = at(k, s);
+        for (auto it = std::upper_bound(rows.begin(), rows.end(), s, [](double v, const TactileRow& r) { return v < r.t; });
+             it != rows.end() && it->t < e; ++it)
+            l = std::max<int>(l, it->levels[static_cast<std::size_t>(k)]);
+        return l;
+    }
+    bool changeWithin(int k, double from, double to) const
+    {
+        int before = at(k, from);
+        for (auto it = std::upper_bound(rows.begin(), rows.end(), from, [](double v, const TactileRow& r) { return v < r.t; });
+             it != rows.end() && it->t <= to; ++it) {
+            if (std::abs(it->levels[static_cast<std::size_t>(k)] - before) > 1) return true;
+            before = it->levels[static_cast<std::size_t>(k)];
+        }
+        return false;
+    }
+};
+
+} // namespace
+
+TEST_CASE("tactors cli (done when): play --tactors jack --tactor-model lra: every channel's 5 ms peaks are the tactile CSV's levels / 15",
+          "[tactors][cli][jack]")
+{
+    test::JackServer server(48000, 256, 2);
+    REQUIRE(server.running());
+    test::JackRecorder rec(9, 12.0);
+    REQUIRE(rec.ok());
+    const std::string csv = scratch("T.csv");
+    const Run r = runCli("play --simulate --scene theremin --seconds 6 --tactors jack --tactor-model lra --tactile '" + csv +
+                            "' --no-audio --tactor-connect rec:in_");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK(r.err.find("tactors on JACK client 'armadillo': ports tactor_1..tactor_9") != std::string::npos);
+    CHECK(r.out.find("\"tactor_frames\":") != std::string::npos);
+    Levels csvLevels;
+    int motors = 0;
+    csvLevels.rows = readTactile(CsvTable::read(csv), &motors);
+    REQUIRE(motors == 9);
+    REQUIRE(csvLevels.rows.size() > 1000);
+
+    // The recording's 5 ms frames (15 × peak) per channel.
+    constexpr double kFrame = 0.005;
+    std::vector<std::vector<double>> rec15;
+    for (int k = 0; k < 9; ++k) rec15.push_back(test::measureFrames(rec.channel(k), 240).level);
+    const std::size_t frames = rec15[0].size();
+    REQUIRE(frames > 1000);
+    // The clocks: the CSV's t is the device link's steady-clock time since its start; a frame's
+    // time is when its period reached the recorder (JackRecorder::frameTime, the same clock). Source time
+    // s = frame time + offset: coarse from the first sound on either side, refined (1 ms steps,
+    // ±60 ms) to the offset where most frames agree.
+    std::vector<double> frameAt(frames);
+    for (std::size_t f = 0; f < frames; ++f) frameAt[f] = rec.frameTime(f * 240);
+    std::size_t firstFrame = frames;
+    for (int k = 0; k < 9; ++k)
+        for (std::size_t f = 0; f < frames; ++f)
+            if (rec15[static_cast<std::size_t>(k)][f] > 0.5) {
+                firstFrame = std::min(firstFrame, f);
+                break;
+            }
+    double firstRow = -1.0;
+    for (const TactileRow& row : csvLevels.rows)
+        if (std::any_of(row.levels.begin(), row.levels.begin() + 9, [](std::uint8_t l) { return l > 0; })) {
+            firstRow = row.t;
+            break;
+        }
+    REQUIRE(firstFrame < frames);
+    REQUIRE(firstRow >= 0.0);
+    const double t0 = csvLevels.rows.front().t, t1 = csvLevels.rows.back().t;
+    std::string failures;   // the first few, for the report
+    const auto score = [&](double offset, bool report, int* checked, int* failed, int* nonzero) {
+        int c = 0, bad = 0, nz = 0;
+        for (int k = 0; k < 9; ++k)
+            for (std::size_t f = 0; f < frames; ++f) {
+                const double s = frameAt[f] + offset;
+                if (s < t0 + 0.05 || s + kFrame > t1 - 0.05) continue;
+                if (csvLevels.changeWithin(k, s - 0.030, s + kFrame + 0.010)) continue;   // 10 ms before to 30 ms after a change
+                const int want = csvLevels.maxOver(k, s, s + kFrame);
+                const double got = rec15[static_cast<std::size_t>(k)][f];
+                ++c;
+                nz += want > 0 ? 1 : 0;
+                if (std::fabs(got - want) > 1.0 + 1e-3) {
+                    ++bad;
+                    if (report && bad <= 12)
+                        failures += "channel " + std::to_string(k + 1) + " at s = " + std::to_string(s) + ": recorded " + std::to_string(got) +
+                                    ", CSV " + std::to_string(want) + "\n";
+                }
+            }
+        if (checked) *checked = c;
+        if (failed) *failed = bad;
+        if (nonzero) *nonzero = nz;
+        return c - bad;
+    };
+    const double coarse = firstRow - frameAt[firstFrame];
+    double best = coarse;
+    int bestScore = -1;
+    for (double o = coarse - 0.060; o <= coarse + 0.060; o += 0.001)
+        if (const int sc = score(o, false, nullptr, nullptr, nullptr); sc > bestScore) {
+            bestScore = sc;
+            best = o;
+        }
+    int checked = 0, failed = 0, nonzero = 0;
+    score(best, true, &checked, &failed, &nonzero);
+    INFO(failures);
+    INFO("offset " << best << " s; frames checked " << checked << " of " << 9 * frames << ", with a level " << nonzero << ", failed " << failed);
+    CHECK(checked > static_cast<int>(9 * frames) / 2);   // the exemptions leave most of the run to check
+    CHECK(nonzero > 200);                                // and levels were felt, not only silence
+    CHECK(failed == 0);
+    // Channel k is motor k: against another motor's column the same recording does not match.
+    int crossBad = 0;
+    for (int k = 0; k < 9; ++k)
+        for (std::size_t f = 0; f < frames; ++f) {
+            const double s = frameAt[f] + best;
+            if (s < t0 + 0.05 || s + kFrame > t1 - 0.05) continue;
+            const int other = (k + 4) % 9;
+            if (std::fabs(rec15[static_cast<std::size_t>(k)][f] - csvLevels.maxOver(other, s, s + kFrame)) > 1.0 + 1e-3) ++crossBad;
+        }
+    CHECK(crossBad > 100);
+}
+
+TEST_CASE("tactors cli: errors name the cause with INTERFACES.md's exit codes, and nothing is written", "[tactors][cli][errors]")
+{
+    const std::string csv = scratch("T-err.csv");
+    std::filesystem::remove(csv);
+    const std::string base = "play --simulate --scene theremin --seconds 1 --no-audio --tactile '" + csv + "' ";
+    ::setenv("JACK_DEFAULT_SERVER", ("armadillo_none_" + std::to_string(::getpid())).c_str(), 1);
+    Run r = runCli(base + "--tactors jack");
+    ::unsetenv("JACK_DEFAULT_SERVER");
+    CHECK(r.code == 4);
+    CHECK(r.err.find("not running") != std::string::npos);
+    r = runCli(base + "--tactors hw:97");
+    CHECK(r.code == 4);
+    CHECK(r.err.find("hw:97") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(csv));
+    // A gain out of range: the file and its line.
+    const std::string gains = scratch("gains.json");
+    writeFileAtomically(gains, "{\n  \"armadillo\": \"tactor-gains\",\n  \"version\": 1,\n  \"gain\": [1, 1,\n           1.2]\n}\n");
+    r = runCli(base + "--tactors null --tactor-gain '" + gains + "'");
+    CHECK(r.code == 3);
+    CHECK(r.err.find(gains + ":5") != std::string::npos);
+    CHECK(r.err.find("1.2") != std::string::npos);
+    // Usage: an unknown model, a motor that does not exist, settings without an output.
+    CHECK(runCli(base + "--tactors null --tactor-model piezo").code == 2);
+    CHECK(runCli(base + "--tactors null --tactor-map 1-10").code == 2);
+    CHECK(runCli(base + "--tactor-model lra").code == 2);
+    CHECK(runCli(base + "--tactors null --tactor-connect x").code == 2);
+    CHECK_FALSE(std::filesystem::exists(csv));
+    // An ALSA device with fewer channels than the map: a 4-channel PCM of the test's own (ALSA's
+    // multi plugin over the null PCM, in a configuration that includes the system's).
+    const std::string conf = scratch("four.conf");
+    writeFileAtomically(conf, "</usr/share/alsa/alsa.conf>\npcm.four {\n type multi\n slaves.a.pcm \"null\"\n slaves.a.channels 4\n"
+                              " bindings.0 { slave a; channel 0; }\n bindings.1 { slave a; channel 1; }\n"
+                              " bindings.2 { slave a; channel 2; }\n bindings.3 { slave a; channel 3; }\n}\n");
+    ::setenv("ALSA_CONFIG_PATH", conf.c_str(), 1);
+    r = runCli(base + "--tactors four");
+    CHECK(r.code == 4);
+    CHECK(r.err.find("sound card 'four': 4 output channels, 9 needed") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(csv));
+    r = runCli(base + "--tactors four --tactor-map 2,4,6,8 --tactor-model voice-coil");
+    ::unsetenv("ALSA_CONFIG_PATH");
+    INFO(r.err);
+    CHECK(r.code == 0);
+    CHECK(r.err.find("tactors on ALSA 'four': 4 channels (motors 2,4,6,8)") != std::string::npos);
+    CHECK(r.out.find("\"tactor_frames\":0") == std::string::npos);   // it played
+    CHECK(r.out.find("\"tactor_limited\":0") != std::string::npos);  // the guard passed the engine's levels untouched
+    std::filesystem::remove(csv);
+    // A JACK server whose pattern matches fewer ports than the map has channels.
+    test::JackServer server(48000, 256, 2);
+    REQUIRE(server.running());
+    r = runCli(base + "--tactors jack --tactor-connect system:playback_");
+    CHECK(r.code == 4);
+    CHECK(r.err.find("matches 2 input ports, the tactor map needs 9") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(csv));
+    // With a map of two channels the same pattern is fine.
+    r = runCli(base + "--tactors jack --tactor-connect system:playback_ --tactor-map 5,2");
+    INFO(r.err);
+    CHECK(r.code == 0);
+}
+
+TEST_CASE("tactors cli: tactors test buzzes each channel in turn and names it", "[tactors][cli][jack]")
+{
+    test::JackServer server(48000, 256, 2);
+    REQUIRE(server.running());
+    test::JackRecorder rec(4, 20.0);
+    REQUIRE(rec.ok());
+    const Run r = runCli("tactors test --tactors jack --tactor-connect rec:in_ --tactor-map 7,-,3,12 --back-motors --on 0.2 --gap 0.1");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK(r.out ==
+          "channel 1 (tactor_1): motor m7, elbow, left\n"
+          "channel 2 (tactor_2): silent (- in the map)\n"
+          "channel 3 (tactor_3): motor m3, wrist, right\n"
+          "channel 4 (tactor_4): motor m12, back 3\n");
+    // On the recording: channels 1, 3, 4 buzz in that order, one at a time, at level 5; 2 never.
+    std::vector<std::vector<double>> l;
+    for (int k = 0; k < 4; ++k) l.push_back(test::measureFrames(rec.channel(k), 240).level);
+    std::vector<double> firstOn(4, -1.0);
+    for (std::size_t f = 0; f < l[0].size(); ++f) {
+        int on = 0;
+        for (int k = 0; k < 4; ++k)
+            if (l[static_cast<std::size_t>(k)][f] > 0.5) {
+                ++on;
+                if (firstOn[static_cast<std::size_t>(k)] < 0) firstOn[static_cast<std::size_t>(k)] = static_cast<double>(f) * 0.005;
+                CHECK(l[static_cast<std::size_t>(k)][f] < 5.0 + 1e-3);
+            }
+        REQUIRE(on <= 1);
+    }
+    CHECK(firstOn[1] < 0.0);
+    REQUIRE(firstOn[0] >= 0.0);
+    REQUIRE(firstOn[2] > firstOn[0]);
+    REQUIRE(firstOn[3] > firstOn[2]);
+    CHECK(firstOn[2] - firstOn[0] == Approx(0.3).margin(0.03));   // on + gap (the silent channel takes no time)
+}
