@@ -189,8 +189,10 @@ void OrientationFilter::predict(double dt)
     sd.segment<3>(kErrRate).setConstant(params_.rateNoise * r);
     sd.segment<3>(kErrAccel).setConstant(params_.angularAccelNoise * r);
     sd.segment<3>(kErrBias).setConstant(params_.biasNoise * r);
-    // The process model neither reads nor changes the gyro bias: its sigma points need no f.
-    ukf_.predict<kErrBias>(ConstantAccelerationModel {dt}, sd);
+    // Linearised (docs/FUSION.md, cost): over one step the model is linear to far below the noise.
+    const OrientationState& x = ukf_.state();
+    const Eigen::Vector3d delta = x.rate * dt + x.accel * (0.5 * dt * dt);
+    ukf_.predictLinearised(ConstantAccelerationModel {dt}, ConstantAccelerationJacobian {dt, delta}, sd);
 }
 
 void OrientationFilter::updateGravity(const Eigen::Vector3d& accel, double rawNorm, double dt)
