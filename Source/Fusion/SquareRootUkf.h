@@ -179,10 +179,17 @@ public:
             return NAN;
         }
 
-        Eigen::Matrix<double, 2 * N, M> B;
+        // The 2(N − Leading) sigma points beyond Leading all observe Y[0]: their equal rows of the
+        // compound matrix are one row scaled by √(2(N − Leading)) (same BᵀB, so the same factor).
+        constexpr int Rows = Leading < N ? 2 * Leading + 1 : 2 * N;
+        Eigen::Matrix<double, Rows, M> B;
         const double swi = std::sqrt(wi_);
-        for (int i = 1; i < kSigma; ++i) B.row(i - 1) = swi * (Y[i] - yMean).transpose();
-        Eigen::Matrix<double, M, M> Syy = qr::upperFactor<2 * N, M>(B, noiseStd).transpose();
+        for (int j = 0; j < Leading; ++j) {
+            B.row(2 * j) = swi * (Y[1 + j] - yMean).transpose();
+            B.row(2 * j + 1) = swi * (Y[1 + N + j] - yMean).transpose();
+        }
+        if constexpr (Leading < N) B.row(2 * Leading) = (swi * std::sqrt(2.0 * (N - Leading))) * (Y[0] - yMean).transpose();
+        Eigen::Matrix<double, M, M> Syy = qr::upperFactor<Rows, M>(B, noiseStd).transpose();
         const VecM dy0 = std::sqrt(std::abs(wc0_)) * (Y[0] - yMean);
         rank1(Syy, dy0, wc0_);
 
@@ -191,7 +198,7 @@ public:
             // Inflate R by k so that the NIS drops to the limit; k found by one rescaling of the
             // innovation factor (the sigma spread is kept), good to first order.
             const double k = nis / nisLimit;
-            Syy = qr::upperFactor<2 * N, M>(B, VecM(std::sqrt(k) * noiseStd)).transpose();
+            Syy = qr::upperFactor<Rows, M>(B, VecM(std::sqrt(k) * noiseStd)).transpose();
             rank1(Syy, dy0, wc0_);
             nis = whitened(Syy, nu).squaredNorm();
         }
