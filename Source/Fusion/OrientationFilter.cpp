@@ -51,6 +51,7 @@ void OrientationFilter::reset()
     magLowPass_.reset();
     lowPassDt_ = 0.0;
     lastT_ = 0.0;
+    lastAccel_.setConstant(kNaN);
     gaps_ = GapDetector(params_.gap);
     headingDisagreeT_ = tiltDisagreeT_ = 0.0;
     initialised_ = false;
@@ -104,6 +105,7 @@ void OrientationFilter::initialise(const ImuSample& s)
     ukf_.reset(x, sd.asDiagonal().toDenseMatrix());
     lastT_ = s.t;
     initT_ = acquireStartT_ = s.t;
+    lastAccel_ = s.accel;
     initialised_ = true;
     restartInertialFrame();
     if (useMag) fieldTracker_.update(s.accel, s.mag, 0.0);
@@ -173,7 +175,7 @@ double OrientationFilter::disagreementLimit() const
     return acquiring() > 0.0 ? params_.acquireDisagreementTime : params_.disagreementTime;
 }
 
-void OrientationFilter::predict(double dt)
+void OrientationFilter::predict(double dt, double shock)
 {
     Eigen::Matrix<double, kErrDim, 1> sd;
     const double r = std::sqrt(dt);
@@ -185,12 +187,14 @@ void OrientationFilter::predict(double dt)
     for (int i = kErrRotation; i < kErrRotation + 3; ++i)
         if (S.row(i).squaredNorm() > cap * cap) acquiringNow = 0.0;
     const double rotation = params_.rotationNoise + acquiringNow * params_.acquireRotationNoise;
-    sd.segment<3>(kErrRotation).setConstant(rotation * r);
+    sd.segment<3>(kErrRotation).setConstant(std::hypot(rotation * r, shock));
     sd.segment<3>(kErrRate).setConstant(params_.rateNoise * r);
     sd.segment<3>(kErrAccel).setConstant(params_.angularAccelNoise * r);
     sd.segment<3>(kErrBias).setConstant(params_.biasNoise * r);
-    // The process model neither reads nor changes the gyro bias: its sigma points need no f.
-    ukf_.predict<kErrBias>(ConstantAccelerationModel {dt}, sd);
+    // Linearised (docs/FUSION.md, cost): over one step the model is linear to far below the noise.
+    const OrientationState& x = ukf_.state();
+    const Eigen::Vector3d delta = x.rate * dt + x.accel * (0.5 * dt * dt);
+    ukf_.predictLinearised(ConstantAccelerationModel {dt}, ConstantAccelerationJacobian {dt, delta}, sd);
 }
 
 void OrientationFilter::updateGravity(const Eigen::Vector3d& accel, double rawNorm, double dt)
@@ -284,6 +288,14 @@ void OrientationFilter::update(const ImuSample& s)
         ++magRejected_;
         headingDisagreeT_ = 0.0;   // a heading reset needs an unbroken run of trusted samples
     }
+    // A shock shows as a jump of the accelerometer between successive samples (NaN before the first).
+    const double jump = (s.accel - lastAccel_).norm() / kStandardGravity;
+    lastAccel_ = s.accel;
+    const double shock = jump > params_.shockThreshold ? params_.shockRotationNoise * (jump - params_.shockThreshold) : 0.0;
+    // The same shock turns the gyro-only frame in which the magnetometer is averaged: what the
+    // low-pass has averaged so far is misplaced by the gyro's error, and it would hold the heading
+    // on that error for magFilterTau. Its history is dropped (it restarts with a plain mean).
+    if (shock > 0.0 && params_.shockRestartsFieldLowPass) magLowPass_.reset();
     if (gap && dt > params_.maxBridge) {
         reacquire(s);
         return;
@@ -300,16 +312,16 @@ void OrientationFilter::update(const ImuSample& s)
         // of the low-pass follows the same extrapolated turn, so what it has averaged is kept.
         ++recovery_.bridged;
         const Eigen::Quaterniond before = ukf_.state().q;
-        predict(dt);
+        predict(dt, shock);
         gyroUpdate();
         inertial_ = quat::normalised(inertial_ * (before.conjugate() * ukf_.state().q));
     } else {
         inertial_ = (inertial_ * quat::exp((s.gyro - ukf_.state().bias) * dt)).normalized();
         if (params_.gyroCoversPrecedingInterval) {
             gyroUpdate();
-            predict(dt);
+            predict(dt, shock);
         } else {
-            predict(dt);
+            predict(dt, shock);
             gyroUpdate();
         }
     }

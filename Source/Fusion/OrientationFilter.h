@@ -33,11 +33,21 @@ public:
         double angularAccelNoise = 30.0;      ///< rad/s²/√s: random walk of α (thesis: α' = α)
         double biasNoise = 2e-5;              ///< rad/s/√s: random walk of the gyro bias
 
+        // Mechanical shocks (a tap on the arm, a knock against something): the accelerometer jumps
+        // by many g from one sample to the next, and the gyro misreads the impact for a few
+        // milliseconds (shock response, saturation). Modelled as extra rotation process noise for
+        // that step, proportional to the jump beyond the threshold (docs/FUSION.md, issue 36).
+        double shockThreshold = 2.0;          ///< g: accelerometer change between successive samples
+        double shockRotationNoise = 1e-3;     ///< rad (std, this step) per g of change beyond the threshold
+        bool shockRestartsFieldLowPass = true;///< a shock also empties the magnetometer's low-pass (below)
+
         // Measurement noise (standard deviations per sample).
         double gyroNoise = 0.003;             ///< rad/s
         double accelFilterTau = 3.0;          ///< s: 2nd-order low-pass of the accelerometer in a gyro-only
                                               ///< (inertial) frame before it is used as gravity (departure)
-        double magFilterTau = 3.0;            ///< s: the same for the magnetometer (accepted samples only)
+        double magFilterTau = 6.0;            ///< s: the same for the magnetometer (accepted samples only;
+                                              ///< 3 s until issue 36: longer averages an orientation-
+                                              ///< dependent field error away, docs/FUSION.md)
         double startupFilterSeconds = 10.0;   ///< s: both time constants grow from 10 % to full over this
                                               ///< time after initialisation (0 = full from the start)
         double gravityNoise = 0.05;           ///< unit-vector components (≈ rad) of the filtered a/|a|
@@ -115,7 +125,7 @@ private:
     /// 1 right after start-up or a re-acquisition, falling to 0 over acquireTime.
     double acquiring() const;
     double disagreementLimit() const;
-    void predict(double dt);
+    void predict(double dt, double shock = 0.0);
     void updateGravity(const Eigen::Vector3d& accelSmooth, double rawNorm, double dt);
     void updateHeading(const Eigen::Vector3d& mag, double dt);
     void restartInertialFrame();
@@ -134,6 +144,7 @@ private:
     double initT_ = 0.0;       ///< s, time of the initialising sample (start of the low-pass ramp)
     double acquireStartT_ = 0.0;   ///< s, start of the latest acquisition: start-up, gap, re-acquisition
     double lastT_ = 0.0;
+    Eigen::Vector3d lastAccel_ = Eigen::Vector3d::Constant(kNaN);   ///< m/s², previous sample (shock detection)
     GapDetector gaps_;
     double headingDisagreeT_ = 0.0, tiltDisagreeT_ = 0.0;   ///< s of unbroken disagreement
     double headingDisagreeMean_ = 0.0;                       ///< rad, mean heading innovation of that run

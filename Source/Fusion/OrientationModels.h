@@ -95,6 +95,51 @@ struct ConstantAccelerationModel {
     }
 };
 
+/// The Jacobian of ConstantAccelerationModel in the error state, applied to a factor in place
+/// (S ← F S). With q = q̄ · exp(e) and Δ = ω t + α t²/2, to first order in the errors
+///   e' = R(Δ̄)ᵀ e + J_r(Δ̄) (δω t + δα t²/2),   δω' = δω + δα t,   δα' = δα,   δb' = δb,
+/// where R(Δ̄) is the rotation exp(Δ̄) and J_r the right Jacobian of SO(3) (Sola et al. 2018, eq. 143:
+/// exp(φ + δφ) ≈ exp(φ) exp(J_r(φ) δφ)). Block-sparse: only the rotation and rate rows change.
+struct ConstantAccelerationJacobian {
+    double dt = 0.0;                                        ///< s
+    Eigen::Vector3d delta = Eigen::Vector3d::Zero();        ///< Δ̄ = ω̄ t + ᾱ t²/2 of the mean, rad
+    template <class Factor>
+    void operator()(Factor& S) const noexcept
+    {
+        const double th2 = delta.squaredNorm();
+        double a, b;   // J_r = I − a [Δ]× + b [Δ]×²
+        if (th2 < 1e-4) {   // series (θ < 0.01 rad): error below 1e-13
+            a = 0.5 - th2 / 24.0;
+            b = 1.0 / 6.0 - th2 / 120.0;
+        } else {
+            const double th = std::sqrt(th2);
+            a = (1.0 - std::cos(th)) / th2;
+            b = (th - std::sin(th)) / (th2 * th);
+        }
+        Eigen::Matrix3d K;
+        K << 0.0, -delta.z(), delta.y(), delta.z(), 0.0, -delta.x(), -delta.y(), delta.x(), 0.0;
+        const Eigen::Matrix3d K2 = K * K;
+        const Eigen::Matrix3d Jr = Eigen::Matrix3d::Identity() - a * K + b * K2;
+        // exp(Δ) as a matrix (Rodrigues): R = I + sinθ/θ K + (1 − cosθ)/θ² K²; Rᵀ = I − … K + … K².
+        double s1, s2;
+        if (th2 < 1e-4) {
+            s1 = 1.0 - th2 / 6.0;
+            s2 = 0.5 - th2 / 24.0;
+        } else {
+            const double th = std::sqrt(th2);
+            s1 = std::sin(th) / th;
+            s2 = (1.0 - std::cos(th)) / th2;
+        }
+        const Eigen::Matrix3d Rt = Eigen::Matrix3d::Identity() - s1 * K + s2 * K2;
+        constexpr int C = Factor::ColsAtCompileTime;
+        const Eigen::Matrix<double, 3, C> rateAndAccel =
+            dt * S.template middleRows<3>(kErrRate) + (0.5 * dt * dt) * S.template middleRows<3>(kErrAccel);
+        S.template middleRows<3>(kErrRotation) =
+            (Rt.lazyProduct(S.template middleRows<3>(kErrRotation)) + Jr.lazyProduct(rateAndAccel)).eval();
+        S.template middleRows<3>(kErrRate) += dt * S.template middleRows<3>(kErrAccel);
+    }
+};
+
 /// Gravity (thesis §2.7.7): the accelerometer, normalised, sees earth "up" (0, 1, 0) in the
 /// device frame: a/|a| = q⁻¹ (0,1,0) q. Linear acceleration is noise here (gated, see filter).
 struct GravityObservation {
