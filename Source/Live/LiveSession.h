@@ -24,6 +24,7 @@
 #include "Mapping/MappingSpec.h"
 #include "Live/SetList.h"
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <string>
 #include <thread>
@@ -109,6 +110,10 @@ struct LiveConfig {
     Calibration leftCalibration = defaultCalibration();
     /// Two arms: t,qw,qx,qy,qz,left_qw,left_qx,left_qy,left_qz per control update. Empty = none.
     std::string armsLog;
+    /// A front end's own scene (`navigate`: a scene that needs a route and a position source, so
+    /// it is not made by name): called once, its scene runs instead of `engine.scene`, which then
+    /// only names it. Not with a set list or two arms. Empty = the scene by name.
+    std::function<std::unique_ptr<Scene>()> makeScene;
 };
 
 struct SessionSummary {

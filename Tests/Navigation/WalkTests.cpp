@@ -1,0 +1,99 @@
+// The closed loop of issue 34's "Done when": a simulated walker who knows nothing but what the
+// motors say (after the safety stage) — reaction 250 ms, a turn rate growing with the click
+// rate, tremor, arm swing, a 20° strap offset — and a GPS with 3–5 m error at 1 Hz.
+#include "Navigation/WalkerSim.h"
+#include <catch2/catch.hpp>
+#include <cstdio>
+
+using namespace armadillo;
+using namespace armadillo::nav;
+
+namespace {
+
+/// Nine points, eight legs of 50–80 m with turns of 30–150°, named with sign words.
+Route eightLegs()
+{
+    Route r;
+    r.source = "eight-legs";
+    LocalPlane plane {{48.1492, 11.5678}};
+    const double xy[9][2] = {{0, 0}, {0, 60}, {50, 85}, {95, 60}, {95, 0}, {150, -30}, {120, -85}, {40, -90}, {-20, -45}};
+    const char* names[9] = {"Start", "Entrance", "Lobby", "Cafeteria", "Library", "Parking", "Station", "Bus", "Exit"};
+    for (int i = 0; i < 9; ++i) r.points.push_back({plane.fromXY(xy[i][0], xy[i][1]), names[i], 0});
+    return r;
+}
+
+/// Long straight legs for the compass's own figure: five targets, 150 m each.
+Route compassTargets()
+{
+    Route r;
+    r.source = "compass-targets";
+    LatLon p {48.0, 11.0};
+    r.points.push_back({p, "", 0});
+    for (double bearing : {0.0, 120.0, 230.0, 330.0, 60.0}) {
+        p = destination(p, bearing, 150.0);
+        r.points.push_back({p, "", 0});
+    }
+    return r;
+}
+
+} // namespace
+
+TEST_CASE("compass closed loop (§4.1): the walking direction within ±5° of the target (median), the 20° strap offset learned away", "[walk]")
+{
+    WalkerParams w;   // reaction 0.25 s, tremor 1.5°, strap 20°, GPS 4 m wandering + 1 m white at 1 Hz
+    NavigationOptions nav;
+    double medians[3] = {};
+    for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+        w.seed = seed;
+        const WalkResult r = simulateWalk(compassTargets(), nav, w, {});
+        std::printf("compass seed %llu: finished %d in %.0f s, median |error| %.2f°, 90th percentile %.2f°, learned offset %.1f° (strap %.0f°)\n",
+                    static_cast<unsigned long long>(seed), r.finished ? 1 : 0, r.seconds, r.medianHeadingErrorDeg, r.p90HeadingErrorDeg,
+                    r.learnedOffsetDeg, w.strapOffsetDeg);
+        CHECK(r.finished);
+        CHECK(r.learnedOffsetDeg == Approx(w.strapOffsetDeg).margin(5.0));
+        medians[seed - 1] = r.medianHeadingErrorDeg;
+        CHECK(r.medianHeadingErrorDeg <= 5.0);
+    }
+    // The probe can see a bias: without the learning the strap's 20° stays in the walking direction.
+    nav.learnHeading = false;
+    w.seed = 1;
+    const WalkResult unlearned = simulateWalk(compassTargets(), nav, w, {});
+    std::printf("compass without learning: median |error| %.2f°\n", unlearned.medianHeadingErrorDeg);
+    CHECK(unlearned.medianHeadingErrorDeg > 12.0);
+    CHECK(medians[0] < unlearned.medianHeadingErrorDeg);
+}
+
+TEST_CASE("a whole route of 8 legs walked by the motors alone: every waypoint in order, never more than 15 m off the route", "[walk]")
+{
+    const Route route = eightLegs();
+    for (double gpsError : {3.0, 5.0}) {
+        for (std::uint64_t seed = 1; seed <= 2; ++seed) {
+            WalkerParams w;
+            w.seed = seed * 11;
+            w.gpsBiasM = gpsError;
+            WalkOptions o;
+            o.startHeadingDeg = 200.0;   // starts facing away from the first waypoint
+            const WalkResult r = simulateWalk(route, {}, w, o);
+            std::printf("route, GPS %.0f m, seed %llu: finished %d in %.0f s, arrivals %zu, max off route %.1f m, median |error| %.2f°, offset %.1f°\n",
+                        gpsError, static_cast<unsigned long long>(seed), r.finished ? 1 : 0, r.seconds, r.arrivals.size(), r.maxOffRouteM,
+                        r.medianHeadingErrorDeg, r.learnedOffsetDeg);
+            CHECK(r.finished);
+            std::vector<int> expected;
+            for (int k = 2; k <= static_cast<int>(route.points.size()); ++k) expected.push_back(k);
+            CHECK(r.arrivals == expected);
+            CHECK(r.maxOffRouteM <= 15.0);
+        }
+    }
+}
+
+TEST_CASE("a route without a course from the receiver: the offset from lines fitted through the fixes", "[walk]")
+{
+    WalkerParams w;
+    w.gpsCourse = false;
+    w.seed = 5;
+    const WalkResult r = simulateWalk(eightLegs(), {}, w, {});
+    std::printf("route without course over ground: finished %d in %.0f s, max off route %.1f m, median |error| %.2f°, offset %.1f°\n",
+                r.finished ? 1 : 0, r.seconds, r.maxOffRouteM, r.medianHeadingErrorDeg, r.learnedOffsetDeg);
+    CHECK(r.finished);
+    CHECK(r.maxOffRouteM <= 15.0);
+}
