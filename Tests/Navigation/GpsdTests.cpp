@@ -145,8 +145,13 @@ std::string writeWalk(const Route& route, const std::string& file, Truth& truth,
         double wlat = 0, wlon = 0;
         const std::string la = nmeaAngle(p.lat, true, wlat), lo = nmeaAngle(p.lon, false, wlon);
         char rmc[160], gga[160];
-        std::snprintf(rmc, sizeof rmc, "GPRMC,%s,%c,%s,%s,%.2f,%.1f,281126,,,%c", time, fix ? 'A' : 'V', la.c_str(), lo.c_str(), 1.4 / 0.514444, track, fix ? 'A' : 'N');
-        std::snprintf(gga, sizeof gga, "GPGGA,%s,%s,%s,%d,08,0.9,520.0,M,47.0,M,,", time, la.c_str(), lo.c_str(), fix ? 1 : 0);
+        if (fix) {
+            std::snprintf(rmc, sizeof rmc, "GPRMC,%s,A,%s,%s,%.2f,%.1f,281126,,,A", time, la.c_str(), lo.c_str(), 1.4 / 0.514444, track);
+            std::snprintf(gga, sizeof gga, "GPGGA,%s,%s,%s,1,08,0.9,520.0,M,47.0,M,,", time, la.c_str(), lo.c_str());
+        } else {   // no position at all (gpsd 3.22 still reports a fix for 'V' sentences that carry one)
+            std::snprintf(rmc, sizeof rmc, "GPRMC,%s,V,,,,,,,281126,,,N", time);
+            std::snprintf(gga, sizeof gga, "GPGGA,%s,,,,,0,00,99.9,,M,,M,,", time);
+        }
         out += nmeaLine(rmc) + nmeaLine(gga);
         if (fix) truth.positions.push_back({wlat, wlon});
         ++epoch;
