@@ -11,6 +11,7 @@
 #include "Live/LiveSession.h"
 #include "Navigation/GpsdSource.h"
 #include "Navigation/NavigationScene.h"
+#include "Navigation/OscPositionSource.h"
 #include "Navigation/WalkerSim.h"
 #include <chrono>
 #include <cmath>
@@ -106,16 +107,18 @@ int runNavigate(const Arguments& args)
 {
     return guarded("navigate", [&]() -> int {
         CommandLine cl(
-            "navigate", "--route ROUTE.gpx (--gpsd HOST[:PORT] | --simulate-walk) (--port NAME | --simulate) [options]",
+            "navigate", "--route ROUTE.gpx (--gpsd HOST[:PORT] | --osc-in PORT | --simulate-walk) (--port NAME | --simulate) [options]",
             "Walk a route guided by the arm alone (docs/NAVIGATION.md): the §4.1 compass toward the next waypoint, an\n"
             "arrival sensation and the waypoint's name in Arm Braille within the arrival radius, and sensations for off\n"
             "route, fix lost and the route's end. The route's first point is the start; guidance goes to point 2 first.\n"
-            "Positions come from gpsd (--gpsd) or from a simulated walker guided by the motors (--simulate-walk, which\n"
+            "Positions come from gpsd (--gpsd), over OSC (--osc-in: /armadillo/position lat lon [accuracy_m], ZIG SIM's gps)\n"
+            "or from a simulated walker guided by the motors (--simulate-walk, which\n"
             "runs the whole walk offline, as fast as it computes). Ends at the route's end, after --seconds, or on\n"
             "SIGINT/SIGTERM, with every motor off, and prints one JSON line.",
             {
                 {"--route", "FILE", "the route: GPX 1.1 (<rte>, <trk> or <wpt>) or a JSON waypoint list", true},
                 {"--gpsd", "HOST[:PORT]", "positions from gpsd (port 2947 unless given; 'localhost' for the local one)"},
+                {"--osc-in", "PORT", "positions over OSC/UDP on PORT: /armadillo/position lat lon [accuracy_m], ZIG SIM's gps"},
                 {"--simulate-walk", "", "a simulated walker follows the motors (with --simulate; offline, deterministic)"},
                 {"--port", "NAME", "the forearm device (its motors and sensors)"},
                 {"--simulate", "", "the built-in simulated forearm (with --gpsd: it holds still; with --simulate-walk: the walker's arm)"},
@@ -137,11 +140,12 @@ int runNavigate(const Arguments& args)
                 {"--seed", "N", "with --simulate-walk: the walker's and its GPS's random seed (default 1)"},
             });
         if (!cl.parse(args)) return kExitOk;
-        const bool gpsd = cl.has("--gpsd"), walk = cl.has("--simulate-walk");
-        if (int(gpsd) + int(walk) != 1) throw UsageError("choose one position source: --gpsd HOST[:PORT] or --simulate-walk");
+        const bool gpsd = cl.has("--gpsd"), walk = cl.has("--simulate-walk"), osc = cl.has("--osc-in");
+        if (int(gpsd) + int(walk) + int(osc) != 1) throw UsageError("choose one position source: --gpsd HOST[:PORT], --osc-in PORT or --simulate-walk");
+        const int oscPort = osc ? static_cast<int>(cl.integer("--osc-in", 0, 1, 65535)) : 0;
         if (int(cl.has("--port")) + int(cl.has("--simulate")) != 1) throw UsageError("choose the arm: --port NAME or --simulate");
         if (walk && !cl.has("--simulate")) throw UsageError("--simulate-walk moves the simulated forearm: use it with --simulate");
-        if (cl.has("--motion") && (!cl.has("--simulate") || walk)) throw UsageError("--motion drives the simulated forearm with --gpsd: use it with --simulate --gpsd");
+        if (cl.has("--motion") && (!cl.has("--simulate") || walk)) throw UsageError("--motion drives the simulated forearm with --gpsd or --osc-in: use it with --simulate");
         for (const char* o : {"--strap-offset", "--seed"})
             if (cl.has(o) && !walk) throw UsageError(std::string(o) + " applies to --simulate-walk");
         if (cl.has("--baud") && !cl.has("--port")) throw UsageError("--baud applies to --port");
@@ -236,11 +240,20 @@ int runNavigate(const Arguments& args)
         config.makeScene = [&route, link, options] { return nav::makeNavigationScene(route, link, options); };
 
         installInterruptHandlers();
-        nav::GpsdSource source(endpoint, link->position);   // IoError (exit 4) when gpsd cannot be reached
+        // The position source: IoError (exit 4) when gpsd cannot be reached or the port is taken.
+        std::unique_ptr<nav::GpsdSource> gpsdSource;
+        std::unique_ptr<nav::OscPositionSource> oscSource;
+        if (gpsd) gpsdSource = std::make_unique<nav::GpsdSource>(endpoint, link->position);
+        else oscSource = std::make_unique<nav::OscPositionSource>(oscPort, link->position);
         device::LiveSession session(config);
         session.start();
-        source.start();
-        std::cerr << "armadillo navigate: positions from gpsd at " << source.describe() << "\n";
+        if (gpsdSource) {
+            gpsdSource->start();
+            std::cerr << "armadillo navigate: positions from gpsd at " << gpsdSource->describe() << "\n";
+        } else {
+            oscSource->start();
+            std::cerr << "armadillo navigate: positions over OSC on UDP port " << oscSource->port() << "\n";
+        }
         const auto start = std::chrono::steady_clock::now();
         double finishedAt = -1.0;
         bool shownDown = false;
@@ -251,27 +264,35 @@ int runNavigate(const Arguments& args)
             const nav::NavigationStatus st = link->status.load();
             if (st.finished && st.sensation == nav::Sensation::None && finishedAt < 0.0) finishedAt = elapsed;
             if (finishedAt >= 0.0 && elapsed > finishedAt + 0.5) break;
-            if (!source.connected() && !shownDown) std::cerr << "armadillo navigate: gpsd at " << source.describe() << " went away (reconnecting)\n";
-            shownDown = !source.connected();
+            if (gpsdSource) {
+                if (!gpsdSource->connected() && !shownDown) std::cerr << "armadillo navigate: gpsd at " << gpsdSource->describe() << " went away (reconnecting)\n";
+                shownDown = !gpsdSource->connected();
+            }
             if (session.engine().failed()) {
                 std::cerr << "armadillo navigate: the scene failed and was stopped (motors off): " << session.engine().failure() << "\n";
                 break;
             }
             std::this_thread::sleep_for(std::chrono::milliseconds(20));
         }
-        source.stop();
+        if (gpsdSource) gpsdSource->stop();
+        if (oscSource) oscSource->stop();
         session.stop();
         drain();
         session.finish();
         if (!logPath.empty()) writeFileAtomically(logPath, log);
         const nav::NavigationStatus st = link->status.load();
         std::string summary = device::summaryJson(session.summary());
-        char extra[300];
-        std::snprintf(extra, sizeof extra,
-                      ",\"finished\":%s,\"arrivals\":%d,\"waypoints\":%zu,\"gpsd_fixes\":%llu,\"gpsd_no_fix\":%llu,\"gpsd_rejected\":%llu,\"gpsd_disconnects\":%llu,\"log_dropped\":%llu",
-                      st.finished ? "true" : "false", st.arrivals, route.points.size() - 1, static_cast<unsigned long long>(source.fixes()),
-                      static_cast<unsigned long long>(source.noFix()), static_cast<unsigned long long>(source.rejected()),
-                      static_cast<unsigned long long>(source.disconnects()), static_cast<unsigned long long>(link->droppedLog.load()));
+        char extra[400];
+        if (gpsdSource)
+            std::snprintf(extra, sizeof extra, ",\"finished\":%s,\"arrivals\":%d,\"waypoints\":%zu,\"gpsd_fixes\":%llu,\"gpsd_no_fix\":%llu,\"gpsd_rejected\":%llu,\"gpsd_disconnects\":%llu,\"log_dropped\":%llu",
+                          st.finished ? "true" : "false", st.arrivals, route.points.size() - 1, static_cast<unsigned long long>(gpsdSource->fixes()),
+                          static_cast<unsigned long long>(gpsdSource->noFix()), static_cast<unsigned long long>(gpsdSource->rejected()),
+                          static_cast<unsigned long long>(gpsdSource->disconnects()), static_cast<unsigned long long>(link->droppedLog.load()));
+        else
+            std::snprintf(extra, sizeof extra, ",\"finished\":%s,\"arrivals\":%d,\"waypoints\":%zu,\"osc_fixes\":%llu,\"osc_rejected\":%llu,\"osc_ignored\":%llu,\"log_dropped\":%llu",
+                          st.finished ? "true" : "false", st.arrivals, route.points.size() - 1, static_cast<unsigned long long>(oscSource->fixes()),
+                          static_cast<unsigned long long>(oscSource->rejected()), static_cast<unsigned long long>(oscSource->ignored()),
+                          static_cast<unsigned long long>(link->droppedLog.load()));
         summary.insert(summary.size() - 1, extra);
         std::cout << summary << "\n" << std::flush;
         return session.engine().failed() ? int(kExitFailure) : int(kExitOk);
