@@ -4,10 +4,12 @@
 // navigation scene (Source/Navigation) in the engine, and the logs.
 #include "Cli/CommandLine.h"
 #include "Cli/Commands.h"
+#include "Cli/ReaderIo.h"
 #include "Cli/SceneOptions.h"
 #include "Core/AtomicFile.h"
 #include "Core/Errors.h"
 #include "Link/Calibration.h"
+#include "Osc/Mount.h"
 #include "Live/LiveSession.h"
 #include "Navigation/GpsdSource.h"
 #include "Navigation/NavigationScene.h"
@@ -25,7 +27,7 @@ namespace {
 
 std::string logHeader()
 {
-    return "t,lat,lon,fix,waypoint,distance_m,bearing_deg,heading_deg,arm_heading_deg,offset_deg,leg_distance_m,off_route,arrived,sensation\n";
+    return "t,lat,lon,fix,waypoint,distance_m,bearing_deg,heading_deg,arm_heading_deg,offset_deg,leg_distance_m,off_route,arrived,sensation,mag_disturbed\n";
 }
 
 void appendNumber(std::string& out, double v, const char* format)
@@ -60,34 +62,49 @@ void appendRow(std::string& out, const nav::NavigationLogRecord& r)
     out += ',' + std::to_string(r.arrivedAt);
     out += ',';
     out += nav::sensationName(r.sensation);
-    out += '\n';
+    out += r.magDisturbed ? ",1\n" : ",0\n";
 }
 
 /// What happened since the last call, said once on stderr: arrivals, fix lost/back, off route, the end.
+/// With --speak (or a braille display) the same events are also spoken / shown (ReaderIo), for
+/// those who want speech; the arm says everything without it.
 class Announcer {
 public:
-    explicit Announcer(const nav::Route& route) : route_(route) {}
+    Announcer(const nav::Route& route, ReaderIo* voice) : route_(route), voice_(voice) {}
     void note(const nav::NavigationLogRecord& r)
     {
         if (r.arrivedAt > 0) {
             const std::string& name = route_.points[static_cast<std::size_t>(r.arrivedAt - 1)].name;
             std::cerr << "armadillo navigate: arrived at waypoint " << r.arrivedAt << (name.empty() ? "" : " '" + name + "'") << " (t = " << r.t << " s)\n";
+            const bool last = r.arrivedAt == static_cast<int>(route_.points.size());
+            say("arrived" + (name.empty() ? std::string() : ": " + name) + (last ? ". End of the route." : ""));
             ++arrivals_;
         }
         if (r.fix != fix_) {
-            if (r.fix == nav::FixState::Lost) std::cerr << "armadillo navigate: position fix lost (t = " << r.t << " s): no direction is shown until it is back\n";
-            else if (r.fix == nav::FixState::Ok && fix_ == nav::FixState::Lost) std::cerr << "armadillo navigate: position fix back (t = " << r.t << " s)\n";
+            if (r.fix == nav::FixState::Lost) {
+                std::cerr << "armadillo navigate: position fix lost (t = " << r.t << " s): no direction is shown until it is back\n";
+                say("position lost");
+            } else if (r.fix == nav::FixState::Ok && fix_ == nav::FixState::Lost) {
+                std::cerr << "armadillo navigate: position fix back (t = " << r.t << " s)\n";
+                say("position back");
+            }
             fix_ = r.fix;
         }
         if (r.offRoute != offRoute_) {
             std::cerr << "armadillo navigate: " << (r.offRoute ? "off route" : "back on route") << " (t = " << r.t << " s)\n";
+            say(r.offRoute ? "off route" : "back on route");
             offRoute_ = r.offRoute;
         }
     }
     int arrivals() const { return arrivals_; }
 
 private:
+    void say(const std::string& text)
+    {
+        if (voice_) voice_->status(text);
+    }
     const nav::Route& route_;
+    ReaderIo* voice_ = nullptr;
     nav::FixState fix_ = nav::FixState::Waiting;
     bool offRoute_ = false;
     int arrivals_ = 0;
@@ -107,7 +124,7 @@ int runNavigate(const Arguments& args)
 {
     return guarded("navigate", [&]() -> int {
         CommandLine cl(
-            "navigate", "--route ROUTE.gpx (--gpsd HOST[:PORT] | --osc-in PORT | --simulate-walk) (--port NAME | --simulate) [options]",
+            "navigate", "--route ROUTE.gpx (--gpsd HOST[:PORT] | --osc-in PORT | --simulate-walk) [--port NAME | --simulate] [options]",
             "Walk a route guided by the arm alone (docs/NAVIGATION.md): the §4.1 compass toward the next waypoint, an\n"
             "arrival sensation and the waypoint's name in Arm Braille within the arrival radius, and sensations for off\n"
             "route, fix lost and the route's end. The route's first point is the start; guidance goes to point 2 first.\n"
@@ -115,10 +132,13 @@ int runNavigate(const Arguments& args)
             "or from a simulated walker guided by the motors (--simulate-walk, which\n"
             "runs the whole walk offline, as fast as it computes). Ends at the route's end, after --seconds, or on\n"
             "SIGINT/SIGTERM, with every motor off, and prints one JSON line.",
-            {
+            [] {
+                std::vector<OptionSpec> o {
                 {"--route", "FILE", "the route: GPX 1.1 (<rte>, <trk> or <wpt>) or a JSON waypoint list", true},
                 {"--gpsd", "HOST[:PORT]", "positions from gpsd (port 2947 unless given; 'localhost' for the local one)"},
-                {"--osc-in", "PORT", "positions over OSC/UDP on PORT: /armadillo/position lat lon [accuracy_m], ZIG SIM's gps"},
+                {"--osc-in", "PORT", "positions over OSC/UDP on PORT: /armadillo/position lat lon [accuracy_m], ZIG SIM's gps;\n"
+                                     "without --port/--simulate the arm's motion comes from the same port (a phone: ZIG SIM motion + gps)"},
+                {"--mount", "NAME", "with --osc-in as the arm: how the phone is worn (docs/SENSORS.md; as `play --mount`)"},
                 {"--simulate-walk", "", "a simulated walker follows the motors (with --simulate; offline, deterministic)"},
                 {"--port", "NAME", "the forearm device (its motors and sensors)"},
                 {"--simulate", "", "the built-in simulated forearm (with --gpsd: it holds still; with --simulate-walk: the walker's arm)"},
@@ -138,12 +158,19 @@ int runNavigate(const Arguments& args)
                 {"--level", "L", "level of the sensations, 1..15 (default 5; the safety stage still decides)"},
                 {"--strap-offset", "DEG", "with --simulate-walk: the simulated strap's offset (default 20)"},
                 {"--seed", "N", "with --simulate-walk: the walker's and its GPS's random seed (default 1)"},
-            });
+                };
+                const auto io = readerIoOptionSpecs();   // --speak, --speech, --rate, --brlapi, --braille-display
+                o.insert(o.end(), io.begin(), io.end());
+                return o;
+            }());
         if (!cl.parse(args)) return kExitOk;
         const bool gpsd = cl.has("--gpsd"), walk = cl.has("--simulate-walk"), osc = cl.has("--osc-in");
         if (int(gpsd) + int(walk) + int(osc) != 1) throw UsageError("choose one position source: --gpsd HOST[:PORT], --osc-in PORT or --simulate-walk");
         const int oscPort = osc ? static_cast<int>(cl.integer("--osc-in", 0, 1, 65535)) : 0;
-        if (int(cl.has("--port")) + int(cl.has("--simulate")) != 1) throw UsageError("choose the arm: --port NAME or --simulate");
+        const bool armFromOsc = osc && !cl.has("--port") && !cl.has("--simulate");   // a phone sends motion and positions
+        if (int(cl.has("--port")) + int(cl.has("--simulate")) != 1 && !armFromOsc)
+            throw UsageError("choose the arm: --port NAME or --simulate (or, with --osc-in, the phone's own motion on that port)");
+        if (cl.has("--mount") && !armFromOsc) throw UsageError("--mount says how a phone is worn: with --osc-in as the arm (no --port, no --simulate)");
         if (walk && !cl.has("--simulate")) throw UsageError("--simulate-walk moves the simulated forearm: use it with --simulate");
         if (cl.has("--motion") && (!cl.has("--simulate") || walk)) throw UsageError("--motion drives the simulated forearm with --gpsd or --osc-in: use it with --simulate");
         for (const char* o : {"--strap-offset", "--seed"})
@@ -184,7 +211,12 @@ int runNavigate(const Arguments& args)
         auto link = std::make_shared<nav::NavigationLink>();
         link->logEnabled = !logPath.empty();
         std::string log = logHeader(), tactile = "t,m1,m2,m3,m4,m5,m6,m7,m8,m9\n";
-        Announcer announcer(route);
+        const bool wantsVoice = cl.has("--speak") || cl.has("--speech") || cl.has("--brlapi") || cl.has("--braille-display");
+        if (wantsVoice && walk) throw UsageError("--speak and the braille display are for a live walk, not --simulate-walk");
+        if (cl.has("--rate") && !wantsVoice) throw UsageError("--rate sets the speech rate: use it with --speak");
+        std::unique_ptr<ReaderIo> voice;
+        if (wantsVoice) voice = std::make_unique<ReaderIo>(cl, true);   // IoError when the backend asked for cannot be opened
+        Announcer announcer(route, voice.get());
         const auto drain = [&] {
             nav::NavigationLogRecord r;
             while (link->log.pop(r)) {
@@ -228,6 +260,13 @@ int runNavigate(const Arguments& args)
             config.port = cl.value("--port");
             if (config.port.empty()) throw UsageError("--port needs a device name");
             config.baud = static_cast<int>(cl.integer("--baud", 57600, 1200, 4000000));
+        } else if (armFromOsc) {
+            config.source = device::LiveConfig::Source::Osc;
+            config.oscInPort = oscPort;
+            if (cl.has("--mount")) {
+                config.osc.mount = device::mountFromArgument(cl.value("--mount"));
+                config.osc.mountGiven = true;
+            }
         } else {
             config.source = device::LiveConfig::Source::Simulator;
             config.motionFile = cl.value("--motion");
@@ -243,16 +282,20 @@ int runNavigate(const Arguments& args)
         // The position source: IoError (exit 4) when gpsd cannot be reached or the port is taken.
         std::unique_ptr<nav::GpsdSource> gpsdSource;
         std::unique_ptr<nav::OscPositionSource> oscSource;
+        auto shared = std::make_shared<nav::PositionCounters>();   // positions on the arm's own OSC port
         if (gpsd) gpsdSource = std::make_unique<nav::GpsdSource>(endpoint, link->position);
-        else oscSource = std::make_unique<nav::OscPositionSource>(oscPort, link->position);
+        else if (!armFromOsc) oscSource = std::make_unique<nav::OscPositionSource>(oscPort, link->position);
+        else config.oscDatagramTap = [link, shared](const std::uint8_t* d, std::size_t n) { nav::storePositionDatagram(d, n, link->position, *shared); };
         device::LiveSession session(config);
         session.start();
         if (gpsdSource) {
             gpsdSource->start();
             std::cerr << "armadillo navigate: positions from gpsd at " << gpsdSource->describe() << "\n";
-        } else {
+        } else if (oscSource) {
             oscSource->start();
             std::cerr << "armadillo navigate: positions over OSC on UDP port " << oscSource->port() << "\n";
+        } else {
+            std::cerr << "armadillo navigate: the arm's motion and the positions over OSC on port " << oscPort << "\n";
         }
         const auto start = std::chrono::steady_clock::now();
         double finishedAt = -1.0;
@@ -290,8 +333,10 @@ int runNavigate(const Arguments& args)
                           static_cast<unsigned long long>(gpsdSource->disconnects()), static_cast<unsigned long long>(link->droppedLog.load()));
         else
             std::snprintf(extra, sizeof extra, ",\"finished\":%s,\"arrivals\":%d,\"waypoints\":%zu,\"osc_fixes\":%llu,\"osc_rejected\":%llu,\"osc_ignored\":%llu,\"log_dropped\":%llu",
-                          st.finished ? "true" : "false", st.arrivals, route.points.size() - 1, static_cast<unsigned long long>(oscSource->fixes()),
-                          static_cast<unsigned long long>(oscSource->rejected()), static_cast<unsigned long long>(oscSource->ignored()),
+                          st.finished ? "true" : "false", st.arrivals, route.points.size() - 1,
+                          static_cast<unsigned long long>(oscSource ? oscSource->fixes() : shared->fixes.load()),
+                          static_cast<unsigned long long>(oscSource ? oscSource->rejected() : shared->rejected.load()),
+                          static_cast<unsigned long long>(oscSource ? oscSource->ignored() : shared->ignored.load()),
                           static_cast<unsigned long long>(link->droppedLog.load()));
         summary.insert(summary.size() - 1, extra);
         std::cout << summary << "\n" << std::flush;

@@ -132,6 +132,7 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
             oscIn_ = std::make_unique<OscReceiver>(OscSerialSource {config_.oscSerialPort, config_.oscSerialBaud}, onImu, onQ, config_.osc);
         else
             oscIn_ = std::make_unique<OscReceiver>(config_.oscInPort, onImu, onQ, config_.osc);
+        if (config_.oscDatagramTap) oscIn_->setDatagramTap(config_.oscDatagramTap);
         break;
     }
     }

@@ -114,6 +114,9 @@ struct LiveConfig {
     /// it is not made by name): called once, its scene runs instead of `engine.scene`, which then
     /// only names it. Not with a set list or two arms. Empty = the scene by name.
     std::function<std::unique_ptr<Scene>()> makeScene;
+    /// Source::Osc: another reader of every datagram of the port (OscReceiver::setDatagramTap),
+    /// e.g. `navigate`'s positions from the phone that sends the arm's motion. Empty = none.
+    std::function<void(const std::uint8_t*, std::size_t)> oscDatagramTap;
 };
 
 struct SessionSummary {

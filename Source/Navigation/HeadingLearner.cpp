@@ -7,7 +7,6 @@
 namespace armadillo::nav {
 namespace {
 constexpr double kDeg = std::numbers::pi / 180.0;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 } // namespace
 
 void HeadingLearner::Sum::add(double rad) noexcept
@@ -20,7 +19,6 @@ void HeadingLearner::Sum::add(double rad) noexcept
 void HeadingLearner::reset() noexcept
 {
     *this = HeadingLearner(p_);
-    walking_ = kNaN;
 }
 
 void HeadingLearner::arm(double t, double headingDeg, double elevationDeg) noexcept

@@ -13,6 +13,7 @@
 #include "Navigation/Position.h"
 #include <array>
 #include <cstdint>
+#include <limits>
 
 namespace armadillo::nav {
 
@@ -70,7 +71,7 @@ private:
     struct FixRow { double t = 0.0, x = 0.0, y = 0.0; Sum arm {}; };
     std::array<FixRow, kRing> ring_ {};
     int fitHead_ = 0, fitCount_ = 0;
-    double offset_ = 0.0, walking_ = 0.0;
+    double offset_ = 0.0, walking_ = std::numeric_limits<double>::quiet_NaN();
     double offS_ = 0.0, offC_ = 0.0;   // the circular mean's running vector
     int samples_ = 0;
 };

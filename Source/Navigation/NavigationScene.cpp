@@ -61,6 +61,7 @@ using access::TactileSegment;
 constexpr std::uint16_t kAll = 0x1FF;
 constexpr std::uint16_t kCorners = (1u << 0) | (1u << 2) | (1u << 6) | (1u << 8);
 constexpr int kCompassTarget = 0;   // "compass.target", the compass scene's first parameter
+constexpr double kMagDisturbedS = 0.5;   // s of refused magnetometer samples before the learning pauses
 
 double endOf(const std::vector<TactileSegment>& s)
 {
@@ -147,20 +148,21 @@ public:
             shown_[i] = text.substr(0, kMaxWaypointName);
         }
         offRoute_ = offRouteSensation(level);
+        guidance_.reset();   // the walk starts here: the route from its start, nothing learned yet
+        learner_.reset();
+        t_ = 0.0;
+        arrivals_ = 0;
         reset();
     }
 
+    /// Entering the scene or resuming after a panic (Engine::resume): what was being shown is
+    /// dropped, the walk is not — the waypoint reached and the learned offset stay.
     void reset() override
     {
-        guidance_.reset();
-        learner_.reset();
         compass_->reset();
-        t_ = 0.0;
         mode_ = Mode::Enter;
         playing_ = nullptr;
-        arrivals_ = 0;
         levels_.fill(-1.0f);
-        lastWaypoint_ = 0;
     }
 
     void control(const ControlInput& in, SceneOutput& out) override
@@ -171,11 +173,19 @@ public:
         const GuidanceStep g = guidance_.step(dt, report);
 
         const double armHeading = thumbHeadingDeg(in.arm, side_);
-        learner_.arm(t_, armHeading, forearmElevationDeg(in.arm));
-        if (g.newFix) {
-            double x = 0.0, y = 0.0;
-            plane_.toXY(guidance_.lastFix().pos, x, y);
-            learner_.fix(t_, x, y, guidance_.lastFix().courseDeg, guidance_.lastFix().speedMps);
+        // The fusion's magnetic-disturbance detection (Fusion/Trackers.h): while the field is
+        // refused the heading rests on the gyro, good for the compass a while but not to learn a
+        // strap offset from (a local steel bias would be learned as the strap's).
+        const bool magDisturbed = in.arm.magDisturbedS > kMagDisturbedS;
+        if (magDisturbed) {
+            learner_.breakFit();
+        } else {
+            learner_.arm(t_, armHeading, forearmElevationDeg(in.arm));
+            if (g.newFix) {
+                double x = 0.0, y = 0.0;
+                plane_.toXY(guidance_.lastFix().pos, x, y);
+                learner_.fix(t_, x, y, guidance_.lastFix().courseDeg, guidance_.lastFix().speedMps);
+            }
         }
         if (g.fixLostNow) learner_.breakFit();
         const double offset = options_.learnHeading && learner_.learned() ? learner_.offsetDeg() : options_.headingOffsetDeg;
@@ -221,7 +231,7 @@ public:
                 felt = Sensation::Compass;
             }
         }
-        publish(g, heading, armHeading, offset, felt);
+        publish(g, heading, armHeading, offset, felt, magDisturbed);
     }
 
 private:
@@ -278,7 +288,7 @@ private:
         return seqT_ < endAt;
     }
 
-    void publish(const GuidanceStep& g, double heading, double armHeading, double offset, Sensation felt) noexcept
+    void publish(const GuidanceStep& g, double heading, double armHeading, double offset, Sensation felt, bool magDisturbed) noexcept
     {
         NavigationStatus s;
         s.t = t_;
@@ -304,6 +314,7 @@ private:
         s.finished = g.finished;
         s.arrivals = arrivals_;
         s.sensation = felt;
+        s.magDisturbed = magDisturbed;
         link_->status.store(s);
         if (!link_->logEnabled.load(std::memory_order_relaxed)) return;
         NavigationLogRecord r;
@@ -321,6 +332,7 @@ private:
         r.offRoute = g.offRoute;
         r.arrivedAt = g.arrivedAt;
         r.sensation = felt;
+        r.magDisturbed = magDisturbed;
         if (!link_->log.push(r)) link_->droppedLog.fetch_add(1, std::memory_order_relaxed);
     }
 
@@ -341,7 +353,6 @@ private:
     Mode mode_ = Mode::Enter;
     std::array<float, kGridMotors> levels_ {};
     int arrivals_ = 0;
-    int lastWaypoint_ = 0;
 };
 
 } // namespace

@@ -52,6 +52,7 @@ struct NavigationStatus {
     bool finished = false;
     int arrivals = 0;               ///< waypoints reached so far
     Sensation sensation = Sensation::None;
+    bool magDisturbed = false;      ///< the fusion refuses the magnetometer: heading on the gyro, learning paused
 };
 
 /// One row of the navigation log, per control update.
@@ -63,6 +64,7 @@ struct NavigationLogRecord {
     bool offRoute = false;
     int arrivedAt = 0;
     Sensation sensation = Sensation::None;
+    bool magDisturbed = false;
 };
 
 /// Shared between the front end, the position source and the scene.

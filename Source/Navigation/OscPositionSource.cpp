@@ -83,6 +83,24 @@ bool decodePositionDatagram(const std::uint8_t* data, std::size_t size, Position
     return true;
 }
 
+bool storePositionDatagram(const std::uint8_t* data, std::size_t size, PositionMailbox& mailbox, PositionCounters& counters)
+{
+    PositionFix fix;
+    bool rejected = false;
+    if (!decodePositionDatagram(data, size, fix, rejected)) {
+        counters.ignored.fetch_add(1, std::memory_order_relaxed);
+        return false;
+    }
+    if (rejected) {
+        counters.rejected.fetch_add(1, std::memory_order_relaxed);
+        mailbox.countRejected();
+    } else {
+        counters.fixes.fetch_add(1, std::memory_order_relaxed);
+    }
+    mailbox.store(fix);
+    return true;
+}
+
 OscPositionSource::OscPositionSource(int port, PositionMailbox& mailbox) : mailbox_(mailbox)
 {
     fd_ = device::bindUdpAnyInterface(port, "position OSC in", port_);
@@ -114,19 +132,7 @@ void OscPositionSource::run()
         if (::poll(&p, 1, 100) <= 0) continue;
         const ssize_t n = ::recv(fd_, buffer.data(), buffer.size(), MSG_DONTWAIT);
         if (n <= 0) continue;
-        PositionFix fix;
-        bool rejected = false;
-        if (!decodePositionDatagram(buffer.data(), static_cast<std::size_t>(n), fix, rejected)) {
-            ignored_.fetch_add(1);
-            continue;
-        }
-        if (rejected) {
-            rejected_.fetch_add(1);
-            mailbox_.countRejected();
-        } else {
-            fixes_.fetch_add(1);
-        }
-        mailbox_.store(fix);
+        storePositionDatagram(buffer.data(), static_cast<std::size_t>(n), mailbox_, counters_);
     }
 }
 

@@ -23,6 +23,14 @@ namespace armadillo::nav {
 /// (the JSON form parses into a tree); runs on the source's thread.
 bool decodePositionDatagram(const std::uint8_t* data, std::size_t size, PositionFix& out, bool& rejected);
 
+/// What a position reader saw (any thread reads).
+struct PositionCounters {
+    std::atomic<std::uint64_t> fixes {0}, rejected {0}, ignored {0};
+};
+/// Decodes one datagram; a position (or a refused one, as "no fix") goes into the mailbox.
+/// Counts; returns true when the datagram was a position message.
+bool storePositionDatagram(const std::uint8_t* data, std::size_t size, PositionMailbox& mailbox, PositionCounters& counters);
+
 class OscPositionSource {
 public:
     /// Binds the UDP port on every interface (0 = a free one): IoError when it cannot.
@@ -33,9 +41,9 @@ public:
     void start();
     void stop();
     int port() const noexcept { return port_; }
-    std::uint64_t fixes() const noexcept { return fixes_.load(); }
-    std::uint64_t rejected() const noexcept { return rejected_.load(); }
-    std::uint64_t ignored() const noexcept { return ignored_.load(); }
+    std::uint64_t fixes() const noexcept { return counters_.fixes.load(); }
+    std::uint64_t rejected() const noexcept { return counters_.rejected.load(); }
+    std::uint64_t ignored() const noexcept { return counters_.ignored.load(); }
 
 private:
     void run();
@@ -43,7 +51,7 @@ private:
     int fd_ = -1, port_ = 0;
     std::thread thread_;
     std::atomic<bool> running_ {false};
-    std::atomic<std::uint64_t> fixes_ {0}, rejected_ {0}, ignored_ {0};
+    PositionCounters counters_;
 };
 
 } // namespace armadillo::nav

@@ -107,7 +107,11 @@ ArmState SimulatedWalker::arm(double t) noexcept
     ArmState s;
     s.t = t;
     s.valid = true;
-    const double thumb = heading_ + p_.strapOffsetDeg + p_.swingYawDeg * std::sin(swingPhase_) + tremor_;
+    double thumb = heading_ + p_.strapOffsetDeg + p_.swingYawDeg * std::sin(swingPhase_) + tremor_;
+    if (t >= p_.disturbance.fromS && t < p_.disturbance.toS) {
+        thumb += p_.disturbance.biasDeg;
+        if (p_.disturbance.flagged) s.magDisturbedS = t - p_.disturbance.fromS + 1.0;
+    }
     Pose pose;
     pose.azimuthDeg = wrap360(thumb + 90.0);   // the right thumb lies 90° counter-clockwise of the forearm, palm down
     pose.elevationDeg = -10.0 + p_.swingElevationDeg * std::cos(swingPhase_);

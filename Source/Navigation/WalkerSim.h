@@ -33,6 +33,12 @@ struct WalkerParams {
     double gpsWhiteM = 1.0;          ///< white noise per fix per axis (std), m
     bool gpsCourse = true;           ///< the receiver reports course and speed (Doppler), else NaN
     double gpsCourseNoiseDeg = 6.0;  ///< std of that course at walking speed, deg
+    /// A magnetic disturbance (steel, a parked car) from fromS to toS s of the walk: the thumb
+    /// heading is bent by biasDeg; `flagged` says whether the fusion reports it (ArmState::magDisturbedS).
+    struct Disturbance {
+        double fromS = -1.0, toS = -1.0, biasDeg = 0.0;
+        bool flagged = true;
+    } disturbance {};
     std::uint64_t seed = 1;
 };
 inline constexpr WalkerParams kDefaultWalkerParams {};

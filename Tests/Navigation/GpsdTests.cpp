@@ -5,11 +5,13 @@
 // radius, and the motor packets spelling each waypoint's name by the rows method. A gpsd that is
 // not there is exit 4; a receiver without a fix is felt as "fix lost".
 #include "Common/Eventually.h"
+#include "Common/FreePort.h"
 #include "Common/ScratchDir.h"
 #include "Core/AtomicFile.h"
 #include "Core/Errors.h"
 #include "Navigation/GpsdSource.h"
 #include "Navigation/Route.h"
+#include "Osc/Osc.h"
 #include "RowsDecoder.h"
 #include <arpa/inet.h>
 #include <catch2/catch.hpp>
@@ -24,6 +26,8 @@
 #include <sstream>
 #include <sys/socket.h>
 #include <sys/wait.h>
+#include <thread>
+#include <atomic>
 #include <unistd.h>
 
 extern char** environ;
@@ -278,7 +282,7 @@ TEST_CASE("gpsd for real: `armadillo navigate --gpsd --simulate --log` follows t
     REQUIRE(testing::eventually([&] { return listening(port); }, 20.0));
     std::string err;
     const int code = run("navigate --route '" + path("route.gpx") + "' --gpsd 127.0.0.1:" + std::to_string(port) + " --simulate --log '" + path("nav.csv") +
-                             "' --tactile '" + path("t.csv") + "' --seconds 90",
+                             "' --tactile '" + path("t.csv") + "' --speech 'capture:" + path("speech.txt") + "' --seconds 90",
                          err);
     INFO(err);
     REQUIRE(code == 0);
@@ -333,6 +337,9 @@ TEST_CASE("gpsd for real: `armadillo navigate --gpsd --simulate --log` follows t
     REQUIRE(names.size() == 2);
     CHECK(names[0] == "en");
     CHECK(names[1] == "ex");
+    // --speech: the same events spoken for those who want it (a capture backend writes a line per utterance).
+    const std::string speech = readWholeFile(path("speech.txt"));
+    CHECK_THAT(speech, Catch::Contains("arrived: Entrance") && Catch::Contains("arrived: Exit. End of the route."));
 }
 
 TEST_CASE("gpsd for real: a receiver without a fix is felt as 'fix lost', never a direction", "[gpsd]")
@@ -373,4 +380,72 @@ TEST_CASE("gpsd for real: a receiver without a fix is felt as 'fix lost', never 
         CHECK(tactile[i][4] == "0");
         CHECK(tactile[i][6] == "0");
     }
+}
+
+TEST_CASE("navigate: bad usage is exit 2, a bad route 3 with file and line, a missing one 4; --simulate-walk writes the log", "[cli]")
+{
+    (void) testRoute();
+    const std::string route = "--route '" + path("route.gpx") + "' ";
+    std::string err;
+    CHECK(run("navigate " + route + "--simulate", err) == 2);                                   // no position source
+    CHECK_THAT(err, Catch::Contains("choose one position source"));
+    CHECK(run("navigate " + route + "--gpsd localhost --simulate-walk --simulate", err) == 2);  // two
+    CHECK(run("navigate " + route + "--simulate-walk", err) == 2);                              // no arm
+    CHECK(run("navigate " + route + "--simulate-walk --port /dev/null", err) == 2);             // the walker needs the simulated arm
+    CHECK(run("navigate " + route + "--simulate-walk --simulate --arrival-radius 0", err) == 2);
+    CHECK(run("navigate " + route + "--simulate-walk --simulate --names braille", err) == 2);
+    CHECK(run("navigate " + route + "--simulate-walk --simulate --speak", err) == 2);
+    CHECK(run("navigate " + route + "--gpsd localhost:http --simulate", err) == 3);
+    CHECK(run("navigate --simulate-walk --simulate", err) == 2);                           // no route
+    writeFileAtomically(path("bad.gpx"), "<gpx version=\"1.1\">\n<rte>\n<rtept lat=\"48\" lon=\"east\"/>\n</rte></gpx>\n");
+    CHECK(run("navigate --route '" + path("bad.gpx") + "' --simulate-walk --simulate", err) == 3);
+    CHECK_THAT(err, Catch::Contains("bad.gpx:3") && Catch::Contains("not a number"));
+    CHECK(run("navigate --route '" + path("nothing.gpx") + "' --simulate-walk --simulate", err) == 4);
+    CHECK(run("navigate " + route + "--simulate-walk --simulate --log '" + path("walk.csv") + "'", err) == 0);
+    const std::string out = readWholeFile(path("navigate-stdout.txt"));
+    CHECK_THAT(out, Catch::StartsWith("{\"finished\":true") && Catch::Contains("\"arrivals\":2"));
+    const auto log = readCsv(path("walk.csv"));
+    REQUIRE(log.size() > 100);
+    CHECK(log[0] == std::vector<std::string> {"t", "lat", "lon", "fix", "waypoint", "distance_m", "bearing_deg", "heading_deg", "arm_heading_deg",
+                                              "offset_deg", "leg_distance_m", "off_route", "arrived", "sensation", "mag_disturbed"});
+}
+
+TEST_CASE("navigate --osc-in without --port/--simulate: a phone's ZIG SIM motion and gps on one port", "[cli][osc]")
+{
+    (void) testRoute();
+    const int port = test::freeUdpPort();
+    REQUIRE(port > 0);
+    std::atomic<bool> stop {false};
+    std::thread sender([&] {
+        const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+        sockaddr_in to {};
+        to.sin_family = AF_INET;
+        to.sin_port = htons(static_cast<std::uint16_t>(port));
+        to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        using device::OscArg;
+        const auto quat = device::encodeOscMessage("/ZIGSIM/phone1/quaternion", {OscArg::float32(0.0f), OscArg::float32(0.0f), OscArg::float32(0.0f), OscArg::float32(1.0f)});
+        const auto gps = device::encodeOscMessage("/ZIGSIM/phone1/gps", {OscArg::float32(48.1494f), OscArg::float32(11.5678f)});
+        for (int i = 0; !stop.load() && i < 3000; ++i) {
+            ::sendto(fd, quat.data(), quat.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to);
+            if (i % 20 == 0) ::sendto(fd, gps.data(), gps.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to);
+            ::usleep(10000);
+        }
+        ::close(fd);
+    });
+    std::string err;
+    const int code = run("navigate --route '" + path("route.gpx") + "' --osc-in " + std::to_string(port) + " --seconds 4 --log '" + path("phone.csv") + "'", err);
+    stop = true;
+    sender.join();
+    INFO(err);
+    REQUIRE(code == 0);
+    CHECK_THAT(readWholeFile(path("navigate-stdout.txt")), Catch::Contains("\"osc_fixes\":") && !Catch::Contains("\"osc_fixes\":0,"));
+    const auto log = readCsv(path("phone.csv"));
+    int ok = 0;
+    for (std::size_t i = 1; i < log.size(); ++i) {
+        if (log[i][3] != "ok") continue;
+        ++ok;
+        CHECK(std::stod(log[i][1]) == Approx(48.1494).margin(1e-5));
+        CHECK(std::stod(log[i][5]) == Approx(distanceM({48.1494, 11.5678}, {48.14965, 11.5678})).margin(0.5));
+    }
+    CHECK(ok > 10);
 }

@@ -199,3 +199,22 @@ TEST_CASE("scene: off route → the four corners; fix lost → the centre swelli
     REQUIRE(names.size() == 2);
     CHECK(names[1] == "ex");
 }
+
+TEST_CASE("scene: a panic stops every motor; resuming keeps the walk (the waypoint reached)", "[scene]")
+{
+    const Route r = testRoute();
+    Rig rig(r);
+    const LatLon near = destination(r.points[1].pos, 180.0, 5.0);
+    rig.fix(near);
+    rig.run(12.0, thumbToward(90.0), &near);
+    REQUIRE(rig.link->status.load().waypoint == 3);
+    rig.engine->panic();
+    const MotorLevels off = rig.run(2.0, thumbToward(90.0), &near);
+    for (int m = 0; m < kGridMotors; ++m) CHECK(off[static_cast<std::size_t>(m)] == 0);
+    rig.engine->resume();
+    const std::size_t from = rig.frames.size();
+    rig.run(3.0, thumbToward(0.0), &near);   // "Exit" lies east: the clockwise side clicks again
+    CHECK(rig.link->status.load().waypoint == 3);
+    CHECK(rig.link->status.load().arrivals == 1);
+    CHECK(rig.onsets(5, from) > 3);
+}

@@ -97,3 +97,31 @@ TEST_CASE("a route without a course from the receiver: the offset from lines fit
     CHECK(r.finished);
     CHECK(r.maxOffRouteM <= 15.0);
 }
+
+TEST_CASE("a magnetic disturbance the fusion reports does not teach the strap offset; one it misses would", "[walk]")
+{
+    // 60 s of a field bent by 40° on the first long leg of the compass route (the walker keeps
+    // walking straight on the heading it had: the compass is fooled either way, the learning not).
+    WalkerParams w;
+    w.seed = 4;
+    w.disturbance.fromS = 40.0;
+    w.disturbance.toS = 100.0;
+    w.disturbance.biasDeg = 40.0;
+    double offsetAtEnd[2] = {};
+    for (int flagged = 0; flagged < 2; ++flagged) {
+        w.disturbance.flagged = flagged == 1;
+        double worst = 0.0;
+        WalkOptions o;
+        o.maxSeconds = 100.0;
+        o.observe = [&](double t, const SimulatedWalker&, const MotorLevels&, const NavigationStatus& st) {
+            if (t > 45.0) worst = std::max(worst, std::fabs(wrap180(st.offsetDeg - w.strapOffsetDeg)));
+        };
+        const WalkResult r = simulateWalk(compassTargets(), {}, w, o);
+        offsetAtEnd[flagged] = r.learnedOffsetDeg;
+        std::printf("disturbance %s by the fusion: offset %.1f° at 100 s, worst %.1f° from the strap during it\n", flagged ? "reported" : "missed",
+                    r.learnedOffsetDeg, worst);
+        if (flagged) CHECK(worst < 8.0);
+        else CHECK(worst > 15.0);   // the probe: a missed disturbance does pull the offset
+    }
+    CHECK(std::fabs(offsetAtEnd[1] - w.strapOffsetDeg) < std::fabs(offsetAtEnd[0] - w.strapOffsetDeg));
+}
