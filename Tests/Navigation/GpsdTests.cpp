@@ -240,7 +240,7 @@ TEST_CASE("gpsd for real: GpsdSource receives the fixes gpsfake replays, then 'n
     const int port = freeTcpPort();
     GpsFake fake(nmea, port, 0.05);
     REQUIRE(fake.started());
-    REQUIRE(testing::eventually([&] { return listening(port); }, 20.0));
+    REQUIRE(testing::eventually([&] { return listening(port); }, 90.0));   // gpsfake starts gpsd; seconds on a loaded machine
     PositionMailbox box;
     GpsdSource source(parseGpsdEndpoint("127.0.0.1:" + std::to_string(port)), box);
     source.start();
@@ -279,7 +279,7 @@ TEST_CASE("gpsd for real: `armadillo navigate --gpsd --simulate --log` follows t
     const int port = freeTcpPort();
     GpsFake fake(nmea, port, 0.1);   // 0.2 s per epoch: 5× a real walk
     REQUIRE(fake.started());
-    REQUIRE(testing::eventually([&] { return listening(port); }, 20.0));
+    REQUIRE(testing::eventually([&] { return listening(port); }, 90.0));   // gpsfake starts gpsd; seconds on a loaded machine
     std::string err;
     const int code = run("navigate --route '" + path("route.gpx") + "' --gpsd 127.0.0.1:" + std::to_string(port) + " --simulate --log '" + path("nav.csv") +
                              "' --tactile '" + path("t.csv") + "' --speech 'capture:" + path("speech.txt") + "' --seconds 90",
@@ -359,7 +359,7 @@ TEST_CASE("gpsd for real: a receiver without a fix is felt as 'fix lost', never 
     const int port = freeTcpPort();
     GpsFake fake(path("nofix.nmea"), port, 0.1);
     REQUIRE(fake.started());
-    REQUIRE(testing::eventually([&] { return listening(port); }, 20.0));
+    REQUIRE(testing::eventually([&] { return listening(port); }, 90.0));   // gpsfake starts gpsd; seconds on a loaded machine
     std::string err;
     REQUIRE(run("navigate --route '" + path("route.gpx") + "' --gpsd 127.0.0.1:" + std::to_string(port) + " --simulate --log '" + path("nofix.csv") +
                     "' --tactile '" + path("nofix-t.csv") + "' --seconds 6",

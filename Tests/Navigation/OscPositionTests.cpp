@@ -6,6 +6,7 @@
 #include "Osc/Osc.h"
 #include <arpa/inet.h>
 #include <catch2/catch.hpp>
+#include <random>
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -114,4 +115,37 @@ TEST_CASE("OSC positions: a real UDP socket hands fixes to the mailbox from its 
     CHECK(box.rejected() == 1);
     ::close(fd);
     source.stop();
+}
+
+TEST_CASE("OSC positions: fuzzed datagrams never crash and never yield a place out of range", "[osc][fuzz]")
+{
+    const auto seedOsc = msg("/armadillo/position", {device::OscArg::float64(48.1), device::OscArg::float64(11.5), device::OscArg::float32(3.0f)});
+    const std::string seedJson = R"({"sensordata":{"gps":{"latitude":48.1,"longitude":11.5}}})";
+    std::mt19937_64 rng(341);
+    int positions = 0, fixes = 0;
+    for (int round = 0; round < 20000; ++round) {
+        std::vector<std::uint8_t> d = round % 2 ? seedOsc : std::vector<std::uint8_t>(seedJson.begin(), seedJson.end());
+        const int edits = 1 + static_cast<int>(rng() % 3);
+        for (int e = 0; e < edits && !d.empty(); ++e) {
+            const std::size_t at = rng() % d.size();
+            switch (rng() % 3) {
+            case 0: d[at] = static_cast<std::uint8_t>(rng()); break;
+            case 1: d.erase(d.begin() + static_cast<long>(at)); break;
+            case 2: d.resize(at); break;
+            }
+        }
+        PositionFix f;
+        bool rejected = false;
+        if (!decodePositionDatagram(d.data(), d.size(), f, rejected)) continue;
+        ++positions;
+        if (rejected) {
+            REQUIRE(f.quality == FixQuality::None);
+        } else {
+            ++fixes;
+            REQUIRE(validLatLon(f.pos));
+            REQUIRE(!(f.accuracyM < 0.0));
+        }
+    }
+    CHECK(positions > 100);   // the probe: many mutations still reach the position decoder
+    CHECK(fixes > 0);
 }

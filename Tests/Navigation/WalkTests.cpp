@@ -3,7 +3,9 @@
 // rate, tremor, arm swing, a 20° strap offset — and a GPS with 3–5 m error at 1 Hz.
 #include "Navigation/WalkerSim.h"
 #include <catch2/catch.hpp>
+#include <array>
 #include <cstdio>
+#include <vector>
 
 using namespace armadillo;
 using namespace armadillo::nav;
@@ -124,4 +126,42 @@ TEST_CASE("a magnetic disturbance the fusion reports does not teach the strap of
         else CHECK(worst > 15.0);   // the probe: a missed disturbance does pull the offset
     }
     CHECK(std::fabs(offsetAtEnd[1] - w.strapOffsetDeg) < std::fabs(offsetAtEnd[0] - w.strapOffsetDeg));
+}
+
+TEST_CASE("the whole walk's motor levels keep the safety bounds (docs/TACTILE.md)", "[walk][safety]")
+{
+    // Every level left the safety stage; checked here on what the walker felt: above the rating
+    // (level 5) at most 300 ms at a time, and mean power (level/15)² over any 10 s ≤ (5/15)².
+    WalkerParams w;
+    w.seed = 7;
+    const double dt = 0.01;
+    std::vector<std::array<std::uint8_t, kGridMotors>> frames;
+    WalkOptions o;
+    o.observe = [&](double, const SimulatedWalker&, const MotorLevels& levels, const NavigationStatus&) {
+        std::array<std::uint8_t, kGridMotors> f {};
+        for (int m = 0; m < kGridMotors; ++m) f[static_cast<std::size_t>(m)] = levels[static_cast<std::size_t>(m)];
+        frames.push_back(f);
+    };
+    const WalkResult r = simulateWalk(eightLegs(), {}, w, o);
+    REQUIRE(r.finished);
+    const std::size_t window = static_cast<std::size_t>(10.0 / dt);
+    double worstPower = 0.0, longestAbove = 0.0;
+    int maxLevel = 0;
+    for (int m = 0; m < kGridMotors; ++m) {
+        double sum = 0.0, above = 0.0;
+        for (std::size_t i = 0; i < frames.size(); ++i) {
+            const int level = frames[i][static_cast<std::size_t>(m)];
+            maxLevel = std::max(maxLevel, level);
+            sum += (level / 15.0) * (level / 15.0);
+            if (i >= window) sum -= (frames[i - window][static_cast<std::size_t>(m)] / 15.0) * (frames[i - window][static_cast<std::size_t>(m)] / 15.0);
+            if (i + 1 >= window) worstPower = std::max(worstPower, sum / static_cast<double>(window));
+            above = level > 5 ? above + dt : 0.0;
+            longestAbove = std::max(longestAbove, above);
+        }
+    }
+    std::printf("walk safety: highest level %d, longest above level 5 %.2f s, worst 10 s mean power %.4f (limit %.4f)\n", maxLevel, longestAbove, worstPower,
+                (5.0 / 15.0) * (5.0 / 15.0));
+    CHECK(maxLevel > 0);   // the probe: the motors did run
+    CHECK(longestAbove <= 0.3 + 1e-9);
+    CHECK(worstPower <= (5.0 / 15.0) * (5.0 / 15.0) + 1e-9);
 }
