@@ -128,10 +128,10 @@ int runNavigate(const Arguments& args)
             "Walk a route guided by the arm alone (docs/NAVIGATION.md): the §4.1 compass toward the next waypoint, an\n"
             "arrival sensation and the waypoint's name in Arm Braille within the arrival radius, and sensations for off\n"
             "route, fix lost and the route's end. The route's first point is the start; guidance goes to point 2 first.\n"
-            "Positions come from gpsd (--gpsd), over OSC (--osc-in: /armadillo/position lat lon [accuracy_m], ZIG SIM's gps)\n"
-            "or from a simulated walker guided by the motors (--simulate-walk, which\n"
-            "runs the whole walk offline, as fast as it computes). Ends at the route's end, after --seconds, or on\n"
-            "SIGINT/SIGTERM, with every motor off, and prints one JSON line.",
+            "Positions come from gpsd (--gpsd), over OSC (--osc-in: /armadillo/position lat lon [accuracy_m] or\n"
+            "ZIG SIM's gps), or from a simulated walker guided by the motors (--simulate-walk: the whole walk offline,\n"
+            "as fast as it computes). Ends at the route's end, after --seconds, or on SIGINT/SIGTERM, with every\n"
+            "motor off, and prints one JSON line.",
             [] {
                 std::vector<OptionSpec> o {
                 {"--route", "FILE", "the route: GPX 1.1 (<rte>, <trk> or <wpt>) or a JSON waypoint list", true},
