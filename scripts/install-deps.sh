@@ -13,6 +13,8 @@ packages=(
     # a reader alone (docs/ACCESSIBILITY.md): speech-dispatcher and BrlAPI, loaded at run time (dlopen);
     # espeak-ng, speech-dispatcher and brltty for the manual checks there
     libspeechd-dev libbrlapi-dev espeak-ng speech-dispatcher speech-dispatcher-espeak-ng brltty
+    # walking navigation (docs/NAVIGATION.md): GPX routes, gpsd positions; gpsd + gpsfake for its tests
+    libpugixml-dev libgps-dev gpsd gpsd-clients
     # audio files (WAV/RF64 out; WAV, AIFF, FLAC, Ogg in) and resampling of user recordings
     libsndfile1-dev libsamplerate0-dev
     # JUCE 7 (Debian ships it with its CMake config) and what its modules link on Linux

@@ -17,6 +17,7 @@ int runMap(const Arguments& args);       // CmdMap.cpp     — mapping files: ch
 int runScore(const Arguments& args);     // CmdScore.cpp   — scores from MIDI and haptic files
 int runTouchProfile(const Arguments& args); // CmdTouchProfile.cpp — per-motor thresholds of the reader
 int runTactors(const Arguments& args);   // CmdTactors.cpp — a tactor rig's channels buzzed in turn
+int runNavigate(const Arguments& args);  // CmdNavigate.cpp — walk a route guided by the arm (issue 34)
 
 struct CommandInfo {
     const char* name;

@@ -22,6 +22,7 @@ const std::vector<CommandInfo>& commands()
         {"score", "tactile scores from MIDI files and haptic files (score import FILE --out SCORE)", runScore},
         {"touch-profile", "the faintest level the reader feels on each motor, for --profile", runTouchProfile},
         {"tactors", "a tactor rig on a sound card or JACK: tactors test buzzes each channel in turn", runTactors},
+        {"navigate", "walk a route guided by the arm alone: compass, arrivals, waypoint names (gpsd or simulated)", runNavigate},
     };
     return table;
 }

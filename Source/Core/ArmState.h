@@ -25,6 +25,10 @@ struct ArmState {
     Eigen::Vector3d gyro = Eigen::Vector3d::Zero();        ///< rad/s, device frame (bias removed)
     Eigen::Vector3d accel {kNaN, kNaN, kNaN};              ///< m/s², device frame; NaN when unknown
     ArmFeatures features {};
+    /// s since the magnetometer last agreed with the learned field (Fusion's MagneticFieldTracker):
+    /// > 0 while the field looks disturbed and the heading rests on the gyro alone; 0 when trusted,
+    /// or for sources without a magnetometer of ours (orientations, poses).
+    double magDisturbedS = 0.0;
     bool valid = false;                                    ///< false until the source has produced a pose
 };
 

@@ -27,6 +27,7 @@ ArmState ArmTracker::update(const ImuSample& sample)
     state_.gyro = filter_->angularVelocity();
     state_.accel = sample.accel;
     state_.features = computeArmFeatures(state_.q, state_.gyro, state_.accel);
+    state_.magDisturbedS = filter_->magneticDisturbedTime();
     state_.valid = true;
     return state_;
 }

@@ -101,6 +101,8 @@ public:
     bool initialised() const { return initialised_; }
     std::size_t skippedSamples() const { return skipped_; }
     std::size_t magneticRejections() const { return magRejected_; }
+    /// s since the last magnetometer sample that agreed with the learned field (0 = trusted now).
+    double magneticDisturbedTime() const { return fieldTracker_.disturbedTime(); }
     /// What the filter did about dropouts and disagreements (counts since reset()).
     struct Recovery {
         std::size_t gaps = 0;            ///< steps longer than the gap threshold

@@ -73,7 +73,9 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
     }
     {
         auto slot = std::make_unique<live::EngineSlot>();
-        slot->engine = std::make_unique<Engine>(config_.engine);   // InputError for an unknown scene
+        if (config_.makeScene && (twoArms || cues_)) throw InputError("", 0, "", "scene '" + config_.engine.scene + "' plays alone: not with a set list or two arms");
+        slot->engine = config_.makeScene ? std::make_unique<Engine>(config_.engine, config_.makeScene())
+                                         : std::make_unique<Engine>(config_.engine);   // InputError for an unknown scene
         slot->sceneName = config_.engine.scene;
         engine_ = slot->engine.get();
         loop_.replace(std::move(slot));   // nothing runs yet
@@ -130,6 +132,7 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
             oscIn_ = std::make_unique<OscReceiver>(OscSerialSource {config_.oscSerialPort, config_.oscSerialBaud}, onImu, onQ, config_.osc);
         else
             oscIn_ = std::make_unique<OscReceiver>(config_.oscInPort, onImu, onQ, config_.osc);
+        if (config_.oscDatagramTap) oscIn_->setDatagramTap(config_.oscDatagramTap);
         break;
     }
     }

@@ -25,6 +25,7 @@
 #include "Live/SetList.h"
 #include "Live/TactorOutput.h"
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <string>
 #include <thread>
@@ -114,6 +115,13 @@ struct LiveConfig {
     /// levels (the right arm's, as sent to its device) onto an ALSA PCM or JACK ports, beside
     /// the device. tactors.device empty = none.
     live::TactorOutputConfig tactors {};
+    /// A front end's own scene (`navigate`: a scene that needs a route and a position source, so
+    /// it is not made by name): called once, its scene runs instead of `engine.scene`, which then
+    /// only names it. Not with a set list or two arms. Empty = the scene by name.
+    std::function<std::unique_ptr<Scene>()> makeScene;
+    /// Source::Osc: another reader of every datagram of the port (OscReceiver::setDatagramTap),
+    /// e.g. `navigate`'s positions from the phone that sends the arm's motion. Empty = none.
+    std::function<void(const std::uint8_t*, std::size_t)> oscDatagramTap;
 };
 
 struct SessionSummary {

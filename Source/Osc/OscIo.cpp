@@ -315,6 +315,7 @@ void OscReceiver::stop()
 
 void OscReceiver::handleDatagram(const std::uint8_t* data, std::size_t size, double t, std::uint64_t senderKey, const char* senderName)
 {
+    if (tap_) tap_(data, size);
     merger_.handleDatagram(data, size, t, senderKey, senderName);
 }
 

@@ -107,6 +107,11 @@ public:
     const OscSampleMerger& merger() const noexcept { return merger_; }
     /// Decodes and dispatches one datagram at time t (what the thread does; public for tests/fuzz).
     void handleDatagram(const std::uint8_t* data, std::size_t size, double t, std::uint64_t senderKey = 0, const char* senderName = "");
+    /// Another reader of every UDP/TCP datagram (an OSC packet or ZIG SIM JSON), called on the
+    /// receiver's thread before the sensor dialects see it: `navigate` takes positions from the
+    /// same port as the arm's motion (ZIG SIM's gps). Set before start(); must not block.
+    using DatagramTap = std::function<void(const std::uint8_t* data, std::size_t size)>;
+    void setDatagramTap(DatagramTap tap) { tap_ = std::move(tap); }
 
 private:
     struct TcpClient;
@@ -125,6 +130,7 @@ private:
     std::string serialError_;
     ImuHandler onImu_;
     OrientationHandler onOrientation_;
+    DatagramTap tap_;
     OscSampleMerger merger_;
     std::thread thread_;
     std::atomic<bool> stop_ {false};

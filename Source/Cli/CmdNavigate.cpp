@@ -1,0 +1,347 @@
+// `armadillo navigate`: walk a route guided by the arm alone (issue 34, docs/NAVIGATION.md).
+// The front end only wires: a route file, a position source (gpsd, or the simulated walk), the
+// arm's source and motors (a device or the simulated forearm, through play's LiveSession), the
+// navigation scene (Source/Navigation) in the engine, and the logs.
+#include "Cli/CommandLine.h"
+#include "Cli/Commands.h"
+#include "Cli/ReaderIo.h"
+#include "Cli/SceneOptions.h"
+#include "Core/AtomicFile.h"
+#include "Core/Errors.h"
+#include "Link/Calibration.h"
+#include "Osc/Mount.h"
+#include "Live/LiveSession.h"
+#include "Navigation/GpsdSource.h"
+#include "Navigation/NavigationScene.h"
+#include "Navigation/OscPositionSource.h"
+#include "Navigation/WalkerSim.h"
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <thread>
+
+namespace armadillo::cli {
+
+namespace {
+
+std::string logHeader()
+{
+    return "t,lat,lon,fix,waypoint,distance_m,bearing_deg,heading_deg,arm_heading_deg,offset_deg,leg_distance_m,off_route,arrived,sensation,mag_disturbed\n";
+}
+
+void appendNumber(std::string& out, double v, const char* format)
+{
+    if (!std::isfinite(v)) {
+        out += ',';
+        return;
+    }
+    char buf[40];
+    std::snprintf(buf, sizeof buf, format, v);
+    out += ',';
+    out += buf;
+}
+
+void appendRow(std::string& out, const nav::NavigationLogRecord& r)
+{
+    char t[32];
+    std::snprintf(t, sizeof t, "%.3f", r.t);
+    out += t;
+    appendNumber(out, r.lat, "%.7f");
+    appendNumber(out, r.lon, "%.7f");
+    out += ',';
+    out += nav::fixStateName(r.fix);
+    out += ',' + std::to_string(r.waypoint);
+    appendNumber(out, r.distanceM, "%.2f");
+    appendNumber(out, r.bearingDeg, "%.2f");
+    appendNumber(out, r.headingDeg, "%.2f");
+    appendNumber(out, r.armHeadingDeg, "%.2f");
+    appendNumber(out, r.offsetDeg, "%.2f");
+    appendNumber(out, r.legDistanceM, "%.2f");
+    out += r.offRoute ? ",1" : ",0";
+    out += ',' + std::to_string(r.arrivedAt);
+    out += ',';
+    out += nav::sensationName(r.sensation);
+    out += r.magDisturbed ? ",1\n" : ",0\n";
+}
+
+/// What happened since the last call, said once on stderr: arrivals, fix lost/back, off route, the end.
+/// With --speak (or a braille display) the same events are also spoken / shown (ReaderIo), for
+/// those who want speech; the arm says everything without it.
+class Announcer {
+public:
+    Announcer(const nav::Route& route, ReaderIo* voice) : route_(route), voice_(voice) {}
+    void note(const nav::NavigationLogRecord& r)
+    {
+        if (r.arrivedAt > 0) {
+            const std::string& name = route_.points[static_cast<std::size_t>(r.arrivedAt - 1)].name;
+            std::cerr << "armadillo navigate: arrived at waypoint " << r.arrivedAt << (name.empty() ? "" : " '" + name + "'") << " (t = " << r.t << " s)\n";
+            const bool last = r.arrivedAt == static_cast<int>(route_.points.size());
+            say("arrived" + (name.empty() ? std::string() : ": " + name) + (last ? ". End of the route." : ""));
+            ++arrivals_;
+        }
+        if (r.fix != fix_) {
+            if (r.fix == nav::FixState::Lost) {
+                std::cerr << "armadillo navigate: position fix lost (t = " << r.t << " s): no direction is shown until it is back\n";
+                say("position lost");
+            } else if (r.fix == nav::FixState::Ok && fix_ == nav::FixState::Lost) {
+                std::cerr << "armadillo navigate: position fix back (t = " << r.t << " s)\n";
+                say("position back");
+            }
+            fix_ = r.fix;
+        }
+        if (r.offRoute != offRoute_) {
+            std::cerr << "armadillo navigate: " << (r.offRoute ? "off route" : "back on route") << " (t = " << r.t << " s)\n";
+            say(r.offRoute ? "off route" : "back on route");
+            offRoute_ = r.offRoute;
+        }
+    }
+    int arrivals() const { return arrivals_; }
+
+private:
+    void say(const std::string& text)
+    {
+        if (voice_) voice_->status(text);
+    }
+    const nav::Route& route_;
+    ReaderIo* voice_ = nullptr;
+    nav::FixState fix_ = nav::FixState::Waiting;
+    bool offRoute_ = false;
+    int arrivals_ = 0;
+};
+
+std::string tactileRow(double t, const MotorLevels& levels)
+{
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%.4f,%d,%d,%d,%d,%d,%d,%d,%d,%d\n", t, levels[0], levels[1], levels[2], levels[3], levels[4], levels[5], levels[6],
+                  levels[7], levels[8]);
+    return buf;
+}
+
+} // namespace
+
+int runNavigate(const Arguments& args)
+{
+    return guarded("navigate", [&]() -> int {
+        CommandLine cl(
+            "navigate", "--route ROUTE.gpx (--gpsd HOST[:PORT] | --osc-in PORT | --simulate-walk) [--port NAME | --simulate] [options]",
+            "Walk a route guided by the arm alone (docs/NAVIGATION.md): the §4.1 compass toward the next waypoint, an\n"
+            "arrival sensation and the waypoint's name in Arm Braille within the arrival radius, and sensations for off\n"
+            "route, fix lost and the route's end. The route's first point is the start; guidance goes to point 2 first.\n"
+            "Positions come from gpsd (--gpsd), over OSC (--osc-in: /armadillo/position lat lon [accuracy_m] or\n"
+            "ZIG SIM's gps), or from a simulated walker guided by the motors (--simulate-walk: the whole walk offline,\n"
+            "as fast as it computes). Ends at the route's end, after --seconds, or on SIGINT/SIGTERM, with every\n"
+            "motor off, and prints one JSON line.",
+            [] {
+                std::vector<OptionSpec> o {
+                {"--route", "FILE", "the route: GPX 1.1 (<rte>, <trk> or <wpt>) or a JSON waypoint list", true},
+                {"--gpsd", "HOST[:PORT]", "positions from gpsd (port 2947 unless given; 'localhost' for the local one)"},
+                {"--osc-in", "PORT", "positions over OSC/UDP on PORT: /armadillo/position lat lon [accuracy_m], ZIG SIM's gps;\n"
+                                     "without --port/--simulate the arm's motion comes from the same port (a phone: ZIG SIM motion + gps)"},
+                {"--mount", "NAME", "with --osc-in as the arm: how the phone is worn (docs/SENSORS.md; as `play --mount`)"},
+                {"--simulate-walk", "", "a simulated walker follows the motors (with --simulate; offline, deterministic)"},
+                {"--port", "NAME", "the forearm device (its motors and sensors)"},
+                {"--simulate", "", "the built-in simulated forearm (with --gpsd: it holds still; with --simulate-walk: the walker's arm)"},
+                {"--motion", "FILE", "with --simulate and --gpsd: the simulated forearm moves as this pose/quaternion CSV"},
+                {"--calibration", "CAL.json", "the device calibration (as `play`)"},
+                {"--profile", "PROFILE.json", "the reader's touch profile (as `play`)"},
+                {"--arm", "right|left", "the arm wearing the device (default right)"},
+                {"--baud", "N", "with --port: baud rate (default 57600)"},
+                {"--log", "NAV.csv", "one row per control update: t,lat,lon,fix,waypoint,distance_m,bearing_deg,heading_deg,…"},
+                {"--tactile", "T.csv", "every motor packet: t,m1..m9"},
+                {"--seconds", "N", "stop after N seconds (simulated seconds with --simulate-walk)"},
+                {"--arrival-radius", "M", "arrived within M metres of a waypoint (default 8)"},
+                {"--off-route", "M", "off route further than M metres from the leg (default 20)"},
+                {"--names", "shorthand|full|none", "how waypoint names are spelt on the arm (default shorthand: a sign word's §5.3 shorthand)"},
+                {"--heading-offset", "DEG", "a known strap offset (thumb − walking direction), used until one is learned"},
+                {"--no-learn", "", "do not learn the heading offset from the walk (§5.3); --heading-offset only"},
+                {"--level", "L", "level of the sensations, 1..15 (default 5; the safety stage still decides)"},
+                {"--strap-offset", "DEG", "with --simulate-walk: the simulated strap's offset (default 20)"},
+                {"--seed", "N", "with --simulate-walk: the walker's and its GPS's random seed (default 1)"},
+                };
+                const auto io = readerIoOptionSpecs();   // --speak, --speech, --rate, --brlapi, --braille-display
+                o.insert(o.end(), io.begin(), io.end());
+                return o;
+            }());
+        if (!cl.parse(args)) return kExitOk;
+        const bool gpsd = cl.has("--gpsd"), walk = cl.has("--simulate-walk"), osc = cl.has("--osc-in");
+        if (int(gpsd) + int(walk) + int(osc) != 1) throw UsageError("choose one position source: --gpsd HOST[:PORT], --osc-in PORT or --simulate-walk");
+        const int oscPort = osc ? static_cast<int>(cl.integer("--osc-in", 0, 1, 65535)) : 0;
+        const bool armFromOsc = osc && !cl.has("--port") && !cl.has("--simulate");   // a phone sends motion and positions
+        if (int(cl.has("--port")) + int(cl.has("--simulate")) != 1 && !armFromOsc)
+            throw UsageError("choose the arm: --port NAME or --simulate (or, with --osc-in, the phone's own motion on that port)");
+        if (cl.has("--mount") && !armFromOsc) throw UsageError("--mount says how a phone is worn: with --osc-in as the arm (no --port, no --simulate)");
+        if (walk && !cl.has("--simulate")) throw UsageError("--simulate-walk moves the simulated forearm: use it with --simulate");
+        if (cl.has("--motion") && (!cl.has("--simulate") || walk)) throw UsageError("--motion drives the simulated forearm with --gpsd or --osc-in: use it with --simulate");
+        for (const char* o : {"--strap-offset", "--seed"})
+            if (cl.has(o) && !walk) throw UsageError(std::string(o) + " applies to --simulate-walk");
+        if (cl.has("--baud") && !cl.has("--port")) throw UsageError("--baud applies to --port");
+
+        nav::NavigationOptions options;
+        options.guidance.arrivalRadiusM = cl.number("--arrival-radius", 8.0);
+        if (!(options.guidance.arrivalRadiusM >= 1.0 && options.guidance.arrivalRadiusM <= 200.0)) throw UsageError("--arrival-radius must be 1…200 m");
+        options.guidance.offRouteM = cl.number("--off-route", 20.0);
+        if (!(options.guidance.offRouteM >= 5.0 && options.guidance.offRouteM <= 1000.0)) throw UsageError("--off-route must be 5…1000 m");
+        options.guidance.backOnRouteM = 0.75 * options.guidance.offRouteM;
+        const std::string names = cl.value("--names", "shorthand");
+        if (names == "shorthand") options.names = nav::NameDisplay::Shorthand;
+        else if (names == "full") options.names = nav::NameDisplay::Full;
+        else if (names == "none") options.names = nav::NameDisplay::None;
+        else throw UsageError("--names must be shorthand, full or none");
+        options.headingOffsetDeg = cl.number("--heading-offset", 0.0);
+        if (!(std::fabs(options.headingOffsetDeg) <= 180.0)) throw UsageError("--heading-offset must be −180…180 degrees");
+        options.learnHeading = !cl.has("--no-learn");
+        options.level = static_cast<float>(cl.number("--level", 5.0));
+        if (!(options.level >= 1.0f && options.level <= 15.0f)) throw UsageError("--level must be 1…15");
+        const double seconds = cl.number("--seconds", -1.0);
+        if (cl.has("--seconds") && !(seconds > 0.0 && seconds <= 7 * 24 * 3600.0)) throw UsageError("--seconds must be a positive number of seconds (at most a week)");
+        const std::string arm = cl.value("--arm", "right");
+        if (arm != "right" && arm != "left") throw UsageError("--arm must be right or left");
+        const std::string logPath = cl.value("--log"), tactilePath = cl.value("--tactile");
+        if (!logPath.empty()) checkOutputPath("--log", logPath);
+        if (!tactilePath.empty()) checkOutputPath("--tactile", tactilePath);
+        checkDistinctOutputs({{"--log", logPath}, {"--tactile", tactilePath}});
+        nav::GpsdEndpoint endpoint;
+        if (gpsd) endpoint = nav::parseGpsdEndpoint(cl.value("--gpsd"));
+
+        // Inputs: a route that cannot be read is exit 4, one that is not a route 3.
+        const nav::Route route = nav::readRouteFile(cl.value("--route"));
+        std::cerr << "armadillo navigate: route '" << (route.name.empty() ? route.source : route.name) << "': start and " << route.points.size() - 1
+                  << " waypoints, " << static_cast<long>(std::lround(route.lengthM())) << " m\n";
+        auto link = std::make_shared<nav::NavigationLink>();
+        link->logEnabled = !logPath.empty();
+        std::string log = logHeader(), tactile = "t,m1,m2,m3,m4,m5,m6,m7,m8,m9\n";
+        const bool wantsVoice = cl.has("--speak") || cl.has("--speech") || cl.has("--brlapi") || cl.has("--braille-display");
+        if (wantsVoice && walk) throw UsageError("--speak and the braille display are for a live walk, not --simulate-walk");
+        if (cl.has("--rate") && !wantsVoice) throw UsageError("--rate sets the speech rate: use it with --speak");
+        std::unique_ptr<ReaderIo> voice;
+        if (wantsVoice) voice = std::make_unique<ReaderIo>(cl, true);   // IoError when the backend asked for cannot be opened
+        Announcer announcer(route, voice.get());
+        const auto drain = [&] {
+            nav::NavigationLogRecord r;
+            while (link->log.pop(r)) {
+                announcer.note(r);
+                if (!logPath.empty()) appendRow(log, r);
+            }
+        };
+
+        if (walk) {   // the whole walk offline: the walker feels the motors, its GPS feeds the scene
+            nav::WalkerParams w;
+            w.strapOffsetDeg = cl.number("--strap-offset", 20.0);
+            if (!(std::fabs(w.strapOffsetDeg) <= 180.0)) throw UsageError("--strap-offset must be −180…180 degrees");
+            w.seed = static_cast<std::uint64_t>(cl.integer("--seed", 1, 0, 1L << 62));
+            nav::WalkOptions o;
+            o.maxSeconds = seconds > 0.0 ? seconds : 3 * 3600.0;
+            link->logEnabled = true;   // the announcer reads it too
+            o.observe = [&](double t, const nav::SimulatedWalker&, const MotorLevels& levels, const nav::NavigationStatus&) {
+                drain();
+                if (!tactilePath.empty()) tactile += tactileRow(t, levels);
+            };
+            if (cl.has("--profile") || cl.has("--calibration") || cl.has("--arm"))
+                std::cerr << "armadillo navigate: --simulate-walk uses the walker's own right arm; --profile, --calibration and --arm are for a device\n";
+            const nav::WalkResult r = nav::simulateWalk(route, options, w, o, link);
+            drain();
+            if (!logPath.empty()) writeFileAtomically(logPath, log);
+            if (!tactilePath.empty()) writeFileAtomically(tactilePath, tactile);
+            char json[400];
+            std::snprintf(json, sizeof json,
+                          "{\"finished\":%s,\"seconds\":%.1f,\"arrivals\":%zu,\"waypoints\":%zu,\"max_off_route_m\":%.2f,\"median_heading_error_deg\":%.2f,"
+                          "\"learned_offset_deg\":%.2f,\"strap_offset_deg\":%.2f}",
+                          r.finished ? "true" : "false", r.seconds, r.arrivals.size(), route.points.size() - 1, r.maxOffRouteM, r.medianHeadingErrorDeg,
+                          r.learnedOffsetDeg, w.strapOffsetDeg);
+            std::cout << json << "\n" << std::flush;
+            return kExitOk;
+        }
+
+        // A device or the simulated forearm, through play's live session, with the navigation scene.
+        device::LiveConfig config;
+        if (cl.has("--port")) {
+            config.source = device::LiveConfig::Source::Port;
+            config.port = cl.value("--port");
+            if (config.port.empty()) throw UsageError("--port needs a device name");
+            config.baud = static_cast<int>(cl.integer("--baud", 57600, 1200, 4000000));
+        } else if (armFromOsc) {
+            config.source = device::LiveConfig::Source::Osc;
+            config.oscInPort = oscPort;
+            if (cl.has("--mount")) {
+                config.osc.mount = device::mountFromArgument(cl.value("--mount"));
+                config.osc.mountGiven = true;
+            }
+        } else {
+            config.source = device::LiveConfig::Source::Simulator;
+            config.motionFile = cl.value("--motion");
+        }
+        config.engine.scene = "navigate";
+        config.engine.sceneConfig.side = arm == "left" ? ArmSide::Left : ArmSide::Right;
+        readProfileOption(cl, config.engine);
+        if (cl.has("--calibration")) config.calibration = device::loadCalibration(cl.value("--calibration"));
+        config.tactileOut = tactilePath;
+        config.makeScene = [&route, link, options] { return nav::makeNavigationScene(route, link, options); };
+
+        installInterruptHandlers();
+        // The position source: IoError (exit 4) when gpsd cannot be reached or the port is taken.
+        std::unique_ptr<nav::GpsdSource> gpsdSource;
+        std::unique_ptr<nav::OscPositionSource> oscSource;
+        auto shared = std::make_shared<nav::PositionCounters>();   // positions on the arm's own OSC port
+        if (gpsd) gpsdSource = std::make_unique<nav::GpsdSource>(endpoint, link->position);
+        else if (!armFromOsc) oscSource = std::make_unique<nav::OscPositionSource>(oscPort, link->position);
+        else config.oscDatagramTap = [link, shared](const std::uint8_t* d, std::size_t n) { nav::storePositionDatagram(d, n, link->position, *shared); };
+        device::LiveSession session(config);
+        session.start();
+        if (gpsdSource) {
+            gpsdSource->start();
+            std::cerr << "armadillo navigate: positions from gpsd at " << gpsdSource->describe() << "\n";
+        } else if (oscSource) {
+            oscSource->start();
+            std::cerr << "armadillo navigate: positions over OSC on UDP port " << oscSource->port() << "\n";
+        } else {
+            std::cerr << "armadillo navigate: the arm's motion and the positions over OSC on port " << oscPort << "\n";
+        }
+        const auto start = std::chrono::steady_clock::now();
+        double finishedAt = -1.0;
+        bool shownDown = false;
+        while (!interrupted()) {
+            const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            if (seconds > 0.0 && elapsed >= seconds) break;
+            drain();
+            const nav::NavigationStatus st = link->status.load();
+            if (st.finished && st.sensation == nav::Sensation::None && finishedAt < 0.0) finishedAt = elapsed;
+            if (finishedAt >= 0.0 && elapsed > finishedAt + 0.5) break;
+            if (gpsdSource) {
+                if (!gpsdSource->connected() && !shownDown) std::cerr << "armadillo navigate: gpsd at " << gpsdSource->describe() << " went away (reconnecting)\n";
+                shownDown = !gpsdSource->connected();
+            }
+            if (session.engine().failed()) {
+                std::cerr << "armadillo navigate: the scene failed and was stopped (motors off): " << session.engine().failure() << "\n";
+                break;
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        }
+        if (gpsdSource) gpsdSource->stop();
+        if (oscSource) oscSource->stop();
+        session.stop();
+        drain();
+        session.finish();
+        if (!logPath.empty()) writeFileAtomically(logPath, log);
+        const nav::NavigationStatus st = link->status.load();
+        std::string summary = device::summaryJson(session.summary());
+        char extra[400];
+        if (gpsdSource)
+            std::snprintf(extra, sizeof extra, ",\"finished\":%s,\"arrivals\":%d,\"waypoints\":%zu,\"gpsd_fixes\":%llu,\"gpsd_no_fix\":%llu,\"gpsd_rejected\":%llu,\"gpsd_disconnects\":%llu,\"log_dropped\":%llu",
+                          st.finished ? "true" : "false", st.arrivals, route.points.size() - 1, static_cast<unsigned long long>(gpsdSource->fixes()),
+                          static_cast<unsigned long long>(gpsdSource->noFix()), static_cast<unsigned long long>(gpsdSource->rejected()),
+                          static_cast<unsigned long long>(gpsdSource->disconnects()), static_cast<unsigned long long>(link->droppedLog.load()));
+        else
+            std::snprintf(extra, sizeof extra, ",\"finished\":%s,\"arrivals\":%d,\"waypoints\":%zu,\"osc_fixes\":%llu,\"osc_rejected\":%llu,\"osc_ignored\":%llu,\"log_dropped\":%llu",
+                          st.finished ? "true" : "false", st.arrivals, route.points.size() - 1,
+                          static_cast<unsigned long long>(oscSource ? oscSource->fixes() : shared->fixes.load()),
+                          static_cast<unsigned long long>(oscSource ? oscSource->rejected() : shared->rejected.load()),
+                          static_cast<unsigned long long>(oscSource ? oscSource->ignored() : shared->ignored.load()),
+                          static_cast<unsigned long long>(link->droppedLog.load()));
+        summary.insert(summary.size() - 1, extra);
+        std::cout << summary << "\n" << std::flush;
+        return session.engine().failed() ? int(kExitFailure) : int(kExitOk);
+    });
+}
+
+} // namespace armadillo::cli
