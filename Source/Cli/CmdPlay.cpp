@@ -1,6 +1,7 @@
 #include "Cli/CommandLine.h"
 #include "Cli/Commands.h"
 #include "Cli/MapOptions.h"
+#include "Cli/MqttOptions.h"
 #include "Cli/ReaderIo.h"
 #include "Cli/SceneOptions.h"
 #include "Live/MappingRig.h"
@@ -294,6 +295,7 @@ int runPlay(const Arguments& args)
                                                 "the starting calibration)"},
                 };
                 o.insert(o.begin() + 1, own.begin(), own.end());
+                for (const auto& specs : {mqttBrokerOptionSpecs(), mqttMessageOptionSpecs()}) o.insert(o.end(), specs.begin(), specs.end());
                 // Speech and a braille display for the training's prompts and the link's state.
                 const auto io = readerIoOptionSpecs();
                 o.insert(o.end(), io.begin(), io.end());
@@ -491,6 +493,9 @@ int runPlay(const Arguments& args)
         engine.panicGesture = cl.has("--panic-gesture");
         const int controlPort = cl.has("--control-in") ? static_cast<int>(cl.integer("--control-in", 0, 1, 65535)) : -1;
 
+        // Messages on the arm (docs/MQTT.md): declared before the session so the messages it hands
+        // the braille scene outlive the scene's control thread.
+        std::unique_ptr<PlayMessages> messages = readPlayMessages(cl, engine.scene, engine.parameters, engine.sceneConfig.resourceDir);
         installInterruptHandlers();
         device::LiveSession session(config);
         // Stage commands (OSC control port, keys): panic and resume act on the engine at once
@@ -538,6 +543,9 @@ int runPlay(const Arguments& args)
             if (!brailleScene) throw UsageError("--training-log needs the braille scene");
             training = std::make_unique<TerminalTraining>(*brailleScene, voice.get());
         }
+        braille::BrailleSceneControls* messageScene = messages ? dynamic_cast<braille::BrailleSceneControls*>(&session.engine().scene()) : nullptr;
+        if (messages && !messageScene) throw UsageError("--messages need the braille scene");
+        if (messages) messages->start();
         std::unique_ptr<device::CalibrationProcedure> calibration;
         if (!calibrateOut.empty()) {
             calibration = std::make_unique<device::CalibrationProcedure>(config.calibration);
@@ -697,6 +705,7 @@ int runPlay(const Arguments& args)
                 shownLeftFormat = true;
             }
             for (const auto& g : mountCalibrations) g->step();
+            if (messages) messages->poll(*messageScene, std::cerr, lineStart);
             if (const audio::SoundCard* card = session.soundCard(); card && card->failed() && !shownCardError) {
                 std::cerr << lineStart << "armadillo play: " << card->lastError() << "; playing on without sound\n";
                 shownCardError = true;
@@ -738,6 +747,7 @@ int runPlay(const Arguments& args)
         if (keys) keys->stop();
         if (controlIn) controlIn->stop();
         session.stop();
+        if (messages) messages->stop();
         if (needsData && dataTimeout > 0.0 && noData.empty() && session.summary().packets == 0)
             noData = noDataMessage(session, config, session.summary().seconds);
         if (leftNeedsData && dataTimeout > 0.0 && noData.empty() && leftPackets(session) == 0)
@@ -778,6 +788,7 @@ int runPlay(const Arguments& args)
         if (device::OscReceiver* leftOsc = session.leftOscReceiver())   // the left sender's usable samples and its input's counters
             summary.insert(summary.size() - 1, ",\"left_packets\":" + std::to_string(leftOsc->stats().imu + leftOsc->stats().orientation) +
                                                    ",\"left_osc\":{" + leftOsc->statsJson() + "}");
+        if (messages) summary.insert(summary.size() - 1, messages->summaryJson());
         if (cues) summary.insert(summary.size() - 1, ",\"cue\":" + std::to_string(cues->current()) + ",\"cue_changes\":" + std::to_string(cues->changes()));
         std::cout << summary << "\n" << std::flush;
         return session.engine().failed() ? int(kExitFailure) : int(kExitOk);

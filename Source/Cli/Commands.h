@@ -16,6 +16,7 @@ int runResources(const Arguments& args); // CmdResources.cpp — search folders,
 int runMap(const Arguments& args);       // CmdMap.cpp     — mapping files: check, show, learn a posture
 int runScore(const Arguments& args);     // CmdScore.cpp   — scores from MIDI and haptic files
 int runTouchProfile(const Arguments& args); // CmdTouchProfile.cpp — per-motor thresholds of the reader
+int runMqtt(const Arguments& args);      // CmdMqtt.cpp    — MQTT: check a broker
 
 struct CommandInfo {
     const char* name;

@@ -21,6 +21,7 @@ const std::vector<CommandInfo>& commands()
         {"map", "mapping files (--map): check one, show a preset, learn a posture", runMap},
         {"score", "tactile scores from MIDI files and haptic files (score import FILE --out SCORE)", runScore},
         {"touch-profile", "the faintest level the reader feels on each motor, for --profile", runTouchProfile},
+        {"mqtt", "MQTT: check a broker (mqtt check --broker HOST[:PORT] --topic T)", runMqtt},
     };
     return table;
 }

@@ -1,0 +1,54 @@
+#pragma once
+// The MQTT options of `play` and `mqtt check` (docs/MQTT.md, INTERFACES.md): the broker
+// (--mqtt HOST[:PORT], --mqtt-config FILE) and, for play, messages shown on the arm
+// (--messages TOPIC, --urgent TOPIC, --message-display timed|roll, --message-shorthand).
+#include "Cli/CommandLine.h"
+#include "Mqtt/ArmMessages.h"
+#include "Mqtt/MessageInbox.h"
+#include "Mqtt/MqttClient.h"
+#include <memory>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace armadillo::cli {
+
+/// --mqtt and --mqtt-config (both commands).
+std::vector<OptionSpec> mqttBrokerOptionSpecs();
+/// --messages, --urgent, --message-display, --message-shorthand (play).
+std::vector<OptionSpec> mqttMessageOptionSpecs();
+
+/// The configuration --mqtt-config reads (InputError, exit 3, naming the file) with --mqtt's
+/// broker over the file's; `topics` (from --messages / --urgent / --topic) are added to the file's.
+/// False when neither option is given. `brokerOption`: the broker's option name (mqtt check: --broker).
+bool readMqttOptions(const CommandLine& cl, mqtt::MqttConfig& config, const char* brokerOption = "--mqtt");
+
+/// Messages on the arm during `play`: the client, its inbox and the presenter that hands the
+/// messages to the braille scene. Declared before the session it serves, so it outlives it.
+class PlayMessages {
+public:
+    PlayMessages(mqtt::MqttConfig config, mqtt::PresenterOptions options);
+    ~PlayMessages();
+    void start();
+    /// Main loop: connection changes and what the presenter did, said on `err`.
+    void poll(braille::BrailleSceneControls& scene, std::ostream& err, const char* lineStart);
+    void stop();
+    /// ,"mqtt":{...} for the summary line.
+    std::string summaryJson() const;
+
+private:
+    mqtt::MqttConfig config_;
+    mqtt::MessageInbox inbox_;
+    mqtt::MessagePresenter presenter_;
+    std::unique_ptr<mqtt::MqttClient> client_;   // last: its thread stops before the inbox goes
+    mqtt::ConnectionState shownState_ = mqtt::ConnectionState::Stopped;
+    std::uint64_t shownRefused_ = 0, shownDropped_ = 0;
+};
+
+/// For play: every MQTT option read; null when there is no broker or no message topic.
+/// UsageError for messages without a broker or without the braille scene.
+/// `parameters`: the scene's --param list (the reader's braille.grade and braille.method).
+std::unique_ptr<PlayMessages> readPlayMessages(const CommandLine& cl, const std::string& scene, const std::vector<std::string>& parameters,
+                                               const std::string& resourceDir);
+
+} // namespace armadillo::cli
