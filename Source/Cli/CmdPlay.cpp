@@ -525,6 +525,8 @@ int runPlay(const Arguments& args)
         std::unique_ptr<live::StageControlReceiver> controlIn;
         if (controlPort > 0) {
             controlIn = std::make_unique<live::StageControlReceiver>(controlPort, onCommand);   // IoError (exit 4) when taken
+            if (messages && messages->wantsMessages())   // /armadillo/message "text" [priority] (docs/MQTT.md)
+                controlIn->setTextHandler([m = messages.get()](const std::string& text, int priority) { m->offerText(text, priority); });
             controlIn->start();
         }
         std::unique_ptr<live::KeyReader> keys;
@@ -543,9 +545,13 @@ int runPlay(const Arguments& args)
             if (!brailleScene) throw UsageError("--training-log needs the braille scene");
             training = std::make_unique<TerminalTraining>(*brailleScene, voice.get());
         }
-        braille::BrailleSceneControls* messageScene = messages ? dynamic_cast<braille::BrailleSceneControls*>(&session.engine().scene()) : nullptr;
-        if (messages && !messageScene) throw UsageError("--messages need the braille scene");
-        if (messages) messages->start();
+        braille::BrailleSceneControls* messageScene =
+            messages && messages->wantsMessages() ? dynamic_cast<braille::BrailleSceneControls*>(&session.engine().scene()) : nullptr;
+        if (messages && messages->wantsMessages() && !messageScene) throw UsageError("--messages need the braille scene");
+        if (messages) {
+            if (live::MappingRig* rig = session.mapping()) rig->setMqttSink(&PlayMessages::publishMapped, messages.get());
+            messages->start();
+        }
         std::unique_ptr<device::CalibrationProcedure> calibration;
         if (!calibrateOut.empty()) {
             calibration = std::make_unique<device::CalibrationProcedure>(config.calibration);
@@ -705,7 +711,7 @@ int runPlay(const Arguments& args)
                 shownLeftFormat = true;
             }
             for (const auto& g : mountCalibrations) g->step();
-            if (messages) messages->poll(*messageScene, std::cerr, lineStart);
+            if (messages) messages->poll(messageScene, std::cerr, lineStart);
             if (const audio::SoundCard* card = session.soundCard(); card && card->failed() && !shownCardError) {
                 std::cerr << lineStart << "armadillo play: " << card->lastError() << "; playing on without sound\n";
                 shownCardError = true;
@@ -778,6 +784,8 @@ int runPlay(const Arguments& args)
                                                    std::to_string(m->oscMessages()) + ",\"mapping_dropped\":" + std::to_string(m->dropped()));
         if (const live::MappingRig* m = session.mapping(); m && m->stageCommands() > 0)   // "stage" destinations fired (docs/STAGE.md)
             summary.insert(summary.size() - 1, ",\"mapping_stage_commands\":" + std::to_string(m->stageCommands()));
+        if (const live::MappingRig* m = session.mapping(); m && m->mqttMessages() > 0)   // "mqtt" destinations (docs/MQTT.md)
+            summary.insert(summary.size() - 1, ",\"mapping_mqtt_messages\":" + std::to_string(m->mqttMessages()));
         if (const std::uint32_t panics = panicTotal(); panics > 0) {   // only after a panic (docs/STAGE.md)
             summary.insert(summary.size() - 1, ",\"panics\":" + std::to_string(panics));
             if (const live::MappingRig* m = session.mapping())   // note-offs, CC 120 and CC 123 the mapping's MIDI sent

@@ -64,7 +64,17 @@ PlayMessages::~PlayMessages() { stop(); }
 void PlayMessages::start() { client_->start(); }
 void PlayMessages::stop() { client_->stop(); }
 
-void PlayMessages::poll(braille::BrailleSceneControls& scene, std::ostream& err, const char* lineStart)
+bool PlayMessages::publishMapped(void* self, const mapping::MqttMessage& m)
+{
+    mqtt::OutgoingMessage o;
+    if (!o.set(std::string_view(m.topic.data(), m.topicLength), std::string_view(m.payload.data(), m.payloadLength))) return false;
+    o.qos = m.qos;
+    o.retain = m.retain;
+    o.maxRate = m.rate;
+    return static_cast<PlayMessages*>(self)->client_->publish(o);
+}
+
+void PlayMessages::poll(braille::BrailleSceneControls* scene, std::ostream& err, const char* lineStart)
 {
     const mqtt::MqttStatus s = client_->status();
     if (s.state != shownState_) {
@@ -83,7 +93,8 @@ void PlayMessages::poll(braille::BrailleSceneControls& scene, std::ostream& err,
         shownDropped_ = in.droppedOldest;
         err << lineStart << "armadillo play: the message queue was full: " << in.droppedOldest << " oldest message(s) dropped so far\n";
     }
-    for (const std::string& line : presenter_.poll(scene)) err << lineStart << "armadillo play: " << line << "\n";
+    if (!scene) return;
+    for (const std::string& line : presenter_.poll(*scene)) err << lineStart << "armadillo play: " << line << "\n";
 }
 
 std::string PlayMessages::summaryJson() const
@@ -91,6 +102,8 @@ std::string PlayMessages::summaryJson() const
     const mqtt::MqttStatus s = client_->status();
     const mqtt::InboxStats in = inbox_.stats();
     return ",\"mqtt\":{\"connects\":" + std::to_string(s.connects) + ",\"connection_losses\":" + std::to_string(s.connectionLosses) +
+           ",\"published\":" + std::to_string(s.published) + ",\"coalesced\":" + std::to_string(s.coalesced) +
+           ",\"outbox_dropped\":" + std::to_string(s.outboxDropped) +
            ",\"received\":" + std::to_string(s.received) + ",\"messages_accepted\":" + std::to_string(in.accepted) +
            ",\"messages_refused\":" + std::to_string(in.refused) + ",\"messages_dropped\":" + std::to_string(in.droppedOldest) +
            ",\"messages_shown\":" + std::to_string(presenter_.shown()) + ",\"messages_waiting\":" + std::to_string(in.waiting) + "}";
@@ -112,8 +125,8 @@ std::unique_ptr<PlayMessages> readPlayMessages(const CommandLine& cl, const std:
     }
     addTopics(cl, "--messages", false, config);
     addTopics(cl, "--urgent", true, config);
-    if (config.topics.empty()) return nullptr;   // a broker for the mapping only (none yet)
-    if (scene != "braille") throw UsageError("--messages are read in Arm Braille: use --scene braille");
+    // Without topics the broker serves the mapping's MQTT destinations only.
+    if (!config.topics.empty() && scene != "braille") throw UsageError("--messages are read in Arm Braille: use --scene braille");
     mqtt::PresenterOptions options;
     const std::string display = cl.value("--message-display", "roll");
     if (display != "roll" && display != "timed") throw UsageError("--message-display: '" + display + "' (roll or timed)");

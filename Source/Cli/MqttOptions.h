@@ -3,6 +3,7 @@
 // (--mqtt HOST[:PORT], --mqtt-config FILE) and, for play, messages shown on the arm
 // (--messages TOPIC, --urgent TOPIC, --message-display timed|roll, --message-shorthand).
 #include "Cli/CommandLine.h"
+#include "Mapping/Mapper.h"
 #include "Mqtt/ArmMessages.h"
 #include "Mqtt/MessageInbox.h"
 #include "Mqtt/MqttClient.h"
@@ -30,8 +31,14 @@ public:
     PlayMessages(mqtt::MqttConfig config, mqtt::PresenterOptions options);
     ~PlayMessages();
     void start();
-    /// Main loop: connection changes and what the presenter did, said on `err`.
-    void poll(braille::BrailleSceneControls& scene, std::ostream& err, const char* lineStart);
+    /// Main loop: connection changes and what the presenter did, said on `err` (`scene`: the
+    /// braille scene showing the messages; null when there are no message topics).
+    void poll(braille::BrailleSceneControls* scene, std::ostream& err, const char* lineStart);
+    bool wantsMessages() const noexcept { return !config_.topics.empty(); }
+    /// A text from OSC (`--control-in`'s /armadillo/message): queued as a message from "osc".
+    void offerText(const std::string& text, int priority) { inbox_.offerText(text, "osc", priority); }
+    /// live::MqttSink for the mapping's MQTT destinations (real-time: the client's SPSC outbox).
+    static bool publishMapped(void* self, const mapping::MqttMessage& message);
     void stop();
     /// ,"mqtt":{...} for the summary line.
     std::string summaryJson() const;
@@ -45,7 +52,7 @@ private:
     std::uint64_t shownRefused_ = 0, shownDropped_ = 0;
 };
 
-/// For play: every MQTT option read; null when there is no broker or no message topic.
+/// For play: every MQTT option read; null when there is no broker.
 /// UsageError for messages without a broker or without the braille scene.
 /// `parameters`: the scene's --param list (the reader's braille.grade and braille.method).
 std::unique_ptr<PlayMessages> readPlayMessages(const CommandLine& cl, const std::string& scene, const std::vector<std::string>& parameters,
