@@ -85,21 +85,25 @@ TEST_CASE("MQTT destinations: the payload follows the value, sent when it change
         {"source": "elevation", "in": [-90, 90], "out": [0, 255],
          "to": {"mqtt": {"topic": "arm/{arm}/level", "payload": "{\"brightness\": {round}, \"raw\": {value}}"}}},
         {"source": "roll", "threshold": 45, "to": {"mqtt": {"topic": "arm/switch", "payload": "{state} {on}"}}},
-        {"source": "azimuth", "zones": [[0, 90, 1], [90, 180, 2]], "to": {"mqtt": {"topic": "arm/zone/{zone}", "payload": "{zone}"}}}]})");
+        {"source": "azimuth", "zones": [[0, 90, 1], [90, 180, 2]], "to": {"mqtt": {"topic": "arm/zone/{zone}", "payload": "{zone} {on}"}}}]})");
     rig.pose(0, 45, 0, 0.0);
     rig.pose(0, 45, 0, 0.005);    // nothing changed: nothing sent
     rig.pose(90, 135, 60, 0.010);
     rig.pose(90, 135, 0, 0.015);
     std::vector<std::pair<std::string, std::string>> expected {
         {"arm/0/level", "{\"brightness\": 128, \"raw\": 127.5}"},
-        {"arm/zone/1", "1"},
+        {"arm/zone/1", "1 1"},
         {"arm/0/level", "{\"brightness\": 255, \"raw\": 255}"},
         {"arm/switch", "ON 1"},
-        {"arm/zone/2", "2"},
+        {"arm/zone/1", "1 0"},   // zone 1 left (as OSC's $on), zone 2 entered
+        {"arm/zone/2", "2 1"},
         {"arm/switch", "OFF 0"},
     };
     // Order within one update follows the mappings; compare as sets per update.
     std::multiset<std::pair<std::string, std::string>> got(rig.mqtt.begin(), rig.mqtt.end()), want(expected.begin(), expected.end());
+    std::string sent;
+    for (const auto& [topic, payload] : rig.mqtt) sent += topic + " " + payload + "\n";
+    INFO(sent);
     CHECK(got == want);
 }
 
