@@ -550,6 +550,7 @@ int runPlay(const Arguments& args)
         if (messages && messages->wantsMessages() && !messageScene) throw UsageError("--messages need the braille scene");
         if (messages) {
             if (live::MappingRig* rig = session.mapping()) rig->setMqttSink(&PlayMessages::publishMapped, messages.get());
+            if (voice) messages->setMirror([v = voice.get()](const std::string& line) { v->note(line); });   // --speak, --brlapi
             messages->start();
         }
         std::unique_ptr<device::CalibrationProcedure> calibration;

@@ -94,7 +94,10 @@ void PlayMessages::poll(braille::BrailleSceneControls* scene, std::ostream& err,
         err << lineStart << "armadillo play: the message queue was full: " << in.droppedOldest << " oldest message(s) dropped so far\n";
     }
     if (!scene) return;
-    for (const std::string& line : presenter_.poll(*scene)) err << lineStart << "armadillo play: " << line << "\n";
+    for (const std::string& line : presenter_.poll(*scene)) {
+        err << lineStart << "armadillo play: " << line << "\n";
+        if (mirror_ && line.find(" on the arm: ") != std::string::npos) mirror_(line);
+    }
 }
 
 std::string PlayMessages::summaryJson() const

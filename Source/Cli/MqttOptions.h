@@ -7,6 +7,7 @@
 #include "Mqtt/ArmMessages.h"
 #include "Mqtt/MessageInbox.h"
 #include "Mqtt/MqttClient.h"
+#include <functional>
 #include <memory>
 #include <ostream>
 #include <string>
@@ -35,6 +36,9 @@ public:
     /// braille scene showing the messages; null when there are no message topics).
     void poll(braille::BrailleSceneControls* scene, std::ostream& err, const char* lineStart);
     bool wantsMessages() const noexcept { return !config_.topics.empty(); }
+    /// Also tells each message handed to the arm here (play's --speak / --brlapi: ReaderIo::note),
+    /// as the training's prompts are. Set before start().
+    void setMirror(std::function<void(const std::string&)> mirror) { mirror_ = std::move(mirror); }
     /// A text from OSC (`--control-in`'s /armadillo/message): queued as a message from "osc".
     void offerText(const std::string& text, int priority) { inbox_.offerText(text, "osc", priority); }
     /// live::MqttSink for the mapping's MQTT destinations (real-time: the client's SPSC outbox).
@@ -48,6 +52,7 @@ private:
     mqtt::MessageInbox inbox_;
     mqtt::MessagePresenter presenter_;
     std::unique_ptr<mqtt::MqttClient> client_;   // last: its thread stops before the inbox goes
+    std::function<void(const std::string&)> mirror_;
     mqtt::ConnectionState shownState_ = mqtt::ConnectionState::Stopped;
     std::uint64_t shownRefused_ = 0, shownDropped_ = 0;
 };

@@ -187,8 +187,9 @@ TEST_CASE("e2e: a published message is shown on the arm, timed, and decodes to i
     mqtt::MqttClient pub(publisherConfig(s.broker));
     pub.start();
     REQUIRE(pub.waitConnected(30));
+    const std::string speech = cli::path("messages-speech.txt");
     cli::test::PtyDevice dev({"play", "--scene", "braille", "--mqtt", "localhost:" + std::to_string(s.broker.port()), "--messages", "arm/inbox",
-                              "--urgent", "door/+", "--message-display", "timed", "--no-audio", "--seconds", "300"});
+                              "--urgent", "door/+", "--message-display", "timed", "--no-audio", "--seconds", "300", "--speech", "capture:" + speech});
     double publishedAt = 0.0;
     int phase = 0;
     std::size_t shownLines = 0;
@@ -228,6 +229,10 @@ TEST_CASE("e2e: a published message is shown on the arm, timed, and decodes to i
     CHECK(latency >= 0.0);
     CHECK(latency < 1.0);
     CHECK(dev.err.find("\"mqtt\"") == std::string::npos);   // the summary goes to stdout, not stderr
+    // --speak mirrors each message as the training's prompts are mirrored.
+    const std::string spoken = readWholeFile(speech);
+    CHECK(spoken.find("on the arm: exit") != std::string::npos);
+    CHECK(spoken.find("on the arm: no way") != std::string::npos);
 }
 
 TEST_CASE("e2e: an urgent message interrupts; the interrupted one is shown again whole", "[e2e][mqtt]")

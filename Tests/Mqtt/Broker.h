@@ -58,7 +58,8 @@ inline std::string mosquittoPath()
 
 class Broker {
 public:
-    Broker() : port_(freeTcpPort())
+    /// `extra`: more configuration lines for this listener (TLS: cafile, certfile, keyfile).
+    explicit Broker(const std::string& extra = {}) : port_(freeTcpPort())
     {
         static int count = 0;
         config_ = (scratchDir("armadillo-mqtt-tests") / ("mosquitto-" + std::to_string(++count) + ".conf")).string();
@@ -66,7 +67,7 @@ public:
         // client (mosquitto.conf(5)); a flood test on a busy machine can exceed that, and what is
         // tested here is the client, not the broker's default (docs/MQTT.md says so for users).
         std::ofstream(config_) << "listener " << port_ << " 127.0.0.1\nallow_anonymous true\npersistence false\n"
-                               << "max_queued_messages 100000\nlog_dest none\n";
+                               << extra << "max_queued_messages 100000\nlog_dest none\n";
     }
     ~Broker() { stop(); }
     Broker(const Broker&) = delete;
