@@ -17,6 +17,8 @@ packages=(
     libpugixml-dev libgps-dev gpsd gpsd-clients
     # audio files (WAV/RF64 out; WAV, AIFF, FLAC, Ogg in) and resampling of user recordings
     libsndfile1-dev libsamplerate0-dev
+    # MQTT (docs/MQTT.md): the client library; the broker its tests start on loopback, and its clients
+    libmosquitto-dev mosquitto mosquitto-clients
     # JUCE 7 (Debian ships it with its CMake config) and what its modules link on Linux
     # (ALSA for the CLI's sound card too; JACK headers for the standalone app's JACK driver)
     juce-modules-source lv2-dev libasound2-dev libjack-jackd2-dev libfreetype-dev libfontconfig1-dev

@@ -23,7 +23,7 @@ std::vector<TactileSegment> drawnText(const std::string& text, int grade, braill
     for (const auto& unit : units) {
         if (segs.size() + unit.steps.size() + 1 > maxSegments) break;
         if (unit.kind != braille::UnitKind::Cell) {
-            segs.push_back({at, 0.15, kUndersideMotors, level * 0.6f, true, false});
+            segs.push_back({at, braille::kWordGapCue.duration, braille::kWordGapCue.motors, level * braille::kWordGapCue.gain, braille::kWordGapCue.soft, false});
             at += kWordGap;
             continue;
         }
@@ -55,17 +55,22 @@ std::vector<TactileSegment> feedbackSequence(bool right, const std::string& agai
     return segments;
 }
 
-std::vector<TactileSegment> nextCue(float level, double at)
+namespace {
+
+template <std::size_t N>
+std::vector<TactileSegment> cueSegments(const std::array<braille::CueBurst, N>& cue, float level, double at)
 {
-    return {{at, 0.1, braille::motorBit(0, 1), level * 0.8f, true, false},
-            {at + 0.1, 0.1, braille::motorBit(1, 1), level * 0.8f, true, false},
-            {at + 0.2, 0.1, braille::motorBit(2, 1), level * 0.8f, true, false}};
+    std::vector<TactileSegment> segs;
+    for (const auto& b : cue) segs.push_back({at + b.at, b.duration, b.motors, level * b.gain, b.soft, false});
+    return segs;
 }
 
-std::vector<TactileSegment> yourTurnCue(float level, double at)
-{
-    return {{at, 0.12, kUndersideMotors, level * 0.8f, false, false}, {at + 0.22, 0.12, kUndersideMotors, level * 0.8f, false, false}};
-}
+} // namespace
+
+// The cue shapes are defined once, in Braille/Sensations.h, for the braille scene's messages too.
+std::vector<TactileSegment> nextCue(float level, double at) { return cueSegments(braille::kSweepCue, level, at); }
+
+std::vector<TactileSegment> yourTurnCue(float level, double at) { return cueSegments(braille::kDoubleTapCue, level, at); }
 
 } // namespace armadillo::access
 

@@ -58,7 +58,7 @@ private:
     std::size_t count_ = 0;
 };
 
-constexpr MotorSet kCentreColumn = motorBit(0, 1) | motorBit(1, 1) | motorBit(2, 1);
+constexpr MotorSet kCentreColumn = kUndersideLine;
 /// s between repeats of the held row in the training's hold stage when braille.holdRepeat is 0.
 constexpr double kHoldStageRepeat = 0.8;
 
@@ -143,6 +143,7 @@ public:
         nextPassiveAt_ = t_;
         passiveDone_ = false;
         clearPending_ = true;
+        if (message_) finishMessage(true);
     }
 
     /// Training answers come from another thread (the app's UI); they cross a lock-free queue.
@@ -151,6 +152,25 @@ public:
         AnswerText a;
         std::strncpy(a.text.data(), answer.c_str(), a.text.size() - 1);
         return answers_.push(a);
+    }
+
+    bool showMessage(ArmMessage* message) noexcept override
+    {
+        if (!message) return false;
+        busy_.store(true, std::memory_order_release);
+        return message->urgent ? urgentIn_.push(message) : normalIn_.push(message);
+    }
+    bool takeFinishedMessage(std::uint64_t& id, bool& interrupted) noexcept override
+    {
+        FinishedMessage f;
+        if (!finished_.pop(f)) return false;
+        id = f.id;
+        interrupted = f.interrupted;
+        return true;
+    }
+    bool messageBusy() const noexcept override
+    {
+        return busy_.load(std::memory_order_acquire) || urgentIn_.size() > 0 || normalIn_.size() > 0;
     }
 
     void control(const ControlInput& in, SceneOutput& out) override
@@ -168,6 +188,13 @@ public:
         const Eigen::Vector3d axis = q * Eigen::Vector3d::UnitX();
         const Eigen::Vector3d normal = q * Eigen::Vector3d::UnitY();
         const bool valid = in.arm.valid && std::isfinite(q.w());
+
+        takeMessages(out);
+        if (message_) {
+            messageTick(axis, normal, valid, out);
+            emitLevels(out);
+            return;
+        }
 
         switch (mode_) {
         case BrailleMode::Active:
@@ -221,7 +248,11 @@ public:
             player_.add(t_, pulse_, shown_.motors, level_);
             shownAt_ = t_;
         }
+        emitLevels(out);
+    }
 
+    void emitLevels(SceneOutput& out)
+    {
         std::array<float, kGridMotors> levels {};
         player_.levels(t_, levels);
         for (int m = 0; m < kGridMotors; ++m) {
@@ -315,14 +346,13 @@ private:
             break;
         case StepKind::WordGap:
             // A line along the underside: no letter row has the centre column alone.
-            player_.add(t_, 0.15, kCentreColumn, level_ * 0.6f);
+            cue(std::array<CueBurst, 1> {kWordGapCue}, t_);
             out.events.emit("word", static_cast<float>(s.unit));
             break;
         case StepKind::MessageGap:
         case StepKind::TextEnd:
             // Two taps of that line: the end of a message (and of the text).
-            player_.add(t_, 0.12, kCentreColumn, level_ * 0.8f);
-            player_.add(t_ + 0.22, 0.12, kCentreColumn, level_ * 0.8f);
+            cue(kDoubleTapCue, t_);
             out.events.emit(s.kind == StepKind::TextEnd ? "end" : "message", static_cast<float>(s.unit));
             break;
         }
@@ -338,34 +368,125 @@ private:
         }
     }
 
-    void passiveTick(SceneOutput& out)
+    template <std::size_t N>
+    void cue(const std::array<CueBurst, N>& bursts, double at) noexcept
     {
-        if (passiveDone_ || t_ < nextPassiveAt_ || !active_) return;
-        const ReadingStep s = active_->advance(true);
+        for (const auto& b : bursts) player_.add(at + b.at, b.duration, b.motors, level_ * b.gain);
+    }
+
+    /// One step of passive drawing (§4.2.1) of `cursor`: shows it, and sets `nextAt` to when the
+    /// next step is due (the end of the text waits one step on time).
+    ReadingStep drawStep(ReadingCursor& cursor, SceneOutput& out, double& nextAt)
+    {
+        const ReadingStep s = cursor.advance(true);
         const double on = param(kParamPassiveOn);
         show(s, on, out);
         double wait = on;
         switch (s.kind) {
         case StepKind::Cell: {
-            const auto& unit = active_->units()[static_cast<std::size_t>(s.unit)];
+            const auto& unit = cursor.units()[static_cast<std::size_t>(s.unit)];
             const bool last = s.step + 1 >= static_cast<int>(unit.steps.size());
             wait += last ? param(kParamPassiveLetterGap) : param(kParamPassiveGap);
             break;
         }
         case StepKind::WordGap: wait = param(kParamPassiveWordGap); break;
         case StepKind::MessageGap: wait = 2.0 * param(kParamPassiveWordGap); break;
-        case StepKind::TextEnd: {
+        case StepKind::TextEnd: break;
+        }
+        nextAt = t_ + std::max(wait, 0.01);
+        return s;
+    }
+
+    void passiveTick(SceneOutput& out)
+    {
+        if (passiveDone_ || t_ < nextPassiveAt_ || !active_) return;
+        const ReadingStep s = drawStep(*active_, out, nextPassiveAt_);
+        if (s.kind == StepKind::TextEnd) {
             const double repeat = param(kParamPassiveRepeat);
             if (repeat > 0.0) {
                 active_->rewind();
-                wait = 0.5 + repeat;
+                nextPassiveAt_ = t_ + 0.5 + repeat;
             } else {
                 passiveDone_ = true;
             }
-            break;
         }
+    }
+
+    // --- Messages (issue 35) -------------------------------------------------------------------
+    enum class MessagePhase { Announce, Body, After };
+    static constexpr double kAnnounceToSweep = 0.8;   ///< s from the "message waiting" cue to the sweep
+    static constexpr double kSweepToBody = 0.8;       ///< s from the sweep's start to the first cell
+    static constexpr double kAfterEnd = 0.8;          ///< s after the double tap before the message is done
+
+    void takeMessages(SceneOutput& out)
+    {
+        ArmMessage* m = nullptr;
+        if (urgentIn_.pop(m)) {
+            if (message_) finishMessage(true);
+            startMessage(m, out);
+        } else if (!message_ && normalIn_.pop(m)) {
+            startMessage(m, out);
         }
-        nextPassiveAt_ = t_ + std::max(wait, 0.01);
+        if (!message_ && urgentIn_.size() == 0 && normalIn_.size() == 0) busy_.store(false, std::memory_order_release);
+    }
+
+    void startMessage(ArmMessage* m, SceneOutput& out)
+    {
+        message_ = m;
+        busy_.store(true, std::memory_order_release);
+        player_.clear();   // what was playing stops: the message starts on a still arm
+        shown_ = {};
+        m->cursor.rewind();
+        cue(kMessageWaitingCue, t_);
+        cue(kSweepCue, t_ + kAnnounceToSweep);
+        messagePhase_ = MessagePhase::Announce;
+        messageAt_ = t_ + kAnnounceToSweep + kSweepToBody;
+        out.events.emit("message-start", static_cast<float>(m->id));
+    }
+
+    void finishMessage(bool interrupted) noexcept
+    {
+        finished_.push({message_->id, interrupted});   // full only if the front end never collects: then it is not told
+        message_ = nullptr;
+        player_.clear();
+        shown_ = {};
+        reading_.setCursor(active_);
+        reading_.reset();
+    }
+
+    void messageTick(const Eigen::Vector3d& axis, const Eigen::Vector3d& normal, bool valid, SceneOutput& out)
+    {
+        switch (messagePhase_) {
+        case MessagePhase::Announce:
+            if (t_ < messageAt_) return;
+            messagePhase_ = MessagePhase::Body;
+            if (!message_->timed) {
+                reading_.setCursor(&message_->cursor);
+                reading_.reset();
+            }
+            [[fallthrough]];
+        case MessagePhase::Body:
+            if (message_->timed) {
+                if (t_ < messageAt_) return;
+                if (drawStep(message_->cursor, out, messageAt_).kind == StepKind::TextEnd) {
+                    messagePhase_ = MessagePhase::After;
+                    messageAt_ = t_ + kDoubleTapCue.back().at + kDoubleTapCue.back().duration + kAfterEnd;
+                }
+            } else {
+                const ReadEvent e = reading_.update(t_, axis, normal, valid);
+                handle(e, out);
+                if (e.stepped && e.step.kind == StepKind::TextEnd && e.roll.posture == ReadingPosture::Forward) {
+                    messagePhase_ = MessagePhase::After;
+                    messageAt_ = t_ + kDoubleTapCue.back().at + kDoubleTapCue.back().duration + kAfterEnd;
+                }
+            }
+            return;
+        case MessagePhase::After:
+            if (t_ < messageAt_) return;
+            out.events.emit("message-end", static_cast<float>(message_->id));
+            finishMessage(false);
+            return;
+        }
     }
 
     SceneConfig config_ {};
@@ -388,11 +509,46 @@ private:
     double pulse_ = 0.25;
     double t_ = 0.0, shownAt_ = 0.0, nextPassiveAt_ = 0.0;
     ReadingStep shown_ {};
+    // Messages: pointers cross in SPSC queues (the front end owns the messages), ids come back.
+    SpscQueue<ArmMessage*, 4> urgentIn_, normalIn_;
+    struct FinishedMessage {
+        std::uint64_t id = 0;
+        bool interrupted = false;
+    };
+    SpscQueue<FinishedMessage, 64> finished_;
+    std::atomic<bool> busy_ {false};
+    ArmMessage* message_ = nullptr;
+    MessagePhase messagePhase_ = MessagePhase::Announce;
+    double messageAt_ = 0.0;
 };
 
 } // namespace
 } // namespace braille
 
 std::unique_ptr<Scene> makeBrailleScene() { return std::make_unique<braille::ArmBrailleScene>(); }
+
+namespace braille {
+
+std::unique_ptr<ArmMessage> prepareArmMessage(const std::string& text, const std::string& source, int grade, DisplayMethod method,
+                                              bool timed, bool urgent, std::uint64_t id)
+{
+    TranslationOptions o;
+    o.grade = grade;
+    BrailleDocument doc;
+    try {
+        doc = translateText(text, o);
+    } catch (const InputError& e) {
+        throw InputError(source, 0, "", e.what());
+    }
+    if (doc.cellCount() == 0) throw InputError(source, 0, "", "nothing to read: the message is blank");
+    auto m = std::make_unique<ArmMessage>();
+    m->id = id;
+    m->timed = timed;
+    m->urgent = urgent;
+    m->cursor = ReadingCursor(layoutDocument(doc, method));
+    return m;
+}
+
+} // namespace braille
 
 } // namespace armadillo

@@ -2,7 +2,9 @@
 // The Arm Braille scene (thesis §4.2–4.4): SceneConfig::text is read by rolling the arm
 // (active), drawn without movement (passive) or used in the training protocol (§4.4.1).
 // SceneConfig::text is the text itself, or "@PATH" for a file (.brf = Braille ASCII).
+#include "Braille/Reading.h"
 #include "Core/Scene.h"
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -31,6 +33,20 @@ enum BrailleParam : int {
 };
 
 enum class BrailleMode : int { Active = 0, Passive = 1, Training = 2 };
+
+/// A message for the arm (issue 35, docs/MQTT.md), laid out off the control thread by
+/// prepareArmMessage() and handed to the scene with BrailleSceneControls::showMessage().
+struct ArmMessage {
+    std::uint64_t id = 0;
+    bool timed = false;       ///< drawn with the passive timings, framed; false = read by roll
+    bool urgent = false;      ///< interrupts the message being shown
+    ReadingCursor cursor;     ///< the message's cells, word gaps, in the reader's grade and method
+};
+
+/// Translates and lays out a message (liblouis: not real-time). Throws InputError naming
+/// `source` when the text cannot be shown (a character the table lacks, nothing to read).
+std::unique_ptr<ArmMessage> prepareArmMessage(const std::string& text, const std::string& source, int grade, DisplayMethod method,
+                                              bool timed, bool urgent, std::uint64_t id);
 
 /// What the app's UI (or a test) can do with the braille scene beyond the Scene API:
 /// `dynamic_cast<braille::BrailleSceneControls*>(scene)`.
@@ -67,6 +83,21 @@ public:
     virtual int trainingArmAnswers() const noexcept { return 0; }
     virtual int trainingLastArmTrial() const noexcept { return -1; }
     virtual bool trainingLastArmRight() const noexcept { return false; }
+
+    /// Messages (issue 35). The scene shows one message at a time, in any mode: first the
+    /// "message waiting" cue (kMessageWaitingCue), then the sweep (kSweepCue); a timed message
+    /// is then drawn with the passive timings (braille.passive*) and ends with the double tap; a
+    /// message read by roll replaces the text under the roll reader until the reader reaches its
+    /// end (the double tap), then the scene's own text comes back where it was. An urgent message
+    /// ends the one being shown and starts at once; others wait in the scene (at most 4).
+    /// One producer thread, lock-free; the message stays the caller's and must live until its
+    /// id comes back from takeFinishedMessage(). False (nothing taken) when 4 are waiting.
+    virtual bool showMessage(ArmMessage*) noexcept { return false; }
+    /// The id of a message the scene is done with: shown to its end, or `interrupted` (by an
+    /// urgent one, or a reset of the scene); false when none.
+    virtual bool takeFinishedMessage(std::uint64_t& /*id*/, bool& /*interrupted*/) noexcept { return false; }
+    /// A message is being shown or waits in the scene (any thread, lock-free).
+    virtual bool messageBusy() const noexcept { return false; }
 };
 
 /// Default text when SceneConfig::text is empty (the plugin's scene choice starts with it).

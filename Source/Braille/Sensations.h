@@ -4,6 +4,7 @@
 // columns for the left arm, so nothing here depends on the arm.
 #include "Braille/Cells.h"
 #include "Core/Types.h"
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -35,6 +36,29 @@ bool parseDisplayMethod(const std::string& name, DisplayMethod& out) noexcept;
 /// Rows always gives 3 steps; WholeCharacter 1; ColumnPairs 2; DotByDot one per raised dot
 /// (1 for the blank cell).
 std::vector<MotorSet> cellSteps(Dots cell, DisplayMethod method);
+
+/// One burst of a cue (the shapes no letter row has, docs/BRAILLE.md "Cues"): `gain` × the
+/// reading level; `soft` = no jump-start spike.
+struct CueBurst {
+    double at = 0.0;        ///< s after the cue starts
+    double duration = 0.0;  ///< s
+    MotorSet motors = 0;
+    float gain = 1.0f;
+    bool soft = false;
+};
+inline constexpr MotorSet kUndersideLine = motorBit(0, 1) | motorBit(1, 1) | motorBit(2, 1);
+/// "Something begins" (a training trial, a timed message): the underside line swept wrist → elbow (0.3 s).
+inline constexpr std::array<CueBurst, 3> kSweepCue {{{0.0, 0.1, motorBit(0, 1), 0.8f, true},
+                                                     {0.1, 0.1, motorBit(1, 1), 0.8f, true},
+                                                     {0.2, 0.1, motorBit(2, 1), 0.8f, true}}};
+/// "Your turn" / "the end": the underside line tapped twice (0.34 s).
+inline constexpr std::array<CueBurst, 2> kDoubleTapCue {{{0.0, 0.12, kUndersideLine, 0.8f, false}, {0.22, 0.12, kUndersideLine, 0.8f, false}}};
+/// "A word gap": the underside line once, soft (0.15 s).
+inline constexpr CueBurst kWordGapCue {0.0, 0.15, kUndersideLine, 0.6f, true};
+/// "A message is waiting" (issue 35, docs/MQTT.md): all nine motors, two short soft pulses
+/// (0.15 s on, 0.15 s off): no letter row lights more than one row, and the training's "right"
+/// is one long hum and its "wrong" three buzzes of the outer columns.
+inline constexpr std::array<CueBurst, 2> kMessageWaitingCue {{{0.0, 0.15, 0x1FF, 0.6f, true}, {0.3, 0.15, 0x1FF, 0.6f, true}}};
 
 /// Motor numbers k = index + 1 of a set, e.g. "1,2,3"; "-" for the empty set.
 std::string motorList(MotorSet set);

@@ -1,6 +1,7 @@
 #include "Cli/CommandLine.h"
 #include "Cli/Commands.h"
 #include "Cli/MapOptions.h"
+#include "Cli/MqttOptions.h"
 #include "Cli/ReaderIo.h"
 #include "Cli/SceneOptions.h"
 #include "Cli/TactorOptions.h"
@@ -298,6 +299,7 @@ int runPlay(const Arguments& args)
                 // The motor grid live as audio (docs/TACTORS.md), beside the device.
                 const auto tactorOptions = tactorOptionSpecs(true);
                 o.insert(o.end(), tactorOptions.begin(), tactorOptions.end());
+                for (const auto& specs : {mqttBrokerOptionSpecs(), mqttMessageOptionSpecs()}) o.insert(o.end(), specs.begin(), specs.end());
                 // Speech and a braille display for the training's prompts and the link's state.
                 const auto io = readerIoOptionSpecs();
                 o.insert(o.end(), io.begin(), io.end());
@@ -500,6 +502,9 @@ int runPlay(const Arguments& args)
         if (cl.has("--tactors")) config.tactors = tactorConfig(cl, config.engine.motorCount);
         else if (anyTactorSetting(cl)) throw UsageError("the --tactor-* options set up --tactors DEVICE|jack: give it too");
 
+        // Messages on the arm (docs/MQTT.md): declared before the session so the messages it hands
+        // the braille scene outlive the scene's control thread.
+        std::unique_ptr<PlayMessages> messages = readPlayMessages(cl, engine.scene, engine.parameters, engine.sceneConfig.resourceDir);
         installInterruptHandlers();
         device::LiveSession session(config);
         // Stage commands (OSC control port, keys): panic and resume act on the engine at once
@@ -529,6 +534,8 @@ int runPlay(const Arguments& args)
         std::unique_ptr<live::StageControlReceiver> controlIn;
         if (controlPort > 0) {
             controlIn = std::make_unique<live::StageControlReceiver>(controlPort, onCommand);   // IoError (exit 4) when taken
+            if (messages && messages->wantsMessages())   // /armadillo/message "text" [priority] (docs/MQTT.md)
+                controlIn->setTextHandler([m = messages.get()](const std::string& text, int priority) { m->offerText(text, priority); });
             controlIn->start();
         }
         std::unique_ptr<live::KeyReader> keys;
@@ -546,6 +553,14 @@ int runPlay(const Arguments& args)
             brailleScene = dynamic_cast<braille::BrailleSceneControls*>(&session.engine().scene());
             if (!brailleScene) throw UsageError("--training-log needs the braille scene");
             training = std::make_unique<TerminalTraining>(*brailleScene, voice.get());
+        }
+        braille::BrailleSceneControls* messageScene =
+            messages && messages->wantsMessages() ? dynamic_cast<braille::BrailleSceneControls*>(&session.engine().scene()) : nullptr;
+        if (messages && messages->wantsMessages() && !messageScene) throw UsageError("--messages need the braille scene");
+        if (messages) {
+            if (live::MappingRig* rig = session.mapping()) rig->setMqttSink(&PlayMessages::publishMapped, messages.get());
+            if (voice) messages->setMirror([v = voice.get()](const std::string& line) { v->note(line); });   // --speak, --brlapi
+            messages->start();
         }
         std::unique_ptr<device::CalibrationProcedure> calibration;
         if (!calibrateOut.empty()) {
@@ -707,6 +722,7 @@ int runPlay(const Arguments& args)
                 shownLeftFormat = true;
             }
             for (const auto& g : mountCalibrations) g->step();
+            if (messages) messages->poll(messageScene, std::cerr, lineStart);
             if (const audio::SoundCard* card = session.soundCard(); card && card->failed() && !shownCardError) {
                 std::cerr << lineStart << "armadillo play: " << card->lastError() << "; playing on without sound\n";
                 shownCardError = true;
@@ -752,6 +768,7 @@ int runPlay(const Arguments& args)
         if (keys) keys->stop();
         if (controlIn) controlIn->stop();
         session.stop();
+        if (messages) messages->stop();
         if (needsData && dataTimeout > 0.0 && noData.empty() && session.summary().packets == 0)
             noData = noDataMessage(session, config, session.summary().seconds);
         if (leftNeedsData && dataTimeout > 0.0 && noData.empty() && leftPackets(session) == 0)
@@ -782,6 +799,8 @@ int runPlay(const Arguments& args)
                                                    std::to_string(m->oscMessages()) + ",\"mapping_dropped\":" + std::to_string(m->dropped()));
         if (const live::MappingRig* m = session.mapping(); m && m->stageCommands() > 0)   // "stage" destinations fired (docs/STAGE.md)
             summary.insert(summary.size() - 1, ",\"mapping_stage_commands\":" + std::to_string(m->stageCommands()));
+        if (const live::MappingRig* m = session.mapping(); m && m->mqttMessages() > 0)   // "mqtt" destinations (docs/MQTT.md)
+            summary.insert(summary.size() - 1, ",\"mapping_mqtt_messages\":" + std::to_string(m->mqttMessages()));
         if (const std::uint32_t panics = panicTotal(); panics > 0) {   // only after a panic (docs/STAGE.md)
             summary.insert(summary.size() - 1, ",\"panics\":" + std::to_string(panics));
             if (const live::MappingRig* m = session.mapping())   // note-offs, CC 120 and CC 123 the mapping's MIDI sent
@@ -792,6 +811,7 @@ int runPlay(const Arguments& args)
         if (device::OscReceiver* leftOsc = session.leftOscReceiver())   // the left sender's usable samples and its input's counters
             summary.insert(summary.size() - 1, ",\"left_packets\":" + std::to_string(leftOsc->stats().imu + leftOsc->stats().orientation) +
                                                    ",\"left_osc\":{" + leftOsc->statsJson() + "}");
+        if (messages) summary.insert(summary.size() - 1, messages->summaryJson());
         if (cues) summary.insert(summary.size() - 1, ",\"cue\":" + std::to_string(cues->current()) + ",\"cue_changes\":" + std::to_string(cues->changes()));
         if (live::TactorOutput* t = session.tactors())   // the tactor output's own counters (docs/TACTORS.md)
             summary.insert(summary.size() - 1, ",\"tactor_frames\":" + std::to_string(t->framesRendered()) + ",\"tactor_dropped\":" +

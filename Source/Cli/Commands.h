@@ -18,6 +18,7 @@ int runScore(const Arguments& args);     // CmdScore.cpp   — scores from MIDI 
 int runTouchProfile(const Arguments& args); // CmdTouchProfile.cpp — per-motor thresholds of the reader
 int runTactors(const Arguments& args);   // CmdTactors.cpp — a tactor rig's channels buzzed in turn
 int runNavigate(const Arguments& args);  // CmdNavigate.cpp — walk a route guided by the arm (issue 34)
+int runMqtt(const Arguments& args);      // CmdMqtt.cpp    — MQTT: check a broker
 
 struct CommandInfo {
     const char* name;

@@ -10,7 +10,7 @@
 namespace armadillo::cli {
 
 inline const char* const kMapHelp =
-    "the mapping matrix: a preset (classic, scenerotator, scenerotator-osc, mpe; `armadillo\n"
+    "the mapping matrix: a preset (classic, scenerotator, scenerotator-osc, mpe, homeassistant; `armadillo\n"
     "resources` lists them) or a mapping file (JSON, docs/MAPPING.md). With --map only what the\n"
     "mapping names is sent";
 

@@ -61,8 +61,10 @@ void readSceneOptions(const CommandLine& cl, EngineConfig& engine)
     readProfileOption(cl, engine);
     if (engine.scene == "score" && engine.sceneConfig.score.empty())
         throw UsageError("the score scene needs --score (rite-of-spring, polytope or a file)");
-    // Training (play --training-log) brings its own material; reading needs a text.
-    if (engine.scene == "braille" && engine.sceneConfig.text.empty() && !cl.has("--training-log"))
+    // Training (play --training-log) brings its own material, and so do messages (play --messages,
+    // docs/MQTT.md: the scene's own text is then its demonstration word); reading needs a text.
+    const bool messages = cl.has("--messages") || cl.has("--urgent") || cl.has("--mqtt-config");
+    if (engine.scene == "braille" && engine.sceneConfig.text.empty() && !cl.has("--training-log") && !messages)
         throw UsageError("the braille scene needs --text");
 }
 

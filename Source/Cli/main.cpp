@@ -23,6 +23,7 @@ const std::vector<CommandInfo>& commands()
         {"touch-profile", "the faintest level the reader feels on each motor, for --profile", runTouchProfile},
         {"tactors", "a tactor rig on a sound card or JACK: tactors test buzzes each channel in turn", runTactors},
         {"navigate", "walk a route guided by the arm alone: compass, arrivals, waypoint names (gpsd or simulated)", runNavigate},
+        {"mqtt", "MQTT: check a broker (mqtt check --broker HOST[:PORT] --topic T)", runMqtt},
     };
     return table;
 }

@@ -70,6 +70,10 @@ void MappingRig::deliver(Engine* engine) noexcept
         const auto target = static_cast<std::size_t>(p.target);
         if (target < senders_.size() && senders_[target]) senders_[target]->sendPacket(p.bytes.data(), p.size);
     }
+    for (int i = 0; i < o.mqttCount; ++i) {
+        ++mqtt_;
+        if (mqttSink_ && !mqttSink_(mqttContext_, o.mqtt[static_cast<std::size_t>(i)])) ++dropped_;   // the client's queue was full
+    }
     for (int i = 0; i < o.stageCount; ++i) {
         ++stage_;
         if (stageSink_) stageSink_(stageContext_, o.stage[static_cast<std::size_t>(i)]);

@@ -3,7 +3,7 @@
 // `play --map`: the set built for the engine's scene, the Mapper stepped once per control update,
 // and its outputs delivered — MIDI to a sink (a Standard MIDI File, an ALSA sequencer port), OSC
 // packets to their UDP targets, scene-parameter changes to the scene (Scene::setParameter, which
-// any thread may call). Macros have no host here and are ignored.
+// any thread may call), MQTT messages to a sink (the MQTT client's outbox). Macros have no host here and are ignored.
 //
 // Threads: built on the starting thread; step()/finish() on the control thread. step() allocates
 // nothing (the Mapper is real-time; sending is a non-blocking sendto and the sink's own work).
@@ -26,6 +26,9 @@ struct MappingRigOptions {
 
 /// Receives every MIDI event in order (allocation-free function pointer, unlike std::function).
 using MidiSink = void (*)(void* context, const mapping::MidiEvent& event);
+/// Receives every MQTT message (docs/MQTT.md), on the control thread: real-time (the MQTT client's
+/// SPSC outbox); false when it could not take it (counted as dropped).
+using MqttSink = bool (*)(void* context, const mapping::MqttMessage& message);
 /// Receives every stage command a `"stage"` destination fired (docs/STAGE.md), on the control thread.
 using StageSink = void (*)(void* context, const mapping::StageEvent& event);
 
@@ -42,6 +45,12 @@ public:
     {
         sink_ = sink;
         sinkContext_ = context;
+    }
+    /// Where MQTT destinations' messages go (`--mqtt`); none: counted only.
+    void setMqttSink(MqttSink sink, void* context) noexcept
+    {
+        mqttSink_ = sink;
+        mqttContext_ = context;
     }
     /// Where stage commands go (`play` applies them to its set list / engine); none: counted only.
     void setStageSink(StageSink sink, void* context) noexcept
@@ -70,6 +79,8 @@ public:
     std::uint64_t dropped() const noexcept { return dropped_; }
     /// Stage commands the mapping fired.
     std::uint64_t stageCommands() const noexcept { return stage_; }
+    /// MQTT messages the mapping made (sent to the sink, or counted only without one).
+    std::uint64_t mqttMessages() const noexcept { return mqtt_; }
 
 private:
     void deliver(Engine* engine) noexcept;
@@ -86,7 +97,9 @@ private:
     void* sinkContext_ = nullptr;
     StageSink stageSink_ = nullptr;
     void* stageContext_ = nullptr;
-    std::uint64_t midi_ = 0, osc_ = 0, dropped_ = 0, panicMidi_ = 0, stage_ = 0;
+    MqttSink mqttSink_ = nullptr;
+    void* mqttContext_ = nullptr;
+    std::uint64_t midi_ = 0, osc_ = 0, dropped_ = 0, panicMidi_ = 0, stage_ = 0, mqtt_ = 0;
 };
 
 } // namespace armadillo::live

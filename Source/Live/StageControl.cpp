@@ -95,6 +95,18 @@ void StageControlReceiver::handleDatagram(const std::uint8_t* data, std::size_t 
     const bool ok = device::decodeOscPacket(
         data, size,
         [this](const device::OscMessage& m) {
+            if (m.address == "/armadillo/message") {
+                double priority = 0.0;
+                const bool valid = textHandler_ && m.count >= 1 && m.count <= 2 && m.args[0].type == 's' &&
+                                (m.count == 1 || m.args[1].asNumber(priority));
+                if (!valid) {
+                    refused_.fetch_add(1);
+                    return;
+                }
+                commands_.fetch_add(1);
+                textHandler_(std::string(m.args[0].bytes), priority >= 1.0 ? 1 : 0);
+                return;
+            }
             StageCommand c;
             std::string why;
             if (!stageCommandFromOsc(m, c, why)) {

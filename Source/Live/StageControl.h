@@ -6,6 +6,7 @@
 //   /armadillo/cue/next         the next cue of the set list
 //   /armadillo/cue/prev         the previous cue
 //   /armadillo/cue i|f          cue number i (0-based)
+//   /armadillo/message s [i|f]  a text for the arm to read, priority ≥ 1 = urgent (issue 35)
 // Keys: p or Escape = panic, r = resume, n or Space = next cue, b = previous cue, 0..9 = cue.
 // Parsing is separate from the socket so tests can feed it messages and keys directly.
 #include "Osc/Osc.h"
@@ -39,6 +40,11 @@ public:
     ~StageControlReceiver();
     StageControlReceiver(const StageControlReceiver&) = delete;
     StageControlReceiver& operator=(const StageControlReceiver&) = delete;
+    /// Text messages for the arm (issue 35, docs/MQTT.md): `/armadillo/message s [i|f]` — the text
+    /// and an optional priority (≥ 1 = urgent). Set before start(); runs on the receiver's thread.
+    /// Without one these messages are refused (counted).
+    using TextHandler = std::function<void(const std::string& text, int priority)>;
+    void setTextHandler(TextHandler handler) { textHandler_ = std::move(handler); }
     void start();
     void stop();
     int port() const noexcept { return port_; }
@@ -52,6 +58,7 @@ private:
     int fd_ = -1;
     int port_ = 0;
     Handler handler_;
+    TextHandler textHandler_;
     std::thread thread_;
     std::atomic<bool> stop_ {false};
     std::atomic<std::uint64_t> commands_ {0}, refused_ {0};

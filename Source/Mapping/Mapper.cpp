@@ -5,6 +5,7 @@
 #include "Osc/Osc.h"
 #include "Mapping/Posture.h"
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -76,6 +77,7 @@ void MappingOutput::clear() noexcept
 {
     midiCount = 0;
     oscCount = 0;
+    mqttCount = 0;
     paramCount = 0;
     stageCount = 0;
     macroChanged = 0;
@@ -92,7 +94,10 @@ struct Compiled {
     bool gestureAny = false, gestureOther = false;
     int oscTarget = 0;
     int param = -1;                    // SceneParam: index into sceneParamIds
-    std::vector<std::string> addresses;   // OSC: one per zone (or one)
+    std::vector<std::string> addresses;   // OSC: one per zone (or one); MQTT: the topics likewise
+    std::vector<MqttPayloadPart> payload;  // MQTT: the payload template's pieces
+    std::array<char, MqttMessage::kMaxPayload> lastPayload {};
+    std::uint16_t lastPayloadSize = 0;
     bool eventDriven = false;          // gesture, posture, threshold (not zones)
     int index = 0;                     // in the document
     bool stage = false;                // a Stage destination
@@ -126,6 +131,7 @@ struct Compiled {
         lastEncoded = kNone;
         lastAux = {kNone, kNone, kNone};
         lastOscSize = 0;
+        lastPayloadSize = 0;
         zone = -1;
         on = false;
     }
@@ -243,6 +249,21 @@ std::unique_ptr<MappingSet> MappingSet::build(const MappingDocument& doc, const 
             const auto at = std::find(s.params.begin(), s.params.end(), m.to.paramId);
             c.param = static_cast<int>(at - s.params.begin());
             if (at == s.params.end()) s.params.push_back(m.to.paramId);
+        }
+        if (m.to.kind == DestinationKind::Mqtt) {
+            c.payload = splitMqttPayload(m.to.payload);
+            std::size_t longest = 0;   // each value at most 24 characters ("-1.23457e+308", "OFF")
+            for (const MqttPayloadPart& part : c.payload) longest += part.text.size() + (part.field == MqttPayloadPart::Field::None ? 0 : 24);
+            if (longest > MqttMessage::kMaxPayload)
+                throw InputError(where, 0, "", name + ": the MQTT payload can grow past " + std::to_string(MqttMessage::kMaxPayload) + " bytes");
+            const std::size_t n = m.zones.empty() ? 1 : m.zones.size();
+            for (std::size_t z = 0; z < n; ++z) {
+                std::string topic = replaceAll(m.to.address, "{arm}", std::to_string(m.source.arm));
+                topic = replaceAll(topic, "{zone}", m.zones.empty() ? std::string("0") : std::to_string(m.zones[z].value));
+                if (topic.size() >= MqttMessage::kMaxTopic)
+                    throw InputError(where, 0, "", name + ": MQTT topic \"" + topic + "\" longer than " + std::to_string(MqttMessage::kMaxTopic - 1) + " bytes");
+                c.addresses.push_back(topic);
+            }
         }
         if (m.to.kind == DestinationKind::Osc) {
             if (!m.to.host.empty() || m.to.port > 0) {
@@ -621,6 +642,7 @@ struct Mapper::Impl {
             return;
         }
         case DestinationKind::Osc: sendOsc(c, t, v, zoneValue, on, in, out, true); return;
+        case DestinationKind::Mqtt: sendMqtt(c, t, v, zoneValue, on, out, true); return;
         default: return;   // notes, MPE, forward: events only
         }
     }
@@ -674,6 +696,61 @@ struct Mapper::Impl {
         p.target = c.oscTarget;
         p.size = static_cast<std::uint16_t>(size);
         ++out.oscCount;
+    }
+
+    /// An MQTT message from the payload template (no allocation: std::to_chars into the fixed
+    /// record); with onlyChanges, nothing when the payload is the one sent last.
+    void sendMqtt(Compiled& c, double t, double v, double zoneValue, bool on, MappingOutput& out, bool onlyChanges) noexcept
+    {
+        if (c.addresses.empty()) return;
+        if (out.mqttCount >= MappingOutput::kMaxMqtt) {
+            ++out.dropped;
+            return;
+        }
+        MqttMessage& m = out.mqtt[static_cast<std::size_t>(out.mqttCount)];
+        char* p = m.payload.data();
+        char* const end = p + m.payload.size();
+        const auto put = [&](const char* text, std::size_t n) {
+            n = std::min<std::size_t>(n, static_cast<std::size_t>(end - p));
+            std::memcpy(p, text, n);
+            p += n;
+        };
+        const auto number = [&](double x, bool round) {
+            if (!std::isfinite(x)) x = 0.0;
+            if (round || x == std::floor(x)) {
+                const auto r = std::to_chars(p, end, static_cast<long long>(std::llround(std::clamp(x, -9.0e15, 9.0e15))));
+                if (r.ec == std::errc()) p = r.ptr;
+            } else {
+                const auto r = std::to_chars(p, end, x, std::chars_format::general, 6);
+                if (r.ec == std::errc()) p = r.ptr;
+            }
+        };
+        for (const MqttPayloadPart& part : c.payload) {
+            put(part.text.data(), part.text.size());
+            switch (part.field) {
+            case MqttPayloadPart::Field::None: break;
+            case MqttPayloadPart::Field::Value: number(v, false); break;
+            case MqttPayloadPart::Field::Round: number(v, true); break;
+            case MqttPayloadPart::Field::Zone: number(zoneValue, false); break;
+            case MqttPayloadPart::Field::On: put(on ? "1" : "0", 1); break;
+            case MqttPayloadPart::Field::State: on ? put("ON", 2) : put("OFF", 3); break;
+            case MqttPayloadPart::Field::Arm: number(c.spec.source.arm, true); break;
+            }
+        }
+        const auto size = static_cast<std::uint16_t>(p - m.payload.data());
+        if (onlyChanges && size == c.lastPayloadSize && std::memcmp(m.payload.data(), c.lastPayload.data(), size) == 0) return;
+        std::memcpy(c.lastPayload.data(), m.payload.data(), size);
+        c.lastPayloadSize = size;
+        const std::size_t zi = c.zone >= 0 && static_cast<std::size_t>(c.zone) < c.addresses.size() ? static_cast<std::size_t>(c.zone) : 0;
+        const std::string& topic = c.addresses[zi];
+        std::memcpy(m.topic.data(), topic.data(), topic.size());
+        m.topicLength = static_cast<std::uint16_t>(topic.size());
+        m.payloadLength = size;
+        m.t = t;
+        m.qos = static_cast<std::uint8_t>(c.spec.to.qos);
+        m.retain = c.spec.to.retain;
+        m.rate = static_cast<float>(c.spec.to.rate);
+        ++out.mqttCount;
     }
 
     void mpeExpressions(Compiled& c, double t, int ch, const MappingInput& in, MappingOutput& out, bool force) noexcept
@@ -756,6 +833,13 @@ struct Mapper::Impl {
             c.active.store(true, std::memory_order_relaxed);
             return;
         }
+        case DestinationKind::Mqtt: {
+            const double n = gesture ? normalise(c, eventValue) : 1.0;
+            c.meter.store(static_cast<float>(n), std::memory_order_relaxed);
+            sendMqtt(c, t, scaleOut(c, n), zoned ? zoneValue : eventValue, true, out, false);
+            c.active.store(true, std::memory_order_relaxed);
+            return;
+        }
         default: {
             // A value destination: a zone sends its value as it is, a gesture its transformed
             // value, a posture/threshold the top of the out range.
@@ -786,6 +870,10 @@ struct Mapper::Impl {
         case DestinationKind::Osc:
             c.meter.store(0.0f, std::memory_order_relaxed);
             sendOsc(c, t, scaleOut(c, 0.0), zoneValue, false, in, out, false);
+            return;
+        case DestinationKind::Mqtt:
+            c.meter.store(0.0f, std::memory_order_relaxed);
+            sendMqtt(c, t, scaleOut(c, 0.0), zoneValue, false, out, false);
             return;
         case DestinationKind::Stage:
             c.meter.store(0.0f, std::memory_order_relaxed);
@@ -836,7 +924,7 @@ struct Mapper::Impl {
             const ArmState* arm = in.arm[0];
             if (!arm || !arm->valid) return;
             const PostureState& ps = s.postures.state(c.posture);
-            const bool eventDest = m.to.kind == DestinationKind::Notes || m.to.kind == DestinationKind::Osc ||
+            const bool eventDest = m.to.kind == DestinationKind::Notes || m.to.kind == DestinationKind::Osc || m.to.kind == DestinationKind::Mqtt ||
                                    m.to.kind == DestinationKind::SetForward || m.to.kind == DestinationKind::ProgramChange ||
                                    m.to.kind == DestinationKind::Stage;
             if (c.stage && !c.primed) {

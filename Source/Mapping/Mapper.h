@@ -69,6 +69,20 @@ struct OscPacket {
     std::array<std::uint8_t, kOscPacketCapacity> bytes {};   ///< encoded with Device/Osc.h (OSC 1.0)
 };
 
+/// An MQTT message an Mqtt destination made (issue 35, docs/MQTT.md): fixed size, formatted on the
+/// control thread without allocation; the front end hands it to the MQTT client's queue.
+struct MqttMessage {
+    static constexpr std::size_t kMaxTopic = 160;
+    static constexpr std::size_t kMaxPayload = 440;
+    double t = 0.0;
+    std::array<char, kMaxTopic> topic {};
+    std::array<char, kMaxPayload> payload {};
+    std::uint16_t topicLength = 0, payloadLength = 0;
+    std::uint8_t qos = 0;
+    bool retain = false;
+    float rate = -1.0f;                    ///< per-topic messages/s (DestinationSpec::rate)
+};
+
 /// A stage command a Stage destination fired (docs/STAGE.md): once per rising edge of its source.
 struct StageEvent {
     double t = 0.0;
@@ -90,6 +104,7 @@ struct MappingOutput {
     static constexpr int kMaxOsc = 64;
     static constexpr int kMaxParams = 64;
     static constexpr int kMaxStage = 16;
+    static constexpr int kMaxMqtt = 32;
 
     std::array<MidiEvent, kMaxMidi> midi {};
     int midiCount = 0;
@@ -101,6 +116,8 @@ struct MappingOutput {
     int paramCount = 0;
     std::array<StageEvent, kMaxStage> stage {};      ///< stage commands in the order fired
     int stageCount = 0;
+    std::array<MqttMessage, kMaxMqtt> mqtt {};       ///< MQTT messages in the order made
+    int mqttCount = 0;
     std::uint64_t dropped = 0;                       ///< events that did not fit (cumulative until clear())
     bool forwardChanged = false;                     ///< the forward reference was set during this update
 

@@ -3,6 +3,7 @@
 #include "Core/Resources.h"
 #include "Core/Json.h"
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -225,8 +226,11 @@ public:
         const JsonValue* param = v.find("param");
         const JsonValue* action = v.find("action");
         const JsonValue* stage = v.find("stage");
-        const int kinds = (midi != nullptr) + (osc != nullptr) + (macro != nullptr) + (param != nullptr) + (action != nullptr) + (stage != nullptr);
-        if (kinds != 1) fail(v, path, "a destination names exactly one of \"midi\", \"osc\", \"macro\", \"param\", \"action\", \"stage\"");
+        const JsonValue* mqtt = v.find("mqtt");
+        const int kinds = (midi != nullptr) + (osc != nullptr) + (macro != nullptr) + (param != nullptr) + (action != nullptr) + (stage != nullptr) +
+                          (mqtt != nullptr);
+        if (kinds != 1)
+            fail(v, path, "a destination names exactly one of \"midi\", \"osc\", \"mqtt\", \"macro\", \"param\", \"action\", \"stage\"");
         const auto channel = [&](int& out) {
             if (const JsonValue* c = v.find("channel")) out = integerIn(*c, path + ".channel", 1, 16);
         };
@@ -338,6 +342,33 @@ public:
                 if (d.host.empty()) fail(*h, path + ".host", "empty host");
             }
             if (const JsonValue* p = v.find("port")) d.port = integerIn(*p, path + ".port", 1, 65535);
+            zonesHere();
+        } else if (mqtt) {
+            onlyKeys(v, path, {"mqtt", "zones"});
+            expectKind(*mqtt, JsonValue::Kind::Object, path + ".mqtt");
+            onlyKeys(*mqtt, path + ".mqtt", {"topic", "payload", "qos", "retain", "rate"});
+            d.kind = DestinationKind::Mqtt;
+            const JsonValue* topic = mqtt->find("topic");
+            if (!topic) fail(*mqtt, path + ".mqtt", "an MQTT destination needs \"topic\"");
+            d.address = string(*topic, path + ".mqtt.topic");
+            if (d.address.empty()) fail(*topic, path + ".mqtt.topic", "empty topic");
+            if (d.address.find_first_of("+#") != std::string::npos)
+                fail(*topic, path + ".mqtt.topic", "a topic to publish to has no wildcards ('+', '#')");
+            if (d.address.size() > 120) fail(*topic, path + ".mqtt.topic", "topic longer than 120 characters");
+            if (const JsonValue* p = mqtt->find("payload")) {
+                d.payload = string(*p, path + ".mqtt.payload");
+                if (const std::string why = mqttPayloadProblem(d.payload); !why.empty()) fail(*p, path + ".mqtt.payload", why);
+            }
+            if (const JsonValue* q = mqtt->find("qos")) d.qos = integerIn(*q, path + ".mqtt.qos", 0, 2);
+            if (const JsonValue* r = mqtt->find("retain")) {
+                expectKind(*r, JsonValue::Kind::Bool, path + ".mqtt.retain");
+                d.retain = r->boolean;
+            }
+            if (const JsonValue* r = mqtt->find("rate")) {
+                expectKind(*r, JsonValue::Kind::Number, path + ".mqtt.rate");
+                if (!(r->number >= 0.0 && r->number <= 1000.0)) fail(*r, path + ".mqtt.rate", "messages per second from 0 (no limit) to 1000");
+                d.rate = r->number;
+            }
             zonesHere();
         } else if (macro) {
             onlyKeys(v, path, {"macro", "zones"});
@@ -695,6 +726,12 @@ std::string destinationJson(const MappingSpec& m)
         if (d.port > 0) s += ", \"port\": " + std::to_string(d.port);
         return s + "}";
     }
+    case DestinationKind::Mqtt: {
+        std::string s = "{\"mqtt\": {\"topic\": " + str(d.address) + ", \"payload\": " + str(d.payload) + ", \"qos\": " + std::to_string(d.qos) +
+                        ", \"retain\": " + (d.retain ? "true" : "false");
+        if (d.rate >= 0.0) s += ", \"rate\": " + num(d.rate);
+        return s + "}}";
+    }
     case DestinationKind::Macro: return "{\"macro\": " + std::to_string(d.number) + "}";
     case DestinationKind::SceneParam: return "{\"param\": " + str(d.paramId) + "}";
     case DestinationKind::SetForward: return "{\"action\": \"forward\"}";
@@ -974,6 +1011,46 @@ MappingDocument loadMapping(const std::string& presetOrPath, const std::string& 
         throw IoError("--map " + presetOrPath + ": no preset and no file of that name (presets: " + list + ")");
     }
     return loadMappingFile(presetOrPath);
+}
+
+std::vector<MqttPayloadPart> splitMqttPayload(const std::string& payload)
+{
+    static const std::pair<const char*, MqttPayloadPart::Field> names[] {
+        {"{value}", MqttPayloadPart::Field::Value}, {"{round}", MqttPayloadPart::Field::Round}, {"{zone}", MqttPayloadPart::Field::Zone},
+        {"{on}", MqttPayloadPart::Field::On},       {"{state}", MqttPayloadPart::Field::State}, {"{arm}", MqttPayloadPart::Field::Arm}};
+    std::vector<MqttPayloadPart> parts(1);
+    for (std::size_t i = 0; i < payload.size();) {
+        bool matched = false;
+        for (const auto& [name, field] : names) {
+            const std::size_t n = std::char_traits<char>::length(name);
+            if (payload.compare(i, n, name) == 0) {
+                parts.back().field = field;
+                parts.emplace_back();
+                i += n;
+                matched = true;
+                break;
+            }
+        }
+        if (!matched) parts.back().text += payload[i++];
+    }
+    return parts;
+}
+
+std::string mqttPayloadProblem(const std::string& payload)
+{
+    // A "{word}" of letters that is not a placeholder is a typo, not JSON (JSON keys are quoted).
+    for (std::size_t i = 0; i < payload.size(); ++i) {
+        if (payload[i] != '{') continue;
+        std::size_t k = i + 1;
+        while (k < payload.size() && std::isalpha(static_cast<unsigned char>(payload[k]))) ++k;
+        if (k > i + 1 && k < payload.size() && payload[k] == '}') {
+            const std::string name = payload.substr(i, k - i + 1);
+            if (name != "{value}" && name != "{round}" && name != "{zone}" && name != "{on}" && name != "{state}" && name != "{arm}")
+                return "unknown placeholder " + name + " (value, round, zone, on, state, arm)";
+        }
+    }
+    if (payload.size() > 300) return "payload template longer than 300 characters";
+    return {};
 }
 
 } // namespace armadillo::mapping

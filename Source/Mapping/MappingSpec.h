@@ -196,10 +196,27 @@ enum class DestinationKind : std::uint8_t {
     SceneParam,      ///< {"param": "theremin.range"}: a scene parameter; 0…1 over its range unless `out` is given
                      ///< (then in the parameter's own unit)
     SetForward,      ///< {"action": "forward"}: an event sets the forward reference to the current azimuth
+    Mqtt,            ///< {"mqtt": {"topic", "payload", "qos", "retain", "rate"}}: a templated MQTT message (issue 35,
+                     ///< docs/MQTT.md): "{value}", "{round}", "{zone}", "{on}", "{state}" in the payload, "{zone}" and
+                     ///< "{arm}" in the topic; sent when it changes, at most `rate` per second per topic (latest kept)
     Stage,           ///< {"stage": "next"|"prev"|"panic"|"resume"} or {"stage": "cue", "cue": N}: an event (its rising
                      ///< edge: a gesture, a posture or zone entered, a threshold crossed upward) steps the set list or
                      ///< panics (docs/STAGE.md); nothing while held, nothing on leaving
 };
+
+/// A piece of an MQTT payload template: literal text, then a value of the moment (or nothing).
+/// Placeholders are exactly "{value}" (the transformed value, up to 6 significant digits),
+/// "{round}" (it rounded to a whole number), "{zone}" (the zone's or gesture's value), "{on}"
+/// (1/0), "{state}" ("ON"/"OFF", Home Assistant's spelling) and "{arm}" (0 right, 1 left);
+/// every other character, braces of a JSON payload included, is literal.
+struct MqttPayloadPart {
+    enum class Field : std::uint8_t { None, Value, Round, Zone, On, State, Arm };
+    std::string text;
+    Field field = Field::None;
+};
+std::vector<MqttPayloadPart> splitMqttPayload(const std::string& payload);
+/// Why a payload template is refused ("" when it is fine): an unknown "{name}" placeholder.
+std::string mqttPayloadProblem(const std::string& payload);
 
 /// What a Stage destination does (DestinationSpec::stage).
 enum class StageAction : std::uint8_t { Next, Previous, Cue, Panic, Resume };
@@ -239,6 +256,11 @@ struct DestinationSpec {
     int port = 0;             ///< OSC target port; 0 = the front end's default (9000)
     std::string paramId;      ///< SceneParam: the scene parameter's stable id
     StageAction stage = StageAction::Next;   ///< Stage: what it does; Cue: `number` is the cue (0-based)
+    // Mqtt: the topic template is `address`.
+    std::string payload = "{value}";   ///< payload template
+    int qos = 0;              ///< 0, 1 or 2
+    bool retain = false;
+    double rate = -1.0;       ///< messages per second for its topic; < 0 = the client's default (MqttConfig::publishRate), 0 = no limit
 };
 
 // ---------------------------------------------------------------------------------------------

@@ -103,6 +103,11 @@ public:
     /// The gyroscope's x channel (the roll rate about the forearm) `offset` counts from mid-scale
     /// in the packets sent from now on.
     void setGyroX(int offset) { sensor_ = sensorPacket({2048, 2048, 2048, 2048 + offset, 2048, 2048, 2048, 2048, 2048}); }
+    /// Asks the program to stop (SIGTERM, as a user's kill): it finishes and closes stderr, so run() returns.
+    void terminate()
+    {
+        if (pid_ > 0) ::kill(pid_, SIGTERM);
+    }
     void answer(const std::string& text) { (void)!::write(in_, (text + "\n").data(), text.size() + 1); }
     void closeInput()
     {

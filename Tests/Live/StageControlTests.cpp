@@ -106,3 +106,25 @@ TEST_CASE("stage: the control port takes commands over loopback UDP and counts w
     ::close(fd);
     receiver.stop();
 }
+
+TEST_CASE("stage: /armadillo/message carries a text and a priority for the arm (issue 35)", "[stage][osc][mqtt]")
+{
+    std::vector<std::pair<std::string, int>> texts;
+    int commands = 0;
+    StageControlReceiver receiver(0, [&](const StageCommand&) { ++commands; });
+    const auto send = [&](const std::vector<std::uint8_t>& bytes) { receiver.handleDatagram(bytes.data(), bytes.size()); };
+    // Without a text handler the message is refused (counted), not taken for a command.
+    send(device::encodeOscMessage("/armadillo/message", {device::OscArg::string("exit")}));
+    CHECK(receiver.refused() == 1);
+    receiver.setTextHandler([&](const std::string& t, int priority) { texts.emplace_back(t, priority); });
+    send(device::encodeOscMessage("/armadillo/message", {device::OscArg::string("exit")}));
+    send(device::encodeOscMessage("/armadillo/message", {device::OscArg::string("fire"), device::OscArg::int32(2)}));
+    send(device::encodeOscMessage("/armadillo/message", {device::OscArg::string("later"), device::OscArg::float32(0.5f)}));
+    send(device::encodeOscMessage("/armadillo/message", {}));                                   // no text
+    send(device::encodeOscMessage("/armadillo/message", {device::OscArg::int32(3)}));           // not a string
+    send(device::encodeOscMessage("/armadillo/message", {device::OscArg::string("a"), device::OscArg::string("b")}));
+    CHECK(texts == std::vector<std::pair<std::string, int>> {{"exit", 0}, {"fire", 1}, {"later", 0}});
+    CHECK(receiver.refused() == 4);
+    CHECK(receiver.commands() == 3);
+    CHECK(commands == 0);
+}

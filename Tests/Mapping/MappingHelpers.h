@@ -42,6 +42,7 @@ struct Rig {
     std::vector<MidiEvent> midi;
     std::vector<std::vector<std::uint8_t>> osc;
     std::vector<SceneParamChange> params;
+    std::vector<std::pair<std::string, std::string>> mqtt;   // topic, payload
     std::array<float, kMacroCount> macro {};
     std::uint32_t macroChanged = 0;
 
@@ -56,6 +57,10 @@ struct Rig {
             osc.emplace_back(p.bytes.begin(), p.bytes.begin() + p.size);
         }
         for (int i = 0; i < out->paramCount; ++i) params.push_back(out->params[static_cast<std::size_t>(i)]);
+        for (int i = 0; i < out->mqttCount; ++i) {
+            const MqttMessage& m = out->mqtt[static_cast<std::size_t>(i)];
+            mqtt.emplace_back(std::string(m.topic.data(), m.topicLength), std::string(m.payload.data(), m.payloadLength));
+        }
         for (int k = 0; k < kMacroCount; ++k)
             if (out->macroChanged & (1u << k)) macro[static_cast<std::size_t>(k)] = out->macro[static_cast<std::size_t>(k)];
         macroChanged |= out->macroChanged;

@@ -1,0 +1,147 @@
+#include "Cli/MqttOptions.h"
+#include "Braille/Training.h"
+#include "Core/Errors.h"
+
+namespace armadillo::cli {
+
+std::vector<OptionSpec> mqttBrokerOptionSpecs()
+{
+    return {
+        {"--mqtt", "HOST[:PORT]", "the MQTT broker (default port 1883; docs/MQTT.md); over --mqtt-config's broker"},
+        {"--mqtt-config", "FILE", "MQTT configuration (JSON, docs/MQTT.md): broker, client id, user/password, TLS CA file,\n"
+                                  "protocol 3.1.1 or 5, keep-alive, reconnect back-off, message topics and text field"},
+    };
+}
+
+std::vector<OptionSpec> mqttMessageOptionSpecs()
+{
+    return {
+        {"--messages", "TOPIC", "with --scene braille and a broker: show the messages of this topic on the arm in Arm Braille\n"
+                                "(wildcards + and # allowed; repeatable), after the \"message waiting\" sensation"},
+        {"--urgent", "TOPIC", "as --messages, and its messages interrupt the one being shown (repeatable)"},
+        {"--message-display", "MODE", "roll (default: read it by rolling the arm, as any text) or timed (drawn cell by cell,\n"
+                                      "framed by the sweep before and the double tap after)"},
+        {"--message-shorthand", "", "the sign shorthand (thesis §5.3): a sign word of a message (EXIT, ENTRANCE ...) is\n"
+                                    "shown as its shortest unique start (ex, en)"},
+    };
+}
+
+bool readMqttOptions(const CommandLine& cl, mqtt::MqttConfig& config, const char* brokerOption)
+{
+    if (!cl.has(brokerOption) && !cl.has("--mqtt-config")) return false;
+    if (cl.has("--mqtt-config")) config = mqtt::loadMqttConfig(cl.value("--mqtt-config"));
+    if (cl.has(brokerOption)) {
+        try {
+            mqtt::parseBrokerAddress(cl.value(brokerOption), brokerOption, config.host, config.port);
+        } catch (const InputError& e) {
+            throw UsageError(e.what());
+        }
+    }
+    return true;
+}
+
+namespace {
+
+void addTopics(const CommandLine& cl, const char* option, bool urgent, mqtt::MqttConfig& config)
+{
+    for (const std::string& t : cl.values(option)) {
+        if (const std::string why = mqtt::topicFilterProblem(t); !why.empty()) throw UsageError(std::string(option) + " '" + t + "': " + why);
+        config.topics.push_back({t, 1, urgent});
+    }
+}
+
+} // namespace
+
+PlayMessages::PlayMessages(mqtt::MqttConfig config, mqtt::PresenterOptions options)
+    : config_(std::move(config)), inbox_(config_), presenter_(inbox_, std::move(options))
+{
+    client_ = std::make_unique<mqtt::MqttClient>(config_);
+    client_->setMessageHandler([this](const mqtt::ReceivedMessage& m) { inbox_.offer(m); });
+}
+
+PlayMessages::~PlayMessages() { stop(); }
+
+void PlayMessages::start() { client_->start(); }
+void PlayMessages::stop() { client_->stop(); }
+
+bool PlayMessages::publishMapped(void* self, const mapping::MqttMessage& m)
+{
+    mqtt::OutgoingMessage o;
+    if (!o.set(std::string_view(m.topic.data(), m.topicLength), std::string_view(m.payload.data(), m.payloadLength))) return false;
+    o.qos = m.qos;
+    o.retain = m.retain;
+    o.maxRate = m.rate;
+    return static_cast<PlayMessages*>(self)->client_->publish(o);
+}
+
+void PlayMessages::poll(braille::BrailleSceneControls* scene, std::ostream& err, const char* lineStart)
+{
+    const mqtt::MqttStatus s = client_->status();
+    if (s.state != shownState_) {
+        shownState_ = s.state;
+        err << lineStart << "armadillo play: MQTT " << s.broker << ": " << mqtt::connectionStateName(s.state);
+        if (s.state == mqtt::ConnectionState::Reconnecting && !s.lastError.empty()) err << " (" << s.lastError << ")";
+        if (s.state == mqtt::ConnectionState::Connected && s.connects > 1) err << " again (reconnection " << s.connects - 1 << ")";
+        err << "\n";
+    }
+    const mqtt::InboxStats in = inbox_.stats();
+    if (in.refused != shownRefused_) {
+        shownRefused_ = in.refused;
+        err << lineStart << "armadillo play: " << in.lastRefusal << "\n";
+    }
+    if (in.droppedOldest != shownDropped_) {
+        shownDropped_ = in.droppedOldest;
+        err << lineStart << "armadillo play: the message queue was full: " << in.droppedOldest << " oldest message(s) dropped so far\n";
+    }
+    if (!scene) return;
+    for (const std::string& line : presenter_.poll(*scene)) {
+        err << lineStart << "armadillo play: " << line << "\n";
+        if (mirror_ && line.find(" on the arm: ") != std::string::npos) mirror_(line);
+    }
+}
+
+std::string PlayMessages::summaryJson() const
+{
+    const mqtt::MqttStatus s = client_->status();
+    const mqtt::InboxStats in = inbox_.stats();
+    return ",\"mqtt\":{\"connects\":" + std::to_string(s.connects) + ",\"connection_losses\":" + std::to_string(s.connectionLosses) +
+           ",\"published\":" + std::to_string(s.published) + ",\"coalesced\":" + std::to_string(s.coalesced) +
+           ",\"outbox_dropped\":" + std::to_string(s.outboxDropped) +
+           ",\"received\":" + std::to_string(s.received) + ",\"messages_accepted\":" + std::to_string(in.accepted) +
+           ",\"messages_refused\":" + std::to_string(in.refused) + ",\"messages_dropped\":" + std::to_string(in.droppedOldest) +
+           ",\"messages_shown\":" + std::to_string(presenter_.shown()) + ",\"messages_waiting\":" + std::to_string(in.waiting) + "}";
+}
+
+/// For play: reads every MQTT option; null when there is no broker. UsageError for messages
+/// without a broker or without the braille scene.
+std::unique_ptr<PlayMessages> readPlayMessages(const CommandLine& cl, const std::string& scene, const std::vector<std::string>& parameters,
+                                               const std::string& resourceDir)
+{
+    mqtt::MqttConfig config;
+    const bool broker = readMqttOptions(cl, config);
+    const bool wantsMessages = cl.has("--messages") || cl.has("--urgent");
+    for (const char* o : {"--message-display", "--message-shorthand"})
+        if (cl.has(o) && !wantsMessages && (!broker || config.topics.empty())) throw UsageError(std::string(o) + " applies to --messages");
+    if (!broker) {
+        if (wantsMessages) throw UsageError("--messages needs a broker: --mqtt HOST[:PORT] or --mqtt-config FILE");
+        return nullptr;
+    }
+    addTopics(cl, "--messages", false, config);
+    addTopics(cl, "--urgent", true, config);
+    // Without topics the broker serves the mapping's MQTT destinations only.
+    if (!config.topics.empty() && scene != "braille") throw UsageError("--messages are read in Arm Braille: use --scene braille");
+    mqtt::PresenterOptions options;
+    const std::string display = cl.value("--message-display", "roll");
+    if (display != "roll" && display != "timed") throw UsageError("--message-display: '" + display + "' (roll or timed)");
+    options.timed = display == "timed";
+    // The reader's grade and method, as the scene's --param sets them (labels: braille.grade=2,
+    // braille.method=dots).
+    for (const std::string& p : parameters) {
+        if (p == "braille.grade=2") options.grade = 2;
+        if (p.rfind("braille.method=", 0) == 0) braille::parseDisplayMethod(p.substr(15), options.method);
+    }
+    if (cl.has("--message-shorthand")) options.shorthand = braille::signShorthand(braille::defaultSignWords(resourceDir));
+    return std::make_unique<PlayMessages>(std::move(config), std::move(options));
+}
+
+} // namespace armadillo::cli
