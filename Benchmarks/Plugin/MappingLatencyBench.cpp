@@ -12,6 +12,7 @@
 // a DAW plays it at (add the sound card's output latency for the ear). Prints p1/p50/p99/max and
 // the jitter (p99 − p1) at 64- and 1024-sample blocks. Numbers only: it never passes or fails.
 #include "Core/Pose.h"
+#include "Core/ThreadPriority.h"
 #include "Osc/OscIo.h"
 #include <juce_audio_processors/juce_audio_processors.h>
 #include <algorithm>
@@ -70,6 +71,7 @@ struct Result {
     std::vector<double> ms;
     int sent = 0;
     int lateWakeups = 0;   ///< blocks whose processBlock began > 1 ms after its deadline
+    bool realtime = false; ///< the audio thread got SCHED_FIFO
 };
 
 Result run(juce::AudioPluginInstance& plugin, int block, double seconds, int oscPort)
@@ -99,6 +101,9 @@ Result run(juce::AudioPluginInstance& plugin, int block, double seconds, int osc
     });
 
     std::thread audio([&] {
+        // A DAW's audio thread runs real-time (JUCE's device threads ask for it); so does this one
+        // when the system allows it (the header says whether it did).
+        r.realtime = requestRealtimePriority(70);
         juce::AudioBuffer<float> buffer(2, block);
         juce::MidiBuffer midi;
         const double period = block / kRate;
@@ -163,7 +168,7 @@ int main(int argc, char* argv[])
     }
     std::printf("Mapping latency, plugin path: OSC orientation (loopback) -> control step -> 14-bit CC in the block's MIDI buffer\n");
     std::printf("VST3 hosted, 48 kHz, control rate 200 Hz, sensor samples every 3-17 ms, %g s per block size\n", seconds);
-    std::printf("%-7s %7s %8s %8s %8s %8s %10s %6s\n", "block", "events", "p1_ms", "p50_ms", "p99_ms", "max_ms", "jitter_ms", "late");
+    std::printf("%-7s %7s %8s %8s %8s %8s %10s %6s %4s\n", "block", "events", "p1_ms", "p50_ms", "p99_ms", "max_ms", "jitter_ms", "late", "rt");
     for (int block : {64, 1024}) {
         juce::String error;
         auto plugin = format.createInstanceFromDescription(*types[0], kRate, block, error);
@@ -179,8 +184,9 @@ int main(int argc, char* argv[])
         for (int i = 0; i < 20; ++i) juce::MessageManager::getInstance()->runDispatchLoopUntil(5);
         auto r = run(*plugin, block, seconds, oscPort);
         std::sort(r.ms.begin(), r.ms.end());
-        std::printf("%-7d %7zu %8.2f %8.2f %8.2f %8.2f %10.2f %6d\n", block, r.ms.size(), pct(r.ms, 0.01), pct(r.ms, 0.5),
-                    pct(r.ms, 0.99), r.ms.empty() ? 0.0 : r.ms.back(), pct(r.ms, 0.99) - pct(r.ms, 0.01), r.lateWakeups);
+        std::printf("%-7d %7zu %8.2f %8.2f %8.2f %8.2f %10.2f %6d %4s\n", block, r.ms.size(), pct(r.ms, 0.01), pct(r.ms, 0.5),
+                    pct(r.ms, 0.99), r.ms.empty() ? 0.0 : r.ms.back(), pct(r.ms, 0.99) - pct(r.ms, 0.01), r.lateWakeups,
+                    r.realtime ? "yes" : "no");
         if (r.ms.empty()) std::printf("  (no events matched: is the OSC input port %d free?)\n", oscPort);
     }
     return 0;

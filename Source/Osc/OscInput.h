@@ -34,6 +34,10 @@ struct OscInputOptions {
     double floodFactor = 3.0;             ///< samples beyond this × the stream's measured rate are dropped
     double tiltLowPassSeconds = 0.05;     ///< s: accelerometer-only senders: low-pass of the gravity direction
     double restPeriodSeconds = 0.02;      ///< s: Sensors2OSC at rest (nothing changed, nothing sent): one held sample per this
+    /// > 0: the receiving thread asks for SCHED_FIFO at this priority (falls back silently), as the
+    /// device link's thread does: a sample's arrival stamp is where the plugin places its control
+    /// step (issue 36), so a receiver that waits behind other work adds its wait to the jitter.
+    int realtimePriority = 0;
     double warmupSeconds = 0.3;           ///< s: a new stream's first readings only show which sensors it sends (a
                                           ///< first sample without the compass that follows it would start the
                                           ///< filter without heading); not for ARMadillo's own messages

@@ -1,6 +1,7 @@
 #include "Osc/OscIo.h"
 #include "Core/Errors.h"
 #include "Core/Pose.h"
+#include "Core/ThreadPriority.h"
 #include "Link/LinkPort.h"
 #include "Osc/OscStream.h"
 #include "Osc/Slip.h"
@@ -168,7 +169,7 @@ int bindUdpAnyInterface(int port, const std::string& who, int& boundPort)
 // --- OscReceiver -------------------------------------------------------------------------------
 
 OscReceiver::OscReceiver(int port, ImuHandler onImu, OrientationHandler onOrientation, const OscInputOptions& options)
-    : onImu_(std::move(onImu)), onOrientation_(std::move(onOrientation)), merger_(options)
+    : onImu_(std::move(onImu)), onOrientation_(std::move(onOrientation)), merger_(options), realtimePriority_(options.realtimePriority)
 {
     merger_.setSinks(
         [](void* c, const ImuSample& s) {
@@ -219,7 +220,8 @@ OscReceiver::OscReceiver(int port, ImuHandler onImu, OrientationHandler onOrient
 }
 
 OscReceiver::OscReceiver(const OscSerialSource& serial, ImuHandler onImu, OrientationHandler onOrientation, const OscInputOptions& options)
-    : serial_(serial), onImu_(std::move(onImu)), onOrientation_(std::move(onOrientation)), merger_(options)
+    : serial_(serial), onImu_(std::move(onImu)), onOrientation_(std::move(onOrientation)), merger_(options),
+      realtimePriority_(options.realtimePriority)
 {
     merger_.setSinks(
         [](void* c, const ImuSample& s) {
@@ -259,7 +261,10 @@ void OscReceiver::start()
 {
     if (thread_.joinable()) return;
     stop_.store(false);
-    thread_ = std::thread([this] { serialPort_ ? runSerial() : run(); });
+    thread_ = std::thread([this] {
+        if (realtimePriority_ > 0) requestRealtimePriority(realtimePriority_);
+        serialPort_ ? runSerial() : run();
+    });
 }
 
 void OscReceiver::runSerial()

@@ -132,6 +132,7 @@ private:
     OrientationHandler onOrientation_;
     DatagramTap tap_;
     OscSampleMerger merger_;
+    int realtimePriority_ = 0;   ///< OscInputOptions::realtimePriority, for the receiving thread
     std::thread thread_;
     std::atomic<bool> stop_ {false};
     std::chrono::steady_clock::time_point start_ {};

@@ -70,10 +70,14 @@ bool OscInput::configure(bool enabled, int port, std::string& whyNot, const devi
     }
     try {
         // Handlers run on the receiver's thread; the mailbox takes them without locks.
+        // The receiving thread keeps time as the device link's does: each sample's arrival is
+        // where its control step goes in the host's block (BlockControl, issue 36).
+        device::OscInputOptions timed = options;
+        timed.realtimePriority = kReceiverPriority;
         receiver_ = std::make_unique<device::OscReceiver>(
             port,
             [this](const ImuSample& s) { live_.pushImu(s); },
-            [this](double t, const Eigen::Quaterniond& q) { live_.storeOrientation(t, q); }, options);
+            [this](double t, const Eigen::Quaterniond& q) { live_.storeOrientation(t, q); }, timed);
         receiver_->merger().enableSensorTap(tapOn_);
         receiver_->start();
     } catch (const std::exception& e) {

@@ -43,6 +43,8 @@ private:
 
 class OscInput {
 public:
+    /// SCHED_FIFO priority of the receiving thread (one below the device link's, DeviceConnection).
+    static constexpr int kReceiverPriority = 19;
     explicit OscInput(live::LiveInput& live) : live_(live) {}
     ~OscInput();
     /// Message thread. Opens (or closes with enabled = false) the UDP port; `options` force a
