@@ -91,6 +91,7 @@ juce::String destinationText(const mapping::DestinationSpec& d)
     case DestinationKind::Macro: return "macro " + juce::String(d.number);
     case DestinationKind::SceneParam: return "scene parameter " + juce::String(d.paramId);
     case DestinationKind::SetForward: return "set forward";
+    case DestinationKind::Mqtt: return "MQTT " + juce::String(d.address) + " (sent by armadillo play --mqtt; not from the plugin)";
     case DestinationKind::Stage:
         return d.stage == mapping::StageAction::Cue ? "stage: cue " + juce::String(d.number) : "stage: " + juce::String(mapping::stageActionName(d.stage));
     }
