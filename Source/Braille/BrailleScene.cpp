@@ -424,11 +424,15 @@ private:
         if (urgentIn_.pop(m)) {
             if (message_) finishMessage(true);
             startMessage(m, out);
-        } else if (!message_ && normalIn_.pop(m)) {
+        } else if (!message_ && !trainingRunning() && normalIn_.pop(m)) {
+            // A message that is not urgent waits while a training runs (its trials must not be
+            // cut into); it starts once the training is over or the scene leaves training.
             startMessage(m, out);
         }
         if (!message_ && urgentIn_.size() == 0 && normalIn_.size() == 0) busy_.store(false, std::memory_order_release);
     }
+
+    bool trainingRunning() const noexcept { return mode_ == BrailleMode::Training && training_ && !training_->finished(); }
 
     void startMessage(ArmMessage* m, SceneOutput& out)
     {

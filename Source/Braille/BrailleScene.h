@@ -89,7 +89,8 @@ public:
     /// is then drawn with the passive timings (braille.passive*) and ends with the double tap; a
     /// message read by roll replaces the text under the roll reader until the reader reaches its
     /// end (the double tap), then the scene's own text comes back where it was. An urgent message
-    /// ends the one being shown and starts at once; others wait in the scene (at most 4).
+    /// ends the one being shown and starts at once; others wait in the scene (at most 4), and
+    /// while a training runs (mode training, not finished) they wait for its end.
     /// One producer thread, lock-free; the message stays the caller's and must live until its
     /// id comes back from takeFinishedMessage(). False (nothing taken) when 4 are waiting.
     virtual bool showMessage(ArmMessage*) noexcept { return false; }

@@ -146,7 +146,10 @@ void MqttClient::noteError(const std::string& why)
 bool MqttClient::attemptConnect()
 {
     connackOk_ = false;
-    const int rc = mosquitto_connect(mosq_, config_.host.c_str(), config_.port, config_.keepAlive);
+    // Non-blocking: the TCP connection completes (or fails) inside mosquitto_loop, so stop() never
+    // waits for an unreachable host's connect timeout (minutes). Only the name lookup blocks.
+    errno = 0;
+    const int rc = mosquitto_connect_async(mosq_, config_.host.c_str(), config_.port, config_.keepAlive);
     if (rc == MOSQ_ERR_SUCCESS) return true;
     noteError("cannot connect to " + status_.broker + ": " + errorText(rc));
     return false;
@@ -193,9 +196,16 @@ void MqttClient::run()
             socketUp_ = false;
             {
                 std::lock_guard lock(statusMutex_);
-                if (connackOk_) ++status_.connectionLosses;
-                if (rc != MOSQ_ERR_NO_CONN || status_.lastError.empty())
+                if (connackOk_) {
+                    ++status_.connectionLosses;
                     status_.lastError = "connection to " + status_.broker + " lost: " + errorText(rc);
+                } else {
+                    // The attempt failed before the broker accepted it (refused, unreachable, TLS,
+                    // or the broker's refusal already noted by onConnect).
+                    ++status_.failedAttempts;
+                    if (rc != MOSQ_ERR_NO_CONN || status_.lastError.empty() || status_.lastError.rfind("the broker", 0) != 0)
+                        status_.lastError = "cannot connect to " + status_.broker + ": " + errorText(rc);
+                }
             }
             connackOk_ = false;
             mosquitto_disconnect(mosq_);

@@ -83,7 +83,8 @@ public:
     /// (a TLS file it cannot use, out of memory). A broker that is down is not an error: the
     /// status says Reconnecting and attempts continue.
     void start();
-    /// Disconnects and joins the network thread (waits at most for one blocking connect attempt).
+    /// Disconnects and joins the network thread (connecting is non-blocking: at most a name lookup
+    /// and one 20 ms loop pass are waited for).
     void stop();
 
     /// Real-time, one producer: queues a value; false (and counted) when the queue is full.

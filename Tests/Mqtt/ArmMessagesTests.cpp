@@ -254,3 +254,30 @@ TEST_CASE("messages that braille cannot show are said and counted; the sign shor
     CHECK(presenter.unshowable() == 1);
     CHECK_FALSE(rig.controls.messageBusy());
 }
+
+TEST_CASE("during a braille training only urgent messages are shown; the others wait for its end", "[mqtt][braille]")
+{
+    Rig rig;
+    rig.scene->setParameter(kParamMode, static_cast<float>(BrailleMode::Training));
+    auto normal = prepareArmMessage("hi", "test", 1, DisplayMethod::Rows, true, false, 1);
+    auto urgent = prepareArmMessage("ex", "test", 1, DisplayMethod::Rows, true, true, 2);
+    REQUIRE(rig.controls.showMessage(normal.get()));
+    rig.idle(5.0);
+    CHECK(rig.events.n("message-start") == 0);   // the trial goes on
+    CHECK(rig.controls.messageBusy());            // the message waits in the scene
+    REQUIRE(rig.controls.showMessage(urgent.get()));
+    rig.idle(10.0);
+    CHECK(rig.events.n("message-start") == 1);   // the urgent one only
+    CHECK(rig.events.n("message-end") == 1);
+    std::uint64_t id = 0;
+    bool interrupted = true;
+    REQUIRE(rig.controls.takeFinishedMessage(id, interrupted));
+    CHECK(id == 2);
+    CHECK_FALSE(interrupted);
+    // Out of training, the waiting one starts.
+    rig.scene->setParameter(kParamMode, static_cast<float>(BrailleMode::Active));
+    rig.idle(10.0);
+    CHECK(rig.events.n("message-start") == 2);
+    REQUIRE(rig.controls.takeFinishedMessage(id, interrupted));
+    CHECK(id == 1);
+}
