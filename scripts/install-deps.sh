@@ -8,6 +8,8 @@ set -euo pipefail
 packages=(
     # toolchain
     build-essential cmake ninja-build pkg-config git
+    # compiler cache for repeated builds (-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+    ccache
     # the core: Eigen, serial ports, braille tables, tests
     libeigen3-dev libserialport-dev liblouis-dev liblouis-data catch2
     # a reader alone (docs/ACCESSIBILITY.md): speech-dispatcher and BrlAPI, loaded at run time (dlopen);

@@ -49,6 +49,7 @@ void OrientationFilter::reset()
     fieldTracker_.reset();
     accelLowPass_.reset();
     magLowPass_.reset();
+    magFastLowPass_.reset();
     lowPassDt_ = 0.0;
     lastT_ = 0.0;
     lastAccel_.setConstant(kNaN);
@@ -144,6 +145,7 @@ void OrientationFilter::restartInertialFrame()
     inertial_ = ukf_.state().q;
     accelLowPass_.reset();
     magLowPass_.reset();
+    magFastLowPass_.reset();
 }
 
 void OrientationFilter::setupLowPass(double dt)
@@ -163,6 +165,7 @@ void OrientationFilter::setupLowPass(double dt)
     lowPassRamp_ = ramp;
     accelLowPass_.setup(params_.accelFilterTau * ramp, dt);
     magLowPass_.setup(params_.magFilterTau * ramp, dt);
+    magFastLowPass_.setup(params_.magDisagreementTau * ramp, dt);
 }
 
 double OrientationFilter::acquiring() const
@@ -220,16 +223,25 @@ void OrientationFilter::updateGravity(const Eigen::Vector3d& accel, double rawNo
     ukf_.update<3, 3>(upDevice, GravityObservation {}, Eigen::Vector3d::Constant(sd), params_.gravityNisLimit);
 }
 
-void OrientationFilter::updateHeading(const Eigen::Vector3d& mag, double dt)
+void OrientationFilter::updateHeading(const Eigen::Vector3d& mag, const Eigen::Vector3d& magFast, double dt)
 {
     const Eigen::Quaterniond& q = ukf_.state().q;
-    Eigen::Vector3d me = quat::rotate(q, mag);
-    const double total = me.norm();
-    me.y() = 0.0;   // keep the horizontal part only: heading information, no tilt information
-    if (!(me.norm() > params_.minHorizontalField * total)) return;
+    // The field in the earth frame, horizontal part only (heading information, no tilt information);
+    // false when too little of it is horizontal.
+    auto horizontal = [&](const Eigen::Vector3d& m, Eigen::Vector3d& me) {
+        me = quat::rotate(q, m);
+        const double total = me.norm();
+        me.y() = 0.0;
+        return me.norm() > params_.minHorizontalField * total;
+    };
+    Eigen::Vector3d me, meFast;
+    if (!horizontal(mag, me) || !horizontal(magFast, meFast)) return;
     HeadingObservation h;
     h.horizontalField = quat::rotateInverse(q, me.normalized());
-    const double prior = h(ukf_.state())(0);
+    const double innovation = h(ukf_.state())(0);
+    // The disagreement rule watches the shorter average: a field that changed shows there within
+    // seconds, while the long one (the estimate's) is still half the old field.
+    const double prior = std::atan2(-meFast.x(), -meFast.z());
     // A trusted field that contradicts the heading for disagreementTime without a break wins: the
     // state turns about the vertical onto it (this also ends the lock-out of a prior more than 90°
     // off, which the update below must skip because the angle wraps at ±π).
@@ -244,15 +256,16 @@ void OrientationFilter::updateHeading(const Eigen::Vector3d& mag, double dt)
         headingDisagreeT_ = 0.0;
     }
     if (headingDisagreeT_ > disagreementLimit()) {
-        me.normalize();
+        me = meFast.normalized();
         const double turn = std::atan2(me.cross(-Eigen::Vector3d::UnitZ()).y(), -me.z());
         ukf_.state().q = quat::normalised(Eigen::Quaterniond(Eigen::AngleAxisd(turn, Eigen::Vector3d::UnitY())) * q);
         resetCovariance(std::max(params_.initialTiltStd, params_.initialHeadingStd));
         ++recovery_.headingResets;
         headingDisagreeT_ = 0.0;
+        magLowPass_.reset();   // half of its average is the field that was just found wrong
         return;
     }
-    if (std::abs(prior) > 0.5 * kPi) {
+    if (std::abs(innovation) > 0.5 * kPi) {
         ++magRejected_;
         return;
     }
@@ -338,7 +351,11 @@ void OrientationFilter::update(const ImuSample& s)
     updateGravity(accelSmooth, accelNorm, dt);
 
     if (fieldTrusted)
-        updateHeading(quat::rotateInverse(inertial_, magLowPass_.filter(quat::rotate(inertial_, s.mag))), dt);
+    {
+        const Eigen::Vector3d inertialMag = quat::rotate(inertial_, s.mag);
+        updateHeading(quat::rotateInverse(inertial_, magLowPass_.filter(inertialMag)),
+                      quat::rotateInverse(inertial_, magFastLowPass_.filter(inertialMag)), dt);
+    }
 }
 
 } // namespace armadillo

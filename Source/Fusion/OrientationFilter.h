@@ -37,7 +37,8 @@ public:
         // by many g from one sample to the next, and the gyro misreads the impact for a few
         // milliseconds (shock response, saturation). Modelled as extra rotation process noise for
         // that step, proportional to the jump beyond the threshold (docs/FUSION.md, issue 36).
-        double shockThreshold = 2.0;          ///< g: accelerometer change between successive samples
+        double shockThreshold = 3.0;          ///< g: accelerometer change between successive samples (BROAD:
+                                              ///< ≤ 2.0 g without taps, in the fast-rotation trial; up to 28 g in taps)
         double shockRotationNoise = 1e-3;     ///< rad (std, this step) per g of change beyond the threshold
         bool shockRestartsFieldLowPass = true;///< a shock also empties the magnetometer's low-pass (below)
 
@@ -48,6 +49,7 @@ public:
         double magFilterTau = 6.0;            ///< s: the same for the magnetometer (accepted samples only;
                                               ///< 3 s until issue 36: longer averages an orientation-
                                               ///< dependent field error away, docs/FUSION.md)
+        double magDisagreementTau = 3.0;      ///< s: the field's average that the heading-disagreement rule watches
         double startupFilterSeconds = 10.0;   ///< s: both time constants grow from 10 % to full over this
                                               ///< time after initialisation (0 = full from the start)
         double gravityNoise = 0.05;           ///< unit-vector components (≈ rad) of the filtered a/|a|
@@ -129,7 +131,7 @@ private:
     double disagreementLimit() const;
     void predict(double dt, double shock = 0.0);
     void updateGravity(const Eigen::Vector3d& accelSmooth, double rawNorm, double dt);
-    void updateHeading(const Eigen::Vector3d& mag, double dt);
+    void updateHeading(const Eigen::Vector3d& mag, const Eigen::Vector3d& magFast, double dt);
     void restartInertialFrame();
     void setupLowPass(double dt);
 
@@ -141,6 +143,9 @@ private:
     // magnetometer are low-passed: linear acceleration integrates away there, gravity does not.
     Eigen::Quaterniond inertial_ = Eigen::Quaterniond::Identity();
     ButterworthLowPass3 accelLowPass_, magLowPass_;
+    // The field averaged at the shorter magDisagreementTau: what the heading-disagreement rule
+    // watches (a changed field must show within seconds; the long average is for the estimate).
+    ButterworthLowPass3 magFastLowPass_;
     double lowPassDt_ = 0.0;   ///< s, the step the coefficients were derived for
     double lowPassRamp_ = 1.0; ///< start-up fraction of the time constants they were derived for
     double initT_ = 0.0;       ///< s, time of the initialising sample (start of the low-pass ramp)

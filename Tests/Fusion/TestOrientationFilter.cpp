@@ -385,11 +385,15 @@ TEST_CASE("filter: no gate locks the truth out: a heading 150° off is re-acquir
     INFO("median error 11–13 s " << radToDeg(r.median(11.0, 13.0)) << "°, worst 15–40 s " << radToDeg(r.worst(15.0, 40.0)) << "°");
     CHECK(radToDeg(r.median(11.0, 13.0)) < 5.0);
     CHECK(radToDeg(r.worst(15.0, 40.0)) < 3.0);
-    // The probe: without the rule the same stream stays locked out.
+    // The probe: without the rule the same stream stays off for tens of seconds. (Until issue 36 it
+    // stayed locked out, > 60°; since the estimate averages the field over 6 s, that average
+    // sweeps through the headings between the old field and the new one, and the plain update
+    // follows it slowly: 11° at 30–40 s, against 0.2° with the rule.)
     OrientationFilter::Params noRule = OrientationFilter::defaultParams();
     noRule.disagreementTime = noRule.acquireDisagreementTime = 1e9;
     const SimResult locked = simulate(40.0, q0, rate, zero, smallBias, true, 0.0, 11, noRule, link);
-    CHECK(radToDeg(locked.worst(30.0, 40.0)) > 60.0);
+    INFO("without the rule: worst 30–40 s " << radToDeg(locked.worst(30.0, 40.0)) << "°");
+    CHECK(radToDeg(locked.worst(30.0, 40.0)) > 5.0);
 }
 
 TEST_CASE("filter: heading comes back after a long magnetic disturbance ends", "[fusion][filter][gaps]")
@@ -410,3 +414,4 @@ TEST_CASE("filter: heading comes back after a long magnetic disturbance ends", "
     // the (slow) heading updates, so a few degrees of wander remain while it is learned.
     CHECK(radToDeg(r.median(70.0, 100.0)) < 5.0);
 }
+
