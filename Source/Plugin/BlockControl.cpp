@@ -297,14 +297,6 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
     float* right = buffer.getWritePointer(1);
     int pos = 0;
     while (pos < n) {
-        if (byArrival && samplesToTick_ > 0) {
-            const double next = loop_.nextArrival(stepSource);
-            if (next < wall) {   // arrived within (or before) this block's stretch
-                const int at = juce::jlimit(0, n - 1, static_cast<int>(std::floor((next - blockWall0) * sr)));
-                const int when = std::max({at, pos, pos + minSpacing - samplesSinceStep_});
-                if (when < pos + samplesToTick_) samplesToTick_ = when - pos;   // 0: now
-            }
-        }
         if (samplesToTick_ <= 0) {
             Transport t = transport;
             if (t.valid && t.playing) {
@@ -318,6 +310,17 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
                  byArrival ? blockWall0 + (pos + 1) / sr : std::numeric_limits<double>::infinity());
             samplesToTick_ = samplesPerTick;
             samplesSinceStep_ = 0;
+        }
+        // A live sample waiting steps at its arrival's place when that comes before the grid's
+        // next point (asked after every step: a block may hold several grid points).
+        if (byArrival) {
+            const double next = loop_.nextArrival(stepSource);
+            if (next < wall) {   // arrived within (or before) this block's stretch
+                const int at = juce::jlimit(0, n - 1, static_cast<int>(std::floor((next - blockWall0) * sr)));
+                const int when = std::max({at, pos, pos + minSpacing - samplesSinceStep_});
+                if (when < pos + samplesToTick_) samplesToTick_ = when - pos;
+                if (samplesToTick_ <= 0) continue;   // due now (no step closer than minSpacing, so this ends)
+            }
         }
         const int len = std::min({n - pos, samplesToTick_, kInputScratch});
         notesRunning(pos, len);   // the notes of this stretch, before its input (Scene::processMidi)
