@@ -1,5 +1,5 @@
 #pragma once
-// A UDP port on 127.0.0.1 that is free right now (bound to port 0, read back, closed), for tests
+// A UDP or TCP port on 127.0.0.1 that is free right now (bound to port 0, read back, closed), for tests
 // that start a receiver on a port of their choosing. Another process could take it in between;
 // on a test machine that does not happen in practice.
 #include <arpa/inet.h>
@@ -9,9 +9,10 @@
 
 namespace armadillo::test {
 
-inline int freeUdpPort()
+/// A port of `type` (SOCK_DGRAM, SOCK_STREAM) on 127.0.0.1 that is free right now; 0 if none.
+inline int freeLoopbackPort(int type)
 {
-    const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+    const int fd = ::socket(AF_INET, type, 0);
     if (fd < 0) return 0;
     sockaddr_in a {};
     a.sin_family = AF_INET;
@@ -21,5 +22,9 @@ inline int freeUdpPort()
     ::close(fd);
     return ok ? ntohs(a.sin_port) : 0;
 }
+
+inline int freeUdpPort() { return freeLoopbackPort(SOCK_DGRAM); }
+/// For servers a test starts (mosquitto, gpsd): a TCP port free right now.
+inline int freeTcpPort() { return freeLoopbackPort(SOCK_STREAM); }
 
 } // namespace armadillo::test

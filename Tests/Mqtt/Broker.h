@@ -5,6 +5,7 @@
 // stop() or the destructor. start() returns once the port accepts TCP connections, and can be
 // called again after stop() to restart the broker on the same port (a broker killed mid-session).
 #include "Common/Eventually.h"
+#include "Common/FreePort.h"
 #include "Common/ScratchDir.h"
 #include <arpa/inet.h>
 #include <csignal>
@@ -20,20 +21,6 @@
 extern char** environ;
 
 namespace armadillo::test {
-
-/// A TCP port on 127.0.0.1 that is free right now (bound to port 0, read back, closed).
-inline int freeTcpPort()
-{
-    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-    if (fd < 0) return 0;
-    sockaddr_in a {};
-    a.sin_family = AF_INET;
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    socklen_t len = sizeof a;
-    const bool ok = ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0 && ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len) == 0;
-    ::close(fd);
-    return ok ? ntohs(a.sin_port) : 0;
-}
 
 /// True when something accepts TCP connections on 127.0.0.1:port.
 inline bool tcpAccepts(int port)

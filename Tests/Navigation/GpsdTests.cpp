@@ -44,18 +44,6 @@ test::ScratchDir& scratch()
 }
 std::string path(const std::string& name) { return (scratch().path() / name).string(); }
 
-int freeTcpPort()
-{
-    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in a {};
-    a.sin_family = AF_INET;
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    socklen_t len = sizeof a;
-    const bool ok = ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0 && ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len) == 0;
-    ::close(fd);
-    return ok ? ntohs(a.sin_port) : 0;
-}
-
 bool listening(int port)
 {
     const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
@@ -210,7 +198,7 @@ int run(const std::string& args, std::string& err)
 
 TEST_CASE("gpsd: a gpsd that is not there is an IoError naming host and port; bad endpoints are refused", "[gpsd]")
 {
-    const int port = freeTcpPort();
+    const int port = test::freeTcpPort();
     REQUIRE(port > 0);
     PositionMailbox box;
     try {
@@ -237,7 +225,7 @@ TEST_CASE("gpsd for real: GpsdSource receives the fixes gpsfake replays, then 'n
     const Route route = testRoute();
     Truth truth;
     const std::string nmea = writeWalk(route, path("walk-source.nmea"), truth, 5);
-    const int port = freeTcpPort();
+    const int port = test::freeTcpPort();
     GpsFake fake(nmea, port, 0.05);
     REQUIRE(fake.started());
     REQUIRE(testing::eventually([&] { return listening(port); }, 90.0));   // gpsfake starts gpsd; seconds on a loaded machine
@@ -276,7 +264,7 @@ TEST_CASE("gpsd for real: `armadillo navigate --gpsd --simulate --log` follows t
     const Route route = testRoute();
     Truth truth;
     const std::string nmea = writeWalk(route, path("walk.nmea"), truth);
-    const int port = freeTcpPort();
+    const int port = test::freeTcpPort();
     GpsFake fake(nmea, port, 0.1);   // 0.2 s per epoch: 5× a real walk
     REQUIRE(fake.started());
     REQUIRE(testing::eventually([&] { return listening(port); }, 90.0));   // gpsfake starts gpsd; seconds on a loaded machine
@@ -356,7 +344,7 @@ TEST_CASE("gpsd for real: a receiver without a fix is felt as 'fix lost', never 
         out += nmeaLine(std::string("GPGGA,") + time + ",,,,,0,00,99.9,,M,,M,,");
     }
     writeFileAtomically(path("nofix.nmea"), out);
-    const int port = freeTcpPort();
+    const int port = test::freeTcpPort();
     GpsFake fake(path("nofix.nmea"), port, 0.1);
     REQUIRE(fake.started());
     REQUIRE(testing::eventually([&] { return listening(port); }, 90.0));   // gpsfake starts gpsd; seconds on a loaded machine
