@@ -38,7 +38,7 @@ run_tsan() {
     # setarch -R: TSan's shadow memory needs the address layout without ASLR on recent kernels.
     TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1" \
         setarch "$(uname -m)" -R ctest --test-dir build-tsan --output-on-failure --timeout 1800 -j"$jobs" \
-        -R '^(core|device|live|live_realtime|audio|instruments)$'
+        -R '^(core|link|osc|live|live_realtime|audio|instruments)$'
 }
 
 case "$which" in
