@@ -1,6 +1,7 @@
 // `armadillo play --tactors jack` and `armadillo tactors test` as a user runs them: a JACK server
 // of the test's own (dummy backend, a unique name through JACK_DEFAULT_SERVER), the tactor ports
 // recorded by a JACK client of the test, compared with the tactile CSV of the same run.
+#include "Cli/CliRun.h"
 #include "Common/ScratchDir.h"
 #include "Tactors/JackFixtures.h"
 #include "Tactors/SignalMeasure.h"
@@ -12,7 +13,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <sstream>
-#include <sys/wait.h>
 
 using namespace armadillo;
 
@@ -20,23 +20,10 @@ namespace {
 
 std::string scratch(const std::string& name) { return (test::scratchDir("armadillo-tactors-cli") / name).string(); }
 
-struct Run {
-    int code = -1;
-    std::string out, err;
-};
+using cli::Run;
 
-Run runCli(const std::string& args, double timeout = 60.0)
-{
-    const std::string out = scratch("stdout.txt"), err = scratch("stderr.txt");
-    const std::string cmd = "timeout -s KILL " + std::to_string(timeout) + " '" + std::string(ARMADILLO_BIN) + "' " + args + " >'" + out + "' 2>'" +
-                            err + "' </dev/null";
-    const int status = std::system(cmd.c_str());
-    Run r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = readWholeFile(out);
-    r.err = readWholeFile(err);
-    return r;
-}
+/// The real `armadillo` as a user runs it (Cli/CliRun.h), killed after `timeout` s.
+Run runCli(const std::string& args, double timeout = 60.0) { return cli::runArmadilloWithin(timeout, args); }
 
 /// The CSV's level of motor k at source time s (the row in force), and whether a change of more
 /// than one level (a dither step of one level is within the tolerance) happens within [from, to].
