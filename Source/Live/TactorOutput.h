@@ -68,6 +68,8 @@ public:
     /// "jack: armadillo:tactor_1…tactor_9, 48000 Hz, 256 frames" or "ALSA 'hw:1': 9 channels, …".
     std::string describe() const;
     int channels() const noexcept { return renderer_.channels(); }
+    /// Which motor each channel plays.
+    const tactors::ChannelMap& map() const noexcept { return renderer_.map(); }
     double sampleRate() const noexcept { return sampleRate_; }
     int periodFrames() const noexcept { return periodFrames_; }
     std::uint64_t framesRendered() const noexcept { return frames_.load(std::memory_order_relaxed); }

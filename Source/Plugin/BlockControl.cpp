@@ -3,6 +3,7 @@
 #include <algorithm>
 #include "Core/Clock.h"
 #include "Engine/Engine.h"
+#include "Live/TactorOutput.h"
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -61,7 +62,9 @@ void BlockControl::step(double dt, double wall, bool toMotors, const Transport& 
     if (auto* stimulus = stimulus_.load(std::memory_order_acquire))
         // The sensitivity test or the training has the motors; the roll rate feeds its arm gestures.
         result.levels = stimulus->onPacket(clock_ + dt, result.arm.valid ? result.arm.gyro.x() : std::nan(""));
+    if (auto* bus = tactors_.active()) bus->setLevels(result.levels, dt);   // the Tactors bus (rendered by processBlock)
     if (toMotors) {
+        if (auto* out = tactorOut_.load(std::memory_order_acquire)) out->push(clock_ + dt, result.levels);   // the app's tactor output
         motors_.push(stamp, result.levels);   // full (no link consuming): dropped and counted
         lastStamp_ = stamp;
         motorsOff_ = false;
@@ -265,6 +268,16 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
     }
 
     const double sr = sampleRate_.load(std::memory_order_relaxed);
+    // The Tactors bus: a renderer offered since the last block first; the bus's channels, when
+    // the host's buffer holds them all.
+    tactors_.takeOffered([](tactors::TactorRenderer*) {});
+    tactors::TactorRenderer* const tactorBus = tactors_.active();
+    int busCount = std::clamp(listen.tactorCount, 0, tactors::kMaxChannels);
+    for (int c = 0; c < busCount; ++c) {
+        const int channel = listen.tactorChannel[static_cast<std::size_t>(c)];
+        if (channel < 2 || channel >= buffer.getNumChannels()) busCount = 0;   // not all in the buffer: none
+    }
+    const int busRendered = tactorBus != nullptr ? std::min(tactorBus->channels(), busCount) : 0;
     Transport transport;
     if (playHead != nullptr) {
         if (const auto pos = playHead->getPosition()) {
@@ -359,11 +372,20 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
             juce::FloatVectorOperations::add(left + pos, through_[0].data(), len);
             juce::FloatVectorOperations::add(right + pos, through_[throughCount > 1 ? 1 : 0].data(), len);
         }
+        if (busCount > 0) {   // after this stretch's input was read: the bus may share its channels
+            std::array<float*, tactors::kMaxChannels> channels {};
+            for (int c = 0; c < busCount; ++c)
+                channels[static_cast<std::size_t>(c)] = buffer.getWritePointer(listen.tactorChannel[static_cast<std::size_t>(c)]) + pos;
+            if (busRendered > 0) tactorBus->render(channels.data(), len);
+            for (int c = busRendered; c < busCount; ++c) juce::FloatVectorOperations::clear(channels[static_cast<std::size_t>(c)], len);
+        }
         pos += len;
         samplesToTick_ -= len;
         samplesSinceStep_ += len;
     }
-    for (int c = 2; c < buffer.getNumChannels(); ++c) buffer.clear(c, 0, n);   // sidechain / extra inputs
+    for (int c = 2; c < buffer.getNumChannels(); ++c)   // sidechain / extra inputs; not the Tactors bus
+        if (std::find(listen.tactorChannel.begin(), listen.tactorChannel.begin() + busCount, c) == listen.tactorChannel.begin() + busCount)
+            buffer.clear(c, 0, n);
     // Note-offs due before the block's end that no step reached (a gesture note's 50 ms).
     mapper_.flush(blockStart + (n - 0.5) / sr, mapOut_);
     deliver(&midi, blockStart, n);

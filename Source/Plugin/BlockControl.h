@@ -13,6 +13,7 @@
 //    (Tests/Plugin and Tests/Live/RealtimeLoopTests.cpp hold it to that).
 //  - prepare(): message thread, with the token held by the caller.
 //  - the accessors below: any thread (atomics, a seqlock, one SPSC queue for one consumer).
+#include "Core/Handover.h"
 #include "Core/SpscQueue.h"
 #include "Engine/PanicGesture.h"
 #include "Link/LevelSchedule.h"
@@ -25,6 +26,7 @@
 #include "Plugin/OscLink.h"
 #include "Plugin/Parameters.h"
 #include "Plugin/Stage.h"
+#include "Tactors/TactorRenderer.h"
 #include <juce_audio_processors/juce_audio_processors.h>
 #include <array>
 #include <atomic>
@@ -33,6 +35,9 @@
 
 namespace armadillo::access {
 class TactilePlayer;
+}
+namespace armadillo::live {
+class TactorOutput;
 }
 
 namespace armadillo::plugin {
@@ -71,6 +76,20 @@ public:
     /// scene's; nullptr gives the motors back to the scene. Any thread; the player must outlive
     /// this object (the processor owns both).
     void setStimulus(access::TactilePlayer* player) noexcept { stimulus_.store(player, std::memory_order_release); }
+    /// The Tactors bus's renderer (issue 33): every control step's levels (the scene's, or a
+    /// stimulus's) go to it with the step's dt, and processBlock renders it into the bus's
+    /// channels segment by segment, so a level change starts at its step's sample. It renders in
+    /// offline (non-real-time) renders too: a bounce records the tactile track.
+    /// installTactors: the token held (prepareToPlay), null = none. offerTactors: any time from
+    /// the message thread (false, `next` untouched, while an earlier one is in flight: retry);
+    /// collectTactors deletes the one the audio thread gave up, on the message thread.
+    void installTactors(std::unique_ptr<tactors::TactorRenderer> renderer) noexcept { tactors_.replace(std::move(renderer)); }
+    bool offerTactors(std::unique_ptr<tactors::TactorRenderer>& next) noexcept { return tactors_.offer(next); }
+    void collectTactors() noexcept { tactors_.collect(); }
+    /// The standalone app's tactor output on a sound card or JACK (Live/TactorOutput.h): each
+    /// step whose levels reach the motors is pushed to it too (its SPSC queue). Any thread; null
+    /// = none. Before deleting an output set here, set null and take the token once.
+    void setTactorOutput(live::TactorOutput* output) noexcept { tactorOut_.store(output, std::memory_order_release); }
     /// Which channels of the host's buffer carry the audio the scenes listen to (the main input
     /// or the sidechain), and whether it is played through to the output (the main input: an
     /// effect that listens must not mute its track).
@@ -93,6 +112,11 @@ public:
         int through = 0;        ///< main-input channels (from channel 0) played through to the output
         std::array<Bus, kMaxStems> stems {};
         int stemCount = 0;      ///< stems in use, stems[0 .. stemCount)
+        /// The VST3's Tactors output bus (issue 33, docs/TACTORS.md): how many tactor channels it
+        /// has (0: disabled) and where tactor channel k sits in the host's buffer. The renderer
+        /// installed with installTactors() writes them; channels it does not fill are silent.
+        int tactorCount = 0;
+        std::array<int, tactors::kMaxChannels> tactorChannel {};
     };
     /// Audio thread: the whole block. `playHead` may be null; `offline` is the host's
     /// non-realtime render (its blocks do not reach the motors: they get all-off).
@@ -188,6 +212,8 @@ private:
     std::atomic<double> lastAudioMs_ {-1.0e9};
     std::atomic<bool> idleDrivesMotors_ {false};
     std::atomic<access::TactilePlayer*> stimulus_ {nullptr};
+    Handover<tactors::TactorRenderer> tactors_;
+    std::atomic<live::TactorOutput*> tactorOut_ {nullptr};
 
     // Token holder only.
     double clock_ = 0.0;              ///< s since start, advanced by dt per step

@@ -39,7 +39,12 @@ std::unique_ptr<live::EngineSlot> EngineHandover::build(const EngineRequest& req
     // resourceDir stays empty: scores and word lists come from the user's folders or the copy
     // built into the core (Core/Resources.h), never from a path of the build machine.
     try {
-        slot->engine = std::make_unique<Engine>(config);
+        if (request.route != nullptr && request.navigation != nullptr) {   // a walk: the navigation scene
+            config.scene = "navigation";
+            slot->engine = std::make_unique<Engine>(config, nav::makeNavigationScene(*request.route, request.navigation));
+        } else {
+            slot->engine = std::make_unique<Engine>(config);
+        }
         status_({});   // the scene starts: an earlier "cannot start" no longer holds
     } catch (const std::exception& e) {
         status_("Scene \"" + juce::String(config.scene) + "\" cannot start (" + juce::String(e.what())

@@ -8,6 +8,7 @@
 // start of a control step (ControlLoop::tick). install() replaces the engine outright and needs
 // the control token (the caller proves the control side is not running).
 #include "Live/ControlLoop.h"
+#include "Navigation/NavigationScene.h"
 #include "Plugin/ControlToken.h"
 #include "Plugin/Parameters.h"
 #include <juce_audio_processors/juce_audio_processors.h>
@@ -35,6 +36,10 @@ struct EngineRequest {
     /// Counts the states loaded (setStateInformation): a session reopened starts from a fresh
     /// engine and arm, not from what the instance played before its state came (issue 32).
     std::uint64_t session = 0;
+    /// A walk in the app (NavigationRig.h, issue 34): while both are set, the engine runs the
+    /// navigation scene for this route and link instead of `scene` (compared by identity).
+    std::shared_ptr<const nav::Route> route;
+    std::shared_ptr<nav::NavigationLink> navigation;
     bool operator==(const EngineRequest&) const = default;
 };
 

@@ -5,6 +5,8 @@
 #include "Plugin/PluginProcessor.h"
 #include "Plugin/StandaloneAccess.h"
 #include "Plugin/ReaderPanel.h"
+#include "Plugin/TactorsPanel.h"
+#include "Plugin/NavigationPanel.h"
 #include "Core/Resources.h"
 #include "Core/Version.h"
 
@@ -184,6 +186,8 @@ ArmadilloEditor::~ArmadilloEditor()
     if (mappingWindow_ != nullptr) delete mappingWindow_.getComponent();   // its panel uses the processor
     juce::Desktop::getInstance().removeFocusChangeListener(this);
     if (readerWindow_ != nullptr) delete readerWindow_.getComponent();
+    if (tactorsWindow_ != nullptr) delete tactorsWindow_.getComponent();
+    if (navigationWindow_ != nullptr) delete navigationWindow_.getComponent();
     sourceAttachment_.reset();
     sceneAttachment_.reset();
 }
@@ -248,13 +252,52 @@ void ArmadilloEditor::chooseSetList()
     });
 }
 
+void ArmadilloEditor::showTactors()
+{
+    if (tactorsWindow_ != nullptr) {
+        tactorsWindow_->toFront(true);
+        return;
+    }
+    juce::DialogWindow::LaunchOptions o;
+    auto panel = std::make_unique<TactorsPanel>(processor_);
+    panel->setSize(640, 380);
+    o.content.setOwned(panel.release());
+    o.dialogTitle = "ARMadillo tactors";
+    o.resizable = true;
+    o.useNativeTitleBar = true;
+    o.escapeKeyTriggersCloseButton = true;
+    tactorsWindow_ = o.launchAsync();
+}
+
+void ArmadilloEditor::showNavigation()
+{
+    if (navigationWindow_ != nullptr) {
+        navigationWindow_->toFront(true);
+        return;
+    }
+    juce::DialogWindow::LaunchOptions o;
+    auto panel = std::make_unique<NavigationPanel>(processor_);
+    panel->setSize(640, 460);
+    o.content.setOwned(panel.release());
+    o.dialogTitle = "ARMadillo navigation";
+    o.resizable = true;
+    o.useNativeTitleBar = true;
+    o.escapeKeyTriggersCloseButton = true;
+    navigationWindow_ = o.launchAsync();
+}
+
 void ArmadilloEditor::showSetupMenu()
 {
     juce::PopupMenu menu;
     menu.addItem(1, "Save setup...");
     menu.addItem(2, "Load setup...");
+    menu.addSeparator();
+    menu.addItem(3, "Tactors...");
+    menu.addItem(4, "Navigation...");
     menu.showMenuAsync(juce::PopupMenu::Options().withTargetComponent(&setup_), [this](int choice) {
-        if (choice == 0) return;
+        if (choice == 3) showTactors();
+        if (choice == 4) showNavigation();
+        if (choice != 1 && choice != 2) return;
         const bool save = choice == 1;
         const auto folder = setupFolder();
         chooser_ = std::make_unique<juce::FileChooser>(save ? "Save the setup as" : "Load a setup",

@@ -63,6 +63,10 @@ private:
     juce::Component::SafePointer<juce::DialogWindow> mappingWindow_;
     juce::TextButton readerButton_ {"Reader..."};                // ReaderPanel in its own window (issue 26)
     juce::Component::SafePointer<juce::DialogWindow> readerWindow_;
+    juce::Component::SafePointer<juce::DialogWindow> tactorsWindow_;   // TactorsPanel (issue 33)
+    void showTactors();
+    juce::Component::SafePointer<juce::DialogWindow> navigationWindow_;   // NavigationPanel (issue 34)
+    void showNavigation();
     std::unique_ptr<juce::FileChooser> chooser_;
     std::unique_ptr<juce::AudioProcessorValueTreeState::ComboBoxAttachment> sourceAttachment_, sceneAttachment_;
     ArmView armView_;

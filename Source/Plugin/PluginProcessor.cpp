@@ -3,6 +3,7 @@
 #include "Access/Feedback.h"
 #include "Plugin/FactoryPresets.h"
 #include "Plugin/PluginEditor.h"
+#include "Plugin/TactorBusLayout.h"
 #include <algorithm>
 #include <iostream>
 #include <utility>
@@ -36,8 +37,10 @@ juce::AudioProcessor::BusesProperties ArmadilloProcessor::busesFor(juce::AudioPr
     auto buses = juce::AudioProcessor::BusesProperties()
                      .withInput("Input", juce::AudioChannelSet::stereo(), true)
                      .withOutput("Output", juce::AudioChannelSet::stereo(), true);
-    if (wrapper == wrapperType_VST3)
+    if (wrapper == wrapperType_VST3) {
         for (const char* name : kStemBuses) buses = buses.withInput(name, juce::AudioChannelSet::stereo(), false);
+        buses = buses.withOutput(kTactorBus, tactorbus::layoutFor(kGridMotors), false);
+    }
     return buses;
 }
 
@@ -107,7 +110,13 @@ bool ArmadilloProcessor::isBusesLayoutSupported(const BusesLayout& layouts) cons
     const auto inputOk = [](const juce::AudioChannelSet& set) {
         return set.isDisabled() || set == juce::AudioChannelSet::mono() || set == juce::AudioChannelSet::stereo();
     };
-    if (layouts.getMainOutputChannelSet() != juce::AudioChannelSet::stereo() || layouts.outputBuses.size() != 1) return false;
+    if (layouts.getMainOutputChannelSet() != juce::AudioChannelSet::stereo() || layouts.outputBuses.size() > 2) return false;
+    // The Tactors bus: disabled, or one channel per motor (9, or 12 with the back motors), in
+    // the layouts of TactorBusLayout.h.
+    if (layouts.outputBuses.size() == 2) {
+        const auto& tactors = layouts.outputBuses.getReference(1);
+        if (! tactors.isDisabled() && ! tactorbus::isTactorLayout(tactors)) return false;
+    }
     // The main input and every sidechain (stem) bus: enabled (mono or stereo) or disabled.
     return std::all_of(layouts.inputBuses.begin(), layouts.inputBuses.end(), inputOk);
 }
@@ -130,6 +139,8 @@ EngineRequest ArmadilloProcessor::currentRequest() const
     r.touchProfile = settings_[SettingIds::touchProfile].toString().toStdString();
     r.twoArms = static_cast<bool>(settings_[SettingIds::leftArmOsc]);   // every scene hears the left arm too
     r.session = statesLoaded_.load(std::memory_order_relaxed);
+    r.route = navigation_.route();       // a walk runs the navigation scene instead
+    r.navigation = navigation_.link();
     const auto& scenes = sceneTable_.scenes;
     if (r.scene >= 0 && r.scene < static_cast<int>(scenes.size()) && scenes[static_cast<std::size_t>(r.scene)].scene == "audio-touch") {
         std::lock_guard<std::mutex> lock(stemsMutex_);
@@ -163,6 +174,13 @@ void ArmadilloProcessor::prepareToPlay(double sampleRate, int)
         std::lock_guard<std::mutex> lock(stemsMutex_);
         stems_ = std::move(stems);
     }
+    // The Tactors bus (VST3 output bus 1) when the host enabled it.
+    if (const auto* bus = getBus(false, 1); bus != nullptr && bus->isEnabled() && tactorbus::isTactorLayout(bus->getCurrentLayout())) {
+        listen.tactorCount = bus->getNumberOfChannels();
+        for (int k = 0; k < listen.tactorCount; ++k)
+            listen.tactorChannel[static_cast<std::size_t>(k)] =
+                bus->getChannelIndexInProcessBlockBuffer(tactorbus::juceIndexOfTactor(bus->getCurrentLayout(), k));
+    }
     listen_ = listen;
     engines_.install(currentRequest(), token_);
     // A set list prepared for another sample rate is built again for this one (audio is stopped).
@@ -190,7 +208,9 @@ void ArmadilloProcessor::prepareToPlay(double sampleRate, int)
         stage_.replace(std::move(cues));
     }
     control_.prepare(sampleRate_.load());
+    const auto tactorWhy = tactorRig_.prepareBus(settings_, listen.tactorCount, motorCount(), sampleRate_.load());
     token_.release();
+    if (tactorWhy.isNotEmpty()) setStatus(tactorWhy);
 }
 
 void ArmadilloProcessor::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi)
@@ -292,6 +312,7 @@ void ArmadilloProcessor::timerCallback()
 {
     applyRequestedProgram();
     stageTick();
+    tactorRig_.tick();
     if (const auto failure = engines_.takeNewFailure(); failure.isNotEmpty()) setEngineStatus(failure);
     training_.collect();   // keeps a braille training log's queue drained while no panel asks for it
     if (feedbackUntil_ > 0 && feedbackPlayer_.completed() >= feedbackUntil_) {
@@ -413,6 +434,12 @@ void ArmadilloProcessor::valueTreePropertyChanged(juce::ValueTree&, const juce::
         stage_.setCueNotes(static_cast<int>(settings_[SettingIds::cueNextNote]), static_cast<int>(settings_[SettingIds::cuePrevNote]));
     } else if (id == SettingIds::panicGesture) {
         stage_.setPanicGesture(static_cast<bool>(settings_[SettingIds::panicGesture]));
+    } else if (id == SettingIds::tactorModel || id == SettingIds::tactorMap || id == SettingIds::tactorGains || id == SettingIds::backMotors
+               || ((id == SettingIds::tactorDevice || id == SettingIds::tactorConnect) && tactorRig_.outputOpen())) {
+        if (const auto why = tactorRig_.settingsChanged(settings_, motorCount()); why.isNotEmpty()) setStatus(why);
+    } else if (id == SettingIds::tactorOutput) {
+        if (static_cast<bool>(settings_[SettingIds::tactorOutput]) != tactorRig_.outputOpen())
+            if (const auto why = setTactorOutput(static_cast<bool>(settings_[SettingIds::tactorOutput])); why.isNotEmpty()) setStatus(why);
     } else if (id == SettingIds::readerVoice || id == SettingIds::speechRate) {
         applyVoiceSettings();
     } else if (id == SettingIds::oscOutEnabled || id == SettingIds::oscOutHost || id == SettingIds::oscOutPort
@@ -508,6 +535,52 @@ void ArmadilloProcessor::endTouchTest(bool keep)
         settings_.setProperty(SettingIds::touchProfile, juce::String(device::touchProfileToJson(profile)), nullptr);
     }
     touchTest_.cancel();
+}
+
+juce::String ArmadilloProcessor::startNavigation(const juce::File& route, NavigationRig::Source source, const juce::String& where)
+{
+    const auto why = navigation_.start(route, source, where);
+    engines_.update(currentRequest());   // the navigation scene is offered now (or the chosen scene again)
+    return why;
+}
+
+void ArmadilloProcessor::stopNavigation()
+{
+    navigation_.stop();
+    engines_.update(currentRequest());
+}
+
+int ArmadilloProcessor::motorCount() const
+{
+    return static_cast<bool>(settings_[SettingIds::backMotors]) ? kGridMotors + kBackMotors : kGridMotors;
+}
+
+juce::String ArmadilloProcessor::setTactorOutput(bool on)
+{
+    juce::String why;
+    if (on && wrapperType != wrapperType_Standalone) why = "Tactors: in a host, route the Tactors output bus instead";
+    else if (on) why = tactorRig_.openOutput(settings_, motorCount());
+    else tactorRig_.closeOutput();
+    settings_.setProperty(SettingIds::tactorOutput, tactorRig_.outputOpen(), nullptr);   // off again when it failed
+    return why;
+}
+
+juce::String ArmadilloProcessor::testTactorChannel(int channel)
+{
+    const int motor = tactorRig_.motorOfChannel(channel);
+    if (motor < 0 || motor >= motorCount()) return "Tactor channel " + juce::String(channel + 1) + " is silent in the map";
+    if (motor >= kGridMotors) return "The back motors (m10 to m12) are tested with: armadillo tactors test --back-motors";
+    if (touchTest_.state() != TouchTestSession::State::Idle || adaptive_.state() != AdaptiveSession::State::Idle)
+        return "The sensitivity test or the training has the motors: end it first";
+    fitToReader(feedbackPlayer_, settings_);
+    access::TactileSegment buzz;
+    buzz.duration = 0.5;
+    buzz.motors = static_cast<std::uint16_t>(1u << motor);
+    buzz.level = 8.0f;
+    feedbackUntil_ = feedbackPlayer_.play({buzz}, 0.1);
+    feedbackRestart_ = false;
+    control_.setStimulus(&feedbackPlayer_);
+    return {};
 }
 
 void ArmadilloProcessor::armFeedback(bool right, const std::string& expected)

@@ -21,6 +21,8 @@
 #include "Plugin/Parameters.h"
 #include "Plugin/PluginState.h"
 #include "Plugin/Stage.h"
+#include "Plugin/TactorRig.h"
+#include "Plugin/NavigationRig.h"
 #include "Live/StageControl.h"
 #include "Plugin/ReaderVoice.h"
 #include "Plugin/AdaptiveSession.h"
@@ -223,6 +225,26 @@ public:
     /// until the host routes them): each is a stem of audio-touch with the scene's preset of the
     /// same name in lower case (docs/PLUGIN.md "Stems"; INTERFACES.md "Plugin buses").
     static constexpr std::array<const char*, BlockControl::kMaxStems> kStemBuses {"Drums", "Bass", "Other", "Vocals"};
+    /// The VST3's Tactors output bus (issue 33, docs/TACTORS.md; INTERFACES.md "Plugin buses"):
+    /// output bus 1, 9 channels (or 12 with the back motors), disabled until the host enables
+    /// it; channel k carries motor k as the tactor renderer draws it (SettingIds::tactor*).
+    static constexpr const char* kTactorBus = "Tactors";
+
+    /// The tactor rig (TactorRig.h; message thread): the Tactors bus and the app's tactor output.
+    TactorRig& tactorRig() noexcept { return tactorRig_; }
+    /// The app's tactor output on or off (the tactorOutput setting follows): "" or why not.
+    juce::String setTactorOutput(bool on);
+    /// Buzzes the motor of tactor channel `channel` (0-based) at level 8 for 0.5 s through the
+    /// whole rig (serial device, tactor output, Tactors bus), as `armadillo tactors test` does:
+    /// "" or why not (a silent channel, the sensitivity test or the training holding the motors).
+    juce::String testTactorChannel(int channel);
+    int motorCount() const;
+
+    /// Navigation (NavigationRig.h, issue 34; message thread): a walk along a route, positions
+    /// from gpsd or OSC, the navigation scene in place of the chosen one until it stops.
+    juce::String startNavigation(const juce::File& route, NavigationRig::Source source, const juce::String& where);
+    void stopNavigation();
+    const NavigationRig& navigation() const noexcept { return navigation_; }
 
 private:
     static BusesProperties busesFor(WrapperType wrapper);
@@ -269,6 +291,8 @@ private:
     bool feedbackRestart_ = false;               // then the braille trial starts again from its first row
     BlockControl control_;
     Connections connections_;
+    TactorRig tactorRig_ {control_, token_};
+    NavigationRig navigation_;                   // its route and link ride in the engine request     // after connections_: goes first (its output's pointer out of the step)
     std::mutex mappingMutex_;                    // message thread vs a host's state calls; never audio
     MappingSession mapping_;
     std::unique_ptr<ReaderVoice> voice_ = std::make_unique<ReaderVoice>();

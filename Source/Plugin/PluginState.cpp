@@ -2,6 +2,7 @@
 #include "Core/Version.h"
 #include "Link/TouchProfile.h"
 #include "Plugin/AdaptiveSession.h"
+#include "Tactors/TactorRenderer.h"
 #include <cmath>
 #include <limits>
 
@@ -47,6 +48,12 @@ juce::ValueTree defaultSettings()
     s.setProperty(SettingIds::adaptiveMethod, "rows", nullptr);
     s.setProperty(SettingIds::adaptiveLevel, 8, nullptr);
     s.setProperty(SettingIds::readerProfile, "", nullptr);
+    s.setProperty(SettingIds::tactorModel, "erm", nullptr);
+    s.setProperty(SettingIds::tactorMap, "", nullptr);
+    s.setProperty(SettingIds::tactorGains, "", nullptr);
+    s.setProperty(SettingIds::tactorOutput, false, nullptr);
+    s.setProperty(SettingIds::tactorDevice, "", nullptr);
+    s.setProperty(SettingIds::tactorConnect, "", nullptr);
     return s;
 }
 
@@ -78,6 +85,8 @@ void installSettings(juce::ValueTree& settings, const juce::ValueTree& loaded)
     clampInt(SettingIds::editorHeight, 300, 8000, 700);
     if (settings[SettingIds::armSide].toString() != "left") settings.setProperty(SettingIds::armSide, "right", nullptr);
     if (settings[SettingIds::score].toString().isEmpty()) settings.setProperty(SettingIds::score, "rite-of-spring", nullptr);
+    if (tactors::TactorModel m; ! tactors::parseModel(settings[SettingIds::tactorModel].toString().toStdString(), m))
+        settings.setProperty(SettingIds::tactorModel, "erm", nullptr);
     clampInt(SettingIds::speechRate, -100, 100, 0);
     clampInt(SettingIds::cueNextNote, -1, 127, 0);
     clampInt(SettingIds::cuePrevNote, -1, 127, 1);

@@ -50,6 +50,13 @@ inline const juce::Identifier adaptiveStages {"adaptiveStages"};   ///< comma li
 inline const juce::Identifier adaptiveMethod {"adaptiveMethod"};   ///< rows | whole | columns | dots
 inline const juce::Identifier adaptiveLevel {"adaptiveLevel"};     ///< 1..15 (8)
 inline const juce::Identifier readerProfile {"readerProfile"};     ///< the reader profile file (Access/ReaderProfile.h), "" = none
+// The tactor rig (issue 33, docs/TACTORS.md): the plugin's Tactors bus and the app's tactor output
+inline const juce::Identifier tactorModel {"tactorModel"};     ///< "erm" | "lra" | "voice-coil"
+inline const juce::Identifier tactorMap {"tactorMap"};         ///< the channel map's text ("" = channel k plays motor k)
+inline const juce::Identifier tactorGains {"tactorGains"};     ///< a gain file's path ("" = none)
+inline const juce::Identifier tactorOutput {"tactorOutput"};   ///< bool: the app's tactor output on
+inline const juce::Identifier tactorDevice {"tactorDevice"};   ///< the app's: "jack" or an ALSA PCM ("hw:UMC1820")
+inline const juce::Identifier tactorConnect {"tactorConnect"}; ///< the app's, JACK: connect tactor_k to ports matching this
 } // namespace SettingIds
 
 namespace PluginState {

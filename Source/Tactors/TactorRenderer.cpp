@@ -306,4 +306,20 @@ AudioBuffer renderTactileRows(const std::vector<TactileRow>& rows, TactorRendere
     return out;
 }
 
+TactorSetup resolveTactorSetup(std::string_view model, std::string_view mapText, const std::string& gainFile, int motors, int channels)
+{
+    TactorSetup s;
+    if (!parseModel(model, s.params.model))
+        throw InputError("tactor model", 0, "", "unknown model '" + std::string(model) + "' (one of " + kModelNames + ")");
+    s.map = mapText.empty() ? ChannelMap::identity(channels > 0 ? std::min(motors, channels) : motors) : parseChannelMap(mapText, motors);
+    if (channels > 0 && s.map.channels > channels)
+        throw InputError("--tactor-map", 0, "",
+                         "the map has " + std::to_string(s.map.channels) + " channels but the output " + std::to_string(channels));
+    if (!gainFile.empty()) s.gains = loadTactorGains(gainFile);
+    if (s.gains.count > s.map.channels)
+        throw InputError(s.gains.source, 0, "gain",
+                         "the file gives " + std::to_string(s.gains.count) + " gains but the map has " + std::to_string(s.map.channels) + " channels");
+    return s;
+}
+
 } // namespace armadillo::tactors

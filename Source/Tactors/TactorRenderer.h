@@ -86,6 +86,20 @@ TactorGains parseTactorGains(std::string_view json, const std::string& source);
 /// Reads and parses a gain file; IoError when it cannot be read.
 TactorGains loadTactorGains(const std::string& path);
 
+/// A rig as the app and the plugin keep it (docs/TACTORS.md): the model's name, the channel map's
+/// text ("" = channel k plays motor k) and a gain file ("" = none), resolved for `motors` motors
+/// (9, or 12 with the back motors) and at most `channels` output channels (0 = no limit). The
+/// command line builds the same three from its options (Cli/TactorOptions.cpp).
+struct TactorSetup {
+    TactorParams params {};
+    ChannelMap map {};
+    TactorGains gains {};
+};
+/// InputError naming what is wrong (an unknown model, a bad map, more map channels than
+/// `channels`, a gain file out of range or naming more channels than the map); IoError when the
+/// gain file cannot be read.
+TactorSetup resolveTactorSetup(std::string_view model, std::string_view mapText, const std::string& gainFile, int motors, int channels);
+
 class TactorRenderer {
 public:
     /// Not real-time: checks the settings (InputError), sizes the guard, clears all state.

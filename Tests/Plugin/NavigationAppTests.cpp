@@ -1,0 +1,135 @@
+// Issue 34 in the app: the Navigation window runs the navigation scene (Source/Navigation, the one
+// `armadillo navigate` runs) in place of the chosen scene, fed by positions over OSC on a real
+// UDP port, and shows and says the next waypoint, its distance and bearing. The processor runs as
+// the standalone app's does (blocks from the "sound card", the message thread's timer).
+#include <catch2/catch.hpp>
+
+#include "Navigation/Geodesy.h"
+#include "Navigation/Route.h"
+#include "Osc/Osc.h"
+#include "Plugin/NavigationPanel.h"
+#include "Plugin/PluginProcessor.h"
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+namespace juce {
+bool dispatchNextMessageOnSystemQueue(bool returnIfNoPendingMessages);   // juce_linux_Messaging.cpp
+}
+
+using namespace armadillo;
+using namespace armadillo::plugin;
+
+namespace {
+
+/// Runs the message loop (timers, async updates) for `ms`.
+void pumpMessages(double ms)
+{
+    const double end = juce::Time::getMillisecondCounterHiRes() + ms;
+    while (juce::Time::getMillisecondCounterHiRes() < end)
+        if (! juce::dispatchNextMessageOnSystemQueue(true)) juce::Thread::sleep(1);
+}
+
+/// A UDP port nobody listens on now (bound to 0, read back, closed).
+int freeUdpPort()
+{
+    const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+    REQUIRE(fd >= 0);
+    sockaddr_in a {};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    REQUIRE(::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0);
+    socklen_t len = sizeof a;
+    REQUIRE(::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len) == 0);
+    ::close(fd);
+    return ntohs(a.sin_port);
+}
+
+void sendPosition(int port, double lat, double lon)
+{
+    const auto packet = device::encodeOscMessage("/armadillo/position", {device::OscArg::float64(lat), device::OscArg::float64(lon),
+                                                                         device::OscArg::float64(4.0)});
+    const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+    REQUIRE(fd >= 0);
+    sockaddr_in a {};
+    a.sin_family = AF_INET;
+    a.sin_port = htons(static_cast<std::uint16_t>(port));
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    CHECK(::sendto(fd, packet.data(), packet.size(), 0, reinterpret_cast<sockaddr*>(&a), sizeof a) == static_cast<ssize_t>(packet.size()));
+    ::close(fd);
+}
+
+} // namespace
+
+TEST_CASE("app: the Navigation window walks a route from OSC positions; name, distance and bearing shown and said", "[plugin][navigation]")
+{
+    const auto dir = juce::File::createTempFile("armadillo-nav");
+    REQUIRE(dir.createDirectory());
+    const auto routeFile = dir.getChildFile("walk.json");
+    REQUIRE(routeFile.replaceWithText(R"({"name": "Test walk", "waypoints": [
+        {"lat": 48.1492, "lon": 11.5678, "name": "Start"},
+        {"lat": 48.1497396, "lon": 11.5678, "name": "Entrance"},
+        {"lat": 48.1499644, "lon": 11.568474, "name": "Lobby"}]})"));
+
+    ArmadilloProcessor processor;
+    processor.prepareToPlay(48000.0, 480);
+    NavigationPanel panel(processor);
+    panel.setSize(640, 460);
+    CHECK(panel.waypointLabel().getText() == "Not walking");
+
+    // A bad route and a bad port: said, nothing started.
+    const auto bad = dir.getChildFile("bad.json");
+    REQUIRE(bad.replaceWithText("[{\"lat\": 95, \"lon\": 0}, {\"lat\": 1, \"lon\": 1}]"));
+    auto why = processor.startNavigation(bad, NavigationRig::Source::Osc, "9004");
+    CHECK(why.contains("bad.json"));
+    CHECK_FALSE(processor.navigation().running());
+    why = processor.startNavigation(routeFile, NavigationRig::Source::Osc, "0");
+    CHECK(why.isNotEmpty());
+    CHECK_FALSE(processor.navigation().running());
+    // gpsd that is not there: refused, naming where it looked.
+    const int nobody = freeUdpPort();
+    why = processor.startNavigation(routeFile, NavigationRig::Source::Gpsd, "127.0.0.1:" + juce::String(nobody));
+    CHECK(why.contains(juce::String(nobody)));
+    CHECK_FALSE(processor.navigation().running());
+
+    const int port = freeUdpPort();
+    why = processor.startNavigation(routeFile, NavigationRig::Source::Osc, juce::String(port));
+    INFO(why);
+    REQUIRE(why.isEmpty());
+    REQUIRE(processor.navigation().running());
+
+    // 30 m south of the Entrance, standing.
+    const nav::LatLon here {48.1494696, 11.5678};
+    const nav::LatLon entrance {48.1497396, 11.5678};
+    juce::AudioBuffer<float> buffer(2, 480);
+    juce::MidiBuffer midi;
+    nav::NavigationStatus s;
+    for (int i = 0; i < 400 && (s.waypoint == 0 || s.fix != nav::FixState::Ok); ++i) {
+        if (i % 20 == 0) sendPosition(port, here.lat, here.lon);
+        buffer.clear();
+        processor.processBlock(buffer, midi);   // the control step runs the navigation scene
+        midi.clear();
+        pumpMessages(2);   // the timer offers the engine
+        s = processor.navigation().status();
+    }
+    REQUIRE(s.waypoint == 2);   // the first point is the start: guidance goes to the Entrance
+    REQUIRE(s.fix == nav::FixState::Ok);
+    CHECK(juce::String(s.name) == "Entrance");
+    CHECK(s.distanceM == Approx(nav::distanceM(here, entrance)).margin(2.0));
+    CHECK(s.bearingDeg == Approx(0.0).margin(2.0));
+    pumpMessages(300);   // the panel's timer
+    CHECK(panel.waypointLabel().getText() == "Entrance");
+    CHECK(panel.distanceLabel().getText() == juce::String(juce::roundToInt(s.distanceM)) + " m");
+    CHECK(panel.bearingLabel().getText().contains("north"));
+    const auto said = panel.spokenStatus();
+    CHECK(said.contains("Waypoint 2 of 3, Entrance"));
+    CHECK(said.contains("bearing"));
+
+    processor.stopNavigation();
+    CHECK_FALSE(processor.navigation().running());
+    pumpMessages(300);
+    CHECK(panel.waypointLabel().getText() == "Not walking");
+    processor.releaseResources();
+    dir.deleteRecursively();
+}
