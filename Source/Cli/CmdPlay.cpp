@@ -299,6 +299,8 @@ int runPlay(const Arguments& args)
                 // The motor grid live as audio (docs/TACTORS.md), beside the device.
                 const auto tactorOptions = tactorOptionSpecs(true);
                 o.insert(o.end(), tactorOptions.begin(), tactorOptions.end());
+                o.push_back({"--back-motors", "", "drive the three back motors 10..12 as well: in the tactile CSV, OSC out and the tactor\n"
+                                                  "output (the thesis's serial packet carries motors 1..9)"});
                 for (const auto& specs : {mqttBrokerOptionSpecs(), mqttMessageOptionSpecs()}) o.insert(o.end(), specs.begin(), specs.end());
                 // Speech and a braille display for the training's prompts and the link's state.
                 const auto io = readerIoOptionSpecs();
@@ -370,6 +372,7 @@ int runPlay(const Arguments& args)
         } else {
             readSceneOptions(cl, engine);
         }
+        engine.motorCount = cl.has("--back-motors") ? kGridMotors + kBackMotors : kGridMotors;
 
         const double seconds = cl.number("--seconds", -1.0);
         if (cl.has("--seconds") && !(seconds > 0.0 && seconds <= 7 * 24 * 3600.0))

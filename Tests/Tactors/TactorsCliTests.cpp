@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <filesystem>
 #include <sstream>
 
@@ -249,4 +250,25 @@ TEST_CASE("tactors cli: tactors test buzzes each channel in turn and names it", 
     REQUIRE(firstOn[2] > firstOn[0]);
     REQUIRE(firstOn[3] > firstOn[2]);
     CHECK(firstOn[2] - firstOn[0] == Approx(0.3).margin(0.03));   // on + gap (the silent channel takes no time)
+}
+
+TEST_CASE("tactors cli: play --back-motors lets the map name motors 10..12 and logs them", "[tactors][cli][back]")
+{
+    const std::string csv = scratch("T-back.csv");
+    std::filesystem::remove(csv);
+    const std::string base = "play --simulate --scene theremin --seconds 1 --no-audio --tactile '" + csv + "' --tactors null ";
+    // Without --back-motors a map naming m10 is bad usage, and nothing is written.
+    Run r = runCli(base + "--tactor-map 1-12");
+    CHECK(r.code == 2);
+    CHECK(r.err.find("--tactor-map") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(csv));
+    r = runCli(base + "--tactor-map 1-12 --back-motors");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK(r.err.find("12 channels") != std::string::npos);
+    std::ifstream in(csv);
+    std::string header;
+    REQUIRE(std::getline(in, header));
+    CHECK(header.find("m12") != std::string::npos);   // the tactile CSV carries the back motors
+    std::filesystem::remove(csv);
 }
