@@ -428,6 +428,7 @@ int runPlay(const Arguments& args)
         config.audioOut = cl.value("--out");
         const int audioChoices = int(cl.has("--out")) + int(cl.has("--audio-device")) + int(cl.has("--no-audio"));
         if (audioChoices > 1) throw UsageError("choose one of --out FILE, --audio-device NAME and --no-audio");
+        if (cl.has("--tactor-sound") && cl.has("--no-audio")) throw UsageError("--tactor-sound hands the scene's sound to the tactors: drop --no-audio");
         if (cl.has("--audio-device")) {
             config.soundCard = cl.value("--audio-device");
             if (config.soundCard.empty()) throw UsageError("--audio-device needs an ALSA device name");

@@ -233,7 +233,12 @@ int runRender(const Arguments& args)
         std::optional<WavStreamWriter> wav;
         if (cl.has("--out")) wav.emplace(out, engine.sceneConfig.sampleRate, 2, cl.has("--float"));
         std::vector<float> interleaved;
+        // --tactor-sound: the scene's sound, mono, is the voice coil's carrier in --tactile-wav.
+        std::vector<float> tactorSound;
+        const bool keepSound = cl.has("--tactile-wav") && tactorWav.params.voiceCoilSound;
         settings.audioSink = [&](const float* left, const float* right, int n) {
+            if (keepSound)
+                for (int i = 0; i < n; ++i) tactorSound.push_back(0.5f * (left[i] + right[i]));
             if (!wav) return;   // --midi-out alone: the audio is rendered (scenes stay the same) but not kept
             interleaved.resize(2 * static_cast<std::size_t>(n));
             for (int i = 0; i < n; ++i) {
@@ -294,7 +299,8 @@ int runRender(const Arguments& args)
             writeFileAtomically(cl.value("--arms-log"), text);
         }
         if (cl.has("--tactile-wav"))
-            writeTactileWav(tactileWav, r.tactile, tactorWav.params, tactorWav.map, tactorWav.gains, engine.sceneConfig.sampleRate, cl.has("--float"));
+            writeTactileWav(tactileWav, r.tactile, tactorWav.params, tactorWav.map, tactorWav.gains, engine.sceneConfig.sampleRate, cl.has("--float"),
+                            keepSound ? &tactorSound : nullptr);
         const std::string project = std::filesystem::path(cl.value("--motion")).stem().string();
         if (cl.has("--tactile-ahap")) writeFileAtomically(tactileAhap, exportAhap(r.tactile, actuator, project));
         if (cl.has("--tactile-haptic")) writeFileAtomically(tactileHaptic, exportMetaHaptic(r.tactile, actuator, project));

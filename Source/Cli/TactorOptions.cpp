@@ -14,6 +14,8 @@ std::vector<OptionSpec> tactorOptionSpecs(bool withDevice)
                                             "at --tactor-hz, default 250); default erm" +
                                                 std::string(withDevice ? "" : " (--tactile-wav: voice-coil at 150 Hz)")});
     o.push_back({"--tactor-hz", "HZ", "lra: the resonance (40..400, default 170); voice-coil: the carrier (40..400, default 250)"});
+    o.push_back({"--tactor-sound", "", "voice-coil: the scene's own sound is the carrier, band-limited to 40..400 Hz (the cymbal\n"
+                                       "felt as its own waveform; silence falls back to the fixed carrier)"});
     o.push_back({"--tactor-map", "MAP", "the motor of each channel, channel 1 first: 1-9 (the default; 1-12 with --back-motors),\n"
                                         "lists and ranges such as 10-12,1-9; - = a silent channel"});
     o.push_back({"--tactor-gain", "FILE.json", "calibration gains per channel, 0..1 (docs/TACTORS.md)"});
@@ -27,7 +29,7 @@ std::vector<OptionSpec> tactorOptionSpecs(bool withDevice)
 
 bool anyTactorSetting(const CommandLine& cl)
 {
-    for (const char* o : {"--tactor-model", "--tactor-hz", "--tactor-map", "--tactor-gain", "--tactor-connect", "--tactor-rate"})
+    for (const char* o : {"--tactor-model", "--tactor-hz", "--tactor-sound", "--tactor-map", "--tactor-gain", "--tactor-connect", "--tactor-rate"})
         if (cl.has(o)) return true;
     return false;
 }
@@ -44,6 +46,10 @@ live::TactorOutputConfig tactorConfig(const CommandLine& cl, int motors)
         const double hz = cl.number("--tactor-hz", 0.0);
         if (!(hz >= 40.0 && hz <= 400.0)) throw UsageError("--tactor-hz must lie in 40..400");
         (c.params.model == tactors::TactorModel::Lra ? c.params.lraHz : c.params.voiceCoilHz) = hz;
+    }
+    if (cl.has("--tactor-sound")) {
+        if (c.params.model != tactors::TactorModel::VoiceCoil) throw UsageError("--tactor-sound hands the scene's sound to a voice coil: add --tactor-model voice-coil");
+        c.params.voiceCoilSound = true;
     }
     try {
         c.map = cl.has("--tactor-map") ? tactors::parseChannelMap(cl.value("--tactor-map"), motors) : tactors::ChannelMap::identity(motors);

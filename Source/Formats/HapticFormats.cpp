@@ -359,12 +359,13 @@ void writeTactileWav(const std::string& path, const std::vector<TactileRow>& row
 }
 
 void writeTactileWav(const std::string& path, const std::vector<TactileRow>& rows, const tactors::TactorParams& params,
-                     const tactors::ChannelMap& map, const tactors::TactorGains& gains, double sampleRate, bool float32)
+                     const tactors::ChannelMap& map, const tactors::TactorGains& gains, double sampleRate, bool float32,
+                     const std::vector<float>* sound)
 {
     // The live tactor output's renderer, fed row by row (one code path: Tests/Tactors compares them).
     tactors::TactorRenderer renderer;
     renderer.prepare(params, map, gains, sampleRate);
-    writeWav(path, tactors::renderTactileRows(rows, renderer), float32);
+    writeWav(path, tactors::renderTactileRows(rows, renderer, sound), float32);
 }
 
 // ---- out: AHAP and .haptic ---------------------------------------------------------------

@@ -100,8 +100,11 @@ void writeTactileWav(const std::string& path, const std::vector<TactileRow>& row
                      double carrierHz = 150.0, bool float32 = false);
 /// The same with any actuator model, channel map and calibration gains (`render --tactile-wav`
 /// with `--tactor-model`, `--tactor-map`, `--tactor-gain`): exactly what the live output plays.
+/// `sound`: the scene's own sound (mono, sample 0 = the first row's time) for a voice-coil model
+/// that is handed it (TactorParams::voiceCoilSound, `--tactor-sound`).
 void writeTactileWav(const std::string& path, const std::vector<TactileRow>& rows, const tactors::TactorParams& params,
-                     const tactors::ChannelMap& map, const tactors::TactorGains& gains, double sampleRate, bool float32 = false);
+                     const tactors::ChannelMap& map, const tactors::TactorGains& gains, double sampleRate, bool float32 = false,
+                     const std::vector<float>* sound = nullptr);
 
 /// The one actuator an AHAP or `.haptic` file describes, from motor rows (docs/FORMATS.md,
 /// "Out: AHAP and .haptic"): at each row, the largest level among `motors` (bit i = motor index

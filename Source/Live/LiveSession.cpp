@@ -201,7 +201,17 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
         }
     }
     // Last, so a bad tactor setting or a missing device leaves nothing open (IoError/InputError).
-    if (!config_.tactors.device.empty()) tactors_ = std::make_unique<live::TactorOutput>(config_.tactors);
+    if (!config_.tactors.device.empty()) {
+        tactors_ = std::make_unique<live::TactorOutput>(config_.tactors);
+        // The scene's sound is handed over sample for sample: it needs the scene's audio at the
+        // output's rate (no resampling on the way).
+        if (tactors_->wantsSound() && !wav_ && !soundCard_)
+            throw IoError("--tactor-sound: the voice coil takes the scene's sound, and this session has none (no --out, no sound card)");
+        if (tactors_->wantsSound() && std::abs(tactors_->sampleRate() - config_.engine.sceneConfig.sampleRate) > 0.5)
+            throw IoError("--tactor-sound: the tactor output runs at " + std::to_string(static_cast<int>(tactors_->sampleRate())) + " Hz and the scene at "
+                                 + std::to_string(static_cast<int>(config_.engine.sceneConfig.sampleRate)) + " Hz: give --sample-rate "
+                                 + std::to_string(static_cast<int>(tactors_->sampleRate())));
+    }
 }
 
 LiveSession::~LiveSession()
@@ -374,6 +384,13 @@ void LiveSession::applyStage(void* self, const mapping::StageEvent& e) noexcept
 }
 
 void LiveSession::renderBlock(float* left, float* right, int n) noexcept
+{
+    renderScene(left, right, n);
+    // A voice coil handed the scene's sound (`--tactor-sound`) gets what was just rendered.
+    if (tactors_ && tactors_->wantsSound()) tactors_->pushSound(left, right, n);
+}
+
+void LiveSession::renderScene(float* left, float* right, int n) noexcept
 {
     if (cues_ && recording_.channels.empty()) {
         cues_->renderAudio(left, right, n);

@@ -244,6 +244,7 @@ private:
     std::unique_ptr<StreamingWavWriter> wav_;
     /// Audio thread: the scene's block with the recording (audioIn) heard and played out.
     void renderBlock(float* left, float* right, int n) noexcept;
+    void renderScene(float* left, float* right, int n) noexcept;   ///< renderBlock without the hand-over to the tactors
     AudioBuffer recording_;                  ///< audioIn (or the stems, one channel each), read at construction
     bool recordingIsStems_ = false;          ///< recording_ holds stems: all channels heard, their sum played out
     std::vector<float> recordingSilence_;    ///< zeros for after the recording's end

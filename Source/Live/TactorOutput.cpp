@@ -70,9 +70,33 @@ void TactorOutput::renderPeriod(float* const* out, int n, double outputDelaySeco
         renderer_.mute();   // a stalled source: silence until it speaks again
         muted_ = true;
     }
-    renderer_.render(out, n);
+    if (renderer_.usesSound()) {
+        // The scene's sound for this period (what is there of it; the renderer pads silence).
+        while (sound_.size() > kSoundBacklog + static_cast<std::size_t>(n)) {
+            float drop;
+            sound_.pop(drop);   // the sound's clock ran ahead: its oldest samples go
+        }
+        for (int done = 0; done < n;) {
+            const int len = std::min(n - done, static_cast<int>(soundScratch_.size()));
+            int got = 0;
+            while (got < len && sound_.pop(soundScratch_[static_cast<std::size_t>(got)])) ++got;
+            std::array<float*, tactors::kMaxChannels> part {};
+            for (int c = 0; c < renderer_.channels(); ++c) part[static_cast<std::size_t>(c)] = out[c] + done;
+            renderer_.setSound(soundScratch_.data(), got);
+            renderer_.render(part.data(), len);
+            done += len;
+        }
+    } else {
+        renderer_.render(out, n);
+    }
     frames_.fetch_add(static_cast<std::uint64_t>(n), std::memory_order_relaxed);
     limited_.store(renderer_.limited(), std::memory_order_relaxed);
+}
+
+void TactorOutput::pushSound(const float* left, const float* right, int n) noexcept
+{
+    for (int i = 0; i < n; ++i)
+        if (!sound_.push(0.5f * (left[i] + right[i]))) return;   // full: the output is not taking it (stopped)
 }
 
 void TactorOutput::start()

@@ -64,6 +64,17 @@ public:
     void push(double t, const MotorLevels& levels) noexcept;
     /// Every channel silent, the device stopped. Idempotent.
     void stop();
+    /// The scene's sound for a voice coil that is handed it (TactorParams::voiceCoilSound,
+    /// `--tactor-sound`): the session's audio thread pushes each block it renders (mixed to mono)
+    /// into a lock-free ring, and each period takes as many samples as it renders. The sound's
+    /// rate must be the output's. When the output runs ahead (nothing waiting) the carrier falls
+    /// back after its envelope; when the sound runs ahead by more than kSoundBacklog samples the
+    /// oldest are dropped, so the two audio clocks' drift never builds up latency. Real-time.
+    void pushSound(const float* left, const float* right, int n) noexcept;
+    bool wantsSound() const noexcept { return config_.params.voiceCoilSound; }
+    static constexpr std::size_t kSoundBacklog = 4096;
+    /// Samples of the sound waiting for the output (tests, the benchmark).
+    std::size_t soundWaiting() const noexcept { return sound_.size(); }
 
     /// "jack: armadillo:tactor_1…tactor_9, 48000 Hz, 256 frames" or "ALSA 'hw:1': 9 channels, …".
     std::string describe() const;
@@ -98,6 +109,8 @@ private:
     std::unique_ptr<audio::JackOutput> jack_;
     SpscQueue<Record, 1024> queue_;
     SpscQueue<TactorLatency, 8192> latency_;
+    SpscQueue<float, 16384> sound_;
+    std::array<float, 4096> soundScratch_ {};   // audio thread
     double sampleRate_ = 0.0;
     int periodFrames_ = 0;
     bool started_ = false;

@@ -368,6 +368,10 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
         juce::FloatVectorOperations::clear(left + pos, len);
         juce::FloatVectorOperations::clear(right + pos, len);
         renderRunning(left + pos, right + pos, len);
+        if (busRendered > 0 && tactorBus->usesSound()) {   // the scene's own sound, before the track is mixed in
+            for (int i = 0; i < len; ++i) tactorSound_[static_cast<std::size_t>(i)] = 0.5f * (left[pos + i] + right[pos + i]);
+            tactorBus->setSound(tactorSound_.data(), len);
+        }
         if (throughCount > 0) {
             juce::FloatVectorOperations::add(left + pos, through_[0].data(), len);
             juce::FloatVectorOperations::add(right + pos, through_[throughCount > 1 ? 1 : 0].data(), len);
@@ -383,6 +387,8 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
         samplesToTick_ -= len;
         samplesSinceStep_ += len;
     }
+    // The app's tactor output with a voice coil handed the scene's sound: this block's output.
+    if (auto* out = tactorOut_.load(std::memory_order_acquire); out != nullptr && out->wantsSound()) out->pushSound(left, right, n);
     for (int c = 2; c < buffer.getNumChannels(); ++c)   // sidechain / extra inputs; not the Tactors bus
         if (std::find(listen.tactorChannel.begin(), listen.tactorChannel.begin() + busCount, c) == listen.tactorChannel.begin() + busCount)
             buffer.clear(c, 0, n);

@@ -251,6 +251,7 @@ private:
     static constexpr int kInputScratch = 1024;
     std::array<std::array<float, kInputScratch>, kMaxStems + 2> input_ {};   // the stems, then the main input
     std::array<std::array<float, kInputScratch>, 2> through_ {};
+    std::array<float, kInputScratch> tactorSound_ {};   // the scene's sound, mono, for a voice coil handed it
     /// Control side: how many stems the active engine's scene takes (SceneConfig::stems).
     int engineStems() noexcept;
     /// The MIDI input's notes of the current block, in time order (audio thread; fixed size).

@@ -434,7 +434,8 @@ void ArmadilloProcessor::valueTreePropertyChanged(juce::ValueTree&, const juce::
         stage_.setCueNotes(static_cast<int>(settings_[SettingIds::cueNextNote]), static_cast<int>(settings_[SettingIds::cuePrevNote]));
     } else if (id == SettingIds::panicGesture) {
         stage_.setPanicGesture(static_cast<bool>(settings_[SettingIds::panicGesture]));
-    } else if (id == SettingIds::tactorModel || id == SettingIds::tactorMap || id == SettingIds::tactorGains || id == SettingIds::backMotors
+    } else if (id == SettingIds::tactorModel || id == SettingIds::tactorMap || id == SettingIds::tactorGains || id == SettingIds::tactorSound
+               || id == SettingIds::backMotors
                || ((id == SettingIds::tactorDevice || id == SettingIds::tactorConnect) && tactorRig_.outputOpen())) {
         if (const auto why = tactorRig_.settingsChanged(settings_, motorCount()); why.isNotEmpty()) setStatus(why);
     } else if (id == SettingIds::tactorOutput) {

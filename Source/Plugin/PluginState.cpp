@@ -51,6 +51,7 @@ juce::ValueTree defaultSettings()
     s.setProperty(SettingIds::tactorModel, "erm", nullptr);
     s.setProperty(SettingIds::tactorMap, "", nullptr);
     s.setProperty(SettingIds::tactorGains, "", nullptr);
+    s.setProperty(SettingIds::tactorSound, false, nullptr);
     s.setProperty(SettingIds::tactorOutput, false, nullptr);
     s.setProperty(SettingIds::tactorDevice, "", nullptr);
     s.setProperty(SettingIds::tactorConnect, "", nullptr);

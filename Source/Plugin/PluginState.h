@@ -54,6 +54,7 @@ inline const juce::Identifier readerProfile {"readerProfile"};     ///< the read
 inline const juce::Identifier tactorModel {"tactorModel"};     ///< "erm" | "lra" | "voice-coil"
 inline const juce::Identifier tactorMap {"tactorMap"};         ///< the channel map's text ("" = channel k plays motor k)
 inline const juce::Identifier tactorGains {"tactorGains"};     ///< a gain file's path ("" = none)
+inline const juce::Identifier tactorSound {"tactorSound"};     ///< bool: a voice coil carries the scene's own sound
 inline const juce::Identifier tactorOutput {"tactorOutput"};   ///< bool: the app's tactor output on
 inline const juce::Identifier tactorDevice {"tactorDevice"};   ///< the app's: "jack" or an ALSA PCM ("hw:UMC1820")
 inline const juce::Identifier tactorConnect {"tactorConnect"}; ///< the app's, JACK: connect tactor_k to ports matching this

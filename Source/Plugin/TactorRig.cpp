@@ -2,6 +2,7 @@
 #include "Core/Errors.h"
 #include "Live/TactorOutput.h"
 #include "Plugin/PluginState.h"
+#include <cmath>
 
 namespace armadillo::plugin {
 
@@ -19,8 +20,10 @@ std::unique_ptr<tactors::TactorRenderer> TactorRig::build(const juce::ValueTree&
         const auto setup = tactors::resolveTactorSetup(settings[SettingIds::tactorModel].toString().toStdString(),
                                                        settings[SettingIds::tactorMap].toString().toStdString(),
                                                        settings[SettingIds::tactorGains].toString().toStdString(), motors, channels);
+        auto params = setup.params;
+        params.voiceCoilSound = static_cast<bool>(settings[SettingIds::tactorSound]) && params.model == tactors::TactorModel::VoiceCoil;
         auto renderer = std::make_unique<tactors::TactorRenderer>();
-        renderer->prepare(setup.params, setup.map, setup.gains, sampleRate);
+        renderer->prepare(params, setup.map, setup.gains, sampleRate);
         return renderer;
     } catch (const std::exception& e) {
         why = "Tactors: " + juce::String(e.what());
@@ -81,11 +84,15 @@ juce::String TactorRig::openOutput(const juce::ValueTree& settings, int motors)
         live::TactorOutputConfig config;
         config.device = device.toStdString();
         config.params = setup.params;
+        config.params.voiceCoilSound = static_cast<bool>(settings[SettingIds::tactorSound]) && config.params.model == tactors::TactorModel::VoiceCoil;
         config.map = setup.map;
         config.gains = setup.gains;
         config.connect = settings[SettingIds::tactorConnect].toString().trim().toStdString();
         config.clientName = "ARMadillo";
         auto output = std::make_unique<live::TactorOutput>(config);   // IoError / InputError: nothing opened
+        if (output->wantsSound() && std::abs(output->sampleRate() - sampleRate_) > 0.5)
+            return "Tactors: the voice coil takes the scene's sound sample for sample, but the tactor output runs at "
+                   + juce::String(output->sampleRate()) + " Hz and the sound at " + juce::String(sampleRate_) + " Hz";
         output->start();
         output_ = std::move(output);
         control_.setTactorOutput(output_.get());

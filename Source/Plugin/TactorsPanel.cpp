@@ -67,12 +67,15 @@ TactorsPanel::TactorsPanel(ArmadilloProcessor& processor)
         const int i = model_.getSelectedId() - 1;
         if (i >= 0 && i < 3) processor_.settings().setProperty(SettingIds::tactorModel, kModels[i], nullptr);
     };
+    describe(sound_, "Scene's sound on the voice coils",
+             "With the voice-coil model: the scene's own sound, band-limited to 40 to 400 Hz, is the carrier (the cymbal felt as its own waveform).");
+    sound_.getToggleStateValue().referTo(settings.getPropertyAsValue(SettingIds::tactorSound, nullptr));
     describe(gains_, "Gain file", "Choose a per-channel gain file (JSON, 0 to 1 per channel) for tactors that differ.");
     gains_.onClick = [this] { chooseGains(); };
     describe(clearGains_, "No gain file", "Every channel at full gain (level/15 of full scale).");
     clearGains_.onClick = [this] { processor_.settings().setProperty(SettingIds::tactorGains, "", nullptr); };
     gainsFile_.setTitle("Gain file name");
-    for (auto* c : std::initializer_list<juce::Component*> {&model_, &map_, &gains_, &clearGains_}) addAndMakeVisible(*c);
+    for (auto* c : std::initializer_list<juce::Component*> {&model_, &sound_, &map_, &gains_, &clearGains_}) addAndMakeVisible(*c);
 
     for (int k = 0; k < kChannels; ++k) {
         auto& b = test_[static_cast<std::size_t>(k)];
@@ -126,6 +129,7 @@ void TactorsPanel::timerCallback()
     auto& rig = processor_.tactorRig();
     const auto gains = processor_.settings()[SettingIds::tactorGains].toString();
     gainsFile_.setText(gains.isEmpty() ? "none: every channel at full gain" : juce::File(gains).getFileName(), juce::dontSendNotification);
+    sound_.setEnabled(processor_.settings()[SettingIds::tactorModel].toString() == "voice-coil");
     const int motors = processor_.motorCount();
     const int channels = standalone_ ? motors : (rig.busChannels() > 0 ? rig.busChannels() : motors);
     for (int k = 0; k < kChannels; ++k) test_[static_cast<std::size_t>(k)].setVisible(k < channels);
@@ -165,6 +169,7 @@ void TactorsPanel::resized()
     }
     auto r = row();
     modelLabel_.setBounds(r.removeFromLeft(labelWidth));
+    sound_.setBounds(r.removeFromRight(280));
     model_.setBounds(r.reduced(0, 2));
     r = row();
     mapLabel_.setBounds(r.removeFromLeft(labelWidth));

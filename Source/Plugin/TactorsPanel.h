@@ -37,6 +37,7 @@ private:
     juce::Label heading_, intro_, deviceLabel_, connectLabel_, modelLabel_, mapLabel_, gainsLabel_, gainsFile_, testLabel_, status_;
     juce::TextEditor device_, connect_, map_;
     juce::ToggleButton output_ {"Tactor output on"};
+    juce::ToggleButton sound_ {"Voice coil carries the scene's sound"};
     ChoiceBox model_;
     juce::TextButton gains_ {"Gain file..."}, clearGains_ {"No gain file"};
     std::array<juce::TextButton, kChannels> test_;

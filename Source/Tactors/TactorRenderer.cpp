@@ -51,6 +51,11 @@ void validate(const TactorParams& p, double sampleRate, const std::string& sourc
     if (!in(p.lraHz, 40.0, 400.0)) throw InputError(source, 0, "lra", "the LRA's resonance must lie in 40…400 Hz (got " + num(p.lraHz) + ")");
     if (!in(p.lraBrakeTime, 0.0, 0.02)) throw InputError(source, 0, "lra brake", "the LRA's braking pulse must last 0…0.02 s (got " + num(p.lraBrakeTime) + ")");
     if (!in(p.voiceCoilHz, 40.0, 400.0)) throw InputError(source, 0, "voice-coil", "the voice coil's carrier must lie in 40…400 Hz (got " + num(p.voiceCoilHz) + ")");
+    if (!in(p.soundLowHz, 20.0, 1000.0) || !in(p.soundHighHz, p.soundLowHz, 1000.0))
+        throw InputError(source, 0, "sound band", "the sound's band must lie within 20…1000 Hz, low before high (got " + num(p.soundLowHz) + "…" + num(p.soundHighHz) + ")");
+    if (p.voiceCoilSound && p.model != TactorModel::VoiceCoil)
+        throw InputError(source, 0, "sound", "a scene's sound can be handed over to the voice-coil model only");
+    if (p.voiceCoilSound && !(p.soundHighHz < sampleRate / 2.0)) throw InputError(source, 0, "sound band", "the sound's band must lie below half the sample rate");
     const double highest = p.model == TactorModel::Erm ? p.ermFullHz : p.model == TactorModel::Lra ? p.lraHz : p.voiceCoilHz;
     if (!(highest < sampleRate / 2.0)) throw InputError(source, 0, "carrier", "the carrier must lie below half the sample rate");
 }
@@ -191,6 +196,29 @@ void TactorRenderer::prepare(const TactorParams& params, const ChannelMap& map, 
         c = Channel {};
         c.hz = c.targetHz = carrierHz(params, 0.0);
     }
+    // The sound's band: RBJ's 2nd-order Butterworth (Q = 1/√2) high-pass and low-pass.
+    const auto design = [sampleRate](double hz, bool high) {
+        const double w = kTwoPi * hz / sampleRate, cw = std::cos(w), alpha = std::sin(w) / (2.0 * std::sqrt(0.5));
+        const double a0 = 1.0 + alpha;
+        Biquad b;
+        b.b0 = (high ? (1.0 + cw) / 2.0 : (1.0 - cw) / 2.0) / a0;
+        b.b1 = (high ? -(1.0 + cw) : (1.0 - cw)) / a0;
+        b.b2 = b.b0;
+        b.a1 = -2.0 * cw / a0;
+        b.a2 = (1.0 - alpha) / a0;
+        return b;
+    };
+    highPass_ = design(params.soundLowHz, true);
+    lowPass_ = design(params.soundHighHz, false);
+    envelope_ = 0.0;
+    release_ = std::exp(-1.0 / (0.05 * sampleRate));   // the envelope falls 1/e in 50 ms
+    powerSlew_ = 1.0 - std::exp(-1.0 / (0.02 * sampleRate));
+    fastRelease_ = std::exp(-1.0 / (0.005 * sampleRate));
+    recent_ = 0.0;
+    meanSquare_ = 0.0;
+    fallbackPhase_ = 0.0;
+    sound_ = nullptr;
+    soundLeft_ = 0;
 }
 
 void TactorRenderer::setLevels(const MotorLevels& levels, double dt) noexcept
@@ -248,9 +276,51 @@ void TactorRenderer::mute() noexcept
     }
 }
 
+void TactorRenderer::renderWithSound(float* const* out, int n) noexcept
+{
+    constexpr double kFloor = 1.0e-4;   // −80 dBFS: below it the sound is silence
+    const double fallbackStep = kTwoPi * params_.voiceCoilHz / sampleRate_;
+    for (int done = 0; done < n;) {
+        const int len = std::min(kCarrierBlock, n - done);
+        for (int i = 0; i < len; ++i) {
+            double x = 0.0;
+            if (soundLeft_ > 0) {
+                x = static_cast<double>(*sound_++);
+                --soundLeft_;
+                if (!std::isfinite(x)) x = 0.0;
+            }
+            const double y = lowPass_.run(highPass_.run(x));
+            envelope_ = std::max(std::abs(y), envelope_ * release_);
+            recent_ = std::max(std::abs(y), recent_ * fastRelease_);   // has it just stopped?
+            const float fallback = static_cast<float>(std::sin(fallbackPhase_));
+            fallbackPhase_ += fallbackStep;
+            if (fallbackPhase_ >= kTwoPi) fallbackPhase_ -= kTwoPi;
+            double c = recent_ > kFloor ? std::clamp(y / envelope_, -1.0, 1.0) : static_cast<double>(fallback);
+            // No more power than a sine of the same peak (mean square ½), whatever the waveform
+            // (a band-limited square would carry more): the safety stage's power bound is a
+            // sine's, so the signal is held to it (20 ms mean square).
+            meanSquare_ += (c * c - meanSquare_) * powerSlew_;
+            if (meanSquare_ > 0.5) c *= std::sqrt(0.5 / meanSquare_);
+            carrier_[static_cast<std::size_t>(i)] = static_cast<float>(c);
+        }
+        for (int c = 0; c < map_.channels; ++c) {
+            const float a = ch_[static_cast<std::size_t>(c)].amplitude;
+            float* o = out[c] + done;
+            for (int i = 0; i < len; ++i) o[i] = a * carrier_[static_cast<std::size_t>(i)];
+        }
+        done += len;
+    }
+    sound_ = nullptr;
+    soundLeft_ = 0;
+}
+
 void TactorRenderer::render(float* const* out, int n) noexcept
 {
     if (n <= 0) return;
+    if (usesSound()) {
+        renderWithSound(out, n);
+        return;
+    }
     const double toStep = kTwoPi / sampleRate_;
     const bool erm = params_.model == TactorModel::Erm;
     for (int c = 0; c < map_.channels; ++c) {
@@ -272,7 +342,7 @@ void TactorRenderer::render(float* const* out, int n) noexcept
     }
 }
 
-AudioBuffer renderTactileRows(const std::vector<TactileRow>& rows, TactorRenderer& renderer)
+AudioBuffer renderTactileRows(const std::vector<TactileRow>& rows, TactorRenderer& renderer, const std::vector<float>* sound)
 {
     AudioBuffer out;
     out.sampleRate = renderer.sampleRate();
@@ -299,6 +369,8 @@ AudioBuffer renderTactileRows(const std::vector<TactileRow>& rows, TactorRendere
         renderer.setLevels(rows[r].levels, r == 0 ? 0.0 : rows[r].t - rows[r - 1].t);
         if (end > at) {
             for (std::size_t c = 0; c < channels; ++c) ptr[c] = out.channels[c].data() + at;
+            if (sound != nullptr && at < sound->size())
+                renderer.setSound(sound->data() + at, static_cast<int>(std::min(end, sound->size()) - at));
             renderer.render(ptr.data(), static_cast<int>(end - at));
             at = end;
         }

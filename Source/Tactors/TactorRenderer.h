@@ -49,6 +49,15 @@ struct TactorParams {
     double lraHz = 170.0;          ///< Hz: the LRA's resonance (40…400)
     double lraBrakeTime = 0.006;   ///< s: antiphase braking pulse after a stop (0 = none, ≤ 0.02)
     double voiceCoilHz = 250.0;    ///< Hz: the voice coil's carrier (40…400)
+    /// voice-coil only: a scene with a sound of its own hands it over (setSound): the carrier is
+    /// that sound band-limited to what skin feels (soundLowHz…soundHighHz, 2nd-order Butterworth
+    /// each side) and normalised by its own peak envelope, so the cymbal is felt as its own
+    /// waveform while a level still sets the peak (level/15), and no more power than a sine of
+    /// that peak. Where the sound is silent (its 5 ms envelope below −80 dBFS) the fixed
+    /// voiceCoilHz carrier takes over.
+    bool voiceCoilSound = false;
+    double soundLowHz = 40.0;      ///< 20…soundHighHz
+    double soundHighHz = 400.0;    ///< soundLowHz…1000
 };
 inline constexpr TactorParams kDefaultTactorParams {};
 /// InputError(source, 0, field, why) for a value out of range or a carrier at or above half
@@ -116,6 +125,17 @@ public:
     void mute() noexcept;
     /// Writes `n` samples into each of channels() buffers (overwriting). Real-time.
     void render(float* const* out, int n) noexcept;
+    /// The scene's own sound (mono) for the next render(): its first `n` samples are the carrier
+    /// of the next `n` rendered (voice-coil with voiceCoilSound; ignored otherwise). Not given,
+    /// or shorter than a render: silence there (the fixed carrier takes over once the envelope
+    /// has decayed). The pointer is used by that render() only. Real-time.
+    void setSound(const float* mono, int n) noexcept
+    {
+        sound_ = mono;
+        soundLeft_ = mono != nullptr ? std::max(0, n) : 0;
+    }
+    /// Whether the carrier is the scene's sound (voice-coil with voiceCoilSound).
+    bool usesSound() const noexcept { return params_.model == TactorModel::VoiceCoil && params_.voiceCoilSound; }
 
     int channels() const noexcept { return map_.channels; }
     double sampleRate() const noexcept { return sampleRate_; }
@@ -147,12 +167,32 @@ private:
     std::array<Channel, kMaxChannels> ch_ {};
     SafetyStage guard_;
     std::uint64_t limited_ = 0;
+    // The scene's sound as the carrier (usesSound()).
+    struct Biquad {
+        double b0 = 1, b1 = 0, b2 = 0, a1 = 0, a2 = 0, z1 = 0, z2 = 0;
+        double run(double x) noexcept
+        {
+            const double y = b0 * x + z1;
+            z1 = b1 * x - a1 * y + z2;
+            z2 = b2 * x - a2 * y;
+            return y;
+        }
+    };
+    Biquad highPass_, lowPass_;
+    double envelope_ = 0.0, release_ = 0.0, fallbackPhase_ = 0.0, meanSquare_ = 0.0, powerSlew_ = 1.0, recent_ = 0.0, fastRelease_ = 0.0;
+    const float* sound_ = nullptr;
+    int soundLeft_ = 0;
+    static constexpr int kCarrierBlock = 256;
+    std::array<float, kCarrierBlock> carrier_ {};
+    void renderWithSound(float* const* out, int n) noexcept;
 };
 
 /// The offline entry point (`render --tactile-wav`): rows of levels, each held until the next
 /// row's time (the last one row-period more, or 5 ms), rendered by `renderer` (prepared) from the
 /// first row's time on. A row starts at the first sample at or after its time; the renderer sees
 /// each row's dt as the live output does, so a file and a live channel carry the same samples.
-AudioBuffer renderTactileRows(const std::vector<TactileRow>& rows, TactorRenderer& renderer);
+/// `sound` (mono, sample 0 = the first row's time, at the renderer's rate): the scene's own sound
+/// for a voice-coil renderer with voiceCoilSound (`render --tactor-sound`); null = none.
+AudioBuffer renderTactileRows(const std::vector<TactileRow>& rows, TactorRenderer& renderer, const std::vector<float>* sound = nullptr);
 
 } // namespace armadillo::tactors

@@ -282,3 +282,73 @@ TEST_CASE("VST3: pluginval's bus tests with the Tactors bus: all buses enabled, 
     CHECK(h.plugin->getBusesLayout() == defaults);
     play("default layout restored");
 }
+
+TEST_CASE("VST3: with tactorSound, the Tactors bus's voice coils carry the cymbal's own sound", "[sound]")
+{
+    auto h = loadVst3();
+    setSettings(h, {{"tactorModel", "voice-coil"}, {"tactorSound", "1"}});
+    enableTactors(h, kTactorChannels);
+    h.plugin->prepareToPlay(kRate, kBlock);
+    setChoice(h, "Source", "host automation");
+    setChoice(h, "Scene", "cymbal");
+    setValue(h, "Elevation", 40.0f, -90.0f, 90.0f);
+    settle();
+    const auto* tactorBus = h.plugin->getBus(false, 1);
+    std::array<int, kTactorChannels> tactorChannel {};
+    for (int k = 0; k < kTactorChannels; ++k)
+        tactorChannel[static_cast<std::size_t>(k)] =
+            tactorBus->getChannelIndexInProcessBlockBuffer(armadillo::plugin::tactorbus::juceIndexOfTactor(tactorBus->getCurrentLayout(), k));
+    juce::AudioBuffer<float> buffer(std::max(h.plugin->getTotalNumInputChannels(), h.plugin->getTotalNumOutputChannels()), kBlock);
+    juce::MidiBuffer midi;
+    std::vector<std::vector<float>> bus(kTactorChannels);
+    std::vector<double> main;
+    const int blocks = static_cast<int>(2.0 * kRate / kBlock);
+    for (int b = 0; b < blocks; ++b) {
+        // Held up for 0.5 s, struck down through horizontal in 0.15 s, then left ringing.
+        const double t = static_cast<double>(b) * kBlock / kRate;
+        const double el = t < 0.5 ? 40.0 : (t < 0.65 ? 40.0 - (t - 0.5) / 0.15 * 70.0 : -30.0);
+        setValue(h, "Elevation", static_cast<float>(el), -90.0f, 90.0f);
+        buffer.clear();
+        h.plugin->processBlock(buffer, midi);
+        midi.clear();
+        for (int c = 0; c < kTactorChannels; ++c) {
+            const float* x = buffer.getReadPointer(tactorChannel[static_cast<std::size_t>(c)]);
+            bus[static_cast<std::size_t>(c)].insert(bus[static_cast<std::size_t>(c)].end(), x, x + kBlock);
+        }
+        for (int i = 0; i < kBlock; ++i) main.push_back(0.5 * (double(buffer.getSample(0, i)) + double(buffer.getSample(1, i))));
+    }
+    // The main output band-passed by a test-side filter (one-pole 40 Hz high-pass, two one-pole
+    // 400 Hz low-passes), against the busiest tactor channel over 0.3 s of the ring.
+    std::vector<double> ref(main.size());
+    double hp = 0.0, prev = 0.0, lp1 = 0.0, lp2 = 0.0;
+    const double kh = std::exp(-2.0 * M_PI * 40.0 / kRate), kl = 1.0 - std::exp(-2.0 * M_PI * 400.0 / kRate);
+    for (std::size_t i = 0; i < main.size(); ++i) {
+        hp = kh * (hp + main[i] - prev);
+        prev = main[i];
+        lp1 += (hp - lp1) * kl;
+        lp2 += (lp1 - lp2) * kl;
+        ref[i] = lp2;
+    }
+    const std::size_t from = static_cast<std::size_t>(0.8 * kRate), to = static_cast<std::size_t>(1.1 * kRate);
+    std::size_t best = 0;
+    double bestEnergy = 0.0;
+    for (std::size_t c = 0; c < bus.size(); ++c) {
+        double e = 0.0;
+        for (std::size_t i = from; i < to; ++i) e += double(bus[c][i]) * double(bus[c][i]);
+        if (e > bestEnergy) {
+            bestEnergy = e;
+            best = c;
+        }
+    }
+    REQUIRE(bestEnergy > 0.0);
+    double xy = 0.0, xx = 0.0, yy = 0.0;
+    for (std::size_t i = from; i < to; ++i) {
+        xy += double(bus[best][i]) * ref[i];
+        xx += double(bus[best][i]) * double(bus[best][i]);
+        yy += ref[i] * ref[i];
+    }
+    const double corr = xy / std::sqrt(xx * yy + 1e-30);
+    INFO("tactor channel " << best + 1 << ": correlation with the band-passed cymbal " << corr);
+    CHECK(corr > 0.6);
+    h.plugin->releaseResources();
+}

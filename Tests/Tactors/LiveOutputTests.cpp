@@ -59,6 +59,58 @@ TEST_CASE("tactor output: a period drains the control steps and renders without 
     CHECK(pushClean);
 }
 
+TEST_CASE("tactor output: a voice coil handed the session's sound carries it, in real time, and drops a backlog", "[tactors][live][sound]")
+{
+    REQUIRE(test::RealtimeGuard::installed());
+    live::TactorOutputConfig c;
+    c.device = "null";
+    c.params.model = tactors::TactorModel::VoiceCoil;
+    c.params.voiceCoilSound = true;
+    live::TactorOutput out(c);
+    REQUIRE(out.wantsSound());
+    constexpr int kPeriod = 256;
+    std::vector<std::vector<float>> buf(9, std::vector<float>(kPeriod));
+    std::array<float*, tactors::kMaxChannels> p {};
+    for (int k = 0; k < 9; ++k) p[static_cast<std::size_t>(k)] = buf[static_cast<std::size_t>(k)].data();
+    MotorLevels l {};
+    l[2] = 4;
+    std::vector<float> left(kPeriod), right(kPeriod), carried;
+    carried.reserve(100 * kPeriod);   // the test's own record, sized before the guard
+    const double sr = out.sampleRate();
+    std::uint64_t n = 0;
+    test::RealtimeGuard guard;
+    for (int block = 0; block < 200; ++block) {
+        for (int i = 0; i < kPeriod; ++i, ++n) {   // the session's audio: 120 Hz, left only
+            left[static_cast<std::size_t>(i)] = static_cast<float>(0.6 * std::sin(6.283185307179586 * 120.0 * static_cast<double>(n) / sr));
+            right[static_cast<std::size_t>(i)] = 0.0f;
+        }
+        out.pushSound(left.data(), right.data(), kPeriod);
+        out.push(0.005 * block, l);
+        out.renderPeriod(p.data(), kPeriod, 0.0);
+        if (block >= 100) carried.insert(carried.end(), buf[2].begin(), buf[2].end());
+    }
+    const bool clean = guard.clean();
+    INFO(guard.report());
+    CHECK(clean);
+    // Motor 3's channel carries the 120 Hz sound at level 4's peak; the others nothing.
+    int crossings = 0;
+    float peak = 0.0f;
+    for (std::size_t i = 1; i < carried.size(); ++i) {
+        if (carried[i - 1] < 0.0f && carried[i] >= 0.0f) ++crossings;
+        peak = std::max(peak, std::abs(carried[i]));
+    }
+    CHECK(crossings == Approx(120.0 * static_cast<double>(carried.size()) / sr).margin(2.0));
+    CHECK(peak == Approx(4.0 / 15.0).epsilon(0.03));
+    CHECK(*std::max_element(buf[0].begin(), buf[0].end()) == 0.0f);
+    // A sound clock far ahead of the output's (a whole second pushed at once): the backlog is
+    // dropped down to kSoundBacklog, so the carrier lags the sound by at most that much.
+    std::vector<float> second(static_cast<std::size_t>(sr), 0.1f);
+    for (std::size_t at = 0; at + kPeriod <= second.size(); at += kPeriod) out.pushSound(second.data() + at, second.data() + at, kPeriod);
+    CHECK(out.soundWaiting() > live::TactorOutput::kSoundBacklog + kPeriod);
+    out.renderPeriod(p.data(), kPeriod, 0.0);
+    CHECK(out.soundWaiting() <= live::TactorOutput::kSoundBacklog);
+}
+
 TEST_CASE("tactor output: the live output and render --tactile-wav carry the same samples", "[tactors][live][wav]")
 {
     // Control steps every 5 ms, each pushed just before the period that starts at its time (a

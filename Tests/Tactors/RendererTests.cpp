@@ -304,3 +304,42 @@ TEST_CASE("tactors: setLevels, render and allOff neither allocate nor lock", "[t
         CHECK(clean);
     }
 }
+
+TEST_CASE("tactors: a voice coil handed the scene's sound carries it band-limited, at level/15 peak; silence falls back", "[tactors][sound]")
+{
+    // The sound: 150 Hz (felt) + 3 kHz (above what skin feels) + a DC offset, then silence.
+    TactorParams p;
+    p.model = TactorModel::VoiceCoil;
+    p.voiceCoilSound = true;
+    TactorRenderer r;
+    r.prepare(p, ChannelMap::identity(1), TactorGains {}, kRate);
+    constexpr int kBlock = 240;
+    const int blocks = 400;   // 2 s: 1.5 s of sound, 0.5 s of silence
+    std::vector<float> out(static_cast<std::size_t>(blocks * kBlock)), sound(kBlock);
+    MotorLevels levels {};
+    levels[0] = 4;   // at most the rating: the guard leaves it alone for the whole run
+    for (int b = 0; b < blocks; ++b) {
+        for (int i = 0; i < kBlock; ++i) {
+            const double t = static_cast<double>(b * kBlock + i) / kRate;
+            sound[static_cast<std::size_t>(i)] = t < 1.5 ? static_cast<float>(0.2 + 0.3 * std::sin(6.283185307 * 150.0 * t) + 0.3 * std::sin(6.283185307 * 3000.0 * t)) : 0.0f;
+        }
+        r.setLevels(levels, b ? 0.005 : 0.0);
+        float* ptr[1] {out.data() + b * kBlock};
+        r.setSound(sound.data(), kBlock);
+        r.render(ptr, kBlock);
+    }
+    // While the sound plays (after the filters settle): the peak is the level's, the carrier the
+    // 150 Hz part (the 3 kHz and the DC are gone: zero crossings at 150 Hz).
+    const auto m = test::measureFrames(out, 240);
+    for (std::size_t f = 40; f < 290; ++f) {
+        INFO("frame " << f);
+        CHECK(m.level[f] == Approx(4.0).margin(0.25));
+    }
+    CHECK(measuredHz(out, 24000, 72000) == Approx(150.0).epsilon(0.01));
+    // Silence: once the envelope has fallen below −80 dBFS the fixed 250 Hz carrier holds the level.
+    CHECK(measuredHz(out, 86400, 96000) == Approx(250.0).epsilon(0.01));
+    for (std::size_t f = 360; f < 400; ++f) CHECK(m.level[f] == Approx(4.0).margin(0.01));
+    // A model that is not a voice coil cannot take a sound.
+    p.model = TactorModel::Lra;
+    CHECK_THROWS_AS(r.prepare(p, ChannelMap::identity(1), TactorGains {}, kRate), InputError);
+}

@@ -8,7 +8,9 @@
 #include "Tactile/TactileEngine.h"
 #include "Tactors/TactorRenderer.h"
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <functional>
 #include <random>
 #include <vector>
@@ -125,6 +127,51 @@ TEST_CASE("tactors safety: adversarial levels straight into the renderer stay wi
             CHECK(r.limited() > 0);   // the streams ask for more than is allowed: the guard acted
             requireWithinBounds(out, std::string(modelName(model)) + " dt " + std::to_string(dt));
         }
+    }
+}
+
+TEST_CASE("tactors safety: a voice coil carrying a scene's sound stays within the bounds, whatever the sound", "[tactors][safety][sound]")
+{
+    // The hand-over (TactorParams::voiceCoilSound): the carrier is the scene's sound, normalised.
+    // Sounds chosen to break a naive normaliser: a full-scale 100 Hz square (more power than a
+    // sine of its peak), white noise with DC, clipped bursts, NaN, and silence (the fixed carrier).
+    for (int kind = 0; kind < 4; ++kind) {
+        TactorParams p;
+        p.model = TactorModel::VoiceCoil;
+        p.voiceCoilSound = true;
+        TactorRenderer r;
+        r.prepare(p, ChannelMap::identity(9), TactorGains {}, kRate);
+        std::mt19937_64 rng(7 + kind), levels(99);
+        std::normal_distribution<float> noise(0.0f, 1.0f);
+        std::array<int, 9> held {};
+        std::array<std::size_t, 9> until {};
+        constexpr double dt = 0.005;
+        const auto packetSamples = static_cast<std::size_t>(std::lround(dt * kRate));
+        std::vector<float> sound(packetSamples);
+        std::size_t n = 0;
+        const auto packets = static_cast<std::size_t>(std::lround(25.0 / dt));
+        std::vector<std::vector<float>> out(9, std::vector<float>(packets * packetSamples));
+        std::array<float*, kMaxChannels> ptr {};
+        for (std::size_t i = 0; i < packets; ++i) {
+            for (float& x : sound) {
+                const double t = static_cast<double>(n++) / kRate;
+                switch (kind) {
+                case 0: x = std::fmod(t * 100.0, 1.0) < 0.5 ? 1.0f : -1.0f; break;
+                case 1: x = 0.3f + 0.5f * noise(rng); break;
+                case 2: x = std::fmod(t, 0.5) < 0.1 ? std::clamp(8.0f * std::sin(float(t) * 900.0f), -1.0f, 1.0f) : (n % 97 ? 0.0f : NAN); break;
+                default: x = 0.0f; break;
+                }
+            }
+            r.setLevels(adversarial(i, dt, levels, held, until), i ? dt : 0.0);
+            for (int c = 0; c < 9; ++c) ptr[static_cast<std::size_t>(c)] = out[static_cast<std::size_t>(c)].data() + i * packetSamples;
+            r.setSound(sound.data(), static_cast<int>(sound.size()));
+            r.render(ptr.data(), static_cast<int>(packetSamples));
+        }
+        bool finite = true;
+        for (const auto& ch : out)
+            for (float v : ch) finite = finite && std::isfinite(v);
+        REQUIRE(finite);
+        requireWithinBounds(out, "voice-coil with sound kind " + std::to_string(kind));
     }
 }
 

@@ -7,6 +7,7 @@
 #include "Tactors/SignalMeasure.h"
 #include "Core/AtomicFile.h"
 #include "Core/Csv.h"
+#include "Core/Wav.h"
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <cmath>
@@ -271,4 +272,76 @@ TEST_CASE("tactors cli: play --back-motors lets the map name motors 10..12 and l
     REQUIRE(std::getline(in, header));
     CHECK(header.find("m12") != std::string::npos);   // the tactile CSV carries the back motors
     std::filesystem::remove(csv);
+}
+
+TEST_CASE("tactors cli: render --tactor-sound: the voice coils carry the cymbal's own sound, band-limited", "[tactors][cli][sound]")
+{
+    // Raise the arm, strike down through horizontal, let it ring (the cymbal's strike).
+    const std::string motion = scratch("strike.csv");
+    {
+        std::string text = "t,elevation,azimuth,roll\n";
+        for (int i = 0; i <= 600; ++i) {
+            const double t = i / 200.0;
+            const double el = t < 0.5 ? 40.0 : (t < 0.65 ? 40.0 - (t - 0.5) / 0.15 * 70.0 : -30.0);
+            text += std::to_string(t) + "," + std::to_string(el) + ",0,0\n";
+        }
+        writeFileAtomically(motion, text);
+    }
+    const std::string audio = scratch("cymbal.wav"), plain = scratch("plain.wav"), sound = scratch("sound.wav");
+    const std::string base = "render --scene cymbal --seed 3 --motion '" + motion + "' --float --out '" + audio + "' --tactor-model voice-coil --tactile-wav ";
+    REQUIRE(runCli(base + "'" + plain + "'").code == 0);
+    Run r = runCli(base + "'" + sound + "' --tactor-sound");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const AudioBuffer a = readWav(audio), p = readWav(plain), s = readWav(sound);
+    REQUIRE(s.channels.size() == 9);
+    // The cymbal's sound, mono, band-passed here by a test-side filter (one-pole 40 Hz high-pass
+    // and two one-pole 400 Hz low-passes): what the voice coil should carry, up to its scale.
+    std::vector<double> ref(a.frames());
+    double hp = 0.0, prev = 0.0, lp1 = 0.0, lp2 = 0.0;
+    const double kh = std::exp(-2.0 * M_PI * 40.0 / 48000.0), kl = 1.0 - std::exp(-2.0 * M_PI * 400.0 / 48000.0);
+    for (std::size_t i = 0; i < a.frames(); ++i) {
+        const double x = 0.5 * (double(a.channels[0][i]) + double(a.channels[1][i]));
+        hp = kh * (hp + x - prev);
+        prev = x;
+        lp1 += (hp - lp1) * kl;
+        lp2 += (lp1 - lp2) * kl;
+        ref[i] = lp2;
+    }
+    // The busiest channel after the strike, over 0.3 s of its ring.
+    std::size_t best = 0;
+    double bestEnergy = 0.0;
+    const std::size_t from = static_cast<std::size_t>(0.8 * 48000), to = static_cast<std::size_t>(1.1 * 48000);
+    REQUIRE(s.frames() >= to);
+    for (std::size_t c = 0; c < 9; ++c) {
+        double e = 0.0;
+        for (std::size_t i = from; i < to; ++i) e += double(s.channels[c][i]) * double(s.channels[c][i]);
+        if (e > bestEnergy) { bestEnergy = e; best = c; }
+    }
+    REQUIRE(bestEnergy > 0.0);
+    const auto correlation = [&](const std::vector<float>& x) {
+        double xy = 0.0, xx = 0.0, yy = 0.0;
+        for (std::size_t i = from; i < to; ++i) {
+            xy += double(x[i]) * ref[i];
+            xx += double(x[i]) * double(x[i]);
+            yy += ref[i] * ref[i];
+        }
+        return xy / std::sqrt(xx * yy + 1e-30);
+    };
+    const double withSound = correlation(s.channels[best]), withSine = correlation(p.channels[best]);
+    INFO("channel " << best + 1 << ": correlation with the band-passed cymbal " << withSound << " (the fixed carrier: " << withSine << ")");
+    CHECK(withSound > 0.6);
+    CHECK(std::abs(withSine) < 0.3);
+    // The level law holds: no sample beyond 15/15, and the peak per 5 ms frame never above the fixed carrier's.
+    for (std::size_t i = from; i < to; i += 240) {
+        float ps = 0.0f, pp = 0.0f;
+        for (std::size_t k = i; k < i + 240; ++k) {
+            ps = std::max(ps, std::abs(s.channels[best][k]));
+            pp = std::max(pp, std::abs(p.channels[best][k]));
+        }
+        CHECK(ps <= pp + 1e-4f);
+    }
+    // Usage: the sound goes to a voice coil only, and needs the scene's audio.
+    CHECK(runCli("render --scene cymbal --motion '" + motion + "' --tactile-wav '" + sound + "' --tactor-model lra --tactor-sound").code == 2);
+    CHECK(runCli("play --simulate --scene cymbal --seconds 1 --no-audio --tactors null --tactor-model voice-coil --tactor-sound").code == 2);
 }
