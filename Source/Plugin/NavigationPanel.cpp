@@ -117,7 +117,8 @@ juce::String NavigationPanel::spokenStatus() const
 
 void NavigationPanel::say(const juce::String& text, bool urgent)
 {
-    detail_.setText(text, juce::dontSendNotification);
+    said_ = text;
+    if (! processor_.navigation().running()) detail_.setText(text, juce::dontSendNotification);   // else the timer shows it under the status
     announce(processor_, "navigation", text,
              urgent ? juce::AccessibilityHandler::AnnouncementPriority::high : juce::AccessibilityHandler::AnnouncementPriority::medium);
 }
@@ -142,6 +143,7 @@ void NavigationPanel::timerCallback()
         bearing_.setText({}, juce::dontSendNotification);
         return;
     }
+    routeFile_.setText(rig.routeName() + " (" + rig.sourceStatus() + ")", juce::dontSendNotification);
     const auto s = rig.status();
     const bool fix = s.fix == nav::FixState::Ok;
     const auto name = s.name[0] != '\0' ? juce::String::fromUTF8(s.name) : "Waypoint " + juce::String(s.waypoint);
@@ -152,10 +154,11 @@ void NavigationPanel::timerCallback()
                          : juce::String(),
                      juce::dontSendNotification);
     juce::String detail = rig.routeName() + ": waypoint " + juce::String(s.waypoint) + " of " + juce::String(s.waypointCount) + ", "
-                          + juce::String(s.arrivals) + " reached. Fix: " + nav::fixStateName(s.fix) + ". " + rig.sourceStatus() + ".";
+                          + juce::String(s.arrivals) + " reached. Fix: " + nav::fixStateName(s.fix) + ".";
     if (s.offRoute) detail << " Off route.";
     if (s.magDisturbed) detail << " Magnetic disturbance: heading from the gyroscope.";
     if (s.headingLearned) detail << " Strap offset learned: " << juce::roundToInt(s.offsetDeg) << " degrees.";
+    if (said_.isNotEmpty()) detail << "\n" << said_;
     detail_.setText(detail, juce::dontSendNotification);
     // Each change said once: a new waypoint (after an arrival), the fix lost or back, off route, the end.
     if (s.arrivals > lastArrivals_ && s.waypoint > 1) say("Arrived at waypoint " + juce::String(s.waypoint - 1) + ". " + spokenStatus(), true);

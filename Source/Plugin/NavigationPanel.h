@@ -38,6 +38,7 @@ private:
     ChoiceBox source_;
     juce::TextEditor where_;
     juce::File route_;
+    juce::String said_;   // the last thing said, shown under the status
     std::unique_ptr<juce::FileChooser> chooser_;
     // What was announced last (so each change is said once).
     int lastWaypoint_ = -1, lastArrivals_ = 0;

@@ -568,7 +568,7 @@ juce::String ArmadilloProcessor::setTactorOutput(bool on)
 
 juce::String ArmadilloProcessor::testTactorChannel(int channel)
 {
-    const int motor = tactorRig_.motorOfChannel(channel);
+    const int motor = tactorRig_.motorOfChannel(channel, settings_, motorCount());
     if (motor < 0 || motor >= motorCount()) return "Tactor channel " + juce::String(channel + 1) + " is silent in the map";
     if (motor >= kGridMotors) return "The back motors (m10 to m12) are tested with: armadillo tactors test --back-motors";
     if (touchTest_.state() != TouchTestSession::State::Idle || adaptive_.state() != AdaptiveSession::State::Idle)

@@ -119,10 +119,16 @@ juce::String TactorRig::outputStatus() const
     return juce::String(output_->describe());
 }
 
-int TactorRig::motorOfChannel(int channel) const noexcept
+int TactorRig::motorOfChannel(int channel, const juce::ValueTree& settings, int motors) const
 {
-    const tactors::ChannelMap& map = output_ != nullptr ? output_->map() : busMap_;
-    if (map.channels == 0) return channel >= 0 && channel < kMaxMotors ? channel : -1;
+    tactors::ChannelMap map = output_ != nullptr ? output_->map() : busMap_;
+    if (map.channels == 0) {   // neither open: the map the settings name
+        try {
+            map = tactors::resolveTactorSetup("erm", settings[SettingIds::tactorMap].toString().toStdString(), {}, motors, 0).map;
+        } catch (const std::exception&) {
+            return -1;
+        }
+    }
     return channel >= 0 && channel < map.channels ? map.motor[static_cast<std::size_t>(channel)] : -1;
 }
 

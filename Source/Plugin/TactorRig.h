@@ -48,8 +48,8 @@ public:
     /// "jack: armadillo:tactor_1…tactor_9, 48000 Hz, 256 frames", "off", or the failure.
     juce::String outputStatus() const;
     /// The motor channel k plays (0-based; −1: silent or no such channel) in the output's map, or
-    /// the bus's when no output is open, or channel k = motor k.
-    int motorOfChannel(int channel) const noexcept;
+    /// the bus's when no output is open, else in the settings' map for `motors` motors.
+    int motorOfChannel(int channel, const juce::ValueTree& settings, int motors) const;
 
 private:
     BlockControl& control_;

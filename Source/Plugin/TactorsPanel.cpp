@@ -83,7 +83,7 @@ TactorsPanel::TactorsPanel(ArmadilloProcessor& processor)
         describe(b, "Test tactor channel " + juce::String(k + 1), "Buzz this channel's motor for half a second and say which motor it is.");
         b.onClick = [this, k] {
             const auto why = processor_.testTactorChannel(k);
-            const int motor = processor_.tactorRig().motorOfChannel(k);
+            const int motor = processor_.tactorRig().motorOfChannel(k, processor_.settings(), processor_.motorCount());
             say(why.isNotEmpty() ? why : "Channel " + juce::String(k + 1) + ": motor m" + juce::String(motor + 1));
         };
         addAndMakeVisible(b);

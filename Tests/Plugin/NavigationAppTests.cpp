@@ -8,6 +8,7 @@
 #include "Navigation/Route.h"
 #include "Osc/Osc.h"
 #include "Plugin/NavigationPanel.h"
+#include "Plugin/TactorsPanel.h"
 #include "Plugin/PluginProcessor.h"
 #include <arpa/inet.h>
 #include <netinet/in.h>
@@ -125,6 +126,15 @@ TEST_CASE("app: the Navigation window walks a route from OSC positions; name, di
     const auto said = panel.spokenStatus();
     CHECK(said.contains("Waypoint 2 of 3, Entrance"));
     CHECK(said.contains("bearing"));
+    {
+        const auto shot = panel.createComponentSnapshot(panel.getLocalBounds());
+        const auto shots = juce::File::getSpecialLocation(juce::File::tempDirectory).getChildFile("armadillo-ui-shots");
+        shots.createDirectory();
+        juce::FileOutputStream png(shots.getChildFile("navigation-window.png"));
+        png.setPosition(0);
+        png.truncate();
+        CHECK(juce::PNGImageFormat().writeImageToStream(shot, png));
+    }
 
     processor.stopNavigation();
     CHECK_FALSE(processor.navigation().running());
@@ -132,4 +142,47 @@ TEST_CASE("app: the Navigation window walks a route from OSC positions; name, di
     CHECK(panel.waypointLabel().getText() == "Not walking");
     processor.releaseResources();
     dir.deleteRecursively();
+}
+
+TEST_CASE("app: the Tactors window: every control titled, one test button per channel, a test buzz said", "[plugin][tactors][ui]")
+{
+    ArmadilloProcessor processor;
+    processor.prepareToPlay(48000.0, 480);
+    TactorsPanel panel(processor);
+    panel.setSize(640, 380);
+    int titled = 0, buttons = 0;
+    for (auto* c : panel.getChildren()) {
+        if (! c->isVisible() || ! c->getWantsKeyboardFocus()) continue;
+        INFO("a focusable control without a title: " << c->getName());
+        CHECK(c->getTitle().isNotEmpty());
+        ++titled;
+        if (c->getTitle().startsWith("Test tactor channel")) ++buttons;
+    }
+    CHECK(buttons == 9);   // one per motor (12 with the back motors)
+    CHECK(titled >= 13);
+    processor.settings().setProperty(SettingIds::backMotors, true, nullptr);
+    pumpMessages(400);
+    buttons = 0;
+    for (auto* c : panel.getChildren())
+        if (c->isVisible() && c->getTitle().startsWith("Test tactor channel")) ++buttons;
+    CHECK(buttons == 12);
+    processor.settings().setProperty(SettingIds::backMotors, false, nullptr);
+    // A test buzz through the whole rig: said, with the motor's name.
+    panel.testButton(2).triggerClick();
+    pumpMessages(300);
+    CHECK(panel.status().getText().contains("Channel 3: motor m3"));
+    // A map with a silent channel: that channel's test says so.
+    processor.settings().setProperty(SettingIds::tactorMap, "1,-,3", nullptr);
+    CHECK(processor.testTactorChannel(1).contains("silent"));
+    // In a host there is no device output to open; the bus is the host's to route.
+    CHECK(processor.setTactorOutput(true).contains("route the Tactors output bus"));
+    // The window as a reader sees it.
+    const auto shot = panel.createComponentSnapshot(panel.getLocalBounds());
+    const auto shots = juce::File::getSpecialLocation(juce::File::tempDirectory).getChildFile("armadillo-ui-shots");
+    shots.createDirectory();
+    juce::FileOutputStream png(shots.getChildFile("tactors-window.png"));
+    png.setPosition(0);
+    png.truncate();
+    CHECK(juce::PNGImageFormat().writeImageToStream(shot, png));
+    processor.releaseResources();
 }
