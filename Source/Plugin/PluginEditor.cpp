@@ -7,6 +7,7 @@
 #include "Plugin/ReaderPanel.h"
 #include "Plugin/TactorsPanel.h"
 #include "Plugin/NavigationPanel.h"
+#include "Plugin/MqttPanel.h"
 #include "Core/Resources.h"
 #include "Core/Version.h"
 
@@ -116,7 +117,7 @@ ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
         }
         juce::DialogWindow::LaunchOptions o;
         auto panel = std::make_unique<ReaderPanel>(processor_);
-        panel->setSize(640, 690);   // the adaptive training's choices take two rows
+        panel->setSize(640, 860);   // the adaptive training's choices take two rows; the messages below
         o.content.setOwned(panel.release());
         o.dialogTitle = "ARMadillo reader";
         o.resizable = true;
@@ -188,6 +189,7 @@ ArmadilloEditor::~ArmadilloEditor()
     if (readerWindow_ != nullptr) delete readerWindow_.getComponent();
     if (tactorsWindow_ != nullptr) delete tactorsWindow_.getComponent();
     if (navigationWindow_ != nullptr) delete navigationWindow_.getComponent();
+    if (mqttWindow_ != nullptr) delete mqttWindow_.getComponent();
     sourceAttachment_.reset();
     sceneAttachment_.reset();
 }
@@ -286,6 +288,23 @@ void ArmadilloEditor::showNavigation()
     navigationWindow_ = o.launchAsync();
 }
 
+void ArmadilloEditor::showMqtt()
+{
+    if (mqttWindow_ != nullptr) {
+        mqttWindow_->toFront(true);
+        return;
+    }
+    juce::DialogWindow::LaunchOptions o;
+    auto panel = std::make_unique<MqttPanel>(processor_);
+    panel->setSize(640, 330);
+    o.content.setOwned(panel.release());
+    o.dialogTitle = "ARMadillo MQTT messages";
+    o.resizable = true;
+    o.useNativeTitleBar = true;
+    o.escapeKeyTriggersCloseButton = true;
+    mqttWindow_ = o.launchAsync();
+}
+
 void ArmadilloEditor::showSetupMenu()
 {
     juce::PopupMenu menu;
@@ -294,9 +313,11 @@ void ArmadilloEditor::showSetupMenu()
     menu.addSeparator();
     menu.addItem(3, "Tactors...");
     menu.addItem(4, "Navigation...");
+    menu.addItem(5, "MQTT messages...");
     menu.showMenuAsync(juce::PopupMenu::Options().withTargetComponent(&setup_), [this](int choice) {
         if (choice == 3) showTactors();
         if (choice == 4) showNavigation();
+        if (choice == 5) showMqtt();
         if (choice != 1 && choice != 2) return;
         const bool save = choice == 1;
         const auto folder = setupFolder();

@@ -67,6 +67,8 @@ private:
     void showTactors();
     juce::Component::SafePointer<juce::DialogWindow> navigationWindow_;   // NavigationPanel (issue 34)
     void showNavigation();
+    juce::Component::SafePointer<juce::DialogWindow> mqttWindow_;   // MqttPanel (issue 35)
+    void showMqtt();
     std::unique_ptr<juce::FileChooser> chooser_;
     std::unique_ptr<juce::AudioProcessorValueTreeState::ComboBoxAttachment> sourceAttachment_, sceneAttachment_;
     ArmView armView_;

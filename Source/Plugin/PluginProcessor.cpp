@@ -313,6 +313,15 @@ void ArmadilloProcessor::timerCallback()
     applyRequestedProgram();
     stageTick();
     tactorRig_.tick();
+    if (auto* service = messages_.service()) {   // messages to the braille scene when it runs
+        std::vector<std::string> said;
+        training_.with([&](braille::BrailleSceneControls& scene, std::uint64_t) { said = service->present(scene); });
+        for (const auto& line : said) {
+            messageLog_.add(juce::String(line));
+            if (line.find(" on the arm: ") != std::string::npos) speakAnnouncement(juce::String(line), false);
+        }
+        while (messageLog_.size() > 50) messageLog_.remove(0);
+    }
     if (const auto failure = engines_.takeNewFailure(); failure.isNotEmpty()) setEngineStatus(failure);
     training_.collect();   // keeps a braille training log's queue drained while no panel asks for it
     if (feedbackUntil_ > 0 && feedbackPlayer_.completed() >= feedbackUntil_) {
@@ -438,6 +447,9 @@ void ArmadilloProcessor::valueTreePropertyChanged(juce::ValueTree&, const juce::
                || id == SettingIds::backMotors
                || ((id == SettingIds::tactorDevice || id == SettingIds::tactorConnect) && tactorRig_.outputOpen())) {
         if (const auto why = tactorRig_.settingsChanged(settings_, motorCount()); why.isNotEmpty()) setStatus(why);
+    } else if (id == SettingIds::mqttEnabled) {
+        if (static_cast<bool>(settings_[SettingIds::mqttEnabled]) != messages_.running())
+            if (const auto why = setMessages(static_cast<bool>(settings_[SettingIds::mqttEnabled])); why.isNotEmpty()) setStatus(why);
     } else if (id == SettingIds::tactorOutput) {
         if (static_cast<bool>(settings_[SettingIds::tactorOutput]) != tactorRig_.outputOpen())
             if (const auto why = setTactorOutput(static_cast<bool>(settings_[SettingIds::tactorOutput])); why.isNotEmpty()) setStatus(why);
@@ -549,6 +561,15 @@ void ArmadilloProcessor::stopNavigation()
 {
     navigation_.stop();
     engines_.update(currentRequest());
+}
+
+juce::String ArmadilloProcessor::setMessages(bool on)
+{
+    juce::String why;
+    if (on) why = messages_.start(settings_);
+    else messages_.stop();
+    settings_.setProperty(SettingIds::mqttEnabled, messages_.running(), nullptr);   // off again when it failed
+    return why;
 }
 
 int ArmadilloProcessor::motorCount() const

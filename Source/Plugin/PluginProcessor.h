@@ -23,6 +23,7 @@
 #include "Plugin/Stage.h"
 #include "Plugin/TactorRig.h"
 #include "Plugin/NavigationRig.h"
+#include "Plugin/MessagesRig.h"
 #include "Live/StageControl.h"
 #include "Plugin/ReaderVoice.h"
 #include "Plugin/AdaptiveSession.h"
@@ -246,6 +247,14 @@ public:
     void stopNavigation();
     const NavigationRig& navigation() const noexcept { return navigation_; }
 
+    /// Messages on the arm over MQTT (MessagesRig.h, issue 35; message thread): on/off (the
+    /// mqttEnabled setting follows; "" or why not), the service while on, and what it did.
+    juce::String setMessages(bool on);
+    MessagesRig& messages() noexcept { return messages_; }
+    /// The last things the message presenter said ("message 3 from 'arm/inbox' on the arm: ..."),
+    /// newest last (at most 50), for the Reader window's message list.
+    juce::StringArray messageLog() const { return messageLog_; }
+
 private:
     static BusesProperties busesFor(WrapperType wrapper);
     // Message thread
@@ -276,6 +285,10 @@ private:
     BlockControl::Listen listen_ {};             // set in prepareToPlay (audio stopped), read by processBlock
     mutable std::mutex stemsMutex_;              // prepareToPlay vs the message thread's requests; never audio
     std::vector<std::string> stems_;             // under stemsMutex_: the enabled sidechain buses' stem names
+
+    // Before the engines: a braille scene may still hold a message its presenter handed over.
+    MessagesRig messages_;
+    juce::StringArray messageLog_;
 
     // The live rig, in the order it is built (and the reverse of teardown).
     live::ControlLoop loop_;

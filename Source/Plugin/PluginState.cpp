@@ -53,6 +53,12 @@ juce::ValueTree defaultSettings()
     s.setProperty(SettingIds::tactorGains, "", nullptr);
     s.setProperty(SettingIds::tactorSound, false, nullptr);
     s.setProperty(SettingIds::tactorOutput, false, nullptr);
+    s.setProperty(SettingIds::mqttEnabled, false, nullptr);
+    s.setProperty(SettingIds::mqttBroker, "localhost:1883", nullptr);
+    s.setProperty(SettingIds::mqttTopics, "arm/inbox", nullptr);
+    s.setProperty(SettingIds::mqttUrgent, "", nullptr);
+    s.setProperty(SettingIds::mqttConfig, "", nullptr);
+    s.setProperty(SettingIds::messageDisplay, "roll", nullptr);
     s.setProperty(SettingIds::tactorDevice, "", nullptr);
     s.setProperty(SettingIds::tactorConnect, "", nullptr);
     return s;
@@ -86,6 +92,7 @@ void installSettings(juce::ValueTree& settings, const juce::ValueTree& loaded)
     clampInt(SettingIds::editorHeight, 300, 8000, 700);
     if (settings[SettingIds::armSide].toString() != "left") settings.setProperty(SettingIds::armSide, "right", nullptr);
     if (settings[SettingIds::score].toString().isEmpty()) settings.setProperty(SettingIds::score, "rite-of-spring", nullptr);
+    if (settings[SettingIds::messageDisplay].toString() != "timed") settings.setProperty(SettingIds::messageDisplay, "roll", nullptr);
     if (tactors::TactorModel m; ! tactors::parseModel(settings[SettingIds::tactorModel].toString().toStdString(), m))
         settings.setProperty(SettingIds::tactorModel, "erm", nullptr);
     clampInt(SettingIds::speechRate, -100, 100, 0);

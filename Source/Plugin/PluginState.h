@@ -58,6 +58,13 @@ inline const juce::Identifier tactorSound {"tactorSound"};     ///< bool: a voic
 inline const juce::Identifier tactorOutput {"tactorOutput"};   ///< bool: the app's tactor output on
 inline const juce::Identifier tactorDevice {"tactorDevice"};   ///< the app's: "jack" or an ALSA PCM ("hw:UMC1820")
 inline const juce::Identifier tactorConnect {"tactorConnect"}; ///< the app's, JACK: connect tactor_k to ports matching this
+// Messages on the arm over MQTT (issue 35, docs/MQTT.md "In the app")
+inline const juce::Identifier mqttEnabled {"mqttEnabled"};     ///< bool: connect (on start too)
+inline const juce::Identifier mqttBroker {"mqttBroker"};       ///< HOST[:PORT] ("localhost:1883")
+inline const juce::Identifier mqttTopics {"mqttTopics"};       ///< topic filters, comma-separated ("arm/inbox")
+inline const juce::Identifier mqttUrgent {"mqttUrgent"};       ///< topic filters whose messages interrupt
+inline const juce::Identifier mqttConfig {"mqttConfig"};       ///< a configuration file (docs/MQTT.md), "" = none
+inline const juce::Identifier messageDisplay {"messageDisplay"}; ///< "roll" | "timed"
 } // namespace SettingIds
 
 namespace PluginState {

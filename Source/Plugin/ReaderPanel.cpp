@@ -155,6 +155,18 @@ ReaderPanel::ReaderPanel(ArmadilloProcessor& processor) : processor_(processor)
     describe(report_, "Progress report text",
              "Accuracy per stage and session, letters per minute, the confusion matrix and the published figures. "
              "Read it line by line with the arrow keys.");
+    messagesHeading_.setText("Messages", juce::dontSendNotification);
+    messagesHeading_.setFont(juce::Font(15.0f, juce::Font::bold));
+    addAndMakeVisible(messagesHeading_);
+    messages_.setTitle("Messages");
+    messages_.setDescription("The messages received over MQTT (Setup, MQTT messages), newest last: each with where it came from and "
+                             "whether it was shown on the arm. Read it line by line with the arrow keys.");
+    messages_.setWantsKeyboardFocus(true);
+    messages_.setMultiLine(true, false);
+    messages_.setReadOnly(true);
+    messages_.setCaretVisible(true);
+    messages_.setTextToShowWhenEmpty("no messages (Setup, MQTT messages... connects to a broker)", juce::Colours::grey);
+    addAndMakeVisible(messages_);
     report_.setMultiLine(true, false);
     report_.setReadOnly(true);
     report_.setCaretVisible(true);   // the caret is where a braille reader reads
@@ -183,6 +195,32 @@ void ReaderPanel::timerCallback()
     followAdaptive();
     refresh();
     showReaderProfile();
+    followMessages();
+}
+
+void ReaderPanel::followMessages()
+{
+    const auto* service = processor_.messages().service();
+    juce::String text;
+    if (service != nullptr) {
+        text << "MQTT: " << juce::String(service->describe()) << "\n";
+        for (const auto& m : service->recent(20)) {
+            text << juce::String(m.id) << ". " << juce::String::fromUTF8(m.text.c_str()) << "  (from " << juce::String(m.source)
+                 << (m.urgent ? ", urgent" : "") << ")\n";
+            if (m.id > lastMessageId_) {   // a new one: said once
+                lastMessageId_ = m.id;
+                announce("Message from " + juce::String(m.source) + ": " + juce::String::fromUTF8(m.text.c_str()));
+            }
+        }
+    } else {
+        text << "MQTT: stopped";
+    }
+    for (const auto& line : processor_.messageLog()) text << "\n" << line;
+    if (text != messages_.getText()) {
+        const auto caret = messages_.getCaretPosition();
+        messages_.setText(text, false);
+        messages_.setCaretPosition(caret);
+    }
 }
 
 void ReaderPanel::showReaderProfile()
@@ -546,6 +584,9 @@ void ReaderPanel::resized()
     forgetReader_.setBounds(line.removeFromRight(140));
     readerProfile_.setBounds(line);
     r.removeFromTop(8);
+    messagesHeading_.setBounds(r.removeFromTop(row));
+    messages_.setBounds(r.removeFromTop(juce::jmax(60, r.getHeight() / 3)));
+    r.removeFromTop(4);
     line = r.removeFromTop(row).reduced(0, 2);
     reportHeading_.setBounds(line.removeFromLeft(100));
     loadReport_.setBounds(line.removeFromLeft(170));

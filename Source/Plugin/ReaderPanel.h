@@ -26,6 +26,8 @@ public:
     /// Shows (and announces) the progress report of a reader profile file.
     juce::String showReport(const juce::File& file);
     juce::String reportText() const { return report_.getText(); }
+    /// The message list (issue 35): the messages received over MQTT, newest last (tests).
+    juce::String messagesText() const { return messages_.getText(); }
     juce::String touchSummary() const { return touch_.getText(); }
     /// Y = felt, N = not felt, R = again while the sensitivity test asks; F3 repeats, F4 stops speech.
     bool keyPressed(const juce::KeyPress& key) override;
@@ -56,6 +58,7 @@ private:
     void answerAdaptive();
     void followAdaptive();
     void showReaderProfile();
+    void followMessages();
 
     ArmadilloProcessor& processor_;
     juce::Label heading_, voiceLabel_, rateLabel_, voiceState_, touch_, reportHeading_;
@@ -81,6 +84,10 @@ private:
     TrainingKeys adaptiveKeys_;            // chords (F2), F3, F4 in the adaptive answer field
     juce::File readerFile_;
     double promptedAt_ = 0.0;              // ms, when the prompt was said (the response time)
+    // Messages on the arm (issue 35): the recent ones, read line by line like the report.
+    juce::Label messagesHeading_;
+    juce::TextEditor messages_;
+    std::uint64_t lastMessageId_ = 0;
     juce::TextButton loadReport_ {"Progress report..."};
     juce::TextEditor report_;
     std::unique_ptr<juce::FileChooser> chooser_;

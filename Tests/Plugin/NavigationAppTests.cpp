@@ -9,6 +9,9 @@
 #include "Osc/Osc.h"
 #include "Plugin/NavigationPanel.h"
 #include "Plugin/TactorsPanel.h"
+#include "Plugin/MqttPanel.h"
+#include "Plugin/ReaderPanel.h"
+#include "Mqtt/Broker.h"
 #include "Plugin/PluginProcessor.h"
 #include <arpa/inet.h>
 #include <netinet/in.h>
@@ -184,5 +187,69 @@ TEST_CASE("app: the Tactors window: every control titled, one test button per ch
     png.setPosition(0);
     png.truncate();
     CHECK(juce::PNGImageFormat().writeImageToStream(shot, png));
+    processor.releaseResources();
+}
+
+TEST_CASE("app: MQTT messages: connect from the MQTT window, a published message reaches the arm and the Reader window", "[plugin][mqtt]")
+{
+    test::Broker broker;
+    broker.start();
+    ArmadilloProcessor processor;
+    auto* scene = processor.parameters().getParameter(ParamIds::scene);
+    const auto& scenes = processor.sceneTable().scenes;
+    int braille = -1;
+    for (std::size_t i = 0; i < scenes.size(); ++i)
+        if (scenes[i].scene == "braille") braille = static_cast<int>(i);
+    REQUIRE(braille >= 0);
+    scene->setValueNotifyingHost(scene->convertTo0to1(static_cast<float>(braille)));
+    processor.prepareToPlay(48000.0, 480);
+    auto& settings = processor.settings();
+    settings.setProperty(SettingIds::mqttBroker, "127.0.0.1:" + juce::String(broker.port()), nullptr);
+    settings.setProperty(SettingIds::mqttTopics, "arm/inbox", nullptr);
+    settings.setProperty(SettingIds::messageDisplay, "timed", nullptr);
+    MqttPanel panel(processor);
+    panel.setSize(640, 330);
+    ReaderPanel reader(processor);
+    reader.setSize(640, 860);
+
+    // A bad topic: said, nothing connects.
+    settings.setProperty(SettingIds::mqttTopics, "arm/#/x", nullptr);
+    CHECK(processor.setMessages(true).contains("arm/#/x"));
+    CHECK_FALSE(processor.messages().running());
+    settings.setProperty(SettingIds::mqttTopics, "arm/inbox", nullptr);
+
+    panel.connectToggle().triggerClick();   // Connect, as a user presses it
+    pumpMessages(50);
+    REQUIRE(processor.messages().running());
+    juce::AudioBuffer<float> buffer(2, 480);
+    juce::MidiBuffer midi;
+    const auto run = [&](double seconds, const std::function<bool()>& done) {
+        const double end = juce::Time::getMillisecondCounterHiRes() + seconds * 1000.0;
+        while (juce::Time::getMillisecondCounterHiRes() < end && ! done()) {
+            buffer.clear();
+            processor.processBlock(buffer, midi);
+            midi.clear();
+            pumpMessages(5);
+        }
+        return done();
+    };
+    REQUIRE(run(10.0, [&] { return processor.messages().service()->status().state == mqtt::ConnectionState::Connected; }));
+    pumpMessages(300);   // the window's timer
+    CHECK(panel.status().getText().contains("connected to 127.0.0.1:" + juce::String(broker.port())));
+    // The window's test message goes out to the first topic and comes back as a message.
+    panel.testButton().triggerClick();
+    REQUIRE(run(10.0, [&] { return processor.messages().service()->inbox().accepted >= 1; }));
+    // One from elsewhere (a chat bridge's publish): queued, shown on the arm, listed.
+    REQUIRE(processor.messages().service()->publishText("arm/inbox", "door open"));
+    REQUIRE(run(15.0, [&] { return processor.messages().service()->shown() >= 1 && processor.messageLog().joinIntoString("\n").contains("door open"); }));
+    pumpMessages(600);   // the Reader window's timer
+    const auto list = reader.messagesText();
+    INFO(list);
+    CHECK(list.contains("door open"));
+    CHECK(list.contains("(from arm/inbox)"));
+    CHECK(list.contains("on the arm"));
+    CHECK(processor.messageLog().joinIntoString("\n").contains("test"));
+    processor.setMessages(false);
+    CHECK_FALSE(processor.messages().running());
     processor.releaseResources();
 }
