@@ -15,6 +15,7 @@
 #include "Core/ThreadPriority.h"
 #include "Osc/OscIo.h"
 #include <juce_audio_processors/juce_audio_processors.h>
+#include "HostedParameters.h"
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -42,13 +43,6 @@ double now()
 double elevationOf(int idx)
 {
     return -60.0 + kElevationStep * idx;
-}
-
-juce::AudioProcessorParameter* find(juce::AudioPluginInstance& p, const juce::String& name)
-{
-    for (auto* param : p.getParameters())
-        if (param->getName(100) == name) return param;
-    return nullptr;
 }
 
 void setState(juce::AudioPluginInstance& plugin, int oscPort)
@@ -176,7 +170,7 @@ int main(int argc, char* argv[])
             std::fprintf(stderr, "cannot instantiate: %s\n", error.toRawUTF8());
             return 1;
         }
-        if (find(*plugin, "Source") == nullptr) {
+        if (bench::findParameter(*plugin, "Source") == nullptr) {
             std::fprintf(stderr, "contract parameters missing\n");
             return 1;
         }

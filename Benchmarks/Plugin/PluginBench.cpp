@@ -3,6 +3,7 @@
 // under source = host automation (elevation swings ±72° at 0.7 Hz: fast enough to strike the
 // cymbal every cycle). Prints numbers; never passes or fails on time.
 #include <juce_audio_processors/juce_audio_processors.h>
+#include "HostedParameters.h"
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -13,25 +14,6 @@ namespace {
 constexpr double kRate = 48000.0;
 constexpr int kBlock = 64;
 
-juce::AudioProcessorParameter* find(juce::AudioPluginInstance& p, const juce::String& name)
-{
-    for (auto* param : p.getParameters())
-        if (param->getName(100) == name) return param;
-    return nullptr;
-}
-
-bool setChoice(juce::AudioProcessorParameter* p, const juce::String& text)
-{
-    const int steps = p->getNumSteps();
-    for (int i = 0; i < steps; ++i) {
-        const float v = static_cast<float>(i) / static_cast<float>(steps - 1);
-        if (p->getText(v, 100) == text) {
-            p->setValueNotifyingHost(v);
-            return true;
-        }
-    }
-    return false;
-}
 } // namespace
 
 int main(int argc, char* argv[])
@@ -53,15 +35,15 @@ int main(int argc, char* argv[])
     }
     plugin->setPlayConfigDetails(0, 2, kRate, kBlock);
     plugin->prepareToPlay(kRate, kBlock);
-    auto* scene = find(*plugin, "Scene");
-    auto* source = find(*plugin, "Source");
-    auto* elevation = find(*plugin, "Elevation");
-    auto* azimuth = find(*plugin, "Azimuth");
+    auto* scene = armadillo::bench::findParameter(*plugin, "Scene");
+    auto* source = armadillo::bench::findParameter(*plugin, "Source");
+    auto* elevation = armadillo::bench::findParameter(*plugin, "Elevation");
+    auto* azimuth = armadillo::bench::findParameter(*plugin, "Azimuth");
     if (!scene || !source || !elevation || !azimuth) {
         std::fprintf(stderr, "contract parameters missing\n");
         return 1;
     }
-    setChoice(source, "host automation");
+    armadillo::bench::setChoice(source, "host automation");
 
     juce::AudioBuffer<float> buffer(2, kBlock);
     juce::MidiBuffer midi;

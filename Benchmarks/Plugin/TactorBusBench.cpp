@@ -9,6 +9,7 @@
 //                   wait, up to one control period, included).
 // Prints numbers only; never passes or fails on time.
 #include <juce_audio_processors/juce_audio_processors.h>
+#include "HostedParameters.h"
 #include "Plugin/TactorBusLayout.h"
 #include <algorithm>
 #include <cmath>
@@ -19,26 +20,6 @@ namespace {
 constexpr double kRate = 48000.0;
 constexpr int kStep = 240;   // the plugin's control grid at 48 kHz (200 Hz)
 constexpr int kTactors = 9;
-
-juce::AudioProcessorParameter* find(juce::AudioPluginInstance& p, const juce::String& name)
-{
-    for (auto* param : p.getParameters())
-        if (param->getName(100) == name) return param;
-    return nullptr;
-}
-
-bool setChoice(juce::AudioProcessorParameter* p, const juce::String& text)
-{
-    const int steps = p->getNumSteps();
-    for (int i = 0; i < steps; ++i) {
-        const float v = static_cast<float>(i) / static_cast<float>(steps - 1);
-        if (p->getText(v, 100) == text) {
-            p->setValueNotifyingHost(v);
-            return true;
-        }
-    }
-    return false;
-}
 
 double percentile(std::vector<double> v, double p)
 {
@@ -73,10 +54,10 @@ int main()
             std::fprintf(stderr, "the Tactors bus cannot be enabled\n");
             return 1;
         }
-        auto* source = find(*plugin, "Source");
-        auto* scene = find(*plugin, "Scene");
-        auto* elevation = find(*plugin, "Elevation");
-        if (!source || !scene || !elevation || !setChoice(source, "host automation") || !setChoice(scene, "theremin")) {
+        auto* source = armadillo::bench::findParameter(*plugin, "Source");
+        auto* scene = armadillo::bench::findParameter(*plugin, "Scene");
+        auto* elevation = armadillo::bench::findParameter(*plugin, "Elevation");
+        if (!source || !scene || !elevation || !armadillo::bench::setChoice(source, "host automation") || !armadillo::bench::setChoice(scene, "theremin")) {
             std::fprintf(stderr, "contract parameters missing\n");
             return 1;
         }

@@ -5,6 +5,7 @@
 #include "Cli/CommandLine.h"
 #include "Cli/Commands.h"
 #include "Cli/ReaderIo.h"
+#include "Cli/TactorOptions.h"
 #include "Cli/SceneOptions.h"
 #include "Core/AtomicFile.h"
 #include "Core/Errors.h"
@@ -161,6 +162,9 @@ int runNavigate(const Arguments& args)
                 };
                 const auto io = readerIoOptionSpecs();   // --speak, --speech, --rate, --brlapi, --braille-display
                 o.insert(o.end(), io.begin(), io.end());
+                // The motors on a tactor rig (docs/TACTORS.md), beside the device or the simulator.
+                const auto tactorOptions = tactorOptionSpecs(true);
+                o.insert(o.end(), tactorOptions.begin(), tactorOptions.end());
                 return o;
             }());
         if (!cl.parse(args)) return kExitOk;
@@ -172,6 +176,8 @@ int runNavigate(const Arguments& args)
             throw UsageError("choose the arm: --port NAME or --simulate (or, with --osc-in, the phone's own motion on that port)");
         if (cl.has("--mount") && !armFromOsc) throw UsageError("--mount says how a phone is worn: with --osc-in as the arm (no --port, no --simulate)");
         if (walk && !cl.has("--simulate")) throw UsageError("--simulate-walk moves the simulated forearm: use it with --simulate");
+        if (walk && (cl.has("--tactors") || anyTactorSetting(cl))) throw UsageError("--simulate-walk runs offline: the tactor options are for a live walk");
+        if (anyTactorSetting(cl) && !cl.has("--tactors")) throw UsageError("the --tactor-* options shape --tactors: give it too");
         if (cl.has("--motion") && (!cl.has("--simulate") || walk)) throw UsageError("--motion drives the simulated forearm with --gpsd or --osc-in: use it with --simulate");
         for (const char* o : {"--strap-offset", "--seed"})
             if (cl.has(o) && !walk) throw UsageError(std::string(o) + " applies to --simulate-walk");
@@ -276,6 +282,7 @@ int runNavigate(const Arguments& args)
         readProfileOption(cl, config.engine);
         if (cl.has("--calibration")) config.calibration = device::loadCalibration(cl.value("--calibration"));
         config.tactileOut = tactilePath;
+        if (cl.has("--tactors")) config.tactors = tactorConfig(cl, config.engine.motorCount);   // IoError / InputError before anything runs
         config.makeScene = [&route, link, options] { return nav::makeNavigationScene(route, link, options); };
 
         installInterruptHandlers();
@@ -288,6 +295,7 @@ int runNavigate(const Arguments& args)
         else config.oscDatagramTap = [link, shared](const std::uint8_t* d, std::size_t n) { nav::storePositionDatagram(d, n, link->position, *shared); };
         device::LiveSession session(config);
         session.start();
+        if (live::TactorOutput* t = session.tactors()) std::cerr << "armadillo navigate: tactors on " << t->describe() << "\n";
         if (gpsdSource) {
             gpsdSource->start();
             std::cerr << "armadillo navigate: positions from gpsd at " << gpsdSource->describe() << "\n";

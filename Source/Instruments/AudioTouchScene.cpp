@@ -23,6 +23,7 @@
 // the sensitivity floor for 1 s and a main input comes after them, the main input is felt as the
 // mixed input above (a host that enables the sidechains but routes nothing to them); `mixed`
 // feels the main input (without one: the stems' sum) as one mix through the three bands.
+#include "Core/Biquad.h"
 #include "Core/Errors.h"
 #include "Instruments/ParameterSet.h"
 #include "Instruments/Scenes.h"
@@ -46,30 +47,6 @@ std::vector<ParamSpec> audioTouchSpecs()
         {"audio-touch.stems", "Stems", 0.0f, 1.0f, 0.0f, "", {"apart", "mixed"}},   // appended (issue 27)
     };
 }
-
-/// RBJ biquad (transposed direct form II), double state.
-struct Biquad {
-    double b0 = 1, b1 = 0, b2 = 0, a1 = 0, a2 = 0, z1 = 0, z2 = 0;
-    static Biquad make(bool highPass, double hz, double fs)
-    {
-        const double w = 2.0 * kPi * hz / fs, c = std::cos(w), alpha = std::sin(w) / (2.0 * 0.7071067811865476);
-        const double a0 = 1.0 + alpha;
-        Biquad q;
-        q.b0 = (highPass ? (1.0 + c) / 2.0 : (1.0 - c) / 2.0) / a0;
-        q.b1 = (highPass ? -(1.0 + c) : (1.0 - c)) / a0;
-        q.b2 = q.b0;
-        q.a1 = -2.0 * c / a0;
-        q.a2 = (1.0 - alpha) / a0;
-        return q;
-    }
-    double operator()(double x) noexcept
-    {
-        const double y = b0 * x + z1;
-        z1 = b1 * x - a1 * y + z2;
-        z2 = b2 * x - a2 * y;
-        return y;
-    }
-};
 
 /// A stem's preset: where it is felt and how it is heard (docs/INSTRUMENTS.md, "Stems").
 struct StemPreset {

@@ -89,4 +89,23 @@ inline void paintFocusRing(juce::Graphics& g, juce::Rectangle<int> area)
     g.drawRoundedRectangle(area.toFloat().expanded(2.0f), 3.0f, 2.0f);
 }
 
+/// A text field bound to a setting that applies on Return or when focus leaves, not per keystroke
+/// (each change may rebuild a rig: a tactor output, an MQTT connection).
+inline void commitOnEnter(juce::TextEditor& editor, juce::ValueTree settings, const juce::Identifier& id)
+{
+    auto commit = [&editor, settings, id]() mutable {
+        if (settings[id].toString() != editor.getText().trim()) settings.setProperty(id, editor.getText().trim(), nullptr);
+    };
+    editor.onReturnKey = commit;
+    editor.onFocusLost = commit;
+}
+
+/// The next row of a panel's form: `height` pixels off the top of `area`, then a `gap`.
+inline juce::Rectangle<int> takeRow(juce::Rectangle<int>& area, int height = 28, int gap = 6)
+{
+    auto row = area.removeFromTop(height);
+    area.removeFromTop(gap);
+    return row;
+}
+
 } // namespace armadillo::plugin

@@ -25,9 +25,9 @@ MqttPanel::MqttPanel(ArmadilloProcessor& processor) : processor_(processor)
     topics_.setText(settings[SettingIds::mqttTopics].toString(), false);
     describe(urgent_, "Urgent topics", "Topics whose messages interrupt what is being read (a door's bell, an alarm).");
     urgent_.setText(settings[SettingIds::mqttUrgent].toString(), false);
-    commitText(broker_, SettingIds::mqttBroker);
-    commitText(topics_, SettingIds::mqttTopics);
-    commitText(urgent_, SettingIds::mqttUrgent);
+    commitOnEnter(broker_, processor_.settings(), SettingIds::mqttBroker);
+    commitOnEnter(topics_, processor_.settings(), SettingIds::mqttTopics);
+    commitOnEnter(urgent_, processor_.settings(), SettingIds::mqttUrgent);
     describe(display_, "How messages are shown", "Read by rolling the arm as any text, or drawn by themselves, timed, framed as the training frames a cell.");
     display_.addItem("read by rolling the arm", 1);
     display_.addItem("timed, by themselves", 2);
@@ -74,15 +74,6 @@ MqttPanel::~MqttPanel()
     stopTimer();
 }
 
-void MqttPanel::commitText(juce::TextEditor& editor, const juce::Identifier& id)
-{
-    auto commit = [this, &editor, id] {
-        if (processor_.settings()[id].toString() != editor.getText().trim()) processor_.settings().setProperty(id, editor.getText().trim(), nullptr);
-    };
-    editor.onReturnKey = commit;
-    editor.onFocusLost = commit;
-}
-
 void MqttPanel::say(const juce::String& text)
 {
     said_ = text;
@@ -110,11 +101,7 @@ void MqttPanel::resized()
 {
     auto area = getLocalBounds().reduced(12);
     heading_.setBounds(area.removeFromTop(24));
-    const auto row = [&area] {
-        auto r = area.removeFromTop(28);
-        area.removeFromTop(6);
-        return r;
-    };
+    const auto row = [&area] { return takeRow(area); };
     constexpr int labelWidth = 120;
     auto r = row();
     brokerLabel_.setBounds(r.removeFromLeft(labelWidth));

@@ -24,7 +24,6 @@ public:
 private:
     void timerCallback() override;
     void say(const juce::String& text);
-    void commitText(juce::TextEditor& editor, const juce::Identifier& id);
 
     ArmadilloProcessor& processor_;
     juce::Label heading_, brokerLabel_, topicsLabel_, urgentLabel_, configLabel_, configFile_, displayLabel_, status_;

@@ -182,11 +182,7 @@ void NavigationPanel::resized()
 {
     auto area = getLocalBounds().reduced(12);
     heading_.setBounds(area.removeFromTop(24));
-    const auto row = [&area] {
-        auto r = area.removeFromTop(28);
-        area.removeFromTop(6);
-        return r;
-    };
+    const auto row = [&area] { return takeRow(area); };
     auto r = row();
     routeLabel_.setBounds(r.removeFromLeft(120));
     chooseRoute_.setBounds(r.removeFromRight(100));

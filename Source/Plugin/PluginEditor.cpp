@@ -94,36 +94,11 @@ ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
     describe(stage_, "Stage", "On stage: the performance view (F11), load or clear a set list, panic (F12) and resume, the panic gesture.");
     stage_.onClick = [this] { showStageMenu(); };
     describe(mappingButton_, "Mapping editor", "Open the mapping editor: arm features to MIDI, OSC, macros and scene parameters, with MIDI learn.");
-    mappingButton_.onClick = [this] {
-        if (mappingWindow_ != nullptr) {
-            mappingWindow_->toFront(true);
-            return;
-        }
-        juce::DialogWindow::LaunchOptions o;
-        auto panel = std::make_unique<MappingPanel>(processor_);
-        panel->setSize(760, 520);
-        o.content.setOwned(panel.release());
-        o.dialogTitle = "ARMadillo mapping";
-        o.resizable = true;
-        o.useNativeTitleBar = true;
-        o.escapeKeyTriggersCloseButton = true;
-        mappingWindow_ = o.launchAsync();
-    };
+    mappingButton_.onClick = [this] { openWindow(mappingWindow_, [this] { return std::make_unique<MappingPanel>(processor_); }, {760, 520}, "ARMadillo mapping"); };
     describe(readerButton_, "Reader settings", "Self-voicing and braille display, the reader's touch profile, the progress report.");
     readerButton_.onClick = [this] {
-        if (readerWindow_ != nullptr) {
-            readerWindow_->toFront(true);
-            return;
-        }
-        juce::DialogWindow::LaunchOptions o;
-        auto panel = std::make_unique<ReaderPanel>(processor_);
-        panel->setSize(640, 860);   // the adaptive training's choices take two rows; the messages below
-        o.content.setOwned(panel.release());
-        o.dialogTitle = "ARMadillo reader";
-        o.resizable = true;
-        o.useNativeTitleBar = true;
-        o.escapeKeyTriggersCloseButton = true;
-        readerWindow_ = o.launchAsync();
+        // The adaptive training's choices take two rows; the messages below.
+        openWindow(readerWindow_, [this] { return std::make_unique<ReaderPanel>(processor_); }, {640, 860}, "ARMadillo reader");
     };
 
     deviceView_.setViewedComponent(&device_, false);
@@ -254,55 +229,37 @@ void ArmadilloEditor::chooseSetList()
     });
 }
 
-void ArmadilloEditor::showTactors()
+void ArmadilloEditor::openWindow(juce::Component::SafePointer<juce::DialogWindow>& window, const std::function<std::unique_ptr<juce::Component>()>& make,
+                                 juce::Point<int> size, const juce::String& title)
 {
-    if (tactorsWindow_ != nullptr) {
-        tactorsWindow_->toFront(true);
+    if (window != nullptr) {   // one of each: brought to the front
+        window->toFront(true);
         return;
     }
     juce::DialogWindow::LaunchOptions o;
-    auto panel = std::make_unique<TactorsPanel>(processor_);
-    panel->setSize(640, 380);
+    auto panel = make();
+    panel->setSize(size.x, size.y);
     o.content.setOwned(panel.release());
-    o.dialogTitle = "ARMadillo tactors";
+    o.dialogTitle = title;
     o.resizable = true;
     o.useNativeTitleBar = true;
     o.escapeKeyTriggersCloseButton = true;
-    tactorsWindow_ = o.launchAsync();
+    window = o.launchAsync();
+}
+
+void ArmadilloEditor::showTactors()
+{
+    openWindow(tactorsWindow_, [this] { return std::make_unique<TactorsPanel>(processor_); }, {640, 380}, "ARMadillo tactors");
 }
 
 void ArmadilloEditor::showNavigation()
 {
-    if (navigationWindow_ != nullptr) {
-        navigationWindow_->toFront(true);
-        return;
-    }
-    juce::DialogWindow::LaunchOptions o;
-    auto panel = std::make_unique<NavigationPanel>(processor_);
-    panel->setSize(640, 460);
-    o.content.setOwned(panel.release());
-    o.dialogTitle = "ARMadillo navigation";
-    o.resizable = true;
-    o.useNativeTitleBar = true;
-    o.escapeKeyTriggersCloseButton = true;
-    navigationWindow_ = o.launchAsync();
+    openWindow(navigationWindow_, [this] { return std::make_unique<NavigationPanel>(processor_); }, {640, 460}, "ARMadillo navigation");
 }
 
 void ArmadilloEditor::showMqtt()
 {
-    if (mqttWindow_ != nullptr) {
-        mqttWindow_->toFront(true);
-        return;
-    }
-    juce::DialogWindow::LaunchOptions o;
-    auto panel = std::make_unique<MqttPanel>(processor_);
-    panel->setSize(640, 330);
-    o.content.setOwned(panel.release());
-    o.dialogTitle = "ARMadillo MQTT messages";
-    o.resizable = true;
-    o.useNativeTitleBar = true;
-    o.escapeKeyTriggersCloseButton = true;
-    mqttWindow_ = o.launchAsync();
+    openWindow(mqttWindow_, [this] { return std::make_unique<MqttPanel>(processor_); }, {640, 330}, "ARMadillo MQTT messages");
 }
 
 void ArmadilloEditor::showSetupMenu()

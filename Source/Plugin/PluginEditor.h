@@ -63,6 +63,9 @@ private:
     juce::Component::SafePointer<juce::DialogWindow> mappingWindow_;
     juce::TextButton readerButton_ {"Reader..."};                // ReaderPanel in its own window (issue 26)
     juce::Component::SafePointer<juce::DialogWindow> readerWindow_;
+    /// Opens a panel in a window of its own, or brings the open one to the front.
+    void openWindow(juce::Component::SafePointer<juce::DialogWindow>& window, const std::function<std::unique_ptr<juce::Component>()>& make,
+                    juce::Point<int> size, const juce::String& title);
     juce::Component::SafePointer<juce::DialogWindow> tactorsWindow_;   // TactorsPanel (issue 33)
     void showTactors();
     juce::Component::SafePointer<juce::DialogWindow> navigationWindow_;   // NavigationPanel (issue 34)

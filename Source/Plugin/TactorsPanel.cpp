@@ -41,9 +41,9 @@ TactorsPanel::TactorsPanel(ArmadilloProcessor& processor)
     describe(map_, "Channel map", "One entry per channel: a motor number or - for a silent channel, ranges allowed (1-9). Empty: channel k is motor k.");
     map_.setText(settings[SettingIds::tactorMap].toString(), false);
     map_.setTextToShowWhenEmpty("1-9", juce::Colours::grey);
-    commitText(device_, SettingIds::tactorDevice);
-    commitText(connect_, SettingIds::tactorConnect);
-    commitText(map_, SettingIds::tactorMap);
+    commitOnEnter(device_, processor_.settings(), SettingIds::tactorDevice);
+    commitOnEnter(connect_, processor_.settings(), SettingIds::tactorConnect);
+    commitOnEnter(map_, processor_.settings(), SettingIds::tactorMap);
     describe(output_, "Tactor output", "Open the tactor output and drive it from every control step, beside the serial device.");
     output_.setToggleState(processor_.tactorRig().outputOpen(), juce::dontSendNotification);
     output_.onClick = [this] {
@@ -97,17 +97,6 @@ TactorsPanel::~TactorsPanel()
     stopTimer();
 }
 
-void TactorsPanel::commitText(juce::TextEditor& editor, const juce::Identifier& id)
-{
-    // Applied on Return or when focus leaves, not per keystroke (each applies the whole rig).
-    auto commit = [this, &editor, id] {
-        if (processor_.settings()[id].toString() != editor.getText().trim())
-            processor_.settings().setProperty(id, editor.getText().trim(), nullptr);
-    };
-    editor.onReturnKey = commit;
-    editor.onFocusLost = commit;
-}
-
 void TactorsPanel::chooseGains()
 {
     chooser_ = std::make_unique<juce::FileChooser>("Choose a tactor gain file", juce::File(), "*.json");
@@ -152,11 +141,7 @@ void TactorsPanel::resized()
     heading_.setBounds(area.removeFromTop(24));
     intro_.setBounds(area.removeFromTop(40));
     area.removeFromTop(6);
-    const auto row = [&area] {
-        auto r = area.removeFromTop(28);
-        area.removeFromTop(6);
-        return r;
-    };
+    const auto row = [&area] { return takeRow(area); };
     constexpr int labelWidth = 110;
     if (standalone_) {
         auto r = row();

@@ -30,7 +30,6 @@ private:
     void timerCallback() override;
     void chooseGains();
     void say(const juce::String& text);
-    void commitText(juce::TextEditor& editor, const juce::Identifier& id);
 
     ArmadilloProcessor& processor_;
     const bool standalone_;

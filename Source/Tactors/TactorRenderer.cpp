@@ -196,20 +196,9 @@ void TactorRenderer::prepare(const TactorParams& params, const ChannelMap& map, 
         c = Channel {};
         c.hz = c.targetHz = carrierHz(params, 0.0);
     }
-    // The sound's band: RBJ's 2nd-order Butterworth (Q = 1/√2) high-pass and low-pass.
-    const auto design = [sampleRate](double hz, bool high) {
-        const double w = kTwoPi * hz / sampleRate, cw = std::cos(w), alpha = std::sin(w) / (2.0 * std::sqrt(0.5));
-        const double a0 = 1.0 + alpha;
-        Biquad b;
-        b.b0 = (high ? (1.0 + cw) / 2.0 : (1.0 - cw) / 2.0) / a0;
-        b.b1 = (high ? -(1.0 + cw) : (1.0 - cw)) / a0;
-        b.b2 = b.b0;
-        b.a1 = -2.0 * cw / a0;
-        b.a2 = (1.0 - alpha) / a0;
-        return b;
-    };
-    highPass_ = design(params.soundLowHz, true);
-    lowPass_ = design(params.soundHighHz, false);
+    // The sound's band: 2nd-order Butterworth high-pass and low-pass (Core/Biquad.h).
+    highPass_ = Biquad::make(true, params.soundLowHz, sampleRate);
+    lowPass_ = Biquad::make(false, params.soundHighHz, sampleRate);
     envelope_ = 0.0;
     release_ = std::exp(-1.0 / (0.05 * sampleRate));   // the envelope falls 1/e in 50 ms
     powerSlew_ = 1.0 - std::exp(-1.0 / (0.02 * sampleRate));
@@ -289,7 +278,7 @@ void TactorRenderer::renderWithSound(float* const* out, int n) noexcept
                 --soundLeft_;
                 if (!std::isfinite(x)) x = 0.0;
             }
-            const double y = lowPass_.run(highPass_.run(x));
+            const double y = lowPass_(highPass_(x));
             envelope_ = std::max(std::abs(y), envelope_ * release_);
             recent_ = std::max(std::abs(y), recent_ * fastRelease_);   // has it just stopped?
             const float fallback = static_cast<float>(std::sin(fallbackPhase_));

@@ -23,6 +23,7 @@
 // Threads: prepare() allocates; setLevels(), render() and allOff() allocate, lock and throw
 // nothing (tested under the RealtimeGuard), so the plugin can call them per block on its audio
 // thread and `play`'s output calls them on the sound card's or JACK's thread.
+#include "Core/Biquad.h"
 #include "Core/Csv.h"
 #include "Core/Types.h"
 #include "Core/Wav.h"
@@ -168,16 +169,6 @@ private:
     SafetyStage guard_;
     std::uint64_t limited_ = 0;
     // The scene's sound as the carrier (usesSound()).
-    struct Biquad {
-        double b0 = 1, b1 = 0, b2 = 0, a1 = 0, a2 = 0, z1 = 0, z2 = 0;
-        double run(double x) noexcept
-        {
-            const double y = b0 * x + z1;
-            z1 = b1 * x - a1 * y + z2;
-            z2 = b2 * x - a2 * y;
-            return y;
-        }
-    };
     Biquad highPass_, lowPass_;
     double envelope_ = 0.0, release_ = 0.0, fallbackPhase_ = 0.0, meanSquare_ = 0.0, powerSlew_ = 1.0, recent_ = 0.0, fastRelease_ = 0.0;
     const float* sound_ = nullptr;

@@ -240,6 +240,28 @@ inline std::unique_ptr<juce::XmlElement> ownState(Hosted& h)
     return xml;
 }
 
+/// The plugin's own state document given to the plugin through JUCE's VST3 state wrapper, as a
+/// DAW restores a session.
+inline void setOwnStateVst3(Hosted& h, const juce::XmlElement& own)
+{
+    juce::MemoryBlock payload, blob;
+    juce::AudioProcessor::copyXmlToBinary(own, payload);
+    juce::XmlElement state("VST3PluginState");
+    state.createNewChildElement("IComponent")->addTextElement(payload.toBase64Encoding());
+    juce::AudioProcessor::copyXmlToBinary(state, blob);
+    h.plugin->setStateInformation(blob.getData(), static_cast<int>(blob.getSize()));
+}
+
+/// Some of the plugin's own settings (docs/PLUGIN.md "State") changed, the rest kept.
+inline void setOwnSettings(Hosted& h, const std::map<juce::String, juce::var>& values)
+{
+    auto own = ownState(h);
+    auto* settings = own->getChildByName("SETTINGS");
+    REQUIRE(settings != nullptr);
+    for (const auto& [k, v] : values) settings->setAttribute(k, v.toString());
+    setOwnStateVst3(h, *own);
+}
+
 /// Frequency from positive-going zero crossings (interpolated), over the whole span.
 inline double frequency(const std::vector<float>& x, std::size_t from)
 {

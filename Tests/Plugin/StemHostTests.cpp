@@ -18,18 +18,7 @@ namespace {
 /// the document JUCE's VST3 host keeps them in.
 void sendMotorsTo(Hosted& h, int port)
 {
-    auto own = ownState(h);
-    auto* settings = own->getChildByName("SETTINGS");
-    REQUIRE(settings != nullptr);
-    settings->setAttribute("oscOutEnabled", 1);
-    settings->setAttribute("oscOutHost", "127.0.0.1");
-    settings->setAttribute("oscOutPort", port);
-    juce::MemoryBlock payload, blob;
-    juce::AudioProcessor::copyXmlToBinary(*own, payload);
-    juce::XmlElement state("VST3PluginState");
-    state.createNewChildElement("IComponent")->addTextElement(payload.toBase64Encoding());
-    juce::AudioProcessor::copyXmlToBinary(state, blob);
-    h.plugin->setStateInformation(blob.getData(), static_cast<int>(blob.getSize()));
+    setOwnSettings(h, {{"oscOutEnabled", 1}, {"oscOutHost", "127.0.0.1"}, {"oscOutPort", port}});
 }
 
 // The scene's presets (docs/INSTRUMENTS.md "Stems felt apart"; motor k of INTERFACES.md is

@@ -22,21 +22,6 @@ namespace {
 constexpr int kTactorChannels = 9;
 constexpr int kFrame = 240;   // 5 ms at 48 kHz: the envelope's frame
 
-/// The plugin's own settings changed inside the document JUCE's VST3 host keeps them in.
-void setSettings(Hosted& h, const std::map<juce::String, juce::var>& values)
-{
-    auto own = ownState(h);
-    auto* settings = own->getChildByName("SETTINGS");
-    REQUIRE(settings != nullptr);
-    for (const auto& [k, v] : values) settings->setAttribute(k, v.toString());
-    juce::MemoryBlock payload, blob;
-    juce::AudioProcessor::copyXmlToBinary(*own, payload);
-    juce::XmlElement state("VST3PluginState");
-    state.createNewChildElement("IComponent")->addTextElement(payload.toBase64Encoding());
-    juce::AudioProcessor::copyXmlToBinary(state, blob);
-    h.plugin->setStateInformation(blob.getData(), static_cast<int>(blob.getSize()));
-}
-
 void enableTactors(Hosted& h, int channels)
 {
     auto layout = h.plugin->getBusesLayout();
@@ -109,7 +94,7 @@ TEST_CASE("VST3: the Tactors bus carries render --tactile-wav's envelope for the
 {
     ARMADILLO_REQUIRE_GUARD_SEES_ALLOCATION();
     auto h = loadVst3();
-    setSettings(h, {{"tactorModel", "lra"}});   // a 170 Hz carrier: the envelope is clear in 5 ms frames
+    setOwnSettings(h, {{"tactorModel", "lra"}});   // a 170 Hz carrier: the envelope is clear in 5 ms frames
     enableTactors(h, kTactorChannels);
     h.plugin->prepareToPlay(kRate, kBlock);
     setChoice(h, "Source", "host automation");
@@ -286,7 +271,7 @@ TEST_CASE("VST3: pluginval's bus tests with the Tactors bus: all buses enabled, 
 TEST_CASE("VST3: with tactorSound, the Tactors bus's voice coils carry the cymbal's own sound", "[sound]")
 {
     auto h = loadVst3();
-    setSettings(h, {{"tactorModel", "voice-coil"}, {"tactorSound", "1"}});
+    setOwnSettings(h, {{"tactorModel", "voice-coil"}, {"tactorSound", "1"}});
     enableTactors(h, kTactorChannels);
     h.plugin->prepareToPlay(kRate, kBlock);
     setChoice(h, "Source", "host automation");

@@ -28,17 +28,12 @@ int freeUdpPort()
     return port;
 }
 
-/// The plugin's own state document through JUCE's VST3 state wrapper (as a DAW restores one).
+/// The plugin's own state document from its text, as a DAW restores one.
 void setOwnStateVst3(Hosted& h, const juce::String& xml)
 {
     auto own = juce::parseXML(xml);
     REQUIRE(own != nullptr);
-    juce::MemoryBlock payload, blob;
-    juce::AudioProcessor::copyXmlToBinary(*own, payload);
-    juce::XmlElement state("VST3PluginState");
-    state.createNewChildElement("IComponent")->addTextElement(payload.toBase64Encoding());
-    juce::AudioProcessor::copyXmlToBinary(state, blob);
-    h.plugin->setStateInformation(blob.getData(), static_cast<int>(blob.getSize()));
+    armadillo::test::host::setOwnStateVst3(h, *own);
 }
 
 /// Host automation (source 3) on `scene`, the left arm's sender on `port` when `leftOn`, and an

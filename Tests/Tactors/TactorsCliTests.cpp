@@ -2,6 +2,7 @@
 // of the test's own (dummy backend, a unique name through JACK_DEFAULT_SERVER), the tactor ports
 // recorded by a JACK client of the test, compared with the tactile CSV of the same run.
 #include "Cli/CliRun.h"
+#include "Common/FreePort.h"
 #include "Common/ScratchDir.h"
 #include "Tactors/JackFixtures.h"
 #include "Tactors/SignalMeasure.h"
@@ -344,4 +345,21 @@ TEST_CASE("tactors cli: render --tactor-sound: the voice coils carry the cymbal'
     // Usage: the sound goes to a voice coil only, and needs the scene's audio.
     CHECK(runCli("render --scene cymbal --motion '" + motion + "' --tactile-wav '" + sound + "' --tactor-model lra --tactor-sound").code == 2);
     CHECK(runCli("play --simulate --scene cymbal --seconds 1 --no-audio --tactors null --tactor-model voice-coil --tactor-sound").code == 2);
+}
+
+TEST_CASE("tactors cli: navigate drives a tactor rig beside the arm (a phone's motion and positions over OSC)", "[tactors][cli][navigate]")
+{
+    const std::string route = scratch("walk.json");
+    writeFileAtomically(route, R"([{"lat": 48.1492, "lon": 11.5678, "name": "Start"}, {"lat": 48.1497396, "lon": 11.5678, "name": "Entrance"}])");
+    const std::string csv = scratch("T-nav.csv");
+    std::filesystem::remove(csv);
+    const int port = test::freeUdpPort();
+    Run r = runCli("navigate --route '" + route + "' --osc-in " + std::to_string(port) + " --tactors null --tactor-model lra --seconds 1 --tactile '" + csv + "'");
+    INFO(r.err);
+    CHECK(r.code == 0);
+    CHECK(r.err.find("navigate: tactors on ALSA 'null'") != std::string::npos);
+    CHECK(std::filesystem::exists(csv));
+    // The tactor options need --tactors, and the offline walker has no live output.
+    CHECK(runCli("navigate --route '" + route + "' --osc-in " + std::to_string(port) + " --tactor-model lra --seconds 1").code == 2);
+    CHECK(runCli("navigate --route '" + route + "' --simulate-walk --simulate --tactors null --seconds 1").code == 2);
 }
