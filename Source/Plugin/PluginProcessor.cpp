@@ -151,6 +151,7 @@ EngineRequest ArmadilloProcessor::currentRequest() const
 
 void ArmadilloProcessor::prepareToPlay(double sampleRate, int)
 {
+    hostPrepared_.store(true, std::memory_order_relaxed);
     sampleRate_.store(sampleRate > 0.0 ? sampleRate : 48000.0);
     // The main input (where the listened-to audio sits in processBlock's buffer; the layout is
     // fixed until the next prepareToPlay), heard and played through.
@@ -332,8 +333,13 @@ void ArmadilloProcessor::timerCallback()
             control_.setStimulus(nullptr);   // the scene has the motors again
     }
     engines_.update(currentRequest());
-    writeLiveOrientationToParameters();
-    writeMacrosToParameters();
+    // Parameter edits go to the host: not before it has prepared the plugin (a host still
+    // initialising the instance is not ready for them: pluginval caught JUCE's VST3 host crashing
+    // in performEdit while it listed the parameters). The standalone app is its own host.
+    if (hostPrepared_.load(std::memory_order_relaxed) || wrapperType == wrapperType_Standalone) {
+        writeLiveOrientationToParameters();
+        writeMacrosToParameters();
+    }
     {
         std::lock_guard<std::mutex> lock(mappingMutex_);
         mapping_.timerTick();
@@ -734,6 +740,9 @@ juce::String ArmadilloProcessor::loadSetup(const juce::File& file)
 
 void ArmadilloProcessor::setStateInformation(const void* data, int sizeInBytes)
 {
+    // A program asked for before (from a host thread, waiting for the timer) is superseded by
+    // the state: applied after it, it would change the scene the state restored.
+    requestedProgram_.store(-1, std::memory_order_release);
     juce::ValueTree mapping;
     auto message = PluginState::restore(*this, apvts_, settings_, data, sizeInBytes, &mapping);
     // The session plays as it was saved: a fresh engine (the scene's own state — a reference

@@ -333,7 +333,8 @@ private:
     double testTonePhase_ = 0.0;               // audio thread only
 
     std::atomic<int> currentProgram_ {0};
-    std::atomic<int> requestedProgram_ {-1};     // any thread → message thread's timer
+    std::atomic<int> requestedProgram_ {-1};     // any thread → message thread's timer; a loaded state clears it
+    std::atomic<bool> hostPrepared_ {false};      // prepareToPlay has run: the host takes parameter edits
     void applyRequestedProgram();
 
     // The set list's builder side (Stage.h): message thread and the host's state calls.
