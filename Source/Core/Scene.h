@@ -121,6 +121,10 @@ struct SceneConfig {
     std::uint64_t seed = 1;          ///< every random choice derives from this (renders repeat)
     ArmSide side = ArmSide::Right;
     std::string text;                ///< braille scene: what to read
+    /// braille scene: nothing of its own to read (text ignored), only the messages handed to it
+    /// (BrailleSceneControls::showMessage; `armadillo read`, docs/MQTT.md): the arm is still
+    /// between messages.
+    bool messagesOnly = false;
     std::string score;               ///< score scene: a score name (Core/Resources.h) or a .score file path
     std::string resourceDir;         ///< a folder searched first for resource files (empty: the usual search, Core/Resources.h)
     std::string audioFile;           ///< cymbal: a WAV recording to cut crash fragments from (optional)
