@@ -16,8 +16,8 @@ std::vector<OptionSpec> mqttBrokerOptionSpecs()
 std::vector<OptionSpec> mqttMessageOptionSpecs()
 {
     return {
-        {"--messages", "TOPIC", "with --scene braille and a broker: show the messages of this topic on the arm in Arm Braille\n"
-                                "(wildcards + and # allowed; repeatable), after the \"message waiting\" sensation"},
+        {"--messages", "TOPIC", "with a broker (and, for play, --scene braille): show the messages of this topic on the arm\n"
+                                "in Arm Braille (wildcards + and # allowed; repeatable), after the \"message waiting\" sensation"},
         {"--urgent", "TOPIC", "as --messages, and its messages interrupt the one being shown (repeatable)"},
         {"--message-display", "MODE", "roll (default: read it by rolling the arm, as any text) or timed (drawn cell by cell,\n"
                                       "framed by the sweep before and the double tap after)"},
@@ -79,7 +79,7 @@ void PlayMessages::poll(braille::BrailleSceneControls* scene, std::ostream& err,
     const mqtt::MqttStatus s = client_->status();
     if (s.state != shownState_) {
         shownState_ = s.state;
-        err << lineStart << "armadillo play: MQTT " << s.broker << ": " << mqtt::connectionStateName(s.state);
+        err << lineStart << who_ << "MQTT " << s.broker << ": " << mqtt::connectionStateName(s.state);
         if (s.state == mqtt::ConnectionState::Reconnecting && !s.lastError.empty()) err << " (" << s.lastError << ")";
         if (s.state == mqtt::ConnectionState::Connected && s.connects > 1) err << " again (reconnection " << s.connects - 1 << ")";
         err << "\n";
@@ -87,15 +87,15 @@ void PlayMessages::poll(braille::BrailleSceneControls* scene, std::ostream& err,
     const mqtt::InboxStats in = inbox_.stats();
     if (in.refused != shownRefused_) {
         shownRefused_ = in.refused;
-        err << lineStart << "armadillo play: " << in.lastRefusal << "\n";
+        err << lineStart << who_ << in.lastRefusal << "\n";
     }
     if (in.droppedOldest != shownDropped_) {
         shownDropped_ = in.droppedOldest;
-        err << lineStart << "armadillo play: the message queue was full: " << in.droppedOldest << " oldest message(s) dropped so far\n";
+        err << lineStart << who_ << "the message queue was full: " << in.droppedOldest << " oldest message(s) dropped so far\n";
     }
     if (!scene) return;
     for (const std::string& line : presenter_.poll(*scene)) {
-        err << lineStart << "armadillo play: " << line << "\n";
+        err << lineStart << who_ << line << "\n";
         if (mirror_ && line.find(" on the arm: ") != std::string::npos) mirror_(line);
     }
 }

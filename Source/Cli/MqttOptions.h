@@ -25,8 +25,9 @@ std::vector<OptionSpec> mqttMessageOptionSpecs();
 /// False when neither option is given. `brokerOption`: the broker's option name (mqtt check: --broker).
 bool readMqttOptions(const CommandLine& cl, mqtt::MqttConfig& config, const char* brokerOption = "--mqtt");
 
-/// Messages on the arm during `play`: the client, its inbox and the presenter that hands the
-/// messages to the braille scene. Declared before the session it serves, so it outlives it.
+/// Messages on the arm during `play` and `read` (both run Cli/LiveCommand.h's session): the
+/// client, its inbox and the presenter that hands the messages to the braille scene. Declared
+/// before the session it serves, so it outlives it.
 class PlayMessages {
 public:
     PlayMessages(mqtt::MqttConfig config, mqtt::PresenterOptions options);
@@ -36,6 +37,8 @@ public:
     /// braille scene showing the messages; null when there are no message topics).
     void poll(braille::BrailleSceneControls* scene, std::ostream& err, const char* lineStart);
     bool wantsMessages() const noexcept { return !config_.topics.empty(); }
+    /// The command whose stderr lines these are ("play", "read"): "armadillo NAME: …".
+    void setCommand(const std::string& name) { who_ = "armadillo " + name + ": "; }
     /// Also tells each message handed to the arm here (play's --speak / --brlapi: ReaderIo::note),
     /// as the training's prompts are. Set before start().
     void setMirror(std::function<void(const std::string&)> mirror) { mirror_ = std::move(mirror); }
@@ -53,6 +56,7 @@ private:
     mqtt::MessagePresenter presenter_;
     std::unique_ptr<mqtt::MqttClient> client_;   // last: its thread stops before the inbox goes
     std::function<void(const std::string&)> mirror_;
+    std::string who_ = "armadillo play: ";
     mqtt::ConnectionState shownState_ = mqtt::ConnectionState::Stopped;
     std::uint64_t shownRefused_ = 0, shownDropped_ = 0;
 };

@@ -3,10 +3,15 @@
 // --messages arm/inbox --message-display timed --no-audio` with a simulated board on a
 // pseudo-terminal, messages published by a client of the test; the motor packets the board
 // receives are decoded back to text by the rows method of docs/BRAILLE.md, from the braille
-// alphabet written out here (not from the code under test). And `armadillo mqtt check`.
+// alphabet written out here (not from the code under test). `armadillo read` (messages only) the
+// same way, with a message from OSC too. And `armadillo mqtt check`; the arm as a remote (a
+// mapping's MQTT destinations over a recorded motion, the broker restarted mid-way).
 #include "CliRun.h"
+#include "Common/FreePort.h"
 #include "Mqtt/Broker.h"
 #include "Mqtt/MqttClient.h"
+#include "Osc/Osc.h"
+#include "Osc/OscIo.h"
 #include "PtyDevice.h"
 #include <catch2/catch.hpp>
 #include "Core/Json.h"
@@ -281,6 +286,86 @@ TEST_CASE("e2e: an urgent message interrupts; the interrupted one is shown again
     CHECK(decoded[2].text == "abcdefghijklmnop");
     CHECK(decoded[2].ended);
     CHECK(dev.err.find("interrupted: shown again next") != std::string::npos);
+}
+
+TEST_CASE("e2e: armadillo read: messages only, from MQTT and OSC, shown as play shows them; nothing else on the arm", "[e2e][mqtt]")
+{
+    ArmSession s;
+    s.broker.start();
+    mqtt::MqttClient pub(publisherConfig(s.broker));
+    pub.start();
+    REQUIRE(pub.waitConnected(30));
+    const int oscPort = test::freeUdpPort();
+    cli::test::PtyDevice dev({"read", "--mqtt", "localhost:" + std::to_string(s.broker.port()), "--messages", "arm/inbox", "--message-display",
+                              "timed", "--control-in", std::to_string(oscPort), "--seconds", "300"});
+    double publishedAt = 0.0;
+    int phase = 0;
+    std::size_t shownLines = 0, framesBeforeMessage = 0;
+    dev.run([&](const cli::test::Levels& l) { s.onPacket(l); },
+            [&](const std::string& line) {
+                s.lines.push_back(line);
+                if (phase == 0 && line.find("armadillo read: MQTT localhost:" + std::to_string(s.broker.port()) + ": connected") != std::string::npos) {
+                    phase = 1;
+                    framesBeforeMessage = s.frames.size();   // the scene has no text of its own: nothing felt yet
+                    publishedAt = nowSeconds();
+                    REQUIRE(pub.publishText("arm/inbox", "hello", 1));
+                }
+                if (isShownLine(line)) ++shownLines;
+                if (phase == 1 && shownLines == 1) {
+                    // The same session's OSC control port: /armadillo/message "text" (docs/MQTT.md).
+                    phase = 2;
+                    device::OscSender sender(device::HostPort {"127.0.0.1", oscPort});
+                    const std::vector<std::uint8_t> packet = device::encodeOscMessage("/armadillo/message", {device::OscArg::string("on my way")});
+                    sender.sendPacket(packet.data(), packet.size());
+                }
+                if (phase == 2 && shownLines == 2) dev.terminate();
+            });
+    INFO(dev.err);
+    CHECK(dev.wait() == 0);
+    CHECK(framesBeforeMessage == 0);
+    std::string problems;
+    const auto decoded = decode(s.frames, problems);
+    CHECK(problems.empty());
+    INFO(problems);
+    INFO("felt: " << describe(s.frames));
+    REQUIRE(decoded.size() == 2);
+    CHECK(decoded[0].text == "hello");
+    CHECK(decoded[1].text == "on my way");
+    for (const auto& d : decoded) CHECK(d.ended);
+    // Every frame felt belongs to a message: the first is its "message waiting" cue.
+    REQUIRE_FALSE(s.frames.empty());
+    CHECK(s.frames.front().set == kAllNine);
+    const double latency = decoded[0].start - publishedAt;
+    std::printf("read: message latency %.3f s from publication to the 'message waiting' cue\n", latency);
+    CHECK(latency >= 0.0);
+    CHECK(latency < 1.0);
+    CHECK(dev.err.find("armadillo read: message 2 from 'osc' on the arm: on my way") != std::string::npos);
+    CHECK(dev.err.find("armadillo play:") == std::string::npos);
+}
+
+TEST_CASE("read: bad usage is exit 2, a bad configuration file 3, a missing port 4", "[mqtt]")
+{
+    CHECK(cli::runArmadillo("read --help").code == 0);
+    const auto noBroker = cli::runArmadillo("read --simulate --seconds 1");
+    CHECK(noBroker.code == 2);
+    CHECK(noBroker.err.find("read shows messages only") != std::string::npos);
+    CHECK(cli::runArmadillo("read --simulate --mqtt localhost --seconds 1").code == 2);               // no topics
+    CHECK(cli::runArmadillo("read --simulate --messages arm/inbox --seconds 1").code == 2);          // no broker
+    CHECK(cli::runArmadillo("read --mqtt localhost --messages arm/inbox --seconds 1").code == 2);    // no source
+    CHECK(cli::runArmadillo("read --simulate --port /dev/null --mqtt localhost --messages a").code == 2);
+    CHECK(cli::runArmadillo("read --simulate --mqtt localhost --messages a --scene braille").code == 2);
+    CHECK(cli::runArmadillo("read --simulate --mqtt localhost --messages a --grade 3").code == 2);
+    CHECK(cli::runArmadillo("read --simulate --mqtt localhost --messages a --method braid").code == 2);
+    const auto mode = cli::runArmadillo("read --simulate --mqtt localhost --messages a --param braille.mode=passive");
+    CHECK(mode.code == 2);
+    CHECK(mode.err.find("messages only") != std::string::npos);
+    CHECK(cli::runArmadillo("read --simulate --mqtt localhost --messages 'a/#/b'").code == 2);
+    const auto config = cli::runArmadillo("read --simulate --mqtt-config /no/such/mqtt.json --messages a");
+    CHECK(config.code == 3);
+    CHECK(config.err.find("/no/such/mqtt.json") != std::string::npos);
+    const auto port = cli::runArmadillo("read --port /no/such/tty --mqtt localhost:1 --messages a --seconds 1");
+    CHECK(port.code == 4);
+    CHECK(port.err.find("/no/such/tty") != std::string::npos);
 }
 
 TEST_CASE("mqtt check: connects, subscribes, says what it heard; a broker that is not there is exit 4", "[mqtt]")
