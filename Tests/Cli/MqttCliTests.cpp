@@ -5,7 +5,8 @@
 // receives are decoded back to text by the rows method of docs/BRAILLE.md, from the braille
 // alphabet written out here (not from the code under test). `armadillo read` (messages only) the
 // same way, with a message from OSC too. And `armadillo mqtt check`; the arm as a remote (a
-// mapping's MQTT destinations over a recorded motion, the broker restarted mid-way).
+// mapping's MQTT destinations over a recorded motion, the broker restarted mid-way); the virtual
+// control panel's knobs published as it is played.
 #include "CliRun.h"
 #include "Common/FreePort.h"
 #include "Mqtt/Broker.h"
@@ -16,6 +17,7 @@
 #include <catch2/catch.hpp>
 #include "Core/Json.h"
 #include <chrono>
+#include <cstdlib>
 #include <map>
 #include <mutex>
 #include <thread>
@@ -472,4 +474,65 @@ TEST_CASE("e2e: the arm as a remote: a mapping's MQTT destination over a recorde
     }
     std::printf("remote: %zu messages heard, at most %zu in any second (rate 4/s)\n", heard.size(), most);
     CHECK(most <= 6);
+}
+
+TEST_CASE("e2e: the virtual control panel as a remote: its knobs, level and selections published to a broker", "[e2e][mqtt][panel]")
+{
+    // The motion (the simulator acts it out in real time), poses t,elevation,azimuth,roll: the
+    // forearm raised 45° (the upper level) at azimuth 100° (the entry heading: the middle knob,
+    // 4); dialled 30° clockwise (two knob widths of 15°: knobs 5, then 6); a quick roll (60° in
+    // 0.1 s, 10 rad/s > the 3 rad/s that selects) and back slowly; lowered to −45° (the lower
+    // level: knob 6 + 9 = 15); a quick roll again. What the panel should publish, from its
+    // documented rules (docs/INSTRUMENTS.md "panel"): knobs 4, 5, 6, 15; selected 6, 15; levels 1, 0.
+    const std::string motion = cli::file("panel-remote.pose.csv", [] {
+        std::string s = "t,elevation,azimuth,roll\n";
+        const auto ramp = [](double t, double t0, double t1, double a, double b) {
+            return t <= t0 ? a : t >= t1 ? b : a + (b - a) * (t - t0) / (t1 - t0);
+        };
+        for (int i = 0; i <= 200 * 40; ++i) {
+            const double t = i / 200.0;
+            const double el = ramp(t, 8.0, 9.0, 45.0, -45.0);
+            const double az = ramp(t, 3.0, 5.0, 100.0, 130.0);
+            double roll = 0.0;
+            if (t < 7.5) roll = ramp(t, 6.0, 6.1, 0.0, 60.0) - ramp(t, 6.6, 7.4, 0.0, 60.0);   // quick out, slowly back
+            else roll = ramp(t, 10.0, 10.1, 0.0, 60.0) - ramp(t, 10.6, 11.4, 0.0, 60.0);
+            s += std::to_string(t) + "," + std::to_string(el) + "," + std::to_string(az) + "," + std::to_string(roll) + "\n";
+        }
+        return s;
+    }());
+    const std::string mapping = cli::file("panel-remote.json", R"({"version": 1, "mappings": [
+        {"source": "panel.knob", "out": [0, 17], "to": {"mqtt": {"topic": "arm/panel/knob", "payload": "{round}", "qos": 1, "rate": 0}}},
+        {"source": "panel.selected", "out": [0, 17], "to": {"mqtt": {"topic": "arm/panel/selected", "payload": "{round}", "qos": 1, "rate": 0}}},
+        {"source": "panel.level", "out": [0, 1], "to": {"mqtt": {"topic": "arm/panel/level", "payload": "{round}", "qos": 1, "rate": 0}}}]})");
+    test::Broker broker;
+    broker.start();
+    mqtt::MqttConfig sub = publisherConfig(broker);
+    sub.topics = {{"arm/panel/#", 1, false}};
+    std::mutex mutex;
+    std::map<std::string, std::vector<int>> heard;   // topic → payloads in order
+    mqtt::MqttClient listener(sub);
+    listener.setMessageHandler([&](const mqtt::ReceivedMessage& m) {
+        std::lock_guard lock(mutex);
+        heard[m.topic].push_back(std::atoi(m.payload.c_str()));
+    });
+    listener.start();
+    REQUIRE(listener.waitConnected(30));
+    const cli::Run r = cli::runArmadilloWithin(120, "play --scene panel --simulate --motion '" + motion + "' --map '" + mapping + "' --mqtt localhost:" +
+                                                        std::to_string(broker.port()) + " --no-audio --seconds 13");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK(r.out.find("\"mapping_mqtt_messages\":8") != std::string::npos);   // 4 knobs + 2 selections + 2 levels
+    const auto count = [&] {
+        std::lock_guard lock(mutex);
+        std::size_t n = 0;
+        for (const auto& [topic, values] : heard) n += values.size();
+        return n;
+    };
+    CHECK(armadillo::testing::eventually([&] { return count() >= 8; }, 30.0));   // QoS 1: all of them arrive
+    listener.stop();
+    std::lock_guard lock(mutex);
+    CHECK(heard["arm/panel/knob"] == std::vector<int> {4, 5, 6, 15});
+    CHECK(heard["arm/panel/selected"] == std::vector<int> {6, 15});
+    CHECK(heard["arm/panel/level"] == std::vector<int> {1, 0});
+    CHECK(heard.size() == 3);
 }
