@@ -190,8 +190,8 @@ public:
         const bool valid = in.arm.valid && std::isfinite(q.w());
 
         takeMessages(out);
-        if (message_) {
-            messageTick(axis, normal, valid, out);
+        if (message_ || config_.messagesOnly) {   // messages only: between them the arm is still
+            if (message_) messageTick(axis, normal, valid, out);
             emitLevels(out);
             return;
         }

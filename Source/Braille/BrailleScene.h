@@ -2,6 +2,8 @@
 // The Arm Braille scene (thesis §4.2–4.4): SceneConfig::text is read by rolling the arm
 // (active), drawn without movement (passive) or used in the training protocol (§4.4.1).
 // SceneConfig::text is the text itself, or "@PATH" for a file (.brf = Braille ASCII).
+// With SceneConfig::messagesOnly the scene has no text of its own: it shows only the messages
+// handed to it (`armadillo read`, docs/MQTT.md) and keeps the arm still between them.
 #include "Braille/Reading.h"
 #include "Core/Scene.h"
 #include <cstdint>

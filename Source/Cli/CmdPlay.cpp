@@ -1,5 +1,6 @@
 #include "Cli/CommandLine.h"
 #include "Cli/Commands.h"
+#include "Cli/LiveCommand.h"
 #include "Cli/MapOptions.h"
 #include "Cli/MqttOptions.h"
 #include "Cli/ReaderIo.h"
@@ -203,6 +204,621 @@ std::string noDataMessage(device::LiveSession& session, const device::LiveConfig
 
 } // namespace
 
+std::vector<OptionSpec> playOptionSpecs()
+{
+    auto o = sceneOptionSpecs();
+    o.front().required = false;   // --scene or --setlist
+    const std::vector<OptionSpec> own {
+        {"--setlist", "FILE", "a set list (docs/STAGE.md) instead of --scene: starts at cue 0; steps with --keys\n"
+                              "(n, b, 0..9) and --control-in (/armadillo/cue/next, /armadillo/cue/prev, /armadillo/cue i)"},
+        {"--port", "NAME", "serial port of the device (see `armadillo ports`; ptys and /dev/rfcomm* work too)"},
+        {"--simulate", "", "the built-in simulated forearm (in-process, paced like a 57 600-baud link)"},
+        {"--motion", "FILE", "with --simulate: pose or quaternion CSV to act out (looped); default a wandering arm"},
+        {"--osc-in", "PORT", "listen for OSC sensor messages on this UDP port, and on the same TCP port (ZIG SIM's\n"
+                             "TCP option), no motor output; OSC and ZIG SIM's JSON are told apart by their first\n"
+                             "byte; the sender's format is detected from its first messages and printed"},
+        {"--format", "NAME", "with --port: what the serial port speaks: thesis (the board's protocol, default) or\n"
+                             "ngimu-slip (an NGIMU over USB: SLIP-framed OSC, read like --osc-in)"},
+        {"--osc-format", "NAME", "with --osc-in: force the sender's format (auto, armadillo, sensors2osc, zigsim,\n"
+                                 "gyrosc, touchosc, ngimu)"},
+        {"--mount", "FILE|PRESET", "with --osc-in: how the sensor is strapped on: a mount file (--calibrate-mount) or a\n"
+                                   "preset (identity, phone-screen-up, phone-screen-up-top-to-elbow, ngimu); default: the\n"
+                                   "format's usual one (phones: phone-screen-up)"},
+        {"--calibrate-mount", "OUT.json", "with --osc-in: the guided mount calibration (arm level ahead, arm hanging down,\n"
+                                          "optionally a quarter roll); instructions on stderr; writes OUT.json for --mount"},
+        {"--baud", "B", "serial speed (default 57600, 8N1)"},
+        {"--v2", "", "with --port: offer the v2 framing (sequence numbers, CRC, the board's clock;\n"
+                     "docs/DEVICE.md 2b) on every connect; a board that does not take it gets v1 as\n"
+                     "usual. The summary then adds \"v2\", \"seq_gaps\" and \"crc_failures\""},
+        {"--calibration", "CAL.json", "device calibration (default: the built-in one, which matches the simulator)"},
+        {"--seconds", "N", "stop after N seconds (default: run until interrupted)"},
+        {"--out", "OUT.wav", "record the scene's audio, 16-bit stereo (written whole at the end) instead of playing it"},
+        {"--audio-device", "NAME", "ALSA device to play on (default: 'default'; e.g. hw:1, plughw:1,0); an error if it\n"
+                                   "cannot be opened"},
+        {"--no-audio", "", "no sound at all (no --out, no sound card)"},
+        {"--audio-in", "FILE.wav", "a recording to play out (to the sound card or --out, under the scene's sound) while\n"
+                                   "scenes that listen (score, audio-touch, layered-keyboard) follow it; its sample rate is used unless\n"
+                                   "--sample-rate is given. Given several times, each file is a stem named by its file\n"
+                                   "name (drums.wav, bass.wav ...), as --stem"},
+        {"--stem", "NAME=FILE.wav", "audio-touch: a stem felt apart on its own motors (drums, bass, other, vocals;\n"
+                                    "repeatable; docs/INSTRUMENTS.md); the stems are played out together"},
+        {"--loop", "", "with --audio-in or --stem: start the recording again at its end (without it, the session\n"
+                       "ends with the recording unless --seconds ends it first)"},
+        {"--data-timeout", "SECONDS", "with --port or --osc-in (and --port-left, --osc-in-left): no usable sensor data from\n"
+                                      "either arm within this time is an error naming the port and what was heard instead\n"
+                                      "(exit 4; default 5, 0 = wait for ever)"},
+        {"--tactile", "T.csv", "every motor packet: t,m1..m9; the last row is the all-off sent at the end"},
+        {"--log", "SESSION.csv", "one row per sensor packet: t, raw counts, calibrated SI values, qw,qx,qy,qz"},
+        {"--osc-out", "HOST:PORT", "send orientation, pose, gyro, motors and gestures as OSC; with --map, the target of\n"
+                                   "the mapping's OSC destinations that name none (and only those are sent)"},
+        {"--map", "PRESET|FILE", kMapHelp},
+        {"--forward", "DEG", std::string(kForwardHelp) + "; SIGUSR1 (kill -USR1 PID) sets forward to where\n"
+                             "the arm points now"},
+        {"--midi-out", "NAME", "with --map: open an ALSA sequencer output port NAME (client \"ARMadillo\") and send the\n"
+                               "mapped MIDI there as it happens; exit 4 naming the cause when there is no sequencer"},
+        {"--unpaced", "", "with --simulate: no wire pacing (as fast as the host can go)"},
+        {"--training-log", "LOG.csv", "with --scene braille: the training protocol (thesis §4.4.1) live. Each trial's\n"
+                                      "prompt is printed on stderr; type the answers on stdin, one a line (left, right,\n"
+                                      "both, here, a letter or a word); right/wrong is said at once; the session ends when\n"
+                                      "every trial is answered and the log (docs/BRAILLE.md) is written to LOG.csv"},
+        {"--motion-left", "FILE", "two arms: with --simulate, a second simulated forearm (the left arm) acting out FILE\n"
+                                  "(pose or quaternion CSV; - = a wandering arm); scenes see both arms"},
+        {"--port-left", "NAME", "two arms: the left arm's own device (its motor packets go back to it)"},
+        {"--osc-in-left", "PORT", "two arms: the left arm is an OSC sender on this UDP (and TCP) port, read like --osc-in\n"
+                                  "(format detected, its own mount); with any right-arm source"},
+        {"--osc-format-left", "NAME", "with --osc-in-left: force the left sender's format (as --osc-format)"},
+        {"--mount-left", "FILE|PRESET", "with --osc-in-left: how the left arm's sensor is strapped on (as --mount)"},
+        {"--calibrate-mount-left", "OUT.json", "with --osc-in-left: the guided mount calibration of the left arm's sensor\n"
+                                               "(as --calibrate-mount; instructions on stderr prefixed 'left arm')"},
+        {"--calibration-left", "CAL.json", "the left arm's device calibration (default: the built-in one)"},
+        {"--arms-log", "A.csv", "two arms: t,qw,qx,qy,qz,left_qw,left_qx,left_qy,left_qz per control update"},
+        {"--control-in", "PORT", "stage commands as OSC on this UDP port (docs/STAGE.md): /armadillo/panic,\n"
+                                 "/armadillo/resume, /armadillo/cue/next, /armadillo/cue/prev, /armadillo/cue i"},
+        {"--keys", "", "stage keys on stdin: p or Escape = panic, r = resume, n or Space = next cue,\n"
+                       "b = previous cue, 0..9 = cue"},
+        {"--panic-gesture", "", "the forearm hanging straight down (elevation <= -75 deg) for 2 s panics"},
+        {"--calibrate", "OUT.json", "run the guided calibration (thesis §2.4) on the device while playing; instructions on\n"
+                                    "stderr, each step finishes when it has enough data; writes OUT.json (unfinished steps keep\n"
+                                    "the starting calibration)"},
+    };
+    o.insert(o.begin() + 1, own.begin(), own.end());
+    // The motor grid live as audio (docs/TACTORS.md), beside the device.
+    const auto tactorOptions = tactorOptionSpecs(true);
+    o.insert(o.end(), tactorOptions.begin(), tactorOptions.end());
+    o.push_back({"--back-motors", "", "drive the three back motors 10..12 as well: in the tactile CSV, OSC out and the tactor\n"
+                                      "output (the thesis's serial packet carries motors 1..9)"});
+    for (const auto& specs : {mqttBrokerOptionSpecs(), mqttMessageOptionSpecs()}) o.insert(o.end(), specs.begin(), specs.end());
+    // Speech and a braille display for the training's prompts and the link's state.
+    const auto io = readerIoOptionSpecs();
+    o.insert(o.end(), io.begin(), io.end());
+    return o;
+}
+
+int runLiveSession(const CommandLine& cl, const LiveCommand& command)
+{
+    const std::string who = "armadillo " + std::string(command.name) + ": ";   // what stderr's lines start with
+
+    device::LiveConfig config;
+    const int sources = int(cl.has("--port")) + int(cl.has("--simulate")) + int(cl.has("--osc-in"));
+    if (sources != 1) throw UsageError("choose exactly one source: --port NAME, --simulate or --osc-in PORT");
+    if (cl.has("--motion") && !cl.has("--simulate")) throw UsageError("--motion drives the simulator: use it with --simulate");
+    if (cl.has("--unpaced") && !cl.has("--simulate")) throw UsageError("--unpaced applies to --simulate");
+    if (cl.has("--baud") && !cl.has("--port")) throw UsageError("--baud applies to --port");
+    if (cl.has("--v2") && !cl.has("--port")) throw UsageError("--v2 applies to --port");
+    const std::string portFormat = cl.has("--format") ? cl.value("--format") : std::string("thesis");
+    if (cl.has("--format") && !cl.has("--port")) throw UsageError("--format applies to --port (--osc-in detects its format; --osc-format forces one)");
+    if (portFormat != "thesis" && portFormat != "ngimu-slip")
+        throw UsageError("--format: unknown serial format '" + portFormat + "' (thesis or ngimu-slip)");
+    const bool slipOsc = cl.has("--port") && portFormat == "ngimu-slip";
+    if (slipOsc) {
+        // The NGIMU over USB: SLIP-framed OSC through the same serial code as the board.
+        config.source = device::LiveConfig::Source::Osc;
+        config.oscSerialPort = cl.value("--port");
+        if (config.oscSerialPort.empty()) throw UsageError("--port needs a device name");
+        config.oscSerialBaud = static_cast<int>(cl.integer("--baud", 115200, 300, 4000000));
+        if (cl.has("--v2")) throw UsageError("--v2 is the thesis board's framing: not with --format ngimu-slip");
+    } else if (cl.has("--port")) {
+        config.source = device::LiveConfig::Source::Port;
+        config.port = cl.value("--port");
+        if (config.port.empty()) throw UsageError("--port needs a device name");
+        config.baud = static_cast<int>(cl.integer("--baud", 57600, 300, 4000000));
+        config.link.link.negotiateV2 = cl.has("--v2");
+    } else if (cl.has("--simulate")) {
+        config.source = device::LiveConfig::Source::Simulator;
+        config.motionFile = cl.value("--motion");
+        config.simulatorBaud = cl.has("--unpaced") ? 0.0 : 57600.0;
+    } else {
+        config.source = device::LiveConfig::Source::Osc;
+        config.oscInPort = static_cast<int>(cl.integer("--osc-in", 0, 1, 65535));
+    }
+    const bool oscSource = cl.has("--osc-in") || slipOsc;
+    for (const char* o : {"--osc-format", "--mount", "--calibrate-mount"})
+        if (cl.has(o) && !oscSource) throw UsageError(std::string(o) + " applies to --osc-in (or --port with --format ngimu-slip)");
+    if (cl.has("--osc-format") && !device::parseOscFormat(cl.value("--osc-format"), config.osc.format))
+        throw UsageError("--osc-format: unknown format '" + cl.value("--osc-format") + "' (one of " + device::oscFormatNames() + ")");
+    const std::string mountOut = cl.value("--calibrate-mount");
+    if (cl.has("--calibrate-mount") && mountOut.empty()) throw UsageError("--calibrate-mount needs an output file");
+    if (cl.has("--calibrate-mount") && cl.has("--mount")) throw UsageError("--calibrate-mount finds the mount: it cannot go with --mount");
+    if (!mountOut.empty()) {   // the calibration sees the sensor's own axes
+        config.osc.mountGiven = true;
+        config.osc.mount = device::Mount {};
+    }
+
+    EngineConfig& engine = config.engine;
+    if (command.reader) {
+        readReaderOptions(cl, engine);   // the braille scene, messages only
+    } else if (cl.has("--setlist") == cl.has("--scene")) {
+        throw UsageError("give --scene SCENE or --setlist FILE (one of them)");
+    } else if (cl.has("--setlist")) {
+        for (const char* o : {"--param", "--score", "--text", "--audio", "--training-log"})
+            if (cl.has(o)) throw UsageError(std::string(o) + " goes into the set list's cues, not on the command line");
+        config.setList = cl.value("--setlist");
+        if (config.setList.empty()) throw UsageError("--setlist needs a file");
+        engine.scene = "monitor";
+        engine.sceneConfig.sampleRate = static_cast<double>(cl.integer("--sample-rate", 48000, 8000, 384000));
+        engine.sceneConfig.seed = static_cast<std::uint64_t>(cl.integer("--seed", 1, 0, 1L << 62));
+        const std::string arm = cl.value("--arm", "right");
+        if (arm != "right" && arm != "left") throw UsageError("--arm must be right or left");
+        engine.sceneConfig.side = arm == "left" ? ArmSide::Left : ArmSide::Right;
+        readProfileOption(cl, engine);   // every cue feels the reader's touch profile
+    } else {
+        readSceneOptions(cl, engine);
+    }
+    engine.motorCount = cl.has("--back-motors") ? kGridMotors + kBackMotors : kGridMotors;
+
+    const double seconds = cl.number("--seconds", -1.0);
+    if (cl.has("--seconds") && !(seconds > 0.0 && seconds <= 7 * 24 * 3600.0))
+        throw UsageError("--seconds must be a positive number of seconds (at most a week)");
+    if (cl.has("--osc-out")) {
+        config.oscOut = cl.value("--osc-out");
+        try {
+            device::parseHostPort(config.oscOut);
+        } catch (const std::invalid_argument& e) {
+            throw UsageError(std::string("--osc-out: ") + e.what());
+        }
+    }
+    if (cl.has("--midi-out") && !cl.has("--map")) throw UsageError("--midi-out sends what a mapping makes: give --map PRESET|FILE too");
+    if (cl.has("--midi-out") && cl.value("--midi-out").empty()) throw UsageError("--midi-out needs a port name");
+    config.mappingName = cl.value("--map");
+    config.midiOut = cl.value("--midi-out");
+    config.forwardDeg = readForwardOption(cl);
+    if (int(cl.has("--motion-left")) + int(cl.has("--port-left")) + int(cl.has("--osc-in-left")) > 1)
+        throw UsageError("the left arm is --motion-left (simulated), --port-left (a device) or --osc-in-left (an OSC sender): one of them");
+    for (const char* o : {"--osc-format-left", "--mount-left", "--calibrate-mount-left"})
+        if (cl.has(o) && !cl.has("--osc-in-left")) throw UsageError(std::string(o) + " applies to --osc-in-left");
+    const std::string leftMountOut = cl.value("--calibrate-mount-left");
+    if (cl.has("--calibrate-mount-left") && leftMountOut.empty()) throw UsageError("--calibrate-mount-left needs an output file");
+    if (cl.has("--calibrate-mount-left") && cl.has("--mount-left"))
+        throw UsageError("--calibrate-mount-left finds the mount: it cannot go with --mount-left");
+    if (cl.has("--motion-left")) {
+        if (!cl.has("--simulate")) throw UsageError("--motion-left drives a second simulated arm: use it with --simulate");
+        config.leftSource = device::LiveConfig::LeftSource::Simulator;
+        config.leftMotionFile = cl.value("--motion-left") == "-" ? std::string() : cl.value("--motion-left");
+        if (cl.value("--motion-left").empty()) throw UsageError("--motion-left needs a motion file (or - for a wandering arm)");
+    } else if (cl.has("--port-left")) {
+        config.leftSource = device::LiveConfig::LeftSource::Port;
+        config.leftPort = cl.value("--port-left");
+        if (config.leftPort.empty()) throw UsageError("--port-left needs a device name");
+        config.leftBaud = static_cast<int>(cl.integer("--baud", 57600, 300, 4000000));
+    } else if (cl.has("--osc-in-left")) {
+        config.leftSource = device::LiveConfig::LeftSource::Osc;
+        config.leftOscInPort = static_cast<int>(cl.integer("--osc-in-left", 0, 1, 65535));
+        if (config.source == device::LiveConfig::Source::Osc && config.oscSerialPort.empty() && config.oscInPort == config.leftOscInPort)
+            throw UsageError("--osc-in-left needs a port of its own (--osc-in listens on " + std::to_string(config.oscInPort) + ")");
+        if (cl.has("--osc-format-left") && !device::parseOscFormat(cl.value("--osc-format-left"), config.leftOsc.format))
+            throw UsageError("--osc-format-left: unknown format '" + cl.value("--osc-format-left") + "' (one of " + device::oscFormatNames() + ")");
+    }
+    for (const char* o : {"--calibration-left", "--arms-log"})
+        if (cl.has(o) && config.leftSource == device::LiveConfig::LeftSource::None)
+            throw UsageError(std::string(o) + " applies to two arms (--motion-left, --port-left or --osc-in-left)");
+    if (cl.has("--calibration-left") && config.leftSource == device::LiveConfig::LeftSource::Osc)
+        throw UsageError("--calibration-left is a device's calibration: an OSC sender sends SI units (--mount-left says how it is worn)");
+    if (cl.has("--calibration-left")) config.leftCalibration = device::loadCalibration(cl.value("--calibration-left"));
+    config.armsLog = cl.value("--arms-log");
+    // Steadier timing for the link (and the simulated device) where the system allows it.
+    config.link.realtimePriority = 20;
+    config.audioOut = cl.value("--out");
+    const int audioChoices = int(cl.has("--out")) + int(cl.has("--audio-device")) + int(cl.has("--no-audio"));
+    if (audioChoices > 1) throw UsageError("choose one of --out FILE, --audio-device NAME and --no-audio");
+    if (cl.has("--tactor-sound") && cl.has("--no-audio")) throw UsageError("--tactor-sound hands the scene's sound to the tactors: drop --no-audio");
+    if (cl.has("--audio-device")) {
+        config.soundCard = cl.value("--audio-device");
+        if (config.soundCard.empty()) throw UsageError("--audio-device needs an ALSA device name");
+    } else if (!cl.has("--out") && !cl.has("--no-audio") && !command.reader) {   // (read: the braille scene is silent)
+        config.soundCard = "default";
+        config.soundCardOptional = true;   // headless machines have none: say so, play on
+    }
+    config.tactileOut = cl.value("--tactile");
+    config.logOut = cl.value("--log");
+    config.audioStems = readStemOptions(cl, engine);
+    if (!config.audioStems.empty() && cl.has("--no-audio")) throw UsageError("stems are played out: they cannot go with --no-audio");
+    if (config.audioStems.empty() && cl.has("--audio-in")) {
+        if (cl.value("--audio-in").empty()) throw UsageError("--audio-in needs a WAV file");
+        if (cl.has("--no-audio")) throw UsageError("--audio-in plays the recording out: it cannot go with --no-audio");
+        config.audioIn = cl.value("--audio-in");
+    }
+    config.audioInLoop = cl.has("--loop");
+    if (cl.has("--loop") && !cl.has("--audio-in") && !cl.has("--stem"))
+        throw UsageError("--loop repeats the --audio-in recording: use it with --audio-in or --stem");
+    const double dataTimeout = cl.number("--data-timeout", 5.0);
+    if (!(dataTimeout >= 0.0 && dataTimeout <= 3600.0)) throw UsageError("--data-timeout must lie in 0..3600 s");
+    const bool leftNeedsData = config.leftSource == device::LiveConfig::LeftSource::Port || config.leftSource == device::LiveConfig::LeftSource::Osc;
+    if (cl.has("--data-timeout") && config.source == device::LiveConfig::Source::Simulator && !leftNeedsData)
+        throw UsageError("--data-timeout applies to --port and --osc-in (the simulator always sends)");
+
+    const std::string calibrateOut = cl.value("--calibrate");
+    if (cl.has("--calibrate") && oscSource) throw UsageError("--calibrate needs raw counts: use --port or --simulate");
+    if (cl.has("--calibrate") && calibrateOut.empty()) throw UsageError("--calibrate needs an output file");
+
+    const std::string trainingLog = cl.value("--training-log");
+    if (cl.has("--training-log")) {
+        if (trainingLog.empty()) throw UsageError("--training-log needs a file");
+        if (engine.scene != "braille") throw UsageError("--training-log is the braille scene's training: use --scene braille");
+        for (const std::string& p : engine.parameters)
+            if (p.rfind("braille.mode=", 0) == 0 && p != "braille.mode=training")
+                throw UsageError("--training-log runs the training: it cannot go with --param " + p);
+        engine.parameters.push_back("braille.mode=training");
+    }
+
+    // Every output is checked before any input is read or the source opened: a missing or
+    // unwritable folder is an error now (exit 4), not after the reader answered every trial
+    // or the session ran for an hour.
+    const std::vector<std::pair<std::string, std::string>> outputs {
+        {"--out", config.audioOut}, {"--tactile", config.tactileOut}, {"--log", config.logOut},
+        {"--calibrate", calibrateOut}, {"--calibrate-mount", mountOut}, {"--calibrate-mount-left", leftMountOut}, {"--training-log", trainingLog},
+        {"--arms-log", config.armsLog}};
+    for (const auto& [option, file] : outputs)
+        if (cl.has(option)) checkOutputPath(option, file);
+    checkDistinctOutputs(outputs);
+
+    // Then the inputs: a file that cannot be read is exit 4, one that is not what it should be 3.
+    if (cl.has("--mount")) {
+        config.osc.mount = device::mountFromArgument(cl.value("--mount"));
+        config.osc.mountGiven = true;
+    }
+    if (cl.has("--mount-left") || !leftMountOut.empty()) {   // (a calibration sees the sensor's own axes)
+        config.leftOsc.mount = leftMountOut.empty() ? device::mountFromArgument(cl.value("--mount-left")) : device::Mount {};
+        config.leftOsc.mountGiven = true;
+    }
+    if (cl.has("--calibration")) config.calibration = device::loadCalibration(cl.value("--calibration"));
+    config.mapping = readMapOption(cl, engine);
+    if (!config.audioIn.empty() && !cl.has("--sample-rate"))
+        engine.sceneConfig.sampleRate = engineSampleRate(readWav(config.audioIn).sampleRate, config.audioIn);
+    if (!config.audioStems.empty() && !cl.has("--sample-rate"))
+        engine.sceneConfig.sampleRate = engineSampleRate(readWav(config.audioStems.front()).sampleRate, config.audioStems.front());
+
+    // Spoken / braille-display copy of what stderr says (stderr itself is unchanged).
+    std::unique_ptr<ReaderIo> voice;
+    if (cl.has("--speak") || cl.has("--speech") || cl.has("--brlapi") || cl.has("--braille-display")) voice = std::make_unique<ReaderIo>(cl, true);
+    else if (cl.has("--rate")) throw UsageError("--rate sets the speech rate: use it with --speak");
+    if (cl.has("--keys") && cl.has("--training-log")) throw UsageError("--keys and --training-log both read stdin: choose one");
+    engine.panicGesture = cl.has("--panic-gesture");
+    const int controlPort = cl.has("--control-in") ? static_cast<int>(cl.integer("--control-in", 0, 1, 65535)) : -1;
+
+    if (cl.has("--tactors")) config.tactors = tactorConfig(cl, config.engine.motorCount);
+    else if (anyTactorSetting(cl)) throw UsageError("the --tactor-* options set up --tactors DEVICE|jack: give it too");
+
+    // Messages on the arm (docs/MQTT.md): declared before the session so the messages it hands
+    // the braille scene outlive the scene's control thread.
+    std::unique_ptr<PlayMessages> messages = readPlayMessages(cl, engine.scene, engine.parameters, engine.sceneConfig.resourceDir);
+    if (command.reader && !(messages && messages->wantsMessages()))
+        throw UsageError("read shows messages only: give a broker and topics (--mqtt HOST[:PORT] --messages TOPIC, or both in --mqtt-config)");
+    if (messages) messages->setCommand(command.name);
+    installInterruptHandlers();
+    device::LiveSession session(config);
+    // Stage commands (OSC control port, keys): panic and resume act on the engine at once
+    // (atomics, any thread); what happened is reported by the loop below.
+    std::atomic<int> lastCommand {-1};
+    live::CuePlayer* cues = session.cuePlayer();
+    const auto onCommand = [&session, &lastCommand, cues](const live::StageCommand& c) {
+        using K = live::StageCommand::Kind;
+        if (c.kind == K::Panic) cues ? cues->panic() : session.engine().panic();
+        else if (c.kind == K::Resume) cues ? cues->resume() : session.engine().resume();
+        else if (cues && c.kind == K::CueNext) cues->next();
+        else if (cues && c.kind == K::CuePrev) cues->previous();
+        else if (cues && c.kind == K::CueGoto) cues->request(c.cue);   // clamped to the list
+        lastCommand.store(static_cast<int>(c.kind));
+    };
+    // Panics of every cue (a set list) or of the one engine; a panic gesture in one cue
+    // panics them all (a cue change must not bring the sound back).
+    const auto panicTotal = [&session, cues] {
+        if (!cues) return session.engine().panicCount();
+        std::uint32_t n = 0;
+        for (int c = 0; c < cues->cueCount(); ++c) n = std::max(n, cues->engine(c).panicCount());
+        return n;
+    };
+    int shownCue = cues ? cues->current() : -1;
+    if (cues)
+        std::cerr << who << "set list of " << cues->cueCount() << " cues; cue 0 '" << cues->cue(0).name << "' (" << cues->cue(0).scene << ")\n";
+    std::unique_ptr<live::StageControlReceiver> controlIn;
+    if (controlPort > 0) {
+        controlIn = std::make_unique<live::StageControlReceiver>(controlPort, onCommand);   // IoError (exit 4) when taken
+        if (messages && messages->wantsMessages())   // /armadillo/message "text" [priority] (docs/MQTT.md)
+            controlIn->setTextHandler([m = messages.get()](const std::string& text, int priority) { m->offerText(text, priority); });
+        controlIn->start();
+    }
+    std::unique_ptr<live::KeyReader> keys;
+    if (cl.has("--keys")) {
+        keys = std::make_unique<live::KeyReader>(STDIN_FILENO, onCommand);
+        keys->start();
+        std::cerr << who << "keys: p = panic, r = resume" << (cues ? ", n = next cue, b = previous cue, 0..9 = cue" : "") << "\n";
+    }
+    std::uint32_t shownPanics = 0;
+    std::uint32_t shownMappingPanics = 0;
+    bool shownPanicked = false;
+    std::unique_ptr<TerminalTraining> training;
+    braille::BrailleSceneControls* brailleScene = nullptr;
+    if (!trainingLog.empty()) {
+        brailleScene = dynamic_cast<braille::BrailleSceneControls*>(&session.engine().scene());
+        if (!brailleScene) throw UsageError("--training-log needs the braille scene");
+        training = std::make_unique<TerminalTraining>(*brailleScene, voice.get());
+    }
+    braille::BrailleSceneControls* messageScene =
+        messages && messages->wantsMessages() ? dynamic_cast<braille::BrailleSceneControls*>(&session.engine().scene()) : nullptr;
+    if (messages && messages->wantsMessages() && !messageScene) throw UsageError("--messages need the braille scene");
+    if (messages) {
+        if (live::MappingRig* rig = session.mapping()) rig->setMqttSink(&PlayMessages::publishMapped, messages.get());
+        if (voice) messages->setMirror([v = voice.get()](const std::string& line) { v->note(line); });   // --speak, --brlapi
+        messages->start();
+    }
+    std::unique_ptr<device::CalibrationProcedure> calibration;
+    if (!calibrateOut.empty()) {
+        calibration = std::make_unique<device::CalibrationProcedure>(config.calibration);
+        std::cerr << "calibration step 1 (" << device::CalibrationProcedure::stepName(calibration->step()) << "): "
+                  << calibration->instruction() << "\n";
+    }
+    if (const audio::SoundCard* card = session.soundCard()) {
+        const audio::SoundCardInfo& i = card->info();
+        std::cerr << who << "sound on '" << i.device << "' (" << i.sampleRate << " Hz, " << i.format << ", "
+                  << 1000.0 * i.bufferFrames / i.sampleRate << " ms buffer)\n";
+    } else if (!session.soundCardWarning().empty()) {
+        std::cerr << who << "no sound: " << session.soundCardWarning()
+                  << " (--out FILE records the audio instead; --no-audio silences this message)\n";
+    }
+    if (live::TactorOutput* t = session.tactors()) std::cerr << who << "tactors on " << t->describe() << "\n";
+    std::vector<std::unique_ptr<GuidedMount>> mountCalibrations;   // the right arm's, the left arm's
+    for (const auto& [out, osc, option, arm] : {std::tuple {mountOut, session.oscReceiver(), "--calibrate-mount", ""},
+                                                std::tuple {leftMountOut, session.leftOscReceiver(), "--calibrate-mount-left", "left arm "}}) {
+        if (out.empty() || !osc) continue;
+        mountCalibrations.push_back(std::make_unique<GuidedMount>());
+        GuidedMount& g = *mountCalibrations.back();
+        g.osc = osc;
+        g.out = out;
+        g.option = option;
+        g.arm = arm;
+        g.begin();
+    }
+    if (live::MappingRig* rig = session.mapping()) forwardTarget().store(&rig->mapper());
+    struct ForwardOff {
+        ~ForwardOff() { forwardTarget().store(nullptr); }
+    } forwardOff;
+    ::signal(SIGUSR1, onForwardSignal);   // "set forward" from outside: kill -USR1
+    session.start();
+    const auto start = std::chrono::steady_clock::now();
+    std::string shownError;
+    bool shownFormat = false, shownLeftFormat = false;
+    bool shownRates = false;
+    std::string shownSerialError, shownTcp;
+    if (device::OscReceiver* osc = session.oscReceiver()) {
+        if (!osc->serialPath().empty())
+            std::cerr << who << "OSC input: SLIP-framed OSC on serial port " << osc->serialPath() << "\n";
+        else if (!osc->tcpError().empty())
+            std::cerr << who << "OSC input: UDP port " << osc->port() << " only (no TCP input: " << osc->tcpError() << ")\n";
+    }
+    bool shownCardError = false, shownTactorError = false;
+    // A progress line on a terminal (stderr only, so stdout keeps just the JSON summary), not
+    // while a guided procedure prints its own instructions there.
+    const bool progress = ::isatty(STDERR_FILENO) == 1 && !calibration && mountCalibrations.empty() && !training;
+    const char* lineStart = progress ? "\r\033[K" : "";   // a message replaces the progress line
+    double shownAt = -1.0;
+    // A port or OSC source that sends nothing is not a session: said, with what was heard,
+    // after --data-timeout (and at the end of a shorter session), and exit 4.
+    const bool needsData = config.source != device::LiveConfig::Source::Simulator;
+    std::string noData;
+    bool recordingEnded = false;
+    while (!interrupted()) {
+        const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (seconds > 0.0 && elapsed >= seconds) break;
+        if (needsData && dataTimeout > 0.0 && elapsed >= dataTimeout && session.summary().packets == 0) {
+            noData = noDataMessage(session, config, dataTimeout);
+            break;
+        }
+        if (leftNeedsData && dataTimeout > 0.0 && elapsed >= dataTimeout && leftPackets(session) == 0) {   // the left arm's source too
+            noData = noDataMessage(session, config, dataTimeout, true);
+            break;
+        }
+        if (session.recordingEnded()) {
+            recordingEnded = true;
+            break;
+        }
+        if (progress && elapsed - shownAt >= 0.5) {
+            shownAt = elapsed;
+            const device::SessionSummary now = session.summary();
+            char line[160];
+            std::snprintf(line, sizeof line, "\r\033[K%7.1f s%s  packets %llu  bad %llu  resyncs %llu  reconnects %llu  link %s",
+                          elapsed, seconds > 0.0 ? (" of " + std::to_string(static_cast<long>(std::ceil(seconds)))).c_str() : "",
+                          static_cast<unsigned long long>(now.packets), static_cast<unsigned long long>(now.badPackets),
+                          static_cast<unsigned long long>(now.resyncs), static_cast<unsigned long long>(now.reconnects),
+                          session.connected() ? (now.packets > 0 ? "up" : "waiting for data") : "down, reconnecting");
+            std::cerr << line << std::flush;
+        }
+        if (cues && session.engine().panicked()) {   // (a gesture panics the current cue only: spread it)
+            bool all = true;
+            for (int c = 0; c < cues->cueCount(); ++c) all = all && cues->engine(c).panicked();
+            if (!all) cues->panic();
+        }
+        if (cues && cues->current() != shownCue) {
+            shownCue = cues->current();
+            const live::Cue& q = cues->cue(shownCue);
+            std::cerr << lineStart << who << "cue " << shownCue << " '" << q.name << "' (" << q.scene << ")\n";
+        }
+        if (const std::uint32_t n = panicTotal(); n != shownPanics || session.engine().panicked() != shownPanicked) {
+            const int k = lastCommand.exchange(-1);
+            const std::uint32_t mapped = session.mappingPanics();   // a mapping's "stage": "panic"
+            const bool byMapping = mapped != shownMappingPanics;
+            shownMappingPanics = mapped;
+            if (n != shownPanics)
+                std::cerr << lineStart << who << "PANIC ("
+                          << (k == static_cast<int>(live::StageCommand::Kind::Panic) ? "command" : byMapping ? "mapping" : "gesture")
+                          << "): all sound and every motor off; resume with r or /armadillo/resume\n";
+            else if (!session.engine().panicked())
+                std::cerr << lineStart << who << "resumed: scene '" << session.engine().config().scene << "' again\n";
+            shownPanics = n;
+            shownPanicked = session.engine().panicked();
+        }
+        if (session.engine().failed()) {   // the scene threw: its motors are off; stop and say so
+            std::cerr << who << "the scene failed and was stopped (motors off): " << session.engine().failure() << "\n";
+            break;
+        }
+        // Say once on stderr when the device goes away (the link keeps reconnecting).
+        const std::string e = session.lastError();
+        if (!e.empty() && e != shownError) {
+            std::cerr << lineStart << who << e << "\n";
+            if (voice) voice->status(e);
+        }
+        shownError = e;
+        if (device::OscReceiver* osc = session.oscReceiver()) {
+            const device::OscInputStats st = osc->stats();
+            const bool usable = st.imu + st.orientation > 0;
+            if (!osc->serialPath().empty()) {
+                const std::string se = osc->serialError();
+                if (se != shownSerialError && !se.empty()) std::cerr << lineStart << who << se << " (reopening)\n";
+                shownSerialError = se;
+            }
+            // Once the streams have run a while: the rate of each, and a warning when too slow.
+            if (usable && !shownRates && elapsed >= 3.0) {
+                shownRates = true;
+                const device::OscSensorRates r = osc->merger().rates();
+                std::string line;
+                for (const auto& [name, hz] : {std::pair<const char*, double> {"gyro", r.gyro}, {"accel", r.accel}, {"gravity", r.gravity},
+                                               {"user accel", r.userAccel}, {"mag", r.mag}, {"compass", r.heading}, {"imu", r.imu},
+                                               {"orientation", r.orientation}}) {
+                    if (!(hz > 0.0)) continue;
+                    char buf[48];
+                    std::snprintf(buf, sizeof buf, "%s%s %.0f Hz", line.empty() ? "" : ", ", name, hz);
+                    line += buf;
+                }
+                if (st.unchanged > 0) line += " (Sensors2OSC sends only changed readings: rates are of changes)";
+                std::cerr << lineStart << who << "OSC rates: " << (line.empty() ? std::string("none measured") : line) << "\n";
+                const std::string advice = device::lowRateAdvice(osc->format(), r.fusion());
+                if (!advice.empty() && st.unchanged == 0) std::cerr << lineStart << who << "warning: " << advice << "\n";
+            }
+        }
+        if (device::OscReceiver* osc = session.oscReceiver(); osc && !shownFormat && osc->format() != device::OscFormat::Auto) {
+            const std::string sender = osc->deviceName();
+            if (!sender.empty() || osc->stats().imu + osc->stats().orientation > 0) {
+                std::cerr << lineStart << who << "OSC input: " << device::oscFormatName(osc->format())
+                          << (cl.has("--osc-format") ? " (forced)" : " (detected)") << " from " << (sender.empty() ? "?" : sender)
+                          << ", mount " << osc->merger().mount().name << "\n";
+                shownFormat = true;
+            }
+        }
+        if (device::OscReceiver* osc = session.leftOscReceiver(); osc && !shownLeftFormat && osc->format() != device::OscFormat::Auto &&
+                                                                 osc->stats().imu + osc->stats().orientation > 0) {
+            std::cerr << lineStart << who << "left arm OSC input: " << device::oscFormatName(osc->format())
+                      << (cl.has("--osc-format-left") ? " (forced)" : " (detected)") << " from "
+                      << (osc->deviceName().empty() ? std::string("?") : osc->deviceName()) << ", mount " << osc->merger().mount().name << "\n";
+            shownLeftFormat = true;
+        }
+        for (const auto& g : mountCalibrations) g->step();
+        if (messages) messages->poll(messageScene, std::cerr, lineStart);
+        if (const audio::SoundCard* card = session.soundCard(); card && card->failed() && !shownCardError) {
+            std::cerr << lineStart << who << card->lastError() << "; playing on without sound\n";
+            shownCardError = true;
+        }
+        if (live::TactorOutput* t = session.tactors(); t && t->failed() && !shownTactorError) {
+            std::cerr << lineStart << who << "the tactor output stopped (its JACK server or sound card went away); the device plays on\n";
+            shownTactorError = true;
+        }
+        if (calibration && calibration->step() != device::CalibrationProcedure::Step::Done) {
+            device::RawPacket p;
+            while (session.rawPackets()->pop(p)) calibration->feed(p.t, p.counts);
+            if (calibration->ready()) {
+                calibration->finishStep();
+                const int n = static_cast<int>(calibration->step()) + 1;
+                std::cerr << (calibration->step() == device::CalibrationProcedure::Step::Done
+                                  ? std::string("calibration complete")
+                                  : "calibration step " + std::to_string(n) + " (" + device::CalibrationProcedure::stepName(calibration->step()) +
+                                        "): " + calibration->instruction())
+                          << "\n";
+            }
+        }
+        if (training) {
+            if (!training->step(10)) {
+                std::cerr << "braille training complete: " << brailleScene->trainingCorrect() << " of "
+                          << brailleScene->trainingTrialCount() << " right\n";
+                if (voice)
+                    voice->status("braille training complete: " + std::to_string(brailleScene->trainingCorrect()) + " of " +
+                                  std::to_string(brailleScene->trainingTrialCount()) + " right");
+                break;
+            }
+            if (training->exhausted()) {
+                std::cerr << "braille training: no more answers (stdin ended) with "
+                          << brailleScene->trainingTrialCount() - brailleScene->trainingTrial() << " of "
+                          << brailleScene->trainingTrialCount() << " trials unanswered; "
+                          << brailleScene->trainingCorrect() << " right so far\n";
+                break;
+            }
+        } else {
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+    }
+    if (progress) std::cerr << "\n";
+    if (keys) keys->stop();
+    if (controlIn) controlIn->stop();
+    session.stop();
+    if (messages) messages->stop();
+    if (needsData && dataTimeout > 0.0 && noData.empty() && session.summary().packets == 0)
+        noData = noDataMessage(session, config, session.summary().seconds);
+    if (leftNeedsData && dataTimeout > 0.0 && noData.empty() && leftPackets(session) == 0)
+        noData = noDataMessage(session, config, session.summary().seconds, true);
+    if (!noData.empty()) {   // nothing was played: no file is written
+        std::cout << device::summaryJson(session.summary()) << "\n" << std::flush;
+        throw IoError(noData);
+    }
+    if (recordingEnded)
+        std::cerr << who << "the recording ended after " << session.recordingSeconds()
+                  << " s (--loop plays it again and again)\n";
+    const std::string trainingCsv = brailleScene ? brailleScene->trainingLogCsv() : std::string();   // control has stopped
+    session.finish();   // the session's own files first: a failing training log must not lose them
+    if (brailleScene) writeFileAtomically(trainingLog, trainingCsv);
+    if (const audio::SoundCard* card = session.soundCard(); card && card->underruns() > 0)
+        std::cerr << who << "the sound card ran dry " << card->underruns() << " time(s) (audible clicks)\n";
+    for (const auto& g : mountCalibrations) g->finish();
+    if (calibration) {
+        if (calibration->step() != device::CalibrationProcedure::Step::Done)
+            std::cerr << "calibration stopped at step '" << device::CalibrationProcedure::stepName(calibration->step())
+                      << "'; that step and the later ones keep the starting calibration\n";
+        device::Calibration result = calibration->result();
+        device::saveCalibration(calibrateOut, result);
+    }
+    std::string summary = device::summaryJson(session.summary());
+    if (const live::MappingRig* m = session.mapping())
+        summary.insert(summary.size() - 1, ",\"mapping_midi_events\":" + std::to_string(m->midiEvents()) + ",\"mapping_osc_messages\":" +
+                                               std::to_string(m->oscMessages()) + ",\"mapping_dropped\":" + std::to_string(m->dropped()));
+    if (const live::MappingRig* m = session.mapping(); m && m->stageCommands() > 0)   // "stage" destinations fired (docs/STAGE.md)
+        summary.insert(summary.size() - 1, ",\"mapping_stage_commands\":" + std::to_string(m->stageCommands()));
+    if (const live::MappingRig* m = session.mapping(); m && m->mqttMessages() > 0)   // "mqtt" destinations (docs/MQTT.md)
+        summary.insert(summary.size() - 1, ",\"mapping_mqtt_messages\":" + std::to_string(m->mqttMessages()));
+    if (const std::uint32_t panics = panicTotal(); panics > 0) {   // only after a panic (docs/STAGE.md)
+        summary.insert(summary.size() - 1, ",\"panics\":" + std::to_string(panics));
+        if (const live::MappingRig* m = session.mapping())   // note-offs, CC 120 and CC 123 the mapping's MIDI sent
+            summary.insert(summary.size() - 1, ",\"panic_midi_events\":" + std::to_string(m->panicMidiEvents()));
+    }
+    if (device::DeviceLink* leftLink = session.leftLink())
+        summary.insert(summary.size() - 1, ",\"left_packets\":" + std::to_string(leftLink->stats().packets));
+    if (device::OscReceiver* leftOsc = session.leftOscReceiver())   // the left sender's usable samples and its input's counters
+        summary.insert(summary.size() - 1, ",\"left_packets\":" + std::to_string(leftOsc->stats().imu + leftOsc->stats().orientation) +
+                                               ",\"left_osc\":{" + leftOsc->statsJson() + "}");
+    if (messages) summary.insert(summary.size() - 1, messages->summaryJson());
+    if (cues) summary.insert(summary.size() - 1, ",\"cue\":" + std::to_string(cues->current()) + ",\"cue_changes\":" + std::to_string(cues->changes()));
+    if (live::TactorOutput* t = session.tactors())   // the tactor output's own counters (docs/TACTORS.md)
+        summary.insert(summary.size() - 1, ",\"tactor_frames\":" + std::to_string(t->framesRendered()) + ",\"tactor_dropped\":" +
+                                               std::to_string(t->recordsDropped()) + ",\"tactor_limited\":" + std::to_string(t->limited()));
+    std::cout << summary << "\n" << std::flush;
+    return session.engine().failed() ? int(kExitFailure) : int(kExitOk);
+}
+
 int runPlay(const Arguments& args)
 {
     return guarded("play", [&] {
@@ -219,609 +835,9 @@ int runPlay(const Arguments& args)
             "A lost serial port is reopened on its own (backoff up to 0.25 s); a port missing at start is\n"
             "an error (exit 4), and so is a port or OSC source that sends no sensor data (--data-timeout).\n"
             "Every output's folder is checked before the session starts; on failure no output is written.",
-            [] {
-                auto o = sceneOptionSpecs();
-                o.front().required = false;   // --scene or --setlist
-                const std::vector<OptionSpec> own {
-                    {"--setlist", "FILE", "a set list (docs/STAGE.md) instead of --scene: starts at cue 0; steps with --keys\n"
-                                          "(n, b, 0..9) and --control-in (/armadillo/cue/next, /armadillo/cue/prev, /armadillo/cue i)"},
-                    {"--port", "NAME", "serial port of the device (see `armadillo ports`; ptys and /dev/rfcomm* work too)"},
-                    {"--simulate", "", "the built-in simulated forearm (in-process, paced like a 57 600-baud link)"},
-                    {"--motion", "FILE", "with --simulate: pose or quaternion CSV to act out (looped); default a wandering arm"},
-                    {"--osc-in", "PORT", "listen for OSC sensor messages on this UDP port, and on the same TCP port (ZIG SIM's\n"
-                                         "TCP option), no motor output; OSC and ZIG SIM's JSON are told apart by their first\n"
-                                         "byte; the sender's format is detected from its first messages and printed"},
-                    {"--format", "NAME", "with --port: what the serial port speaks: thesis (the board's protocol, default) or\n"
-                                         "ngimu-slip (an NGIMU over USB: SLIP-framed OSC, read like --osc-in)"},
-                    {"--osc-format", "NAME", "with --osc-in: force the sender's format (auto, armadillo, sensors2osc, zigsim,\n"
-                                             "gyrosc, touchosc, ngimu)"},
-                    {"--mount", "FILE|PRESET", "with --osc-in: how the sensor is strapped on: a mount file (--calibrate-mount) or a\n"
-                                               "preset (identity, phone-screen-up, phone-screen-up-top-to-elbow, ngimu); default: the\n"
-                                               "format's usual one (phones: phone-screen-up)"},
-                    {"--calibrate-mount", "OUT.json", "with --osc-in: the guided mount calibration (arm level ahead, arm hanging down,\n"
-                                                      "optionally a quarter roll); instructions on stderr; writes OUT.json for --mount"},
-                    {"--baud", "B", "serial speed (default 57600, 8N1)"},
-                    {"--v2", "", "with --port: offer the v2 framing (sequence numbers, CRC, the board's clock;\n"
-                                 "docs/DEVICE.md 2b) on every connect; a board that does not take it gets v1 as\n"
-                                 "usual. The summary then adds \"v2\", \"seq_gaps\" and \"crc_failures\""},
-                    {"--calibration", "CAL.json", "device calibration (default: the built-in one, which matches the simulator)"},
-                    {"--seconds", "N", "stop after N seconds (default: run until interrupted)"},
-                    {"--out", "OUT.wav", "record the scene's audio, 16-bit stereo (written whole at the end) instead of playing it"},
-                    {"--audio-device", "NAME", "ALSA device to play on (default: 'default'; e.g. hw:1, plughw:1,0); an error if it\n"
-                                               "cannot be opened"},
-                    {"--no-audio", "", "no sound at all (no --out, no sound card)"},
-                    {"--audio-in", "FILE.wav", "a recording to play out (to the sound card or --out, under the scene's sound) while\n"
-                                               "scenes that listen (score, audio-touch, layered-keyboard) follow it; its sample rate is used unless\n"
-                                               "--sample-rate is given. Given several times, each file is a stem named by its file\n"
-                                               "name (drums.wav, bass.wav ...), as --stem"},
-                    {"--stem", "NAME=FILE.wav", "audio-touch: a stem felt apart on its own motors (drums, bass, other, vocals;\n"
-                                                "repeatable; docs/INSTRUMENTS.md); the stems are played out together"},
-                    {"--loop", "", "with --audio-in or --stem: start the recording again at its end (without it, the session\n"
-                                   "ends with the recording unless --seconds ends it first)"},
-                    {"--data-timeout", "SECONDS", "with --port or --osc-in (and --port-left, --osc-in-left): no usable sensor data from\n"
-                                                  "either arm within this time is an error naming the port and what was heard instead\n"
-                                                  "(exit 4; default 5, 0 = wait for ever)"},
-                    {"--tactile", "T.csv", "every motor packet: t,m1..m9; the last row is the all-off sent at the end"},
-                    {"--log", "SESSION.csv", "one row per sensor packet: t, raw counts, calibrated SI values, qw,qx,qy,qz"},
-                    {"--osc-out", "HOST:PORT", "send orientation, pose, gyro, motors and gestures as OSC; with --map, the target of\n"
-                                               "the mapping's OSC destinations that name none (and only those are sent)"},
-                    {"--map", "PRESET|FILE", kMapHelp},
-                    {"--forward", "DEG", std::string(kForwardHelp) + "; SIGUSR1 (kill -USR1 PID) sets forward to where\n"
-                                         "the arm points now"},
-                    {"--midi-out", "NAME", "with --map: open an ALSA sequencer output port NAME (client \"ARMadillo\") and send the\n"
-                                           "mapped MIDI there as it happens; exit 4 naming the cause when there is no sequencer"},
-                    {"--unpaced", "", "with --simulate: no wire pacing (as fast as the host can go)"},
-                    {"--training-log", "LOG.csv", "with --scene braille: the training protocol (thesis §4.4.1) live. Each trial's\n"
-                                                  "prompt is printed on stderr; type the answers on stdin, one a line (left, right,\n"
-                                                  "both, here, a letter or a word); right/wrong is said at once; the session ends when\n"
-                                                  "every trial is answered and the log (docs/BRAILLE.md) is written to LOG.csv"},
-                    {"--motion-left", "FILE", "two arms: with --simulate, a second simulated forearm (the left arm) acting out FILE\n"
-                                              "(pose or quaternion CSV; - = a wandering arm); scenes see both arms"},
-                    {"--port-left", "NAME", "two arms: the left arm's own device (its motor packets go back to it)"},
-                    {"--osc-in-left", "PORT", "two arms: the left arm is an OSC sender on this UDP (and TCP) port, read like --osc-in\n"
-                                              "(format detected, its own mount); with any right-arm source"},
-                    {"--osc-format-left", "NAME", "with --osc-in-left: force the left sender's format (as --osc-format)"},
-                    {"--mount-left", "FILE|PRESET", "with --osc-in-left: how the left arm's sensor is strapped on (as --mount)"},
-                    {"--calibrate-mount-left", "OUT.json", "with --osc-in-left: the guided mount calibration of the left arm's sensor\n"
-                                                           "(as --calibrate-mount; instructions on stderr prefixed 'left arm')"},
-                    {"--calibration-left", "CAL.json", "the left arm's device calibration (default: the built-in one)"},
-                    {"--arms-log", "A.csv", "two arms: t,qw,qx,qy,qz,left_qw,left_qx,left_qy,left_qz per control update"},
-                    {"--control-in", "PORT", "stage commands as OSC on this UDP port (docs/STAGE.md): /armadillo/panic,\n"
-                                             "/armadillo/resume, /armadillo/cue/next, /armadillo/cue/prev, /armadillo/cue i"},
-                    {"--keys", "", "stage keys on stdin: p or Escape = panic, r = resume, n or Space = next cue,\n"
-                                   "b = previous cue, 0..9 = cue"},
-                    {"--panic-gesture", "", "the forearm hanging straight down (elevation <= -75 deg) for 2 s panics"},
-                    {"--calibrate", "OUT.json", "run the guided calibration (thesis §2.4) on the device while playing; instructions on\n"
-                                                "stderr, each step finishes when it has enough data; writes OUT.json (unfinished steps keep\n"
-                                                "the starting calibration)"},
-                };
-                o.insert(o.begin() + 1, own.begin(), own.end());
-                // The motor grid live as audio (docs/TACTORS.md), beside the device.
-                const auto tactorOptions = tactorOptionSpecs(true);
-                o.insert(o.end(), tactorOptions.begin(), tactorOptions.end());
-                o.push_back({"--back-motors", "", "drive the three back motors 10..12 as well: in the tactile CSV, OSC out and the tactor\n"
-                                                  "output (the thesis's serial packet carries motors 1..9)"});
-                for (const auto& specs : {mqttBrokerOptionSpecs(), mqttMessageOptionSpecs()}) o.insert(o.end(), specs.begin(), specs.end());
-                // Speech and a braille display for the training's prompts and the link's state.
-                const auto io = readerIoOptionSpecs();
-                o.insert(o.end(), io.begin(), io.end());
-                return o;
-            }());
+            playOptionSpecs());
         if (!cl.parse(args)) return 0;
-
-        device::LiveConfig config;
-        const int sources = int(cl.has("--port")) + int(cl.has("--simulate")) + int(cl.has("--osc-in"));
-        if (sources != 1) throw UsageError("choose exactly one source: --port NAME, --simulate or --osc-in PORT");
-        if (cl.has("--motion") && !cl.has("--simulate")) throw UsageError("--motion drives the simulator: use it with --simulate");
-        if (cl.has("--unpaced") && !cl.has("--simulate")) throw UsageError("--unpaced applies to --simulate");
-        if (cl.has("--baud") && !cl.has("--port")) throw UsageError("--baud applies to --port");
-        if (cl.has("--v2") && !cl.has("--port")) throw UsageError("--v2 applies to --port");
-        const std::string portFormat = cl.has("--format") ? cl.value("--format") : std::string("thesis");
-        if (cl.has("--format") && !cl.has("--port")) throw UsageError("--format applies to --port (--osc-in detects its format; --osc-format forces one)");
-        if (portFormat != "thesis" && portFormat != "ngimu-slip")
-            throw UsageError("--format: unknown serial format '" + portFormat + "' (thesis or ngimu-slip)");
-        const bool slipOsc = cl.has("--port") && portFormat == "ngimu-slip";
-        if (slipOsc) {
-            // The NGIMU over USB: SLIP-framed OSC through the same serial code as the board.
-            config.source = device::LiveConfig::Source::Osc;
-            config.oscSerialPort = cl.value("--port");
-            if (config.oscSerialPort.empty()) throw UsageError("--port needs a device name");
-            config.oscSerialBaud = static_cast<int>(cl.integer("--baud", 115200, 300, 4000000));
-            if (cl.has("--v2")) throw UsageError("--v2 is the thesis board's framing: not with --format ngimu-slip");
-        } else if (cl.has("--port")) {
-            config.source = device::LiveConfig::Source::Port;
-            config.port = cl.value("--port");
-            if (config.port.empty()) throw UsageError("--port needs a device name");
-            config.baud = static_cast<int>(cl.integer("--baud", 57600, 300, 4000000));
-            config.link.link.negotiateV2 = cl.has("--v2");
-        } else if (cl.has("--simulate")) {
-            config.source = device::LiveConfig::Source::Simulator;
-            config.motionFile = cl.value("--motion");
-            config.simulatorBaud = cl.has("--unpaced") ? 0.0 : 57600.0;
-        } else {
-            config.source = device::LiveConfig::Source::Osc;
-            config.oscInPort = static_cast<int>(cl.integer("--osc-in", 0, 1, 65535));
-        }
-        const bool oscSource = cl.has("--osc-in") || slipOsc;
-        for (const char* o : {"--osc-format", "--mount", "--calibrate-mount"})
-            if (cl.has(o) && !oscSource) throw UsageError(std::string(o) + " applies to --osc-in (or --port with --format ngimu-slip)");
-        if (cl.has("--osc-format") && !device::parseOscFormat(cl.value("--osc-format"), config.osc.format))
-            throw UsageError("--osc-format: unknown format '" + cl.value("--osc-format") + "' (one of " + device::oscFormatNames() + ")");
-        const std::string mountOut = cl.value("--calibrate-mount");
-        if (cl.has("--calibrate-mount") && mountOut.empty()) throw UsageError("--calibrate-mount needs an output file");
-        if (cl.has("--calibrate-mount") && cl.has("--mount")) throw UsageError("--calibrate-mount finds the mount: it cannot go with --mount");
-        if (!mountOut.empty()) {   // the calibration sees the sensor's own axes
-            config.osc.mountGiven = true;
-            config.osc.mount = device::Mount {};
-        }
-
-        EngineConfig& engine = config.engine;
-        if (cl.has("--setlist") == cl.has("--scene")) throw UsageError("give --scene SCENE or --setlist FILE (one of them)");
-        if (cl.has("--setlist")) {
-            for (const char* o : {"--param", "--score", "--text", "--audio", "--training-log"})
-                if (cl.has(o)) throw UsageError(std::string(o) + " goes into the set list's cues, not on the command line");
-            config.setList = cl.value("--setlist");
-            if (config.setList.empty()) throw UsageError("--setlist needs a file");
-            engine.scene = "monitor";
-            engine.sceneConfig.sampleRate = static_cast<double>(cl.integer("--sample-rate", 48000, 8000, 384000));
-            engine.sceneConfig.seed = static_cast<std::uint64_t>(cl.integer("--seed", 1, 0, 1L << 62));
-            const std::string arm = cl.value("--arm", "right");
-            if (arm != "right" && arm != "left") throw UsageError("--arm must be right or left");
-            engine.sceneConfig.side = arm == "left" ? ArmSide::Left : ArmSide::Right;
-            readProfileOption(cl, engine);   // every cue feels the reader's touch profile
-        } else {
-            readSceneOptions(cl, engine);
-        }
-        engine.motorCount = cl.has("--back-motors") ? kGridMotors + kBackMotors : kGridMotors;
-
-        const double seconds = cl.number("--seconds", -1.0);
-        if (cl.has("--seconds") && !(seconds > 0.0 && seconds <= 7 * 24 * 3600.0))
-            throw UsageError("--seconds must be a positive number of seconds (at most a week)");
-        if (cl.has("--osc-out")) {
-            config.oscOut = cl.value("--osc-out");
-            try {
-                device::parseHostPort(config.oscOut);
-            } catch (const std::invalid_argument& e) {
-                throw UsageError(std::string("--osc-out: ") + e.what());
-            }
-        }
-        if (cl.has("--midi-out") && !cl.has("--map")) throw UsageError("--midi-out sends what a mapping makes: give --map PRESET|FILE too");
-        if (cl.has("--midi-out") && cl.value("--midi-out").empty()) throw UsageError("--midi-out needs a port name");
-        config.mappingName = cl.value("--map");
-        config.midiOut = cl.value("--midi-out");
-        config.forwardDeg = readForwardOption(cl);
-        if (int(cl.has("--motion-left")) + int(cl.has("--port-left")) + int(cl.has("--osc-in-left")) > 1)
-            throw UsageError("the left arm is --motion-left (simulated), --port-left (a device) or --osc-in-left (an OSC sender): one of them");
-        for (const char* o : {"--osc-format-left", "--mount-left", "--calibrate-mount-left"})
-            if (cl.has(o) && !cl.has("--osc-in-left")) throw UsageError(std::string(o) + " applies to --osc-in-left");
-        const std::string leftMountOut = cl.value("--calibrate-mount-left");
-        if (cl.has("--calibrate-mount-left") && leftMountOut.empty()) throw UsageError("--calibrate-mount-left needs an output file");
-        if (cl.has("--calibrate-mount-left") && cl.has("--mount-left"))
-            throw UsageError("--calibrate-mount-left finds the mount: it cannot go with --mount-left");
-        if (cl.has("--motion-left")) {
-            if (!cl.has("--simulate")) throw UsageError("--motion-left drives a second simulated arm: use it with --simulate");
-            config.leftSource = device::LiveConfig::LeftSource::Simulator;
-            config.leftMotionFile = cl.value("--motion-left") == "-" ? std::string() : cl.value("--motion-left");
-            if (cl.value("--motion-left").empty()) throw UsageError("--motion-left needs a motion file (or - for a wandering arm)");
-        } else if (cl.has("--port-left")) {
-            config.leftSource = device::LiveConfig::LeftSource::Port;
-            config.leftPort = cl.value("--port-left");
-            if (config.leftPort.empty()) throw UsageError("--port-left needs a device name");
-            config.leftBaud = static_cast<int>(cl.integer("--baud", 57600, 300, 4000000));
-        } else if (cl.has("--osc-in-left")) {
-            config.leftSource = device::LiveConfig::LeftSource::Osc;
-            config.leftOscInPort = static_cast<int>(cl.integer("--osc-in-left", 0, 1, 65535));
-            if (config.source == device::LiveConfig::Source::Osc && config.oscSerialPort.empty() && config.oscInPort == config.leftOscInPort)
-                throw UsageError("--osc-in-left needs a port of its own (--osc-in listens on " + std::to_string(config.oscInPort) + ")");
-            if (cl.has("--osc-format-left") && !device::parseOscFormat(cl.value("--osc-format-left"), config.leftOsc.format))
-                throw UsageError("--osc-format-left: unknown format '" + cl.value("--osc-format-left") + "' (one of " + device::oscFormatNames() + ")");
-        }
-        for (const char* o : {"--calibration-left", "--arms-log"})
-            if (cl.has(o) && config.leftSource == device::LiveConfig::LeftSource::None)
-                throw UsageError(std::string(o) + " applies to two arms (--motion-left, --port-left or --osc-in-left)");
-        if (cl.has("--calibration-left") && config.leftSource == device::LiveConfig::LeftSource::Osc)
-            throw UsageError("--calibration-left is a device's calibration: an OSC sender sends SI units (--mount-left says how it is worn)");
-        if (cl.has("--calibration-left")) config.leftCalibration = device::loadCalibration(cl.value("--calibration-left"));
-        config.armsLog = cl.value("--arms-log");
-        // Steadier timing for the link (and the simulated device) where the system allows it.
-        config.link.realtimePriority = 20;
-        config.audioOut = cl.value("--out");
-        const int audioChoices = int(cl.has("--out")) + int(cl.has("--audio-device")) + int(cl.has("--no-audio"));
-        if (audioChoices > 1) throw UsageError("choose one of --out FILE, --audio-device NAME and --no-audio");
-        if (cl.has("--tactor-sound") && cl.has("--no-audio")) throw UsageError("--tactor-sound hands the scene's sound to the tactors: drop --no-audio");
-        if (cl.has("--audio-device")) {
-            config.soundCard = cl.value("--audio-device");
-            if (config.soundCard.empty()) throw UsageError("--audio-device needs an ALSA device name");
-        } else if (!cl.has("--out") && !cl.has("--no-audio")) {
-            config.soundCard = "default";
-            config.soundCardOptional = true;   // headless machines have none: say so, play on
-        }
-        config.tactileOut = cl.value("--tactile");
-        config.logOut = cl.value("--log");
-        config.audioStems = readStemOptions(cl, engine);
-        if (!config.audioStems.empty() && cl.has("--no-audio")) throw UsageError("stems are played out: they cannot go with --no-audio");
-        if (config.audioStems.empty() && cl.has("--audio-in")) {
-            if (cl.value("--audio-in").empty()) throw UsageError("--audio-in needs a WAV file");
-            if (cl.has("--no-audio")) throw UsageError("--audio-in plays the recording out: it cannot go with --no-audio");
-            config.audioIn = cl.value("--audio-in");
-        }
-        config.audioInLoop = cl.has("--loop");
-        if (cl.has("--loop") && !cl.has("--audio-in") && !cl.has("--stem"))
-            throw UsageError("--loop repeats the --audio-in recording: use it with --audio-in or --stem");
-        const double dataTimeout = cl.number("--data-timeout", 5.0);
-        if (!(dataTimeout >= 0.0 && dataTimeout <= 3600.0)) throw UsageError("--data-timeout must lie in 0..3600 s");
-        const bool leftNeedsData = config.leftSource == device::LiveConfig::LeftSource::Port || config.leftSource == device::LiveConfig::LeftSource::Osc;
-        if (cl.has("--data-timeout") && config.source == device::LiveConfig::Source::Simulator && !leftNeedsData)
-            throw UsageError("--data-timeout applies to --port and --osc-in (the simulator always sends)");
-
-        const std::string calibrateOut = cl.value("--calibrate");
-        if (cl.has("--calibrate") && oscSource) throw UsageError("--calibrate needs raw counts: use --port or --simulate");
-        if (cl.has("--calibrate") && calibrateOut.empty()) throw UsageError("--calibrate needs an output file");
-
-        const std::string trainingLog = cl.value("--training-log");
-        if (cl.has("--training-log")) {
-            if (trainingLog.empty()) throw UsageError("--training-log needs a file");
-            if (engine.scene != "braille") throw UsageError("--training-log is the braille scene's training: use --scene braille");
-            for (const std::string& p : engine.parameters)
-                if (p.rfind("braille.mode=", 0) == 0 && p != "braille.mode=training")
-                    throw UsageError("--training-log runs the training: it cannot go with --param " + p);
-            engine.parameters.push_back("braille.mode=training");
-        }
-
-        // Every output is checked before any input is read or the source opened: a missing or
-        // unwritable folder is an error now (exit 4), not after the reader answered every trial
-        // or the session ran for an hour.
-        const std::vector<std::pair<std::string, std::string>> outputs {
-            {"--out", config.audioOut}, {"--tactile", config.tactileOut}, {"--log", config.logOut},
-            {"--calibrate", calibrateOut}, {"--calibrate-mount", mountOut}, {"--calibrate-mount-left", leftMountOut}, {"--training-log", trainingLog},
-            {"--arms-log", config.armsLog}};
-        for (const auto& [option, file] : outputs)
-            if (cl.has(option)) checkOutputPath(option, file);
-        checkDistinctOutputs(outputs);
-
-        // Then the inputs: a file that cannot be read is exit 4, one that is not what it should be 3.
-        if (cl.has("--mount")) {
-            config.osc.mount = device::mountFromArgument(cl.value("--mount"));
-            config.osc.mountGiven = true;
-        }
-        if (cl.has("--mount-left") || !leftMountOut.empty()) {   // (a calibration sees the sensor's own axes)
-            config.leftOsc.mount = leftMountOut.empty() ? device::mountFromArgument(cl.value("--mount-left")) : device::Mount {};
-            config.leftOsc.mountGiven = true;
-        }
-        if (cl.has("--calibration")) config.calibration = device::loadCalibration(cl.value("--calibration"));
-        config.mapping = readMapOption(cl, engine);
-        if (!config.audioIn.empty() && !cl.has("--sample-rate"))
-            engine.sceneConfig.sampleRate = engineSampleRate(readWav(config.audioIn).sampleRate, config.audioIn);
-        if (!config.audioStems.empty() && !cl.has("--sample-rate"))
-            engine.sceneConfig.sampleRate = engineSampleRate(readWav(config.audioStems.front()).sampleRate, config.audioStems.front());
-
-        // Spoken / braille-display copy of what stderr says (stderr itself is unchanged).
-        std::unique_ptr<ReaderIo> voice;
-        if (cl.has("--speak") || cl.has("--speech") || cl.has("--brlapi") || cl.has("--braille-display")) voice = std::make_unique<ReaderIo>(cl, true);
-        else if (cl.has("--rate")) throw UsageError("--rate sets the speech rate: use it with --speak");
-        if (cl.has("--keys") && cl.has("--training-log")) throw UsageError("--keys and --training-log both read stdin: choose one");
-        engine.panicGesture = cl.has("--panic-gesture");
-        const int controlPort = cl.has("--control-in") ? static_cast<int>(cl.integer("--control-in", 0, 1, 65535)) : -1;
-
-        if (cl.has("--tactors")) config.tactors = tactorConfig(cl, config.engine.motorCount);
-        else if (anyTactorSetting(cl)) throw UsageError("the --tactor-* options set up --tactors DEVICE|jack: give it too");
-
-        // Messages on the arm (docs/MQTT.md): declared before the session so the messages it hands
-        // the braille scene outlive the scene's control thread.
-        std::unique_ptr<PlayMessages> messages = readPlayMessages(cl, engine.scene, engine.parameters, engine.sceneConfig.resourceDir);
-        installInterruptHandlers();
-        device::LiveSession session(config);
-        // Stage commands (OSC control port, keys): panic and resume act on the engine at once
-        // (atomics, any thread); what happened is reported by the loop below.
-        std::atomic<int> lastCommand {-1};
-        live::CuePlayer* cues = session.cuePlayer();
-        const auto onCommand = [&session, &lastCommand, cues](const live::StageCommand& c) {
-            using K = live::StageCommand::Kind;
-            if (c.kind == K::Panic) cues ? cues->panic() : session.engine().panic();
-            else if (c.kind == K::Resume) cues ? cues->resume() : session.engine().resume();
-            else if (cues && c.kind == K::CueNext) cues->next();
-            else if (cues && c.kind == K::CuePrev) cues->previous();
-            else if (cues && c.kind == K::CueGoto) cues->request(c.cue);   // clamped to the list
-            lastCommand.store(static_cast<int>(c.kind));
-        };
-        // Panics of every cue (a set list) or of the one engine; a panic gesture in one cue
-        // panics them all (a cue change must not bring the sound back).
-        const auto panicTotal = [&session, cues] {
-            if (!cues) return session.engine().panicCount();
-            std::uint32_t n = 0;
-            for (int c = 0; c < cues->cueCount(); ++c) n = std::max(n, cues->engine(c).panicCount());
-            return n;
-        };
-        int shownCue = cues ? cues->current() : -1;
-        if (cues)
-            std::cerr << "armadillo play: set list of " << cues->cueCount() << " cues; cue 0 '" << cues->cue(0).name << "' (" << cues->cue(0).scene << ")\n";
-        std::unique_ptr<live::StageControlReceiver> controlIn;
-        if (controlPort > 0) {
-            controlIn = std::make_unique<live::StageControlReceiver>(controlPort, onCommand);   // IoError (exit 4) when taken
-            if (messages && messages->wantsMessages())   // /armadillo/message "text" [priority] (docs/MQTT.md)
-                controlIn->setTextHandler([m = messages.get()](const std::string& text, int priority) { m->offerText(text, priority); });
-            controlIn->start();
-        }
-        std::unique_ptr<live::KeyReader> keys;
-        if (cl.has("--keys")) {
-            keys = std::make_unique<live::KeyReader>(STDIN_FILENO, onCommand);
-            keys->start();
-            std::cerr << "armadillo play: keys: p = panic, r = resume" << (cues ? ", n = next cue, b = previous cue, 0..9 = cue" : "") << "\n";
-        }
-        std::uint32_t shownPanics = 0;
-        std::uint32_t shownMappingPanics = 0;
-        bool shownPanicked = false;
-        std::unique_ptr<TerminalTraining> training;
-        braille::BrailleSceneControls* brailleScene = nullptr;
-        if (!trainingLog.empty()) {
-            brailleScene = dynamic_cast<braille::BrailleSceneControls*>(&session.engine().scene());
-            if (!brailleScene) throw UsageError("--training-log needs the braille scene");
-            training = std::make_unique<TerminalTraining>(*brailleScene, voice.get());
-        }
-        braille::BrailleSceneControls* messageScene =
-            messages && messages->wantsMessages() ? dynamic_cast<braille::BrailleSceneControls*>(&session.engine().scene()) : nullptr;
-        if (messages && messages->wantsMessages() && !messageScene) throw UsageError("--messages need the braille scene");
-        if (messages) {
-            if (live::MappingRig* rig = session.mapping()) rig->setMqttSink(&PlayMessages::publishMapped, messages.get());
-            if (voice) messages->setMirror([v = voice.get()](const std::string& line) { v->note(line); });   // --speak, --brlapi
-            messages->start();
-        }
-        std::unique_ptr<device::CalibrationProcedure> calibration;
-        if (!calibrateOut.empty()) {
-            calibration = std::make_unique<device::CalibrationProcedure>(config.calibration);
-            std::cerr << "calibration step 1 (" << device::CalibrationProcedure::stepName(calibration->step()) << "): "
-                      << calibration->instruction() << "\n";
-        }
-        if (const audio::SoundCard* card = session.soundCard()) {
-            const audio::SoundCardInfo& i = card->info();
-            std::cerr << "armadillo play: sound on '" << i.device << "' (" << i.sampleRate << " Hz, " << i.format << ", "
-                      << 1000.0 * i.bufferFrames / i.sampleRate << " ms buffer)\n";
-        } else if (!session.soundCardWarning().empty()) {
-            std::cerr << "armadillo play: no sound: " << session.soundCardWarning()
-                      << " (--out FILE records the audio instead; --no-audio silences this message)\n";
-        }
-        if (live::TactorOutput* t = session.tactors()) std::cerr << "armadillo play: tactors on " << t->describe() << "\n";
-        std::vector<std::unique_ptr<GuidedMount>> mountCalibrations;   // the right arm's, the left arm's
-        for (const auto& [out, osc, option, arm] : {std::tuple {mountOut, session.oscReceiver(), "--calibrate-mount", ""},
-                                                    std::tuple {leftMountOut, session.leftOscReceiver(), "--calibrate-mount-left", "left arm "}}) {
-            if (out.empty() || !osc) continue;
-            mountCalibrations.push_back(std::make_unique<GuidedMount>());
-            GuidedMount& g = *mountCalibrations.back();
-            g.osc = osc;
-            g.out = out;
-            g.option = option;
-            g.arm = arm;
-            g.begin();
-        }
-        if (live::MappingRig* rig = session.mapping()) forwardTarget().store(&rig->mapper());
-        struct ForwardOff {
-            ~ForwardOff() { forwardTarget().store(nullptr); }
-        } forwardOff;
-        ::signal(SIGUSR1, onForwardSignal);   // "set forward" from outside: kill -USR1
-        session.start();
-        const auto start = std::chrono::steady_clock::now();
-        std::string shownError;
-        bool shownFormat = false, shownLeftFormat = false;
-        bool shownRates = false;
-        std::string shownSerialError, shownTcp;
-        if (device::OscReceiver* osc = session.oscReceiver()) {
-            if (!osc->serialPath().empty())
-                std::cerr << "armadillo play: OSC input: SLIP-framed OSC on serial port " << osc->serialPath() << "\n";
-            else if (!osc->tcpError().empty())
-                std::cerr << "armadillo play: OSC input: UDP port " << osc->port() << " only (no TCP input: " << osc->tcpError() << ")\n";
-        }
-        bool shownCardError = false, shownTactorError = false;
-        // A progress line on a terminal (stderr only, so stdout keeps just the JSON summary), not
-        // while a guided procedure prints its own instructions there.
-        const bool progress = ::isatty(STDERR_FILENO) == 1 && !calibration && mountCalibrations.empty() && !training;
-        const char* lineStart = progress ? "\r\033[K" : "";   // a message replaces the progress line
-        double shownAt = -1.0;
-        // A port or OSC source that sends nothing is not a session: said, with what was heard,
-        // after --data-timeout (and at the end of a shorter session), and exit 4.
-        const bool needsData = config.source != device::LiveConfig::Source::Simulator;
-        std::string noData;
-        bool recordingEnded = false;
-        while (!interrupted()) {
-            const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            if (seconds > 0.0 && elapsed >= seconds) break;
-            if (needsData && dataTimeout > 0.0 && elapsed >= dataTimeout && session.summary().packets == 0) {
-                noData = noDataMessage(session, config, dataTimeout);
-                break;
-            }
-            if (leftNeedsData && dataTimeout > 0.0 && elapsed >= dataTimeout && leftPackets(session) == 0) {   // the left arm's source too
-                noData = noDataMessage(session, config, dataTimeout, true);
-                break;
-            }
-            if (session.recordingEnded()) {
-                recordingEnded = true;
-                break;
-            }
-            if (progress && elapsed - shownAt >= 0.5) {
-                shownAt = elapsed;
-                const device::SessionSummary now = session.summary();
-                char line[160];
-                std::snprintf(line, sizeof line, "\r\033[K%7.1f s%s  packets %llu  bad %llu  resyncs %llu  reconnects %llu  link %s",
-                              elapsed, seconds > 0.0 ? (" of " + std::to_string(static_cast<long>(std::ceil(seconds)))).c_str() : "",
-                              static_cast<unsigned long long>(now.packets), static_cast<unsigned long long>(now.badPackets),
-                              static_cast<unsigned long long>(now.resyncs), static_cast<unsigned long long>(now.reconnects),
-                              session.connected() ? (now.packets > 0 ? "up" : "waiting for data") : "down, reconnecting");
-                std::cerr << line << std::flush;
-            }
-            if (cues && session.engine().panicked()) {   // (a gesture panics the current cue only: spread it)
-                bool all = true;
-                for (int c = 0; c < cues->cueCount(); ++c) all = all && cues->engine(c).panicked();
-                if (!all) cues->panic();
-            }
-            if (cues && cues->current() != shownCue) {
-                shownCue = cues->current();
-                const live::Cue& q = cues->cue(shownCue);
-                std::cerr << lineStart << "armadillo play: cue " << shownCue << " '" << q.name << "' (" << q.scene << ")\n";
-            }
-            if (const std::uint32_t n = panicTotal(); n != shownPanics || session.engine().panicked() != shownPanicked) {
-                const int k = lastCommand.exchange(-1);
-                const std::uint32_t mapped = session.mappingPanics();   // a mapping's "stage": "panic"
-                const bool byMapping = mapped != shownMappingPanics;
-                shownMappingPanics = mapped;
-                if (n != shownPanics)
-                    std::cerr << lineStart << "armadillo play: PANIC ("
-                              << (k == static_cast<int>(live::StageCommand::Kind::Panic) ? "command" : byMapping ? "mapping" : "gesture")
-                              << "): all sound and every motor off; resume with r or /armadillo/resume\n";
-                else if (!session.engine().panicked())
-                    std::cerr << lineStart << "armadillo play: resumed: scene '" << session.engine().config().scene << "' again\n";
-                shownPanics = n;
-                shownPanicked = session.engine().panicked();
-            }
-            if (session.engine().failed()) {   // the scene threw: its motors are off; stop and say so
-                std::cerr << "armadillo play: the scene failed and was stopped (motors off): " << session.engine().failure() << "\n";
-                break;
-            }
-            // Say once on stderr when the device goes away (the link keeps reconnecting).
-            const std::string e = session.lastError();
-            if (!e.empty() && e != shownError) {
-                std::cerr << lineStart << "armadillo play: " << e << "\n";
-                if (voice) voice->status(e);
-            }
-            shownError = e;
-            if (device::OscReceiver* osc = session.oscReceiver()) {
-                const device::OscInputStats st = osc->stats();
-                const bool usable = st.imu + st.orientation > 0;
-                if (!osc->serialPath().empty()) {
-                    const std::string se = osc->serialError();
-                    if (se != shownSerialError && !se.empty()) std::cerr << lineStart << "armadillo play: " << se << " (reopening)\n";
-                    shownSerialError = se;
-                }
-                // Once the streams have run a while: the rate of each, and a warning when too slow.
-                if (usable && !shownRates && elapsed >= 3.0) {
-                    shownRates = true;
-                    const device::OscSensorRates r = osc->merger().rates();
-                    std::string line;
-                    for (const auto& [name, hz] : {std::pair<const char*, double> {"gyro", r.gyro}, {"accel", r.accel}, {"gravity", r.gravity},
-                                                   {"user accel", r.userAccel}, {"mag", r.mag}, {"compass", r.heading}, {"imu", r.imu},
-                                                   {"orientation", r.orientation}}) {
-                        if (!(hz > 0.0)) continue;
-                        char buf[48];
-                        std::snprintf(buf, sizeof buf, "%s%s %.0f Hz", line.empty() ? "" : ", ", name, hz);
-                        line += buf;
-                    }
-                    if (st.unchanged > 0) line += " (Sensors2OSC sends only changed readings: rates are of changes)";
-                    std::cerr << lineStart << "armadillo play: OSC rates: " << (line.empty() ? std::string("none measured") : line) << "\n";
-                    const std::string advice = device::lowRateAdvice(osc->format(), r.fusion());
-                    if (!advice.empty() && st.unchanged == 0) std::cerr << lineStart << "armadillo play: warning: " << advice << "\n";
-                }
-            }
-            if (device::OscReceiver* osc = session.oscReceiver(); osc && !shownFormat && osc->format() != device::OscFormat::Auto) {
-                const std::string who = osc->deviceName();
-                if (!who.empty() || osc->stats().imu + osc->stats().orientation > 0) {
-                    std::cerr << lineStart << "armadillo play: OSC input: " << device::oscFormatName(osc->format())
-                              << (cl.has("--osc-format") ? " (forced)" : " (detected)") << " from " << (who.empty() ? "?" : who)
-                              << ", mount " << osc->merger().mount().name << "\n";
-                    shownFormat = true;
-                }
-            }
-            if (device::OscReceiver* osc = session.leftOscReceiver(); osc && !shownLeftFormat && osc->format() != device::OscFormat::Auto &&
-                                                                     osc->stats().imu + osc->stats().orientation > 0) {
-                std::cerr << lineStart << "armadillo play: left arm OSC input: " << device::oscFormatName(osc->format())
-                          << (cl.has("--osc-format-left") ? " (forced)" : " (detected)") << " from "
-                          << (osc->deviceName().empty() ? std::string("?") : osc->deviceName()) << ", mount " << osc->merger().mount().name << "\n";
-                shownLeftFormat = true;
-            }
-            for (const auto& g : mountCalibrations) g->step();
-            if (messages) messages->poll(messageScene, std::cerr, lineStart);
-            if (const audio::SoundCard* card = session.soundCard(); card && card->failed() && !shownCardError) {
-                std::cerr << lineStart << "armadillo play: " << card->lastError() << "; playing on without sound\n";
-                shownCardError = true;
-            }
-            if (live::TactorOutput* t = session.tactors(); t && t->failed() && !shownTactorError) {
-                std::cerr << lineStart << "armadillo play: the tactor output stopped (its JACK server or sound card went away); the device plays on\n";
-                shownTactorError = true;
-            }
-            if (calibration && calibration->step() != device::CalibrationProcedure::Step::Done) {
-                device::RawPacket p;
-                while (session.rawPackets()->pop(p)) calibration->feed(p.t, p.counts);
-                if (calibration->ready()) {
-                    calibration->finishStep();
-                    const int n = static_cast<int>(calibration->step()) + 1;
-                    std::cerr << (calibration->step() == device::CalibrationProcedure::Step::Done
-                                      ? std::string("calibration complete")
-                                      : "calibration step " + std::to_string(n) + " (" + device::CalibrationProcedure::stepName(calibration->step()) +
-                                            "): " + calibration->instruction())
-                              << "\n";
-                }
-            }
-            if (training) {
-                if (!training->step(10)) {
-                    std::cerr << "braille training complete: " << brailleScene->trainingCorrect() << " of "
-                              << brailleScene->trainingTrialCount() << " right\n";
-                    if (voice)
-                        voice->status("braille training complete: " + std::to_string(brailleScene->trainingCorrect()) + " of " +
-                                      std::to_string(brailleScene->trainingTrialCount()) + " right");
-                    break;
-                }
-                if (training->exhausted()) {
-                    std::cerr << "braille training: no more answers (stdin ended) with "
-                              << brailleScene->trainingTrialCount() - brailleScene->trainingTrial() << " of "
-                              << brailleScene->trainingTrialCount() << " trials unanswered; "
-                              << brailleScene->trainingCorrect() << " right so far\n";
-                    break;
-                }
-            } else {
-                std::this_thread::sleep_for(std::chrono::milliseconds(10));
-            }
-        }
-        if (progress) std::cerr << "\n";
-        if (keys) keys->stop();
-        if (controlIn) controlIn->stop();
-        session.stop();
-        if (messages) messages->stop();
-        if (needsData && dataTimeout > 0.0 && noData.empty() && session.summary().packets == 0)
-            noData = noDataMessage(session, config, session.summary().seconds);
-        if (leftNeedsData && dataTimeout > 0.0 && noData.empty() && leftPackets(session) == 0)
-            noData = noDataMessage(session, config, session.summary().seconds, true);
-        if (!noData.empty()) {   // nothing was played: no file is written
-            std::cout << device::summaryJson(session.summary()) << "\n" << std::flush;
-            throw IoError(noData);
-        }
-        if (recordingEnded)
-            std::cerr << "armadillo play: the recording ended after " << session.recordingSeconds()
-                      << " s (--loop plays it again and again)\n";
-        const std::string trainingCsv = brailleScene ? brailleScene->trainingLogCsv() : std::string();   // control has stopped
-        session.finish();   // the session's own files first: a failing training log must not lose them
-        if (brailleScene) writeFileAtomically(trainingLog, trainingCsv);
-        if (const audio::SoundCard* card = session.soundCard(); card && card->underruns() > 0)
-            std::cerr << "armadillo play: the sound card ran dry " << card->underruns() << " time(s) (audible clicks)\n";
-        for (const auto& g : mountCalibrations) g->finish();
-        if (calibration) {
-            if (calibration->step() != device::CalibrationProcedure::Step::Done)
-                std::cerr << "calibration stopped at step '" << device::CalibrationProcedure::stepName(calibration->step())
-                          << "'; that step and the later ones keep the starting calibration\n";
-            device::Calibration result = calibration->result();
-            device::saveCalibration(calibrateOut, result);
-        }
-        std::string summary = device::summaryJson(session.summary());
-        if (const live::MappingRig* m = session.mapping())
-            summary.insert(summary.size() - 1, ",\"mapping_midi_events\":" + std::to_string(m->midiEvents()) + ",\"mapping_osc_messages\":" +
-                                                   std::to_string(m->oscMessages()) + ",\"mapping_dropped\":" + std::to_string(m->dropped()));
-        if (const live::MappingRig* m = session.mapping(); m && m->stageCommands() > 0)   // "stage" destinations fired (docs/STAGE.md)
-            summary.insert(summary.size() - 1, ",\"mapping_stage_commands\":" + std::to_string(m->stageCommands()));
-        if (const live::MappingRig* m = session.mapping(); m && m->mqttMessages() > 0)   // "mqtt" destinations (docs/MQTT.md)
-            summary.insert(summary.size() - 1, ",\"mapping_mqtt_messages\":" + std::to_string(m->mqttMessages()));
-        if (const std::uint32_t panics = panicTotal(); panics > 0) {   // only after a panic (docs/STAGE.md)
-            summary.insert(summary.size() - 1, ",\"panics\":" + std::to_string(panics));
-            if (const live::MappingRig* m = session.mapping())   // note-offs, CC 120 and CC 123 the mapping's MIDI sent
-                summary.insert(summary.size() - 1, ",\"panic_midi_events\":" + std::to_string(m->panicMidiEvents()));
-        }
-        if (device::DeviceLink* leftLink = session.leftLink())
-            summary.insert(summary.size() - 1, ",\"left_packets\":" + std::to_string(leftLink->stats().packets));
-        if (device::OscReceiver* leftOsc = session.leftOscReceiver())   // the left sender's usable samples and its input's counters
-            summary.insert(summary.size() - 1, ",\"left_packets\":" + std::to_string(leftOsc->stats().imu + leftOsc->stats().orientation) +
-                                                   ",\"left_osc\":{" + leftOsc->statsJson() + "}");
-        if (messages) summary.insert(summary.size() - 1, messages->summaryJson());
-        if (cues) summary.insert(summary.size() - 1, ",\"cue\":" + std::to_string(cues->current()) + ",\"cue_changes\":" + std::to_string(cues->changes()));
-        if (live::TactorOutput* t = session.tactors())   // the tactor output's own counters (docs/TACTORS.md)
-            summary.insert(summary.size() - 1, ",\"tactor_frames\":" + std::to_string(t->framesRendered()) + ",\"tactor_dropped\":" +
-                                                   std::to_string(t->recordsDropped()) + ",\"tactor_limited\":" + std::to_string(t->limited()));
-        std::cout << summary << "\n" << std::flush;
-        return session.engine().failed() ? int(kExitFailure) : int(kExitOk);
+        return runLiveSession(cl, {"play", false});
     });
 }
 

@@ -19,6 +19,7 @@ int runTouchProfile(const Arguments& args); // CmdTouchProfile.cpp — per-motor
 int runTactors(const Arguments& args);   // CmdTactors.cpp — a tactor rig's channels buzzed in turn
 int runNavigate(const Arguments& args);  // CmdNavigate.cpp — walk a route guided by the arm (issue 34)
 int runMqtt(const Arguments& args);      // CmdMqtt.cpp    — MQTT: check a broker
+int runRead(const Arguments& args);      // CmdRead.cpp    — messages only, on the arm (play's session)
 
 struct CommandInfo {
     const char* name;

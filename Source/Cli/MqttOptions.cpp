@@ -16,8 +16,8 @@ std::vector<OptionSpec> mqttBrokerOptionSpecs()
 std::vector<OptionSpec> mqttMessageOptionSpecs()
 {
     return {
-        {"--messages", "TOPIC", "with --scene braille and a broker: show the messages of this topic on the arm in Arm Braille\n"
-                                "(wildcards + and # allowed; repeatable), after the \"message waiting\" sensation"},
+        {"--messages", "TOPIC", "with a broker (and, for play, --scene braille): show the messages of this topic on the arm\n"
+                                "in Arm Braille (wildcards + and # allowed; repeatable), after the \"message waiting\" sensation"},
         {"--urgent", "TOPIC", "as --messages, and its messages interrupt the one being shown (repeatable)"},
         {"--message-display", "MODE", "roll (default: read it by rolling the arm, as any text) or timed (drawn cell by cell,\n"
                                       "framed by the sweep before and the double tap after)"},
@@ -52,17 +52,12 @@ void addTopics(const CommandLine& cl, const char* option, bool urgent, mqtt::Mqt
 
 } // namespace
 
-PlayMessages::PlayMessages(mqtt::MqttConfig config, mqtt::PresenterOptions options)
-    : config_(std::move(config)), inbox_(config_), presenter_(inbox_, std::move(options))
-{
-    client_ = std::make_unique<mqtt::MqttClient>(config_);
-    client_->setMessageHandler([this](const mqtt::ReceivedMessage& m) { inbox_.offer(m); });
-}
+PlayMessages::PlayMessages(mqtt::MqttConfig config, mqtt::PresenterOptions options) : service_(std::move(config), std::move(options)) {}
 
 PlayMessages::~PlayMessages() { stop(); }
 
-void PlayMessages::start() { client_->start(); }
-void PlayMessages::stop() { client_->stop(); }
+void PlayMessages::start() { service_.start(); }
+void PlayMessages::stop() { service_.stop(); }
 
 bool PlayMessages::publishMapped(void* self, const mapping::MqttMessage& m)
 {
@@ -71,45 +66,45 @@ bool PlayMessages::publishMapped(void* self, const mapping::MqttMessage& m)
     o.qos = m.qos;
     o.retain = m.retain;
     o.maxRate = m.rate;
-    return static_cast<PlayMessages*>(self)->client_->publish(o);
+    return static_cast<PlayMessages*>(self)->service_.client().publish(o);
 }
 
 void PlayMessages::poll(braille::BrailleSceneControls* scene, std::ostream& err, const char* lineStart)
 {
-    const mqtt::MqttStatus s = client_->status();
+    const mqtt::MqttStatus s = service_.status();
     if (s.state != shownState_) {
         shownState_ = s.state;
-        err << lineStart << "armadillo play: MQTT " << s.broker << ": " << mqtt::connectionStateName(s.state);
+        err << lineStart << who_ << "MQTT " << s.broker << ": " << mqtt::connectionStateName(s.state);
         if (s.state == mqtt::ConnectionState::Reconnecting && !s.lastError.empty()) err << " (" << s.lastError << ")";
         if (s.state == mqtt::ConnectionState::Connected && s.connects > 1) err << " again (reconnection " << s.connects - 1 << ")";
         err << "\n";
     }
-    const mqtt::InboxStats in = inbox_.stats();
+    const mqtt::InboxStats in = service_.inbox();
     if (in.refused != shownRefused_) {
         shownRefused_ = in.refused;
-        err << lineStart << "armadillo play: " << in.lastRefusal << "\n";
+        err << lineStart << who_ << in.lastRefusal << "\n";
     }
     if (in.droppedOldest != shownDropped_) {
         shownDropped_ = in.droppedOldest;
-        err << lineStart << "armadillo play: the message queue was full: " << in.droppedOldest << " oldest message(s) dropped so far\n";
+        err << lineStart << who_ << "the message queue was full: " << in.droppedOldest << " oldest message(s) dropped so far\n";
     }
     if (!scene) return;
-    for (const std::string& line : presenter_.poll(*scene)) {
-        err << lineStart << "armadillo play: " << line << "\n";
+    for (const std::string& line : service_.present(*scene)) {
+        err << lineStart << who_ << line << "\n";
         if (mirror_ && line.find(" on the arm: ") != std::string::npos) mirror_(line);
     }
 }
 
 std::string PlayMessages::summaryJson() const
 {
-    const mqtt::MqttStatus s = client_->status();
-    const mqtt::InboxStats in = inbox_.stats();
+    const mqtt::MqttStatus s = service_.status();
+    const mqtt::InboxStats in = service_.inbox();
     return ",\"mqtt\":{\"connects\":" + std::to_string(s.connects) + ",\"connection_losses\":" + std::to_string(s.connectionLosses) +
            ",\"published\":" + std::to_string(s.published) + ",\"coalesced\":" + std::to_string(s.coalesced) +
            ",\"outbox_dropped\":" + std::to_string(s.outboxDropped) +
            ",\"received\":" + std::to_string(s.received) + ",\"messages_accepted\":" + std::to_string(in.accepted) +
            ",\"messages_refused\":" + std::to_string(in.refused) + ",\"messages_dropped\":" + std::to_string(in.droppedOldest) +
-           ",\"messages_shown\":" + std::to_string(presenter_.shown()) + ",\"messages_waiting\":" + std::to_string(in.waiting) + "}";
+           ",\"messages_shown\":" + std::to_string(service_.shown()) + ",\"messages_waiting\":" + std::to_string(in.waiting) + "}";
 }
 
 /// For play: reads every MQTT option; null when there is no broker. UsageError for messages

@@ -5,8 +5,7 @@
 #include "Cli/CommandLine.h"
 #include "Mapping/Mapper.h"
 #include "Mqtt/ArmMessages.h"
-#include "Mqtt/MessageInbox.h"
-#include "Mqtt/MqttClient.h"
+#include "Mqtt/MessageService.h"
 #include <functional>
 #include <memory>
 #include <ostream>
@@ -25,8 +24,10 @@ std::vector<OptionSpec> mqttMessageOptionSpecs();
 /// False when neither option is given. `brokerOption`: the broker's option name (mqtt check: --broker).
 bool readMqttOptions(const CommandLine& cl, mqtt::MqttConfig& config, const char* brokerOption = "--mqtt");
 
-/// Messages on the arm during `play`: the client, its inbox and the presenter that hands the
-/// messages to the braille scene. Declared before the session it serves, so it outlives it.
+/// Messages on the arm during `play` and `read` (both run Cli/LiveCommand.h's session): the core's
+/// MessageService (the client, its inbox and the presenter that hands the messages to the braille
+/// scene, as the app uses it) with the command line's status lines and summary. Declared before
+/// the session it serves, so it outlives it.
 class PlayMessages {
 public:
     PlayMessages(mqtt::MqttConfig config, mqtt::PresenterOptions options);
@@ -35,12 +36,14 @@ public:
     /// Main loop: connection changes and what the presenter did, said on `err` (`scene`: the
     /// braille scene showing the messages; null when there are no message topics).
     void poll(braille::BrailleSceneControls* scene, std::ostream& err, const char* lineStart);
-    bool wantsMessages() const noexcept { return !config_.topics.empty(); }
+    bool wantsMessages() const noexcept { return !service_.config().topics.empty(); }
+    /// The command whose stderr lines these are ("play", "read"): "armadillo NAME: …".
+    void setCommand(const std::string& name) { who_ = "armadillo " + name + ": "; }
     /// Also tells each message handed to the arm here (play's --speak / --brlapi: ReaderIo::note),
     /// as the training's prompts are. Set before start().
     void setMirror(std::function<void(const std::string&)> mirror) { mirror_ = std::move(mirror); }
     /// A text from OSC (`--control-in`'s /armadillo/message): queued as a message from "osc".
-    void offerText(const std::string& text, int priority) { inbox_.offerText(text, "osc", priority); }
+    void offerText(const std::string& text, int priority) { service_.offerText(text, "osc", priority); }
     /// live::MqttSink for the mapping's MQTT destinations (real-time: the client's SPSC outbox).
     static bool publishMapped(void* self, const mapping::MqttMessage& message);
     void stop();
@@ -48,11 +51,9 @@ public:
     std::string summaryJson() const;
 
 private:
-    mqtt::MqttConfig config_;
-    mqtt::MessageInbox inbox_;
-    mqtt::MessagePresenter presenter_;
-    std::unique_ptr<mqtt::MqttClient> client_;   // last: its thread stops before the inbox goes
+    mqtt::MessageService service_;
     std::function<void(const std::string&)> mirror_;
+    std::string who_ = "armadillo play: ";
     mqtt::ConnectionState shownState_ = mqtt::ConnectionState::Stopped;
     std::uint64_t shownRefused_ = 0, shownDropped_ = 0;
 };

@@ -24,6 +24,7 @@ const std::vector<CommandInfo>& commands()
         {"tactors", "a tactor rig on a sound card or JACK: tactors test buzzes each channel in turn", runTactors},
         {"navigate", "walk a route guided by the arm alone: compass, arrivals, waypoint names (gpsd or simulated)", runNavigate},
         {"mqtt", "MQTT: check a broker (mqtt check --broker HOST[:PORT] --topic T)", runMqtt},
+        {"read", "messages only: MQTT (and OSC) messages read on the arm in Arm Braille", runRead},
     };
     return table;
 }

@@ -106,6 +106,10 @@ struct SceneValues {
     float pitch = std::numeric_limits<float>::quiet_NaN();    ///< sounding pitch as a MIDI note number, fractional (theremin)
     float fret = std::numeric_limits<float>::quiet_NaN();     ///< fret index, 0 = lowest (theremin)
     float strike = std::numeric_limits<float>::quiet_NaN();   ///< the last strike's speed, deg/s; 0 before any (cymbal)
+    // The virtual control panel (thesis §3.4, docs/INSTRUMENTS.md "panel"): its knobs as a remote.
+    float panelKnob = std::numeric_limits<float>::quiet_NaN();      ///< the knob under the arm, 0..8 upper level, 9..17 lower (panel)
+    float panelLevel = std::numeric_limits<float>::quiet_NaN();     ///< the level the arm is on: 1 upper, 0 lower (panel)
+    float panelSelected = std::numeric_limits<float>::quiet_NaN();  ///< the knob last selected by a quick roll, 0..17; NaN before any (panel)
 };
 
 struct SceneOutput {
@@ -121,6 +125,10 @@ struct SceneConfig {
     std::uint64_t seed = 1;          ///< every random choice derives from this (renders repeat)
     ArmSide side = ArmSide::Right;
     std::string text;                ///< braille scene: what to read
+    /// braille scene: nothing of its own to read (text ignored), only the messages handed to it
+    /// (BrailleSceneControls::showMessage; `armadillo read`, docs/MQTT.md): the arm is still
+    /// between messages.
+    bool messagesOnly = false;
     std::string score;               ///< score scene: a score name (Core/Resources.h) or a .score file path
     std::string resourceDir;         ///< a folder searched first for resource files (empty: the usual search, Core/Resources.h)
     std::string audioFile;           ///< cymbal: a WAV recording to cut crash fragments from (optional)

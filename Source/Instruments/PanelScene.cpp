@@ -58,6 +58,7 @@ public:
     {
         haveReference_ = false;
         knob_ = -1;
+        values_ = {};   // no knob under the arm, none selected
         upperKnown_ = false;
         roll_.reset();
         motion_.reset();
@@ -101,6 +102,8 @@ public:
         if (knob < 0 || offset < knob - 0.1 || offset > knob + 1.1) knob = std::clamp(static_cast<int>(std::floor(offset)), 0, 8);
         const bool knobChanged = knob != knob_ || upper != wasUpper;
         knob_ = knob;
+        values_.panelKnob = static_cast<float>(knob + (upper ? 0 : 9));   // the knob a roll would select now
+        values_.panelLevel = upper ? 1.0f : 0.0f;
 
         // The knob under the arm pulses, fading in (upper) or out (lower), every 0.5 s.
         if (knobChanged || clock_ >= nextPulse_) {
@@ -121,6 +124,7 @@ public:
         if (roll_.update(omega, rp)) {
             const int selected = knob + (upper ? 0 : 9);
             out.events.emit("select", static_cast<float>(selected));
+            values_.panelSelected = static_cast<float>(selected);
             PatternRequest accent;
             accent.kind = PatternKind::Accent;
             accent.motors = static_cast<std::uint16_t>(1u << knob);
@@ -130,6 +134,10 @@ public:
             selections_.push(selected);
         }
     }
+
+    /// The panel's state for mappings (Core/Scene.h SceneValues: panel.knob, panel.level,
+    /// panel.selected): the panel as a remote (docs/MAPPING.md, docs/MQTT.md).
+    SceneValues values() const noexcept override { return values_; }
 
     void renderAudio(float* left, float* right, int numSamples) noexcept override
     {
@@ -162,6 +170,7 @@ private:
     bool haveReference_ = false;
     double referenceAzimuth_ = 0.0;
     int knob_ = -1;
+    SceneValues values_ {};
     double clock_ = 0.0, nextPulse_ = 0.0;
     // Control → audio.
     SpscQueue<int, 16> selections_;

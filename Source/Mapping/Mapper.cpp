@@ -210,8 +210,10 @@ std::unique_ptr<MappingSet> MappingSet::build(const MappingDocument& doc, const 
         } else {
             defaultOutputRange(m.to.kind, c.outLo, c.outHi);
         }
-        c.hysteresis = t.hysteresis >= 0.0 ? t.hysteresis
-                                           : (isAngleSource(m.source.kind) ? kDefaultHysteresisDeg : kDefaultHysteresisFraction * std::fabs(c.inHi - c.inLo));
+        c.hysteresis = t.hysteresis >= 0.0               ? t.hysteresis
+                       : isAngleSource(m.source.kind)     ? kDefaultHysteresisDeg
+                       : isSteppedPanelSource(m.source.kind) ? 0.0   // whole numbers, held by the panel's own hysteresis
+                                                         : kDefaultHysteresisFraction * std::fabs(c.inHi - c.inLo);
         c.isPeriodic = periodic(m.source.kind);
         c.scale = t.scale.empty() ? 0 : scaleMask(t.scale);
         c.smooth.minCutoff = t.minCutoffHz;
@@ -322,6 +324,9 @@ double readSource(const SourceSpec& source, const MappingInput& in, double forwa
     case SourceKind::ScenePitch: return std::isfinite(in.scene.pitch) ? static_cast<double>(in.scene.pitch) : kNaN;
     case SourceKind::SceneFret: return std::isfinite(in.scene.fret) ? static_cast<double>(in.scene.fret) : kNaN;
     case SourceKind::SceneStrike: return std::isfinite(in.scene.strike) ? static_cast<double>(in.scene.strike) : kNaN;
+    case SourceKind::PanelKnob: return std::isfinite(in.scene.panelKnob) ? static_cast<double>(in.scene.panelKnob) : kNaN;
+    case SourceKind::PanelLevel: return std::isfinite(in.scene.panelLevel) ? static_cast<double>(in.scene.panelLevel) : kNaN;
+    case SourceKind::PanelSelected: return std::isfinite(in.scene.panelSelected) ? static_cast<double>(in.scene.panelSelected) : kNaN;
     case SourceKind::Gesture:
     case SourceKind::Posture:
     case SourceKind::GestureValue: return kNaN;

@@ -32,6 +32,7 @@ constexpr SourceNameEntry kSourceNames[] {
     {SourceKind::YprQuatW, "ypr.qw"},      {SourceKind::YprQuatX, "ypr.qx"},   {SourceKind::YprQuatY, "ypr.qy"},
     {SourceKind::YprQuatZ, "ypr.qz"},      {SourceKind::ArmsAngle, "arms.angle"}, {SourceKind::ArmsRoll, "arms.roll"},
     {SourceKind::ArmsRaised, "arms.raised"},
+    {SourceKind::PanelKnob, "panel.knob"}, {SourceKind::PanelLevel, "panel.level"}, {SourceKind::PanelSelected, "panel.selected"},
 };
 
 std::string allSourceNames()
@@ -810,12 +811,20 @@ bool isAngleSource(SourceKind k) noexcept
            k == SourceKind::Pitch || k == SourceKind::ArmsAngle || k == SourceKind::ArmsRoll || k == SourceKind::ArmsRaised;
 }
 
+bool isSteppedPanelSource(SourceKind k) noexcept
+{
+    return k == SourceKind::PanelKnob || k == SourceKind::PanelLevel || k == SourceKind::PanelSelected;
+}
+
 bool isArmSource(SourceKind k) noexcept
 {
     switch (k) {
     case SourceKind::ScenePitch:
     case SourceKind::SceneFret:
     case SourceKind::SceneStrike:
+    case SourceKind::PanelKnob:
+    case SourceKind::PanelLevel:
+    case SourceKind::PanelSelected:
     case SourceKind::Gesture:
     case SourceKind::Posture:
     case SourceKind::GestureValue:
@@ -858,6 +867,9 @@ void defaultInputRange(SourceKind k, double& lo, double& hi) noexcept
     case SourceKind::ScenePitch: lo = 0.0; hi = 127.0; return;
     case SourceKind::SceneFret: lo = 0.0; hi = 24.0; return;
     case SourceKind::SceneStrike: lo = 0.0; hi = 1000.0; return;
+    case SourceKind::PanelKnob:
+    case SourceKind::PanelSelected: lo = 0.0; hi = 17.0; return;
+    case SourceKind::PanelLevel: lo = 0.0; hi = 1.0; return;
     case SourceKind::Gesture:
     case SourceKind::Posture:
     case SourceKind::GestureValue: lo = 0.0; hi = 1.0; return;

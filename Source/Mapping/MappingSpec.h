@@ -20,7 +20,7 @@ inline constexpr int kMappingFileVersion = 1;
 inline constexpr int kMaxArms = 2;           ///< a source names an arm: 0 = the right arm (or the only one), 1 = the left arm
 inline constexpr int kMacroCount = 8;        ///< the plugin's generic parameters macro1…macro8
 inline constexpr int kMaxTablePoints = 16;   ///< curve "table": at most this many [in, out] points
-inline constexpr int kMaxZones = 16;         ///< zones per mapping
+inline constexpr int kMaxZones = 18;         ///< zones per mapping (18: one per knob of the virtual control panel)
 inline constexpr int kMaxOscArgs = 8;        ///< arguments of one templated OSC message
 inline constexpr int kMaxMappings = 256;     ///< mappings in one document (the file is refused beyond)
 
@@ -70,6 +70,10 @@ enum class SourceKind : std::uint8_t {
     ArmsRoll,       ///< "arms.roll": left roll − right roll wrapped to ±180°, deg
     ArmsRaised,     ///< "arms.raised": "both arms raised", a gate: its value is the lower of the two elevations
                     ///< (deg); always read with a threshold (default kDefaultArmsRaisedDeg) and its hysteresis
+    // The virtual control panel's state (the panel scene, thesis §3.4; none elsewhere): the panel as a remote.
+    PanelKnob,      ///< "panel.knob": the knob under the arm, a whole number 0..17 (0..8 upper level, 9..17 lower)
+    PanelLevel,     ///< "panel.level": the level the arm is on, 1 upper, 0 lower
+    PanelSelected,  ///< "panel.selected": the knob last selected by a quick roll, 0..17; no value before the first
 };
 
 /// "arms.raised" without a "threshold": both elevations at or above this many degrees (above the
@@ -100,13 +104,19 @@ bool isTwoArmSource(SourceKind k) noexcept;
 bool isEventSource(SourceKind k) noexcept;
 /// True for sources measured in degrees (the default hysteresis is then kDefaultHysteresisDeg).
 bool isAngleSource(SourceKind k) noexcept;
+/// True for the panel's whole-number sources (panel.knob, panel.level, panel.selected): they step
+/// by 1 and the panel scene already holds them with its own hysteresis (a knob is left 10 % of a
+/// width past its edge, a level ±levelAngle), so their default hysteresis is 0 — a zone
+/// [k − 0.5, k + 0.5] is then exactly knob k.
+bool isSteppedPanelSource(SourceKind k) noexcept;
 /// The pitch classes of a TransformSpec::scale above its root (bit k = k semitones); 0 = unknown name.
 int scaleMask(const std::string& name);
 /// The natural range of a continuous source, the `in` default: elevation/pitch [−90, 90],
 /// azimuth [0, 360], roll/yaw [−180, 180], quaternion [−1, 1], speed/flux [0|−720, 720] deg/s,
 /// rollTrigger [−5, 5], punch [−20, 20] m/s², scene.pitch [0, 127], scene.fret [0, 24],
 /// scene.strike [0, 1000], posture [0, 1], arms.angle [0, 180], arms.roll [−180, 180],
-/// arms.raised [−90, 90]; a left-arm source as its right-arm name.
+/// arms.raised [−90, 90], panel.knob and panel.selected [0, 17], panel.level [0, 1]; a left-arm
+/// source as its right-arm name.
 void defaultInputRange(SourceKind k, double& lo, double& hi) noexcept;
 
 /// A second, auxiliary source: velocity from a source, MPE per-note expressions. Normalised
@@ -167,8 +177,8 @@ struct TransformSpec {
 /// The file's triple [from, to, note] is a zone with value = note; from > to wraps through 360
 /// on azimuth/yaw. A zone's events are enter and leave (with the mapping's hysteresis).
 struct ZoneSpec {
-    double from = 0.0, to = 0.0;        ///< source units; [from, to)
-    bool hasElevation = false;          ///< a sector: elevation must lie in [elFrom, elTo) too
+    double from = 0.0, to = 0.0;        ///< source units; [from, to] (on azimuth/yaw [from, to)); the first listed wins where two meet
+    bool hasElevation = false;          ///< a sector: elevation must lie in [elFrom, elTo] too
     double elFrom = -90.0, elTo = 90.0;
     int value = 60;                     ///< the note (notes/MPE), program (program), or number handed to OSC as $zone's value
 };

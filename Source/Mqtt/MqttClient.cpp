@@ -213,7 +213,7 @@ void MqttClient::run()
         }
     }
     if (socketUp_) {
-        drainOutbox(secondsNow(), connackOk_);
+        drainOutbox(secondsNow(), connackOk_, true);   // the last values, whatever their rate
         mosquitto_disconnect(mosq_);
         mosquitto_loop(mosq_, 50, 1);   // lets the DISCONNECT go out
     }
@@ -234,7 +234,7 @@ bool MqttClient::send(const char* topic, const void* payload, int length, int qo
     return true;
 }
 
-void MqttClient::drainOutbox(double now, bool connected)
+void MqttClient::drainOutbox(double now, bool connected, bool last)
 {
     OutgoingMessage m;
     std::uint64_t coalesced = 0;
@@ -259,7 +259,7 @@ void MqttClient::drainOutbox(double now, bool connected)
     for (auto& [topic, p] : pending_) {
         if (!p.waiting) continue;
         const double rate = p.message.maxRate < 0.0f ? config_.publishRate : static_cast<double>(p.message.maxRate);
-        if (rate > 0.0 && now - p.lastSent < 1.0 / rate) continue;
+        if (rate > 0.0 && now - p.lastSent < 1.0 / rate && !last) continue;
         if (!send(p.message.topic, p.message.payload, p.message.payloadLength, p.message.qos, p.message.retain)) return;
         p.waiting = false;
         p.lastSent = now;

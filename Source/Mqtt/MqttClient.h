@@ -84,7 +84,9 @@ public:
     /// status says Reconnecting and attempts continue.
     void start();
     /// Disconnects and joins the network thread (connecting is non-blocking: at most a name lookup
-    /// and one 20 ms loop pass are waited for).
+    /// and one 20 ms loop pass are waited for). While connected, the values still waiting for
+    /// their topic's rate limit go out first: the last value is sent even when the session ends
+    /// within 1/rate of it.
     void stop();
 
     /// Real-time, one producer: queues a value; false (and counted) when the queue is full.
@@ -105,7 +107,8 @@ private:
     };
     void run();
     bool attemptConnect();
-    void drainOutbox(double now, bool connected);
+    /// `last`: the connection is about to close, so values waiting for their rate limit go now.
+    void drainOutbox(double now, bool connected, bool last = false);
     bool send(const char* topic, const void* payload, int length, int qos, bool retain);
     void noteError(const std::string& why);
     static void onConnect(::mosquitto*, void*, int rc);

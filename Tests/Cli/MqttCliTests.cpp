@@ -3,14 +3,21 @@
 // --messages arm/inbox --message-display timed --no-audio` with a simulated board on a
 // pseudo-terminal, messages published by a client of the test; the motor packets the board
 // receives are decoded back to text by the rows method of docs/BRAILLE.md, from the braille
-// alphabet written out here (not from the code under test). And `armadillo mqtt check`.
+// alphabet written out here (not from the code under test). `armadillo read` (messages only) the
+// same way, with a message from OSC too. And `armadillo mqtt check`; the arm as a remote (a
+// mapping's MQTT destinations over a recorded motion, the broker restarted mid-way); the virtual
+// control panel's knobs published as it is played.
 #include "CliRun.h"
+#include "Common/FreePort.h"
 #include "Mqtt/Broker.h"
 #include "Mqtt/MqttClient.h"
+#include "Osc/Osc.h"
+#include "Osc/OscIo.h"
 #include "PtyDevice.h"
 #include <catch2/catch.hpp>
 #include "Core/Json.h"
 #include <chrono>
+#include <cstdlib>
 #include <map>
 #include <mutex>
 #include <thread>
@@ -283,6 +290,86 @@ TEST_CASE("e2e: an urgent message interrupts; the interrupted one is shown again
     CHECK(dev.err.find("interrupted: shown again next") != std::string::npos);
 }
 
+TEST_CASE("e2e: armadillo read: messages only, from MQTT and OSC, shown as play shows them; nothing else on the arm", "[e2e][mqtt]")
+{
+    ArmSession s;
+    s.broker.start();
+    mqtt::MqttClient pub(publisherConfig(s.broker));
+    pub.start();
+    REQUIRE(pub.waitConnected(30));
+    const int oscPort = test::freeUdpPort();
+    cli::test::PtyDevice dev({"read", "--mqtt", "localhost:" + std::to_string(s.broker.port()), "--messages", "arm/inbox", "--message-display",
+                              "timed", "--control-in", std::to_string(oscPort), "--seconds", "300"});
+    double publishedAt = 0.0;
+    int phase = 0;
+    std::size_t shownLines = 0, framesBeforeMessage = 0;
+    dev.run([&](const cli::test::Levels& l) { s.onPacket(l); },
+            [&](const std::string& line) {
+                s.lines.push_back(line);
+                if (phase == 0 && line.find("armadillo read: MQTT localhost:" + std::to_string(s.broker.port()) + ": connected") != std::string::npos) {
+                    phase = 1;
+                    framesBeforeMessage = s.frames.size();   // the scene has no text of its own: nothing felt yet
+                    publishedAt = nowSeconds();
+                    REQUIRE(pub.publishText("arm/inbox", "hello", 1));
+                }
+                if (isShownLine(line)) ++shownLines;
+                if (phase == 1 && shownLines == 1) {
+                    // The same session's OSC control port: /armadillo/message "text" (docs/MQTT.md).
+                    phase = 2;
+                    device::OscSender sender(device::HostPort {"127.0.0.1", oscPort});
+                    const std::vector<std::uint8_t> packet = device::encodeOscMessage("/armadillo/message", {device::OscArg::string("on my way")});
+                    sender.sendPacket(packet.data(), packet.size());
+                }
+                if (phase == 2 && shownLines == 2) dev.terminate();
+            });
+    INFO(dev.err);
+    CHECK(dev.wait() == 0);
+    CHECK(framesBeforeMessage == 0);
+    std::string problems;
+    const auto decoded = decode(s.frames, problems);
+    CHECK(problems.empty());
+    INFO(problems);
+    INFO("felt: " << describe(s.frames));
+    REQUIRE(decoded.size() == 2);
+    CHECK(decoded[0].text == "hello");
+    CHECK(decoded[1].text == "on my way");
+    for (const auto& d : decoded) CHECK(d.ended);
+    // Every frame felt belongs to a message: the first is its "message waiting" cue.
+    REQUIRE_FALSE(s.frames.empty());
+    CHECK(s.frames.front().set == kAllNine);
+    const double latency = decoded[0].start - publishedAt;
+    std::printf("read: message latency %.3f s from publication to the 'message waiting' cue\n", latency);
+    CHECK(latency >= 0.0);
+    CHECK(latency < 1.0);
+    CHECK(dev.err.find("armadillo read: message 2 from 'osc' on the arm: on my way") != std::string::npos);
+    CHECK(dev.err.find("armadillo play:") == std::string::npos);
+}
+
+TEST_CASE("read: bad usage is exit 2, a bad configuration file 3, a missing port 4", "[mqtt]")
+{
+    CHECK(cli::runArmadillo("read --help").code == 0);
+    const auto noBroker = cli::runArmadillo("read --simulate --seconds 1");
+    CHECK(noBroker.code == 2);
+    CHECK(noBroker.err.find("read shows messages only") != std::string::npos);
+    CHECK(cli::runArmadillo("read --simulate --mqtt localhost --seconds 1").code == 2);               // no topics
+    CHECK(cli::runArmadillo("read --simulate --messages arm/inbox --seconds 1").code == 2);          // no broker
+    CHECK(cli::runArmadillo("read --mqtt localhost --messages arm/inbox --seconds 1").code == 2);    // no source
+    CHECK(cli::runArmadillo("read --simulate --port /dev/null --mqtt localhost --messages a").code == 2);
+    CHECK(cli::runArmadillo("read --simulate --mqtt localhost --messages a --scene braille").code == 2);
+    CHECK(cli::runArmadillo("read --simulate --mqtt localhost --messages a --grade 3").code == 2);
+    CHECK(cli::runArmadillo("read --simulate --mqtt localhost --messages a --method braid").code == 2);
+    const auto mode = cli::runArmadillo("read --simulate --mqtt localhost --messages a --param braille.mode=passive");
+    CHECK(mode.code == 2);
+    CHECK(mode.err.find("messages only") != std::string::npos);
+    CHECK(cli::runArmadillo("read --simulate --mqtt localhost --messages 'a/#/b'").code == 2);
+    const auto config = cli::runArmadillo("read --simulate --mqtt-config /no/such/mqtt.json --messages a");
+    CHECK(config.code == 3);
+    CHECK(config.err.find("/no/such/mqtt.json") != std::string::npos);
+    const auto port = cli::runArmadillo("read --port /no/such/tty --mqtt localhost:1 --messages a --seconds 1");
+    CHECK(port.code == 4);
+    CHECK(port.err.find("/no/such/tty") != std::string::npos);
+}
+
 TEST_CASE("mqtt check: connects, subscribes, says what it heard; a broker that is not there is exit 4", "[mqtt]")
 {
     test::Broker broker;
@@ -361,6 +448,19 @@ TEST_CASE("e2e: the arm as a remote: a mapping's MQTT destination over a recorde
     CHECK(r.code == 0);
     CHECK(r.err.find("connected again (reconnection 1)") != std::string::npos);   // the status said it reconnected
     CHECK(r.out.find("\"connection_losses\":1") != std::string::npos);
+    // Nothing the mapping computed went missing inside ARMadillo: every value it handed over was
+    // published or replaced by a newer one for its topic (the rate limit, the outage), none dropped.
+    const device::JsonValue summary = device::parseJson(r.out.substr(r.out.rfind('{', r.out.find("\"packets\""))), "summary");
+    const auto number = [](const device::JsonValue* v) { return v ? static_cast<long>(v->number) : -1L; };
+    const device::JsonValue* client = summary.find("mqtt");
+    REQUIRE(client);
+    const long mapped = number(summary.find("mapping_mqtt_messages")), published = number(client->find("published")),
+               coalesced = number(client->find("coalesced"));
+    std::printf("remote: the mapping computed %ld messages: %ld published, %ld replaced by a newer value\n", mapped, published, coalesced);
+    CHECK(mapped > 0);
+    CHECK(mapped == published + coalesced);
+    CHECK(number(client->find("outbox_dropped")) == 0);
+    CHECK(number(summary.find("mapping_dropped")) == 0);
     REQUIRE(listener.waitConnected(30));
     REQUIRE(armadillo::testing::eventually([&] {
         std::lock_guard lock(mutex);
@@ -387,4 +487,68 @@ TEST_CASE("e2e: the arm as a remote: a mapping's MQTT destination over a recorde
     }
     std::printf("remote: %zu messages heard, at most %zu in any second (rate 4/s)\n", heard.size(), most);
     CHECK(most <= 6);
+    // And the subscriber heard what was published: at most the one message in flight when the
+    // broker was stopped (4/s on one topic: one at a time) can be lost with it.
+    CHECK(static_cast<long>(heard.size()) + 1 >= published);
+}
+
+TEST_CASE("e2e: the virtual control panel as a remote: its knobs, level and selections published to a broker", "[e2e][mqtt][panel]")
+{
+    // The motion (the simulator acts it out in real time), poses t,elevation,azimuth,roll: the
+    // forearm raised 45° (the upper level) at azimuth 100° (the entry heading: the middle knob,
+    // 4); dialled 30° clockwise (two knob widths of 15°: knobs 5, then 6); a quick roll (60° in
+    // 0.1 s, 10 rad/s > the 3 rad/s that selects) and back slowly; lowered to −45° (the lower
+    // level: knob 6 + 9 = 15); a quick roll again. What the panel should publish, from its
+    // documented rules (docs/INSTRUMENTS.md "panel"): knobs 4, 5, 6, 15; selected 6, 15; levels 1, 0.
+    const std::string motion = cli::file("panel-remote.pose.csv", [] {
+        std::string s = "t,elevation,azimuth,roll\n";
+        const auto ramp = [](double t, double t0, double t1, double a, double b) {
+            return t <= t0 ? a : t >= t1 ? b : a + (b - a) * (t - t0) / (t1 - t0);
+        };
+        for (int i = 0; i <= 200 * 40; ++i) {
+            const double t = i / 200.0;
+            const double el = ramp(t, 8.0, 9.0, 45.0, -45.0);
+            const double az = ramp(t, 3.0, 5.0, 100.0, 130.0);
+            double roll = 0.0;
+            if (t < 7.5) roll = ramp(t, 6.0, 6.1, 0.0, 60.0) - ramp(t, 6.6, 7.4, 0.0, 60.0);   // quick out, slowly back
+            else roll = ramp(t, 10.0, 10.1, 0.0, 60.0) - ramp(t, 10.6, 11.4, 0.0, 60.0);
+            s += std::to_string(t) + "," + std::to_string(el) + "," + std::to_string(az) + "," + std::to_string(roll) + "\n";
+        }
+        return s;
+    }());
+    const std::string mapping = cli::file("panel-remote.json", R"({"version": 1, "mappings": [
+        {"source": "panel.knob", "out": [0, 17], "to": {"mqtt": {"topic": "arm/panel/knob", "payload": "{round}", "qos": 1, "rate": 0}}},
+        {"source": "panel.selected", "out": [0, 17], "to": {"mqtt": {"topic": "arm/panel/selected", "payload": "{round}", "qos": 1, "rate": 0}}},
+        {"source": "panel.level", "out": [0, 1], "to": {"mqtt": {"topic": "arm/panel/level", "payload": "{round}", "qos": 1, "rate": 0}}}]})");
+    test::Broker broker;
+    broker.start();
+    mqtt::MqttConfig sub = publisherConfig(broker);
+    sub.topics = {{"arm/panel/#", 1, false}};
+    std::mutex mutex;
+    std::map<std::string, std::vector<int>> heard;   // topic → payloads in order
+    mqtt::MqttClient listener(sub);
+    listener.setMessageHandler([&](const mqtt::ReceivedMessage& m) {
+        std::lock_guard lock(mutex);
+        heard[m.topic].push_back(std::atoi(m.payload.c_str()));
+    });
+    listener.start();
+    REQUIRE(listener.waitConnected(30));
+    const cli::Run r = cli::runArmadilloWithin(120, "play --scene panel --simulate --motion '" + motion + "' --map '" + mapping + "' --mqtt localhost:" +
+                                                        std::to_string(broker.port()) + " --no-audio --seconds 13");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    CHECK(r.out.find("\"mapping_mqtt_messages\":8") != std::string::npos);   // 4 knobs + 2 selections + 2 levels
+    const auto count = [&] {
+        std::lock_guard lock(mutex);
+        std::size_t n = 0;
+        for (const auto& [topic, values] : heard) n += values.size();
+        return n;
+    };
+    CHECK(armadillo::testing::eventually([&] { return count() >= 8; }, 30.0));   // QoS 1: all of them arrive
+    listener.stop();
+    std::lock_guard lock(mutex);
+    CHECK(heard["arm/panel/knob"] == std::vector<int> {4, 5, 6, 15});
+    CHECK(heard["arm/panel/selected"] == std::vector<int> {6, 15});
+    CHECK(heard["arm/panel/level"] == std::vector<int> {1, 0});
+    CHECK(heard.size() == 3);
 }

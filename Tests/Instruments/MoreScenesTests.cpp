@@ -2,6 +2,7 @@
 #include "Instruments/Scenes.h"
 #include "SceneHarness.h"
 #include <catch2/catch.hpp>
+#include <cmath>
 
 using namespace armadillo;
 using namespace armadillo::test;
@@ -74,13 +75,20 @@ TEST_CASE("panel: two levels with a hysteresis band, nine dial positions, roll s
     auto scene = makePanelScene();
     REQUIRE(scene);
     SceneHarness h(std::move(scene));
+    // The panel's state as mapping sources (panel.knob, panel.level, panel.selected): none yet.
+    CHECK(std::isnan(h.scene().values().panelKnob));
+    CHECK(std::isnan(h.scene().values().panelSelected));
     h.hold({45.0, 100.0, 0.0}, 0.2);   // upper level, entry heading = the middle knob (5 on a keypad)
     auto pulses = [&](PatternKind k) { return h.canvas.triggers(k); };
     REQUIRE_FALSE(pulses(PatternKind::FadeInPulse).empty());
     CHECK(pulses(PatternKind::FadeInPulse).back().request.motors == (1 << 4));
+    CHECK(h.scene().values().panelKnob == 4.0f);
+    CHECK(h.scene().values().panelLevel == 1.0f);
+    CHECK(std::isnan(h.scene().values().panelSelected));   // nothing selected before a roll
     // Dial two knobs left (15° each): knob 3 on the keypad → motor 2.
     h.move({45.0, 100.0, 0.0}, {45.0, 70.0, 0.0}, 0.5);
     CHECK(pulses(PatternKind::FadeInPulse).back().request.motors == (1 << 2));
+    CHECK(h.scene().values().panelKnob == 2.0f);
     CHECK(h.events.count("select") == 0);   // dialling does not select
     REQUIRE(rms(h.audio.left, 0, h.audio.left.size()) == 0.0);
     quickRoll(h);
@@ -89,6 +97,7 @@ TEST_CASE("panel: two levels with a hysteresis band, nine dial positions, roll s
     for (const auto& e : h.events.events)
         if (e.name == "select") selected = e.value;
     CHECK(selected == 2.0f);
+    CHECK(h.scene().values().panelSelected == 2.0f);
     CHECK(rms(h.audio.left, 0, h.audio.left.size()) > 0.01);   // the knob's sample played
     // Into the band between ±30°: still upper, no jolt.
     h.move(h.lastPose, {0.0, 70.0, 0.0}, 0.5);
@@ -98,6 +107,9 @@ TEST_CASE("panel: two levels with a hysteresis band, nine dial positions, roll s
     CHECK(h.canvas.triggers(PatternKind::Jolt).size() == 1);
     REQUIRE_FALSE(pulses(PatternKind::FadeOutPulse).empty());
     CHECK(pulses(PatternKind::FadeOutPulse).back().request.motors == (1 << 2));
+    CHECK(h.scene().values().panelKnob == 11.0f);   // the lower level's knobs are 9..17
+    CHECK(h.scene().values().panelLevel == 0.0f);
+    CHECK(h.scene().values().panelSelected == 2.0f);   // the selection stays until the next roll
     // Back up to the band: stays lower.
     h.move(h.lastPose, {20.0, 70.0, 0.0}, 0.5);
     CHECK(h.canvas.triggers(PatternKind::Jolt).size() == 1);
@@ -105,6 +117,7 @@ TEST_CASE("panel: two levels with a hysteresis band, nine dial positions, roll s
     for (const auto& e : h.events.events)
         if (e.name == "select") selected = e.value;
     CHECK(selected == 11.0f);
+    CHECK(h.scene().values().panelSelected == 11.0f);
     // Far right: clamps at the last knob.
     h.move(h.lastPose, {20.0, 170.0, 0.0}, 1.0);
     CHECK(pulses(PatternKind::FadeOutPulse).back().request.motors == (1 << 8));

@@ -12,6 +12,9 @@
 #include "Core/Json.h"
 #include "Mapping/MappingHelpers.h"
 #include <catch2/catch.hpp>
+#include <algorithm>
+#include <limits>
+#include <map>
 #include <set>
 
 using namespace armadillo;
@@ -107,6 +110,54 @@ TEST_CASE("MQTT destinations: the payload follows the value, sent when it change
     CHECK(got == want);
 }
 
+TEST_CASE("The panel's knobs, level and selection as sources: a remote (panel.knob, panel.level, panel.selected)", "[mapping][mqtt][panel]")
+{
+    SourceSpec s;
+    for (const char* name : {"panel.knob", "panel.level", "panel.selected"}) {
+        REQUIRE(parseSourceName(name, s));
+        CHECK(sourceName(s) == name);
+        CHECK_FALSE(isArmSource(s.kind));
+    }
+    CHECK_FALSE(parseSourceName("left.panel.knob", s));   // the panel is the scene's, not an arm's
+    // Each knob a zone [k − 0.5, k + 0.5]: entering sends ON to its topic, leaving OFF (Home Assistant's
+    // switch payloads); the selected knob's number on its own topic; the level as 1/0.
+    Rig rig(R"({"version": 1, "mappings": [
+        {"source": "panel.knob", "zones": [[2.5, 3.5, 3], [3.5, 4.5, 4], [4.5, 5.5, 5], [12.5, 13.5, 13]],
+         "to": {"mqtt": {"topic": "panel/knob/{zone}", "payload": "{state}"}}},
+        {"source": "panel.selected", "out": [0, 17], "to": {"mqtt": {"topic": "panel/selected", "payload": "{round}"}}},
+        {"source": "panel.level", "out": [0, 1], "to": {"mqtt": {"topic": "panel/level", "payload": "{round}"}}}]})");
+    const ArmState arm = armAt(45, 0, 0);
+    const auto panel = [](float knob, float level, float selected) {
+        SceneValues v;
+        v.panelKnob = knob;
+        v.panelLevel = level;
+        v.panelSelected = selected;
+        return v;
+    };
+    const float none = std::numeric_limits<float>::quiet_NaN();
+    rig.step(arm, 0.000, nullptr, 0, SceneValues {});       // another scene: no panel values, nothing sent
+    CHECK(rig.mqtt.empty());
+    rig.step(arm, 0.005, nullptr, 0, panel(4, 1, none));    // knob 4 under the arm, nothing selected yet
+    rig.step(arm, 0.010, nullptr, 0, panel(5, 1, none));    // dialled one knob on: 4 left at once, 5 entered
+    rig.step(arm, 0.015, nullptr, 0, panel(5, 1, 5));       // a quick roll selects it
+    rig.step(arm, 0.020, nullptr, 0, panel(14, 0, 5));      // down to the lower level: knob 5 + 9, no zone
+    rig.step(arm, 0.025, nullptr, 0, panel(13, 0, 5));
+    rig.step(arm, 0.030, nullptr, 0, panel(13, 0, 13));
+    const std::vector<std::pair<std::string, std::string>> expected {
+        {"panel/knob/4", "ON"},  {"panel/level", "1"},
+        {"panel/knob/4", "OFF"}, {"panel/knob/5", "ON"},
+        {"panel/selected", "5"},
+        {"panel/knob/5", "OFF"}, {"panel/level", "0"},
+        {"panel/knob/13", "ON"},
+        {"panel/selected", "13"},
+    };
+    std::multiset<std::pair<std::string, std::string>> got(rig.mqtt.begin(), rig.mqtt.end()), want(expected.begin(), expected.end());
+    std::string sent;
+    for (const auto& [topic, payload] : rig.mqtt) sent += topic + " " + payload + "\n";
+    INFO(sent);
+    CHECK(got == want);
+}
+
 TEST_CASE("MQTT destinations format without allocating or locking", "[mapping][mqtt][realtime]")
 {
     Rig rig(R"({"version": 1, "mappings": [{"source": "elevation", "in": [-90, 90], "out": [0, 1],
@@ -171,4 +222,45 @@ TEST_CASE("The Home Assistant preset's payloads follow Home Assistant's MQTT lig
     CHECK(off >= 1);   // the arm hanging down switched it off
     CHECK(*brightness.begin() == 1);
     CHECK(*brightness.rbegin() == 255);
+}
+
+TEST_CASE("The homeassistant-panel preset: the panel's knobs as Home Assistant MQTT switches, its selections and position", "[mapping][mqtt][presets][panel]")
+{
+    const auto names = presetNames();
+    REQUIRE(std::find(names.begin(), names.end(), "homeassistant-panel") != names.end());
+    Rig rig(loadMapping("homeassistant-panel"));
+    const ArmState arm = armAt(45, 0, 0);
+    const float none = std::numeric_limits<float>::quiet_NaN();
+    double t = 0.0;
+    // The panel as a wearer plays it: knob 4 (upper) selected, dialled to 5 and selected, 5
+    // selected again, down to the lower level (knob 14) and selected there.
+    const auto update = [&](float knob, float selected, const char* gesture = nullptr) {
+        SceneValues v;
+        v.panelKnob = knob;
+        v.panelLevel = knob < 9 ? 1.0f : 0.0f;
+        v.panelSelected = selected;
+        GestureIn g {gesture, selected};
+        rig.step(arm, t += 0.005, gesture ? &g : nullptr, gesture ? 1 : 0, v);
+    };
+    update(4, none);
+    update(4, 4, "select");
+    update(5, 4);
+    update(5, 5, "select");
+    update(5, 5, "select");   // the same knob again: the switches stay, the event is sent
+    update(14, 5);
+    update(14, 14, "select");
+    std::map<std::string, std::vector<std::string>> byTopic;
+    for (const auto& [topic, payload] : rig.mqtt) {
+        byTopic[topic].push_back(payload);
+        // Home Assistant's MQTT switch takes payload_on "ON" and payload_off "OFF"; the sensor
+        // and the trigger here carry whole knob numbers 0..17.
+        if (topic.rfind("armadillo/panel/", 0) == 0 && topic.size() > 4 && topic.compare(topic.size() - 4, 4, "/set") == 0)
+            CHECK((payload == "ON" || payload == "OFF"));
+    }
+    CHECK(byTopic["armadillo/panel/4/set"] == std::vector<std::string> {"ON", "OFF"});
+    CHECK(byTopic["armadillo/panel/5/set"] == std::vector<std::string> {"ON", "OFF"});
+    CHECK(byTopic["armadillo/panel/14/set"] == std::vector<std::string> {"ON"});
+    CHECK(byTopic["armadillo/panel/select"] == std::vector<std::string> {"4", "5", "5", "14"});
+    CHECK(byTopic["armadillo/panel/knob"] == std::vector<std::string> {"4", "5", "14"});
+    CHECK(byTopic.size() == 5);
 }

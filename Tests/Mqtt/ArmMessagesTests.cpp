@@ -57,10 +57,11 @@ struct Rig {
     Events events;
     std::vector<MotorSet> frames;   // distinct non-empty motor sets, in order
 
-    Rig()
+    explicit Rig(bool messagesOnly = false)
     {
         SceneConfig c;
         c.text = "exit";
+        c.messagesOnly = messagesOnly;
         c.resourceDir = std::string(ARMADILLO_SOURCE_DIR) + "/Resources";
         scene->prepare(c);
     }
@@ -167,6 +168,45 @@ TEST_CASE("a message read by roll: the reader rolls through it, then the scene's
     rig.run(next);
     REQUIRE(rig.frames.size() == 1);
     CHECK(rig.frames[0] == rowsOf("e").front());
+}
+
+TEST_CASE("messages only (armadillo read): rolling reads nothing of the scene's own; a message is read by roll, then stillness", "[mqtt][braille]")
+{
+    Rig rig(true);
+    // The same rolls that read the scene's own text's first rows in the test above.
+    const auto rolls = [](double from, int steps) {
+        Motion m;
+        double roll = from;
+        m.hold(hanging(roll), 0.3);
+        for (int step = 0; step < steps; ++step) {
+            m.move(hanging(roll), hanging(roll + 16), 0.1);
+            roll += 16;
+            m.hold(hanging(roll), 0.3);
+        }
+        m.hold(hanging(roll), 1.5);
+        return m;
+    };
+    rig.run(rolls(0.0, 4));
+    CHECK(rig.frames.empty());   // "exit" is not the reader's: not a motor moved
+    mqtt::MqttConfig config;
+    mqtt::MessageInbox inbox(config);
+    mqtt::MessagePresenter presenter(inbox, {});
+    REQUIRE(inbox.offerText("ok", "osc", 0));
+    presenter.poll(rig.controls);
+    rig.idle(2.0);
+    CHECK(rig.frames == cueSets());
+    rig.frames.clear();
+    rig.run(rolls(64.0, 7));   // 2 letters × 3 rows, then past the end
+    std::vector<MotorSet> expected = rowsOf("ok");
+    expected.push_back(kUndersideLine);
+    expected.push_back(kUndersideLine);
+    CHECK(rig.frames == expected);
+    CHECK_FALSE(rig.controls.messageBusy());
+    CHECK(presenter.poll(rig.controls) == std::vector<std::string> {"message 1 shown"});
+    rig.frames.clear();
+    rig.run(rolls(176.0, 4));
+    CHECK(rig.frames.empty());   // after the message: still again
+    CHECK(rig.events.n("advance") == 7);   // only the message's steps were read
 }
 
 TEST_CASE("an urgent message interrupts; the interrupted one is shown again whole", "[mqtt][braille]")

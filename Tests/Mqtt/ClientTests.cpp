@@ -220,6 +220,28 @@ TEST_CASE("the per-topic rate limit: at most N per second, the last value always
     CHECK(pub.status().coalesced >= static_cast<std::uint64_t>(200 - a));
 }
 
+TEST_CASE("the last value is sent when the client stops within its topic's rate window")
+{
+    test::Broker broker;
+    broker.start();
+    Listener listener(configFor(broker, {"last/#"}, 1));
+    MqttClient pub(configFor(broker));
+    pub.start();
+    REQUIRE(listener.client.waitConnected(30));
+    REQUIRE(pub.waitConnected(30));
+    constexpr float kRate = 0.1f;   // one message per 10 s for the topic
+    REQUIRE(pub.publish(value("last/x", 1, kRate)));
+    REQUIRE(eventually([&] { return listener.heardPayload("1"); }));
+    // Within the window: 2 waits, 3 replaces it (coalesced); then the session ends.
+    REQUIRE(pub.publish(value("last/x", 2, kRate)));
+    REQUIRE(pub.publish(value("last/x", 3, kRate)));
+    REQUIRE(eventually([&] { return pub.status().coalesced >= 1; }));
+    pub.stop();
+    CHECK(eventually([&] { return listener.heardPayload("3"); }, 20.0));
+    CHECK_FALSE(listener.heardPayload("2"));
+    CHECK(pub.status().published == 2);
+}
+
 TEST_CASE("publish() from the control step neither allocates nor locks; a full queue is counted")
 {
     test::Broker broker;   // never started: nothing drains but coalescing, so the queue can be filled
