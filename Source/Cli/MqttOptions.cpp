@@ -61,12 +61,8 @@ void PlayMessages::stop() { service_.stop(); }
 
 bool PlayMessages::publishMapped(void* self, const mapping::MqttMessage& m)
 {
-    mqtt::OutgoingMessage o;
-    if (!o.set(std::string_view(m.topic.data(), m.topicLength), std::string_view(m.payload.data(), m.payloadLength))) return false;
-    o.qos = m.qos;
-    o.retain = m.retain;
-    o.maxRate = m.rate;
-    return static_cast<PlayMessages*>(self)->service_.client().publish(o);
+    return static_cast<PlayMessages*>(self)->service_.publishValue(std::string_view(m.topic.data(), m.topicLength),
+                                                                   std::string_view(m.payload.data(), m.payloadLength), m.qos, m.retain, m.rate);
 }
 
 void PlayMessages::poll(braille::BrailleSceneControls* scene, std::ostream& err, const char* lineStart)

@@ -13,6 +13,7 @@
 #include "Mqtt/MqttClient.h"
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace armadillo::mqtt {
@@ -35,6 +36,19 @@ public:
     std::vector<std::string> present(braille::BrailleSceneControls& scene) { return presenter_.poll(scene); }
     /// Text from elsewhere (OSC /armadillo/message, a test button): queued as a message from `source`.
     bool offerText(const std::string& text, const std::string& source, int priority) { return inbox_.offerText(text, source, priority); }
+    /// A mapping's value for a topic (the arm as a remote): queued for the client's thread, which
+    /// applies the rate limit (`maxRate` messages/s; < 0 the configuration's, 0 none) and keeps
+    /// the newest value per topic. Real-time, one producer at a time (the control step); false
+    /// when it does not fit or the queue is full (counted in the status).
+    bool publishValue(std::string_view topic, std::string_view payload, int qos, bool retain, float maxRate) noexcept
+    {
+        OutgoingMessage o;
+        if (!o.set(topic, payload)) return false;
+        o.qos = static_cast<std::uint8_t>(qos);
+        o.retain = retain;
+        o.maxRate = maxRate;
+        return client_->publish(o);
+    }
     /// Publishes text (a test message to one of the subscribed topics; no rate limit).
     bool publishText(const std::string& topic, const std::string& payload) { return client_->publishText(topic, payload, 1, false); }
 

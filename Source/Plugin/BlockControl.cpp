@@ -4,6 +4,7 @@
 #include "Core/Clock.h"
 #include "Engine/Engine.h"
 #include "Live/TactorOutput.h"
+#include "Mqtt/MessageService.h"
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -166,6 +167,15 @@ void BlockControl::deliver(juce::MidiBuffer* midi, double blockStart, int blockS
         midiBytes_ += bytes;
     }
     for (int i = 0; i < mapOut_.oscCount; ++i) outputs_.pushOsc(mapOut_.osc[static_cast<std::size_t>(i)]);
+    if (mapOut_.mqttCount > 0) {   // the arm as a remote (docs/MQTT.md): through the app's connection, if any
+        auto* service = mqtt_.load(std::memory_order_acquire);
+        for (int i = 0; i < mapOut_.mqttCount; ++i) {
+            const mapping::MqttMessage& m = mapOut_.mqtt[static_cast<std::size_t>(i)];
+            if (service == nullptr || ! service->publishValue(std::string_view(m.topic.data(), m.topicLength),
+                                                              std::string_view(m.payload.data(), m.payloadLength), m.qos, m.retain, m.rate))
+                mqttDropped_.fetch_add(1, std::memory_order_relaxed);
+        }
+    }
     for (int k = 0; k < ParamIds::kMacroCount; ++k)
         if ((mapOut_.macroChanged >> k) & 1u) outputs_.setMacro(k, mapOut_.macro[static_cast<std::size_t>(k)]);
     for (int i = 0; i < mapOut_.paramCount; ++i) applySceneParam(mapOut_.params[static_cast<std::size_t>(i)]);

@@ -39,6 +39,9 @@ class TactilePlayer;
 namespace armadillo::live {
 class TactorOutput;
 }
+namespace armadillo::mqtt {
+class MessageService;
+}
 
 namespace armadillo::plugin {
 
@@ -90,6 +93,11 @@ public:
     /// step whose levels reach the motors is pushed to it too (its SPSC queue). Any thread; null
     /// = none. Before deleting an output set here, set null and take the token once.
     void setTactorOutput(live::TactorOutput* output) noexcept { tactorOut_.store(output, std::memory_order_release); }
+    /// The app's MQTT connection (MessagesRig.h): the mapping's `mqtt` destinations are published
+    /// through it (its client's SPSC outbox). Any thread; null = none (they are dropped and counted
+    /// in mappedMqttDropped()). The service must outlive its use here (MessagesRig keeps every one).
+    void setMqtt(mqtt::MessageService* service) noexcept { mqtt_.store(service, std::memory_order_release); }
+    std::uint64_t mappedMqttDropped() const noexcept { return mqttDropped_.load(std::memory_order_relaxed); }
     /// Which channels of the host's buffer carry the audio the scenes listen to (the main input
     /// or the sidechain), and whether it is played through to the output (the main input: an
     /// effect that listens must not mute its track).
@@ -214,6 +222,8 @@ private:
     std::atomic<access::TactilePlayer*> stimulus_ {nullptr};
     Handover<tactors::TactorRenderer> tactors_;
     std::atomic<live::TactorOutput*> tactorOut_ {nullptr};
+    std::atomic<mqtt::MessageService*> mqtt_ {nullptr};
+    std::atomic<std::uint64_t> mqttDropped_ {0};
 
     // Token holder only.
     double clock_ = 0.0;              ///< s since start, advanced by dt per step

@@ -15,7 +15,8 @@ const juce::StringArray& sourceChoices()
     static const juce::StringArray names = [] {
         juce::StringArray out;
         for (const char* n : {"elevation", "azimuth", "roll", "yaw", "pitch", "qw", "qx", "qy", "qz", "speed", "fluxFace",
-                              "fluxEdge", "rollTrigger", "punch", "scene.pitch", "scene.fret", "scene.strike", "gesture:*",
+                              "fluxEdge", "rollTrigger", "punch", "scene.pitch", "scene.fret", "scene.strike", "panel.knob", "panel.level",
+                              "panel.selected", "gesture:*",
                               "gesture:roll", "gesture:punch", "gesture:strike", "gesture:fret", "gesture:select",
                               "gesture:other"}) {
             mapping::SourceSpec s;
@@ -91,7 +92,7 @@ juce::String destinationText(const mapping::DestinationSpec& d)
     case DestinationKind::Macro: return "macro " + juce::String(d.number);
     case DestinationKind::SceneParam: return "scene parameter " + juce::String(d.paramId);
     case DestinationKind::SetForward: return "set forward";
-    case DestinationKind::Mqtt: return "MQTT " + juce::String(d.address) + " (sent by armadillo play --mqtt; not from the plugin)";
+    case DestinationKind::Mqtt: return "MQTT " + juce::String(d.address) + " (sent while Setup, MQTT messages is connected)";
     case DestinationKind::Stage:
         return d.stage == mapping::StageAction::Cue ? "stage: cue " + juce::String(d.number) : "stage: " + juce::String(mapping::stageActionName(d.stage));
     }

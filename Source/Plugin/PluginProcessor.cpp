@@ -572,8 +572,10 @@ void ArmadilloProcessor::stopNavigation()
 juce::String ArmadilloProcessor::setMessages(bool on)
 {
     juce::String why;
+    control_.setMqtt(nullptr);
     if (on) why = messages_.start(settings_);
     else messages_.stop();
+    control_.setMqtt(messages_.service());   // the mapping's mqtt destinations go out through it
     settings_.setProperty(SettingIds::mqttEnabled, messages_.running(), nullptr);   // off again when it failed
     return why;
 }

@@ -17,6 +17,8 @@
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
+#include <algorithm>
+#include <mutex>
 
 namespace juce {
 bool dispatchNextMessageOnSystemQueue(bool returnIfNoPendingMessages);   // juce_linux_Messaging.cpp
@@ -249,6 +251,46 @@ TEST_CASE("app: MQTT messages: connect from the MQTT window, a published message
     CHECK(list.contains("(from arm/inbox)"));
     CHECK(list.contains("on the arm"));
     CHECK(processor.messageLog().joinIntoString("\n").contains("test"));
+
+    // The arm as a remote: a mapping's mqtt destination goes out through the same connection
+    // (host automation moves the elevation; a second client of the test hears the topic).
+    const auto mapFile = juce::File::createTempFile("remote.json");
+    REQUIRE(mapFile.replaceWithText(R"({"version": 1, "mappings": [{"source": "elevation", "in": [-90, 90], "out": [0, 100],
+        "to": {"mqtt": {"topic": "arm/elevation", "payload": "{round}", "qos": 0, "retain": false, "rate": 20}}}]})"));
+    {
+        auto access = processor.mapping();
+        INFO(access->loadFile(mapFile));
+    }
+    mqtt::MqttConfig listenConfig;
+    listenConfig.host = "127.0.0.1";
+    listenConfig.port = broker.port();
+    listenConfig.topics.push_back({"arm/elevation", 0, false});
+    mqtt::MqttClient listener(listenConfig);
+    std::mutex heardMutex;
+    std::vector<std::string> heard;
+    listener.setMessageHandler([&](const mqtt::ReceivedMessage& m) {
+        std::lock_guard<std::mutex> lock(heardMutex);
+        heard.push_back(m.payload);
+    });
+    listener.start();
+    REQUIRE(listener.waitConnected(10.0));
+    auto* source = processor.parameters().getParameter(ParamIds::source);
+    source->setValueNotifyingHost(source->convertTo0to1(3.0f));   // host automation
+    auto* elevation = processor.parameters().getParameter(ParamIds::elevation);
+    for (float el : {-45.0f, 0.0f, 45.0f}) {
+        elevation->setValueNotifyingHost(elevation->convertTo0to1(el));
+        run(0.3, [] { return false; });
+    }
+    REQUIRE(run(10.0, [&] {
+        std::lock_guard<std::mutex> lock(heardMutex);
+        return std::find(heard.begin(), heard.end(), "75") != heard.end();   // 45° of [-90, 90] → 75 of [0, 100]
+    }));
+    {
+        std::lock_guard<std::mutex> lock(heardMutex);
+        CHECK(std::find(heard.begin(), heard.end(), "25") != heard.end());   // −45°
+    }
+    listener.stop();
+    mapFile.deleteFile();
     processor.setMessages(false);
     CHECK_FALSE(processor.messages().running());
     processor.releaseResources();
