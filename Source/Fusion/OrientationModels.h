@@ -120,6 +120,21 @@ struct AttitudeSpace {
         return r;
     }
 
+    /// x ⊞ d and x ⊞ −d at once, for the sigma points: exp(−e) is the conjugate of exp(e) (bit for
+    /// bit: quat::exp is odd in e), so one exp serves both.
+    static void boxplusPair(const State& x, const ErrorVector& d, State& plus, State& minus) noexcept
+    {
+        const Eigen::Quaterniond e = quat::exp(d.segment<3>(kAttRotation));
+        plus = x;
+        minus = x;
+        plus.q = x.q * e;
+        quat::renormalise(plus.q);
+        minus.q = x.q * e.conjugate();
+        quat::renormalise(minus.q);
+        plus.bias = x.bias + d.segment<3>(kAttBias);
+        minus.bias = x.bias - d.segment<3>(kAttBias);
+    }
+
     static ErrorVector boxminus(const State& a, const State& b) noexcept
     {
         ErrorVector d;
