@@ -200,3 +200,27 @@ TEST_CASE("sr-ukf: the gyro-input step's Jacobian agrees with its unscented time
         CHECK(worstCov < (scale < 0.5 ? 2e-8 : 1e-5));
     }
 }
+
+TEST_CASE("sr-ukf: AttitudeSpace's ± pair of sigma points is its ⊞ of +d and −d, bit for bit", "[fusion][ukf]")
+{
+    // makeSigmaPoints forms x ⊞ d and x ⊞ −d with one exp (the conjugate serves −d); quat::exp is
+    // odd in its argument, so this must equal two separate ⊞ exactly, also beyond the series' 0.5 rad.
+    std::mt19937 rng(59);
+    std::normal_distribution<double> n(0.0, 1.0);
+    for (int trial = 0; trial < 200; ++trial) {
+        OrientationState x;
+        x.q = quat::exp(Eigen::Vector3d(n(rng), n(rng), n(rng)));
+        x.rate = Eigen::Vector3d(n(rng), n(rng), n(rng));
+        x.bias = 0.01 * Eigen::Vector3d(n(rng), n(rng), n(rng));
+        AttitudeSpace::ErrorVector d;
+        for (int i = 0; i < kAttDim; ++i) d(i) = (trial % 2 ? 0.05 : 1.0) * n(rng);
+        OrientationState plus, minus;
+        AttitudeSpace::boxplusPair(x, d, plus, minus);
+        const OrientationState p = AttitudeSpace::boxplus(x, d), m = AttitudeSpace::boxplus(x, -d);
+        CHECK(plus.q.coeffs() == p.q.coeffs());
+        CHECK(minus.q.coeffs() == m.q.coeffs());
+        CHECK(plus.bias == p.bias);
+        CHECK(minus.bias == m.bias);
+        CHECK(minus.rate == x.rate);
+    }
+}
