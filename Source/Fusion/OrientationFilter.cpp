@@ -44,7 +44,7 @@ OrientationFilter::OrientationFilter(const Params& p)
 
 void OrientationFilter::reset()
 {
-    ukf_ = SquareRootUkf<OrientationSpace>(params_.ukf);
+    ukf_ = SquareRootUkf<AttitudeSpace>(params_.ukf);
     biasTracker_.reset();
     fieldTracker_.reset();
     accelLowPass_.reset();
@@ -53,6 +53,7 @@ void OrientationFilter::reset()
     lowPassDt_ = 0.0;
     lastT_ = 0.0;
     lastAccel_.setConstant(kNaN);
+    lastGyro_.setConstant(kNaN);
     gaps_ = GapDetector(params_.gap);
     headingDisagreeT_ = tiltDisagreeT_ = 0.0;
     initialised_ = false;
@@ -77,14 +78,12 @@ void OrientationFilter::resetCovariance(double rotationStd)
 {
     // Everything about the motion is forgotten; the gyro bias is a property of the sensor and keeps
     // its own uncertainty (its cross terms with the lost orientation go with it).
-    const Eigen::Matrix<double, kErrDim, kErrDim> P = ukf_.covariance();
-    Eigen::Matrix<double, kErrDim, 1> sd;
-    sd.segment<3>(kErrRotation).setConstant(rotationStd);
-    sd.segment<3>(kErrRate).setConstant(params_.initialRateStd);
-    sd.segment<3>(kErrAccel).setConstant(params_.initialAngularAccelStd);
+    const Eigen::Matrix<double, kAttDim, kAttDim> P = ukf_.covariance();
+    Eigen::Matrix<double, kAttDim, 1> sd;
+    sd.segment<3>(kAttRotation).setConstant(rotationStd);
     for (int i = 0; i < 3; ++i) {
-        const double b = P(kErrBias + i, kErrBias + i);
-        sd(kErrBias + i) = std::isfinite(b) && b > 0.0 ? std::min(std::sqrt(b), params_.initialBiasStd) : params_.initialBiasStd;
+        const double b = P(kAttBias + i, kAttBias + i);
+        sd(kAttBias + i) = std::isfinite(b) && b > 0.0 ? std::min(std::sqrt(b), params_.initialBiasStd) : params_.initialBiasStd;
     }
     ukf_.reset(ukf_.state(), sd.asDiagonal().toDenseMatrix());
 }
@@ -95,16 +94,15 @@ void OrientationFilter::initialise(const ImuSample& s)
     const bool useMag = params_.useMagnetometer && s.mag.allFinite();
     orientationFromVectors(s.accel, useMag ? s.mag : Eigen::Vector3d(kNaN, kNaN, kNaN), x.q);
     x.rate = s.gyro;
-    Eigen::Matrix<double, kErrDim, 1> sd;
+    Eigen::Matrix<double, kAttDim, 1> sd;
     // The error angle is in the device frame; tilt and heading are earth-frame ideas, so the
     // initial rotation spread is the larger of the two on every axis (it shrinks within seconds).
     const double rot = useMag ? std::max(params_.initialTiltStd, params_.initialHeadingStd) : params_.initialTiltStd;
-    sd.segment<3>(kErrRotation).setConstant(rot);
-    sd.segment<3>(kErrRate).setConstant(params_.initialRateStd);
-    sd.segment<3>(kErrAccel).setConstant(params_.initialAngularAccelStd);
-    sd.segment<3>(kErrBias).setConstant(params_.initialBiasStd);
+    sd.segment<3>(kAttRotation).setConstant(rot);
+    sd.segment<3>(kAttBias).setConstant(params_.initialBiasStd);
     ukf_.reset(x, sd.asDiagonal().toDenseMatrix());
     lastT_ = s.t;
+    lastGyro_ = s.gyro;
     initT_ = acquireStartT_ = s.t;
     lastAccel_ = s.accel;
     initialised_ = true;
@@ -133,6 +131,7 @@ void OrientationFilter::reacquire(const ImuSample& s)
         x.q = levelled(x.q, s.accel);
     x.rate = s.gyro - x.bias;
     x.accel.setZero();
+    lastGyro_ = s.gyro;
     resetCovariance(std::max(params_.initialTiltStd, params_.initialHeadingStd));
     ++recovery_.reacquired;
     acquireStartT_ = s.t;
@@ -178,26 +177,30 @@ double OrientationFilter::disagreementLimit() const
     return acquiring() > 0.0 ? params_.acquireDisagreementTime : params_.disagreementTime;
 }
 
-void OrientationFilter::predict(double dt, double shock)
+void OrientationFilter::predict(double dt, const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel, double shock, bool bridge)
 {
-    Eigen::Matrix<double, kErrDim, 1> sd;
-    const double r = std::sqrt(dt);
+    Eigen::Matrix<double, kAttDim, 1> sd;
     // Acquisition noise only while the rotation spread is below the initial one: sigma points sit
-    // at ±√12·σ, and a wider spread would wrap the heading angle at ±π.
+    // at ±√6·σ, and a wider spread would wrap the heading angle at ±π.
     double acquiringNow = acquiring();
     const double cap = std::max(params_.initialTiltStd, params_.initialHeadingStd);
     const auto& S = ukf_.sqrtCovariance();
-    for (int i = kErrRotation; i < kErrRotation + 3; ++i)
+    for (int i = kAttRotation; i < kAttRotation + 3; ++i)
         if (S.row(i).squaredNorm() > cap * cap) acquiringNow = 0.0;
     const double rotation = params_.rotationNoise + acquiringNow * params_.acquireRotationNoise;
-    sd.segment<3>(kErrRotation).setConstant(std::hypot(rotation * r, shock));
-    sd.segment<3>(kErrRate).setConstant(params_.rateNoise * r);
-    sd.segment<3>(kErrAccel).setConstant(params_.angularAccelNoise * r);
-    sd.segment<3>(kErrBias).setConstant(params_.biasNoise * r);
+    // The gyro's own white noise turns the state too (gyroNoise·t per step). Over a bridged gap the
+    // rotation is extrapolated with ω and α, and its error is that of their random changes over the
+    // gap: a random walk of ω gives rateNoise²t³/3, one of α angularAccelNoise²t⁵/20.
+    double var = rotation * rotation * dt + params_.gyroNoise * params_.gyroNoise * dt * dt + shock * shock;
+    if (bridge)
+        var += params_.rateNoise * params_.rateNoise * dt * dt * dt / 3.0 +
+               params_.angularAccelNoise * params_.angularAccelNoise * dt * dt * dt * dt * dt / 20.0;
+    sd.segment<3>(kAttRotation).setConstant(std::sqrt(var));
+    sd.segment<3>(kAttBias).setConstant(params_.biasNoise * std::sqrt(dt));
     // Linearised (docs/FUSION.md, cost): over one step the model is linear to far below the noise.
     const OrientationState& x = ukf_.state();
-    const Eigen::Vector3d delta = x.rate * dt + x.accel * (0.5 * dt * dt);
-    ukf_.predictLinearised(ConstantAccelerationModel {dt}, ConstantAccelerationJacobian {dt, delta}, sd);
+    const Eigen::Vector3d delta = (gyro - x.bias) * dt + accel * (0.5 * dt * dt);
+    ukf_.predictLinearised(GyroInputModel {dt, gyro, accel}, GyroInputJacobian {dt, delta}, sd);
 }
 
 void OrientationFilter::updateGravity(const Eigen::Vector3d& accel, double rawNorm, double dt)
@@ -313,35 +316,35 @@ void OrientationFilter::update(const ImuSample& s)
         reacquire(s);
         return;
     }
-    // Gyro (ω + b) and bias observations are linear: exact updates without sigma points.
-    const Eigen::Vector3d gyroStd = Eigen::Vector3d::Constant(params_.gyroNoise);
-    Eigen::Matrix<double, 3, kErrDim> gyroH = Eigen::Matrix<double, 3, kErrDim>::Zero();
-    gyroH.block<3, 3>(0, kErrRate).setIdentity();
-    gyroH.block<3, 3>(0, kErrBias).setIdentity();
-    auto gyroUpdate = [&] { ukf_.updateLinear<3>(s.gyro - GyroObservation {}(ukf_.state()), gyroH, gyroStd); };
+    // The gyro is the process model's input (departure 12): the step turns by ω t + α t²/2 (the
+    // thesis's constant-acceleration model) with ω the sample's rate less the bias and α its change
+    // since the previous sample (the bias cancels there).
     if (gap) {
         // A short gap is bridged with ω and α (over ≤ maxBridge their extrapolation is good to a
         // fraction of a degree); the gyro sample after it is the rate at its end. The inertial frame
         // of the low-pass follows the same extrapolated turn, so what it has averaged is kept.
         ++recovery_.bridged;
         const Eigen::Quaterniond before = ukf_.state().q;
-        predict(dt, shock);
-        gyroUpdate();
+        const OrientationState& x = ukf_.state();
+        predict(dt, x.rate + x.bias, x.accel, shock, true);
+        ukf_.state().rate = s.gyro - ukf_.state().bias;
         inertial_ = quat::normalised(inertial_ * (before.conjugate() * ukf_.state().q));
     } else {
         inertial_ = (inertial_ * quat::exp((s.gyro - ukf_.state().bias) * dt)).normalized();
+        const Eigen::Vector3d change = (s.gyro - lastGyro_) / dt;
+        if (change.allFinite()) ukf_.state().accel = change;
         if (params_.gyroCoversPrecedingInterval) {
-            gyroUpdate();
-            predict(dt, shock);
+            predict(dt, s.gyro, ukf_.state().accel, shock, false);
         } else {
-            predict(dt, shock);
-            gyroUpdate();
+            predict(dt, lastGyro_, ukf_.state().accel, shock, false);
+            ukf_.state().rate = s.gyro - ukf_.state().bias;
         }
     }
+    lastGyro_ = s.gyro;
     setupLowPass(dt);
     if (rest) {
-        Eigen::Matrix<double, 3, kErrDim> biasH = Eigen::Matrix<double, 3, kErrDim>::Zero();
-        biasH.block<3, 3>(0, kErrBias).setIdentity();
+        Eigen::Matrix<double, 3, kAttDim> biasH = Eigen::Matrix<double, 3, kAttDim>::Zero();
+        biasH.block<3, 3>(0, kAttBias).setIdentity();
         ukf_.updateLinear<3>(biasTracker_.bias() - BiasObservation {}(ukf_.state()), biasH,
                              Eigen::Vector3d::Constant(params_.biasObservationNoise));
     }

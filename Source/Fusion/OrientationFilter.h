@@ -1,6 +1,7 @@
 #pragma once
 // The forearm's orientation from gyro, accelerometer and (optional) magnetometer: the
-// square-root UKF of thesis §2.7 on (q, ω, α) plus the gyro bias, with the trackers of §2.6.8.
+// square-root UKF of thesis §2.7 on (q, gyro bias), the gyro as the process model's input (the
+// thesis's state is (q, ω, α); departure 12), with the trackers of §2.6.8.
 // docs/FUSION.md explains every departure from the thesis and why.
 //
 // Frames (INTERFACES.md): device x toward the hand, y out of the board's face, z = x × y;
@@ -27,10 +28,13 @@ public:
     struct Params {
         UkfWeights ukf {};                    ///< sigma-point α, β, κ and mean iterations
 
-        // Process noise (continuous-time densities; the step's std is density·√dt).
-        double rotationNoise = 1e-3;          ///< rad/√s: rotation not explained by ω, α
-        double rateNoise = 3.0;               ///< rad/s/√s: random change of ω
-        double angularAccelNoise = 30.0;      ///< rad/s²/√s: random walk of α (thesis: α' = α)
+        // Process noise (continuous-time densities; the step's std is density·√dt). The gyroscope
+        // is the process model's input (departure 12): ω and α are not states, and their random
+        // changes only matter where the rotation is extrapolated with them, over a bridged gap.
+        double rotationNoise = 3e-3;          ///< rad/√s: rotation the gyro does not explain (1e-3 with
+                                              ///< ω and α as states, whose uncertainty added about as much)
+        double rateNoise = 3.0;               ///< rad/s/√s: random change of ω (bridged gaps)
+        double angularAccelNoise = 30.0;      ///< rad/s²/√s: random walk of α (bridged gaps)
         double biasNoise = 2e-5;              ///< rad/s/√s: random walk of the gyro bias
 
         // Mechanical shocks (a tap on the arm, a knock against something): the accelerometer jumps
@@ -43,7 +47,7 @@ public:
         bool shockRestartsFieldLowPass = true;///< a shock also empties the magnetometer's low-pass (below)
 
         // Measurement noise (standard deviations per sample).
-        double gyroNoise = 0.003;             ///< rad/s
+        double gyroNoise = 0.003;             ///< rad/s, white noise of the rate (turns the state by gyroNoise·dt)
         double accelFilterTau = 3.0;          ///< s: 2nd-order low-pass of the accelerometer in a gyro-only
                                               ///< (inertial) frame before it is used as gravity (departure)
         double magFilterTau = 6.0;            ///< s: the same for the magnetometer (accepted samples only;
@@ -52,7 +56,8 @@ public:
         double magDisagreementTau = 3.0;      ///< s: the field's average that the heading-disagreement rule watches
         double startupFilterSeconds = 10.0;   ///< s: both time constants grow from 10 % to full over this
                                               ///< time after initialisation (0 = full from the start)
-        double gravityNoise = 0.05;           ///< unit-vector components (≈ rad) of the filtered a/|a|
+        double gravityNoise = 0.025;          ///< unit-vector components (≈ rad) of the filtered a/|a|
+                                              ///< (0.05 until issue 36; with the rotation noise above)
         double gravityNormGain = 4.0;         ///< noise ×(1 + gain·||a|−g|/g): linear acceleration shows in |a|
         double gravityNisLimit = 12.0;        ///< χ²(3) soft gate on the gravity innovation (inflate beyond)
         double headingNoise = 0.6;            ///< rad, heading from the horizontal field (slow: τ ≈ 10–20 s)
@@ -63,8 +68,6 @@ public:
         // first measurements win; no wider, because sigma points sit at ±√12·σ and heading wraps at π.
         double initialTiltStd = 0.3;          ///< rad
         double initialHeadingStd = 0.35;      ///< rad
-        double initialRateStd = 0.1;          ///< rad/s
-        double initialAngularAccelStd = 1.0;  ///< rad/s²
         double initialBiasStd = 0.01;         ///< rad/s
 
         GapDetector::Params gap {};           ///< what a dropout is (Core/GapDetector.h: 4 × the typical step, ≥ 30 ms)
@@ -117,8 +120,8 @@ public:
     const Recovery& recovery() const { return recovery_; }
     const UkfStats& ukfStats() const { return ukf_.stats(); }
     const Params& params() const { return params_; }
-    /// Error-state covariance (12×12: rotation rad, ω rad/s, α rad/s², bias rad/s).
-    Eigen::Matrix<double, kErrDim, kErrDim> covariance() const { return ukf_.covariance(); }
+    /// Error-state covariance (6×6: rotation rad, gyro bias rad/s; AttitudeErrorIndex).
+    Eigen::Matrix<double, kAttDim, kAttDim> covariance() const { return ukf_.covariance(); }
 
 private:
     void initialise(const ImuSample& s);
@@ -129,14 +132,16 @@ private:
     /// 1 right after start-up or a re-acquisition, falling to 0 over acquireTime.
     double acquiring() const;
     double disagreementLimit() const;
-    void predict(double dt, double shock = 0.0);
+    /// Turns the state by the gyro `gyro` (rad/s, bias included) over dt, extrapolating with α
+    /// `accel` (rad/s², non-zero only over a bridged gap, where `bridge` adds the noise of that).
+    void predict(double dt, const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel, double shock, bool bridge);
     void updateGravity(const Eigen::Vector3d& accelSmooth, double rawNorm, double dt);
     void updateHeading(const Eigen::Vector3d& mag, const Eigen::Vector3d& magFast, double dt);
     void restartInertialFrame();
     void setupLowPass(double dt);
 
     Params params_;
-    SquareRootUkf<OrientationSpace> ukf_;
+    SquareRootUkf<AttitudeSpace> ukf_;
     GyroBiasTracker biasTracker_;
     MagneticFieldTracker fieldTracker_;
     // Gyro-only strapdown orientation (device → a non-rotating frame) in which accelerometer and
@@ -152,6 +157,7 @@ private:
     double acquireStartT_ = 0.0;   ///< s, start of the latest acquisition: start-up, gap, re-acquisition
     double lastT_ = 0.0;
     Eigen::Vector3d lastAccel_ = Eigen::Vector3d::Constant(kNaN);   ///< m/s², previous sample (shock detection)
+    Eigen::Vector3d lastGyro_ = Eigen::Vector3d::Constant(kNaN);    ///< rad/s, previous sample (α, timing)
     GapDetector gaps_;
     double headingDisagreeT_ = 0.0, tiltDisagreeT_ = 0.0;   ///< s of unbroken disagreement
     double headingDisagreeMean_ = 0.0;                       ///< rad, mean heading innovation of that run

@@ -280,8 +280,13 @@ private:
         sigma_[0] = x_;
         for (int j = 0; j < columns; ++j) {
             const ErrorVector d = gamma_ * S_.col(j);
-            sigma_[1 + j] = Space::boxplus(x_, d);
-            sigma_[1 + N + j] = Space::boxplus(x_, -d);
+            // A space that can form x ⊞ d and x ⊞ −d together (one exp for both) says so.
+            if constexpr (requires(State& a, State& b) { Space::boxplusPair(x_, d, a, b); }) {
+                Space::boxplusPair(x_, d, sigma_[1 + j], sigma_[1 + N + j]);
+            } else {
+                sigma_[1 + j] = Space::boxplus(x_, d);
+                sigma_[1 + N + j] = Space::boxplus(x_, -d);
+            }
         }
     }
 
