@@ -599,7 +599,6 @@ juce::String ArmadilloProcessor::testTactorChannel(int channel)
 {
     const int motor = tactorRig_.motorOfChannel(channel, settings_, motorCount());
     if (motor < 0 || motor >= motorCount()) return "Tactor channel " + juce::String(channel + 1) + " is silent in the map";
-    if (motor >= kGridMotors) return "The back motors (m10 to m12) are tested with: armadillo tactors test --back-motors";
     if (touchTest_.state() != TouchTestSession::State::Idle || adaptive_.state() != AdaptiveSession::State::Idle)
         return "The sensitivity test or the training has the motors: end it first";
     fitToReader(feedbackPlayer_, settings_);

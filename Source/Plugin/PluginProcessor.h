@@ -297,7 +297,13 @@ private:
     EngineHandover engines_;
     TrainingAccess training_;
     TouchTestSession touchTest_;                 // before control_: its player outlives the control step's pointer
-    access::TactilePlayer feedbackPlayer_ {TactileConfig {}, 0.0};   // before control_ too
+    // Before control_ too. All 12 motors: the Tactors window's test buttons reach the back motors.
+    access::TactilePlayer feedbackPlayer_ {[] {
+                                               TactileConfig c;
+                                               c.motorCount = kGridMotors + kBackMotors;
+                                               return c;
+                                           }(),
+                                           0.0};
     AdaptiveSession adaptive_ {feedbackPlayer_};   // plays through feedbackPlayer_
     int feedbackUntil_ = 0;                      // the sequence whose end gives the motors back to the scene
     Stage stage_;                                // before control_: the control step keeps a pointer

@@ -171,7 +171,10 @@ TEST_CASE("app: the Tactors window: every control titled, one test button per ch
     for (auto* c : panel.getChildren())
         if (c->isVisible() && c->getTitle().startsWith("Test tactor channel")) ++buttons;
     CHECK(buttons == 12);
+    CHECK(processor.testTactorChannel(11).isEmpty());   // a back motor's channel buzzes too (m12)
+    pumpMessages(700);                                  // its 0.5 s buzz over, the scene has the motors again
     processor.settings().setProperty(SettingIds::backMotors, false, nullptr);
+    CHECK(processor.testTactorChannel(11).contains("silent"));   // without the back motors there is no channel 12
     // A test buzz through the whole rig: said, with the motor's name.
     panel.testButton(2).triggerClick();
     pumpMessages(300);
