@@ -13,6 +13,11 @@ which="${1:-all}"
 jobs="${JOBS:-2}"
 common=(-G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DARMADILLO_BUILD_BENCHMARKS=OFF)
 plugin=ON
+# ccache (when installed) as in build.sh: a second sanitizer build of another checkout reuses it.
+if command -v ccache > /dev/null; then
+    export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$PWD}"
+    common+=(-DCMAKE_C_COMPILER_LAUNCHER=ccache -DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+fi
 if [ "${ARMADILLO_NO_PLUGIN:-0}" = "1" ]; then plugin=OFF; fi
 
 run_asan() {

@@ -162,7 +162,7 @@ TEST_CASE("MQTT destinations format without allocating or locking", "[mapping][m
 {
     Rig rig(R"({"version": 1, "mappings": [{"source": "elevation", "in": [-90, 90], "out": [0, 1],
          "to": {"mqtt": {"topic": "arm/level", "payload": "{\"level\": {value}, \"state\": \"{state}\"}"}}}]})");
-    REQUIRE(armadillo::test::RealtimeGuard::installed());
+    ARMADILLO_REQUIRE_GUARD();
     std::vector<ArmState> arms;
     for (int i = 0; i < 500; ++i) arms.push_back(armAt(-90.0 + 0.36 * i, 0, 0, i * 0.005));
     MappingInput in;

@@ -249,7 +249,7 @@ TEST_CASE("the braille scene's control() neither allocates nor locks while it sh
     Motion m;
     m.hold(hanging(0), 20.0);
     SceneOutput out {rig.canvas, rig.events};
-    REQUIRE(RealtimeGuard::installed());
+    ARMADILLO_REQUIRE_GUARD();
     RealtimeGuard guard;
     for (std::size_t i = 0; i < m.states.size(); ++i) {
         if (i == 2000) (void)rig.controls.showMessage(urgent.get());

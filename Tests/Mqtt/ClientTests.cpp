@@ -248,7 +248,7 @@ TEST_CASE("publish() from the control step neither allocates nor locks; a full q
     MqttClient client(configFor(broker));
     OutgoingMessage m;
     REQUIRE(m.set("arm/remote/level", "{\"brightness\": 128}"));
-    REQUIRE(test::RealtimeGuard::installed());
+    ARMADILLO_REQUIRE_GUARD();
     {
         test::RealtimeGuard guard;
         for (int i = 0; i < 1024; ++i) CHECK(client.publish(m));

@@ -31,7 +31,7 @@ std::string scratch(const std::string& name) { return (test::scratchDir("armadil
 
 TEST_CASE("tactor output: a period drains the control steps and renders without allocating or locking", "[tactors][live][realtime]")
 {
-    REQUIRE(test::RealtimeGuard::installed());
+    ARMADILLO_REQUIRE_GUARD();
     live::TactorOutputConfig c;
     c.device = "null";   // ALSA's null PCM: opened for real, plays nowhere
     c.params.model = tactors::TactorModel::Lra;
@@ -61,7 +61,7 @@ TEST_CASE("tactor output: a period drains the control steps and renders without 
 
 TEST_CASE("tactor output: a voice coil handed the session's sound carries it, in real time, and drops a backlog", "[tactors][live][sound]")
 {
-    REQUIRE(test::RealtimeGuard::installed());
+    ARMADILLO_REQUIRE_GUARD();
     live::TactorOutputConfig c;
     c.device = "null";
     c.params.model = tactors::TactorModel::VoiceCoil;

@@ -282,7 +282,7 @@ TEST_CASE("tactors: a file and a live output carry the same samples (one code pa
 
 TEST_CASE("tactors: setLevels, render and allOff neither allocate nor lock", "[tactors][realtime]")
 {
-    REQUIRE(test::RealtimeGuard::installed());
+    ARMADILLO_REQUIRE_GUARD();
     for (TactorModel model : {TactorModel::Erm, TactorModel::Lra, TactorModel::VoiceCoil}) {
         TactorParams p;
         p.model = model;
