@@ -15,7 +15,9 @@
 #include "Core/Wav.h"
 #include "Live/LiveSession.h"
 #include "Link/Calibration.h"
-#include "Osc/OscIo.h"
+#include "Live/SourceReport.h"
+#include "Osc/HostPort.h"
+#include "Osc/OscDialects.h"
 #include "Osc/Mount.h"
 #include "Live/StageControl.h"
 #include "Engine/Engine.h"
@@ -119,25 +121,25 @@ void onForwardSignal(int)
 }
 
 /// The guided mount calibration of one OSC sender (`--calibrate-mount` for the right arm,
-/// `--calibrate-mount-left` for the left): its sensor-frame samples through the poses, the
-/// instructions on stderr, the mount file written at the end.
+/// `--calibrate-mount-left` for the left): its sensor-frame samples (from the rig) through the
+/// poses, the instructions on stderr, the mount file written at the end.
 struct GuidedMount {
     device::MountCalibration calibration;
-    device::OscReceiver* osc = nullptr;
+    device::LiveSession* session = nullptr;
+    bool left = false;
     std::string out, option, arm;   // arm: "" or "left arm " in the messages
 
     void begin()
     {
-        osc->merger().enableSensorTap(true);
         std::cerr << arm << "mount calibration pose 1 (" << device::MountCalibration::poseName(calibration.pose())
                   << "): " << device::MountCalibration::instruction(calibration.pose()) << "\n";
     }
     bool active() const { return calibration.pose() != device::MountCalibration::Pose::Done; }
     void step()
     {
-        device::SensorFrameSample p;
-        while (active() && osc->merger().popSensorSample(p)) {
-            calibration.feed(Eigen::Vector3d(p.accel[0], p.accel[1], p.accel[2]), Eigen::Vector3d(p.gyro[0], p.gyro[1], p.gyro[2]));
+        Eigen::Vector3d accel, gyro;
+        while (active() && session->popSensorFrame(left, accel, gyro)) {
+            calibration.feed(accel, gyro);
             if (!calibration.ready()) continue;
             calibration.finishStep();
             const auto pose = calibration.pose();
@@ -156,51 +158,11 @@ struct GuidedMount {
         std::string why;
         if (!calibration.solve(mount, why))
             throw IoError(option + ": no mount written: " + why + " (stopped at pose '" + device::MountCalibration::poseName(calibration.pose()) + "')");
-        mount.device = osc->deviceName();
+        mount.device = session->senderName(left);
         device::saveMount(out, mount);
         std::cerr << arm << "mount calibration written to " << out << "\n";
     }
 };
-
-/// The left arm's usable sensor packets so far (its device's, or its OSC sender's samples).
-std::uint64_t leftPackets(device::LiveSession& session)
-{
-    if (device::OscReceiver* osc = session.leftOscReceiver()) return osc->stats().imu + osc->stats().orientation;
-    return session.leftLink() ? session.leftLink()->stats().packets : 0;
-}
-
-/// What a port or OSC source that delivered no sensor data did send, in words naming it (`left`:
-/// the left arm's source, `--port-left` or `--osc-in-left`).
-std::string noDataMessage(device::LiveSession& session, const device::LiveConfig& config, double seconds, bool left = false)
-{
-    char within[64];
-    std::snprintf(within, sizeof within, "%.1f s", seconds);
-    const bool port = left ? config.leftSource == device::LiveConfig::LeftSource::Port : config.source == device::LiveConfig::Source::Port;
-    if (port) {
-        device::DeviceLink* link = left ? session.leftLink() : session.deviceLink();
-        const device::LinkStats l = link ? link->stats() : device::LinkStats {};
-        std::string m = std::string(left ? "the left arm: " : "") + "no sensor data from " + (left ? config.leftPort : config.port) + " (" +
-                        std::to_string(left ? config.leftBaud : config.baud) + " baud) within " + within + ": ";
-        if (l.bytesIn == 0)
-            return m + "not a byte was heard. Is the device switched on, and is this its port? ('armadillo ports' lists them)";
-        return m + std::to_string(l.bytesIn) + " bytes were heard but no valid sensor packet (" + std::to_string(l.badPackets) +
-               " bad packets, " + std::to_string(l.resyncs) + " resyncs, " + std::to_string(l.discardedBytes) +
-               " bytes discarded): is the baud rate right (--baud), and is it an ARMadillo board?";
-    }
-    device::OscReceiver* osc = left ? session.leftOscReceiver() : session.oscReceiver();
-    const device::OscInputStats o = osc ? osc->stats() : device::OscInputStats {};
-    const bool serial = osc && !osc->serialPath().empty();
-    std::string m = std::string(left ? "the left arm: " : "") + "no usable sensor data on " +
-                    (serial ? "serial port " + osc->serialPath() + " (SLIP-framed OSC)" : "UDP/TCP port " + std::to_string(osc ? osc->port() : 0)) +
-                    " within " + within + ": ";
-    if (o.datagrams == 0)
-        return m + (serial ? std::string("not a message arrived. Is the NGIMU switched on, and is this its port? ('armadillo ports' lists them)")
-                           : std::string("not a datagram arrived. Is the sender pointed at this machine's address and port, on the same "
-                                         "network, and not blocked by a firewall? (docs/SENSORS.md)"));
-    return m + std::to_string(o.datagrams) + " datagrams arrived but none carried usable sensor data; heard instead: " +
-           device::describeHeard(osc->merger().heard()) + (osc->lastError().empty() ? std::string() : "; last refusal: " + osc->lastError()) +
-           " (" + osc->statsJson() + ")";
-}
 
 } // namespace
 
@@ -577,12 +539,13 @@ int runLiveSession(const CommandLine& cl, const LiveCommand& command)
     }
     if (live::TactorOutput* t = session.tactors()) std::cerr << who << "tactors on " << t->describe() << "\n";
     std::vector<std::unique_ptr<GuidedMount>> mountCalibrations;   // the right arm's, the left arm's
-    for (const auto& [out, osc, option, arm] : {std::tuple {mountOut, session.oscReceiver(), "--calibrate-mount", ""},
-                                                std::tuple {leftMountOut, session.leftOscReceiver(), "--calibrate-mount-left", "left arm "}}) {
-        if (out.empty() || !osc) continue;
+    for (const auto& [out, left, option, arm] : {std::tuple {mountOut, false, "--calibrate-mount", ""},
+                                                 std::tuple {leftMountOut, true, "--calibrate-mount-left", "left arm "}}) {
+        if (out.empty() || !session.enableSensorTap(left)) continue;
         mountCalibrations.push_back(std::make_unique<GuidedMount>());
         GuidedMount& g = *mountCalibrations.back();
-        g.osc = osc;
+        g.session = &session;
+        g.left = left;
         g.out = out;
         g.option = option;
         g.arm = arm;
@@ -596,15 +559,8 @@ int runLiveSession(const CommandLine& cl, const LiveCommand& command)
     session.start();
     const auto start = std::chrono::steady_clock::now();
     std::string shownError;
-    bool shownFormat = false, shownLeftFormat = false;
-    bool shownRates = false;
-    std::string shownSerialError, shownTcp;
-    if (device::OscReceiver* osc = session.oscReceiver()) {
-        if (!osc->serialPath().empty())
-            std::cerr << who << "OSC input: SLIP-framed OSC on serial port " << osc->serialPath() << "\n";
-        else if (!osc->tcpError().empty())
-            std::cerr << who << "OSC input: UDP port " << osc->port() << " only (no TCP input: " << osc->tcpError() << ")\n";
-    }
+    live::SourceReport report(session);   // what the sources say, in words (Live/SourceReport.h)
+    for (const std::string& line : report.startup()) std::cerr << who << line << "\n";
     bool shownCardError = false, shownTactorError = false;
     // A progress line on a terminal (stderr only, so stdout keeps just the JSON summary), not
     // while a guided procedure prints its own instructions there.
@@ -620,11 +576,11 @@ int runLiveSession(const CommandLine& cl, const LiveCommand& command)
         const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (seconds > 0.0 && elapsed >= seconds) break;
         if (needsData && dataTimeout > 0.0 && elapsed >= dataTimeout && session.summary().packets == 0) {
-            noData = noDataMessage(session, config, dataTimeout);
+            noData = report.noData(dataTimeout);
             break;
         }
-        if (leftNeedsData && dataTimeout > 0.0 && elapsed >= dataTimeout && leftPackets(session) == 0) {   // the left arm's source too
-            noData = noDataMessage(session, config, dataTimeout, true);
+        if (leftNeedsData && dataTimeout > 0.0 && elapsed >= dataTimeout && report.leftPackets() == 0) {   // the left arm's source too
+            noData = report.noData(dataTimeout, true);
             break;
         }
         if (session.recordingEnded()) {
@@ -677,49 +633,7 @@ int runLiveSession(const CommandLine& cl, const LiveCommand& command)
             if (voice) voice->status(e);
         }
         shownError = e;
-        if (device::OscReceiver* osc = session.oscReceiver()) {
-            const device::OscInputStats st = osc->stats();
-            const bool usable = st.imu + st.orientation > 0;
-            if (!osc->serialPath().empty()) {
-                const std::string se = osc->serialError();
-                if (se != shownSerialError && !se.empty()) std::cerr << lineStart << who << se << " (reopening)\n";
-                shownSerialError = se;
-            }
-            // Once the streams have run a while: the rate of each, and a warning when too slow.
-            if (usable && !shownRates && elapsed >= 3.0) {
-                shownRates = true;
-                const device::OscSensorRates r = osc->merger().rates();
-                std::string line;
-                for (const auto& [name, hz] : {std::pair<const char*, double> {"gyro", r.gyro}, {"accel", r.accel}, {"gravity", r.gravity},
-                                               {"user accel", r.userAccel}, {"mag", r.mag}, {"compass", r.heading}, {"imu", r.imu},
-                                               {"orientation", r.orientation}}) {
-                    if (!(hz > 0.0)) continue;
-                    char buf[48];
-                    std::snprintf(buf, sizeof buf, "%s%s %.0f Hz", line.empty() ? "" : ", ", name, hz);
-                    line += buf;
-                }
-                if (st.unchanged > 0) line += " (Sensors2OSC sends only changed readings: rates are of changes)";
-                std::cerr << lineStart << who << "OSC rates: " << (line.empty() ? std::string("none measured") : line) << "\n";
-                const std::string advice = device::lowRateAdvice(osc->format(), r.fusion());
-                if (!advice.empty() && st.unchanged == 0) std::cerr << lineStart << who << "warning: " << advice << "\n";
-            }
-        }
-        if (device::OscReceiver* osc = session.oscReceiver(); osc && !shownFormat && osc->format() != device::OscFormat::Auto) {
-            const std::string sender = osc->deviceName();
-            if (!sender.empty() || osc->stats().imu + osc->stats().orientation > 0) {
-                std::cerr << lineStart << who << "OSC input: " << device::oscFormatName(osc->format())
-                          << (cl.has("--osc-format") ? " (forced)" : " (detected)") << " from " << (sender.empty() ? "?" : sender)
-                          << ", mount " << osc->merger().mount().name << "\n";
-                shownFormat = true;
-            }
-        }
-        if (device::OscReceiver* osc = session.leftOscReceiver(); osc && !shownLeftFormat && osc->format() != device::OscFormat::Auto &&
-                                                                 osc->stats().imu + osc->stats().orientation > 0) {
-            std::cerr << lineStart << who << "left arm OSC input: " << device::oscFormatName(osc->format())
-                      << (cl.has("--osc-format-left") ? " (forced)" : " (detected)") << " from "
-                      << (osc->deviceName().empty() ? std::string("?") : osc->deviceName()) << ", mount " << osc->merger().mount().name << "\n";
-            shownLeftFormat = true;
-        }
+        for (const std::string& line : report.poll(elapsed)) std::cerr << lineStart << who << line << "\n";
         for (const auto& g : mountCalibrations) g->step();
         if (messages) messages->poll(messageScene, std::cerr, lineStart);
         if (const audio::SoundCard* card = session.soundCard(); card && card->failed() && !shownCardError) {
@@ -769,9 +683,9 @@ int runLiveSession(const CommandLine& cl, const LiveCommand& command)
     session.stop();
     if (messages) messages->stop();
     if (needsData && dataTimeout > 0.0 && noData.empty() && session.summary().packets == 0)
-        noData = noDataMessage(session, config, session.summary().seconds);
-    if (leftNeedsData && dataTimeout > 0.0 && noData.empty() && leftPackets(session) == 0)
-        noData = noDataMessage(session, config, session.summary().seconds, true);
+        noData = report.noData(session.summary().seconds);
+    if (leftNeedsData && dataTimeout > 0.0 && noData.empty() && report.leftPackets() == 0)
+        noData = report.noData(session.summary().seconds, true);
     if (!noData.empty()) {   // nothing was played: no file is written
         std::cout << device::summaryJson(session.summary()) << "\n" << std::flush;
         throw IoError(noData);
@@ -805,11 +719,7 @@ int runLiveSession(const CommandLine& cl, const LiveCommand& command)
         if (const live::MappingRig* m = session.mapping())   // note-offs, CC 120 and CC 123 the mapping's MIDI sent
             summary.insert(summary.size() - 1, ",\"panic_midi_events\":" + std::to_string(m->panicMidiEvents()));
     }
-    if (device::DeviceLink* leftLink = session.leftLink())
-        summary.insert(summary.size() - 1, ",\"left_packets\":" + std::to_string(leftLink->stats().packets));
-    if (device::OscReceiver* leftOsc = session.leftOscReceiver())   // the left sender's usable samples and its input's counters
-        summary.insert(summary.size() - 1, ",\"left_packets\":" + std::to_string(leftOsc->stats().imu + leftOsc->stats().orientation) +
-                                               ",\"left_osc\":{" + leftOsc->statsJson() + "}");
+    summary.insert(summary.size() - 1, report.leftSummaryJson());
     if (messages) summary.insert(summary.size() - 1, messages->summaryJson());
     if (cues) summary.insert(summary.size() - 1, ",\"cue\":" + std::to_string(cues->current()) + ",\"cue_changes\":" + std::to_string(cues->changes()));
     if (live::TactorOutput* t = session.tactors())   // the tactor output's own counters (docs/TACTORS.md)

@@ -3,7 +3,7 @@
 #include "Cli/MapOptions.h"
 #include "Cli/SceneOptions.h"
 #include "Cli/TactorOptions.h"
-#include "Osc/OscIo.h"
+#include "Osc/HostPort.h"
 #include "Osc/Mount.h"
 #include "Live/MappingRig.h"
 #include "Mapping/MidiFile.h"

@@ -628,4 +628,28 @@ std::string LiveSession::lastError() const
     return "";
 }
 
+bool LiveSession::enableSensorTap(bool left)
+{
+    OscReceiver* osc = left ? leftOscIn_.get() : oscIn_.get();
+    if (!osc) return false;
+    osc->merger().enableSensorTap(true);
+    return true;
+}
+
+bool LiveSession::popSensorFrame(bool left, Eigen::Vector3d& accel, Eigen::Vector3d& gyro)
+{
+    OscReceiver* osc = left ? leftOscIn_.get() : oscIn_.get();
+    SensorFrameSample p;
+    if (!osc || !osc->merger().popSensorSample(p)) return false;
+    accel = Eigen::Vector3d(p.accel[0], p.accel[1], p.accel[2]);
+    gyro = Eigen::Vector3d(p.gyro[0], p.gyro[1], p.gyro[2]);
+    return true;
+}
+
+std::string LiveSession::senderName(bool left) const
+{
+    const OscReceiver* osc = left ? leftOscIn_.get() : oscIn_.get();
+    return osc ? osc->deviceName() : std::string();
+}
+
 } // namespace armadillo::device

@@ -159,6 +159,14 @@ public:
     void finish();
 
     SessionSummary summary() const;
+    const LiveConfig& config() const noexcept { return config_; }
+    /// The guided mount calibration's samples of an OSC sender (`left`: the left arm's):
+    /// enableSensorTap starts keeping its sensor-frame samples (false: that arm has no OSC
+    /// input); popSensorFrame takes the oldest (accel m/s², gyro rad/s or NaN), false when none;
+    /// senderName is the sender's device name, for the mount file. Any one thread.
+    bool enableSensorTap(bool left);
+    bool popSensorFrame(bool left, Eigen::Vector3d& accel, Eigen::Vector3d& gyro);
+    std::string senderName(bool left) const;
     /// The engine that runs: the set list's current cue's, or the one scene's.
     Engine& engine() noexcept { return sounding(); }
     /// The set list's player (null without --setlist): request/next/previous from any thread.

@@ -4,6 +4,7 @@
 // and /armadillo/orientation, and the dialects of phone apps and the NGIMU (OscDialects.h),
 // merged into IMU samples by OscSampleMerger (OscInput.h), so what people own drives everything.
 #include "Core/Types.h"
+#include "Osc/HostPort.h"
 #include "Osc/Osc.h"
 #include "Osc/OscInput.h"
 #include <Eigen/Geometry>
@@ -20,13 +21,6 @@ struct Pose;
 namespace armadillo::device {
 
 class LinkPort;
-
-struct HostPort {
-    std::string host;
-    int port = 0;
-};
-/// "HOST:PORT", "[v6addr]:PORT" or ":PORT"/"PORT" (localhost). Throws std::invalid_argument.
-HostPort parseHostPort(const std::string& text);
 
 /// Sends datagrams without blocking (a full socket buffer drops the message). Messages are
 /// encoded on the stack: safe to call from the control thread.

@@ -11,7 +11,7 @@
 
 namespace armadillo::plugin {
 
-BlockControl::BlockControl(live::ControlLoop& loop, ControlToken& token, const Cells& cells, device::LevelSchedule& motors)
+BlockControl::BlockControl(live::ControlLoop& loop, live::ControlToken& token, const Cells& cells, device::LevelSchedule& motors)
     : loop_(loop), token_(token), cells_(cells), motors_(motors)
 {
     jassert(cells.elevation && cells.azimuth && cells.roll && cells.source);
@@ -85,7 +85,7 @@ void BlockControl::step(double dt, double wall, bool toMotors, const Transport& 
     } else {
         panicGesture_.reset();
     }
-    ArmFrame f;
+    live::ArmFrame f;
     f.t = clock_;
     f.valid = arm.valid;
     f.q[0] = arm.q.w();

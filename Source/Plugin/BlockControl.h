@@ -19,13 +19,13 @@
 #include "Link/LevelSchedule.h"
 #include "Live/ControlLoop.h"
 #include "Mapping/Mapper.h"
-#include "Plugin/ControlToken.h"
-#include "Plugin/LeftArm.h"
+#include "Live/ControlToken.h"
+#include "Live/LeftArm.h"
 #include "Plugin/MappingOutputs.h"
 #include "Plugin/MidiPort.h"
-#include "Plugin/OscLink.h"
+#include "Live/OscLink.h"
 #include "Plugin/Parameters.h"
-#include "Plugin/Stage.h"
+#include "Live/Stage.h"
 #include "Tactors/TactorRenderer.h"
 #include <juce_audio_processors/juce_audio_processors.h>
 #include <array>
@@ -57,7 +57,7 @@ public:
         const std::atomic<float>* source = nullptr;
     };
 
-    BlockControl(live::ControlLoop& loop, ControlToken& token, const Cells& cells, device::LevelSchedule& motors);
+    BlockControl(live::ControlLoop& loop, live::ControlToken& token, const Cells& cells, device::LevelSchedule& motors);
 
     /// Message thread, token held: a new sample rate; MIDI storage for the host's buffer. The
     /// mapping's sounding notes are ended at the start of the next block.
@@ -69,11 +69,11 @@ public:
     void setMidiPort(MidiPort* port) noexcept { port_ = port; }
     /// Before the control side runs: the stage (set list, panic, MIDI stage messages; Stage.h).
     /// Its commands act at the start of the next block (or idle step), never mid-block.
-    void setStage(Stage* stage) noexcept { stage_ = stage; }
+    void setStage(live::Stage* stage) noexcept { stage_ = stage; }
     /// Before the control side runs: the left arm (LeftArm.h, docs/STAGE.md "Two arms"). While it
     /// is on, each step fuses it and hands it to the engine (Engine::control with both arms when
     /// the engine was built with twoArms) and to the mapping (`left.*`, `arms.*` sources).
-    void setLeftArm(LeftArm* arm) noexcept { leftArm_ = arm; }
+    void setLeftArm(live::LeftArm* arm) noexcept { leftArm_ = arm; }
     /// The app's sensitivity test (TouchTestSession.h, issue 26): while set, each control step's
     /// levels come from this player (its own TactileEngine and SafetyStage) instead of the
     /// scene's; nullptr gives the motors back to the scene. Any thread; the player must outlive
@@ -169,7 +169,7 @@ public:
     std::uint64_t notesInDropped() const noexcept { return notesInDropped_.load(std::memory_order_relaxed); }
 
     // Published (any thread).
-    ArmFrame latestFrame() const noexcept { return frame_.load(); }
+    live::ArmFrame latestFrame() const noexcept { return frame_.load(); }
     /// Gestures of the control steps, for one consumer (the clock thread's OSC sender).
     bool popGesture(GestureEvent& g) noexcept { return gestures_.pop(g); }
     const char* lastGesture() const noexcept { return lastGesture_.load(std::memory_order_relaxed); }
@@ -213,7 +213,7 @@ private:
     void applyMappedStage() noexcept;
 
     live::ControlLoop& loop_;
-    ControlToken& token_;
+    live::ControlToken& token_;
     Cells cells_;
     device::LevelSchedule& motors_;
     std::atomic<double> sampleRate_ {48000.0};
@@ -250,8 +250,8 @@ private:
     std::uint32_t learnGeneration_ = 0;
     const SceneParameterTable* sceneTable_ = nullptr;
     MidiPort* port_ = nullptr;
-    Stage* stage_ = nullptr;
-    LeftArm* leftArm_ = nullptr;
+    live::Stage* stage_ = nullptr;
+    live::LeftArm* leftArm_ = nullptr;
     live::CuePlayer* cues_ = nullptr;   ///< token holder: the set list's player this block (null: none)
     bool panicApplied_ = false;         ///< token holder: the stage's panic as applied
     PanicGesture panicGesture_;         ///< token holder: the right arm's hang (Stage::panicGesture)
@@ -270,7 +270,7 @@ private:
     std::atomic<std::uint64_t> notesInDropped_ {0};
 
     MappingOutputs outputs_;
-    SeqLock<ArmFrame> frame_;
+    SeqLock<live::ArmFrame> frame_;
     SpscQueue<GestureEvent, 128> gestures_;
     std::atomic<const char*> lastGesture_ {""};
     std::atomic<std::uint64_t> gestureCount_ {0};

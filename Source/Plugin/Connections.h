@@ -20,9 +20,9 @@
 #include "Live/ControlLoop.h"
 #include "Plugin/BlockControl.h"
 #include "Plugin/DeviceConnection.h"
-#include "Plugin/LeftArm.h"
+#include "Live/LeftArm.h"
 #include "Plugin/MidiPort.h"
-#include "Plugin/OscLink.h"
+#include "Live/OscLink.h"
 #include <juce_audio_processors/juce_audio_processors.h>
 #include <atomic>
 #include <memory>
@@ -48,14 +48,14 @@ public:
     // OSC (message thread): returns "" or what was refused.
     juce::String configureOsc(bool outEnabled, const juce::String& outHost, int outPort, bool inEnabled, int inPort,
                               const juce::String& inFormat, const juce::String& inMount);
-    OscInput& oscInput() noexcept { return oscIn_; }
+    live::OscInput& oscInput() noexcept { return oscIn_; }
     /// The left arm's OSC sender (docs/STAGE.md "Two arms"; message thread): on/off and its
     /// port, the same dialects, detection and mount as the right arm's OSC input (format and
     /// mount detected). Returns "" or what was refused (the left arm is then off).
     juce::String configureLeftArmOsc(bool enabled, int port);
-    LeftArm& leftArm() noexcept { return leftArm_; }
+    live::LeftArm& leftArm() noexcept { return leftArm_; }
     bool leftArmOn() const noexcept { return leftArm_.on(); }
-    OscInput& leftOscInput() noexcept { return leftOscIn_; }
+    live::OscInput& leftOscInput() noexcept { return leftOscIn_; }
     device::OscInputStats leftOscInputStats() const { return leftOscIn_.stats(); }
     std::uint64_t oscMessagesSent() const noexcept { return oscOut_.messagesSent(); }
     /// The mapping's OSC targets (index = mapping::OscPacket::target), opened here (message
@@ -103,10 +103,10 @@ private:
     BlockControl& control_;
     mutable std::mutex simMutex_;      // simulated arm: message ↔ clock thread only
     device::SteerableArm simulator_;
-    OscOutput oscOut_;
-    OscInput oscIn_;
-    LeftArm leftArm_;                  // before leftOscIn_: its mailbox outlives the receiver
-    OscInput leftOscIn_;
+    live::OscOutput oscOut_;
+    live::OscInput oscIn_;
+    live::LeftArm leftArm_;                  // before leftOscIn_: its mailbox outlives the receiver
+    live::OscInput leftOscIn_;
     std::mutex mappingOscMutex_;       // mapping OSC senders: message ↔ clock thread only
     std::vector<std::unique_ptr<device::OscSender>> mappingOsc_;
     std::atomic<std::uint64_t> mappingOscSent_ {0}, mappingOscDropped_ {0};

@@ -63,7 +63,7 @@ bool DeviceConnection::connect(const std::string& port, int baud, const std::str
             calibrationNote_ = "simulator's calibration";
         } else {
             std::string why;
-            claim_ = PortRegistry::claim(port, why);
+            claim_ = live::PortRegistry::claim(port, why);
             if (claim_ == nullptr) {
                 message += why + ". Choose another port, or follow that instance over OSC.";
                 return false;

@@ -14,7 +14,7 @@
 #include "Link/LevelSchedule.h"
 #include "Plugin/CalibrationSession.h"
 #include "Live/LiveInput.h"
-#include "Plugin/PortRegistry.h"
+#include "Live/PortRegistry.h"
 #include "Tactile/TactileEngine.h"
 #include <atomic>
 #include <cstdint>
@@ -98,7 +98,7 @@ private:
     std::uint64_t linkSeen_ = 0;               // link thread only
     std::atomic<std::uint64_t> linkGeneration_ {0};
     CalibrationSession calibrationSession_;
-    std::unique_ptr<PortClaim> claim_;
+    std::unique_ptr<live::PortClaim> claim_;
     std::unique_ptr<device::SimulatedForearm> simulator_;
     std::unique_ptr<device::DeviceLink> link_;
 };

@@ -67,7 +67,7 @@ std::unique_ptr<live::EngineSlot> EngineHandover::build(const EngineRequest& req
     return slot;
 }
 
-void EngineHandover::install(const EngineRequest& request, ControlToken& token)
+void EngineHandover::install(const EngineRequest& request, live::ControlToken& token)
 {
     std::lock_guard<std::mutex> lock(mutex_);
     auto slot = build(request);

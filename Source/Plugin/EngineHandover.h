@@ -9,7 +9,7 @@
 // the control token (the caller proves the control side is not running).
 #include "Live/ControlLoop.h"
 #include "Navigation/NavigationScene.h"
-#include "Plugin/ControlToken.h"
+#include "Live/ControlToken.h"
 #include "Plugin/Parameters.h"
 #include <juce_audio_processors/juce_audio_processors.h>
 #include <cstdint>
@@ -54,7 +54,7 @@ public:
 
     /// Builds an engine for `request` and installs it at once (constructor, prepareToPlay): takes
     /// `token` while it swaps, so the control side is not running meanwhile.
-    void install(const EngineRequest& request, ControlToken& token);
+    void install(const EngineRequest& request, live::ControlToken& token);
     /// Timer: deletes the engine the control side gave up, and offers a new one when `request`
     /// differs from what the newest engine was built for (one hand-over in flight at a time).
     void update(const EngineRequest& request);

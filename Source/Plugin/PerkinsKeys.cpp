@@ -1,6 +1,6 @@
 #include "Plugin/PerkinsKeys.h"
 #include "Access/Chords.h"
-#include "Plugin/ReaderVoice.h"
+#include "Access/ReaderVoice.h"
 #include <cctype>
 
 namespace armadillo::plugin {
@@ -57,7 +57,7 @@ PerkinsChords::Event PerkinsChords::up(char key)
 }
 
 void TrainingKeys::attach(juce::TextEditor& answer, std::function<void()> submit,
-                          std::function<void(const juce::String&)> announce, ReaderVoice* voice)
+                          std::function<void(const juce::String&)> announce, access::ReaderVoice* voice)
 {
     answer_ = &answer;
     voice_ = voice;

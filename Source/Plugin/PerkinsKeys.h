@@ -15,6 +15,10 @@
 #include <functional>
 #include <string>
 
+namespace armadillo::access {
+class ReaderVoice;
+}
+
 namespace armadillo::plugin {
 
 class PerkinsChords {
@@ -41,14 +45,13 @@ private:
     braille::Dots chord_ = 0;     ///< every dot pressed since the chord began
 };
 
-class ReaderVoice;
 
 class TrainingKeys : public juce::KeyListener {
 public:
     /// Wires the keys to a panel's answer field: chord letters are inserted (and echoed), Space
     /// and Return submit, F3/F4 go to `voice` (may be null). Adds itself as the field's key listener.
     void attach(juce::TextEditor& answer, std::function<void()> submit, std::function<void(const juce::String&)> announce,
-                ReaderVoice* voice);
+                access::ReaderVoice* voice);
     /// Timer: keys typed on the braille display answer as typed letters do ("\n" submits,
     /// "\b" erases).
     void pollDisplay();
@@ -69,7 +72,7 @@ public:
 
 private:
     juce::TextEditor* answer_ = nullptr;
-    ReaderVoice* voice_ = nullptr;
+    access::ReaderVoice* voice_ = nullptr;
     bool chordMode_ = false;
     PerkinsChords chords_;
     std::string down_;            ///< chord keys seen down and not yet seen up

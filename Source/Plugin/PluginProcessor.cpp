@@ -476,7 +476,7 @@ void ArmadilloProcessor::applyVoiceSettings()
     voiceOpened_ = mode;
     const bool on = mode == "on"
                     || (mode == "auto" && wrapperType == wrapperType_Standalone
-                        && ReaderVoice::readerDetected("/proc", ReaderVoice::defaultSockets()));
+                        && access::ReaderVoice::readerDetected("/proc", access::ReaderVoice::defaultSockets()));
     if (! on) {
         voice_->close();
         voiceOn_ = false;
@@ -863,7 +863,7 @@ void ArmadilloProcessor::stageTick()
     const auto count = stage_.panics();
     if (panicked && (! reportedPanicked_ || count != reportedPanics_)) {
         setStatus("PANIC: all sound and every motor off, the notes sent ended (CC 120 and 123 on all channels). "
-                  "Resume: R in the performance view, Stage > Resume, or MIDI CC 119.");
+                  "Resume: R in the performance view, live::Stage > Resume, or MIDI CC 119.");
         announce(*this, "stage", "Panic: all sound and every motor off.", juce::AccessibilityHandler::AnnouncementPriority::high);
     } else if (! panicked && reportedPanicked_) {
         setStatus("Resumed.");

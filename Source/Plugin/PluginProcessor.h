@@ -15,17 +15,17 @@
 #include "Live/ControlLoop.h"
 #include "Plugin/BlockControl.h"
 #include "Plugin/Connections.h"
-#include "Plugin/ControlToken.h"
+#include "Live/ControlToken.h"
 #include "Plugin/EngineHandover.h"
 #include "Plugin/MappingSession.h"
 #include "Plugin/Parameters.h"
 #include "Plugin/PluginState.h"
-#include "Plugin/Stage.h"
+#include "Live/Stage.h"
 #include "Plugin/TactorRig.h"
 #include "Plugin/NavigationRig.h"
 #include "Plugin/MessagesRig.h"
 #include "Live/StageControl.h"
-#include "Plugin/ReaderVoice.h"
+#include "Access/ReaderVoice.h"
 #include "Plugin/AdaptiveSession.h"
 #include "Plugin/TouchTestSession.h"
 #include "Plugin/TrainingAccess.h"
@@ -88,7 +88,7 @@ public:
     juce::AudioProcessorValueTreeState& parameters() noexcept { return apvts_; }
     juce::ValueTree& settings() noexcept { return settings_; }
     const SceneParameterTable& sceneTable() const noexcept { return sceneTable_; }
-    ArmFrame latestFrame() const noexcept { return control_.latestFrame(); }
+    live::ArmFrame latestFrame() const noexcept { return control_.latestFrame(); }
     SourceKind source() const noexcept { return control_.source(); }
     int sceneIndex() const noexcept;
     juce::String statusMessage() const;
@@ -120,7 +120,7 @@ public:
         return training_.copyLog(generation, csv, why);
     }
     std::uint64_t oscMessagesSent() const noexcept { return connections_.oscMessagesSent(); }
-    OscInput& oscInput() noexcept { return connections_.oscInput(); }
+    live::OscInput& oscInput() noexcept { return connections_.oscInput(); }
     const char* lastGesture() const noexcept { return control_.lastGesture(); }
     std::uint64_t gestureCount() const noexcept { return control_.gestureCount(); }
     double controlRateMeasured() const noexcept { return connections_.controlRateMeasured(); }
@@ -134,7 +134,7 @@ public:
     /// Self-voicing and the braille display (ReaderVoice.h; message thread). On when the
     /// readerVoice setting is "on", or "auto" in the standalone app while a screen reader or
     /// brltty runs. ARMADILLO_SPEECH / ARMADILLO_BRAILLE name the backends (default auto / brlapi).
-    ReaderVoice& voice() noexcept { return *voice_; }
+    access::ReaderVoice& voice() noexcept { return *voice_; }
     bool voiceOn() const noexcept { return voiceOn_; }
     void speakAnnouncement(const juce::String& text, bool interrupt) const override;
     /// The sensitivity test (TouchTestSession.h; message thread): while it runs, the motors play
@@ -292,7 +292,7 @@ private:
 
     // The live rig, in the order it is built (and the reverse of teardown).
     live::ControlLoop loop_;
-    ControlToken token_;
+    live::ControlToken token_;
     device::LevelSchedule motors_;               // control steps → device link
     EngineHandover engines_;
     TrainingAccess training_;
@@ -306,7 +306,7 @@ private:
                                            0.0};
     AdaptiveSession adaptive_ {feedbackPlayer_};   // plays through feedbackPlayer_
     int feedbackUntil_ = 0;                      // the sequence whose end gives the motors back to the scene
-    Stage stage_;                                // before control_: the control step keeps a pointer
+    live::Stage stage_;                                // before control_: the control step keeps a pointer
     bool feedbackRestart_ = false;               // then the braille trial starts again from its first row
     BlockControl control_;
     Connections connections_;
@@ -314,7 +314,7 @@ private:
     NavigationRig navigation_;                   // its route and link ride in the engine request     // after connections_: goes first (its output's pointer out of the step)
     std::mutex mappingMutex_;                    // message thread vs a host's state calls; never audio
     MappingSession mapping_;
-    std::unique_ptr<ReaderVoice> voice_ = std::make_unique<ReaderVoice>();
+    std::unique_ptr<access::ReaderVoice> voice_ = std::make_unique<access::ReaderVoice>();
     bool voiceOn_ = false;
     juce::String voiceOpened_;                   // the readerVoice setting the backends were opened for
 

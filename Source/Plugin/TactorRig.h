@@ -9,7 +9,7 @@
 //
 // Threads: the message thread (and prepareToPlay, with the control token held where said).
 #include "Plugin/BlockControl.h"
-#include "Plugin/ControlToken.h"
+#include "Live/ControlToken.h"
 #include <juce_data_structures/juce_data_structures.h>
 #include <memory>
 
@@ -21,7 +21,7 @@ namespace armadillo::plugin {
 
 class TactorRig {
 public:
-    TactorRig(BlockControl& control, ControlToken& token);
+    TactorRig(BlockControl& control, live::ControlToken& token);
     ~TactorRig();
 
     /// The settings' rig for `channels` output channels (the bus's, 0 = no limit), `motors` (9 or
@@ -53,7 +53,7 @@ public:
 
 private:
     BlockControl& control_;
-    ControlToken& token_;
+    live::ControlToken& token_;
     int busChannels_ = 0;
     double sampleRate_ = 48000.0;
     std::unique_ptr<tactors::TactorRenderer> waiting_;   // built, not yet taken by the hand-over

@@ -14,7 +14,7 @@
 #include "Osc/Mount.h"
 #include "Osc/Osc.h"
 #include "Osc/OscDialects.h"
-#include "Plugin/OscLink.h"
+#include "Live/OscLink.h"
 #include <arpa/inet.h>
 #include <catch2/catch.hpp>
 #include <algorithm>
@@ -780,7 +780,7 @@ TEST_CASE("osc senders: held-out senders written from the vendors' definitions g
 TEST_CASE("osc senders: the plugin's OSC source detects the NGIMU and delivers device-frame samples", "[osc][senders][plugin]")
 {
     live::LiveInput live;
-    plugin::OscInput input(live);
+    live::OscInput input(live);
     const int port = test::freeUdpPort();
     std::string why;
     REQUIRE(input.configure(true, port, why));

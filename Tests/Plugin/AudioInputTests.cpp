@@ -41,7 +41,7 @@ public:
 
 struct Rig {
     live::ControlLoop loop;
-    ControlToken token;
+    live::ControlToken token;
     device::LevelSchedule motors;
     std::atomic<float> elevation {0.0f}, azimuth {0.0f}, roll {0.0f}, source {static_cast<float>(SourceKind::HostAutomation)};
     EarScene* ear = nullptr;

@@ -34,9 +34,9 @@ float piano(long i)
 
 struct Rig {
     live::ControlLoop loop;
-    ControlToken token;
+    live::ControlToken token;
     device::LevelSchedule motors;
-    Stage stage;
+    live::Stage stage;
     std::atomic<float> elevation {30.0f}, azimuth {10.0f}, roll {0.0f}, source {static_cast<float>(SourceKind::HostAutomation)};
     std::unique_ptr<BlockControl> control;
     Rig(const std::string& scene, bool setList)
@@ -75,8 +75,8 @@ Played play(const std::string& scene, bool setList, bool notes, int block)
     struct Ev { long at; int note; int velocity; };
     std::vector<Ev> events;
     if (notes) {
-        events.push_back({static_cast<long>(0.1 * kFs), Stage::kNextNote, 100});
-        events.push_back({static_cast<long>(0.15 * kFs), Stage::kNextNote, 0});
+        events.push_back({static_cast<long>(0.1 * kFs), live::Stage::kNextNote, 100});
+        events.push_back({static_cast<long>(0.15 * kFs), live::Stage::kNextNote, 0});
         for (int k = 0; k < 4; ++k) {
             events.push_back({static_cast<long>((0.2 + 0.5 * k) * kFs), kPhrase[k], 90});
             events.push_back({static_cast<long>((0.65 + 0.5 * k) * kFs), kPhrase[k], 0});

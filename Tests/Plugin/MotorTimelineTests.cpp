@@ -75,7 +75,7 @@ RunResult runHost(const HostPlan& plan)
         slot->sceneName = "demand";
         loop.replace(std::move(slot));
     }
-    ControlToken token;
+    live::ControlToken token;
     device::LevelSchedule motors;
     std::atomic<float> elevation {0.0f}, azimuth {0.0f}, roll {0.0f}, source {static_cast<float>(SourceKind::HostAutomation)};
     BlockControl control(loop, token, BlockControl::Cells {&elevation, &azimuth, &roll, &source}, motors);

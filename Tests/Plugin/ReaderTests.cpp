@@ -9,7 +9,7 @@
 #include "Plugin/AdaptiveSession.h"
 #include "Plugin/PerkinsKeys.h"
 #include "Plugin/PluginState.h"
-#include "Plugin/ReaderVoice.h"
+#include "Access/ReaderVoice.h"
 #include "Plugin/TouchTestSession.h"
 #include "HostedPlugin.h"
 #include "Common/Eventually.h"
@@ -96,7 +96,7 @@ TEST_CASE("Self-voicing: every text reaches the speech and the braille display; 
 {
     const auto dir = freshDir("armadillo-reader-voice");
     const auto speech = dir.getChildFile("speech.txt"), display = dir.getChildFile("display.txt");
-    ReaderVoice voice;
+    armadillo::access::ReaderVoice voice;
     voice.say("not heard: nothing is open");   // remembered for repeat, but no backend yet
     REQUIRE(voice.open("capture:" + speech.getFullPathName().toStdString(), "capture:" + display.getFullPathName().toStdString()) == "");
     CHECK(voice.speaking());
@@ -143,17 +143,17 @@ TEST_CASE("Self-voicing is on by default when a screen reader or brltty runs", "
     const auto proc = dir.getChildFile("proc");
     REQUIRE(proc.getChildFile("1").createDirectory());
     REQUIRE(proc.getChildFile("1/comm").replaceWithText("systemd\n", false, false, "\n"));
-    CHECK(! ReaderVoice::readerDetected(proc.getFullPathName().toStdString(), {}));
-    CHECK(! ReaderVoice::readerDetected(proc.getFullPathName().toStdString(), {dir.getChildFile("BrlAPI/0").getFullPathName().toStdString()}));
+    CHECK(! armadillo::access::ReaderVoice::readerDetected(proc.getFullPathName().toStdString(), {}));
+    CHECK(! armadillo::access::ReaderVoice::readerDetected(proc.getFullPathName().toStdString(), {dir.getChildFile("BrlAPI/0").getFullPathName().toStdString()}));
     for (const char* reader : {"orca", "brltty", "speech-dispatch"}) {   // comm is cut at 15 characters
         REQUIRE(proc.getChildFile("77").createDirectory());
         REQUIRE(proc.getChildFile("77/comm").replaceWithText(juce::String(reader) + "\n", false, false, "\n"));
-        CHECK(ReaderVoice::readerDetected(proc.getFullPathName().toStdString(), {}));
+        CHECK(armadillo::access::ReaderVoice::readerDetected(proc.getFullPathName().toStdString(), {}));
         REQUIRE(proc.getChildFile("77").deleteRecursively());
     }
     // The BrlAPI socket alone (brltty started by the system, not visible in this /proc).
     REQUIRE(dir.getChildFile("BrlAPI/0").create());
-    CHECK(ReaderVoice::readerDetected(proc.getFullPathName().toStdString(), {dir.getChildFile("BrlAPI/0").getFullPathName().toStdString()}));
+    CHECK(armadillo::access::ReaderVoice::readerDetected(proc.getFullPathName().toStdString(), {dir.getChildFile("BrlAPI/0").getFullPathName().toStdString()}));
 }
 
 TEST_CASE("Keyboard only: a scripted answer session with chords, letters, repeat and the display's keys", "[plugin][reader]")
@@ -165,7 +165,7 @@ TEST_CASE("Keyboard only: a scripted answer session with chords, letters, repeat
     // BrlAPI backend, so its writes and its keys go the whole way.
     armadillo::test::FakeBrlApiServer server;
     REQUIRE(server.ok());
-    ReaderVoice voice;
+    armadillo::access::ReaderVoice voice;
     const auto why = voice.open("capture:" + speech.getFullPathName().toStdString(), "brlapi:" + server.host());
     if (why.find("not found") != std::string::npos) {
         WARN("libbrlapi is not installed here (Debian: libbrlapi0.8): " + why);
@@ -441,7 +441,7 @@ TEST_CASE("Arm feedback through the plugin's control path: the stimulus takes th
         slot->sceneName = "hold";
         loop.replace(std::move(slot));
     }
-    ControlToken token;
+    live::ControlToken token;
     device::LevelSchedule motors;
     std::atomic<float> elevation {0.0f}, azimuth {0.0f}, roll {0.0f}, source {static_cast<float>(SourceKind::HostAutomation)};
     BlockControl control(loop, token, BlockControl::Cells {&elevation, &azimuth, &roll, &source}, motors);

@@ -97,7 +97,7 @@ bool hasEvent(const juce::MidiBuffer& midi, int status, int data1, int* offset =
     return false;
 }
 
-bool anyMotorOn(const ArmFrame& f)
+bool anyMotorOn(const live::ArmFrame& f)
 {
     for (int i = 0; i < f.motorCount; ++i)
         if (f.motors[static_cast<std::size_t>(i)] > 0) return true;
@@ -330,9 +330,9 @@ TEST_CASE("stage: without a set list CC 120 still panics the scene; notes step c
     rig.processor.resume();
 
     REQUIRE(rig.processor.useSetList(kFourCues, "show.json") == "");
-    const auto nextNote = juce::MidiMessage::noteOn(16, Stage::kNextNote, 1.0f);
-    const auto prevNote = juce::MidiMessage::noteOn(16, Stage::kPrevNote, 1.0f);
-    const auto release = juce::MidiMessage::noteOff(16, Stage::kNextNote);
+    const auto nextNote = juce::MidiMessage::noteOn(16, live::Stage::kNextNote, 1.0f);
+    const auto prevNote = juce::MidiMessage::noteOn(16, live::Stage::kPrevNote, 1.0f);
+    const auto release = juce::MidiMessage::noteOff(16, live::Stage::kNextNote);
     rig.run(&nextNote);
     rig.run(&release);   // a note-off steps nothing
     rig.run(&nextNote);

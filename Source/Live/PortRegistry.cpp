@@ -1,4 +1,4 @@
-#include "Plugin/PortRegistry.h"
+#include "Live/PortRegistry.h"
 #include <cctype>
 #include <cerrno>
 #include <cstdio>
@@ -8,7 +8,7 @@
 #include <sys/file.h>
 #include <unistd.h>
 
-namespace armadillo::plugin {
+namespace armadillo::live {
 
 PortClaim::~PortClaim()
 {
@@ -57,4 +57,4 @@ std::unique_ptr<PortClaim> PortRegistry::claim(const std::string& port, std::str
     return std::unique_ptr<PortClaim>(new PortClaim(port, fd));
 }
 
-} // namespace armadillo::plugin
+} // namespace armadillo::live

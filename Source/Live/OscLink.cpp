@@ -1,10 +1,10 @@
-#include "Plugin/OscLink.h"
+#include "Live/OscLink.h"
 #include "Core/Pose.h"
 #include "Osc/Mount.h"
 #include <cstdio>
 #include <exception>
 
-namespace armadillo::plugin {
+namespace armadillo::live {
 
 bool OscOutput::configure(bool enabled, const std::string& host, int port, std::string& whyNot)
 {
@@ -173,4 +173,4 @@ device::OscInputStats OscInput::stats() const
     return receiver_ != nullptr ? receiver_->stats() : device::OscInputStats {};
 }
 
-} // namespace armadillo::plugin
+} // namespace armadillo::live

@@ -26,7 +26,7 @@
 #include <cstdint>
 #include <memory>
 
-namespace armadillo::plugin {
+namespace armadillo::live {
 
 class Stage {
 public:
@@ -104,4 +104,4 @@ private:
     std::atomic<bool> panicGesture_ {false};
 };
 
-} // namespace armadillo::plugin
+} // namespace armadillo::live

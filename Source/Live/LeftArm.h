@@ -13,7 +13,7 @@
 #include <atomic>
 #include <cstdint>
 
-namespace armadillo::plugin {
+namespace armadillo::live {
 
 class LeftArm {
 public:
@@ -51,4 +51,4 @@ private:
     bool wasOn_ = false;
 };
 
-} // namespace armadillo::plugin
+} // namespace armadillo::live

@@ -1,11 +1,11 @@
-#include "Plugin/ReaderVoice.h"
+#include "Access/ReaderVoice.h"
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
-namespace armadillo::plugin {
+namespace armadillo::access {
 
 namespace {
 constexpr std::size_t kMaxQueued = 64;   // a flood of announcements keeps only the newest
@@ -209,4 +209,4 @@ std::vector<std::string> ReaderVoice::defaultSockets()
     return out;
 }
 
-} // namespace armadillo::plugin
+} // namespace armadillo::access

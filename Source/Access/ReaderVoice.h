@@ -18,7 +18,7 @@
 #include <thread>
 #include <vector>
 
-namespace armadillo::plugin {
+namespace armadillo::access {
 
 class ReaderVoice {
 public:
@@ -80,4 +80,4 @@ private:
     std::thread worker_;
 };
 
-} // namespace armadillo::plugin
+} // namespace armadillo::access

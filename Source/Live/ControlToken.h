@@ -5,7 +5,7 @@
 #include <atomic>
 #include <thread>
 
-namespace armadillo::plugin {
+namespace armadillo::live {
 
 class ControlToken {
 public:
@@ -26,4 +26,4 @@ private:
     std::atomic<bool> held_ {false};
 };
 
-} // namespace armadillo::plugin
+} // namespace armadillo::live

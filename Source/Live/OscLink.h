@@ -13,7 +13,7 @@
 #include <mutex>
 #include <string>
 
-namespace armadillo::plugin {
+namespace armadillo::live {
 
 /// What one control update publishes (audio/control thread → UI and OSC, through a seqlock).
 struct ArmFrame {
@@ -76,4 +76,4 @@ private:
     std::chrono::steady_clock::time_point openedAt_ {};   // when the receiver started listening
 };
 
-} // namespace armadillo::plugin
+} // namespace armadillo::live

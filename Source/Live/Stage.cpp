@@ -1,6 +1,6 @@
-#include "Plugin/Stage.h"
+#include "Live/Stage.h"
 
-namespace armadillo::plugin {
+namespace armadillo::live {
 
 Stage::~Stage() = default;
 
@@ -78,4 +78,4 @@ live::CuePlayer* Stage::beginStep() noexcept
     return player;
 }
 
-} // namespace armadillo::plugin
+} // namespace armadillo::live

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace armadillo::plugin {
+namespace armadillo::live {
 
 class PortClaim {
 public:
@@ -32,4 +32,4 @@ public:
     static std::string lockFileFor(const std::string& port);
 };
 
-} // namespace armadillo::plugin
+} // namespace armadillo::live

@@ -1,12 +1,12 @@
 // One owner per serial port (PortRegistry): a second claim, from this process or another, is
 // refused with a message saying who owns it, and the port is free again once the owner lets go.
-#include "Plugin/PortRegistry.h"
+#include "Live/PortRegistry.h"
 #include <catch2/catch.hpp>
 #include <cstdlib>
 #include <string>
 #include <unistd.h>
 
-using armadillo::plugin::PortRegistry;
+using armadillo::live::PortRegistry;
 
 TEST_CASE("PortRegistry: one owner per port, in this process and across processes")
 {
