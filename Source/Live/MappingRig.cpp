@@ -1,4 +1,5 @@
 #include "Live/MappingRig.h"
+#include "Live/SceneParameters.h"
 #include "Core/Errors.h"
 #include <algorithm>
 #include <array>
@@ -21,8 +22,7 @@ MappingRig::MappingRig(const mapping::MappingDocument& doc, Engine& engine, cons
         for (std::size_t i = 0; i < specs.size(); ++i) {
             if (specs[i].id != id) continue;
             p.sceneIndex = static_cast<int>(i);
-            p.min = specs[i].min;
-            p.max = specs[i].max;
+            p.spec = specs[i];
         }
         params_.push_back(p);
     }
@@ -84,8 +84,7 @@ void MappingRig::deliver(Engine* engine) noexcept
             if (c.index < 0 || static_cast<std::size_t>(c.index) >= params_.size()) continue;
             const Param& p = params_[static_cast<std::size_t>(c.index)];
             if (p.sceneIndex < 0) continue;
-            const float v = c.normalised ? p.min + c.value * (p.max - p.min) : c.value;
-            engine->scene().setParameter(p.sceneIndex, std::clamp(v, std::min(p.min, p.max), std::max(p.min, p.max)));
+            engine->scene().setParameter(p.sceneIndex, sceneParamValue(p.spec, c));
         }
     }
     dropped_ += o.dropped;

@@ -90,7 +90,7 @@ private:
     std::vector<std::unique_ptr<device::OscSender>> senders_;   // per MappingSet::oscTargets() index (null: not sent)
     struct Param {
         int sceneIndex = -1;
-        float min = 0.0f, max = 1.0f;
+        ParamSpec spec;   ///< the scene's parameter (SceneParameters.h: how a change sets it)
     };
     std::vector<Param> params_;
     MidiSink sink_ = nullptr;

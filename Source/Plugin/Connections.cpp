@@ -20,9 +20,9 @@ private:
     double last_ = -1.0;
 };
 
-Connections::Connections(live::ControlLoop& loop, BlockControl& control, device::LevelSchedule& motors)
-    : loop_(loop), control_(control), oscIn_(loop.input(SourceKind::Osc)), leftOscIn_(leftArm_.input()),
-      device_(std::make_unique<DeviceConnection>(loop.input(SourceKind::Device), motors))
+Connections::Connections(live::ControlLoop& loop, live::BlockControl& control, device::LevelSchedule& motors)
+    : loop_(loop), control_(control), oscIn_(loop.input(live::SourceKind::Osc)), leftOscIn_(leftArm_.input()),
+      device_(std::make_unique<DeviceConnection>(loop.input(live::SourceKind::Device), motors))
 {
 }
 
@@ -44,7 +44,7 @@ void Connections::start()
 void Connections::clockTick(double dt)
 {
     dt = juce::jlimit(0.0, 0.1, dt);
-    if (control_.source() == SourceKind::Simulator) {
+    if (control_.source() == live::SourceKind::Simulator) {
         Eigen::Quaterniond q;
         double t = 0.0;
         {
@@ -52,7 +52,7 @@ void Connections::clockTick(double dt)
             q = simulator_.advance(dt);
             t = simulator_.time();
         }
-        loop_.input(SourceKind::Simulator).storeOrientation(t, q);
+        loop_.input(live::SourceKind::Simulator).storeOrientation(t, q);
         simulatorSteps_.fetch_add(1, std::memory_order_relaxed);
     }
     control_.idleTick(dt);

@@ -18,7 +18,7 @@
 #include "Link/LevelSchedule.h"
 #include "Link/SteerableArm.h"
 #include "Live/ControlLoop.h"
-#include "Plugin/BlockControl.h"
+#include "Live/BlockControl.h"
 #include "Plugin/DeviceConnection.h"
 #include "Live/LeftArm.h"
 #include "Plugin/MidiPort.h"
@@ -33,7 +33,7 @@ namespace armadillo::plugin {
 
 class Connections {
 public:
-    Connections(live::ControlLoop& loop, BlockControl& control, device::LevelSchedule& motors);
+    Connections(live::ControlLoop& loop, live::BlockControl& control, device::LevelSchedule& motors);
     ~Connections();   // stops the clock, then the device link (its last packet is all-off)
 
     /// Starts the control clock (after the owner is fully built).
@@ -100,7 +100,7 @@ private:
     void applyGuidedCalibration();
 
     live::ControlLoop& loop_;
-    BlockControl& control_;
+    live::BlockControl& control_;
     mutable std::mutex simMutex_;      // simulated arm: message ↔ clock thread only
     device::SteerableArm simulator_;
     live::OscOutput oscOut_;

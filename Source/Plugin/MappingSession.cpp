@@ -18,7 +18,7 @@ bool isMidi(mapping::DestinationKind k) noexcept
 }
 } // namespace
 
-MappingSession::MappingSession(BlockControl& control, Connections& connections, const SceneParameterTable& table,
+MappingSession::MappingSession(live::BlockControl& control, Connections& connections, const SceneParameterTable& table,
                                std::function<int()> defaultChannel)
     : control_(control), connections_(connections), table_(table), defaultChannel_(std::move(defaultChannel))
 {
@@ -245,7 +245,7 @@ void MappingSession::timerTick()
     // 0–31 followed by its +32 partner is a 14-bit pair); anything else is drained and dropped.
     std::uint8_t bytes[96];
     int size = 0;
-    IncomingMidi m;
+    live::IncomingMidi m;
     while (control_.mappingOutputs().popIncoming(m))
         if (size + m.size <= static_cast<int>(sizeof bytes))
             for (int i = 0; i < m.size; ++i) bytes[size++] = m.bytes[i];

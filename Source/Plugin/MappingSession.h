@@ -9,7 +9,7 @@
 // from the message thread or a non-audio thread while the message thread is not in here).
 #include "Mapping/Mapper.h"
 #include "Mapping/MappingSpec.h"
-#include "Plugin/BlockControl.h"
+#include "Live/BlockControl.h"
 #include "Plugin/Parameters.h"
 #include <juce_audio_processors/juce_audio_processors.h>
 #include <functional>
@@ -30,7 +30,7 @@ class MappingSession {
 public:
     /// `defaultChannel` gives the classic preset's MIDI channel (the `midiChannel` setting, so a
     /// session from before the mapping keeps its channel).
-    MappingSession(BlockControl& control, Connections& connections, const SceneParameterTable& table,
+    MappingSession(live::BlockControl& control, Connections& connections, const SceneParameterTable& table,
                    std::function<int()> defaultChannel);
     ~MappingSession();
 
@@ -103,7 +103,7 @@ private:
     void offerWaiting();
     void configureOscTargets(const mapping::MappingSet& set);
 
-    BlockControl& control_;
+    live::BlockControl& control_;
     Connections& connections_;
     const SceneParameterTable& table_;
     std::function<int()> defaultChannel_;

@@ -44,23 +44,21 @@ bool MidiPort::open(const juce::String& name, juce::String& why)
     }
     why_ = {};
     why = {};
-    Event e;
-    while (queue_.pop(e)) {}   // nothing from before the port existed
-    open_.store(true, std::memory_order_release);
+    queue_.setOpen(true);   // nothing from before the port existed
     return true;
 }
 
 void MidiPort::close()
 {
     std::lock_guard<std::mutex> lock(mutex_);
-    open_.store(false, std::memory_order_release);
+    queue_.setOpen(false);
     out_.reset();
     if (why_.isEmpty()) why_ = "MIDI output port closed";
 }
 
 bool MidiPort::isOpen() const
 {
-    return open_.load(std::memory_order_acquire);
+    return queue_.isOpen();
 }
 
 juce::String MidiPort::status() const
@@ -76,7 +74,7 @@ int MidiPort::drain()
 {
     std::lock_guard<std::mutex> lock(mutex_);
     int n = 0;
-    Event e;
+    live::MidiOutQueue::Event e;
     while (queue_.pop(e)) {
         if (out_ == nullptr) continue;
         out_->sendMessageNow(juce::MidiMessage(e.bytes, e.size));

@@ -6,11 +6,10 @@
 // Threads:
 //  - message thread: open() / close() (the sequencer client and port are created and destroyed
 //    there only), status().
-//  - control side (real-time, the control-token holder): push() — copies the event into a
-//    fixed-size SPSC queue; never blocks, never allocates; a full queue drops and counts.
+//  - control side (real-time, the control-token holder): queue().push() (Live/MidiOutQueue.h).
 //  - the control clock (one non-audio thread): drain() — sends the queued events to the port.
 //    The port is shared with open()/close() under a mutex the audio thread never takes.
-#include "Core/SpscQueue.h"
+#include "Live/MidiOutQueue.h"
 #include <juce_core/juce_core.h>
 #include <atomic>
 #include <cstdint>
@@ -36,35 +35,20 @@ public:
     /// "ALSA sequencer port 'ARMadillo' (client 128:0), 1234 events sent" or why it is closed.
     juce::String status() const;
 
-    /// Control side: one MIDI message (1–3 bytes). False when the queue is full or the port is
-    /// closed (nothing is queued then). Inline: the control path needs no JUCE device code.
-    bool push(const std::uint8_t* bytes, int size) noexcept
-    {
-        if (! open_.load(std::memory_order_acquire) || size < 1 || size > 3) return false;
-        Event e;
-        for (int i = 0; i < size; ++i) e.bytes[i] = bytes[i];
-        e.size = static_cast<std::uint8_t>(size);
-        if (queue_.push(e)) return true;
-        dropped_.fetch_add(1, std::memory_order_relaxed);
-        return false;
-    }
+    /// The control side's queue (Live/MidiOutQueue.h): what the rig pushes, drain() sends.
+    live::MidiOutQueue& queue() noexcept { return queue_; }
     /// Control clock: sends every queued event. Returns how many were sent.
     int drain();
 
     std::uint64_t sent() const noexcept { return sent_.load(std::memory_order_relaxed); }
-    std::uint64_t dropped() const noexcept { return dropped_.load(std::memory_order_relaxed); }
+    std::uint64_t dropped() const noexcept { return queue_.dropped(); }
 
 private:
-    struct Event {
-        std::uint8_t bytes[3] {};
-        std::uint8_t size = 0;
-    };
     mutable std::mutex mutex_;                 // open/close (message) vs drain (clock); never audio
     std::unique_ptr<juce::MidiOutput> out_;
     juce::String why_ = "MIDI output port not opened";
-    std::atomic<bool> open_ {false};
-    SpscQueue<Event, 4096> queue_;
-    std::atomic<std::uint64_t> sent_ {0}, dropped_ {0};
+    live::MidiOutQueue queue_;
+    std::atomic<std::uint64_t> sent_ {0};
 };
 
 } // namespace armadillo::plugin

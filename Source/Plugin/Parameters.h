@@ -4,6 +4,7 @@
 // property symbols. The version hint is bumped only for a parameter whose meaning changes.
 #include "Core/Scene.h"
 #include "Live/ControlLoop.h"
+#include "Live/SceneParameters.h"
 #include <juce_audio_processors/juce_audio_processors.h>
 #include <string>
 #include <vector>
@@ -18,7 +19,7 @@ inline constexpr const char* source = "source";         ///< SourceKind
 inline constexpr const char* scene = "scene";           ///< index into sceneNames()
 /// The mapping's macro destinations (docs/MAPPING.md): `macro1`…`macro8`, 0…1, last in the
 /// layout (after every scene's parameters) so the existing parameters keep their indices.
-inline constexpr int kMacroCount = 8;
+inline constexpr int kMacroCount = mapping::kMacroCount;
 inline constexpr const char* macros[kMacroCount] {"macro1", "macro2", "macro3", "macro4",
                                                   "macro5", "macro6", "macro7", "macro8"};
 } // namespace ParamIds
@@ -31,19 +32,9 @@ using SourceKind = live::SourceKind;   // Device, Simulator, Osc, HostAutomation
 const juce::StringArray& sourceChoiceNames();
 using live::isLiveSource;
 
-/// Every scene's own parameters, queried once from the scenes themselves.
-struct SceneParameterTable {
-    struct Entry {
-        std::string scene;             ///< scene name (INTERFACES.md)
-        bool available = false;        ///< false: the scene could not be created (reason says why)
-        std::string reason;            ///< why it is unavailable
-        std::vector<ParamSpec> specs;  ///< Scene::parameters(), in index order
-        std::vector<bool> exposed;     ///< false for a spec whose id another scene already took
-    };
-    std::vector<Entry> scenes;         ///< in sceneNames() order
-};
-
-SceneParameterTable querySceneParameters();
+/// Every scene's own parameters, queried once from the scenes themselves (Live/SceneParameters.h).
+using live::SceneParameterTable;
+live::SceneParameterTable querySceneParameters();
 
 juce::AudioProcessorValueTreeState::ParameterLayout createParameterLayout(const SceneParameterTable& table);
 

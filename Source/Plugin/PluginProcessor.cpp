@@ -11,9 +11,9 @@
 namespace armadillo::plugin {
 
 namespace {
-BlockControl::Cells cellsOf(juce::AudioProcessorValueTreeState& apvts)
+live::BlockControl::Cells cellsOf(juce::AudioProcessorValueTreeState& apvts)
 {
-    BlockControl::Cells c;
+    live::BlockControl::Cells c;
     c.elevation = apvts.getRawParameterValue(ParamIds::elevation);
     c.azimuth = apvts.getRawParameterValue(ParamIds::azimuth);
     c.roll = apvts.getRawParameterValue(ParamIds::roll);
@@ -77,7 +77,7 @@ ArmadilloProcessor::ArmadilloProcessor()
     if (wrapperType == wrapperType_Standalone) {
         juce::String why;
         if (connections_.midiPort().open("ARMadillo", why)) {
-            control_.setMidiPort(&connections_.midiPort());
+            control_.setMidiPort(&connections_.midiPort().queue());
         } else {
             setStatus(why);   // the editor's status line, and the terminal the app was started from
             std::cerr << "ARMadillo: " << why << std::endl;
@@ -155,7 +155,7 @@ void ArmadilloProcessor::prepareToPlay(double sampleRate, int)
     sampleRate_.store(sampleRate > 0.0 ? sampleRate : 48000.0);
     // The main input (where the listened-to audio sits in processBlock's buffer; the layout is
     // fixed until the next prepareToPlay), heard and played through.
-    BlockControl::Listen listen;
+    live::BlockControl::Listen listen;
     if (const auto* input = getBus(true, 0); input != nullptr && input->isEnabled() && input->getNumberOfChannels() > 0) {
         listen.first = input->getChannelIndexInProcessBlockBuffer(0);
         listen.count = input->getNumberOfChannels();
@@ -163,7 +163,7 @@ void ArmadilloProcessor::prepareToPlay(double sampleRate, int)
     }
     // The sidechain buses the host enabled (VST3 only): audio-touch's stems, in bus order.
     std::vector<std::string> stems;
-    for (int b = 1; b < getBusCount(true) && listen.stemCount < BlockControl::kMaxStems; ++b) {
+    for (int b = 1; b < getBusCount(true) && listen.stemCount < live::BlockControl::kMaxStems; ++b) {
         const auto* bus = getBus(true, b);
         if (bus == nullptr || ! bus->isEnabled() || bus->getNumberOfChannels() < 1) continue;
         auto& stem = listen.stems[static_cast<std::size_t>(listen.stemCount++)];
@@ -209,6 +209,7 @@ void ArmadilloProcessor::prepareToPlay(double sampleRate, int)
         stage_.replace(std::move(cues));
     }
     control_.prepare(sampleRate_.load());
+    hostBlock_.prepare();   // MIDI storage for the host's buffer, off the audio thread
     const auto tactorWhy = tactorRig_.prepareBus(settings_, listen.tactorCount, motorCount(), sampleRate_.load());
     token_.release();
     if (tactorWhy.isNotEmpty()) setStatus(tactorWhy);
@@ -227,7 +228,7 @@ void ArmadilloProcessor::processBlock(juce::AudioBuffer<float>& buffer, juce::Mi
         for (int c = stem.first; c < std::min(stem.first + stem.count, buffer.getNumChannels()); ++c)
             inPeak = std::max(inPeak, buffer.getMagnitude(c, 0, n));
     }
-    control_.processBlock(buffer, midi, getPlayHead(), isNonRealtime(), listen);
+    hostBlock_.process(control_, buffer, midi, getPlayHead(), isNonRealtime(), listen);
     // The test tone (welcome panel): added over the scene's sound, on the main stereo output.
     if (int left = testToneSamples_.load(std::memory_order_relaxed); left > 0) {
         const int count = std::min(left, n);
@@ -277,7 +278,7 @@ bool ArmadilloProcessor::sceneListens() const
 
 void ArmadilloProcessor::processBlockBypassed(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi)
 {
-    control_.bypassBlock(buffer, midi);
+    hostBlock_.bypass(control_, buffer, midi);
 }
 
 // ------------------------------------------------------------------------------------------------

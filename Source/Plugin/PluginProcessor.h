@@ -13,7 +13,8 @@
 // live orientation → parameters with change gestures, auto-connect) and the status line.
 #include "Link/LevelSchedule.h"
 #include "Live/ControlLoop.h"
-#include "Plugin/BlockControl.h"
+#include "Live/BlockControl.h"
+#include "Plugin/HostBlock.h"
 #include "Plugin/Connections.h"
 #include "Live/ControlToken.h"
 #include "Plugin/EngineHandover.h"
@@ -47,7 +48,7 @@ class ArmadilloProcessor : public juce::AudioProcessor,
                            private juce::ValueTree::Listener {
 public:
     static constexpr int kStateVersion = PluginState::kVersion;
-    static constexpr double kControlRateHz = BlockControl::kControlRateHz;
+    static constexpr double kControlRateHz = live::BlockControl::kControlRateHz;
     static constexpr double kTailSeconds = 5.0;   ///< longest ring-out: cymbal crash (~4 s) + FM tail
 
     ArmadilloProcessor();
@@ -225,7 +226,7 @@ public:
     /// The VST3's sidechain input buses, after its main input (input buses 1…4, stereo, disabled
     /// until the host routes them): each is a stem of audio-touch with the scene's preset of the
     /// same name in lower case (docs/PLUGIN.md "Stems"; INTERFACES.md "Plugin buses").
-    static constexpr std::array<const char*, BlockControl::kMaxStems> kStemBuses {"Drums", "Bass", "Other", "Vocals"};
+    static constexpr std::array<const char*, live::BlockControl::kMaxStems> kStemBuses {"Drums", "Bass", "Other", "Vocals"};
     /// The VST3's Tactors output bus (issue 33, docs/TACTORS.md; INTERFACES.md "Plugin buses"):
     /// output bus 1, 9 channels (or 12 with the back motors), disabled until the host enables
     /// it; channel k carries motor k as the tactor renderer draws it (SettingIds::tactor*).
@@ -282,7 +283,7 @@ private:
     juce::ValueTree settings_;
     std::atomic<double> sampleRate_ {48000.0};
     std::atomic<std::uint64_t> statesLoaded_ {0};   ///< EngineRequest::session
-    BlockControl::Listen listen_ {};             // set in prepareToPlay (audio stopped), read by processBlock
+    live::BlockControl::Listen listen_ {};             // set in prepareToPlay (audio stopped), read by processBlock
     mutable std::mutex stemsMutex_;              // prepareToPlay vs the message thread's requests; never audio
     std::vector<std::string> stems_;             // under stemsMutex_: the enabled sidechain buses' stem names
 
@@ -308,7 +309,8 @@ private:
     int feedbackUntil_ = 0;                      // the sequence whose end gives the motors back to the scene
     live::Stage stage_;                                // before control_: the control step keeps a pointer
     bool feedbackRestart_ = false;               // then the braille trial starts again from its first row
-    BlockControl control_;
+    live::BlockControl control_;
+    HostBlock hostBlock_;                        // the host's buffers as the block clock takes them (audio thread)
     Connections connections_;
     TactorRig tactorRig_ {control_, token_};
     NavigationRig navigation_;                   // its route and link ride in the engine request     // after connections_: goes first (its output's pointer out of the step)

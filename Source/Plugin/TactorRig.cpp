@@ -6,7 +6,7 @@
 
 namespace armadillo::plugin {
 
-TactorRig::TactorRig(BlockControl& control, live::ControlToken& token) : control_(control), token_(token) {}
+TactorRig::TactorRig(live::BlockControl& control, live::ControlToken& token) : control_(control), token_(token) {}
 
 TactorRig::~TactorRig()
 {

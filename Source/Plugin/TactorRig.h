@@ -8,7 +8,7 @@
 // settings (SettingIds::tactor*) into them and reports what went wrong.
 //
 // Threads: the message thread (and prepareToPlay, with the control token held where said).
-#include "Plugin/BlockControl.h"
+#include "Live/BlockControl.h"
 #include "Live/ControlToken.h"
 #include <juce_data_structures/juce_data_structures.h>
 #include <memory>
@@ -21,7 +21,7 @@ namespace armadillo::plugin {
 
 class TactorRig {
 public:
-    TactorRig(BlockControl& control, live::ControlToken& token);
+    TactorRig(live::BlockControl& control, live::ControlToken& token);
     ~TactorRig();
 
     /// The settings' rig for `channels` output channels (the bus's, 0 = no limit), `motors` (9 or
@@ -52,7 +52,7 @@ public:
     int motorOfChannel(int channel, const juce::ValueTree& settings, int motors) const;
 
 private:
-    BlockControl& control_;
+    live::BlockControl& control_;
     live::ControlToken& token_;
     int busChannels_ = 0;
     double sampleRate_ = 48000.0;

@@ -8,7 +8,8 @@
 #include "Core/Clock.h"
 #include "Core/Pose.h"
 #include "Engine/Engine.h"
-#include "Plugin/BlockControl.h"
+#include "Live/BlockControl.h"
+#include "Plugin/HostBlock.h"
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <atomic>
@@ -43,8 +44,9 @@ struct Rig {
     live::ControlLoop loop;
     live::ControlToken token;
     device::LevelSchedule motors;
-    std::atomic<float> elevation {0.0f}, azimuth {0.0f}, roll {0.0f}, source {static_cast<float>(SourceKind::Osc)};
-    std::unique_ptr<BlockControl> control;
+    std::atomic<float> elevation {0.0f}, azimuth {0.0f}, roll {0.0f}, source {static_cast<float>(live::SourceKind::Osc)};
+    std::unique_ptr<live::BlockControl> control;
+    HostBlock host;   // the host's buffers as the block clock takes them
     Rig()
     {
         EngineConfig config;
@@ -53,8 +55,9 @@ struct Rig {
         slot->engine = std::make_unique<Engine>(config, std::make_unique<LevelScene>());
         slot->sceneName = "level";
         loop.replace(std::move(slot));
-        control = std::make_unique<BlockControl>(loop, token, BlockControl::Cells {&elevation, &azimuth, &roll, &source}, motors);
+        control = std::make_unique<live::BlockControl>(loop, token, live::BlockControl::Cells {&elevation, &azimuth, &roll, &source}, motors);
         control->prepare(48000.0);
+        host.prepare();
     }
     /// The first sample of the block whose level reads `elevationDeg`, or -1.
     static int firstAt(const juce::AudioBuffer<float>& b, double elevationDeg)
@@ -75,10 +78,10 @@ TEST_CASE("plugin: a live sample steps at its arrival's place in the host's bloc
         juce::AudioBuffer<float> buffer(2, block);
         juce::MidiBuffer midi;
         const double period = block / 48000.0;
-        live::LiveInput& osc = rig.loop.input(SourceKind::Osc);
+        live::LiveInput& osc = rig.loop.input(live::SourceKind::Osc);
         // A block to start the clock, with the arm at 10°.
         osc.storeOrientation(0.0, poseToQuaternion(Pose {10.0, 0.0, 0.0}));
-        rig.control->processBlock(buffer, midi, nullptr, false);
+        rig.host.process(*rig.control, buffer, midi, nullptr, false);
         // The next sample arrives; the host calls 40 % of a block later (busy wait on the clock:
         // what is tested is where the step lands for the arrival it records, not the wait).
         osc.storeOrientation(0.01, poseToQuaternion(Pose {30.0, 0.0, 0.0}));
@@ -86,14 +89,14 @@ TEST_CASE("plugin: a live sample steps at its arrival's place in the host's bloc
         while (monotonicSeconds() < arrival + 0.4 * period) {
         }
         const double before = monotonicSeconds();
-        rig.control->processBlock(buffer, midi, nullptr, false);
+        rig.host.process(*rig.control, buffer, midi, nullptr, false);
         const double after = monotonicSeconds();
         // The block's call time lies in [before, after]: the arrival belongs at
         // (arrival − call + period) · fs within it, clamped to the block (a call that came more
         // than a block after the arrival, on a loaded machine, places it at the start), and no
         // step comes closer than kMinStepSeconds to the one before.
         const double last = block - 1.0;
-        const double minSpacing = std::ceil(BlockControl::kMinStepSeconds * 48000.0);
+        const double minSpacing = std::ceil(live::BlockControl::kMinStepSeconds * 48000.0);
         const double earliest = std::clamp(std::floor((arrival - after + period) * 48000.0) - 1.0, 0.0, last);
         const double latest = std::clamp(std::floor((arrival - before + period) * 48000.0) + 1.0, 0.0, last) + minSpacing;
         const int at = Rig::firstAt(buffer, 30.0);
@@ -108,12 +111,12 @@ TEST_CASE("plugin: a live sample steps at its arrival's place in the host's bloc
 TEST_CASE("plugin: host automation keeps the 200 Hz grid", "[plugin][arrival]")
 {
     Rig rig;
-    rig.source.store(static_cast<float>(SourceKind::HostAutomation));
+    rig.source.store(static_cast<float>(live::SourceKind::HostAutomation));
     rig.elevation.store(10.0f);
     juce::AudioBuffer<float> buffer(2, 1024);
     juce::MidiBuffer midi;
-    rig.control->processBlock(buffer, midi, nullptr, false);   // steps at 0, 240, 480, 720, 960
+    rig.host.process(*rig.control, buffer, midi, nullptr, false);   // steps at 0, 240, 480, 720, 960
     rig.elevation.store(30.0f);
-    rig.control->processBlock(buffer, midi, nullptr, false);   // the next grid point: 1200 - 1024 = 176
+    rig.host.process(*rig.control, buffer, midi, nullptr, false);   // the next grid point: 1200 - 1024 = 176
     CHECK(Rig::firstAt(buffer, 30.0) == 176);
 }

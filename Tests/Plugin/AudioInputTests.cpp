@@ -5,7 +5,8 @@
 // not mute its track); extra input channels are cleared; nothing allocates or locks.
 #include "Common/RealtimeGuard.h"
 #include "Engine/Engine.h"
-#include "Plugin/BlockControl.h"
+#include "Live/BlockControl.h"
+#include "Plugin/HostBlock.h"
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <string>
@@ -43,9 +44,10 @@ struct Rig {
     live::ControlLoop loop;
     live::ControlToken token;
     device::LevelSchedule motors;
-    std::atomic<float> elevation {0.0f}, azimuth {0.0f}, roll {0.0f}, source {static_cast<float>(SourceKind::HostAutomation)};
+    std::atomic<float> elevation {0.0f}, azimuth {0.0f}, roll {0.0f}, source {static_cast<float>(live::SourceKind::HostAutomation)};
     EarScene* ear = nullptr;
-    std::unique_ptr<BlockControl> control;
+    std::unique_ptr<live::BlockControl> control;
+    HostBlock host;   // the host's buffers as the block clock takes them
     /// `stems`: the engine's SceneConfig::stems (audio-touch's, built from the VST3's sidechains).
     explicit Rig(std::vector<std::string> stems = {})
     {
@@ -58,8 +60,9 @@ struct Rig {
         slot->engine = std::make_unique<Engine>(config, std::move(scene));
         slot->sceneName = "ear";
         loop.replace(std::move(slot));
-        control = std::make_unique<BlockControl>(loop, token, BlockControl::Cells {&elevation, &azimuth, &roll, &source}, motors);
+        control = std::make_unique<live::BlockControl>(loop, token, live::BlockControl::Cells {&elevation, &azimuth, &roll, &source}, motors);
         control->prepare(48000.0);
+        host.prepare();
     }
 };
 
@@ -76,7 +79,7 @@ TEST_CASE("plugin audio input: the main input is heard and played through; a sid
             const int channels = sidechain ? 4 : 2;
             juce::AudioBuffer<float> buffer(channels, block);
             juce::MidiBuffer midi;
-            BlockControl::Listen listen;
+            live::BlockControl::Listen listen;
             listen.first = sidechain ? 2 : 0;
             listen.count = 2;
             listen.through = 2;
@@ -94,7 +97,7 @@ TEST_CASE("plugin audio input: the main input is heard and played through; a sid
                         expectSum[static_cast<std::size_t>(c)] += x;
                         expectWeighted[static_cast<std::size_t>(c)] += static_cast<double>(x) * static_cast<double>(at + i);
                     }
-                rig.control->processBlock(buffer, midi, nullptr, false, listen);
+                rig.host.process(*rig.control, buffer, midi, nullptr, false, listen);
                 for (int c = 0; c < 2; ++c)   // the scene is silent: the output is the main input
                     for (int i = 0; i < block; ++i) worstThrough = std::max(worstThrough, std::fabs(double(buffer.getSample(c, i)) - signal(c, at + i)));
                 for (int c = 2; c < channels; ++c)
@@ -123,7 +126,7 @@ TEST_CASE("plugin audio input: without an input nothing is heard and the output 
     juce::MidiBuffer midi;
     for (int c = 0; c < 2; ++c)
         for (int i = 0; i < 256; ++i) buffer.setSample(c, i, 0.5f);   // garbage a host may leave
-    rig.control->processBlock(buffer, midi, nullptr, false);
+    rig.host.process(*rig.control, buffer, midi, nullptr, false);
     CHECK(rig.ear->heard == 0);
     CHECK(buffer.getMagnitude(0, 256) == 0.0f);
 }
@@ -133,7 +136,7 @@ TEST_CASE("plugin audio input: stems (sidechain buses) are heard one mono channe
     ARMADILLO_REQUIRE_GUARD();
     // Main input 0–1, a stereo stem bus at 2–3, a mono one at 4 (a host's buffer with the
     // main input and two sidechains enabled).
-    BlockControl::Listen listen;
+    live::BlockControl::Listen listen;
     listen.first = 0;
     listen.count = 2;
     listen.through = 2;
@@ -168,7 +171,7 @@ TEST_CASE("plugin audio input: stems (sidechain buses) are heard one mono channe
                             expectWeighted[static_cast<std::size_t>(c + 2)] += m * static_cast<double>(at + i);
                         }
                     }
-                rig.control->processBlock(buffer, midi, nullptr, false, listen);
+                rig.host.process(*rig.control, buffer, midi, nullptr, false, listen);
                 for (int c = 0; c < 2; ++c)
                     for (int i = 0; i < block; ++i) worstThrough = std::max(worstThrough, std::fabs(double(buffer.getSample(c, i)) - signal(c, at + i)));
                 at += block;

@@ -5,7 +5,8 @@
 // other scenes play the same with and without the notes; nothing allocates, locks or throws.
 #include "Common/RealtimeGuard.h"
 #include "Engine/Engine.h"
-#include "Plugin/BlockControl.h"
+#include "Live/BlockControl.h"
+#include "Plugin/HostBlock.h"
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <vector>
@@ -37,8 +38,9 @@ struct Rig {
     live::ControlToken token;
     device::LevelSchedule motors;
     live::Stage stage;
-    std::atomic<float> elevation {30.0f}, azimuth {10.0f}, roll {0.0f}, source {static_cast<float>(SourceKind::HostAutomation)};
-    std::unique_ptr<BlockControl> control;
+    std::atomic<float> elevation {30.0f}, azimuth {10.0f}, roll {0.0f}, source {static_cast<float>(live::SourceKind::HostAutomation)};
+    std::unique_ptr<live::BlockControl> control;
+    HostBlock host;   // the host's buffers as the block clock takes them
     Rig(const std::string& scene, bool setList)
     {
         EngineConfig config;
@@ -55,9 +57,10 @@ struct Rig {
             base.sampleRate = kFs;
             stage.replace(std::make_unique<live::CuePlayer>(list, base));
         }
-        control = std::make_unique<BlockControl>(loop, token, BlockControl::Cells {&elevation, &azimuth, &roll, &source}, motors);
+        control = std::make_unique<live::BlockControl>(loop, token, live::BlockControl::Cells {&elevation, &azimuth, &roll, &source}, motors);
         control->setStage(&stage);
         control->prepare(kFs);
+        host.prepare();
     }
 };
 
@@ -85,7 +88,7 @@ Played play(const std::string& scene, bool setList, bool notes, int block)
     juce::AudioBuffer<float> buffer(2, block);
     juce::MidiBuffer midi;
     midi.ensureSize(4096);
-    BlockControl::Listen listen;
+    live::BlockControl::Listen listen;
     listen.count = 2;
     Played p;
     std::size_t next = 0;
@@ -100,7 +103,7 @@ Played play(const std::string& scene, bool setList, bool notes, int block)
             for (int i = 0; i < block; ++i) buffer.setSample(c, i, piano(at + i));
         {
             RealtimeGuard guard;
-            rig.control->processBlock(buffer, midi, nullptr, false, listen);
+            rig.host.process(*rig.control, buffer, midi, nullptr, false, listen);
             p.allocations += guard.allocations() + guard.deallocations();
             p.locks += guard.locks();
             p.throws += guard.throws();

@@ -8,7 +8,8 @@
 #include "../Tactile/Bounds.h"
 #include "Core/Clock.h"
 #include "Engine/Engine.h"
-#include "Plugin/BlockControl.h"
+#include "Live/BlockControl.h"
+#include "Plugin/HostBlock.h"
 #include "Plugin/DeviceConnection.h"
 #include <catch2/catch.hpp>
 #include <chrono>
@@ -77,10 +78,12 @@ RunResult runHost(const HostPlan& plan)
     }
     live::ControlToken token;
     device::LevelSchedule motors;
-    std::atomic<float> elevation {0.0f}, azimuth {0.0f}, roll {0.0f}, source {static_cast<float>(SourceKind::HostAutomation)};
-    BlockControl control(loop, token, BlockControl::Cells {&elevation, &azimuth, &roll, &source}, motors);
+    std::atomic<float> elevation {0.0f}, azimuth {0.0f}, roll {0.0f}, source {static_cast<float>(live::SourceKind::HostAutomation)};
+    live::BlockControl control(loop, token, live::BlockControl::Cells {&elevation, &azimuth, &roll, &source}, motors);
     control.prepare(kRate);
-    DeviceConnection device(loop.input(SourceKind::Device), motors);
+    HostBlock host;
+    host.prepare();
+    DeviceConnection device(loop.input(live::SourceKind::Device), motors);
     device.enableSentLog(true);
     std::string message;
     REQUIRE(device.connect(DeviceConnection::kSimulatedPort, 57600, "", message));
@@ -117,7 +120,7 @@ RunResult runHost(const HostPlan& plan)
         for (const auto& [from, to] : plan.stopped)
             if (hostTime >= from && hostTime < to) head.playing = false;
         head.seconds = hostTime;
-        control.processBlock(buffer, midi, &head, false);
+        host.process(control, buffer, midi, &head, false);
         lastStamp = control.lastMotorStamp();
         REQUIRE(lastStamp > 0.0);
         hostTime += plan.block / kRate;

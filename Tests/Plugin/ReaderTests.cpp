@@ -4,7 +4,8 @@
 // the detection that turns self-voicing on by default, and the touch profile kept in the state.
 #include "Access/Feedback.h"
 #include "Engine/Engine.h"
-#include "Plugin/BlockControl.h"
+#include "Live/BlockControl.h"
+#include "Plugin/HostBlock.h"
 #include "Access/ReaderProfile.h"
 #include "Plugin/AdaptiveSession.h"
 #include "Plugin/PerkinsKeys.h"
@@ -443,9 +444,11 @@ TEST_CASE("Arm feedback through the plugin's control path: the stimulus takes th
     }
     live::ControlToken token;
     device::LevelSchedule motors;
-    std::atomic<float> elevation {0.0f}, azimuth {0.0f}, roll {0.0f}, source {static_cast<float>(SourceKind::HostAutomation)};
-    BlockControl control(loop, token, BlockControl::Cells {&elevation, &azimuth, &roll, &source}, motors);
+    std::atomic<float> elevation {0.0f}, azimuth {0.0f}, roll {0.0f}, source {static_cast<float>(live::SourceKind::HostAutomation)};
+    live::BlockControl control(loop, token, live::BlockControl::Cells {&elevation, &azimuth, &roll, &source}, motors);
     control.prepare(kRate);
+    HostBlock host;
+    host.prepare();
     juce::AudioBuffer<float> buffer(2, kBlock);
     juce::MidiBuffer midi;
     auto run = [&](int blocks, std::array<int, kMaxMotors>& highest, std::uint64_t& allocations) {
@@ -453,7 +456,7 @@ TEST_CASE("Arm feedback through the plugin's control path: the stimulus takes th
         for (int b = 0; b < blocks; ++b) {
             {
                 RealtimeGuard guard;
-                control.processBlock(buffer, midi, nullptr, false);
+                host.process(control, buffer, midi, nullptr, false);
                 allocations += guard.allocations();
             }
             const auto f = control.latestFrame();

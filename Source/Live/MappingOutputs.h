@@ -1,5 +1,5 @@
 #pragma once
-// What the mapping's control-side run hands to the non-real-time side of the plugin, each over a
+// What the mapping's control-side run on the block clock (BlockControl.h) hands to the non-real-time side, each over a
 // lock-free path (STYLE.md convention 5; docs/PLUGIN.md "Mapping"):
 //  - macro values (8 atomics) → the message thread writes the `macro1…8` parameters with change
 //    gestures (a DAW records them);
@@ -14,16 +14,13 @@
 // named non-audio thread.
 #include "Core/SpscQueue.h"
 #include "Mapping/Mapper.h"
-#include "Plugin/Parameters.h"
 #include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 
-namespace armadillo::plugin {
-
-static_assert(mapping::kMacroCount == ParamIds::kMacroCount, "the mapping's macros are the plugin's macro parameters");
+namespace armadillo::live {
 
 /// One channel message seen at the plugin's MIDI input (1–3 bytes).
 struct IncomingMidi {
@@ -41,7 +38,7 @@ public:
     // Control side ------------------------------------------------------------------------------
     void setMacro(int index, float value01) noexcept
     {
-        if (index >= 0 && index < ParamIds::kMacroCount && std::isfinite(value01))
+        if (index >= 0 && index < mapping::kMacroCount && std::isfinite(value01))
             macros_[static_cast<std::size_t>(index)].store(value01 < 0.0f ? 0.0f : (value01 > 1.0f ? 1.0f : value01),
                                                            std::memory_order_relaxed);
     }
@@ -66,13 +63,13 @@ public:
     /// Any thread: the newest value the mapping wrote to macro `index` (0-based), NaN when none.
     float macro(int index) const noexcept
     {
-        return index >= 0 && index < ParamIds::kMacroCount ? macros_[static_cast<std::size_t>(index)].load(std::memory_order_relaxed)
+        return index >= 0 && index < mapping::kMacroCount ? macros_[static_cast<std::size_t>(index)].load(std::memory_order_relaxed)
                                                            : std::numeric_limits<float>::quiet_NaN();
     }
     /// Message thread: a macro no mapping drives any longer goes back to "none".
     void releaseMacro(int index) noexcept
     {
-        if (index >= 0 && index < ParamIds::kMacroCount)
+        if (index >= 0 && index < mapping::kMacroCount)
             macros_[static_cast<std::size_t>(index)].store(std::numeric_limits<float>::quiet_NaN(), std::memory_order_relaxed);
     }
     /// The control clock (one consumer).
@@ -82,10 +79,10 @@ public:
     bool popIncoming(IncomingMidi& m) noexcept { return incoming_.pop(m); }
 
 private:
-    std::array<std::atomic<float>, ParamIds::kMacroCount> macros_ {};
+    std::array<std::atomic<float>, mapping::kMacroCount> macros_ {};
     SpscQueue<mapping::OscPacket, 256> osc_;
     SpscQueue<IncomingMidi, 256> incoming_;
     std::atomic<std::uint64_t> oscDropped_ {0};
 };
 
-} // namespace armadillo::plugin
+} // namespace armadillo::live

@@ -1,11 +1,16 @@
 #pragma once
-// The control loop of the plugin: runs live::ControlLoop's step (engine hand-over, source choice,
-// bounded fusion, Engine::control) at 200 Hz on the audio block timeline, renders the engine's
-// audio between steps, runs the mapping (Mapping/Mapper.h: arm features and gestures → MIDI at
-// the step's sample offset, OSC, macros, scene parameters), publishes each step's frame for the
-// UI and OSC, and hands each step's motor levels to the device link stamped with the step's time
+// The live rig on the audio clock: the same control step as `play` (ControlLoop: engine
+// hand-over, source choice, bounded fusion, Engine::control) run at 200 Hz on an audio block
+// timeline — the plugin's and the standalone app's — rendering the engine's audio between steps,
+// running the mapping (Mapping/Mapper.h: arm features and gestures → MIDI at the step's sample
+// offset, OSC, macros, scene parameters), publishing each step's frame for the UI and OSC, and
+// handing each step's motor levels to the device link stamped with the step's time
 // (Link/LevelSchedule.h: the link sends them when that time comes and goes all-off when they
 // stop coming, so the motor budget holds on the packet timeline whatever the host does).
+// `play` runs the same step clocked by its source (LiveSession); this clock is driven by a host's
+// blocks (processBlock) or, while no audio comes, by an idle clock (idleTick). No JUCE: the
+// plugin hands its buffers in as an AudioBlock, its MIDI as a BlockMidi and its play head as a
+// Transport (Plugin/HostBlock.h).
 //
 // Threads:
 //  - the token holder (ControlToken): processBlock on the audio thread, or idleTick on the idle
@@ -18,16 +23,15 @@
 #include "Engine/PanicGesture.h"
 #include "Link/LevelSchedule.h"
 #include "Live/ControlLoop.h"
-#include "Mapping/Mapper.h"
 #include "Live/ControlToken.h"
 #include "Live/LeftArm.h"
-#include "Plugin/MappingOutputs.h"
-#include "Plugin/MidiPort.h"
+#include "Live/MappingOutputs.h"
+#include "Live/MidiOutQueue.h"
 #include "Live/OscLink.h"
-#include "Plugin/Parameters.h"
+#include "Live/SceneParameters.h"
 #include "Live/Stage.h"
+#include "Mapping/Mapper.h"
 #include "Tactors/TactorRenderer.h"
-#include <juce_audio_processors/juce_audio_processors.h>
 #include <array>
 #include <atomic>
 #include <cstdint>
@@ -36,14 +40,39 @@
 namespace armadillo::access {
 class TactilePlayer;
 }
-namespace armadillo::live {
-class TactorOutput;
-}
 namespace armadillo::mqtt {
 class MessageService;
 }
 
-namespace armadillo::plugin {
+namespace armadillo::live {
+
+class TactorOutput;
+
+/// One audio block of the host's buffer: `numChannels` channels of `numSamples` samples, written
+/// in place (channels 0 and 1 are the output; the others the inputs and the Tactors bus).
+struct AudioBlock {
+    float* const* channels = nullptr;
+    int numChannels = 0;
+    int numSamples = 0;
+};
+
+/// The host's MIDI for one block: its input, read first and in time order, then its output,
+/// which starts empty. The plugin wraps juce::MidiBuffer (Plugin/HostBlock.h); real-time.
+class BlockMidi {
+public:
+    struct Event {
+        const std::uint8_t* data = nullptr;
+        int size = 0;
+        int offset = 0;   ///< sample position in the block
+    };
+    virtual ~BlockMidi() = default;
+    /// The next event of the block's input; false when all were read.
+    virtual bool nextInput(Event& e) noexcept = 0;
+    /// The input is read: the buffer now carries the output (empty).
+    virtual void beginOutput() noexcept = 0;
+    /// One event out at `offset`; false when the block's storage is full (the event is dropped).
+    virtual bool add(const std::uint8_t* data, int size, int offset) noexcept = 0;
+};
 
 class BlockControl {
 public:
@@ -57,23 +86,23 @@ public:
         const std::atomic<float>* source = nullptr;
     };
 
-    BlockControl(live::ControlLoop& loop, live::ControlToken& token, const Cells& cells, device::LevelSchedule& motors);
+    BlockControl(ControlLoop& loop, ControlToken& token, const Cells& cells, device::LevelSchedule& motors);
 
-    /// Message thread, token held: a new sample rate; MIDI storage for the host's buffer. The
-    /// mapping's sounding notes are ended at the start of the next block.
+    /// Message thread, token held: a new sample rate. The mapping's sounding notes are ended at
+    /// the start of the next block.
     void prepare(double sampleRate);
     /// Before the control side runs (construction): the scenes' parameter table, for the
     /// mapping's scene-parameter destinations (constant, read lock-free), and the standalone
     /// app's MIDI port (nullptr in a host).
     void setSceneTable(const SceneParameterTable* table) noexcept { sceneTable_ = table; }
-    void setMidiPort(MidiPort* port) noexcept { port_ = port; }
+    void setMidiPort(MidiOutQueue* port) noexcept { port_ = port; }
     /// Before the control side runs: the stage (set list, panic, MIDI stage messages; Stage.h).
     /// Its commands act at the start of the next block (or idle step), never mid-block.
-    void setStage(live::Stage* stage) noexcept { stage_ = stage; }
+    void setStage(Stage* stage) noexcept { stage_ = stage; }
     /// Before the control side runs: the left arm (LeftArm.h, docs/STAGE.md "Two arms"). While it
     /// is on, each step fuses it and hands it to the engine (Engine::control with both arms when
     /// the engine was built with twoArms) and to the mapping (`left.*`, `arms.*` sources).
-    void setLeftArm(live::LeftArm* arm) noexcept { leftArm_ = arm; }
+    void setLeftArm(LeftArm* arm) noexcept { leftArm_ = arm; }
     /// The app's sensitivity test (TouchTestSession.h, issue 26): while set, each control step's
     /// levels come from this player (its own TactileEngine and SafetyStage) instead of the
     /// scene's; nullptr gives the motors back to the scene. Any thread; the player must outlive
@@ -92,7 +121,7 @@ public:
     /// The standalone app's tactor output on a sound card or JACK (Live/TactorOutput.h): each
     /// step whose levels reach the motors is pushed to it too (its SPSC queue). Any thread; null
     /// = none. Before deleting an output set here, set null and take the token once.
-    void setTactorOutput(live::TactorOutput* output) noexcept { tactorOut_.store(output, std::memory_order_release); }
+    void setTactorOutput(TactorOutput* output) noexcept { tactorOut_.store(output, std::memory_order_release); }
     /// The app's MQTT connection (MessagesRig.h): the mapping's `mqtt` destinations are published
     /// through it (its client's SPSC outbox). Any thread; null = none (they are dropped and counted
     /// in mappedMqttDropped()). The service must outlive its use here (MessagesRig keeps every one).
@@ -126,15 +155,19 @@ public:
         int tactorCount = 0;
         std::array<int, tactors::kMaxChannels> tactorChannel {};
     };
-    /// Audio thread: the whole block. `playHead` may be null; `offline` is the host's
-    /// non-realtime render (its blocks do not reach the motors: they get all-off).
-    void processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi, juce::AudioPlayHead* playHead, bool offline,
+    /// Audio thread: the whole block. `transport` is the host's play head at the block's first
+    /// sample (Transport {} when it has none); `offline` is the host's non-realtime render (its
+    /// blocks do not reach the motors: they get all-off).
+    void processBlock(const AudioBlock& buffer, BlockMidi& midi, const Transport& transport, bool offline,
                       const Listen& listen) noexcept;
+    /// The same without an audio input.
+    void processBlock(const AudioBlock& buffer, BlockMidi& midi, const Transport& transport, bool offline) noexcept
+    {
+        processBlock(buffer, midi, transport, offline, Listen {});
+    }
     /// Audio thread, the host's bypass: silence and an empty MIDI buffer, except the note-offs
     /// of the mapping's sounding notes in the first bypassed block. No control step runs.
-    void bypassBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi) noexcept;
-    /// The same without an audio input.
-    void processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi, juce::AudioPlayHead* playHead, bool offline) noexcept;
+    void bypassBlock(const AudioBlock& buffer, BlockMidi& midi) noexcept;
     /// Idle control clock (no audio for a while): `dt` s since its previous call. Runs the
     /// control step itself when no audio callback came for kIdleAfterMs and the token is free.
     void idleTick(double dt) noexcept;
@@ -161,15 +194,13 @@ public:
     mapping::Mapper& mapper() noexcept { return mapper_; }
     /// MIDI events the mapping produced that did not fit the block's MIDI storage (any thread).
     std::uint64_t midiDropped() const noexcept { return midiDropped_.load(std::memory_order_relaxed); }
-    /// Bytes of MIDI events one block may carry (the storage handed to the host's buffer).
-    static constexpr std::size_t kMidiStorageBytes = 64 * 1024;
     /// Note-ons/offs of the MIDI input one block hands to the scene (Scene::processMidi); more
     /// are dropped and counted (any thread).
     static constexpr int kMaxNotesIn = 256;
     std::uint64_t notesInDropped() const noexcept { return notesInDropped_.load(std::memory_order_relaxed); }
 
     // Published (any thread).
-    live::ArmFrame latestFrame() const noexcept { return frame_.load(); }
+    ArmFrame latestFrame() const noexcept { return frame_.load(); }
     /// Gestures of the control steps, for one consumer (the clock thread's OSC sender).
     bool popGesture(GestureEvent& g) noexcept { return gestures_.pop(g); }
     const char* lastGesture() const noexcept { return lastGesture_.load(std::memory_order_relaxed); }
@@ -188,19 +219,19 @@ private:
     /// One control step; `wall` is the monotonic time its levels belong to by the wall clock, and
     /// `toMotors` whether they go to the link.
     /// `cutoff` (monotonic s): only live samples that arrived by then are fused (+∞: all waiting).
-    void step(double dt, double wall, bool toMotors, const Transport& transport, juce::MidiBuffer* midi, int sampleOffset,
+    void step(double dt, double wall, bool toMotors, const Transport& transport, BlockMidi* midi, int sampleOffset,
               double cutoff = std::numeric_limits<double>::infinity()) noexcept;
     /// Hands out what the mapping produced: MIDI into `midi` (when not null) at the offset of
     /// each event's time from `blockStart` (s, the mapping's timeline), clamped to the block's
     /// `blockSamples`, and to the standalone's port; OSC to the clock's queue; macros; scene
     /// parameters to the active scene. Clears `mapOut_`.
-    void deliver(juce::MidiBuffer* midi, double blockStart, int blockSamples) noexcept;
+    void deliver(BlockMidi* midi, double blockStart, int blockSamples) noexcept;
     void applySceneParam(const mapping::SceneParamChange& change) noexcept;
     /// The stage at the start of a block or idle step (token holder): takes an offered set
     /// list, applies cue requests, panic and resume. On panic: every engine (and cue) panicked
     /// before anything of this block is rendered, the mapping's sounding notes ended and CC 120
     /// + CC 123 sent on all 16 channels, into `midi` at offset 0 (when not null) and the port.
-    void beginStage(juce::MidiBuffer* midi, double blockStart, int blockSamples) noexcept;
+    void beginStage(BlockMidi* midi, double blockStart, int blockSamples) noexcept;
     /// The current cue's engine with a set list, else the active engine (null: none).
     Engine* runningEngine() noexcept;
     void renderRunning(float* left, float* right, int numSamples) noexcept;
@@ -212,8 +243,8 @@ private:
     /// The stage commands the mapping fired this step, to the stage (token holder).
     void applyMappedStage() noexcept;
 
-    live::ControlLoop& loop_;
-    live::ControlToken& token_;
+    ControlLoop& loop_;
+    ControlToken& token_;
     Cells cells_;
     device::LevelSchedule& motors_;
     std::atomic<double> sampleRate_ {48000.0};
@@ -221,7 +252,7 @@ private:
     std::atomic<bool> idleDrivesMotors_ {false};
     std::atomic<access::TactilePlayer*> stimulus_ {nullptr};
     Handover<tactors::TactorRenderer> tactors_;
-    std::atomic<live::TactorOutput*> tactorOut_ {nullptr};
+    std::atomic<TactorOutput*> tactorOut_ {nullptr};
     std::atomic<mqtt::MessageService*> mqtt_ {nullptr};
     std::atomic<std::uint64_t> mqttDropped_ {0};
 
@@ -231,12 +262,6 @@ private:
     int samplesSinceStep_ = 0;        ///< samples since the previous step: its dt
     double lastStamp_ = -1.0;         ///< monotonic s of the previous step's levels (< 0: none)
     bool motorsOff_ = true;           ///< the schedule was told allOff and nothing pushed since
-    // MIDI out storage, sized on the message thread and given to the host's buffer on the first
-    // block, so emitting the mapping's events never grows the host's buffer on the audio thread;
-    // events beyond it in one block are dropped and counted.
-    juce::MidiBuffer midiStorage_;
-    bool midiStorageGiven_ = false;
-    std::size_t midiBytes_ = 0;         ///< bytes added to the current block's buffer
     int blockSamples_ = 0;              ///< the current block's length
     std::atomic<std::uint64_t> midiDropped_ {0};
     std::atomic<bool> notesOffPending_ {false};
@@ -249,10 +274,10 @@ private:
     mapping::RangeLearner learner_;
     std::uint32_t learnGeneration_ = 0;
     const SceneParameterTable* sceneTable_ = nullptr;
-    MidiPort* port_ = nullptr;
-    live::Stage* stage_ = nullptr;
-    live::LeftArm* leftArm_ = nullptr;
-    live::CuePlayer* cues_ = nullptr;   ///< token holder: the set list's player this block (null: none)
+    MidiOutQueue* port_ = nullptr;
+    Stage* stage_ = nullptr;
+    LeftArm* leftArm_ = nullptr;
+    CuePlayer* cues_ = nullptr;   ///< token holder: the set list's player this block (null: none)
     bool panicApplied_ = false;         ///< token holder: the stage's panic as applied
     PanicGesture panicGesture_;         ///< token holder: the right arm's hang (Stage::panicGesture)
     std::atomic<std::uint64_t> stageCommands_ {0};   ///< stage commands the mapping fired
@@ -270,11 +295,11 @@ private:
     std::atomic<std::uint64_t> notesInDropped_ {0};
 
     MappingOutputs outputs_;
-    SeqLock<live::ArmFrame> frame_;
+    SeqLock<ArmFrame> frame_;
     SpscQueue<GestureEvent, 128> gestures_;
     std::atomic<const char*> lastGesture_ {""};
     std::atomic<std::uint64_t> gestureCount_ {0};
     std::atomic<std::uint64_t> ticks_ {0};
 };
 
-} // namespace armadillo::plugin
+} // namespace armadillo::live

@@ -1,25 +1,41 @@
-#include "Plugin/BlockControl.h"
+#include "Live/BlockControl.h"
 #include "Access/TactilePlayer.h"
 #include <algorithm>
 #include "Core/Clock.h"
 #include "Engine/Engine.h"
 #include "Live/TactorOutput.h"
 #include "Mqtt/MessageService.h"
+#include <cassert>
 #include <cmath>
 #include <cstring>
 #include <limits>
 
-namespace armadillo::plugin {
+namespace armadillo::live {
 
-BlockControl::BlockControl(live::ControlLoop& loop, live::ControlToken& token, const Cells& cells, device::LevelSchedule& motors)
+namespace {
+
+void addInto(float* to, const float* from, int n) noexcept
+{
+    for (int i = 0; i < n; ++i) to[i] += from[i];
+}
+
+void clearBlock(const AudioBlock& b) noexcept
+{
+    for (int c = 0; c < b.numChannels; ++c)
+        if (b.numSamples > 0) std::fill_n(b.channels[c], b.numSamples, 0.0f);
+}
+
+} // namespace
+
+BlockControl::BlockControl(ControlLoop& loop, ControlToken& token, const Cells& cells, device::LevelSchedule& motors)
     : loop_(loop), token_(token), cells_(cells), motors_(motors)
 {
-    jassert(cells.elevation && cells.azimuth && cells.roll && cells.source);
+    assert(cells.elevation && cells.azimuth && cells.roll && cells.source);
 }
 
 SourceKind BlockControl::source() const noexcept
 {
-    return static_cast<SourceKind>(juce::jlimit(0, 3, static_cast<int>(cells_.source->load(std::memory_order_relaxed))));
+    return static_cast<SourceKind>(std::clamp(static_cast<int>(cells_.source->load(std::memory_order_relaxed)), 0, 3));
 }
 
 void BlockControl::prepare(double sampleRate)
@@ -27,20 +43,18 @@ void BlockControl::prepare(double sampleRate)
     sampleRate_.store(sampleRate > 0.0 ? sampleRate : 48000.0);
     samplesToTick_ = 0;
     samplesSinceStep_ = std::max(1, static_cast<int>(std::lround(sampleRate_.load() / kControlRateHz)));
-    midiStorage_.ensureSize(kMidiStorageBytes);   // off the audio thread; processBlock hands it over
-    midiStorageGiven_ = false;
     notesOffPending_.store(true, std::memory_order_relaxed);   // a restart: nothing may hang
     cues_ = nullptr;   // the stage may have replaced its player (prepareToPlay): taken again at the next block
 }
 
-void BlockControl::step(double dt, double wall, bool toMotors, const Transport& transport, juce::MidiBuffer* midi,
+void BlockControl::step(double dt, double wall, bool toMotors, const Transport& transport, BlockMidi* midi,
                         int sampleOffset, double cutoff) noexcept
 {
     // The motor timeline. Levels leave the link at their stamp: the audio timeline's steady
     // spacing while the host keeps time, the wall clock when it falls behind (late, stalled) or
     // races ahead of it (stamps never run backwards). After a stall the previous levels were on
     // until the link went all-off, not one tick: the safety stage is charged that.
-    live::ControlStep s;
+    ControlStep s;
     double stamp = 0.0;
     if (toMotors) {
         stamp = lastStamp_ < 0.0 ? wall : lastStamp_ + dt;
@@ -57,7 +71,7 @@ void BlockControl::step(double dt, double wall, bool toMotors, const Transport& 
     s.panic = panicApplied_;
     s.leftArm = leftArm_ != nullptr ? leftArm_->fuse() : nullptr;   // null: one arm
     s.arrivalCutoff = cutoff;
-    live::ControlResult result = loop_.tick(s);   // swap-in, parameters, fusion, Engine::control
+    ControlResult result = loop_.tick(s);   // swap-in, parameters, fusion, Engine::control
     if (! result.ran) return;
     if (result.swapped) mapper_.resendSceneParams();   // the new scene starts from its defaults
     if (auto* stimulus = stimulus_.load(std::memory_order_acquire))
@@ -85,7 +99,7 @@ void BlockControl::step(double dt, double wall, bool toMotors, const Transport& 
     } else {
         panicGesture_.reset();
     }
-    live::ArmFrame f;
+    ArmFrame f;
     f.t = clock_;
     f.valid = arm.valid;
     f.q[0] = arm.q.w();
@@ -148,7 +162,7 @@ void BlockControl::learnRange(const mapping::MappingInput& in) noexcept
     outputs_.learnedCount.store(learner_.count, std::memory_order_release);
 }
 
-void BlockControl::deliver(juce::MidiBuffer* midi, double blockStart, int blockSamples) noexcept
+void BlockControl::deliver(BlockMidi* midi, double blockStart, int blockSamples) noexcept
 {
     const double sr = sampleRate_.load(std::memory_order_relaxed);
     for (int i = 0; i < mapOut_.midiCount; ++i) {
@@ -157,14 +171,8 @@ void BlockControl::deliver(juce::MidiBuffer* midi, double blockStart, int blockS
         if (port_ != nullptr) port_->push(e.bytes.data(), e.size);
         if (midi == nullptr || blockSamples <= 0) continue;
         // Sample-accurate: the event's time on the mapping's timeline → its offset in this block.
-        const int offset = juce::jlimit(0, blockSamples - 1, static_cast<int>(std::lround((e.t - blockStart) * sr)));
-        const std::size_t bytes = e.size + sizeof(juce::int32) + sizeof(juce::uint16);   // MidiBuffer's record
-        if (midiBytes_ + bytes > kMidiStorageBytes) {
-            midiDropped_.fetch_add(1, std::memory_order_relaxed);
-            continue;
-        }
-        midi->addEvent(e.bytes.data(), e.size, offset);
-        midiBytes_ += bytes;
+        const int offset = std::clamp(static_cast<int>(std::lround((e.t - blockStart) * sr)), 0, blockSamples - 1);
+        if (! midi->add(e.bytes.data(), e.size, offset)) midiDropped_.fetch_add(1, std::memory_order_relaxed);
     }
     for (int i = 0; i < mapOut_.oscCount; ++i) outputs_.pushOsc(mapOut_.osc[static_cast<std::size_t>(i)]);
     if (mapOut_.mqttCount > 0) {   // the arm as a remote (docs/MQTT.md): through the app's connection, if any
@@ -176,7 +184,7 @@ void BlockControl::deliver(juce::MidiBuffer* midi, double blockStart, int blockS
                 mqttDropped_.fetch_add(1, std::memory_order_relaxed);
         }
     }
-    for (int k = 0; k < ParamIds::kMacroCount; ++k)
+    for (int k = 0; k < mapping::kMacroCount; ++k)
         if ((mapOut_.macroChanged >> k) & 1u) outputs_.setMacro(k, mapOut_.macro[static_cast<std::size_t>(k)]);
     for (int i = 0; i < mapOut_.paramCount; ++i) applySceneParam(mapOut_.params[static_cast<std::size_t>(i)]);
     if (mapOut_.dropped > 0) midiDropped_.fetch_add(mapOut_.dropped, std::memory_order_relaxed);
@@ -195,38 +203,27 @@ void BlockControl::applySceneParam(const mapping::SceneParamChange& change) noex
     const std::string& id = ids[static_cast<std::size_t>(change.index)];
     for (const auto& entry : sceneTable_->scenes) {
         if (entry.scene != slot->sceneName) continue;
-        for (std::size_t i = 0; i < entry.specs.size(); ++i) {
-            const ParamSpec& spec = entry.specs[i];
-            if (spec.id != id) continue;
-            const float lo = std::min(spec.min, spec.max), hi = std::max(spec.min, spec.max);
-            float v = change.normalised ? lo + change.value * (hi - lo) : change.value;
-            v = std::clamp(v, lo, hi);
-            if (! spec.choices.empty()) v = std::round(v);
-            slot->engine->scene().setParameter(static_cast<int>(i), v);
-            return;
-        }
+        for (std::size_t i = 0; i < entry.specs.size(); ++i)
+            if (entry.specs[i].id == id) {
+                slot->engine->scene().setParameter(static_cast<int>(i), sceneParamValue(entry.specs[i], change));   // SceneParameters.h
+                return;
+            }
     }
 }
 
-void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi, juce::AudioPlayHead* playHead,
-                                bool offline) noexcept
+void BlockControl::processBlock(const AudioBlock& buffer, BlockMidi& midi, const Transport& transport, bool offline,
+                                const Listen& listen) noexcept
 {
-    processBlock(buffer, midi, playHead, offline, Listen {});
-}
-
-void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi, juce::AudioPlayHead* playHead,
-                                bool offline, const Listen& listen) noexcept
-{
-    const int n = buffer.getNumSamples();
+    const int n = buffer.numSamples;
     // The input channels are read step by step below; the output is written over them.
-    const int listenCount = (listen.first >= 0 && listen.first + listen.count <= buffer.getNumChannels()) ? std::min(listen.count, 2) : 0;
-    const int throughCount = std::min({listen.through, 2, buffer.getNumChannels()});
+    const int listenCount = (listen.first >= 0 && listen.first + listen.count <= buffer.numChannels) ? std::min(listen.count, 2) : 0;
+    const int throughCount = std::min({listen.through, 2, buffer.numChannels});
     // Stems whose channels all lie in the buffer (a host that hands fewer channels than the
     // layout promised gets the stems up to the first that does not fit).
     int stemCount = 0;
     while (stemCount < std::min(listen.stemCount, kMaxStems)) {
         const Bus& bus = listen.stems[static_cast<std::size_t>(stemCount)];
-        if (bus.first < 0 || bus.count < 1 || bus.count > 2 || bus.first + bus.count > buffer.getNumChannels()) break;
+        if (bus.first < 0 || bus.count < 1 || bus.count > 2 || bus.first + bus.count > buffer.numChannels) break;
         ++stemCount;
     }
     // The MIDI input is never played or passed through: its stage messages (Stage.h: program
@@ -235,15 +232,15 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
     // Its notes (note-on, note-off) also go to the scene (Scene::processMidi: the layered
     // keyboard takes exact notes from them), except the cue notes, on and off.
     notesInCount_ = notesInNext_ = 0;
-    for (const auto event : midi) {
-        if (stage_ != nullptr && stage_->handleMidi(event.data, event.numBytes)) continue;   // cue steps, panic, resume
-        if (event.numBytes < 1 || event.numBytes > 3 || event.data[0] < 0x80 || event.data[0] >= 0xF0) continue;
+    for (BlockMidi::Event event; midi.nextInput(event);) {
+        if (stage_ != nullptr && stage_->handleMidi(event.data, event.size)) continue;   // cue steps, panic, resume
+        if (event.size < 1 || event.size > 3 || event.data[0] < 0x80 || event.data[0] >= 0xF0) continue;
         const int status = event.data[0] & 0xF0;
-        if ((status == 0x80 || status == 0x90) && event.numBytes == 3
+        if ((status == 0x80 || status == 0x90) && event.size == 3
             && (stage_ == nullptr || (event.data[1] != stage_->nextNote() && event.data[1] != stage_->previousNote()))) {
             if (notesInCount_ < kMaxNotesIn) {
                 MidiNoteEvent& e = notesIn_[static_cast<std::size_t>(notesInCount_++)];
-                e.offset = juce::jlimit(0, std::max(0, n - 1), event.samplePosition);
+                e.offset = std::clamp(event.offset, 0, std::max(0, n - 1));
                 e.note = static_cast<std::uint8_t>(event.data[1] & 0x7F);
                 e.velocity = static_cast<std::uint8_t>(status == 0x80 ? 0 : event.data[2] & 0x7F);
                 e.channel = static_cast<std::uint8_t>(event.data[0] & 0x0F);
@@ -252,28 +249,18 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
             }
         }
         IncomingMidi m;
-        for (int i = 0; i < event.numBytes; ++i) m.bytes[i] = event.data[i];
-        m.size = static_cast<std::uint8_t>(event.numBytes);
+        for (int i = 0; i < event.size; ++i) m.bytes[i] = event.data[i];
+        m.size = static_cast<std::uint8_t>(event.size);
         outputs_.pushIncoming(m);
     }
-    // The buffer carries the mapping's events out. The host's buffer may be sized for a few
-    // events only, and a step that emits several would grow it here: the first block hands it
-    // storage sized in prepare() (swapWith moves pointers, and clear() keeps the storage), so
-    // adding events never allocates while the host reuses its buffer, as JUCE's wrappers do;
-    // deliver() stops at that storage's size. A host that hands a fresh small buffer each block
-    // could still make it grow (JUCE's own wrappers do not): the plugin test measures the real
-    // hosts' path.
-    if (! midiStorageGiven_) {
-        midi.swapWith(midiStorage_);
-        midiStorageGiven_ = true;
-    }
-    midi.clear();
-    midiBytes_ = 0;
+    // The buffer carries the mapping's events out from here (the host's adapter keeps it from
+    // growing on the audio thread: Plugin/HostBlock.h).
+    midi.beginOutput();
     bypassed_ = false;
     const double wall = monotonicSeconds();
     lastAudioMs_.store(wall * 1e3, std::memory_order_relaxed);
-    if (buffer.getNumChannels() < 2 || n <= 0 || ! token_.tryTake()) {   // the idle clock is finishing an update: one silent block
-        buffer.clear();
+    if (buffer.numChannels < 2 || n <= 0 || ! token_.tryTake()) {   // the idle clock is finishing an update: one silent block
+        clearBlock(buffer);
         return;
     }
 
@@ -285,21 +272,9 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
     int busCount = std::clamp(listen.tactorCount, 0, tactors::kMaxChannels);
     for (int c = 0; c < busCount; ++c) {
         const int channel = listen.tactorChannel[static_cast<std::size_t>(c)];
-        if (channel < 2 || channel >= buffer.getNumChannels()) busCount = 0;   // not all in the buffer: none
+        if (channel < 2 || channel >= buffer.numChannels) busCount = 0;   // not all in the buffer: none
     }
     const int busRendered = tactorBus != nullptr ? std::min(tactorBus->channels(), busCount) : 0;
-    Transport transport;
-    if (playHead != nullptr) {
-        if (const auto pos = playHead->getPosition()) {
-            transport.valid = pos->getTimeInSeconds().hasValue() || pos->getPpqPosition().hasValue();
-            transport.playing = pos->getIsPlaying();
-            transport.looping = pos->getIsLooping();
-            transport.seconds = pos->getTimeInSeconds().orFallback(0.0);
-            transport.ppq = pos->getPpqPosition().orFallback(0.0);
-            transport.bpm = pos->getBpm().orFallback(120.0);
-        }
-    }
-
     const int samplesPerTick = std::max(1, static_cast<int>(std::lround(sr / kControlRateHz)));
     // The mapping's timeline at this block's first sample: the previous step's time plus the
     // samples rendered since.
@@ -316,8 +291,8 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
         deliver(&midi, blockStart, n);
     }
     beginStage(&midi, blockStart, n);
-    float* left = buffer.getWritePointer(0);
-    float* right = buffer.getWritePointer(1);
+    float* left = buffer.channels[0];
+    float* right = buffer.channels[1];
     int pos = 0;
     while (pos < n) {
         if (samplesToTick_ <= 0) {
@@ -339,7 +314,7 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
         if (byArrival) {
             const double next = loop_.nextArrival(stepSource);
             if (next < wall) {   // arrived within (or before) this block's stretch
-                const int at = juce::jlimit(0, n - 1, static_cast<int>(std::floor((next - blockWall0) * sr)));
+                const int at = std::clamp(static_cast<int>(std::floor((next - blockWall0) * sr)), 0, n - 1);
                 const int when = std::max({at, pos, pos + minSpacing - samplesSinceStep_});
                 if (when < pos + samplesToTick_) samplesToTick_ = when - pos;
                 if (samplesToTick_ <= 0) continue;   // due now (no step closer than minSpacing, so this ends)
@@ -356,42 +331,42 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
                 for (int k = 0; k < stemCount; ++k) {
                     const Bus& bus = listen.stems[static_cast<std::size_t>(k)];
                     float* mono = input_[static_cast<std::size_t>(k)].data();
-                    std::copy_n(buffer.getReadPointer(bus.first) + pos, len, mono);
-                    for (int c = 1; c < bus.count; ++c) juce::FloatVectorOperations::add(mono, buffer.getReadPointer(bus.first + c) + pos, len);
-                    if (bus.count > 1) juce::FloatVectorOperations::multiply(mono, 1.0f / static_cast<float>(bus.count), len);
+                    std::copy_n(buffer.channels[bus.first] + pos, len, mono);
+                    for (int c = 1; c < bus.count; ++c) addInto(mono, buffer.channels[bus.first + c] + pos, len);
+                    if (bus.count > 1) std::transform(mono, mono + len, mono, [g = 1.0f / static_cast<float>(bus.count)](float x) { return x * g; });
                 }
                 // The main input after them (audio-touch's `mixed`, and its fallback while the
                 // stems are silent).
                 for (int c = 0; c < listenCount; ++c)
-                    std::copy_n(buffer.getReadPointer(listen.first + c) + pos, len, input_[static_cast<std::size_t>(stemCount + c)].begin());
+                    std::copy_n(buffer.channels[listen.first + c] + pos, len, input_[static_cast<std::size_t>(stemCount + c)].begin());
                 inputRunning(in, stemCount + listenCount, len);
             }
         } else if (listenCount > 0) {
             // The scene hears this stretch of the input before its sound for it is rendered.
             const float* in[2] {input_[0].data(), input_[1].data()};
             for (int c = 0; c < listenCount; ++c)
-                std::copy_n(buffer.getReadPointer(listen.first + c) + pos, len, input_[static_cast<std::size_t>(c)].begin());
+                std::copy_n(buffer.channels[listen.first + c] + pos, len, input_[static_cast<std::size_t>(c)].begin());
             inputRunning(in, listenCount, len);
         }
         for (int c = 0; c < throughCount; ++c)   // the main input, before the output overwrites it
-            std::copy_n(buffer.getReadPointer(c) + pos, len, through_[static_cast<std::size_t>(c)].begin());
-        juce::FloatVectorOperations::clear(left + pos, len);
-        juce::FloatVectorOperations::clear(right + pos, len);
+            std::copy_n(buffer.channels[c] + pos, len, through_[static_cast<std::size_t>(c)].begin());
+        std::fill_n(left + pos, len, 0.0f);
+        std::fill_n(right + pos, len, 0.0f);
         renderRunning(left + pos, right + pos, len);
         if (busRendered > 0 && tactorBus->usesSound()) {   // the scene's own sound, before the track is mixed in
             for (int i = 0; i < len; ++i) tactorSound_[static_cast<std::size_t>(i)] = 0.5f * (left[pos + i] + right[pos + i]);
             tactorBus->setSound(tactorSound_.data(), len);
         }
         if (throughCount > 0) {
-            juce::FloatVectorOperations::add(left + pos, through_[0].data(), len);
-            juce::FloatVectorOperations::add(right + pos, through_[throughCount > 1 ? 1 : 0].data(), len);
+            addInto(left + pos, through_[0].data(), len);
+            addInto(right + pos, through_[throughCount > 1 ? 1 : 0].data(), len);
         }
         if (busCount > 0) {   // after this stretch's input was read: the bus may share its channels
             std::array<float*, tactors::kMaxChannels> channels {};
             for (int c = 0; c < busCount; ++c)
-                channels[static_cast<std::size_t>(c)] = buffer.getWritePointer(listen.tactorChannel[static_cast<std::size_t>(c)]) + pos;
+                channels[static_cast<std::size_t>(c)] = buffer.channels[listen.tactorChannel[static_cast<std::size_t>(c)]] + pos;
             if (busRendered > 0) tactorBus->render(channels.data(), len);
-            for (int c = busRendered; c < busCount; ++c) juce::FloatVectorOperations::clear(channels[static_cast<std::size_t>(c)], len);
+            for (int c = busRendered; c < busCount; ++c) std::fill_n(channels[static_cast<std::size_t>(c)], len, 0.0f);
         }
         pos += len;
         samplesToTick_ -= len;
@@ -399,9 +374,9 @@ void BlockControl::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuff
     }
     // The app's tactor output with a voice coil handed the scene's sound: this block's output.
     if (auto* out = tactorOut_.load(std::memory_order_acquire); out != nullptr && out->wantsSound()) out->pushSound(left, right, n);
-    for (int c = 2; c < buffer.getNumChannels(); ++c)   // sidechain / extra inputs; not the Tactors bus
+    for (int c = 2; c < buffer.numChannels; ++c)   // sidechain / extra inputs; not the Tactors bus
         if (std::find(listen.tactorChannel.begin(), listen.tactorChannel.begin() + busCount, c) == listen.tactorChannel.begin() + busCount)
-            buffer.clear(c, 0, n);
+            std::fill_n(buffer.channels[c], n, 0.0f);
     // Note-offs due before the block's end that no step reached (a gesture note's 50 ms).
     mapper_.flush(blockStart + (n - 0.5) / sr, mapOut_);
     deliver(&midi, blockStart, n);
@@ -414,17 +389,13 @@ int BlockControl::engineStems() noexcept
     return engine != nullptr ? static_cast<int>(engine->config().sceneConfig.stems.size()) : 0;
 }
 
-void BlockControl::bypassBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi) noexcept
+void BlockControl::bypassBlock(const AudioBlock& buffer, BlockMidi& midi) noexcept
 {
-    buffer.clear();
-    if (! midiStorageGiven_) {
-        midi.swapWith(midiStorage_);
-        midiStorageGiven_ = true;
-    }
-    midi.clear();   // the MIDI input is never passed through, bypassed or not
-    midiBytes_ = 0;
+    clearBlock(buffer);
+    for (BlockMidi::Event ignored; midi.nextInput(ignored);) {}   // the MIDI input is never passed through, bypassed or not
+    midi.beginOutput();
     lastAudioMs_.store(monotonicSeconds() * 1e3, std::memory_order_relaxed);
-    const int n = buffer.getNumSamples();
+    const int n = buffer.numSamples;
     if (bypassed_ || n <= 0 || ! token_.tryTake()) return;
     bypassed_ = true;
     mapper_.allNotesOff(clock_, mapOut_);
@@ -438,7 +409,7 @@ void BlockControl::idleTick(double dt) noexcept
     if (now * 1e3 - lastAudioMs_.load(std::memory_order_relaxed) <= kIdleAfterMs || ! token_.tryTake()) return;
     // A late timer (loaded machine) catches up with several updates so the control rate stays
     // at 200 Hz on average, as it does under an audio callback.
-    const int updates = juce::jlimit(1, 4, static_cast<int>(std::lround(dt * kControlRateHz)));
+    const int updates = std::clamp(static_cast<int>(std::lround(dt * kControlRateHz)), 1, 4);
     const bool toMotors = idleDrivesMotors_.load(std::memory_order_relaxed);
     beginStage(nullptr, clock_, 0);
     for (int i = 0; i < updates; ++i) step(dt / updates, now - (updates - 1 - i) * dt / updates, toMotors, Transport {}, nullptr, 0);
@@ -497,7 +468,7 @@ void BlockControl::notesRunning(int from, int len) noexcept
     else loop_.processMidi(notesIn_.data() + first, count);
 }
 
-void BlockControl::beginStage(juce::MidiBuffer* midi, double blockStart, int blockSamples) noexcept
+void BlockControl::beginStage(BlockMidi* midi, double blockStart, int blockSamples) noexcept
 {
     if (stage_ == nullptr) return;
     cues_ = stage_->beginStep();
@@ -524,4 +495,4 @@ void BlockControl::beginStage(juce::MidiBuffer* midi, double blockStart, int blo
     deliver(midi, blockStart, blockSamples);
 }
 
-} // namespace armadillo::plugin
+} // namespace armadillo::live
