@@ -6,7 +6,7 @@
 // Threads:
 //  - message thread (and prepareToPlay, audio stopped): offer(), replace(), collect(), newest().
 //    A CuePlayer is built and prepared there (every cue's Engine) and deleted there, never on
-//    the audio thread (the EngineHandover pattern: pending → active → retired, three atomics).
+//    the audio thread (Core/Handover.h: pending → active → retired).
 //  - control side (the control-token holder, real-time): beginStep() and cues(). No allocation,
 //    lock, I/O or throw.
 //  - any thread: panic(), resume(), next(), previous(), cue(i), the MIDI decoding (the audio

@@ -126,7 +126,7 @@ MappingPanel::MappingPanel(ArmadilloProcessor& processor) : processor_(processor
     preset_.onChange = [this] {
         if (updating_ || preset_.getSelectedId() <= 0) return;
         const auto name = preset_.getText();
-        const auto why = processor_.mapping()->usePreset(name);
+        const juce::String why = processor_.mapping()->usePreset(name.toStdString());
         setMessage(why.isEmpty() ? "Preset " + name + " loaded." : why, true);
         refresh();
     };
@@ -282,7 +282,9 @@ void MappingPanel::refresh()
         shownName_ = access->name();
         updating_ = true;
         preset_.clear(juce::dontSendNotification);
-        preset_.addItemList(access->presets(), 1);
+        juce::StringArray presets;
+        for (const auto& p : access->presets()) presets.add(juce::String(p));
+        preset_.addItemList(presets, 1);
         for (int i = 0; i < preset_.getNumItems(); ++i)
             if (preset_.getItemText(i) == shownName_) preset_.setSelectedItemIndex(i, juce::dontSendNotification);
         if (preset_.getSelectedId() == 0) preset_.setText(shownName_, juce::dontSendNotification);
@@ -350,7 +352,7 @@ void MappingPanel::edit(const std::function<void(mapping::MappingSpec&)>& change
     if (updating_ || i < 0) return;
     auto doc = doc_;
     change(doc.mappings[static_cast<std::size_t>(i)]);
-    const auto why = processor_.mapping()->setDocument(doc, "edited");
+    const juce::String why = processor_.mapping()->setDocument(doc, "edited");
     if (why.isNotEmpty()) setMessage(why, true);   // refused: the running set stays
     else setMessage({}, false);
     refresh();
@@ -376,7 +378,7 @@ void MappingPanel::addMapping()
     m.to.number = 20;
     const int at = selected() < 0 ? static_cast<int>(doc.mappings.size()) : selected() + 1;
     doc.mappings.insert(doc.mappings.begin() + at, m);
-    const auto why = processor_.mapping()->setDocument(doc, "edited");
+    const juce::String why = processor_.mapping()->setDocument(doc, "edited");
     setMessage(why.isEmpty() ? "Mapping " + juce::String(at + 1) + " added: elevation to CC 20." : why, true);
     refresh();
     list_.selectRow(at);
@@ -388,7 +390,7 @@ void MappingPanel::removeMapping()
     if (i < 0) return;
     auto doc = doc_;
     doc.mappings.erase(doc.mappings.begin() + i);
-    const auto why = processor_.mapping()->setDocument(doc, "edited");
+    const juce::String why = processor_.mapping()->setDocument(doc, "edited");
     setMessage(why.isEmpty() ? "Mapping " + juce::String(i + 1) + " removed." : why, true);
     refresh();
 }
@@ -404,7 +406,7 @@ void MappingPanel::toggleRangeLearn()
         refresh();
         return;
     }
-    juce::String why;
+    std::string why;
     if (! access->startRangeLearn(selected(), why)) {
         access.lock.unlock();
         setMessage(why, true);
@@ -436,7 +438,7 @@ void MappingPanel::loadFile()
     chooser_->launchAsync(juce::FileBrowserComponent::openMode | juce::FileBrowserComponent::canSelectFiles, [this](const juce::FileChooser& fc) {
         const auto file = fc.getResult();
         if (file == juce::File()) return;
-        const auto why = processor_.mapping()->loadFile(file);
+        const juce::String why = processor_.mapping()->loadFile(file.getFullPathName().toStdString());
         setMessage(why.isEmpty() ? "Loaded " + file.getFileName() + "." : why, true);
         refresh();
     });
@@ -451,7 +453,7 @@ void MappingPanel::saveFile()
                               auto file = fc.getResult();
                               if (file == juce::File()) return;
                               if (! file.hasFileExtension("json")) file = file.withFileExtension("json");
-                              const auto why = processor_.mapping()->saveFile(file);
+                              const juce::String why = processor_.mapping()->saveFile(file.getFullPathName().toStdString());
                               setMessage(why.isEmpty() ? "Saved as " + file.getFileName() + "." : why, true);
                           });
 }

@@ -53,7 +53,8 @@ ArmadilloProcessor::ArmadilloProcessor()
       training_(engines_),
       control_(loop_, token_, cellsOf(apvts_), motors_),
       connections_(loop_, control_, motors_),
-      mapping_(control_, connections_, sceneTable_, [this] { return static_cast<int>(settings_[SettingIds::midiChannel]); })
+      mapping_(control_, sceneTable_, [this] { return static_cast<int>(settings_[SettingIds::midiChannel]); },
+               [this](const std::vector<device::HostPort>& targets) { return connections_.configureMappingOsc(targets).toStdString(); })
 {
     scene_ = apvts_.getRawParameterValue(ParamIds::scene);
     jassert(scene_ != nullptr);
@@ -72,7 +73,7 @@ ArmadilloProcessor::ArmadilloProcessor()
     stage_.setPanicGesture(static_cast<bool>(settings_[SettingIds::panicGesture]));
     applyStageOsc();
     mapping_.setControlStopped(true);   // nothing runs the control step yet: install, not offer
-    if (const auto why = mapping_.fromState({}); why.isNotEmpty()) setStatus(why);
+    if (const auto why = mapping_.fromSaved({}); ! why.empty()) setStatus(why);
     mapping_.setControlStopped(false);
     if (wrapperType == wrapperType_Standalone) {
         juce::String why;
@@ -636,7 +637,7 @@ void ArmadilloProcessor::applyNetworkSettings()
                               static_cast<int>(settings_[SettingIds::oscInPort]), settings_[SettingIds::oscInFormat].toString(),
                               settings_[SettingIds::oscInMount].toString());
     std::lock_guard<std::mutex> lock(mappingMutex_);
-    mapping_.setDefaultOscTarget(settings_[SettingIds::oscOutHost].toString(), static_cast<int>(settings_[SettingIds::oscOutPort]));
+    mapping_.setDefaultOscTarget(settings_[SettingIds::oscOutHost].toString().toStdString(), static_cast<int>(settings_[SettingIds::oscOutPort]));
 }
 
 void ArmadilloProcessor::applyLeftArm()
@@ -722,7 +723,7 @@ void ArmadilloProcessor::clearStatusMessage()
 void ArmadilloProcessor::getStateInformation(juce::MemoryBlock& destData)
 {
     std::lock_guard<std::mutex> lock(mappingMutex_);
-    PluginState::save(apvts_, settings_, destData, mapping_.toState());
+    PluginState::save(apvts_, settings_, destData, PluginState::mappingNode(mapping_.toSaved()));
 }
 
 juce::String ArmadilloProcessor::saveSetup(const juce::File& file)
@@ -753,7 +754,7 @@ void ArmadilloProcessor::setStateInformation(const void* data, int sizeInBytes)
     statesLoaded_.fetch_add(1, std::memory_order_relaxed);
     if (const auto why = applySavedSetList(); why.isNotEmpty()) message = (message + " " + why).trim();
     std::lock_guard<std::mutex> lock(mappingMutex_);
-    if (const auto why = mapping_.fromState(mapping); why.isNotEmpty()) message = (message + " " + why).trim();
+    if (const auto why = mapping_.fromSaved(PluginState::savedMapping(mapping)); ! why.empty()) message = (message + " " + juce::String(why)).trim();
     setStatus(message);
 }
 

@@ -18,7 +18,7 @@
 #include "Plugin/Connections.h"
 #include "Live/ControlToken.h"
 #include "Plugin/EngineHandover.h"
-#include "Plugin/MappingSession.h"
+#include "Live/MappingSession.h"
 #include "Plugin/Parameters.h"
 #include "Plugin/PluginState.h"
 #include "Live/Stage.h"
@@ -128,8 +128,8 @@ public:
     /// The mapping set (message thread; the host's state calls take the same lock).
     struct MappingAccess {
         std::unique_lock<std::mutex> lock;
-        MappingSession& session;
-        MappingSession* operator->() const noexcept { return &session; }
+        live::MappingSession& session;
+        live::MappingSession* operator->() const noexcept { return &session; }
     };
     MappingAccess mapping() { return {std::unique_lock<std::mutex>(mappingMutex_), mapping_}; }
     /// Self-voicing and the braille display (ReaderVoice.h; message thread). On when the
@@ -315,7 +315,7 @@ private:
     TactorRig tactorRig_ {control_, token_};
     NavigationRig navigation_;                   // its route and link ride in the engine request     // after connections_: goes first (its output's pointer out of the step)
     std::mutex mappingMutex_;                    // message thread vs a host's state calls; never audio
-    MappingSession mapping_;
+    live::MappingSession mapping_;
     std::unique_ptr<access::ReaderVoice> voice_ = std::make_unique<access::ReaderVoice>();
     bool voiceOn_ = false;
     juce::String voiceOpened_;                   // the readerVoice setting the backends were opened for

@@ -202,4 +202,31 @@ juce::String readSetupFile(const juce::File& file, juce::MemoryBlock& state)
     return {};
 }
 
+namespace {
+const juce::Identifier kMappingRoot {"MAPPING"};   // child of the saved state
+const juce::Identifier kMappingName {"name"};      // preset name or file name it came from
+const juce::Identifier kMappingJson {"json"};      // the document (docs/MAPPING.md)
+const juce::Identifier kMappingForward {"forward"};   // the forward reference, azimuth deg
+} // namespace
+
+juce::ValueTree mappingNode(const live::SavedMapping& saved)
+{
+    juce::ValueTree node(kMappingRoot);
+    node.setProperty(kMappingName, juce::String(saved.name), nullptr);
+    node.setProperty(kMappingJson, juce::String(saved.json), nullptr);
+    node.setProperty(kMappingForward, saved.forward, nullptr);
+    return node;
+}
+
+live::SavedMapping savedMapping(const juce::ValueTree& node)
+{
+    live::SavedMapping saved;
+    if (! node.isValid() || ! node.hasType(kMappingRoot)) return saved;
+    saved.present = true;
+    saved.name = node[kMappingName].toString().toStdString();
+    saved.json = node[kMappingJson].toString().toStdString();
+    saved.forward = static_cast<double>(node[kMappingForward]);
+    return saved;
+}
+
 } // namespace armadillo::plugin::PluginState

@@ -5,6 +5,7 @@
 //
 // Threads: the message thread and the host's state calls (getStateInformation /
 // setStateInformation, which hosts make from a non-audio thread). Never the audio thread.
+#include "Live/MappingSession.h"
 #include <juce_audio_processors/juce_audio_processors.h>
 
 namespace armadillo::plugin {
@@ -88,6 +89,10 @@ void save(juce::AudioProcessorValueTreeState& parameters, const juce::ValueTree&
 /// none (a state from before the mapping, or one that was refused): the caller validates it.
 juce::String restore(juce::AudioProcessor& processor, juce::AudioProcessorValueTreeState& parameters,
                      juce::ValueTree& settings, const void* data, int sizeInBytes, juce::ValueTree* mapping = nullptr);
+/// The MAPPING node (docs/PLUGIN.md "State") of a mapping session's saved set, and back (an
+/// invalid node: a state from before the mapping).
+juce::ValueTree mappingNode(const live::SavedMapping& saved);
+live::SavedMapping savedMapping(const juce::ValueTree& node);
 /// Every parameter and setting back to its default.
 void resetToDefaults(juce::AudioProcessor& processor, juce::ValueTree& settings);
 

@@ -262,7 +262,7 @@ TEST_CASE("app: MQTT messages: connect from the MQTT window, a published message
         "to": {"mqtt": {"topic": "arm/elevation", "payload": "{round}", "qos": 0, "retain": false, "rate": 20}}}]})"));
     {
         auto access = processor.mapping();
-        INFO(access->loadFile(mapFile));
+        INFO(access->loadFile(mapFile.getFullPathName().toStdString()));
     }
     mqtt::MqttConfig listenConfig;
     listenConfig.host = "127.0.0.1";

@@ -1,10 +1,12 @@
-#include "Plugin/MappingSession.h"
-#include "Osc/OscIo.h"
-#include "Plugin/Connections.h"
+#include "Live/MappingSession.h"
+#include "Core/AtomicFile.h"
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <exception>
+#include <filesystem>
 
-namespace armadillo::plugin {
+namespace armadillo::live {
 
 namespace {
 constexpr const char* kDefaultPreset = "classic";
@@ -18,48 +20,48 @@ bool isMidi(mapping::DestinationKind k) noexcept
 }
 } // namespace
 
-MappingSession::MappingSession(live::BlockControl& control, Connections& connections, const SceneParameterTable& table,
-                               std::function<int()> defaultChannel)
-    : control_(control), connections_(connections), table_(table), defaultChannel_(std::move(defaultChannel))
+MappingSession::MappingSession(BlockControl& control, const SceneParameterTable& table, std::function<int()> defaultChannel,
+                               OscTargets oscTargets)
+    : control_(control), table_(table), defaultChannel_(std::move(defaultChannel)), oscTargets_(std::move(oscTargets))
 {
 }
 
 MappingSession::~MappingSession() = default;
 
-juce::StringArray MappingSession::presets() const
+std::vector<std::string> MappingSession::presets() const
 {
-    juce::StringArray names;
+    std::vector<std::string> names;
     try {
-        for (const auto& n : mapping::presetNames()) names.add(juce::String(n));
+        names = mapping::presetNames();
     } catch (const std::exception&) {
         // An unreadable user folder: the built-in presets are listed by the core anyway.
     }
     return names;
 }
 
-mapping::MappingDocument MappingSession::withClassicChannel(mapping::MappingDocument doc, const juce::String& preset) const
+mapping::MappingDocument MappingSession::withClassicChannel(mapping::MappingDocument doc, const std::string& preset) const
 {
     // The classic preset is the plugin's wiring from before the mapping: it keeps honouring the
     // `midiChannel` setting those sessions saved (docs/PLUGIN.md "MIDI out").
     if (preset != kDefaultPreset || ! defaultChannel_) return doc;
-    const int channel = juce::jlimit(1, 16, defaultChannel_());
+    const int channel = std::clamp(defaultChannel_(), 1, 16);
     for (auto& m : doc.mappings)
         if (isMidi(m.to.kind)) m.to.channel = channel;
     return doc;
 }
 
-juce::String MappingSession::setDocument(const mapping::MappingDocument& doc, const juce::String& name)
+std::string MappingSession::setDocument(const mapping::MappingDocument& doc, const std::string& name)
 {
     mapping::BuildOptions options;
     for (const auto& entry : table_.scenes)
         for (std::size_t i = 0; i < entry.specs.size(); ++i)
             if (entry.exposed[i]) options.sceneParamIds.push_back(entry.specs[i].id);
-    options.sourceName = name.toStdString();
+    options.sourceName = name;
     std::unique_ptr<mapping::MappingSet> set;
     try {
         set = mapping::MappingSet::build(doc, options);
     } catch (const std::exception& e) {
-        return juce::String(e.what());
+        return e.what();
     }
     configureOscTargets(*set);
     macrosUsed_ = set->macrosUsed();
@@ -85,47 +87,49 @@ void MappingSession::configureOscTargets(const mapping::MappingSet& set)
 {
     std::vector<device::HostPort> targets;
     for (const auto& t : set.oscTargets())
-        targets.push_back(device::HostPort {t.host.empty() ? oscHost_.toStdString() : t.host, t.port > 0 ? t.port : oscPort_});
-    const auto why = connections_.configureMappingOsc(targets);
-    juce::ignoreUnused(why);   // shown by the editor's status line through Connections::linkStatus
+        targets.push_back(device::HostPort {t.host.empty() ? oscHost_ : t.host, t.port > 0 ? t.port : oscPort_});
+    if (oscTargets_) (void) oscTargets_(targets);   // what was refused: shown by the rig's link status
 }
 
-void MappingSession::setDefaultOscTarget(const juce::String& host, int port)
+void MappingSession::setDefaultOscTarget(const std::string& host, int port)
 {
-    oscHost_ = host.isEmpty() ? juce::String("127.0.0.1") : host;
+    oscHost_ = host.empty() ? std::string("127.0.0.1") : host;
     oscPort_ = port > 0 && port <= 65535 ? port : 9000;
     if (auto* set = liveSet()) configureOscTargets(*set);
 }
 
-juce::String MappingSession::usePreset(const juce::String& preset)
+std::string MappingSession::usePreset(const std::string& preset)
 {
     mapping::MappingDocument doc;
     try {
-        doc = mapping::loadMapping(preset.toStdString());
+        doc = mapping::loadMapping(preset);
     } catch (const std::exception& e) {
-        return juce::String(e.what());
+        return e.what();
     }
     return setDocument(withClassicChannel(std::move(doc), preset), preset);
 }
 
-juce::String MappingSession::loadFile(const juce::File& file)
+std::string MappingSession::loadFile(const std::string& path)
 {
-    if (! file.existsAsFile()) return "no such file: " + file.getFullPathName();
-    if (file.getSize() > static_cast<juce::int64>(kMaxStateJsonBytes)) return file.getFullPathName() + " is too large for a mapping file";
+    std::error_code ec;
+    if (! std::filesystem::is_regular_file(path, ec)) return "no such file: " + path;
+    if (std::filesystem::file_size(path, ec) > kMaxStateJsonBytes) return path + " is too large for a mapping file";
     mapping::MappingDocument doc;
     try {
-        doc = mapping::parseMappingDocument(file.loadFileAsString().toStdString(), file.getFullPathName().toStdString());
+        doc = mapping::parseMappingDocument(readWholeFile(path), path);
     } catch (const std::exception& e) {
-        return juce::String(e.what());
+        return e.what();
     }
-    return setDocument(doc, file.getFileName());
+    return setDocument(doc, std::filesystem::path(path).filename().string());
 }
 
-juce::String MappingSession::saveFile(const juce::File& file) const
+std::string MappingSession::saveFile(const std::string& path) const
 {
-    juce::TemporaryFile tmp(file);
-    if (! tmp.getFile().replaceWithText(juce::String(mapping::toJson(doc_))) || ! tmp.overwriteTargetFileWithTemporary())
-        return "cannot write " + file.getFullPathName();
+    try {
+        writeFileAtomically(path, mapping::toJson(doc_));
+    } catch (const std::exception&) {
+        return "cannot write " + path;
+    }
     return {};
 }
 
@@ -151,45 +155,47 @@ bool MappingSession::active(int index) noexcept
     return set != nullptr && index >= 0 && static_cast<std::size_t>(index) < set->size() && set->active(static_cast<std::size_t>(index));
 }
 
-juce::ValueTree MappingSession::toState() const
+SavedMapping MappingSession::toSaved() const
 {
-    juce::ValueTree node(MappingIds::root);
-    node.setProperty(MappingIds::name, name_, nullptr);
-    node.setProperty(MappingIds::json, juce::String(mapping::toJson(doc_)), nullptr);
-    node.setProperty(MappingIds::forward, control_.mapper().forwardAzimuth(), nullptr);
-    return node;
+    SavedMapping saved;
+    saved.present = true;
+    saved.name = name_;
+    saved.json = mapping::toJson(doc_);
+    saved.forward = control_.mapper().forwardAzimuth();
+    return saved;
 }
 
-juce::String MappingSession::fromState(const juce::ValueTree& node)
+std::string MappingSession::fromSaved(const SavedMapping& saved)
 {
-    if (! node.isValid() || ! node.hasType(MappingIds::root)) {
+    if (! saved.present) {
         control_.mapper().setForwardAzimuth(0.0);
         return usePreset(kDefaultPreset);   // a state from before the mapping: its wiring
     }
-    const auto name = node[MappingIds::name].toString().substring(0, 256);
-    const auto json = node[MappingIds::json].toString();
-    const double forward = static_cast<double>(node[MappingIds::forward]);
+    std::size_t cut = std::min<std::size_t>(saved.name.size(), 256);
+    while (cut > 0 && cut < saved.name.size() && (static_cast<unsigned char>(saved.name[cut]) & 0xC0) == 0x80) --cut;   // whole UTF-8 characters
+    const std::string name = saved.name.substr(0, cut);
+    const double forward = saved.forward;
     control_.mapper().setForwardAzimuth(std::isfinite(forward) ? std::fmod(std::fmod(forward, 360.0) + 360.0, 360.0) : 0.0);
-    juce::String why;
-    if (json.trim().isEmpty() && name.isNotEmpty()) {
+    const bool blank = saved.json.find_first_not_of(" \t\r\n") == std::string::npos;
+    std::string why;
+    if (blank && ! name.empty()) {
         why = usePreset(name);   // a hand-written setup may name a preset instead of holding one
-    } else if (json.getNumBytesAsUTF8() > kMaxStateJsonBytes) {
+    } else if (saved.json.size() > kMaxStateJsonBytes) {
         why = "the saved mapping is too large";
     } else {
         try {
-            const auto doc = mapping::parseMappingDocument(json.toStdString(), "saved mapping '" + name.toStdString() + "'");
-            why = setDocument(doc, name.isEmpty() ? juce::String("saved") : name);
+            const auto doc = mapping::parseMappingDocument(saved.json, "saved mapping '" + name + "'");
+            why = setDocument(doc, name.empty() ? std::string("saved") : name);
         } catch (const std::exception& e) {
-            why = juce::String(e.what());
+            why = e.what();
         }
     }
-    if (why.isEmpty()) return {};
+    if (why.empty()) return {};
     const auto fallback = usePreset(kDefaultPreset);
-    return "The saved mapping was refused (" + why + "); the classic preset runs instead."
-           + (fallback.isEmpty() ? juce::String() : " " + fallback);
+    return "The saved mapping was refused (" + why + "); the classic preset runs instead." + (fallback.empty() ? std::string() : " " + fallback);
 }
 
-bool MappingSession::startRangeLearn(int index, juce::String& why)
+bool MappingSession::startRangeLearn(int index, std::string& why)
 {
     if (index < 0 || index >= static_cast<int>(doc_.mappings.size())) {
         why = "Choose a mapping first.";
@@ -219,7 +225,7 @@ bool MappingSession::learnedRange(double& lo, double& hi) const
     return hi > lo;
 }
 
-juce::String MappingSession::finishRangeLearn(bool apply)
+std::string MappingSession::finishRangeLearn(bool apply)
 {
     control_.mappingOutputs().learnSource.store(-1, std::memory_order_release);
     const int index = rangeIndex_;
@@ -235,7 +241,10 @@ juce::String MappingSession::finishRangeLearn(bool apply)
     t.inLo = lo;
     t.inHi = hi;
     auto why = setDocument(doc, "edited");
-    return why.isEmpty() ? "Range learned: " + juce::String(lo, 1) + " to " + juce::String(hi, 1) + "." : why;
+    if (! why.empty()) return why;
+    char text[96];
+    std::snprintf(text, sizeof text, "Range learned: %.1f to %.1f.", lo, hi);
+    return text;
 }
 
 void MappingSession::timerTick()
@@ -245,7 +254,7 @@ void MappingSession::timerTick()
     // 0–31 followed by its +32 partner is a 14-bit pair); anything else is drained and dropped.
     std::uint8_t bytes[96];
     int size = 0;
-    live::IncomingMidi m;
+    IncomingMidi m;
     while (control_.mappingOutputs().popIncoming(m))
         if (size + m.size <= static_cast<int>(sizeof bytes))
             for (int i = 0; i < m.size; ++i) bytes[size++] = m.bytes[i];
@@ -258,12 +267,12 @@ void MappingSession::timerTick()
             to = learned;
             destinationIndex_ = -1;
             const auto why = setDocument(doc, "edited");
-            notice_ = why.isEmpty() ? "Destination learned: " + juce::String(learned.channel) + "/" + juce::String(learned.number) + "." : why;
+            notice_ = why.empty() ? "Destination learned: " + std::to_string(learned.channel) + "/" + std::to_string(learned.number) + "." : why;
         }
     }
     // Macros no mapping drives any longer stop being written (their parameters keep the value).
-    for (int k = 0; k < ParamIds::kMacroCount; ++k)
+    for (int k = 0; k < mapping::kMacroCount; ++k)
         if (((macrosUsed_ >> k) & 1u) == 0) control_.mappingOutputs().releaseMacro(k);
 }
 
-} // namespace armadillo::plugin
+} // namespace armadillo::live
