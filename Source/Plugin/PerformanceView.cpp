@@ -88,7 +88,7 @@ void PerformanceView::refresh()
         const juce::String scene = index >= 0 && index < static_cast<int>(scenes.size()) ? juce::String(scenes[static_cast<std::size_t>(index)].scene)
                                                                                          : juce::String("?");
         cueLine_ = "No set list: scene " + scene;
-        nextLine_ = "Next: none (live::Stage > Load set list...)";
+        nextLine_ = "Next: none (Stage > Load set list...)";
     }
     // The arm's source as the status line counts it: live while samples keep coming.
     StatusSnapshot s;

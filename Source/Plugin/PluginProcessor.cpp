@@ -865,7 +865,7 @@ void ArmadilloProcessor::stageTick()
     const auto count = stage_.panics();
     if (panicked && (! reportedPanicked_ || count != reportedPanics_)) {
         setStatus("PANIC: all sound and every motor off, the notes sent ended (CC 120 and 123 on all channels). "
-                  "Resume: R in the performance view, live::Stage > Resume, or MIDI CC 119.");
+                  "Resume: R in the performance view, Stage > Resume, or MIDI CC 119.");
         announce(*this, "stage", "Panic: all sound and every motor off.", juce::AccessibilityHandler::AnnouncementPriority::high);
     } else if (! panicked && reportedPanicked_) {
         setStatus("Resumed.");
