@@ -79,8 +79,9 @@ void PerformanceView::refresh()
 {
     const auto info = processor_.stageInfo();
     if (info.setList) {
-        cueLine_ = "Cue " + juce::String(info.cue + 1) + "/" + juce::String(info.cueCount) + ": " + info.cueName + "  (" + info.cueScene + ")";
-        nextLine_ = info.next >= 0 ? "Next " + juce::String(info.next + 1) + ": " + info.nextName + "  (" + info.nextScene + ")"
+        cueLine_ = "Cue " + juce::String(info.cue + 1) + "/" + juce::String(info.cueCount) + ": " + juce::String(info.cueName) + "  ("
+                   + juce::String(info.cueScene) + ")";
+        nextLine_ = info.next >= 0 ? "Next " + juce::String(info.next + 1) + ": " + juce::String(info.nextName) + "  (" + juce::String(info.nextScene) + ")"
                                    : juce::String("Next: none (last cue)");
     } else {
         const auto& scenes = processor_.sceneTable().scenes;

@@ -188,7 +188,7 @@ void ArmadilloEditor::showStageMenu()
     menu.addItem(1, "Performance view (F11)");
     menu.addSeparator();
     menu.addItem(2, "Load set list...");
-    menu.addItem(3, "Clear set list" + (info.setList ? " (" + info.listName + ")" : juce::String()), info.setList);
+    menu.addItem(3, "Clear set list" + (info.setList ? " (" + juce::String(info.listName) + ")" : juce::String()), info.setList);
     menu.addSeparator();
     menu.addItem(4, "Panic (F12)", ! info.panicked);
     menu.addItem(5, "Resume", info.panicked);

@@ -186,29 +186,13 @@ void ArmadilloProcessor::prepareToPlay(double sampleRate, int)
     listen_ = listen;
     engines_.install(currentRequest(), token_);
     // A set list prepared for another sample rate is built again for this one (audio is stopped).
-    std::unique_ptr<live::CuePlayer> cues;
-    bool replaceCues = false;
-    {
-        std::lock_guard<std::mutex> lock(stageMutex_);
-        const auto text = settings_[SettingIds::setList].toString();
-        if (text.isNotEmpty() && cuesRate_ != sampleRate_.load()) {
-            try {
-                cues = buildCues(live::parseSetList(text.toStdString(), settings_[SettingIds::setListName].toString().toStdString()),
-                                 sampleRate_.load());
-                cuesRate_ = sampleRate_.load();
-                replaceCues = true;
-            } catch (const std::exception& e) {
-                setStatus("The set list cannot be prepared at " + juce::String(sampleRate_.load()) + " Hz: " + juce::String(e.what()));
-            }
-        }
-    }
+    std::string cuesWhy;
+    auto cues = stageSession_.rebuild(settings_[SettingIds::setList].toString().toStdString(),
+                                      settings_[SettingIds::setListName].toString().toStdString(), cueBuild(sampleRate_.load()), cuesWhy);
+    if (! cuesWhy.empty())
+        setStatus("The set list cannot be prepared at " + juce::String(sampleRate_.load()) + " Hz: " + juce::String(cuesWhy));
     token_.take();   // the idle clock holds it for < 1 ms; audio is stopped during prepareToPlay
-    if (replaceCues) {
-        std::lock_guard<std::mutex> lock(stageMutex_);
-        cuesWaiting_.reset();
-        cuesWaitingSet_ = false;
-        stage_.replace(std::move(cues));
-    }
+    if (cues != nullptr) stageSession_.install(std::move(cues));
     control_.prepare(sampleRate_.load());
     hostBlock_.prepare();   // MIDI storage for the host's buffer, off the audio thread
     const auto tactorWhy = tactorRig_.prepareBus(settings_, listen.tactorCount, motorCount(), sampleRate_.load());
@@ -761,78 +745,48 @@ void ArmadilloProcessor::setStateInformation(const void* data, int sizeInBytes)
 // ------------------------------------------------------------------------------------------------
 // On stage (Stage.h, docs/STAGE.md)
 
-std::unique_ptr<live::CuePlayer> ArmadilloProcessor::buildCues(const live::SetList& list, double sampleRate) const
+live::CueBuild ArmadilloProcessor::cueBuild(double sampleRate) const
 {
-    SceneConfig base;
-    base.sampleRate = sampleRate > 0.0 ? sampleRate : 48000.0;
-    base.controlRateHz = kControlRateHz;
-    base.seed = 1;
-    base.side = settings_[SettingIds::armSide].toString() == "left" ? ArmSide::Left : ArmSide::Right;
-    const int motors = static_cast<bool>(settings_[SettingIds::backMotors]) ? kGridMotors + kBackMotors : kGridMotors;
+    live::CueBuild b;
+    b.base.sampleRate = sampleRate > 0.0 ? sampleRate : 48000.0;
+    b.base.controlRateHz = kControlRateHz;
+    b.base.seed = 1;
+    b.base.side = settings_[SettingIds::armSide].toString() == "left" ? ArmSide::Left : ArmSide::Right;
+    b.motors = static_cast<bool>(settings_[SettingIds::backMotors]) ? kGridMotors + kBackMotors : kGridMotors;
     // The reader's touch profile for every cue, as the Scene box's engine gets it (EngineHandover);
     // the settings only keep a profile that parses (PluginState.cpp), so a failure here is moot.
-    auto gains = TactileConfig::unitMotorGains();
     if (const auto json = settings_[SettingIds::touchProfile].toString(); json.isNotEmpty()) {
         try {
-            gains = device::touchProfileGains(device::parseTouchProfile(json.toStdString(), "the touch profile setting"));
+            b.gains = device::touchProfileGains(device::parseTouchProfile(json.toStdString(), "the touch profile setting"));
         } catch (const std::exception&) {
         }
     }
     // With the left arm on, every cue's engine takes it too (as the Scene box's engine does).
-    const bool twoArms = static_cast<bool>(settings_[SettingIds::leftArmOsc]);
-    return std::make_unique<live::CuePlayer>(list, base, motors, twoArms, gains);   // every cue's engine, prepared now
-}
-
-void ArmadilloProcessor::offerCues(std::unique_ptr<live::CuePlayer> player)
-{
-    // Under stageMutex_. One hand-over in flight: a newer set list waits for the timer.
-    cuesWaiting_ = std::move(player);
-    cuesWaitingSet_ = true;
-    stage_.collect();
-    if (stage_.offer(cuesWaiting_)) cuesWaitingSet_ = false;
+    b.twoArms = static_cast<bool>(settings_[SettingIds::leftArmOsc]);
+    return b;
 }
 
 juce::String ArmadilloProcessor::useSetList(const juce::String& text, const juce::String& name)
 {
-    if (text.length() > PluginState::kMaxSetListChars)
-        return name + ": the set list is longer than " + juce::String(PluginState::kMaxSetListChars) + " characters";
-    std::unique_ptr<live::CuePlayer> player;
-    try {
-        player = buildCues(live::parseSetList(text.toStdString(), name.toStdString()), sampleRate_.load());
-    } catch (const std::exception& e) {
-        return juce::String(e.what());
-    }
-    const auto summary = "Set list " + name + ": " + juce::String(player->cueCount()) + " cues, cue 1 '" + juce::String(player->cue(0).name)
-                         + "' (" + juce::String(player->cue(0).scene) + ")";
-    {
-        std::lock_guard<std::mutex> lock(stageMutex_);
-        cuesRate_ = sampleRate_.load();
-        offerCues(std::move(player));
-        reportedCue_ = 0;
-    }
+    std::string summary;
+    if (const auto why = stageSession_.use(text.toStdString(), name.toStdString(), cueBuild(sampleRate_.load()), summary); ! why.empty())
+        return juce::String(why);
     settings_.setProperty(SettingIds::setListName, name, nullptr);
     settings_.setProperty(SettingIds::setList, text, nullptr);
-    setStatus(summary);
+    setStatus(juce::String(summary));
     return {};
 }
 
 juce::String ArmadilloProcessor::loadSetList(const juce::File& file)
 {
-    if (! file.existsAsFile()) return "no such file: " + file.getFullPathName();
-    if (file.getSize() > PluginState::kMaxSetListChars) return file.getFullPathName() + " is too large to be a set list";
-    juce::FileInputStream in(file);
-    if (! in.openedOk()) return "cannot read " + file.getFullPathName();
-    return useSetList(in.readEntireStreamAsString(), file.getFileName());
+    std::string text;
+    if (const auto why = live::StageSession::readFile(file.getFullPathName().toStdString(), text); ! why.empty()) return juce::String(why);
+    return useSetList(juce::String::fromUTF8(text.data(), static_cast<int>(text.size())), file.getFileName());
 }
 
 void ArmadilloProcessor::clearSetList()
 {
-    {
-        std::lock_guard<std::mutex> lock(stageMutex_);
-        offerCues(nullptr);
-        cuesRate_ = 0.0;
-        reportedCue_ = -1;
-    }
+    stageSession_.clear();
     settings_.setProperty(SettingIds::setList, "", nullptr);
     settings_.setProperty(SettingIds::setListName, "", nullptr);
 }
@@ -842,12 +796,7 @@ juce::String ArmadilloProcessor::applySavedSetList()
     const auto text = settings_[SettingIds::setList].toString();
     const auto name = settings_[SettingIds::setListName].toString();
     if (text.isEmpty()) {
-        bool loaded = false;
-        {
-            std::lock_guard<std::mutex> lock(stageMutex_);
-            loaded = cuesWaitingSet_ ? cuesWaiting_ != nullptr : stage_.newest() != nullptr;
-        }
-        if (loaded) clearSetList();
+        if (stageSession_.loaded()) clearSetList();
         return {};
     }
     const auto why = useSetList(text, name.isNotEmpty() ? name : juce::String("the saved set list"));
@@ -858,88 +807,25 @@ juce::String ArmadilloProcessor::applySavedSetList()
 
 void ArmadilloProcessor::stageTick()
 {
-    std::lock_guard<std::mutex> lock(stageMutex_);
-    stage_.collect();   // the player the control side gave up is deleted here, never on the audio thread
-    if (cuesWaitingSet_ && stage_.offer(cuesWaiting_)) cuesWaitingSet_ = false;
-    const bool panicked = stage_.panicked();
-    const auto count = stage_.panics();
-    if (panicked && (! reportedPanicked_ || count != reportedPanics_)) {
+    const auto report = stageSession_.tick();
+    if (report.panicked) {
         setStatus("PANIC: all sound and every motor off, the notes sent ended (CC 120 and 123 on all channels). "
                   "Resume: R in the performance view, Stage > Resume, or MIDI CC 119.");
         announce(*this, "stage", "Panic: all sound and every motor off.", juce::AccessibilityHandler::AnnouncementPriority::high);
-    } else if (! panicked && reportedPanicked_) {
+    } else if (report.resumed) {
         setStatus("Resumed.");
         announce(*this, "stage", "Resumed.", juce::AccessibilityHandler::AnnouncementPriority::high);
     }
-    reportedPanicked_ = panicked;
-    reportedPanics_ = count;
-    if (auto* player = stage_.newest(); player != nullptr && ! cuesWaitingSet_) {
-        const int cue = player->current();
-        if (cue != reportedCue_ && reportedCue_ >= 0) {
-            const auto& c = player->cue(cue);
-            const auto text = "Cue " + juce::String(cue + 1) + " of " + juce::String(player->cueCount()) + ": '" + juce::String(c.name) + "' ("
-                              + juce::String(c.scene) + ")";
-            if (! panicked) setStatus(text);
-            announce(*this, "stage", text, juce::AccessibilityHandler::AnnouncementPriority::medium);
-        }
-        reportedCue_ = cue;
+    if (! report.cue.empty()) {
+        if (! stage_.panicked()) setStatus(juce::String(report.cue));
+        announce(*this, "stage", juce::String(report.cue), juce::AccessibilityHandler::AnnouncementPriority::medium);
     }
 }
 
 void ArmadilloProcessor::applyStageOsc()
 {
-    const bool on = static_cast<bool>(settings_[SettingIds::stageOscEnabled]);
-    const int port = static_cast<int>(settings_[SettingIds::stageOscPort]);
-    if (stageOsc_ != nullptr && on && (port == 0 || stageOsc_->port() == port)) return;
-    if (stageOsc_ != nullptr) stageOsc_->stop();
-    stageOsc_.reset();
-    if (! on) return;
-    try {
-        // live/StageControl.h: /armadillo/panic, /armadillo/resume, /armadillo/cue/next|prev,
-        // /armadillo/cue i, as `armadillo play --control-in` takes them. Its own thread: atomics only.
-        stageOsc_ = std::make_unique<live::StageControlReceiver>(port, [this](const live::StageCommand& c) {
-            switch (c.kind) {
-            case live::StageCommand::Kind::Panic: stage_.panic(); break;
-            case live::StageCommand::Kind::Resume: stage_.resume(); break;
-            case live::StageCommand::Kind::CueNext: stage_.next(); break;
-            case live::StageCommand::Kind::CuePrev: stage_.previous(); break;
-            case live::StageCommand::Kind::CueGoto: stage_.cue(c.cue); break;
-            }
-        });
-        stageOsc_->start();
-    } catch (const std::exception& e) {
-        stageOsc_.reset();
-        setStatus("OSC stage commands: " + juce::String(e.what()));
-    }
-}
-
-int ArmadilloProcessor::stageOscPort() const
-{
-    return stageOsc_ != nullptr ? stageOsc_->port() : 0;
-}
-
-ArmadilloProcessor::StageInfo ArmadilloProcessor::stageInfo() const
-{
-    StageInfo info;
-    info.panicked = stage_.panicked();
-    info.panics = stage_.panics();
-    std::lock_guard<std::mutex> lock(stageMutex_);
-    const live::CuePlayer* player = cuesWaitingSet_ ? cuesWaiting_.get() : stage_.newest();
-    if (player == nullptr) return info;
-    info.setList = true;
-    info.listName = settings_[SettingIds::setListName].toString();
-    info.cueCount = player->cueCount();
-    info.cue = cuesWaitingSet_ ? 0 : player->current();
-    const auto& c = player->cue(info.cue);
-    info.cueName = juce::String(c.name);
-    info.cueScene = juce::String(c.scene);
-    if (info.cue + 1 < info.cueCount) {
-        info.next = info.cue + 1;
-        const auto& n = player->cue(info.next);
-        info.nextName = juce::String(n.name);
-        info.nextScene = juce::String(n.scene);
-    }
-    return info;
+    const auto why = stageSession_.setOsc(static_cast<bool>(settings_[SettingIds::stageOscEnabled]), static_cast<int>(settings_[SettingIds::stageOscPort]));
+    if (! why.empty()) setStatus("OSC stage commands: " + juce::String(why));
 }
 
 juce::AudioProcessorEditor* ArmadilloProcessor::createEditor()

@@ -25,7 +25,7 @@
 #include "Plugin/TactorRig.h"
 #include "Plugin/NavigationRig.h"
 #include "Plugin/MessagesRig.h"
-#include "Live/StageControl.h"
+#include "Live/StageSession.h"
 #include "Access/ReaderVoice.h"
 #include "Plugin/AdaptiveSession.h"
 #include "Plugin/TouchTestSession.h"
@@ -206,22 +206,12 @@ public:
     /// Message thread: the newest set list's player (null: none), for tests and the UI.
     const live::CuePlayer* cuePlayer() const noexcept { return stage_.newest(); }
     /// The UDP port the OSC stage commands are heard on (the stageOsc settings), 0 when off.
-    int stageOscPort() const;
+    int stageOscPort() const { return stageSession_.oscPort(); }
     std::uint32_t panics() const noexcept { return stage_.panics(); }
     /// Stage commands the mapping's "stage" destinations fired (any thread; docs/STAGE.md).
     std::uint64_t mappedStageCommands() const noexcept { return control_.mappedStageCommands(); }
     /// What the performance view shows.
-    struct StageInfo {
-        bool setList = false;
-        juce::String listName;
-        int cue = -1, cueCount = 0;            ///< the cue playing (0-based), how many
-        juce::String cueName, cueScene;
-        int next = -1;                         ///< the next cue (−1: the last cue plays)
-        juce::String nextName, nextScene;
-        bool panicked = false;
-        std::uint32_t panics = 0;
-    };
-    StageInfo stageInfo() const;
+    live::StageSession::Info stageInfo() const { return stageSession_.info(); }
 
     /// The VST3's sidechain input buses, after its main input (input buses 1…4, stereo, disabled
     /// until the host routes them): each is a stem of audio-touch with the scene's preset of the
@@ -267,10 +257,9 @@ private:
     void applyNetworkSettings();
     void applyLeftArm();
     void applyVoiceSettings();
-    std::unique_ptr<live::CuePlayer> buildCues(const live::SetList& list, double sampleRate) const;
+    live::CueBuild cueBuild(double sampleRate) const;   ///< how every cue's engine is built, from the settings
     /// After a state was restored: the saved set list is used, or cleared with the reason.
     juce::String applySavedSetList();
-    void offerCues(std::unique_ptr<live::CuePlayer> player);
     void stageTick();   ///< timer: hand-over, and the status line's panic / cue reports
     void applyStageOsc();
     void setStatus(const juce::String& message);
@@ -345,21 +334,12 @@ private:
     std::atomic<bool> hostPrepared_ {false};      // prepareToPlay has run: the host takes parameter edits
     void applyRequestedProgram();
 
-    // The set list's builder side (Stage.h): message thread and the host's state calls.
-    mutable std::mutex stageMutex_;
-    std::unique_ptr<live::CuePlayer> cuesWaiting_;   // built, not yet taken by Stage::offer
-    bool cuesWaitingSet_ = false;                    // cuesWaiting_ (maybe null: "no set list") is to be offered
-    double cuesRate_ = 0.0;                          // the sample rate the newest player was built for
-    std::uint32_t reportedPanics_ = 0;               // timer: what the status line said last
-    bool reportedPanicked_ = false;
-    int reportedCue_ = -1;
-
     mutable std::mutex statusMutex_;             // message thread and host state calls; never audio
     juce::String status_;
     bool statusFromEngine_ = false;              // status_ came from the engine hand-over
 
-    // Last, so it goes first: its thread calls into stage_.
-    std::unique_ptr<live::StageControlReceiver> stageOsc_;   // message thread
+    // Last, so it goes first: its OSC thread calls into stage_.
+    live::StageSession stageSession_ {stage_};   // the set list's builder side, the stage's reports (Live/StageSession.h)
 
     JUCE_DECLARE_NON_COPYABLE_WITH_LEAK_DETECTOR(ArmadilloProcessor)
 };
