@@ -259,18 +259,8 @@ int runRender(const Arguments& args)
                     throw UsageError(std::string("--cue-at: ") + e.what());
                 }
             }
-            r = live::renderSetList(motion, list, settings, changes);
+            r = live::renderSetList(motion, list, settings, changes);   // streamed through settings.audioSink as a scene is
             engine.scene = "setlist";
-            // A set list renders into memory (bounded like any collected render): its audio goes
-            // to the WAV the same way the streamed render's does.
-            r.frames = r.audio.frames();
-            for (const auto& ch : r.audio.channels)
-                for (const float v : ch) r.peak = std::max(r.peak, std::fabs(v));
-            constexpr std::size_t kChunk = 4096;
-            for (std::size_t at = 0; at < r.frames && r.audio.channels.size() == 2; at += kChunk) {
-                const int n = static_cast<int>(std::min<std::size_t>(kChunk, r.frames - at));
-                settings.audioSink(r.audio.channels[0].data() + at, r.audio.channels[1].data() + at, n);
-            }
         } else {
             r = renderOffline(motion, settings);
         }

@@ -49,9 +49,55 @@ void checkRenderSpan(const CsvTable& motion, std::size_t rows, const std::functi
         }
 }
 
+namespace {
+
+/// One engine, built from the settings: what `render --scene` plays.
+class EnginePerformer final : public OfflinePerformer {
+public:
+    explicit EnginePerformer(const EngineConfig& config) : engine_(config) {}
+    MotorLevels control(const ArmState& right, const ArmState* left, const Transport& transport, double dt) override
+    {
+        return left != nullptr ? engine_.control(right, *left, transport, dt) : engine_.control(right, transport, dt);
+    }
+    MotorLevels leftLevels() override { return engine_.leftLevels(); }
+    void allOff() override { engine_.allOff(); }
+    Engine& sounding() override { return engine_; }
+    void processMidi(const MidiNoteEvent* events, int count) override { engine_.processMidi(events, count); }
+    void processInput(const float* const* in, int channels, int n) override { engine_.processInput(in, channels, n); }
+    void renderAudio(float* left, float* right, int n) override { engine_.renderAudio(left, right, n); }
+    void popGestures(std::vector<GestureEvent>& out) override
+    {
+        GestureEvent g;
+        while (engine_.popGesture(g)) out.push_back(g);
+    }
+    bool listensToAudio(std::string& whyNot) const override
+    {
+        whyNot = "scene '" + engine_.config().scene + "' does not listen to audio";
+        return engine_.listensToAudio();
+    }
+    bool listensToMidi(std::string& whyNot) const override
+    {
+        whyNot = "scene '" + engine_.config().scene + "' does not listen to MIDI";
+        return engine_.listensToMidi();
+    }
+
+private:
+    Engine engine_;
+};
+
+} // namespace
+
 RenderResult renderOffline(const CsvTable& motion, const RenderSettings& settings)
 {
+    if (settings.leftMotion != nullptr && !settings.engine.twoArms) throw InputError("", 0, "--motion-left", "two arms need EngineConfig::twoArms");
+    EnginePerformer performer(settings.engine);
+    return renderOffline(motion, settings, performer);
+}
+
+RenderResult renderOffline(const CsvTable& motion, const RenderSettings& settings, OfflinePerformer& engine)
+{
     const MotionRows source = MotionRows::load(motion, settings.mount, "--mount");
+    if (source.size() == 0) throw InputError(motion.source(), 0, "", "the motion file has no rows");
     // A rate taken from the recording names the recording; any other names the option.
     const bool rateOfInput = settings.audioIn != nullptr && settings.audioIn->sampleRate == settings.engine.sceneConfig.sampleRate;
     const double sampleRate = engineSampleRate(settings.engine.sceneConfig.sampleRate,
@@ -66,22 +112,21 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
     const double maxSeconds = settings.audioSink ? settings.maxSeconds : std::min(settings.maxSeconds, kMaxCollectedRenderSeconds);
     checkRenderSpan(motion, source.size(), [&](std::size_t i) { return source.time(i); }, tail, maxSeconds);
 
-    Engine engine(settings.engine);
     ArmTracker tracker;
     const std::string audioInName = settings.audioInName.empty() ? std::string("--audio-in") : settings.audioInName;
     const AudioBuffer* input = settings.audioIn;
+    if (std::string whyNot; input && !engine.listensToAudio(whyNot))
+        throw InputError(audioInName, 0, "", "--audio-in: " + whyNot + " (score, audio-touch and layered-keyboard do)");
     if (input) {
-        if (!engine.listensToAudio())
-            throw InputError(audioInName, 0, "", "--audio-in: scene '" + settings.engine.scene + "' does not listen to audio (score, audio-touch and layered-keyboard do)");
         if (input->channels.empty() || input->frames() == 0) throw InputError(audioInName, 0, "", "--audio-in: the recording holds no audio");
         if (std::fabs(input->sampleRate - sampleRate) > 0.5)
             throw InputError(audioInName, 0, "", "--audio-in: the recording's sample rate (" + std::to_string(static_cast<long>(input->sampleRate)) +
                                                       " Hz) differs from the engine's (" + std::to_string(static_cast<long>(sampleRate)) +
                                                       " Hz); give --sample-rate to match it");
     }
-    if (settings.midiIn && !engine.listensToMidi())
+    if (std::string whyNot; settings.midiIn && !engine.listensToMidi(whyNot))
         throw InputError(settings.midiInName.empty() ? std::string("--midi-in") : settings.midiInName, 0, "",
-                         "--midi-in: scene '" + settings.engine.scene + "' does not listen to MIDI (layered-keyboard does)");
+                         "--midi-in: " + whyNot + " (layered-keyboard does)");
     std::vector<MidiNoteEvent> midiBlock(settings.midiIn ? settings.midiIn->size() : 0);
     std::size_t nextMidi = 0;
     const int block = std::clamp(settings.blockSize, 1, 8192);
@@ -95,7 +140,6 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
     std::size_t leftRow = 0;
     ArmState leftArm;
     if (twoArms) {
-        if (!settings.engine.twoArms) throw InputError("", 0, "--motion-left", "two arms need EngineConfig::twoArms");
         leftSource = MotionRows::load(*settings.leftMotion, settings.leftMount, "--mount-left");
         if (leftSource.size() == 0) throw InputError(settings.leftMotion->source(), 0, "--motion-left", "the left arm's motion file has no rows");
     }
@@ -172,6 +216,7 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
     for (std::size_t i = 0; i < source.size(); ++i) {
         const double t = source.time(i);
         renderUntil(t);
+        engine.beforeRow(t - t0);
         const ArmState arm = source.apply(tracker, i);
         if (twoArms)   // the left arm's rows up to this time
             while (leftRow < leftSource.size() && leftSource.time(leftRow) <= t + 1e-9) leftArm = leftSource.apply(leftTracker, leftRow++);
@@ -183,7 +228,7 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
         transport.ppq = transport.seconds * settings.bpm / 60.0;
         MotorLevels levels {};
         if (arm.valid) {
-            levels = twoArms ? engine.control(arm, leftArm, transport, t - previous) : engine.control(arm, transport, t - previous);
+            levels = engine.control(arm, twoArms ? &leftArm : nullptr, transport, t - previous);
             const Pose& p = arm.features.pose;
             if (std::isfinite(p.elevationDeg) && std::isfinite(p.azimuthDeg)) {
                 result.minElevation = anyPose ? std::min(result.minElevation, p.elevationDeg) : p.elevationDeg;
@@ -196,9 +241,9 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
             engine.allOff();
             ++result.invalidRows;
         }
-        if (engine.failed())
-            throw std::runtime_error("scene '" + engine.config().scene + "' failed at t = " + std::to_string(t)
-                                     + " s (motors off): " + engine.failure());
+        if (Engine& sounding = engine.sounding(); sounding.failed())
+            throw std::runtime_error("scene '" + sounding.config().scene + "' failed at t = " + std::to_string(t)
+                                     + " s (motors off): " + sounding.failure());
         previous = t;
         result.tactile.push_back({t, levels});
         if (twoArms) {
@@ -208,11 +253,10 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
         }
         ++result.controlUpdates;
         const std::size_t firstGesture = result.gestures.size();
-        GestureEvent g;
-        while (engine.popGesture(g)) result.gestures.push_back(g);
+        engine.popGestures(result.gestures);
         if (settings.onControl)
             settings.onControl(t, arm, twoArms ? &leftArm : nullptr, result.gestures.data() + firstGesture, result.gestures.size() - firstGesture,
-                               engine);
+                               engine.sounding());
     }
     renderUntil(tEnd + 1.0 / sampleRate);
     // The render ends as a session does: every motor off, in one last packet (the tactile file's

@@ -105,9 +105,38 @@ struct MotionRows {
 /// range over the file.
 std::string silenceReason(const RenderResult& r, const RenderSettings& settings);
 
+/// What an offline render plays: one engine (renderOffline's own, from RenderSettings::engine),
+/// or a set list's cues (Live/SetList.h renderSetList). The renderer owns the clock, the motion,
+/// the recording, the MIDI notes and the audio; the performer answers for the sound and the
+/// motors. One renderer for both, so a set list renders exactly as a scene does.
+class OfflinePerformer {
+public:
+    virtual ~OfflinePerformer() = default;
+    /// Before the control update of the row at `t` s from the first row (a cue change due).
+    virtual void beforeRow(double /*t*/) {}
+    /// One control update: both arms when `left` is not null.
+    virtual MotorLevels control(const ArmState& right, const ArmState* left, const Transport& transport, double dt) = 0;
+    virtual MotorLevels leftLevels() = 0;
+    virtual void allOff() = 0;
+    /// The engine sounding now (its failure stops the render; a front end's mapping reads it).
+    virtual Engine& sounding() = 0;
+    virtual void processMidi(const MidiNoteEvent* events, int count) = 0;
+    virtual void processInput(const float* const* in, int channels, int numSamples) = 0;
+    virtual void renderAudio(float* left, float* right, int numSamples) = 0;
+    /// Moves the gestures emitted since the last call to `out`.
+    virtual void popGestures(std::vector<GestureEvent>& out) = 0;
+    /// Whether a recording or MIDI notes can be heard, and if not, why in words ("scene 'x' does
+    /// not listen to audio").
+    virtual bool listensToAudio(std::string& whyNot) const = 0;
+    virtual bool listensToMidi(std::string& whyNot) const = 0;
+};
+
 /// Runs the scene over the motion table (IMU, quaternion or pose file); throws InputError for
 /// a file that is not a motion file.
 RenderResult renderOffline(const CsvTable& motion, const RenderSettings& settings);
+/// The same with `performer` playing (its engines built by the caller for settings.engine's
+/// sample rate): a set list's cues.
+RenderResult renderOffline(const CsvTable& motion, const RenderSettings& settings, OfflinePerformer& performer);
 
 /// Refuses (InputError naming the row and the time column) a motion file whose rows, plus the
 /// tail, span more than `maxSeconds` from the first row — before anything is allocated for them.

@@ -243,128 +243,71 @@ CueChange parseCueChange(const std::string& text)
     return c;
 }
 
+namespace {
+
+/// A set list's cues as the offline renderer's performer: requested cue changes at their times,
+/// every cue hearing the recording (a follower keeps its place while another cue plays).
+class CuePerformer final : public OfflinePerformer {
+public:
+    CuePerformer(CuePlayer& player, std::vector<CueChange> changes, std::string listName)
+        : player_(player), changes_(std::move(changes)), listName_(std::move(listName))
+    {
+    }
+    void beforeRow(double t) override
+    {
+        while (next_ < changes_.size() && changes_[next_].t <= t + 1e-9) player_.request(changes_[next_++].cue);
+    }
+    MotorLevels control(const ArmState& right, const ArmState* left, const Transport& transport, double dt) override
+    {
+        return left != nullptr ? player_.control(right, *left, transport, dt) : player_.control(right, transport, dt);
+    }
+    MotorLevels leftLevels() override { return player_.leftLevels(); }
+    void allOff() override { sounding().allOff(); }
+    Engine& sounding() override { return player_.engine(player_.current()); }
+    void processMidi(const MidiNoteEvent* events, int count) override { player_.processMidi(events, count); }
+    void processInput(const float* const* in, int channels, int n) override { player_.processInput(in, channels, n); }
+    void renderAudio(float* left, float* right, int n) override { player_.renderAudio(left, right, n); }
+    void popGestures(std::vector<GestureEvent>& out) override
+    {
+        GestureEvent g;
+        for (int c = 0; c < player_.cueCount(); ++c)
+            while (player_.engine(c).popGesture(g)) out.push_back(g);
+    }
+    bool listensToAudio(std::string& whyNot) const override
+    {
+        whyNot = "no cue of " + listName_ + " listens to audio";
+        for (int c = 0; c < player_.cueCount(); ++c)
+            if (player_.engine(c).listensToAudio()) return true;
+        return false;
+    }
+    bool listensToMidi(std::string& whyNot) const override
+    {
+        whyNot = "no cue of " + listName_ + " listens to MIDI";
+        for (int c = 0; c < player_.cueCount(); ++c)
+            if (player_.engine(c).listensToMidi()) return true;
+        return false;
+    }
+
+private:
+    CuePlayer& player_;
+    std::vector<CueChange> changes_;
+    std::size_t next_ = 0;
+    std::string listName_;
+};
+
+} // namespace
+
 RenderResult renderSetList(const CsvTable& motion, const SetList& list, const RenderSettings& settings, std::vector<CueChange> changes)
 {
-    const MotionRows source = MotionRows::load(motion, settings.mount, "--mount");
-    const std::size_t rows = source.size();
-    if (rows == 0) throw InputError(motion.source(), 0, "", "the motion file has no rows");
-    auto timeOf = [&](std::size_t i) { return source.time(i); };
-    // A set list renders into memory: its span is bounded like any collected render.
-    checkRenderSpan(motion, rows, timeOf, settings.tailSeconds, std::min(settings.maxSeconds, kMaxCollectedRenderSeconds));
-
-    const bool rateOfInput = settings.audioIn != nullptr && settings.audioIn->sampleRate == settings.engine.sceneConfig.sampleRate;
-    const double sampleRate = engineSampleRate(settings.engine.sceneConfig.sampleRate,
-                                               rateOfInput && !settings.audioInName.empty() ? settings.audioInName : std::string("--sample-rate"));
     const bool twoArms = settings.leftMotion != nullptr;
-    MotionRows leftSource;
-    if (twoArms) {
-        leftSource = MotionRows::load(*settings.leftMotion, settings.leftMount, "--mount-left");
-        if (leftSource.size() == 0) throw InputError(settings.leftMotion->source(), 0, "--motion-left", "the left arm's motion file has no rows");
-    }
     CuePlayer player(list, settings.engine.sceneConfig, settings.engine.motorCount, twoArms, settings.engine.motorGain);
     for (const CueChange& c : changes)
         if (c.cue >= player.cueCount())
             throw InputError(list.source, 0, "--cue-at", "cue " + std::to_string(c.cue) + " does not exist (the set list has " +
                                                              std::to_string(player.cueCount()) + " cues, 0.." + std::to_string(player.cueCount() - 1) + ")");
     std::stable_sort(changes.begin(), changes.end(), [](const CueChange& a, const CueChange& b) { return a.t < b.t; });
-
-    // The recording (`--audio-in`): every listening cue hears it all the time (a follower keeps
-    // its place while another cue plays), from sample 0 = the first motion row.
-    const AudioBuffer* input = settings.audioIn;
-    const std::string inputName = settings.audioInName.empty() ? std::string("--audio-in") : settings.audioInName;
-    if (input) {
-        bool listens = false;
-        for (int c = 0; c < player.cueCount(); ++c) listens = listens || player.engine(c).listensToAudio();
-        if (!listens) throw InputError(inputName, 0, "", "--audio-in: no cue of " + list.source + " listens to audio (score, audio-touch and layered-keyboard do)");
-        if (input->channels.empty() || input->frames() == 0) throw InputError(inputName, 0, "", "--audio-in: the recording holds no audio");
-        if (std::fabs(input->sampleRate - sampleRate) > 0.5)
-            throw InputError(inputName, 0, "", "--audio-in: the recording's sample rate (" + std::to_string(static_cast<long>(input->sampleRate)) +
-                                                   " Hz) differs from the engine's (" + std::to_string(static_cast<long>(sampleRate)) +
-                                                   " Hz); give --sample-rate to match it");
-    }
-
-    ArmTracker tracker, leftTracker;
-    ArmState leftArm;
-    std::size_t leftRow = 0;
-    RenderResult result;
-    const double t0 = timeOf(0);
-    const double tEnd = timeOf(rows - 1) + std::max(0.0, settings.tailSeconds);
-    const auto totalFrames = static_cast<std::size_t>(std::llround((tEnd - t0) * sampleRate)) + 1;
-    result.audio.sampleRate = sampleRate;
-    result.audio.channels.assign(2, std::vector<float>(totalFrames, 0.0f));
-    const int block = std::clamp(settings.blockSize, 1, 8192);
-    std::vector<const float*> inputChannels(input ? input->channels.size() : 0, nullptr);
-    std::vector<std::vector<float>> inputScratch(inputChannels.size(), std::vector<float>(static_cast<std::size_t>(block), 0.0f));
-    std::size_t frame = 0;
-    const auto renderUntil = [&](double t) {
-        const auto target = std::min(totalFrames, static_cast<std::size_t>(std::llround((t - t0) * sampleRate)));
-        while (frame < target) {
-            const int n = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(block), target - frame));
-            if (input) {   // past the recording's end silence still comes in
-                for (std::size_t c = 0; c < inputChannels.size(); ++c) {
-                    auto& scratch = inputScratch[c];
-                    for (int i = 0; i < n; ++i) {
-                        const std::size_t at = frame + static_cast<std::size_t>(i);
-                        scratch[static_cast<std::size_t>(i)] = at < input->frames() ? input->channels[c][at] : 0.0f;
-                    }
-                    inputChannels[c] = scratch.data();
-                }
-                player.processInput(inputChannels.data(), static_cast<int>(inputChannels.size()), n);
-            }
-            float* left = result.audio.channels[0].data() + frame;
-            float* right = result.audio.channels[1].data() + frame;
-            player.renderAudio(left, right, n);
-            for (int i = 0; i < n; ++i) result.scenePeak = std::max({result.scenePeak, std::fabs(left[i]), std::fabs(right[i])});
-            if (input && settings.mixAudioIn) {   // the recording as the listener hears it, under the cues' sound
-                const float* first = inputChannels[0];
-                const float* second = inputChannels[inputChannels.size() > 1 ? 1 : 0];
-                for (int i = 0; i < n; ++i) {
-                    left[i] = std::clamp(left[i] + first[i], -1.0f, 1.0f);
-                    right[i] = std::clamp(right[i] + second[i], -1.0f, 1.0f);
-                }
-            }
-            frame += static_cast<std::size_t>(n);
-        }
-    };
-    if (input) {   // the recording itself, from sample 0
-        for (std::size_t c = 0; c < inputChannels.size(); ++c) inputChannels[c] = input->channels[c].data();
-        player.processInput(inputChannels.data(), static_cast<int>(inputChannels.size()), 0);
-    }
-    std::size_t nextChange = 0;
-    double previous = t0;
-    for (std::size_t i = 0; i < rows; ++i) {
-        const double t = timeOf(i);
-        renderUntil(t);
-        while (nextChange < changes.size() && changes[nextChange].t <= t - t0 + 1e-9) player.request(changes[nextChange++].cue);
-        const ArmState arm = source.apply(tracker, i);
-        if (twoArms)   // the left arm's rows up to this time (both files on one clock)
-            while (leftRow < leftSource.size() && leftSource.time(leftRow) <= t + 1e-9) leftArm = leftSource.apply(leftTracker, leftRow++);
-        Transport transport;
-        transport.valid = true;
-        transport.playing = true;
-        transport.seconds = t - t0;
-        transport.bpm = settings.bpm;
-        transport.ppq = transport.seconds * settings.bpm / 60.0;
-        MotorLevels levels {};
-        if (arm.valid) levels = twoArms ? player.control(arm, leftArm, transport, t - previous) : player.control(arm, transport, t - previous);
-        else ++result.invalidRows;
-        Engine& current = player.engine(player.current());
-        if (current.failed())
-            throw std::runtime_error("scene '" + current.config().scene + "' failed at t = " + std::to_string(t) + " s (motors off): " + current.failure());
-        previous = t;
-        result.tactile.push_back({t, levels});
-        if (twoArms) {
-            result.leftTactile.push_back({t, arm.valid ? player.leftLevels() : MotorLevels {}});
-            result.rightOrientation.push_back({t, arm.valid ? arm.q : Eigen::Quaterniond::Identity()});
-            result.leftOrientation.push_back({t, leftArm.valid ? leftArm.q : Eigen::Quaterniond::Identity()});
-        }
-        ++result.controlUpdates;
-        GestureEvent g;
-        for (int c = 0; c < player.cueCount(); ++c)
-            while (player.engine(c).popGesture(g)) result.gestures.push_back(g);
-    }
-    renderUntil(tEnd + 1.0 / sampleRate);
-    return result;
+    CuePerformer performer(player, std::move(changes), list.source);
+    return renderOffline(motion, settings, performer);   // Engine/OfflineRenderer.h: the one offline renderer
 }
 
 } // namespace armadillo::live

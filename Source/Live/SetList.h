@@ -134,7 +134,7 @@ CueChange parseCueChange(const std::string& text);
 /// by time; requested before the control update at or after each time). Honours the settings'
 /// audioIn (every listening cue hears it; mixed in unless mixAudioIn is false; InputError when
 /// no cue listens), leftMotion (two arms: leftTactile and both orientations are filled), mount
-/// and leftMount. onControl and audioSink are not used (the audio is collected).
+/// and leftMount, onControl (the current cue's engine) and audioSink (streamed).
 RenderResult renderSetList(const CsvTable& motion, const SetList& list, const RenderSettings& settings, std::vector<CueChange> changes);
 
 } // namespace armadillo::live
