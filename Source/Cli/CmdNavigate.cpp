@@ -3,6 +3,7 @@
 // arm's source and motors (a device or the simulated forearm, through play's LiveSession), the
 // navigation scene (Source/Navigation) in the engine, and the logs.
 #include "Cli/CommandLine.h"
+#include "Cli/LiveOptions.h"
 #include "Cli/Commands.h"
 #include "Cli/ReaderIo.h"
 #include "Cli/TactorOptions.h"
@@ -141,13 +142,10 @@ int runNavigate(const Arguments& args)
                                      "without --port/--simulate the arm's motion comes from the same port (a phone: ZIG SIM motion + gps)"},
                 {"--mount", "NAME", "with --osc-in as the arm: how the phone is worn (docs/SENSORS.md; as `play --mount`)"},
                 {"--simulate-walk", "", "a simulated walker follows the motors (with --simulate; offline, deterministic)"},
-                {"--port", "NAME", "the forearm device (its motors and sensors)"},
                 {"--simulate", "", "the built-in simulated forearm (with --gpsd: it holds still; with --simulate-walk: the walker's arm)"},
                 {"--motion", "FILE", "with --simulate and --gpsd: the simulated forearm moves as this pose/quaternion CSV"},
-                {"--calibration", "CAL.json", "the device calibration (as `play`)"},
                 {"--profile", "PROFILE.json", "the reader's touch profile (as `play`)"},
                 {"--arm", "right|left", "the arm wearing the device (default right)"},
-                {"--baud", "N", "with --port: baud rate (default 57600)"},
                 {"--log", "NAV.csv", "one row per control update: t,lat,lon,fix,waypoint,distance_m,bearing_deg,heading_deg,…"},
                 {"--tactile", "T.csv", "every motor packet: t,m1..m9"},
                 {"--seconds", "N", "stop after N seconds (simulated seconds with --simulate-walk)"},
@@ -160,6 +158,9 @@ int runNavigate(const Arguments& args)
                 {"--strap-offset", "DEG", "with --simulate-walk: the simulated strap's offset (default 20)"},
                 {"--seed", "N", "with --simulate-walk: the walker's and its GPS's random seed (default 1)"},
                 };
+                // The device: as play's source group says it (Cli/LiveOptions.h).
+                const auto device = pickOptions(sourceOptionSpecs(), {"--port", "--baud", "--calibration"});
+                o.insert(o.begin() + 4, device.begin(), device.end());
                 const auto io = readerIoOptionSpecs();   // --speak, --speech, --rate, --brlapi, --braille-display
                 o.insert(o.end(), io.begin(), io.end());
                 // The motors on a tactor rig (docs/TACTORS.md), beside the device or the simulator.

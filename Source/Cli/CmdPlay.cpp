@@ -1,6 +1,7 @@
 #include "Cli/CommandLine.h"
 #include "Cli/Commands.h"
 #include "Cli/LiveCommand.h"
+#include "Cli/LiveOptions.h"
 #include "Cli/MapOptions.h"
 #include "Cli/MqttOptions.h"
 #include "Cli/ReaderIo.h"
@@ -170,79 +171,35 @@ std::vector<OptionSpec> playOptionSpecs()
 {
     auto o = sceneOptionSpecs();
     o.front().required = false;   // --scene or --setlist
-    const std::vector<OptionSpec> own {
+    const std::vector<OptionSpec> stage {
         {"--setlist", "FILE", "a set list (docs/STAGE.md) instead of --scene: starts at cue 0; steps with --keys\n"
                               "(n, b, 0..9) and --control-in (/armadillo/cue/next, /armadillo/cue/prev, /armadillo/cue i)"},
-        {"--port", "NAME", "serial port of the device (see `armadillo ports`; ptys and /dev/rfcomm* work too)"},
-        {"--simulate", "", "the built-in simulated forearm (in-process, paced like a 57 600-baud link)"},
-        {"--motion", "FILE", "with --simulate: pose or quaternion CSV to act out (looped); default a wandering arm"},
-        {"--osc-in", "PORT", "listen for OSC sensor messages on this UDP port, and on the same TCP port (ZIG SIM's\n"
-                             "TCP option), no motor output; OSC and ZIG SIM's JSON are told apart by their first\n"
-                             "byte; the sender's format is detected from its first messages and printed"},
-        {"--format", "NAME", "with --port: what the serial port speaks: thesis (the board's protocol, default) or\n"
-                             "ngimu-slip (an NGIMU over USB: SLIP-framed OSC, read like --osc-in)"},
-        {"--osc-format", "NAME", "with --osc-in: force the sender's format (auto, armadillo, sensors2osc, zigsim,\n"
-                                 "gyrosc, touchosc, ngimu)"},
-        {"--mount", "FILE|PRESET", "with --osc-in: how the sensor is strapped on: a mount file (--calibrate-mount) or a\n"
-                                   "preset (identity, phone-screen-up, phone-screen-up-top-to-elbow, ngimu); default: the\n"
-                                   "format's usual one (phones: phone-screen-up)"},
-        {"--calibrate-mount", "OUT.json", "with --osc-in: the guided mount calibration (arm level ahead, arm hanging down,\n"
-                                          "optionally a quarter roll); instructions on stderr; writes OUT.json for --mount"},
-        {"--baud", "B", "serial speed (default 57600, 8N1)"},
-        {"--v2", "", "with --port: offer the v2 framing (sequence numbers, CRC, the board's clock;\n"
-                     "docs/DEVICE.md 2b) on every connect; a board that does not take it gets v1 as\n"
-                     "usual. The summary then adds \"v2\", \"seq_gaps\" and \"crc_failures\""},
-        {"--calibration", "CAL.json", "device calibration (default: the built-in one, which matches the simulator)"},
-        {"--seconds", "N", "stop after N seconds (default: run until interrupted)"},
-        {"--out", "OUT.wav", "record the scene's audio, 16-bit stereo (written whole at the end) instead of playing it"},
-        {"--audio-device", "NAME", "ALSA device to play on (default: 'default'; e.g. hw:1, plughw:1,0); an error if it\n"
-                                   "cannot be opened"},
-        {"--no-audio", "", "no sound at all (no --out, no sound card)"},
-        {"--audio-in", "FILE.wav", "a recording to play out (to the sound card or --out, under the scene's sound) while\n"
-                                   "scenes that listen (score, audio-touch, layered-keyboard) follow it; its sample rate is used unless\n"
-                                   "--sample-rate is given. Given several times, each file is a stem named by its file\n"
-                                   "name (drums.wav, bass.wav ...), as --stem"},
-        {"--stem", "NAME=FILE.wav", "audio-touch: a stem felt apart on its own motors (drums, bass, other, vocals;\n"
-                                    "repeatable; docs/INSTRUMENTS.md); the stems are played out together"},
-        {"--loop", "", "with --audio-in or --stem: start the recording again at its end (without it, the session\n"
-                       "ends with the recording unless --seconds ends it first)"},
-        {"--data-timeout", "SECONDS", "with --port or --osc-in (and --port-left, --osc-in-left): no usable sensor data from\n"
-                                      "either arm within this time is an error naming the port and what was heard instead\n"
-                                      "(exit 4; default 5, 0 = wait for ever)"},
-        {"--tactile", "T.csv", "every motor packet: t,m1..m9; the last row is the all-off sent at the end"},
-        {"--log", "SESSION.csv", "one row per sensor packet: t, raw counts, calibrated SI values, qw,qx,qy,qz"},
-        {"--osc-out", "HOST:PORT", "send orientation, pose, gyro, motors and gestures as OSC; with --map, the target of\n"
-                                   "the mapping's OSC destinations that name none (and only those are sent)"},
-        {"--map", "PRESET|FILE", kMapHelp},
-        {"--forward", "DEG", std::string(kForwardHelp) + "; SIGUSR1 (kill -USR1 PID) sets forward to where\n"
-                             "the arm points now"},
-        {"--midi-out", "NAME", "with --map: open an ALSA sequencer output port NAME (client \"ARMadillo\") and send the\n"
-                               "mapped MIDI there as it happens; exit 4 naming the cause when there is no sequencer"},
-        {"--unpaced", "", "with --simulate: no wire pacing (as fast as the host can go)"},
-        {"--training-log", "LOG.csv", "with --scene braille: the training protocol (thesis §4.4.1) live. Each trial's\n"
-                                      "prompt is printed on stderr; type the answers on stdin, one a line (left, right,\n"
-                                      "both, here, a letter or a word); right/wrong is said at once; the session ends when\n"
-                                      "every trial is answered and the log (docs/BRAILLE.md) is written to LOG.csv"},
-        {"--motion-left", "FILE", "two arms: with --simulate, a second simulated forearm (the left arm) acting out FILE\n"
-                                  "(pose or quaternion CSV; - = a wandering arm); scenes see both arms"},
-        {"--port-left", "NAME", "two arms: the left arm's own device (its motor packets go back to it)"},
-        {"--osc-in-left", "PORT", "two arms: the left arm is an OSC sender on this UDP (and TCP) port, read like --osc-in\n"
-                                  "(format detected, its own mount); with any right-arm source"},
-        {"--osc-format-left", "NAME", "with --osc-in-left: force the left sender's format (as --osc-format)"},
-        {"--mount-left", "FILE|PRESET", "with --osc-in-left: how the left arm's sensor is strapped on (as --mount)"},
-        {"--calibrate-mount-left", "OUT.json", "with --osc-in-left: the guided mount calibration of the left arm's sensor\n"
-                                               "(as --calibrate-mount; instructions on stderr prefixed 'left arm')"},
-        {"--calibration-left", "CAL.json", "the left arm's device calibration (default: the built-in one)"},
-        {"--arms-log", "A.csv", "two arms: t,qw,qx,qy,qz,left_qw,left_qx,left_qy,left_qz per control update"},
         {"--control-in", "PORT", "stage commands as OSC on this UDP port (docs/STAGE.md): /armadillo/panic,\n"
                                  "/armadillo/resume, /armadillo/cue/next, /armadillo/cue/prev, /armadillo/cue i"},
         {"--keys", "", "stage keys on stdin: p or Escape = panic, r = resume, n or Space = next cue,\n"
                        "b = previous cue, 0..9 = cue"},
         {"--panic-gesture", "", "the forearm hanging straight down (elevation <= -75 deg) for 2 s panics"},
+    };
+    const std::vector<OptionSpec> mapping {
+        {"--map", "PRESET|FILE", kMapHelp},
+        {"--forward", "DEG", std::string(kForwardHelp) + "; SIGUSR1 (kill -USR1 PID) sets forward to where\n"
+                             "the arm points now"},
+        {"--midi-out", "NAME", "with --map: open an ALSA sequencer output port NAME (client \"ARMadillo\") and send the\n"
+                               "mapped MIDI there as it happens; exit 4 naming the cause when there is no sequencer"},
+    };
+    const std::vector<OptionSpec> procedures {
+        {"--training-log", "LOG.csv", "with --scene braille: the training protocol (thesis §4.4.1) live. Each trial's\n"
+                                      "prompt is printed on stderr; type the answers on stdin, one a line (left, right,\n"
+                                      "both, here, a letter or a word); right/wrong is said at once; the session ends when\n"
+                                      "every trial is answered and the log (docs/BRAILLE.md) is written to LOG.csv"},
         {"--calibrate", "OUT.json", "run the guided calibration (thesis §2.4) on the device while playing; instructions on\n"
                                     "stderr, each step finishes when it has enough data; writes OUT.json (unfinished steps keep\n"
                                     "the starting calibration)"},
     };
+    std::vector<OptionSpec> own {stage.front()};   // --setlist, right after --scene
+    for (const auto& group : {sourceOptionSpecs(), outputOptionSpecs(), mapping, procedures, leftArmOptionSpecs(),
+                              std::vector<OptionSpec>(stage.begin() + 1, stage.end())})
+        own.insert(own.end(), group.begin(), group.end());
     o.insert(o.begin() + 1, own.begin(), own.end());
     // The motor grid live as audio (docs/TACTORS.md), beside the device.
     const auto tactorOptions = tactorOptionSpecs(true);
@@ -256,56 +213,29 @@ std::vector<OptionSpec> playOptionSpecs()
     return o;
 }
 
-int runLiveSession(const CommandLine& cl, const LiveCommand& command)
-{
-    const std::string who = "armadillo " + std::string(command.name) + ": ";   // what stderr's lines start with
+namespace {
 
+/// What `play` (or `read`) was asked for: the live configuration and what the front end does
+/// around the session (how long, the guided procedures' files, the stage's control port, the
+/// reader's voice, messages on the arm).
+struct PlayRequest {
     device::LiveConfig config;
-    const int sources = int(cl.has("--port")) + int(cl.has("--simulate")) + int(cl.has("--osc-in"));
-    if (sources != 1) throw UsageError("choose exactly one source: --port NAME, --simulate or --osc-in PORT");
-    if (cl.has("--motion") && !cl.has("--simulate")) throw UsageError("--motion drives the simulator: use it with --simulate");
-    if (cl.has("--unpaced") && !cl.has("--simulate")) throw UsageError("--unpaced applies to --simulate");
-    if (cl.has("--baud") && !cl.has("--port")) throw UsageError("--baud applies to --port");
-    if (cl.has("--v2") && !cl.has("--port")) throw UsageError("--v2 applies to --port");
-    const std::string portFormat = cl.has("--format") ? cl.value("--format") : std::string("thesis");
-    if (cl.has("--format") && !cl.has("--port")) throw UsageError("--format applies to --port (--osc-in detects its format; --osc-format forces one)");
-    if (portFormat != "thesis" && portFormat != "ngimu-slip")
-        throw UsageError("--format: unknown serial format '" + portFormat + "' (thesis or ngimu-slip)");
-    const bool slipOsc = cl.has("--port") && portFormat == "ngimu-slip";
-    if (slipOsc) {
-        // The NGIMU over USB: SLIP-framed OSC through the same serial code as the board.
-        config.source = device::LiveConfig::Source::Osc;
-        config.oscSerialPort = cl.value("--port");
-        if (config.oscSerialPort.empty()) throw UsageError("--port needs a device name");
-        config.oscSerialBaud = static_cast<int>(cl.integer("--baud", 115200, 300, 4000000));
-        if (cl.has("--v2")) throw UsageError("--v2 is the thesis board's framing: not with --format ngimu-slip");
-    } else if (cl.has("--port")) {
-        config.source = device::LiveConfig::Source::Port;
-        config.port = cl.value("--port");
-        if (config.port.empty()) throw UsageError("--port needs a device name");
-        config.baud = static_cast<int>(cl.integer("--baud", 57600, 300, 4000000));
-        config.link.link.negotiateV2 = cl.has("--v2");
-    } else if (cl.has("--simulate")) {
-        config.source = device::LiveConfig::Source::Simulator;
-        config.motionFile = cl.value("--motion");
-        config.simulatorBaud = cl.has("--unpaced") ? 0.0 : 57600.0;
-    } else {
-        config.source = device::LiveConfig::Source::Osc;
-        config.oscInPort = static_cast<int>(cl.integer("--osc-in", 0, 1, 65535));
-    }
-    const bool oscSource = cl.has("--osc-in") || slipOsc;
-    for (const char* o : {"--osc-format", "--mount", "--calibrate-mount"})
-        if (cl.has(o) && !oscSource) throw UsageError(std::string(o) + " applies to --osc-in (or --port with --format ngimu-slip)");
-    if (cl.has("--osc-format") && !device::parseOscFormat(cl.value("--osc-format"), config.osc.format))
-        throw UsageError("--osc-format: unknown format '" + cl.value("--osc-format") + "' (one of " + device::oscFormatNames() + ")");
-    const std::string mountOut = cl.value("--calibrate-mount");
-    if (cl.has("--calibrate-mount") && mountOut.empty()) throw UsageError("--calibrate-mount needs an output file");
-    if (cl.has("--calibrate-mount") && cl.has("--mount")) throw UsageError("--calibrate-mount finds the mount: it cannot go with --mount");
-    if (!mountOut.empty()) {   // the calibration sees the sensor's own axes
-        config.osc.mountGiven = true;
-        config.osc.mount = device::Mount {};
-    }
+    double seconds = -1.0;
+    double dataTimeout = 5.0;
+    bool leftNeedsData = false;
+    std::string mountOut, leftMountOut, calibrateOut, trainingLog;
+    int controlPort = -1;
+    std::unique_ptr<ReaderIo> voice;
+    std::unique_ptr<PlayMessages> messages;   // outlives the session: the braille scene holds its messages
+};
 
+/// Step 1: the options, group by group (Cli/LiveOptions.h), into a request; every output is
+/// checked and every input read before anything is opened.
+std::unique_ptr<PlayRequest> readPlayRequest(const CommandLine& cl, const LiveCommand& command)
+{
+    device::LiveConfig config;
+    const SourceChoice source = readSourceOptions(cl, config);   // the source group (Cli/LiveOptions.h)
+    const std::string mountOut = source.mountOut;
     EngineConfig& engine = config.engine;
     if (command.reader) {
         readReaderOptions(cl, engine);   // the braille scene, messages only
@@ -328,80 +258,16 @@ int runLiveSession(const CommandLine& cl, const LiveCommand& command)
     }
     engine.motorCount = cl.has("--back-motors") ? kGridMotors + kBackMotors : kGridMotors;
 
-    const double seconds = cl.number("--seconds", -1.0);
-    if (cl.has("--seconds") && !(seconds > 0.0 && seconds <= 7 * 24 * 3600.0))
-        throw UsageError("--seconds must be a positive number of seconds (at most a week)");
-    if (cl.has("--osc-out")) {
-        config.oscOut = cl.value("--osc-out");
-        try {
-            device::parseHostPort(config.oscOut);
-        } catch (const std::invalid_argument& e) {
-            throw UsageError(std::string("--osc-out: ") + e.what());
-        }
-    }
+    const double seconds = cl.number("--seconds", -1.0);   // (checked with the outputs group)
     if (cl.has("--midi-out") && !cl.has("--map")) throw UsageError("--midi-out sends what a mapping makes: give --map PRESET|FILE too");
     if (cl.has("--midi-out") && cl.value("--midi-out").empty()) throw UsageError("--midi-out needs a port name");
     config.mappingName = cl.value("--map");
     config.midiOut = cl.value("--midi-out");
     config.forwardDeg = readForwardOption(cl);
-    if (int(cl.has("--motion-left")) + int(cl.has("--port-left")) + int(cl.has("--osc-in-left")) > 1)
-        throw UsageError("the left arm is --motion-left (simulated), --port-left (a device) or --osc-in-left (an OSC sender): one of them");
-    for (const char* o : {"--osc-format-left", "--mount-left", "--calibrate-mount-left"})
-        if (cl.has(o) && !cl.has("--osc-in-left")) throw UsageError(std::string(o) + " applies to --osc-in-left");
-    const std::string leftMountOut = cl.value("--calibrate-mount-left");
-    if (cl.has("--calibrate-mount-left") && leftMountOut.empty()) throw UsageError("--calibrate-mount-left needs an output file");
-    if (cl.has("--calibrate-mount-left") && cl.has("--mount-left"))
-        throw UsageError("--calibrate-mount-left finds the mount: it cannot go with --mount-left");
-    if (cl.has("--motion-left")) {
-        if (!cl.has("--simulate")) throw UsageError("--motion-left drives a second simulated arm: use it with --simulate");
-        config.leftSource = device::LiveConfig::LeftSource::Simulator;
-        config.leftMotionFile = cl.value("--motion-left") == "-" ? std::string() : cl.value("--motion-left");
-        if (cl.value("--motion-left").empty()) throw UsageError("--motion-left needs a motion file (or - for a wandering arm)");
-    } else if (cl.has("--port-left")) {
-        config.leftSource = device::LiveConfig::LeftSource::Port;
-        config.leftPort = cl.value("--port-left");
-        if (config.leftPort.empty()) throw UsageError("--port-left needs a device name");
-        config.leftBaud = static_cast<int>(cl.integer("--baud", 57600, 300, 4000000));
-    } else if (cl.has("--osc-in-left")) {
-        config.leftSource = device::LiveConfig::LeftSource::Osc;
-        config.leftOscInPort = static_cast<int>(cl.integer("--osc-in-left", 0, 1, 65535));
-        if (config.source == device::LiveConfig::Source::Osc && config.oscSerialPort.empty() && config.oscInPort == config.leftOscInPort)
-            throw UsageError("--osc-in-left needs a port of its own (--osc-in listens on " + std::to_string(config.oscInPort) + ")");
-        if (cl.has("--osc-format-left") && !device::parseOscFormat(cl.value("--osc-format-left"), config.leftOsc.format))
-            throw UsageError("--osc-format-left: unknown format '" + cl.value("--osc-format-left") + "' (one of " + device::oscFormatNames() + ")");
-    }
-    for (const char* o : {"--calibration-left", "--arms-log"})
-        if (cl.has(o) && config.leftSource == device::LiveConfig::LeftSource::None)
-            throw UsageError(std::string(o) + " applies to two arms (--motion-left, --port-left or --osc-in-left)");
-    if (cl.has("--calibration-left") && config.leftSource == device::LiveConfig::LeftSource::Osc)
-        throw UsageError("--calibration-left is a device's calibration: an OSC sender sends SI units (--mount-left says how it is worn)");
-    if (cl.has("--calibration-left")) config.leftCalibration = device::loadCalibration(cl.value("--calibration-left"));
-    config.armsLog = cl.value("--arms-log");
+    const std::string leftMountOut = readLeftArmOptions(cl, config);   // the left arm group
     // Steadier timing for the link (and the simulated device) where the system allows it.
     config.link.realtimePriority = 20;
-    config.audioOut = cl.value("--out");
-    const int audioChoices = int(cl.has("--out")) + int(cl.has("--audio-device")) + int(cl.has("--no-audio"));
-    if (audioChoices > 1) throw UsageError("choose one of --out FILE, --audio-device NAME and --no-audio");
-    if (cl.has("--tactor-sound") && cl.has("--no-audio")) throw UsageError("--tactor-sound hands the scene's sound to the tactors: drop --no-audio");
-    if (cl.has("--audio-device")) {
-        config.soundCard = cl.value("--audio-device");
-        if (config.soundCard.empty()) throw UsageError("--audio-device needs an ALSA device name");
-    } else if (!cl.has("--out") && !cl.has("--no-audio") && !command.reader) {   // (read: the braille scene is silent)
-        config.soundCard = "default";
-        config.soundCardOptional = true;   // headless machines have none: say so, play on
-    }
-    config.tactileOut = cl.value("--tactile");
-    config.logOut = cl.value("--log");
-    config.audioStems = readStemOptions(cl, engine);
-    if (!config.audioStems.empty() && cl.has("--no-audio")) throw UsageError("stems are played out: they cannot go with --no-audio");
-    if (config.audioStems.empty() && cl.has("--audio-in")) {
-        if (cl.value("--audio-in").empty()) throw UsageError("--audio-in needs a WAV file");
-        if (cl.has("--no-audio")) throw UsageError("--audio-in plays the recording out: it cannot go with --no-audio");
-        config.audioIn = cl.value("--audio-in");
-    }
-    config.audioInLoop = cl.has("--loop");
-    if (cl.has("--loop") && !cl.has("--audio-in") && !cl.has("--stem"))
-        throw UsageError("--loop repeats the --audio-in recording: use it with --audio-in or --stem");
+    readOutputOptions(cl, config, !command.reader);   // the outputs group (read: the braille scene is silent)
     const double dataTimeout = cl.number("--data-timeout", 5.0);
     if (!(dataTimeout >= 0.0 && dataTimeout <= 3600.0)) throw UsageError("--data-timeout must lie in 0..3600 s");
     const bool leftNeedsData = config.leftSource == device::LiveConfig::LeftSource::Port || config.leftSource == device::LiveConfig::LeftSource::Osc;
@@ -409,7 +275,6 @@ int runLiveSession(const CommandLine& cl, const LiveCommand& command)
         throw UsageError("--data-timeout applies to --port and --osc-in (the simulator always sends)");
 
     const std::string calibrateOut = cl.value("--calibrate");
-    if (cl.has("--calibrate") && oscSource) throw UsageError("--calibrate needs raw counts: use --port or --simulate");
     if (cl.has("--calibrate") && calibrateOut.empty()) throw UsageError("--calibrate needs an output file");
 
     const std::string trainingLog = cl.value("--training-log");
@@ -466,6 +331,64 @@ int runLiveSession(const CommandLine& cl, const LiveCommand& command)
     if (command.reader && !(messages && messages->wantsMessages()))
         throw UsageError("read shows messages only: give a broker and topics (--mqtt HOST[:PORT] --messages TOPIC, or both in --mqtt-config)");
     if (messages) messages->setCommand(command.name);
+    auto request = std::make_unique<PlayRequest>();
+    request->config = std::move(config);
+    request->seconds = seconds;
+    request->dataTimeout = dataTimeout;
+    request->leftNeedsData = leftNeedsData;
+    request->mountOut = mountOut;
+    request->leftMountOut = leftMountOut;
+    request->calibrateOut = calibrateOut;
+    request->trainingLog = trainingLog;
+    request->controlPort = controlPort;
+    request->voice = std::move(voice);
+    request->messages = std::move(messages);
+    return request;
+}
+
+/// Step 3: the summary line (docs/INTERFACES.md): the link's counters and what each part did.
+std::string sessionSummary(device::LiveSession& session, const live::SourceReport& report, const PlayMessages* messages,
+                           live::CuePlayer* cues, std::uint32_t panics)
+{
+    std::string summary = device::summaryJson(session.summary());
+    if (const live::MappingRig* m = session.mapping())
+        summary.insert(summary.size() - 1, ",\"mapping_midi_events\":" + std::to_string(m->midiEvents()) + ",\"mapping_osc_messages\":" +
+                                               std::to_string(m->oscMessages()) + ",\"mapping_dropped\":" + std::to_string(m->dropped()));
+    if (const live::MappingRig* m = session.mapping(); m && m->stageCommands() > 0)   // "stage" destinations fired (docs/STAGE.md)
+        summary.insert(summary.size() - 1, ",\"mapping_stage_commands\":" + std::to_string(m->stageCommands()));
+    if (const live::MappingRig* m = session.mapping(); m && m->mqttMessages() > 0)   // "mqtt" destinations (docs/MQTT.md)
+        summary.insert(summary.size() - 1, ",\"mapping_mqtt_messages\":" + std::to_string(m->mqttMessages()));
+    if (panics > 0) {   // only after a panic (docs/STAGE.md)
+        summary.insert(summary.size() - 1, ",\"panics\":" + std::to_string(panics));
+        if (const live::MappingRig* m = session.mapping())   // note-offs, CC 120 and CC 123 the mapping's MIDI sent
+            summary.insert(summary.size() - 1, ",\"panic_midi_events\":" + std::to_string(m->panicMidiEvents()));
+    }
+    summary.insert(summary.size() - 1, report.leftSummaryJson());
+    if (messages) summary.insert(summary.size() - 1, messages->summaryJson());
+    if (cues) summary.insert(summary.size() - 1, ",\"cue\":" + std::to_string(cues->current()) + ",\"cue_changes\":" + std::to_string(cues->changes()));
+    if (live::TactorOutput* t = session.tactors())   // the tactor output's own counters (docs/TACTORS.md)
+        summary.insert(summary.size() - 1, ",\"tactor_frames\":" + std::to_string(t->framesRendered()) + ",\"tactor_dropped\":" +
+                                               std::to_string(t->recordsDropped()) + ",\"tactor_limited\":" + std::to_string(t->limited()));
+    return summary;
+}
+
+} // namespace
+
+int runLiveSession(const CommandLine& cl, const LiveCommand& command)
+{
+    const std::string who = "armadillo " + std::string(command.name) + ": ";   // what stderr's lines start with
+    const std::unique_ptr<PlayRequest> request = readPlayRequest(cl, command);   // step 1
+    // Step 2: the session, its stage commands, the guided procedures and the status lines.
+    device::LiveConfig& config = request->config;
+    const std::string& mountOut = request->mountOut;
+    const std::string& leftMountOut = request->leftMountOut;
+    const std::string& calibrateOut = request->calibrateOut;
+    const std::string& trainingLog = request->trainingLog;
+    const double seconds = request->seconds, dataTimeout = request->dataTimeout;
+    const bool leftNeedsData = request->leftNeedsData;
+    const int controlPort = request->controlPort;
+    std::unique_ptr<ReaderIo>& voice = request->voice;
+    std::unique_ptr<PlayMessages>& messages = request->messages;
     installInterruptHandlers();
     device::LiveSession session(config);
     // Stage commands (OSC control port, keys): panic and resume act on the engine at once
@@ -706,26 +629,7 @@ int runLiveSession(const CommandLine& cl, const LiveCommand& command)
         device::Calibration result = calibration->result();
         device::saveCalibration(calibrateOut, result);
     }
-    std::string summary = device::summaryJson(session.summary());
-    if (const live::MappingRig* m = session.mapping())
-        summary.insert(summary.size() - 1, ",\"mapping_midi_events\":" + std::to_string(m->midiEvents()) + ",\"mapping_osc_messages\":" +
-                                               std::to_string(m->oscMessages()) + ",\"mapping_dropped\":" + std::to_string(m->dropped()));
-    if (const live::MappingRig* m = session.mapping(); m && m->stageCommands() > 0)   // "stage" destinations fired (docs/STAGE.md)
-        summary.insert(summary.size() - 1, ",\"mapping_stage_commands\":" + std::to_string(m->stageCommands()));
-    if (const live::MappingRig* m = session.mapping(); m && m->mqttMessages() > 0)   // "mqtt" destinations (docs/MQTT.md)
-        summary.insert(summary.size() - 1, ",\"mapping_mqtt_messages\":" + std::to_string(m->mqttMessages()));
-    if (const std::uint32_t panics = panicTotal(); panics > 0) {   // only after a panic (docs/STAGE.md)
-        summary.insert(summary.size() - 1, ",\"panics\":" + std::to_string(panics));
-        if (const live::MappingRig* m = session.mapping())   // note-offs, CC 120 and CC 123 the mapping's MIDI sent
-            summary.insert(summary.size() - 1, ",\"panic_midi_events\":" + std::to_string(m->panicMidiEvents()));
-    }
-    summary.insert(summary.size() - 1, report.leftSummaryJson());
-    if (messages) summary.insert(summary.size() - 1, messages->summaryJson());
-    if (cues) summary.insert(summary.size() - 1, ",\"cue\":" + std::to_string(cues->current()) + ",\"cue_changes\":" + std::to_string(cues->changes()));
-    if (live::TactorOutput* t = session.tactors())   // the tactor output's own counters (docs/TACTORS.md)
-        summary.insert(summary.size() - 1, ",\"tactor_frames\":" + std::to_string(t->framesRendered()) + ",\"tactor_dropped\":" +
-                                               std::to_string(t->recordsDropped()) + ",\"tactor_limited\":" + std::to_string(t->limited()));
-    std::cout << summary << "\n" << std::flush;
+    std::cout << sessionSummary(session, report, messages.get(), cues, panicTotal()) << "\n" << std::flush;
     return session.engine().failed() ? int(kExitFailure) : int(kExitOk);
 }
 

@@ -1,0 +1,40 @@
+#pragma once
+// The option groups of the live commands (play, read, navigate, the guided procedures), each
+// declared once with its help and its parsing: the source (a device on a serial port, the
+// simulator, an OSC sender), the left arm, and the outputs (sound, files, OSC out). A command
+// takes a group whole, or picks the members that mean the same for it (pickOptions); the scene
+// (SceneOptions.h), the mapping (MapOptions.h), the tactors (TactorOptions.h), MQTT
+// (MqttOptions.h) and the reader's voice (ReaderIo.h) are groups of their own.
+#include "Cli/CommandLine.h"
+#include "Live/LiveSession.h"
+#include <string>
+#include <vector>
+
+namespace armadillo::cli {
+
+/// --port, --simulate, --motion, --osc-in, --format, --osc-format, --mount, --calibrate-mount,
+/// --baud, --v2, --calibration, --unpaced, --data-timeout.
+std::vector<OptionSpec> sourceOptionSpecs();
+/// --motion-left, --port-left, --osc-in-left, --osc-format-left, --mount-left,
+/// --calibrate-mount-left, --calibration-left, --arms-log.
+std::vector<OptionSpec> leftArmOptionSpecs();
+/// --seconds, --out, --audio-device, --no-audio, --audio-in, --stem, --loop, --tactile, --log, --osc-out.
+std::vector<OptionSpec> outputOptionSpecs();
+/// The members of `group` named in `names`, in that order (a command that takes only some).
+std::vector<OptionSpec> pickOptions(const std::vector<OptionSpec>& group, const std::vector<std::string>& names);
+
+/// What the source group chose beyond the configuration.
+struct SourceChoice {
+    bool osc = false;        ///< the arm is an OSC sender (--osc-in, or --port with --format ngimu-slip)
+    std::string mountOut;    ///< --calibrate-mount OUT.json ("" without it)
+};
+/// The source group into `config` (one of --port, --simulate, --osc-in; UsageError otherwise).
+/// Files (mount, calibration) are read later, once every output was checked.
+SourceChoice readSourceOptions(const CommandLine& cl, device::LiveConfig& config);
+/// The left arm group into `config`; returns --calibrate-mount-left's file ("" without it).
+std::string readLeftArmOptions(const CommandLine& cl, device::LiveConfig& config);
+/// The outputs group into `config`; `soundByDefault`: the default sound card when neither --out
+/// nor --audio-device nor --no-audio is given (a missing card is then a warning).
+void readOutputOptions(const CommandLine& cl, device::LiveConfig& config, bool soundByDefault);
+
+} // namespace armadillo::cli
