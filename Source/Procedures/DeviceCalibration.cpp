@@ -155,6 +155,29 @@ void CalibrationRehearsal::setStep(DeviceCalibration::Step s) noexcept
     step_.store(static_cast<int>(s), std::memory_order_release);
 }
 
+double CalibrationRehearsal::movementSeconds(DeviceCalibration::Step s) noexcept
+{
+    using Step = DeviceCalibration::Step;
+    switch (s) {
+    case Step::AccelExtremes: return 6.2;   // six poses, 1 s each
+    case Step::MagHorizontal: return 4.2;   // one level circle
+    case Step::MagVertical: return 16.2;    // four vertical circles
+    case Step::GyroTurnX:
+    case Step::GyroTurnY:
+    case Step::GyroTurnZ: return 2.5;       // the turn, then still
+    case Step::GyroStill:
+    case Step::Done: break;
+    }
+    return 0.0;
+}
+
+bool CalibrationRehearsal::performed() const noexcept
+{
+    const double start = start_.load(std::memory_order_relaxed), last = last_.load(std::memory_order_relaxed);
+    const auto s = static_cast<DeviceCalibration::Step>(step_.load(std::memory_order_acquire));
+    return start >= 0.0 && last - start >= movementSeconds(s);
+}
+
 Eigen::Quaterniond CalibrationRehearsal::orientation(DeviceCalibration::Step s, double since) const
 {
     using Q = Eigen::Quaterniond;
@@ -196,6 +219,7 @@ device::MotionState CalibrationRehearsal::at(double t) const
         start_.compare_exchange_strong(start, t, std::memory_order_relaxed);
         start = start_.load(std::memory_order_relaxed);
     }
+    last_.store(t, std::memory_order_relaxed);
     const auto s = static_cast<DeviceCalibration::Step>(step_.load(std::memory_order_acquire));
     const double since = std::max(0.0, t - start), h = 1e-3;
     device::MotionState m;

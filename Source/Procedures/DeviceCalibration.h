@@ -91,18 +91,25 @@ private:
 
 /// A simulated forearm that does what each step asks (for `armadillo calibrate --simulate`, a
 /// rehearsal of the procedure and its test): still at rest; each axis down and up (1 s each);
-/// a level circle; four vertical circles; one full turn about x, y, z (2 s) and stop. The
-/// presenter says which step runs (setStep, any thread); the motion starts the step's movement at
-/// the first sample after that. at() runs on the simulator's thread: lock-free.
+/// a level circle (4 s); four vertical circles (4 s each); one full turn about x, y, z (2 s) and
+/// stop. The presenter says which step runs (setStep, any thread); the motion starts the step's
+/// movement at the first sample after that, and performed() says when it has gone through it
+/// once — the simulated user's "done" (a step taken as soon as it is ready() would measure half
+/// a turn or half the extremes). at() runs on the simulator's thread: lock-free.
 class CalibrationRehearsal final : public device::MotionSource {
 public:
     void setStep(DeviceCalibration::Step s) noexcept;
+    /// The step's movement has been done once (any thread).
+    bool performed() const noexcept;
+    /// s of movement a step takes (0 for keeping still: the procedure times that itself).
+    static double movementSeconds(DeviceCalibration::Step s) noexcept;
     device::MotionState at(double t) const override;
 
 private:
     Eigen::Quaterniond orientation(DeviceCalibration::Step s, double since) const;
     std::atomic<int> step_ {0};
     mutable std::atomic<double> start_ {-1.0};   ///< s of simulator time the step began (< 0: at the next sample)
+    mutable std::atomic<double> last_ {-1.0};    ///< s of simulator time of the latest sample
 };
 
 } // namespace armadillo::procedures
