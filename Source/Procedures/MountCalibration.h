@@ -2,7 +2,8 @@
 // The guided mount calibration of an OSC sensor (device::MountCalibration, Osc/Mount.h: arm level
 // ahead, arm hanging down, optionally a quarter roll), written once for the app's Mount window
 // (Plugin/MountCalibrationPanel.cpp) and the command line's `play --calibrate-mount`
-// (Cli/CmdPlay.cpp), fed from the OSC input's sensor-frame tap (OscSampleMerger::popSensorSample).
+// (Cli/CmdPlay.cpp's GuidedMount, with Advance::WhenReady; until it is rewired it drives
+// device::MountCalibration itself with the same lines), fed from the OSC input's sensor-frame tap (OscSampleMerger::popSensorSample).
 // Two ways to advance:
 //   • Advance::OnNext (the app): a pose that has enough still samples is frozen until Next, so
 //     moving on to the next pose before pressing Next cannot overwrite it;
