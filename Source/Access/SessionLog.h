@@ -2,7 +2,7 @@
 // The adaptive training's session log (docs/INTERFACES.md "braille --train --adaptive --log"):
 // the columns of the §4.4.1 training log (Braille/Training.h) so one analysis reads both, with
 // the events trial, row, word-gap, cue, answer, feedback, gesture and end. Shared by the CLI
-// (Cli/GuidedTraining.cpp) and the app's adaptive training (Plugin/AdaptiveSession.cpp).
+// (Cli/GuidedTraining.cpp) and the app's, both through Procedures/AdaptiveTraining.cpp.
 // Nothing moves in passive drawing: the posture and roll columns stay empty.
 #include "Access/AdaptivePlan.h"
 #include "Braille/Sensations.h"

@@ -1,22 +1,18 @@
-// `armadillo touch-profile`: touch fitted to the reader (issue 26). Each of the nine motors gets a
-// 1-up/2-down staircase for its detection threshold (Tactile/Staircase.h), interleaved so that no
-// motor runs twice in a row; then a comfortable level is found on one motor by ascending steps.
-// Every stimulus goes through the normal TactileEngine (soft target: no jump-start spike, so the
-// level asked is the level felt) and its SafetyStage to the device; after each one, exactly one
-// prompt line starting with "? " goes to stderr and the reader answers y or n on stdin.
+// `armadillo touch-profile`: touch fitted to the reader (issue 26). The procedure itself — a
+// 1-up/2-down staircase per motor for its detection threshold, interleaved so that no motor runs
+// twice in a row, then a comfortable level by ascending steps, every stimulus a soft level through
+// the normal TactileEngine and its SafetyStage — is procedures::TouchTest (Procedures/TouchTest.h),
+// the same the app's Reader window runs. This file presents it: after each stimulus exactly one
+// prompt line starting with "? " goes to stderr and the reader answers y or n on stdin (r shows it
+// again); the profile is written to --out and one JSON line to stdout.
 #include "Cli/CommandLine.h"
 #include "Cli/Commands.h"
 #include "Cli/ReaderIo.h"
-#include "Cli/GuidedDevice.h"
 #include "Core/Errors.h"
 #include "Link/TouchProfile.h"
-#include "Tactile/Staircase.h"
-#include "Tactile/TactileEngine.h"
-#include <algorithm>
-#include <array>
-#include <ctime>
+#include "Live/GuidedDevice.h"
+#include "Procedures/TouchTest.h"
 #include <iostream>
-#include <random>
 
 namespace armadillo::cli {
 
@@ -62,84 +58,33 @@ int runTouchProfile(const Arguments& args)
         const bool unpaced = cl.has("--unpaced");
         ReaderIo io(cl);
 
-        TactilePlayer player(TactileConfig {}, unpaced ? 1.0 / device::lockStepRate(baud) : 0.0);   // right arm: index = motor m1…
+        procedures::TouchTest::Params params;
+        params.onSeconds = onTime;
+        params.gapSeconds = gapTime;
+        params.packetPeriod = unpaced ? 1.0 / device::lockStepRate(baud) : 0.0;
+        procedures::TouchTest test(params);   // right arm: index = motor m1…
         installInterruptHandlers();
-        GuidedDevice device(cl.value("--port"), baud, cl.has("--simulate"), unpaced, player);
+        live::GuidedDevice device(cl.value("--port"), baud, cl.has("--simulate"), unpaced, test.player());
+        device.setInterruptCheck(interrupted);
 
-        int stimuli = 0;
-        // Plays one stimulus (a soft level: no jump-start spike, so the level asked is the level
-        // felt) and waits until it and the stillness after it are over. Each motor rests ≥ 3 s of
-        // stimulus time between two of its stimuli: the safety stage's mean-power window would
-        // otherwise lower a strong level repeated on one motor (the last motors left).
-        std::array<double, device::kProfileMotors> lastStart {};
-        lastStart.fill(-1e9);
-        auto present = [&](int motor, int level) {
-            const double wait = std::max(0.0, lastStart[static_cast<std::size_t>(motor)] + 3.0 - player.clock());
-            TactileSegment s;
-            s.at = wait;
-            s.duration = onTime;
-            s.motors = static_cast<std::uint16_t>(1u << motor);
-            s.level = static_cast<float>(level);
-            s.soft = true;
-            device.waitFor(player.play({s}, gapTime));
-            lastStart[static_cast<std::size_t>(motor)] = player.clock() - onTime - gapTime;
-            ++stimuli;
-            const int sent = player.maxLevel(motor);
-            if (sent < level) io.note("(the safety stage lowered this stimulus to level " + std::to_string(sent) + ")");
-        };
-        // One stimulus and its one prompt line; 'r' or an unclear answer shows it again.
-        auto ask = [&](int motor, int level, const std::string& question) {
-            for (;;) {
-                present(motor, level);
-                const std::string a = io.askYesNo("motor m" + std::to_string(motor + 1) + ", level " + std::to_string(level) + ": " + question);
-                if (a == "y") return true;
-                if (a == "n") return false;
-            }
-        };
-
-        std::array<Staircase, device::kProfileMotors> stairs {};
-        std::mt19937_64 rng(static_cast<std::uint64_t>(cl.integer("--seed", 1, 0, 2147483647L)));
         io.status("touch profile: nine motors, one at a time; answer y if you felt it, n if not");
-        int previous = -1;
-        for (;;) {
-            std::vector<int> order;
-            for (int m = 0; m < device::kProfileMotors; ++m)
-                if (!stairs[static_cast<std::size_t>(m)].done()) order.push_back(m);
-            if (order.empty()) break;
-            // Fisher-Yates with `%` (std::shuffle differs between standard libraries): a seed gives
-            // the same order everywhere.
-            for (std::size_t i = order.size(); i > 1; --i) std::swap(order[i - 1], order[static_cast<std::size_t>(rng() % i)]);
-            if (order.size() > 1 && order.front() == previous) std::swap(order.front(), order.back());
-            for (int m : order) {
-                Staircase& s = stairs[static_cast<std::size_t>(m)];
-                s.answer(ask(m, s.level(), "felt? (y/n)"));
-                previous = m;
+        test.begin(static_cast<std::uint64_t>(cl.integer("--seed", 1, 0, 2147483647L)), !cl.has("--no-comfort"));
+        bool comfortSaid = false;
+        while (test.state() != procedures::TouchTest::State::Done) {
+            device.waitUntil([&] { return test.poll(); });   // the stimulus and the stillness after it
+            if (const int sent = test.loweredTo(); sent > 0)
+                io.note("(the safety stage lowered this stimulus to level " + std::to_string(sent) + ")");
+            const std::string a = io.askYesNo(test.question() + " (y/n)");   // AnswersEnded (exit 3) when stdin ends
+            if (a == "y" || a == "n") test.answer(a == "y");
+            else test.again();   // 'r' or an unclear answer: the stimulus again
+            if (test.comfortStep() && !comfortSaid && test.state() != procedures::TouchTest::State::Done) {
+                io.status("now a comfortable level: answer y when it is clear and comfortable, n while it is too faint");
+                comfortSaid = true;
             }
         }
-        device::TouchProfile profile;
-        for (std::size_t m = 0; m < device::kProfileMotors; ++m) {
-            profile.threshold[m] = stairs[m].threshold();
-            profile.felt[m] = stairs[m].felt();
-        }
-        if (!cl.has("--no-comfort")) {
-            const int motor = profile.comfortMotor - 1;
-            io.status("now a comfortable level: answer y when it is clear and comfortable, n while it is too faint");
-            int level = std::min(kMaxLevel, profile.threshold[static_cast<std::size_t>(motor)] + 1);
-            while (level < kMaxLevel && !ask(motor, level, "comfortable? (y/n)")) ++level;
-            profile.comfort = level;
-        }
-        profile.stimuli = stimuli;
-        profile.stimulusSeconds = stimuli * (onTime + gapTime);
-        const std::time_t now = std::time(nullptr);
-        char date[32];
-        std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
-        profile.date = date;
-        device::saveTouchProfile(out, profile);
-        std::string thresholds;
-        for (std::size_t m = 0; m < device::kProfileMotors; ++m) thresholds += (m ? "," : "") + std::to_string(profile.threshold[m]);
-        io.status("touch profile written: thresholds " + thresholds + (profile.comfort ? ", comfortable level " + std::to_string(profile.comfort) : ""));
-        std::cout << "{\"stimuli\":" << stimuli << ",\"stimulus_seconds\":" << profile.stimulusSeconds << ",\"threshold\":[" << thresholds
-                  << "],\"comfort\":" << profile.comfort << "}\n";
+        test.save(out);
+        io.status("touch profile written: " + test.summary());
+        std::cout << test.summaryJson() << "\n";
         return kExitOk;
     });
 }

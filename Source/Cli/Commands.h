@@ -16,6 +16,7 @@ int runResources(const Arguments& args); // CmdResources.cpp — search folders,
 int runMap(const Arguments& args);       // CmdMap.cpp     — mapping files: check, show, learn a posture
 int runScore(const Arguments& args);     // CmdScore.cpp   — scores from MIDI and haptic files
 int runTouchProfile(const Arguments& args); // CmdTouchProfile.cpp — per-motor thresholds of the reader
+int runCalibrate(const Arguments& args); // CmdCalibrate.cpp — the device calibration (thesis §2.4), step by step
 int runTactors(const Arguments& args);   // CmdTactors.cpp — a tactor rig's channels buzzed in turn
 int runNavigate(const Arguments& args);  // CmdNavigate.cpp — walk a route guided by the arm (issue 34)
 int runMqtt(const Arguments& args);      // CmdMqtt.cpp    — MQTT: check a broker

@@ -17,25 +17,21 @@
 //   row then says `stopped`); the first two are a normal end (exit 0), the display's loss still
 //   exit 4.
 #include "Cli/GuidedTraining.h"
-#include "Access/AdaptivePlan.h"
 #include "Access/ArmGestures.h"
-#include "Access/Feedback.h"
 #include "Access/Chords.h"
 #include "Access/Report.h"
-#include "Access/SessionLog.h"
-#include "Braille/Reading.h"
+#include "Braille/Sensations.h"
 #include "Braille/Training.h"
 #include "Cli/ReaderIo.h"
-#include "Cli/GuidedDevice.h"
 #include "Core/AtomicFile.h"
-#include "Core/Csv.h"
 #include "Core/Errors.h"
 #include "Link/Calibration.h"
 #include "Link/TouchProfile.h"
+#include "Live/GuidedDevice.h"
+#include "Procedures/AdaptiveTraining.h"
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <ctime>
 #include <filesystem>
 #include <unistd.h>
 #include <fstream>
@@ -72,126 +68,6 @@ std::vector<OptionSpec> guidedTrainingOptionSpecs()
     return o;
 }
 
-namespace {
-
-constexpr MotorSet kUnderside = motorBit(0, 1) | motorBit(1, 1) | motorBit(2, 1);
-constexpr MotorSet kAllNine = 0x1FF;
-constexpr MotorSet kOuter = kAllNine & ~kUnderside;
-
-struct Timing {
-    double on = 0.4, gap = 0.2, letterGap = 0.5, wordGap = 1.2;   // docs/BRAILLE.md "Passive drawing"
-};
-
-/// One log row in the columns of the §4.4.1 log (Access/SessionLog.h).
-void logRow(std::string& log, double t, const char* event, const access::PlannedTrial* trial, int number, const std::string& prompt,
-            int unit, int step, MotorSet motors, bool hasMotors, const std::string& answer, int correct)
-{
-    access::appendSessionLogRow(log, t, event, trial, number, prompt, unit, step, motors, hasMotors, answer, correct);
-}
-
-class Session {
-public:
-    Session(TactilePlayer& player, GuidedDevice& device, DisplayMethod method, float level)
-        : player_(player), device_(device), method_(method), level_(level), start_(std::chrono::steady_clock::now())
-    {
-        log_ = access::kSessionLogHeader;
-    }
-
-    /// s of session time: the device link's clock (with --unpaced, the packet clock), so the log's
-    /// display rows and answers share one time line.
-    double now() const { return player_.clock(); }
-    /// s of wall-clock time: response times are the reader's own.
-    double wall() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
-    std::string& log() { return log_; }
-
-    /// Draws a text on the arm (cells one after another); logs each step; waits until done.
-    void draw(const std::string& text, int grade, const access::PlannedTrial* trial, int number, double after = 0.0)
-    {
-        TranslationOptions o;
-        o.grade = grade;
-        const std::vector<ReadingUnit> units = layoutDocument(translateText(text, o), method_);
-        std::vector<TactileSegment> segs;
-        double at = 0.0;        // s into the current chunk
-        double t0 = now();
-        // A long text goes in chunks of whole units (the player takes at most 127 segments at a
-        // time); each chunk is played out, stillness included, before the next.
-        auto flush = [&](double extra) {
-            double length = 0.0;   // a trailing pause row is waited out too
-            for (const auto& seg : segs) length = std::max(length, seg.at + seg.duration);
-            device_.waitFor(player_.play(segs, std::max(0.0, at - length) + extra));
-            segs.clear();
-            at = 0.0;
-            t0 = now();
-        };
-        for (std::size_t u = 0; u < units.size(); ++u) {
-            const ReadingUnit& unit = units[u];
-            if (segs.size() + unit.steps.size() + 1 > 100) flush(0.0);
-            if (unit.kind != UnitKind::Cell) {
-                segs.push_back({at, 0.15, kUnderside, level_ * 0.6f, true, false});
-                logRow(log_, t0 + at, "word-gap", trial, number, "", static_cast<int>(u), 0, 0, false, "", -1);
-                at += timing_.wordGap;
-                continue;
-            }
-            for (std::size_t s = 0; s < unit.steps.size(); ++s) {
-                if (unit.steps[s] != 0) segs.push_back({at, timing_.on, unit.steps[s], level_, false, false});
-                logRow(log_, t0 + at, "row", trial, number, "", static_cast<int>(u), static_cast<int>(s), unit.steps[s], true, "", -1);
-                at += timing_.on + (s + 1 < unit.steps.size() ? timing_.gap : timing_.letterGap);
-            }
-        }
-        flush(after);
-    }
-
-    /// "A trial begins": the underside line swept wrist → elbow (as the scene's turn-to-forward cue).
-    void nextTrial(const access::PlannedTrial* trial, int number)
-    {
-        logRow(log_, now(), "cue", trial, number, "next", -1, 0, kUnderside, true, "", -1);
-        device_.waitFor(player_.play({{0.0, 0.1, motorBit(0, 1), level_ * 0.8f, true, false},
-                                      {0.1, 0.1, motorBit(1, 1), level_ * 0.8f, true, false},
-                                      {0.2, 0.1, motorBit(2, 1), level_ * 0.8f, true, false}},
-                                     0.5));
-    }
-
-    /// "Your turn": the underside line tapped twice (the end-of-message cue).
-    void yourTurn(const access::PlannedTrial* trial, int number)
-    {
-        logRow(log_, now(), "cue", trial, number, "your turn", -1, 0, kUnderside, true, "", -1);
-        device_.waitFor(player_.play({{0.0, 0.12, kUnderside, level_ * 0.8f, false, false}, {0.22, 0.12, kUnderside, level_ * 0.8f, false, false}}));
-    }
-
-    void feedback(bool right, const access::PlannedTrial* trial, int number)
-    {
-        logRow(log_, now(), "feedback", trial, number, right ? "right" : "wrong", -1, 0, right ? kAllNine : kOuter, true, "", right ? 1 : 0);
-        device_.waitFor(player_.play(access::feedbackSensation(right, level_), access::feedbackPause(right)));
-    }
-
-private:
-    TactilePlayer& player_;
-    GuidedDevice& device_;
-    DisplayMethod method_;
-    float level_;
-    Timing timing_;
-    std::chrono::steady_clock::time_point start_;
-    std::string log_;
-};
-
-std::string normalised(std::string s)
-{
-    std::string out;
-    for (unsigned char c : s)
-        if (c != ' ' && c != '\t') out += static_cast<char>(std::tolower(c));
-    return out;
-}
-
-std::string utcNow()
-{
-    const std::time_t now = std::time(nullptr);
-    char date[32];
-    std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
-    return date;
-}
-
-} // namespace
-
 int printProgressReport(const CommandLine& cl)
 {
     const std::string path = cl.value("--report");
@@ -210,7 +86,7 @@ int runGuidedTraining(const CommandLine& cl)
         if (cl.has(o)) throw UsageError(std::string(o) + " is for the replayed training; --adaptive takes answers live");
     const bool armOnly = cl.has("--arm-only");
     ReaderIo io(cl, armOnly);
-    access::ReaderProfile reader = access::loadReaderProfile(readerPath);   // InputError (exit 3) for a bad file
+    (void) access::loadReaderProfile(readerPath);   // InputError (exit 3) for a bad file, before anything else
     // Refuse an unwritable profile or log now, not after the reader has answered.
     for (const std::string& out : {readerPath, cl.value("--log")}) {
         if (out.empty()) continue;
@@ -218,9 +94,10 @@ int runGuidedTraining(const CommandLine& cl)
         if (!std::filesystem::is_directory(dir) || ::access(dir.c_str(), W_OK) != 0) throw IoError("cannot write into " + dir.string());
     }
 
-    access::AdaptiveOptions o;
-    o.session = reader.nextSession();
-    o.seed = static_cast<std::uint64_t>(cl.integer("--seed", o.session, 0, 2147483647L));
+    procedures::AdaptiveTraining::Options o;
+    o.profilePath = readerPath;
+    o.logPath = cl.value("--log");
+    if (cl.has("--seed")) o.seed = cl.integer("--seed", 0, 0, 2147483647L);
     DisplayMethod method = DisplayMethod::Rows;
     if (cl.has("--method") && !parseDisplayMethod(cl.value("--method"), method)) throw UsageError("--method is one of rows, whole, columns, dots");
     o.method = displayMethodName(method);
@@ -233,17 +110,9 @@ int runGuidedTraining(const CommandLine& cl)
             o.stages.push_back(n);
         }
     }
-    const std::vector<std::string> signWords = cl.has("--words") ? readWordList(cl.value("--words")) : defaultSignWords();
-    for (const std::string& w : signWords) {   // lower case; a phrase keeps its spaces (word gaps on the arm)
-        std::string k;
-        for (unsigned char c : w) k += static_cast<char>(std::tolower(c));
-        o.words.push_back(k);
-    }
-    o.signs = signShorthand(signWords);
-    o.contractions = contractionWords();
-    const int trials = static_cast<int>(cl.integer("--trials", 30, 1, 10000));
-    float level = static_cast<float>(cl.integer("--level", 5, 1, 15));
-    access::AdaptivePlanner plan(reader, o);
+    if (cl.has("--words")) o.signWords = readWordList(cl.value("--words"));
+    o.trials = static_cast<int>(cl.integer("--trials", 30, 1, 10000));
+    o.level = static_cast<float>(cl.integer("--level", 5, 1, 15));
 
     TactileConfig tc;
     const std::string arm = cl.value("--arm", "right");
@@ -256,12 +125,11 @@ int runGuidedTraining(const CommandLine& cl)
         // the profile's gain, gives the comfort motor what the reader chose as comfortable.
         const std::size_t cm = static_cast<std::size_t>(touch.comfortMotor - 1);
         if (!cl.has("--level") && touch.comfort > 0 && tc.motorGain[cm] > 0.0f)
-            level = std::clamp(static_cast<float>(touch.comfort) / tc.motorGain[cm], 1.0f, 15.0f);
+            o.level = std::clamp(static_cast<float>(touch.comfort) / tc.motorGain[cm], 1.0f, 15.0f);
     }
     const int baud = static_cast<int>(cl.integer("--baud", 57600, 300, 4000000));
     const bool unpaced = cl.has("--unpaced");
-    const std::string logPath = cl.value("--log");
-    TactilePlayer player(tc, unpaced ? 1.0 / device::lockStepRate(baud) : 0.0);
+    access::TactilePlayer player(tc, unpaced ? 1.0 / device::lockStepRate(baud) : 0.0);
     installInterruptHandlers();
     // Arm gestures: a twist of the forearm and back = '?' (again), two = '-' (skip). Detected on
     // the control thread from the calibrated roll rate; handed over in atomics.
@@ -274,111 +142,84 @@ int runGuidedTraining(const CommandLine& cl)
         if (g == access::ArmGesture::Repeat) repeats.fetch_add(1);
         if (g == access::ArmGesture::Skip) skips.fetch_add(1);
     };
-    GuidedDevice device(cl.value("--port"), baud, cl.has("--simulate"), unpaced, player,
-                        cl.has("--no-gestures") ? GuidedDevice::SensorHook {} : GuidedDevice::SensorHook(onSensor));
+    live::GuidedDevice device(cl.value("--port"), baud, cl.has("--simulate"), unpaced, player,
+                              cl.has("--no-gestures") ? live::GuidedDevice::SensorHook {} : live::GuidedDevice::SensorHook(onSensor));
+    device.setInterruptCheck(interrupted);
+    using Training = procedures::AdaptiveTraining;
+    Training training(player);
     int repeatsTaken = 0, skipsTaken = 0;
-    std::string armGesture;   // the gesture behind the last "?" / "-" (the log's gesture row)
+    Training::Gesture armGesture = Training::Gesture::None;   // the gesture behind the last "?" / "-" (the log's gesture row)
     io.setExtraInput([&]() -> std::string {
+        device.checkAlive();   // a device that stopped sending ends the wait (exit 4)
         if (skips.load() > skipsTaken) {
             skipsTaken = skips.load();
-            armGesture = "two twists";
+            armGesture = Training::Gesture::Skip;
             return "-";
         }
         if (repeats.load() > repeatsTaken) {
             repeatsTaken = repeats.load();
-            armGesture = "twist";
+            armGesture = Training::Gesture::Repeat;
             return "?";
         }
         return "";
     });
-    Session session(player, device, method, level);
     const bool perkinsKeys = cl.has("--chords") && io.enableChordKeys();
-
-    const std::size_t historyAnswers = reader.answers.size();
-    auto save = [&](double seconds) {
-        access::ReaderProfile out = reader;
-        out.answers = plan.answers();
-        out.sessions.push_back({o.session, utcNow(), o.method, seconds});
-        access::saveReaderProfile(readerPath, out);
-    };
-    io.status("braille training, session " + std::to_string(o.session) + ": " + std::to_string(trials) + " trials. '?' repeats, '-' skips" +
+    training.start(o);   // draws the first trial
+    io.status("braille training, session " + std::to_string(training.session()) + ": " + std::to_string(o.trials) + " trials. '?' repeats, '-' skips" +
               (cl.has("--chords") ? "; answer in chords: S D F J K L = dots 3 2 1 4 5 6" : "") +
               (perkinsKeys ? ", Space after each cell, Space again or Enter to answer" : ""));
-    int right = 0, done = 0;
-    // Whatever ends the session, the files asked for keep what was answered.
-    auto finish = [&](bool early) {
-        logRow(session.log(), session.now(), "end", nullptr, 0, "", -1, 0, 0, false, early ? "stopped" : "", -1);
-        save(session.now());
-        if (!logPath.empty()) writeFileAtomically(logPath, session.log());
-    };
+    const auto start = std::chrono::steady_clock::now();
+    auto wall = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };   // the reader's own time
+    // Whatever ends the session, the files asked for keep what was answered (the procedure saves
+    // after every answer; stop() adds the `end` row that says `stopped`).
     bool stopped = false;
     try {
-        for (int n = 1; n <= trials; ++n) {
-            const access::PlannedTrial trial = plan.next();
-            const int grade = trial.stage == "contractions" ? 2 : 1;
-            const std::string header = std::to_string(n) + "/" + std::to_string(trials);
-            logRow(session.log(), session.now(), "trial", &trial, n, trial.prompt, -1, 0, 0, false, "", -1);
-            std::string answer;
-            double shownAt = 0.0;
-            for (;;) {
-                session.nextTrial(&trial, n);
-                session.draw(trial.shown, grade, &trial, n);
-                session.yourTurn(&trial, n);
-                shownAt = session.wall();
-                io.prompt("trial " + header + ": " + trial.prompt, header + " " + trial.prompt);
-                answer = io.readLine();
-                if (!armGesture.empty() && (answer == "?" || answer == "-"))   // it came from the arm
-                    logRow(session.log(), session.now(), "gesture", &trial, n, "", -1, 0, 0, false, armGesture, -1);
-                armGesture.clear();
-                if (answer == "?") continue;   // show it again
-                if (answer == "-") break;
-                if (cl.has("--chords")) {
-                    std::string letters, why;
-                    if (!access::chordsToLetters(answer, letters, why)) {
-                        io.note("not understood: " + why + "; the letter again");
-                        continue;
-                    }
-                    answer = letters;
+        while (training.state() != Training::State::Done) {
+            device.waitUntil([&] { return training.poll() || training.state() == Training::State::Answering; });
+            const std::string header = std::to_string(training.trial()) + "/" + std::to_string(training.trials());
+            io.prompt("trial " + header + ": " + training.question(), header + " " + training.question());
+            const double shownAt = wall();
+            std::string answer = io.readLine();
+            if (armGesture != Training::Gesture::None && (answer == "?" || answer == "-")) training.noteGesture(armGesture);   // it came from the arm
+            armGesture = Training::Gesture::None;
+            if (answer == "?") {   // show it again
+                training.again();
+                continue;
+            }
+            if (answer != "-" && cl.has("--chords")) {
+                std::string letters, why;
+                if (!access::chordsToLetters(answer, letters, why)) {
+                    io.note("not understood: " + why + "; the letter again");
+                    training.again();
+                    continue;
                 }
-                if (!answer.empty()) break;
+                answer = letters;
             }
-            const double rt = session.wall() - shownAt;
-            const bool skipped = answer == "-";
-            const std::string given = skipped ? "(skipped)" : normalised(answer);
-            const bool correct = !skipped && given == normalised(trial.expected);   // spaces do not count
-            right += correct;
-            plan.record(trial, given, correct, rt, session.now());
-            logRow(session.log(), session.now(), "answer", &trial, n, "", -1, 0, 0, false, given, correct ? 1 : 0);
-            if (correct) io.note("right");
-            else io.note("wrong: it was '" + trial.expected + "'" + (skipped ? "" : ", you said '" + given + "'"));
-            session.feedback(correct, &trial, n);
-            if (!correct) {
-                // The right cell again; when the answer was another letter, that one next to it.
-                std::string again = trial.shown;
-                if (trial.stage == "letters" && given.size() == 1 && given[0] >= 'a' && given[0] <= 'z') again += " " + given;
-                session.draw(again, grade, &trial, n);
+            if (answer.empty()) {
+                training.again();
+                continue;
             }
-            save(session.now());   // nothing lost if the session is cut short
-            ++done;
-            // Stillness between trials (the reader can tell the next trial from the replay).
-            device.waitFor(player.play({}, 2.0));
+            if (answer == "-") training.skip(wall() - shownAt);
+            else training.answer(answer, wall() - shownAt);
+            io.note(training.lastVerdict().text);
+            if (!training.lastError().empty()) throw IoError(training.lastError());
         }
+        device.waitUntil([&] { return training.settled(); });   // the last feedback felt to its end
     } catch (const AnswersEnded&) {
         stopped = true;   // the reader stopped answering: a normal end
     } catch (const IoError&) {
         if (!interrupted()) {   // the display went away, the device failed: keep the answers, then say so
-            finish(true);
+            training.stop();
             throw;
         }
         stopped = true;   // Ctrl-C
     }
-    finish(stopped);
-    if (stopped) io.status("training stopped after " + std::to_string(done) + " of " + std::to_string(trials) + " trials: " +
-                           std::to_string(right) + " right; the answers are kept");
-    else io.status("training complete: " + std::to_string(right) + " of " + std::to_string(trials) + " right");
-    std::cout << "{\"session\":" << o.session << ",\"trials\":" << trials << ",\"trials_done\":" << done
-              << ",\"stopped\":" << (stopped ? "true" : "false") << ",\"correct\":" << right
-              << ",\"answers_in_profile\":" << plan.answers().size() << ",\"history\":" << historyAnswers << "}\n";
+    if (stopped) training.stop();
+    if (!training.lastError().empty()) throw IoError(training.lastError());
+    if (stopped) io.status("training stopped after " + std::to_string(training.answered()) + " of " + std::to_string(training.trials()) + " trials: " +
+                           std::to_string(training.right()) + " right; the answers are kept");
+    else io.status("training complete: " + std::to_string(training.right()) + " of " + std::to_string(training.trials()) + " right");
+    std::cout << training.summaryJson(stopped) << "\n";
     return kExitOk;
 }
 

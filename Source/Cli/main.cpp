@@ -21,6 +21,7 @@ const std::vector<CommandInfo>& commands()
         {"map", "mapping files (--map): check one, show a preset, learn a posture", runMap},
         {"score", "tactile scores from MIDI files and haptic files (score import FILE --out SCORE)", runScore},
         {"touch-profile", "the faintest level the reader feels on each motor, for --profile", runTouchProfile},
+        {"calibrate", "the device calibration (thesis §2.4) step by step: Enter, s = skip, q = cancel", runCalibrate},
         {"tactors", "a tactor rig on a sound card or JACK: tactors test buzzes each channel in turn", runTactors},
         {"navigate", "walk a route guided by the arm alone: compass, arrivals, waypoint names (gpsd or simulated)", runNavigate},
         {"mqtt", "MQTT: check a broker (mqtt check --broker HOST[:PORT] --topic T)", runMqtt},

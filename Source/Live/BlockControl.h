@@ -103,7 +103,7 @@ public:
     /// is on, each step fuses it and hands it to the engine (Engine::control with both arms when
     /// the engine was built with twoArms) and to the mapping (`left.*`, `arms.*` sources).
     void setLeftArm(LeftArm* arm) noexcept { leftArm_ = arm; }
-    /// The app's sensitivity test (TouchTestSession.h, issue 26): while set, each control step's
+    /// The app's sensitivity test (Procedures/TouchTest.h, issue 26): while set, each control step's
     /// levels come from this player (its own TactileEngine and SafetyStage) instead of the
     /// scene's; nullptr gives the motors back to the scene. Any thread; the player must outlive
     /// this object (the processor owns both).

@@ -145,7 +145,7 @@ private:
 };
 
 /// One arm's fusion for one control step — the right arm's source in ControlLoop, a left arm's in
-/// `play` (LiveSession) and in the plugin (Plugin/LeftArm.h): more than
+/// `play` (LiveSession) and in the plugin (Live/LeftArm.h): more than
 /// ControlLoop::kMaxImuPerStep IMU samples waiting → the oldest are dropped (counted in
 /// `dropped` when given) and the newest fused; no IMU sample this step → the newest orientation
 /// of a sender that fuses itself, once (`last` is what was read, `lastUsedSerial` the serial

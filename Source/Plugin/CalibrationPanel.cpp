@@ -98,11 +98,11 @@ bool CalibrationPanel::refresh()
         heading_.setText(juce::String(session.stepTitle()), juce::dontSendNotification);
         if (session.finished()) {
             juce::String skipped;
-            for (int k = 0; k < CalibrationSession::kStepCount; ++k) {
-                const auto st = static_cast<CalibrationSession::Step>(k);
+            for (int k = 0; k < procedures::DeviceCalibration::kStepCount; ++k) {
+                const auto st = static_cast<procedures::DeviceCalibration::Step>(k);
                 // The level magnetometer circle only feeds the vertical one: not a result of its own.
-                if (st != CalibrationSession::Step::MagHorizontal && ! session.measured(st))
-                    skipped << (skipped.isEmpty() ? "" : ", ") << CalibrationSession::shortLabel(st);
+                if (st != procedures::DeviceCalibration::Step::MagHorizontal && ! session.measured(st))
+                    skipped << (skipped.isEmpty() ? "" : ", ") << procedures::DeviceCalibration::shortLabel(st);
             }
             instruction_.setText("Applied to the device. "
                                      + (skipped.isEmpty() ? juce::String("Every step was measured.")
@@ -114,8 +114,8 @@ bool CalibrationPanel::refresh()
             // The turn steps fill their bar at half a turn (the procedure's minimum), but the
             // scale is 2π over the whole turn: Next belongs after the full turn.
             const auto st = session.step();
-            const bool turn = st == CalibrationSession::Step::GyroTurnX || st == CalibrationSession::Step::GyroTurnY
-                              || st == CalibrationSession::Step::GyroTurnZ;
+            const bool turn = st == procedures::DeviceCalibration::Step::GyroTurnX || st == procedures::DeviceCalibration::Step::GyroTurnY
+                              || st == procedures::DeviceCalibration::Step::GyroTurnZ;
             message_.setText(turn ? "Press Next only after the whole turn, with the arm still." : "", juce::dontSendNotification);
         }
         fitText(instruction_, baseFont_);

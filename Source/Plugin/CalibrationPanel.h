@@ -2,9 +2,9 @@
 // The guided calibration in the device panel (thesis §2.4): the current step's instruction, a
 // progress bar, Next (enabled once the step has enough data), Skip and Cancel; at the end the
 // result is already applied to the link and Save... writes it as calibration JSON. All logic is
-// in CalibrationSession / the processor; this only shows it. Every control has an accessible
+// in procedures::DeviceCalibration / the processor; this only shows it. Every control has an accessible
 // title and description and takes keyboard focus; each new step is announced to screen readers.
-#include "Plugin/CalibrationSession.h"
+#include "Procedures/DeviceCalibration.h"
 #include <juce_gui_basics/juce_gui_basics.h>
 #include <memory>
 

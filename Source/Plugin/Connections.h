@@ -74,7 +74,7 @@ public:
     void disconnectDevice();
     bool deviceConnected() const noexcept { return device_ != nullptr && device_->isOpen(); }
     DeviceConnection& device() noexcept { return *device_; }
-    const CalibrationSession& calibration() const noexcept { return device_->calibrationSession(); }
+    const procedures::DeviceCalibration& calibration() const noexcept { return device_->calibrationSession(); }
     bool beginCalibration(juce::String& why);
     bool calibrationNext(juce::String& why);
     void calibrationSkip();

@@ -7,12 +7,12 @@
 // step's timeline (Link/LevelSchedule.h): all-off when the control steps stop for 25 ms, and an
 // all-off packet when the link stops (disconnect, shutdown).
 // A real port is claimed through PortRegistry first, so two instances never fight over it.
-// Raw packets also go to the guided calibration (CalibrationSession) while one runs, and a new
+// Raw packets also go to the guided calibration (procedures::DeviceCalibration) while one runs, and a new
 // calibration reaches the running link through a seqlock: no reconnect, no lock on the link thread.
 #include "Core/Types.h"
 #include "Link/Calibration.h"
 #include "Link/LevelSchedule.h"
-#include "Plugin/CalibrationSession.h"
+#include "Procedures/DeviceCalibration.h"
 #include "Live/LiveInput.h"
 #include "Live/PortRegistry.h"
 #include "Tactile/TactileEngine.h"
@@ -67,8 +67,8 @@ public:
     std::uint64_t calibrationPublished() const noexcept { return requestedGeneration_; }
     std::uint64_t calibrationInUse() const noexcept { return linkGeneration_.load(std::memory_order_acquire); }
     /// The guided calibration fed from this link's raw packets (message thread except offer()).
-    CalibrationSession& calibrationSession() noexcept { return calibrationSession_; }
-    const CalibrationSession& calibrationSession() const noexcept { return calibrationSession_; }
+    procedures::DeviceCalibration& calibrationSession() noexcept { return calibrationSession_; }
+    const procedures::DeviceCalibration& calibrationSession() const noexcept { return calibrationSession_; }
 
 private:
     /// Calibration as plain numbers for the seqlock (Eigen and std::string are not trivially copyable).
@@ -97,7 +97,7 @@ private:
     double lastPacketAt_ = -1.0;               // link thread: monotonic s of the previous packet
     std::uint64_t linkSeen_ = 0;               // link thread only
     std::atomic<std::uint64_t> linkGeneration_ {0};
-    CalibrationSession calibrationSession_;
+    procedures::DeviceCalibration calibrationSession_;
     std::unique_ptr<live::PortClaim> claim_;
     std::unique_ptr<device::SimulatedForearm> simulator_;
     std::unique_ptr<device::DeviceLink> link_;

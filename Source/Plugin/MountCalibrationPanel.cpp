@@ -44,7 +44,7 @@ juce::File MountCalibrationPanel::mountFileFor(const std::string& device)
     return juce::File::getSpecialLocation(juce::File::userApplicationDataDirectory)
         .getChildFile("ARMadillo")
         .getChildFile("mounts")
-        .getChildFile(juce::String(MountCalibrationSession::fileNameForDevice(device)));
+        .getChildFile(juce::String(procedures::MountCalibration::fileNameForDevice(device)));
 }
 
 void MountCalibrationPanel::start()

@@ -4,9 +4,9 @@
 // bar, Next (enabled once the pose has enough still samples), Skip (the optional roll pose only)
 // and Cancel. At the end the mount is saved for the sender's device in the app's data folder and
 // applied at once (the oscInMount setting); Save... writes it elsewhere too. The logic is in
-// MountCalibrationSession; this only shows it. Every control has an accessible title and
+// procedures::MountCalibration; this only shows it. Every control has an accessible title and
 // description and takes keyboard focus; each new pose is announced to screen readers.
-#include "Plugin/MountCalibrationSession.h"
+#include "Procedures/MountCalibration.h"
 #include <juce_gui_basics/juce_gui_basics.h>
 #include <memory>
 
@@ -40,7 +40,7 @@ private:
     void announce(const juce::String& text);
 
     ArmadilloProcessor& processor_;
-    MountCalibrationSession session_;
+    procedures::MountCalibration session_;
     juce::Label heading_, instruction_, message_;
     double progressValue_ = 0.0;
     juce::ProgressBar progress_ {progressValue_};

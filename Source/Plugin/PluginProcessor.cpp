@@ -315,7 +315,7 @@ void ArmadilloProcessor::timerCallback()
         feedbackUntil_ = 0;
         if (std::exchange(feedbackRestart_, false))   // the trial from its first row, now felt
             training_.with([](braille::BrailleSceneControls& scene, std::uint64_t) { scene.restartTrainingTrial(); });
-        if (touchTest_.state() == TouchTestSession::State::Idle && adaptive_.state() == AdaptiveSession::State::Idle)
+        if (touchTest_.state() == procedures::TouchTest::State::Idle && adaptive_.state() == procedures::AdaptiveTraining::State::Idle)
             control_.setStimulus(nullptr);   // the scene has the motors again
     }
     engines_.update(currentRequest());
@@ -493,9 +493,9 @@ void fitToReader(access::TactilePlayer& player, const juce::ValueTree& settings)
 }
 } // namespace
 
-AdaptiveChoices ArmadilloProcessor::adaptiveChoices() const
+procedures::AdaptiveChoices ArmadilloProcessor::adaptiveChoices() const
 {
-    AdaptiveChoices c;
+    procedures::AdaptiveChoices c;
     c.trials = static_cast<int>(settings_[SettingIds::adaptiveTrials]);
     c.stages = settings_[SettingIds::adaptiveStages].toString().toStdString();
     c.method = settings_[SettingIds::adaptiveMethod].toString().toStdString();
@@ -505,7 +505,7 @@ AdaptiveChoices ArmadilloProcessor::adaptiveChoices() const
 
 bool ArmadilloProcessor::beginAdaptive(const juce::File& readerProfile, juce::String& why)
 {
-    if (touchTest_.state() != TouchTestSession::State::Idle) endTouchTest(false);
+    if (touchTest_.state() != procedures::TouchTest::State::Idle) endTouchTest(false);
     std::string reason;
     fitToReader(feedbackPlayer_, settings_);   // the cells and cues felt alike on every motor, as in a scene
     control_.setStimulus(&feedbackPlayer_);   // before the first trial is queued: its cue plays at once
@@ -521,12 +521,12 @@ bool ArmadilloProcessor::beginAdaptive(const juce::File& readerProfile, juce::St
 void ArmadilloProcessor::endAdaptive()
 {
     adaptive_.stop();
-    if (touchTest_.state() == TouchTestSession::State::Idle) control_.setStimulus(nullptr);
+    if (touchTest_.state() == procedures::TouchTest::State::Idle) control_.setStimulus(nullptr);
 }
 
 void ArmadilloProcessor::beginTouchTest(std::uint64_t seed)
 {
-    if (adaptive_.state() != AdaptiveSession::State::Idle) endAdaptive();
+    if (adaptive_.state() != procedures::AdaptiveTraining::State::Idle) endAdaptive();
     touchTest_.begin(seed);
     control_.setStimulus(&touchTest_.player());
 }
@@ -534,7 +534,7 @@ void ArmadilloProcessor::beginTouchTest(std::uint64_t seed)
 void ArmadilloProcessor::endTouchTest(bool keep)
 {
     control_.setStimulus(nullptr);
-    if (keep && touchTest_.state() == TouchTestSession::State::Done) {
+    if (keep && touchTest_.state() == procedures::TouchTest::State::Done) {
         auto profile = touchTest_.profile();
         profile.arm = settings_[SettingIds::armSide].toString().toStdString();
         settings_.setProperty(SettingIds::touchProfile, juce::String(device::touchProfileToJson(profile)), nullptr);
@@ -585,7 +585,7 @@ juce::String ArmadilloProcessor::testTactorChannel(int channel)
 {
     const int motor = tactorRig_.motorOfChannel(channel, settings_, motorCount());
     if (motor < 0 || motor >= motorCount()) return "Tactor channel " + juce::String(channel + 1) + " is silent in the map";
-    if (touchTest_.state() != TouchTestSession::State::Idle || adaptive_.state() != AdaptiveSession::State::Idle)
+    if (touchTest_.state() != procedures::TouchTest::State::Idle || adaptive_.state() != procedures::AdaptiveTraining::State::Idle)
         return "The sensitivity test or the training has the motors: end it first";
     fitToReader(feedbackPlayer_, settings_);
     access::TactileSegment buzz;
@@ -601,7 +601,7 @@ juce::String ArmadilloProcessor::testTactorChannel(int channel)
 void ArmadilloProcessor::armFeedback(bool right, const std::string& expected)
 {
     if (! static_cast<bool>(settings_[SettingIds::armFeedback])) return;
-    if (touchTest_.state() != TouchTestSession::State::Idle || adaptive_.state() != AdaptiveSession::State::Idle) return;
+    if (touchTest_.state() != procedures::TouchTest::State::Idle || adaptive_.state() != procedures::AdaptiveTraining::State::Idle) return;
     fitToReader(feedbackPlayer_, settings_);
     // Right / wrong, then (wrong) the right letters or words again, then the "next" cue.
     feedbackUntil_ = feedbackPlayer_.play(access::feedbackSequence(right, expected, 10.0f), 0.2);

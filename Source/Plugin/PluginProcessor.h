@@ -27,8 +27,8 @@
 #include "Plugin/MessagesRig.h"
 #include "Live/StageSession.h"
 #include "Access/ReaderVoice.h"
-#include "Plugin/AdaptiveSession.h"
-#include "Plugin/TouchTestSession.h"
+#include "Procedures/AdaptiveTraining.h"
+#include "Procedures/TouchTest.h"
 #include "Plugin/TrainingAccess.h"
 #include "Plugin/Accessibility.h"
 #include <juce_audio_processors/juce_audio_processors.h>
@@ -103,7 +103,7 @@ public:
     juce::String linkStatus() const { return connections_.linkStatus(); }
     void connectDevice(bool connect);
     bool deviceConnected() const noexcept { return connections_.deviceConnected(); }
-    const CalibrationSession& calibration() const noexcept { return connections_.calibration(); }
+    const procedures::DeviceCalibration& calibration() const noexcept { return connections_.calibration(); }
     bool beginCalibration(juce::String& why) { return connections_.beginCalibration(why); }
     bool calibrationNext(juce::String& why) { return connections_.calibrationNext(why); }
     void calibrationSkip() { connections_.calibrationSkip(); }
@@ -138,10 +138,10 @@ public:
     access::ReaderVoice& voice() noexcept { return *voice_; }
     bool voiceOn() const noexcept { return voiceOn_; }
     void speakAnnouncement(const juce::String& text, bool interrupt) const override;
-    /// The sensitivity test (TouchTestSession.h; message thread): while it runs, the motors play
+    /// The sensitivity test (Procedures/TouchTest.h; message thread): while it runs, the motors play
     /// its stimuli instead of the scene. endTouchTest(true) keeps a finished test's profile as
     /// the touchProfile setting (applied to every scene, saved in the state).
-    TouchTestSession& touchTest() noexcept { return touchTest_; }
+    procedures::TouchTest& touchTest() noexcept { return touchTest_; }
     void beginTouchTest(std::uint64_t seed);
     void endTouchTest(bool keep);
     /// Braille training's answer felt on the arm when the armFeedback setting is on (a deafblind
@@ -155,12 +155,12 @@ public:
     /// Not during the sensitivity test or the adaptive training. Message thread.
     void armFeedback(bool right, const std::string& expected = {});
     bool armFeedbackPlaying() const noexcept { return feedbackUntil_ > 0 && feedbackPlayer_.completed() < feedbackUntil_; }
-    /// Adaptive training (AdaptiveSession.h; message thread): while it runs its cells and cues
+    /// Adaptive training (Procedures/AdaptiveTraining.h; message thread): while it runs its cells and cues
     /// take the motors in place of the scene, with the reader's touch profile. Its choices come from the settings
     /// (adaptiveChoices(); SettingIds::adaptiveTrials …); the reader profile becomes the
     /// readerProfile setting (the Training panel adds its answers there too).
-    AdaptiveSession& adaptive() noexcept { return adaptive_; }
-    AdaptiveChoices adaptiveChoices() const;
+    procedures::AdaptiveTraining& adaptive() noexcept { return adaptive_; }
+    procedures::AdaptiveChoices adaptiveChoices() const;
     bool beginAdaptive(const juce::File& readerProfile, juce::String& why);
     void endAdaptive();
     /// The standalone app's MIDI port line ("" in a host), the mapping's OSC and drop counters.
@@ -286,7 +286,7 @@ private:
     device::LevelSchedule motors_;               // control steps → device link
     EngineHandover engines_;
     TrainingAccess training_;
-    TouchTestSession touchTest_;                 // before control_: its player outlives the control step's pointer
+    procedures::TouchTest touchTest_;                 // before control_: its player outlives the control step's pointer
     // Before control_ too. All 12 motors: the Tactors window's test buttons reach the back motors.
     access::TactilePlayer feedbackPlayer_ {[] {
                                                TactileConfig c;
@@ -294,7 +294,7 @@ private:
                                                return c;
                                            }(),
                                            0.0};
-    AdaptiveSession adaptive_ {feedbackPlayer_};   // plays through feedbackPlayer_
+    procedures::AdaptiveTraining adaptive_ {feedbackPlayer_};   // plays through feedbackPlayer_
     int feedbackUntil_ = 0;                      // the sequence whose end gives the motors back to the scene
     live::Stage stage_;                                // before control_: the control step keeps a pointer
     bool feedbackRestart_ = false;               // then the braille trial starts again from its first row

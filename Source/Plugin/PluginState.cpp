@@ -1,7 +1,7 @@
 #include "Plugin/PluginState.h"
 #include "Core/Version.h"
 #include "Link/TouchProfile.h"
-#include "Plugin/AdaptiveSession.h"
+#include "Procedures/AdaptiveTraining.h"
 #include "Tactors/TactorRenderer.h"
 #include <cmath>
 #include <limits>
@@ -109,7 +109,7 @@ void installSettings(juce::ValueTree& settings, const juce::ValueTree& loaded)
     if (const auto m = settings[SettingIds::adaptiveMethod].toString(); m != "rows" && m != "whole" && m != "columns" && m != "dots")
         settings.setProperty(SettingIds::adaptiveMethod, "rows", nullptr);
     {
-        AdaptiveChoices c;   // the stages as the session checks them
+        procedures::AdaptiveChoices c;   // the stages as the session checks them
         c.stages = settings[SettingIds::adaptiveStages].toString().toStdString();
         if (! c.problem().empty()) settings.setProperty(SettingIds::adaptiveStages, "letters,words", nullptr);
     }

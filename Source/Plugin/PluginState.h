@@ -45,7 +45,7 @@ inline const juce::Identifier panicGesture {"panicGesture"}; ///< bool: the arm 
 inline const juce::Identifier stageOscPort {"stageOscPort"}; ///< their UDP port (0: any free port)
 inline const juce::Identifier leftArmOsc {"leftArmOsc"};     ///< bool: an OSC sender as the left arm (docs/STAGE.md "Two arms")
 inline const juce::Identifier leftArmOscPort {"leftArmOscPort"}; ///< its UDP (and TCP) port, 1..65535 (9003)
-// The app's adaptive braille training (AdaptiveSession.h; the CLI's --trials --stages --method --level)
+// The app's adaptive braille training (Procedures/AdaptiveTraining.h; the CLI's --trials --stages --method --level)
 inline const juce::Identifier adaptiveTrials {"adaptiveTrials"};   ///< 1..10000 (20)
 inline const juce::Identifier adaptiveStages {"adaptiveStages"};   ///< comma list of letters, words, signs, contractions
 inline const juce::Identifier adaptiveMethod {"adaptiveMethod"};   ///< rows | whole | columns | dots

@@ -4,7 +4,7 @@
 #include "Link/TouchProfile.h"
 #include "Plugin/Accessibility.h"
 #include "Plugin/PluginProcessor.h"
-#include "Plugin/AdaptiveSession.h"
+#include "Procedures/AdaptiveTraining.h"
 
 namespace armadillo::plugin {
 
@@ -185,8 +185,8 @@ ReaderPanel::~ReaderPanel()
     stopTimer();
     adaptiveStages_.onFocusLost = nullptr;   // no announcement from a field being destroyed
     adaptiveAnswer_.removeKeyListener(&adaptiveKeys_);
-    if (processor_.adaptive().state() != AdaptiveSession::State::Idle) processor_.endAdaptive();
-    if (processor_.touchTest().state() != TouchTestSession::State::Idle) processor_.endTouchTest(false);   // the motors back to the scene
+    if (processor_.adaptive().state() != procedures::AdaptiveTraining::State::Idle) processor_.endAdaptive();
+    if (processor_.touchTest().state() != procedures::TouchTest::State::Idle) processor_.endTouchTest(false);   // the motors back to the scene
 }
 
 void ReaderPanel::timerCallback()
@@ -238,7 +238,7 @@ void ReaderPanel::showReaderProfile()
 
 juce::String ReaderPanel::takeStages()
 {
-    AdaptiveChoices c;
+    procedures::AdaptiveChoices c;
     c.stages = adaptiveStages_.getText().removeCharacters(" ").toLowerCase().toStdString();
     if (const auto why = c.problem(); ! why.empty()) {
         const auto text = "Stages not changed: " + juce::String(why);
@@ -256,7 +256,7 @@ juce::String ReaderPanel::takeStages()
 
 void ReaderPanel::startAdaptive()
 {
-    if (processor_.adaptive().state() == AdaptiveSession::State::Drawing || processor_.adaptive().state() == AdaptiveSession::State::Answering) {
+    if (processor_.adaptive().state() == procedures::AdaptiveTraining::State::Drawing || processor_.adaptive().state() == procedures::AdaptiveTraining::State::Answering) {
         processor_.endAdaptive();
         adaptiveState_.setText("Adaptive training stopped; the reader profile keeps every answer.", juce::dontSendNotification);
         announce(adaptiveState_.getText());
@@ -291,8 +291,8 @@ void ReaderPanel::startAdaptive()
 void ReaderPanel::answerAdaptive()
 {
     auto& session = processor_.adaptive();
-    if (session.state() != AdaptiveSession::State::Answering) {
-        announce(session.state() == AdaptiveSession::State::Drawing ? "Wait: the trial is still being drawn." : "No adaptive training is running.");
+    if (session.state() != procedures::AdaptiveTraining::State::Answering) {
+        announce(session.state() == procedures::AdaptiveTraining::State::Drawing ? "Wait: the trial is still being drawn." : "No adaptive training is running.");
         return;
     }
     const auto rt = (juce::Time::getMillisecondCounterHiRes() - promptedAt_) / 1000.0;
@@ -300,7 +300,7 @@ void ReaderPanel::answerAdaptive()
     adaptiveAnswer_.clear();
     adaptiveState_.setText(feedback, juce::dontSendNotification);
     announce(feedback);
-    if (session.state() == AdaptiveSession::State::Done) {
+    if (session.state() == procedures::AdaptiveTraining::State::Done) {
         processor_.endAdaptive();
         if (readerFile_.existsAsFile()) showReport(readerFile_);   // where the reader stands now
     }
@@ -312,22 +312,22 @@ void ReaderPanel::followAdaptive()
     auto& session = processor_.adaptive();
     // The arm's twists (read by the control step while the training has the motors).
     switch (session.takeGesture()) {
-    case AdaptiveSession::Gesture::Repeat:
+    case procedures::AdaptiveTraining::Gesture::Repeat:
         session.again();
         announce("Again (a twist of the arm).");
         break;
-    case AdaptiveSession::Gesture::Skip: {
+    case procedures::AdaptiveTraining::Gesture::Skip: {
         const auto rt = (juce::Time::getMillisecondCounterHiRes() - promptedAt_) / 1000.0;
         const auto feedback = "Skipped by the arm: " + juce::String(session.skip(rt));
         adaptiveState_.setText(feedback, juce::dontSendNotification);
         announce(feedback);
-        if (session.state() == AdaptiveSession::State::Done) {
+        if (session.state() == procedures::AdaptiveTraining::State::Done) {
             processor_.endAdaptive();
             if (readerFile_.existsAsFile()) showReport(readerFile_);
         }
         break;
     }
-    case AdaptiveSession::Gesture::None: break;
+    case procedures::AdaptiveTraining::Gesture::None: break;
     }
     if (session.poll()) {
         promptedAt_ = juce::Time::getMillisecondCounterHiRes();
@@ -336,16 +336,16 @@ void ReaderPanel::followAdaptive()
         adaptiveAnswer_.setEnabled(true);
         if (isShowing()) adaptiveAnswer_.grabKeyboardFocus();   // where the reader answers, whatever had focus
     }
-    const bool running = session.state() == AdaptiveSession::State::Drawing || session.state() == AdaptiveSession::State::Answering;
+    const bool running = session.state() == procedures::AdaptiveTraining::State::Drawing || session.state() == procedures::AdaptiveTraining::State::Answering;
     adaptiveStart_.setButtonText(running ? "Stop training" : "Adaptive training...");
-    adaptiveAgain_.setEnabled(session.state() == AdaptiveSession::State::Answering);
+    adaptiveAgain_.setEnabled(session.state() == procedures::AdaptiveTraining::State::Answering);
     adaptiveAnswer_.setEnabled(running);
 }
 
 void ReaderPanel::startTest()
 {
     auto& test = processor_.touchTest();
-    if (test.state() == TouchTestSession::State::Presenting || test.state() == TouchTestSession::State::Asking) {
+    if (test.state() == procedures::TouchTest::State::Presenting || test.state() == procedures::TouchTest::State::Asking) {
         processor_.endTouchTest(false);
         testState_.setText("Sensitivity test stopped; nothing kept.", juce::dontSendNotification);
         announce(testState_.getText());
@@ -368,7 +368,7 @@ void ReaderPanel::answerTest(bool felt)
 void ReaderPanel::followTest()
 {
     auto& test = processor_.touchTest();
-    using State = TouchTestSession::State;
+    using State = procedures::TouchTest::State;
     const bool wasComfort = comfortAnnounced_;
     if (test.comfortStep() && ! wasComfort) {
         comfortAnnounced_ = true;
@@ -395,7 +395,7 @@ void ReaderPanel::followTest()
 bool ReaderPanel::keyPressed(const juce::KeyPress& key)
 {
     const auto c = juce::CharacterFunctions::toLowerCase(key.getTextCharacter());
-    if (processor_.touchTest().state() == TouchTestSession::State::Asking && (c == 'y' || c == 'n' || c == 'r')) {
+    if (processor_.touchTest().state() == procedures::TouchTest::State::Asking && (c == 'y' || c == 'n' || c == 'r')) {
         if (c == 'r') processor_.touchTest().again();
         else answerTest(c == 'y');
         followTest();

@@ -3,7 +3,7 @@
 // must be detected without a flag and the logged orientation must be within 3° of the truth
 // (median, after the first 2 s, contract frames); an accelerometer alone: the tilt within 3°.
 // Senders use their own rates per sensor, send-time jitter and 5 % loss. The same NGIMU sender
-// also drives the plugin's OSC source class (Source/Plugin/OscLink: plain C++, built here without
+// also drives the plugin's OSC source class (Source/Live/OscLink: plain C++, built here without
 // JUCE). Sending is paced in real time (the receiver stamps arrivals); the assertions are on the
 // logged results, never on timing.
 #include "Common/FreePort.h"

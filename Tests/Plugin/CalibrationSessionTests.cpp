@@ -6,7 +6,7 @@
 #include "Core/Pose.h"
 #include "Common/SimulatedBoards.h"
 #include "Link/Simulator.h"
-#include "Plugin/CalibrationSession.h"
+#include "Procedures/DeviceCalibration.h"
 #include "Plugin/DeviceConnection.h"
 #include <catch2/catch.hpp>
 #include <algorithm>
@@ -17,7 +17,7 @@
 
 using namespace armadillo;
 using namespace armadillo::device;
-using armadillo::plugin::CalibrationSession;
+using CalibrationSession = armadillo::procedures::DeviceCalibration;   // the app's session is the procedure (issue 32)
 using armadillo::plugin::DeviceConnection;
 using armadillo::live::LiveImu;
 using armadillo::live::LiveInput;

@@ -5,13 +5,13 @@
 #include "Core/Types.h"
 #include "Osc/Osc.h"
 #include "Osc/OscInput.h"
-#include "Plugin/MountCalibrationSession.h"
+#include "Procedures/MountCalibration.h"
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
 
 using namespace armadillo;
-using armadillo::plugin::MountCalibrationSession;
+using MountCalibrationSession = armadillo::procedures::MountCalibration;   // the app's session is the procedure (issue 32)
 using Pose = MountCalibrationSession::Pose;
 
 namespace {

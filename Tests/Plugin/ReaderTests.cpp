@@ -7,11 +7,11 @@
 #include "Live/BlockControl.h"
 #include "Plugin/HostBlock.h"
 #include "Access/ReaderProfile.h"
-#include "Plugin/AdaptiveSession.h"
+#include "Procedures/AdaptiveTraining.h"
 #include "Plugin/PerkinsKeys.h"
 #include "Plugin/PluginState.h"
 #include "Access/ReaderVoice.h"
-#include "Plugin/TouchTestSession.h"
+#include "Procedures/TouchTest.h"
 #include "HostedPlugin.h"
 #include "Common/Eventually.h"
 #include "Common/FakeBrlApi.h"
@@ -22,6 +22,10 @@
 #include <sstream>
 
 using namespace armadillo::plugin;
+// The app's sessions are the procedures (issue 32: each guided procedure written once, below JUCE).
+using TouchTestSession = armadillo::procedures::TouchTest;
+using AdaptiveSession = armadillo::procedures::AdaptiveTraining;
+using armadillo::procedures::AdaptiveChoices;
 
 namespace {
 

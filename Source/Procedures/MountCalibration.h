@@ -1,10 +1,20 @@
 #pragma once
-// The guided mount calibration (device::MountCalibration: arm level ahead, arm hanging down,
-// optionally a quarter roll) for the device panel, fed from the OSC input's sensor-frame tap.
-// No JUCE: the panel only shows what this says. Message thread only: the receiver thread pushes
-// into the merger's lock-free tap, and drain() pops from it on the panel's timer.
-// A pose that has enough still samples is frozen until Next, so moving on to the next pose
-// before pressing Next cannot overwrite it.
+// The guided mount calibration of an OSC sensor (device::MountCalibration, Osc/Mount.h: arm level
+// ahead, arm hanging down, optionally a quarter roll), written once for the app's Mount window
+// (Plugin/MountCalibrationPanel.cpp) and the command line's `play --calibrate-mount`
+// (Cli/CmdPlay.cpp's GuidedMount, with Advance::WhenReady; until it is rewired it drives
+// device::MountCalibration itself with the same lines), fed from the OSC input's sensor-frame tap (OscSampleMerger::popSensorSample).
+// Two ways to advance:
+//   • Advance::OnNext (the app): a pose that has enough still samples is frozen until Next, so
+//     moving on to the next pose before pressing Next cannot overwrite it;
+//   • Advance::WhenReady (a text presenter with no Next key): each pose is taken as soon as it has
+//     enough still samples; the optional roll pose is skipped when the session ends in it
+//     (conclude()).
+// The presenter hears each pose through the announcer (one line a pose: "mount calibration pose
+// 2 (hanging down): let the arm hang …", then "mount calibration complete"); the result is a
+// device::Mount, written by save().
+// Threads: one front-end thread (the app's message thread, the CLI's main thread); the OSC
+// receiver thread only pushes into the merger's lock-free tap, and drain() pops from it.
 #include "Osc/Mount.h"
 #include "Osc/OscInput.h"
 #include <cstdint>
@@ -12,17 +22,22 @@
 #include <memory>
 #include <string>
 
-namespace armadillo::plugin {
+namespace armadillo::procedures {
 
-class MountCalibrationSession {
+class MountCalibration {
 public:
     using Pose = device::MountCalibration::Pose;
+    enum class Advance { OnNext, WhenReady };
     /// Poses the user goes through (the third is optional).
     static constexpr int kPoseCount = 3;
 
+    /// Called with one line for the presenter at begin(), at every pose change and when solved.
+    void setAnnouncer(std::function<void(const std::string& line)> announce) { announce_ = std::move(announce); }
     /// Starts (or restarts) the calibration; `device` names the sensor (for the saved file).
-    void begin(const std::string& device = {});
-    void begin(const std::string& device, const device::MountCalibration::Params& params);
+    void begin(const std::string& device = {}, Advance advance = Advance::OnNext);
+    void begin(const std::string& device, const device::MountCalibration::Params& params, Advance advance = Advance::OnNext);
+    /// Names the sensor once it is known (a sender's name arrives with its first packets).
+    void setDevice(const std::string& device);
     /// Stops without a result; `why` is kept for the UI ("" = the user cancelled).
     void cancel(const std::string& why = {});
     /// One sensor-frame sample (accel m/s², gyro rad/s or NaN). Ignored unless running.
@@ -40,7 +55,11 @@ public:
     int stepNumber() const noexcept { return static_cast<int>(pose()) + 1; }
     /// "Pose 2 of 3: hanging down".
     std::string stepTitle() const;
+    /// "Let the arm hang straight down, relaxed." (the failure when failed).
     std::string instruction() const;
+    /// The current state in one line: "mount calibration pose 2 (hanging down): let the arm hang
+    /// …", "mount calibration complete".
+    std::string announcement() const;
     double progress() const noexcept { return calibration_ != nullptr ? calibration_->progress() : 0.0; }
     bool ready() const noexcept { return calibration_ != nullptr && running() && calibration_->ready(); }
     /// Only the roll pose may be skipped.
@@ -50,8 +69,14 @@ public:
     bool next(std::string& why);
     /// Skips the optional roll pose and solves. False with `why` as for next().
     bool skip(std::string& why);
-    /// The solved mount (name "calibrated", device as given to begin()).
+    /// Ends the walk where it stands (a session that ends): the roll pose skipped when it is the
+    /// one waiting, the mount solved. True when result() holds it; else false with the reason
+    /// ("two poses are needed", …; pose() says where it stopped).
+    bool conclude(std::string& why);
+    /// The solved mount (name "calibrated", device as given to begin() or setDevice()).
     const device::Mount& result() const noexcept { return result_; }
+    /// Writes result() to `path` (atomic; IoError when it cannot).
+    void save(const std::string& path) const;
     const std::string& device() const noexcept { return device_; }
     std::uint64_t samplesFed() const noexcept { return fed_; }
     const std::string& stopReason() const noexcept { return stopReason_; }
@@ -63,12 +88,15 @@ public:
 
 private:
     bool solve(std::string& why);
+    void announce() const;
 
     std::unique_ptr<device::MountCalibration> calibration_;
+    std::function<void(const std::string&)> announce_;
     device::Mount result_;
-    std::string device_, failed_, stopReason_;
+    std::string device_, failed_, failedWhy_, stopReason_;
+    Advance advance_ = Advance::OnNext;
     bool finished_ = false;
     std::uint64_t fed_ = 0;
 };
 
-} // namespace armadillo::plugin
+} // namespace armadillo::procedures

@@ -1,12 +1,16 @@
-#include "Plugin/TouchTestSession.h"
+#include "Procedures/TouchTest.h"
 #include <algorithm>
+#include <ctime>
+#include <sstream>
 
-namespace armadillo::plugin {
+namespace armadillo::procedures {
 
-// Right-arm layout: index i = motor m(i+1), as the CLI's touch-profile (the profile's order).
-TouchTestSession::TouchTestSession() : player_(TactileConfig {}, 0.0) {}
+// Right-arm layout: index i = motor m(i+1), the profile's order.
+TouchTest::TouchTest() : TouchTest(Params {}) {}
 
-void TouchTestSession::begin(std::uint64_t seed, bool comfort)
+TouchTest::TouchTest(const Params& params) : params_(params), player_(TactileConfig {}, params.packetPeriod) {}
+
+void TouchTest::begin(std::uint64_t seed, bool comfort)
 {
     askComfort_ = comfort;
     comfortStep_ = false;
@@ -21,7 +25,7 @@ void TouchTestSession::begin(std::uint64_t seed, bool comfort)
     next();
 }
 
-void TouchTestSession::next()
+void TouchTest::next()
 {
     if (order_.empty()) {
         for (int m = 0; m < device::kProfileMotors; ++m)
@@ -31,8 +35,8 @@ void TouchTestSession::next()
                 state_ = State::Done;
                 return;
             }
-            // The comfortable level (CmdTouchProfile.cpp): from the comfort motor's threshold + 1
-            // upwards; at the top level it is taken without asking.
+            // The comfortable level: from the comfort motor's threshold + 1 upwards; at the top
+            // level it is taken without asking.
             comfortStep_ = true;
             motor_ = device::TouchProfile {}.comfortMotor - 1;
             level_ = std::min(kMaxLevel, stairs_[static_cast<std::size_t>(motor_)].threshold() + 1);
@@ -44,7 +48,8 @@ void TouchTestSession::next()
             present();
             return;
         }
-        // Fisher-Yates with `%` as the CLI does: a seed gives the same order everywhere.
+        // Fisher-Yates with `%` (std::shuffle differs between standard libraries): a seed gives
+        // the same order everywhere.
         for (std::size_t i = order_.size(); i > 1; --i) std::swap(order_[i - 1], order_[static_cast<std::size_t>(rng_() % i)]);
         if (order_.size() > 1 && order_.front() == previous_) std::swap(order_.front(), order_.back());
     }
@@ -54,29 +59,29 @@ void TouchTestSession::next()
     present();
 }
 
-void TouchTestSession::present()
+void TouchTest::present()
 {
     const auto m = static_cast<std::size_t>(motor_);
     access::TactileSegment s;
-    s.at = std::max(0.0, lastStart_[m] + kRestSeconds - player_.clock());
-    s.duration = kOnSeconds;
+    s.at = std::max(0.0, lastStart_[m] + params_.restSeconds - player_.clock());
+    s.duration = params_.onSeconds;
     s.motors = static_cast<std::uint16_t>(1u << motor_);
     s.level = static_cast<float>(level_);
     s.soft = true;   // no jump-start spike: the level asked is the level felt
     lastStart_[m] = player_.clock() + s.at;
-    waitingFor_ = player_.play({s}, kGapSeconds);
+    waitingFor_ = player_.play({s}, params_.gapSeconds);
     ++stimuli_;
     state_ = State::Presenting;
 }
 
-bool TouchTestSession::poll()
+bool TouchTest::poll()
 {
     if (state_ != State::Presenting || player_.completed() < waitingFor_) return false;
     state_ = State::Asking;
     return true;
 }
 
-void TouchTestSession::answer(bool felt)
+void TouchTest::answer(bool felt)
 {
     if (state_ != State::Asking) return;
     if (comfortStep_) {   // felt = "comfortable"
@@ -94,18 +99,25 @@ void TouchTestSession::answer(bool felt)
     next();
 }
 
-void TouchTestSession::again()
+void TouchTest::again()
 {
     if (state_ == State::Asking) present();
 }
 
-std::string TouchTestSession::question() const
+std::string TouchTest::question() const
 {
     if (state_ != State::Asking) return {};
     return "motor m" + std::to_string(motor_ + 1) + ", level " + std::to_string(level_) + (comfortStep_ ? ": comfortable?" : ": felt it?");
 }
 
-device::TouchProfile TouchTestSession::profile() const
+int TouchTest::loweredTo() const noexcept
+{
+    if (state_ != State::Asking || motor_ < 0) return 0;
+    const int sent = player_.maxLevel(motor_);
+    return sent < level_ ? sent : 0;
+}
+
+device::TouchProfile TouchTest::profile() const
 {
     device::TouchProfile p;
     for (std::size_t m = 0; m < device::kProfileMotors; ++m) {
@@ -114,8 +126,38 @@ device::TouchProfile TouchTestSession::profile() const
     }
     p.comfort = comfort_;
     p.stimuli = stimuli_;
-    p.stimulusSeconds = stimuli_ * (kOnSeconds + kGapSeconds);
+    p.stimulusSeconds = stimuli_ * (params_.onSeconds + params_.gapSeconds);
+    const std::time_t now = std::time(nullptr);
+    char date[32];
+    std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+    p.date = date;
     return p;
 }
 
-} // namespace armadillo::plugin
+void TouchTest::save(const std::string& path) const { device::saveTouchProfile(path, profile()); }
+
+namespace {
+std::string thresholdList(const device::TouchProfile& p)
+{
+    std::string out;
+    for (std::size_t m = 0; m < device::kProfileMotors; ++m) out += (m ? "," : "") + std::to_string(p.threshold[m]);
+    return out;
+}
+} // namespace
+
+std::string TouchTest::summary() const
+{
+    const device::TouchProfile p = profile();
+    return "thresholds " + thresholdList(p) + (p.comfort ? ", comfortable level " + std::to_string(p.comfort) : "");
+}
+
+std::string TouchTest::summaryJson() const
+{
+    const device::TouchProfile p = profile();
+    std::ostringstream o;
+    o << "{\"stimuli\":" << p.stimuli << ",\"stimulus_seconds\":" << p.stimulusSeconds << ",\"threshold\":[" << thresholdList(p)
+      << "],\"comfort\":" << p.comfort << "}";
+    return o.str();
+}
+
+} // namespace armadillo::procedures

@@ -1,0 +1,74 @@
+#include "Live/GuidedDevice.h"
+#include "Core/Errors.h"
+#include "Link/DeviceLink.h"
+#include "Link/Simulator.h"
+#include <chrono>
+#include <thread>
+
+namespace armadillo::live {
+
+namespace {
+double steadySeconds()
+{
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+} // namespace
+
+GuidedDevice::GuidedDevice(const std::string& port, int baud, bool simulate, bool unpaced, TactilePlayer& player, SensorHook onSensor,
+                           std::shared_ptr<const device::MotionSource> motion)
+    : player_(player), onSensor_(std::move(onSensor))
+{
+    std::unique_ptr<device::LinkPort> p;
+    if (!simulate) {
+        p = std::make_unique<device::SerialPort>(port, baud);
+        p->open();   // a missing port is an error now (exit 4), not a silent retry
+        p->close();
+    } else {
+        device::SimulatorOptions so;
+        so.baud = unpaced ? 0.0 : 57600.0;
+        if (!motion) motion = std::make_shared<device::WanderingMotion>();
+        simulator_ = std::make_unique<device::SimulatedForearm>(std::move(motion), so);
+        p = simulator_->startInProcess();
+    }
+    link_ = std::make_unique<device::DeviceLink>(std::move(p), [this](const device::SensorCounts& counts, double t) {
+        const MotorLevels out = player_.onPacket(t);
+        if (onSensor_) onSensor_(counts, player_.clock());
+        return out;
+    });
+    link_->start();
+}
+
+GuidedDevice::~GuidedDevice()
+{
+    link_->stop();
+    if (simulator_) simulator_->stop();
+}
+
+void GuidedDevice::checkAlive()
+{
+    const double now = steadySeconds();
+    if (interrupted_ && interrupted_()) throw IoError("interrupted");
+    if (lastPacketAt_ < 0.0 || player_.packets() != lastPackets_) {
+        lastPackets_ = player_.packets();
+        lastPacketAt_ = now;
+    } else if (now - lastPacketAt_ > 5.0) {
+        const std::string why = link_->lastError();
+        throw IoError("no data from the device for 5 s" + (why.empty() ? std::string() : ": " + why));
+    }
+}
+
+void GuidedDevice::waitUntil(const std::function<bool()>& done)
+{
+    lastPacketAt_ = -1.0;   // the 5 s count from the start of this wait
+    while (!done()) {
+        checkAlive();
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+}
+
+void GuidedDevice::waitFor(int n)
+{
+    waitUntil([&] { return player_.completed() >= n; });
+}
+
+} // namespace armadillo::live
