@@ -20,6 +20,8 @@
 #include "Osc/HostPort.h"
 #include "Osc/OscDialects.h"
 #include "Osc/Mount.h"
+#include "Procedures/DeviceCalibration.h"
+#include "Procedures/MountCalibration.h"
 #include "Live/StageControl.h"
 #include "Engine/Engine.h"
 #include <algorithm>
@@ -122,45 +124,32 @@ void onForwardSignal(int)
 }
 
 /// The guided mount calibration of one OSC sender (`--calibrate-mount` for the right arm,
-/// `--calibrate-mount-left` for the left): its sensor-frame samples (from the rig) through the
-/// poses, the instructions on stderr, the mount file written at the end.
+/// `--calibrate-mount-left` for the left), presenting procedures::MountCalibration (the app's
+/// Mount window presents the same): the rig's sensor-frame samples through the poses, each pose
+/// taken as soon as it has enough still samples, its lines on stderr, the mount file at the end.
 struct GuidedMount {
-    device::MountCalibration calibration;
+    procedures::MountCalibration calibration;
     device::LiveSession* session = nullptr;
     bool left = false;
     std::string out, option, arm;   // arm: "" or "left arm " in the messages
 
     void begin()
     {
-        std::cerr << arm << "mount calibration pose 1 (" << device::MountCalibration::poseName(calibration.pose())
-                  << "): " << device::MountCalibration::instruction(calibration.pose()) << "\n";
+        calibration.setAnnouncer([this](const std::string& line) { std::cerr << arm << line << "\n"; });
+        calibration.begin({}, procedures::MountCalibration::Advance::WhenReady);   // "mount calibration pose 1 (…): …"
     }
-    bool active() const { return calibration.pose() != device::MountCalibration::Pose::Done; }
+    bool active() const { return calibration.running(); }
     void step()
     {
-        Eigen::Vector3d accel, gyro;
-        while (active() && session->popSensorFrame(left, accel, gyro)) {
-            calibration.feed(accel, gyro);
-            if (!calibration.ready()) continue;
-            calibration.finishStep();
-            const auto pose = calibration.pose();
-            std::cerr << arm
-                      << (pose == device::MountCalibration::Pose::Done
-                              ? std::string("mount calibration complete")
-                              : "mount calibration pose " + std::to_string(static_cast<int>(pose) + 1) + " (" + device::MountCalibration::poseName(pose) +
-                                    "): " + device::MountCalibration::instruction(pose))
-                      << "\n";
-        }
+        if (active()) calibration.drain([this](device::SensorFrameSample& p) { return active() && session->popSensorFrame(left, p); });
     }
     void finish()
     {
-        calibration.skipRoll();   // the third pose is optional
-        device::Mount mount;
+        calibration.setDevice(session->senderName(left));
         std::string why;
-        if (!calibration.solve(mount, why))
+        if (!calibration.conclude(why))
             throw IoError(option + ": no mount written: " + why + " (stopped at pose '" + device::MountCalibration::poseName(calibration.pose()) + "')");
-        mount.device = session->senderName(left);
-        device::saveMount(out, mount);
+        calibration.save(out);
         std::cerr << arm << "mount calibration written to " << out << "\n";
     }
 };
@@ -446,11 +435,19 @@ int runLiveSession(const CommandLine& cl, const LiveCommand& command)
         if (voice) messages->setMirror([v = voice.get()](const std::string& line) { v->note(line); });   // --speak, --brlapi
         messages->start();
     }
-    std::unique_ptr<device::CalibrationProcedure> calibration;
+    // --calibrate: the device calibration (procedures::DeviceCalibration, as `armadillo calibrate`
+    // and the app's Calibration window present it), each step taken when it has enough data.
+    std::unique_ptr<procedures::DeviceCalibration> calibration;
+    const auto sayStep = [&calibration] {
+        std::cerr << (calibration->finished() ? std::string("calibration complete")
+                                              : "calibration step " + std::to_string(calibration->stepNumber()) + " (" +
+                                                    device::CalibrationProcedure::stepName(calibration->step()) + "): " + calibration->instruction())
+                  << "\n";
+    };
     if (!calibrateOut.empty()) {
-        calibration = std::make_unique<device::CalibrationProcedure>(config.calibration);
-        std::cerr << "calibration step 1 (" << device::CalibrationProcedure::stepName(calibration->step()) << "): "
-                  << calibration->instruction() << "\n";
+        calibration = std::make_unique<procedures::DeviceCalibration>();
+        calibration->begin(config.calibration);
+        sayStep();
     }
     if (const audio::SoundCard* card = session.soundCard()) {
         const audio::SoundCardInfo& i = card->info();
@@ -567,18 +564,11 @@ int runLiveSession(const CommandLine& cl, const LiveCommand& command)
             std::cerr << lineStart << who << "the tactor output stopped (its JACK server or sound card went away); the device plays on\n";
             shownTactorError = true;
         }
-        if (calibration && calibration->step() != device::CalibrationProcedure::Step::Done) {
+        if (calibration && calibration->running()) {
             device::RawPacket p;
-            while (session.rawPackets()->pop(p)) calibration->feed(p.t, p.counts);
-            if (calibration->ready()) {
-                calibration->finishStep();
-                const int n = static_cast<int>(calibration->step()) + 1;
-                std::cerr << (calibration->step() == device::CalibrationProcedure::Step::Done
-                                  ? std::string("calibration complete")
-                                  : "calibration step " + std::to_string(n) + " (" + device::CalibrationProcedure::stepName(calibration->step()) +
-                                        "): " + calibration->instruction())
-                          << "\n";
-            }
+            while (session.rawPackets()->pop(p)) calibration->offer(p.t, p.counts);
+            calibration->drain();
+            if (std::string why; calibration->ready() && calibration->next(why)) sayStep();
         }
         if (training) {
             if (!training->step(10)) {
@@ -623,11 +613,10 @@ int runLiveSession(const CommandLine& cl, const LiveCommand& command)
         std::cerr << who << "the sound card ran dry " << card->underruns() << " time(s) (audible clicks)\n";
     for (const auto& g : mountCalibrations) g->finish();
     if (calibration) {
-        if (calibration->step() != device::CalibrationProcedure::Step::Done)
+        if (!calibration->finished())
             std::cerr << "calibration stopped at step '" << device::CalibrationProcedure::stepName(calibration->step())
                       << "'; that step and the later ones keep the starting calibration\n";
-        device::Calibration result = calibration->result();
-        device::saveCalibration(calibrateOut, result);
+        device::saveCalibration(calibrateOut, calibration->result());
     }
     std::cout << sessionSummary(session, report, messages.get(), cues, panicTotal()) << "\n" << std::flush;
     return session.engine().failed() ? int(kExitFailure) : int(kExitOk);

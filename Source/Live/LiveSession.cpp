@@ -636,14 +636,10 @@ bool LiveSession::enableSensorTap(bool left)
     return true;
 }
 
-bool LiveSession::popSensorFrame(bool left, Eigen::Vector3d& accel, Eigen::Vector3d& gyro)
+bool LiveSession::popSensorFrame(bool left, SensorFrameSample& sample)
 {
     OscReceiver* osc = left ? leftOscIn_.get() : oscIn_.get();
-    SensorFrameSample p;
-    if (!osc || !osc->merger().popSensorSample(p)) return false;
-    accel = Eigen::Vector3d(p.accel[0], p.accel[1], p.accel[2]);
-    gyro = Eigen::Vector3d(p.gyro[0], p.gyro[1], p.gyro[2]);
-    return true;
+    return osc != nullptr && osc->merger().popSensorSample(sample);
 }
 
 std::string LiveSession::senderName(bool left) const

@@ -165,7 +165,7 @@ public:
     /// input); popSensorFrame takes the oldest (accel m/s², gyro rad/s or NaN), false when none;
     /// senderName is the sender's device name, for the mount file. Any one thread.
     bool enableSensorTap(bool left);
-    bool popSensorFrame(bool left, Eigen::Vector3d& accel, Eigen::Vector3d& gyro);
+    bool popSensorFrame(bool left, SensorFrameSample& sample);
     std::string senderName(bool left) const;
     /// The engine that runs: the set list's current cue's, or the one scene's.
     Engine& engine() noexcept { return sounding(); }
