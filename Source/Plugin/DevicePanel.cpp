@@ -140,7 +140,7 @@ void DevicePanel::rescanPorts()
     } catch (const std::exception&) {
         // No enumeration (no sysfs, no permission): the simulated forearm is still offered.
     }
-    std::vector<juce::String> names {DeviceConnection::kSimulatedPort};
+    std::vector<juce::String> names {live::DeviceConnection::kSimulatedPort};
     for (const auto& p : ports) names.push_back(juce::String(p.name));
     for (const auto& name : names) {
         port_.addItem(name, id);

@@ -54,7 +54,7 @@ ArmadilloProcessor::ArmadilloProcessor()
       control_(loop_, token_, cellsOf(apvts_), motors_),
       connections_(loop_, control_, motors_),
       mapping_(control_, sceneTable_, [this] { return static_cast<int>(settings_[SettingIds::midiChannel]); },
-               [this](const std::vector<device::HostPort>& targets) { return connections_.configureMappingOsc(targets).toStdString(); })
+               [this](const std::vector<device::HostPort>& targets) { return connections_.configureMappingOsc(targets); })
 {
     scene_ = apvts_.getRawParameterValue(ParamIds::scene);
     jassert(scene_ != nullptr);
@@ -77,8 +77,9 @@ ArmadilloProcessor::ArmadilloProcessor()
     mapping_.setControlStopped(false);
     if (wrapperType == wrapperType_Standalone) {
         juce::String why;
-        if (connections_.midiPort().open("ARMadillo", why)) {
-            control_.setMidiPort(&connections_.midiPort().queue());
+        if (midiPort_.open("ARMadillo", why)) {
+            control_.setMidiPort(&midiPort_.queue());
+            connections_.setClockHook([this] { midiPort_.drain(); });   // the clock sends the queued MIDI
         } else {
             setStatus(why);   // the editor's status line, and the terminal the app was started from
             std::cerr << "ARMadillo: " << why << std::endl;
@@ -616,10 +617,10 @@ void ArmadilloProcessor::speakAnnouncement(const juce::String& text, bool interr
 
 void ArmadilloProcessor::applyNetworkSettings()
 {
-    connections_.configureOsc(static_cast<bool>(settings_[SettingIds::oscOutEnabled]), settings_[SettingIds::oscOutHost].toString(),
+    connections_.configureOsc(static_cast<bool>(settings_[SettingIds::oscOutEnabled]), settings_[SettingIds::oscOutHost].toString().toStdString(),
                               static_cast<int>(settings_[SettingIds::oscOutPort]), static_cast<bool>(settings_[SettingIds::oscInEnabled]),
-                              static_cast<int>(settings_[SettingIds::oscInPort]), settings_[SettingIds::oscInFormat].toString(),
-                              settings_[SettingIds::oscInMount].toString());
+                              static_cast<int>(settings_[SettingIds::oscInPort]), settings_[SettingIds::oscInFormat].toString().toStdString(),
+                              settings_[SettingIds::oscInMount].toString().toStdString());
     std::lock_guard<std::mutex> lock(mappingMutex_);
     mapping_.setDefaultOscTarget(settings_[SettingIds::oscOutHost].toString().toStdString(), static_cast<int>(settings_[SettingIds::oscOutPort]));
 }
@@ -630,7 +631,7 @@ void ArmadilloProcessor::applyLeftArm()
     // request (currentRequest), and the control side fuses the left arm only while it listens.
     const auto why = connections_.configureLeftArmOsc(static_cast<bool>(settings_[SettingIds::leftArmOsc]),
                                                       static_cast<int>(settings_[SettingIds::leftArmOscPort]));
-    if (why.isNotEmpty()) setStatus(why);
+    if (! why.empty()) setStatus(juce::String(why));
 }
 
 std::uint64_t ArmadilloProcessor::leftArmSamples() const
@@ -642,7 +643,7 @@ std::uint64_t ArmadilloProcessor::leftArmSamples() const
 juce::String ArmadilloProcessor::mappingStatus() const
 {
     juce::String s;
-    if (wrapperType == wrapperType_Standalone) s << connections_.midiPort().status() << "\n";
+    if (wrapperType == wrapperType_Standalone) s << midiPort_.status() << "\n";
     s << "Mapping OSC sent " << juce::String(static_cast<juce::int64>(connections_.mappingOscSent())) << ", dropped "
       << juce::String(static_cast<juce::int64>(connections_.mappingOscDropped() + control_.mappingOutputs().oscDropped()))
       << "; MIDI events dropped " << juce::String(static_cast<juce::int64>(control_.midiDropped()));
@@ -659,13 +660,16 @@ void ArmadilloProcessor::connectDevice(bool connect)
     // longer move the arm while the device stays silent; the status line then says it is silent.
     if (auto* p = apvts_.getParameter(ParamIds::source); p != nullptr && source() != SourceKind::Device)
         p->setValueNotifyingHost(p->convertTo0to1(static_cast<float>(SourceKind::Device)));
-    connections_.connectDevice(settings_[SettingIds::serialPort].toString(), static_cast<int>(settings_[SettingIds::baudRate]),
-                               settings_[SettingIds::calibrationFile].toString());
+    connections_.connectDevice(settings_[SettingIds::serialPort].toString().toStdString(), static_cast<int>(settings_[SettingIds::baudRate]),
+                               settings_[SettingIds::calibrationFile].toString().toStdString());
 }
 
 bool ArmadilloProcessor::saveCalibration(const juce::File& file, juce::String& message)
 {
-    if (! connections_.saveCalibration(file, settings_[SettingIds::serialPort].toString(), message)) return false;
+    std::string said;
+    const bool saved = connections_.saveCalibration(file.getFullPathName().toStdString(), settings_[SettingIds::serialPort].toString().toStdString(), said);
+    message = juce::String(said);
+    if (! saved) return false;
     settings_.setProperty(SettingIds::calibrationFile, file.getFullPathName(), nullptr);
     return true;
 }

@@ -15,7 +15,8 @@
 #include "Live/ControlLoop.h"
 #include "Live/BlockControl.h"
 #include "Plugin/HostBlock.h"
-#include "Plugin/Connections.h"
+#include "Live/BlockRig.h"
+#include "Plugin/MidiPort.h"
 #include "Live/ControlToken.h"
 #include "Plugin/EngineHandover.h"
 #include "Live/MappingSession.h"
@@ -100,12 +101,24 @@ public:
     void setSimulatorWandering(bool on);
     /// Arm view / keyboard under host automation: user edits of the orientation parameters.
     void setOrientationFromUser(const Pose& pose);
-    juce::String linkStatus() const { return connections_.linkStatus(); }
+    juce::String linkStatus() const { return juce::String(connections_.linkStatus()); }
     void connectDevice(bool connect);
     bool deviceConnected() const noexcept { return connections_.deviceConnected(); }
     const procedures::DeviceCalibration& calibration() const noexcept { return connections_.calibration(); }
-    bool beginCalibration(juce::String& why) { return connections_.beginCalibration(why); }
-    bool calibrationNext(juce::String& why) { return connections_.calibrationNext(why); }
+    bool beginCalibration(juce::String& why)
+    {
+        std::string w;
+        const bool ok = connections_.beginCalibration(w);
+        why = juce::String(w);
+        return ok;
+    }
+    bool calibrationNext(juce::String& why)
+    {
+        std::string w;
+        const bool ok = connections_.calibrationNext(w);
+        why = juce::String(w);
+        return ok;
+    }
     void calibrationSkip() { connections_.calibrationSkip(); }
     void cancelCalibration() { connections_.cancelCalibration(); }
     /// Writes the applied guided result as calibration JSON and remembers the file in the
@@ -300,7 +313,8 @@ private:
     bool feedbackRestart_ = false;               // then the braille trial starts again from its first row
     live::BlockControl control_;
     HostBlock hostBlock_;                        // the host's buffers as the block clock takes them (audio thread)
-    Connections connections_;
+    MidiPort midiPort_;                          // the standalone app's ALSA sequencer port (before the rig: its clock drains it)
+    live::BlockRig connections_;                 // the rig's sources and outputs, its idle clock (Live/BlockRig.h)
     TactorRig tactorRig_ {control_, token_};
     NavigationRig navigation_;                   // its route and link ride in the engine request     // after connections_: goes first (its output's pointer out of the step)
     std::mutex mappingMutex_;                    // message thread vs a host's state calls; never audio

@@ -7,7 +7,7 @@
 #include "Common/SimulatedBoards.h"
 #include "Link/Simulator.h"
 #include "Procedures/DeviceCalibration.h"
-#include "Plugin/DeviceConnection.h"
+#include "Live/DeviceConnection.h"
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <chrono>
@@ -18,7 +18,7 @@
 using namespace armadillo;
 using namespace armadillo::device;
 using CalibrationSession = armadillo::procedures::DeviceCalibration;   // the app's session is the procedure (issue 32)
-using armadillo::plugin::DeviceConnection;
+using armadillo::live::DeviceConnection;
 using armadillo::live::LiveImu;
 using armadillo::live::LiveInput;
 using Step = CalibrationSession::Step;

@@ -10,7 +10,7 @@
 #include "Engine/Engine.h"
 #include "Live/BlockControl.h"
 #include "Plugin/HostBlock.h"
-#include "Plugin/DeviceConnection.h"
+#include "Live/DeviceConnection.h"
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <cstdio>
@@ -83,10 +83,10 @@ RunResult runHost(const HostPlan& plan)
     control.prepare(kRate);
     HostBlock host;
     host.prepare();
-    DeviceConnection device(loop.input(live::SourceKind::Device), motors);
+    live::DeviceConnection device(loop.input(live::SourceKind::Device), motors);
     device.enableSentLog(true);
     std::string message;
-    REQUIRE(device.connect(DeviceConnection::kSimulatedPort, 57600, "", message));
+    REQUIRE(device.connect(live::DeviceConnection::kSimulatedPort, 57600, "", message));
 
     juce::AudioBuffer<float> buffer(2, plan.block);
     juce::MidiBuffer midi;

@@ -352,7 +352,7 @@ TEST_CASE("editor: the status line names the source; Connect switches to the dev
     REQUIRE(pumpUntil([&] { return app.editor->statusLine().getText().contains("steps/s"); }));
     CHECK(app.editor->statusLine().getText().startsWith("Source: simulated arm"));
     // Connect on the simulated forearm: the source becomes the device and its packets are counted.
-    app.processor->settings().setProperty(SettingIds::serialPort, DeviceConnection::kSimulatedPort, nullptr);
+    app.processor->settings().setProperty(SettingIds::serialPort, live::DeviceConnection::kSimulatedPort, nullptr);
     app.processor->connectDevice(true);
     CHECK(app.processor->source() == SourceKind::Device);
     REQUIRE(pumpUntil([&] { return app.editor->statusLine().getText().contains("packets/s"); }));

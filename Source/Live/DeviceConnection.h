@@ -27,7 +27,7 @@ class DeviceLink;
 class SimulatedForearm;
 } // namespace armadillo::device
 
-namespace armadillo::plugin {
+namespace armadillo::live {
 
 class DeviceConnection {
 public:
@@ -37,7 +37,7 @@ public:
     static constexpr int kLinkPriority = 20;
 
     /// `motors`: the control steps' stamped levels; this connection's link thread is its consumer.
-    DeviceConnection(live::LiveInput& input, device::LevelSchedule& motors);
+    DeviceConnection(LiveInput& input, device::LevelSchedule& motors);
     ~DeviceConnection();
 
     /// Message thread. Returns false with `message` saying why (port owned elsewhere, cannot open…).
@@ -79,7 +79,7 @@ private:
     static void fromNumbers(const CalibrationNumbers& n, device::Calibration& c) noexcept;
     void publishCalibration() noexcept;
 
-    live::LiveInput& input_;
+    LiveInput& input_;
     device::LevelSchedule& motors_;
     bool sentLog_ = false;
     double linkEpoch_ = 0.0;                   // monotonic s at the link's start (its clock's 0)
@@ -98,9 +98,9 @@ private:
     std::uint64_t linkSeen_ = 0;               // link thread only
     std::atomic<std::uint64_t> linkGeneration_ {0};
     procedures::DeviceCalibration calibrationSession_;
-    std::unique_ptr<live::PortClaim> claim_;
+    std::unique_ptr<PortClaim> claim_;
     std::unique_ptr<device::SimulatedForearm> simulator_;
     std::unique_ptr<device::DeviceLink> link_;
 };
 
-} // namespace armadillo::plugin
+} // namespace armadillo::live

@@ -1,4 +1,4 @@
-#include "Plugin/DeviceConnection.h"
+#include "Live/DeviceConnection.h"
 #include "Link/DeviceLink.h"
 #include "Link/LinkPort.h"
 #include "Link/Motion.h"
@@ -9,9 +9,9 @@
 #include <pthread.h>
 #include <exception>
 
-namespace armadillo::plugin {
+namespace armadillo::live {
 
-DeviceConnection::DeviceConnection(live::LiveInput& input, device::LevelSchedule& motors)
+DeviceConnection::DeviceConnection(LiveInput& input, device::LevelSchedule& motors)
     : input_(input), motors_(motors), calibration_(device::defaultCalibration())
 {
 }
@@ -63,7 +63,7 @@ bool DeviceConnection::connect(const std::string& port, int baud, const std::str
             calibrationNote_ = "simulator's calibration";
         } else {
             std::string why;
-            claim_ = live::PortRegistry::claim(port, why);
+            claim_ = PortRegistry::claim(port, why);
             if (claim_ == nullptr) {
                 message += why + ". Choose another port, or follow that instance over OSC.";
                 return false;
@@ -204,4 +204,4 @@ std::string DeviceConnection::status() const
     return out;
 }
 
-} // namespace armadillo::plugin
+} // namespace armadillo::live
