@@ -39,6 +39,7 @@ bool orientationFromVectors(const Eigen::Vector3d& accel, const Eigen::Vector3d&
 OrientationFilter::OrientationFilter(const Params& p)
     : params_(p), ukf_(p.ukf), biasTracker_(p.bias), fieldTracker_(p.field), gaps_(p.gap)
 {
+    accelLowPass_.setTaperedStart(p.accelTaperedStart);
     reset();
 }
 
@@ -142,6 +143,7 @@ void OrientationFilter::reacquire(const ImuSample& s)
 void OrientationFilter::restartInertialFrame()
 {
     inertial_ = ukf_.state().q;
+    accelAverageStartT_ = lastT_;
     accelLowPass_.reset();
     magLowPass_.reset();
     magFastLowPass_.reset();
@@ -222,7 +224,12 @@ void OrientationFilter::updateGravity(const Eigen::Vector3d& accel, double rawNo
     // Linear and centripetal acceleration are not modelled (thesis §2.7.7): they show as a norm
     // away from 1 g, so the noise grows with that distance, and the soft gate catches the rest.
     const double deviation = std::abs(rawNorm - kStandardGravity) / kStandardGravity;
-    const double sd = params_.gravityNoise * (1.0 + params_.gravityNormGain * deviation);
+    // The low-passed direction is gravity plus the velocity change over its window divided by the
+    // window: right after a restart (start-up, gap) the window is short and a moving arm's Δv/T is
+    // tens of degrees, so the young average is trusted as little as that (issue 36).
+    const double young = params_.youngAverageVelocity / (kStandardGravity * std::max(lastT_ - accelAverageStartT_, dt));
+    const double base = params_.gravityNoise * (1.0 + params_.gravityNormGain * deviation);
+    const double sd = std::sqrt(base * base + young * young);
     ukf_.update<3, 3>(upDevice, GravityObservation {}, Eigen::Vector3d::Constant(sd), params_.gravityNisLimit);
 }
 

@@ -53,11 +53,16 @@ public:
         double magFilterTau = 6.0;            ///< s: the same for the magnetometer (accepted samples only;
                                               ///< 3 s until issue 36: longer averages an orientation-
                                               ///< dependent field error away, docs/FUSION.md)
+        bool accelTaperedStart = true;        ///< the accelerometer's low-pass starts with a tapered mean
+                                              ///< (Trackers.h; after a gap in a moving arm, docs/FUSION.md)
         double magDisagreementTau = 3.0;      ///< s: the field's average that the heading-disagreement rule watches
         double startupFilterSeconds = 10.0;   ///< s: both time constants grow from 10 % to full over this
                                               ///< time after initialisation (0 = full from the start)
         double gravityNoise = 0.025;          ///< unit-vector components (≈ rad) of the filtered a/|a|
                                               ///< (0.05 until issue 36; with the rotation noise above)
+        double youngAverageVelocity = 0.5;    ///< m/s: velocity change the accelerometer's young average may
+                                              ///< carry: its direction is off by up to this/(g·T) after T s of
+                                              ///< averaging, added to the gravity noise (docs/FUSION.md, issue 36)
         double gravityNormGain = 4.0;         ///< noise ×(1 + gain·||a|−g|/g): linear acceleration shows in |a|
         double gravityNisLimit = 12.0;        ///< χ²(3) soft gate on the gravity innovation (inflate beyond)
         double headingNoise = 0.6;            ///< rad, heading from the horizontal field (slow: τ ≈ 10–20 s)
@@ -155,6 +160,7 @@ private:
     double lowPassRamp_ = 1.0; ///< start-up fraction of the time constants they were derived for
     double initT_ = 0.0;       ///< s, time of the initialising sample (start of the low-pass ramp)
     double acquireStartT_ = 0.0;   ///< s, start of the latest acquisition: start-up, gap, re-acquisition
+    double accelAverageStartT_ = 0.0;   ///< s, when the accelerometer's low-pass last restarted
     double lastT_ = 0.0;
     Eigen::Vector3d lastAccel_ = Eigen::Vector3d::Constant(kNaN);   ///< m/s², previous sample (shock detection)
     Eigen::Vector3d lastGyro_ = Eigen::Vector3d::Constant(kNaN);    ///< rad/s, previous sample (α, timing)

@@ -145,9 +145,14 @@ void ButterworthLowPass3::prime(const Eigen::Vector3d& steady)
 Eigen::Vector3d ButterworthLowPass3::filter(const Eigen::Vector3d& x)
 {
     if (!primed_) {
-        sum_ += x;
+        const double k = static_cast<double>(count_);
+        sum0_ += x;
+        sum1_ += k * x;
+        sum2_ += (k * k) * x;
         ++count_;
-        const Eigen::Vector3d mean = sum_ / static_cast<double>(count_);
+        const double n = static_cast<double>(count_);
+        const Eigen::Vector3d mean = tapered_ ? Eigen::Vector3d((n * (sum1_ + sum0_) - (sum2_ + sum1_)) / (n * (n + 1.0) * (n + 2.0) / 6.0))
+                                              : Eigen::Vector3d(sum0_ / n);
         if (static_cast<double>(count_) * dt_ < tau_) return mean;
         prime(mean);
         return mean;

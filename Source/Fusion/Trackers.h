@@ -104,15 +104,22 @@ public:
     void prime(const Eigen::Vector3d& steady);
     Eigen::Vector3d filter(const Eigen::Vector3d& x);
     bool primed() const noexcept { return primed_; }
-    void reset() { primed_ = false; sum_.setZero(); count_ = 0; }
+    /// Tapered start-up mean (weights rising from the first sample and falling to the newest) instead
+    /// of the plain one: for a vector that is a derivative (acceleration), the plain mean's error is
+    /// the change of its integral (Δv) over the window, the tapered one's only what oscillates.
+    void setTaperedStart(bool on) { tapered_ = on; }
+    void reset() { primed_ = false; sum0_.setZero(); sum1_.setZero(); sum2_.setZero(); count_ = 0; }
 
 private:
     double b0_ = 1.0, b1_ = 0.0, b2_ = 0.0, a1_ = 0.0, a2_ = 0.0;
     double tau_ = 0.0, dt_ = 0.0;
     Eigen::Vector3d s1_ = Eigen::Vector3d::Zero(), s2_ = Eigen::Vector3d::Zero();   // direct form II transposed
-    Eigen::Vector3d sum_ = Eigen::Vector3d::Zero();   // start-up mean
+    // Start-up mean, tapered at both ends: Σ (k+1)(n−k) x_k over the n samples so far, kept as the
+    // moments Σ x_k, Σ k x_k, Σ k² x_k.
+    Eigen::Vector3d sum0_ = Eigen::Vector3d::Zero(), sum1_ = Eigen::Vector3d::Zero(), sum2_ = Eigen::Vector3d::Zero();
     long count_ = 0;
     bool primed_ = false;
+    bool tapered_ = false;
 };
 
 } // namespace armadillo

@@ -2,6 +2,7 @@
 #include "Core/Types.h"
 #include "Fusion/Trackers.h"
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -60,4 +61,42 @@ TEST_CASE("butterworth: unity DC gain, strong attenuation of a 1 Hz swing", "[fu
     // Second order: about (fc/f)² = (0.075/1)² ≈ 0.006 of the swing gets through.
     CHECK(peak < 0.01);
     CHECK(peak > 0.001);
+}
+
+TEST_CASE("butterworth: the tapered start-up mean of a swinging arm's acceleration finds gravity sooner", "[fusion][trackers][gaps]")
+{
+    // After a gap the low-pass restarts on a moving arm: a = g + dv/dt with v swinging ±1 m/s at
+    // 1 Hz, the stream starting mid-swing. The plain mean's error is (v(T) − v(0))/T; the tapered
+    // one (weights rising from the first sample and falling to the newest) loses the boundary terms
+    // (issue 36, docs/FUSION.md "Dropouts"). Both give a constant input back exactly.
+    const double dt = 1.0 / 285.714, g = 9.81;
+    auto meanTilt = [&](bool tapered, double from, double to) {
+        ButterworthLowPass3 lp;
+        lp.setup(3.0, dt);
+        lp.setTaperedStart(tapered);
+        double sum = 0.0;
+        int n = 0;
+        for (int i = 0; i * dt < to; ++i) {
+            const double t = i * dt;
+            const double dv = 1.0 * 2 * kPi * std::cos(2 * kPi * t + 1.0);   // v = sin(2π t + 1) m/s
+            const Eigen::Vector3d y = lp.filter(Eigen::Vector3d(dv, g, 0.3 * dv));
+            if (t >= from) {
+                sum += std::acos(std::clamp(y.normalized().y(), -1.0, 1.0));
+                ++n;
+            }
+        }
+        return radToDeg(sum / n);
+    };
+    const double plain = meanTilt(false, 1.0, 3.0), tapered = meanTilt(true, 1.0, 3.0);
+    INFO("mean tilt error 1–3 s after the restart: plain mean " << plain << "°, tapered " << tapered << "°");
+    CHECK(plain > 2.0);              // the probe: the plain mean carries Δv/T (measured 2.74°)
+    CHECK(tapered < 0.6 * plain);    // measured 1.28°
+    for (const bool tapered2 : {false, true}) {
+        ButterworthLowPass3 lp;
+        lp.setup(3.0, dt);
+        lp.setTaperedStart(tapered2);
+        Eigen::Vector3d y;
+        for (int i = 0; i < 200; ++i) y = lp.filter(Eigen::Vector3d(1.0, 2.0, 3.0));
+        CHECK((y - Eigen::Vector3d(1.0, 2.0, 3.0)).norm() < 1e-12);
+    }
 }
