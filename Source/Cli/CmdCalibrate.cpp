@@ -8,6 +8,7 @@
 // the step once the simulated arm has gone through its movement, so the whole walk can be tried,
 // and tested, without a board.
 #include "Cli/CommandLine.h"
+#include "Cli/LiveOptions.h"
 #include "Cli/Commands.h"
 #include "Cli/ReaderIo.h"
 #include "Core/Errors.h"
@@ -36,14 +37,14 @@ int runCalibrate(const Arguments& args)
             "{\"steps\":7,\"measured\":…,\"skipped\":…,\"packets\":…,\"dropped\":…}.",
             [] {
                 std::vector<OptionSpec> o {
-                    {"--port", "NAME", "serial port of the device (ptys and /dev/rfcomm* work too)"},
                     {"--simulate", "", "the built-in simulated forearm, which does what each step asks (a rehearsal)"},
                     {"--out", "CAL.json", "where the calibration goes (atomic)", true},
-                    {"--baud", "B", "serial speed (default 57600, 8N1)"},
                     {"--calibration", "CAL.json", "the starting calibration: what 'still' means, and what a skipped step keeps\n"
                                                   "(default: the built-in one, which matches the simulator)"},
                 };
                 const auto io = readerIoOptionSpecs();
+                const auto device = pickOptions(sourceOptionSpecs(), {"--port", "--baud"});   // the source group (Cli/LiveOptions.h)
+                o.insert(o.end(), device.begin(), device.end());
                 o.insert(o.end(), io.begin(), io.end());
                 return o;
             }());

@@ -6,6 +6,7 @@
 // prompt line starting with "? " goes to stderr and the reader answers y or n on stdin (r shows it
 // again); the profile is written to --out and one JSON line to stdout.
 #include "Cli/CommandLine.h"
+#include "Cli/LiveOptions.h"
 #include "Cli/Commands.h"
 #include "Cli/ReaderIo.h"
 #include "Core/Errors.h"
@@ -30,10 +31,8 @@ int runTouchProfile(const Arguments& args)
             "Prints one JSON line at the end: {\"stimuli\":…,\"stimulus_seconds\":…,\"threshold\":[…]}.",
             [] {
                 std::vector<OptionSpec> o {
-                    {"--port", "NAME", "serial port of the device (ptys and /dev/rfcomm* work too)"},
                     {"--simulate", "", "the built-in simulated device (no motors: to try the procedure)"},
                     {"--out", "PROFILE.json", "where the profile goes (atomic)", true},
-                    {"--baud", "B", "serial speed (default 57600, 8N1)"},
                     {"--on", "S", "seconds a stimulus lasts (default 0.25, at most 0.3: the safety stage's run limit)"},
                     {"--gap", "S", "seconds of stillness after a stimulus before the next may start (default 0.5)"},
                     {"--no-comfort", "", "skip the comfortable-level question"},
@@ -42,6 +41,8 @@ int runTouchProfile(const Arguments& args)
                     {"--seed", "N", "order of the motors within each round (default 1)"},
                 };
                 const auto io = readerIoOptionSpecs();
+                const auto device = pickOptions(sourceOptionSpecs(), {"--port", "--baud"});   // the source group (Cli/LiveOptions.h)
+                o.insert(o.end(), device.begin(), device.end());
                 o.insert(o.end(), io.begin(), io.end());
                 return o;
             }());

@@ -38,6 +38,8 @@
 #include <iostream>
 #include <sstream>
 
+#include "Cli/LiveOptions.h"
+
 namespace armadillo::cli {
 
 using namespace armadillo::braille;
@@ -49,9 +51,7 @@ std::vector<OptionSpec> guidedTrainingOptionSpecs()
         {"--reader", "READER.json", "the reader's profile: every answer of every session (created if missing)"},
         {"--report", "READER.json", "print the reader's progress: accuracy per stage and session, letters/min,\n"
                                     "confusions, and the published figures to compare with"},
-        {"--port", "NAME", "--adaptive: serial port of the device"},
         {"--simulate", "", "--adaptive: the built-in simulated device"},
-        {"--baud", "B", "serial speed (default 57600)"},
         {"--unpaced", "", "--adaptive: count display time by packets (simulated readers)"},
         {"--profile", "PROFILE.json", "the reader's touch profile (armadillo touch-profile): motors evened out"},
         {"--arm", "right|left", "arm wearing the device (default right)"},
@@ -64,6 +64,8 @@ std::vector<OptionSpec> guidedTrainingOptionSpecs()
         {"--no-gestures", "", "--adaptive: ignore arm gestures"},
     };
     const auto io = readerIoOptionSpecs();
+    const auto device = pickOptions(sourceOptionSpecs(), {"--port", "--baud"});   // the source group (Cli/LiveOptions.h)
+    o.insert(o.end(), device.begin(), device.end());
     o.insert(o.end(), io.begin(), io.end());
     return o;
 }
