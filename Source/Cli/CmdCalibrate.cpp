@@ -49,11 +49,10 @@ int runCalibrate(const Arguments& args)
                 return o;
             }());
         if (!cl.parse(args)) return kExitOk;
-        if (cl.has("--port") == cl.has("--simulate")) throw UsageError("choose exactly one of --port NAME and --simulate");
-        if (cl.has("--baud") && !cl.has("--port")) throw UsageError("--baud applies to --port");
+        const DeviceChoice choice = readDeviceOptions(cl);   // the source group (Cli/LiveOptions.h)
         const std::string out = cl.value("--out");
         if (out.empty()) throw UsageError("--out needs a file");
-        const int baud = static_cast<int>(cl.integer("--baud", 57600, 300, 4000000));
+        const int baud = choice.baud;
         ReaderIo io(cl);
         const device::Calibration start = cl.has("--calibration") ? device::loadCalibration(cl.value("--calibration")) : device::defaultCalibration();
 
@@ -65,7 +64,7 @@ int runCalibrate(const Arguments& args)
         access::TactilePlayer player(TactileConfig {}, 0.0);
         installInterruptHandlers();
         auto offer = [&calibration](const device::SensorCounts& counts, double t) { calibration.offer(t, counts); };   // link thread: lock-free
-        live::GuidedDevice device(cl.value("--port"), baud, cl.has("--simulate"), false, player, offer, rehearsal);
+        live::GuidedDevice device(choice.port, baud, choice.simulate, false, player, offer, rehearsal);
         device.setInterruptCheck(interrupted);
 
         calibration.begin(start);

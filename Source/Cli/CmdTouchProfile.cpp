@@ -47,15 +47,14 @@ int runTouchProfile(const Arguments& args)
                 return o;
             }());
         if (!cl.parse(args)) return kExitOk;
-        if (cl.has("--port") == cl.has("--simulate")) throw UsageError("choose exactly one of --port NAME and --simulate");
-        if (cl.has("--baud") && !cl.has("--port")) throw UsageError("--baud applies to --port");
+        const DeviceChoice choice = readDeviceOptions(cl);   // the source group (Cli/LiveOptions.h)
         const std::string out = cl.value("--out");
         if (out.empty()) throw UsageError("--out needs a file");
         const double onTime = cl.number("--on", 0.25);
         const double gapTime = cl.number("--gap", 0.5);
         if (!(onTime >= 0.05 && onTime <= 0.3)) throw UsageError("--on must lie in 0.05..0.3 s");
         if (!(gapTime >= 0.1 && gapTime <= 10.0)) throw UsageError("--gap must lie in 0.1..10 s");
-        const int baud = static_cast<int>(cl.integer("--baud", 57600, 300, 4000000));
+        const int baud = choice.baud;
         const bool unpaced = cl.has("--unpaced");
         ReaderIo io(cl);
 
@@ -65,7 +64,7 @@ int runTouchProfile(const Arguments& args)
         params.packetPeriod = unpaced ? 1.0 / device::lockStepRate(baud) : 0.0;
         procedures::TouchTest test(params);   // right arm: index = motor m1…
         installInterruptHandlers();
-        live::GuidedDevice device(cl.value("--port"), baud, cl.has("--simulate"), unpaced, test.player());
+        live::GuidedDevice device(choice.port, baud, choice.simulate, unpaced, test.player());
         device.setInterruptCheck(interrupted);
 
         io.status("touch profile: nine motors, one at a time; answer y if you felt it, n if not");

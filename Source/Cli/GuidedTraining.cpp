@@ -83,7 +83,7 @@ int runGuidedTraining(const CommandLine& cl)
 {
     const std::string readerPath = cl.value("--reader");
     if (readerPath.empty()) throw UsageError("--adaptive needs --reader READER.json (created if it does not exist)");
-    if (cl.has("--port") == cl.has("--simulate")) throw UsageError("--adaptive draws on the arm: choose --port NAME or --simulate");
+    const DeviceChoice choice = readDeviceOptions(cl, "--adaptive draws on the arm: choose --port NAME or --simulate");   // Cli/LiveOptions.h
     for (const char* o : {"--motion", "--answers"})
         if (cl.has(o)) throw UsageError(std::string(o) + " is for the replayed training; --adaptive takes answers live");
     const bool armOnly = cl.has("--arm-only");
@@ -129,7 +129,7 @@ int runGuidedTraining(const CommandLine& cl)
         if (!cl.has("--level") && touch.comfort > 0 && tc.motorGain[cm] > 0.0f)
             o.level = std::clamp(static_cast<float>(touch.comfort) / tc.motorGain[cm], 1.0f, 15.0f);
     }
-    const int baud = static_cast<int>(cl.integer("--baud", 57600, 300, 4000000));
+    const int baud = choice.baud;
     const bool unpaced = cl.has("--unpaced");
     access::TactilePlayer player(tc, unpaced ? 1.0 / device::lockStepRate(baud) : 0.0);
     installInterruptHandlers();
@@ -144,7 +144,7 @@ int runGuidedTraining(const CommandLine& cl)
         if (g == access::ArmGesture::Repeat) repeats.fetch_add(1);
         if (g == access::ArmGesture::Skip) skips.fetch_add(1);
     };
-    live::GuidedDevice device(cl.value("--port"), baud, cl.has("--simulate"), unpaced, player,
+    live::GuidedDevice device(choice.port, baud, choice.simulate, unpaced, player,
                               cl.has("--no-gestures") ? live::GuidedDevice::SensorHook {} : live::GuidedDevice::SensorHook(onSensor));
     device.setInterruptCheck(interrupted);
     using Training = procedures::AdaptiveTraining;

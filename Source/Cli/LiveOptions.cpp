@@ -218,4 +218,16 @@ void readOutputOptions(const CommandLine& cl, device::LiveConfig& config, bool s
         throw UsageError("--loop repeats the --audio-in recording: use it with --audio-in or --stem");
 }
 
+DeviceChoice readDeviceOptions(const CommandLine& cl, const std::string& usage)
+{
+    if (cl.has("--port") == cl.has("--simulate"))
+        throw UsageError(usage.empty() ? std::string("choose exactly one of --port NAME and --simulate") : usage);
+    if (cl.has("--baud") && !cl.has("--port")) throw UsageError("--baud applies to --port");
+    DeviceChoice d;
+    d.port = cl.value("--port");
+    d.simulate = cl.has("--simulate");
+    d.baud = static_cast<int>(cl.integer("--baud", 57600, 300, 4000000));
+    return d;
+}
+
 } // namespace armadillo::cli

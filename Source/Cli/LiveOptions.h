@@ -31,6 +31,16 @@ struct SourceChoice {
 /// The source group into `config` (one of --port, --simulate, --osc-in; UsageError otherwise).
 /// Files (mount, calibration) are read later, once every output was checked.
 SourceChoice readSourceOptions(const CommandLine& cl, device::LiveConfig& config);
+/// A guided procedure's device (touch-profile, calibrate, braille --adaptive): a port or the
+/// simulator, from the source group.
+struct DeviceChoice {
+    std::string port;          ///< --port ("" with --simulate)
+    int baud = 57600;          ///< --baud
+    bool simulate = false;     ///< --simulate
+};
+/// Exactly one of --port and --simulate (UsageError saying so, with `usage` when given);
+/// --baud only with --port.
+DeviceChoice readDeviceOptions(const CommandLine& cl, const std::string& usage = {});
 /// The left arm group into `config`; returns --calibrate-mount-left's file ("" without it).
 std::string readLeftArmOptions(const CommandLine& cl, device::LiveConfig& config);
 /// The outputs group into `config`; `soundByDefault`: the default sound card when neither --out
