@@ -231,17 +231,9 @@ std::unique_ptr<PlayRequest> readPlayRequest(const CommandLine& cl, const LiveCo
     } else if (cl.has("--setlist") == cl.has("--scene")) {
         throw UsageError("give --scene SCENE or --setlist FILE (one of them)");
     } else if (cl.has("--setlist")) {
-        for (const char* o : {"--param", "--score", "--text", "--audio", "--training-log"})
-            if (cl.has(o)) throw UsageError(std::string(o) + " goes into the set list's cues, not on the command line");
+        readSetListOptions(cl, engine, {"--training-log"});
         config.setList = cl.value("--setlist");
         if (config.setList.empty()) throw UsageError("--setlist needs a file");
-        engine.scene = "monitor";
-        engine.sceneConfig.sampleRate = static_cast<double>(cl.integer("--sample-rate", 48000, 8000, 384000));
-        engine.sceneConfig.seed = static_cast<std::uint64_t>(cl.integer("--seed", 1, 0, 1L << 62));
-        const std::string arm = cl.value("--arm", "right");
-        if (arm != "right" && arm != "left") throw UsageError("--arm must be right or left");
-        engine.sceneConfig.side = arm == "left" ? ArmSide::Left : ArmSide::Right;
-        readProfileOption(cl, engine);   // every cue feels the reader's touch profile
     } else {
         readSceneOptions(cl, engine);
     }

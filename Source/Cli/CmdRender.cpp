@@ -97,15 +97,7 @@ int runRender(const Arguments& args)
         if (setlist == cl.has("--scene")) throw UsageError("give --scene SCENE or --setlist FILE (one of them)");
         if (cl.has("--cue-at") && !setlist) throw UsageError("--cue-at applies to --setlist");
         if (setlist) {
-            for (const char* o : {"--param", "--score", "--text", "--audio"})
-                if (cl.has(o)) throw UsageError(std::string(o) + " goes into the set list's cues, not on the command line");
-            engine.scene = "monitor";   // (each cue names its own)
-            engine.sceneConfig.sampleRate = static_cast<double>(cl.integer("--sample-rate", 48000, 8000, 384000));
-            engine.sceneConfig.seed = static_cast<std::uint64_t>(cl.integer("--seed", 1, 0, 1L << 62));
-            const std::string arm = cl.value("--arm", "right");
-            if (arm != "right" && arm != "left") throw UsageError("--arm must be right or left");
-            engine.sceneConfig.side = arm == "left" ? ArmSide::Left : ArmSide::Right;
-            readProfileOption(cl, engine);   // every cue feels the reader's touch profile
+            readSetListOptions(cl, engine);   // the options every cue shares (Cli/SceneOptions.h)
         } else {
             readSceneOptions(cl, engine);
         }

@@ -93,4 +93,19 @@ std::vector<std::string> readStemOptions(const CommandLine& cl, EngineConfig& en
     return paths;
 }
 
+void readSetListOptions(const CommandLine& cl, EngineConfig& engine, const std::vector<const char*>& cueOnly)
+{
+    std::vector<const char*> own {"--param", "--score", "--text", "--audio"};
+    own.insert(own.end(), cueOnly.begin(), cueOnly.end());
+    for (const char* o : own)
+        if (cl.has(o)) throw UsageError(std::string(o) + " goes into the set list's cues, not on the command line");
+    engine.scene = "monitor";   // (each cue names its own)
+    engine.sceneConfig.sampleRate = static_cast<double>(cl.integer("--sample-rate", 48000, 8000, 384000));
+    engine.sceneConfig.seed = static_cast<std::uint64_t>(cl.integer("--seed", 1, 0, 1L << 62));
+    const std::string arm = cl.value("--arm", "right");
+    if (arm != "right" && arm != "left") throw UsageError("--arm must be right or left");
+    engine.sceneConfig.side = arm == "left" ? ArmSide::Left : ArmSide::Right;
+    readProfileOption(cl, engine);   // every cue feels the reader's touch profile
+}
+
 } // namespace armadillo::cli

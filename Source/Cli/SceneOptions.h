@@ -16,6 +16,10 @@ void readSceneOptions(const CommandLine& cl, EngineConfig& engine);
 /// `--profile FILE` alone into engine.motorGain (readSceneOptions reads it too; a set list's cues
 /// take it from here). UsageError without a file, InputError for a bad profile.
 void readProfileOption(const CommandLine& cl, EngineConfig& engine);
+/// With --setlist (play, render): the options every cue shares (--sample-rate, --seed, --arm,
+/// --profile; the engine itself only tracks: "monitor"); UsageError for a cue's own option
+/// (--param, --score, --text, --audio and `cueOnly`) given on the command line.
+void readSetListOptions(const CommandLine& cl, EngineConfig& engine, const std::vector<const char*>& cueOnly = {});
 
 /// The stems audio-touch feels apart (docs/INSTRUMENTS.md "Stems felt apart"), as `render` and
 /// `play` take them: `--stem NAME=FILE` (repeatable), or several `--audio-in` files, each named by
