@@ -15,7 +15,7 @@
 // random phases against the card's periods.
 #include "Audio/SoundCard.h"
 #include "Core/Pose.h"
-#include "Engine/ArmTracker.h"
+#include "Fusion/ArmTracker.h"
 #include "Engine/Engine.h"
 #include <algorithm>
 #include <atomic>

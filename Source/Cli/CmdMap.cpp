@@ -3,7 +3,7 @@
 #include "Core/AtomicFile.h"
 #include "Core/Csv.h"
 #include "Core/Errors.h"
-#include "Engine/ArmTracker.h"
+#include "Fusion/ArmTracker.h"
 #include "Mapping/Mapper.h"
 #include "Mapping/MappingSpec.h"
 #include "Mapping/Posture.h"

@@ -11,7 +11,7 @@
 #include "Core/AtomicFile.h"
 #include "Core/Errors.h"
 #include "Link/Calibration.h"
-#include "Osc/Mount.h"
+#include "Link/Mount.h"
 #include "Live/LiveSession.h"
 #include "Navigation/GpsdSource.h"
 #include "Navigation/NavigationScene.h"

@@ -19,7 +19,7 @@
 #include "Live/SourceReport.h"
 #include "Osc/HostPort.h"
 #include "Osc/OscDialects.h"
-#include "Osc/Mount.h"
+#include "Link/Mount.h"
 #include "Procedures/DeviceCalibration.h"
 #include "Procedures/MountCalibration.h"
 #include "Live/StageControl.h"

@@ -4,7 +4,7 @@
 #include "Cli/SceneOptions.h"
 #include "Cli/TactorOptions.h"
 #include "Osc/HostPort.h"
-#include "Osc/Mount.h"
+#include "Link/Mount.h"
 #include "Live/MappingRig.h"
 #include "Mapping/MidiFile.h"
 #include "Core/Csv.h"

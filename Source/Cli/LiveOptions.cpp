@@ -3,7 +3,7 @@
 #include "Core/Errors.h"
 #include "Link/Calibration.h"
 #include "Osc/HostPort.h"
-#include "Osc/Mount.h"
+#include "Link/Mount.h"
 #include "Osc/OscDialects.h"
 #include <stdexcept>
 

@@ -1,7 +1,7 @@
 #include "Engine/OfflineRenderer.h"
 #include <stdexcept>
 #include "Core/Errors.h"
-#include "Engine/ArmTracker.h"
+#include "Fusion/ArmTracker.h"
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

@@ -60,7 +60,7 @@ struct RenderSettings {
     /// Needs engine.twoArms. Null: one arm.
     const CsvTable* leftMotion = nullptr;
     /// How the sensor that recorded the motion file was strapped on (`render --mount`): the rotation
-    /// sensor → device frame (Osc/Mount.h's Mount::rotation). IMU samples are turned into the
+    /// sensor → device frame (Link/Mount.h's Mount::rotation). IMU samples are turned into the
     /// device frame, orientations become q · mount⁻¹; a pose file is refused (it is the forearm's
     /// own pose). Identity: the file is in the device frame already.
     Eigen::Quaterniond mount = Eigen::Quaterniond::Identity();

@@ -1,4 +1,4 @@
-#include "Engine/ArmTracker.h"
+#include "Fusion/ArmTracker.h"
 #include "Fusion/ArmFeatures.h"
 #include "Fusion/OrientationFilter.h"
 #include <cmath>

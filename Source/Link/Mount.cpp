@@ -1,4 +1,4 @@
-#include "Osc/Mount.h"
+#include "Link/Mount.h"
 #include "Core/AtomicFile.h"
 #include "Core/Errors.h"
 #include "Core/Types.h"

@@ -13,7 +13,7 @@
 #include "Core/Handover.h"
 #include "Core/Pose.h"
 #include "Core/Scene.h"
-#include "Engine/ArmTracker.h"
+#include "Fusion/ArmTracker.h"
 #include "Engine/Engine.h"
 #include "Live/LiveInput.h"
 #include <array>

@@ -7,7 +7,7 @@
 //
 // Threads: setOn() on the message thread; the OSC receiver's thread fills input(); fuse() on the
 // control side (the token holder): no allocation, lock, I/O or throw.
-#include "Engine/ArmTracker.h"
+#include "Fusion/ArmTracker.h"
 #include "Live/ControlLoop.h"
 #include "Live/LiveInput.h"
 #include <atomic>

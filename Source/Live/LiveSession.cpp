@@ -7,7 +7,7 @@
 #include "Osc/OscIo.h"
 #include "Live/SessionWriters.h"
 #include "Link/Simulator.h"
-#include "Engine/ArmTracker.h"
+#include "Fusion/ArmTracker.h"
 #include <algorithm>
 #include <array>
 #include <cmath>

@@ -1,6 +1,6 @@
 #include "Live/OscLink.h"
 #include "Core/Pose.h"
-#include "Osc/Mount.h"
+#include "Link/Mount.h"
 #include <cstdio>
 #include <exception>
 

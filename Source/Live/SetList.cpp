@@ -2,7 +2,7 @@
 #include "Core/AtomicFile.h"
 #include "Core/Errors.h"
 #include "Core/Json.h"
-#include "Engine/ArmTracker.h"
+#include "Fusion/ArmTracker.h"
 #include <algorithm>
 #include <charconv>
 #include <cmath>

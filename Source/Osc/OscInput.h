@@ -14,7 +14,7 @@
 // from any thread (atomics, a tiny spin lock for the name). No allocation after construction.
 #include "Core/SpscQueue.h"
 #include "Core/Types.h"
-#include "Osc/Mount.h"
+#include "Link/Mount.h"
 #include "Osc/Osc.h"
 #include "Osc/OscDialects.h"
 #include <atomic>

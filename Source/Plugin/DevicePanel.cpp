@@ -2,7 +2,7 @@
 #include "Plugin/Accessibility.h"
 #include "Plugin/PluginProcessor.h"
 #include "Link/LinkPort.h"
-#include "Osc/Mount.h"
+#include "Link/Mount.h"
 #include "Osc/OscDialects.h"
 
 namespace armadillo::plugin {

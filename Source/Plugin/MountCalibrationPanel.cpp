@@ -1,7 +1,7 @@
 #include "Plugin/MountCalibrationPanel.h"
 #include "Plugin/Accessibility.h"
 #include "Plugin/PluginProcessor.h"
-#include "Osc/Mount.h"
+#include "Link/Mount.h"
 
 namespace armadillo::plugin {
 

@@ -1,9 +1,9 @@
 #pragma once
-// The guided mount calibration of an OSC sensor (device::MountCalibration, Osc/Mount.h: arm level
+// The guided mount calibration of an OSC sensor (device::MountCalibration, Link/Mount.h: arm level
 // ahead, arm hanging down, optionally a quarter roll), written once for the app's Mount window
 // (Plugin/MountCalibrationPanel.cpp) and the command line's `play --calibrate-mount`
-// (Cli/CmdPlay.cpp's GuidedMount, with Advance::WhenReady; until it is rewired it drives
-// device::MountCalibration itself with the same lines), fed from the OSC input's sensor-frame tap (OscSampleMerger::popSensorSample).
+// (Cli/CmdPlay.cpp's GuidedMount, with Advance::WhenReady), both fed from the rig's sensor-frame
+// tap (device::LiveSession::popSensorFrame, OscSampleMerger::popSensorSample below it).
 // Two ways to advance:
 //   • Advance::OnNext (the app): a pose that has enough still samples is frozen until Next, so
 //     moving on to the next pose before pressing Next cannot overwrite it;
@@ -15,7 +15,7 @@
 // device::Mount, written by save().
 // Threads: one front-end thread (the app's message thread, the CLI's main thread); the OSC
 // receiver thread only pushes into the merger's lock-free tap, and drain() pops from it.
-#include "Osc/Mount.h"
+#include "Link/Mount.h"
 #include "Osc/OscInput.h"
 #include <cstdint>
 #include <functional>

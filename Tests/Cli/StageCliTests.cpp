@@ -6,7 +6,7 @@
 #include "Core/Csv.h"
 #include "Core/Pose.h"
 #include "Core/Wav.h"
-#include "Osc/Mount.h"
+#include "Link/Mount.h"
 #include "Osc/Osc.h"
 #include "Osc/OscIo.h"
 #include <catch2/catch.hpp>

@@ -1,6 +1,6 @@
 #include "Core/Csv.h"
 #include "Core/Errors.h"
-#include "Engine/ArmTracker.h"
+#include "Fusion/ArmTracker.h"
 #include "Engine/Engine.h"
 #include "Engine/OfflineRenderer.h"
 #include <catch2/catch.hpp>

@@ -4,7 +4,7 @@
 #include "Common/RealtimeGuard.h"
 #include "Core/Csv.h"
 #include "Core/Pose.h"
-#include "Engine/ArmTracker.h"
+#include "Fusion/ArmTracker.h"
 #include "Engine/Engine.h"
 #include "Engine/OfflineRenderer.h"
 #include <catch2/catch.hpp>

@@ -10,7 +10,7 @@
 #include "Link/FramingV2.h"
 #include "Link/HostLink.h"
 #include "Link/Packets.h"
-#include "Engine/ArmTracker.h"
+#include "Fusion/ArmTracker.h"
 #include "Core/Pose.h"
 #include <catch2/catch.hpp>
 #include <algorithm>

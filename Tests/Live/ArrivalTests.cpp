@@ -4,7 +4,7 @@
 // rest of the step (RealtimeLoopTests.cpp is this executable's guard TU).
 #include "Common/RealtimeGuard.h"
 #include "Core/Clock.h"
-#include "Engine/ArmTracker.h"
+#include "Fusion/ArmTracker.h"
 #include "Live/ControlLoop.h"
 #include <catch2/catch.hpp>
 #include <cmath>

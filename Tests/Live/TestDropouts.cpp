@@ -8,7 +8,7 @@
 #include "Link/DeviceLink.h"
 #include "Live/LiveSession.h"
 #include "Link/Simulator.h"
-#include "Engine/ArmTracker.h"
+#include "Fusion/ArmTracker.h"
 #include "Fusion/Quaternion.h"
 #include <catch2/catch.hpp>
 #include <algorithm>

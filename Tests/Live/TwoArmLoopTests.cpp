@@ -4,7 +4,7 @@
 // executable's guard TU and proves first that the guard sees what it counts).
 #include "Common/RealtimeGuard.h"
 #include "Core/Pose.h"
-#include "Engine/ArmTracker.h"
+#include "Fusion/ArmTracker.h"
 #include "Live/ControlLoop.h"
 #include "Live/SetList.h"
 #include <algorithm>

@@ -3,7 +3,7 @@
 // values in the contract frames; honest timing; bad input counted and kept off the orientation.
 #include "Core/Pose.h"
 #include "Core/Types.h"
-#include "Osc/Mount.h"
+#include "Link/Mount.h"
 #include "Osc/Osc.h"
 #include "Osc/OscDialects.h"
 #include "Osc/OscInput.h"

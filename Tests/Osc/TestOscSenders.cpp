@@ -11,7 +11,7 @@
 #include "Core/Pose.h"
 #include "Core/Types.h"
 #include "Link/Motion.h"
-#include "Osc/Mount.h"
+#include "Link/Mount.h"
 #include "Osc/Osc.h"
 #include "Osc/OscDialects.h"
 #include "Live/OscLink.h"
