@@ -13,6 +13,7 @@
 
 using namespace armadillo;
 using namespace armadillo::device;
+using namespace armadillo::live;
 
 namespace {
 

@@ -8,7 +8,7 @@
 
 namespace armadillo::access {
 
-using device::JsonValue;
+using armadillo::JsonValue;
 
 int ReaderProfile::nextSession() const noexcept
 {
@@ -39,7 +39,7 @@ std::string optionalString(const JsonValue& object, const char* key, const std::
 
 ReaderProfile parseReaderProfile(std::string_view json, const std::string& source)
 {
-    const JsonValue root = device::parseJson(json, source);
+    const JsonValue root = armadillo::parseJson(json, source);
     if (root.kind != JsonValue::Kind::Object) throw InputError(source, root.line, "", "a reader profile is a JSON object");
     const JsonValue& format = member(root, "format", JsonValue::Kind::String, source);
     if (format.string != "armadillo-reader") throw InputError(source, format.line, "format", "not an armadillo reader profile");
@@ -88,14 +88,14 @@ ReaderProfile loadReaderProfile(const std::string& path)
 std::string readerProfileToJson(const ReaderProfile& p)
 {
     std::string out = "{\n  \"format\": \"armadillo-reader\",\n  \"version\": 1,\n  \"name\": ";
-    device::appendJsonString(out, p.name);
+    armadillo::appendJsonString(out, p.name);
     out += ",\n  \"sessions\": [";
     for (std::size_t i = 0; i < p.sessions.size(); ++i) {
         const ReaderSession& s = p.sessions[i];
         out += std::string(i ? "," : "") + "\n    {\"session\": " + std::to_string(s.session) + ", \"date\": ";
-        device::appendJsonString(out, s.date);
+        armadillo::appendJsonString(out, s.date);
         out += ", \"method\": ";
-        device::appendJsonString(out, s.method);
+        armadillo::appendJsonString(out, s.method);
         out += ", \"seconds\": ";
         appendNumber(out, s.seconds, 6);
         out += "}";
@@ -104,13 +104,13 @@ std::string readerProfileToJson(const ReaderProfile& p)
     for (std::size_t i = 0; i < p.answers.size(); ++i) {
         const ReaderAnswer& a = p.answers[i];
         out += std::string(i ? "," : "") + "\n    {\"session\": " + std::to_string(a.session) + ", \"stage\": ";
-        device::appendJsonString(out, a.stage);
+        armadillo::appendJsonString(out, a.stage);
         out += ", \"method\": ";
-        device::appendJsonString(out, a.method);
+        armadillo::appendJsonString(out, a.method);
         out += ", \"expected\": ";
-        device::appendJsonString(out, a.expected);
+        armadillo::appendJsonString(out, a.expected);
         out += ", \"answer\": ";
-        device::appendJsonString(out, a.answer);
+        armadillo::appendJsonString(out, a.answer);
         out += std::string(", \"correct\": ") + (a.correct ? "true" : "false") + ", \"rt\": ";
         if (a.rt >= 0.0) appendNumber(out, a.rt, 6);
         else out += "null";

@@ -36,14 +36,14 @@ int check(const CommandLine& cl)
         std::lock_guard lock(mutex);
         ++heard;
         std::string line = "{\"topic\":";
-        device::appendJsonString(line, m.topic);
+        armadillo::appendJsonString(line, m.topic);
         line += ",\"bytes\":" + std::to_string(m.payload.size()) + ",\"retained\":" + (m.retained ? "true" : "false") + ",\"text\":";
         mqtt::MqttConfig plain;
         plain.textField = config.textField;
         std::string text, why;
         int priority = 0;
-        if (m.payload.size() <= 4096 && mqtt::messageText(m.payload, plain, text, priority, why)) device::appendJsonString(line, text);
-        else device::appendJsonString(line, "(not shown: " + (m.payload.size() > 4096 ? std::to_string(m.payload.size()) + " bytes" : why) + ")");
+        if (m.payload.size() <= 4096 && mqtt::messageText(m.payload, plain, text, priority, why)) armadillo::appendJsonString(line, text);
+        else armadillo::appendJsonString(line, "(not shown: " + (m.payload.size() > 4096 ? std::to_string(m.payload.size()) + " bytes" : why) + ")");
         std::cout << line << "}\n" << std::flush;
     });
     installInterruptHandlers();
@@ -77,7 +77,7 @@ int check(const CommandLine& cl)
     std::cerr << "mqtt check: heard " << heard << " message(s)\n";
     std::cout << "{\"connected\":true,\"broker\":";
     std::string b;
-    device::appendJsonString(b, s.broker);
+    armadillo::appendJsonString(b, s.broker);
     std::cout << b << ",\"messages\":" << heard << ",\"connects\":" << s.connects << "}\n";
     return 0;
 }

@@ -261,21 +261,21 @@ int runNavigate(const Arguments& args)
         }
 
         // A device or the simulated forearm, through play's live session, with the navigation scene.
-        device::LiveConfig config;
+        live::LiveConfig config;
         if (cl.has("--port")) {
-            config.source = device::LiveConfig::Source::Port;
+            config.source = live::LiveConfig::Source::Port;
             config.port = cl.value("--port");
             if (config.port.empty()) throw UsageError("--port needs a device name");
             config.baud = static_cast<int>(cl.integer("--baud", 57600, 1200, 4000000));
         } else if (armFromOsc) {
-            config.source = device::LiveConfig::Source::Osc;
+            config.source = live::LiveConfig::Source::Osc;
             config.oscInPort = oscPort;
             if (cl.has("--mount")) {
                 config.osc.mount = device::mountFromArgument(cl.value("--mount"));
                 config.osc.mountGiven = true;
             }
         } else {
-            config.source = device::LiveConfig::Source::Simulator;
+            config.source = live::LiveConfig::Source::Simulator;
             config.motionFile = cl.value("--motion");
         }
         config.engine.scene = "navigate";
@@ -294,7 +294,7 @@ int runNavigate(const Arguments& args)
         if (gpsd) gpsdSource = std::make_unique<nav::GpsdSource>(endpoint, link->position);
         else if (!armFromOsc) oscSource = std::make_unique<nav::OscPositionSource>(oscPort, link->position);
         else config.oscDatagramTap = [link, shared](const std::uint8_t* d, std::size_t n) { nav::storePositionDatagram(d, n, link->position, *shared); };
-        device::LiveSession session(config);
+        live::LiveSession session(config);
         session.start();
         if (live::TactorOutput* t = session.tactors()) std::cerr << "armadillo navigate: tactors on " << t->describe() << "\n";
         if (gpsdSource) {
@@ -333,7 +333,7 @@ int runNavigate(const Arguments& args)
         session.finish();
         if (!logPath.empty()) writeFileAtomically(logPath, log);
         const nav::NavigationStatus st = link->status.load();
-        std::string summary = device::summaryJson(session.summary());
+        std::string summary = live::summaryJson(session.summary());
         char extra[400];
         if (gpsdSource)
             std::snprintf(extra, sizeof extra, ",\"finished\":%s,\"arrivals\":%d,\"waypoints\":%zu,\"gpsd_fixes\":%llu,\"gpsd_no_fix\":%llu,\"gpsd_rejected\":%llu,\"gpsd_disconnects\":%llu,\"log_dropped\":%llu",

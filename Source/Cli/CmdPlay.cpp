@@ -129,7 +129,7 @@ void onForwardSignal(int)
 /// taken as soon as it has enough still samples, its lines on stderr, the mount file at the end.
 struct GuidedMount {
     procedures::MountCalibration calibration;
-    device::LiveSession* session = nullptr;
+    live::LiveSession* session = nullptr;
     bool left = false;
     std::string out, option, arm;   // arm: "" or "left arm " in the messages
 
@@ -208,7 +208,7 @@ namespace {
 /// around the session (how long, the guided procedures' files, the stage's control port, the
 /// reader's voice, messages on the arm).
 struct PlayRequest {
-    device::LiveConfig config;
+    live::LiveConfig config;
     double seconds = -1.0;
     double dataTimeout = 5.0;
     bool leftNeedsData = false;
@@ -222,7 +222,7 @@ struct PlayRequest {
 /// checked and every input read before anything is opened.
 std::unique_ptr<PlayRequest> readPlayRequest(const CommandLine& cl, const LiveCommand& command)
 {
-    device::LiveConfig config;
+    live::LiveConfig config;
     const SourceChoice source = readSourceOptions(cl, config);   // the source group (Cli/LiveOptions.h)
     const std::string mountOut = source.mountOut;
     EngineConfig& engine = config.engine;
@@ -251,8 +251,8 @@ std::unique_ptr<PlayRequest> readPlayRequest(const CommandLine& cl, const LiveCo
     readOutputOptions(cl, config, !command.reader);   // the outputs group (read: the braille scene is silent)
     const double dataTimeout = cl.number("--data-timeout", 5.0);
     if (!(dataTimeout >= 0.0 && dataTimeout <= 3600.0)) throw UsageError("--data-timeout must lie in 0..3600 s");
-    const bool leftNeedsData = config.leftSource == device::LiveConfig::LeftSource::Port || config.leftSource == device::LiveConfig::LeftSource::Osc;
-    if (cl.has("--data-timeout") && config.source == device::LiveConfig::Source::Simulator && !leftNeedsData)
+    const bool leftNeedsData = config.leftSource == live::LiveConfig::LeftSource::Port || config.leftSource == live::LiveConfig::LeftSource::Osc;
+    if (cl.has("--data-timeout") && config.source == live::LiveConfig::Source::Simulator && !leftNeedsData)
         throw UsageError("--data-timeout applies to --port and --osc-in (the simulator always sends)");
 
     const std::string calibrateOut = cl.value("--calibrate");
@@ -328,10 +328,10 @@ std::unique_ptr<PlayRequest> readPlayRequest(const CommandLine& cl, const LiveCo
 }
 
 /// Step 3: the summary line (docs/INTERFACES.md): the link's counters and what each part did.
-std::string sessionSummary(device::LiveSession& session, const live::SourceReport& report, const PlayMessages* messages,
+std::string sessionSummary(live::LiveSession& session, const live::SourceReport& report, const PlayMessages* messages,
                            live::CuePlayer* cues, std::uint32_t panics)
 {
-    std::string summary = device::summaryJson(session.summary());
+    std::string summary = live::summaryJson(session.summary());
     if (const live::MappingRig* m = session.mapping())
         summary.insert(summary.size() - 1, ",\"mapping_midi_events\":" + std::to_string(m->midiEvents()) + ",\"mapping_osc_messages\":" +
                                                std::to_string(m->oscMessages()) + ",\"mapping_dropped\":" + std::to_string(m->dropped()));
@@ -360,7 +360,7 @@ int runLiveSession(const CommandLine& cl, const LiveCommand& command)
     const std::string who = "armadillo " + std::string(command.name) + ": ";   // what stderr's lines start with
     const std::unique_ptr<PlayRequest> request = readPlayRequest(cl, command);   // step 1
     // Step 2: the session, its stage commands, the guided procedures and the status lines.
-    device::LiveConfig& config = request->config;
+    live::LiveConfig& config = request->config;
     const std::string& mountOut = request->mountOut;
     const std::string& leftMountOut = request->leftMountOut;
     const std::string& calibrateOut = request->calibrateOut;
@@ -371,7 +371,7 @@ int runLiveSession(const CommandLine& cl, const LiveCommand& command)
     std::unique_ptr<ReaderIo>& voice = request->voice;
     std::unique_ptr<PlayMessages>& messages = request->messages;
     installInterruptHandlers();
-    device::LiveSession session(config);
+    live::LiveSession session(config);
     // Stage commands (OSC control port, keys): panic and resume act on the engine at once
     // (atomics, any thread); what happened is reported by the loop below.
     std::atomic<int> lastCommand {-1};
@@ -481,7 +481,7 @@ int runLiveSession(const CommandLine& cl, const LiveCommand& command)
     double shownAt = -1.0;
     // A port or OSC source that sends nothing is not a session: said, with what was heard,
     // after --data-timeout (and at the end of a shorter session), and exit 4.
-    const bool needsData = config.source != device::LiveConfig::Source::Simulator;
+    const bool needsData = config.source != live::LiveConfig::Source::Simulator;
     std::string noData;
     bool recordingEnded = false;
     while (!interrupted()) {
@@ -501,7 +501,7 @@ int runLiveSession(const CommandLine& cl, const LiveCommand& command)
         }
         if (progress && elapsed - shownAt >= 0.5) {
             shownAt = elapsed;
-            const device::SessionSummary now = session.summary();
+            const live::SessionSummary now = session.summary();
             char line[160];
             std::snprintf(line, sizeof line, "\r\033[K%7.1f s%s  packets %llu  bad %llu  resyncs %llu  reconnects %llu  link %s",
                           elapsed, seconds > 0.0 ? (" of " + std::to_string(static_cast<long>(std::ceil(seconds)))).c_str() : "",
@@ -592,7 +592,7 @@ int runLiveSession(const CommandLine& cl, const LiveCommand& command)
     if (leftNeedsData && dataTimeout > 0.0 && noData.empty() && report.leftPackets() == 0)
         noData = report.noData(session.summary().seconds, true);
     if (!noData.empty()) {   // nothing was played: no file is written
-        std::cout << device::summaryJson(session.summary()) << "\n" << std::flush;
+        std::cout << live::summaryJson(session.summary()) << "\n" << std::flush;
         throw IoError(noData);
     }
     if (recordingEnded)

@@ -77,13 +77,13 @@ int runImport(const Arguments& args)
     const ImportedScore s = importScoreFile(file, midi, haptic);
     writeFileAtomically(cl.value("--out"), s.text);
     std::string json = "{\"format\":";
-    device::appendJsonString(json, s.report.format);
+    armadillo::appendJsonString(json, s.report.format);
     json += ",\"notes\":" + std::to_string(s.report.notes) + ",\"dropped\":" + std::to_string(s.report.dropped) +
             ",\"shortened\":" + std::to_string(s.report.shortened) + ",\"cues\":" + std::to_string(s.report.cues) +
             ",\"seconds\":" + std::to_string(s.score.length) + ",\"warnings\":[";
     for (std::size_t i = 0; i < s.report.warnings.size(); ++i) {
         if (i) json += ",";
-        device::appendJsonString(json, s.report.warnings[i]);
+        armadillo::appendJsonString(json, s.report.warnings[i]);
     }
     std::cout << json << "]}\n";
     return 0;

@@ -88,7 +88,7 @@ std::vector<OptionSpec> pickOptions(const std::vector<OptionSpec>& group, const 
     return o;
 }
 
-SourceChoice readSourceOptions(const CommandLine& cl, device::LiveConfig& config)
+SourceChoice readSourceOptions(const CommandLine& cl, live::LiveConfig& config)
 {
     SourceChoice choice;
     const int sources = int(cl.has("--port")) + int(cl.has("--simulate")) + int(cl.has("--osc-in"));
@@ -104,23 +104,23 @@ SourceChoice readSourceOptions(const CommandLine& cl, device::LiveConfig& config
     const bool slipOsc = cl.has("--port") && portFormat == "ngimu-slip";
     if (slipOsc) {
         // The NGIMU over USB: SLIP-framed OSC through the same serial code as the board.
-        config.source = device::LiveConfig::Source::Osc;
+        config.source = live::LiveConfig::Source::Osc;
         config.oscSerialPort = cl.value("--port");
         if (config.oscSerialPort.empty()) throw UsageError("--port needs a device name");
         config.oscSerialBaud = static_cast<int>(cl.integer("--baud", 115200, 300, 4000000));
         if (cl.has("--v2")) throw UsageError("--v2 is the thesis board's framing: not with --format ngimu-slip");
     } else if (cl.has("--port")) {
-        config.source = device::LiveConfig::Source::Port;
+        config.source = live::LiveConfig::Source::Port;
         config.port = cl.value("--port");
         if (config.port.empty()) throw UsageError("--port needs a device name");
         config.baud = static_cast<int>(cl.integer("--baud", 57600, 300, 4000000));
         config.link.link.negotiateV2 = cl.has("--v2");
     } else if (cl.has("--simulate")) {
-        config.source = device::LiveConfig::Source::Simulator;
+        config.source = live::LiveConfig::Source::Simulator;
         config.motionFile = cl.value("--motion");
         config.simulatorBaud = cl.has("--unpaced") ? 0.0 : 57600.0;
     } else {
-        config.source = device::LiveConfig::Source::Osc;
+        config.source = live::LiveConfig::Source::Osc;
         config.oscInPort = static_cast<int>(cl.integer("--osc-in", 0, 1, 65535));
     }
     const bool oscSource = cl.has("--osc-in") || slipOsc;
@@ -142,7 +142,7 @@ SourceChoice readSourceOptions(const CommandLine& cl, device::LiveConfig& config
     return choice;
 }
 
-std::string readLeftArmOptions(const CommandLine& cl, device::LiveConfig& config)
+std::string readLeftArmOptions(const CommandLine& cl, live::LiveConfig& config)
 {
     if (int(cl.has("--motion-left")) + int(cl.has("--port-left")) + int(cl.has("--osc-in-left")) > 1)
         throw UsageError("the left arm is --motion-left (simulated), --port-left (a device) or --osc-in-left (an OSC sender): one of them");
@@ -154,33 +154,33 @@ std::string readLeftArmOptions(const CommandLine& cl, device::LiveConfig& config
         throw UsageError("--calibrate-mount-left finds the mount: it cannot go with --mount-left");
     if (cl.has("--motion-left")) {
         if (!cl.has("--simulate")) throw UsageError("--motion-left drives a second simulated arm: use it with --simulate");
-        config.leftSource = device::LiveConfig::LeftSource::Simulator;
+        config.leftSource = live::LiveConfig::LeftSource::Simulator;
         config.leftMotionFile = cl.value("--motion-left") == "-" ? std::string() : cl.value("--motion-left");
         if (cl.value("--motion-left").empty()) throw UsageError("--motion-left needs a motion file (or - for a wandering arm)");
     } else if (cl.has("--port-left")) {
-        config.leftSource = device::LiveConfig::LeftSource::Port;
+        config.leftSource = live::LiveConfig::LeftSource::Port;
         config.leftPort = cl.value("--port-left");
         if (config.leftPort.empty()) throw UsageError("--port-left needs a device name");
         config.leftBaud = static_cast<int>(cl.integer("--baud", 57600, 300, 4000000));
     } else if (cl.has("--osc-in-left")) {
-        config.leftSource = device::LiveConfig::LeftSource::Osc;
+        config.leftSource = live::LiveConfig::LeftSource::Osc;
         config.leftOscInPort = static_cast<int>(cl.integer("--osc-in-left", 0, 1, 65535));
-        if (config.source == device::LiveConfig::Source::Osc && config.oscSerialPort.empty() && config.oscInPort == config.leftOscInPort)
+        if (config.source == live::LiveConfig::Source::Osc && config.oscSerialPort.empty() && config.oscInPort == config.leftOscInPort)
             throw UsageError("--osc-in-left needs a port of its own (--osc-in listens on " + std::to_string(config.oscInPort) + ")");
         if (cl.has("--osc-format-left") && !device::parseOscFormat(cl.value("--osc-format-left"), config.leftOsc.format))
             throw UsageError("--osc-format-left: unknown format '" + cl.value("--osc-format-left") + "' (one of " + device::oscFormatNames() + ")");
     }
     for (const char* o : {"--calibration-left", "--arms-log"})
-        if (cl.has(o) && config.leftSource == device::LiveConfig::LeftSource::None)
+        if (cl.has(o) && config.leftSource == live::LiveConfig::LeftSource::None)
             throw UsageError(std::string(o) + " applies to two arms (--motion-left, --port-left or --osc-in-left)");
-    if (cl.has("--calibration-left") && config.leftSource == device::LiveConfig::LeftSource::Osc)
+    if (cl.has("--calibration-left") && config.leftSource == live::LiveConfig::LeftSource::Osc)
         throw UsageError("--calibration-left is a device's calibration: an OSC sender sends SI units (--mount-left says how it is worn)");
     if (cl.has("--calibration-left")) config.leftCalibration = device::loadCalibration(cl.value("--calibration-left"));
     config.armsLog = cl.value("--arms-log");
     return leftMountOut;
 }
 
-void readOutputOptions(const CommandLine& cl, device::LiveConfig& config, bool soundByDefault)
+void readOutputOptions(const CommandLine& cl, live::LiveConfig& config, bool soundByDefault)
 {
     const double seconds = cl.number("--seconds", -1.0);
     if (cl.has("--seconds") && !(seconds > 0.0 && seconds <= 7 * 24 * 3600.0))

@@ -30,7 +30,7 @@ struct SourceChoice {
 };
 /// The source group into `config` (one of --port, --simulate, --osc-in; UsageError otherwise).
 /// Files (mount, calibration) are read later, once every output was checked.
-SourceChoice readSourceOptions(const CommandLine& cl, device::LiveConfig& config);
+SourceChoice readSourceOptions(const CommandLine& cl, live::LiveConfig& config);
 /// A guided procedure's device (touch-profile, calibrate, braille --adaptive): a port or the
 /// simulator, from the source group.
 struct DeviceChoice {
@@ -42,9 +42,9 @@ struct DeviceChoice {
 /// --baud only with --port.
 DeviceChoice readDeviceOptions(const CommandLine& cl, const std::string& usage = {});
 /// The left arm group into `config`; returns --calibrate-mount-left's file ("" without it).
-std::string readLeftArmOptions(const CommandLine& cl, device::LiveConfig& config);
+std::string readLeftArmOptions(const CommandLine& cl, live::LiveConfig& config);
 /// The outputs group into `config`; `soundByDefault`: the default sound card when neither --out
 /// nor --audio-device nor --no-audio is given (a missing card is then a warning).
-void readOutputOptions(const CommandLine& cl, device::LiveConfig& config, bool soundByDefault);
+void readOutputOptions(const CommandLine& cl, live::LiveConfig& config, bool soundByDefault);
 
 } // namespace armadillo::cli

@@ -61,7 +61,7 @@ ImportedScore finish(std::string text, const std::string& source, ImportReport r
 
 // ---- JSON helpers -------------------------------------------------------------------------
 
-using device::JsonValue;
+using armadillo::JsonValue;
 
 const JsonValue& require(const JsonValue& object, std::string_view key, JsonValue::Kind kind, const std::string& source)
 {
@@ -164,7 +164,7 @@ ImportedScore importTactileWav(const std::string& path, const HapticImportOption
 
 ImportedScore importAhap(std::string_view json, const std::string& source, const HapticImportOptions& o)
 {
-    const JsonValue root = device::parseJson(json, source);
+    const JsonValue root = armadillo::parseJson(json, source);
     if (root.kind != JsonValue::Kind::Object) throw InputError(source, root.line, "", "an AHAP file is a JSON object with a \"Pattern\" array");
     const JsonValue& pattern = require(root, "Pattern", JsonValue::Kind::Array, source);
     if (o.motors == 0) throw InputError(source, 0, "motors", "no motors for the actuator");
@@ -290,7 +290,7 @@ ImportedScore importAhap(std::string_view json, const std::string& source, const
 
 ImportedScore importMetaHaptic(std::string_view json, const std::string& source, const HapticImportOptions& o)
 {
-    const JsonValue root = device::parseJson(json, source);
+    const JsonValue root = armadillo::parseJson(json, source);
     if (root.kind != JsonValue::Kind::Object) throw InputError(source, root.line, "", "a .haptic file is a JSON object");
     const JsonValue& version = require(root, "version", JsonValue::Kind::Object, source);
     const double major = numberOr(version, "major", -1.0, source);
@@ -403,9 +403,9 @@ std::string exportAhap(const std::vector<TactileRow>& rows, std::uint16_t motors
 {
     constexpr double kMaxContinuous = 30.0;   // Core Haptics: a continuous event lasts at most 30 s
     std::string s = "{\n  \"Version\": 1.0,\n  \"Metadata\": {\"Project\": ";
-    device::appendJsonString(s, project);
+    armadillo::appendJsonString(s, project);
     s += ", \"Description\": ";
-    device::appendJsonString(s, "ARMadillo motors " + scoretext::motorSet(motors) + " as one actuator: level = 15 x HapticIntensity (docs/FORMATS.md)");
+    armadillo::appendJsonString(s, "ARMadillo motors " + scoretext::motorSet(motors) + " as one actuator: level = 15 x HapticIntensity (docs/FORMATS.md)");
     s += "},\n  \"Pattern\": [";
     bool first = true;
     for (const ActuatorRun& r : actuatorRuns(rows, motors)) {
@@ -437,9 +437,9 @@ std::string exportMetaHaptic(const std::vector<TactileRow>& rows, std::uint16_t 
     }
     if (points.back().second != 0.0) points.emplace_back(points.back().first, 0.0);
     std::string s = "{\n  \"version\": {\"major\": 1, \"minor\": 0, \"patch\": 0},\n  \"metadata\": {\"editor\": \"armadillo\", \"project\": ";
-    device::appendJsonString(s, project);
+    armadillo::appendJsonString(s, project);
     s += ", \"description\": ";
-    device::appendJsonString(s, "ARMadillo motors " + scoretext::motorSet(motors) + " as one actuator: level = 15 x amplitude (docs/FORMATS.md)");
+    armadillo::appendJsonString(s, "ARMadillo motors " + scoretext::motorSet(motors) + " as one actuator: level = 15 x amplitude (docs/FORMATS.md)");
     s += "},\n  \"signals\": {\"continuous\": {\"envelopes\": {\"amplitude\": [";
     for (std::size_t i = 0; i < points.size(); ++i)
         s += std::string(i ? ",\n" : "\n") + "    {\"time\": " + jsonNumber(points[i].first) + ", \"amplitude\": " + jsonNumber(points[i].second) + "}";

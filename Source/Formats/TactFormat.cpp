@@ -27,7 +27,7 @@ namespace armadillo {
 
 namespace {
 
-using device::JsonValue;
+using armadillo::JsonValue;
 constexpr double kFullScale = 15.0;
 
 /// A number, or a string holding one (the Designer's older exports write "1.000").
@@ -150,7 +150,7 @@ bool hasContent(const JsonValue& mode)
 
 ImportedScore importTact(std::string_view json, const std::string& source, const HapticImportOptions& o)
 {
-    const JsonValue root = device::parseJson(json, source);
+    const JsonValue root = armadillo::parseJson(json, source);
     if (root.kind != JsonValue::Kind::Object) throw InputError(source, root.line, "", "a .tact file is a JSON object");
     const JsonValue& project = member(root, "project", JsonValue::Kind::Object, source);
     const JsonValue& tracks = member(project, "tracks", JsonValue::Kind::Array, source);
@@ -408,9 +408,9 @@ std::string exportTact(const std::vector<TactileRow>& rows, const std::string& p
         layout += "]";
     }
     std::string s = "{\n  \"project\": {\n    \"name\": ";
-    device::appendJsonString(s, project);
+    armadillo::appendJsonString(s, project);
     s += ",\n    \"description\": ";
-    device::appendJsonString(s, "ARMadillo motors as a bHaptics forearm (Tactosy) effect: wrist row = y 0, elbow row = y 1, middle row = path points at y 0.5 (docs/FORMATS.md)");
+    armadillo::appendJsonString(s, "ARMadillo motors as a bHaptics forearm (Tactosy) effect: wrist row = y 0, elbow row = y 1, middle row = path points at y 0.5 (docs/FORMATS.md)");
     s += ",\n    \"layout\": {\"name\":\"Tactosy2\",\"type\":\"Tactosy2\",\"layouts\":{" + layout + "}},\n    \"tracks\": [{\"enable\":true,\"effects\":[" + effects +
          "\n    ]}]\n  },\n  \"durationMillis\": " + std::to_string(std::lround(total * 1000.0)) + ",\n  \"intervalMillis\": 20,\n  \"size\": 20\n}\n";
     return s;

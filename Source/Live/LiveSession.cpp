@@ -14,7 +14,7 @@
 #include <cstdio>
 #include <stdexcept>
 
-namespace armadillo::device {
+namespace armadillo::live {
 
 std::string summaryJson(const SessionSummary& s)
 {
@@ -82,13 +82,13 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
     }
     sourceKind_ = config_.source == LiveConfig::Source::Osc ? live::SourceKind::Osc : live::SourceKind::Device;
     if (!config_.oscOut.empty()) {
-        HostPort hp;
+        device::HostPort hp;
         try {
-            hp = parseHostPort(config_.oscOut);
+            hp = device::parseHostPort(config_.oscOut);
         } catch (const std::invalid_argument& e) {
             throw InputError("--osc-out", 0, "", e.what());
         }
-        if (!config_.mapping) oscOut_ = std::make_unique<OscSender>(hp);   // with --map only what the mapping names leaves
+        if (!config_.mapping) oscOut_ = std::make_unique<device::OscSender>(hp);   // with --map only what the mapping names leaves
     }
     if (config_.mapping) {
         live::MappingRigOptions options;
@@ -106,32 +106,32 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
         throw InputError("--midi-out", 0, "", "MIDI out follows a mapping: give --map PRESET|FILE (e.g. --map classic)");
     }
 
-    auto deviceHandler = [this](const SensorCounts& counts, double t) { return control(t, &counts, nullptr, nullptr); };
+    auto deviceHandler = [this](const device::SensorCounts& counts, double t) { return control(t, &counts, nullptr, nullptr); };
     switch (config_.source) {
     case LiveConfig::Source::Port: {
-        auto port = std::make_unique<SerialPort>(config_.port, config_.baud);
+        auto port = std::make_unique<device::SerialPort>(config_.port, config_.baud);
         port->open();   // fail early with the port's own message (exit 4); later losses reconnect
-        link_ = std::make_unique<DeviceLink>(std::move(port), deviceHandler, config_.link);
+        link_ = std::make_unique<device::DeviceLink>(std::move(port), deviceHandler, config_.link);
         break;
     }
     case LiveConfig::Source::Simulator: {
-        std::shared_ptr<const MotionSource> motion;
-        if (config_.motionFile.empty()) motion = std::make_shared<WanderingMotion>(config_.engine.sceneConfig.seed);
-        else motion = std::make_shared<FileMotion>(config_.motionFile);
-        SimulatorOptions o;
+        std::shared_ptr<const device::MotionSource> motion;
+        if (config_.motionFile.empty()) motion = std::make_shared<device::WanderingMotion>(config_.engine.sceneConfig.seed);
+        else motion = std::make_shared<device::FileMotion>(config_.motionFile);
+        device::SimulatorOptions o;
         o.baud = config_.simulatorBaud;
         o.realtimePriority = config_.link.realtimePriority > 1 ? config_.link.realtimePriority - 1 : 0;
-        simulator_ = std::make_unique<SimulatedForearm>(motion, o);
-        link_ = std::make_unique<DeviceLink>(simulator_->startInProcess(), deviceHandler, config_.link);
+        simulator_ = std::make_unique<device::SimulatedForearm>(motion, o);
+        link_ = std::make_unique<device::DeviceLink>(simulator_->startInProcess(), deviceHandler, config_.link);
         break;
     }
     case LiveConfig::Source::Osc: {
         auto onImu = [this](const ImuSample& s) { control(s.t, nullptr, &s, nullptr); };
         auto onQ = [this](double t, const Eigen::Quaterniond& q) { control(t, nullptr, nullptr, &q); };
         if (!config_.oscSerialPort.empty())
-            oscIn_ = std::make_unique<OscReceiver>(OscSerialSource {config_.oscSerialPort, config_.oscSerialBaud}, onImu, onQ, config_.osc);
+            oscIn_ = std::make_unique<device::OscReceiver>(device::OscSerialSource {config_.oscSerialPort, config_.oscSerialBaud}, onImu, onQ, config_.osc);
         else
-            oscIn_ = std::make_unique<OscReceiver>(config_.oscInPort, onImu, onQ, config_.osc);
+            oscIn_ = std::make_unique<device::OscReceiver>(config_.oscInPort, onImu, onQ, config_.osc);
         if (config_.oscDatagramTap) oscIn_->setDatagramTap(config_.oscDatagramTap);
         break;
     }
@@ -140,7 +140,7 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
     if (config_.leftSource != LiveConfig::LeftSource::None) {
         // The left arm's packets: calibrated with its own calibration, into its mailbox; answered
         // with the left arm's latest motor levels (its own tactile engine and safety stage).
-        auto leftHandler = [this](const SensorCounts& counts, double t) {
+        auto leftHandler = [this](const device::SensorCounts& counts, double t) {
             if (motorsOff_.load(std::memory_order_acquire)) return MotorLevels {};
             leftInput_.pushImu(config_.leftCalibration.apply(t, counts));
             return leftLevels_.load();
@@ -150,20 +150,20 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
             // its own orientations) into the left arm's mailbox. It has no motors.
             auto onImu = [this](const ImuSample& s) { leftInput_.pushImu(s); };
             auto onQ = [this](double t, const Eigen::Quaterniond& q) { leftInput_.storeOrientation(t, q); };
-            leftOscIn_ = std::make_unique<OscReceiver>(config_.leftOscInPort, onImu, onQ, config_.leftOsc);   // IoError when taken
+            leftOscIn_ = std::make_unique<device::OscReceiver>(config_.leftOscInPort, onImu, onQ, config_.leftOsc);   // IoError when taken
         } else if (config_.leftSource == LiveConfig::LeftSource::Port) {
-            auto port = std::make_unique<SerialPort>(config_.leftPort, config_.leftBaud);
+            auto port = std::make_unique<device::SerialPort>(config_.leftPort, config_.leftBaud);
             port->open();
-            leftLink_ = std::make_unique<DeviceLink>(std::move(port), leftHandler, config_.link);
+            leftLink_ = std::make_unique<device::DeviceLink>(std::move(port), leftHandler, config_.link);
         } else {
-            std::shared_ptr<const MotionSource> motion;
-            if (config_.leftMotionFile.empty()) motion = std::make_shared<WanderingMotion>(config_.engine.sceneConfig.seed + 1);
-            else motion = std::make_shared<FileMotion>(config_.leftMotionFile);
-            SimulatorOptions o;
+            std::shared_ptr<const device::MotionSource> motion;
+            if (config_.leftMotionFile.empty()) motion = std::make_shared<device::WanderingMotion>(config_.engine.sceneConfig.seed + 1);
+            else motion = std::make_shared<device::FileMotion>(config_.leftMotionFile);
+            device::SimulatorOptions o;
             o.baud = config_.simulatorBaud;
             o.realtimePriority = config_.link.realtimePriority > 1 ? config_.link.realtimePriority - 1 : 0;
-            leftSimulator_ = std::make_unique<SimulatedForearm>(motion, o);
-            leftLink_ = std::make_unique<DeviceLink>(leftSimulator_->startInProcess(), leftHandler, config_.link);
+            leftSimulator_ = std::make_unique<device::SimulatedForearm>(motion, o);
+            leftLink_ = std::make_unique<device::DeviceLink>(leftSimulator_->startInProcess(), leftHandler, config_.link);
         }
         if (!config_.armsLog.empty())
             armsLog_ = std::make_unique<StreamingCsvWriter>(config_.armsLog, std::vector<std::string> {"t", "qw", "qx", "qy", "qz", "left_qw", "left_qx", "left_qy", "left_qz"});
@@ -222,7 +222,7 @@ LiveSession::~LiveSession()
     }
 }
 
-MotorLevels LiveSession::control(double t, const SensorCounts* counts, const ImuSample* imu, const Eigen::Quaterniond* q)
+MotorLevels LiveSession::control(double t, const device::SensorCounts* counts, const ImuSample* imu, const Eigen::Quaterniond* q)
 {
     if (motorsOff_.load(std::memory_order_acquire)) {
         if (zeroPacketT_.load(std::memory_order_relaxed) < 0.0) zeroPacketT_.store(t, std::memory_order_relaxed);
@@ -515,14 +515,14 @@ void LiveSession::stop()
     if (link_) {
         if (link_->stats().inSync) {
             const std::uint64_t before = zeroPacketsSent_.load();
-            link_->waitFor([&](const LinkStats&) { return zeroPacketsSent_.load() > before; }, 0.2);
+            link_->waitFor([&](const device::LinkStats&) { return zeroPacketsSent_.load() > before; }, 0.2);
         }
         link_->stop();
     }
     if (oscIn_) oscIn_->stop();
     if (leftOscIn_) leftOscIn_->stop();
     if (leftLink_) {   // the left device's last packet all-off too (motorsOff_ is set)
-        if (leftLink_->stats().inSync) leftLink_->waitFor([](const LinkStats&) { return true; }, 0.05);
+        if (leftLink_->stats().inSync) leftLink_->waitFor([](const device::LinkStats&) { return true; }, 0.05);
         leftLink_->stop();
     }
     if (simulator_) simulator_->stop();
@@ -578,7 +578,7 @@ SessionSummary LiveSession::linkCounters() const
 {
     SessionSummary s;
     if (link_) {
-        const LinkStats l = link_->stats();
+        const device::LinkStats l = link_->stats();
         s.packets = l.packets;
         s.badPackets = l.badPackets;
         s.resyncs = l.resyncs;
@@ -591,7 +591,7 @@ SessionSummary LiveSession::linkCounters() const
         if (l.packets > 1 && l.lastPacketTime > l.firstPacketTime)
             s.rateHz = static_cast<double>(l.packets - 1) / (l.lastPacketTime - l.firstPacketTime);
     } else if (oscIn_) {
-        const OscInputStats o = oscIn_->stats();
+        const device::OscInputStats o = oscIn_->stats();
         s.packets = o.imu + o.orientation;
         s.badPackets = o.bad;
         s.gaps = oscGaps_.load(std::memory_order_relaxed);
@@ -611,7 +611,7 @@ SessionSummary LiveSession::summary() const
     return s;
 }
 
-LatencySummary LiveSession::latency() const { return link_ ? link_->latency() : LatencySummary {}; }
+device::LatencySummary LiveSession::latency() const { return link_ ? link_->latency() : device::LatencySummary {}; }
 
 int LiveSession::oscInPort() const noexcept { return oscIn_ ? oscIn_->port() : 0; }
 
@@ -630,22 +630,22 @@ std::string LiveSession::lastError() const
 
 bool LiveSession::enableSensorTap(bool left)
 {
-    OscReceiver* osc = left ? leftOscIn_.get() : oscIn_.get();
+    device::OscReceiver* osc = left ? leftOscIn_.get() : oscIn_.get();
     if (!osc) return false;
     osc->merger().enableSensorTap(true);
     return true;
 }
 
-bool LiveSession::popSensorFrame(bool left, SensorFrameSample& sample)
+bool LiveSession::popSensorFrame(bool left, device::SensorFrameSample& sample)
 {
-    OscReceiver* osc = left ? leftOscIn_.get() : oscIn_.get();
+    device::OscReceiver* osc = left ? leftOscIn_.get() : oscIn_.get();
     return osc != nullptr && osc->merger().popSensorSample(sample);
 }
 
 std::string LiveSession::senderName(bool left) const
 {
-    const OscReceiver* osc = left ? leftOscIn_.get() : oscIn_.get();
+    const device::OscReceiver* osc = left ? leftOscIn_.get() : oscIn_.get();
     return osc ? osc->deviceName() : std::string();
 }
 
-} // namespace armadillo::device
+} // namespace armadillo::live

@@ -34,21 +34,21 @@ namespace armadillo::audio {
 class SoundCard;
 class SequencerOut;
 }
-namespace armadillo::live {
-class MappingRig;
-}
 namespace armadillo::mapping {
 struct StageEvent;
 }
 namespace armadillo {
 class ArmTracker;
 }
-
 namespace armadillo::device {
-
 class SimulatedForearm;
 class OscReceiver;
 class OscSender;
+}
+
+namespace armadillo::live {
+
+class MappingRig;
 class StreamingCsvWriter;
 class StreamingWavWriter;
 
@@ -62,8 +62,8 @@ struct LiveConfig {
     int oscInPort = 0;                ///< Source::Osc: UDP (and TCP) port (0 = any free port)
     std::string oscSerialPort;        ///< Source::Osc: read SLIP-framed OSC from this serial port instead (NGIMU over USB)
     int oscSerialBaud = 115200;
-    OscInputOptions osc {};           ///< Source::Osc: dialect (auto-detected by default) and mount
-    Calibration calibration = defaultCalibration();
+    device::OscInputOptions osc {};   ///< Source::Osc: dialect (auto-detected by default) and mount
+    device::Calibration calibration = device::defaultCalibration();
     EngineConfig engine {};
     double bpm = 120.0;               ///< the audio-clock transport's tempo
     std::string audioOut;             ///< WAV path; empty = no audio file
@@ -92,7 +92,7 @@ struct LiveConfig {
     std::string mappingName;          ///< for messages ("classic", a path)
     std::string midiOut;              ///< with a mapping: an ALSA sequencer output port of this name (IoError when absent)
     double forwardDeg = 0.0;          ///< with a mapping: the forward direction to start from (azimuth, °)
-    DeviceLinkOptions link {};
+    device::DeviceLinkOptions link {};
     /// A set list (docs/STAGE.md; `play --setlist`): its cues replace `engine.scene`, which then
     /// only tracks the arm (monitor); sample rate, seed, arm side and motor count come from
     /// `engine`. Empty = none.
@@ -107,8 +107,8 @@ struct LiveConfig {
     int leftBaud = 57600;
     std::string leftMotionFile;       ///< LeftSource::Simulator: pose/quaternion CSV; empty = wandering arm
     int leftOscInPort = 0;            ///< LeftSource::Osc: UDP (and TCP) port (0 = any free port)
-    OscInputOptions leftOsc {};       ///< LeftSource::Osc: its own dialect detection and mount (`--mount-left`)
-    Calibration leftCalibration = defaultCalibration();
+    device::OscInputOptions leftOsc {};       ///< LeftSource::Osc: its own dialect detection and mount (`--mount-left`)
+    device::Calibration leftCalibration = device::defaultCalibration();
     /// Two arms: t,qw,qx,qy,qz,left_qw,left_qx,left_qy,left_qz per control update. Empty = none.
     std::string armsLog;
     /// The motor grid live as audio (`play --tactors`, docs/TACTORS.md): every control step's
@@ -165,16 +165,16 @@ public:
     /// input); popSensorFrame takes the oldest (accel m/s², gyro rad/s or NaN), false when none;
     /// senderName is the sender's device name, for the mount file. Any one thread.
     bool enableSensorTap(bool left);
-    bool popSensorFrame(bool left, SensorFrameSample& sample);
+    bool popSensorFrame(bool left, device::SensorFrameSample& sample);
     std::string senderName(bool left) const;
     /// The engine that runs: the set list's current cue's, or the one scene's.
     Engine& engine() noexcept { return sounding(); }
     /// The set list's player (null without --setlist): request/next/previous from any thread.
     live::CuePlayer* cuePlayer() noexcept { return cues_.get(); }
     /// Two arms: the left arm's link (null with one arm) and its latest pose (any thread).
-    DeviceLink* leftLink() noexcept { return leftLink_.get(); }
+    device::DeviceLink* leftLink() noexcept { return leftLink_.get(); }
     /// Two arms with an OSC sender as the left arm: its receiver (format, device, counters); null otherwise.
-    OscReceiver* leftOscReceiver() noexcept { return leftOscIn_.get(); }
+    device::OscReceiver* leftOscReceiver() noexcept { return leftOscIn_.get(); }
     Pose latestLeftPose() const noexcept { return leftPose_.load(); }
     /// IMU samples the control step dropped (more than ControlLoop::kMaxImuPerStep waiting).
     std::uint64_t droppedImu() const noexcept { return loop_.droppedImu(); }
@@ -185,11 +185,11 @@ public:
     std::string lastError() const;
     std::uint64_t controlUpdates() const noexcept { return updates_.load(); }
     /// The device link of a port or simulator source (null for OSC): statistics, the sent-packet log.
-    DeviceLink* deviceLink() noexcept { return link_.get(); }
+    device::DeviceLink* deviceLink() noexcept { return link_.get(); }
     /// Every raw packet of a device source, for one consumer thread (calibration, UI); null for OSC.
-    SpscQueue<RawPacket, 1024>* rawPackets() noexcept { return link_ ? &link_->packets() : nullptr; }
+    SpscQueue<device::RawPacket, 1024>* rawPackets() noexcept { return link_ ? &link_->packets() : nullptr; }
     /// Sensor-packet arrival → motor packet written (device sources; empty otherwise).
-    LatencySummary latency() const;
+    device::LatencySummary latency() const;
     /// The mapping's counters (null without --map).
     const live::MappingRig* mapping() const noexcept { return mapping_.get(); }
     live::MappingRig* mapping() noexcept { return mapping_.get(); }
@@ -198,7 +198,7 @@ public:
     /// Source::Osc: the UDP port listened on (useful with oscInPort 0); 0 otherwise.
     int oscInPort() const noexcept;
     /// Source::Osc: the receiver (format, device, counters, the mount calibration's tap); null otherwise.
-    OscReceiver* oscReceiver() noexcept { return oscIn_.get(); }
+    device::OscReceiver* oscReceiver() noexcept { return oscIn_.get(); }
     /// The sound card in use (null without one) and why an optional one is not in use.
     const audio::SoundCard* soundCard() const noexcept { return soundCard_.get(); }
     const std::string& soundCardWarning() const noexcept { return soundCardWarning_; }
@@ -213,7 +213,7 @@ public:
 
 private:
     friend struct LiveSessionAudioProbe;   // Tests/Live/RealtimeLoopTests.cpp: renderBlock under the real-time guard
-    MotorLevels control(double t, const SensorCounts* counts, const ImuSample* imu, const Eigen::Quaterniond* q);
+    MotorLevels control(double t, const device::SensorCounts* counts, const ImuSample* imu, const Eigen::Quaterniond* q);
     /// Packets, errors, reconnects and gaps of the source so far (any thread; no session length).
     SessionSummary linkCounters() const;
     void audioLoop();
@@ -229,10 +229,10 @@ private:
     static void applyStage(void* self, const mapping::StageEvent& event) noexcept;
     // Two arms: the left arm's source and link; its calibrated samples reach the control thread
     // through a mailbox, where its own tracker fuses them; the two-arm engine plays both.
-    std::unique_ptr<SimulatedForearm> leftSimulator_;
-    std::unique_ptr<DeviceLink> leftLink_;
+    std::unique_ptr<device::SimulatedForearm> leftSimulator_;
+    std::unique_ptr<device::DeviceLink> leftLink_;
     live::LiveInput leftInput_;
-    std::unique_ptr<OscReceiver> leftOscIn_;
+    std::unique_ptr<device::OscReceiver> leftOscIn_;
     std::unique_ptr<ArmTracker> leftTracker_;
     ArmState leftArm_ {};
     live::LiveOrientation leftOrientation_ {};   // control thread: the left sender's last orientation read
@@ -242,10 +242,10 @@ private:
     SeqLock<Pose> leftPose_;
     std::unique_ptr<StreamingCsvWriter> armsLog_;
     Engine& sounding() noexcept { return cues_ ? cues_->engine(cues_->current()) : duo_ ? *duo_ : *engine_; }
-    std::unique_ptr<SimulatedForearm> simulator_;
-    std::unique_ptr<DeviceLink> link_;
-    std::unique_ptr<OscReceiver> oscIn_;
-    std::unique_ptr<OscSender> oscOut_;
+    std::unique_ptr<device::SimulatedForearm> simulator_;
+    std::unique_ptr<device::DeviceLink> link_;
+    std::unique_ptr<device::OscReceiver> oscIn_;
+    std::unique_ptr<device::OscSender> oscOut_;
     std::unique_ptr<live::MappingRig> mapping_;      // control thread once started
     std::unique_ptr<audio::SequencerOut> midiOut_;   // written by the control thread only
     std::unique_ptr<StreamingCsvWriter> log_, tactile_;
@@ -278,4 +278,4 @@ private:
     std::string audioError_;
 };
 
-} // namespace armadillo::device
+} // namespace armadillo::live

@@ -8,7 +8,7 @@
 #include <cstring>
 #include <unistd.h>
 
-namespace armadillo::device {
+namespace armadillo::live {
 
 namespace {
 
@@ -124,4 +124,4 @@ void StreamingWavWriter::write(const float* left, const float* right, int frames
 
 void StreamingWavWriter::finish() { out_.finish(); }
 
-} // namespace armadillo::device
+} // namespace armadillo::live

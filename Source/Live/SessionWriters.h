@@ -12,7 +12,7 @@
 #include <thread>
 #include <vector>
 
-namespace armadillo::device {
+namespace armadillo::live {
 
 inline constexpr int kMaxLogColumns = 32;
 
@@ -71,4 +71,4 @@ private:
     std::vector<float> interleaved_;
 };
 
-} // namespace armadillo::device
+} // namespace armadillo::live

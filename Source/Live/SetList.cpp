@@ -12,7 +12,7 @@
 namespace armadillo::live {
 
 namespace {
-using device::JsonValue;
+using armadillo::JsonValue;
 
 [[noreturn]] void refuse(const std::string& source, const JsonValue& at, const std::string& path, const std::string& message)
 {
@@ -48,7 +48,7 @@ const std::string& requireString(const std::string& source, const JsonValue& v, 
 
 SetList parseSetList(std::string_view text, const std::string& source)
 {
-    const JsonValue root = device::parseJson(text, source);
+    const JsonValue root = armadillo::parseJson(text, source);
     if (root.kind != JsonValue::Kind::Object) refuse(source, root, "", "a set list is a JSON object");
     SetList list;
     list.source = source;

@@ -6,7 +6,7 @@
 
 namespace armadillo::live {
 
-using device::LiveConfig;
+using live::LiveConfig;
 
 std::vector<std::string> SourceReport::startup() const
 {

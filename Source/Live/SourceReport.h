@@ -8,15 +8,13 @@
 #include <string>
 #include <vector>
 
-namespace armadillo::device {
-class LiveSession;
-}
-
 namespace armadillo::live {
+
+class LiveSession;
 
 class SourceReport {
 public:
-    explicit SourceReport(device::LiveSession& session) : session_(session) {}
+    explicit SourceReport(live::LiveSession& session) : session_(session) {}
 
     /// Lines to say once before the session starts (how the OSC input listens).
     std::vector<std::string> startup() const;
@@ -34,7 +32,7 @@ public:
     std::string leftSummaryJson() const;
 
 private:
-    device::LiveSession& session_;
+    live::LiveSession& session_;
     bool shownRates_ = false, shownFormat_ = false, shownLeftFormat_ = false;
     std::string shownSerialError_;
 };

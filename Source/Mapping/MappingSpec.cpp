@@ -48,7 +48,7 @@ std::string allSourceNames()
 
 // ---- reading ---------------------------------------------------------------------------------
 
-using device::JsonValue;
+using armadillo::JsonValue;
 
 class Reader {
 public:
@@ -643,7 +643,7 @@ std::string num(double x)
 std::string str(std::string_view s)
 {
     std::string out;
-    device::appendJsonString(out, s);
+    armadillo::appendJsonString(out, s);
     return out;
 }
 
@@ -882,7 +882,7 @@ int scaleMask(const std::string& name) { return Reader::scaleIntervals(name); }
 
 MappingDocument parseMappingDocument(std::string_view text, const std::string& sourceName)
 {
-    const JsonValue root = device::parseJson(text, sourceName);
+    const JsonValue root = armadillo::parseJson(text, sourceName);
     Reader r(sourceName);
     r.expectKind(root, JsonValue::Kind::Object, "the file");
     r.onlyKeys(root, "the file", {"version", "name", "mappings", "postures"});

@@ -75,7 +75,7 @@ bool topicMatches(const std::string& filter, const std::string& topic) noexcept
 
 namespace {
 
-using device::JsonValue;
+using armadillo::JsonValue;
 
 class Reader {
 public:
@@ -142,7 +142,7 @@ void readTopic(const Reader& r, const JsonValue& v, const std::string& key, Mqtt
 
 MqttConfig parseMqttConfig(const std::string& text, const std::string& source)
 {
-    const JsonValue root = device::parseJson(text, source);
+    const JsonValue root = armadillo::parseJson(text, source);
     const Reader r(source);
     r.expect(root, JsonValue::Kind::Object, "the file");
     MqttConfig c;

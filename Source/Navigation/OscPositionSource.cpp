@@ -58,14 +58,14 @@ bool decodePositionDatagram(const std::uint8_t* data, std::size_t size, Position
     Decoded d;
     if (size > 0 && data[0] == '{') {   // ZIG SIM's JSON mode
         try {
-            const device::JsonValue root = device::parseJson(std::string_view(reinterpret_cast<const char*>(data), size), "ZIG SIM JSON");
-            const device::JsonValue* sensors = root.find("sensordata");
-            const device::JsonValue* gps = sensors ? sensors->find("gps") : nullptr;
+            const armadillo::JsonValue root = armadillo::parseJson(std::string_view(reinterpret_cast<const char*>(data), size), "ZIG SIM JSON");
+            const armadillo::JsonValue* sensors = root.find("sensordata");
+            const armadillo::JsonValue* gps = sensors ? sensors->find("gps") : nullptr;
             if (!gps) return false;
-            const device::JsonValue* la = gps->find("latitude");
-            const device::JsonValue* lo = gps->find("longitude");
+            const armadillo::JsonValue* la = gps->find("latitude");
+            const armadillo::JsonValue* lo = gps->find("longitude");
             PositionFix f;
-            if (la && lo && la->kind == device::JsonValue::Kind::Number && lo->kind == device::JsonValue::Kind::Number) f.pos = {la->number, lo->number};
+            if (la && lo && la->kind == armadillo::JsonValue::Kind::Number && lo->kind == armadillo::JsonValue::Kind::Number) f.pos = {la->number, lo->number};
             else f.pos = {NAN, NAN};
             rejected = !validLatLon(f.pos);
             if (!rejected) f.quality = FixQuality::Fix2D;

@@ -153,35 +153,35 @@ Route parseGpx(std::string_view text, const std::string& source)
 
 Route parseRouteJson(std::string_view text, const std::string& source)
 {
-    const device::JsonValue root = device::parseJson(text, source);
+    const armadillo::JsonValue root = armadillo::parseJson(text, source);
     Route r;
     r.source = source;
-    const device::JsonValue* list = &root;
-    if (root.kind == device::JsonValue::Kind::Object) {
+    const armadillo::JsonValue* list = &root;
+    if (root.kind == armadillo::JsonValue::Kind::Object) {
         for (const auto& [key, value] : root.object)
             if (key != "name" && key != "waypoints") throw InputError(source, value.line, key, "unknown member \"" + key + "\" (a route has \"name\" and \"waypoints\")");
         if (const auto* n = root.find("name")) {
-            if (n->kind != device::JsonValue::Kind::String) throw InputError(source, n->line, "name", "\"name\" must be a string");
+            if (n->kind != armadillo::JsonValue::Kind::String) throw InputError(source, n->line, "name", "\"name\" must be a string");
             r.name = checkedName(n->string, source, n->line);
         }
         list = root.find("waypoints");
         if (!list) throw InputError(source, root.line, "waypoints", "the route object has no \"waypoints\" list");
     }
-    if (list->kind != device::JsonValue::Kind::Array)
-        throw InputError(source, list->line, "", std::string("a route is a list of waypoints, not ") + device::JsonValue::kindName(list->kind));
-    for (const device::JsonValue& p : list->array) {
-        if (p.kind != device::JsonValue::Kind::Object)
-            throw InputError(source, p.line, "", std::string("a waypoint is an object {\"lat\":…, \"lon\":…, \"name\":…}, not ") + device::JsonValue::kindName(p.kind));
+    if (list->kind != armadillo::JsonValue::Kind::Array)
+        throw InputError(source, list->line, "", std::string("a route is a list of waypoints, not ") + armadillo::JsonValue::kindName(list->kind));
+    for (const armadillo::JsonValue& p : list->array) {
+        if (p.kind != armadillo::JsonValue::Kind::Object)
+            throw InputError(source, p.line, "", std::string("a waypoint is an object {\"lat\":…, \"lon\":…, \"name\":…}, not ") + armadillo::JsonValue::kindName(p.kind));
         Waypoint w;
         w.line = p.line;
         bool haveLat = false, haveLon = false;
         for (const auto& [key, value] : p.object) {
             if (key == "lat" || key == "lon") {
-                if (value.kind != device::JsonValue::Kind::Number) throw InputError(source, value.line, key, "\"" + key + "\" must be a number (degrees)");
+                if (value.kind != armadillo::JsonValue::Kind::Number) throw InputError(source, value.line, key, "\"" + key + "\" must be a number (degrees)");
                 (key == "lat" ? w.pos.lat : w.pos.lon) = value.number;
                 (key == "lat" ? haveLat : haveLon) = true;
             } else if (key == "name") {
-                if (value.kind != device::JsonValue::Kind::String) throw InputError(source, value.line, key, "\"name\" must be a string");
+                if (value.kind != armadillo::JsonValue::Kind::String) throw InputError(source, value.line, key, "\"name\" must be a string");
                 w.name = checkedName(value.string, source, value.line);
             } else {
                 throw InputError(source, value.line, key, "unknown member \"" + key + "\" (a waypoint has \"lat\", \"lon\" and \"name\")");

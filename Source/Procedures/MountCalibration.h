@@ -3,7 +3,7 @@
 // ahead, arm hanging down, optionally a quarter roll), written once for the app's Mount window
 // (Plugin/MountCalibrationPanel.cpp) and the command line's `play --calibrate-mount`
 // (Cli/CmdPlay.cpp's GuidedMount, with Advance::WhenReady), both fed from the rig's sensor-frame
-// tap (device::LiveSession::popSensorFrame, OscSampleMerger::popSensorSample below it).
+// tap (live::LiveSession::popSensorFrame, OscSampleMerger::popSensorSample below it).
 // Two ways to advance:
 //   • Advance::OnNext (the app): a pose that has enough still samples is frozen until Next, so
 //     moving on to the next pose before pressing Next cannot overwrite it;

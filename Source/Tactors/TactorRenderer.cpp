@@ -135,27 +135,27 @@ std::string channelMapText(const ChannelMap& map)
 
 TactorGains parseTactorGains(std::string_view json, const std::string& source)
 {
-    const device::JsonValue root = device::parseJson(json, source);   // InputError with the line of a syntax error
-    if (root.kind != device::JsonValue::Kind::Object) throw InputError(source, root.line, "", "a tactor gain file is a JSON object");
+    const armadillo::JsonValue root = armadillo::parseJson(json, source);   // InputError with the line of a syntax error
+    if (root.kind != armadillo::JsonValue::Kind::Object) throw InputError(source, root.line, "", "a tactor gain file is a JSON object");
     for (const auto& [key, value] : root.object)
         if (key != "armadillo" && key != "version" && key != "gain" && key != "comment")
             throw InputError(source, value.line, key, "unknown key (known: armadillo, version, gain, comment)");
-    const device::JsonValue* kind = root.find("armadillo");
-    if (!kind || kind->kind != device::JsonValue::Kind::String || kind->string != "tactor-gains")
+    const armadillo::JsonValue* kind = root.find("armadillo");
+    if (!kind || kind->kind != armadillo::JsonValue::Kind::String || kind->string != "tactor-gains")
         throw InputError(source, kind ? kind->line : root.line, "armadillo", "not a tactor gain file: \"armadillo\": \"tactor-gains\" is missing");
-    const device::JsonValue* version = root.find("version");
-    if (!version || version->kind != device::JsonValue::Kind::Number || version->number != 1.0)
+    const armadillo::JsonValue* version = root.find("version");
+    if (!version || version->kind != armadillo::JsonValue::Kind::Number || version->number != 1.0)
         throw InputError(source, version ? version->line : root.line, "version", "version 1 is the only one known");
-    const device::JsonValue* gain = root.find("gain");
-    if (!gain || gain->kind != device::JsonValue::Kind::Array)
+    const armadillo::JsonValue* gain = root.find("gain");
+    if (!gain || gain->kind != armadillo::JsonValue::Kind::Array)
         throw InputError(source, gain ? gain->line : root.line, "gain", "\"gain\" must be an array of 1..16 numbers in 0..1, channel 1 first");
     if (gain->array.empty() || gain->array.size() > static_cast<std::size_t>(kMaxChannels))
         throw InputError(source, gain->line, "gain", "\"gain\" holds " + std::to_string(gain->array.size()) + " numbers: 1..16 (one per channel)");
     TactorGains g;
     g.source = source;
-    for (const device::JsonValue& v : gain->array) {
+    for (const armadillo::JsonValue& v : gain->array) {
         const std::string channel = "gain[" + std::to_string(g.count + 1) + "]";
-        if (v.kind != device::JsonValue::Kind::Number) throw InputError(source, v.line, channel, "channel " + std::to_string(g.count + 1) + ": a number in 0..1");
+        if (v.kind != armadillo::JsonValue::Kind::Number) throw InputError(source, v.line, channel, "channel " + std::to_string(g.count + 1) + ": a number in 0..1");
         if (!(std::isfinite(v.number) && v.number >= 0.0 && v.number <= 1.0))
             throw InputError(source, v.line, channel,
                              "channel " + std::to_string(g.count + 1) + ": gain " + num(v.number) +

@@ -419,7 +419,7 @@ TEST_CASE("e2e: the arm as a remote: a mapping's MQTT destination over a recorde
     std::vector<std::pair<double, int>> heard;   // (time received, level)
     mqtt::MqttClient listener(sub);
     listener.setMessageHandler([&](const mqtt::ReceivedMessage& m) {
-        const device::JsonValue v = device::parseJson(m.payload, "payload");
+        const armadillo::JsonValue v = armadillo::parseJson(m.payload, "payload");
         std::lock_guard lock(mutex);
         heard.emplace_back(nowSeconds(), static_cast<int>(v.find("level")->number));
     });
@@ -450,9 +450,9 @@ TEST_CASE("e2e: the arm as a remote: a mapping's MQTT destination over a recorde
     CHECK(r.out.find("\"connection_losses\":1") != std::string::npos);
     // Nothing the mapping computed went missing inside ARMadillo: every value it handed over was
     // published or replaced by a newer one for its topic (the rate limit, the outage), none dropped.
-    const device::JsonValue summary = device::parseJson(r.out.substr(r.out.rfind('{', r.out.find("\"packets\""))), "summary");
-    const auto number = [](const device::JsonValue* v) { return v ? static_cast<long>(v->number) : -1L; };
-    const device::JsonValue* client = summary.find("mqtt");
+    const armadillo::JsonValue summary = armadillo::parseJson(r.out.substr(r.out.rfind('{', r.out.find("\"packets\""))), "summary");
+    const auto number = [](const armadillo::JsonValue* v) { return v ? static_cast<long>(v->number) : -1L; };
+    const armadillo::JsonValue* client = summary.find("mqtt");
     REQUIRE(client);
     const long mapped = number(summary.find("mapping_mqtt_messages")), published = number(client->find("published")),
                coalesced = number(client->find("coalesced"));

@@ -728,17 +728,17 @@ TEST_CASE("robustness: size: 200 000 pattern/stop pairs, 200 000 cues and a 200 
 
     std::string json = device::calibrationToJson(device::defaultCalibration());
     const device::Calibration plain = device::parseCalibration(json, "plain.json");
-    const std::size_t plainKeys = device::parseJson(json, "plain.json").object.size();
+    const std::size_t plainKeys = armadillo::parseJson(json, "plain.json").object.size();
     json.erase(json.rfind('}'));
     for (int i = 0; i < n; ++i) json += ",\n\"extra" + std::to_string(i) + "\": " + std::to_string(i);
     const device::Calibration c = device::parseCalibration(json + "\n}\n", "keys.json");
     CHECK(c.accel.scale == plain.accel.scale);
     CHECK(c.gyro.bias == plain.gyro.bias);
-    const device::JsonValue v = device::parseJson(json + "\n}\n", "keys.json");
+    const armadillo::JsonValue v = armadillo::parseJson(json + "\n}\n", "keys.json");
     CHECK(v.object.size() == static_cast<std::size_t>(n) + plainKeys);
     const long lines = static_cast<long>(std::count(json.begin(), json.end(), '\n')) + 1;
     try {
-        (void) device::parseJson(json + ",\n  \"extra7\": 1}", "keys.json");
+        (void) armadillo::parseJson(json + ",\n  \"extra7\": 1}", "keys.json");
         FAIL("a duplicate key was accepted");
     } catch (const InputError& e) {
         CHECK(std::string(e.what()) == "keys.json:" + std::to_string(lines + 1) + ": at column 3: duplicate key \"extra7\"");

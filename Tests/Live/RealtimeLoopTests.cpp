@@ -359,13 +359,13 @@ TEST_CASE("every scene under every source: control step, audio and scene swap ar
     }
 }
 
-namespace armadillo::device {
+namespace armadillo::live {
 /// The session's audio block (LiveSession::renderBlock: the recording or the stems heard by the
 /// scene, then played out under its sound), called here as the audio thread calls it.
 struct LiveSessionAudioProbe {
     static void render(LiveSession& s, float* left, float* right, int n) { s.renderBlock(left, right, n); }
 };
-} // namespace armadillo::device
+} // namespace armadillo::live
 
 TEST_CASE("play's audio block with stems and with a recording is real-time, past the recording's end and looping", "[realtime][stems]")
 {
@@ -384,7 +384,7 @@ TEST_CASE("play's audio block with stems and with a recording is real-time, past
     writeWav(c, tone);
     for (const bool stems : {true, false})
         for (const bool loop : {false, true}) {
-            device::LiveConfig config;
+            live::LiveConfig config;
             config.engine.scene = "audio-touch";
             config.engine.sceneConfig.sampleRate = 48000.0;
             if (stems) {
@@ -394,7 +394,7 @@ TEST_CASE("play's audio block with stems and with a recording is real-time, past
                 config.audioIn = a;
             }
             config.audioInLoop = loop;
-            device::LiveSession session(config);
+            live::LiveSession session(config);
             std::vector<float> left(1024), right(1024);
             Totals totals;
             float peak = 0.0f;
@@ -404,7 +404,7 @@ TEST_CASE("play's audio block with stems and with a recording is real-time, past
                 std::fill(right.begin(), right.end(), 0.0f);
                 {
                     RealtimeGuard guard;
-                    device::LiveSessionAudioProbe::render(session, left.data(), right.data(), n);
+                    live::LiveSessionAudioProbe::render(session, left.data(), right.data(), n);
                     totals.add(guard);
                 }
                 if (k < 10)

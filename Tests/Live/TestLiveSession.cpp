@@ -20,6 +20,7 @@
 
 using namespace armadillo;
 using namespace armadillo::device;
+using namespace armadillo::live;
 using Clock = std::chrono::steady_clock;
 
 namespace {
