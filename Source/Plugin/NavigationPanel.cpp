@@ -89,9 +89,9 @@ void NavigationPanel::toggle()
     } else if (route_ == juce::File()) {
         say("Choose a route first", true);
     } else {
-        const auto why = processor_.startNavigation(route_, source_.getSelectedId() == 1 ? NavigationRig::Source::Gpsd : NavigationRig::Source::Osc,
+        const auto why = processor_.startNavigation(route_, source_.getSelectedId() == 1 ? nav::NavigationRig::Source::Gpsd : nav::NavigationRig::Source::Osc,
                                                     where_.getText());
-        say(why.isNotEmpty() ? why : "Walking " + processor_.navigation().routeName() + ": the arm guides", true);
+        say(why.isNotEmpty() ? why : "Walking " + juce::String(processor_.navigation().routeName()) + ": the arm guides", true);
     }
     lastWaypoint_ = -1;
     lastArrivals_ = 0;
@@ -143,7 +143,7 @@ void NavigationPanel::timerCallback()
         bearing_.setText({}, juce::dontSendNotification);
         return;
     }
-    routeFile_.setText(rig.routeName() + " (" + rig.sourceStatus() + ")", juce::dontSendNotification);
+    routeFile_.setText(juce::String(rig.routeName()) + " (" + juce::String(rig.sourceStatus()) + ")", juce::dontSendNotification);
     const auto s = rig.status();
     const bool fix = s.fix == nav::FixState::Ok;
     const auto name = s.name[0] != '\0' ? juce::String::fromUTF8(s.name) : "Waypoint " + juce::String(s.waypoint);
@@ -153,7 +153,7 @@ void NavigationPanel::timerCallback()
                          ? juce::String(juce::roundToInt(s.bearingDeg)) + juce::String::fromUTF8("\xc2\xb0 ") + compassPoint(s.bearingDeg)
                          : juce::String(),
                      juce::dontSendNotification);
-    juce::String detail = rig.routeName() + ": waypoint " + juce::String(s.waypoint) + " of " + juce::String(s.waypointCount) + ", "
+    juce::String detail = juce::String(rig.routeName()) + ": waypoint " + juce::String(s.waypoint) + " of " + juce::String(s.waypointCount) + ", "
                           + juce::String(s.arrivals) + " reached. Fix: " + nav::fixStateName(s.fix) + ".";
     if (s.offRoute) detail << " Off route.";
     if (s.magDisturbed) detail << " Magnetic disturbance: heading from the gyroscope.";

@@ -92,7 +92,7 @@ void PerformanceView::refresh()
         nextLine_ = "Next: none (Stage > Load set list...)";
     }
     // The arm's source as the status line counts it: live while samples keep coming.
-    StatusSnapshot s;
+    live::StatusSnapshot s;
     s.now = juce::Time::getMillisecondCounterHiRes() * 1.0e-3;
     s.source = processor_.source();
     s.sourceSamples = processor_.sourceSamples(s.source);

@@ -9,7 +9,7 @@
 // panel is never open at the same time (the view closes it), so its chord keys cannot clash.
 // Message thread only.
 #include "Core/Types.h"
-#include "Plugin/StatusLine.h"
+#include "Live/StatusLine.h"
 #include <juce_audio_processors/juce_audio_processors.h>
 
 namespace armadillo::plugin {
@@ -56,7 +56,7 @@ private:
     juce::TextButton panic_ {"PANIC"}, resume_ {"Resume"}, previous_ {"< Previous"}, next_ {"Next >"}, close_ {"Close"};
     juce::Label cue_, nextCue_, arms_, state_;
     juce::String cueLine_, nextLine_, armLine_, stateLine_;
-    StatusLine sourceTracker_;     // the status line's counters: live or silent
+    live::StatusLine sourceTracker_;     // the status line's counters: live or silent
     MotorLevels levels_ {};
     int motorCount_ = 9;
 };

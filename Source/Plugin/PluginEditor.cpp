@@ -322,12 +322,12 @@ void ArmadilloEditor::timerCallback()
 
 void ArmadilloEditor::updateStatusLine()
 {
-    StatusSnapshot s;
+    live::StatusSnapshot s;
     s.now = juce::Time::getMillisecondCounterHiRes() * 1.0e-3;
     s.source = processor_.source();
     s.sourceSamples = processor_.sourceSamples(s.source);
     s.deviceConnected = processor_.deviceConnected();
-    s.deviceName = processor_.settings()[SettingIds::serialPort].toString();
+    s.deviceName = processor_.settings()[SettingIds::serialPort].toString().toStdString();
     s.oscPort = static_cast<bool>(processor_.settings()[SettingIds::oscInEnabled]) ? static_cast<int>(processor_.settings()[SettingIds::oscInPort]) : 0;
     s.leftArmPort = processor_.leftArmOn() ? processor_.leftArmPort() : 0;   // issue 28: the left arm's sender
     s.leftArmSamples = processor_.leftArmSamples();
@@ -340,7 +340,7 @@ void ArmadilloEditor::updateStatusLine()
     s.motorCount = frame.motorCount;
     for (int i = 0; i < frame.motorCount && i < static_cast<int>(frame.motors.size()); ++i)
         if (frame.motors[static_cast<std::size_t>(i)] > 0) ++s.motorsActive;
-    const auto line = statusTracker_.update(s);
+    const juce::String line(statusTracker_.update(s));
     if (line != statusLine_.getText()) statusLine_.setText(line, juce::dontSendNotification);
 }
 

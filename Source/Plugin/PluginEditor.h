@@ -10,7 +10,7 @@
 #include "Plugin/MotorDisplay.h"
 #include "Plugin/PerformanceView.h"
 #include "Plugin/SceneControls.h"
-#include "Plugin/StatusLine.h"
+#include "Live/StatusLine.h"
 #include "Plugin/TrainingPanel.h"
 #include "Plugin/WelcomePanel.h"
 #include <juce_audio_processors/juce_audio_processors.h>
@@ -82,7 +82,7 @@ private:
     TrainingPanel training_;   // below the arm view while the braille scene trains
     WelcomePanel welcome_;
     PerformanceView performance_;
-    StatusLine statusTracker_;
+    live::StatusLine statusTracker_;
     juce::Rectangle<int> lastRing_;
 };
 

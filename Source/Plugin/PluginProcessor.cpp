@@ -543,9 +543,9 @@ void ArmadilloProcessor::endTouchTest(bool keep)
     touchTest_.cancel();
 }
 
-juce::String ArmadilloProcessor::startNavigation(const juce::File& route, NavigationRig::Source source, const juce::String& where)
+juce::String ArmadilloProcessor::startNavigation(const juce::File& route, nav::NavigationRig::Source source, const juce::String& where)
 {
-    const auto why = navigation_.start(route, source, where);
+    const juce::String why(navigation_.start(route.getFullPathName().toStdString(), source, where.toStdString()));
     engines_.update(currentRequest());   // the navigation scene is offered now (or the chosen scene again)
     return why;
 }

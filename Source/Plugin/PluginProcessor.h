@@ -24,7 +24,7 @@
 #include "Plugin/PluginState.h"
 #include "Live/Stage.h"
 #include "Plugin/TactorRig.h"
-#include "Plugin/NavigationRig.h"
+#include "Navigation/NavigationRig.h"
 #include "Plugin/MessagesRig.h"
 #include "Live/StageSession.h"
 #include "Access/ReaderVoice.h"
@@ -247,9 +247,9 @@ public:
 
     /// Navigation (NavigationRig.h, issue 34; message thread): a walk along a route, positions
     /// from gpsd or OSC, the navigation scene in place of the chosen one until it stops.
-    juce::String startNavigation(const juce::File& route, NavigationRig::Source source, const juce::String& where);
+    juce::String startNavigation(const juce::File& route, nav::NavigationRig::Source source, const juce::String& where);
     void stopNavigation();
-    const NavigationRig& navigation() const noexcept { return navigation_; }
+    const nav::NavigationRig& navigation() const noexcept { return navigation_; }
 
     /// Messages on the arm over MQTT (MessagesRig.h, issue 35; message thread): on/off (the
     /// mqttEnabled setting follows; "" or why not), the service while on, and what it did.
@@ -316,7 +316,7 @@ private:
     MidiPort midiPort_;                          // the standalone app's ALSA sequencer port (before the rig: its clock drains it)
     live::BlockRig connections_;                 // the rig's sources and outputs, its idle clock (Live/BlockRig.h)
     TactorRig tactorRig_ {control_, token_};
-    NavigationRig navigation_;                   // its route and link ride in the engine request     // after connections_: goes first (its output's pointer out of the step)
+    nav::NavigationRig navigation_;                   // its route and link ride in the engine request     // after connections_: goes first (its output's pointer out of the step)
     std::mutex mappingMutex_;                    // message thread vs a host's state calls; never audio
     live::MappingSession mapping_;
     std::unique_ptr<access::ReaderVoice> voice_ = std::make_unique<access::ReaderVoice>();

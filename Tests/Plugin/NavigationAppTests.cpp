@@ -87,20 +87,20 @@ TEST_CASE("app: the Navigation window walks a route from OSC positions; name, di
     // A bad route and a bad port: said, nothing started.
     const auto bad = dir.getChildFile("bad.json");
     REQUIRE(bad.replaceWithText("[{\"lat\": 95, \"lon\": 0}, {\"lat\": 1, \"lon\": 1}]"));
-    auto why = processor.startNavigation(bad, NavigationRig::Source::Osc, "9004");
+    auto why = processor.startNavigation(bad, nav::NavigationRig::Source::Osc, "9004");
     CHECK(why.contains("bad.json"));
     CHECK_FALSE(processor.navigation().running());
-    why = processor.startNavigation(routeFile, NavigationRig::Source::Osc, "0");
+    why = processor.startNavigation(routeFile, nav::NavigationRig::Source::Osc, "0");
     CHECK(why.isNotEmpty());
     CHECK_FALSE(processor.navigation().running());
     // gpsd that is not there: refused, naming where it looked.
     const int nobody = freeUdpPort();
-    why = processor.startNavigation(routeFile, NavigationRig::Source::Gpsd, "127.0.0.1:" + juce::String(nobody));
+    why = processor.startNavigation(routeFile, nav::NavigationRig::Source::Gpsd, "127.0.0.1:" + juce::String(nobody));
     CHECK(why.contains(juce::String(nobody)));
     CHECK_FALSE(processor.navigation().running());
 
     const int port = freeUdpPort();
-    why = processor.startNavigation(routeFile, NavigationRig::Source::Osc, juce::String(port));
+    why = processor.startNavigation(routeFile, nav::NavigationRig::Source::Osc, juce::String(port));
     INFO(why);
     REQUIRE(why.isEmpty());
     REQUIRE(processor.navigation().running());

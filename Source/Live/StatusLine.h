@@ -4,23 +4,22 @@
 // motors are driven. It only reports what the counters show: a source whose counter stopped is
 // "silent" after kSilentAfter seconds (well within a second of the last packet), never "alive".
 //
-// Plain logic over counters sampled by the editor's timer (message thread), so a test can drive
-// it with made-up times and counts; it needs juce_core only.
+// Plain logic over counters sampled by a front end's timer (the app editor's, on the message
+// thread), so a test can drive it with made-up times and counts. JUCE-free: the rig's status in
+// words; the app only shows the line.
 #include "Live/ControlLoop.h"
-#include <juce_core/juce_core.h>
 #include <cstdint>
 #include <deque>
+#include <string>
 
-namespace armadillo::plugin {
-
-using SourceKind = live::SourceKind;
+namespace armadillo::live {
 
 struct StatusSnapshot {
     double now = 0.0;                  ///< s, any monotonic clock
     SourceKind source = SourceKind::Simulator;
     std::uint64_t sourceSamples = 0;   ///< counter of the chosen source (ArmadilloProcessor::sourceSamples)
     bool deviceConnected = false;      ///< a device link is open
-    juce::String deviceName;           ///< the port (for the device source)
+    std::string deviceName;            ///< the port (for the device source)
     int oscPort = 0;                   ///< the OSC input's port (0: OSC in is off)
     std::uint64_t audioBlocks = 0;     ///< processBlock calls so far
     float outputPeak = 0.0f;           ///< largest output magnitude since the previous snapshot
@@ -41,7 +40,7 @@ public:
     static constexpr double kRateWindow = 1.0;
 
     /// Takes a snapshot and returns the line to show.
-    juce::String update(const StatusSnapshot& s);
+    std::string update(const StatusSnapshot& s);
 
     /// After update(): samples per second of the source over the last second (0 when silent).
     double sourceRate() const noexcept { return rate_; }
@@ -70,4 +69,4 @@ private:
     bool leftSilent_ = true;
 };
 
-} // namespace armadillo::plugin
+} // namespace armadillo::live

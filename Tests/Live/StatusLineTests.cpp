@@ -1,11 +1,11 @@
-// The app's status line (Plugin/StatusLine.h) reports only what the counters show: a source that
+// The app's status line (Live/StatusLine.h) reports only what the counters show: a source that
 // stops sending is "silent" within a second, a steady one its rate; audio and motors likewise.
-#include "Plugin/StatusLine.h"
+#include "Live/StatusLine.h"
 #include <catch2/catch.hpp>
 
 using armadillo::live::SourceKind;
-using armadillo::plugin::StatusLine;
-using armadillo::plugin::StatusSnapshot;
+using armadillo::live::StatusLine;
+using armadillo::live::StatusSnapshot;
 
 namespace {
 StatusSnapshot at(double t, SourceKind source, std::uint64_t samples, std::uint64_t blocks = 0)
@@ -19,7 +19,7 @@ StatusSnapshot at(double t, SourceKind source, std::uint64_t samples, std::uint6
 }
 } // namespace
 
-TEST_CASE("status line: a connected device that sends nothing is silent within a second, never alive", "[plugin][status]")
+TEST_CASE("status line: a connected device that sends nothing is silent within a second, never alive", "[status]")
 {
     StatusLine line;
     double silentAt = -1.0;
@@ -28,20 +28,20 @@ TEST_CASE("status line: a connected device that sends nothing is silent within a
         s.deviceConnected = true;
         s.deviceName = "/dev/ttyUSB0";
         const auto text = line.update(s);
-        CHECK_FALSE(text.contains("packets/s"));
+        CHECK_THAT(text, !Catch::Contains("packets/s"));
         CHECK(line.sourceRate() == 0.0);
         if (line.sourceSilent() && silentAt < 0.0) silentAt = i * 0.1;
-        if (i * 0.1 >= 1.0) CHECK(text.contains("silent"));
+        if (i * 0.1 >= 1.0) CHECK_THAT(text, Catch::Contains("silent"));
     }
     CHECK(silentAt >= 0.0);
     CHECK(silentAt <= 1.0);
 }
 
-TEST_CASE("status line: a steady source shows its rate; when it stops it turns silent within a second", "[plugin][status]")
+TEST_CASE("status line: a steady source shows its rate; when it stops it turns silent within a second", "[status]")
 {
     StatusLine line;
     std::uint64_t packets = 0;
-    juce::String text;
+    std::string text;
     for (int i = 0; i <= 20; ++i) {   // 200 packets/s for 2 s
         auto s = at(i * 0.1, SourceKind::Device, packets);
         s.deviceConnected = true;
@@ -51,7 +51,7 @@ TEST_CASE("status line: a steady source shows its rate; when it stops it turns s
     }
     CHECK_FALSE(line.sourceSilent());
     CHECK(line.sourceRate() == Approx(200.0).margin(1.0));
-    CHECK(text.contains("200 packets/s"));
+    CHECK_THAT(text, Catch::Contains("200 packets/s"));
     // It stops: the last count stays.
     const auto last = packets - 20;
     double silentAfter = -1.0;
@@ -64,34 +64,34 @@ TEST_CASE("status line: a steady source shows its rate; when it stops it turns s
     }
     CHECK(silentAfter > 0.0);
     CHECK(silentAfter <= 1.0);
-    CHECK(text.contains("silent"));
+    CHECK_THAT(text, Catch::Contains("silent"));
 }
 
-TEST_CASE("status line: each source, the audio and the motors are named as they are", "[plugin][status]")
+TEST_CASE("status line: each source, the audio and the motors are named as they are", "[status]")
 {
     StatusLine line;
     // Simulator at 200 steps/s with audio flowing at 48 kHz / 512 (94 blocks/s).
-    juce::String text;
+    std::string text;
     for (int i = 0; i <= 10; ++i) {
         auto s = at(i * 0.1, SourceKind::Simulator, static_cast<std::uint64_t>(i * 20), static_cast<std::uint64_t>(i * 9));
         s.outputPeak = 0.25f;
         text = line.update(s);
     }
-    CHECK(text.contains("simulated arm (200 steps/s)"));
-    CHECK(text.contains("Audio: running, output -12 dBFS peak"));
-    CHECK(text.contains("Motors: off (no device connected"));
+    CHECK_THAT(text, Catch::Contains("simulated arm (200 steps/s)"));
+    CHECK_THAT(text, Catch::Contains("Audio: running, output -12 dBFS peak"));
+    CHECK_THAT(text, Catch::Contains("Motors: off (no device connected"));
     CHECK(line.audioFlowing());
 
     // The audio stops (no sound card): within half a second it says so.
     for (int i = 11; i <= 16; ++i) text = line.update(at(i * 0.1, SourceKind::Simulator, static_cast<std::uint64_t>(i * 20), 90));
     CHECK_FALSE(line.audioFlowing());
-    CHECK(text.contains("Audio: not running"));
+    CHECK_THAT(text, Catch::Contains("Audio: not running"));
 
     // OSC chosen while OSC in is off; the device chosen while none is connected.
     text = line.update(at(2.0, SourceKind::Osc, 0));
-    CHECK(text.contains("OSC in is off"));
+    CHECK_THAT(text, Catch::Contains("OSC in is off"));
     text = line.update(at(2.1, SourceKind::Device, 0));
-    CHECK(text.contains("device, not connected"));
+    CHECK_THAT(text, Catch::Contains("device, not connected"));
 
     // A listening scene with the standalone's input muted says so; motors driven are counted.
     auto s = at(2.2, SourceKind::Device, 0);
@@ -100,8 +100,8 @@ TEST_CASE("status line: each source, the audio and the motors are named as they 
     s.inputMuted = 1;
     s.motorsActive = 3;
     text = line.update(s);
-    CHECK(text.contains("Input: MUTED"));
-    CHECK(text.contains("Motors: on (3 of 9 driven)"));
+    CHECK_THAT(text, Catch::Contains("Input: MUTED"));
+    CHECK_THAT(text, Catch::Contains("Motors: on (3 of 9 driven)"));
 }
 
 TEST_CASE("status line: the left arm's sender is live while its counter moves, silent when it stops, absent when off", "[plugin][status][two-arms]")
@@ -109,20 +109,20 @@ TEST_CASE("status line: the left arm's sender is live while its counter moves, s
     StatusLine line;
     // Off: no left-arm part at all (the line as before issue 28's left arm).
     auto off = at(10.0, SourceKind::HostAutomation, 0);
-    CHECK_FALSE(line.update(off).contains("Left arm"));
+    CHECK_THAT(line.update(off), !Catch::Contains("Left arm"));
     CHECK(line.leftArmSilent());
     // On, nothing received yet: silent at once (never "live" without a sample).
     auto s = at(10.1, SourceKind::HostAutomation, 0);
     s.leftArmPort = 9003;
     auto text = line.update(s);
-    CHECK(text.contains("Left arm: OSC port 9003 (silent, nothing received)"));
+    CHECK_THAT(text, Catch::Contains("Left arm: OSC port 9003 (silent, nothing received)"));
     // 100 messages/s for a second: live.
     for (int i = 1; i <= 10; ++i) {
         s.now = 10.1 + i * 0.1;
         s.leftArmSamples = static_cast<std::uint64_t>(i * 10);
         text = line.update(s);
     }
-    CHECK(text.contains("Left arm: OSC port 9003 (live)"));
+    CHECK_THAT(text, Catch::Contains("Left arm: OSC port 9003 (live)"));
     CHECK_FALSE(line.leftArmSilent());
     // The sender stops: silent within kSilentAfter (+ one 10 Hz tick).
     double silentAfter = -1.0;
@@ -133,5 +133,5 @@ TEST_CASE("status line: the left arm's sender is live while its counter moves, s
     }
     CHECK(silentAfter > 0.0);
     CHECK(silentAfter <= StatusLine::kSilentAfter + 0.1 + 1e-9);
-    CHECK(text.contains("Left arm: OSC port 9003 (silent"));
+    CHECK_THAT(text, Catch::Contains("Left arm: OSC port 9003 (silent"));
 }

@@ -1,19 +1,22 @@
-#include "Plugin/StatusLine.h"
+#include "Live/StatusLine.h"
 #include <algorithm>
 #include <cmath>
 
-namespace armadillo::plugin {
+namespace armadillo::live {
 
 namespace {
-juce::String decibels(float peak)
+/// Rounded to the nearest whole number, ties to even (as the app's JUCE did).
+std::string whole(double v) { return std::to_string(std::lrint(v)); }
+
+std::string decibels(float peak)
 {
     if (peak <= 1.0e-5f) return "silent";
-    return juce::String(juce::roundToInt(20.0 * std::log10(static_cast<double>(peak)))) + " dBFS peak";
+    return whole(20.0 * std::log10(static_cast<double>(peak))) + " dBFS peak";
 }
 
 } // namespace
 
-juce::String StatusLine::update(const StatusSnapshot& s)
+std::string StatusLine::update(const StatusSnapshot& s)
 {
     if (first_ || s.source != source_) {
         first_ = false;
@@ -51,42 +54,41 @@ juce::String StatusLine::update(const StatusSnapshot& s)
     heldOutPeak_ = std::max(heldOutPeak_, s.outputPeak);
     heldInPeak_ = std::max(heldInPeak_, s.inputPeak);
 
-    juce::String line = "Source: ";
-    const auto samples = silent_ ? juce::String("silent, nothing received")
-                                 : juce::String(juce::roundToInt(rate_)) + " samples/s";
+    std::string line = "Source: ";
+    const std::string samples = silent_ ? std::string("silent, nothing received") : whole(rate_) + " samples/s";
     switch (s.source) {
     case SourceKind::Simulator:
-        line << "simulated arm (" << (silent_ ? samples : juce::String(juce::roundToInt(rate_)) + " steps/s") << ")";
+        line += "simulated arm (" + (silent_ ? samples : whole(rate_) + " steps/s") + ")";
         break;
     case SourceKind::Device:
-        if (! s.deviceConnected) line << "device, not connected (choose a port, press Connect)";
-        else line << "device " << s.deviceName << " (" << (silent_ ? samples : juce::String(juce::roundToInt(rate_)) + " packets/s") << ")";
+        if (! s.deviceConnected) line += "device, not connected (choose a port, press Connect)";
+        else line += "device " + s.deviceName + " (" + (silent_ ? samples : whole(rate_) + " packets/s") + ")";
         break;
     case SourceKind::Osc:
-        if (s.oscPort <= 0) line << "OSC, but OSC in is off (turn it on in the device panel)";
-        else line << "OSC port " << s.oscPort << " (" << (silent_ ? samples : juce::String(juce::roundToInt(rate_)) + " messages/s") << ")";
+        if (s.oscPort <= 0) line += "OSC, but OSC in is off (turn it on in the device panel)";
+        else line += "OSC port " + std::to_string(s.oscPort) + " (" + (silent_ ? samples : whole(rate_) + " messages/s") + ")";
         break;
     case SourceKind::HostAutomation:
-        line << "host automation (the elevation, azimuth and roll parameters)";
+        line += "host automation (the elevation, azimuth and roll parameters)";
         silent_ = false;
         break;
     }
     updateLeftArm(s);
     if (s.leftArmPort > 0)
-        line << "  |  Left arm: OSC port " << s.leftArmPort << " (" << (leftSilent_ ? "silent, nothing received" : "live") << ")";
-    line << "  |  Audio: ";
-    if (! audioFlowing_) line << "not running (no sound card or output device: the arm and motors still run)";
-    else line << "running, output " << decibels(heldOutPeak_);
+        line += "  |  Left arm: OSC port " + std::to_string(s.leftArmPort) + " (" + (leftSilent_ ? "silent, nothing received" : "live") + ")";
+    line += "  |  Audio: ";
+    if (! audioFlowing_) line += "not running (no sound card or output device: the arm and motors still run)";
+    else line += "running, output " + decibels(heldOutPeak_);
     if (s.listens) {
-        line << "  |  Input: ";
-        if (s.inputMuted == 1) line << "MUTED (this scene listens: unmute it in Help or Options)";
-        else if (! audioFlowing_) line << "no audio";
-        else line << decibels(heldInPeak_);
+        line += "  |  Input: ";
+        if (s.inputMuted == 1) line += "MUTED (this scene listens: unmute it in Help or Options)";
+        else if (! audioFlowing_) line += "no audio";
+        else line += decibels(heldInPeak_);
     }
-    line << "  |  Motors: ";
-    if (! s.deviceConnected) line << "off (no device connected; the levels are only shown)";
-    else if (s.motorsActive > 0) line << "on (" << s.motorsActive << " of " << s.motorCount << " driven)";
-    else line << "off";
+    line += "  |  Motors: ";
+    if (! s.deviceConnected) line += "off (no device connected; the levels are only shown)";
+    else if (s.motorsActive > 0) line += "on (" + std::to_string(s.motorsActive) + " of " + std::to_string(s.motorCount) + " driven)";
+    else line += "off";
     return line;
 }
 
@@ -99,4 +101,4 @@ void StatusLine::updateLeftArm(const StatusSnapshot& s)
     leftSilent_ = leftPort_ <= 0 || leftLastChange_ < 0.0 || s.now - leftLastChange_ >= kSilentAfter;
 }
 
-} // namespace armadillo::plugin
+} // namespace armadillo::live
