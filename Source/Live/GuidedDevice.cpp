@@ -1,4 +1,5 @@
 #include "Live/GuidedDevice.h"
+#include "Core/Clock.h"
 #include "Core/Errors.h"
 #include "Link/DeviceLink.h"
 #include "Link/Simulator.h"
@@ -6,13 +7,6 @@
 #include <thread>
 
 namespace armadillo::live {
-
-namespace {
-double steadySeconds()
-{
-    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-} // namespace
 
 GuidedDevice::GuidedDevice(const std::string& port, int baud, bool simulate, bool unpaced, TactilePlayer& player, SensorHook onSensor,
                            std::shared_ptr<const device::MotionSource> motion)
@@ -46,7 +40,7 @@ GuidedDevice::~GuidedDevice()
 
 void GuidedDevice::checkAlive()
 {
-    const double now = steadySeconds();
+    const double now = monotonicSeconds();
     if (interrupted_ && interrupted_()) throw IoError("interrupted");
     if (lastPacketAt_ < 0.0 || player_.packets() != lastPackets_) {
         lastPackets_ = player_.packets();
