@@ -42,6 +42,8 @@ void BlockControl::prepare(double sampleRate)
 {
     sampleRate_.store(sampleRate > 0.0 ? sampleRate : 48000.0);
     samplesToTick_ = 0;
+    skippedSamples_.store(0, std::memory_order_relaxed);
+    offlineRender_.store(false, std::memory_order_relaxed);
     samplesSinceStep_ = std::max(1, static_cast<int>(std::lround(sampleRate_.load() / kControlRateHz)));
     notesOffPending_.store(true, std::memory_order_relaxed);   // a restart: nothing may hang
     cues_ = nullptr;   // the stage may have replaced its player (prepareToPlay): taken again at the next block
@@ -259,12 +261,23 @@ void BlockControl::processBlock(const AudioBlock& buffer, BlockMidi& midi, const
     bypassed_ = false;
     const double wall = monotonicSeconds();
     lastAudioMs_.store(wall * 1e3, std::memory_order_relaxed);
+    offlineRender_.store(offline, std::memory_order_relaxed);
     if (buffer.numChannels < 2 || n <= 0 || ! token_.tryTake()) {   // the idle clock is finishing an update: one silent block
         clearBlock(buffer);
+        if (n > 0) skippedSamples_.fetch_add(n, std::memory_order_relaxed);   // the grid still counts them
         return;
     }
 
     const double sr = sampleRate_.load(std::memory_order_relaxed);
+    const int samplesPerTick = std::max(1, static_cast<int>(std::lround(sr / kControlRateHz)));
+    // Blocks skipped since the last one (the idle clock held the token) still passed on the host's
+    // timeline: the 200 Hz grid moves on by their samples, so mapped MIDI stays on the samples of
+    // the grid counted from prepare(). Their time is not added to the next step's dt: the idle
+    // clock's steps covered it.
+    if (const long long skipped = skippedSamples_.exchange(0, std::memory_order_relaxed); skipped > 0) {
+        const long long phase = (samplesToTick_ - skipped) % samplesPerTick;
+        samplesToTick_ = static_cast<int>(phase < 0 ? phase + samplesPerTick : phase);
+    }
     // The Tactors bus: a renderer offered since the last block first; the bus's channels, when
     // the host's buffer holds them all.
     tactors_.takeOffered([](tactors::TactorRenderer*) {});
@@ -275,7 +288,6 @@ void BlockControl::processBlock(const AudioBlock& buffer, BlockMidi& midi, const
         if (channel < 2 || channel >= buffer.numChannels) busCount = 0;   // not all in the buffer: none
     }
     const int busRendered = tactorBus != nullptr ? std::min(tactorBus->channels(), busCount) : 0;
-    const int samplesPerTick = std::max(1, static_cast<int>(std::lround(sr / kControlRateHz)));
     // The mapping's timeline at this block's first sample: the previous step's time plus the
     // samples rendered since.
     const double blockStart = clock_ + samplesSinceStep_ / sr;
@@ -406,6 +418,9 @@ void BlockControl::bypassBlock(const AudioBlock& buffer, BlockMidi& midi) noexce
 void BlockControl::idleTick(double dt) noexcept
 {
     const double now = monotonicSeconds();
+    // A host rendering offline may take any time between blocks (a heavy bounce): its render is
+    // not interrupted, whatever the gap, until a real-time block or prepare() comes.
+    if (offlineRender_.load(std::memory_order_relaxed)) return;
     if (now * 1e3 - lastAudioMs_.load(std::memory_order_relaxed) <= kIdleAfterMs || ! token_.tryTake()) return;
     // A late timer (loaded machine) catches up with several updates so the control rate stays
     // at 200 Hz on average, as it does under an audio callback.

@@ -169,7 +169,10 @@ public:
     /// of the mapping's sounding notes in the first bypassed block. No control step runs.
     void bypassBlock(const AudioBlock& buffer, BlockMidi& midi) noexcept;
     /// Idle control clock (no audio for a while): `dt` s since its previous call. Runs the
-    /// control step itself when no audio callback came for kIdleAfterMs and the token is free.
+    /// control step itself when no audio callback came for kIdleAfterMs and the token is free —
+    /// never after an offline block until a real-time block or prepare() (a slow bounce is not
+    /// interrupted). A block that comes while an idle step holds the token is silent and takes no
+    /// step; the 200 Hz grid still counts its samples (mapped MIDI stays on the host's grid).
     void idleTick(double dt) noexcept;
     static constexpr double kIdleAfterMs = 100.0;
 
@@ -250,6 +253,7 @@ private:
     std::atomic<double> sampleRate_ {48000.0};
     std::atomic<double> lastAudioMs_ {-1.0e9};
     std::atomic<bool> idleDrivesMotors_ {false};
+    std::atomic<bool> offlineRender_ {false};   ///< the last block was the host's offline render
     std::atomic<access::TactilePlayer*> stimulus_ {nullptr};
     Handover<tactors::TactorRenderer> tactors_;
     std::atomic<TactorOutput*> tactorOut_ {nullptr};
@@ -260,6 +264,7 @@ private:
     double clock_ = 0.0;              ///< s since start, advanced by dt per step
     int samplesToTick_ = 0;           ///< samples to the next step on the 200 Hz grid (or sooner: a live sample's arrival)
     int samplesSinceStep_ = 0;        ///< samples since the previous step: its dt
+    std::atomic<long long> skippedSamples_ {0};   ///< audio thread: samples of blocks skipped (token taken) since the last block
     double lastStamp_ = -1.0;         ///< monotonic s of the previous step's levels (< 0: none)
     bool motorsOff_ = true;           ///< the schedule was told allOff and nothing pushed since
     int blockSamples_ = 0;              ///< the current block's length

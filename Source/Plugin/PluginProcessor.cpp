@@ -737,12 +737,19 @@ void ArmadilloProcessor::setStateInformation(const void* data, int sizeInBytes)
     juce::ValueTree mapping;
     auto message = PluginState::restore(*this, apvts_, settings_, data, sizeInBytes, &mapping);
     // The session plays as it was saved: a fresh engine (the scene's own state — a reference
-    // heading, a glide, a follower's place — and the arm's history) from the next timer tick on,
-    // not what this instance played before its state came.
+    // heading, a glide, a follower's place — and the arm's history), not what this instance
+    // played before its state came.
     statesLoaded_.fetch_add(1, std::memory_order_relaxed);
     if (const auto why = applySavedSetList(); why.isNotEmpty()) message = (message + " " + why).trim();
-    std::lock_guard<std::mutex> lock(mappingMutex_);
-    if (const auto why = mapping_.fromSaved(PluginState::savedMapping(mapping)); ! why.empty()) message = (message + " " + juce::String(why)).trim();
+    {
+        std::lock_guard<std::mutex> lock(mappingMutex_);
+        if (const auto why = mapping_.fromSaved(PluginState::savedMapping(mapping)); ! why.empty()) message = (message + " " + juce::String(why)).trim();
+    }
+    // Built here (the host's thread, which may allocate) and offered now, so the first block
+    // after the state plays it: a host that bounces right after opening the session renders
+    // faster than the timer ticks. Only when a hand-over is still in flight does it wait for
+    // the timer's next update.
+    engines_.update(currentRequest());
     setStatus(message);
 }
 

@@ -284,6 +284,13 @@ void checkSessionReopensExactly(Hosted (*load)())
     const double hzAfter = frequency(after, static_cast<std::size_t>(0.5 * kRate));
     INFO("saved instance " << hzBefore << " Hz, reopened " << hzAfter << " Hz");
     CHECK(hzAfter == Approx(hzBefore).margin(0.05));
+    // From the first blocks on, whenever the host plays them (back to back here, as an offline
+    // bounce right after opening the session does): the session's engine plays from the first
+    // block after the state came, not from a later tick of a wall-clock timer.
+    const std::vector<float> opening(after.begin(), after.begin() + static_cast<std::ptrdiff_t>(0.15 * kRate));
+    const double hzOpening = frequency(opening, static_cast<std::size_t>(0.05 * kRate));
+    INFO("reopened, 0.05..0.15 s: " << hzOpening << " Hz");
+    CHECK(hzOpening == Approx(hzBefore).margin(0.5));
     CHECK(rms(after, static_cast<std::size_t>(0.5 * kRate)) == Approx(rms(before, static_cast<std::size_t>(0.5 * kRate))).epsilon(0.02));
 }
 
