@@ -822,11 +822,17 @@ TEST_CASE("keyboard only, no screen, no sound: arm feedback waits before the nex
 
     // Every prompt and feedback reached the speech and the braille display.
     app.processor->voice().waitIdle();
+    // The braille display is written on its own connection, after the speech: wait (event-driven)
+    // until the last line reached the display's server.
+    auto shownNow = [&] {
+        juce::StringArray shown;
+        for (const auto& w : server.writes()) shown.add(juce::String(w));
+        return shown.joinIntoString("\n");
+    };
+    pumpUntil([&] { return shownNow().contains("Training complete"); }, 5000.0);
     juce::StringArray said;
     said.addLines(speech.loadFileAsString());
-    juce::StringArray shown;
-    for (const auto& w : server.writes()) shown.add(juce::String(w));
-    const auto saidText = said.joinIntoString("\n"), shownText = shown.joinIntoString("\n");
+    const auto saidText = said.joinIntoString("\n"), shownText = shownNow();
     for (const juce::String& line : {firstPrompt, juce::String("wrong, it was '" + expected0 + "'"), juce::String("Trial 2 of"),
                                      juce::String("correct"), juce::String("Trials 19"), juce::String("Trials 3"), juce::String("Stages not changed"),
                                      juce::String("Stages letters"), juce::String("Method dots"), juce::String("Trial 1 of 3: "),
