@@ -745,12 +745,12 @@ void ArmadilloProcessor::setStateInformation(const void* data, int sizeInBytes)
         std::lock_guard<std::mutex> lock(mappingMutex_);
         if (const auto why = mapping_.fromSaved(PluginState::savedMapping(mapping)); ! why.empty()) message = (message + " " + juce::String(why)).trim();
     }
+    setStatus(message);
     // Built here (the host's thread, which may allocate) and offered now, so the first block
     // after the state plays it: a host that bounces right after opening the session renders
     // faster than the timer ticks. Only when a hand-over is still in flight does it wait for
-    // the timer's next update.
+    // the timer's next update. After the state's message: a scene that cannot start says so.
     engines_.update(currentRequest());
-    setStatus(message);
 }
 
 // ------------------------------------------------------------------------------------------------

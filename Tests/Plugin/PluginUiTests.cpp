@@ -386,6 +386,23 @@ TEST_CASE("editor: a score error banner goes once the score is fixed", "[plugin]
         if (auto* l = dynamic_cast<juce::Label*>(c); l != nullptr && l->isVisible()) CHECK_FALSE(l->getText().contains("cannot start"));
 }
 
+TEST_CASE("a loaded state whose scene cannot start shows the banner", "[plugin][ui][banner]")
+{
+    juce::MemoryBlock saved;
+    {
+        App app;
+        app.processor->settings().setProperty(SettingIds::score, "/nonexistent/folder/missing.score", nullptr);
+        app.setParam(ParamIds::scene, static_cast<float>(app.sceneIndexOf("score")));
+        REQUIRE(pumpUntil([&] { return app.processor->statusMessage().contains("cannot start"); }));
+        app.processor->getStateInformation(saved);
+    }
+    // A session reopened: the state's scene is built as the state comes, and its failure is what
+    // the banner says (not the state's own, empty, message written after it).
+    App app;
+    app.processor->setStateInformation(saved.getData(), static_cast<int>(saved.getSize()));
+    CHECK(pumpUntil([&] { return app.processor->statusMessage().contains("cannot start"); }, 2000.0));
+}
+
 TEST_CASE("editor: no panels overlap from the minimum size up, at 100 % and 200 % scale", "[plugin][ui][layout]")
 {
     App app;
