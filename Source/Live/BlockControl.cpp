@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <utility>
 
 namespace armadillo::live {
 
@@ -42,7 +43,7 @@ void BlockControl::prepare(double sampleRate)
 {
     sampleRate_.store(sampleRate > 0.0 ? sampleRate : 48000.0);
     samplesToTick_ = 0;
-    skippedSamples_.store(0, std::memory_order_relaxed);
+    skippedSamples_ = 0;
     offlineRender_.store(false, std::memory_order_relaxed);
     samplesSinceStep_ = std::max(1, static_cast<int>(std::lround(sampleRate_.load() / kControlRateHz)));
     notesOffPending_.store(true, std::memory_order_relaxed);   // a restart: nothing may hang
@@ -264,7 +265,7 @@ void BlockControl::processBlock(const AudioBlock& buffer, BlockMidi& midi, const
     offlineRender_.store(offline, std::memory_order_relaxed);
     if (buffer.numChannels < 2 || n <= 0 || ! token_.tryTake()) {   // the idle clock is finishing an update: one silent block
         clearBlock(buffer);
-        if (n > 0) skippedSamples_.fetch_add(n, std::memory_order_relaxed);   // the grid still counts them
+        if (n > 0) skippedSamples_ += n;   // the grid still counts them
         return;
     }
 
@@ -274,7 +275,7 @@ void BlockControl::processBlock(const AudioBlock& buffer, BlockMidi& midi, const
     // timeline: the 200 Hz grid moves on by their samples, so mapped MIDI stays on the samples of
     // the grid counted from prepare(). Their time is not added to the next step's dt: the idle
     // clock's steps covered it.
-    if (const long long skipped = skippedSamples_.exchange(0, std::memory_order_relaxed); skipped > 0) {
+    if (const long long skipped = std::exchange(skippedSamples_, 0); skipped > 0) {
         const long long phase = (samplesToTick_ - skipped) % samplesPerTick;
         samplesToTick_ = static_cast<int>(phase < 0 ? phase + samplesPerTick : phase);
     }

@@ -264,7 +264,7 @@ private:
     double clock_ = 0.0;              ///< s since start, advanced by dt per step
     int samplesToTick_ = 0;           ///< samples to the next step on the 200 Hz grid (or sooner: a live sample's arrival)
     int samplesSinceStep_ = 0;        ///< samples since the previous step: its dt
-    std::atomic<long long> skippedSamples_ {0};   ///< audio thread: samples of blocks skipped (token taken) since the last block
+    long long skippedSamples_ = 0;    ///< audio thread (with or without the token): samples of blocks skipped since the last block
     double lastStamp_ = -1.0;         ///< monotonic s of the previous step's levels (< 0: none)
     bool motorsOff_ = true;           ///< the schedule was told allOff and nothing pushed since
     int blockSamples_ = 0;              ///< the current block's length
