@@ -144,8 +144,9 @@ MotorLevels Engine::run(const ArmState& arm, const ArmState* leftArm, const Tran
     if (leftArm) in.leftArm = *leftArm;
     SceneOutput out {*tactile_, *events_, leftTactile_.get()};
     try {
-        if (controlPanicked_) {   // back from a panic: the scene starts afresh
+        if (controlPanicked_ || restartPending_) {   // back from a panic, or another arm: the scene starts afresh
             controlPanicked_ = false;
+            restartPending_ = false;
             scene_->reset();
         }
         scene_->control(in, out);
@@ -220,6 +221,12 @@ void Engine::allOff() noexcept
     tactile_->allOff();
     if (leftTactile_) leftTactile_->allOff();
     leftLevels_ = MotorLevels {};
+}
+
+void Engine::restart() noexcept
+{
+    allOff();
+    restartPending_ = true;
 }
 
 } // namespace armadillo

@@ -90,6 +90,10 @@ public:
     bool listensToMidi() const { return scene_->listensToMidi(); }
     /// Stop, disconnect or error: every motor off now; patterns and targets forgotten.
     void allOff() noexcept;
+    /// Control thread, real-time: another arm from now on (a switch of source). Every motor off
+    /// now, and the next control() resets the scene first (Scene::reset()), so nothing it took
+    /// from the old arm (the theremin's reference heading, a gesture in progress) carries over.
+    void restart() noexcept;
 
     /// Panic (docs/STAGE.md): any thread, real-time, idempotent. From the next control()
     /// every motor is off through the tactile engine's all-off path (and stays off, the safety
@@ -145,6 +149,7 @@ private:
     std::atomic<bool> panic_ {false};
     std::atomic<std::uint32_t> panicCount_ {0};
     bool controlPanicked_ = false;       // control thread: the state of the previous control()
+    bool restartPending_ = false;        // control thread: restart() asked, the scene not yet reset
     PanicGesture panicGesture_;          // control thread: the hang detector (config_.panicGesture)
     double audioGain_ = 1.0;             // audio thread: the panic/resume fade
 };

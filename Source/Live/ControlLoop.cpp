@@ -120,6 +120,13 @@ ControlResult ControlLoop::tick(const ControlStep& step) noexcept
         // A new source starts from its own first sample: no angular velocity across the switch.
         tracker_.reset();
         engine.allOff();
+        // A switch (not the first source) is another arm: the scene starts afresh, so what it took
+        // from the old arm (the theremin's reference heading) is taken again from the new one, as
+        // an instance that played this source from the start has it (a DAW session reopened).
+        if (lastSource_ >= 0) {
+            engine.restart();
+            if (step.cues != nullptr) step.cues->restart();
+        }
         lastSource_ = static_cast<int>(step.source);
         lastOrientationSerial_ = 0;
     }

@@ -152,6 +152,8 @@ void CuePlayer::previous() noexcept
 
 MotorLevels CuePlayer::control(const ArmState& arm, const Transport& transport, double dt) noexcept { return step(arm, nullptr, transport, dt); }
 
+void CuePlayer::restart() noexcept { engines_[static_cast<std::size_t>(controlCue_)]->restart(); }
+
 MotorLevels CuePlayer::control(const ArmState& arm, const ArmState& leftArm, const Transport& transport, double dt) noexcept
 {
     return step(arm, twoArms_ ? &leftArm : nullptr, transport, dt);

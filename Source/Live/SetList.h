@@ -99,6 +99,9 @@ public:
     void processMidi(const MidiNoteEvent* events, int count) noexcept;
     /// Audio thread, real-time: the current cue, cross-faded from the previous one after a change.
     void renderAudio(float* left, float* right, int numSamples) noexcept;
+    /// Control thread, real-time: another arm from now on (a switch of source). The current cue
+    /// starts afresh (Engine::restart()); the safety stages keep their heat history.
+    void restart() noexcept;
     /// Panic / resume every cue's engine (any thread).
     void panic() noexcept;
     void resume() noexcept;

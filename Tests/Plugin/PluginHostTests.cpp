@@ -243,7 +243,14 @@ namespace {
 /// fresh instance loads it and plays 1 s. Every parameter must read as saved (within 1e-6) and
 /// the sound must be the same as the saved instance's. 0.4.0's VST3 read 0.75329 and played
 /// 441.6 Hz instead of 440 Hz.
-void checkSessionReopensExactly(Hosted (*load)())
+///
+/// With `armMovedFirst`, the saved instance first plays its default simulated arm in the theremin
+/// until that arm has turned, and only then is switched to host automation. The theremin's volume
+/// is relative to a reference heading it takes from its first frame: a switch of source must take
+/// it again from the new source, as the reopened instance (automation from its first frame) does.
+/// Before 0.5.0 the simulated arm's heading survived the switch and the saved instance played
+/// silent where the reopened one played 440 Hz.
+void checkSessionReopensExactly(Hosted (*load)(), bool armMovedFirst = false)
 {
     juce::MemoryBlock saved;
     std::vector<float> before;
@@ -252,6 +259,26 @@ void checkSessionReopensExactly(Hosted (*load)())
     {
         auto h = load();
         prepare(h);
+        if (armMovedFirst) {
+            setChoice(h, "Scene", "theremin");
+            render(h, 0.05);
+            // The simulator writes its orientation into the pose parameters (for the host to
+            // record; an LV2 host reads them back after a block). Play until its heading has
+            // moved by a tenth of the range (36 degrees) from where it was first seen.
+            auto* azimuth = h.param("Azimuth");
+            REQUIRE(azimuth != nullptr);
+            const float start = azimuth->getValue();
+            float first = start;
+            bool seen = false, turned = false;
+            for (int i = 0; i < 1000 && !turned; ++i) {   // at most about 10 s
+                render(h, kBlock / kRate);
+                juce::MessageManager::getInstance()->runDispatchLoopUntil(10);
+                const float now = azimuth->getValue();
+                if (!seen && now != start) { seen = true; first = now; }
+                turned = seen && std::abs(now - first) > 0.1f;
+            }
+            REQUIRE(turned);
+        }
         setChoice(h, "Source", "host automation");
         setChoice(h, "Scene", "theremin");
         render(h, 0.2);
@@ -304,6 +331,16 @@ TEST_CASE("VST3: a session reopened plays exactly as saved (every parameter, the
 TEST_CASE("LV2: a session reopened plays exactly as saved (every parameter, the sound)")
 {
     checkSessionReopensExactly(&loadLv2);
+}
+
+TEST_CASE("VST3: switched to host automation after the simulated arm turned, a session reopens as saved")
+{
+    checkSessionReopensExactly(&loadVst3, true);
+}
+
+TEST_CASE("LV2: switched to host automation after the simulated arm turned, a session reopens as saved")
+{
+    checkSessionReopensExactly(&loadLv2, true);
 }
 
 TEST_CASE("VST3: random and foreign state never crashes and falls back to defaults")
