@@ -153,7 +153,6 @@ EngineRequest ArmadilloProcessor::currentRequest() const
 
 void ArmadilloProcessor::prepareToPlay(double sampleRate, int)
 {
-    hostPrepared_.store(true, std::memory_order_relaxed);
     sampleRate_.store(sampleRate > 0.0 ? sampleRate : 48000.0);
     // The main input (where the listened-to audio sits in processBlock's buffer; the layout is
     // fixed until the next prepareToPlay), heard and played through.
@@ -204,6 +203,7 @@ void ArmadilloProcessor::prepareToPlay(double sampleRate, int)
 void ArmadilloProcessor::processBlock(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi)
 {
     juce::ScopedNoDenormals noDenormals;
+    hostRunning_.store(true, std::memory_order_relaxed);
     const int n = buffer.getNumSamples();
     const auto listen = listen_;
     float inPeak = 0.0f;
@@ -264,6 +264,7 @@ bool ArmadilloProcessor::sceneListens() const
 
 void ArmadilloProcessor::processBlockBypassed(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi)
 {
+    hostRunning_.store(true, std::memory_order_relaxed);
     hostBlock_.bypass(control_, buffer, midi);
 }
 
@@ -320,10 +321,14 @@ void ArmadilloProcessor::timerCallback()
             control_.setStimulus(nullptr);   // the scene has the motors again
     }
     engines_.update(currentRequest());
-    // Parameter edits go to the host: not before it has prepared the plugin (a host still
-    // initialising the instance is not ready for them: pluginval caught JUCE's VST3 host crashing
-    // in performEdit while it listed the parameters). The standalone app is its own host.
-    if (hostPrepared_.load(std::memory_order_relaxed) || wrapperType == wrapperType_Standalone) {
+    // Parameter edits go to the host: not before it has played a block. A host still setting the
+    // instance up is not ready for them: pluginval caught JUCE's VST3 host crashing in performEdit
+    // while it listed the parameters; and with edits from prepareToPlay on, JUCE's VST3 host and
+    // the plugin could disagree: under load the simulated arm's pose, written before the host's
+    // first block, stayed in the plugin while the host showed the elevation it had set, and the
+    // saved state held the arm's (docs/PLUGIN.md "pluginval"). Before the first block there is
+    // nothing to record anyway. The standalone app is its own host.
+    if (hostRunning_.load(std::memory_order_relaxed) || wrapperType == wrapperType_Standalone) {
         writeLiveOrientationToParameters();
         writeMacrosToParameters();
     }

@@ -345,7 +345,7 @@ private:
 
     std::atomic<int> currentProgram_ {0};
     std::atomic<int> requestedProgram_ {-1};     // any thread → message thread's timer; a loaded state clears it
-    std::atomic<bool> hostPrepared_ {false};      // prepareToPlay has run: the host takes parameter edits
+    std::atomic<bool> hostRunning_ {false};       // the host has played a block: it takes parameter edits
     void applyRequestedProgram();
 
     mutable std::mutex statusMutex_;             // message thread and host state calls; never audio

@@ -236,6 +236,33 @@ TEST_CASE("VST3: state saves and restores")
     CHECK(valueOf(h, "Roll", -180.0f, 180.0f) == Approx(-120.0f).margin(0.05));
 }
 
+TEST_CASE("VST3: no parameter edit before the host plays its first block; after it, the live arm's pose is written")
+{
+    // JUCE's VST3 host prepares the plugin while it creates it. A live source's pose written into
+    // the parameters from then on (before 0.5.0) could stay in the plugin while the host showed
+    // the values it had set itself: under load, a saved state held the simulated arm's elevation
+    // where the host showed 33°. Now nothing is written before the first block.
+    auto h = loadVst3();
+    prepare(h);   // the default source: the simulated arm, running from here
+    juce::MemoryBlock before;
+    h.plugin->getStateInformation(before);
+    const float azimuth0 = h.param("Azimuth")->getValue(), elevation0 = h.param("Elevation")->getValue();
+    for (int i = 0; i < 50; ++i) juce::MessageManager::getInstance()->runDispatchLoopUntil(10);   // 0.5 s of timer ticks, no block
+    CHECK(h.param("Azimuth")->getValue() == azimuth0);
+    CHECK(h.param("Elevation")->getValue() == elevation0);
+    juce::MemoryBlock after;
+    h.plugin->getStateInformation(after);
+    CHECK(after == before);   // the plugin's own values did not move either
+    // The probe: once blocks come, the simulated arm's pose reaches the host.
+    bool moved = false;
+    for (int i = 0; i < 500 && !moved; ++i) {   // at most about 5 s
+        render(h, kBlock / kRate);
+        juce::MessageManager::getInstance()->runDispatchLoopUntil(10);
+        moved = h.param("Azimuth")->getValue() != azimuth0 || h.param("Elevation")->getValue() != elevation0;
+    }
+    CHECK(moved);
+}
+
 namespace {
 
 /// Issue 32: a DAW reopening a session. Source host automation, scene theremin, elevation
