@@ -32,6 +32,11 @@ Interactive runAnswering(const std::vector<std::string>& args, const std::functi
     REQUIRE(::pipe(toChild) == 0);
     REQUIRE(::pipe(fromChild) == 0);
     const std::string outPath = path("calibrate-stdout.txt");
+    // Built before the fork: the child only makes async-signal-safe calls until it execs.
+    std::vector<char*> argv {const_cast<char*>(ARMADILLO_BIN)};
+    std::vector<std::string> argStore = args;
+    for (auto& s : argStore) argv.push_back(s.data());
+    argv.push_back(nullptr);
     const pid_t pid = ::fork();
     REQUIRE(pid >= 0);
     if (pid == 0) {
@@ -41,10 +46,6 @@ Interactive runAnswering(const std::vector<std::string>& args, const std::functi
         ::dup2(out, 1);
         ::close(toChild[1]);
         ::close(fromChild[0]);
-        std::vector<char*> argv {const_cast<char*>(ARMADILLO_BIN)};
-        std::vector<std::string> a = args;
-        for (auto& s : a) argv.push_back(s.data());
-        argv.push_back(nullptr);
         ::execv(ARMADILLO_BIN, argv.data());
         ::_exit(127);
     }

@@ -395,13 +395,13 @@ TEST_CASE("--forward sets where yaw is measured from; play takes SIGUSR1 as 'set
     Loopback udp;
     const std::string map = file("yaw-osc.json", R"({"version": 1, "mappings": [{"source": "yaw", "to": {"osc": "/yaw", "args": ["$yaw"]}}]})");
     const std::string still = file("still.csv", posesCsv({{0.0, 0.0, 0.0, 0.0}, {1.0, 0.0, 0.0, 0.0}}));
+    const std::string port = "127.0.0.1:" + std::to_string(udp.port);   // before the fork: no allocation in the child
     const pid_t pid = ::fork();
     REQUIRE(pid >= 0);
     if (pid == 0) {
         const int quiet = ::open("/dev/null", O_WRONLY);
         ::dup2(quiet, STDOUT_FILENO);
         ::dup2(quiet, STDERR_FILENO);
-        const std::string port = "127.0.0.1:" + std::to_string(udp.port);
         ::execl(ARMADILLO_BIN, ARMADILLO_BIN, "play", "--scene", "monitor", "--simulate", "--motion", still.c_str(), "--seconds", "20", "--no-audio",
                 "--map", map.c_str(), "--forward", "180", "--osc-out", port.c_str(), static_cast<char*>(nullptr));
         ::_exit(127);

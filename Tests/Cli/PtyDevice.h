@@ -50,6 +50,10 @@ public:
         int toChild[2], fromChild[2];
         REQUIRE(::pipe(toChild) == 0);
         REQUIRE(::pipe(fromChild) == 0);
+        // Built before the fork: the child only makes async-signal-safe calls until it execs.
+        std::vector<char*> argv {const_cast<char*>(ARMADILLO_BIN)};
+        for (auto& a : args) argv.push_back(a.data());
+        argv.push_back(nullptr);
         pid_ = ::fork();
         REQUIRE(pid_ >= 0);
         if (pid_ == 0) {
@@ -60,9 +64,6 @@ public:
             ::close(toChild[1]);
             ::close(fromChild[0]);
             ::close(master_);
-            std::vector<char*> argv {const_cast<char*>(ARMADILLO_BIN)};
-            for (auto& a : args) argv.push_back(a.data());
-            argv.push_back(nullptr);
             ::execv(ARMADILLO_BIN, argv.data());
             ::_exit(127);
         }

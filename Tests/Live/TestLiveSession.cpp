@@ -39,16 +39,17 @@ Run runArmadillo(const std::vector<std::string>& args, const std::function<bool(
 {
     int pipeFd[2];
     REQUIRE(::pipe(pipeFd) == 0);
+    // Built before the fork: the child only makes async-signal-safe calls until it execs.
+    std::vector<char*> argv;
+    const std::string bin = std::string(ARMADILLO_BINARY_DIR) + "/bin/armadillo";
+    argv.push_back(const_cast<char*>(bin.c_str()));
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
     const pid_t pid = ::fork();
     REQUIRE(pid >= 0);
     if (pid == 0) {
         ::dup2(pipeFd[1], 1);
         ::close(pipeFd[0]);
-        std::vector<char*> argv;
-        const std::string bin = std::string(ARMADILLO_BINARY_DIR) + "/bin/armadillo";
-        argv.push_back(const_cast<char*>(bin.c_str()));
-        for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-        argv.push_back(nullptr);
         ::execv(bin.c_str(), argv.data());
         ::_exit(127);
     }

@@ -634,6 +634,19 @@ Outcome runScenarioOnce(const Scenario& sc, std::uint32_t seed)
         ::tcsetattr(slave, TCSANOW, &raw);
         ptyPath = ::ttyname(slave);
     }
+    // Everything the child needs is built here: the scenarios run four at a time on threads, and
+    // a child of a threaded process may only make async-signal-safe calls until it execs (an
+    // allocation there can wait forever on a lock another thread held at the fork).
+    const std::string bin = std::string(ARMADILLO_BINARY_DIR) + "/bin/armadillo";
+    const std::string portText = std::to_string(port), secs = std::to_string(seconds);
+    std::vector<const char*> argv {bin.c_str(), "play", "--scene", "monitor", "--seconds", secs.c_str(), "--log", log.c_str(), "--no-audio"};
+    if (sc.wire == Scenario::Wire::SlipPty) argv.insert(argv.end(), {"--port", ptyPath.c_str(), "--format", "ngimu-slip"});
+    else argv.insert(argv.end(), {"--osc-in", portText.c_str()});
+    if (!sc.extraArgs.empty()) {
+        argv.push_back(sc.extraArgs.c_str());
+        argv.push_back(sc.extraValue.c_str());
+    }
+    argv.push_back(nullptr);
     const auto forked = Clock::now();
     const pid_t pid = ::fork();
     if (pid < 0) return Outcome {};
@@ -642,16 +655,6 @@ Outcome runScenarioOnce(const Scenario& sc, std::uint32_t seed)
         const int out = ::open(outPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
         ::dup2(err, 2);
         ::dup2(out, 1);
-        const std::string bin = std::string(ARMADILLO_BINARY_DIR) + "/bin/armadillo";
-        const std::string portText = std::to_string(port), secs = std::to_string(seconds);
-        std::vector<const char*> argv {bin.c_str(), "play", "--scene", "monitor", "--seconds", secs.c_str(), "--log", log.c_str(), "--no-audio"};
-        if (sc.wire == Scenario::Wire::SlipPty) argv.insert(argv.end(), {"--port", ptyPath.c_str(), "--format", "ngimu-slip"});
-        else argv.insert(argv.end(), {"--osc-in", portText.c_str()});
-        if (!sc.extraArgs.empty()) {
-            argv.push_back(sc.extraArgs.c_str());
-            argv.push_back(sc.extraValue.c_str());
-        }
-        argv.push_back(nullptr);
         ::execv(bin.c_str(), const_cast<char* const*>(argv.data()));
         ::_exit(127);
     }

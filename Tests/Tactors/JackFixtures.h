@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <fcntl.h>
 #include <cstdlib>
 #include <string>
 #include <sys/wait.h>
@@ -30,9 +31,11 @@ public:
         const std::string r = std::to_string(rate), p = std::to_string(period), P = std::to_string(playback);
         pid_ = ::fork();
         if (pid_ == 0) {
-            // Quiet child: jackd's banner is not the test's business.
-            std::freopen("/dev/null", "w", stdout);
-            std::freopen("/dev/null", "w", stderr);
+            // Quiet child: jackd's banner is not the test's business. Only async-signal-safe
+            // calls until the exec (the test process has threads: a client's, a server watcher's).
+            const int quiet = ::open("/dev/null", O_WRONLY);
+            ::dup2(quiet, STDOUT_FILENO);
+            ::dup2(quiet, STDERR_FILENO);
             ::execlp("jackd", "jackd", "-n", name_.c_str(), "-d", "dummy", "-r", r.c_str(), "-p", p.c_str(), "-P", P.c_str(), "-C", "0",
                      static_cast<char*>(nullptr));
             ::_exit(127);
