@@ -1,8 +1,8 @@
 #include "Live/DeviceConnection.h"
 #include "Link/DeviceLink.h"
 #include "Link/LinkPort.h"
-#include "Link/Motion.h"
 #include "Link/Simulator.h"
+#include "Live/ForearmPort.h"
 #include "Core/Clock.h"
 #include <csignal>
 #include <cstdio>
@@ -51,14 +51,16 @@ bool DeviceConnection::connect(const std::string& port, int baud, const std::str
         ~RestoreMask() { pthread_sigmask(SIG_SETMASK, &mask, nullptr); }
     } restore {previous};
 
+    ForearmPortRequest request;
+    request.simulate = port == kSimulatedPort;
+    request.port = port;
+    request.baud = baud;
+    request.openNow = false;   // a missing port: the link waits for it, the status says so
+    request.simulatorBaud = 57600.0;   // paced like the thesis's Bluetooth serial link
+    request.simulatorPriority = kLinkPriority - 1;   // the board's side of the wire keeps time too
     std::unique_ptr<device::LinkPort> linkPort;
     try {
-        if (port == kSimulatedPort) {
-            device::SimulatorOptions options;
-            options.baud = 57600.0;   // paced like the thesis's Bluetooth serial link
-            options.realtimePriority = kLinkPriority - 1;   // the board's side of the wire keeps time too
-            simulator_ = std::make_unique<device::SimulatedForearm>(std::make_shared<device::WanderingMotion>(), options);
-            linkPort = simulator_->startInProcess();
+        if (request.simulate) {
             calibration_ = device::defaultCalibration();   // the simulator's ADC is the default one
             calibrationNote_ = "simulator's calibration";
         } else {
@@ -68,8 +70,10 @@ bool DeviceConnection::connect(const std::string& port, int baud, const std::str
                 message += why + ". Choose another port, or follow that instance over OSC.";
                 return false;
             }
-            linkPort = std::make_unique<device::SerialPort>(port, baud);
         }
+        ForearmPort opened = openForearmPort(request);
+        simulator_ = std::move(opened.simulator);
+        linkPort = std::move(opened.port);
         publishCalibration();
         packetSafety_.prepare(kDefaultSafetyParams, kMaxMotors);   // allocates: here, before the link thread starts
         lastPacketAt_ = -1.0;

@@ -3,6 +3,7 @@
 #include "Core/Errors.h"
 #include "Link/DeviceLink.h"
 #include "Link/Simulator.h"
+#include "Live/ForearmPort.h"
 #include <chrono>
 #include <thread>
 
@@ -12,19 +13,16 @@ GuidedDevice::GuidedDevice(const std::string& port, int baud, bool simulate, boo
                            std::shared_ptr<const device::MotionSource> motion)
     : player_(player), onSensor_(std::move(onSensor))
 {
-    std::unique_ptr<device::LinkPort> p;
-    if (!simulate) {
-        p = std::make_unique<device::SerialPort>(port, baud);
-        p->open();   // a missing port is an error now (exit 4), not a silent retry
-        p->close();
-    } else {
-        device::SimulatorOptions so;
-        so.baud = unpaced ? 0.0 : 57600.0;
-        if (!motion) motion = std::make_shared<device::WanderingMotion>();
-        simulator_ = std::make_unique<device::SimulatedForearm>(std::move(motion), so);
-        p = simulator_->startInProcess();
-    }
-    link_ = std::make_unique<device::DeviceLink>(std::move(p), [this](const device::SensorCounts& counts, double t) {
+    ForearmPortRequest request;
+    request.simulate = simulate;
+    request.port = port;
+    request.baud = baud;
+    request.openNow = true;   // a missing port is an error now (exit 4), not a silent retry
+    request.motion = std::move(motion);
+    request.simulatorBaud = unpaced ? 0.0 : 57600.0;
+    ForearmPort opened = openForearmPort(request);
+    simulator_ = std::move(opened.simulator);
+    link_ = std::make_unique<device::DeviceLink>(std::move(opened.port), [this](const device::SensorCounts& counts, double t) {
         const MotorLevels out = player_.onPacket(t);
         if (onSensor_) onSensor_(counts, player_.clock());
         return out;

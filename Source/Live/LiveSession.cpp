@@ -1,5 +1,6 @@
 #include "Live/LiveSession.h"
 #include "Audio/SequencerOut.h"
+#include "Live/ForearmPort.h"
 #include "Live/MappingRig.h"
 #include "Audio/SoundCard.h"
 #include "Core/Errors.h"
@@ -15,6 +16,27 @@
 #include <stdexcept>
 
 namespace armadillo::live {
+
+namespace {
+
+/// The right (or left) arm's port as `armadillo play` asks for it: a port opened now, or the
+/// simulated forearm moving as its motion file says (default: the wandering arm, the left one
+/// with the next seed), its board thread one step below the link's priority.
+ForearmPortRequest forearmRequest(const LiveConfig& c, bool left)
+{
+    ForearmPortRequest r;
+    r.simulate = left ? c.leftSource == LiveConfig::LeftSource::Simulator : c.source == LiveConfig::Source::Simulator;
+    r.port = left ? c.leftPort : c.port;
+    r.baud = left ? c.leftBaud : c.baud;
+    const std::string& motionFile = left ? c.leftMotionFile : c.motionFile;
+    if (r.simulate && !motionFile.empty()) r.motion = std::make_shared<device::FileMotion>(motionFile);
+    r.seed = c.engine.sceneConfig.seed + (left ? 1 : 0);
+    r.simulatorBaud = c.simulatorBaud;
+    r.simulatorPriority = c.link.realtimePriority > 1 ? c.link.realtimePriority - 1 : 0;
+    return r;
+}
+
+} // namespace
 
 std::string summaryJson(const SessionSummary& s)
 {
@@ -108,21 +130,12 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
 
     auto deviceHandler = [this](const device::SensorCounts& counts, double t) { return control(t, &counts, nullptr, nullptr); };
     switch (config_.source) {
-    case LiveConfig::Source::Port: {
-        auto port = std::make_unique<device::SerialPort>(config_.port, config_.baud);
-        port->open();   // fail early with the port's own message (exit 4); later losses reconnect
-        link_ = std::make_unique<device::DeviceLink>(std::move(port), deviceHandler, config_.link);
-        break;
-    }
+    case LiveConfig::Source::Port:
     case LiveConfig::Source::Simulator: {
-        std::shared_ptr<const device::MotionSource> motion;
-        if (config_.motionFile.empty()) motion = std::make_shared<device::WanderingMotion>(config_.engine.sceneConfig.seed);
-        else motion = std::make_shared<device::FileMotion>(config_.motionFile);
-        device::SimulatorOptions o;
-        o.baud = config_.simulatorBaud;
-        o.realtimePriority = config_.link.realtimePriority > 1 ? config_.link.realtimePriority - 1 : 0;
-        simulator_ = std::make_unique<device::SimulatedForearm>(motion, o);
-        link_ = std::make_unique<device::DeviceLink>(simulator_->startInProcess(), deviceHandler, config_.link);
+        // A port fails early with its own message (exit 4); later losses reconnect in the link.
+        ForearmPort port = openForearmPort(forearmRequest(config_, false));
+        simulator_ = std::move(port.simulator);
+        link_ = std::make_unique<device::DeviceLink>(std::move(port.port), deviceHandler, config_.link);
         break;
     }
     case LiveConfig::Source::Osc: {
@@ -151,19 +164,10 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
             auto onImu = [this](const ImuSample& s) { leftInput_.pushImu(s); };
             auto onQ = [this](double t, const Eigen::Quaterniond& q) { leftInput_.storeOrientation(t, q); };
             leftOscIn_ = std::make_unique<device::OscReceiver>(config_.leftOscInPort, onImu, onQ, config_.leftOsc);   // IoError when taken
-        } else if (config_.leftSource == LiveConfig::LeftSource::Port) {
-            auto port = std::make_unique<device::SerialPort>(config_.leftPort, config_.leftBaud);
-            port->open();
-            leftLink_ = std::make_unique<device::DeviceLink>(std::move(port), leftHandler, config_.link);
-        } else {
-            std::shared_ptr<const device::MotionSource> motion;
-            if (config_.leftMotionFile.empty()) motion = std::make_shared<device::WanderingMotion>(config_.engine.sceneConfig.seed + 1);
-            else motion = std::make_shared<device::FileMotion>(config_.leftMotionFile);
-            device::SimulatorOptions o;
-            o.baud = config_.simulatorBaud;
-            o.realtimePriority = config_.link.realtimePriority > 1 ? config_.link.realtimePriority - 1 : 0;
-            leftSimulator_ = std::make_unique<device::SimulatedForearm>(motion, o);
-            leftLink_ = std::make_unique<device::DeviceLink>(leftSimulator_->startInProcess(), leftHandler, config_.link);
+        } else {   // a port or the simulated left forearm
+            ForearmPort port = openForearmPort(forearmRequest(config_, true));
+            leftSimulator_ = std::move(port.simulator);
+            leftLink_ = std::make_unique<device::DeviceLink>(std::move(port.port), leftHandler, config_.link);
         }
         if (!config_.armsLog.empty())
             armsLog_ = std::make_unique<StreamingCsvWriter>(config_.armsLog, std::vector<std::string> {"t", "qw", "qx", "qy", "qz", "left_qw", "left_qx", "left_qy", "left_qz"});
