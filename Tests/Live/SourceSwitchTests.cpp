@@ -6,6 +6,7 @@
 #include "Core/Pose.h"
 #include "Live/ControlLoop.h"
 #include "Live/SetList.h"
+#include "LoopSlots.h"
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <memory>
@@ -16,17 +17,7 @@ using namespace armadillo::live;
 
 namespace {
 
-std::unique_ptr<EngineSlot> thereminSlot()
-{
-    EngineConfig config;
-    config.scene = "theremin";
-    config.sceneConfig.sampleRate = 48000.0;
-    config.sceneConfig.controlRateHz = 200.0;
-    auto slot = std::make_unique<EngineSlot>();
-    slot->engine = std::make_unique<Engine>(config);
-    slot->sceneName = config.scene;
-    return slot;
-}
+std::unique_ptr<EngineSlot> thereminSlot() { return test::loopSlot("theremin"); }
 
 /// `steps` control steps of 240 samples from `source` (host automation at elevation 0° and
 /// `azimuthDeg`); the RMS of the last half, rendered by the loop's engine or by `cues`.

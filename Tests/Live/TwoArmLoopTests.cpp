@@ -7,6 +7,7 @@
 #include "Fusion/ArmTracker.h"
 #include "Live/ControlLoop.h"
 #include "Live/SetList.h"
+#include "LoopSlots.h"
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -19,18 +20,7 @@ using namespace armadillo::test;
 
 namespace {
 
-std::unique_ptr<EngineSlot> duoSlot(bool twoArms)
-{
-    EngineConfig config;
-    config.scene = "theremin-duo";
-    config.twoArms = twoArms;
-    config.sceneConfig.sampleRate = 48000.0;
-    config.sceneConfig.controlRateHz = 200.0;
-    auto slot = std::make_unique<EngineSlot>();
-    slot->engine = std::make_unique<Engine>(config);
-    slot->sceneName = config.scene;
-    return slot;
-}
+std::unique_ptr<EngineSlot> duoSlot(bool twoArms) { return loopSlot("theremin-duo", twoArms); }
 
 /// `steps` control steps of the right arm automated at 20° elevation with the left arm at
 /// `leftElevation` (NaN: no left arm given), 240 samples each; the RMS of the last half.
