@@ -327,7 +327,7 @@ std::unique_ptr<PlayRequest> readPlayRequest(const CommandLine& cl, const LiveCo
     return request;
 }
 
-/// Step 3: the summary line (docs/INTERFACES.md): the link's counters and what each part did.
+/// The summary line of step 5 (docs/INTERFACES.md): the link's counters and what each part did.
 std::string sessionSummary(live::LiveSession& session, const live::SourceReport& report, const PlayMessages* messages,
                            live::CuePlayer* cues, std::uint32_t panics)
 {
@@ -353,265 +353,357 @@ std::string sessionSummary(live::LiveSession& session, const live::SourceReport&
     return summary;
 }
 
+/// Steps 2–5 of a live session (`play`, `read`): the session and what the person running it
+/// sees and does around it. Built once from the request (step 2: the session, its stage commands,
+/// the guided procedures), then start() (the sources run, what they are said), run() (until
+/// the time is up, the data never came, the recording ended, the scene failed, the training
+/// ended or the user stopped it; one pass every 10 ms) and finish() (the files, the summary).
+class LiveRun {
+public:
+    LiveRun(const CommandLine& cl, const LiveCommand& command, PlayRequest& request)
+        : who_("armadillo " + std::string(command.name) + ": "), request_(request), config_(request.config), session_(config_),
+          cues_(session_.cuePlayer())
+    {
+        shownCue_ = cues_ ? cues_->current() : -1;
+        openStageCommands(cl);
+        openProcedures();
+        announceOutputs();
+    }
+    LiveRun(const LiveRun&) = delete;
+    LiveRun& operator=(const LiveRun&) = delete;
+
+    /// Step 3: the sources start; the mapping takes "set forward" from outside (kill -USR1).
+    void start()
+    {
+        if (live::MappingRig* rig = session_.mapping()) forwardTarget().store(&rig->mapper());
+        ::signal(SIGUSR1, onForwardSignal);
+        session_.start();
+        start_ = std::chrono::steady_clock::now();
+        report_ = std::make_unique<live::SourceReport>(session_);   // what the sources say, in words (Live/SourceReport.h)
+        for (const std::string& line : report_->startup()) std::cerr << who_ << line << "\n";
+        // A progress line on a terminal (stderr only, so stdout keeps just the JSON summary), not
+        // while a guided procedure prints its own instructions there.
+        progress_ = ::isatty(STDERR_FILENO) == 1 && !calibration_ && mountCalibrations_.empty() && !training_;
+        lineStart_ = progress_ ? "\r\033[K" : "";   // a message replaces the progress line
+    }
+
+    /// Step 4: one pass every 10 ms (or as the training's input comes) until something ends it.
+    void run()
+    {
+        while (!interrupted()) {
+            const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+            if (ended(elapsed)) break;
+            showProgress(elapsed);
+            if (!reportStage()) break;
+            reportOutputs(elapsed);
+            stepProcedures();
+            if (training_) {
+                if (!stepTraining()) break;
+            } else {
+                std::this_thread::sleep_for(std::chrono::milliseconds(10));
+            }
+        }
+        if (progress_) std::cerr << "\n";
+    }
+
+    /// Step 5: everything stops; the files the session was asked to write, then the summary line.
+    int finish()
+    {
+        if (keys_) keys_->stop();
+        if (controlIn_) controlIn_->stop();
+        session_.stop();
+        if (request_.messages) request_.messages->stop();
+        if (needsData() && request_.dataTimeout > 0.0 && noData_.empty() && session_.summary().packets == 0)
+            noData_ = report_->noData(session_.summary().seconds);
+        if (request_.leftNeedsData && request_.dataTimeout > 0.0 && noData_.empty() && report_->leftPackets() == 0)
+            noData_ = report_->noData(session_.summary().seconds, true);
+        if (!noData_.empty()) {   // nothing was played: no file is written
+            std::cout << live::summaryJson(session_.summary()) << "\n" << std::flush;
+            throw IoError(noData_);
+        }
+        if (recordingEnded_)
+            std::cerr << who_ << "the recording ended after " << session_.recordingSeconds() << " s (--loop plays it again and again)\n";
+        const std::string trainingCsv = brailleScene_ ? brailleScene_->trainingLogCsv() : std::string();   // control has stopped
+        session_.finish();   // the session's own files first: a failing training log must not lose them
+        if (brailleScene_) writeFileAtomically(request_.trainingLog, trainingCsv);
+        if (const audio::SoundCard* card = session_.soundCard(); card && card->underruns() > 0)
+            std::cerr << who_ << "the sound card ran dry " << card->underruns() << " time(s) (audible clicks)\n";
+        for (const auto& g : mountCalibrations_) g->finish();
+        if (calibration_) {
+            if (!calibration_->finished())
+                std::cerr << "calibration stopped at step '" << device::CalibrationProcedure::stepName(calibration_->step())
+                          << "'; that step and the later ones keep the starting calibration\n";
+            device::saveCalibration(request_.calibrateOut, calibration_->result());
+        }
+        std::cout << sessionSummary(session_, *report_, request_.messages.get(), cues_, panicTotal()) << "\n" << std::flush;
+        return session_.engine().failed() ? int(kExitFailure) : int(kExitOk);
+    }
+
+private:
+    struct ForwardOff {
+        ~ForwardOff() { forwardTarget().store(nullptr); }
+    };
+
+    /// Stage commands (OSC control port, keys): panic and resume act on the engine at once
+    /// (atomics, any thread); what happened is reported by reportStage().
+    void onCommand(const live::StageCommand& c)
+    {
+        using K = live::StageCommand::Kind;
+        if (c.kind == K::Panic) cues_ ? cues_->panic() : session_.engine().panic();
+        else if (c.kind == K::Resume) cues_ ? cues_->resume() : session_.engine().resume();
+        else if (cues_ && c.kind == K::CueNext) cues_->next();
+        else if (cues_ && c.kind == K::CuePrev) cues_->previous();
+        else if (cues_ && c.kind == K::CueGoto) cues_->request(c.cue);   // clamped to the list
+        lastCommand_.store(static_cast<int>(c.kind));
+    }
+
+    /// Panics of every cue (a set list) or of the one engine; a panic gesture in one cue panics
+    /// them all (a cue change must not bring the sound back).
+    std::uint32_t panicTotal()
+    {
+        if (!cues_) return session_.engine().panicCount();
+        std::uint32_t n = 0;
+        for (int c = 0; c < cues_->cueCount(); ++c) n = std::max(n, cues_->engine(c).panicCount());
+        return n;
+    }
+
+    bool needsData() const { return config_.source != live::LiveConfig::Source::Simulator; }
+
+    void openStageCommands(const CommandLine& cl)
+    {
+        const auto handler = [this](const live::StageCommand& c) { onCommand(c); };
+        if (cues_)
+            std::cerr << who_ << "set list of " << cues_->cueCount() << " cues; cue 0 '" << cues_->cue(0).name << "' (" << cues_->cue(0).scene << ")\n";
+        if (request_.controlPort > 0) {
+            controlIn_ = std::make_unique<live::StageControlReceiver>(request_.controlPort, handler);   // IoError (exit 4) when taken
+            if (request_.messages && request_.messages->wantsMessages())   // /armadillo/message "text" [priority] (docs/MQTT.md)
+                controlIn_->setTextHandler([m = request_.messages.get()](const std::string& text, int priority) { m->offerText(text, priority); });
+            controlIn_->start();
+        }
+        if (cl.has("--keys")) {
+            keys_ = std::make_unique<live::KeyReader>(STDIN_FILENO, handler);
+            keys_->start();
+            std::cerr << who_ << "keys: p = panic, r = resume" << (cues_ ? ", n = next cue, b = previous cue, 0..9 = cue" : "") << "\n";
+        }
+    }
+
+    /// The training, the messages, the device calibration and the mount calibrations.
+    void openProcedures()
+    {
+        PlayMessages* messages = request_.messages.get();
+        if (!request_.trainingLog.empty()) {
+            brailleScene_ = dynamic_cast<braille::BrailleSceneControls*>(&session_.engine().scene());
+            if (!brailleScene_) throw UsageError("--training-log needs the braille scene");
+            training_ = std::make_unique<TerminalTraining>(*brailleScene_, request_.voice.get());
+        }
+        messageScene_ = messages && messages->wantsMessages() ? dynamic_cast<braille::BrailleSceneControls*>(&session_.engine().scene()) : nullptr;
+        if (messages && messages->wantsMessages() && !messageScene_) throw UsageError("--messages need the braille scene");
+        if (messages) {
+            if (live::MappingRig* rig = session_.mapping()) rig->setMqttSink(&PlayMessages::publishMapped, messages);
+            if (request_.voice) messages->setMirror([v = request_.voice.get()](const std::string& line) { v->note(line); });   // --speak, --brlapi
+            messages->start();
+        }
+        // --calibrate: the device calibration (procedures::DeviceCalibration, as `armadillo
+        // calibrate` and the app's Calibration window present it), each step taken when it has enough data.
+        if (!request_.calibrateOut.empty()) {
+            calibration_ = std::make_unique<procedures::DeviceCalibration>();
+            calibration_->begin(config_.calibration);
+            sayCalibrationStep();
+        }
+    }
+
+    void sayCalibrationStep() const
+    {
+        std::cerr << (calibration_->finished() ? std::string("calibration complete")
+                                               : "calibration step " + std::to_string(calibration_->stepNumber()) + " (" +
+                                                     device::CalibrationProcedure::stepName(calibration_->step()) + "): " + calibration_->instruction())
+                  << "\n";
+    }
+
+    /// The sound card and the tactors, as opened; then the mount calibrations begin.
+    void announceOutputs()
+    {
+        if (const audio::SoundCard* card = session_.soundCard()) {
+            const audio::SoundCardInfo& i = card->info();
+            std::cerr << who_ << "sound on '" << i.device << "' (" << i.sampleRate << " Hz, " << i.format << ", "
+                      << 1000.0 * i.bufferFrames / i.sampleRate << " ms buffer)\n";
+        } else if (!session_.soundCardWarning().empty()) {
+            std::cerr << who_ << "no sound: " << session_.soundCardWarning()
+                      << " (--out FILE records the audio instead; --no-audio silences this message)\n";
+        }
+        if (live::TactorOutput* t = session_.tactors()) std::cerr << who_ << "tactors on " << t->describe() << "\n";
+        for (const auto& [out, left, option, arm] : {std::tuple {request_.mountOut, false, "--calibrate-mount", ""},
+                                                     std::tuple {request_.leftMountOut, true, "--calibrate-mount-left", "left arm "}}) {
+            if (out.empty() || !session_.enableSensorTap(left)) continue;
+            mountCalibrations_.push_back(std::make_unique<GuidedMount>());
+            GuidedMount& g = *mountCalibrations_.back();
+            g.session = &session_;
+            g.left = left;
+            g.out = out;
+            g.option = option;
+            g.arm = arm;
+            g.begin();
+        }
+    }
+
+    /// The time is up, or a port or OSC source sent nothing within --data-timeout (said, with
+    /// what was heard; exit 4), or the recording ended.
+    bool ended(double elapsed)
+    {
+        if (request_.seconds > 0.0 && elapsed >= request_.seconds) return true;
+        if (needsData() && request_.dataTimeout > 0.0 && elapsed >= request_.dataTimeout && session_.summary().packets == 0) {
+            noData_ = report_->noData(request_.dataTimeout);
+            return true;
+        }
+        if (request_.leftNeedsData && request_.dataTimeout > 0.0 && elapsed >= request_.dataTimeout && report_->leftPackets() == 0) {   // the left arm's source too
+            noData_ = report_->noData(request_.dataTimeout, true);
+            return true;
+        }
+        if (session_.recordingEnded()) {
+            recordingEnded_ = true;
+            return true;
+        }
+        return false;
+    }
+
+    void showProgress(double elapsed)
+    {
+        if (!progress_ || elapsed - shownAt_ < 0.5) return;
+        shownAt_ = elapsed;
+        const live::SessionSummary now = session_.summary();
+        const double seconds = request_.seconds;
+        char line[160];
+        std::snprintf(line, sizeof line, "\r\033[K%7.1f s%s  packets %llu  bad %llu  resyncs %llu  reconnects %llu  link %s", elapsed,
+                      seconds > 0.0 ? (" of " + std::to_string(static_cast<long>(std::ceil(seconds)))).c_str() : "",
+                      static_cast<unsigned long long>(now.packets), static_cast<unsigned long long>(now.badPackets),
+                      static_cast<unsigned long long>(now.resyncs), static_cast<unsigned long long>(now.reconnects),
+                      session_.connected() ? (now.packets > 0 ? "up" : "waiting for data") : "down, reconnecting");
+        std::cerr << line << std::flush;
+    }
+
+    /// Cues, panics and a failed scene, as they happen. False: the scene failed (stop).
+    bool reportStage()
+    {
+        Engine& engine = session_.engine();
+        if (cues_ && engine.panicked()) {   // (a gesture panics the current cue only: spread it)
+            bool all = true;
+            for (int c = 0; c < cues_->cueCount(); ++c) all = all && cues_->engine(c).panicked();
+            if (!all) cues_->panic();
+        }
+        if (cues_ && cues_->current() != shownCue_) {
+            shownCue_ = cues_->current();
+            const live::Cue& q = cues_->cue(shownCue_);
+            std::cerr << lineStart_ << who_ << "cue " << shownCue_ << " '" << q.name << "' (" << q.scene << ")\n";
+        }
+        if (const std::uint32_t n = panicTotal(); n != shownPanics_ || engine.panicked() != shownPanicked_) {
+            const int k = lastCommand_.exchange(-1);
+            const std::uint32_t mapped = session_.mappingPanics();   // a mapping's "stage": "panic"
+            const bool byMapping = mapped != shownMappingPanics_;
+            shownMappingPanics_ = mapped;
+            if (n != shownPanics_)
+                std::cerr << lineStart_ << who_ << "PANIC ("
+                          << (k == static_cast<int>(live::StageCommand::Kind::Panic) ? "command" : byMapping ? "mapping" : "gesture")
+                          << "): all sound and every motor off; resume with r or /armadillo/resume\n";
+            else if (!engine.panicked())
+                std::cerr << lineStart_ << who_ << "resumed: scene '" << engine.config().scene << "' again\n";
+            shownPanics_ = n;
+            shownPanicked_ = engine.panicked();
+        }
+        if (engine.failed()) {   // the scene threw: its motors are off; stop and say so
+            std::cerr << who_ << "the scene failed and was stopped (motors off): " << engine.failure() << "\n";
+            return false;
+        }
+        return true;
+    }
+
+    /// The device going away (once; the link keeps reconnecting), what the sources report, and
+    /// a sound card or tactor output that stopped.
+    void reportOutputs(double elapsed)
+    {
+        const std::string e = session_.lastError();
+        if (!e.empty() && e != shownError_) {
+            std::cerr << lineStart_ << who_ << e << "\n";
+            if (request_.voice) request_.voice->status(e);
+        }
+        shownError_ = e;
+        for (const std::string& line : report_->poll(elapsed)) std::cerr << lineStart_ << who_ << line << "\n";
+        for (const auto& g : mountCalibrations_) g->step();
+        if (request_.messages) request_.messages->poll(messageScene_, std::cerr, lineStart_);
+        if (const audio::SoundCard* card = session_.soundCard(); card && card->failed() && !shownCardError_) {
+            std::cerr << lineStart_ << who_ << card->lastError() << "; playing on without sound\n";
+            shownCardError_ = true;
+        }
+        if (live::TactorOutput* t = session_.tactors(); t && t->failed() && !shownTactorError_) {
+            std::cerr << lineStart_ << who_ << "the tactor output stopped (its JACK server or sound card went away); the device plays on\n";
+            shownTactorError_ = true;
+        }
+    }
+
+    void stepProcedures()
+    {
+        if (calibration_ && calibration_->running()) {
+            device::RawPacket p;
+            while (session_.rawPackets()->pop(p)) calibration_->offer(p.t, p.counts);
+            calibration_->drain();
+            if (std::string why; calibration_->ready() && calibration_->next(why)) sayCalibrationStep();
+        }
+    }
+
+    /// One step of the terminal training (waits up to 10 ms for input). False: it ended.
+    bool stepTraining()
+    {
+        ReaderIo* voice = request_.voice.get();
+        if (!training_->step(10)) {
+            std::cerr << "braille training complete: " << brailleScene_->trainingCorrect() << " of " << brailleScene_->trainingTrialCount() << " right\n";
+            if (voice)
+                voice->status("braille training complete: " + std::to_string(brailleScene_->trainingCorrect()) + " of " +
+                              std::to_string(brailleScene_->trainingTrialCount()) + " right");
+            return false;
+        }
+        if (training_->exhausted()) {
+            std::cerr << "braille training: no more answers (stdin ended) with " << brailleScene_->trainingTrialCount() - brailleScene_->trainingTrial()
+                      << " of " << brailleScene_->trainingTrialCount() << " trials unanswered; " << brailleScene_->trainingCorrect() << " right so far\n";
+            return false;
+        }
+        return true;
+    }
+
+    const std::string who_;   // what stderr's lines start with
+    PlayRequest& request_;
+    live::LiveConfig& config_;
+    live::LiveSession session_;
+    live::CuePlayer* cues_ = nullptr;
+    std::atomic<int> lastCommand_ {-1};
+    std::unique_ptr<live::StageControlReceiver> controlIn_;
+    std::unique_ptr<live::KeyReader> keys_;
+    std::unique_ptr<TerminalTraining> training_;
+    braille::BrailleSceneControls* brailleScene_ = nullptr;
+    braille::BrailleSceneControls* messageScene_ = nullptr;
+    std::unique_ptr<procedures::DeviceCalibration> calibration_;
+    std::vector<std::unique_ptr<GuidedMount>> mountCalibrations_;   // the right arm's, the left arm's
+    ForwardOff forwardOff_;
+    std::unique_ptr<live::SourceReport> report_;
+    std::chrono::steady_clock::time_point start_;
+    bool progress_ = false;
+    const char* lineStart_ = "";
+    double shownAt_ = -1.0;
+    int shownCue_ = -1;
+    std::uint32_t shownPanics_ = 0, shownMappingPanics_ = 0;
+    bool shownPanicked_ = false, shownCardError_ = false, shownTactorError_ = false;
+    std::string shownError_, noData_;
+    bool recordingEnded_ = false;
+};
+
 } // namespace
 
 int runLiveSession(const CommandLine& cl, const LiveCommand& command)
 {
-    const std::string who = "armadillo " + std::string(command.name) + ": ";   // what stderr's lines start with
     const std::unique_ptr<PlayRequest> request = readPlayRequest(cl, command);   // step 1
-    // Step 2: the session, its stage commands, the guided procedures and the status lines.
-    live::LiveConfig& config = request->config;
-    const std::string& mountOut = request->mountOut;
-    const std::string& leftMountOut = request->leftMountOut;
-    const std::string& calibrateOut = request->calibrateOut;
-    const std::string& trainingLog = request->trainingLog;
-    const double seconds = request->seconds, dataTimeout = request->dataTimeout;
-    const bool leftNeedsData = request->leftNeedsData;
-    const int controlPort = request->controlPort;
-    std::unique_ptr<ReaderIo>& voice = request->voice;
-    std::unique_ptr<PlayMessages>& messages = request->messages;
     installInterruptHandlers();
-    live::LiveSession session(config);
-    // Stage commands (OSC control port, keys): panic and resume act on the engine at once
-    // (atomics, any thread); what happened is reported by the loop below.
-    std::atomic<int> lastCommand {-1};
-    live::CuePlayer* cues = session.cuePlayer();
-    const auto onCommand = [&session, &lastCommand, cues](const live::StageCommand& c) {
-        using K = live::StageCommand::Kind;
-        if (c.kind == K::Panic) cues ? cues->panic() : session.engine().panic();
-        else if (c.kind == K::Resume) cues ? cues->resume() : session.engine().resume();
-        else if (cues && c.kind == K::CueNext) cues->next();
-        else if (cues && c.kind == K::CuePrev) cues->previous();
-        else if (cues && c.kind == K::CueGoto) cues->request(c.cue);   // clamped to the list
-        lastCommand.store(static_cast<int>(c.kind));
-    };
-    // Panics of every cue (a set list) or of the one engine; a panic gesture in one cue
-    // panics them all (a cue change must not bring the sound back).
-    const auto panicTotal = [&session, cues] {
-        if (!cues) return session.engine().panicCount();
-        std::uint32_t n = 0;
-        for (int c = 0; c < cues->cueCount(); ++c) n = std::max(n, cues->engine(c).panicCount());
-        return n;
-    };
-    int shownCue = cues ? cues->current() : -1;
-    if (cues)
-        std::cerr << who << "set list of " << cues->cueCount() << " cues; cue 0 '" << cues->cue(0).name << "' (" << cues->cue(0).scene << ")\n";
-    std::unique_ptr<live::StageControlReceiver> controlIn;
-    if (controlPort > 0) {
-        controlIn = std::make_unique<live::StageControlReceiver>(controlPort, onCommand);   // IoError (exit 4) when taken
-        if (messages && messages->wantsMessages())   // /armadillo/message "text" [priority] (docs/MQTT.md)
-            controlIn->setTextHandler([m = messages.get()](const std::string& text, int priority) { m->offerText(text, priority); });
-        controlIn->start();
-    }
-    std::unique_ptr<live::KeyReader> keys;
-    if (cl.has("--keys")) {
-        keys = std::make_unique<live::KeyReader>(STDIN_FILENO, onCommand);
-        keys->start();
-        std::cerr << who << "keys: p = panic, r = resume" << (cues ? ", n = next cue, b = previous cue, 0..9 = cue" : "") << "\n";
-    }
-    std::uint32_t shownPanics = 0;
-    std::uint32_t shownMappingPanics = 0;
-    bool shownPanicked = false;
-    std::unique_ptr<TerminalTraining> training;
-    braille::BrailleSceneControls* brailleScene = nullptr;
-    if (!trainingLog.empty()) {
-        brailleScene = dynamic_cast<braille::BrailleSceneControls*>(&session.engine().scene());
-        if (!brailleScene) throw UsageError("--training-log needs the braille scene");
-        training = std::make_unique<TerminalTraining>(*brailleScene, voice.get());
-    }
-    braille::BrailleSceneControls* messageScene =
-        messages && messages->wantsMessages() ? dynamic_cast<braille::BrailleSceneControls*>(&session.engine().scene()) : nullptr;
-    if (messages && messages->wantsMessages() && !messageScene) throw UsageError("--messages need the braille scene");
-    if (messages) {
-        if (live::MappingRig* rig = session.mapping()) rig->setMqttSink(&PlayMessages::publishMapped, messages.get());
-        if (voice) messages->setMirror([v = voice.get()](const std::string& line) { v->note(line); });   // --speak, --brlapi
-        messages->start();
-    }
-    // --calibrate: the device calibration (procedures::DeviceCalibration, as `armadillo calibrate`
-    // and the app's Calibration window present it), each step taken when it has enough data.
-    std::unique_ptr<procedures::DeviceCalibration> calibration;
-    const auto sayStep = [&calibration] {
-        std::cerr << (calibration->finished() ? std::string("calibration complete")
-                                              : "calibration step " + std::to_string(calibration->stepNumber()) + " (" +
-                                                    device::CalibrationProcedure::stepName(calibration->step()) + "): " + calibration->instruction())
-                  << "\n";
-    };
-    if (!calibrateOut.empty()) {
-        calibration = std::make_unique<procedures::DeviceCalibration>();
-        calibration->begin(config.calibration);
-        sayStep();
-    }
-    if (const audio::SoundCard* card = session.soundCard()) {
-        const audio::SoundCardInfo& i = card->info();
-        std::cerr << who << "sound on '" << i.device << "' (" << i.sampleRate << " Hz, " << i.format << ", "
-                  << 1000.0 * i.bufferFrames / i.sampleRate << " ms buffer)\n";
-    } else if (!session.soundCardWarning().empty()) {
-        std::cerr << who << "no sound: " << session.soundCardWarning()
-                  << " (--out FILE records the audio instead; --no-audio silences this message)\n";
-    }
-    if (live::TactorOutput* t = session.tactors()) std::cerr << who << "tactors on " << t->describe() << "\n";
-    std::vector<std::unique_ptr<GuidedMount>> mountCalibrations;   // the right arm's, the left arm's
-    for (const auto& [out, left, option, arm] : {std::tuple {mountOut, false, "--calibrate-mount", ""},
-                                                 std::tuple {leftMountOut, true, "--calibrate-mount-left", "left arm "}}) {
-        if (out.empty() || !session.enableSensorTap(left)) continue;
-        mountCalibrations.push_back(std::make_unique<GuidedMount>());
-        GuidedMount& g = *mountCalibrations.back();
-        g.session = &session;
-        g.left = left;
-        g.out = out;
-        g.option = option;
-        g.arm = arm;
-        g.begin();
-    }
-    if (live::MappingRig* rig = session.mapping()) forwardTarget().store(&rig->mapper());
-    struct ForwardOff {
-        ~ForwardOff() { forwardTarget().store(nullptr); }
-    } forwardOff;
-    ::signal(SIGUSR1, onForwardSignal);   // "set forward" from outside: kill -USR1
-    session.start();
-    const auto start = std::chrono::steady_clock::now();
-    std::string shownError;
-    live::SourceReport report(session);   // what the sources say, in words (Live/SourceReport.h)
-    for (const std::string& line : report.startup()) std::cerr << who << line << "\n";
-    bool shownCardError = false, shownTactorError = false;
-    // A progress line on a terminal (stderr only, so stdout keeps just the JSON summary), not
-    // while a guided procedure prints its own instructions there.
-    const bool progress = ::isatty(STDERR_FILENO) == 1 && !calibration && mountCalibrations.empty() && !training;
-    const char* lineStart = progress ? "\r\033[K" : "";   // a message replaces the progress line
-    double shownAt = -1.0;
-    // A port or OSC source that sends nothing is not a session: said, with what was heard,
-    // after --data-timeout (and at the end of a shorter session), and exit 4.
-    const bool needsData = config.source != live::LiveConfig::Source::Simulator;
-    std::string noData;
-    bool recordingEnded = false;
-    while (!interrupted()) {
-        const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        if (seconds > 0.0 && elapsed >= seconds) break;
-        if (needsData && dataTimeout > 0.0 && elapsed >= dataTimeout && session.summary().packets == 0) {
-            noData = report.noData(dataTimeout);
-            break;
-        }
-        if (leftNeedsData && dataTimeout > 0.0 && elapsed >= dataTimeout && report.leftPackets() == 0) {   // the left arm's source too
-            noData = report.noData(dataTimeout, true);
-            break;
-        }
-        if (session.recordingEnded()) {
-            recordingEnded = true;
-            break;
-        }
-        if (progress && elapsed - shownAt >= 0.5) {
-            shownAt = elapsed;
-            const live::SessionSummary now = session.summary();
-            char line[160];
-            std::snprintf(line, sizeof line, "\r\033[K%7.1f s%s  packets %llu  bad %llu  resyncs %llu  reconnects %llu  link %s",
-                          elapsed, seconds > 0.0 ? (" of " + std::to_string(static_cast<long>(std::ceil(seconds)))).c_str() : "",
-                          static_cast<unsigned long long>(now.packets), static_cast<unsigned long long>(now.badPackets),
-                          static_cast<unsigned long long>(now.resyncs), static_cast<unsigned long long>(now.reconnects),
-                          session.connected() ? (now.packets > 0 ? "up" : "waiting for data") : "down, reconnecting");
-            std::cerr << line << std::flush;
-        }
-        if (cues && session.engine().panicked()) {   // (a gesture panics the current cue only: spread it)
-            bool all = true;
-            for (int c = 0; c < cues->cueCount(); ++c) all = all && cues->engine(c).panicked();
-            if (!all) cues->panic();
-        }
-        if (cues && cues->current() != shownCue) {
-            shownCue = cues->current();
-            const live::Cue& q = cues->cue(shownCue);
-            std::cerr << lineStart << who << "cue " << shownCue << " '" << q.name << "' (" << q.scene << ")\n";
-        }
-        if (const std::uint32_t n = panicTotal(); n != shownPanics || session.engine().panicked() != shownPanicked) {
-            const int k = lastCommand.exchange(-1);
-            const std::uint32_t mapped = session.mappingPanics();   // a mapping's "stage": "panic"
-            const bool byMapping = mapped != shownMappingPanics;
-            shownMappingPanics = mapped;
-            if (n != shownPanics)
-                std::cerr << lineStart << who << "PANIC ("
-                          << (k == static_cast<int>(live::StageCommand::Kind::Panic) ? "command" : byMapping ? "mapping" : "gesture")
-                          << "): all sound and every motor off; resume with r or /armadillo/resume\n";
-            else if (!session.engine().panicked())
-                std::cerr << lineStart << who << "resumed: scene '" << session.engine().config().scene << "' again\n";
-            shownPanics = n;
-            shownPanicked = session.engine().panicked();
-        }
-        if (session.engine().failed()) {   // the scene threw: its motors are off; stop and say so
-            std::cerr << who << "the scene failed and was stopped (motors off): " << session.engine().failure() << "\n";
-            break;
-        }
-        // Say once on stderr when the device goes away (the link keeps reconnecting).
-        const std::string e = session.lastError();
-        if (!e.empty() && e != shownError) {
-            std::cerr << lineStart << who << e << "\n";
-            if (voice) voice->status(e);
-        }
-        shownError = e;
-        for (const std::string& line : report.poll(elapsed)) std::cerr << lineStart << who << line << "\n";
-        for (const auto& g : mountCalibrations) g->step();
-        if (messages) messages->poll(messageScene, std::cerr, lineStart);
-        if (const audio::SoundCard* card = session.soundCard(); card && card->failed() && !shownCardError) {
-            std::cerr << lineStart << who << card->lastError() << "; playing on without sound\n";
-            shownCardError = true;
-        }
-        if (live::TactorOutput* t = session.tactors(); t && t->failed() && !shownTactorError) {
-            std::cerr << lineStart << who << "the tactor output stopped (its JACK server or sound card went away); the device plays on\n";
-            shownTactorError = true;
-        }
-        if (calibration && calibration->running()) {
-            device::RawPacket p;
-            while (session.rawPackets()->pop(p)) calibration->offer(p.t, p.counts);
-            calibration->drain();
-            if (std::string why; calibration->ready() && calibration->next(why)) sayStep();
-        }
-        if (training) {
-            if (!training->step(10)) {
-                std::cerr << "braille training complete: " << brailleScene->trainingCorrect() << " of "
-                          << brailleScene->trainingTrialCount() << " right\n";
-                if (voice)
-                    voice->status("braille training complete: " + std::to_string(brailleScene->trainingCorrect()) + " of " +
-                                  std::to_string(brailleScene->trainingTrialCount()) + " right");
-                break;
-            }
-            if (training->exhausted()) {
-                std::cerr << "braille training: no more answers (stdin ended) with "
-                          << brailleScene->trainingTrialCount() - brailleScene->trainingTrial() << " of "
-                          << brailleScene->trainingTrialCount() << " trials unanswered; "
-                          << brailleScene->trainingCorrect() << " right so far\n";
-                break;
-            }
-        } else {
-            std::this_thread::sleep_for(std::chrono::milliseconds(10));
-        }
-    }
-    if (progress) std::cerr << "\n";
-    if (keys) keys->stop();
-    if (controlIn) controlIn->stop();
-    session.stop();
-    if (messages) messages->stop();
-    if (needsData && dataTimeout > 0.0 && noData.empty() && session.summary().packets == 0)
-        noData = report.noData(session.summary().seconds);
-    if (leftNeedsData && dataTimeout > 0.0 && noData.empty() && report.leftPackets() == 0)
-        noData = report.noData(session.summary().seconds, true);
-    if (!noData.empty()) {   // nothing was played: no file is written
-        std::cout << live::summaryJson(session.summary()) << "\n" << std::flush;
-        throw IoError(noData);
-    }
-    if (recordingEnded)
-        std::cerr << who << "the recording ended after " << session.recordingSeconds()
-                  << " s (--loop plays it again and again)\n";
-    const std::string trainingCsv = brailleScene ? brailleScene->trainingLogCsv() : std::string();   // control has stopped
-    session.finish();   // the session's own files first: a failing training log must not lose them
-    if (brailleScene) writeFileAtomically(trainingLog, trainingCsv);
-    if (const audio::SoundCard* card = session.soundCard(); card && card->underruns() > 0)
-        std::cerr << who << "the sound card ran dry " << card->underruns() << " time(s) (audible clicks)\n";
-    for (const auto& g : mountCalibrations) g->finish();
-    if (calibration) {
-        if (!calibration->finished())
-            std::cerr << "calibration stopped at step '" << device::CalibrationProcedure::stepName(calibration->step())
-                      << "'; that step and the later ones keep the starting calibration\n";
-        device::saveCalibration(calibrateOut, calibration->result());
-    }
-    std::cout << sessionSummary(session, report, messages.get(), cues, panicTotal()) << "\n" << std::flush;
-    return session.engine().failed() ? int(kExitFailure) : int(kExitOk);
+    LiveRun run(cl, command, *request);   // step 2
+    run.start();                           // step 3
+    run.run();                             // step 4
+    return run.finish();                   // step 5
 }
 
 int runPlay(const Arguments& args)
