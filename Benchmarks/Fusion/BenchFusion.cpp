@@ -13,6 +13,8 @@
 #include <vector>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::fusion;
 
 namespace {
 std::vector<ImuSample> syntheticStream(std::size_t n)

@@ -16,6 +16,8 @@
 #include <string>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::tactile;
 
 namespace {
 
@@ -58,7 +60,7 @@ std::string cuesScore(int n)
 
 std::string keysJson(int n)
 {
-    std::string json = device::calibrationToJson(device::defaultCalibration());
+    std::string json = link::calibrationToJson(link::defaultCalibration());
     json.erase(json.rfind('}'));
     for (int i = 0; i < n; ++i) json += ",\n\"extra" + std::to_string(i) + "\": " + std::to_string(i);
     return json + "\n}\n";
@@ -103,7 +105,7 @@ int main()
         player.setScore(parseScore(text, "pairs.score"));
     });
     measure("score: cues (parse)", 25000, cuesScore, [](const std::string& text) { (void) parseScore(text, "cues.score"); });
-    measure("calibration JSON: extra keys", 25000, keysJson, [](const std::string& text) { (void) device::parseCalibration(text, "keys.json"); });
+    measure("calibration JSON: extra keys", 25000, keysJson, [](const std::string& text) { (void) link::parseCalibration(text, "keys.json"); });
     measure("motion CSV: quaternion rows", 25000, motionCsv,
             [](const std::string& text) { (void) readQuaternions(CsvTable::parse(text, "motion.csv")); });
     return 0;

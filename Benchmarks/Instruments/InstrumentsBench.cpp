@@ -17,6 +17,9 @@
 #include <vector>
 
 using namespace armadillo;
+using namespace armadillo::fusion;
+using namespace armadillo::instruments;
+using namespace armadillo::core;
 using Clock = std::chrono::steady_clock;
 
 /// CPU time of this thread, s: what "one core" means even when the machine is shared (wall time

@@ -12,7 +12,7 @@
 #include <unistd.h>
 
 using namespace armadillo;
-using namespace armadillo::device;
+using namespace armadillo::link;
 using namespace armadillo::live;
 
 namespace {

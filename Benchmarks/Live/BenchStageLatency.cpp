@@ -27,6 +27,9 @@
 #include <vector>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::engine;
+using namespace armadillo::fusion;
 using Clock = std::chrono::steady_clock;
 
 namespace {

@@ -30,6 +30,8 @@
 #include <vector>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::engine;
 using Clock = std::chrono::steady_clock;
 
 namespace {
@@ -91,9 +93,9 @@ void latency(const std::string& preset, double seconds, audio::SequencerOut* seq
     sink.seq = seq;
     rig.setMidiSink(onMidi, &sink);
 
-    device::WanderingMotion motion(3);
-    device::SensorModel sensors;
-    const device::Calibration calibration = device::defaultCalibration();
+    link::WanderingMotion motion(3);
+    link::SensorModel sensors;
+    const link::Calibration calibration = link::defaultCalibration();
     const double rate = 200.0;
     const auto n = static_cast<std::size_t>(seconds * rate);
     std::vector<double> lat;
@@ -104,7 +106,7 @@ void latency(const std::string& preset, double seconds, audio::SequencerOut* seq
         next += std::chrono::microseconds(5000);
         std::this_thread::sleep_until(next);   // the link thread waits for the next packet
         const double t = static_cast<double>(i) / rate;
-        const device::SensorCounts counts = sensors.sample(motion.at(t), t, device::ProtocolLevels {});
+        const link::SensorCounts counts = sensors.sample(motion.at(t), t, link::ProtocolLevels {});
         // ---- the sample has arrived ----
         sink.arrival = Clock::now();
         sink.waiting = true;

@@ -30,6 +30,7 @@
 namespace {
 
 using namespace armadillo;
+using namespace armadillo::core;
 
 constexpr double kRate = 48000.0;
 constexpr int kIds = 240;                 // elevations −60 … +59.5 in 0.5° steps, reused cyclically
@@ -78,7 +79,7 @@ Result run(juce::AudioPluginInstance& plugin, int block, double seconds, int osc
     Result r;
 
     std::thread sender([&] {
-        device::OscSender out(device::HostPort {"127.0.0.1", oscPort});
+        osc::OscSender out(osc::HostPort {"127.0.0.1", oscPort});
         std::mt19937 rng(2311);
         std::uniform_real_distribution<double> gap(0.003, 0.017);
         int id = 0;

@@ -11,6 +11,8 @@
 #include <vector>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::tactile;
 
 namespace {
 

@@ -16,6 +16,7 @@
 #include <vector>
 
 using namespace armadillo;
+using namespace armadillo::core;
 
 namespace {
 

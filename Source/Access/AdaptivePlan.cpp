@@ -14,11 +14,11 @@ AdaptivePlanner::AdaptivePlanner(const ReaderProfile& history, const AdaptiveOpt
 {
     for (const std::string& s : options_.stages) {
         if (s != "letters" && s != "words" && s != "signs" && s != "contractions")
-            throw InputError("training", 0, "", "unknown adaptive stage '" + s + "' (letters, words, signs, contractions)");
-        if (items(s).empty()) throw InputError("training", 0, "", "the " + s + " stage has nothing to train");
+            throw core::InputError("training", 0, "", "unknown adaptive stage '" + s + "' (letters, words, signs, contractions)");
+        if (items(s).empty()) throw core::InputError("training", 0, "", "the " + s + " stage has nothing to train");
         stages_.push_back(s);
     }
-    if (stages_.empty()) throw InputError("training", 0, "", "no stage to train");
+    if (stages_.empty()) throw core::InputError("training", 0, "", "no stage to train");
     // Start where the reader stands: skip stages the history shows steady.
     while (stage_ + 1 < stages_.size() && steady(stages_[stage_])) ++stage_;
 }

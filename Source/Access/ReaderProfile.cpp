@@ -8,7 +8,7 @@
 
 namespace armadillo::access {
 
-using armadillo::JsonValue;
+using armadillo::core::JsonValue;
 
 int ReaderProfile::nextSession() const noexcept
 {
@@ -19,60 +19,60 @@ int ReaderProfile::nextSession() const noexcept
 }
 
 namespace {
-const JsonValue& member(const JsonValue& object, const char* key, JsonValue::Kind kind, const std::string& source)
+const core::JsonValue& member(const core::JsonValue& object, const char* key, core::JsonValue::Kind kind, const std::string& source)
 {
-    const JsonValue* v = object.find(key);
-    if (!v) throw InputError(source, object.line, key, "missing");
+    const core::JsonValue* v = object.find(key);
+    if (!v) throw core::InputError(source, object.line, key, "missing");
     if (v->kind != kind)
-        throw InputError(source, v->line, key, std::string("is ") + JsonValue::kindName(v->kind) + ", expected " + JsonValue::kindName(kind));
+        throw core::InputError(source, v->line, key, std::string("is ") + core::JsonValue::kindName(v->kind) + ", expected " + core::JsonValue::kindName(kind));
     return *v;
 }
 
-std::string optionalString(const JsonValue& object, const char* key, const std::string& source)
+std::string optionalString(const core::JsonValue& object, const char* key, const std::string& source)
 {
-    const JsonValue* v = object.find(key);
+    const core::JsonValue* v = object.find(key);
     if (!v) return {};
-    if (v->kind != JsonValue::Kind::String) throw InputError(source, v->line, key, "expected a string");
+    if (v->kind != core::JsonValue::Kind::String) throw core::InputError(source, v->line, key, "expected a string");
     return v->string;
 }
 } // namespace
 
 ReaderProfile parseReaderProfile(std::string_view json, const std::string& source)
 {
-    const JsonValue root = armadillo::parseJson(json, source);
-    if (root.kind != JsonValue::Kind::Object) throw InputError(source, root.line, "", "a reader profile is a JSON object");
-    const JsonValue& format = member(root, "format", JsonValue::Kind::String, source);
-    if (format.string != "armadillo-reader") throw InputError(source, format.line, "format", "not an armadillo reader profile");
-    if (const JsonValue* v = root.find("version"); v && (v->kind != JsonValue::Kind::Number || v->number != 1.0))
-        throw InputError(source, v->line, "version", "this program reads reader profile version 1");
+    const core::JsonValue root = armadillo::core::parseJson(json, source);
+    if (root.kind != core::JsonValue::Kind::Object) throw core::InputError(source, root.line, "", "a reader profile is a JSON object");
+    const core::JsonValue& format = member(root, "format", core::JsonValue::Kind::String, source);
+    if (format.string != "armadillo-reader") throw core::InputError(source, format.line, "format", "not an armadillo reader profile");
+    if (const core::JsonValue* v = root.find("version"); v && (v->kind != core::JsonValue::Kind::Number || v->number != 1.0))
+        throw core::InputError(source, v->line, "version", "this program reads reader profile version 1");
     ReaderProfile p;
     p.name = optionalString(root, "name", source);
-    if (const JsonValue* s = root.find("sessions")) {
-        if (s->kind != JsonValue::Kind::Array) throw InputError(source, s->line, "sessions", "expected an array");
-        for (const JsonValue& e : s->array) {
-            if (e.kind != JsonValue::Kind::Object) throw InputError(source, e.line, "sessions", "expected objects");
+    if (const core::JsonValue* s = root.find("sessions")) {
+        if (s->kind != core::JsonValue::Kind::Array) throw core::InputError(source, s->line, "sessions", "expected an array");
+        for (const core::JsonValue& e : s->array) {
+            if (e.kind != core::JsonValue::Kind::Object) throw core::InputError(source, e.line, "sessions", "expected objects");
             ReaderSession r;
-            r.session = static_cast<int>(member(e, "session", JsonValue::Kind::Number, source).number);
+            r.session = static_cast<int>(member(e, "session", core::JsonValue::Kind::Number, source).number);
             r.date = optionalString(e, "date", source);
             r.method = optionalString(e, "method", source);
-            if (const JsonValue* sec = e.find("seconds"); sec && sec->kind == JsonValue::Kind::Number) r.seconds = sec->number;
+            if (const core::JsonValue* sec = e.find("seconds"); sec && sec->kind == core::JsonValue::Kind::Number) r.seconds = sec->number;
             p.sessions.push_back(r);
         }
     }
-    if (const JsonValue* a = root.find("answers")) {
-        if (a->kind != JsonValue::Kind::Array) throw InputError(source, a->line, "answers", "expected an array");
-        for (const JsonValue& e : a->array) {
-            if (e.kind != JsonValue::Kind::Object) throw InputError(source, e.line, "answers", "expected objects");
+    if (const core::JsonValue* a = root.find("answers")) {
+        if (a->kind != core::JsonValue::Kind::Array) throw core::InputError(source, a->line, "answers", "expected an array");
+        for (const core::JsonValue& e : a->array) {
+            if (e.kind != core::JsonValue::Kind::Object) throw core::InputError(source, e.line, "answers", "expected objects");
             ReaderAnswer r;
-            r.session = static_cast<int>(member(e, "session", JsonValue::Kind::Number, source).number);
-            if (r.session < 1) throw InputError(source, e.line, "session", "must be 1 or more");
-            r.stage = member(e, "stage", JsonValue::Kind::String, source).string;
+            r.session = static_cast<int>(member(e, "session", core::JsonValue::Kind::Number, source).number);
+            if (r.session < 1) throw core::InputError(source, e.line, "session", "must be 1 or more");
+            r.stage = member(e, "stage", core::JsonValue::Kind::String, source).string;
             r.method = optionalString(e, "method", source);
-            r.expected = member(e, "expected", JsonValue::Kind::String, source).string;
-            r.answer = member(e, "answer", JsonValue::Kind::String, source).string;
-            r.correct = member(e, "correct", JsonValue::Kind::Bool, source).boolean;
-            if (const JsonValue* rt = e.find("rt"); rt && rt->kind == JsonValue::Kind::Number) r.rt = rt->number;
-            if (const JsonValue* t = e.find("t"); t && t->kind == JsonValue::Kind::Number) r.t = t->number;
+            r.expected = member(e, "expected", core::JsonValue::Kind::String, source).string;
+            r.answer = member(e, "answer", core::JsonValue::Kind::String, source).string;
+            r.correct = member(e, "correct", core::JsonValue::Kind::Bool, source).boolean;
+            if (const core::JsonValue* rt = e.find("rt"); rt && rt->kind == core::JsonValue::Kind::Number) r.rt = rt->number;
+            if (const core::JsonValue* t = e.find("t"); t && t->kind == core::JsonValue::Kind::Number) r.t = t->number;
             p.answers.push_back(r);
         }
     }
@@ -82,40 +82,40 @@ ReaderProfile parseReaderProfile(std::string_view json, const std::string& sourc
 ReaderProfile loadReaderProfile(const std::string& path)
 {
     if (!std::filesystem::exists(path)) return {};
-    return parseReaderProfile(readWholeFile(path), path);
+    return parseReaderProfile(core::readWholeFile(path), path);
 }
 
 std::string readerProfileToJson(const ReaderProfile& p)
 {
     std::string out = "{\n  \"format\": \"armadillo-reader\",\n  \"version\": 1,\n  \"name\": ";
-    armadillo::appendJsonString(out, p.name);
+    armadillo::core::appendJsonString(out, p.name);
     out += ",\n  \"sessions\": [";
     for (std::size_t i = 0; i < p.sessions.size(); ++i) {
         const ReaderSession& s = p.sessions[i];
         out += std::string(i ? "," : "") + "\n    {\"session\": " + std::to_string(s.session) + ", \"date\": ";
-        armadillo::appendJsonString(out, s.date);
+        armadillo::core::appendJsonString(out, s.date);
         out += ", \"method\": ";
-        armadillo::appendJsonString(out, s.method);
+        armadillo::core::appendJsonString(out, s.method);
         out += ", \"seconds\": ";
-        appendNumber(out, s.seconds, 6);
+        core::appendNumber(out, s.seconds, 6);
         out += "}";
     }
     out += "\n  ],\n  \"answers\": [";
     for (std::size_t i = 0; i < p.answers.size(); ++i) {
         const ReaderAnswer& a = p.answers[i];
         out += std::string(i ? "," : "") + "\n    {\"session\": " + std::to_string(a.session) + ", \"stage\": ";
-        armadillo::appendJsonString(out, a.stage);
+        armadillo::core::appendJsonString(out, a.stage);
         out += ", \"method\": ";
-        armadillo::appendJsonString(out, a.method);
+        armadillo::core::appendJsonString(out, a.method);
         out += ", \"expected\": ";
-        armadillo::appendJsonString(out, a.expected);
+        armadillo::core::appendJsonString(out, a.expected);
         out += ", \"answer\": ";
-        armadillo::appendJsonString(out, a.answer);
+        armadillo::core::appendJsonString(out, a.answer);
         out += std::string(", \"correct\": ") + (a.correct ? "true" : "false") + ", \"rt\": ";
-        if (a.rt >= 0.0) appendNumber(out, a.rt, 6);
+        if (a.rt >= 0.0) core::appendNumber(out, a.rt, 6);
         else out += "null";
         out += ", \"t\": ";
-        if (a.t >= 0.0) appendNumber(out, a.t, 6);
+        if (a.t >= 0.0) core::appendNumber(out, a.t, 6);
         else out += "null";
         out += "}";
     }
@@ -123,7 +123,7 @@ std::string readerProfileToJson(const ReaderProfile& p)
     return out;
 }
 
-void saveReaderProfile(const std::string& path, const ReaderProfile& profile) { writeFileAtomically(path, readerProfileToJson(profile)); }
+void saveReaderProfile(const std::string& path, const ReaderProfile& profile) { core::writeFileAtomically(path, readerProfileToJson(profile)); }
 
 std::map<std::string, ItemStats> itemStats(const std::vector<ReaderAnswer>& answers, const std::string& stage)
 {

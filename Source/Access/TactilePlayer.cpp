@@ -7,13 +7,13 @@
 
 namespace armadillo::access {
 
-TactilePlayer::TactilePlayer(const TactileConfig& config, double packetPeriod) : packetPeriod_(packetPeriod)
+TactilePlayer::TactilePlayer(const tactile::TactileConfig& config, double packetPeriod) : packetPeriod_(packetPeriod)
 {
     engine_.prepare(config);
     for (auto& g : gains_) g.store(1.0f);
 }
 
-void TactilePlayer::setMotorGains(const std::array<float, kMaxMotors>& gains) noexcept
+void TactilePlayer::setMotorGains(const std::array<float, core::kMaxMotors>& gains) noexcept
 {
     for (std::size_t m = 0; m < gains_.size(); ++m) gains_[m].store(std::isfinite(gains[m]) && gains[m] >= 0.0f ? gains[m] : 1.0f);
 }
@@ -32,7 +32,7 @@ int TactilePlayer::play(std::vector<TactileSegment> segments, double after)
     return queued_.fetch_add(1) + 1;
 }
 
-MotorLevels TactilePlayer::onPacket(double t, double rollRate) noexcept
+core::MotorLevels TactilePlayer::onPacket(double t, double rollRate) noexcept
 {
     if (const ArmGesture g = twist_.update(t, rollRate); g == ArmGesture::Repeat) repeats_.fetch_add(1, std::memory_order_relaxed);
     else if (g == ArmGesture::Skip) skips_.fetch_add(1, std::memory_order_relaxed);
@@ -53,29 +53,29 @@ MotorLevels TactilePlayer::onPacket(double t, double rollRate) noexcept
         if (s.end) endAt_ = anchor_ + s.at;
         else active_[static_cast<std::size_t>(activeCount_++)] = s;
     }
-    std::array<float, kMaxMotors> level {};
+    std::array<float, core::kMaxMotors> level {};
     std::uint16_t soft = 0;
     if (running_)
         for (int i = 0; i < activeCount_; ++i) {
             const TactileSegment& a = active_[static_cast<std::size_t>(i)];
             if (now < anchor_ + a.at || now >= anchor_ + a.at + a.duration) continue;
-            for (int m = 0; m < kMaxMotors; ++m)
+            for (int m = 0; m < core::kMaxMotors; ++m)
                 if ((a.motors >> m) & 1u) {
                     level[static_cast<std::size_t>(m)] = std::max(level[static_cast<std::size_t>(m)], a.level);
                     if (a.soft) soft = static_cast<std::uint16_t>(soft | (1u << m));
                 }
         }
-    for (int m = 0; m < kMaxMotors; ++m) {
+    for (int m = 0; m < core::kMaxMotors; ++m) {
         const float l = std::min(level[static_cast<std::size_t>(m)] * gains_[static_cast<std::size_t>(m)].load(std::memory_order_relaxed),
-                                 static_cast<float>(kMaxLevel));
+                                 static_cast<float>(core::kMaxLevel));
         if ((soft >> m) & 1u) engine_.setSoftLevel(m, l);
         else engine_.setLevel(m, l);
     }
-    const MotorLevels out = engine_.tick(dt);
+    const core::MotorLevels out = engine_.tick(dt);
     if (running_) {
-        for (int m = 0; m < kMaxMotors; ++m) max_[static_cast<std::size_t>(m)] = std::max<int>(max_[static_cast<std::size_t>(m)], out[static_cast<std::size_t>(m)]);
+        for (int m = 0; m < core::kMaxMotors; ++m) max_[static_cast<std::size_t>(m)] = std::max<int>(max_[static_cast<std::size_t>(m)], out[static_cast<std::size_t>(m)]);
         if (endAt_ >= 0.0 && now >= endAt_) {
-            for (int m = 0; m < kMaxMotors; ++m) maxSent_[static_cast<std::size_t>(m)].store(max_[static_cast<std::size_t>(m)]);
+            for (int m = 0; m < core::kMaxMotors; ++m) maxSent_[static_cast<std::size_t>(m)].store(max_[static_cast<std::size_t>(m)]);
             running_ = false;
             endAt_ = -1.0;
             activeCount_ = 0;

@@ -28,7 +28,7 @@ struct TactileSegment {
 class TactilePlayer {
 public:
     /// packetPeriod > 0: each packet counts that many seconds (unpaced), else the link's clock.
-    TactilePlayer(const TactileConfig& config, double packetPeriod);
+    TactilePlayer(const tactile::TactileConfig& config, double packetPeriod);
 
     /// Main thread: queues a sequence (an end marker is added at its length + `after` s of
     /// stillness). Returns its number (1, 2, …).
@@ -43,34 +43,34 @@ public:
     /// Control thread: one call per sensor packet (t = the link's clock, s); the levels of the
     /// answering motor packet. `rollRate` (rad/s, the gyro's x: the forearm axis), when given,
     /// feeds the arm gestures (ArmGestures.h: a twist and back = repeat, two = skip).
-    MotorLevels onPacket(double t, double rollRate = std::numeric_limits<double>::quiet_NaN()) noexcept;
+    core::MotorLevels onPacket(double t, double rollRate = std::numeric_limits<double>::quiet_NaN()) noexcept;
     /// Main thread (any time): the reader's touch profile as a gain per motor index (the player's
-    /// right-arm layout: index i = motor m(i+1), as device::touchProfileGains gives them), applied
+    /// right-arm layout: index i = motor m(i+1), as link::touchProfileGains gives them), applied
     /// to every segment's level before the engine's drive shaping and safety stage, as
     /// TactileConfig::motorGain is in a scene (result clamped to 15; non-finite or negative = 1).
     /// All 1 (the default) = none. The sensitivity test's player never gets one (raw thresholds).
-    void setMotorGains(const std::array<float, kMaxMotors>& gains) noexcept;
+    void setMotorGains(const std::array<float, core::kMaxMotors>& gains) noexcept;
     /// Main thread: twists seen so far (the app's adaptive training takes them as repeat / skip).
     int repeats() const noexcept { return repeats_.load(std::memory_order_relaxed); }
     int skips() const noexcept { return skips_.load(std::memory_order_relaxed); }
 
 private:
-    TactileEngine engine_;
+    tactile::TactileEngine engine_;
     const double packetPeriod_;
-    SpscQueue<TactileSegment, 512> queue_;
+    core::SpscQueue<TactileSegment, 512> queue_;
     std::atomic<int> queued_ {0}, completed_ {0};
-    std::array<std::atomic<int>, kMaxMotors> maxSent_ {};
+    std::array<std::atomic<int>, core::kMaxMotors> maxSent_ {};
     std::atomic<double> clock_ {0.0};
     std::atomic<std::uint64_t> packets_ {0};
     std::atomic<int> repeats_ {0}, skips_ {0};
-    std::array<std::atomic<float>, kMaxMotors> gains_ {};
+    std::array<std::atomic<float>, core::kMaxMotors> gains_ {};
     TwistDetector twist_;   // link thread only
     // Link thread only.
     std::array<TactileSegment, 128> active_ {};
     int activeCount_ = 0;
     bool running_ = false;
     double anchor_ = 0.0, endAt_ = -1.0, lastT_ = -1.0;
-    std::array<int, kMaxMotors> max_ {};
+    std::array<int, core::kMaxMotors> max_ {};
 };
 
 } // namespace armadillo::access

@@ -32,13 +32,13 @@ JackOutput::JackOutput(const std::string& clientName, int channels, const std::s
 {
     jack_set_error_function(quietJack);
     jack_set_info_function(quietJack);
-    if (channels < 1 || channels > 32) throw IoError("JACK: 1..32 output ports, not " + std::to_string(channels));
+    if (channels < 1 || channels > 32) throw core::IoError("JACK: 1..32 output ports, not " + std::to_string(channels));
     jack_status_t status {};
     client_->handle = jack_client_open(clientName.c_str(), JackNoStartServer, &status);
     if (!client_->handle) {
         if (status & JackServerFailed)
-            throw IoError("JACK server '" + serverName() + "' not running (start jackd, or give an ALSA device to --tactors)");
-        throw IoError("JACK: cannot open client '" + clientName + "' (status 0x" + std::to_string(static_cast<unsigned>(status)) + ")");
+            throw core::IoError("JACK server '" + serverName() + "' not running (start jackd, or give an ALSA device to --tactors)");
+        throw core::IoError("JACK: cannot open client '" + clientName + "' (status 0x" + std::to_string(static_cast<unsigned>(status)) + ")");
     }
     name_ = jack_get_client_name(client_->handle);
     sampleRate_ = static_cast<double>(jack_get_sample_rate(client_->handle));
@@ -46,7 +46,7 @@ JackOutput::JackOutput(const std::string& clientName, int channels, const std::s
     for (int k = 1; k <= channels; ++k) {
         const std::string port = portPrefix + std::to_string(k);
         jack_port_t* p = jack_port_register(client_->handle, port.c_str(), JACK_DEFAULT_AUDIO_TYPE, JackPortIsOutput | JackPortIsTerminal, 0);
-        if (!p) throw IoError("JACK: cannot register output port '" + port + "'");
+        if (!p) throw core::IoError("JACK: cannot register output port '" + port + "'");
         ports_.push_back(p);
     }
     buffers_.assign(ports_.size(), nullptr);
@@ -85,7 +85,7 @@ std::vector<std::string> JackOutput::inputPorts(const std::string& pattern) cons
         for (const char** p = found; *p; ++p) names.emplace_back(*p);
         jack_free(found);
     }
-    if (names.empty()) throw IoError("JACK: no audio input port matches '" + pattern + "' (jack_lsp lists them)");
+    if (names.empty()) throw core::IoError("JACK: no audio input port matches '" + pattern + "' (jack_lsp lists them)");
     return names;
 }
 
@@ -93,7 +93,7 @@ void JackOutput::start(Render render)
 {
     if (active_) return;
     render_ = std::move(render);
-    if (jack_activate(client_->handle) != 0) throw IoError("JACK: cannot activate client '" + name_ + "'");
+    if (jack_activate(client_->handle) != 0) throw core::IoError("JACK: cannot activate client '" + name_ + "'");
     active_ = true;
 }
 
@@ -101,11 +101,11 @@ void JackOutput::connect(const std::string& pattern)
 {
     const std::vector<std::string> targets = inputPorts(pattern);
     if (targets.size() < ports_.size())
-        throw IoError("JACK: '" + pattern + "' matches " + std::to_string(targets.size()) + " input ports, the tactor map needs " +
+        throw core::IoError("JACK: '" + pattern + "' matches " + std::to_string(targets.size()) + " input ports, the tactor map needs " +
                       std::to_string(ports_.size()));
     for (std::size_t c = 0; c < ports_.size(); ++c) {
         const int r = jack_connect(client_->handle, jack_port_name(static_cast<jack_port_t*>(ports_[c])), targets[c].c_str());
-        if (r != 0 && r != EEXIST) throw IoError("JACK: cannot connect " + portName(static_cast<int>(c)) + " to " + targets[c]);
+        if (r != 0 && r != EEXIST) throw core::IoError("JACK: cannot connect " + portName(static_cast<int>(c)) + " to " + targets[c]);
     }
 }
 

@@ -40,14 +40,14 @@ bool encodeSequencerEvent(const std::uint8_t* bytes, std::size_t size, int sourc
 
 SequencerOut::SequencerOut(const std::string& portName)
 {
-    if (portName.empty()) throw IoError("--midi-out needs a port name");
+    if (portName.empty()) throw core::IoError("--midi-out needs a port name");
     static std::once_flag quiet;
     std::call_once(quiet, [] { snd_lib_error_set_handler(quietAlsa); });
     int err = snd_seq_open(&seq_, "default", SND_SEQ_OPEN_OUTPUT, 0);
     if (err < 0) {
         struct stat st {};
         const bool device = ::stat("/dev/snd/seq", &st) == 0;
-        throw IoError(std::string("--midi-out ") + portName + ": cannot open the ALSA sequencer: " + snd_strerror(err) +
+        throw core::IoError(std::string("--midi-out ") + portName + ": cannot open the ALSA sequencer: " + snd_strerror(err) +
                       (device ? "" : " (/dev/snd/seq does not exist: load the snd-seq kernel module, e.g. `sudo modprobe snd-seq`, "
                                      "or give the container the sound devices)"));
     }
@@ -58,7 +58,7 @@ SequencerOut::SequencerOut(const std::string& portName)
         const std::string why = snd_strerror(port_);
         snd_seq_close(seq_);
         seq_ = nullptr;
-        throw IoError("--midi-out " + portName + ": cannot create the sequencer port: " + why);
+        throw core::IoError("--midi-out " + portName + ": cannot create the sequencer port: " + why);
     }
     client_ = snd_seq_client_id(seq_);
 }

@@ -44,15 +44,15 @@ SoundCard::SoundCard(const std::string& device, double sampleRate, double latenc
     static std::once_flag quiet;
     std::call_once(quiet, [] { snd_lib_error_set_handler(quietAlsa); });
     if (!(sampleRate >= 8000.0 && sampleRate <= 384000.0))
-        throw IoError("sound card '" + device + "': unsupported sample rate " + std::to_string(sampleRate));
+        throw core::IoError("sound card '" + device + "': unsupported sample rate " + std::to_string(sampleRate));
     // Non-blocking: the thread waits in snd_pcm_wait() with a timeout instead of inside a write,
     // so stop() is never stuck behind a stalled sound server.
     int err = snd_pcm_open(&pcm_->handle, device.c_str(), SND_PCM_STREAM_PLAYBACK, SND_PCM_NONBLOCK);
     if (err < 0) {
         pcm_->handle = nullptr;
-        throw IoError(reason(device, "cannot open", err));
+        throw core::IoError(reason(device, "cannot open", err));
     }
-    if (channels < 1 || channels > 32) throw IoError("sound card '" + device + "': 1..32 channels, not " + std::to_string(channels));
+    if (channels < 1 || channels > 32) throw core::IoError("sound card '" + device + "': 1..32 channels, not " + std::to_string(channels));
     {
         // A device that has fewer outputs than asked is named as such (ALSA's own reason, "Invalid
         // argument", says nothing); plug devices ("default", "plughw:") take any count.
@@ -62,7 +62,7 @@ SoundCard::SoundCard(const std::string& device, double sampleRate, double latenc
         const bool known = hw && snd_pcm_hw_params_any(pcm_->handle, hw) >= 0 && snd_pcm_hw_params_get_channels_max(hw, &most) >= 0;
         if (hw) snd_pcm_hw_params_free(hw);
         if (known && most < static_cast<unsigned>(channels))
-            throw IoError("sound card '" + device + "': " + std::to_string(most) + " output channels, " + std::to_string(channels) + " needed");
+            throw core::IoError("sound card '" + device + "': " + std::to_string(most) + " output channels, " + std::to_string(channels) + " needed");
     }
     const auto rate = static_cast<unsigned>(std::lround(sampleRate));
     const auto latencyUs = static_cast<unsigned>(std::clamp(latencySeconds, 0.002, 1.0) * 1e6);
@@ -73,10 +73,10 @@ SoundCard::SoundCard(const std::string& device, double sampleRate, double latenc
         pcm_->isFloat = false;
         err = snd_pcm_set_params(pcm_->handle, SND_PCM_FORMAT_S16_LE, SND_PCM_ACCESS_RW_INTERLEAVED, static_cast<unsigned>(channels), rate, 1, latencyUs);
     }
-    if (err < 0) throw IoError(reason(device, "no " + std::to_string(channels) + "-channel float or 16-bit format at " + std::to_string(rate) + " Hz", err));
+    if (err < 0) throw core::IoError(reason(device, "no " + std::to_string(channels) + "-channel float or 16-bit format at " + std::to_string(rate) + " Hz", err));
     snd_pcm_uframes_t buffer = 0, period = 0;
     err = snd_pcm_get_params(pcm_->handle, &buffer, &period);
-    if (err < 0 || period == 0) throw IoError(reason(device, "cannot read buffer sizes", err < 0 ? err : -EINVAL));
+    if (err < 0 || period == 0) throw core::IoError(reason(device, "cannot read buffer sizes", err < 0 ? err : -EINVAL));
     info_.device = device;
     info_.sampleRate = static_cast<double>(rate);
     info_.periodFrames = static_cast<int>(std::min<snd_pcm_uframes_t>(period, 8192));
@@ -121,7 +121,7 @@ std::string SoundCard::lastError() const
 
 void SoundCard::loop(int realtimePriority)
 {
-    if (realtimePriority > 0) requestRealtimePriority(realtimePriority);
+    if (realtimePriority > 0) core::requestRealtimePriority(realtimePriority);
     const int n = info_.periodFrames;
     const int channels = info_.channels;
     const auto nc = static_cast<std::size_t>(channels);

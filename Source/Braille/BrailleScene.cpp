@@ -15,8 +15,7 @@
 #include <cstring>
 
 
-namespace armadillo {
-namespace braille {
+namespace armadillo::braille {
 namespace {
 
 /// Short vibrations scheduled on the scene's clock; the level of a motor is the highest of the
@@ -33,7 +32,7 @@ public:
         }
         bursts_[count_++] = {start, start + duration, motors, level};
     }
-    void levels(double t, std::array<float, kGridMotors>& out) noexcept
+    void levels(double t, std::array<float, core::kGridMotors>& out) noexcept
     {
         out.fill(0.0f);
         std::size_t kept = 0;
@@ -42,7 +41,7 @@ public:
             if (b.end <= t) continue;   // finished
             bursts_[kept++] = b;
             if (b.start > t) continue;  // not yet
-            for (int m = 0; m < kGridMotors; ++m)
+            for (int m = 0; m < core::kGridMotors; ++m)
                 if (b.motors & (1u << m)) out[static_cast<std::size_t>(m)] = std::max(out[static_cast<std::size_t>(m)], b.level);
         }
         count_ = kept;
@@ -66,7 +65,7 @@ struct AnswerText {
     std::array<char, 64> text {};
 };
 
-class ArmBrailleScene final : public Scene, public BrailleSceneControls {
+class ArmBrailleScene final : public core::Scene, public BrailleSceneControls {
 public:
     ArmBrailleScene()
     {
@@ -75,9 +74,9 @@ public:
     }
 
     std::string_view name() const override { return "braille"; }
-    std::vector<ParamSpec> parameters() const override { return parameterSpecs(); }
+    std::vector<core::ParamSpec> parameters() const override { return parameterSpecs(); }
 
-    static std::vector<ParamSpec> parameterSpecs()
+    static std::vector<core::ParamSpec> parameterSpecs()
     {
         return {
             {"braille.mode", "Mode", 0, 2, 0, "", {"active", "passive", "training"}},
@@ -96,7 +95,7 @@ public:
         };
     }
 
-    void prepare(const SceneConfig& config) override
+    void prepare(const core::SceneConfig& config) override
     {
         config_ = config;
         const std::string text = config.text.empty() ? std::string(kDefaultText) : config.text;
@@ -105,7 +104,7 @@ public:
             o.grade = g + 1;
             const BrailleDocument doc = loadDocument(text, o);
             if (doc.cellCount() == 0)
-                throw InputError(text.front() == '@' ? text.substr(1) : std::string("text"), 0, "", "nothing to read: the braille text is blank");
+                throw core::InputError(text.front() == '@' ? text.substr(1) : std::string("text"), 0, "", "nothing to read: the braille text is blank");
             for (int m = 0; m < kDisplayMethodCount; ++m)
                 cursors_[static_cast<std::size_t>(g * kDisplayMethodCount + m)] =
                     ReadingCursor(layoutDocument(doc, static_cast<DisplayMethod>(m)));
@@ -173,7 +172,7 @@ public:
         return busy_.load(std::memory_order_acquire) || urgentIn_.size() > 0 || normalIn_.size() > 0;
     }
 
-    void control(const ControlInput& in, SceneOutput& out) override
+    void control(const core::ControlInput& in, core::SceneOutput& out) override
     {
         if (!prepared_) return;
         t_ += std::clamp(in.dt, 0.0, 1.0);
@@ -216,7 +215,7 @@ public:
             }
             // The hold stage's "here" by the arm: a push along the forearm (ArmPush.h). The
             // detector follows every sample so its gravity baseline is ready when a hold comes.
-            if (push_.update(t_, in.arm.valid ? in.arm.accel.x() : kNaN, in.arm.gyro.norm()) && !training_->finished() &&
+            if (push_.update(t_, in.arm.valid ? in.arm.accel.x() : core::kNaN, in.arm.gyro.norm()) && !training_->finished() &&
                 training_->trials()[static_cast<std::size_t>(training_->trialIndex())].stage == TrainingStage::Hold) {
                 const int trial = training_->trialIndex();
                 const bool right = training_->answerHere(t_, push_.startedAt());
@@ -251,11 +250,11 @@ public:
         emitLevels(out);
     }
 
-    void emitLevels(SceneOutput& out)
+    void emitLevels(core::SceneOutput& out)
     {
-        std::array<float, kGridMotors> levels {};
+        std::array<float, core::kGridMotors> levels {};
         player_.levels(t_, levels);
-        for (int m = 0; m < kGridMotors; ++m) {
+        for (int m = 0; m < core::kGridMotors; ++m) {
             const auto i = static_cast<std::size_t>(m);
             if (levels[i] != sent_[i]) {
                 out.motors.setLevel(m, levels[i]);
@@ -323,7 +322,7 @@ private:
         if (training_) training_->roll().setParams(rp);
     }
 
-    void handle(const ReadEvent& e, SceneOutput& out)
+    void handle(const ReadEvent& e, core::SceneOutput& out)
     {
         if (e.roll.directionChanged) {
             const bool forward = e.roll.posture == ReadingPosture::Forward;
@@ -336,7 +335,7 @@ private:
         }
     }
 
-    void show(const ReadingStep& s, double duration, SceneOutput& out)
+    void show(const ReadingStep& s, double duration, core::SceneOutput& out)
     {
         shown_ = s;
         shownAt_ = t_;
@@ -376,7 +375,7 @@ private:
 
     /// One step of passive drawing (§4.2.1) of `cursor`: shows it, and sets `nextAt` to when the
     /// next step is due (the end of the text waits one step on time).
-    ReadingStep drawStep(ReadingCursor& cursor, SceneOutput& out, double& nextAt)
+    ReadingStep drawStep(ReadingCursor& cursor, core::SceneOutput& out, double& nextAt)
     {
         const ReadingStep s = cursor.advance(true);
         const double on = param(kParamPassiveOn);
@@ -397,7 +396,7 @@ private:
         return s;
     }
 
-    void passiveTick(SceneOutput& out)
+    void passiveTick(core::SceneOutput& out)
     {
         if (passiveDone_ || t_ < nextPassiveAt_ || !active_) return;
         const ReadingStep s = drawStep(*active_, out, nextPassiveAt_);
@@ -418,7 +417,7 @@ private:
     static constexpr double kSweepToBody = 0.8;       ///< s from the sweep's start to the first cell
     static constexpr double kAfterEnd = 0.8;          ///< s after the double tap before the message is done
 
-    void takeMessages(SceneOutput& out)
+    void takeMessages(core::SceneOutput& out)
     {
         ArmMessage* m = nullptr;
         if (urgentIn_.pop(m)) {
@@ -434,7 +433,7 @@ private:
 
     bool trainingRunning() const noexcept { return mode_ == BrailleMode::Training && training_ && !training_->finished(); }
 
-    void startMessage(ArmMessage* m, SceneOutput& out)
+    void startMessage(ArmMessage* m, core::SceneOutput& out)
     {
         message_ = m;
         busy_.store(true, std::memory_order_release);
@@ -458,7 +457,7 @@ private:
         reading_.reset();
     }
 
-    void messageTick(const Eigen::Vector3d& axis, const Eigen::Vector3d& normal, bool valid, SceneOutput& out)
+    void messageTick(const Eigen::Vector3d& axis, const Eigen::Vector3d& normal, bool valid, core::SceneOutput& out)
     {
         switch (messagePhase_) {
         case MessagePhase::Announce:
@@ -493,7 +492,7 @@ private:
         }
     }
 
-    SceneConfig config_ {};
+    core::SceneConfig config_ {};
     std::array<std::atomic<float>, kParamCount> params_ {};
     std::array<ReadingCursor, 2 * kDisplayMethodCount> cursors_ {};
     ReadingCursor* active_ = nullptr;
@@ -503,9 +502,9 @@ private:
     std::atomic<int> armAnswers_ {0}, lastArmTrial_ {-1};  // "here" by the arm, published likewise
     std::atomic<bool> lastArmRight_ {false}, restartTrial_ {false};
     PushDetector push_;
-    SpscQueue<AnswerText, 16> answers_;
+    core::SpscQueue<AnswerText, 16> answers_;
     BurstPlayer player_;
-    std::array<float, kGridMotors> sent_ {};
+    std::array<float, core::kGridMotors> sent_ {};
     BrailleMode mode_ = BrailleMode::Active;
     int applied_ = -1;
     bool prepared_ = false, clearPending_ = true, passiveDone_ = false;
@@ -514,12 +513,12 @@ private:
     double t_ = 0.0, shownAt_ = 0.0, nextPassiveAt_ = 0.0;
     ReadingStep shown_ {};
     // Messages: pointers cross in SPSC queues (the front end owns the messages), ids come back.
-    SpscQueue<ArmMessage*, 4> urgentIn_, normalIn_;
+    core::SpscQueue<ArmMessage*, 4> urgentIn_, normalIn_;
     struct FinishedMessage {
         std::uint64_t id = 0;
         bool interrupted = false;
     };
-    SpscQueue<FinishedMessage, 64> finished_;
+    core::SpscQueue<FinishedMessage, 64> finished_;
     std::atomic<bool> busy_ {false};
     ArmMessage* message_ = nullptr;
     MessagePhase messagePhase_ = MessagePhase::Announce;
@@ -527,11 +526,8 @@ private:
 };
 
 } // namespace
-} // namespace braille
 
-std::unique_ptr<Scene> makeBrailleScene() { return std::make_unique<braille::ArmBrailleScene>(); }
-
-namespace braille {
+std::unique_ptr<core::Scene> makeBrailleScene() { return std::make_unique<ArmBrailleScene>(); }
 
 std::unique_ptr<ArmMessage> prepareArmMessage(const std::string& text, const std::string& source, int grade, DisplayMethod method,
                                               bool timed, bool urgent, std::uint64_t id)
@@ -541,10 +537,10 @@ std::unique_ptr<ArmMessage> prepareArmMessage(const std::string& text, const std
     BrailleDocument doc;
     try {
         doc = translateText(text, o);
-    } catch (const InputError& e) {
-        throw InputError(source, 0, "", e.what());
+    } catch (const core::InputError& e) {
+        throw core::InputError(source, 0, "", e.what());
     }
-    if (doc.cellCount() == 0) throw InputError(source, 0, "", "nothing to read: the message is blank");
+    if (doc.cellCount() == 0) throw core::InputError(source, 0, "", "nothing to read: the message is blank");
     auto m = std::make_unique<ArmMessage>();
     m->id = id;
     m->timed = timed;
@@ -553,6 +549,4 @@ std::unique_ptr<ArmMessage> prepareArmMessage(const std::string& text, const std
     return m;
 }
 
-} // namespace braille
-
-} // namespace armadillo
+} // namespace armadillo::braille

@@ -10,11 +10,9 @@
 #include <memory>
 #include <string>
 
-namespace armadillo {
+namespace armadillo::braille {
 
-std::unique_ptr<Scene> makeBrailleScene();   ///< "braille"
-
-namespace braille {
+std::unique_ptr<core::Scene> makeBrailleScene();   ///< "braille"
 
 /// Indices into the braille scene's parameters() (ids "braille.<name>").
 enum BrailleParam : int {
@@ -106,5 +104,4 @@ public:
 /// Default text when SceneConfig::text is empty (the plugin's scene choice starts with it).
 inline constexpr const char* kDefaultText = "exit";
 
-} // namespace braille
-} // namespace armadillo
+} // namespace armadillo::braille

@@ -61,7 +61,7 @@ std::u32string decodeUtf8(std::string_view s, const std::string& source)
     long line = 1;
     std::size_t lineStart = 0;
     auto bad = [&](const char* what) {
-        throw InputError(source, line, "", std::string(what) + " at byte " + std::to_string(i - lineStart + 1) + " of the line");
+        throw core::InputError(source, line, "", std::string(what) + " at byte " + std::to_string(i - lineStart + 1) + " of the line");
     };
     while (i < s.size()) {
         const auto b0 = static_cast<unsigned char>(s[i]);
@@ -192,14 +192,14 @@ BrailleMessage translateLine(const std::u32string& line, std::size_t lineNumber,
         LouisOutput single;
         const std::vector<widechar> one {static_cast<widechar>(c)};
         if (!louisTranslate(table, one, noUndefined, single) || single.cells.empty())
-            throw InputError(source, static_cast<long>(lineNumber), "",
+            throw core::InputError(source, static_cast<long>(lineNumber), "",
                              "character " + describeChar(c) + " at position " + std::to_string(i + 1) +
                                  " cannot be translated with table '" + table + "'");
     }
 
     LouisOutput out;
     if (!louisTranslate(table, in, 0, out))
-        throw InputError(source, static_cast<long>(lineNumber), "", "liblouis could not translate this line with table '" + table + "'");
+        throw core::InputError(source, static_cast<long>(lineNumber), "", "liblouis could not translate this line with table '" + table + "'");
 
     const std::size_t n = out.cells.size();
     for (std::size_t i = 0; i < n;) {
@@ -220,11 +220,11 @@ BrailleMessage translateLine(const std::u32string& line, std::size_t lineNumber,
         for (std::size_t k = i; k < j; ++k) {
             const widechar w = out.cells[k];
             if ((w & 0xFF00u) != 0x2800u)
-                throw InputError(source, static_cast<long>(lineNumber), "",
+                throw core::InputError(source, static_cast<long>(lineNumber), "",
                                  "table '" + table + "' produced a non-braille character " + describeChar(static_cast<char32_t>(w)));
             const unsigned bits = w & 0xFFu;
             if (bits & 0xC0u)
-                throw InputError(source, static_cast<long>(lineNumber), "",
+                throw core::InputError(source, static_cast<long>(lineNumber), "",
                                  "table '" + table + "' uses dots 7-8 (for " + describeChar(line[static_cast<std::size_t>(std::max(start, 0))]) +
                                      "); the three-row display shows six-dot braille only: choose a six-dot table");
             if (bits == 0) {
@@ -267,11 +267,11 @@ std::string defaultTable(int grade)
 BrailleDocument translateText(std::string_view utf8, const TranslationOptions& options)
 {
     if (options.grade != 1 && options.grade != 2)
-        throw InputError(options.source, 0, "", "braille grade must be 1 or 2, not " + std::to_string(options.grade));
+        throw core::InputError(options.source, 0, "", "braille grade must be 1 or 2, not " + std::to_string(options.grade));
     BrailleDocument doc;
     doc.table = options.table.empty() ? defaultTable(options.grade) : options.table;
     if (doc.table.find_first_of("\n\r") != std::string::npos)
-        throw InputError(options.source, 0, "", "bad table name");
+        throw core::InputError(options.source, 0, "", "bad table name");
 
     std::u32string text = decodeUtf8(utf8, options.source);
     for (auto& c : text) {
@@ -282,7 +282,7 @@ BrailleDocument translateText(std::string_view utf8, const TranslationOptions& o
     LouisSession session;
     if (!lou_getTable(doc.table.c_str())) {
         const std::string why = session.log();
-        throw InputError(doc.table, 0, "", "liblouis cannot load braille table '" + doc.table + "'" + (why.empty() ? "" : ": " + why));
+        throw core::InputError(doc.table, 0, "", "liblouis cannot load braille table '" + doc.table + "'" + (why.empty() ? "" : ": " + why));
     }
     std::size_t lineNumber = 1;
     std::size_t begin = 0;
@@ -371,7 +371,7 @@ BrailleDocument parseBrf(std::string_view content, const std::string& source)
         if (!brfToDots(c, d)) {
             char what[48];
             std::snprintf(what, sizeof what, "byte 0x%02X is not Braille ASCII", static_cast<unsigned>(static_cast<unsigned char>(c)));
-            throw InputError(source, line, "", std::string(what) + " (column " + std::to_string(column) + ")");
+            throw core::InputError(source, line, "", std::string(what) + " (column " + std::to_string(column) + ")");
         }
         if (d == 0) {
             addSpace(message);
@@ -381,13 +381,13 @@ BrailleDocument parseBrf(std::string_view content, const std::string& source)
         message.symbols.push_back({std::string(1, dotsToBrf(d)), {d}});
     }
     endMessage();
-    if (doc.messages.empty()) throw InputError(source, 0, "", "no braille in this file");
+    if (doc.messages.empty()) throw core::InputError(source, 0, "", "no braille in this file");
     return doc;
 }
 
 BrailleDocument readBrfFile(const std::string& path)
 {
-    return parseBrf(readWholeFile(path), path);
+    return parseBrf(core::readWholeFile(path), path);
 }
 
 BrailleDocument loadDocument(const std::string& textOrFile, const TranslationOptions& options)
@@ -399,7 +399,7 @@ BrailleDocument loadDocument(const std::string& textOrFile, const TranslationOpt
         if (ext == ".brf") return readBrfFile(path);
         TranslationOptions fromFile = options;
         fromFile.source = path;   // messages name the file and its line
-        return translateText(readWholeFile(path), fromFile);
+        return translateText(core::readWholeFile(path), fromFile);
     }
     return translateText(textOrFile, options);
 }

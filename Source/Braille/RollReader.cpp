@@ -28,7 +28,7 @@ namespace {
 /// Angle (deg) between the forearm axis and the vertical line (up or down): 0 hanging or raised.
 double tiltFromVerticalDeg(const Eigen::Vector3d& axis)
 {
-    return radToDeg(std::acos(std::clamp(std::abs(axis.y()), 0.0, 1.0)));
+    return core::radToDeg(std::acos(std::clamp(std::abs(axis.y()), 0.0, 1.0)));
 }
 } // namespace
 
@@ -63,19 +63,19 @@ double RollReader::rollAngle(ReadingPosture posture, const Eigen::Vector3d& axis
         // Thesis §4.3.1: the normal's projection on the horizontal X–Z plane, as a heading
         // clockwise from magnetic north (−Z). With the arm hanging the normal is near horizontal.
         const double h = std::hypot(normal.x(), normal.z());
-        if (!(h > 1e-6)) return kNaN;
-        return radToDeg(std::atan2(normal.x(), -normal.z()));
+        if (!(h > 1e-6)) return core::kNaN;
+        return core::radToDeg(std::atan2(normal.x(), -normal.z()));
     }
     if (posture == ReadingPosture::Backward) {
         // The normal's rotation about the forearm axis, from "up" projected perpendicular to it;
         // right-handed about the axis = clockwise looking from elbow to hand (the Pose roll sign).
         const Eigen::Vector3d up = Eigen::Vector3d::UnitY() - axis.y() * axis;
         const double upNorm = up.norm();
-        if (!(upNorm > 1e-6)) return kNaN;
+        if (!(upNorm > 1e-6)) return core::kNaN;
         const Eigen::Vector3d u = up / upNorm;
-        return radToDeg(std::atan2(u.cross(normal).dot(axis), u.dot(normal)));
+        return core::radToDeg(std::atan2(u.cross(normal).dot(axis), u.dot(normal)));
     }
-    return kNaN;
+    return core::kNaN;
 }
 
 RollUpdate RollReader::update(double t, const Eigen::Vector3d& axisIn, const Eigen::Vector3d& normalIn, bool valid) noexcept
@@ -106,7 +106,7 @@ RollUpdate RollReader::update(double t, const Eigen::Vector3d& axisIn, const Eig
         anchorDeg_ = angle;
         return out;
     }
-    out.turnDeg = wrapDeg180(angle - anchorDeg_);
+    out.turnDeg = core::wrapDeg180(angle - anchorDeg_);
     if (t < quietUntil_) return out;
     if (std::abs(out.turnDeg) >= params_.stepDeg) {
         out.advanced = true;
@@ -116,7 +116,7 @@ RollUpdate RollReader::update(double t, const Eigen::Vector3d& axisIn, const Eig
     return out;
 }
 
-RollUpdate RollReader::update(const ArmState& arm) noexcept
+RollUpdate RollReader::update(const core::ArmState& arm) noexcept
 {
     const Eigen::Quaterniond q = arm.q.normalized();
     return update(arm.t, q * Eigen::Vector3d::UnitX(), q * Eigen::Vector3d::UnitY(), arm.valid && std::isfinite(q.w()));

@@ -48,7 +48,7 @@ public:
     /// board normal (device y) in the earth frame (Y up); `valid` false ⇒ nothing advances.
     RollUpdate update(double t, const Eigen::Vector3d& axis, const Eigen::Vector3d& normal, bool valid) noexcept;
     /// Same, from an ArmState's orientation quaternion.
-    RollUpdate update(const ArmState& arm) noexcept;
+    RollUpdate update(const core::ArmState& arm) noexcept;
 
     ReadingPosture posture() const noexcept { return posture_; }
     ReadingPosture lastValidPosture() const noexcept { return lastValid_; }

@@ -71,7 +71,7 @@ std::vector<MotorSet> cellSteps(Dots cell, DisplayMethod method)
 std::string motorList(MotorSet set)
 {
     std::string s;
-    for (int i = 0; i < kMaxMotors; ++i)
+    for (int i = 0; i < core::kMaxMotors; ++i)
         if (set & (1u << i)) {
             if (!s.empty()) s += ',';
             s += std::to_string(i + 1);

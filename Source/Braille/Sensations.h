@@ -13,7 +13,7 @@ namespace armadillo::braille {
 
 using MotorSet = std::uint16_t;   ///< bit i = motor index i (right-arm layout)
 
-constexpr MotorSet motorBit(int row, int col) noexcept { return static_cast<MotorSet>(1u << motorIndex(row, col)); }
+constexpr MotorSet motorBit(int row, int col) noexcept { return static_cast<MotorSet>(1u << core::motorIndex(row, col)); }
 
 /// The final method (§4.2.5–4.2.6): braille row r (0 = dots 1/4) on motor row r (0 = wrist);
 /// the left dot on column 0, the right dot on column 2; both dots ⇒ left + centre + right (the

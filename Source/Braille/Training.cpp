@@ -22,7 +22,7 @@ Dots letterCell(char letter)
 {
     const BrailleDocument doc = translateText(std::string(1, letter), {});
     if (doc.messages.size() != 1 || doc.messages[0].symbols.size() != 1 || doc.messages[0].symbols[0].cells.size() != 1)
-        throw InputError("text", 0, "", std::string("letter '") + letter + "' is not a single Grade 1 cell");
+        throw core::InputError("text", 0, "", std::string("letter '") + letter + "' is not a single Grade 1 cell");
     return doc.messages[0].symbols[0].cells[0];
 }
 
@@ -136,11 +136,11 @@ std::vector<std::string> contractionWords()
 
 std::vector<std::string> defaultSignWords(const std::string& resourceDir)
 {
-    const ResourceFile file = readResource("Braille/signwords.txt", resourceDir);
+    const core::ResourceFile file = core::readResource("Braille/signwords.txt", resourceDir);
     return parseWordList(file.bytes, file.origin);
 }
 
-std::vector<std::string> readWordList(const std::string& path) { return parseWordList(readWholeFile(path), path); }
+std::vector<std::string> readWordList(const std::string& path) { return parseWordList(core::readWholeFile(path), path); }
 
 std::vector<std::string> parseWordList(std::string_view text, const std::string& path)
 {
@@ -156,10 +156,10 @@ std::vector<std::string> parseWordList(std::string_view text, const std::string&
         if (w.empty() || w.front() == '#') continue;
         for (unsigned char c : w)
             if (!std::isalpha(c) && c != ' ' && c != '\'' && c != '-')
-                throw InputError(path, line, "", "a sign word may hold letters, spaces, ' and - only: '" + w + "'");
+                throw core::InputError(path, line, "", "a sign word may hold letters, spaces, ' and - only: '" + w + "'");
         words.push_back(w);
     }
-    if (words.empty()) throw InputError(path, 0, "", "the word list is empty");
+    if (words.empty()) throw core::InputError(path, 0, "", "the word list is empty");
     return words;
 }
 
@@ -208,14 +208,14 @@ TrainingSession::TrainingSession(const TrainingOptions& options)
                                unitsOfText("abcdefghijklmnopqrstuvwxyz", options.method)});
             break;
         case TrainingStage::Words:
-            if (options.signWords.empty()) throw InputError("training", 0, "", "the words stage needs a word list");
+            if (options.signWords.empty()) throw core::InputError("training", 0, "", "the words stage needs a word list");
             for (int i = 0; i < n; ++i) {
                 const std::string w = lower(options.signWords[pick(options.signWords.size())]);
                 trials_.push_back({stage, "which word?", w, 0, unitsOfText(w, options.method)});
             }
             break;
         case TrainingStage::Signs: {
-            if (options.signWords.empty()) throw InputError("training", 0, "", "the signs stage needs a word list");
+            if (options.signWords.empty()) throw core::InputError("training", 0, "", "the signs stage needs a word list");
             const auto table = signShorthand(options.signWords);
             for (int i = 0; i < n; ++i) {
                 const auto& [shorthand, word] = table[pick(table.size())];
@@ -251,7 +251,7 @@ TrainingLogRecord TrainingSession::record(double t, TrainingEvent event) const n
     r.t = t;
     r.event = event;
     r.trial = finished() ? -1 : index_;
-    r.rollDeg = kNaN;
+    r.rollDeg = core::kNaN;
     return r;
 }
 
@@ -263,7 +263,7 @@ void TrainingSession::log(const TrainingLogRecord& r) noexcept
 void TrainingSession::appendRow(const TrainingLogRecord& r)
 {
     std::string row;
-    appendNumber(row, r.t, 9);
+    core::appendNumber(row, r.t, 9);
     row += ',';
     row += trainingEventName(r.event);
     row += ',';
@@ -271,24 +271,24 @@ void TrainingSession::appendRow(const TrainingLogRecord& r)
         const TrainingTrial& trial = trials_[static_cast<std::size_t>(r.trial)];
         row += trainingStageName(trial.stage);
         row += ',' + std::to_string(r.trial + 1) + ',';
-        appendCsvField(row, trial.expected);
+        core::appendCsvField(row, trial.expected);
         row += ',';
-        if (r.event == TrainingEvent::Trial) appendCsvField(row, trial.prompt);
+        if (r.event == TrainingEvent::Trial) core::appendCsvField(row, trial.prompt);
     } else {
         row += ",,,";
     }
     row += ',';
     if (r.hasPosture) row += postureName(r.posture);
     row += ',';
-    if (std::isfinite(r.rollDeg)) appendNumber(row, r.rollDeg, 6);
+    if (std::isfinite(r.rollDeg)) core::appendNumber(row, r.rollDeg, 6);
     row += ',';
     if (r.unit >= 0) row += std::to_string(r.unit + 1);
     row += ',';
     if (r.unit >= 0) row += std::to_string(r.step + 1);
     row += ',';
-    if (r.hasMotors) appendCsvField(row, motorList(r.motors));
+    if (r.hasMotors) core::appendCsvField(row, motorList(r.motors));
     row += ',';
-    appendCsvField(row, std::string(r.answer.data()));
+    core::appendCsvField(row, std::string(r.answer.data()));
     row += ',';
     if (r.correct >= 0) row += std::to_string(r.correct);
     log_ += row + '\n';
@@ -328,11 +328,11 @@ ReadEvent TrainingSession::update(double t, const Eigen::Vector3d& axis, const E
     if (finished()) return {};
     const ReadEvent e = reading_.update(t, axis, normal, valid);
     const ReadingPosture p = e.roll.posture;
-    if (p != loggedPosture_ || (p != ReadingPosture::Invalid && std::abs(wrapDeg180(e.roll.rollDeg - loggedRoll_)) >= 1.0)) {
+    if (p != loggedPosture_ || (p != ReadingPosture::Invalid && std::abs(core::wrapDeg180(e.roll.rollDeg - loggedRoll_)) >= 1.0)) {
         TrainingLogRecord r = record(t, TrainingEvent::Move);
         r.hasPosture = true;
         r.posture = p;
-        r.rollDeg = p == ReadingPosture::Invalid ? kNaN : e.roll.rollDeg;
+        r.rollDeg = p == ReadingPosture::Invalid ? core::kNaN : e.roll.rollDeg;
         log(r);
         loggedPosture_ = p;
         loggedRoll_ = e.roll.rollDeg;
@@ -424,6 +424,6 @@ std::string TrainingSession::logCsv()
     return log_;
 }
 
-void TrainingSession::saveLog(const std::string& path) { writeFileAtomically(path, logCsv()); }
+void TrainingSession::saveLog(const std::string& path) { core::writeFileAtomically(path, logCsv()); }
 
 } // namespace armadillo::braille

@@ -155,7 +155,7 @@ private:
     ReadingPosture loggedPosture_ = ReadingPosture::Invalid;
     double loggedRoll_ = 0.0;
     int correct_ = 0, answered_ = 0;
-    SpscQueue<TrainingLogRecord, kLogCapacity> records_;   // control thread → consumer
+    core::SpscQueue<TrainingLogRecord, kLogCapacity> records_; // control thread → consumer
     std::atomic<std::uint64_t> dropped_ {0};
     std::mutex consumer_;                                  // consumers only; never the control thread
     std::string log_;                                      // under consumer_

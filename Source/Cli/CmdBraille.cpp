@@ -78,7 +78,7 @@ struct TimedAnswer {
 /// `t,answer` text: a header line, then one answer a line (the answer is the rest of the line).
 std::vector<TimedAnswer> readAnswers(const std::string& path)
 {
-    std::istringstream in(readWholeFile(path));
+    std::istringstream in(core::readWholeFile(path));
     std::vector<TimedAnswer> out;
     long line = 0;
     bool header = false;
@@ -90,20 +90,20 @@ std::vector<TimedAnswer> readAnswers(const std::string& path)
         const auto comma = l.find(',');
         if (!header) {
             if (l.substr(0, comma) != "t" || comma == std::string::npos || l.substr(comma + 1) != "answer")
-                throw InputError(path, line, "", "the header must be 't,answer'");
+                throw core::InputError(path, line, "", "the header must be 't,answer'");
             header = true;
             continue;
         }
-        if (comma == std::string::npos) throw InputError(path, line, "answer", "missing ',answer'");
+        if (comma == std::string::npos) throw core::InputError(path, line, "answer", "missing ',answer'");
         TimedAnswer a;
         const auto [end, ec] = std::from_chars(l.data(), l.data() + comma, a.t);
-        if (ec != std::errc() || end != l.data() + comma || !std::isfinite(a.t)) throw InputError(path, line, "t", "not a number");
-        if (a.t < last) throw InputError(path, line, "t", "time goes backwards");
+        if (ec != std::errc() || end != l.data() + comma || !std::isfinite(a.t)) throw core::InputError(path, line, "t", "not a number");
+        if (a.t < last) throw core::InputError(path, line, "t", "time goes backwards");
         last = a.t;
         a.answer = l.substr(comma + 1);
         out.push_back(a);
     }
-    if (!header) throw InputError(path, 0, "", "empty file (expected the header 't,answer')");
+    if (!header) throw core::InputError(path, 0, "", "empty file (expected the header 't,answer')");
     return out;
 }
 
@@ -139,7 +139,7 @@ int printPlan(const CommandLine& cl)
     int i = 0;
     for (const auto& t : session.trials())
         std::cout << ++i << "," << trainingStageName(t.stage) << ",\"" << t.prompt << "\"," << t.expected << "\n";
-    return kExitOk;
+    return core::kExitOk;
 }
 
 /// Offline replay of a training session: a motion file drives the roll reader, an answers file
@@ -150,7 +150,7 @@ int replayTraining(const CommandLine& cl)
         throw UsageError("--train needs --motion FILE, --answers FILE and --log FILE (or use --plan)");
     checkOutputPath("--log", cl.value("--log"));
     TrainingSession session(trainingOptions(cl));
-    const auto motion = motionAsQuaternions(CsvTable::read(cl.value("--motion")));
+    const auto motion = motionAsQuaternions(core::CsvTable::read(cl.value("--motion")));
     const auto answers = readAnswers(cl.value("--answers"));
     std::size_t next = 0;
     for (const auto& row : motion) {
@@ -165,7 +165,7 @@ int replayTraining(const CommandLine& cl)
     session.saveLog(cl.value("--log"));
     std::cout << "{\"trials\":" << session.trials().size() << ",\"answered\":" << session.answeredCount()
               << ",\"correct\":" << session.correctCount() << ",\"finished\":" << (session.finished() ? "true" : "false") << "}\n";
-    return kExitOk;
+    return core::kExitOk;
 }
 } // namespace
 
@@ -204,7 +204,7 @@ int runBraille(const Arguments& args)
                        "reports a reader's progress (--report).",
                        options);
 
-        if (!cl.parse(args)) return kExitOk;
+        if (!cl.parse(args)) return core::kExitOk;
         if (cl.has("--report")) return printProgressReport(cl);
         if (cl.has("--adaptive")) {
             if (!cl.has("--train")) throw UsageError("--adaptive is a kind of training: use --train --adaptive");
@@ -230,11 +230,11 @@ int runBraille(const Arguments& args)
             o.table = cl.value("--table");
             o.capitals = cl.has("--capitals");
             doc = translateText(cl.value("--text"), o);
-            if (doc.messages.empty()) throw InputError("text", 0, "", "nothing to show: the text is empty");
+            if (doc.messages.empty()) throw core::InputError("text", 0, "", "nothing to show: the text is empty");
         }
         printDocument(doc, method);
-        if (cl.has("--out-brf")) writeFileAtomically(cl.value("--out-brf"), toBrf(doc));
-        return kExitOk;
+        if (cl.has("--out-brf")) core::writeFileAtomically(cl.value("--out-brf"), toBrf(doc));
+        return core::kExitOk;
     });
 }
 

@@ -48,22 +48,22 @@ int runCalibrate(const Arguments& args)
                 o.insert(o.end(), io.begin(), io.end());
                 return o;
             }());
-        if (!cl.parse(args)) return kExitOk;
+        if (!cl.parse(args)) return core::kExitOk;
         const DeviceChoice choice = readDeviceOptions(cl);   // the source group (Cli/LiveOptions.h)
         const std::string out = cl.value("--out");
         if (out.empty()) throw UsageError("--out needs a file");
         const int baud = choice.baud;
         ReaderIo io(cl);
-        const device::Calibration start = cl.has("--calibration") ? device::loadCalibration(cl.value("--calibration")) : device::defaultCalibration();
+        const link::Calibration start = cl.has("--calibration") ? link::loadCalibration(cl.value("--calibration")) : link::defaultCalibration();
 
         using Step = procedures::DeviceCalibration::Step;
         procedures::DeviceCalibration calibration;
         std::shared_ptr<procedures::CalibrationRehearsal> rehearsal;
         if (cl.has("--simulate")) rehearsal = std::make_shared<procedures::CalibrationRehearsal>();
         // No stimuli: the player only keeps the motors off and counts the link's clock.
-        access::TactilePlayer player(TactileConfig {}, 0.0);
+        access::TactilePlayer player(tactile::TactileConfig {}, 0.0);
         installInterruptHandlers();
-        auto offer = [&calibration](const device::SensorCounts& counts, double t) { calibration.offer(t, counts); };   // link thread: lock-free
+        auto offer = [&calibration](const link::SensorCounts& counts, double t) { calibration.offer(t, counts); };   // link thread: lock-free
         live::GuidedDevice device(choice.port, baud, choice.simulate, false, player, offer, rehearsal);
         device.setInterruptCheck(interrupted);
 
@@ -120,7 +120,7 @@ int runCalibrate(const Arguments& args)
             calibration.cancel();
             io.status("calibration cancelled: nothing written");
             std::cout << "{\"cancelled\":true}\n";
-            return kExitOk;
+            return core::kExitOk;
         }
         calibration.save(out);
         const std::string measured = calibration.measuredList(true), kept = calibration.measuredList(false);
@@ -131,7 +131,7 @@ int runCalibrate(const Arguments& args)
         std::cout << "{\"steps\":" << procedures::DeviceCalibration::kStepCount << ",\"measured\":" << measuredSteps
                   << ",\"skipped\":" << procedures::DeviceCalibration::kStepCount - measuredSteps << ",\"packets\":" << calibration.packetsFed()
                   << ",\"dropped\":" << calibration.packetsDropped() << "}\n";
-        return kExitOk;
+        return core::kExitOk;
     });
 }
 

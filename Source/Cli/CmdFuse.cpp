@@ -25,17 +25,17 @@ int runFuse(const Arguments& args)
                         {"--no-mag", "", "ignore the magnetometer columns (6-axis fusion)", false}});
         if (!cl.parse(args)) return 0;
         checkOutputPath("--out", cl.value("--out"));   // before the fusion, not after it
-        const CsvTable table = CsvTable::read(cl.value("--in"));
-        const std::vector<ImuSample> samples = readImu(table);
-        OrientationFilter::Params params = OrientationFilter::defaultParams();
+        const core::CsvTable table = core::CsvTable::read(cl.value("--in"));
+        const std::vector<core::ImuSample> samples = readImu(table);
+        fusion::OrientationFilter::Params params = fusion::OrientationFilter::defaultParams();
         if (cl.has("--no-mag")) params.useMagnetometer = false;
-        OrientationFilter filter(params);
+        fusion::OrientationFilter filter(params);
         const bool features = cl.has("--features");
         std::vector<std::string> header {"t", "qw", "qx", "qy", "qz"};
         if (features) header.insert(header.end(), {"elevation", "azimuth", "roll"});
-        CsvWriter out(header);
+        core::CsvWriter out(header);
         for (std::size_t row = 0; row < samples.size(); ++row) {
-            const ImuSample& s = samples[row];
+            const core::ImuSample& s = samples[row];
             filter.update(s);
             // Before the first usable sample there is no estimate: the rest orientation stands in.
             const Eigen::Quaterniond q = filter.orientation();
@@ -43,7 +43,7 @@ int runFuse(const Arguments& args)
             // row is named instead of writing NaN quaternions.
             if (!q.coeffs().allFinite()) table.fail(row, table.columnIndex("t"), "fusion diverged at this sample (no quaternion written)");
             if (features) {
-                const Pose p = quaternionToPose(q);
+                const core::Pose p = core::quaternionToPose(q);
                 out.row({s.t, q.w(), q.x(), q.y(), q.z(), p.elevationDeg, p.azimuthDeg, p.rollDeg});
             } else {
                 out.row({s.t, q.w(), q.x(), q.y(), q.z()});

@@ -49,22 +49,22 @@ int learnPosture(const CommandLine& cl)
 
     mapping::MappingDocument doc;
     if (cl.has("--map")) doc = mapping::loadMapping(cl.value("--map"));
-    const CsvTable table = CsvTable::read(cl.value("--motion"));
-    ArmTracker tracker;
+    const core::CsvTable table = core::CsvTable::read(cl.value("--motion"));
+    fusion::ArmTracker tracker;
     mapping::PostureRecorder recorder;
-    const auto take = [&](double t, const ArmState& arm) {
-        if (arm.valid && t >= from && t <= to) recorder.add(arm.q, arm.gyro.allFinite() ? radToDeg(arm.gyro.norm()) : 0.0);
+    const auto take = [&](double t, const core::ArmState& arm) {
+        if (arm.valid && t >= from && t <= to) recorder.add(arm.q, arm.gyro.allFinite() ? core::radToDeg(arm.gyro.norm()) : 0.0);
     };
-    if (detectMotionKind(table) == MotionKind::Imu) {
-        for (const ImuSample& s : readImu(table)) take(s.t, tracker.update(s));
+    if (detectMotionKind(table) == core::MotionKind::Imu) {
+        for (const core::ImuSample& s : readImu(table)) take(s.t, tracker.update(s));
     } else {
-        for (const TimedQuaternion& q : motionAsQuaternions(table)) take(q.t, tracker.updateOrientation(q.t, q.q));
+        for (const core::TimedQuaternion& q : motionAsQuaternions(table)) take(q.t, tracker.updateOrientation(q.t, q.q));
     }
     mapping::PostureSpec posture;
     try {
         posture = recorder.finish(name);
-    } catch (const InputError& e) {
-        throw InputError(cl.value("--motion"), 0, "", e.what());
+    } catch (const core::InputError& e) {
+        throw core::InputError(cl.value("--motion"), 0, "", e.what());
     }
     bool replaced = false;
     for (auto& p : doc.postures) {
@@ -74,12 +74,12 @@ int learnPosture(const CommandLine& cl)
         }
     }
     if (!replaced) {
-        if (doc.postures.size() >= static_cast<std::size_t>(mapping::kMaxPostures)) throw InputError(cl.value("--map"), 0, "", "already 16 postures");
+        if (doc.postures.size() >= static_cast<std::size_t>(mapping::kMaxPostures)) throw core::InputError(cl.value("--map"), 0, "", "already 16 postures");
         doc.postures.push_back(posture);
     }
     const std::string text = mapping::toJson(doc);
     mapping::parseMappingDocument(text, cl.value("--out"));   // what is written reads back
-    writeFileAtomically(cl.value("--out"), text);
+    core::writeFileAtomically(cl.value("--out"), text);
     std::cout << "{\"posture\":\"" << name << "\",\"examples\":" << posture.examples.size() << ",\"radius_deg\":" << posture.radiusDeg
               << ",\"samples\":" << recorder.count() << "}\n";
     return 0;
@@ -105,7 +105,7 @@ int runMap(const Arguments& args)
         // The action word comes first; the options after it.
         if (args.empty() || args[0] == "--help" || args[0] == "-h") {
             cl.parse({"--help"});
-            return args.empty() ? int(kExitUsage) : 0;
+            return args.empty() ? int(core::kExitUsage) : 0;
         }
         const std::string action = args[0];
         const Arguments rest(args.begin() + 1, args.end());

@@ -36,14 +36,14 @@ int check(const CommandLine& cl)
         std::lock_guard lock(mutex);
         ++heard;
         std::string line = "{\"topic\":";
-        armadillo::appendJsonString(line, m.topic);
+        armadillo::core::appendJsonString(line, m.topic);
         line += ",\"bytes\":" + std::to_string(m.payload.size()) + ",\"retained\":" + (m.retained ? "true" : "false") + ",\"text\":";
         mqtt::MqttConfig plain;
         plain.textField = config.textField;
         std::string text, why;
         int priority = 0;
-        if (m.payload.size() <= 4096 && mqtt::messageText(m.payload, plain, text, priority, why)) armadillo::appendJsonString(line, text);
-        else armadillo::appendJsonString(line, "(not shown: " + (m.payload.size() > 4096 ? std::to_string(m.payload.size()) + " bytes" : why) + ")");
+        if (m.payload.size() <= 4096 && mqtt::messageText(m.payload, plain, text, priority, why)) armadillo::core::appendJsonString(line, text);
+        else armadillo::core::appendJsonString(line, "(not shown: " + (m.payload.size() > 4096 ? std::to_string(m.payload.size()) + " bytes" : why) + ")");
         std::cout << line << "}\n" << std::flush;
     });
     installInterruptHandlers();
@@ -52,7 +52,7 @@ int check(const CommandLine& cl)
     if (!client.waitConnected(timeout)) {
         const mqtt::MqttStatus s = client.status();
         client.stop();
-        throw IoError("mqtt check: no connection to " + s.broker + " within " + std::to_string(timeout).substr(0, 4) + " s: " +
+        throw core::IoError("mqtt check: no connection to " + s.broker + " within " + std::to_string(timeout).substr(0, 4) + " s: " +
                       (s.lastError.empty() ? std::string("no answer") : s.lastError));
     }
     std::cerr << "mqtt check: connected to " << config.host << ":" << config.port << ", subscribed to";
@@ -77,7 +77,7 @@ int check(const CommandLine& cl)
     std::cerr << "mqtt check: heard " << heard << " message(s)\n";
     std::cout << "{\"connected\":true,\"broker\":";
     std::string b;
-    armadillo::appendJsonString(b, s.broker);
+    armadillo::core::appendJsonString(b, s.broker);
     std::cout << b << ",\"messages\":" << heard << ",\"connects\":" << s.connects << "}\n";
     return 0;
 }
@@ -101,7 +101,7 @@ int runMqtt(const Arguments& args)
                        options);
         if (args.empty() || args[0] == "--help" || args[0] == "-h") {
             cl.parse({"--help"});
-            return args.empty() ? int(kExitUsage) : 0;
+            return args.empty() ? int(core::kExitUsage) : 0;
         }
         if (args[0] != "check") throw UsageError("unknown action '" + args[0] + "' (check)");
         if (!cl.parse(Arguments(args.begin() + 1, args.end()))) return 0;

@@ -44,7 +44,7 @@ void appendNumber(std::string& out, double v, const char* format)
     out += buf;
 }
 
-void appendRow(std::string& out, const nav::NavigationLogRecord& r)
+void appendRow(std::string& out, const navigation::NavigationLogRecord& r)
 {
     char t[32];
     std::snprintf(t, sizeof t, "%.3f", r.t);
@@ -52,7 +52,7 @@ void appendRow(std::string& out, const nav::NavigationLogRecord& r)
     appendNumber(out, r.lat, "%.7f");
     appendNumber(out, r.lon, "%.7f");
     out += ',';
-    out += nav::fixStateName(r.fix);
+    out += navigation::fixStateName(r.fix);
     out += ',' + std::to_string(r.waypoint);
     appendNumber(out, r.distanceM, "%.2f");
     appendNumber(out, r.bearingDeg, "%.2f");
@@ -63,7 +63,7 @@ void appendRow(std::string& out, const nav::NavigationLogRecord& r)
     out += r.offRoute ? ",1" : ",0";
     out += ',' + std::to_string(r.arrivedAt);
     out += ',';
-    out += nav::sensationName(r.sensation);
+    out += navigation::sensationName(r.sensation);
     out += r.magDisturbed ? ",1\n" : ",0\n";
 }
 
@@ -72,8 +72,8 @@ void appendRow(std::string& out, const nav::NavigationLogRecord& r)
 /// those who want speech; the arm says everything without it.
 class Announcer {
 public:
-    Announcer(const nav::Route& route, ReaderIo* voice) : route_(route), voice_(voice) {}
-    void note(const nav::NavigationLogRecord& r)
+    Announcer(const navigation::Route& route, ReaderIo* voice) : route_(route), voice_(voice) {}
+    void note(const navigation::NavigationLogRecord& r)
     {
         if (r.arrivedAt > 0) {
             const std::string& name = route_.points[static_cast<std::size_t>(r.arrivedAt - 1)].name;
@@ -83,10 +83,10 @@ public:
             ++arrivals_;
         }
         if (r.fix != fix_) {
-            if (r.fix == nav::FixState::Lost) {
+            if (r.fix == navigation::FixState::Lost) {
                 std::cerr << "armadillo navigate: position fix lost (t = " << r.t << " s): no direction is shown until it is back\n";
                 say("position lost");
-            } else if (r.fix == nav::FixState::Ok && fix_ == nav::FixState::Lost) {
+            } else if (r.fix == navigation::FixState::Ok && fix_ == navigation::FixState::Lost) {
                 std::cerr << "armadillo navigate: position fix back (t = " << r.t << " s)\n";
                 say("position back");
             }
@@ -105,14 +105,14 @@ private:
     {
         if (voice_) voice_->status(text);
     }
-    const nav::Route& route_;
+    const navigation::Route& route_;
     ReaderIo* voice_ = nullptr;
-    nav::FixState fix_ = nav::FixState::Waiting;
+    navigation::FixState fix_ = navigation::FixState::Waiting;
     bool offRoute_ = false;
     int arrivals_ = 0;
 };
 
-std::string tactileRow(double t, const MotorLevels& levels)
+std::string tactileRow(double t, const core::MotorLevels& levels)
 {
     char buf[96];
     std::snprintf(buf, sizeof buf, "%.4f,%d,%d,%d,%d,%d,%d,%d,%d,%d\n", t, levels[0], levels[1], levels[2], levels[3], levels[4], levels[5], levels[6],
@@ -168,7 +168,7 @@ int runNavigate(const Arguments& args)
                 o.insert(o.end(), tactorOptions.begin(), tactorOptions.end());
                 return o;
             }());
-        if (!cl.parse(args)) return kExitOk;
+        if (!cl.parse(args)) return core::kExitOk;
         const bool gpsd = cl.has("--gpsd"), walk = cl.has("--simulate-walk"), osc = cl.has("--osc-in");
         if (int(gpsd) + int(walk) + int(osc) != 1) throw UsageError("choose one position source: --gpsd HOST[:PORT], --osc-in PORT or --simulate-walk");
         const int oscPort = osc ? static_cast<int>(cl.integer("--osc-in", 0, 1, 65535)) : 0;
@@ -184,16 +184,16 @@ int runNavigate(const Arguments& args)
             if (cl.has(o) && !walk) throw UsageError(std::string(o) + " applies to --simulate-walk");
         if (cl.has("--baud") && !cl.has("--port")) throw UsageError("--baud applies to --port");
 
-        nav::NavigationOptions options;
+        navigation::NavigationOptions options;
         options.guidance.arrivalRadiusM = cl.number("--arrival-radius", 8.0);
         if (!(options.guidance.arrivalRadiusM >= 1.0 && options.guidance.arrivalRadiusM <= 200.0)) throw UsageError("--arrival-radius must be 1…200 m");
         options.guidance.offRouteM = cl.number("--off-route", 20.0);
         if (!(options.guidance.offRouteM >= 5.0 && options.guidance.offRouteM <= 1000.0)) throw UsageError("--off-route must be 5…1000 m");
         options.guidance.backOnRouteM = 0.75 * options.guidance.offRouteM;
         const std::string names = cl.value("--names", "shorthand");
-        if (names == "shorthand") options.names = nav::NameDisplay::Shorthand;
-        else if (names == "full") options.names = nav::NameDisplay::Full;
-        else if (names == "none") options.names = nav::NameDisplay::None;
+        if (names == "shorthand") options.names = navigation::NameDisplay::Shorthand;
+        else if (names == "full") options.names = navigation::NameDisplay::Full;
+        else if (names == "none") options.names = navigation::NameDisplay::None;
         else throw UsageError("--names must be shorthand, full or none");
         options.headingOffsetDeg = cl.number("--heading-offset", 0.0);
         if (!(std::fabs(options.headingOffsetDeg) <= 180.0)) throw UsageError("--heading-offset must be −180…180 degrees");
@@ -208,14 +208,14 @@ int runNavigate(const Arguments& args)
         if (!logPath.empty()) checkOutputPath("--log", logPath);
         if (!tactilePath.empty()) checkOutputPath("--tactile", tactilePath);
         checkDistinctOutputs({{"--log", logPath}, {"--tactile", tactilePath}});
-        nav::GpsdEndpoint endpoint;
-        if (gpsd) endpoint = nav::parseGpsdEndpoint(cl.value("--gpsd"));
+        navigation::GpsdEndpoint endpoint;
+        if (gpsd) endpoint = navigation::parseGpsdEndpoint(cl.value("--gpsd"));
 
         // Inputs: a route that cannot be read is exit 4, one that is not a route 3.
-        const nav::Route route = nav::readRouteFile(cl.value("--route"));
+        const navigation::Route route = navigation::readRouteFile(cl.value("--route"));
         std::cerr << "armadillo navigate: route '" << (route.name.empty() ? route.source : route.name) << "': start and " << route.points.size() - 1
                   << " waypoints, " << static_cast<long>(std::lround(route.lengthM())) << " m\n";
-        auto link = std::make_shared<nav::NavigationLink>();
+        auto link = std::make_shared<navigation::NavigationLink>();
         link->logEnabled = !logPath.empty();
         std::string log = logHeader(), tactile = "t,m1,m2,m3,m4,m5,m6,m7,m8,m9\n";
         const bool wantsVoice = cl.has("--speak") || cl.has("--speech") || cl.has("--brlapi") || cl.has("--braille-display");
@@ -225,7 +225,7 @@ int runNavigate(const Arguments& args)
         if (wantsVoice) voice = std::make_unique<ReaderIo>(cl, true);   // IoError when the backend asked for cannot be opened
         Announcer announcer(route, voice.get());
         const auto drain = [&] {
-            nav::NavigationLogRecord r;
+            navigation::NavigationLogRecord r;
             while (link->log.pop(r)) {
                 announcer.note(r);
                 if (!logPath.empty()) appendRow(log, r);
@@ -233,23 +233,23 @@ int runNavigate(const Arguments& args)
         };
 
         if (walk) {   // the whole walk offline: the walker feels the motors, its GPS feeds the scene
-            nav::WalkerParams w;
+            navigation::WalkerParams w;
             w.strapOffsetDeg = cl.number("--strap-offset", 20.0);
             if (!(std::fabs(w.strapOffsetDeg) <= 180.0)) throw UsageError("--strap-offset must be −180…180 degrees");
             w.seed = static_cast<std::uint64_t>(cl.integer("--seed", 1, 0, 1L << 62));
-            nav::WalkOptions o;
+            navigation::WalkOptions o;
             o.maxSeconds = seconds > 0.0 ? seconds : 3 * 3600.0;
             link->logEnabled = true;   // the announcer reads it too
-            o.observe = [&](double t, const nav::SimulatedWalker&, const MotorLevels& levels, const nav::NavigationStatus&) {
+            o.observe = [&](double t, const navigation::SimulatedWalker&, const core::MotorLevels& levels, const navigation::NavigationStatus&) {
                 drain();
                 if (!tactilePath.empty()) tactile += tactileRow(t, levels);
             };
             if (cl.has("--profile") || cl.has("--calibration") || cl.has("--arm"))
                 std::cerr << "armadillo navigate: --simulate-walk uses the walker's own right arm; --profile, --calibration and --arm are for a device\n";
-            const nav::WalkResult r = nav::simulateWalk(route, options, w, o, link);
+            const navigation::WalkResult r = navigation::simulateWalk(route, options, w, o, link);
             drain();
-            if (!logPath.empty()) writeFileAtomically(logPath, log);
-            if (!tactilePath.empty()) writeFileAtomically(tactilePath, tactile);
+            if (!logPath.empty()) core::writeFileAtomically(logPath, log);
+            if (!tactilePath.empty()) core::writeFileAtomically(tactilePath, tactile);
             char json[400];
             std::snprintf(json, sizeof json,
                           "{\"finished\":%s,\"seconds\":%.1f,\"arrivals\":%zu,\"waypoints\":%zu,\"max_off_route_m\":%.2f,\"median_heading_error_deg\":%.2f,"
@@ -257,7 +257,7 @@ int runNavigate(const Arguments& args)
                           r.finished ? "true" : "false", r.seconds, r.arrivals.size(), route.points.size() - 1, r.maxOffRouteM, r.medianHeadingErrorDeg,
                           r.learnedOffsetDeg, w.strapOffsetDeg);
             std::cout << json << "\n" << std::flush;
-            return kExitOk;
+            return core::kExitOk;
         }
 
         // A device or the simulated forearm, through play's live session, with the navigation scene.
@@ -271,7 +271,7 @@ int runNavigate(const Arguments& args)
             config.source = live::LiveConfig::Source::Osc;
             config.oscInPort = oscPort;
             if (cl.has("--mount")) {
-                config.osc.mount = device::mountFromArgument(cl.value("--mount"));
+                config.osc.mount = link::mountFromArgument(cl.value("--mount"));
                 config.osc.mountGiven = true;
             }
         } else {
@@ -279,21 +279,21 @@ int runNavigate(const Arguments& args)
             config.motionFile = cl.value("--motion");
         }
         config.engine.scene = "navigate";
-        config.engine.sceneConfig.side = arm == "left" ? ArmSide::Left : ArmSide::Right;
+        config.engine.sceneConfig.side = arm == "left" ? core::ArmSide::Left : core::ArmSide::Right;
         readProfileOption(cl, config.engine);
-        if (cl.has("--calibration")) config.calibration = device::loadCalibration(cl.value("--calibration"));
+        if (cl.has("--calibration")) config.calibration = link::loadCalibration(cl.value("--calibration"));
         config.tactileOut = tactilePath;
         if (cl.has("--tactors")) config.tactors = tactorConfig(cl, config.engine.motorCount);   // IoError / InputError before anything runs
-        config.makeScene = [&route, link, options] { return nav::makeNavigationScene(route, link, options); };
+        config.makeScene = [&route, link, options] { return navigation::makeNavigationScene(route, link, options); };
 
         installInterruptHandlers();
         // The position source: IoError (exit 4) when gpsd cannot be reached or the port is taken.
-        std::unique_ptr<nav::GpsdSource> gpsdSource;
-        std::unique_ptr<nav::OscPositionSource> oscSource;
-        auto shared = std::make_shared<nav::PositionCounters>();   // positions on the arm's own OSC port
-        if (gpsd) gpsdSource = std::make_unique<nav::GpsdSource>(endpoint, link->position);
-        else if (!armFromOsc) oscSource = std::make_unique<nav::OscPositionSource>(oscPort, link->position);
-        else config.oscDatagramTap = [link, shared](const std::uint8_t* d, std::size_t n) { nav::storePositionDatagram(d, n, link->position, *shared); };
+        std::unique_ptr<navigation::GpsdSource> gpsdSource;
+        std::unique_ptr<navigation::OscPositionSource> oscSource;
+        auto shared = std::make_shared<navigation::PositionCounters>(); // positions on the arm's own OSC port
+        if (gpsd) gpsdSource = std::make_unique<navigation::GpsdSource>(endpoint, link->position);
+        else if (!armFromOsc) oscSource = std::make_unique<navigation::OscPositionSource>(oscPort, link->position);
+        else config.oscDatagramTap = [link, shared](const std::uint8_t* d, std::size_t n) { navigation::storePositionDatagram(d, n, link->position, *shared); };
         live::LiveSession session(config);
         session.start();
         if (live::TactorOutput* t = session.tactors()) std::cerr << "armadillo navigate: tactors on " << t->describe() << "\n";
@@ -313,8 +313,8 @@ int runNavigate(const Arguments& args)
             const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             if (seconds > 0.0 && elapsed >= seconds) break;
             drain();
-            const nav::NavigationStatus st = link->status.load();
-            if (st.finished && st.sensation == nav::Sensation::None && finishedAt < 0.0) finishedAt = elapsed;
+            const navigation::NavigationStatus st = link->status.load();
+            if (st.finished && st.sensation == navigation::Sensation::None && finishedAt < 0.0) finishedAt = elapsed;
             if (finishedAt >= 0.0 && elapsed > finishedAt + 0.5) break;
             if (gpsdSource) {
                 if (!gpsdSource->connected() && !shownDown) std::cerr << "armadillo navigate: gpsd at " << gpsdSource->describe() << " went away (reconnecting)\n";
@@ -331,8 +331,8 @@ int runNavigate(const Arguments& args)
         session.stop();
         drain();
         session.finish();
-        if (!logPath.empty()) writeFileAtomically(logPath, log);
-        const nav::NavigationStatus st = link->status.load();
+        if (!logPath.empty()) core::writeFileAtomically(logPath, log);
+        const navigation::NavigationStatus st = link->status.load();
         std::string summary = live::summaryJson(session.summary());
         char extra[400];
         if (gpsdSource)
@@ -349,7 +349,7 @@ int runNavigate(const Arguments& args)
                           static_cast<unsigned long long>(link->droppedLog.load()));
         summary.insert(summary.size() - 1, extra);
         std::cout << summary << "\n" << std::flush;
-        return session.engine().failed() ? int(kExitFailure) : int(kExitOk);
+        return session.engine().failed() ? int(core::kExitFailure) : int(core::kExitOk);
     });
 }
 

@@ -141,14 +141,14 @@ struct GuidedMount {
     bool active() const { return calibration.running(); }
     void step()
     {
-        if (active()) calibration.drain([this](device::SensorFrameSample& p) { return active() && session->popSensorFrame(left, p); });
+        if (active()) calibration.drain([this](osc::SensorFrameSample& p) { return active() && session->popSensorFrame(left, p); });
     }
     void finish()
     {
         calibration.setDevice(session->senderName(left));
         std::string why;
         if (!calibration.conclude(why))
-            throw IoError(option + ": no mount written: " + why + " (stopped at pose '" + device::MountCalibration::poseName(calibration.pose()) + "')");
+            throw core::IoError(option + ": no mount written: " + why + " (stopped at pose '" + link::MountCalibration::poseName(calibration.pose()) + "')");
         calibration.save(out);
         std::cerr << arm << "mount calibration written to " << out << "\n";
     }
@@ -225,7 +225,7 @@ std::unique_ptr<PlayRequest> readPlayRequest(const CommandLine& cl, const LiveCo
     live::LiveConfig config;
     const SourceChoice source = readSourceOptions(cl, config);   // the source group (Cli/LiveOptions.h)
     const std::string mountOut = source.mountOut;
-    EngineConfig& engine = config.engine;
+    engine::EngineConfig& engine = config.engine;
     if (command.reader) {
         readReaderOptions(cl, engine);   // the braille scene, messages only
     } else if (cl.has("--setlist") == cl.has("--scene")) {
@@ -237,7 +237,7 @@ std::unique_ptr<PlayRequest> readPlayRequest(const CommandLine& cl, const LiveCo
     } else {
         readSceneOptions(cl, engine);
     }
-    engine.motorCount = cl.has("--back-motors") ? kGridMotors + kBackMotors : kGridMotors;
+    engine.motorCount = cl.has("--back-motors") ? core::kGridMotors + core::kBackMotors : core::kGridMotors;
 
     const double seconds = cl.number("--seconds", -1.0);   // (checked with the outputs group)
     if (cl.has("--midi-out") && !cl.has("--map")) throw UsageError("--midi-out sends what a mapping makes: give --map PRESET|FILE too");
@@ -281,19 +281,19 @@ std::unique_ptr<PlayRequest> readPlayRequest(const CommandLine& cl, const LiveCo
 
     // Then the inputs: a file that cannot be read is exit 4, one that is not what it should be 3.
     if (cl.has("--mount")) {
-        config.osc.mount = device::mountFromArgument(cl.value("--mount"));
+        config.osc.mount = link::mountFromArgument(cl.value("--mount"));
         config.osc.mountGiven = true;
     }
     if (cl.has("--mount-left") || !leftMountOut.empty()) {   // (a calibration sees the sensor's own axes)
-        config.leftOsc.mount = leftMountOut.empty() ? device::mountFromArgument(cl.value("--mount-left")) : device::Mount {};
+        config.leftOsc.mount = leftMountOut.empty() ? link::mountFromArgument(cl.value("--mount-left")) : link::Mount {};
         config.leftOsc.mountGiven = true;
     }
-    if (cl.has("--calibration")) config.calibration = device::loadCalibration(cl.value("--calibration"));
+    if (cl.has("--calibration")) config.calibration = link::loadCalibration(cl.value("--calibration"));
     config.mapping = readMapOption(cl, engine);
     if (!config.audioIn.empty() && !cl.has("--sample-rate"))
-        engine.sceneConfig.sampleRate = engineSampleRate(readWav(config.audioIn).sampleRate, config.audioIn);
+        engine.sceneConfig.sampleRate = core::engineSampleRate(core::readWav(config.audioIn).sampleRate, config.audioIn);
     if (!config.audioStems.empty() && !cl.has("--sample-rate"))
-        engine.sceneConfig.sampleRate = engineSampleRate(readWav(config.audioStems.front()).sampleRate, config.audioStems.front());
+        engine.sceneConfig.sampleRate = core::engineSampleRate(core::readWav(config.audioStems.front()).sampleRate, config.audioStems.front());
 
     // Spoken / braille-display copy of what stderr says (stderr itself is unchanged).
     std::unique_ptr<ReaderIo> voice;
@@ -419,24 +419,24 @@ public:
             noData_ = report_->noData(session_.summary().seconds, true);
         if (!noData_.empty()) {   // nothing was played: no file is written
             std::cout << live::summaryJson(session_.summary()) << "\n" << std::flush;
-            throw IoError(noData_);
+            throw core::IoError(noData_);
         }
         if (recordingEnded_)
             std::cerr << who_ << "the recording ended after " << session_.recordingSeconds() << " s (--loop plays it again and again)\n";
         const std::string trainingCsv = brailleScene_ ? brailleScene_->trainingLogCsv() : std::string();   // control has stopped
         session_.finish();   // the session's own files first: a failing training log must not lose them
-        if (brailleScene_) writeFileAtomically(request_.trainingLog, trainingCsv);
+        if (brailleScene_) core::writeFileAtomically(request_.trainingLog, trainingCsv);
         if (const audio::SoundCard* card = session_.soundCard(); card && card->underruns() > 0)
             std::cerr << who_ << "the sound card ran dry " << card->underruns() << " time(s) (audible clicks)\n";
         for (const auto& g : mountCalibrations_) g->finish();
         if (calibration_) {
             if (!calibration_->finished())
-                std::cerr << "calibration stopped at step '" << device::CalibrationProcedure::stepName(calibration_->step())
+                std::cerr << "calibration stopped at step '" << link::CalibrationProcedure::stepName(calibration_->step())
                           << "'; that step and the later ones keep the starting calibration\n";
-            device::saveCalibration(request_.calibrateOut, calibration_->result());
+            link::saveCalibration(request_.calibrateOut, calibration_->result());
         }
         std::cout << sessionSummary(session_, *report_, request_.messages.get(), cues_, panicTotal()) << "\n" << std::flush;
-        return session_.engine().failed() ? int(kExitFailure) : int(kExitOk);
+        return session_.engine().failed() ? int(core::kExitFailure) : int(core::kExitOk);
     }
 
 private:
@@ -516,7 +516,7 @@ private:
     {
         std::cerr << (calibration_->finished() ? std::string("calibration complete")
                                                : "calibration step " + std::to_string(calibration_->stepNumber()) + " (" +
-                                                     device::CalibrationProcedure::stepName(calibration_->step()) + "): " + calibration_->instruction())
+                                                     link::CalibrationProcedure::stepName(calibration_->step()) + "): " + calibration_->instruction())
                   << "\n";
     }
 
@@ -584,7 +584,7 @@ private:
     /// Cues, panics and a failed scene, as they happen. False: the scene failed (stop).
     bool reportStage()
     {
-        Engine& engine = session_.engine();
+        engine::Engine& engine = session_.engine();
         if (cues_ && engine.panicked()) {   // (a gesture panics the current cue only: spread it)
             bool all = true;
             for (int c = 0; c < cues_->cueCount(); ++c) all = all && cues_->engine(c).panicked();
@@ -642,7 +642,7 @@ private:
     void stepProcedures()
     {
         if (calibration_ && calibration_->running()) {
-            device::RawPacket p;
+            link::RawPacket p;
             while (session_.rawPackets()->pop(p)) calibration_->offer(p.t, p.counts);
             calibration_->drain();
             if (std::string why; calibration_->ready() && calibration_->next(why)) sayCalibrationStep();

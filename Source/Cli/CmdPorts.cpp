@@ -15,7 +15,7 @@ int runPorts(const Arguments& args)
                        "does not list; `armadillo play --port NAME` opens either kind (and pseudo-terminals).",
                        {{"--json", "", "one JSON object per line instead of a table"}});
         if (!cl.parse(args)) return 0;
-        const auto ports = device::listSerialPorts();
+        const auto ports = link::listSerialPorts();
         const bool json = cl.has("--json");
         if (ports.empty() && !json) std::cout << "no serial ports found\n";
         for (const auto& p : ports) {

@@ -41,18 +41,18 @@ std::vector<OptionSpec> readOptionSpecs()
 
 } // namespace
 
-void readReaderOptions(const CommandLine& cl, EngineConfig& engine)
+void readReaderOptions(const CommandLine& cl, engine::EngineConfig& engine)
 {
     engine.scene = "braille";
     engine.sceneConfig.messagesOnly = true;
     const std::string arm = cl.value("--arm", "right");
     if (arm != "right" && arm != "left") throw UsageError("--arm must be right or left");
-    engine.sceneConfig.side = arm == "left" ? ArmSide::Left : ArmSide::Right;
+    engine.sceneConfig.side = arm == "left" ? core::ArmSide::Left : core::ArmSide::Right;
     for (const std::string& p : cl.values("--param")) {
         for (const char* own : {"braille.mode=", "braille.grade=", "braille.method="})
             if (p.rfind(own, 0) == 0)
                 throw UsageError("--param " + p + ": read shows messages only (no mode of its own); --grade and --method choose grade and method");
-        if (const std::string problem = sceneParameterProblem("braille", p); !problem.empty()) throw UsageError("--param " + p + ": " + problem);
+        if (const std::string problem = engine::sceneParameterProblem("braille", p); !problem.empty()) throw UsageError("--param " + p + ": " + problem);
         engine.parameters.push_back(p);
     }
     if (cl.has("--grade")) {
@@ -62,7 +62,7 @@ void readReaderOptions(const CommandLine& cl, EngineConfig& engine)
     }
     if (cl.has("--method")) {
         const std::string p = "braille.method=" + cl.value("--method");
-        if (const std::string problem = sceneParameterProblem("braille", p); !problem.empty())
+        if (const std::string problem = engine::sceneParameterProblem("braille", p); !problem.empty())
             throw UsageError("--method: '" + cl.value("--method") + "' (rows, whole, columns or dots)");
         engine.parameters.push_back(p);
     }

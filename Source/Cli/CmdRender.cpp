@@ -91,8 +91,8 @@ int runRender(const Arguments& args)
                        }());
         if (!cl.parse(args)) return 0;
 
-        RenderSettings settings;
-        EngineConfig& engine = settings.engine;
+        engine::RenderSettings settings;
+        engine::EngineConfig& engine = settings.engine;
         const bool setlist = cl.has("--setlist");
         if (setlist == cl.has("--scene")) throw UsageError("give --scene SCENE or --setlist FILE (one of them)");
         if (cl.has("--cue-at") && !setlist) throw UsageError("--cue-at applies to --setlist");
@@ -101,7 +101,7 @@ int runRender(const Arguments& args)
         } else {
             readSceneOptions(cl, engine);
         }
-        engine.motorCount = cl.has("--back-motors") ? kGridMotors + kBackMotors : kGridMotors;
+        engine.motorCount = cl.has("--back-motors") ? core::kGridMotors + core::kBackMotors : core::kGridMotors;
         // The tactile WAV's actuators: the tactor renderer's model, map and gains (docs/TACTORS.md);
         // without any of them, the voice-coil model at 150 Hz, one channel per motor (docs/FORMATS.md).
         if (anyTactorSetting(cl) && !cl.has("--tactile-wav")) throw UsageError("the --tactor-* options shape --tactile-wav: give it too");
@@ -129,7 +129,7 @@ int runRender(const Arguments& args)
         if (cl.has("--midi-out") && cl.value("--midi-out").empty()) throw UsageError("--midi-out needs a file name");
         if (cl.has("--osc-out")) {
             try {
-                device::parseHostPort(cl.value("--osc-out"));
+                osc::parseHostPort(cl.value("--osc-out"));
             } catch (const std::invalid_argument& e) {
                 throw UsageError(std::string("--osc-out: ") + e.what());
             }
@@ -154,48 +154,48 @@ int runRender(const Arguments& args)
         if (cl.has("--actuator-motors")) {
             if (!cl.has("--tactile-ahap") && !cl.has("--tactile-haptic")) throw UsageError("--actuator-motors applies to --tactile-ahap and --tactile-haptic");
             actuator = 0;
-            if (!parseMotorSet(cl.value("--actuator-motors"), actuator) || actuator == 0)
+            if (!tactile::parseMotorSet(cl.value("--actuator-motors"), actuator) || actuator == 0)
                 throw UsageError("--actuator-motors: '" + cl.value("--actuator-motors") + "' is not a motor set (1-9, elbow, 1,3 ...)");
             if (actuator >> engine.motorCount) throw UsageError("--actuator-motors names a back motor (10..12): add --back-motors");
         }
 
-        AudioBuffer recording;
+        core::AudioBuffer recording;
         // Stems: --stem NAME=FILE, or several --audio-in files named after their stem.
         const std::vector<std::string> paths = readStemOptions(cl, engine);
         if (!paths.empty()) {
-            recording = readWavStems(paths);   // InputError names a bad file or a sample-rate mismatch
+            recording = core::readWavStems(paths); // InputError names a bad file or a sample-rate mismatch
             settings.audioInName = paths.front();
-            if (!cl.has("--sample-rate")) engine.sceneConfig.sampleRate = engineSampleRate(recording.sampleRate, paths.front());
+            if (!cl.has("--sample-rate")) engine.sceneConfig.sampleRate = core::engineSampleRate(recording.sampleRate, paths.front());
             settings.audioIn = &recording;
         } else if (cl.has("--audio-in")) {
-            recording = readWav(cl.value("--audio-in"));   // IoError (4) when unreadable, InputError (3) naming the file when not audio
-            if (!cl.has("--sample-rate")) engine.sceneConfig.sampleRate = engineSampleRate(recording.sampleRate, cl.value("--audio-in"));
+            recording = core::readWav(cl.value("--audio-in")); // IoError (4) when unreadable, InputError (3) naming the file when not audio
+            if (!cl.has("--sample-rate")) engine.sceneConfig.sampleRate = core::engineSampleRate(recording.sampleRate, cl.value("--audio-in"));
             settings.audioIn = &recording;
             settings.audioInName = cl.value("--audio-in");
         }
-        std::vector<TimedMidiNote> midiIn;   // --midi-in: every note-on and note-off, in time order
+        std::vector<engine::TimedMidiNote> midiIn; // --midi-in: every note-on and note-off, in time order
         if (cl.has("--midi-in")) {
             if (!settings.audioIn) throw UsageError("--midi-in needs --audio-in (the notes' sound is sampled from the recording)");
-            const MidiFile piece = readMidiFile(cl.value("--midi-in"));   // InputError (3) naming the file and byte
-            for (const MidiNote& n : piece.notes) {
+            const formats::MidiFile piece = formats::readMidiFile(cl.value("--midi-in")); // InputError (3) naming the file and byte
+            for (const formats::MidiNote& n : piece.notes) {
                 midiIn.push_back({piece.secondsAt(n.start), n.key, n.velocity, n.channel});
                 midiIn.push_back({piece.secondsAt(n.end), n.key, 0, n.channel});
             }
-            std::stable_sort(midiIn.begin(), midiIn.end(), [](const TimedMidiNote& a, const TimedMidiNote& b) { return a.t < b.t; });
+            std::stable_sort(midiIn.begin(), midiIn.end(), [](const engine::TimedMidiNote& a, const engine::TimedMidiNote& b) { return a.t < b.t; });
             settings.midiIn = &midiIn;
             settings.midiInName = cl.value("--midi-in");
         }
         const auto map = readMapOption(cl, engine);
         const double forward = readForwardOption(cl);
         if (cl.has("--mount-left") && !cl.has("--motion-left")) throw UsageError("--mount-left applies to --motion-left");
-        if (cl.has("--mount")) settings.mount = device::mountFromArgument(cl.value("--mount")).rotation;   // IoError / InputError naming the file
-        if (cl.has("--mount-left")) settings.leftMount = device::mountFromArgument(cl.value("--mount-left")).rotation;
-        const CsvTable motion = CsvTable::read(cl.value("--motion"));
+        if (cl.has("--mount")) settings.mount = link::mountFromArgument(cl.value("--mount")).rotation;   // IoError / InputError naming the file
+        if (cl.has("--mount-left")) settings.leftMount = link::mountFromArgument(cl.value("--mount-left")).rotation;
+        const core::CsvTable motion = core::CsvTable::read(cl.value("--motion"));
         for (const char* o : {"--tactile-left", "--arms-log"})
             if (cl.has(o) && !cl.has("--motion-left")) throw UsageError(std::string(o) + " applies to --motion-left");
-        CsvTable leftMotion;
+        core::CsvTable leftMotion;
         if (cl.has("--motion-left")) {
-            leftMotion = CsvTable::read(cl.value("--motion-left"));
+            leftMotion = core::CsvTable::read(cl.value("--motion-left"));
             settings.leftMotion = &leftMotion;
             engine.twoArms = true;
         }
@@ -204,7 +204,7 @@ int runRender(const Arguments& args)
         std::unique_ptr<mapping::MidiFileWriter> midi;
         double lastRow = 0.0;
         if (map) {
-            settings.onControl = [&](double t, const ArmState& arm, const ArmState* leftArm, const GestureEvent* g, std::size_t n, Engine& e) {
+            settings.onControl = [&](double t, const core::ArmState& arm, const core::ArmState* leftArm, const engine::GestureEvent* g, std::size_t n, engine::Engine& e) {
                 if (!rig) {   // the engine exists only inside the render: the mapping is built for its scene
                     live::MappingRigOptions options;
                     options.oscDefault = cl.value("--osc-out");
@@ -222,7 +222,7 @@ int runRender(const Arguments& args)
 
         // The audio streams into the WAV's temporary file as it is rendered (memory does not grow
         // with the motion file's span); the WAV is renamed in only when everything succeeded.
-        std::optional<WavStreamWriter> wav;
+        std::optional<core::WavStreamWriter> wav;
         if (cl.has("--out")) wav.emplace(out, engine.sceneConfig.sampleRate, 2, cl.has("--float"));
         std::vector<float> interleaved;
         // --tactor-sound: the scene's sound, mono, is the voice coil's carrier in --tactile-wav.
@@ -239,7 +239,7 @@ int runRender(const Arguments& args)
             }
             if (!wav->write(interleaved.data(), static_cast<std::size_t>(n))) wav->finish();   // throws IoError naming the file
         };
-        RenderResult r;
+        engine::RenderResult r;
         if (setlist) {
             if (map) throw UsageError("--map with --setlist is not supported yet");
             const live::SetList list = live::loadSetList(cl.value("--setlist"));   // InputError names file, line, key
@@ -257,9 +257,9 @@ int runRender(const Arguments& args)
             r = renderOffline(motion, settings);
         }
         // The notes a listening scene captured (layered-keyboard), named, in capture order.
-        for (const GestureEvent& g : r.gestures)
+        for (const engine::GestureEvent& g : r.gestures)
             if (std::string_view(g.name) == "captured-note")
-                std::cerr << "render: captured " << noteName(static_cast<int>(g.value)) << " at t = " << g.t << " s\n";
+                std::cerr << "render: captured " << instruments::noteName(static_cast<int>(g.value)) << " at t = " << g.t << " s\n";
         if (rig) rig->finish(lastRow);
         if (cl.has("--midi-out")) {
             if (!midi) midi = std::make_unique<mapping::MidiFileWriter>(0.0);
@@ -273,24 +273,24 @@ int runRender(const Arguments& args)
                 const auto& a = r.rightOrientation[i].q;
                 const auto& b = r.leftOrientation[i].q;
                 for (const double v : {r.rightOrientation[i].t, a.w(), a.x(), a.y(), a.z(), b.w(), b.x(), b.y(), b.z()}) {
-                    appendNumber(text, v, 9);
+                    core::appendNumber(text, v, 9);
                     text += ',';
                 }
                 text.back() = '\n';
             }
-            writeFileAtomically(cl.value("--arms-log"), text);
+            core::writeFileAtomically(cl.value("--arms-log"), text);
         }
         if (cl.has("--tactile-wav"))
-            writeTactileWav(tactileWav, r.tactile, tactorWav.params, tactorWav.map, tactorWav.gains, engine.sceneConfig.sampleRate, cl.has("--float"),
+            formats::writeTactileWav(tactileWav, r.tactile, tactorWav.params, tactorWav.map, tactorWav.gains, engine.sceneConfig.sampleRate, cl.has("--float"),
                             keepSound ? &tactorSound : nullptr);
         const std::string project = std::filesystem::path(cl.value("--motion")).stem().string();
-        if (cl.has("--tactile-ahap")) writeFileAtomically(tactileAhap, exportAhap(r.tactile, actuator, project));
-        if (cl.has("--tactile-haptic")) writeFileAtomically(tactileHaptic, exportMetaHaptic(r.tactile, actuator, project));
-        if (cl.has("--tactile-tact")) writeFileAtomically(tactileTact, exportTact(r.tactile, project));
+        if (cl.has("--tactile-ahap")) core::writeFileAtomically(tactileAhap, formats::exportAhap(r.tactile, actuator, project));
+        if (cl.has("--tactile-haptic")) core::writeFileAtomically(tactileHaptic, formats::exportMetaHaptic(r.tactile, actuator, project));
+        if (cl.has("--tactile-tact")) core::writeFileAtomically(tactileTact, formats::exportTact(r.tactile, project));
         if (wav) {
             try {
                 wav->finish();
-            } catch (const IoError&) {   // the WAV could not be completed: no part of the outputs stays
+            } catch (const core::IoError&) { // the WAV could not be completed: no part of the outputs stays
                 for (const std::string* f : {&tactile, &midiOut, &tactileWav, &tactileAhap, &tactileHaptic, &tactileTact, &tactileLeft, &armsLog})
                     if (!f->empty()) std::remove(f->c_str());
                 throw;

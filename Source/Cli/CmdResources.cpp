@@ -24,12 +24,12 @@ int runResources(const Arguments& args)
         if (!cl.parse(args)) return 0;
         if (cl.has("--export")) {
             const std::filesystem::path dir = cl.value("--export");
-            for (const EmbeddedFile& f : embeddedResources()) {
+            for (const core::EmbeddedFile& f : core::embeddedResources()) {
                 const std::filesystem::path target = dir / std::filesystem::path(f.path);
                 std::error_code ec;
                 std::filesystem::create_directories(target.parent_path(), ec);
-                if (ec) throw IoError("cannot create '" + target.parent_path().string() + "': " + ec.message());
-                writeFileAtomically(target.string(), f.bytes);
+                if (ec) throw core::IoError("cannot create '" + target.parent_path().string() + "': " + ec.message());
+                core::writeFileAtomically(target.string(), f.bytes);
                 std::cout << target.string() << "\n";
             }
             return 0;
@@ -38,16 +38,16 @@ int runResources(const Arguments& args)
             for (const std::string& n : mapping::presetNames()) std::cout << n << "\n";
             return 0;
         }
-        const auto scores = listScores();
+        const auto scores = core::listScores();
         if (cl.has("--scores")) {
-            for (const ScoreEntry& s : scores) std::cout << s.name << "\n";
+            for (const core::ScoreEntry& s : scores) std::cout << s.name << "\n";
             return 0;
         }
         std::cout << "search folders (first match wins, then the built-in files):\n";
-        for (const std::string& d : resourceSearchDirs())
+        for (const std::string& d : core::resourceSearchDirs())
             std::cout << "  " << d << (std::filesystem::is_directory(d) ? "" : "   (absent)") << "\n";
         std::cout << "scores:\n";
-        for (const ScoreEntry& s : scores) {
+        for (const core::ScoreEntry& s : scores) {
             std::string name = "  " + s.name;
             if (name.size() < 24) name.resize(24, ' ');
             std::cout << name << " " << s.origin << "\n";
@@ -56,11 +56,11 @@ int runResources(const Arguments& args)
         for (const std::string& n : mapping::presetNames()) {
             std::string name = "  " + n;
             if (name.size() < 24) name.resize(24, ' ');
-            const auto found = findResource("Mappings/" + n + ".json");
+            const auto found = core::findResource("Mappings/" + n + ".json");
             std::cout << name << " " << (found ? found->origin : std::string("?")) << "\n";
         }
         std::cout << "built-in files:\n";
-        for (const EmbeddedFile& f : embeddedResources()) std::cout << "  " << f.path << " (" << f.bytes.size() << " bytes)\n";
+        for (const core::EmbeddedFile& f : core::embeddedResources()) std::cout << "  " << f.path << " (" << f.bytes.size() << " bytes)\n";
         return 0;
     });
 }

@@ -11,11 +11,11 @@ namespace armadillo::cli {
 namespace {
 
 /// `--track N=SET` or `--track N=off`.
-MidiTrackRule trackRule(const std::string& text)
+formats::MidiTrackRule trackRule(const std::string& text)
 {
     const auto eq = text.find('=');
     if (eq == std::string::npos || eq == 0) throw UsageError("--track takes N=MOTORS or N=off (e.g. 2=elbow), not '" + text + "'");
-    MidiTrackRule r;
+    formats::MidiTrackRule r;
     try {
         std::size_t used = 0;
         r.track = std::stoi(text.substr(0, eq), &used);
@@ -25,7 +25,7 @@ MidiTrackRule trackRule(const std::string& text)
     }
     const std::string set = text.substr(eq + 1);
     if (set == "off") r.off = true;
-    else if (!parseMotorSet(set, r.motors) || r.motors == 0) throw UsageError("--track: '" + set + "' is not a motor set (1-16, 1,3, 7-9, elbow, wrist, ...)");
+    else if (!tactile::parseMotorSet(set, r.motors) || r.motors == 0) throw UsageError("--track: '" + set + "' is not a motor set (1-16, 1,3, 7-9, elbow, wrist, ...)");
     return r;
 }
 
@@ -58,14 +58,14 @@ int runImport(const Arguments& args)
     }
     const std::string file = args[0];
     if (!cl.parse(Arguments(args.begin() + 1, args.end()))) return 0;
-    MidiImportOptions midi;
+    formats::MidiImportOptions midi;
     midi.maxMotors = static_cast<int>(cl.integer("--max-motors", 4, 1, 9));
     for (const std::string& t : cl.values("--track")) midi.tracks.push_back(trackRule(t));
     midi.follow = !cl.has("--no-follow");
-    HapticImportOptions haptic;
+    formats::HapticImportOptions haptic;
     if (cl.has("--motors")) {
         haptic.motors = 0;
-        if (!parseMotorSet(cl.value("--motors"), haptic.motors) || haptic.motors == 0)
+        if (!tactile::parseMotorSet(cl.value("--motors"), haptic.motors) || haptic.motors == 0)
             throw UsageError("--motors: '" + cl.value("--motors") + "' is not a motor set");
     }
     haptic.tactDevice = cl.value("--device");
@@ -74,16 +74,16 @@ int runImport(const Arguments& args)
     const double frameMs = cl.number("--frame-ms", 5.0);
     if (!(frameMs >= 1.0 && frameMs <= 100.0)) throw UsageError("--frame-ms must lie in 1..100");
     haptic.frameSeconds = frameMs / 1000.0;
-    const ImportedScore s = importScoreFile(file, midi, haptic);
-    writeFileAtomically(cl.value("--out"), s.text);
+    const formats::ImportedScore s = importScoreFile(file, midi, haptic);
+    core::writeFileAtomically(cl.value("--out"), s.text);
     std::string json = "{\"format\":";
-    armadillo::appendJsonString(json, s.report.format);
+    armadillo::core::appendJsonString(json, s.report.format);
     json += ",\"notes\":" + std::to_string(s.report.notes) + ",\"dropped\":" + std::to_string(s.report.dropped) +
             ",\"shortened\":" + std::to_string(s.report.shortened) + ",\"cues\":" + std::to_string(s.report.cues) +
             ",\"seconds\":" + std::to_string(s.score.length) + ",\"warnings\":[";
     for (std::size_t i = 0; i < s.report.warnings.size(); ++i) {
         if (i) json += ",";
-        armadillo::appendJsonString(json, s.report.warnings[i]);
+        armadillo::core::appendJsonString(json, s.report.warnings[i]);
     }
     std::cout << json << "]}\n";
     return 0;

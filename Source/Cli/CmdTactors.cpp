@@ -48,12 +48,12 @@ int runTactors(const Arguments& args)
         if (args.empty() || args.front() != "test") {
             if (!args.empty() && (args.front() == "--help" || args.front() == "-h")) {
                 std::cout << cl.helpText();
-                return int(kExitOk);
+                return int(core::kExitOk);
             }
             throw UsageError("tactors: the subcommand is 'test' (armadillo tactors test --tactors DEVICE|jack)");
         }
-        if (!cl.parse(Arguments(args.begin() + 1, args.end()))) return int(kExitOk);
-        const int motors = cl.has("--back-motors") ? kGridMotors + kBackMotors : kGridMotors;
+        if (!cl.parse(Arguments(args.begin() + 1, args.end()))) return int(core::kExitOk);
+        const int motors = cl.has("--back-motors") ? core::kGridMotors + core::kBackMotors : core::kGridMotors;
         live::TactorOutputConfig config = tactorConfig(cl, motors);
         const double level = cl.number("--level", 5.0), on = cl.number("--on", 0.5), gap = cl.number("--gap", 0.5);
         if (!(level >= 1.0 && level <= 15.0)) throw UsageError("--level must lie in 1..15");
@@ -61,9 +61,9 @@ int runTactors(const Arguments& args)
         if (!(gap >= 0.0 && gap <= 5.0)) throw UsageError("--gap must lie in 0..5 s");
 
         live::TactorOutput output(config);   // IoError / InputError before anything sounds
-        TactileConfig tc;
+        tactile::TactileConfig tc;
         tc.motorCount = motors;
-        TactileEngine engine;
+        tactile::TactileEngine engine;
         engine.prepare(tc);
         installInterruptHandlers();
         output.start();
@@ -98,8 +98,8 @@ int runTactors(const Arguments& args)
         output.push(t, engine.tick(kStep));
         run(0.05);
         output.stop();
-        if (output.failed()) throw IoError("the tactor output stopped during the test (its JACK server or sound card went away)");
-        return interrupted() ? int(kExitFailure) : int(kExitOk);
+        if (output.failed()) throw core::IoError("the tactor output stopped during the test (its JACK server or sound card went away)");
+        return interrupted() ? int(core::kExitFailure) : int(core::kExitOk);
     });
 }
 

@@ -46,7 +46,7 @@ int runTouchProfile(const Arguments& args)
                 o.insert(o.end(), io.begin(), io.end());
                 return o;
             }());
-        if (!cl.parse(args)) return kExitOk;
+        if (!cl.parse(args)) return core::kExitOk;
         const DeviceChoice choice = readDeviceOptions(cl);   // the source group (Cli/LiveOptions.h)
         const std::string out = cl.value("--out");
         if (out.empty()) throw UsageError("--out needs a file");
@@ -61,7 +61,7 @@ int runTouchProfile(const Arguments& args)
         procedures::TouchTest::Params params;
         params.onSeconds = onTime;
         params.gapSeconds = gapTime;
-        params.packetPeriod = unpaced ? 1.0 / device::lockStepRate(baud) : 0.0;
+        params.packetPeriod = unpaced ? 1.0 / link::lockStepRate(baud) : 0.0;
         procedures::TouchTest test(params);   // right arm: index = motor m1…
         installInterruptHandlers();
         live::GuidedDevice device(choice.port, baud, choice.simulate, unpaced, test.player());
@@ -85,7 +85,7 @@ int runTouchProfile(const Arguments& args)
         test.save(out);
         io.status("touch profile written: " + test.summary());
         std::cout << test.summaryJson() << "\n";
-        return kExitOk;
+        return core::kExitOk;
     });
 }
 

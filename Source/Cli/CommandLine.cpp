@@ -125,13 +125,13 @@ void checkOutputPath(const std::string& option, const std::string& path)
     if (path.empty()) throw UsageError(option + " needs a file name");
     std::error_code ec;
     const fs::path target = fs::absolute(path, ec);
-    if (ec) throw IoError(option + ": cannot write '" + path + "': " + ec.message());
-    if (fs::is_directory(target, ec)) throw IoError(option + ": cannot write '" + path + "': it is a folder");
+    if (ec) throw core::IoError(option + ": cannot write '" + path + "': " + ec.message());
+    if (fs::is_directory(target, ec)) throw core::IoError(option + ": cannot write '" + path + "': it is a folder");
     const fs::path dir = target.parent_path();
     if (!fs::is_directory(dir, ec))
-        throw IoError(option + ": cannot write '" + path + "': the folder '" + dir.string() + "' does not exist");
+        throw core::IoError(option + ": cannot write '" + path + "': the folder '" + dir.string() + "' does not exist");
     if (::access(dir.c_str(), W_OK) != 0)
-        throw IoError(option + ": cannot write '" + path + "': no permission to write into '" + dir.string() + "'");
+        throw core::IoError(option + ": cannot write '" + path + "': no permission to write into '" + dir.string() + "'");
 }
 
 void checkDistinctOutputs(const std::vector<std::pair<std::string, std::string>>& outputs)
@@ -153,16 +153,16 @@ int guarded(const std::string& command, const std::function<int()>& body)
         return body();
     } catch (const UsageError& e) {
         std::cerr << "armadillo " << command << ": " << e.what() << "\n(see 'armadillo " << command << " --help')\n";
-        return kExitUsage;
-    } catch (const InputError& e) {
+        return core::kExitUsage;
+    } catch (const core::InputError& e) {
         std::cerr << "armadillo " << command << ": bad input: " << e.what() << "\n";
-        return kExitBadInput;
-    } catch (const IoError& e) {
+        return core::kExitBadInput;
+    } catch (const core::IoError& e) {
         std::cerr << "armadillo " << command << ": " << e.what() << "\n";
-        return kExitIo;
+        return core::kExitIo;
     } catch (const std::exception& e) {
         std::cerr << "armadillo " << command << ": error: " << e.what() << "\n";
-        return kExitFailure;
+        return core::kExitFailure;
     }
 }
 

@@ -74,9 +74,9 @@ int printProgressReport(const CommandLine& cl)
 {
     const std::string path = cl.value("--report");
     if (path.empty()) throw UsageError("--report needs a reader profile");
-    if (!std::ifstream(path)) throw IoError("cannot read " + path);
-    std::cout << access::progressReport(access::parseReaderProfile(readWholeFile(path), path));
-    return kExitOk;
+    if (!std::ifstream(path)) throw core::IoError("cannot read " + path);
+    std::cout << access::progressReport(access::parseReaderProfile(core::readWholeFile(path), path));
+    return core::kExitOk;
 }
 
 int runGuidedTraining(const CommandLine& cl)
@@ -93,7 +93,7 @@ int runGuidedTraining(const CommandLine& cl)
     for (const std::string& out : {readerPath, cl.value("--log")}) {
         if (out.empty()) continue;
         const std::filesystem::path dir = std::filesystem::absolute(out).parent_path();
-        if (!std::filesystem::is_directory(dir) || ::access(dir.c_str(), W_OK) != 0) throw IoError("cannot write into " + dir.string());
+        if (!std::filesystem::is_directory(dir) || ::access(dir.c_str(), W_OK) != 0) throw core::IoError("cannot write into " + dir.string());
     }
 
     procedures::AdaptiveTraining::Options o;
@@ -116,13 +116,13 @@ int runGuidedTraining(const CommandLine& cl)
     o.trials = static_cast<int>(cl.integer("--trials", 30, 1, 10000));
     o.level = static_cast<float>(cl.integer("--level", 5, 1, 15));
 
-    TactileConfig tc;
+    tactile::TactileConfig tc;
     const std::string arm = cl.value("--arm", "right");
     if (arm != "right" && arm != "left") throw UsageError("--arm must be right or left");
-    tc.side = arm == "left" ? ArmSide::Left : ArmSide::Right;
+    tc.side = arm == "left" ? core::ArmSide::Left : core::ArmSide::Right;
     if (cl.has("--profile")) {
-        const device::TouchProfile touch = device::loadTouchProfile(cl.value("--profile"));
-        tc.motorGain = device::touchProfileGains(touch);
+        const link::TouchProfile touch = link::loadTouchProfile(cl.value("--profile"));
+        tc.motorGain = link::touchProfileGains(touch);
         // Without --level the cells come at the reader's comfortable level: the level that, after
         // the profile's gain, gives the comfort motor what the reader chose as comfortable.
         const std::size_t cm = static_cast<std::size_t>(touch.comfortMotor - 1);
@@ -131,14 +131,14 @@ int runGuidedTraining(const CommandLine& cl)
     }
     const int baud = choice.baud;
     const bool unpaced = cl.has("--unpaced");
-    access::TactilePlayer player(tc, unpaced ? 1.0 / device::lockStepRate(baud) : 0.0);
+    access::TactilePlayer player(tc, unpaced ? 1.0 / link::lockStepRate(baud) : 0.0);
     installInterruptHandlers();
     // Arm gestures: a twist of the forearm and back = '?' (again), two = '-' (skip). Detected on
     // the control thread from the calibrated roll rate; handed over in atomics.
-    const device::Calibration calibration = cl.has("--calibration") ? device::loadCalibration(cl.value("--calibration")) : device::defaultCalibration();
+    const link::Calibration calibration = cl.has("--calibration") ? link::loadCalibration(cl.value("--calibration")) : link::defaultCalibration();
     access::TwistDetector twist;
     std::atomic<int> repeats {0}, skips {0};
-    auto onSensor = [&](const device::SensorCounts& counts, double t) {
+    auto onSensor = [&](const link::SensorCounts& counts, double t) {
         const double rollRate = calibration.apply(t, counts).gyro.x();
         const access::ArmGesture g = twist.update(t, rollRate);
         if (g == access::ArmGesture::Repeat) repeats.fetch_add(1);
@@ -204,12 +204,12 @@ int runGuidedTraining(const CommandLine& cl)
             if (answer == "-") training.skip(wall() - shownAt);
             else training.answer(answer, wall() - shownAt);
             io.note(training.lastVerdict().text);
-            if (!training.lastError().empty()) throw IoError(training.lastError());
+            if (!training.lastError().empty()) throw core::IoError(training.lastError());
         }
         device.waitUntil([&] { return training.settled(); });   // the last feedback felt to its end
     } catch (const AnswersEnded&) {
         stopped = true;   // the reader stopped answering: a normal end
-    } catch (const IoError&) {
+    } catch (const core::IoError&) {
         if (!interrupted()) {   // the display went away, the device failed: keep the answers, then say so
             training.stop();
             throw;
@@ -217,12 +217,12 @@ int runGuidedTraining(const CommandLine& cl)
         stopped = true;   // Ctrl-C
     }
     if (stopped) training.stop();
-    if (!training.lastError().empty()) throw IoError(training.lastError());
+    if (!training.lastError().empty()) throw core::IoError(training.lastError());
     if (stopped) io.status("training stopped after " + std::to_string(training.answered()) + " of " + std::to_string(training.trials()) + " trials: " +
                            std::to_string(training.right()) + " right; the answers are kept");
     else io.status("training complete: " + std::to_string(training.right()) + " of " + std::to_string(training.trials()) + " right");
     std::cout << training.summaryJson(stopped) << "\n";
-    return kExitOk;
+    return core::kExitOk;
 }
 
 } // namespace armadillo::cli

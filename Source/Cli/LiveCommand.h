@@ -24,6 +24,6 @@ int runLiveSession(const CommandLine& cl, const LiveCommand& command);
 
 /// read: the braille scene in messages-only mode from --grade, --method, --param (braille.*,
 /// not braille.mode), --arm and --profile (CmdRead.cpp). UsageError for a bad value.
-void readReaderOptions(const CommandLine& cl, EngineConfig& engine);
+void readReaderOptions(const CommandLine& cl, engine::EngineConfig& engine);
 
 } // namespace armadillo::cli

@@ -127,15 +127,15 @@ SourceChoice readSourceOptions(const CommandLine& cl, live::LiveConfig& config)
     choice.osc = oscSource;
     for (const char* o : {"--osc-format", "--mount", "--calibrate-mount"})
         if (cl.has(o) && !oscSource) throw UsageError(std::string(o) + " applies to --osc-in (or --port with --format ngimu-slip)");
-    if (cl.has("--osc-format") && !device::parseOscFormat(cl.value("--osc-format"), config.osc.format))
-        throw UsageError("--osc-format: unknown format '" + cl.value("--osc-format") + "' (one of " + device::oscFormatNames() + ")");
+    if (cl.has("--osc-format") && !osc::parseOscFormat(cl.value("--osc-format"), config.osc.format))
+        throw UsageError("--osc-format: unknown format '" + cl.value("--osc-format") + "' (one of " + osc::oscFormatNames() + ")");
     const std::string mountOut = cl.value("--calibrate-mount");
     choice.mountOut = mountOut;
     if (cl.has("--calibrate-mount") && mountOut.empty()) throw UsageError("--calibrate-mount needs an output file");
     if (cl.has("--calibrate-mount") && cl.has("--mount")) throw UsageError("--calibrate-mount finds the mount: it cannot go with --mount");
     if (!mountOut.empty()) {   // the calibration sees the sensor's own axes
         config.osc.mountGiven = true;
-        config.osc.mount = device::Mount {};
+        config.osc.mount = link::Mount {};
     }
 
     if (cl.has("--calibrate") && oscSource) throw UsageError("--calibrate needs raw counts: use --port or --simulate");
@@ -167,15 +167,15 @@ std::string readLeftArmOptions(const CommandLine& cl, live::LiveConfig& config)
         config.leftOscInPort = static_cast<int>(cl.integer("--osc-in-left", 0, 1, 65535));
         if (config.source == live::LiveConfig::Source::Osc && config.oscSerialPort.empty() && config.oscInPort == config.leftOscInPort)
             throw UsageError("--osc-in-left needs a port of its own (--osc-in listens on " + std::to_string(config.oscInPort) + ")");
-        if (cl.has("--osc-format-left") && !device::parseOscFormat(cl.value("--osc-format-left"), config.leftOsc.format))
-            throw UsageError("--osc-format-left: unknown format '" + cl.value("--osc-format-left") + "' (one of " + device::oscFormatNames() + ")");
+        if (cl.has("--osc-format-left") && !osc::parseOscFormat(cl.value("--osc-format-left"), config.leftOsc.format))
+            throw UsageError("--osc-format-left: unknown format '" + cl.value("--osc-format-left") + "' (one of " + osc::oscFormatNames() + ")");
     }
     for (const char* o : {"--calibration-left", "--arms-log"})
         if (cl.has(o) && config.leftSource == live::LiveConfig::LeftSource::None)
             throw UsageError(std::string(o) + " applies to two arms (--motion-left, --port-left or --osc-in-left)");
     if (cl.has("--calibration-left") && config.leftSource == live::LiveConfig::LeftSource::Osc)
         throw UsageError("--calibration-left is a device's calibration: an OSC sender sends SI units (--mount-left says how it is worn)");
-    if (cl.has("--calibration-left")) config.leftCalibration = device::loadCalibration(cl.value("--calibration-left"));
+    if (cl.has("--calibration-left")) config.leftCalibration = link::loadCalibration(cl.value("--calibration-left"));
     config.armsLog = cl.value("--arms-log");
     return leftMountOut;
 }
@@ -188,7 +188,7 @@ void readOutputOptions(const CommandLine& cl, live::LiveConfig& config, bool sou
     if (cl.has("--osc-out")) {
         config.oscOut = cl.value("--osc-out");
         try {
-            device::parseHostPort(config.oscOut);
+            osc::parseHostPort(config.oscOut);
         } catch (const std::invalid_argument& e) {
             throw UsageError(std::string("--osc-out: ") + e.what());
         }

@@ -2,7 +2,7 @@
 
 namespace armadillo::cli {
 
-std::shared_ptr<const mapping::MappingDocument> readMapOption(const CommandLine& cl, const EngineConfig& engine)
+std::shared_ptr<const mapping::MappingDocument> readMapOption(const CommandLine& cl, const engine::EngineConfig& engine)
 {
     if (!cl.has("--map")) return nullptr;
     const std::string name = cl.value("--map");

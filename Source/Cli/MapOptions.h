@@ -16,7 +16,7 @@ inline const char* const kMapHelp =
 
 /// The mapping --map names (nullptr without --map): InputError (exit 3) for a bad file, IoError
 /// (exit 4) for one that cannot be read or a preset that does not exist.
-std::shared_ptr<const mapping::MappingDocument> readMapOption(const CommandLine& cl, const EngineConfig& engine);
+std::shared_ptr<const mapping::MappingDocument> readMapOption(const CommandLine& cl, const engine::EngineConfig& engine);
 
 inline const char* const kForwardHelp =
     "with --map: the forward direction (azimuth, degrees) yaw and forward-relative azimuths are\n"

@@ -33,7 +33,7 @@ bool readMqttOptions(const CommandLine& cl, mqtt::MqttConfig& config, const char
     if (cl.has(brokerOption)) {
         try {
             mqtt::parseBrokerAddress(cl.value(brokerOption), brokerOption, config.host, config.port);
-        } catch (const InputError& e) {
+        } catch (const core::InputError& e) {
             throw UsageError(e.what());
         }
     }

@@ -34,7 +34,7 @@ ReaderIo::ReaderIo(const CommandLine& cl, bool armOnly) : armOnly_(armOnly)
         speech_ = access::makeSpeech(spec, why);
         if (!speech_) {
             if (why.rfind("unknown", 0) == 0) throw UsageError("--speech: " + why);
-            throw IoError("cannot speak: " + why);
+            throw core::IoError("cannot speak: " + why);
         }
         rate_ = static_cast<int>(cl.integer("--rate", 0, -100, 100));
         if (cl.has("--rate")) speech_->setRate(rate_);
@@ -46,7 +46,7 @@ ReaderIo::ReaderIo(const CommandLine& cl, bool armOnly) : armOnly_(armOnly)
         display_ = access::makeBrailleDisplay(spec, why);
         if (!display_) {
             if (why.rfind("unknown", 0) == 0) throw UsageError("--braille-display: " + why);
-            throw IoError("no braille display: " + why);
+            throw core::IoError("no braille display: " + why);
         }
     }
 }
@@ -174,7 +174,7 @@ std::string ReaderIo::readLine()
             if (display_) display_->write(line);   // the answer, as typed, on the display
             return line;
         }
-        if (interrupted()) throw IoError("interrupted");
+        if (interrupted()) throw core::IoError("interrupted");
         if (extra_)
             if (std::string x = extra_(); !x.empty()) {
                 pending_ += x + "\n";
@@ -205,7 +205,7 @@ std::string ReaderIo::readLine()
                 }
             }
         if (display_ && (display_->lost() || (p[1].revents & (POLLHUP | POLLERR | POLLNVAL)) != 0))
-            throw IoError("the braille display (" + display_->name() + ") went away");
+            throw core::IoError("the braille display (" + display_->name() + ") went away");
     }
 }
 

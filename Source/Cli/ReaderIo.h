@@ -26,8 +26,8 @@ std::vector<OptionSpec> readerIoOptionSpecs();
 /// readLine()'s "the answers ended" (standard input closed, no display to answer from): an
 /// InputError for a procedure that needs every answer, and a normal end for one that can stop
 /// early and keep what was answered (the adaptive training).
-struct AnswersEnded : InputError {
-    AnswersEnded() : InputError("stdin", 0, "", "the answers ended before the procedure was complete") {}
+struct AnswersEnded : core::InputError {
+    AnswersEnded() : core::InputError("stdin", 0, "", "the answers ended before the procedure was complete") {}
 };
 
 class ReaderIo {

@@ -8,7 +8,7 @@ namespace armadillo::cli {
 std::string sceneList()
 {
     std::string list;
-    for (const std::string& n : sceneNames()) list += (list.empty() ? "" : " ") + n;
+    for (const std::string& n : engine::sceneNames()) list += (list.empty() ? "" : " ") + n;
     return list;
 }
 
@@ -29,17 +29,17 @@ std::vector<OptionSpec> sceneOptionSpecs()
     };
 }
 
-void readProfileOption(const CommandLine& cl, EngineConfig& engine)
+void readProfileOption(const CommandLine& cl, engine::EngineConfig& engine)
 {
     if (!cl.has("--profile")) return;
     if (cl.value("--profile").empty()) throw UsageError("--profile needs a touch profile file");
-    engine.motorGain = device::touchProfileGains(device::loadTouchProfile(cl.value("--profile")));   // InputError: exit 3
+    engine.motorGain = link::touchProfileGains(link::loadTouchProfile(cl.value("--profile")));   // InputError: exit 3
 }
 
-void readSceneOptions(const CommandLine& cl, EngineConfig& engine)
+void readSceneOptions(const CommandLine& cl, engine::EngineConfig& engine)
 {
     engine.scene = cl.value("--scene");
-    const auto& names = sceneNames();
+    const auto& names = engine::sceneNames();
     if (std::find(names.begin(), names.end(), engine.scene) == names.end())
         throw UsageError("unknown scene '" + engine.scene + "' (scenes: " + sceneList() + ")");
     engine.sceneConfig.sampleRate = static_cast<double>(cl.integer("--sample-rate", 48000, 8000, 384000));
@@ -51,12 +51,12 @@ void readSceneOptions(const CommandLine& cl, EngineConfig& engine)
         throw UsageError("--audio is for the cymbal scene");
     const std::string arm = cl.value("--arm", "right");
     if (arm != "right" && arm != "left") throw UsageError("--arm must be right or left");
-    engine.sceneConfig.side = arm == "left" ? ArmSide::Left : ArmSide::Right;
+    engine.sceneConfig.side = arm == "left" ? core::ArmSide::Left : core::ArmSide::Right;
     engine.parameters = cl.values("--param");
     // A setting the scene does not have, or a value it does not take, is bad usage (exit 2),
     // refused before any file is read or written.
     for (const std::string& p : engine.parameters)
-        if (const std::string problem = sceneParameterProblem(engine.scene, p); !problem.empty())
+        if (const std::string problem = engine::sceneParameterProblem(engine.scene, p); !problem.empty())
             throw UsageError("--param " + p + ": " + problem);
     readProfileOption(cl, engine);
     if (engine.scene == "score" && engine.sceneConfig.score.empty())
@@ -68,7 +68,7 @@ void readSceneOptions(const CommandLine& cl, EngineConfig& engine)
         throw UsageError("the braille scene needs --text");
 }
 
-std::vector<std::string> readStemOptions(const CommandLine& cl, EngineConfig& engine)
+std::vector<std::string> readStemOptions(const CommandLine& cl, engine::EngineConfig& engine)
 {
     std::vector<std::pair<std::string, std::string>> stems;
     for (const std::string& s : cl.values("--stem")) {
@@ -93,7 +93,7 @@ std::vector<std::string> readStemOptions(const CommandLine& cl, EngineConfig& en
     return paths;
 }
 
-void readSetListOptions(const CommandLine& cl, EngineConfig& engine, const std::vector<const char*>& cueOnly)
+void readSetListOptions(const CommandLine& cl, engine::EngineConfig& engine, const std::vector<const char*>& cueOnly)
 {
     std::vector<const char*> own {"--param", "--score", "--text", "--audio"};
     own.insert(own.end(), cueOnly.begin(), cueOnly.end());
@@ -104,7 +104,7 @@ void readSetListOptions(const CommandLine& cl, EngineConfig& engine, const std::
     engine.sceneConfig.seed = static_cast<std::uint64_t>(cl.integer("--seed", 1, 0, 1L << 62));
     const std::string arm = cl.value("--arm", "right");
     if (arm != "right" && arm != "left") throw UsageError("--arm must be right or left");
-    engine.sceneConfig.side = arm == "left" ? ArmSide::Left : ArmSide::Right;
+    engine.sceneConfig.side = arm == "left" ? core::ArmSide::Left : core::ArmSide::Right;
     readProfileOption(cl, engine);   // every cue feels the reader's touch profile
 }
 

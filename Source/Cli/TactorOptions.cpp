@@ -53,12 +53,12 @@ live::TactorOutputConfig tactorConfig(const CommandLine& cl, int motors)
     }
     try {
         c.map = cl.has("--tactor-map") ? tactors::parseChannelMap(cl.value("--tactor-map"), motors) : tactors::ChannelMap::identity(motors);
-    } catch (const InputError& e) {
+    } catch (const core::InputError& e) {
         throw UsageError(e.what());
     }
     if (cl.has("--tactor-gain")) c.gains = tactors::loadTactorGains(cl.value("--tactor-gain"));
     if (c.gains.count > c.map.channels)
-        throw InputError(c.gains.source, 0, "gain",
+        throw core::InputError(c.gains.source, 0, "gain",
                          "the file gives " + std::to_string(c.gains.count) + " gains but the map has " + std::to_string(c.map.channels) + " channels");
     c.connect = cl.value("--tactor-connect");
     if (cl.has("--tactor-connect") && c.device != "jack") throw UsageError("--tactor-connect applies to --tactors jack");

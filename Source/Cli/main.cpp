@@ -46,7 +46,7 @@ std::string helpText()
         s += name + c.summary + "\n";
     }
     s += "\noptions:\n"
-         "  --version   print the version (" + std::string(armadillo::kVersion) + ") and exit\n"
+         "  --version   print the version (" + std::string(armadillo::core::kVersion) + ") and exit\n"
          "  --help      this text\n"
          "\nscenes: " + armadillo::cli::sceneList() + "\n"
          "exit codes: 0 ok, 1 failure, 2 bad usage, 3 bad input, 4 device or I/O failure\n";
@@ -81,7 +81,7 @@ std::string roffVerbatim(const std::string& text)
 /// never disagree). Not listed in --help: it is for the build, not for users.
 void printManPage()
 {
-    std::cout << ".TH ARMADILLO 1 \"\" \"armadillo " << armadillo::kVersion << "\" \"User Commands\"\n"
+    std::cout << ".TH ARMADILLO 1 \"\" \"armadillo " << armadillo::core::kVersion << "\" \"User Commands\"\n"
               << ".SH NAME\narmadillo \\- forearm orientation, instruments you feel, Arm Braille\n"
               << ".SH SYNOPSIS\n.B armadillo\n.I COMMAND\n[options]\n"
               << ".SH DESCRIPTION\n.nf\n" << roffVerbatim(helpText()) << ".fi\n"
@@ -107,24 +107,24 @@ int main(int argc, char** argv)
 {
     if (argc < 2) {   // bad usage: the help goes to stderr, as every refusal does
         std::cerr << helpText();
-        return armadillo::kExitUsage;
+        return armadillo::core::kExitUsage;
     }
     const std::string command = argv[1];
     if (command == "--help" || command == "-h" || command == "help") {
         std::cout << helpText();
-        return armadillo::kExitOk;
+        return armadillo::core::kExitOk;
     }
     if (command == "--version") {
-        std::cout << "armadillo " << armadillo::kVersion << "\n";
-        return armadillo::kExitOk;
+        std::cout << "armadillo " << armadillo::core::kVersion << "\n";
+        return armadillo::core::kExitOk;
     }
     if (command == "--man") {
         printManPage();
-        return armadillo::kExitOk;
+        return armadillo::core::kExitOk;
     }
     const armadillo::cli::Arguments args(argv + 2, argv + argc);
     for (const auto& c : armadillo::cli::commands())
         if (command == c.name) return c.run(args);
     std::cerr << "armadillo: unknown command '" << command << "' (see 'armadillo --help')\n";
-    return armadillo::kExitUsage;
+    return armadillo::core::kExitUsage;
 }

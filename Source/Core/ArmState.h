@@ -5,7 +5,7 @@
 #include "Core/Types.h"
 #include <Eigen/Geometry>
 
-namespace armadillo {
+namespace armadillo::core {
 
 /// Features of thesis §2.6.3, vectors in the earth frame (X east, Y up, Z south).
 struct ArmFeatures {
@@ -32,4 +32,4 @@ struct ArmState {
     bool valid = false;                                    ///< false until the source has produced a pose
 };
 
-} // namespace armadillo
+} // namespace armadillo::core

@@ -9,7 +9,7 @@
 #include <sstream>
 #include <unistd.h>
 
-namespace armadillo {
+namespace armadillo::core {
 
 void writeFileAtomically(const std::string& path, std::string_view content)
 {
@@ -69,4 +69,4 @@ std::string readWholeFile(const std::string& path)
     return out;
 }
 
-} // namespace armadillo
+} // namespace armadillo::core

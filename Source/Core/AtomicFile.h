@@ -2,7 +2,7 @@
 #include <string>
 #include <string_view>
 
-namespace armadillo {
+namespace armadillo::core {
 
 /// Writes `content` to `path` whole or not at all: a temporary file in the same folder, flushed
 /// to disk, then renamed over the target. Throws IoError naming the path on any failure, and
@@ -15,4 +15,4 @@ inline constexpr std::size_t kMaxInputFileBytes = std::size_t(1) << 30;
 /// device, or is larger than kMaxInputFileBytes.
 std::string readWholeFile(const std::string& path);
 
-} // namespace armadillo
+} // namespace armadillo::core

@@ -4,7 +4,7 @@
 // hand-over of a scene's sound (Tactors). Real-time: no allocation.
 #include <cmath>
 
-namespace armadillo {
+namespace armadillo::core {
 
 struct Biquad {
     double b0 = 1, b1 = 0, b2 = 0, a1 = 0, a2 = 0, z1 = 0, z2 = 0;
@@ -30,4 +30,4 @@ struct Biquad {
     }
 };
 
-} // namespace armadillo
+} // namespace armadillo::core

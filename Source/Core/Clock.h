@@ -4,7 +4,7 @@
 // Link/LevelSchedule.h). Real-time safe: a vDSO clock read, no lock, no allocation.
 #include <chrono>
 
-namespace armadillo {
+namespace armadillo::core {
 
 /// Seconds on the steady clock (arbitrary epoch, never jumps).
 inline double monotonicSeconds() noexcept
@@ -12,4 +12,4 @@ inline double monotonicSeconds() noexcept
     return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-} // namespace armadillo
+} // namespace armadillo::core

@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <cstring>
 
-namespace armadillo {
+namespace armadillo::core {
 namespace {
 
 std::string_view trim(std::string_view s)
@@ -383,4 +383,4 @@ std::vector<TimedQuaternion> motionAsQuaternions(const CsvTable& t)
                      "not a motion file: the header needs t with gx,gy,gz,ax,ay,az (IMU), qw,qx,qy,qz (quaternion) or elevation,azimuth,roll (pose)");
 }
 
-} // namespace armadillo
+} // namespace armadillo::core

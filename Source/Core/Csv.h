@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-namespace armadillo {
+namespace armadillo::core {
 
 /// A parsed numeric table. Rows keep the line number they came from, for later messages.
 class CsvTable {
@@ -108,4 +108,4 @@ void writeTactile(const std::string& path, const std::vector<TactileRow>& rows, 
 /// Any motion file as orientations (IMU files are not accepted here: they need fusion first).
 std::vector<TimedQuaternion> motionAsQuaternions(const CsvTable& table);
 
-} // namespace armadillo
+} // namespace armadillo::core

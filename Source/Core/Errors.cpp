@@ -1,6 +1,6 @@
 #include "Core/Errors.h"
 
-namespace armadillo {
+namespace armadillo::core {
 namespace {
 std::string describe(const std::string& file, long line, const std::string& column, const std::string& message)
 {
@@ -18,4 +18,4 @@ InputError::InputError(std::string file, long line, std::string column, const st
 {
 }
 
-} // namespace armadillo
+} // namespace armadillo::core

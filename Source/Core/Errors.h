@@ -2,7 +2,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace armadillo {
+namespace armadillo::core {
 
 /// Bad input from a file, packet, message or state blob. what() names the place:
 /// "FILE:LINE: column 'C': message" (line and column when known). Maps to exit code 3.
@@ -25,4 +25,4 @@ public:
     using std::runtime_error::runtime_error;
 };
 
-} // namespace armadillo
+} // namespace armadillo::core

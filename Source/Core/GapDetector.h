@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cstdint>
 
-namespace armadillo {
+namespace armadillo::core {
 
 class GapDetector {
 public:
@@ -45,4 +45,4 @@ private:
     std::uint64_t count_ = 0;
 };
 
-} // namespace armadillo
+} // namespace armadillo::core

@@ -13,7 +13,7 @@
 #include <atomic>
 #include <memory>
 
-namespace armadillo {
+namespace armadillo::core {
 
 template <typename T>
 class Handover {
@@ -95,4 +95,4 @@ private:
     T* newest_ = nullptr;                  // builder side
 };
 
-} // namespace armadillo
+} // namespace armadillo::core

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <unordered_set>
 
-namespace armadillo {
+namespace armadillo::core {
 
 const JsonValue* JsonValue::find(std::string_view key) const noexcept
 {
@@ -286,4 +286,4 @@ void appendJsonString(std::string& out, std::string_view s)
     out += '"';
 }
 
-} // namespace armadillo
+} // namespace armadillo::core

@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-namespace armadillo {
+namespace armadillo::core {
 
 struct JsonValue {
     enum class Kind { Null, Bool, Number, String, Array, Object };
@@ -32,4 +32,4 @@ JsonValue parseJson(std::string_view text, const std::string& source);
 /// Appends s as a JSON string literal (quotes and escapes).
 void appendJsonString(std::string& out, std::string_view s);
 
-} // namespace armadillo
+} // namespace armadillo::core

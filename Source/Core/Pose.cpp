@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace armadillo {
+namespace armadillo::core {
 namespace {
 Eigen::Quaterniond aboutAxis(double deg, const Eigen::Vector3d& axis)
 {
@@ -50,4 +50,4 @@ Pose quaternionToPose(const Eigen::Quaterniond& qIn)
     return p;
 }
 
-} // namespace armadillo
+} // namespace armadillo::core

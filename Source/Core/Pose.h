@@ -5,7 +5,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
-namespace armadillo {
+namespace armadillo::core {
 
 struct Pose {
     double elevationDeg = 0.0;   ///< forearm axis above horizontal, −90…90 (+ up)
@@ -35,4 +35,4 @@ double wrapDeg180(double deg);
 /// Wraps an angle in degrees to [0, 360).
 double wrapDeg360(double deg);
 
-} // namespace armadillo
+} // namespace armadillo::core

@@ -9,7 +9,7 @@
 #include <map>
 #include <system_error>
 
-namespace armadillo {
+namespace armadillo::core {
 
 namespace fs = std::filesystem;
 
@@ -93,4 +93,4 @@ std::vector<ScoreEntry> listScores(const std::string& extraDir)
     return out;
 }
 
-} // namespace armadillo
+} // namespace armadillo::core

@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-namespace armadillo {
+namespace armadillo::core {
 
 /// One file of Resources/, by its path relative to that folder ("Scores/polytope.score").
 struct EmbeddedFile {
@@ -51,4 +51,4 @@ struct ScoreEntry {
 /// with the copy that readResource would use.
 std::vector<ScoreEntry> listScores(const std::string& extraDir = {});
 
-} // namespace armadillo
+} // namespace armadillo::core

@@ -12,7 +12,7 @@
 #include <string_view>
 #include <vector>
 
-namespace armadillo {
+namespace armadillo::core {
 
 /// Musical transport: the host's (plugin) or the audio clock's (standalone/CLI).
 struct Transport {
@@ -204,4 +204,4 @@ public:
     virtual SceneValues values() const noexcept { return {}; }
 };
 
-} // namespace armadillo
+} // namespace armadillo::core

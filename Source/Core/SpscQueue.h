@@ -8,7 +8,7 @@
 #include <thread>
 #include <type_traits>
 
-namespace armadillo {
+namespace armadillo::core {
 
 template <typename U> struct SeqLockProbe;
 
@@ -134,4 +134,4 @@ private:
     std::array<std::atomic<unsigned long>, kWords> words_ {};
 };
 
-} // namespace armadillo
+} // namespace armadillo::core

@@ -3,7 +3,7 @@
 #include <pthread.h>
 #include <sched.h>
 
-namespace armadillo {
+namespace armadillo::core {
 
 bool requestRealtimePriority(int priority) noexcept
 {
@@ -13,4 +13,4 @@ bool requestRealtimePriority(int priority) noexcept
     return pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp) == 0;
 }
 
-} // namespace armadillo
+} // namespace armadillo::core

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <limits>
 
-namespace armadillo {
+namespace armadillo::core {
 
 /// Motors the protocol can address (thesis §2.3: the board drives 16). k = 1..16 in the docs,
 /// index k-1 in code. 0..8 = the 3×3 grid, 9..11 = optional back motors, 12..15 spare.
@@ -42,4 +42,4 @@ struct ImuSample {
 /// Exit codes of the `armadillo` command line (INTERFACES.md).
 enum ExitCode : int { kExitOk = 0, kExitFailure = 1, kExitUsage = 2, kExitBadInput = 3, kExitIo = 4 };
 
-} // namespace armadillo
+} // namespace armadillo::core

@@ -12,7 +12,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-namespace armadillo {
+namespace armadillo::core {
 
 namespace {
 
@@ -166,4 +166,4 @@ AudioBuffer readWav(const std::string& path)
     return out;
 }
 
-} // namespace armadillo
+} // namespace armadillo::core

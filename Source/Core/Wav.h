@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace armadillo {
+namespace armadillo::core {
 
 struct AudioBuffer {
     double sampleRate = 48000.0;                ///< Hz
@@ -61,4 +61,4 @@ private:
     std::vector<float> clean_;
 };
 
-} // namespace armadillo
+} // namespace armadillo::core

@@ -8,36 +8,36 @@
 #include <limits>
 
 
-namespace armadillo {
+namespace armadillo::engine {
 
 /// Gestures go into a bounded queue; when the consumer falls behind, new ones are dropped.
-class Engine::Events final : public EventSink {
+class Engine::Events final : public core::EventSink {
 public:
-    Events(SpscQueue<GestureEvent, 64>& queue, const double& time) : queue_(queue), time_(time) {}
+    Events(core::SpscQueue<GestureEvent, 64>& queue, const double& time) : queue_(queue), time_(time) {}
     void emit(const char* gesture, float value) override { queue_.push({gesture, value, time_}); }
 
 private:
-    SpscQueue<GestureEvent, 64>& queue_;
+    core::SpscQueue<GestureEvent, 64>& queue_;
     const double& time_;
 };
 
 Engine::Engine(const EngineConfig& config) : Engine(config, createScene(config.scene)) {}
 
-Engine::Engine(const EngineConfig& config, std::unique_ptr<Scene> scene) : config_(config), scene_(std::move(scene))
+Engine::Engine(const EngineConfig& config, std::unique_ptr<core::Scene> scene) : config_(config), scene_(std::move(scene))
 {
-    if (!scene_) throw InputError("", 0, "", "no scene given for '" + config_.scene + "'");
-    config_.motorCount = std::clamp(config_.motorCount, kGridMotors, kMaxMotors);
+    if (!scene_) throw core::InputError("", 0, "", "no scene given for '" + config_.scene + "'");
+    config_.motorCount = std::clamp(config_.motorCount, core::kGridMotors, core::kMaxMotors);
     scene_->prepare(config_.sceneConfig);
-    tactile_ = std::make_unique<TactileEngine>();
-    TactileConfig tactileConfig;
+    tactile_ = std::make_unique<tactile::TactileEngine>();
+    tactile::TactileConfig tactileConfig;
     tactileConfig.motorCount = config_.motorCount;
     tactileConfig.side = config_.sceneConfig.side;
     tactileConfig.motorGain = config_.motorGain;
     tactile_->prepare(tactileConfig);
     if (config_.twoArms) {   // the left arm: its own shaping and safety stage, mirrored columns
-        leftTactile_ = std::make_unique<TactileEngine>();
-        TactileConfig left = tactileConfig;
-        left.side = ArmSide::Left;
+        leftTactile_ = std::make_unique<tactile::TactileEngine>();
+        tactile::TactileConfig left = tactileConfig;
+        left.side = core::ArmSide::Left;
         leftTactile_->prepare(left);
     }
     events_ = std::make_unique<Events>(gestures_, time_);
@@ -53,12 +53,12 @@ struct ParameterSetting {
     std::string problem;
 };
 
-ParameterSetting resolveParameter(const std::vector<ParamSpec>& specs, const std::string& scene, const std::string& id,
+ParameterSetting resolveParameter(const std::vector<core::ParamSpec>& specs, const std::string& scene, const std::string& id,
                                   const std::string& value)
 {
     ParameterSetting out;
     for (std::size_t i = 0; i < specs.size(); ++i) {
-        const ParamSpec& p = specs[i];
+        const core::ParamSpec& p = specs[i];
         if (p.id != id) continue;
         out.index = static_cast<int>(i);
         for (std::size_t c = 0; c < p.choices.size(); ++c)
@@ -94,7 +94,7 @@ std::string sceneParameterProblem(const std::string& scene, const std::string& a
 void Engine::setSceneParameter(const std::string& id, const std::string& value)
 {
     const ParameterSetting s = resolveParameter(scene_->parameters(), config_.scene, id, value);
-    if (!s.problem.empty()) throw InputError("", 0, id, s.problem);
+    if (!s.problem.empty()) throw core::InputError("", 0, id, s.problem);
     scene_->setParameter(s.index, s.value);
 }
 
@@ -102,27 +102,27 @@ void Engine::setSceneParameters(const std::vector<std::string>& assignments)
 {
     for (const auto& a : assignments) {
         const auto eq = a.find('=');
-        if (eq == std::string::npos || eq == 0) throw InputError("", 0, "", "scene parameter '" + a + "' must be written id=value");
+        if (eq == std::string::npos || eq == 0) throw core::InputError("", 0, "", "scene parameter '" + a + "' must be written id=value");
         setSceneParameter(a.substr(0, eq), a.substr(eq + 1));
     }
 }
 
 Engine::~Engine() = default;
 
-MotorLevels Engine::control(const ArmState& arm, const Transport& transport, double dt, double motorOnTime) noexcept
+core::MotorLevels Engine::control(const core::ArmState& arm, const core::Transport& transport, double dt, double motorOnTime) noexcept
 {
     return run(arm, nullptr, transport, dt, motorOnTime);
 }
 
-MotorLevels Engine::control(const ArmState& arm, const ArmState& leftArm, const Transport& transport, double dt) noexcept
+core::MotorLevels Engine::control(const core::ArmState& arm, const core::ArmState& leftArm, const core::Transport& transport, double dt) noexcept
 {
     return run(arm, &leftArm, transport, dt, -1.0);
 }
 
-MotorLevels Engine::run(const ArmState& arm, const ArmState* leftArm, const Transport& transport, double dt, double motorOnTime) noexcept
+core::MotorLevels Engine::run(const core::ArmState& arm, const core::ArmState* leftArm, const core::Transport& transport, double dt, double motorOnTime) noexcept
 {
-    leftLevels_ = MotorLevels {};
-    if (failed_.load(std::memory_order_relaxed)) return MotorLevels {};
+    leftLevels_ = core::MotorLevels {};
+    if (failed_.load(std::memory_order_relaxed)) return core::MotorLevels {};
     // A stalled or restarted source must not make shaping jump: dt is kept to 0..0.1 s.
     if (!(dt >= 0.0)) dt = 0.0;
     dt = std::min(dt, 0.1);
@@ -140,9 +140,9 @@ MotorLevels Engine::run(const ArmState& arm, const ArmState* leftArm, const Tran
         }
         return tactile_->tick(dt, std::isfinite(motorOnTime) ? motorOnTime : -1.0);
     }
-    ControlInput in {arm, transport, dt};
+    core::ControlInput in {arm, transport, dt};
     if (leftArm) in.leftArm = *leftArm;
-    SceneOutput out {*tactile_, *events_, leftTactile_.get()};
+    core::SceneOutput out {*tactile_, *events_, leftTactile_.get()};
     try {
         if (controlPanicked_ || restartPending_) {   // back from a panic, or another arm: the scene starts afresh
             controlPanicked_ = false;
@@ -152,10 +152,10 @@ MotorLevels Engine::run(const ArmState& arm, const ArmState* leftArm, const Tran
         scene_->control(in, out);
     } catch (const std::exception& e) {
         fail(e.what());
-        return MotorLevels {};
+        return core::MotorLevels {};
     } catch (...) {
         fail("unknown exception");
-        return MotorLevels {};
+        return core::MotorLevels {};
     }
     if (leftTactile_) leftLevels_ = leftTactile_->tick(dt);
     return tactile_->tick(dt, std::isfinite(motorOnTime) ? motorOnTime : -1.0);
@@ -210,7 +210,7 @@ void Engine::processInput(const float* const* in, int channels, int numSamples) 
     scene_->processInput(in, channels, numSamples);
 }
 
-void Engine::processMidi(const MidiNoteEvent* events, int count) noexcept
+void Engine::processMidi(const core::MidiNoteEvent* events, int count) noexcept
 {
     if (!events || count <= 0 || failed_.load(std::memory_order_acquire)) return;
     scene_->processMidi(events, count);
@@ -220,7 +220,7 @@ void Engine::allOff() noexcept
 {
     tactile_->allOff();
     if (leftTactile_) leftTactile_->allOff();
-    leftLevels_ = MotorLevels {};
+    leftLevels_ = core::MotorLevels {};
 }
 
 void Engine::restart() noexcept
@@ -229,4 +229,4 @@ void Engine::restart() noexcept
     restartPending_ = true;
 }
 
-} // namespace armadillo
+} // namespace armadillo::engine

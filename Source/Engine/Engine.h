@@ -16,14 +16,16 @@
 #include <string>
 #include <vector>
 
-namespace armadillo {
-
+namespace armadillo::tactile {
 class TactileEngine;
+}
+
+namespace armadillo::engine {
 
 /// Scene names of INTERFACES.md, in the order of the plugin's `scene` choice.
 const std::vector<std::string>& sceneNames();
 /// A new scene by name; throws InputError for an unknown name.
-std::unique_ptr<Scene> createScene(const std::string& name);
+std::unique_ptr<core::Scene> createScene(const std::string& name);
 /// What is wrong with one "id=value" setting for `scene` (the check Engine::setSceneParameter
 /// makes, without preparing the scene): empty when it would be accepted. For front ends that
 /// refuse a bad setting as bad usage before any work starts (`--param`).
@@ -31,12 +33,12 @@ std::string sceneParameterProblem(const std::string& scene, const std::string& a
 
 struct EngineConfig {
     std::string scene = "monitor";
-    SceneConfig sceneConfig {};
-    int motorCount = kGridMotors;   ///< 9, or 12 with the back motors
+    core::SceneConfig sceneConfig {};
+    int motorCount = core::kGridMotors; ///< 9, or 12 with the back motors
     std::vector<std::string> parameters;   ///< "id=value" scene settings applied after prepare()
     /// The reader's touch profile as per-motor gains (TactileConfig::motorGain; physical motor
     /// order m1…). All 1 = none. Device/TouchProfile.h makes them from a profile file.
-    std::array<float, kMaxMotors> motorGain = TactileConfig::unitMotorGains();
+    std::array<float, core::kMaxMotors> motorGain = tactile::TactileConfig::unitMotorGains();
     /// The panic gesture (docs/STAGE.md): the forearm hanging straight down (elevation ≤ −75°)
     /// for 2 s panics the engine. Off by default (`play --panic-gesture` turns it on).
     bool panicGesture = false;
@@ -57,7 +59,7 @@ public:
     explicit Engine(const EngineConfig& config);
     /// The same with a scene made elsewhere (tests, a front end's own scene); config.scene is
     /// only its name for messages.
-    Engine(const EngineConfig& config, std::unique_ptr<Scene> scene);
+    Engine(const EngineConfig& config, std::unique_ptr<core::Scene> scene);
     ~Engine();
     Engine(const Engine&) = delete;
     Engine& operator=(const Engine&) = delete;
@@ -68,12 +70,12 @@ public:
     /// call returns all-off levels. `motorOnTime` ≥ 0: how long the previous levels really stayed
     /// on the motor, when a link that sends levels on the wall clock says it differs from dt
     /// (TactileEngine::tick); negative: dt.
-    MotorLevels control(const ArmState& arm, const Transport& transport, double dt, double motorOnTime = -1.0) noexcept;
+    core::MotorLevels control(const core::ArmState& arm, const core::Transport& transport, double dt, double motorOnTime = -1.0) noexcept;
     /// Two arms: as control(), with the left arm's state (scenes see it as ControlInput::leftArm);
     /// returns the right arm's levels, leftLevels() the left arm's (all-off without twoArms).
-    MotorLevels control(const ArmState& arm, const ArmState& leftArm, const Transport& transport, double dt) noexcept;
+    core::MotorLevels control(const core::ArmState& arm, const core::ArmState& leftArm, const core::Transport& transport, double dt) noexcept;
     /// The left arm's motor levels of the last control() (control thread).
-    const MotorLevels& leftLevels() const noexcept { return leftLevels_; }
+    const core::MotorLevels& leftLevels() const noexcept { return leftLevels_; }
     bool twoArms() const noexcept { return leftTactile_ != nullptr; }
     /// Audio thread: adds nothing but the scene's sound; no locks, allocation or I/O.
     void renderAudio(float* left, float* right, int numSamples) noexcept;
@@ -86,7 +88,7 @@ public:
     /// Audio thread: the instrument's MIDI notes for the coming block (Core/Scene.h,
     /// Scene::processMidi), handed to the scene before processInput() of the same block.
     /// Real-time; ignored by scenes without MIDI input and once the scene failed.
-    void processMidi(const MidiNoteEvent* events, int count) noexcept;
+    void processMidi(const core::MidiNoteEvent* events, int count) noexcept;
     bool listensToMidi() const { return scene_->listensToMidi(); }
     /// Stop, disconnect or error: every motor off now; patterns and targets forgotten.
     void allOff() noexcept;
@@ -120,7 +122,7 @@ public:
     /// Applies "id=value" settings in order (e.g. from --param options).
     void setSceneParameters(const std::vector<std::string>& assignments);
 
-    Scene& scene() noexcept { return *scene_; }
+    core::Scene& scene() noexcept { return *scene_; }
     const EngineConfig& config() const noexcept { return config_; }
     bool producesAudio() const { return scene_->producesAudio(); }
     /// The scene threw during control(): it no longer runs (silence, motors off). Any thread.
@@ -130,19 +132,19 @@ public:
     /// Gestures since the last call (control thread; at most 64 are kept between calls).
     bool popGesture(GestureEvent& out) noexcept { return gestures_.pop(out); }
     /// The scene's own outputs after the latest control() (Core/Scene.h SceneValues; control thread).
-    SceneValues sceneValues() const noexcept { return failed() ? SceneValues {} : scene_->values(); }
+    core::SceneValues sceneValues() const noexcept { return failed() ? core::SceneValues {} : scene_->values(); }
 
 private:
     class Events;
     void fail(const char* what) noexcept;
     EngineConfig config_;
-    std::unique_ptr<Scene> scene_;
-    std::unique_ptr<TactileEngine> tactile_;
-    std::unique_ptr<TactileEngine> leftTactile_;   // two arms only
-    MotorLevels leftLevels_ {};
-    MotorLevels run(const ArmState& arm, const ArmState* leftArm, const Transport& transport, double dt, double motorOnTime) noexcept;
+    std::unique_ptr<core::Scene> scene_;
+    std::unique_ptr<tactile::TactileEngine> tactile_;
+    std::unique_ptr<tactile::TactileEngine> leftTactile_; // two arms only
+    core::MotorLevels leftLevels_ {};
+    core::MotorLevels run(const core::ArmState& arm, const core::ArmState* leftArm, const core::Transport& transport, double dt, double motorOnTime) noexcept;
     std::unique_ptr<Events> events_;
-    SpscQueue<GestureEvent, 64> gestures_;
+    core::SpscQueue<GestureEvent, 64> gestures_;
     double time_ = 0.0;
     std::array<char, 256> failure_ {};   // written once, before failed_ is set
     std::atomic<bool> failed_ {false};
@@ -154,4 +156,4 @@ private:
     double audioGain_ = 1.0;             // audio thread: the panic/resume fade
 };
 
-} // namespace armadillo
+} // namespace armadillo::engine

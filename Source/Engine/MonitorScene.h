@@ -2,7 +2,7 @@
 #include "Core/Scene.h"
 #include <memory>
 
-namespace armadillo {
+namespace armadillo::engine {
 /// "monitor": no sound, motors off — for recording sessions and testing the link.
-std::unique_ptr<Scene> makeMonitorScene();
-} // namespace armadillo
+std::unique_ptr<core::Scene> makeMonitorScene();
+} // namespace armadillo::engine

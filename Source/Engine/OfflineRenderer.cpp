@@ -6,35 +6,35 @@
 #include <cmath>
 #include <cstdio>
 
-namespace armadillo {
+namespace armadillo::engine {
 
-std::size_t MotionRows::size() const { return kind == MotionKind::Imu ? imu.size() : orientations.size(); }
-double MotionRows::time(std::size_t i) const { return kind == MotionKind::Imu ? imu[i].t : orientations[i].t; }
-ArmState MotionRows::apply(ArmTracker& tracker, std::size_t i) const
+std::size_t MotionRows::size() const { return kind == core::MotionKind::Imu ? imu.size() : orientations.size(); }
+double MotionRows::time(std::size_t i) const { return kind == core::MotionKind::Imu ? imu[i].t : orientations[i].t; }
+core::ArmState MotionRows::apply(fusion::ArmTracker& tracker, std::size_t i) const
 {
-    return kind == MotionKind::Imu ? tracker.update(imu[i]) : tracker.updateOrientation(orientations[i].t, orientations[i].q);
+    return kind == core::MotionKind::Imu ? tracker.update(imu[i]) : tracker.updateOrientation(orientations[i].t, orientations[i].q);
 }
 
-MotionRows MotionRows::load(const CsvTable& table, const Eigen::Quaterniond& mount, const char* mountOption)
+MotionRows MotionRows::load(const core::CsvTable& table, const Eigen::Quaterniond& mount, const char* mountOption)
 {
     MotionRows m;
     m.kind = detectMotionKind(table);
-    if (m.kind == MotionKind::Imu) m.imu = readImu(table);
+    if (m.kind == core::MotionKind::Imu) m.imu = readImu(table);
     else m.orientations = motionAsQuaternions(table);   // throws for unknown headers
     if (mount.angularDistance(Eigen::Quaterniond::Identity()) == 0.0) return m;
-    if (m.kind == MotionKind::Pose)
-        throw InputError(table.source(), 0, mountOption, "a pose file is the forearm's own pose, not a sensor's: a mount applies to IMU and quaternion files");
+    if (m.kind == core::MotionKind::Pose)
+        throw core::InputError(table.source(), 0, mountOption, "a pose file is the forearm's own pose, not a sensor's: a mount applies to IMU and quaternion files");
     const Eigen::Quaterniond r = mount.normalized();
-    for (ImuSample& s : m.imu) {
+    for (core::ImuSample& s : m.imu) {
         s.gyro = r * s.gyro;
         s.accel = r * s.accel;
         if (s.mag.allFinite()) s.mag = r * s.mag;
     }
-    for (TimedQuaternion& q : m.orientations) q.q = (q.q * r.conjugate()).normalized();
+    for (core::TimedQuaternion& q : m.orientations) q.q = (q.q * r.conjugate()).normalized();
     return m;
 }
 
-void checkRenderSpan(const CsvTable& motion, std::size_t rows, const std::function<double(std::size_t)>& timeOf, double tailSeconds,
+void checkRenderSpan(const core::CsvTable& motion, std::size_t rows, const std::function<double(std::size_t)>& timeOf, double tailSeconds,
                      double maxSeconds)
 {
     if (rows == 0) return;
@@ -55,14 +55,14 @@ namespace {
 class EnginePerformer final : public OfflinePerformer {
 public:
     explicit EnginePerformer(const EngineConfig& config) : engine_(config) {}
-    MotorLevels control(const ArmState& right, const ArmState* left, const Transport& transport, double dt) override
+    core::MotorLevels control(const core::ArmState& right, const core::ArmState* left, const core::Transport& transport, double dt) override
     {
         return left != nullptr ? engine_.control(right, *left, transport, dt) : engine_.control(right, transport, dt);
     }
-    MotorLevels leftLevels() override { return engine_.leftLevels(); }
+    core::MotorLevels leftLevels() override { return engine_.leftLevels(); }
     void allOff() override { engine_.allOff(); }
     Engine& sounding() override { return engine_; }
-    void processMidi(const MidiNoteEvent* events, int count) override { engine_.processMidi(events, count); }
+    void processMidi(const core::MidiNoteEvent* events, int count) override { engine_.processMidi(events, count); }
     void processInput(const float* const* in, int channels, int n) override { engine_.processInput(in, channels, n); }
     void renderAudio(float* left, float* right, int n) override { engine_.renderAudio(left, right, n); }
     void popGestures(std::vector<GestureEvent>& out) override
@@ -87,20 +87,20 @@ private:
 
 } // namespace
 
-RenderResult renderOffline(const CsvTable& motion, const RenderSettings& settings)
+RenderResult renderOffline(const core::CsvTable& motion, const RenderSettings& settings)
 {
-    if (settings.leftMotion != nullptr && !settings.engine.twoArms) throw InputError("", 0, "--motion-left", "two arms need EngineConfig::twoArms");
+    if (settings.leftMotion != nullptr && !settings.engine.twoArms) throw core::InputError("", 0, "--motion-left", "two arms need EngineConfig::twoArms");
     EnginePerformer performer(settings.engine);
     return renderOffline(motion, settings, performer);
 }
 
-RenderResult renderOffline(const CsvTable& motion, const RenderSettings& settings, OfflinePerformer& engine)
+RenderResult renderOffline(const core::CsvTable& motion, const RenderSettings& settings, OfflinePerformer& engine)
 {
     const MotionRows source = MotionRows::load(motion, settings.mount, "--mount");
-    if (source.size() == 0) throw InputError(motion.source(), 0, "", "the motion file has no rows");
+    if (source.size() == 0) throw core::InputError(motion.source(), 0, "", "the motion file has no rows");
     // A rate taken from the recording names the recording; any other names the option.
     const bool rateOfInput = settings.audioIn != nullptr && settings.audioIn->sampleRate == settings.engine.sceneConfig.sampleRate;
-    const double sampleRate = engineSampleRate(settings.engine.sceneConfig.sampleRate,
+    const double sampleRate = core::engineSampleRate(settings.engine.sceneConfig.sampleRate,
                                                rateOfInput && !settings.audioInName.empty() ? settings.audioInName : std::string("--sample-rate"));
 
     // The span is checked before the engine starts or anything is rendered: a time column that
@@ -112,22 +112,22 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
     const double maxSeconds = settings.audioSink ? settings.maxSeconds : std::min(settings.maxSeconds, kMaxCollectedRenderSeconds);
     checkRenderSpan(motion, source.size(), [&](std::size_t i) { return source.time(i); }, tail, maxSeconds);
 
-    ArmTracker tracker;
+    fusion::ArmTracker tracker;
     const std::string audioInName = settings.audioInName.empty() ? std::string("--audio-in") : settings.audioInName;
-    const AudioBuffer* input = settings.audioIn;
+    const core::AudioBuffer* input = settings.audioIn;
     if (std::string whyNot; input && !engine.listensToAudio(whyNot))
-        throw InputError(audioInName, 0, "", "--audio-in: " + whyNot + " (score, audio-touch and layered-keyboard do)");
+        throw core::InputError(audioInName, 0, "", "--audio-in: " + whyNot + " (score, audio-touch and layered-keyboard do)");
     if (input) {
-        if (input->channels.empty() || input->frames() == 0) throw InputError(audioInName, 0, "", "--audio-in: the recording holds no audio");
+        if (input->channels.empty() || input->frames() == 0) throw core::InputError(audioInName, 0, "", "--audio-in: the recording holds no audio");
         if (std::fabs(input->sampleRate - sampleRate) > 0.5)
-            throw InputError(audioInName, 0, "", "--audio-in: the recording's sample rate (" + std::to_string(static_cast<long>(input->sampleRate)) +
+            throw core::InputError(audioInName, 0, "", "--audio-in: the recording's sample rate (" + std::to_string(static_cast<long>(input->sampleRate)) +
                                                       " Hz) differs from the engine's (" + std::to_string(static_cast<long>(sampleRate)) +
                                                       " Hz); give --sample-rate to match it");
     }
     if (std::string whyNot; settings.midiIn && !engine.listensToMidi(whyNot))
-        throw InputError(settings.midiInName.empty() ? std::string("--midi-in") : settings.midiInName, 0, "",
+        throw core::InputError(settings.midiInName.empty() ? std::string("--midi-in") : settings.midiInName, 0, "",
                          "--midi-in: " + whyNot + " (layered-keyboard does)");
-    std::vector<MidiNoteEvent> midiBlock(settings.midiIn ? settings.midiIn->size() : 0);
+    std::vector<core::MidiNoteEvent> midiBlock(settings.midiIn ? settings.midiIn->size() : 0);
     std::size_t nextMidi = 0;
     const int block = std::clamp(settings.blockSize, 1, 8192);
     std::vector<const float*> inputChannels(input ? input->channels.size() : 0, nullptr);
@@ -136,12 +136,12 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
     RenderResult result;
     const bool twoArms = settings.leftMotion != nullptr;
     MotionRows leftSource;
-    ArmTracker leftTracker;
+    fusion::ArmTracker leftTracker;
     std::size_t leftRow = 0;
-    ArmState leftArm;
+    core::ArmState leftArm;
     if (twoArms) {
         leftSource = MotionRows::load(*settings.leftMotion, settings.leftMount, "--mount-left");
-        if (leftSource.size() == 0) throw InputError(settings.leftMotion->source(), 0, "--motion-left", "the left arm's motion file has no rows");
+        if (leftSource.size() == 0) throw core::InputError(settings.leftMotion->source(), 0, "--motion-left", "the left arm's motion file has no rows");
     }
     const double tEnd = source.time(source.size() - 1) + tail;
     const auto totalFrames = static_cast<std::size_t>(std::llround((tEnd - t0) * sampleRate)) + 1;
@@ -162,7 +162,7 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
                     const auto at = static_cast<std::size_t>(std::max(0.0, std::round(notes[nextMidi].t * sampleRate)));
                     if (at >= frame + static_cast<std::size_t>(n)) break;
                     const TimedMidiNote& m = notes[nextMidi++];
-                    MidiNoteEvent& e = midiBlock[static_cast<std::size_t>(count++)];
+                    core::MidiNoteEvent& e = midiBlock[static_cast<std::size_t>(count++)];
                     e.offset = at > frame ? static_cast<int>(at - frame) : 0;
                     e.note = static_cast<std::uint8_t>(std::clamp(m.note, 0, 127));
                     e.velocity = static_cast<std::uint8_t>(std::clamp(m.velocity, 0, 127));
@@ -217,19 +217,19 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
         const double t = source.time(i);
         renderUntil(t);
         engine.beforeRow(t - t0);
-        const ArmState arm = source.apply(tracker, i);
+        const core::ArmState arm = source.apply(tracker, i);
         if (twoArms)   // the left arm's rows up to this time
             while (leftRow < leftSource.size() && leftSource.time(leftRow) <= t + 1e-9) leftArm = leftSource.apply(leftTracker, leftRow++);
-        Transport transport;
+        core::Transport transport;
         transport.valid = true;
         transport.playing = true;
         transport.seconds = t - t0;
         transport.bpm = settings.bpm;
         transport.ppq = transport.seconds * settings.bpm / 60.0;
-        MotorLevels levels {};
+        core::MotorLevels levels {};
         if (arm.valid) {
             levels = engine.control(arm, twoArms ? &leftArm : nullptr, transport, t - previous);
-            const Pose& p = arm.features.pose;
+            const core::Pose& p = arm.features.pose;
             if (std::isfinite(p.elevationDeg) && std::isfinite(p.azimuthDeg)) {
                 result.minElevation = anyPose ? std::min(result.minElevation, p.elevationDeg) : p.elevationDeg;
                 result.maxElevation = anyPose ? std::max(result.maxElevation, p.elevationDeg) : p.elevationDeg;
@@ -262,7 +262,7 @@ RenderResult renderOffline(const CsvTable& motion, const RenderSettings& setting
     // The render ends as a session does: every motor off, in one last packet (the tactile file's
     // last row), at the end of the audio.
     engine.allOff();
-    result.tactile.push_back({tEnd, MotorLevels {}});
+    result.tactile.push_back({tEnd, core::MotorLevels {}});
     result.frames = frame;
     return result;
 }
@@ -292,4 +292,4 @@ std::string silenceReason(const RenderResult& r, const RenderSettings& settings)
     return why;
 }
 
-} // namespace armadillo
+} // namespace armadillo::engine

@@ -9,7 +9,11 @@
 #include <functional>
 #include <vector>
 
-namespace armadillo {
+namespace armadillo::fusion {
+class ArmTracker;
+}
+
+namespace armadillo::engine {
 
 /// Longest render whose audio is collected in RenderResult::audio (no audioSink): one hour.
 inline constexpr double kMaxCollectedRenderSeconds = 3600.0;
@@ -30,13 +34,13 @@ struct RenderSettings {
     /// The recording the listener hears (`--audio-in`): fed block by block to the engine's audio
     /// input before each block is rendered, from sample 0 = the first motion row. Its sample
     /// rate must be the engine's (engine.sceneConfig.sampleRate); the scene must listen.
-    const AudioBuffer* audioIn = nullptr;
+    const core::AudioBuffer* audioIn = nullptr;
     /// Called after every control update (one per motion row) with the row's time (s, the motion
     /// file's clock), the arm, the gestures the scene emitted in that update and the engine (its
     /// scene's outputs, Engine::sceneValues, and parameters): what a front end's mapping
     /// (`render --map`, Source/Mapping) reads and drives; with two arms (leftMotion) also the left
     /// arm's state as of that update (null with one arm). Empty: not called.
-    std::function<void(double t, const ArmState& arm, const ArmState* leftArm, const GestureEvent* gestures, std::size_t count, Engine& engine)>
+    std::function<void(double t, const core::ArmState& arm, const core::ArmState* leftArm, const GestureEvent* gestures, std::size_t count, Engine& engine)>
         onControl;
     std::string audioInName;       ///< the file audioIn came from, named in messages
     /// The instrument's MIDI notes (`--midi-in`), sorted by t: each note goes to the engine's
@@ -58,7 +62,7 @@ struct RenderSettings {
     /// Two arms (`--motion-left`): the left arm's motion file, on the same clock as the main one
     /// (its rows up to each main row's time are applied before that row's control update).
     /// Needs engine.twoArms. Null: one arm.
-    const CsvTable* leftMotion = nullptr;
+    const core::CsvTable* leftMotion = nullptr;
     /// How the sensor that recorded the motion file was strapped on (`render --mount`): the rotation
     /// sensor → device frame (Link/Mount.h's Mount::rotation). IMU samples are turned into the
     /// device frame, orientations become q · mount⁻¹; a pose file is refused (it is the forearm's
@@ -68,8 +72,8 @@ struct RenderSettings {
 };
 
 struct RenderResult {
-    AudioBuffer audio;                       ///< stereo, engine.sceneConfig.sampleRate
-    std::vector<TactileRow> tactile;         ///< one row per control update (motor packet), then the
+    core::AudioBuffer audio;                 ///< stereo, engine.sceneConfig.sampleRate
+    std::vector<core::TactileRow> tactile;   ///< one row per control update (motor packet), then the
                                              ///< all-off packet sent at the end (at the render's end time)
     std::vector<GestureEvent> gestures;      ///< every gesture the scene emitted
     std::size_t controlUpdates = 0;
@@ -79,24 +83,22 @@ struct RenderResult {
     float scenePeak = 0.0f;                  ///< largest |sample| of the scene's own sound (without the recording)
     double minElevation = 0.0, maxElevation = 0.0;   ///< degrees, over rows with an orientation
     double minAzimuth = 0.0, maxAzimuth = 0.0;       ///< degrees
-    std::vector<TactileRow> leftTactile;     ///< two arms: the left arm's motor packets, one per control update
+    std::vector<core::TactileRow> leftTactile; ///< two arms: the left arm's motor packets, one per control update
     /// Two arms: each control update's orientations (right, left; identity while not tracked).
-    std::vector<TimedQuaternion> rightOrientation, leftOrientation;
+    std::vector<core::TimedQuaternion> rightOrientation, leftOrientation;
 };
-
-class ArmTracker;
 
 /// A motion file as per-row arm updates, whatever its kind: IMU rows (fused by the tracker) or
 /// orientations (quaternion and pose files). `load` turns a sensor's recording into the forearm's
 /// axes with `mount` (RenderSettings::mount; InputError naming `mountOption` for a pose file).
 struct MotionRows {
-    MotionKind kind = MotionKind::Unknown;
-    std::vector<ImuSample> imu;
-    std::vector<TimedQuaternion> orientations;
+    core::MotionKind kind = core::MotionKind::Unknown;
+    std::vector<core::ImuSample> imu;
+    std::vector<core::TimedQuaternion> orientations;
     std::size_t size() const;
     double time(std::size_t i) const;
-    ArmState apply(ArmTracker& tracker, std::size_t i) const;
-    static MotionRows load(const CsvTable& table, const Eigen::Quaterniond& mount = Eigen::Quaterniond::Identity(),
+    core::ArmState apply(fusion::ArmTracker& tracker, std::size_t i) const;
+    static MotionRows load(const core::CsvTable& table, const Eigen::Quaterniond& mount = Eigen::Quaterniond::Identity(),
                            const char* mountOption = "--mount");
 };
 
@@ -115,12 +117,12 @@ public:
     /// Before the control update of the row at `t` s from the first row (a cue change due).
     virtual void beforeRow(double /*t*/) {}
     /// One control update: both arms when `left` is not null.
-    virtual MotorLevels control(const ArmState& right, const ArmState* left, const Transport& transport, double dt) = 0;
-    virtual MotorLevels leftLevels() = 0;
+    virtual core::MotorLevels control(const core::ArmState& right, const core::ArmState* left, const core::Transport& transport, double dt) = 0;
+    virtual core::MotorLevels leftLevels() = 0;
     virtual void allOff() = 0;
     /// The engine sounding now (its failure stops the render; a front end's mapping reads it).
     virtual Engine& sounding() = 0;
-    virtual void processMidi(const MidiNoteEvent* events, int count) = 0;
+    virtual void processMidi(const core::MidiNoteEvent* events, int count) = 0;
     virtual void processInput(const float* const* in, int channels, int numSamples) = 0;
     virtual void renderAudio(float* left, float* right, int numSamples) = 0;
     /// Moves the gestures emitted since the last call to `out`.
@@ -133,15 +135,15 @@ public:
 
 /// Runs the scene over the motion table (IMU, quaternion or pose file); throws InputError for
 /// a file that is not a motion file.
-RenderResult renderOffline(const CsvTable& motion, const RenderSettings& settings);
+RenderResult renderOffline(const core::CsvTable& motion, const RenderSettings& settings);
 /// The same with `performer` playing (its engines built by the caller for settings.engine's
 /// sample rate): a set list's cues.
-RenderResult renderOffline(const CsvTable& motion, const RenderSettings& settings, OfflinePerformer& performer);
+RenderResult renderOffline(const core::CsvTable& motion, const RenderSettings& settings, OfflinePerformer& performer);
 
 /// Refuses (InputError naming the row and the time column) a motion file whose rows, plus the
 /// tail, span more than `maxSeconds` from the first row — before anything is allocated for them.
 /// `timeOf(i)` is row i's time in seconds. Every offline render checks its span with it.
-void checkRenderSpan(const CsvTable& motion, std::size_t rows, const std::function<double(std::size_t)>& timeOf, double tailSeconds,
+void checkRenderSpan(const core::CsvTable& motion, std::size_t rows, const std::function<double(std::size_t)>& timeOf, double tailSeconds,
                      double maxSeconds);
 
-} // namespace armadillo
+} // namespace armadillo::engine

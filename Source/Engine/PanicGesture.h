@@ -9,7 +9,7 @@
 #include <cmath>
 #include <limits>
 
-namespace armadillo {
+namespace armadillo::engine {
 
 class PanicGesture {
 public:
@@ -18,7 +18,7 @@ public:
 
     /// One control step at time `t` (s, the arm's timeline). True once per hang, when it has
     /// lasted kSeconds. An invalid arm (no source, not fused yet) neither starts nor ends a hang.
-    bool update(double t, const ArmState& arm) noexcept
+    bool update(double t, const core::ArmState& arm) noexcept
     {
         if (!arm.valid) return false;
         if (!(arm.features.pose.elevationDeg <= kElevationDeg)) {
@@ -45,4 +45,4 @@ private:
     double since_ = kNotHanging;   // when the current hang began
 };
 
-} // namespace armadillo
+} // namespace armadillo::engine

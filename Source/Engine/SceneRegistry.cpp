@@ -6,25 +6,25 @@
 #include "Instruments/Scenes.h"
 #include "Tactile/ScoreScene.h"
 
-namespace armadillo {
+namespace armadillo::engine {
 
 namespace {
 struct Entry {
     const char* name;
-    std::unique_ptr<Scene> (*make)();
+    std::unique_ptr<core::Scene> (*make)();
 };
 const Entry kScenes[] = {
     {"monitor", makeMonitorScene},
-    {"theremin", makeThereminScene},
-    {"cymbal", makeCymbalScene},
-    {"panel", makePanelScene},
-    {"sound-design", makeSoundDesignScene},
-    {"compass", makeCompassScene},
-    {"braille", makeBrailleScene},
-    {"score", makeScoreScene},
-    {"audio-touch", makeAudioTouchScene},
-    {"layered-keyboard", makeLayeredKeyboardScene},   // issue 28; new scenes go last (choice indices stay)
-    {"theremin-duo", makeThereminDuoScene},           // issue 28, two arms
+    {"theremin", instruments::makeThereminScene},
+    {"cymbal", instruments::makeCymbalScene},
+    {"panel", instruments::makePanelScene},
+    {"sound-design", instruments::makeSoundDesignScene},
+    {"compass", instruments::makeCompassScene},
+    {"braille", braille::makeBrailleScene},
+    {"score", tactile::makeScoreScene},
+    {"audio-touch", instruments::makeAudioTouchScene},
+    {"layered-keyboard", instruments::makeLayeredKeyboardScene}, // issue 28; new scenes go last (choice indices stay)
+    {"theremin-duo", instruments::makeThereminDuoScene}, // issue 28, two arms
 };
 } // namespace
 
@@ -38,17 +38,17 @@ const std::vector<std::string>& sceneNames()
     return names;
 }
 
-std::unique_ptr<Scene> createScene(const std::string& name)
+std::unique_ptr<core::Scene> createScene(const std::string& name)
 {
     // `--score` takes MIDI and haptic files too (docs/FORMATS.md): the score scene reads them
     // through the importers of the formats module, which sits above the tactile one.
-    setScoreFileReader({&isImportableScorePath, &loadAnyScore});
+    tactile::setScoreFileReader({&formats::isImportableScorePath, &formats::loadAnyScore});
     for (const auto& e : kScenes) {
         if (name == e.name) return e.make();
     }
     std::string all;
     for (const auto& n : sceneNames()) all += (all.empty() ? "" : ", ") + n;
-    throw InputError("", 0, "", "unknown scene '" + name + "' (scenes: " + all + ")");
+    throw core::InputError("", 0, "", "unknown scene '" + name + "' (scenes: " + all + ")");
 }
 
-} // namespace armadillo
+} // namespace armadillo::engine

@@ -23,7 +23,7 @@
 #include <fstream>
 #include <sstream>
 
-namespace armadillo {
+namespace armadillo::formats {
 
 namespace {
 
@@ -55,29 +55,29 @@ ImportedScore finish(std::string text, const std::string& source, ImportReport r
     ImportedScore out;
     out.text = std::move(text);
     out.report = std::move(report);
-    out.score = parseScore(out.text, source);
+    out.score = tactile::parseScore(out.text, source);
     return out;
 }
 
 // ---- JSON helpers -------------------------------------------------------------------------
 
-using armadillo::JsonValue;
+using armadillo::core::JsonValue;
 
-const JsonValue& require(const JsonValue& object, std::string_view key, JsonValue::Kind kind, const std::string& source)
+const core::JsonValue& require(const core::JsonValue& object, std::string_view key, core::JsonValue::Kind kind, const std::string& source)
 {
-    const JsonValue* v = object.find(key);
-    if (!v) throw InputError(source, object.line, std::string(key), "missing");
+    const core::JsonValue* v = object.find(key);
+    if (!v) throw core::InputError(source, object.line, std::string(key), "missing");
     if (v->kind != kind)
-        throw InputError(source, v->line, std::string(key), std::string("must be ") + JsonValue::kindName(kind) + ", not " + JsonValue::kindName(v->kind));
+        throw core::InputError(source, v->line, std::string(key), std::string("must be ") + core::JsonValue::kindName(kind) + ", not " + core::JsonValue::kindName(v->kind));
     return *v;
 }
 
-double numberOr(const JsonValue& object, std::string_view key, double fallback, const std::string& source)
+double numberOr(const core::JsonValue& object, std::string_view key, double fallback, const std::string& source)
 {
-    const JsonValue* v = object.find(key);
+    const core::JsonValue* v = object.find(key);
     if (!v) return fallback;
-    if (v->kind != JsonValue::Kind::Number || !std::isfinite(v->number))
-        throw InputError(source, v->line, std::string(key), "must be a number");
+    if (v->kind != core::JsonValue::Kind::Number || !std::isfinite(v->number))
+        throw core::InputError(source, v->line, std::string(key), "must be a number");
     return v->number;
 }
 
@@ -105,19 +105,19 @@ struct Control {
 
 ImportedScore importTactileWav(const std::string& path, const HapticImportOptions& o)
 {
-    const AudioBuffer audio = readWav(path);
+    const core::AudioBuffer audio = core::readWav(path);
     const auto channels = static_cast<int>(audio.channels.size());
-    if (channels < 1 || channels > kMaxMotors)
-        throw InputError(path, 0, "channels", std::to_string(channels) + " channels: a tactile WAV has one channel per motor (9 or 12, at most 16)");
-    if (!(o.frameSeconds >= 0.001 && o.frameSeconds <= 0.1)) throw InputError(path, 0, "frame", "the frame must be 1..100 ms");
+    if (channels < 1 || channels > core::kMaxMotors)
+        throw core::InputError(path, 0, "channels", std::to_string(channels) + " channels: a tactile WAV has one channel per motor (9 or 12, at most 16)");
+    if (!(o.frameSeconds >= 0.001 && o.frameSeconds <= 0.1)) throw core::InputError(path, 0, "frame", "the frame must be 1..100 ms");
     // Frames of exactly frameSeconds; the peak of frame f is taken over the samples inside
     // [f·T, (f+1)·T) at least half a sample from its edges, so a level that changes right at an
     // edge is not smeared into the neighbouring frame whatever the rounding of the sample times.
     const double frameSeconds = o.frameSeconds;
     const double perFrame = frameSeconds * audio.sampleRate;
-    if (perFrame < 4.0) throw InputError(path, 0, "frame", "a frame of fewer than 4 samples at this sample rate");
+    if (perFrame < 4.0) throw core::InputError(path, 0, "frame", "a frame of fewer than 4 samples at this sample rate");
     const auto frames = static_cast<std::size_t>(std::ceil(static_cast<double>(audio.frames()) / perFrame - 1e-9));
-    if (frames == 0) throw InputError(path, 0, "", "no samples");
+    if (frames == 0) throw core::InputError(path, 0, "", "no samples");
     ImportReport report;
     report.format = "wav";
     if (channels != 9 && channels != 12)
@@ -164,10 +164,10 @@ ImportedScore importTactileWav(const std::string& path, const HapticImportOption
 
 ImportedScore importAhap(std::string_view json, const std::string& source, const HapticImportOptions& o)
 {
-    const JsonValue root = armadillo::parseJson(json, source);
-    if (root.kind != JsonValue::Kind::Object) throw InputError(source, root.line, "", "an AHAP file is a JSON object with a \"Pattern\" array");
-    const JsonValue& pattern = require(root, "Pattern", JsonValue::Kind::Array, source);
-    if (o.motors == 0) throw InputError(source, 0, "motors", "no motors for the actuator");
+    const core::JsonValue root = armadillo::core::parseJson(json, source);
+    if (root.kind != core::JsonValue::Kind::Object) throw core::InputError(source, root.line, "", "an AHAP file is a JSON object with a \"Pattern\" array");
+    const core::JsonValue& pattern = require(root, "Pattern", core::JsonValue::Kind::Array, source);
+    if (o.motors == 0) throw core::InputError(source, 0, "motors", "no motors for the actuator");
     ImportReport report;
     report.format = "ahap";
     struct Event {
@@ -177,24 +177,24 @@ ImportedScore importAhap(std::string_view json, const std::string& source, const
     std::vector<Event> events;
     std::vector<Control> controls;
     int ignored = 0;
-    for (const JsonValue& entry : pattern.array) {
-        if (entry.kind != JsonValue::Kind::Object) throw InputError(source, entry.line, "Pattern", "each entry is an object");
-        if (const JsonValue* ev = entry.find("Event")) {
-            if (ev->kind != JsonValue::Kind::Object) throw InputError(source, ev->line, "Event", "must be an object");
-            const std::string& type = require(*ev, "EventType", JsonValue::Kind::String, source).string;
+    for (const core::JsonValue& entry : pattern.array) {
+        if (entry.kind != core::JsonValue::Kind::Object) throw core::InputError(source, entry.line, "Pattern", "each entry is an object");
+        if (const core::JsonValue* ev = entry.find("Event")) {
+            if (ev->kind != core::JsonValue::Kind::Object) throw core::InputError(source, ev->line, "Event", "must be an object");
+            const std::string& type = require(*ev, "EventType", core::JsonValue::Kind::String, source).string;
             const double time = numberOr(*ev, "Time", 0.0, source);
-            if (time < 0.0) throw InputError(source, ev->line, "Time", "negative");
+            if (time < 0.0) throw core::InputError(source, ev->line, "Time", "negative");
             if (type != "HapticTransient" && type != "HapticContinuous") {
-                if (type != "AudioContinuous" && type != "AudioCustom") throw InputError(source, ev->line, "EventType", "unknown event type '" + type + "'");
+                if (type != "AudioContinuous" && type != "AudioCustom") throw core::InputError(source, ev->line, "EventType", "unknown event type '" + type + "'");
                 ++ignored;   // sound: not ours to feel
                 continue;
             }
             double intensity = 1.0;
-            if (const JsonValue* params = ev->find("EventParameters")) {
-                if (params->kind != JsonValue::Kind::Array) throw InputError(source, params->line, "EventParameters", "must be an array");
-                for (const JsonValue& p : params->array) {
-                    if (p.kind != JsonValue::Kind::Object) throw InputError(source, p.line, "EventParameters", "each parameter is an object");
-                    const std::string& id = require(p, "ParameterID", JsonValue::Kind::String, source).string;
+            if (const core::JsonValue* params = ev->find("EventParameters")) {
+                if (params->kind != core::JsonValue::Kind::Array) throw core::InputError(source, params->line, "EventParameters", "must be an array");
+                for (const core::JsonValue& p : params->array) {
+                    if (p.kind != core::JsonValue::Kind::Object) throw core::InputError(source, p.line, "EventParameters", "each parameter is an object");
+                    const std::string& id = require(p, "ParameterID", core::JsonValue::Kind::String, source).string;
                     const double value = numberOr(p, "ParameterValue", 0.0, source);
                     if (id == "HapticIntensity") intensity = std::clamp(value, 0.0, 1.0);   // out of range: clamped, as Core Haptics does
                 }
@@ -203,31 +203,31 @@ ImportedScore importAhap(std::string_view json, const std::string& source, const
             double duration = o.transientSeconds;
             if (!transient) {
                 duration = numberOr(*ev, "EventDuration", -1.0, source);
-                if (!(duration > 0.0)) throw InputError(source, ev->line, "EventDuration", "a continuous event needs a duration > 0");
+                if (!(duration > 0.0)) throw core::InputError(source, ev->line, "EventDuration", "a continuous event needs a duration > 0");
             }
             events.push_back({time, duration, intensity, transient});
-        } else if (const JsonValue* pc = entry.find("ParameterCurve")) {
-            if (pc->kind != JsonValue::Kind::Object) throw InputError(source, pc->line, "ParameterCurve", "must be an object");
-            const std::string& id = require(*pc, "ParameterID", JsonValue::Kind::String, source).string;
+        } else if (const core::JsonValue* pc = entry.find("ParameterCurve")) {
+            if (pc->kind != core::JsonValue::Kind::Object) throw core::InputError(source, pc->line, "ParameterCurve", "must be an object");
+            const std::string& id = require(*pc, "ParameterID", core::JsonValue::Kind::String, source).string;
             const double start = numberOr(*pc, "Time", 0.0, source);
-            const JsonValue& points = require(*pc, "ParameterCurveControlPoints", JsonValue::Kind::Array, source);
+            const core::JsonValue& points = require(*pc, "ParameterCurveControlPoints", core::JsonValue::Kind::Array, source);
             if (id != "HapticIntensityControl") {
                 ++ignored;
                 continue;
             }
             Control c;
             c.start = start;
-            for (const JsonValue& p : points.array) {
-                if (p.kind != JsonValue::Kind::Object) throw InputError(source, p.line, "ParameterCurveControlPoints", "each point is an object");
+            for (const core::JsonValue& p : points.array) {
+                if (p.kind != core::JsonValue::Kind::Object) throw core::InputError(source, p.line, "ParameterCurveControlPoints", "each point is an object");
                 const double t = start + numberOr(p, "Time", 0.0, source);
-                if (!c.points.empty() && t < c.points.back().first) throw InputError(source, p.line, "Time", "control points go back in time");
+                if (!c.points.empty() && t < c.points.back().first) throw core::InputError(source, p.line, "Time", "control points go back in time");
                 c.points.emplace_back(t, std::clamp(numberOr(p, "ParameterValue", 1.0, source), 0.0, 1.0));
             }
-            if (c.points.empty()) throw InputError(source, points.line, "ParameterCurveControlPoints", "a curve needs at least one point");
+            if (c.points.empty()) throw core::InputError(source, points.line, "ParameterCurveControlPoints", "a curve needs at least one point");
             controls.push_back(std::move(c));
-        } else if (const JsonValue* pa = entry.find("Parameter")) {
-            if (pa->kind != JsonValue::Kind::Object) throw InputError(source, pa->line, "Parameter", "must be an object");
-            const std::string& id = require(*pa, "ParameterID", JsonValue::Kind::String, source).string;
+        } else if (const core::JsonValue* pa = entry.find("Parameter")) {
+            if (pa->kind != core::JsonValue::Kind::Object) throw core::InputError(source, pa->line, "Parameter", "must be an object");
+            const std::string& id = require(*pa, "ParameterID", core::JsonValue::Kind::String, source).string;
             if (id != "HapticIntensityControl") {
                 ++ignored;
                 continue;
@@ -237,10 +237,10 @@ ImportedScore importAhap(std::string_view json, const std::string& source, const
             c.points.emplace_back(c.start, std::clamp(numberOr(*pa, "ParameterValue", 1.0, source), 0.0, 1.0));
             controls.push_back(std::move(c));
         } else {
-            throw InputError(source, entry.line, "Pattern", "an entry is an Event, a Parameter or a ParameterCurve");
+            throw core::InputError(source, entry.line, "Pattern", "an entry is an Event, a Parameter or a ParameterCurve");
         }
     }
-    if (events.empty()) throw InputError(source, root.line, "Pattern", "no haptic events");
+    if (events.empty()) throw core::InputError(source, root.line, "Pattern", "no haptic events");
     std::stable_sort(controls.begin(), controls.end(), [](const Control& a, const Control& b) { return a.start < b.start; });
     // The intensity control at t: the latest control started at or before t (1 before any).
     const auto controlIndex = [&](double t) {
@@ -290,32 +290,32 @@ ImportedScore importAhap(std::string_view json, const std::string& source, const
 
 ImportedScore importMetaHaptic(std::string_view json, const std::string& source, const HapticImportOptions& o)
 {
-    const JsonValue root = armadillo::parseJson(json, source);
-    if (root.kind != JsonValue::Kind::Object) throw InputError(source, root.line, "", "a .haptic file is a JSON object");
-    const JsonValue& version = require(root, "version", JsonValue::Kind::Object, source);
+    const core::JsonValue root = armadillo::core::parseJson(json, source);
+    if (root.kind != core::JsonValue::Kind::Object) throw core::InputError(source, root.line, "", "a .haptic file is a JSON object");
+    const core::JsonValue& version = require(root, "version", core::JsonValue::Kind::Object, source);
     const double major = numberOr(version, "major", -1.0, source);
-    if (major != 1.0) throw InputError(source, version.line, "version", "only version 1 of the .haptic data model is known");
-    const JsonValue& envelopes = require(require(require(root, "signals", JsonValue::Kind::Object, source), "continuous", JsonValue::Kind::Object, source),
-                                         "envelopes", JsonValue::Kind::Object, source);
-    const JsonValue& amplitude = require(envelopes, "amplitude", JsonValue::Kind::Array, source);
-    if (amplitude.array.empty()) throw InputError(source, amplitude.line, "amplitude", "the amplitude envelope is empty");
-    if (o.motors == 0) throw InputError(source, 0, "motors", "no motors for the actuator");
+    if (major != 1.0) throw core::InputError(source, version.line, "version", "only version 1 of the .haptic data model is known");
+    const core::JsonValue& envelopes = require(require(require(root, "signals", core::JsonValue::Kind::Object, source), "continuous", core::JsonValue::Kind::Object, source),
+                                         "envelopes", core::JsonValue::Kind::Object, source);
+    const core::JsonValue& amplitude = require(envelopes, "amplitude", core::JsonValue::Kind::Array, source);
+    if (amplitude.array.empty()) throw core::InputError(source, amplitude.line, "amplitude", "the amplitude envelope is empty");
+    if (o.motors == 0) throw core::InputError(source, 0, "motors", "no motors for the actuator");
     struct Point {
         double time, amplitude, emphasis;   // emphasis < 0: none
     };
     std::vector<Point> points;
-    for (const JsonValue& p : amplitude.array) {
-        if (p.kind != JsonValue::Kind::Object) throw InputError(source, p.line, "amplitude", "each breakpoint is an object");
-        const double t = require(p, "time", JsonValue::Kind::Number, source).number;
-        const double a = require(p, "amplitude", JsonValue::Kind::Number, source).number;
-        if (!(a >= 0.0 && a <= 1.0)) throw InputError(source, p.line, "amplitude", "out of 0..1");
-        if (!(t >= 0.0) || (!points.empty() && t < points.back().time)) throw InputError(source, p.line, "time", "breakpoint times must not decrease");
+    for (const core::JsonValue& p : amplitude.array) {
+        if (p.kind != core::JsonValue::Kind::Object) throw core::InputError(source, p.line, "amplitude", "each breakpoint is an object");
+        const double t = require(p, "time", core::JsonValue::Kind::Number, source).number;
+        const double a = require(p, "amplitude", core::JsonValue::Kind::Number, source).number;
+        if (!(a >= 0.0 && a <= 1.0)) throw core::InputError(source, p.line, "amplitude", "out of 0..1");
+        if (!(t >= 0.0) || (!points.empty() && t < points.back().time)) throw core::InputError(source, p.line, "time", "breakpoint times must not decrease");
         double emphasis = -1.0;
-        if (const JsonValue* e = p.find("emphasis")) {
-            if (e->kind != JsonValue::Kind::Object) throw InputError(source, e->line, "emphasis", "must be an object");
-            emphasis = require(*e, "amplitude", JsonValue::Kind::Number, source).number;
-            if (!(emphasis >= 0.0 && emphasis <= 1.0)) throw InputError(source, e->line, "emphasis", "amplitude out of 0..1");
-            if (emphasis < a) throw InputError(source, e->line, "emphasis", "the emphasis amplitude is below the breakpoint's");
+        if (const core::JsonValue* e = p.find("emphasis")) {
+            if (e->kind != core::JsonValue::Kind::Object) throw core::InputError(source, e->line, "emphasis", "must be an object");
+            emphasis = require(*e, "amplitude", core::JsonValue::Kind::Number, source).number;
+            if (!(emphasis >= 0.0 && emphasis <= 1.0)) throw core::InputError(source, e->line, "emphasis", "amplitude out of 0..1");
+            if (emphasis < a) throw core::InputError(source, e->line, "emphasis", "the emphasis amplitude is below the breakpoint's");
         }
         points.push_back({t, a, emphasis});
     }
@@ -343,14 +343,14 @@ ImportedScore importMetaHaptic(std::string_view json, const std::string& source,
         }
     std::stable_sort(lines.begin(), lines.end(), [](const Line& x, const Line& y) { return x.time < y.time; });
     for (const Line& l : lines) text += l.text;
-    if (report.notes == 0) throw InputError(source, amplitude.line, "amplitude", "nothing to feel (every amplitude is 0)");
+    if (report.notes == 0) throw core::InputError(source, amplitude.line, "amplitude", "nothing to feel (every amplitude is 0)");
     return finish(std::move(text), source, std::move(report));
 }
 
-void writeTactileWav(const std::string& path, const std::vector<TactileRow>& rows, int motors, double sampleRate, double carrierHz, bool float32)
+void writeTactileWav(const std::string& path, const std::vector<core::TactileRow>& rows, int motors, double sampleRate, double carrierHz, bool float32)
 {
-    if (motors < 1 || motors > kMaxMotors) throw InputError(path, 0, "motors", "1..16 motors");
-    if (!(carrierHz > 0.0 && carrierHz < sampleRate / 2.0)) throw InputError(path, 0, "carrier", "the carrier must lie below half the sample rate");
+    if (motors < 1 || motors > core::kMaxMotors) throw core::InputError(path, 0, "motors", "1..16 motors");
+    if (!(carrierHz > 0.0 && carrierHz < sampleRate / 2.0)) throw core::InputError(path, 0, "carrier", "the carrier must lie below half the sample rate");
     // The file's carrier is a plain sine of the level's amplitude: the voice-coil model.
     tactors::TactorParams params;
     params.model = tactors::TactorModel::VoiceCoil;
@@ -358,7 +358,7 @@ void writeTactileWav(const std::string& path, const std::vector<TactileRow>& row
     writeTactileWav(path, rows, params, tactors::ChannelMap::identity(motors), tactors::TactorGains {}, sampleRate, float32);
 }
 
-void writeTactileWav(const std::string& path, const std::vector<TactileRow>& rows, const tactors::TactorParams& params,
+void writeTactileWav(const std::string& path, const std::vector<core::TactileRow>& rows, const tactors::TactorParams& params,
                      const tactors::ChannelMap& map, const tactors::TactorGains& gains, double sampleRate, bool float32,
                      const std::vector<float>* sound)
 {
@@ -370,14 +370,14 @@ void writeTactileWav(const std::string& path, const std::vector<TactileRow>& row
 
 // ---- out: AHAP and .haptic ---------------------------------------------------------------
 
-std::vector<ActuatorRun> actuatorRuns(const std::vector<TactileRow>& rows, std::uint16_t motors)
+std::vector<ActuatorRun> actuatorRuns(const std::vector<core::TactileRow>& rows, std::uint16_t motors)
 {
     std::vector<ActuatorRun> runs;
     if (rows.empty()) return runs;
     const double t0 = rows.front().t;
     const auto levelAt = [&](std::size_t i) {
         int l = 0;
-        for (int m = 0; m < kMaxMotors; ++m)
+        for (int m = 0; m < core::kMaxMotors; ++m)
             if (motors & (1u << m)) l = std::max(l, static_cast<int>(rows[i].levels[static_cast<std::size_t>(m)]));
         return std::min(l, static_cast<int>(kFullScale));
     };
@@ -399,13 +399,13 @@ namespace {
 std::string jsonNumber(double v) { return scoretext::number(v, 6); }
 } // namespace
 
-std::string exportAhap(const std::vector<TactileRow>& rows, std::uint16_t motors, const std::string& project)
+std::string exportAhap(const std::vector<core::TactileRow>& rows, std::uint16_t motors, const std::string& project)
 {
     constexpr double kMaxContinuous = 30.0;   // Core Haptics: a continuous event lasts at most 30 s
     std::string s = "{\n  \"Version\": 1.0,\n  \"Metadata\": {\"Project\": ";
-    armadillo::appendJsonString(s, project);
+    armadillo::core::appendJsonString(s, project);
     s += ", \"Description\": ";
-    armadillo::appendJsonString(s, "ARMadillo motors " + scoretext::motorSet(motors) + " as one actuator: level = 15 x HapticIntensity (docs/FORMATS.md)");
+    armadillo::core::appendJsonString(s, "ARMadillo motors " + scoretext::motorSet(motors) + " as one actuator: level = 15 x HapticIntensity (docs/FORMATS.md)");
     s += "},\n  \"Pattern\": [";
     bool first = true;
     for (const ActuatorRun& r : actuatorRuns(rows, motors)) {
@@ -421,7 +421,7 @@ std::string exportAhap(const std::vector<TactileRow>& rows, std::uint16_t motors
     return s + "\n  ]\n}\n";
 }
 
-std::string exportMetaHaptic(const std::vector<TactileRow>& rows, std::uint16_t motors, const std::string& project)
+std::string exportMetaHaptic(const std::vector<core::TactileRow>& rows, std::uint16_t motors, const std::string& project)
 {
     // Steps: the envelope is linear between breakpoints, so each change of level is two
     // breakpoints at the same time (v1.rs allows equal times: only a decreasing time is invalid).
@@ -437,9 +437,9 @@ std::string exportMetaHaptic(const std::vector<TactileRow>& rows, std::uint16_t 
     }
     if (points.back().second != 0.0) points.emplace_back(points.back().first, 0.0);
     std::string s = "{\n  \"version\": {\"major\": 1, \"minor\": 0, \"patch\": 0},\n  \"metadata\": {\"editor\": \"armadillo\", \"project\": ";
-    armadillo::appendJsonString(s, project);
+    armadillo::core::appendJsonString(s, project);
     s += ", \"description\": ";
-    armadillo::appendJsonString(s, "ARMadillo motors " + scoretext::motorSet(motors) + " as one actuator: level = 15 x amplitude (docs/FORMATS.md)");
+    armadillo::core::appendJsonString(s, "ARMadillo motors " + scoretext::motorSet(motors) + " as one actuator: level = 15 x amplitude (docs/FORMATS.md)");
     s += "},\n  \"signals\": {\"continuous\": {\"envelopes\": {\"amplitude\": [";
     for (std::size_t i = 0; i < points.size(); ++i)
         s += std::string(i ? ",\n" : "\n") + "    {\"time\": " + jsonNumber(points[i].first) + ", \"amplitude\": " + jsonNumber(points[i].second) + "}";
@@ -456,7 +456,7 @@ std::string lowerExtension(const std::string& path)
 std::string readText(const std::string& path)
 {
     std::ifstream in(path, std::ios::binary);
-    if (!in) throw IoError("cannot read " + path);
+    if (!in) throw core::IoError("cannot read " + path);
     std::ostringstream s;
     s << in.rdbuf();
     return s.str();
@@ -472,7 +472,7 @@ bool isImportableScorePath(const std::string& path) noexcept
 ImportedScore importScoreFile(const std::string& path, const MidiImportOptions& midi, const HapticImportOptions& haptic)
 {
     const std::string e = lowerExtension(path);
-    if (!std::filesystem::exists(path)) throw InputError(path, 0, "", "no such file");
+    if (!std::filesystem::exists(path)) throw core::InputError(path, 0, "", "no such file");
     if (e == ".mid" || e == ".midi") return importMidi(readMidiFile(path), midi, path);
     if (e == ".wav") return importTactileWav(path, haptic);
     if (e == ".ahap") return importAhap(readText(path), path, haptic);
@@ -481,14 +481,14 @@ ImportedScore importScoreFile(const std::string& path, const MidiImportOptions& 
     if (e == ".score") {
         ImportedScore s;
         s.text = readText(path);
-        s.score = parseScore(s.text, path);
+        s.score = tactile::parseScore(s.text, path);
         s.report.format = "score";
         s.report.notes = static_cast<int>(s.score.notes.size());
         return s;
     }
-    throw InputError(path, 0, "", "unknown score format '" + e + "' (known: .score .mid .midi .wav .ahap .haptic .tact)");
+    throw core::InputError(path, 0, "", "unknown score format '" + e + "' (known: .score .mid .midi .wav .ahap .haptic .tact)");
 }
 
-Score loadAnyScore(const std::string& path) { return importScoreFile(path).score; }
+tactile::Score loadAnyScore(const std::string& path) { return importScoreFile(path).score; }
 
-} // namespace armadillo
+} // namespace armadillo::formats

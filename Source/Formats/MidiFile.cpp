@@ -10,7 +10,7 @@
 #include <sstream>
 #include <tuple>
 
-namespace armadillo {
+namespace armadillo::formats {
 
 namespace {
 
@@ -24,7 +24,7 @@ public:
 
     [[noreturn]] void fail(const std::string& message) const
     {
-        throw InputError(source_, 0, "byte " + std::to_string(offset()), message);
+        throw core::InputError(source_, 0, "byte " + std::to_string(offset()), message);
     }
     std::uint8_t byte()
     {
@@ -100,16 +100,16 @@ MidiFile parseMidiFile(std::string_view bytes, const std::string& source)
 {
     MidiFile f;
     if (bytes.size() < 14 || bytes.substr(0, 4) != "MThd")
-        throw InputError(source, 0, "byte 0", "not a Standard MIDI File (no 'MThd' header)");
+        throw core::InputError(source, 0, "byte 0", "not a Standard MIDI File (no 'MThd' header)");
     const std::uint32_t headerLength = be32(bytes, 4);
     if (headerLength < 6 || headerLength > bytes.size() - 8)
-        throw InputError(source, 0, "byte 4", "a header chunk of " + std::to_string(headerLength) + " bytes (6 expected)");
+        throw core::InputError(source, 0, "byte 4", "a header chunk of " + std::to_string(headerLength) + " bytes (6 expected)");
     const int format = be16(bytes, 8);
     // bytes 10..11, the number of tracks, is not trusted: the track chunks found count (a wrong
     // count in the header is common and harmless).
     const std::uint16_t division = be16(bytes, 12);
-    if (format == 2) throw InputError(source, 0, "byte 8", "format 2 (independent sequences) is not supported: only format 0 and 1");
-    if (format > 2) throw InputError(source, 0, "byte 8", "unknown format " + std::to_string(format));
+    if (format == 2) throw core::InputError(source, 0, "byte 8", "format 2 (independent sequences) is not supported: only format 0 and 1");
+    if (format > 2) throw core::InputError(source, 0, "byte 8", "unknown format " + std::to_string(format));
     f.format = format;
     if (division & 0x8000u) {
         // SMPTE: the high byte is −(frames per second) as a two's-complement byte, the low byte
@@ -117,11 +117,11 @@ MidiFile parseMidiFile(std::string_view bytes, const std::string& source)
         const int fps = -static_cast<int>(static_cast<std::int8_t>(division >> 8));
         const int perFrame = division & 0xFF;
         if ((fps != 24 && fps != 25 && fps != 29 && fps != 30) || perFrame == 0)
-            throw InputError(source, 0, "byte 12", "an SMPTE division of " + std::to_string(fps) + " frames/s × " + std::to_string(perFrame) + " ticks");
+            throw core::InputError(source, 0, "byte 12", "an SMPTE division of " + std::to_string(fps) + " frames/s × " + std::to_string(perFrame) + " ticks");
         f.smpte = true;
         f.ticksPerSecond = (fps == 29 ? 29.97 : fps) * perFrame;
     } else {
-        if (division == 0) throw InputError(source, 0, "byte 12", "a division of 0 ticks per quarter note");
+        if (division == 0) throw core::InputError(source, 0, "byte 12", "a division of 0 ticks per quarter note");
         f.ticksPerQuarter = division;
     }
 
@@ -136,7 +136,7 @@ MidiFile parseMidiFile(std::string_view bytes, const std::string& source)
         const std::string_view type = bytes.substr(pos, 4);
         const std::uint32_t length = be32(bytes, pos + 4);
         if (length > bytes.size() - pos - 8)
-            throw InputError(source, 0, "byte " + std::to_string(pos + 4), "a chunk of " + std::to_string(length) + " bytes runs past the end of the file");
+            throw core::InputError(source, 0, "byte " + std::to_string(pos + 4), "a chunk of " + std::to_string(length) + " bytes runs past the end of the file");
         const std::size_t body = pos + 8;
         pos = body + length;
         if (type != "MTrk") continue;   // alien chunks are skipped, as the standard says
@@ -204,8 +204,8 @@ MidiFile parseMidiFile(std::string_view bytes, const std::string& source)
         f.endTick = std::max(f.endTick, tick);
         ++track;
     }
-    if (track == 0) throw InputError(source, 0, "byte " + std::to_string(pos), "no track chunk ('MTrk')");
-    if (format == 0 && track > 1) throw InputError(source, 0, "byte 10", "a format 0 file with " + std::to_string(track) + " tracks (one expected)");
+    if (track == 0) throw core::InputError(source, 0, "byte " + std::to_string(pos), "no track chunk ('MTrk')");
+    if (format == 0 && track > 1) throw core::InputError(source, 0, "byte 10", "a format 0 file with " + std::to_string(track) + " tracks (one expected)");
     std::stable_sort(f.notes.begin(), f.notes.end(), [](const MidiNote& a, const MidiNote& b) {
         return std::tie(a.start, a.key) < std::tie(b.start, b.key);
     });
@@ -223,11 +223,11 @@ MidiFile parseMidiFile(std::string_view bytes, const std::string& source)
 MidiFile readMidiFile(const std::string& path)
 {
     std::ifstream in(path, std::ios::binary);
-    if (!in) throw IoError("cannot read " + path);
+    if (!in) throw core::IoError("cannot read " + path);
     std::ostringstream s;
     s << in.rdbuf();
-    if (in.bad()) throw IoError("cannot read " + path);
+    if (in.bad()) throw core::IoError("cannot read " + path);
     return parseMidiFile(s.str(), path);
 }
 
-} // namespace armadillo
+} // namespace armadillo::formats

@@ -10,7 +10,7 @@
 #include <string_view>
 #include <vector>
 
-namespace armadillo {
+namespace armadillo::formats {
 
 struct MidiNote {
     std::int64_t start = 0, end = 0;   ///< ticks (end > start)
@@ -55,4 +55,4 @@ MidiFile parseMidiFile(std::string_view bytes, const std::string& source);
 /// Reads and parses a file (IoError when it cannot be read).
 MidiFile readMidiFile(const std::string& path);
 
-} // namespace armadillo
+} // namespace armadillo::formats

@@ -23,7 +23,7 @@
 #include <filesystem>
 #include <set>
 
-namespace armadillo {
+namespace armadillo::formats {
 
 namespace {
 
@@ -57,7 +57,7 @@ float midiVelocityLevel(int velocity, double seconds, const MidiImportOptions& o
 {
     const double v = std::clamp(velocity, 1, 127);
     double top = seconds > o.safety.maxAboveRatingRun ? static_cast<double>(o.safety.ratedLevel) : static_cast<double>(o.shortTop);
-    top = std::clamp(top, static_cast<double>(o.quietLevel), static_cast<double>(kMaxLevel));
+    top = std::clamp(top, static_cast<double>(o.quietLevel), static_cast<double>(core::kMaxLevel));
     const auto quiet = static_cast<double>(o.quietLevel);
     const double level = quiet + (top - quiet) * (v - 1.0) / 126.0;
     return static_cast<float>(std::round(level * 2.0) / 2.0);
@@ -66,13 +66,13 @@ float midiVelocityLevel(int velocity, double seconds, const MidiImportOptions& o
 ImportedScore importMidi(const MidiFile& midi, const MidiImportOptions& o, const std::string& source)
 {
     const int trackCount = static_cast<int>(midi.trackNames.size());
-    if (o.maxMotors < 1 || o.maxMotors > kGridMotors)
-        throw InputError(source, 0, "max-motors", "the budget must be 1..9 motors at once");
+    if (o.maxMotors < 1 || o.maxMotors > core::kGridMotors)
+        throw core::InputError(source, 0, "max-motors", "the budget must be 1..9 motors at once");
     std::vector<const MidiTrackRule*> rule(static_cast<std::size_t>(trackCount), nullptr);
     for (const MidiTrackRule& r : o.tracks) {
         if (r.track < 1 || r.track > trackCount)
-            throw InputError(source, 0, "track", "no track " + std::to_string(r.track) + " (the file has " + std::to_string(trackCount) + ")");
-        if (!r.off && r.motors == 0) throw InputError(source, 0, "track", "track " + std::to_string(r.track) + " has no motors");
+            throw core::InputError(source, 0, "track", "no track " + std::to_string(r.track) + " (the file has " + std::to_string(trackCount) + ")");
+        if (!r.off && r.motors == 0) throw core::InputError(source, 0, "track", "track " + std::to_string(r.track) + " has no motors");
         rule[static_cast<std::size_t>(r.track - 1)] = &r;
     }
     const auto ruleOf = [&](const MidiNote& n) { return rule[static_cast<std::size_t>(n.track)]; };
@@ -80,15 +80,15 @@ ImportedScore importMidi(const MidiFile& midi, const MidiImportOptions& o, const
 
     // Key ranges: the default rule's (the whole piece), each overridden track's, percussion's.
     Placement grid, drums;
-    for (int m = 0; m < kGridMotors; ++m) grid.motors.push_back(binMotor(m));
+    for (int m = 0; m < core::kGridMotors; ++m) grid.motors.push_back(binMotor(m));
     for (int b = 0; b < 3; ++b) drums.motors.push_back(binMotor(b));   // elbow row
     std::vector<Placement> byTrack(static_cast<std::size_t>(trackCount));
     for (int t = 0; t < trackCount; ++t)
         if (const MidiTrackRule* r = rule[static_cast<std::size_t>(t)]; r && !r->off) {
-            for (int m = 0; m < kMaxMotors; ++m)
+            for (int m = 0; m < core::kMaxMotors; ++m)
                 if (r->motors & (1u << m)) byTrack[static_cast<std::size_t>(t)].motors.push_back(m);
             std::stable_sort(byTrack[static_cast<std::size_t>(t)].motors.begin(), byTrack[static_cast<std::size_t>(t)].motors.end(),
-                             [](int a, int b) { return (a < kGridMotors ? motorBin(a) : a) < (b < kGridMotors ? motorBin(b) : b); });
+                             [](int a, int b) { return (a < core::kGridMotors ? motorBin(a) : a) < (b < core::kGridMotors ? motorBin(b) : b); });
         }
     const auto widen = [](Placement& p, int key, bool& first) {
         if (first) p.lo = p.hi = key;
@@ -125,8 +125,8 @@ ImportedScore importMidi(const MidiFile& midi, const MidiImportOptions& o, const
         int motor;
     };
     std::vector<Kept> kept;
-    std::array<std::int64_t, kMaxMotors> busyUntil {};
-    std::array<bool, kMaxMotors> used {};
+    std::array<std::int64_t, core::kMaxMotors> busyUntil {};
+    std::array<bool, core::kMaxMotors> used {};
     const auto& notes = midi.notes;
     for (std::size_t i = 0; i < notes.size();) {
         std::size_t j = i;
@@ -181,7 +181,7 @@ ImportedScore importMidi(const MidiFile& midi, const MidiImportOptions& o, const
             kept.push_back({n, n->end, chosen});
         }
     }
-    if (kept.empty()) throw InputError(source, 0, "", "no notes to import (the file has " + std::to_string(notes.size()) + ")");
+    if (kept.empty()) throw core::InputError(source, 0, "", "no notes to import (the file has " + std::to_string(notes.size()) + ")");
     std::stable_sort(kept.begin(), kept.end(), [](const Kept& a, const Kept& b) { return a.note->start < b.note->start; });
 
     // Parts: one per track with notes (at most 8), else one for all.
@@ -197,7 +197,7 @@ ImportedScore importMidi(const MidiFile& midi, const MidiImportOptions& o, const
             partNames.push_back(nm);
             partTrack.push_back(k.note->track);
         }
-    const bool onePart = partNames.size() > static_cast<std::size_t>(kMaxScoreParts);
+    const bool onePart = partNames.size() > static_cast<std::size_t>(tactile::kMaxScoreParts);
 
     // Times: beats (ticks per quarter) or seconds (SMPTE).
     const auto timeText = [&](std::int64_t tick) {
@@ -279,8 +279,8 @@ ImportedScore importMidi(const MidiFile& midi, const MidiImportOptions& o, const
     text += "length " + (midi.smpte ? scoretext::lengthNumber(midi.secondsAt(lastTick))
                                     : scoretext::lengthNumber(static_cast<double>(lastTick) / midi.ticksPerQuarter)) + "\n";
     if (midi.unterminatedNotes > 0) report.warnings.push_back(std::to_string(midi.unterminatedNotes) + " notes had no note-off (ended at their track's end)");
-    out.score = parseScore(text, source);
+    out.score = tactile::parseScore(text, source);
     return out;
 }
 
-} // namespace armadillo
+} // namespace armadillo::formats

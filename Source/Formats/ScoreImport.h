@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-namespace armadillo {
+namespace armadillo::formats {
 
 /// A track's motors instead of the pitch rule (`--track N=SET`), or the track left out (`--track N=off`).
 struct MidiTrackRule {
@@ -26,7 +26,7 @@ struct MidiTrackRule {
 struct MidiImportOptions {
     int maxMotors = 4;                 ///< the budget: at most this many notes sound at once
     std::vector<MidiTrackRule> tracks; ///< per-track overrides
-    SafetyParams safety {};            ///< the level curve's limits: rating and the run above it
+    tactile::SafetyParams safety {};   ///< the level curve's limits: rating and the run above it
     float quietLevel = 1.5f;           ///< level of velocity 1
     float shortTop = 10.0f;            ///< level of velocity 127 for a note that may run above the rating
     int softBelowVelocity = 49;        ///< notes quieter than this (p and softer) ...
@@ -46,7 +46,7 @@ struct ImportReport {
 
 struct ImportedScore {
     std::string text;            ///< the score file's text (armadillo-score 2)
-    Score score;                 ///< the same text parsed
+    tactile::Score score;        ///< the same text parsed
     ImportReport report;
 };
 
@@ -89,20 +89,20 @@ ImportedScore importTact(std::string_view json, const std::string& source, const
 /// unknown extension, naming the ones known.
 ImportedScore importScoreFile(const std::string& path, const MidiImportOptions& midi = {}, const HapticImportOptions& haptic = {});
 /// importScoreFile(path).score: what `--score FILE` plays for a file of any of those formats.
-Score loadAnyScore(const std::string& path);
+tactile::Score loadAnyScore(const std::string& path);
 /// Whether `path` ends with an extension importScoreFile() knows (case-insensitive).
 bool isImportableScorePath(const std::string& path) noexcept;
 
 /// Writes the motors as a multichannel WAV (docs/FORMATS.md): rows of 0..15 levels, each held
 /// until the next row's time; channel k = motor k at amplitude level/15 of a `carrierHz` sine.
 /// Rendered by the tactor renderer (Tactors/TactorRenderer.h) as the voice-coil model.
-void writeTactileWav(const std::string& path, const std::vector<TactileRow>& rows, int motors, double sampleRate,
+void writeTactileWav(const std::string& path, const std::vector<core::TactileRow>& rows, int motors, double sampleRate,
                      double carrierHz = 150.0, bool float32 = false);
 /// The same with any actuator model, channel map and calibration gains (`render --tactile-wav`
 /// with `--tactor-model`, `--tactor-map`, `--tactor-gain`): exactly what the live output plays.
 /// `sound`: the scene's own sound (mono, sample 0 = the first row's time) for a voice-coil model
 /// that is handed it (TactorParams::voiceCoilSound, `--tactor-sound`).
-void writeTactileWav(const std::string& path, const std::vector<TactileRow>& rows, const tactors::TactorParams& params,
+void writeTactileWav(const std::string& path, const std::vector<core::TactileRow>& rows, const tactors::TactorParams& params,
                      const tactors::ChannelMap& map, const tactors::TactorGains& gains, double sampleRate, bool float32 = false,
                      const std::vector<float>* sound = nullptr);
 
@@ -115,19 +115,19 @@ struct ActuatorRun {
     double duration = 0.0;   ///< s
     int level = 0;           ///< 1..15 (runs of level 0 are gaps)
 };
-std::vector<ActuatorRun> actuatorRuns(const std::vector<TactileRow>& rows, std::uint16_t motors);
+std::vector<ActuatorRun> actuatorRuns(const std::vector<core::TactileRow>& rows, std::uint16_t motors);
 
 /// Apple AHAP text: one HapticContinuous event per run of equal level (split at Core Haptics'
 /// 30 s limit of a continuous event), HapticIntensity = level/15, no sharpness (an ERM motor has
 /// none), Version 1.0 and Metadata {Project, Description}.
-std::string exportAhap(const std::vector<TactileRow>& rows, std::uint16_t motors, const std::string& project);
+std::string exportAhap(const std::vector<core::TactileRow>& rows, std::uint16_t motors, const std::string& project);
 /// Meta Haptics Studio `.haptic` text (Lofelt data model 1.0.0): the amplitude envelope as steps
 /// (two breakpoints at each change: the old and the new amplitude, level/15), no frequency
 /// envelope, no emphasis.
-std::string exportMetaHaptic(const std::vector<TactileRow>& rows, std::uint16_t motors, const std::string& project);
+std::string exportMetaHaptic(const std::vector<core::TactileRow>& rows, std::uint16_t motors, const std::string& project);
 /// bHaptics `.tact` text for ForearmR (docs/FORMATS.md): one effect per run of equal packets;
 /// the wrist and elbow rows in dot mode (Tactosy indices 0-2 and 3-5, intensity level/15), a
 /// middle-row motor as a still path point at (column/2, 0.5); times in whole ms from the first row.
-std::string exportTact(const std::vector<TactileRow>& rows, const std::string& project);
+std::string exportTact(const std::vector<core::TactileRow>& rows, const std::string& project);
 
-} // namespace armadillo
+} // namespace armadillo::formats

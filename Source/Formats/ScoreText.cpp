@@ -2,7 +2,7 @@
 #include <cmath>
 #include <cstdio>
 
-namespace armadillo::scoretext {
+namespace armadillo::formats::scoretext {
 
 std::string number(double v, int decimals)
 {
@@ -52,4 +52,4 @@ std::string oneLine(std::string_view text)
     return s;
 }
 
-} // namespace armadillo::scoretext
+} // namespace armadillo::formats::scoretext

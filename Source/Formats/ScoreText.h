@@ -4,7 +4,7 @@
 #include <string>
 #include <string_view>
 
-namespace armadillo::scoretext {
+namespace armadillo::formats::scoretext {
 
 /// A plain decimal the score parser reads back exactly enough: up to `decimals` places, trailing
 /// zeros dropped ("0.25", "3", "12.5").
@@ -20,4 +20,4 @@ std::string name(std::string_view text, const std::string& fallback);
 /// Text safe inside a '#' comment or a title (one line, printable).
 std::string oneLine(std::string_view text);
 
-} // namespace armadillo::scoretext
+} // namespace armadillo::formats::scoretext

@@ -23,45 +23,45 @@
 #include <filesystem>
 #include <map>
 
-namespace armadillo {
+namespace armadillo::formats {
 
 namespace {
 
-using armadillo::JsonValue;
+using armadillo::core::JsonValue;
 constexpr double kFullScale = 15.0;
 
 /// A number, or a string holding one (the Designer's older exports write "1.000").
-double tactNumber(const JsonValue& object, std::string_view key, const std::string& source, const double* fallback = nullptr)
+double tactNumber(const core::JsonValue& object, std::string_view key, const std::string& source, const double* fallback = nullptr)
 {
-    const JsonValue* v = object.find(key);
+    const core::JsonValue* v = object.find(key);
     if (!v) {
         if (fallback) return *fallback;
-        throw InputError(source, object.line, std::string(key), "missing");
+        throw core::InputError(source, object.line, std::string(key), "missing");
     }
     double x = 0.0;
-    if (v->kind == JsonValue::Kind::Number) {
+    if (v->kind == core::JsonValue::Kind::Number) {
         x = v->number;
-    } else if (v->kind == JsonValue::Kind::String) {
+    } else if (v->kind == core::JsonValue::Kind::String) {
         std::size_t used = 0;
         try {
             x = std::stod(v->string, &used);
         } catch (const std::exception&) {
             used = 0;
         }
-        if (used == 0 || used != v->string.size()) throw InputError(source, v->line, std::string(key), "'" + v->string + "' is not a number");
+        if (used == 0 || used != v->string.size()) throw core::InputError(source, v->line, std::string(key), "'" + v->string + "' is not a number");
     } else {
-        throw InputError(source, v->line, std::string(key), std::string("must be a number, not ") + JsonValue::kindName(v->kind));
+        throw core::InputError(source, v->line, std::string(key), std::string("must be a number, not ") + core::JsonValue::kindName(v->kind));
     }
-    if (!std::isfinite(x)) throw InputError(source, v->line, std::string(key), "must be a finite number");
+    if (!std::isfinite(x)) throw core::InputError(source, v->line, std::string(key), "must be a finite number");
     return x;
 }
 
-const JsonValue& member(const JsonValue& object, std::string_view key, JsonValue::Kind kind, const std::string& source)
+const core::JsonValue& member(const core::JsonValue& object, std::string_view key, core::JsonValue::Kind kind, const std::string& source)
 {
-    const JsonValue* v = object.find(key);
-    if (!v) throw InputError(source, object.line, std::string(key), "missing");
+    const core::JsonValue* v = object.find(key);
+    if (!v) throw core::InputError(source, object.line, std::string(key), "missing");
     if (v->kind != kind)
-        throw InputError(source, v->line, std::string(key), std::string("must be ") + JsonValue::kindName(kind) + ", not " + JsonValue::kindName(v->kind));
+        throw core::InputError(source, v->line, std::string(key), std::string("must be ") + core::JsonValue::kindName(kind) + ", not " + core::JsonValue::kindName(v->kind));
     return *v;
 }
 
@@ -69,18 +69,18 @@ constexpr double kMaxMillis = 3600.0 * 1000.0;   // an effect file's times: at m
 constexpr std::size_t kMaxOverlap = 256;         // pieces sounding at once on one motor
 
 /// A time in ms (0 .. one hour), in seconds.
-double seconds(const JsonValue& object, std::string_view key, const std::string& source, bool optional = false)
+double seconds(const core::JsonValue& object, std::string_view key, const std::string& source, bool optional = false)
 {
     const double zero = 0.0;
     const double ms = tactNumber(object, key, source, optional ? &zero : nullptr);
-    if (ms < 0.0 || ms > kMaxMillis) throw InputError(source, object.line, std::string(key), "a time in ms must lie in 0..3600000 (one hour)");
+    if (ms < 0.0 || ms > kMaxMillis) throw core::InputError(source, object.line, std::string(key), "a time in ms must lie in 0..3600000 (one hour)");
     return ms / 1000.0;
 }
 
-double intensityOf(const JsonValue& point, const std::string& source)
+double intensityOf(const core::JsonValue& point, const std::string& source)
 {
     const double i = tactNumber(point, "intensity", source);
-    if (i < 0.0 || i > 1.0) throw InputError(source, point.line, "intensity", "out of 0..1 (a .tact intensity is a fraction of full strength)");
+    if (i < 0.0 || i > 1.0) throw core::InputError(source, point.line, "intensity", "out of 0..1 (a .tact intensity is a fraction of full strength)");
     return i;
 }
 
@@ -101,15 +101,15 @@ double fade(const std::string& type, double u) noexcept
     return 1.0;
 }
 
-void checkPlayback(const JsonValue& fb, const std::string& source, std::string& type)
+void checkPlayback(const core::JsonValue& fb, const std::string& source, std::string& type)
 {
     type = "NONE";
-    if (const JsonValue* p = fb.find("playbackType")) {
-        if (p->kind != JsonValue::Kind::String) throw InputError(source, p->line, "playbackType", "must be a string");
+    if (const core::JsonValue* p = fb.find("playbackType")) {
+        if (p->kind != core::JsonValue::Kind::String) throw core::InputError(source, p->line, "playbackType", "must be a string");
         type = p->string;
     }
     if (type != "NONE" && type != "FADE_IN" && type != "FADE_OUT" && type != "FADE_IN_OUT")
-        throw InputError(source, fb.line, "playbackType", "'" + type + "' is not NONE, FADE_IN, FADE_OUT or FADE_IN_OUT");
+        throw core::InputError(source, fb.line, "playbackType", "'" + type + "' is not NONE, FADE_IN, FADE_OUT or FADE_IN_OUT");
 }
 
 /// Our motor index (right-arm layout, row 0 = wrist, column 0 = left) at grid position
@@ -131,17 +131,17 @@ std::array<double, 9> spread(double x, double y) noexcept
 }
 
 /// Whether a device's selected mode has anything to play.
-bool hasContent(const JsonValue& mode)
+bool hasContent(const core::JsonValue& mode)
 {
-    const JsonValue* m = mode.find("mode");
-    if (!m || m->kind != JsonValue::Kind::String) return false;
+    const core::JsonValue* m = mode.find("mode");
+    if (!m || m->kind != core::JsonValue::Kind::String) return false;
     const char* key = m->string == "PATH_MODE" ? "pathMode" : "dotMode";
-    const JsonValue* sub = mode.find(key);
-    const JsonValue* feedback = sub && sub->kind == JsonValue::Kind::Object ? sub->find("feedback") : nullptr;
-    if (!feedback || feedback->kind != JsonValue::Kind::Array) return false;
-    for (const JsonValue& fb : feedback->array) {
-        const JsonValue* points = fb.kind == JsonValue::Kind::Object ? fb.find("pointList") : nullptr;
-        if (points && points->kind == JsonValue::Kind::Array && !points->array.empty()) return true;
+    const core::JsonValue* sub = mode.find(key);
+    const core::JsonValue* feedback = sub && sub->kind == core::JsonValue::Kind::Object ? sub->find("feedback") : nullptr;
+    if (!feedback || feedback->kind != core::JsonValue::Kind::Array) return false;
+    for (const core::JsonValue& fb : feedback->array) {
+        const core::JsonValue* points = fb.kind == core::JsonValue::Kind::Object ? fb.find("pointList") : nullptr;
+        if (points && points->kind == core::JsonValue::Kind::Array && !points->array.empty()) return true;
     }
     return false;
 }
@@ -150,35 +150,35 @@ bool hasContent(const JsonValue& mode)
 
 ImportedScore importTact(std::string_view json, const std::string& source, const HapticImportOptions& o)
 {
-    const JsonValue root = armadillo::parseJson(json, source);
-    if (root.kind != JsonValue::Kind::Object) throw InputError(source, root.line, "", "a .tact file is a JSON object");
-    const JsonValue& project = member(root, "project", JsonValue::Kind::Object, source);
-    const JsonValue& tracks = member(project, "tracks", JsonValue::Kind::Array, source);
-    if (!(o.tactPathStep >= 0.001 && o.tactPathStep <= 0.1)) throw InputError(source, 0, "step", "the path step must be 1..100 ms");
+    const core::JsonValue root = armadillo::core::parseJson(json, source);
+    if (root.kind != core::JsonValue::Kind::Object) throw core::InputError(source, root.line, "", "a .tact file is a JSON object");
+    const core::JsonValue& project = member(root, "project", core::JsonValue::Kind::Object, source);
+    const core::JsonValue& tracks = member(project, "tracks", core::JsonValue::Kind::Array, source);
+    if (!(o.tactPathStep >= 0.001 && o.tactPathStep <= 0.1)) throw core::InputError(source, 0, "step", "the path step must be 1..100 ms");
 
     // Which device: the one asked for, else the forearm that has something to play (ForearmR
     // when both do).
     std::map<std::string, int> contentByDevice;   // device name → effects with content
-    for (const JsonValue& track : tracks.array) {
-        if (track.kind != JsonValue::Kind::Object) throw InputError(source, track.line, "tracks", "each track is an object");
-        const JsonValue* effects = track.find("effects");
+    for (const core::JsonValue& track : tracks.array) {
+        if (track.kind != core::JsonValue::Kind::Object) throw core::InputError(source, track.line, "tracks", "each track is an object");
+        const core::JsonValue* effects = track.find("effects");
         if (!effects) continue;
-        if (effects->kind != JsonValue::Kind::Array) throw InputError(source, effects->line, "effects", "must be an array");
-        for (const JsonValue& effect : effects->array) {
-            if (effect.kind != JsonValue::Kind::Object) throw InputError(source, effect.line, "effects", "each effect is an object");
-            const JsonValue& modes = member(effect, "modes", JsonValue::Kind::Object, source);
+        if (effects->kind != core::JsonValue::Kind::Array) throw core::InputError(source, effects->line, "effects", "must be an array");
+        for (const core::JsonValue& effect : effects->array) {
+            if (effect.kind != core::JsonValue::Kind::Object) throw core::InputError(source, effect.line, "effects", "each effect is an object");
+            const core::JsonValue& modes = member(effect, "modes", core::JsonValue::Kind::Object, source);
             for (const auto& [name, mode] : modes.object)
-                if (mode.kind == JsonValue::Kind::Object && hasContent(mode)) ++contentByDevice[name];
+                if (mode.kind == core::JsonValue::Kind::Object && hasContent(mode)) ++contentByDevice[name];
         }
     }
     std::string deviceName = o.tactDevice;
     if (!deviceName.empty() && deviceName != "ForearmL" && deviceName != "ForearmR")
-        throw InputError(source, 0, "device", "'" + deviceName + "' is not a forearm device (ForearmL or ForearmR)");
+        throw core::InputError(source, 0, "device", "'" + deviceName + "' is not a forearm device (ForearmL or ForearmR)");
     if (deviceName.empty()) deviceName = contentByDevice.count("ForearmR") ? "ForearmR" : contentByDevice.count("ForearmL") ? "ForearmL" : "";
     if (deviceName.empty() || !contentByDevice.count(deviceName)) {
         std::string others;
         for (const auto& [name, n] : contentByDevice) others += (others.empty() ? "" : ", ") + name;
-        throw InputError(source, project.line, "modes",
+        throw core::InputError(source, project.line, "modes",
                          "nothing to feel on " + (deviceName.empty() ? std::string("ForearmL or ForearmR") : deviceName) +
                              (others.empty() ? std::string(" (no device has any points)") : " (the file plays on: " + others + ")") +
                              ": only the forearm (Tactosy) layout maps onto the arm");
@@ -193,38 +193,38 @@ ImportedScore importTact(std::string_view json, const std::string& source, const
 
     std::vector<Piece> pieces;
     int clipped = 0;
-    for (const JsonValue& track : tracks.array) {
-        if (const JsonValue* enable = track.find("enable"); enable && enable->kind == JsonValue::Kind::Bool && !enable->boolean) continue;
-        const JsonValue* effects = track.find("effects");
+    for (const core::JsonValue& track : tracks.array) {
+        if (const core::JsonValue* enable = track.find("enable"); enable && enable->kind == core::JsonValue::Kind::Bool && !enable->boolean) continue;
+        const core::JsonValue* effects = track.find("effects");
         if (!effects) continue;
-        for (const JsonValue& effect : effects->array) {
-            const JsonValue* mode = member(effect, "modes", JsonValue::Kind::Object, source).find(deviceName);
+        for (const core::JsonValue& effect : effects->array) {
+            const core::JsonValue* mode = member(effect, "modes", core::JsonValue::Kind::Object, source).find(deviceName);
             if (!mode) continue;
-            if (mode->kind != JsonValue::Kind::Object) throw InputError(source, mode->line, deviceName, "must be an object");
+            if (mode->kind != core::JsonValue::Kind::Object) throw core::InputError(source, mode->line, deviceName, "must be an object");
             const double start = seconds(effect, "startTime", source, true);
             const double length = seconds(effect, "offsetTime", source, true);
             const double limit = length > 0.0 ? length : 1e9;   // a feedback past the effect's length is cut there
-            const std::string& kind = member(*mode, "mode", JsonValue::Kind::String, source).string;
+            const std::string& kind = member(*mode, "mode", core::JsonValue::Kind::String, source).string;
             if (kind == "DOT_MODE") {
-                const JsonValue& feedback = member(member(*mode, "dotMode", JsonValue::Kind::Object, source), "feedback", JsonValue::Kind::Array, source);
-                for (const JsonValue& fb : feedback.array) {
-                    if (fb.kind != JsonValue::Kind::Object) throw InputError(source, fb.line, "feedback", "each feedback is an object");
+                const core::JsonValue& feedback = member(member(*mode, "dotMode", core::JsonValue::Kind::Object, source), "feedback", core::JsonValue::Kind::Array, source);
+                for (const core::JsonValue& fb : feedback.array) {
+                    if (fb.kind != core::JsonValue::Kind::Object) throw core::InputError(source, fb.line, "feedback", "each feedback is an object");
                     std::string playback;
                     checkPlayback(fb, source, playback);
                     const double s = seconds(fb, "startTime", source);
                     double e = seconds(fb, "endTime", source);
-                    if (e < s) throw InputError(source, fb.line, "endTime", "a feedback ends before it starts");
+                    if (e < s) throw core::InputError(source, fb.line, "endTime", "a feedback ends before it starts");
                     const double fullEnd = e;
                     if (e > limit) {
                         e = limit;
                         ++clipped;
                     }
                     if (!(e > s)) continue;
-                    for (const JsonValue& p : member(fb, "pointList", JsonValue::Kind::Array, source).array) {
-                        if (p.kind != JsonValue::Kind::Object) throw InputError(source, p.line, "pointList", "each point is an object");
+                    for (const core::JsonValue& p : member(fb, "pointList", core::JsonValue::Kind::Array, source).array) {
+                        if (p.kind != core::JsonValue::Kind::Object) throw core::InputError(source, p.line, "pointList", "each point is an object");
                         const double index = tactNumber(p, "index", source);
                         if (index != std::floor(index) || index < 0.0 || index > 5.0)
-                            throw InputError(source, p.line, "index", "a forearm motor index is 0..5 (three across, two rows)");
+                            throw core::InputError(source, p.line, "index", "a forearm motor index is 0..5 (three across, two rows)");
                         const int i = static_cast<int>(index);
                         const int col = mirror ? 2 - i % 3 : i % 3;
                         const int motor = motorAt(i < 3 ? 0 : 2, col);
@@ -239,20 +239,20 @@ ImportedScore importTact(std::string_view json, const std::string& source, const
                     }
                 }
             } else if (kind == "PATH_MODE") {
-                const JsonValue& feedback = member(member(*mode, "pathMode", JsonValue::Kind::Object, source), "feedback", JsonValue::Kind::Array, source);
-                for (const JsonValue& fb : feedback.array) {
-                    if (fb.kind != JsonValue::Kind::Object) throw InputError(source, fb.line, "feedback", "each feedback is an object");
+                const core::JsonValue& feedback = member(member(*mode, "pathMode", core::JsonValue::Kind::Object, source), "feedback", core::JsonValue::Kind::Array, source);
+                for (const core::JsonValue& fb : feedback.array) {
+                    if (fb.kind != core::JsonValue::Kind::Object) throw core::InputError(source, fb.line, "feedback", "each feedback is an object");
                     std::string playback;
                     checkPlayback(fb, source, playback);
                     struct Key {
                         double t, x, y, intensity;
                     };
                     std::vector<Key> keys;
-                    for (const JsonValue& p : member(fb, "pointList", JsonValue::Kind::Array, source).array) {
-                        if (p.kind != JsonValue::Kind::Object) throw InputError(source, p.line, "pointList", "each point is an object");
+                    for (const core::JsonValue& p : member(fb, "pointList", core::JsonValue::Kind::Array, source).array) {
+                        if (p.kind != core::JsonValue::Kind::Object) throw core::InputError(source, p.line, "pointList", "each point is an object");
                         Key k {seconds(p, "time", source), tactNumber(p, "x", source), tactNumber(p, "y", source), intensityOf(p, source)};
-                        if (k.x < 0.0 || k.x > 1.0 || k.y < 0.0 || k.y > 1.0) throw InputError(source, p.line, "x", "a path point lies in 0..1 × 0..1");
-                        if (!keys.empty() && k.t < keys.back().t) throw InputError(source, p.line, "time", "path point times must not decrease");
+                        if (k.x < 0.0 || k.x > 1.0 || k.y < 0.0 || k.y > 1.0) throw core::InputError(source, p.line, "x", "a path point lies in 0..1 × 0..1");
+                        if (!keys.empty() && k.t < keys.back().t) throw core::InputError(source, p.line, "time", "path point times must not decrease");
                         if (mirror) k.x = 1.0 - k.x;
                         keys.push_back(k);
                     }
@@ -286,7 +286,7 @@ ImportedScore importTact(std::string_view json, const std::string& source, const
                     }
                 }
             } else {
-                throw InputError(source, mode->line, "mode", "'" + kind + "' is not DOT_MODE or PATH_MODE");
+                throw core::InputError(source, mode->line, "mode", "'" + kind + "' is not DOT_MODE or PATH_MODE");
             }
         }
     }
@@ -328,7 +328,7 @@ ImportedScore importTact(std::string_view json, const std::string& source, const
             while (next < mine.size() && mine[next]->start <= a + 1e-9) active.push_back(mine[next++]);
             active.erase(std::remove_if(active.begin(), active.end(), [&](const Piece* p) { return p->end < b - 1e-9; }), active.end());
             if (active.size() > kMaxOverlap)
-                throw InputError(source, project.line, "tracks", "more than " + std::to_string(kMaxOverlap) + " effects at once on one motor");
+                throw core::InputError(source, project.line, "tracks", "more than " + std::to_string(kMaxOverlap) + " effects at once on one motor");
             double la = 0.0, lb = 0.0;
             for (const Piece* p : active) {
                 la = std::max(la, p->at(a));
@@ -343,18 +343,18 @@ ImportedScore importTact(std::string_view json, const std::string& source, const
             end = std::max(end, b);
         }
     }
-    if (report.notes == 0) throw InputError(source, project.line, "tracks", "nothing to feel on " + deviceName + " (every intensity is 0)");
+    if (report.notes == 0) throw core::InputError(source, project.line, "tracks", "nothing to feel on " + deviceName + " (every intensity is 0)");
     std::stable_sort(lines.begin(), lines.end(), [](const Line& x, const Line& y) { return x.t < y.t; });
     for (const Line& l : lines) text += l.text;
     text += "length " + scoretext::lengthNumber(end) + "\n";
     ImportedScore out;
     out.text = std::move(text);
     out.report = std::move(report);
-    out.score = parseScore(out.text, source);
+    out.score = tactile::parseScore(out.text, source);
     return out;
 }
 
-std::string exportTact(const std::vector<TactileRow>& rows, const std::string& project)
+std::string exportTact(const std::vector<core::TactileRow>& rows, const std::string& project)
 {
     // Runs of one whole packet (motors 1..9): each run with a motor on is one effect in dot mode
     // (wrist and elbow rows: the Tactosy's six motors) and, when a middle-row motor runs, one in
@@ -408,12 +408,12 @@ std::string exportTact(const std::vector<TactileRow>& rows, const std::string& p
         layout += "]";
     }
     std::string s = "{\n  \"project\": {\n    \"name\": ";
-    armadillo::appendJsonString(s, project);
+    armadillo::core::appendJsonString(s, project);
     s += ",\n    \"description\": ";
-    armadillo::appendJsonString(s, "ARMadillo motors as a bHaptics forearm (Tactosy) effect: wrist row = y 0, elbow row = y 1, middle row = path points at y 0.5 (docs/FORMATS.md)");
+    armadillo::core::appendJsonString(s, "ARMadillo motors as a bHaptics forearm (Tactosy) effect: wrist row = y 0, elbow row = y 1, middle row = path points at y 0.5 (docs/FORMATS.md)");
     s += ",\n    \"layout\": {\"name\":\"Tactosy2\",\"type\":\"Tactosy2\",\"layouts\":{" + layout + "}},\n    \"tracks\": [{\"enable\":true,\"effects\":[" + effects +
          "\n    ]}]\n  },\n  \"durationMillis\": " + std::to_string(std::lround(total * 1000.0)) + ",\n  \"intervalMillis\": 20,\n  \"size\": 20\n}\n";
     return s;
 }
 
-} // namespace armadillo
+} // namespace armadillo::formats

@@ -6,7 +6,7 @@
 #include "Core/Types.h"
 #include <Eigen/Geometry>
 
-namespace armadillo {
+namespace armadillo::fusion {
 
 /// Below this flux magnitude (rad/s) the roll trigger's denominator is held here: the division by
 /// zero the thesis warns about, and noise-sized sweeps cannot make the ratio explode.
@@ -16,7 +16,7 @@ inline constexpr double kPunchMaxRate = 1.0;
 
 /// features: vectors in the earth frame (X east, Y up, Z south), q device → earth,
 /// gyroDevice rad/s (bias removed), accelDevice m/s² specific force (NaN ⇒ punch = 0).
-ArmFeatures computeArmFeatures(const Eigen::Quaterniond& q, const Eigen::Vector3d& gyroDevice,
+core::ArmFeatures computeArmFeatures(const Eigen::Quaterniond& q, const Eigen::Vector3d& gyroDevice,
                                const Eigen::Vector3d& accelDevice);
 
 /// The side of the forearm that leads a movement (thesis §2.6.3, §3.6 crash cymbal).
@@ -26,6 +26,6 @@ enum class FluxSide { None, Thumb, Palm, FifthFinger, Back };
 /// device frame; the larger component picks face/palm (±y) or the thumb/fifth-finger edge (±z),
 /// its sign the side. Which edge is the thumb depends on the arm (right arm, palm down: −z).
 /// Returns None while max(|flux|) < minRate (rad/s).
-FluxSide leadingSide(const ArmFeatures& f, ArmSide arm = ArmSide::Right, double minRate = 0.2);
+FluxSide leadingSide(const core::ArmFeatures& f, core::ArmSide arm = core::ArmSide::Right, double minRate = 0.2);
 
-} // namespace armadillo
+} // namespace armadillo::fusion

@@ -3,7 +3,7 @@
 #include "Fusion/OrientationFilter.h"
 #include <cmath>
 
-namespace armadillo {
+namespace armadillo::fusion {
 
 ArmTracker::ArmTracker() : filter_(std::make_unique<OrientationFilter>()) {}
 ArmTracker::~ArmTracker() = default;
@@ -11,11 +11,11 @@ ArmTracker::~ArmTracker() = default;
 void ArmTracker::reset()
 {
     filter_->reset();
-    state_ = ArmState {};
+    state_ = core::ArmState {};
     haveOrientation_ = false;
 }
 
-ArmState ArmTracker::update(const ImuSample& sample)
+core::ArmState ArmTracker::update(const core::ImuSample& sample)
 {
     filter_->update(sample);
     state_.t = sample.t;
@@ -32,7 +32,7 @@ ArmState ArmTracker::update(const ImuSample& sample)
     return state_;
 }
 
-ArmState ArmTracker::updateOrientation(double t, const Eigen::Quaterniond& qIn)
+core::ArmState ArmTracker::updateOrientation(double t, const Eigen::Quaterniond& qIn)
 {
     Eigen::Quaterniond q = qIn.normalized();
     if (haveOrientation_ && q.dot(state_.q) < 0.0) q.coeffs() = -q.coeffs();   // same hemisphere
@@ -41,7 +41,7 @@ ArmState ArmTracker::updateOrientation(double t, const Eigen::Quaterniond& qIn)
         // Body-frame rotation between the two orientations, as a rotation vector over dt.
         const Eigen::AngleAxisd delta(state_.q.conjugate() * q);
         double angle = delta.angle();
-        if (angle > kPi) angle -= 2.0 * kPi;
+        if (angle > core::kPi) angle -= 2.0 * core::kPi;
         omega = delta.axis() * (angle / (t - state_.t));
     } else if (haveOrientation_) {
         omega = state_.gyro;   // same timestamp: keep the last rate
@@ -50,11 +50,11 @@ ArmState ArmTracker::updateOrientation(double t, const Eigen::Quaterniond& qIn)
     state_.q = q;
     state_.gyro = omega;
     // A self-fused source gives no accelerometer: gravity alone (specific force, +g up).
-    state_.accel = q.conjugate() * Eigen::Vector3d(0.0, kStandardGravity, 0.0);
+    state_.accel = q.conjugate() * Eigen::Vector3d(0.0, core::kStandardGravity, 0.0);
     state_.features = computeArmFeatures(q, omega, state_.accel);
     state_.valid = true;
     haveOrientation_ = true;
     return state_;
 }
 
-} // namespace armadillo
+} // namespace armadillo::fusion

@@ -5,7 +5,7 @@
 #include "Core/Types.h"
 #include <memory>
 
-namespace armadillo {
+namespace armadillo::fusion {
 
 class OrientationFilter;
 
@@ -14,17 +14,17 @@ public:
     ArmTracker();
     ~ArmTracker();
     /// IMU stream (calibrated SI values): fusion, then features.
-    ArmState update(const ImuSample& sample);
+    core::ArmState update(const core::ImuSample& sample);
     /// Sources that fuse themselves (OSC /armadillo/orientation, quaternion or pose files, host
     /// automation): angular velocity is derived from successive orientations.
-    ArmState updateOrientation(double t, const Eigen::Quaterniond& q);
+    core::ArmState updateOrientation(double t, const Eigen::Quaterniond& q);
     void reset();
-    const ArmState& state() const noexcept { return state_; }
+    const core::ArmState& state() const noexcept { return state_; }
 
 private:
     std::unique_ptr<OrientationFilter> filter_;
-    ArmState state_ {};
+    core::ArmState state_ {};
     bool haveOrientation_ = false;
 };
 
-} // namespace armadillo
+} // namespace armadillo::fusion

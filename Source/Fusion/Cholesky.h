@@ -26,7 +26,7 @@
 #pragma GCC diagnostic ignored "-Warray-bounds"
 #endif
 
-namespace armadillo::cholesky {
+namespace armadillo::fusion::cholesky {
 
 enum class Rank1Result {
     Ok,
@@ -134,7 +134,7 @@ Rank1Result rank1(Eigen::Matrix<double, N, N>& L, const Eigen::Matrix<double, N,
     return sign >= 0.0 ? update<N>(L, x) : downdate<N>(L, x);
 }
 
-} // namespace armadillo::cholesky
+} // namespace armadillo::fusion::cholesky
 
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic pop

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace armadillo {
+namespace armadillo::fusion {
 
 const OrientationFilter::Params& OrientationFilter::defaultParams()
 {
@@ -53,9 +53,9 @@ void OrientationFilter::reset()
     magFastLowPass_.reset();
     lowPassDt_ = 0.0;
     lastT_ = 0.0;
-    lastAccel_.setConstant(kNaN);
-    lastGyro_.setConstant(kNaN);
-    gaps_ = GapDetector(params_.gap);
+    lastAccel_.setConstant(core::kNaN);
+    lastGyro_.setConstant(core::kNaN);
+    gaps_ = core::GapDetector(params_.gap);
     headingDisagreeT_ = tiltDisagreeT_ = 0.0;
     initialised_ = false;
     skipped_ = 0;
@@ -65,7 +65,7 @@ void OrientationFilter::reset()
 
 Eigen::Quaterniond OrientationFilter::orientation() const
 {
-    return initialised_ ? ukf_.state().q : restOrientation();
+    return initialised_ ? ukf_.state().q : core::restOrientation();
 }
 
 Eigen::Vector3d OrientationFilter::angularVelocity() const
@@ -89,11 +89,11 @@ void OrientationFilter::resetCovariance(double rotationStd)
     ukf_.reset(ukf_.state(), sd.asDiagonal().toDenseMatrix());
 }
 
-void OrientationFilter::initialise(const ImuSample& s)
+void OrientationFilter::initialise(const core::ImuSample& s)
 {
     OrientationState x;
     const bool useMag = params_.useMagnetometer && s.mag.allFinite();
-    orientationFromVectors(s.accel, useMag ? s.mag : Eigen::Vector3d(kNaN, kNaN, kNaN), x.q);
+    orientationFromVectors(s.accel, useMag ? s.mag : Eigen::Vector3d(core::kNaN, core::kNaN, core::kNaN), x.q);
     x.rate = s.gyro;
     Eigen::Matrix<double, kAttDim, 1> sd;
     // The error angle is in the device frame; tilt and heading are earth-frame ideas, so the
@@ -119,7 +119,7 @@ static Eigen::Quaterniond levelled(const Eigen::Quaterniond& q, const Eigen::Vec
     return quat::normalised(Eigen::Quaterniond::FromTwoVectors(upNow, Eigen::Vector3d::UnitY()) * q);
 }
 
-void OrientationFilter::reacquire(const ImuSample& s)
+void OrientationFilter::reacquire(const core::ImuSample& s)
 {
     // The orientation is unknown after a gap the filter cannot bridge: start again as at start-up.
     // Tilt from this sample when its norm says it is mostly gravity (one sample of a moving arm can
@@ -128,7 +128,7 @@ void OrientationFilter::reacquire(const ImuSample& s)
     // heading reset in updateHeading): one sample that passes the field tracker inside a disturbed
     // field would otherwise throw a good heading away.
     OrientationState& x = ukf_.state();
-    if (std::abs(s.accel.norm() - kStandardGravity) < params_.reacquireAccelTolerance * kStandardGravity)
+    if (std::abs(s.accel.norm() - core::kStandardGravity) < params_.reacquireAccelTolerance * core::kStandardGravity)
         x.q = levelled(x.q, s.accel);
     x.rate = s.gyro - x.bias;
     x.accel.setZero();
@@ -223,11 +223,11 @@ void OrientationFilter::updateGravity(const Eigen::Vector3d& accel, double rawNo
     }
     // Linear and centripetal acceleration are not modelled (thesis §2.7.7): they show as a norm
     // away from 1 g, so the noise grows with that distance, and the soft gate catches the rest.
-    const double deviation = std::abs(rawNorm - kStandardGravity) / kStandardGravity;
+    const double deviation = std::abs(rawNorm - core::kStandardGravity) / core::kStandardGravity;
     // The low-passed direction is gravity plus the velocity change over its window divided by the
     // window: right after a restart (start-up, gap) the window is short and a moving arm's Δv/T is
     // tens of degrees, so the young average is trusted as little as that (issue 36).
-    const double young = params_.youngAverageVelocity / (kStandardGravity * std::max(lastT_ - accelAverageStartT_, dt));
+    const double young = params_.youngAverageVelocity / (core::kStandardGravity * std::max(lastT_ - accelAverageStartT_, dt));
     const double base = params_.gravityNoise * (1.0 + params_.gravityNormGain * deviation);
     const double sd = std::sqrt(base * base + young * young);
     ukf_.update<3, 3>(upDevice, GravityObservation {}, Eigen::Vector3d::Constant(sd), params_.gravityNisLimit);
@@ -275,7 +275,7 @@ void OrientationFilter::updateHeading(const Eigen::Vector3d& mag, const Eigen::V
         magLowPass_.reset();   // half of its average is the field that was just found wrong
         return;
     }
-    if (std::abs(innovation) > 0.5 * kPi) {
+    if (std::abs(innovation) > 0.5 * core::kPi) {
         ++magRejected_;
         return;
     }
@@ -283,7 +283,7 @@ void OrientationFilter::updateHeading(const Eigen::Vector3d& mag, const Eigen::V
                    params_.headingNisLimit);
 }
 
-void OrientationFilter::update(const ImuSample& s)
+void OrientationFilter::update(const core::ImuSample& s)
 {
     if (!std::isfinite(s.t) || !s.gyro.allFinite() || !s.accel.allFinite() || !(s.accel.norm() > 0.0)) {
         ++skipped_;
@@ -312,7 +312,7 @@ void OrientationFilter::update(const ImuSample& s)
         headingDisagreeT_ = 0.0;   // a heading reset needs an unbroken run of trusted samples
     }
     // A shock shows as a jump of the accelerometer between successive samples (NaN before the first).
-    const double jump = (s.accel - lastAccel_).norm() / kStandardGravity;
+    const double jump = (s.accel - lastAccel_).norm() / core::kStandardGravity;
     lastAccel_ = s.accel;
     const double shock = jump > params_.shockThreshold ? params_.shockRotationNoise * (jump - params_.shockThreshold) : 0.0;
     // The same shock turns the gyro-only frame in which the magnetometer is averaged: what the
@@ -368,4 +368,4 @@ void OrientationFilter::update(const ImuSample& s)
     }
 }
 
-} // namespace armadillo
+} // namespace armadillo::fusion

@@ -21,7 +21,7 @@
 #include <Eigen/Geometry>
 #include <cstddef>
 
-namespace armadillo {
+namespace armadillo::fusion {
 
 class OrientationFilter {
 public:
@@ -75,7 +75,7 @@ public:
         double initialHeadingStd = 0.35;      ///< rad
         double initialBiasStd = 0.01;         ///< rad/s
 
-        GapDetector::Params gap {};           ///< what a dropout is (Core/GapDetector.h: 4 × the typical step, ≥ 30 ms)
+        core::GapDetector::Params gap {};     ///< what a dropout is (Core/GapDetector.h: 4 × the typical step, ≥ 30 ms)
         double reacquireAccelTolerance = 0.2; ///< fraction of g: a sample whose |a| is further off gives no tilt
         double maxBridge = 0.04;              ///< s: longer gaps re-acquire; shorter ones are extrapolated
                                               ///< with ω and α (what they can honestly carry, docs/FUSION.md)
@@ -103,7 +103,7 @@ public:
 
     explicit OrientationFilter(const Params& p = defaultParams());
     void reset();
-    void update(const ImuSample& s);
+    void update(const core::ImuSample& s);
 
     Eigen::Quaterniond orientation() const;          ///< device → earth (X east, Y up, Z south)
     Eigen::Vector3d angularVelocity() const;         ///< rad/s, device frame, bias removed
@@ -129,10 +129,10 @@ public:
     Eigen::Matrix<double, kAttDim, kAttDim> covariance() const { return ukf_.covariance(); }
 
 private:
-    void initialise(const ImuSample& s);
+    void initialise(const core::ImuSample& s);
     /// Starts again from this sample (tilt at once, heading once the field is trusted), wide
     /// covariance, gyro bias kept, low-pass restarted.
-    void reacquire(const ImuSample& s);
+    void reacquire(const core::ImuSample& s);
     void resetCovariance(double rotationStd);
     /// 1 right after start-up or a re-acquisition, falling to 0 over acquireTime.
     double acquiring() const;
@@ -162,9 +162,9 @@ private:
     double acquireStartT_ = 0.0;   ///< s, start of the latest acquisition: start-up, gap, re-acquisition
     double accelAverageStartT_ = 0.0;   ///< s, when the accelerometer's low-pass last restarted
     double lastT_ = 0.0;
-    Eigen::Vector3d lastAccel_ = Eigen::Vector3d::Constant(kNaN);   ///< m/s², previous sample (shock detection)
-    Eigen::Vector3d lastGyro_ = Eigen::Vector3d::Constant(kNaN);    ///< rad/s, previous sample (α, timing)
-    GapDetector gaps_;
+    Eigen::Vector3d lastAccel_ = Eigen::Vector3d::Constant(core::kNaN); ///< m/s², previous sample (shock detection)
+    Eigen::Vector3d lastGyro_ = Eigen::Vector3d::Constant(core::kNaN); ///< rad/s, previous sample (α, timing)
+    core::GapDetector gaps_;
     double headingDisagreeT_ = 0.0, tiltDisagreeT_ = 0.0;   ///< s of unbroken disagreement
     double headingDisagreeMean_ = 0.0;                       ///< rad, mean heading innovation of that run
     Recovery recovery_ {};
@@ -178,4 +178,4 @@ private:
 /// x axis in the vertical plane through north. Returns false (and identity) if accel is unusable.
 bool orientationFromVectors(const Eigen::Vector3d& accel, const Eigen::Vector3d& mag, Eigen::Quaterniond& q);
 
-} // namespace armadillo
+} // namespace armadillo::fusion

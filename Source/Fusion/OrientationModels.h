@@ -15,7 +15,7 @@
 #include <array>
 #include <cmath>
 
-namespace armadillo {
+namespace armadillo::fusion {
 
 /// Named indices of the error state (STYLE.md convention 4).
 enum ErrorIndex : int {
@@ -316,4 +316,4 @@ struct BiasObservation {
     Eigen::Vector3d operator()(const OrientationState& x) const noexcept { return x.bias; }
 };
 
-} // namespace armadillo
+} // namespace armadillo::fusion

@@ -20,7 +20,7 @@
 #include <cstddef>
 #include <limits>
 
-namespace armadillo::qr {
+namespace armadillo::fusion::qr {
 
 namespace detail {
 /// Σ a_i b_i over n contiguous values with four running sums: a single sum is one long chain of
@@ -86,4 +86,4 @@ Eigen::Matrix<double, K, K> upperFactor(const Eigen::Matrix<double, Dense, K>& D
     return R;
 }
 
-} // namespace armadillo::qr
+} // namespace armadillo::fusion::qr

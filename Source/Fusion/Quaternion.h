@@ -7,7 +7,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
-namespace armadillo::quat {
+namespace armadillo::fusion::quat {
 
 using Eigen::Quaterniond;
 using Eigen::Vector3d;
@@ -128,4 +128,4 @@ inline Quaterniond fromTwoVectors(const Vector3d& from, const Vector3d& to) noex
     return Quaterniond::FromTwoVectors(from, to);
 }
 
-} // namespace armadillo::quat
+} // namespace armadillo::fusion::quat

@@ -36,7 +36,7 @@
 #pragma GCC diagnostic ignored "-Warray-bounds"
 #endif
 
-namespace armadillo {
+namespace armadillo::fusion {
 
 /// Sigma-point spread and weights (van der Merwe): λ = α²(N + κ) − N, γ = √(N + λ).
 struct UkfWeights {
@@ -345,7 +345,7 @@ private:
     UkfStats stats_ {};
 };
 
-} // namespace armadillo
+} // namespace armadillo::fusion
 
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic pop

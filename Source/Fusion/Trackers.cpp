@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace armadillo {
+namespace armadillo::fusion {
 namespace {
 /// Weight of one step of a first-order low-pass with time constant tau (s) over dt (s).
 double lowPassGain(double dt, double tau) { return tau > 0.0 ? 1.0 - std::exp(-dt / tau) : 1.0; }
@@ -42,7 +42,7 @@ bool GyroBiasTracker::update(const Eigen::Vector3d& gyro, const Eigen::Vector3d&
 double MagneticFieldTracker::dipAngle(const Eigen::Vector3d& accel, const Eigen::Vector3d& mag)
 {
     const double na = accel.norm(), nm = mag.norm();
-    if (!(na > 0.0) || !(nm > 0.0) || !std::isfinite(na) || !std::isfinite(nm)) return kNaN;
+    if (!(na > 0.0) || !(nm > 0.0) || !std::isfinite(na) || !std::isfinite(nm)) return core::kNaN;
     return std::acos(std::clamp(accel.dot(mag) / (na * nm), -1.0, 1.0));
 }
 
@@ -53,8 +53,8 @@ bool MagneticFieldTracker::update(const Eigen::Vector3d& accel, const Eigen::Vec
     if (!mag.allFinite() || !(n > 0.0)) return false;
     dt = std::max(dt, 0.0);
     const bool accelOk = accel.allFinite()
-        && std::abs(accel.norm() - kStandardGravity) < params_.accelTolerance * kStandardGravity;
-    const double dip = accelOk ? dipAngle(accel, mag) : kNaN;
+        && std::abs(accel.norm() - core::kStandardGravity) < params_.accelTolerance * core::kStandardGravity;
+    const double dip = accelOk ? dipAngle(accel, mag) : core::kNaN;
     const bool dipValid = std::isfinite(dip);
 
     if (!s.haveNorm) {
@@ -110,9 +110,9 @@ bool MagneticFieldTracker::update(const Eigen::Vector3d& accel, const Eigen::Vec
     return false;
 }
 
-} // namespace armadillo
+} // namespace armadillo::fusion
 
-namespace armadillo {
+namespace armadillo::fusion {
 
 void ButterworthLowPass3::setup(double tau, double dt)
 {
@@ -123,8 +123,8 @@ void ButterworthLowPass3::setup(double tau, double dt)
         b1_ = b2_ = a1_ = a2_ = 0.0;
         return;
     }
-    const double fc = std::sqrt(2.0) / (2.0 * kPi * tau);
-    const double k = std::tan(kPi * std::min(fc * dt, 0.45));   // pre-warped, below Nyquist
+    const double fc = std::sqrt(2.0) / (2.0 * core::kPi * tau);
+    const double k = std::tan(core::kPi * std::min(fc * dt, 0.45)); // pre-warped, below Nyquist
     const double q = std::sqrt(2.0);                             // 1/Q of a Butterworth pair
     const double norm = 1.0 / (1.0 + q * k + k * k);
     b0_ = k * k * norm;
@@ -163,4 +163,4 @@ Eigen::Vector3d ButterworthLowPass3::filter(const Eigen::Vector3d& x)
     return y;
 }
 
-} // namespace armadillo
+} // namespace armadillo::fusion

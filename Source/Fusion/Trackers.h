@@ -9,7 +9,7 @@
 #include <Eigen/Core>
 #include <cstddef>
 
-namespace armadillo {
+namespace armadillo::fusion {
 
 class GyroBiasTracker {
 public:
@@ -86,9 +86,9 @@ private:
     State state_ {};
 };
 
-} // namespace armadillo
+} // namespace armadillo::fusion
 
-namespace armadillo {
+namespace armadillo::fusion {
 
 /// Second-order Butterworth low-pass of 3-vectors (bilinear transform), coefficients derived once
 /// for a sample period; state can be primed with a steady value. No heap.
@@ -122,4 +122,4 @@ private:
     bool tapered_ = false;
 };
 
-} // namespace armadillo
+} // namespace armadillo::fusion

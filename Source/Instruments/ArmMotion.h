@@ -4,12 +4,12 @@
 #include "Core/ArmState.h"
 #include <Eigen/Geometry>
 
-namespace armadillo {
+namespace armadillo::instruments {
 
 class ArmMotion {
 public:
     /// ω in the device frame, rad/s. Call once per control update.
-    Eigen::Vector3d update(const ArmState& arm, double dt) noexcept
+    Eigen::Vector3d update(const core::ArmState& arm, double dt) noexcept
     {
         const Eigen::Quaterniond q = arm.q.normalized();
         Eigen::Vector3d w = Eigen::Vector3d::Zero();
@@ -32,4 +32,4 @@ private:
     bool havePrevious_ = false;
 };
 
-} // namespace armadillo
+} // namespace armadillo::instruments

@@ -32,13 +32,13 @@
 #include <atomic>
 #include <cmath>
 
-namespace armadillo {
+namespace armadillo::instruments {
 namespace {
 
 enum AudioTouchIndex : int { kIntensity, kSensitivity, kAccents, kStemsMode };
 enum StemsMode : int { kStemsApart = 0, kStemsMixed = 1 };
 
-std::vector<ParamSpec> audioTouchSpecs()
+std::vector<core::ParamSpec> audioTouchSpecs()
 {
     return {
         {"audio-touch.intensity", "Intensity", 0.0f, 100.0f, 80.0f, "%", {}},
@@ -69,24 +69,24 @@ constexpr int kBands = 3;
 /// Row of each band: lows at the elbow, the middle band in the middle, highs at the wrist.
 constexpr int kBandRow[kBands] = {2, 1, 0};
 
-class AudioTouchScene final : public Scene {
+class AudioTouchScene final : public core::Scene {
 public:
     AudioTouchScene() : params_(audioTouchSpecs()) {}
     std::string_view name() const override { return "audio-touch"; }
-    std::vector<ParamSpec> parameters() const override { return params_.specs(); }
+    std::vector<core::ParamSpec> parameters() const override { return params_.specs(); }
     void setParameter(int index, float value) noexcept override { params_.set(index, value); }
     bool listensToAudio() const override { return true; }
 
-    void prepare(const SceneConfig& config) override
+    void prepare(const core::SceneConfig& config) override
     {
         const double fs = config.sampleRate > 0.0 ? config.sampleRate : 48000.0;
         fs_ = fs;
         // Four cascaded 2nd-order sections per edge (48 dB/octave): a kick and a bass line a
         // fifth apart land on different rows.
-        for (auto& q : low_) q = Biquad::make(false, 90.0, fs);
-        for (auto& q : midHp_) q = Biquad::make(true, 120.0, fs);
-        for (auto& q : midLp_) q = Biquad::make(false, 1000.0, fs);
-        for (auto& q : high_) q = Biquad::make(true, 4000.0, fs);
+        for (auto& q : low_) q = core::Biquad::make(false, 90.0, fs);
+        for (auto& q : midHp_) q = core::Biquad::make(true, 120.0, fs);
+        for (auto& q : midLp_) q = core::Biquad::make(false, 1000.0, fs);
+        for (auto& q : high_) q = core::Biquad::make(true, 4000.0, fs);
         auto coef = [fs](double seconds) { return 1.0 - std::exp(-1.0 / (fs * seconds)); };
         levelAttack_ = coef(0.005);
         levelRelease_ = coef(0.040);
@@ -97,18 +97,18 @@ public:
         refractoryHops_ = static_cast<int>(0.080 / 0.0025);
         for (auto& b : band_) b = BandState {};
         if (config.stems.size() > static_cast<std::size_t>(kMaxStems))
-            throw InputError("", 0, "stems", "at most " + std::to_string(kMaxStems) + " stems");
+            throw core::InputError("", 0, "stems", "at most " + std::to_string(kMaxStems) + " stems");
         stemCount_ = 0;
         for (const std::string& name : config.stems) {
             const StemPreset* preset = nullptr;
             for (const StemPreset& p : kStemPresets)
                 if (name == p.name) preset = &p;
-            if (!preset) throw InputError("", 0, "stem", "unknown stem '" + name + "' (presets: drums, bass, other, vocals)");
+            if (!preset) throw core::InputError("", 0, "stem", "unknown stem '" + name + "' (presets: drums, bass, other, vocals)");
             Stem& st = stems_[static_cast<std::size_t>(stemCount_++)];
             st = Stem {};
             st.preset = preset;
-            for (auto& q : st.hp) q = Biquad::make(true, preset->lowHz, fs);
-            for (auto& q : st.lp) q = Biquad::make(false, std::min(preset->highHz, 0.45 * fs), fs);
+            for (auto& q : st.hp) q = core::Biquad::make(true, preset->lowHz, fs);
+            for (auto& q : st.lp) q = core::Biquad::make(false, std::min(preset->highHz, 0.45 * fs), fs);
             st.attack = coef(preset->attack);
             st.release = coef(preset->release);
         }
@@ -155,7 +155,7 @@ public:
         processMixed(in, channels, n, 1.0 / channels);
     }
 
-    void control(const ControlInput& /*in*/, SceneOutput& out) override
+    void control(const core::ControlInput& /*in*/, core::SceneOutput& out) override
     {
         if (clearPending_) {
             out.motors.clearLevels();
@@ -222,7 +222,7 @@ private:
         }
     }
 
-    void controlMixed(SceneOutput& out, double intensity, double floorDb, double accents)
+    void controlMixed(core::SceneOutput& out, double intensity, double floorDb, double accents)
     {
         for (int b = 0; b < kBands; ++b) {
             const auto bi = static_cast<std::size_t>(b);
@@ -230,18 +230,18 @@ private:
             // onto 0 .. the rated level × intensity (sustained touch never runs above the rating).
             const double db = 10.0 * std::log10(std::max(static_cast<double>(pubLevel_[bi].load(std::memory_order_relaxed)), 1e-20));
             const double x = std::clamp((db - floorDb) / 30.0, 0.0, 1.0);
-            const auto level = static_cast<float>(kRatedLevel * intensity * x);
-            for (int col = 0; col < 3; ++col) out.motors.setSoftLevel(motorIndex(kBandRow[b], col), level);
+            const auto level = static_cast<float>(core::kRatedLevel * intensity * x);
+            for (int col = 0; col < 3; ++col) out.motors.setSoftLevel(core::motorIndex(kBandRow[b], col), level);
             // Transients → a short accent on the row: 25 ms, shorter than the jump-start spike,
             // so it plays at its own level (rating + up to 6 levels with `accents`).
             const unsigned hits = pubHits_[bi].load(std::memory_order_acquire);
             if (hits != seenHits_[bi]) {
                 seenHits_[bi] = hits;
                 if (accents > 0.0) {
-                    PatternRequest accent;
-                    accent.kind = PatternKind::Accent;
-                    accent.motors = motors::row(kBandRow[b]);
-                    accent.level = static_cast<float>(std::min(15.0, kRatedLevel + 1.0 + 6.0 * accents * (0.5 + 0.5 * static_cast<double>(pubHitStrength_[bi].load()))));
+                    core::PatternRequest accent;
+                    accent.kind = core::PatternKind::Accent;
+                    accent.motors = tactile::motors::row(kBandRow[b]);
+                    accent.level = static_cast<float>(std::min(15.0, core::kRatedLevel + 1.0 + 6.0 * accents * (0.5 + 0.5 * static_cast<double>(pubHitStrength_[bi].load()))));
                     accent.duration = 0.025;
                     accent.voice = b;
                     out.motors.trigger(accent);
@@ -291,32 +291,32 @@ private:
         }
     }
 
-    void controlStems(SceneOutput& out, double intensity, double floorDb, double accents)
+    void controlStems(core::SceneOutput& out, double intensity, double floorDb, double accents)
     {
-        std::array<float, kMaxMotors> level {};
+        std::array<float, core::kMaxMotors> level {};
         for (int k = 0; k < stemCount_; ++k) {
             const auto ki = static_cast<std::size_t>(k);
             const StemPreset& preset = *stems_[ki].preset;
             const double db = 10.0 * std::log10(std::max(static_cast<double>(stemPubLevel_[ki].load(std::memory_order_relaxed)), 1e-20));
             const double x = std::clamp((db - floorDb) / 30.0, 0.0, 1.0);
-            const auto l = static_cast<float>(kRatedLevel * intensity * x);
-            for (int m = 0; m < kMaxMotors; ++m)
+            const auto l = static_cast<float>(core::kRatedLevel * intensity * x);
+            for (int m = 0; m < core::kMaxMotors; ++m)
                 if (preset.motors & (1u << m)) level[static_cast<std::size_t>(m)] = std::max(level[static_cast<std::size_t>(m)], l);
             const unsigned hits = stemPubHits_[ki].load(std::memory_order_acquire);
             if (hits != stemSeenHits_[ki]) {
                 stemSeenHits_[ki] = hits;
                 if (accents > 0.0) {
-                    PatternRequest accent;
-                    accent.kind = PatternKind::Accent;
+                    core::PatternRequest accent;
+                    accent.kind = core::PatternKind::Accent;
                     accent.motors = preset.motors;
-                    accent.level = static_cast<float>(std::min(15.0, kRatedLevel + 1.0 + 6.0 * accents * (0.5 + 0.5 * static_cast<double>(stemPubStrength_[ki].load()))));
+                    accent.level = static_cast<float>(std::min(15.0, core::kRatedLevel + 1.0 + 6.0 * accents * (0.5 + 0.5 * static_cast<double>(stemPubStrength_[ki].load()))));
                     accent.duration = 0.025;
                     accent.voice = k;
                     out.motors.trigger(accent);
                 }
             }
         }
-        for (int m = 0; m < kGridMotors; ++m) out.motors.setSoftLevel(m, level[static_cast<std::size_t>(m)]);
+        for (int m = 0; m < core::kGridMotors; ++m) out.motors.setSoftLevel(m, level[static_cast<std::size_t>(m)]);
     }
 
     struct BandState {
@@ -327,7 +327,7 @@ private:
 
     ParameterSet params_;
     double fs_ = 48000.0;
-    std::array<Biquad, 4> low_ {}, midHp_ {}, midLp_ {}, high_ {};
+    std::array<core::Biquad, 4> low_ {}, midHp_ {}, midLp_ {}, high_ {};
     double levelAttack_ = 0, levelRelease_ = 0, fastAttack_ = 0, fastRelease_ = 0, slow_ = 0;
     int hop_ = 120, hopFill_ = 0, refractoryHops_ = 32;
     int stemHopFill_ = 0;
@@ -345,7 +345,7 @@ private:
 
     struct Stem {
         const StemPreset* preset = nullptr;
-        std::array<Biquad, 2> hp {}, lp {};   ///< 24 dB/octave edges
+        std::array<core::Biquad, 2> hp {}, lp {}; ///< 24 dB/octave edges
         double attack = 0, release = 0;
         BandState band {};
     };
@@ -359,6 +359,6 @@ private:
 
 } // namespace
 
-std::unique_ptr<Scene> makeAudioTouchScene() { return std::make_unique<AudioTouchScene>(); }
+std::unique_ptr<core::Scene> makeAudioTouchScene() { return std::make_unique<AudioTouchScene>(); }
 
-} // namespace armadillo
+} // namespace armadillo::instruments

@@ -7,12 +7,12 @@
 #include "Tactile/Hysteresis.h"
 #include <cmath>
 
-namespace armadillo {
+namespace armadillo::instruments {
 namespace {
 
 enum CompassIndex : int { kHeading, kTolerance, kLevel, kMaxRate };
 
-std::vector<ParamSpec> compassSpecs()
+std::vector<core::ParamSpec> compassSpecs()
 {
     return {
         {"compass.target", "Target heading", 0.0f, 360.0f, 0.0f, "deg", {}},
@@ -22,13 +22,13 @@ std::vector<ParamSpec> compassSpecs()
     };
 }
 
-class CompassScene final : public Scene {
+class CompassScene final : public core::Scene {
 public:
     CompassScene() : params_(compassSpecs()) {}
     std::string_view name() const override { return "compass"; }
-    std::vector<ParamSpec> parameters() const override { return params_.specs(); }
+    std::vector<core::ParamSpec> parameters() const override { return params_.specs(); }
     void setParameter(int index, float value) noexcept override { params_.set(index, value); }
-    void prepare(const SceneConfig& config) override
+    void prepare(const core::SceneConfig& config) override
     {
         side_ = config.side;
         reset();
@@ -41,7 +41,7 @@ public:
         clearPending_ = true;
     }
 
-    void control(const ControlInput& in, SceneOutput& out) override
+    void control(const core::ControlInput& in, core::SceneOutput& out) override
     {
         if (clearPending_) {   // entering the scene: nothing left over from before
             out.motors.clearLevels();
@@ -55,14 +55,14 @@ public:
             return;
         }
         // The thumb side of the forearm: device −z on the right arm, +z on the left.
-        const Eigen::Vector3d thumb = in.arm.q.normalized() * Eigen::Vector3d(0.0, 0.0, side_ == ArmSide::Right ? -1.0 : 1.0);
+        const Eigen::Vector3d thumb = in.arm.q.normalized() * Eigen::Vector3d(0.0, 0.0, side_ == core::ArmSide::Right ? -1.0 : 1.0);
         const double horizontal = std::hypot(thumb.x(), thumb.z());
         if (horizontal < 0.3) {   // thumb pointing up or down: no heading to show
             show(State::Unknown, 0.0, out);
             return;
         }
-        const double heading = wrapDeg360(radToDeg(std::atan2(thumb.x(), -thumb.z())));
-        const double error = wrapDeg180(params_.get(kHeading) - heading);   // + = turn clockwise
+        const double heading = core::wrapDeg360(core::radToDeg(std::atan2(thumb.x(), -thumb.z())));
+        const double error = core::wrapDeg180(params_.get(kHeading) - heading); // + = turn clockwise
         if (onTarget_.update(std::fabs(error))) {
             show(State::OnTarget, 0.0, out);
             return;
@@ -80,10 +80,10 @@ public:
 private:
     enum class State { Unknown, TurnLeft, TurnRight, OnTarget };
 
-    void show(State s, double rate, SceneOutput& out)
+    void show(State s, double rate, core::SceneOutput& out)
     {
         const auto level = static_cast<float>(params_.get(kLevel));
-        const int left = motorIndex(1, 0), right = motorIndex(1, 2);
+        const int left = core::motorIndex(1, 0), right = core::motorIndex(1, 2);
         if (s != state_) {
             out.motors.stopVoice(0);
             out.motors.setLevel(left, s == State::OnTarget ? 0.6f * level : 0.0f);
@@ -101,9 +101,9 @@ private:
         // (column 2) for a clockwise turn on the right arm, but the thumb side (column 0) on the
         // left arm, whose thumb points to the body's right.
         const bool turnRight = s == State::TurnRight;
-        const int motor = (turnRight == (side_ == ArmSide::Right)) ? right : left;
-        PatternRequest geiger;
-        geiger.kind = PatternKind::Geiger;
+        const int motor = (turnRight == (side_ == core::ArmSide::Right)) ? right : left;
+        core::PatternRequest geiger;
+        geiger.kind = core::PatternKind::Geiger;
         geiger.motors = static_cast<std::uint16_t>(1u << motor);
         geiger.level = level;
         geiger.rate = rate;
@@ -114,15 +114,15 @@ private:
     }
 
     ParameterSet params_;
-    ArmSide side_ = ArmSide::Right;
+    core::ArmSide side_ = core::ArmSide::Right;
     State state_ = State::Unknown;
     double clickRate_ = 0.0;            ///< Hz of the running Geiger pattern (0 = none)
     bool clearPending_ = true;
-    Hysteresis onTarget_ {5.0, 7.0};    ///< downward boundary on |error|, deg
+    tactile::Hysteresis onTarget_ {5.0, 7.0}; ///< downward boundary on |error|, deg
 };
 
 } // namespace
 
-std::unique_ptr<Scene> makeCompassScene() { return std::make_unique<CompassScene>(); }
+std::unique_ptr<core::Scene> makeCompassScene() { return std::make_unique<CompassScene>(); }
 
-} // namespace armadillo
+} // namespace armadillo::instruments

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace armadillo {
+namespace armadillo::instruments {
 
 void CymbalGesture::setParams(const CymbalGestureParams& p) noexcept
 {
@@ -151,7 +151,7 @@ CrashBank buildCrashBank(double sampleRateHz, std::uint64_t seed, int fragmentCo
     return bank;
 }
 
-std::vector<float> prepareUserAudio(const AudioBuffer& audio, double sampleRateHz)
+std::vector<float> prepareUserAudio(const core::AudioBuffer& audio, double sampleRateHz)
 {
     std::vector<float> out;
     const std::size_t frames = audio.frames();
@@ -174,11 +174,11 @@ std::vector<float> prepareUserAudio(const AudioBuffer& audio, double sampleRateH
         d.data_out = out.data();
         d.output_frames = static_cast<long>(out.size());
         const int error = src_simple(&d, SRC_SINC_MEDIUM_QUALITY, 1);
-        if (error != 0) throw InputError("", 0, "", std::string("cannot resample the recording: ") + src_strerror(error));
+        if (error != 0) throw core::InputError("", 0, "", std::string("cannot resample the recording: ") + src_strerror(error));
         out.resize(static_cast<std::size_t>(d.output_frames_gen));
     }
     normaliseRms(out, kFragmentRms);
     return out;
 }
 
-} // namespace armadillo
+} // namespace armadillo::instruments

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace armadillo {
+namespace armadillo::instruments {
 
 /// Strike / touch detection at the cymbal's surface (thesis §3.6.1). The cymbal lies below the
 /// surface elevation. Entering it is a strike when the arm had been raised above `armDeg` and
@@ -41,7 +41,7 @@ public:
 
 private:
     CymbalGestureParams p_ {};
-    Hysteresis inside_ {-2.0, 2.0};   ///< downward boundary: on below surface − band
+    tactile::Hysteresis inside_ {-2.0, 2.0}; ///< downward boundary: on below surface − band
     bool armed_ = false;
     bool havePrevious_ = false;
     double previousDeg_ = 0.0;
@@ -63,7 +63,7 @@ struct CrashBank {
 CrashBank buildCrashBank(double sampleRateHz, std::uint64_t seed, int fragmentCount = 10);
 /// Mixes to mono, resamples to the rate (libsamplerate, band-limited) and normalises RMS like the
 /// bank's fragments. InputError if the resampler refuses the rates.
-std::vector<float> prepareUserAudio(const AudioBuffer& audio, double sampleRateHz);
+std::vector<float> prepareUserAudio(const core::AudioBuffer& audio, double sampleRateHz);
 
 /// Parameter ids of the cymbal scene.
 namespace cymbalParam {
@@ -79,13 +79,13 @@ inline constexpr const char* kFileMix = "cymbal.fileMix";         ///< chance a 
 } // namespace cymbalParam
 
 /// The cymbal scene with its one extra entry point: a recording to cut fragments from.
-class CymbalInstrument : public Scene {
+class CymbalInstrument : public core::Scene {
 public:
     /// Not real-time: call before prepare() (prepare resamples it to the audio rate).
-    virtual void setUserAudio(const AudioBuffer& audio) = 0;
+    virtual void setUserAudio(const core::AudioBuffer& audio) = 0;
     /// readWav + setUserAudio; throws InputError for a bad file.
-    void loadUserAudio(const std::string& wavPath) { setUserAudio(readWav(wavPath)); }
+    void loadUserAudio(const std::string& wavPath) { setUserAudio(core::readWav(wavPath)); }
 };
 std::unique_ptr<CymbalInstrument> makeCymbalInstrument();
 
-} // namespace armadillo
+} // namespace armadillo::instruments

@@ -13,12 +13,12 @@
 #include <cmath>
 #include <limits>
 
-namespace armadillo {
+namespace armadillo::instruments {
 namespace {
 
 enum CymbalIndex : int { kStrikeSpeed, kArm, kSurface, kLevel, kDamp, kIdle, kBrush, kTail, kFileMix };
 
-std::vector<ParamSpec> cymbalSpecs()
+std::vector<core::ParamSpec> cymbalSpecs()
 {
     return {
         {cymbalParam::kStrikeSpeed, "Strike speed", 30.0f, 1000.0f, 150.0f, "deg/s", {}},
@@ -110,15 +110,15 @@ public:
     CymbalScene() : params_(cymbalSpecs()) {}
 
     std::string_view name() const override { return "cymbal"; }
-    std::vector<ParamSpec> parameters() const override { return params_.specs(); }
+    std::vector<core::ParamSpec> parameters() const override { return params_.specs(); }
     bool producesAudio() const override { return true; }
     void setParameter(int index, float value) noexcept override { params_.set(index, value); }
-    void setUserAudio(const AudioBuffer& audio) override { userSource_ = audio; }
+    void setUserAudio(const core::AudioBuffer& audio) override { userSource_ = audio; }
 
-    void prepare(const SceneConfig& config) override
+    void prepare(const core::SceneConfig& config) override
     {
         sampleRate_ = config.sampleRate > 0.0 ? config.sampleRate : 48000.0;
-        if (!config.audioFile.empty()) userSource_ = readWav(config.audioFile);   // InputError names a bad file
+        if (!config.audioFile.empty()) userSource_ = core::readWav(config.audioFile); // InputError names a bad file
         bank_ = buildCrashBank(sampleRate_, config.seed);
         bank_.user = prepareUserAudio(userSource_, sampleRate_);
         rng_.seed(config.seed);
@@ -141,7 +141,7 @@ public:
         clearOnNextControl_ = true;
     }
 
-    void control(const ControlInput& in, SceneOutput& out) override
+    void control(const core::ControlInput& in, core::SceneOutput& out) override
     {
         const double dt = std::clamp(in.dt, 1e-4, 0.1);
         clock_ += dt;
@@ -164,7 +164,7 @@ public:
 
         const Eigen::Quaterniond q = in.arm.q.normalized();
         const Eigen::Vector3d axis = q * Eigen::Vector3d::UnitX();
-        const double elevationDeg = radToDeg(std::asin(std::clamp(axis.y(), -1.0, 1.0)));
+        const double elevationDeg = core::radToDeg(std::asin(std::clamp(axis.y(), -1.0, 1.0)));
         const Eigen::Vector3d omega = angularVelocityEarth(in.arm, q, dt);
         const CymbalGesture::Result g = gesture_.update(elevationDeg, dt);
 
@@ -176,7 +176,7 @@ public:
     }
 
     /// The latest strike's speed (deg/s, 0 before any), for mappings (Core/Scene.h).
-    SceneValues values() const noexcept override { return values_; }
+    core::SceneValues values() const noexcept override { return values_; }
 
     void renderAudio(float* left, float* right, int numSamples) noexcept override
     {
@@ -190,16 +190,16 @@ public:
     }
 
 private:
-    SceneValues values_ {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::quiet_NaN(), 0.0f};   // control thread: strike 0 before any
+    core::SceneValues values_ {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::quiet_NaN(), 0.0f}; // control thread: strike 0 before any
     static constexpr int kStrikeVoice = 0, kDampVoice = 1, kGearVoice = 2;
     static constexpr double kRingSeconds = 10.0;   ///< how long a touch still counts as damping
 
-    Eigen::Vector3d angularVelocityEarth(const ArmState& arm, const Eigen::Quaterniond& q, double dt)
+    Eigen::Vector3d angularVelocityEarth(const core::ArmState& arm, const Eigen::Quaterniond& q, double dt)
     {
         return q * motion_.update(arm, dt);
     }
 
-    void strike(double speedDegPerS, SceneOutput& out)
+    void strike(double speedDegPerS, core::SceneOutput& out)
     {
         const double gain = cymbalStrikeGain(speedDegPerS, params_.get(kStrikeSpeed));
         CymbalCommand c;
@@ -232,8 +232,8 @@ private:
         c.index = rng_.uniform(1.5, 4.0);
         commands_.push(c);
 
-        PatternRequest jolt;
-        jolt.kind = PatternKind::Jolt;
+        core::PatternRequest jolt;
+        jolt.kind = core::PatternKind::Jolt;
         jolt.motors = 0x01FF;
         jolt.level = static_cast<float>(6.0 + 9.0 * gain);
         jolt.duration = 0.12;
@@ -244,15 +244,15 @@ private:
         ringingUntil_ = clock_ + kRingSeconds;
     }
 
-    void damp(double speedDegPerS, SceneOutput& out)
+    void damp(double speedDegPerS, core::SceneOutput& out)
     {
         CymbalCommand c;
         c.type = CymbalCommand::Damp;
         c.dampSeconds = params_.get(kDamp);
         commands_.push(c);
         // The soft fading vibration in every motor, over the same time as the sound's fade.
-        PatternRequest fade;
-        fade.kind = PatternKind::FadeOutPulse;
+        core::PatternRequest fade;
+        fade.kind = core::PatternKind::FadeOutPulse;
         fade.motors = 0x01FF;
         fade.level = 4.0f;
         fade.duration = c.dampSeconds;
@@ -266,7 +266,7 @@ private:
     /// Inside the cymbal (thesis §3.6.1): idle vibration everywhere; movement adds vibration
     /// ∝ |ω| on the side the flux picks; when the board's face leads (moving up with the palm
     /// down) the pulling alternation instead, because no motor sits under the board.
-    void insideFeedback(const Eigen::Quaterniond& q, const Eigen::Vector3d& omega, SceneOutput& out)
+    void insideFeedback(const Eigen::Quaterniond& q, const Eigen::Vector3d& omega, core::SceneOutput& out)
     {
         const double idle = params_.get(kIdle);
         const double speed = omega.norm();   // rad/s
@@ -277,25 +277,25 @@ private:
         const bool sideLeads = sideHysteresis_.update(share);   // thumb / fifth finger vs palm / face
         const auto moveLevel = static_cast<float>(std::min(15.0, idle + params_.get(kBrush) * speed));
 
-        std::array<float, kGridMotors> target {};
+        std::array<float, core::kGridMotors> target {};
         target.fill(static_cast<float>(idle));
         bool gear = false;
         if (moving) {
             if (sideLeads) {
                 // Rotation about the face normal sweeps the edges: + leads with the thumb side
                 // (column 0 on the right arm), − with the fifth finger (column 2).
-                target[static_cast<std::size_t>(motorIndex(1, fluxFace > 0.0 ? 0 : 2))] = moveLevel;
+                target[static_cast<std::size_t>(core::motorIndex(1, fluxFace > 0.0 ? 0 : 2))] = moveLevel;
             } else if (fluxEdge < 0.0) {
-                target[static_cast<std::size_t>(motorIndex(1, 1))] = moveLevel;   // palm leads
+                target[static_cast<std::size_t>(core::motorIndex(1, 1))] = moveLevel; // palm leads
             } else {
                 gear = true;                                                      // face leads
             }
         }
-        for (int m = 0; m < kGridMotors; ++m) setShown(m, target[static_cast<std::size_t>(m)], out);
+        for (int m = 0; m < core::kGridMotors; ++m) setShown(m, target[static_cast<std::size_t>(m)], out);
 
         if (gear && (!gearOn_ || std::fabs(moveLevel - gearLevel_) > 1.5f)) {
-            PatternRequest pull;
-            pull.kind = PatternKind::GearPull;
+            core::PatternRequest pull;
+            pull.kind = core::PatternKind::GearPull;
             pull.motors = 0x01FF;
             pull.level = moveLevel;
             pull.duration = -1.0;
@@ -314,17 +314,17 @@ private:
         harmonicityShift_.store(0.35 * std::clamp(fluxFace / 3.0, -1.0, 1.0), std::memory_order_relaxed);
     }
 
-    void leaveInside(SceneOutput& out)
+    void leaveInside(core::SceneOutput& out)
     {
         // Above the surface nothing is felt (thesis: the arm is not "inside" the instrument).
-        for (int m = 0; m < kGridMotors; ++m) setShown(m, 0.0f, out);
+        for (int m = 0; m < core::kGridMotors; ++m) setShown(m, 0.0f, out);
         if (gearOn_) out.motors.stopVoice(kGearVoice);
         gearOn_ = false;
         indexBoost_.store(0.0, std::memory_order_relaxed);
         harmonicityShift_.store(0.0, std::memory_order_relaxed);
     }
 
-    void setShown(int motor, float level, SceneOutput& out)
+    void setShown(int motor, float level, core::SceneOutput& out)
     {
         auto& s = shown_[static_cast<std::size_t>(motor)];
         if (s == level) return;
@@ -365,11 +365,11 @@ private:
         v = CrashVoice {};
         v.active = true;
         const auto& fa = bank_.fragments[static_cast<std::size_t>(std::clamp(c.fragmentA, 0, static_cast<int>(bank_.fragments.size()) - 1))];
-        v.a = {fa.data(), fa.size(), c.offsetA, c.rateA, std::cos(0.5 * kPi * c.panA), std::sin(0.5 * kPi * c.panA)};
+        v.a = {fa.data(), fa.size(), c.offsetA, c.rateA, std::cos(0.5 * core::kPi * c.panA), std::sin(0.5 * core::kPi * c.panA)};
         const std::vector<float>& fb = c.fragmentB < 0 && !bank_.user.empty()
             ? bank_.user
             : bank_.fragments[static_cast<std::size_t>(std::clamp(c.fragmentB, 0, static_cast<int>(bank_.fragments.size()) - 1))];
-        v.b = {fb.data(), fb.size(), c.offsetB, c.rateB, 0.8 * std::cos(0.5 * kPi * c.panB), 0.8 * std::sin(0.5 * kPi * c.panB)};
+        v.b = {fb.data(), fb.size(), c.offsetB, c.rateB, 0.8 * std::cos(0.5 * core::kPi * c.panB), 0.8 * std::sin(0.5 * core::kPi * c.panB)};
         v.gain = c.gain;
         v.length = static_cast<long>(e.lengthS * fs);
         v.fadeStart = static_cast<long>((e.lengthS - e.fadeS) * fs);
@@ -443,16 +443,16 @@ private:
     }
 
     ParameterSet params_;
-    AudioBuffer userSource_ {};
+    core::AudioBuffer userSource_ {};
     CrashBank bank_ {};
     double sampleRate_ = 48000.0;
 
     // Control thread.
     dsp::Random rng_ {1};
     CymbalGesture gesture_ {};
-    Hysteresis movingHysteresis_ {0.4, 0.2};   ///< rad/s: moving inside vs still
-    Hysteresis sideHysteresis_ {0.55, 0.45};   ///< share of |flux| about the face normal
-    std::array<float, kGridMotors> shown_ {};
+    tactile::Hysteresis movingHysteresis_ {0.4, 0.2}; ///< rad/s: moving inside vs still
+    tactile::Hysteresis sideHysteresis_ {0.55, 0.45}; ///< share of |flux| about the face normal
+    std::array<float, core::kGridMotors> shown_ {};
     bool gearOn_ = false;
     float gearLevel_ = 0.0f;
     bool clearOnNextControl_ = true;
@@ -461,7 +461,7 @@ private:
     double ringingUntil_ = -1.0;  ///< s on clock_
 
     // Control → audio.
-    SpscQueue<CymbalCommand, 32> commands_;
+    core::SpscQueue<CymbalCommand, 32> commands_;
     std::atomic<double> indexBoost_ {0.0};        ///< added FM index, radians
     std::atomic<double> harmonicityShift_ {0.0};  ///< added to the harmonicity ratio
 
@@ -472,6 +472,6 @@ private:
 } // namespace
 
 std::unique_ptr<CymbalInstrument> makeCymbalInstrument() { return std::make_unique<CymbalScene>(); }
-std::unique_ptr<Scene> makeCymbalScene() { return makeCymbalInstrument(); }
+std::unique_ptr<core::Scene> makeCymbalScene() { return makeCymbalInstrument(); }
 
-} // namespace armadillo
+} // namespace armadillo::instruments

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdint>
 
-namespace armadillo::dsp {
+namespace armadillo::instruments::dsp {
 
 inline constexpr double kTwoPi = 6.283185307179586476925;
 
@@ -126,4 +126,4 @@ struct StateVariableFilter {
 /// Flushes tiny magnitudes to zero so decaying recursions never enter denormal arithmetic.
 inline double flushTiny(double x) noexcept { return std::fabs(x) < 1e-15 ? 0.0 : x; }
 
-} // namespace armadillo::dsp
+} // namespace armadillo::instruments::dsp

@@ -2,7 +2,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace armadillo {
+namespace armadillo::instruments {
 
 const std::vector<std::string>& fretScaleNames()
 {
@@ -43,8 +43,8 @@ const std::vector<std::string>& pitchClassNames()
 
 double semitonesForAxisY(const PitchMapParams& p, double axisY) noexcept
 {
-    const double y0 = std::sin(degToRad(p.bottomElevationDeg));
-    const double y1 = std::sin(degToRad(p.topElevationDeg));
+    const double y0 = std::sin(core::degToRad(p.bottomElevationDeg));
+    const double y1 = std::sin(core::degToRad(p.topElevationDeg));
     const double span = std::fabs(y1 - y0) < 1e-6 ? (y1 >= y0 ? 1e-6 : -1e-6) : (y1 - y0);
     return p.rangeSemitones * (axisY - y0) / span;
 }
@@ -109,9 +109,9 @@ double snapToScale(double semitones, const PitchMapParams& p, FretScale scale, i
 int fretMotor(int fretIndex) noexcept
 {
     static constexpr std::array<int, kMaxFrets> motors {
-        motorIndex(2, 0), motorIndex(2, 1), motorIndex(2, 2),   // elbow row: A B C#
-        motorIndex(1, 0), motorIndex(1, 1), motorIndex(1, 2),   // middle row: D E F#
-        motorIndex(0, 0), motorIndex(0, 1)};                    // wrist row: G# A (right unused)
+        core::motorIndex(2, 0), core::motorIndex(2, 1), core::motorIndex(2, 2), // elbow row: A B C#
+        core::motorIndex(1, 0), core::motorIndex(1, 1), core::motorIndex(1, 2), // middle row: D E F#
+        core::motorIndex(0, 0), core::motorIndex(0, 1)};        // wrist row: G# A (right unused)
     return fretIndex >= 0 && fretIndex < kMaxFrets ? motors[static_cast<std::size_t>(fretIndex)] : -1;
 }
 
@@ -151,4 +151,4 @@ int FretTracker::update(double frequencyHz) noexcept
     return current_;
 }
 
-} // namespace armadillo
+} // namespace armadillo::instruments

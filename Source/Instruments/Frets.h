@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace armadillo {
+namespace armadillo::instruments {
 
 /// Scales the frets can follow: semitone steps from the root within one octave (root = 0).
 enum class FretScale : int { Major, NaturalMinor, HarmonicMinor, Dorian, Mixolydian, MajorPentatonic, MinorPentatonic };
@@ -67,13 +67,13 @@ public:
     void reset() noexcept { primed_ = false; }
 
 private:
-    std::array<Hysteresis, kMaxFrets> boundaries_ {
-        Hysteresis(0, 0), Hysteresis(0, 0), Hysteresis(0, 0), Hysteresis(0, 0),
-        Hysteresis(0, 0), Hysteresis(0, 0), Hysteresis(0, 0), Hysteresis(0, 0)};
+    std::array<tactile::Hysteresis, kMaxFrets> boundaries_ {
+        tactile::Hysteresis(0, 0), tactile::Hysteresis(0, 0), tactile::Hysteresis(0, 0), tactile::Hysteresis(0, 0),
+        tactile::Hysteresis(0, 0), tactile::Hysteresis(0, 0), tactile::Hysteresis(0, 0), tactile::Hysteresis(0, 0)};
     std::array<double, kMaxFrets> hz_ {};
     int count_ = 0;
     int current_ = -1;
     bool primed_ = false;
 };
 
-} // namespace armadillo
+} // namespace armadillo::instruments

@@ -4,7 +4,7 @@
 #include <cstring>
 #include <stdexcept>
 
-namespace armadillo {
+namespace armadillo::instruments {
 
 namespace {
 constexpr double kPiD = 3.14159265358979323846;
@@ -373,4 +373,4 @@ int NoteListener::process(const float* mono, int n, const ListenerSettings& s) n
     return completed;
 }
 
-} // namespace armadillo
+} // namespace armadillo::instruments

@@ -41,7 +41,7 @@
 #include <string>
 #include <vector>
 
-namespace armadillo {
+namespace armadillo::instruments {
 
 /// In-place iterative radix-2 complex FFT of a fixed power-of-two size (tables built in prepare).
 class Fft {
@@ -175,4 +175,4 @@ private:
     std::int64_t midiOpenAt_ = 0;
 };
 
-} // namespace armadillo
+} // namespace armadillo::instruments

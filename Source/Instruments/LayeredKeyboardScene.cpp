@@ -35,12 +35,12 @@
 #include <atomic>
 #include <cmath>
 
-namespace armadillo {
+namespace armadillo::instruments {
 namespace {
 
 enum LayeredIndex : int { kBottom, kTop, kShift, kStretch, kSpread, kVolume, kNotes, kSensitivity, kCapture, kPhraseGap };
 
-std::vector<ParamSpec> layeredSpecs()
+std::vector<core::ParamSpec> layeredSpecs()
 {
     return {
         {"layered-keyboard.bottom", "Lowest layer (elevation)", -30.0f, 40.0f, 0.0f, "deg", {}},
@@ -92,16 +92,16 @@ struct CaptureRecord {
     int layerIndex = 0;
 };
 
-class LayeredKeyboardScene final : public Scene {
+class LayeredKeyboardScene final : public core::Scene {
 public:
     LayeredKeyboardScene() : params_(layeredSpecs()) {}
     std::string_view name() const override { return "layered-keyboard"; }
-    std::vector<ParamSpec> parameters() const override { return params_.specs(); }
+    std::vector<core::ParamSpec> parameters() const override { return params_.specs(); }
     void setParameter(int index, float value) noexcept override { params_.set(index, value); }
     bool listensToAudio() const override { return true; }
     bool listensToMidi() const override { return true; }
 
-    void processMidi(const MidiNoteEvent* events, int count) noexcept override
+    void processMidi(const core::MidiNoteEvent* events, int count) noexcept override
     {
         if (!events) return;
         const std::int64_t base = listener_.samplesProcessed();   // the block's first sample (called before processInput)
@@ -113,7 +113,7 @@ public:
     }
     bool producesAudio() const override { return true; }
 
-    void prepare(const SceneConfig& config) override
+    void prepare(const core::SceneConfig& config) override
     {
         fs_ = config.sampleRate > 0.0 ? config.sampleRate : 48000.0;
         listener_.prepare(fs_);
@@ -167,7 +167,7 @@ public:
         }
     }
 
-    void control(const ControlInput& in, SceneOutput& out) override
+    void control(const core::ControlInput& in, core::SceneOutput& out) override
     {
         if (clearPending_) {
             out.motors.clearLevels();
@@ -178,16 +178,16 @@ public:
         CaptureRecord r;
         while (captures_.pop(r)) {
             for (int i = 0; i < r.count; ++i) out.events.emit("captured-note", static_cast<float>(r.notes[static_cast<std::size_t>(i)]));
-            PatternRequest accent;
-            accent.kind = PatternKind::Accent;
-            accent.motors = motors::row(0);
-            accent.level = static_cast<float>(kRatedLevel + 2);
+            core::PatternRequest accent;
+            accent.kind = core::PatternKind::Accent;
+            accent.motors = tactile::motors::row(0);
+            accent.level = static_cast<float>(core::kRatedLevel + 2);
             accent.duration = 0.025;
             accent.voice = 1;
             out.motors.trigger(accent);
         }
         if (!in.arm.valid) return;
-        const Pose& pose = in.arm.features.pose;
+        const core::Pose& pose = in.arm.features.pose;
         const std::uint32_t word = published_.load(std::memory_order_acquire);
         const int count = static_cast<int>(word & 0xFFu);
         const int first = static_cast<int>((word >> 8) & 0xFFu);
@@ -210,20 +210,20 @@ public:
             out.motors.clearLevels();
             if (layer >= 0) {
                 out.events.emit("layer", static_cast<float>(layer));
-                PatternRequest point;
-                point.kind = PatternKind::Point;
-                point.motors = motors::bit(fretMotor(std::min(layer, 7)));
-                point.level = static_cast<float>(kRatedLevel + 3);
+                core::PatternRequest point;
+                point.kind = core::PatternKind::Point;
+                point.motors = tactile::motors::bit(fretMotor(std::min(layer, 7)));
+                point.level = static_cast<float>(core::kRatedLevel + 3);
                 point.duration = 0.06;
                 point.voice = 0;
                 out.motors.trigger(point);
             }
             layer_ = layer;
         }
-        if (layer_ >= 0) out.motors.setSoftLevel(fretMotor(std::min(layer_, 7)), static_cast<float>(kRatedLevel));
+        if (layer_ >= 0) out.motors.setSoftLevel(fretMotor(std::min(layer_, 7)), static_cast<float>(core::kRatedLevel));
         // Targets for the audio thread: which slot (−1 silence), pitch shift, filter.
         targetLayer_.store(layer_ >= 0 ? (first + layer_) % kMaxLayers : -1, std::memory_order_release);
-        const double daz = std::clamp(wrapDeg180(pose.azimuthDeg - entryAzimuth_) / 60.0, -1.0, 1.0);
+        const double daz = std::clamp(core::wrapDeg180(pose.azimuthDeg - entryAzimuth_) / 60.0, -1.0, 1.0);
         shiftTarget_.store(daz * params_.get(kShift), std::memory_order_relaxed);
         const double roll = std::clamp(pose.rollDeg / 90.0, -1.0, 1.0);
         cutoffTarget_.store(300.0 * std::pow(40.0, 0.5 * (roll + 1.0)), std::memory_order_relaxed);   // 300 Hz … 12 kHz
@@ -346,7 +346,7 @@ private:
     int current_ = -1;                               ///< audio thread: the player fading in/holding
     dsp::OnePole shiftSmooth_ {}, cutoffSmooth_ {};
     dsp::StateVariableFilter filter_ {};
-    SpscQueue<CaptureRecord, 64> captures_;         ///< audio → control: notes found
+    core::SpscQueue<CaptureRecord, 64> captures_;   ///< audio → control: notes found
     std::atomic<std::uint32_t> published_ {0};       ///< audio → control: the layer list
     std::atomic<int> targetLayer_ {-1};              ///< control → audio: slot of the layer under the hand
     std::atomic<double> shiftTarget_ {0.0}, cutoffTarget_ {12000.0};
@@ -357,6 +357,6 @@ private:
 
 } // namespace
 
-std::unique_ptr<Scene> makeLayeredKeyboardScene() { return std::make_unique<LayeredKeyboardScene>(); }
+std::unique_ptr<core::Scene> makeLayeredKeyboardScene() { return std::make_unique<LayeredKeyboardScene>(); }
 
-} // namespace armadillo
+} // namespace armadillo::instruments

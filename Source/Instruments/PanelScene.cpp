@@ -13,12 +13,12 @@
 #include "Tactile/Hysteresis.h"
 #include <cmath>
 
-namespace armadillo {
+namespace armadillo::instruments {
 namespace {
 
 enum PanelIndex : int { kWidth, kLevelAngle, kRollRate, kMotorLevel, kVolume };
 
-std::vector<ParamSpec> panelSpecs()
+std::vector<core::ParamSpec> panelSpecs()
 {
     return {
         {"panel.width", "Knob width", 5.0f, 40.0f, 15.0f, "deg", {}},
@@ -36,15 +36,15 @@ double knobFrequencyHz(int knob)
     return 220.0 * std::exp2((12.0 * (knob / 5) + steps[knob % 5]) / 12.0);
 }
 
-class PanelScene final : public Scene {
+class PanelScene final : public core::Scene {
 public:
     PanelScene() : params_(panelSpecs()) {}
     std::string_view name() const override { return "panel"; }
-    std::vector<ParamSpec> parameters() const override { return params_.specs(); }
+    std::vector<core::ParamSpec> parameters() const override { return params_.specs(); }
     void setParameter(int index, float value) noexcept override { params_.set(index, value); }
     bool producesAudio() const override { return true; }
 
-    void prepare(const SceneConfig& config) override
+    void prepare(const core::SceneConfig& config) override
     {
         sampleRate_ = config.sampleRate > 0.0 ? config.sampleRate : 48000.0;
         int drop;
@@ -64,11 +64,11 @@ public:
         motion_.reset();
     }
 
-    void control(const ControlInput& in, SceneOutput& out) override
+    void control(const core::ControlInput& in, core::SceneOutput& out) override
     {
         clock_ += in.dt;
         if (!in.arm.valid) return;
-        const Pose& pose = in.arm.features.pose;
+        const core::Pose& pose = in.arm.features.pose;
         const Eigen::Vector3d omega = motion_.update(in.arm, in.dt);
 
         // Level: hysteresis between ±levelAngle; the band in between keeps the last level.
@@ -81,8 +81,8 @@ public:
         const bool wasUpper = upper_.on();
         const bool upper = upper_.update(pose.elevationDeg);
         if (upper != wasUpper) {
-            PatternRequest jolt;
-            jolt.kind = PatternKind::Jolt;
+            core::PatternRequest jolt;
+            jolt.kind = core::PatternKind::Jolt;
             jolt.level = 10.0f;
             jolt.duration = 0.1;
             jolt.voice = 1;
@@ -96,7 +96,7 @@ public:
             haveReference_ = true;
         }
         const double width = params_.get(kWidth);
-        const double offset = wrapDeg180(pose.azimuthDeg - referenceAzimuth_) / width + 4.5;   // in knob widths
+        const double offset = core::wrapDeg180(pose.azimuthDeg - referenceAzimuth_) / width + 4.5; // in knob widths
         int knob = knob_;
         // Sector hysteresis: leave the current knob only 10% of a width past its edge.
         if (knob < 0 || offset < knob - 0.1 || offset > knob + 1.1) knob = std::clamp(static_cast<int>(std::floor(offset)), 0, 8);
@@ -107,8 +107,8 @@ public:
 
         // The knob under the arm pulses, fading in (upper) or out (lower), every 0.5 s.
         if (knobChanged || clock_ >= nextPulse_) {
-            PatternRequest pulse;
-            pulse.kind = upper ? PatternKind::FadeInPulse : PatternKind::FadeOutPulse;
+            core::PatternRequest pulse;
+            pulse.kind = upper ? core::PatternKind::FadeInPulse : core::PatternKind::FadeOutPulse;
             pulse.motors = static_cast<std::uint16_t>(1u << knob);   // keypad order = motor order
             pulse.level = static_cast<float>(params_.get(kMotorLevel));
             pulse.duration = 0.35;
@@ -125,8 +125,8 @@ public:
             const int selected = knob + (upper ? 0 : 9);
             out.events.emit("select", static_cast<float>(selected));
             values_.panelSelected = static_cast<float>(selected);
-            PatternRequest accent;
-            accent.kind = PatternKind::Accent;
+            core::PatternRequest accent;
+            accent.kind = core::PatternKind::Accent;
             accent.motors = static_cast<std::uint16_t>(1u << knob);
             accent.level = 12.0f;
             accent.voice = 2;
@@ -137,7 +137,7 @@ public:
 
     /// The panel's state for mappings (Core/Scene.h SceneValues: panel.knob, panel.level,
     /// panel.selected): the panel as a remote (docs/MAPPING.md, docs/MQTT.md).
-    SceneValues values() const noexcept override { return values_; }
+    core::SceneValues values() const noexcept override { return values_; }
 
     void renderAudio(float* left, float* right, int numSamples) noexcept override
     {
@@ -165,21 +165,21 @@ private:
     // Control thread.
     ArmMotion motion_ {};
     QuickRoll roll_ {};
-    Hysteresis upper_ {30.0, -30.0};
+    tactile::Hysteresis upper_ {30.0, -30.0};
     bool upperKnown_ = false;
     bool haveReference_ = false;
     double referenceAzimuth_ = 0.0;
     int knob_ = -1;
-    SceneValues values_ {};
+    core::SceneValues values_ {};
     double clock_ = 0.0, nextPulse_ = 0.0;
     // Control → audio.
-    SpscQueue<int, 16> selections_;
+    core::SpscQueue<int, 16> selections_;
     // Audio thread.
     double blipPhase_ = 0.0, blipIncrement_ = 0.0, blipAmplitude_ = 0.0, decayMul_ = 0.0;
 };
 
 } // namespace
 
-std::unique_ptr<Scene> makePanelScene() { return std::make_unique<PanelScene>(); }
+std::unique_ptr<core::Scene> makePanelScene() { return std::make_unique<PanelScene>(); }
 
-} // namespace armadillo
+} // namespace armadillo::instruments

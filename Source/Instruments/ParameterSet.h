@@ -9,25 +9,25 @@
 #include <string_view>
 #include <vector>
 
-namespace armadillo {
+namespace armadillo::instruments {
 
 class ParameterSet {
 public:
-    explicit ParameterSet(std::vector<ParamSpec> specs)
+    explicit ParameterSet(std::vector<core::ParamSpec> specs)
         : specs_(std::move(specs)), values_(std::make_unique<std::atomic<float>[]>(specs_.size()))
     {
         static_assert(std::atomic<float>::is_always_lock_free, "parameters must cross threads without locks");
         for (std::size_t i = 0; i < specs_.size(); ++i) values_[i].store(specs_[i].defaultValue, std::memory_order_relaxed);
     }
 
-    const std::vector<ParamSpec>& specs() const noexcept { return specs_; }
+    const std::vector<core::ParamSpec>& specs() const noexcept { return specs_; }
     int size() const noexcept { return static_cast<int>(specs_.size()); }
 
     /// Clamps to the spec's range; NaN is ignored (a parameter never becomes NaN).
     void set(int index, float value) noexcept
     {
         if (index < 0 || index >= size() || std::isnan(value)) return;
-        const ParamSpec& s = specs_[static_cast<std::size_t>(index)];
+        const core::ParamSpec& s = specs_[static_cast<std::size_t>(index)];
         float v = std::clamp(value, s.min, s.max);
         if (!s.choices.empty()) v = std::round(v);
         values_[static_cast<std::size_t>(index)].store(v, std::memory_order_relaxed);
@@ -44,12 +44,12 @@ public:
     }
 
 private:
-    std::vector<ParamSpec> specs_;
+    std::vector<core::ParamSpec> specs_;
     std::unique_ptr<std::atomic<float>[]> values_;
 };
 
 /// Index of a parameter id in any scene's parameters(), or −1 (not real-time).
-inline int parameterIndex(const Scene& scene, std::string_view id)
+inline int parameterIndex(const core::Scene& scene, std::string_view id)
 {
     const auto specs = scene.parameters();
     for (std::size_t i = 0; i < specs.size(); ++i)
@@ -57,4 +57,4 @@ inline int parameterIndex(const Scene& scene, std::string_view id)
     return -1;
 }
 
-} // namespace armadillo
+} // namespace armadillo::instruments

@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace armadillo {
+namespace armadillo::instruments {
 
 struct QuickRollParams {
     double enterRate = 3.0;     ///< rad/s about the forearm axis that starts a roll
@@ -36,7 +36,7 @@ public:
     void reset() noexcept { rolling_.reset(false); }
 
 private:
-    Hysteresis rolling_ {3.0, 1.0};
+    tactile::Hysteresis rolling_ {3.0, 1.0};
 };
 
-} // namespace armadillo
+} // namespace armadillo::instruments

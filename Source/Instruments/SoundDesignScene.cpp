@@ -13,12 +13,12 @@
 #include <atomic>
 #include <cmath>
 
-namespace armadillo {
+namespace armadillo::instruments {
 namespace {
 
 enum SoundDesignIndex : int { kLevel, kSpan, kRollRate };
 
-std::vector<ParamSpec> soundDesignSpecs()
+std::vector<core::ParamSpec> soundDesignSpecs()
 {
     return {
         {"sound-design.level", "Level", 0.0f, 1.0f, 0.3f, "", {}},
@@ -38,15 +38,15 @@ struct FmSound {
 };
 constexpr int kPages = 3;
 
-class SoundDesignScene final : public Scene {
+class SoundDesignScene final : public core::Scene {
 public:
     SoundDesignScene() : params_(soundDesignSpecs()) {}
     std::string_view name() const override { return "sound-design"; }
-    std::vector<ParamSpec> parameters() const override { return params_.specs(); }
+    std::vector<core::ParamSpec> parameters() const override { return params_.specs(); }
     void setParameter(int index, float value) noexcept override { params_.set(index, value); }
     bool producesAudio() const override { return true; }
 
-    void prepare(const SceneConfig& config) override
+    void prepare(const core::SceneConfig& config) override
     {
         sampleRate_ = config.sampleRate > 0.0 ? config.sampleRate : 48000.0;
         for (auto* s : {&pitch_, &index_, &harmonicity_, &vibrato_, &tremoloHz_, &tremoloDepth_, &amplitude_})
@@ -66,13 +66,13 @@ public:
         motion_.reset();
     }
 
-    void control(const ControlInput& in, SceneOutput& out) override
+    void control(const core::ControlInput& in, core::SceneOutput& out) override
     {
         if (!in.arm.valid) {
             publish(chosen_, 0.0);
             return;
         }
-        const Pose& pose = in.arm.features.pose;
+        const core::Pose& pose = in.arm.features.pose;
         const Eigen::Vector3d omega = motion_.update(in.arm, in.dt);
         if (!haveReference_) {
             referenceAzimuth_ = pose.azimuthDeg;
@@ -81,7 +81,7 @@ public:
         const double span = params_.get(kSpan);
         // u: elevation, v: azimuth offset, both 0..1 across ±span.
         const double u = std::clamp(0.5 + 0.5 * pose.elevationDeg / span, 0.0, 1.0);
-        const double v = std::clamp(0.5 + 0.5 * wrapDeg180(pose.azimuthDeg - referenceAzimuth_) / span, 0.0, 1.0);
+        const double v = std::clamp(0.5 + 0.5 * core::wrapDeg180(pose.azimuthDeg - referenceAzimuth_) / span, 0.0, 1.0);
         FmSound sound = chosen_;
         switch (page_) {
         case 0:
@@ -106,8 +106,8 @@ public:
             out.events.emit("select", static_cast<float>(page_));
             out.events.emit("param", static_cast<float>(u));
             out.events.emit("param", static_cast<float>(v));
-            PatternRequest jolt;
-            jolt.kind = PatternKind::Jolt;
+            core::PatternRequest jolt;
+            jolt.kind = core::PatternKind::Jolt;
             jolt.level = 10.0f;
             jolt.duration = 0.1;
             out.motors.trigger(jolt);
@@ -174,6 +174,6 @@ private:
 
 } // namespace
 
-std::unique_ptr<Scene> makeSoundDesignScene() { return std::make_unique<SoundDesignScene>(); }
+std::unique_ptr<core::Scene> makeSoundDesignScene() { return std::make_unique<SoundDesignScene>(); }
 
-} // namespace armadillo
+} // namespace armadillo::instruments

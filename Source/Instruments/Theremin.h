@@ -3,7 +3,7 @@
 // follows azimuth, with tactile frets. The scene itself is made by makeThereminScene().
 #include <cmath>
 
-namespace armadillo {
+namespace armadillo::instruments {
 
 /// Volume from azimuth: full at the reference heading (where the scene was entered), a quarter
 /// cosine down to silence at ±width degrees. deltaDeg is the wrapped heading difference.
@@ -30,4 +30,4 @@ inline constexpr const char* kFretAdjust = "theremin.fretAdjust"; ///< %, approa
 inline constexpr const char* kFretLevel = "theremin.fretLevel";   ///< motor level 0..15 (5)
 } // namespace thereminParam
 
-} // namespace armadillo
+} // namespace armadillo::instruments

@@ -22,12 +22,12 @@
 #include <atomic>
 #include <cmath>
 
-namespace armadillo {
+namespace armadillo::instruments {
 namespace {
 
 enum DuoIndex : int { kBase, kLevel };
 
-std::vector<ParamSpec> duoSpecs()
+std::vector<core::ParamSpec> duoSpecs()
 {
     return {
         {"theremin-duo.base", "Lowest pitch", 55.0f, 880.0f, 220.0f, "Hz", {}},
@@ -42,15 +42,15 @@ constexpr double kStopBelowDeg = -60.0;
 
 double sinDeg(double d) { return std::sin(d * 3.14159265358979323846 / 180.0); }
 
-class ThereminDuoScene final : public Scene {
+class ThereminDuoScene final : public core::Scene {
 public:
     ThereminDuoScene() : params_(duoSpecs()) {}
     std::string_view name() const override { return "theremin-duo"; }
-    std::vector<ParamSpec> parameters() const override { return params_.specs(); }
+    std::vector<core::ParamSpec> parameters() const override { return params_.specs(); }
     void setParameter(int index, float value) noexcept override { params_.set(index, value); }
     bool producesAudio() const override { return true; }
 
-    void prepare(const SceneConfig& config) override
+    void prepare(const core::SceneConfig& config) override
     {
         fs_ = config.sampleRate > 0.0 ? config.sampleRate : 48000.0;
         pitch_.setTime(0.015, fs_);
@@ -70,13 +70,13 @@ public:
         lastLeftLevel_ = -1.0f;
     }
 
-    void control(const ControlInput& in, SceneOutput& out) override
+    void control(const core::ControlInput& in, core::SceneOutput& out) override
     {
         if (!in.arm.valid) {
             gainTarget_.store(0.0);
             return;
         }
-        const Pose& right = in.arm.features.pose;
+        const core::Pose& right = in.arm.features.pose;
         if (!entered_) {
             entered_ = true;
             entryAzimuth_ = right.azimuthDeg;
@@ -84,7 +84,7 @@ public:
         double brightness = kDefaultBrightness, range = kDefaultRange;
         bool sounding = true;
         if (in.leftArm.valid) {
-            const Pose& left = in.leftArm.features.pose;
+            const core::Pose& left = in.leftArm.features.pose;
             brightness = std::clamp((left.elevationDeg + 45.0) / 90.0, 0.0, 1.0);
             range = 12.0 + 24.0 * std::clamp((left.rollDeg + 90.0) / 180.0, 0.0, 1.0);
             sounding = left.elevationDeg > kStopBelowDeg;
@@ -92,7 +92,7 @@ public:
         const double x = (sinDeg(std::clamp(right.elevationDeg, -90.0, 90.0)) - sinDeg(-45.0)) / (sinDeg(45.0) - sinDeg(-45.0));
         const double semitones = range * x;
         pitchTarget_.store(params_.get(kBase) * std::exp2(semitones / 12.0));
-        const double volume = thereminVolume(wrapDeg180(right.azimuthDeg - entryAzimuth_), 60.0);
+        const double volume = thereminVolume(core::wrapDeg180(right.azimuthDeg - entryAzimuth_), 60.0);
         gainTarget_.store(sounding ? volume : 0.0);
         brightTarget_.store(brightness);
 
@@ -102,12 +102,12 @@ public:
             out.motors.clearLevels();
             lastStep_ = step;
         }
-        out.motors.setSoftLevel(fretMotor(step), sounding && volume > 0.05 ? static_cast<float>(kRatedLevel) : 0.0f);
+        out.motors.setSoftLevel(fretMotor(step), sounding && volume > 0.05 ? static_cast<float>(core::kRatedLevel) : 0.0f);
         // Left arm (when worn): brightness as the middle row's level.
         if (out.leftMotors) {
-            const auto level = static_cast<float>(std::round(kRatedLevel * brightness * 2.0) / 2.0);
+            const auto level = static_cast<float>(std::round(core::kRatedLevel * brightness * 2.0) / 2.0);
             if (level != lastLeftLevel_) {
-                for (int c = 0; c < 3; ++c) out.leftMotors->setSoftLevel(motorIndex(1, c), level);
+                for (int c = 0; c < 3; ++c) out.leftMotors->setSoftLevel(core::motorIndex(1, c), level);
                 lastLeftLevel_ = level;
             }
         }
@@ -151,6 +151,6 @@ private:
 
 } // namespace
 
-std::unique_ptr<Scene> makeThereminDuoScene() { return std::make_unique<ThereminDuoScene>(); }
+std::unique_ptr<core::Scene> makeThereminDuoScene() { return std::make_unique<ThereminDuoScene>(); }
 
-} // namespace armadillo
+} // namespace armadillo::instruments

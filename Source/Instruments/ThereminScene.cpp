@@ -11,12 +11,12 @@
 #include <cmath>
 #include <limits>
 
-namespace armadillo {
+namespace armadillo::instruments {
 namespace {
 
 enum ThereminIndex : int { kBase, kRange, kBottom, kTop, kVolumeWidth, kLevel, kGlide, kSnap, kScale, kRoot, kFretAdjust, kFretLevel };
 
-std::vector<ParamSpec> thereminSpecs()
+std::vector<core::ParamSpec> thereminSpecs()
 {
     return {
         {thereminParam::kBase, "Base frequency", 27.5f, 1760.0f, 220.0f, "Hz", {}},
@@ -48,16 +48,16 @@ struct FretLayout {
     }
 };
 
-class ThereminScene final : public Scene {
+class ThereminScene final : public core::Scene {
 public:
     ThereminScene() : params_(thereminSpecs()) {}
 
     std::string_view name() const override { return "theremin"; }
-    std::vector<ParamSpec> parameters() const override { return params_.specs(); }
+    std::vector<core::ParamSpec> parameters() const override { return params_.specs(); }
     bool producesAudio() const override { return true; }
     void setParameter(int index, float value) noexcept override { params_.set(index, value); }
 
-    void prepare(const SceneConfig& config) override
+    void prepare(const core::SceneConfig& config) override
     {
         sampleRate_ = config.sampleRate > 0.0 ? config.sampleRate : 48000.0;
         phase_ = 0.0;
@@ -77,7 +77,7 @@ public:
         clearPending_ = true;   // the canvas is only reachable from control(): clear there
     }
 
-    void control(const ControlInput& in, SceneOutput& out) override
+    void control(const core::ControlInput& in, core::SceneOutput& out) override
     {
         const FretLayout layout = currentLayout();
         if (!haveLayout_ || !(layout == layout_)) {
@@ -96,7 +96,7 @@ public:
             lastEmittedFret_ = -1;
             clearPending_ = false;
         }
-        const ArmFeatures& f = in.arm.features;
+        const core::ArmFeatures& f = in.arm.features;
         if (!in.arm.valid || !std::isfinite(f.axis.y()) || !std::isfinite(f.pose.azimuthDeg)) {
             targetAmplitude_.store(0.0, std::memory_order_relaxed);
             showFret(-1, out);
@@ -116,7 +116,7 @@ public:
             referenceAzimuthDeg_ = f.pose.azimuthDeg;
             haveReference_ = true;
         }
-        const double volume = thereminVolume(wrapDeg180(f.pose.azimuthDeg - referenceAzimuthDeg_), params_.get(kVolumeWidth));
+        const double volume = thereminVolume(core::wrapDeg180(f.pose.azimuthDeg - referenceAzimuthDeg_), params_.get(kVolumeWidth));
 
         targetHz_.store(playedHz, std::memory_order_relaxed);
         targetAmplitude_.store(volume * params_.get(kLevel), std::memory_order_relaxed);
@@ -133,7 +133,7 @@ public:
     }
 
     /// The sounding pitch (MIDI note number) and the latest fret, for mappings (Core/Scene.h).
-    SceneValues values() const noexcept override { return values_; }
+    core::SceneValues values() const noexcept override { return values_; }
 
     void renderAudio(float* left, float* right, int numSamples) noexcept override
     {
@@ -170,7 +170,7 @@ private:
         return l;
     }
 
-    void showFret(int fret, SceneOutput& out)
+    void showFret(int fret, core::SceneOutput& out)
     {
         const float level = params_.get(kFretLevel);
         if (fret == shownFret_ && level == shownLevel_) return;
@@ -194,7 +194,7 @@ private:
     bool clearPending_ = true;
     bool haveReference_ = false;
     double referenceAzimuthDeg_ = 0.0;
-    SceneValues values_ {};
+    core::SceneValues values_ {};
 
     // Control → audio: latest targets (single words, lock-free).
     std::atomic<double> targetHz_ {0.0};
@@ -209,6 +209,6 @@ private:
 
 } // namespace
 
-std::unique_ptr<Scene> makeThereminScene() { return std::make_unique<ThereminScene>(); }
+std::unique_ptr<core::Scene> makeThereminScene() { return std::make_unique<ThereminScene>(); }
 
-} // namespace armadillo
+} // namespace armadillo::instruments

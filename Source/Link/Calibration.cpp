@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace armadillo::device {
+namespace armadillo::link {
 
 Eigen::Vector3d SensorCalibration::apply(double cx, double cy, double cz) const noexcept
 {
@@ -20,9 +20,9 @@ Eigen::Vector3d SensorCalibration::toCounts(const Eigen::Vector3d& physical) con
     return Eigen::Vector3d(v.x() / scale.x() + bias.x(), v.y() / scale.y() + bias.y(), v.z() / scale.z() + bias.z());
 }
 
-ImuSample Calibration::apply(double t, const SensorCounts& c) const noexcept
+core::ImuSample Calibration::apply(double t, const SensorCounts& c) const noexcept
 {
-    ImuSample s;
+    core::ImuSample s;
     s.t = t;
     s.accel = accel.apply(c[kAx], c[kAy], c[kAz]);
     s.gyro = gyro.apply(c[kGx], c[kGy], c[kGz]);
@@ -44,50 +44,50 @@ Calibration defaultCalibration()
 
 namespace {
 
-Eigen::Vector3d vector3(const JsonValue& v, const std::string& source, const std::string& key, double lo, double hi, bool nonZero)
+Eigen::Vector3d vector3(const core::JsonValue& v, const std::string& source, const std::string& key, double lo, double hi, bool nonZero)
 {
-    if (v.kind != JsonValue::Kind::Array || v.array.size() != 3)
-        throw InputError(source, v.line, key, "expected an array of 3 numbers");
+    if (v.kind != core::JsonValue::Kind::Array || v.array.size() != 3)
+        throw core::InputError(source, v.line, key, "expected an array of 3 numbers");
     Eigen::Vector3d out;
     for (int i = 0; i < 3; ++i) {
-        const JsonValue& e = v.array[static_cast<std::size_t>(i)];
-        if (e.kind != JsonValue::Kind::Number)
-            throw InputError(source, e.line, key, std::string("element ") + std::to_string(i) + " is " + JsonValue::kindName(e.kind) + ", not a number");
+        const core::JsonValue& e = v.array[static_cast<std::size_t>(i)];
+        if (e.kind != core::JsonValue::Kind::Number)
+            throw core::InputError(source, e.line, key, std::string("element ") + std::to_string(i) + " is " + core::JsonValue::kindName(e.kind) + ", not a number");
         if (e.number < lo || e.number > hi)
-            throw InputError(source, e.line, key, "element " + std::to_string(i) + " = " + std::to_string(e.number) + " is outside " +
+            throw core::InputError(source, e.line, key, "element " + std::to_string(i) + " = " + std::to_string(e.number) + " is outside " +
                                                       std::to_string(lo) + ".." + std::to_string(hi));
         if (nonZero && std::abs(e.number) < 1e-12)
-            throw InputError(source, e.line, key, "element " + std::to_string(i) + " is zero (a scale must be non-zero)");
+            throw core::InputError(source, e.line, key, "element " + std::to_string(i) + " is zero (a scale must be non-zero)");
         out[i] = e.number;
     }
     return out;
 }
 
-SensorCalibration sensor(const JsonValue& root, const char* name, const std::string& source)
+SensorCalibration sensor(const core::JsonValue& root, const char* name, const std::string& source)
 {
-    const JsonValue* s = root.find(name);
-    if (!s) throw InputError(source, root.line, name, std::string("missing \"") + name + "\" (needs \"bias\" and \"scale\")");
-    if (s->kind != JsonValue::Kind::Object) throw InputError(source, s->line, name, "expected an object with \"bias\" and \"scale\"");
+    const core::JsonValue* s = root.find(name);
+    if (!s) throw core::InputError(source, root.line, name, std::string("missing \"") + name + "\" (needs \"bias\" and \"scale\")");
+    if (s->kind != core::JsonValue::Kind::Object) throw core::InputError(source, s->line, name, "expected an object with \"bias\" and \"scale\"");
     SensorCalibration out;
     const std::string k = name;
-    const JsonValue* bias = s->find("bias");
-    const JsonValue* scale = s->find("scale");
-    if (!bias) throw InputError(source, s->line, k + ".bias", "missing (3 counts)");
-    if (!scale) throw InputError(source, s->line, k + ".scale", "missing (3 SI units per count)");
+    const core::JsonValue* bias = s->find("bias");
+    const core::JsonValue* scale = s->find("scale");
+    if (!bias) throw core::InputError(source, s->line, k + ".bias", "missing (3 counts)");
+    if (!scale) throw core::InputError(source, s->line, k + ".scale", "missing (3 SI units per count)");
     // A bias is the midpoint of observed counts, so it lies within the 12-bit range.
     out.bias = vector3(*bias, source, k + ".bias", 0.0, 4095.0, false);
     out.scale = vector3(*scale, source, k + ".scale", -1e3, 1e3, true);
-    if (const JsonValue* cross = s->find("cross")) {
-        if (cross->kind != JsonValue::Kind::Array || cross->array.size() != 3)
-            throw InputError(source, cross->line, k + ".cross", "expected a 3×3 matrix (3 rows of 3 numbers)");
+    if (const core::JsonValue* cross = s->find("cross")) {
+        if (cross->kind != core::JsonValue::Kind::Array || cross->array.size() != 3)
+            throw core::InputError(source, cross->line, k + ".cross", "expected a 3×3 matrix (3 rows of 3 numbers)");
         for (int r = 0; r < 3; ++r)
             out.cross.row(r) = vector3(cross->array[static_cast<std::size_t>(r)], source, k + ".cross", -1e3, 1e3, false).transpose();
         if (std::abs(out.cross.determinant()) < 1e-9)
-            throw InputError(source, cross->line, k + ".cross", "the cross-axis matrix is singular");
+            throw core::InputError(source, cross->line, k + ".cross", "the cross-axis matrix is singular");
     }
     for (const auto& [key, value] : s->object)
         if (key != "bias" && key != "scale" && key != "cross" && key != "comment")
-            throw InputError(source, value.line, k + "." + key, "unknown key (allowed: bias, scale, cross, comment)");
+            throw core::InputError(source, value.line, k + "." + key, "unknown key (allowed: bias, scale, cross, comment)");
     return out;
 }
 
@@ -95,16 +95,16 @@ SensorCalibration sensor(const JsonValue& root, const char* name, const std::str
 
 Calibration parseCalibration(std::string_view json, const std::string& source)
 {
-    const JsonValue root = parseJson(json, source);
-    if (root.kind != JsonValue::Kind::Object)
-        throw InputError(source, root.line, "", "a calibration file is a JSON object with \"accel\", \"gyro\" and \"mag\"");
+    const core::JsonValue root = core::parseJson(json, source);
+    if (root.kind != core::JsonValue::Kind::Object)
+        throw core::InputError(source, root.line, "", "a calibration file is a JSON object with \"accel\", \"gyro\" and \"mag\"");
     Calibration c;
     c.accel = sensor(root, "accel", source);
     c.gyro = sensor(root, "gyro", source);
     c.mag = sensor(root, "mag", source);
     for (const char* key : {"device", "date"}) {
-        if (const JsonValue* v = root.find(key)) {
-            if (v->kind != JsonValue::Kind::String) throw InputError(source, v->line, key, "expected a string");
+        if (const core::JsonValue* v = root.find(key)) {
+            if (v->kind != core::JsonValue::Kind::String) throw core::InputError(source, v->line, key, "expected a string");
             (std::string_view(key) == "device" ? c.device : c.date) = v->string;
         }
     }
@@ -113,7 +113,7 @@ Calibration parseCalibration(std::string_view json, const std::string& source)
 
 Calibration loadCalibration(const std::string& path)
 {
-    return parseCalibration(readWholeFile(path), path);
+    return parseCalibration(core::readWholeFile(path), path);
 }
 
 std::string calibrationToJson(const Calibration& c)
@@ -123,18 +123,18 @@ std::string calibrationToJson(const Calibration& c)
         std::string s = "[";
         for (int i = 0; i < 3; ++i) {
             if (i) s += ", ";
-            appendNumber(s, v[i], 12);
+            core::appendNumber(s, v[i], 12);
         }
         return s + "]";
     };
     if (!c.device.empty()) {
         out += "  \"device\": ";
-        appendJsonString(out, c.device);
+        core::appendJsonString(out, c.device);
         out += ",\n";
     }
     if (!c.date.empty()) {
         out += "  \"date\": ";
-        appendJsonString(out, c.date);
+        core::appendJsonString(out, c.date);
         out += ",\n";
     }
     const std::pair<const char*, const SensorCalibration*> parts[] = {{"accel", &c.accel}, {"gyro", &c.gyro}, {"mag", &c.mag}};
@@ -153,7 +153,7 @@ std::string calibrationToJson(const Calibration& c)
 
 void saveCalibration(const std::string& path, const Calibration& calibration)
 {
-    writeFileAtomically(path, calibrationToJson(calibration));
+    core::writeFileAtomically(path, calibrationToJson(calibration));
 }
 
 // --- Guided procedure --------------------------------------------------------------------------
@@ -274,7 +274,7 @@ double CalibrationProcedure::progress() const noexcept
             std::sort(span, span + 3);
             return std::clamp(span[1], 0.0, 1.0);
         }
-        const double want = 2.0 * (accel ? kStandardGravity * params_.minAccelSpanFraction : params_.minMagSpanFraction);
+        const double want = 2.0 * (accel ? core::kStandardGravity * params_.minAccelSpanFraction : params_.minMagSpanFraction);
         double p = 1.0;
         for (int i = 0; i < 3; ++i) p = std::min(p, (max_[i] - min_[i]) * std::abs(s.scale[i]) / want);
         return std::clamp(p, 0.0, 1.0);
@@ -304,14 +304,14 @@ void CalibrationProcedure::finishStep()
 {
     if (step_ == Step::Done) return;
     if (!ready())
-        throw InputError("calibration", 0, stepName(step_),
+        throw core::InputError("calibration", 0, stepName(step_),
                          "not enough data yet (" + std::to_string(static_cast<int>(progress() * 100.0)) + "%): " + instruction());
     switch (step_) {
     case Step::GyroStill: result_.gyro.bias = sum_ / static_cast<double>(count_); break;
     case Step::AccelExtremes:
         for (int i = 0; i < 3; ++i) {
             result_.accel.bias[i] = 0.5 * (max_[i] + min_[i]);
-            result_.accel.scale[i] = std::copysign(kStandardGravity / (0.5 * (max_[i] - min_[i])), result_.accel.scale[i]);
+            result_.accel.scale[i] = std::copysign(core::kStandardGravity / (0.5 * (max_[i] - min_[i])), result_.accel.scale[i]);
         }
         break;
     case Step::MagHorizontal: {
@@ -341,4 +341,4 @@ void CalibrationProcedure::finishStep()
     beginStep(static_cast<Step>(static_cast<int>(step_) + 1));
 }
 
-} // namespace armadillo::device
+} // namespace armadillo::link

@@ -9,7 +9,7 @@
 #include <string>
 #include <string_view>
 
-namespace armadillo::device {
+namespace armadillo::link {
 
 struct SensorCalibration {
     Eigen::Vector3d bias {2048.0, 2048.0, 2048.0};   ///< counts
@@ -26,14 +26,14 @@ struct Calibration {
     std::string device;   ///< optional: which board this belongs to
     std::string date;     ///< optional: when it was made (ISO 8601)
 
-    ImuSample apply(double t, const SensorCounts& counts) const noexcept;
+    core::ImuSample apply(double t, const SensorCounts& counts) const noexcept;
 };
 
 /// Sensor ranges of the default calibration (and of the built-in simulator's ADC):
 /// accelerometer ±5 g, gyroscope ±600 °/s, magnetometer ±2 field units (1 = the local field),
 /// every zero at mid-scale 2048.
-inline constexpr double kDefaultAccelRange = 5.0 * kStandardGravity;   ///< m/s² at full scale
-inline constexpr double kDefaultGyroRange = 600.0 * kPi / 180.0;      ///< rad/s at full scale
+inline constexpr double kDefaultAccelRange = 5.0 * core::kStandardGravity; ///< m/s² at full scale
+inline constexpr double kDefaultGyroRange = 600.0 * core::kPi / 180.0; ///< rad/s at full scale
 inline constexpr double kDefaultMagRange = 2.0;                       ///< field units at full scale
 Calibration defaultCalibration();
 
@@ -69,7 +69,7 @@ public:
         double minMagSpanFraction = 0.5;    ///< after both sweeps each axis must span this fraction of ±1 field unit
         double minHorizontalSpanFraction = 0.2;   ///< horizontal sweep: two axes span this (the field dips, so less)
         double maxStillRate = 1.0;          ///< rad/s (start calibration): above this nothing counts as still
-        double turnAngle = 2.0 * kPi;       ///< rad: the turn the gyro steps ask for
+        double turnAngle = 2.0 * core::kPi; ///< rad: the turn the gyro steps ask for
         double minTurnFraction = 0.5;       ///< the integrated turn must reach this fraction of turnAngle
     };
 
@@ -106,4 +106,4 @@ private:
     Eigen::Vector3d integral_ = Eigen::Vector3d::Zero();   ///< count·s, bias removed
 };
 
-} // namespace armadillo::device
+} // namespace armadillo::link

@@ -7,14 +7,14 @@
 #include <pthread.h>
 #include <sched.h>
 
-namespace armadillo::device {
+namespace armadillo::link {
 
 DeviceLink::DeviceLink(std::unique_ptr<LinkPort> port, Handler handler, const DeviceLinkOptions& options)
     : port_(std::move(port)), handler_(std::move(handler)), options_(options), link_(options.link),
       latencyHist_(kLatencyBins + 1)
 {
     if (!port_) throw std::invalid_argument("DeviceLink needs a port");
-    if (!handler_) handler_ = [](const SensorCounts&, double) { return MotorLevels {}; };
+    if (!handler_) handler_ = [](const SensorCounts&, double) { return core::MotorLevels {}; };
 }
 
 DeviceLink::~DeviceLink() { stop(); }
@@ -109,7 +109,7 @@ void DeviceLink::publish()
     }
 }
 
-MotorLevels DeviceLink::onSensorPacket(const SensorCounts& counts, double t)
+core::MotorLevels DeviceLink::onSensorPacket(const SensorCounts& counts, double t)
 {
     packets_.push(RawPacket {t, counts});
     wroteMotorPacket_ = true;
@@ -117,7 +117,7 @@ MotorLevels DeviceLink::onSensorPacket(const SensorCounts& counts, double t)
     return handler_(counts, t);
 }
 
-MotorLevels DeviceLink::onSensorFrameV2(const SensorFrameV2& frame, double now)
+core::MotorLevels DeviceLink::onSensorFrameV2(const SensorFrameV2& frame, double now)
 {
     if (!v2Anchored_) {
         v2Anchored_ = true;
@@ -183,7 +183,7 @@ LatencySummary DeviceLink::latency() const
 
 void DeviceLink::run()
 {
-    requestRealtimePriority(options_.realtimePriority);
+    core::requestRealtimePriority(options_.realtimePriority);
     std::array<std::uint8_t, 512> buffer {};
     // A port the owner opened before start() (to fail early with its own message) is a connection
     // like any other: losing it and opening it again is a reconnect.
@@ -237,7 +237,7 @@ void DeviceLink::run()
                 connected_.store(false, std::memory_order_release);
                 link_.stats().inSync = false;
             }
-        } catch (const IoError& e) {
+        } catch (const core::IoError& e) {
             setError(e.what());
             port_->close();
             connected_.store(false, std::memory_order_release);
@@ -247,4 +247,4 @@ void DeviceLink::run()
     }
 }
 
-} // namespace armadillo::device
+} // namespace armadillo::link

@@ -16,7 +16,7 @@
 #include <thread>
 #include <vector>
 
-namespace armadillo::device {
+namespace armadillo::link {
 
 /// One sensor packet as it arrived: t in s since the link started.
 struct RawPacket {
@@ -52,7 +52,7 @@ public:
     /// (LinkConfig::negotiateV2 and a board that offers it) `t` advances with the board's own
     /// sample clock (anchored on the link's clock at the connection's first frame), so dropouts
     /// show as the board measured them.
-    using Handler = std::function<MotorLevels(const SensorCounts& counts, double t)>;
+    using Handler = std::function<core::MotorLevels(const SensorCounts& counts, double t)>;
 
     DeviceLink(std::unique_ptr<LinkPort> port, Handler handler, const DeviceLinkOptions& options = {});
     ~DeviceLink() override;
@@ -77,19 +77,19 @@ public:
     bool waitFor(const std::function<bool(const LinkStats&)>& pred, double timeoutSeconds) const;
 
     /// Every good packet, for one consumer thread (UI, calibration, recording). Full ⇒ dropped.
-    SpscQueue<RawPacket, 1024>& packets() noexcept { return packets_; }
+    core::SpscQueue<RawPacket, 1024>& packets() noexcept { return packets_; }
     /// Every motor packet written, for one consumer thread (safety checks on what reached the
     /// wire). Off unless enabled before start(); full ⇒ dropped and counted.
     void enableSentLog() noexcept { sentLogEnabled_ = true; }
-    SpscQueue<SentMotorPacket, 4096>& sentLog() noexcept { return sentLog_; }
+    core::SpscQueue<SentMotorPacket, 4096>& sentLog() noexcept { return sentLog_; }
     std::uint64_t sentLogDropped() const noexcept { return sentLogDropped_.load(std::memory_order_relaxed); }
     LatencySummary latency() const;
     /// The board's v2 offer (version 0 when none): read it from the handler or after stop().
     const OfferV2& v2Offer() const noexcept { return link_.framingV2().offer(); }
 
 private:
-    MotorLevels onSensorPacket(const SensorCounts& counts, double now) override;
-    MotorLevels onSensorFrameV2(const SensorFrameV2& frame, double now) override;
+    core::MotorLevels onSensorPacket(const SensorCounts& counts, double now) override;
+    core::MotorLevels onSensorFrameV2(const SensorFrameV2& frame, double now) override;
     void send(const std::uint8_t* bytes, std::size_t count) override;
     void run();
     void publish();
@@ -103,10 +103,10 @@ private:
     std::thread thread_;
     std::atomic<bool> stop_ {false};
     std::atomic<bool> connected_ {false};
-    SeqLock<LinkStats> stats_;
-    SpscQueue<RawPacket, 1024> packets_;
+    core::SeqLock<LinkStats> stats_;
+    core::SpscQueue<RawPacket, 1024> packets_;
     bool sentLogEnabled_ = false;
-    SpscQueue<SentMotorPacket, 4096> sentLog_;
+    core::SpscQueue<SentMotorPacket, 4096> sentLog_;
     std::atomic<std::uint64_t> sentLogDropped_ {0};
     double arrival_ = 0.0;                 // link thread: when the bytes being parsed arrived
     bool wroteMotorPacket_ = false;
@@ -130,4 +130,4 @@ private:
     std::string backend_;
 };
 
-} // namespace armadillo::device
+} // namespace armadillo::link

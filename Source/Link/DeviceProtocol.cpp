@@ -1,6 +1,6 @@
 #include "Link/DeviceProtocol.h"
 
-namespace armadillo::device {
+namespace armadillo::link {
 
 DeviceProtocol::Event DeviceProtocol::onByte(std::uint8_t byte) noexcept
 {
@@ -23,4 +23,4 @@ DeviceProtocol::Event DeviceProtocol::onByte(std::uint8_t byte) noexcept
     return Event::MotorPacket;
 }
 
-} // namespace armadillo::device
+} // namespace armadillo::link

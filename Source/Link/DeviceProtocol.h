@@ -6,7 +6,7 @@
 #include "Link/Packets.h"
 #include <cstdint>
 
-namespace armadillo::device {
+namespace armadillo::link {
 
 class DeviceProtocol {
 public:
@@ -34,4 +34,4 @@ private:
     std::uint64_t badPackets_ = 0;
 };
 
-} // namespace armadillo::device
+} // namespace armadillo::link

@@ -2,7 +2,7 @@
 #include <algorithm>
 #include <cstring>
 
-namespace armadillo::device {
+namespace armadillo::link {
 
 std::uint16_t crc16Ccitt(const std::uint8_t* data, std::size_t n, std::uint16_t crc) noexcept
 {
@@ -180,4 +180,4 @@ void FramingV2Host::encodeMotor(const ProtocolLevels& levels, std::vector<std::u
     out.insert(out.end(), f.begin(), f.end());
 }
 
-} // namespace armadillo::device
+} // namespace armadillo::link

@@ -17,7 +17,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace armadillo::device {
+namespace armadillo::link {
 
 inline constexpr std::uint8_t kV2Query[5] = {0x41, 0x52, 0x4D, 0x76, 0x32};
 inline constexpr std::size_t kV2OfferSize = 14;
@@ -107,4 +107,4 @@ private:
     FramingV2Stats stats_ {};
 };
 
-} // namespace armadillo::device
+} // namespace armadillo::link

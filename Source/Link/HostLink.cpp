@@ -2,7 +2,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace armadillo::device {
+namespace armadillo::link {
 
 HostLink::HostLink(const LinkConfig& config) : config_(config)
 {
@@ -51,7 +51,7 @@ void HostLink::completeFrame(double now, LinkPeer& peer)
         return;
     }
     goodPacket(now);
-    const MotorLevels levels = peer.onSensorPacket(counts, now);
+    const core::MotorLevels levels = peer.onSensorPacket(counts, now);
     const MotorPacketBytes out = encodeMotorPacket(levels);
     peer.send(out.data(), out.size());
     stats_.bytesOut += out.size();
@@ -84,7 +84,7 @@ void HostLink::goodPacket(double now)
     lastAnswer_ = now;
 }
 
-void HostLink::sendV2(const MotorLevels& levels, double now, LinkPeer& peer)
+void HostLink::sendV2(const core::MotorLevels& levels, double now, LinkPeer& peer)
 {
     ProtocolLevels lv {};
     for (std::size_t i = 0; i < lv.size(); ++i) lv[i] = levels[i];   // clamped to 15 by the encoder
@@ -238,7 +238,7 @@ void HostLink::poll(double now, LinkPeer& peer)
         // so leftovers can never make a whole phantom packet; the next burst only after the device
         // has had twice its round trip to answer.
         if (v2Active_) {
-            sendV2(MotorLevels {}, now, peer);   // v2's resync: an all-off motor frame, which the board answers
+            sendV2(core::MotorLevels {}, now, peer); // v2's resync: an all-off motor frame, which the board answers
         } else {
             peer.send(kResyncPacket.data(), kResyncPacket.size());
             stats_.bytesOut += kMotorPacketSize;
@@ -255,7 +255,7 @@ void HostLink::sendAllOff(double now, LinkPeer& peer)
     // A device in step reads it as its next motor packet; one out of step reads it as a resync
     // burst and answers; either way its motors are off. The answer is not waited for.
     if (v2Active_) {
-        sendV2(MotorLevels {}, now, peer);
+        sendV2(core::MotorLevels {}, now, peer);
     } else {
         peer.send(kResyncPacket.data(), kResyncPacket.size());
         stats_.bytesOut += kMotorPacketSize;
@@ -284,4 +284,4 @@ bool HostLink::reopenDue(double now) const noexcept
     return config_.reopenAfter > 0.0 && !stats_.inSync && now >= lastAnswer_ + config_.reopenAfter;
 }
 
-} // namespace armadillo::device
+} // namespace armadillo::link

@@ -19,7 +19,7 @@
 #include "Core/Types.h"
 #include <cstdint>
 
-namespace armadillo::device {
+namespace armadillo::link {
 
 struct LinkConfig {
     double silenceTimeout = 0.010;       ///< s without a byte while a packet is due ⇒ resync (thesis: 10 ms)
@@ -67,10 +67,10 @@ class LinkPeer {
 public:
     virtual ~LinkPeer() = default;
     /// A good sensor packet arrived at `now`; return the levels of the motor packet to answer with.
-    virtual MotorLevels onSensorPacket(const SensorCounts& counts, double now) = 0;
+    virtual core::MotorLevels onSensorPacket(const SensorCounts& counts, double now) = 0;
     /// v2: a good sensor frame (with the board's own unwrapped sample time and status). By default
     /// the same as a v1 packet.
-    virtual MotorLevels onSensorFrameV2(const SensorFrameV2& frame, double now) { return onSensorPacket(frame.counts, now); }
+    virtual core::MotorLevels onSensorFrameV2(const SensorFrameV2& frame, double now) { return onSensorPacket(frame.counts, now); }
     /// Send bytes to the device (motor packets, resync bytes).
     virtual void send(const std::uint8_t* bytes, std::size_t count) = 0;
 };
@@ -114,7 +114,7 @@ private:
     void receiveByte(std::uint8_t byte, double now, LinkPeer& peer);
     void receiveV2(std::uint8_t byte, double now, LinkPeer& peer);
     void goodPacket(double now);
-    void sendV2(const MotorLevels& levels, double now, LinkPeer& peer);
+    void sendV2(const core::MotorLevels& levels, double now, LinkPeer& peer);
 
     LinkConfig config_;
     State state_ = State::Draining;
@@ -137,7 +137,7 @@ private:
     double negotiateDeadline_ = 0.0;
     std::vector<SensorFrameV2> v2Frames_;
     std::vector<std::uint8_t> v2Out_;
-    GapDetector gapDetector_ {};       ///< packet arrival steps; survives reset() (a reconnect is a gap too)
+    core::GapDetector gapDetector_ {}; ///< packet arrival steps; survives reset() (a reconnect is a gap too)
 };
 
-} // namespace armadillo::device
+} // namespace armadillo::link

@@ -17,7 +17,7 @@
 #include <atomic>
 #include <cstdint>
 
-namespace armadillo::device {
+namespace armadillo::link {
 
 class LevelSchedule {
 public:
@@ -38,7 +38,7 @@ public:
     explicit LevelSchedule(const Params& p) : params_(p) {}
 
     /// Producer: the levels of the control tick at time `t` (s, the link's clock). False when full.
-    bool push(double t, const MotorLevels& levels) noexcept;
+    bool push(double t, const core::MotorLevels& levels) noexcept;
     /// Producer: motors off from now on (disconnect, error, shutdown) until the next push().
     void allOff() noexcept { offRequested_.store(true, std::memory_order_release); }
 
@@ -46,7 +46,7 @@ public:
     /// has come and the one sent before (so a rise waits one packet and a fall never waits, and
     /// quantising the tick timeline to packets never lengthens a run); all-off if the newest level
     /// is older than staleAfter, or after allOff().
-    MotorLevels due(double now) noexcept;
+    core::MotorLevels due(double now) noexcept;
 
     std::uint64_t dropped() const noexcept { return dropped_.load(std::memory_order_relaxed); }
     /// Times the consumer switched to all-off because its newest level went stale.
@@ -56,11 +56,11 @@ public:
 private:
     struct Stamped {
         double t = 0.0;
-        MotorLevels levels {};
+        core::MotorLevels levels {};
         bool off = false;   ///< an allOff() marker: zeros from t on
     };
     Params params_ {};
-    SpscQueue<Stamped, 1024> queue_;
+    core::SpscQueue<Stamped, 1024> queue_;
     std::atomic<bool> offRequested_ {false};
     std::atomic<std::uint64_t> dropped_ {0};
     std::atomic<std::uint64_t> staleOffs_ {0};
@@ -69,7 +69,7 @@ private:
     Stamped pending_ {};
     bool havePending_ = false;
     bool stale_ = true;
-    MotorLevels dueBefore_ {};   ///< what was due at the previous call
+    core::MotorLevels dueBefore_ {}; ///< what was due at the previous call
 };
 
-} // namespace armadillo::device
+} // namespace armadillo::link

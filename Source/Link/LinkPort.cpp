@@ -16,7 +16,7 @@
 #include <time.h>
 #include <unistd.h>
 
-namespace armadillo::device {
+namespace armadillo::link {
 
 namespace {
 
@@ -80,29 +80,29 @@ void FdPort::close() noexcept
 
 std::size_t FdPort::read(std::uint8_t* buffer, std::size_t capacity, double timeout)
 {
-    if (fd_ < 0) throw IoError("port " + name() + " is not open");
+    if (fd_ < 0) throw core::IoError("port " + name() + " is not open");
     pollfd p {fd_, POLLIN, 0};
     const timespec ts = toTimespec(timeout);
     const int r = ::ppoll(&p, 1, &ts, nullptr);
     if (r < 0) {
         if (errno == EINTR) return 0;
-        throw IoError("port " + name() + ": poll failed: " + errnoText(errno));
+        throw core::IoError("port " + name() + ": poll failed: " + errnoText(errno));
     }
     if (r == 0) return 0;
     if (p.revents & POLLIN) {
         const ssize_t n = ::read(fd_, buffer, capacity);
         if (n > 0) return static_cast<std::size_t>(n);
-        if (n == 0) throw IoError("port " + name() + " closed by the other side");
+        if (n == 0) throw core::IoError("port " + name() + " closed by the other side");
         if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) return 0;
-        throw IoError("port " + name() + " disconnected: " + errnoText(errno));
+        throw core::IoError("port " + name() + " disconnected: " + errnoText(errno));
     }
-    if (p.revents & (POLLHUP | POLLERR | POLLNVAL)) throw IoError("port " + name() + " disconnected (hang-up)");
+    if (p.revents & (POLLHUP | POLLERR | POLLNVAL)) throw core::IoError("port " + name() + " disconnected (hang-up)");
     return 0;
 }
 
 std::size_t FdPort::write(const std::uint8_t* bytes, std::size_t count)
 {
-    if (fd_ < 0) throw IoError("port " + name() + " is not open");
+    if (fd_ < 0) throw core::IoError("port " + name() + " is not open");
     std::size_t done = 0;
     int waits = 0;
     while (done < count) {
@@ -119,11 +119,11 @@ std::size_t FdPort::write(const std::uint8_t* bytes, std::size_t count)
             pollfd p {fd_, POLLOUT, 0};
             const timespec ts = toTimespec(0.002);
             if (::ppoll(&p, 1, &ts, nullptr) < 0 && errno != EINTR)
-                throw IoError("port " + name() + ": poll failed: " + errnoText(errno));
-            if (p.revents & (POLLHUP | POLLERR | POLLNVAL)) throw IoError("port " + name() + " disconnected (hang-up)");
+                throw core::IoError("port " + name() + ": poll failed: " + errnoText(errno));
+            if (p.revents & (POLLHUP | POLLERR | POLLNVAL)) throw core::IoError("port " + name() + " disconnected (hang-up)");
             continue;
         }
-        throw IoError("port " + name() + " disconnected: " + (n < 0 ? errnoText(errno) : std::string("write returned 0")));
+        throw core::IoError("port " + name() + " disconnected: " + (n < 0 ? errnoText(errno) : std::string("write returned 0")));
     }
     return done;
 }
@@ -132,7 +132,7 @@ std::size_t FdPort::write(const std::uint8_t* bytes, std::size_t count)
 
 SerialPort::SerialPort(std::string path, int baud, Backend backend) : path_(std::move(path)), baud_(baud), wanted_(backend)
 {
-    if (baud_ <= 0) throw IoError("port " + path_ + ": baud rate must be positive, not " + std::to_string(baud_));
+    if (baud_ <= 0) throw core::IoError("port " + path_ + ": baud rate must be positive, not " + std::to_string(baud_));
 }
 
 SerialPort::~SerialPort() { FdPort::close(); }
@@ -201,7 +201,7 @@ bool SerialPort::openWithLibSerialPort(std::string& why)
     if (std::string taken; !takeDevice(fd, taken)) {
         sp_close(port);
         sp_free_port(port);
-        throw IoError("port " + path_ + ": " + taken);
+        throw core::IoError("port " + path_ + ": " + taken);
     }
     sp_flush(port, SP_BUF_BOTH);
     spPort_ = port;
@@ -213,11 +213,11 @@ bool SerialPort::openWithLibSerialPort(std::string& why)
 void SerialPort::openWithTermios()
 {
     const int fd = ::open(path_.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
-    if (fd < 0) throw IoError("cannot open port " + path_ + ": " + errnoText(errno));
+    if (fd < 0) throw core::IoError("cannot open port " + path_ + ": " + errnoText(errno));
     auto fail = [&](const std::string& what) {
         const int e = errno;
         ::close(fd);
-        throw IoError("port " + path_ + ": " + what + (e ? ": " + errnoText(e) : std::string()));
+        throw core::IoError("port " + path_ + ": " + what + (e ? ": " + errnoText(e) : std::string()));
     };
     if (!::isatty(fd)) {
         errno = 0;
@@ -245,7 +245,7 @@ void SerialPort::openWithTermios()
     if (::tcsetattr(fd, TCSANOW, &tio) != 0) fail("cannot apply 8N1 raw settings");
     if (std::string taken; !takeDevice(fd, taken)) {
         ::close(fd);
-        throw IoError("port " + path_ + ": " + taken);
+        throw core::IoError("port " + path_ + ": " + taken);
     }
     ::tcflush(fd, TCIOFLUSH);
     adopt(fd, true);
@@ -256,11 +256,11 @@ void SerialPort::open()
 {
     if (isOpen()) return;
     struct stat st {};
-    if (::stat(path_.c_str(), &st) != 0) throw IoError("no serial port " + path_ + ": " + errnoText(errno));
+    if (::stat(path_.c_str(), &st) != 0) throw core::IoError("no serial port " + path_ + ": " + errnoText(errno));
     std::string why;
     if (wanted_ != Backend::Termios) {
         if (openWithLibSerialPort(why)) return;
-        if (wanted_ == Backend::LibSerialPort) throw IoError("port " + path_ + ": " + why);
+        if (wanted_ == Backend::LibSerialPort) throw core::IoError("port " + path_ + ": " + why);
     }
     openWithTermios();
 }
@@ -276,7 +276,7 @@ std::vector<PortInfo> listSerialPorts()
         char* msg = sp_last_error_message();
         const std::string text = msg ? msg : "unknown error";
         if (msg) sp_free_error_message(msg);
-        throw IoError("cannot list serial ports: " + text);
+        throw core::IoError("cannot list serial ports: " + text);
     }
     for (sp_port** p = list; p && *p; ++p) {
         PortInfo info;
@@ -325,4 +325,4 @@ std::vector<PortInfo> listSerialPorts()
     return out;
 }
 
-} // namespace armadillo::device
+} // namespace armadillo::link

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace armadillo::device {
+namespace armadillo::link {
 
 class LinkPort {
 public:
@@ -91,4 +91,4 @@ struct PortInfo {
 /// Throws IoError when enumeration itself fails.
 std::vector<PortInfo> listSerialPorts();
 
-} // namespace armadillo::device
+} // namespace armadillo::link

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <random>
 
-namespace armadillo::device {
+namespace armadillo::link {
 
 Eigen::Vector3d angularVelocity(const Eigen::Quaterniond& q0, const Eigen::Quaterniond& q1, double h)
 {
@@ -28,7 +28,7 @@ constexpr double kPunchPeak = 1.5 * 9.80665;
 WanderingMotion::WanderingMotion(std::uint64_t seed)
 {
     std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<double> phase(0.0, 2.0 * kPi);
+    std::uniform_real_distribution<double> phase(0.0, 2.0 * core::kPi);
     for (double& p : phase_) p = phase(rng);
     std::uniform_real_distribution<double> gap(2.0, 6.0);
     for (double t = 1.5; t < kPunchCycle - 1.0; t += gap(rng)) punchTimes_.push_back(t);
@@ -36,10 +36,10 @@ WanderingMotion::WanderingMotion(std::uint64_t seed)
 
 Eigen::Quaterniond WanderingMotion::orientation(double t) const
 {
-    const double w = 2.0 * kPi;
-    Pose p;
+    const double w = 2.0 * core::kPi;
+    core::Pose p;
     p.elevationDeg = 40.0 * std::sin(w * 0.11 * t + phase_[0]) + 20.0 * std::sin(w * 0.31 * t + phase_[1]);
-    p.azimuthDeg = wrapDeg360(50.0 * std::sin(w * 0.05 * t + phase_[2]) + 20.0 * std::sin(w * 0.23 * t + phase_[3]));
+    p.azimuthDeg = core::wrapDeg360(50.0 * std::sin(w * 0.05 * t + phase_[2]) + 20.0 * std::sin(w * 0.23 * t + phase_[3]));
     p.rollDeg = 70.0 * std::sin(w * 0.13 * t + phase_[4]) + 20.0 * std::sin(w * 0.41 * t + phase_[5]);
     return poseToQuaternion(p);
 }
@@ -53,7 +53,7 @@ MotionState WanderingMotion::at(double t) const
     const double tc = std::fmod(std::max(t, 0.0), kPunchCycle);
     for (const double p : punchTimes_) {
         if (tc >= p && tc < p + kPunchLength) {
-            m.linearAccel.x() = kPunchPeak * std::sin(kPi * (tc - p) / kPunchLength);
+            m.linearAccel.x() = kPunchPeak * std::sin(core::kPi * (tc - p) / kPunchLength);
             break;
         }
     }
@@ -77,11 +77,11 @@ MotionState FunctionMotion::at(double t) const
 
 FileMotion::FileMotion(const std::string& path, bool loop) : loop_(loop)
 {
-    const CsvTable table = CsvTable::read(path);
-    if (detectMotionKind(table) == MotionKind::Imu)
-        throw InputError(path, table.headerLine(), "", "an IMU file cannot drive the simulator (use a quaternion or pose file)");
-    const std::vector<TimedQuaternion> rows = motionAsQuaternions(table);
-    if (rows.empty()) throw InputError(path, 0, "", "no rows: the motion file is empty");
+    const core::CsvTable table = core::CsvTable::read(path);
+    if (detectMotionKind(table) == core::MotionKind::Imu)
+        throw core::InputError(path, table.headerLine(), "", "an IMU file cannot drive the simulator (use a quaternion or pose file)");
+    const std::vector<core::TimedQuaternion> rows = motionAsQuaternions(table);
+    if (rows.empty()) throw core::InputError(path, 0, "", "no rows: the motion file is empty");
     for (const auto& r : rows) {
         times_.push_back(r.t);
         qs_.push_back(r.q.normalized());
@@ -111,4 +111,4 @@ MotionState FileMotion::at(double t) const
     return m;
 }
 
-} // namespace armadillo::device
+} // namespace armadillo::link

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace armadillo::device {
+namespace armadillo::link {
 
 struct MotionState {
     Eigen::Quaterniond q = Eigen::Quaterniond::Identity();   ///< device → earth
@@ -67,4 +67,4 @@ private:
     bool loop_;
 };
 
-} // namespace armadillo::device
+} // namespace armadillo::link

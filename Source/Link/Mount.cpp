@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 
-namespace armadillo::device {
+namespace armadillo::link {
 
 namespace {
 
@@ -75,27 +75,27 @@ const char* defaultMountPresetForFormat(std::string_view format)
 
 Mount loadMount(const std::string& path)
 {
-    const std::string text = readWholeFile(path);   // IoError (exit 4) naming the file when it cannot be read
-    const JsonValue root = parseJson(text, path);
-    const JsonValue* m = root.kind == JsonValue::Kind::Object ? root.find("mount") : nullptr;
-    if (!m || m->kind != JsonValue::Kind::Object) throw InputError(path, root.line, "mount", "expected an object {\"mount\": {\"quaternion\": [w, x, y, z]}}");
-    const JsonValue* q = m->find("quaternion");
-    if (!q || q->kind != JsonValue::Kind::Array || q->array.size() != 4)
-        throw InputError(path, m->line, "mount.quaternion", "expected 4 numbers [w, x, y, z]");
+    const std::string text = core::readWholeFile(path); // IoError (exit 4) naming the file when it cannot be read
+    const core::JsonValue root = core::parseJson(text, path);
+    const core::JsonValue* m = root.kind == core::JsonValue::Kind::Object ? root.find("mount") : nullptr;
+    if (!m || m->kind != core::JsonValue::Kind::Object) throw core::InputError(path, root.line, "mount", "expected an object {\"mount\": {\"quaternion\": [w, x, y, z]}}");
+    const core::JsonValue* q = m->find("quaternion");
+    if (!q || q->kind != core::JsonValue::Kind::Array || q->array.size() != 4)
+        throw core::InputError(path, m->line, "mount.quaternion", "expected 4 numbers [w, x, y, z]");
     double v[4];
     for (int i = 0; i < 4; ++i) {
-        const JsonValue& e = q->array[static_cast<std::size_t>(i)];
-        if (e.kind != JsonValue::Kind::Number || !std::isfinite(e.number))
-            throw InputError(path, e.line, "mount.quaternion", "expected 4 finite numbers [w, x, y, z]");
+        const core::JsonValue& e = q->array[static_cast<std::size_t>(i)];
+        if (e.kind != core::JsonValue::Kind::Number || !std::isfinite(e.number))
+            throw core::InputError(path, e.line, "mount.quaternion", "expected 4 finite numbers [w, x, y, z]");
         v[i] = e.number;
     }
     const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] + v[3] * v[3]);
     if (!(std::abs(n - 1.0) < 0.01))
-        throw InputError(path, q->line, "mount.quaternion", "is not a unit quaternion (norm " + std::to_string(n) + ")");
+        throw core::InputError(path, q->line, "mount.quaternion", "is not a unit quaternion (norm " + std::to_string(n) + ")");
     Mount out;
     out.rotation = Eigen::Quaterniond(v[0], v[1], v[2], v[3]).normalized();
     out.name = "file";
-    if (const JsonValue* d = m->find("device"); d && d->kind == JsonValue::Kind::String) out.device = d->string;
+    if (const core::JsonValue* d = m->find("device"); d && d->kind == core::JsonValue::Kind::String) out.device = d->string;
     return out;
 }
 
@@ -107,11 +107,11 @@ void saveMount(const std::string& path, const Mount& mount)
     std::string s = "{\n  \"mount\": {\n    \"quaternion\": ";
     s += nums;
     s += ",\n    \"name\": ";
-    appendJsonString(s, mount.name);
+    core::appendJsonString(s, mount.name);
     s += ",\n    \"device\": ";
-    appendJsonString(s, mount.device);
+    core::appendJsonString(s, mount.device);
     s += ",\n    \"note\": \"sensor axes to the ARMadillo device frame: v_device = q v_sensor q^-1\"\n  }\n}\n";
-    writeFileAtomically(path, s);
+    core::writeFileAtomically(path, s);
 }
 
 Mount mountFromArgument(const std::string& presetOrPath)
@@ -120,9 +120,9 @@ Mount mountFromArgument(const std::string& presetOrPath)
     if (mountPreset(presetOrPath, m)) return m;
     const bool isPath = presetOrPath.find('/') != std::string::npos || presetOrPath.ends_with(".json");
     if (isPath && !std::filesystem::exists(presetOrPath))   // a file that is not there: I/O, as for any input file
-        throw IoError("cannot read mount file '" + presetOrPath + "': no such file");
+        throw core::IoError("cannot read mount file '" + presetOrPath + "': no such file");
     if (!std::filesystem::exists(presetOrPath))
-        throw InputError(presetOrPath, 0, "", "neither a mount preset (" + mountPresetNames() + ") nor an existing mount file");
+        throw core::InputError(presetOrPath, 0, "", "neither a mount preset (" + mountPresetNames() + ") nor an existing mount file");
     return loadMount(presetOrPath);
 }
 
@@ -159,15 +159,15 @@ void MountCalibration::feed(const Eigen::Vector3d& accel, const Eigen::Vector3d&
 {
     if (pose_ == Pose::Done || !accel.allFinite()) return;
     if (gyro.allFinite() && gyro.norm() > params_.stillGyro) return;
-    if (std::abs(accel.norm() - kStandardGravity) > params_.stillAccelDev) return;
+    if (std::abs(accel.norm() - core::kStandardGravity) > params_.stillAccelDev) return;
     // Still in a pose already taken (the person has not moved on yet): not this pose.
     for (std::size_t i = 0; i < means_.size(); ++i)
-        if (have_[i] && std::acos(std::clamp(means_[i].dot(accel.normalized()), -1.0, 1.0)) < degToRad(params_.minSeparationDeg))
+        if (have_[i] && std::acos(std::clamp(means_[i].dot(accel.normalized()), -1.0, 1.0)) < core::degToRad(params_.minSeparationDeg))
             return;
     // A sample far from the running mean restarts the pose (the arm moved to get there).
     if (count_ > 0) {
         const Eigen::Vector3d mean = sum_ / count_;
-        if (std::acos(std::clamp(mean.normalized().dot(accel.normalized()), -1.0, 1.0)) > degToRad(8.0)) {
+        if (std::acos(std::clamp(mean.normalized().dot(accel.normalized()), -1.0, 1.0)) > core::degToRad(8.0)) {
             sum_.setZero();
             count_ = 0;
         }
@@ -226,7 +226,7 @@ bool MountCalibration::solve(Mount& out, std::string& why) const
         why = "the first two poses (level forward, hanging down) are needed";
         return false;
     }
-    const double sep = radToDeg(std::acos(std::clamp(means_[0].dot(means_[1]), -1.0, 1.0)));
+    const double sep = core::radToDeg(std::acos(std::clamp(means_[0].dot(means_[1]), -1.0, 1.0)));
     if (sep < params_.minSeparationDeg) {
         char buf[160];
         std::snprintf(buf, sizeof buf, "the two poses differ by only %.0f degrees (about 90 expected): hold the arm level, then hanging down", sep);
@@ -240,4 +240,4 @@ bool MountCalibration::solve(Mount& out, std::string& why) const
     return true;
 }
 
-} // namespace armadillo::device
+} // namespace armadillo::link

@@ -11,7 +11,7 @@
 #include <string_view>
 #include <vector>
 
-namespace armadillo::device {
+namespace armadillo::link {
 
 /// v_device = rotation · v_sensor. Orientations: q_device→earth = q_sensor→earth · rotation⁻¹.
 struct Mount {
@@ -97,4 +97,4 @@ private:
     std::array<bool, 3> have_ {};
 };
 
-} // namespace armadillo::device
+} // namespace armadillo::link

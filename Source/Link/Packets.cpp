@@ -1,7 +1,7 @@
 #include "Link/Packets.h"
 #include <algorithm>
 
-namespace armadillo::device {
+namespace armadillo::link {
 
 SensorPacketBytes encodeSensorPacket(const SensorCounts& counts) noexcept
 {
@@ -44,7 +44,7 @@ MotorPacketBytes encodeMotorPacket(const ProtocolLevels& levels) noexcept
     return out;
 }
 
-MotorPacketBytes encodeMotorPacket(const MotorLevels& levels) noexcept
+MotorPacketBytes encodeMotorPacket(const core::MotorLevels& levels) noexcept
 {
     ProtocolLevels p {};
     std::copy_n(levels.begin(), kProtocolMotors, p.begin());
@@ -61,4 +61,4 @@ bool decodeMotorPacket(const std::uint8_t* bytes, ProtocolLevels& levels) noexce
     return motorPacketEndOk(bytes[4]);
 }
 
-} // namespace armadillo::device
+} // namespace armadillo::link

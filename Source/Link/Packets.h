@@ -12,7 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 
-namespace armadillo::device {
+namespace armadillo::link {
 
 inline constexpr std::size_t kSensorPacketSize = 14;   ///< bytes
 inline constexpr std::size_t kMotorPacketSize = 5;     ///< bytes
@@ -46,7 +46,7 @@ bool decodeSensorPacket(const std::uint8_t* bytes, SensorCounts& counts) noexcep
 constexpr bool sensorPacketEndOk(std::uint8_t lastByte) noexcept { return (lastByte & 0x0F) == kSensorEndNibble; }
 
 /// Motors 1..9 of `levels`; levels above 15 are clamped to 15 (never wrapped into a weak level).
-MotorPacketBytes encodeMotorPacket(const MotorLevels& levels) noexcept;
+MotorPacketBytes encodeMotorPacket(const core::MotorLevels& levels) noexcept;
 MotorPacketBytes encodeMotorPacket(const ProtocolLevels& levels) noexcept;
 /// Decodes 5 bytes. Returns false when the end nibble is not 0x8 (levels still decoded).
 bool decodeMotorPacket(const std::uint8_t* bytes, ProtocolLevels& levels) noexcept;
@@ -59,4 +59,4 @@ constexpr double lockStepRate(double baud) noexcept
     return baud / (10.0 * static_cast<double>(kSensorPacketSize + kMotorPacketSize));
 }
 
-} // namespace armadillo::device
+} // namespace armadillo::link

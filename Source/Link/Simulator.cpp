@@ -15,7 +15,7 @@
 #include <time.h>
 #include <unistd.h>
 
-namespace armadillo::device {
+namespace armadillo::link {
 
 // --- SensorModel -------------------------------------------------------------------------------
 
@@ -39,14 +39,14 @@ SensorCounts SensorModel::sample(const MotionState& motion, double t, const Prot
 
     const Eigen::Quaterniond toDevice = motion.q.conjugate();
     // Specific force: at rest the accelerometer reads +g along earth up (Y).
-    const Eigen::Vector3d gravityUp(0.0, kStandardGravity, 0.0);
+    const Eigen::Vector3d gravityUp(0.0, core::kStandardGravity, 0.0);
     double motorSum = 0.0;
     for (const auto m : motors) motorSum += m;
     const double accelRms = std::hypot(params_.accelNoise, params_.motorVibration * motorSum);
     truth_.t = t;
     truth_.accel = toDevice * gravityUp + motion.linearAccel;
     // Earth field: toward magnetic north (−Z) and dipping down (−Y).
-    const double dip = degToRad(params_.dipDeg);
+    const double dip = core::degToRad(params_.dipDeg);
     const Eigen::Vector3d field(0.0, -std::sin(dip) * params_.fieldStrength, -std::cos(dip) * params_.fieldStrength);
     truth_.mag = toDevice * field;
     truth_.gyro = motion.omega;
@@ -91,7 +91,7 @@ public:
     {
         if (isOpen()) return;
         const int fd = sim_->takeHostFd();
-        if (fd < 0) throw IoError("the simulated forearm is unplugged");
+        if (fd < 0) throw core::IoError("the simulated forearm is unplugged");
         adopt(fd, true);
     }
 
@@ -117,7 +117,7 @@ void SimulatedForearm::startPty(const std::string& linkPath)
     if (thread_.joinable()) throw std::logic_error("simulator already started");
     pty_ = true;
     linkPath_ = linkPath;
-    if (!plug()) throw IoError("cannot create a pseudo-terminal for the simulator at " + linkPath + ": " + std::strerror(errno));
+    if (!plug()) throw core::IoError("cannot create a pseudo-terminal for the simulator at " + linkPath + ": " + std::strerror(errno));
     stop_.store(false);
     thread_ = std::thread([this] { run(); });
 }
@@ -126,7 +126,7 @@ std::unique_ptr<LinkPort> SimulatedForearm::startInProcess()
 {
     if (thread_.joinable()) throw std::logic_error("simulator already started");
     pty_ = false;
-    if (!plug()) throw IoError(std::string("cannot create the simulator's socket pair: ") + std::strerror(errno));
+    if (!plug()) throw core::IoError(std::string("cannot create the simulator's socket pair: ") + std::strerror(errno));
     stop_.store(false);
     thread_ = std::thread([this] { run(); });
     return std::make_unique<InProcessPort>(this);
@@ -327,7 +327,7 @@ void SimulatedForearm::respond(double rxTime)
 void SimulatedForearm::run()
 {
     ::prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);   // precise paced sleeps
-    requestRealtimePriority(options_.realtimePriority);
+    core::requestRealtimePriority(options_.realtimePriority);
     std::uniform_real_distribution<double> u(0.0, 1.0);
     std::uint8_t buffer[256];
     while (!stop_.load(std::memory_order_relaxed)) {
@@ -425,4 +425,4 @@ bool SimulatedForearm::waitFor(const std::function<bool(const SimulatorStats&)>&
     return cv_.wait_for(lock, std::chrono::duration<double>(timeoutSeconds), [&] { return pred(stats_); });
 }
 
-} // namespace armadillo::device
+} // namespace armadillo::link

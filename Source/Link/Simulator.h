@@ -15,7 +15,7 @@
 #include <string>
 #include <thread>
 
-namespace armadillo::device {
+namespace armadillo::link {
 
 /// The sensors' physics and ADC. Every field names its unit.
 struct SensorModelParams {
@@ -40,7 +40,7 @@ public:
     explicit SensorModel(const SensorModelParams& params = {});
     SensorCounts sample(const MotionState& motion, double t, const ProtocolLevels& motors);
     /// The physical values of the last sample (before the ADC), for tests.
-    const ImuSample& lastTruth() const noexcept { return truth_; }
+    const core::ImuSample& lastTruth() const noexcept { return truth_; }
     Eigen::Vector3d gyroBias(double t) const;
     const SensorModelParams& params() const noexcept { return params_; }
 
@@ -50,7 +50,7 @@ private:
     std::normal_distribution<double> normal_ {0.0, 1.0};
     Eigen::Vector3d walk_ = Eigen::Vector3d::Zero();
     double lastT_ = 0.0;
-    ImuSample truth_ {};
+    core::ImuSample truth_ {};
 };
 
 /// The device without threads or clocks: bytes from the host in, sensor packets out.
@@ -174,4 +174,4 @@ private:
     std::string ptyName_;
 };
 
-} // namespace armadillo::device
+} // namespace armadillo::link

@@ -3,14 +3,14 @@
 #include <algorithm>
 #include <cmath>
 
-namespace armadillo::device {
+namespace armadillo::link {
 
-void SteerableArm::steerTo(const Pose& target) noexcept
+void SteerableArm::steerTo(const core::Pose& target) noexcept
 {
     wandering_ = false;
     target_.elevationDeg = std::clamp(target.elevationDeg, -90.0, 90.0);
-    target_.azimuthDeg = wrapDeg360(target.azimuthDeg);
-    target_.rollDeg = wrapDeg180(target.rollDeg);
+    target_.azimuthDeg = core::wrapDeg360(target.azimuthDeg);
+    target_.rollDeg = core::wrapDeg180(target.rollDeg);
 }
 
 Eigen::Quaterniond SteerableArm::advance(double dt)
@@ -21,16 +21,16 @@ Eigen::Quaterniond SteerableArm::advance(double dt)
         Eigen::Quaterniond q = path_.at(t_).q;
         const double phase = std::fmod(t_, kFlickEvery);
         if (phase < kFlickLength)   // roll is a turn about the forearm (device x)
-            q = q * Eigen::Quaterniond(Eigen::AngleAxisd(kPi / 4.0 * std::sin(kPi * phase / kFlickLength), Eigen::Vector3d::UnitX()));
-        current_ = quaternionToPose(q);
+            q = q * Eigen::Quaterniond(Eigen::AngleAxisd(core::kPi / 4.0 * std::sin(core::kPi * phase / kFlickLength), Eigen::Vector3d::UnitX()));
+        current_ = core::quaternionToPose(q);
         return q;
     }
     // Ease toward the steered pose so steering by keyboard is not a step.
     const double k = 1.0 - std::exp(-dt / 0.08);
     current_.elevationDeg += k * (target_.elevationDeg - current_.elevationDeg);
-    current_.azimuthDeg = wrapDeg360(current_.azimuthDeg + k * wrapDeg180(target_.azimuthDeg - current_.azimuthDeg));
-    current_.rollDeg = wrapDeg180(current_.rollDeg + k * wrapDeg180(target_.rollDeg - current_.rollDeg));
+    current_.azimuthDeg = core::wrapDeg360(current_.azimuthDeg + k * core::wrapDeg180(target_.azimuthDeg - current_.azimuthDeg));
+    current_.rollDeg = core::wrapDeg180(current_.rollDeg + k * core::wrapDeg180(target_.rollDeg - current_.rollDeg));
     return poseToQuaternion(current_);
 }
 
-} // namespace armadillo::device
+} // namespace armadillo::link

@@ -10,7 +10,7 @@
 #include "Link/Motion.h"
 #include <Eigen/Geometry>
 
-namespace armadillo::device {
+namespace armadillo::link {
 
 class SteerableArm {
 public:
@@ -19,10 +19,10 @@ public:
     /// Advances the arm by dt s (clamped to 0..0.1) and returns its orientation (device → earth).
     Eigen::Quaterniond advance(double dt);
     /// The user steers: ease toward this pose and stop wandering.
-    void steerTo(const Pose& target) noexcept;
+    void steerTo(const core::Pose& target) noexcept;
     void setWandering(bool on) noexcept { wandering_ = on; }
     bool wandering() const noexcept { return wandering_; }
-    Pose pose() const noexcept { return current_; }
+    core::Pose pose() const noexcept { return current_; }
     double time() const noexcept { return t_; }
 
     static constexpr double kFlickEvery = 7.0;    ///< s between roll flicks while wandering
@@ -32,8 +32,8 @@ private:
     WanderingMotion path_;
     double t_ = 0.0;
     bool wandering_ = true;
-    Pose target_ {};
-    Pose current_ {20.0, 0.0, 0.0};
+    core::Pose target_ {};
+    core::Pose current_ {20.0, 0.0, 0.0};
 };
 
-} // namespace armadillo::device
+} // namespace armadillo::link

@@ -14,7 +14,7 @@
 #include <string>
 #include <string_view>
 
-namespace armadillo::device {
+namespace armadillo::link {
 
 inline constexpr int kProfileMotors = 9;
 
@@ -39,6 +39,6 @@ void saveTouchProfile(const std::string& path, const TouchProfile& profile);   /
 /// Gains per physical motor: gain_m = threshold_m / median threshold, clamped to 0.25..4, so a
 /// level L is felt at about L / median above threshold on every motor (a motor twice as
 /// insensitive is driven twice as hard). Motors 10… keep gain 1.
-std::array<float, kMaxMotors> touchProfileGains(const TouchProfile& profile);
+std::array<float, core::kMaxMotors> touchProfileGains(const TouchProfile& profile);
 
-} // namespace armadillo::device
+} // namespace armadillo::link

@@ -28,7 +28,7 @@ void clearBlock(const AudioBlock& b) noexcept
 
 } // namespace
 
-BlockControl::BlockControl(ControlLoop& loop, ControlToken& token, const Cells& cells, device::LevelSchedule& motors)
+BlockControl::BlockControl(ControlLoop& loop, ControlToken& token, const Cells& cells, link::LevelSchedule& motors)
     : loop_(loop), token_(token), cells_(cells), motors_(motors)
 {
     assert(cells.elevation && cells.azimuth && cells.roll && cells.source);
@@ -50,7 +50,7 @@ void BlockControl::prepare(double sampleRate)
     cues_ = nullptr;   // the stage may have replaced its player (prepareToPlay): taken again at the next block
 }
 
-void BlockControl::step(double dt, double wall, bool toMotors, const Transport& transport, BlockMidi* midi,
+void BlockControl::step(double dt, double wall, bool toMotors, const core::Transport& transport, BlockMidi* midi,
                         int sampleOffset, double cutoff) noexcept
 {
     // The motor timeline. Levels leave the link at their stamp: the audio timeline's steady
@@ -66,7 +66,7 @@ void BlockControl::step(double dt, double wall, bool toMotors, const Transport& 
         if (lastStamp_ >= 0.0) s.motorOnTime = motors_.onTime(lastStamp_, stamp);
     }
     s.source = source();
-    s.automation = Pose {cells_.elevation->load(std::memory_order_relaxed), cells_.azimuth->load(std::memory_order_relaxed),
+    s.automation = core::Pose {cells_.elevation->load(std::memory_order_relaxed), cells_.azimuth->load(std::memory_order_relaxed),
                          cells_.roll->load(std::memory_order_relaxed)};
     s.transport = transport;
     s.dt = dt;
@@ -92,9 +92,9 @@ void BlockControl::step(double dt, double wall, bool toMotors, const Transport& 
         lastStamp_ = -1.0;
     }
 
-    Engine& engine = *runningEngine();
+    engine::Engine& engine = *runningEngine();
     clock_ += dt;
-    const ArmState& arm = result.arm;
+    const core::ArmState& arm = result.arm;
     // The panic gesture (docs/STAGE.md): the right forearm hanging down for 2 s panics the stage,
     // as CC 120 or F12 do, from the next block on. Off: a hang in progress is forgotten.
     if (stage_ != nullptr && stage_->panicGesture()) {
@@ -120,7 +120,7 @@ void BlockControl::step(double dt, double wall, bool toMotors, const Transport& 
     ticks_.fetch_add(1, std::memory_order_relaxed);
 
     int gestureCount = 0;
-    GestureEvent g;
+    engine::GestureEvent g;
     while (engine.popGesture(g)) {
         gestures_.push(g);
         lastGesture_.store(g.name, std::memory_order_relaxed);
@@ -214,7 +214,7 @@ void BlockControl::applySceneParam(const mapping::SceneParamChange& change) noex
     }
 }
 
-void BlockControl::processBlock(const AudioBlock& buffer, BlockMidi& midi, const Transport& transport, bool offline,
+void BlockControl::processBlock(const AudioBlock& buffer, BlockMidi& midi, const core::Transport& transport, bool offline,
                                 const Listen& listen) noexcept
 {
     const int n = buffer.numSamples;
@@ -242,7 +242,7 @@ void BlockControl::processBlock(const AudioBlock& buffer, BlockMidi& midi, const
         if ((status == 0x80 || status == 0x90) && event.size == 3
             && (stage_ == nullptr || (event.data[1] != stage_->nextNote() && event.data[1] != stage_->previousNote()))) {
             if (notesInCount_ < kMaxNotesIn) {
-                MidiNoteEvent& e = notesIn_[static_cast<std::size_t>(notesInCount_++)];
+                core::MidiNoteEvent& e = notesIn_[static_cast<std::size_t>(notesInCount_++)];
                 e.offset = std::clamp(event.offset, 0, std::max(0, n - 1));
                 e.note = static_cast<std::uint8_t>(event.data[1] & 0x7F);
                 e.velocity = static_cast<std::uint8_t>(status == 0x80 ? 0 : event.data[2] & 0x7F);
@@ -260,7 +260,7 @@ void BlockControl::processBlock(const AudioBlock& buffer, BlockMidi& midi, const
     // growing on the audio thread: Plugin/HostBlock.h).
     midi.beginOutput();
     bypassed_ = false;
-    const double wall = monotonicSeconds();
+    const double wall = core::monotonicSeconds();
     lastAudioMs_.store(wall * 1e3, std::memory_order_relaxed);
     offlineRender_.store(offline, std::memory_order_relaxed);
     if (buffer.numChannels < 2 || n <= 0 || ! token_.tryTake()) {   // the idle clock is finishing an update: one silent block
@@ -309,7 +309,7 @@ void BlockControl::processBlock(const AudioBlock& buffer, BlockMidi& midi, const
     int pos = 0;
     while (pos < n) {
         if (samplesToTick_ <= 0) {
-            Transport t = transport;
+            core::Transport t = transport;
             if (t.valid && t.playing) {
                 const double ahead = pos / sr;
                 t.seconds += ahead;
@@ -398,7 +398,7 @@ void BlockControl::processBlock(const AudioBlock& buffer, BlockMidi& midi, const
 
 int BlockControl::engineStems() noexcept
 {
-    const Engine* engine = runningEngine();   // a set list's current cue, else the single engine
+    const engine::Engine* engine = runningEngine(); // a set list's current cue, else the single engine
     return engine != nullptr ? static_cast<int>(engine->config().sceneConfig.stems.size()) : 0;
 }
 
@@ -407,7 +407,7 @@ void BlockControl::bypassBlock(const AudioBlock& buffer, BlockMidi& midi) noexce
     clearBlock(buffer);
     for (BlockMidi::Event ignored; midi.nextInput(ignored);) {}   // the MIDI input is never passed through, bypassed or not
     midi.beginOutput();
-    lastAudioMs_.store(monotonicSeconds() * 1e3, std::memory_order_relaxed);
+    lastAudioMs_.store(core::monotonicSeconds() * 1e3, std::memory_order_relaxed);
     const int n = buffer.numSamples;
     if (bypassed_ || n <= 0 || ! token_.tryTake()) return;
     bypassed_ = true;
@@ -418,7 +418,7 @@ void BlockControl::bypassBlock(const AudioBlock& buffer, BlockMidi& midi) noexce
 
 void BlockControl::idleTick(double dt) noexcept
 {
-    const double now = monotonicSeconds();
+    const double now = core::monotonicSeconds();
     // A host rendering offline may take any time between blocks (a heavy bounce): its render is
     // not interrupted, whatever the gap, until a real-time block or prepare() comes.
     if (offlineRender_.load(std::memory_order_relaxed)) return;
@@ -428,7 +428,7 @@ void BlockControl::idleTick(double dt) noexcept
     const int updates = std::clamp(static_cast<int>(std::lround(dt * kControlRateHz)), 1, 4);
     const bool toMotors = idleDrivesMotors_.load(std::memory_order_relaxed);
     beginStage(nullptr, clock_, 0);
-    for (int i = 0; i < updates; ++i) step(dt / updates, now - (updates - 1 - i) * dt / updates, toMotors, Transport {}, nullptr, 0);
+    for (int i = 0; i < updates; ++i) step(dt / updates, now - (updates - 1 - i) * dt / updates, toMotors, core::Transport {}, nullptr, 0);
     token_.release();
 }
 
@@ -454,7 +454,7 @@ void BlockControl::applyMappedStage() noexcept
     mapOut_.stageCount = 0;
 }
 
-Engine* BlockControl::runningEngine() noexcept
+engine::Engine* BlockControl::runningEngine() noexcept
 {
     if (cues_ != nullptr) return &cues_->engine(cues_->current());
     auto* slot = loop_.active();
@@ -489,7 +489,7 @@ void BlockControl::beginStage(BlockMidi* midi, double blockStart, int blockSampl
     if (stage_ == nullptr) return;
     cues_ = stage_->beginStep();
     const bool panic = stage_->panicked();
-    Engine* engine = nullptr;
+    engine::Engine* engine = nullptr;
     if (auto* slot = loop_.active(); slot != nullptr) engine = slot->engine.get();
     if (panic) {
         // Every block while in panic: idempotent, and it reaches an engine or a set list that

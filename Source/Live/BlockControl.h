@@ -86,7 +86,7 @@ public:
         const std::atomic<float>* source = nullptr;
     };
 
-    BlockControl(ControlLoop& loop, ControlToken& token, const Cells& cells, device::LevelSchedule& motors);
+    BlockControl(ControlLoop& loop, ControlToken& token, const Cells& cells, link::LevelSchedule& motors);
 
     /// Message thread, token held: a new sample rate. The mapping's sounding notes are ended at
     /// the start of the next block.
@@ -158,10 +158,10 @@ public:
     /// Audio thread: the whole block. `transport` is the host's play head at the block's first
     /// sample (Transport {} when it has none); `offline` is the host's non-realtime render (its
     /// blocks do not reach the motors: they get all-off).
-    void processBlock(const AudioBlock& buffer, BlockMidi& midi, const Transport& transport, bool offline,
+    void processBlock(const AudioBlock& buffer, BlockMidi& midi, const core::Transport& transport, bool offline,
                       const Listen& listen) noexcept;
     /// The same without an audio input.
-    void processBlock(const AudioBlock& buffer, BlockMidi& midi, const Transport& transport, bool offline) noexcept
+    void processBlock(const AudioBlock& buffer, BlockMidi& midi, const core::Transport& transport, bool offline) noexcept
     {
         processBlock(buffer, midi, transport, offline, Listen {});
     }
@@ -205,7 +205,7 @@ public:
     // Published (any thread).
     ArmFrame latestFrame() const noexcept { return frame_.load(); }
     /// Gestures of the control steps, for one consumer (the clock thread's OSC sender).
-    bool popGesture(GestureEvent& g) noexcept { return gestures_.pop(g); }
+    bool popGesture(engine::GestureEvent& g) noexcept { return gestures_.pop(g); }
     const char* lastGesture() const noexcept { return lastGesture_.load(std::memory_order_relaxed); }
     std::uint64_t gestureCount() const noexcept { return gestureCount_.load(std::memory_order_relaxed); }
     std::uint64_t ticks() const noexcept { return ticks_.load(std::memory_order_relaxed); }
@@ -222,7 +222,7 @@ private:
     /// One control step; `wall` is the monotonic time its levels belong to by the wall clock, and
     /// `toMotors` whether they go to the link.
     /// `cutoff` (monotonic s): only live samples that arrived by then are fused (+∞: all waiting).
-    void step(double dt, double wall, bool toMotors, const Transport& transport, BlockMidi* midi, int sampleOffset,
+    void step(double dt, double wall, bool toMotors, const core::Transport& transport, BlockMidi* midi, int sampleOffset,
               double cutoff = std::numeric_limits<double>::infinity()) noexcept;
     /// Hands out what the mapping produced: MIDI into `midi` (when not null) at the offset of
     /// each event's time from `blockStart` (s, the mapping's timeline), clamped to the block's
@@ -236,7 +236,7 @@ private:
     /// + CC 123 sent on all 16 channels, into `midi` at offset 0 (when not null) and the port.
     void beginStage(BlockMidi* midi, double blockStart, int blockSamples) noexcept;
     /// The current cue's engine with a set list, else the active engine (null: none).
-    Engine* runningEngine() noexcept;
+    engine::Engine* runningEngine() noexcept;
     void renderRunning(float* left, float* right, int numSamples) noexcept;
     void inputRunning(const float* const* in, int channels, int numSamples) noexcept;
     /// The MIDI input's notes that fall in [from, from + len) of the block, offsets made
@@ -249,13 +249,13 @@ private:
     ControlLoop& loop_;
     ControlToken& token_;
     Cells cells_;
-    device::LevelSchedule& motors_;
+    link::LevelSchedule& motors_;
     std::atomic<double> sampleRate_ {48000.0};
     std::atomic<double> lastAudioMs_ {-1.0e9};
     std::atomic<bool> idleDrivesMotors_ {false};
     std::atomic<bool> offlineRender_ {false};   ///< the last block was the host's offline render
     std::atomic<access::TactilePlayer*> stimulus_ {nullptr};
-    Handover<tactors::TactorRenderer> tactors_;
+    core::Handover<tactors::TactorRenderer> tactors_;
     std::atomic<TactorOutput*> tactorOut_ {nullptr};
     std::atomic<mqtt::MessageService*> mqtt_ {nullptr};
     std::atomic<std::uint64_t> mqttDropped_ {0};
@@ -284,7 +284,7 @@ private:
     LeftArm* leftArm_ = nullptr;
     CuePlayer* cues_ = nullptr;   ///< token holder: the set list's player this block (null: none)
     bool panicApplied_ = false;         ///< token holder: the stage's panic as applied
-    PanicGesture panicGesture_;         ///< token holder: the right arm's hang (Stage::panicGesture)
+    engine::PanicGesture panicGesture_; ///< token holder: the right arm's hang (Stage::panicGesture)
     std::atomic<std::uint64_t> stageCommands_ {0};   ///< stage commands the mapping fired
     std::uint64_t frameSerial_ = 0;
     /// The listened-to input of one control step (≤ 192 kHz / 200 Hz samples), fixed size.
@@ -295,13 +295,13 @@ private:
     /// Control side: how many stems the active engine's scene takes (SceneConfig::stems).
     int engineStems() noexcept;
     /// The MIDI input's notes of the current block, in time order (audio thread; fixed size).
-    std::array<MidiNoteEvent, kMaxNotesIn> notesIn_ {};
+    std::array<core::MidiNoteEvent, kMaxNotesIn> notesIn_ {};
     int notesInCount_ = 0, notesInNext_ = 0;
     std::atomic<std::uint64_t> notesInDropped_ {0};
 
     MappingOutputs outputs_;
-    SeqLock<ArmFrame> frame_;
-    SpscQueue<GestureEvent, 128> gestures_;
+    core::SeqLock<ArmFrame> frame_;
+    core::SpscQueue<engine::GestureEvent, 128> gestures_;
     std::atomic<const char*> lastGesture_ {""};
     std::atomic<std::uint64_t> gestureCount_ {0};
     std::atomic<std::uint64_t> ticks_ {0};

@@ -15,7 +15,7 @@ namespace {
 constexpr int kClockPriority = 18;
 } // namespace
 
-BlockRig::BlockRig(ControlLoop& loop, BlockControl& control, device::LevelSchedule& motors)
+BlockRig::BlockRig(ControlLoop& loop, BlockControl& control, link::LevelSchedule& motors)
     : loop_(loop), control_(control), oscIn_(loop.input(SourceKind::Osc)), leftOscIn_(leftArm_.input()),
       device_(std::make_unique<DeviceConnection>(loop.input(SourceKind::Device), motors))
 {
@@ -36,7 +36,7 @@ void BlockRig::start()
 
 void BlockRig::clockLoop()
 {
-    (void) requestRealtimePriority(kClockPriority);   // steadier idle steps where the system allows it
+    (void) core::requestRealtimePriority(kClockPriority); // steadier idle steps where the system allows it
     using Clock = std::chrono::steady_clock;
     constexpr auto kPeriod = std::chrono::microseconds(5000);   // 200 Hz
     auto next = Clock::now();
@@ -45,7 +45,7 @@ void BlockRig::clockLoop()
         next += kPeriod;
         std::this_thread::sleep_until(next);
         if (Clock::now() - next > 20 * kPeriod) next = Clock::now();   // a stall (suspend, debugger): no burst of catch-up ticks
-        const double now = monotonicSeconds();
+        const double now = core::monotonicSeconds();
         clockTick(last < 0.0 ? 0.005 : now - last);
         last = now;
     }
@@ -75,12 +75,12 @@ void BlockRig::clockTick(double dt)
         lastSentSerial_ = f.serial;
         oscOut_.sendFrame(f);
     }
-    GestureEvent g;
+    engine::GestureEvent g;
     while (control_.popGesture(g)) oscOut_.sendGesture(g.name);
     sendMappingOsc();
     if (clockHook_) clockHook_();
 
-    const double now = monotonicSeconds() * 1e3;
+    const double now = core::monotonicSeconds() * 1e3;
     if (now - rateWindowStartMs_ >= 1000.0) {
         const auto ticks = control_.ticks();
         if (rateWindowStartMs_ > 0.0)
@@ -98,19 +98,19 @@ void BlockRig::sendMappingOsc()
     mapping::OscPacket p;
     while (control_.mappingOutputs().popOsc(p)) {
         const auto target = static_cast<std::size_t>(p.target);
-        device::OscSender* sender = p.target >= 0 && target < mappingOsc_.size() ? mappingOsc_[target].get() : nullptr;
+        osc::OscSender* sender = p.target >= 0 && target < mappingOsc_.size() ? mappingOsc_[target].get() : nullptr;
         const bool sent = sender != nullptr && sender->sendPacket(p.bytes.data(), p.size);
         (sent ? mappingOscSent_ : mappingOscDropped_).fetch_add(1, std::memory_order_relaxed);
     }
 }
 
-std::string BlockRig::configureMappingOsc(const std::vector<device::HostPort>& targets)
+std::string BlockRig::configureMappingOsc(const std::vector<osc::HostPort>& targets)
 {
-    std::vector<std::unique_ptr<device::OscSender>> senders;
+    std::vector<std::unique_ptr<osc::OscSender>> senders;
     std::string problems;
     for (const auto& t : targets) {
         try {
-            senders.push_back(std::make_unique<device::OscSender>(t));
+            senders.push_back(std::make_unique<osc::OscSender>(t));
         } catch (const std::exception& e) {
             senders.push_back(nullptr);
             problems += (problems.empty() ? "" : " ") + std::string("OSC target ") + t.host + ":" + std::to_string(t.port) + ": " + e.what() + ".";
@@ -124,7 +124,7 @@ std::string BlockRig::configureMappingOsc(const std::vector<device::HostPort>& t
 // ------------------------------------------------------------------------------------------------
 // Simulated arm
 
-Pose BlockRig::simulatorPose() const
+core::Pose BlockRig::simulatorPose() const
 {
     std::lock_guard<std::mutex> lock(simMutex_);
     return simulator_.pose();
@@ -136,7 +136,7 @@ bool BlockRig::simulatorWandering() const
     return simulator_.wandering();
 }
 
-void BlockRig::steerSimulator(const Pose& pose)
+void BlockRig::steerSimulator(const core::Pose& pose)
 {
     std::lock_guard<std::mutex> lock(simMutex_);
     simulator_.steerTo(pose);
@@ -230,7 +230,7 @@ bool BlockRig::saveCalibration(const std::string& path, const std::string& port,
         message = "There is no finished calibration to save.";
         return false;
     }
-    device::Calibration c = session.result();
+    link::Calibration c = session.result();
     c.device = port;
     const std::time_t now = std::time(nullptr);
     char date[32];
@@ -238,7 +238,7 @@ bool BlockRig::saveCalibration(const std::string& path, const std::string& port,
     c.date = date;
     const std::string name = path.substr(path.find_last_of('/') == std::string::npos ? 0 : path.find_last_of('/') + 1);
     try {
-        device::saveCalibration(path, c);
+        link::saveCalibration(path, c);
     } catch (const std::exception& e) {
         message = "Calibration not saved: " + std::string(e.what());
         return false;

@@ -33,7 +33,7 @@
 #include <thread>
 #include <vector>
 
-namespace armadillo::device {
+namespace armadillo::osc {
 class OscSender;
 }
 
@@ -41,7 +41,7 @@ namespace armadillo::live {
 
 class BlockRig {
 public:
-    BlockRig(ControlLoop& loop, BlockControl& control, device::LevelSchedule& motors);
+    BlockRig(ControlLoop& loop, BlockControl& control, link::LevelSchedule& motors);
     ~BlockRig();   // stops the clock, then the device link (its last packet is all-off)
 
     /// Before start(): called on the control clock after every tick (the front end's own
@@ -51,9 +51,9 @@ public:
     void start();
 
     // Simulated arm (message thread)
-    Pose simulatorPose() const;
+    core::Pose simulatorPose() const;
     bool simulatorWandering() const;
-    void steerSimulator(const Pose& pose);
+    void steerSimulator(const core::Pose& pose);
     void setSimulatorWandering(bool on);
 
     // OSC (message thread): returns "" or what was refused.
@@ -67,11 +67,11 @@ public:
     LeftArm& leftArm() noexcept { return leftArm_; }
     bool leftArmOn() const noexcept { return leftArm_.on(); }
     OscInput& leftOscInput() noexcept { return leftOscIn_; }
-    device::OscInputStats leftOscInputStats() const { return leftOscIn_.stats(); }
+    osc::OscInputStats leftOscInputStats() const { return leftOscIn_.stats(); }
     std::uint64_t oscMessagesSent() const noexcept { return oscOut_.messagesSent(); }
     /// The mapping's OSC targets (index = mapping::OscPacket::target), opened here (message
     /// thread). Returns "" or which targets could not be used (their packets are dropped).
-    std::string configureMappingOsc(const std::vector<device::HostPort>& targets);
+    std::string configureMappingOsc(const std::vector<osc::HostPort>& targets);
     /// Packets the mapping sent / dropped (no target, socket full).
     std::uint64_t mappingOscSent() const noexcept { return mappingOscSent_.load(std::memory_order_relaxed); }
     std::uint64_t mappingOscDropped() const noexcept { return mappingOscDropped_.load(std::memory_order_relaxed); }
@@ -98,7 +98,7 @@ public:
     /// the device link's good packets (0 when not connected), OSC input statistics.
     std::uint64_t simulatorSteps() const noexcept { return simulatorSteps_.load(std::memory_order_relaxed); }
     std::uint64_t devicePackets() const { return deviceConnected() ? device_->packetsReceived() : 0; }
-    device::OscInputStats oscInputStats() const { return oscIn_.stats(); }
+    osc::OscInputStats oscInputStats() const { return oscIn_.stats(); }
 
 private:
     void clockLoop();            // control clock thread
@@ -109,13 +109,13 @@ private:
     ControlLoop& loop_;
     BlockControl& control_;
     mutable std::mutex simMutex_;      // simulated arm: message ↔ clock thread only
-    device::SteerableArm simulator_;
+    link::SteerableArm simulator_;
     OscOutput oscOut_;
     OscInput oscIn_;
     LeftArm leftArm_;                  // before leftOscIn_: its mailbox outlives the receiver
     OscInput leftOscIn_;
     std::mutex mappingOscMutex_;       // mapping OSC senders: message ↔ clock thread only
-    std::vector<std::unique_ptr<device::OscSender>> mappingOsc_;
+    std::vector<std::unique_ptr<osc::OscSender>> mappingOsc_;
     std::atomic<std::uint64_t> mappingOscSent_ {0}, mappingOscDropped_ {0};
     std::unique_ptr<DeviceConnection> device_;
     std::string deviceMessage_;        // message thread

@@ -46,12 +46,12 @@ void ControlLoop::resetArm() noexcept
     lastSource_ = -1;
 }
 
-ArmState ControlLoop::fuse(LiveInput& in, double cutoff) noexcept
+core::ArmState ControlLoop::fuse(LiveInput& in, double cutoff) noexcept
 {
     return fuseStep(in, tracker_, lastOrientation_, lastOrientationSerial_, &droppedImu_, cutoff);
 }
 
-ArmState fuseStep(LiveInput& in, ArmTracker& tracker, LiveOrientation& last, std::uint64_t& lastUsedSerial,
+core::ArmState fuseStep(LiveInput& in, fusion::ArmTracker& tracker, LiveOrientation& last, std::uint64_t& lastUsedSerial,
                   std::atomic<std::uint64_t>* dropped, double cutoff) noexcept
 {
     // Bounded: of the samples due (arrived by `cutoff`), at most kMaxImuPerStep, the newest, are
@@ -67,7 +67,7 @@ ArmState fuseStep(LiveInput& in, ArmTracker& tracker, LiveOrientation& last, std
         newest[due % kMax] = imu;
         ++due;
     }
-    ArmState arm = tracker.state();
+    core::ArmState arm = tracker.state();
     for (std::size_t i = due > kMax ? due - kMax : 0; i < due; ++i) arm = tracker.update(toImuSample(newest[i % kMax]));
     if (due == 0) {
         last = in.latest(last);
@@ -101,7 +101,7 @@ ControlResult ControlLoop::tick(const ControlStep& step) noexcept
     EngineSlot* const current = engines_.active();
     if (current == nullptr || current->engine == nullptr) return result;
     EngineSlot& slot = *current;
-    Engine& engine = *slot.engine;
+    engine::Engine& engine = *slot.engine;
     if (step.panic) {   // idempotent: two atomics per engine
         engine.panic();
         if (step.cues != nullptr) step.cues->panic();
@@ -133,7 +133,7 @@ ControlResult ControlLoop::tick(const ControlStep& step) noexcept
     const double dt = std::isfinite(step.dt) && step.dt > 0.0 ? step.dt : 0.0;
     clock_ += dt;
 
-    ArmState arm;
+    core::ArmState arm;
     if (step.source == SourceKind::HostAutomation) {
         // Automation drives the scene through the same tracker as live movement (same features,
         // same angular velocity from successive orientations), so playback sounds as recorded.
@@ -160,7 +160,7 @@ void ControlLoop::processInput(const float* const* in, int channels, int numSamp
     if (EngineSlot* slot = engines_.active(); slot != nullptr && slot->engine != nullptr) slot->engine->processInput(in, channels, numSamples);
 }
 
-void ControlLoop::processMidi(const MidiNoteEvent* events, int count) noexcept
+void ControlLoop::processMidi(const core::MidiNoteEvent* events, int count) noexcept
 {
     if (EngineSlot* slot = engines_.active(); slot != nullptr && slot->engine != nullptr) slot->engine->processMidi(events, count);
 }

@@ -34,7 +34,7 @@ inline bool isLiveSource(SourceKind s) noexcept { return s != SourceKind::HostAu
 
 /// An engine ready to run, with the front end's parameter cells for its scene.
 struct EngineSlot {
-    std::unique_ptr<Engine> engine;
+    std::unique_ptr<engine::Engine> engine;
     std::string sceneName;
     /// Per Scene::parameters() index: where the front end keeps its value (nullptr: not exposed).
     std::vector<const std::atomic<float>*> params;
@@ -44,8 +44,8 @@ struct EngineSlot {
 
 struct ControlStep {
     SourceKind source = SourceKind::HostAutomation;
-    Pose automation {};           ///< deg; the arm under SourceKind::HostAutomation
-    Transport transport {};
+    core::Pose automation {};     ///< deg; the arm under SourceKind::HostAutomation
+    core::Transport transport {};
     double dt = 0.005;            ///< s since the previous step
     /// s the previous step's levels really stayed on the motor when that is not dt (a front end
     /// whose link sends levels at their time: after a host stall, LevelSchedule::onTime); < 0: dt.
@@ -61,7 +61,7 @@ struct ControlStep {
     /// own source (null: one arm). An engine built with EngineConfig::twoArms hears both arms
     /// (Engine::control(right, left, …)), and so do a set list's cues built with twoArms; any
     /// other engine, the right one.
-    const ArmState* leftArm = nullptr;
+    const core::ArmState* leftArm = nullptr;
     /// s on the monotonic clock: only live samples that arrived by then are fused at this step
     /// (LiveImu::arrival). The plugin places each step at the block position of its sample's
     /// arrival (BlockControl, issue 36); +∞ (the default): everything waiting.
@@ -69,8 +69,8 @@ struct ControlStep {
 };
 
 struct ControlResult {
-    ArmState arm {};
-    MotorLevels levels {};
+    core::ArmState arm {};
+    core::MotorLevels levels {};
     bool ran = false;             ///< false: no engine to run
     bool swapped = false;         ///< an offered engine took over at this step
 };
@@ -114,7 +114,7 @@ public:
     void processInput(const float* const* in, int channels, int numSamples) noexcept;
     /// The instrument's MIDI notes of the coming block for the active engine's scene
     /// (Engine::processMidi), before processInput() of the same samples.
-    void processMidi(const MidiNoteEvent* events, int count) noexcept;
+    void processMidi(const core::MidiNoteEvent* events, int count) noexcept;
     EngineSlot* active() noexcept { return engines_.active(); }
     /// Control side: the arrival (monotonic s) of the oldest sample of `source` not yet fused —
     /// the front IMU sample, else a new orientation — or +∞ when none waits (always for host
@@ -130,12 +130,12 @@ public:
 
 private:
     void swapInPending() noexcept;
-    ArmState fuse(LiveInput& in, double cutoff) noexcept;
+    core::ArmState fuse(LiveInput& in, double cutoff) noexcept;
 
     std::array<LiveInput, 3> inputs_;   // device, simulator, OSC
-    Handover<EngineSlot> engines_;      // builder → control side (Core/Handover.h)
+    core::Handover<EngineSlot> engines_; // builder → control side (Core/Handover.h)
 
-    ArmTracker tracker_;                // control side
+    fusion::ArmTracker tracker_;        // control side
     double clock_ = 0.0;                // s, advanced by dt per step
     int lastSource_ = -1;
     std::uint64_t lastOrientationSerial_ = 0;
@@ -153,7 +153,7 @@ private:
 /// Real-time: no allocation, lock or throw.
 /// With a finite `cutoff` (monotonic s) only samples that arrived by then are fused (IMU samples
 /// in order; the orientation when its arrival is not later).
-ArmState fuseStep(LiveInput& in, ArmTracker& tracker, LiveOrientation& last, std::uint64_t& lastUsedSerial,
+core::ArmState fuseStep(LiveInput& in, fusion::ArmTracker& tracker, LiveOrientation& last, std::uint64_t& lastUsedSerial,
                   std::atomic<std::uint64_t>* dropped = nullptr,
                   double cutoff = std::numeric_limits<double>::infinity()) noexcept;
 

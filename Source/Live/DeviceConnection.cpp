@@ -11,8 +11,8 @@
 
 namespace armadillo::live {
 
-DeviceConnection::DeviceConnection(LiveInput& input, device::LevelSchedule& motors)
-    : input_(input), motors_(motors), calibration_(device::defaultCalibration())
+DeviceConnection::DeviceConnection(LiveInput& input, link::LevelSchedule& motors)
+    : input_(input), motors_(motors), calibration_(link::defaultCalibration())
 {
 }
 
@@ -29,11 +29,11 @@ bool DeviceConnection::connect(const std::string& port, int baud, const std::str
         message = "Choose a serial port first.";
         return false;
     }
-    calibration_ = device::defaultCalibration();
+    calibration_ = link::defaultCalibration();
     calibrationNote_ = "default calibration";
     if (! calibrationFile.empty()) {
         try {
-            calibration_ = device::loadCalibration(calibrationFile);
+            calibration_ = link::loadCalibration(calibrationFile);
             calibrationNote_ = "calibration " + calibrationFile;
         } catch (const std::exception& e) {
             message = std::string("Calibration not loaded (") + e.what() + "); using the default calibration. ";
@@ -58,10 +58,10 @@ bool DeviceConnection::connect(const std::string& port, int baud, const std::str
     request.openNow = false;   // a missing port: the link waits for it, the status says so
     request.simulatorBaud = 57600.0;   // paced like the thesis's Bluetooth serial link
     request.simulatorPriority = kLinkPriority - 1;   // the board's side of the wire keeps time too
-    std::unique_ptr<device::LinkPort> linkPort;
+    std::unique_ptr<link::LinkPort> linkPort;
     try {
         if (request.simulate) {
-            calibration_ = device::defaultCalibration();   // the simulator's ADC is the default one
+            calibration_ = link::defaultCalibration();   // the simulator's ADC is the default one
             calibrationNote_ = "simulator's calibration";
         } else {
             std::string why;
@@ -75,11 +75,11 @@ bool DeviceConnection::connect(const std::string& port, int baud, const std::str
         simulator_ = std::move(opened.simulator);
         linkPort = std::move(opened.port);
         publishCalibration();
-        packetSafety_.prepare(kDefaultSafetyParams, kMaxMotors);   // allocates: here, before the link thread starts
+        packetSafety_.prepare(tactile::kDefaultSafetyParams, core::kMaxMotors); // allocates: here, before the link thread starts
         lastPacketAt_ = -1.0;
         linkSeen_ = 0;
         linkGeneration_.store(0, std::memory_order_release);
-        auto handler = [this](const device::SensorCounts& counts, double t) {
+        auto handler = [this](const link::SensorCounts& counts, double t) {
             // A calibration published by the message thread (connect, guided calibration) is
             // taken up here, between packets: a seqlock read, no lock, no allocation.
             const std::uint64_t generation = pendingGeneration_.load(std::memory_order_acquire);
@@ -92,8 +92,8 @@ bool DeviceConnection::connect(const std::string& port, int baud, const std::str
             input_.pushImu(linkCalibration_.apply(t, counts));   // full queue: the control loop is behind; drop, never block
             // The levels whose time has come on the control steps' clock (not the link's t, which
             // follows the board's clock in v2): all-off when they went stale.
-            const double now = monotonicSeconds();
-            const MotorLevels due = motors_.due(now);
+            const double now = core::monotonicSeconds();
+            const core::MotorLevels due = motors_.due(now);
             // The control steps' safety stage planned each level for ≥ 25 ms on the motor; the
             // packet timeline's own stage holds the bounds when packets come further apart.
             const double held = lastPacketAt_ < 0.0 ? 0.0 : now - lastPacketAt_;
@@ -103,11 +103,11 @@ bool DeviceConnection::connect(const std::string& port, int baud, const std::str
         // The link is the last stage before the motors: a packet it writes late holds the previous
         // levels longer than the safety stage planned (its horizon is 25 ms). It asks for
         // SCHED_FIFO, as `armadillo play` does (falls back silently where that is not allowed).
-        device::DeviceLinkOptions linkOptions;
+        link::DeviceLinkOptions linkOptions;
         linkOptions.realtimePriority = kLinkPriority;
-        link_ = std::make_unique<device::DeviceLink>(std::move(linkPort), handler, linkOptions);
+        link_ = std::make_unique<link::DeviceLink>(std::move(linkPort), handler, linkOptions);
         if (sentLog_) link_->enableSentLog();
-        linkEpoch_ = monotonicSeconds();
+        linkEpoch_ = core::monotonicSeconds();
         link_->start();
     } catch (const std::exception& e) {
         link_.reset();
@@ -131,10 +131,10 @@ void DeviceConnection::disconnect()
     claim_.reset();
 }
 
-DeviceConnection::CalibrationNumbers DeviceConnection::toNumbers(const device::Calibration& c) noexcept
+DeviceConnection::CalibrationNumbers DeviceConnection::toNumbers(const link::Calibration& c) noexcept
 {
     CalibrationNumbers n;
-    const device::SensorCalibration* parts[3] {&c.accel, &c.gyro, &c.mag};
+    const link::SensorCalibration* parts[3] {&c.accel, &c.gyro, &c.mag};
     for (int k = 0; k < 3; ++k) {
         for (int i = 0; i < 3; ++i) {
             n.sensor[k][i] = parts[k]->bias[i];
@@ -145,9 +145,9 @@ DeviceConnection::CalibrationNumbers DeviceConnection::toNumbers(const device::C
     return n;
 }
 
-void DeviceConnection::fromNumbers(const CalibrationNumbers& n, device::Calibration& c) noexcept
+void DeviceConnection::fromNumbers(const CalibrationNumbers& n, link::Calibration& c) noexcept
 {
-    device::SensorCalibration* parts[3] {&c.accel, &c.gyro, &c.mag};
+    link::SensorCalibration* parts[3] {&c.accel, &c.gyro, &c.mag};
     for (int k = 0; k < 3; ++k) {
         for (int i = 0; i < 3; ++i) {
             parts[k]->bias[i] = n.sensor[k][i];
@@ -163,17 +163,17 @@ void DeviceConnection::publishCalibration() noexcept
     pendingGeneration_.store(++requestedGeneration_, std::memory_order_release);
 }
 
-void DeviceConnection::applyCalibration(const device::Calibration& calibration, const std::string& note)
+void DeviceConnection::applyCalibration(const link::Calibration& calibration, const std::string& note)
 {
     calibration_ = calibration;
     calibrationNote_ = note;
     publishCalibration();
 }
 
-bool DeviceConnection::popSent(double& t, MotorLevels& levels) noexcept
+bool DeviceConnection::popSent(double& t, core::MotorLevels& levels) noexcept
 {
     if (link_ == nullptr) return false;
-    device::SentMotorPacket p;
+    link::SentMotorPacket p;
     if (! link_->sentLog().pop(p)) return false;
     t = linkEpoch_ + p.t;
     levels = {};

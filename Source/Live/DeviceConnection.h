@@ -22,10 +22,10 @@
 #include <memory>
 #include <string>
 
-namespace armadillo::device {
+namespace armadillo::link {
 class DeviceLink;
 class SimulatedForearm;
-} // namespace armadillo::device
+} // namespace armadillo::link
 
 namespace armadillo::live {
 
@@ -37,7 +37,7 @@ public:
     static constexpr int kLinkPriority = 20;
 
     /// `motors`: the control steps' stamped levels; this connection's link thread is its consumer.
-    DeviceConnection(LiveInput& input, device::LevelSchedule& motors);
+    DeviceConnection(LiveInput& input, link::LevelSchedule& motors);
     ~DeviceConnection();
 
     /// Message thread. Returns false with `message` saying why (port owned elsewhere, cannot open…).
@@ -51,15 +51,15 @@ public:
     /// Tests and diagnostics: from the next connect() on, every motor packet the link writes is
     /// logged (time on the monotonic clock, levels); `popSent` drains it (one consumer thread).
     void enableSentLog(bool on) noexcept { sentLog_ = on; }
-    bool popSent(double& t, MotorLevels& levels) noexcept;
+    bool popSent(double& t, core::MotorLevels& levels) noexcept;
     /// Packets the sent log could not keep (it was not drained in time).
     std::uint64_t sentDropped() const noexcept;
 
     /// Message thread: the calibration the link applies (or will apply, just after this call).
-    const device::Calibration& calibration() const noexcept { return calibration_; }
+    const link::Calibration& calibration() const noexcept { return calibration_; }
     /// Message thread: the link uses `calibration` from its next packet on; `note` says where it
     /// came from in status() ("guided calibration", "calibration my-board.json").
-    void applyCalibration(const device::Calibration& calibration, const std::string& note);
+    void applyCalibration(const link::Calibration& calibration, const std::string& note);
     const std::string& calibrationNote() const noexcept { return calibrationNote_; }
     /// Each connect / applyCalibration publishes a new calibration generation; the link thread
     /// takes it up at its next packet. Once calibrationInUse() == calibrationPublished(), every
@@ -75,32 +75,32 @@ private:
     struct CalibrationNumbers {
         double sensor[3][15] {};   ///< accel, gyro, mag: bias[3] (counts), scale[3] (SI/count), cross[9] row-major
     };
-    static CalibrationNumbers toNumbers(const device::Calibration& c) noexcept;
-    static void fromNumbers(const CalibrationNumbers& n, device::Calibration& c) noexcept;
+    static CalibrationNumbers toNumbers(const link::Calibration& c) noexcept;
+    static void fromNumbers(const CalibrationNumbers& n, link::Calibration& c) noexcept;
     void publishCalibration() noexcept;
 
     LiveInput& input_;
-    device::LevelSchedule& motors_;
+    link::LevelSchedule& motors_;
     bool sentLog_ = false;
     double linkEpoch_ = 0.0;                   // monotonic s at the link's start (its clock's 0)
-    device::Calibration calibration_;          // message thread's copy
+    link::Calibration calibration_;          // message thread's copy
     std::string calibrationNote_;
     // Message thread → link thread: the calibration to use and its generation number.
-    SeqLock<CalibrationNumbers> pendingCalibration_;
+    core::SeqLock<CalibrationNumbers> pendingCalibration_;
     std::atomic<std::uint64_t> pendingGeneration_ {0};
     std::uint64_t requestedGeneration_ = 0;    // message thread
-    device::Calibration linkCalibration_;      // link thread only (while the link runs)
+    link::Calibration linkCalibration_;      // link thread only (while the link runs)
     // The last word on the packet timeline (link thread only, prepared by connect()): a safety
     // stage charged with the real time between the packets the link writes, so a link that turns
     // slow (a loaded machine, a slow port) cannot hold a level longer than the budget allows.
-    SafetyStage packetSafety_;
+    tactile::SafetyStage packetSafety_;
     double lastPacketAt_ = -1.0;               // link thread: monotonic s of the previous packet
     std::uint64_t linkSeen_ = 0;               // link thread only
     std::atomic<std::uint64_t> linkGeneration_ {0};
     procedures::DeviceCalibration calibrationSession_;
     std::unique_ptr<PortClaim> claim_;
-    std::unique_ptr<device::SimulatedForearm> simulator_;
-    std::unique_ptr<device::DeviceLink> link_;
+    std::unique_ptr<link::SimulatedForearm> simulator_;
+    std::unique_ptr<link::DeviceLink> link_;
 };
 
 } // namespace armadillo::live

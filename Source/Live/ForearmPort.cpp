@@ -13,16 +13,16 @@ ForearmPort openForearmPort(const ForearmPortRequest& request)
 {
     ForearmPort out;
     if (!request.simulate) {
-        auto port = std::make_unique<device::SerialPort>(request.port, request.baud);
+        auto port = std::make_unique<link::SerialPort>(request.port, request.baud);
         if (request.openNow) port->open();   // the port's own message; later losses reconnect in the link
         out.port = std::move(port);
         return out;
     }
-    device::SimulatorOptions options;
+    link::SimulatorOptions options;
     options.baud = request.simulatorBaud;
     options.realtimePriority = request.simulatorPriority;
-    auto motion = request.motion ? request.motion : std::make_shared<device::WanderingMotion>(request.seed);
-    out.simulator = std::make_unique<device::SimulatedForearm>(std::move(motion), options);
+    auto motion = request.motion ? request.motion : std::make_shared<link::WanderingMotion>(request.seed);
+    out.simulator = std::make_unique<link::SimulatedForearm>(std::move(motion), options);
     out.port = out.simulator->startInProcess();
     return out;
 }

@@ -10,10 +10,10 @@
 #include <memory>
 #include <string>
 
-namespace armadillo::device {
+namespace armadillo::link {
 class LinkPort;
 class SimulatedForearm;
-} // namespace armadillo::device
+} // namespace armadillo::link
 
 namespace armadillo::live {
 
@@ -28,7 +28,7 @@ struct ForearmPortRequest {
     /// Simulated: how the arm moves (null: the wandering arm with `seed`), the link's pace in
     /// baud (0: unpaced, as fast as the reader takes it) and the board thread's SCHED_FIFO
     /// priority (0: none).
-    std::shared_ptr<const device::MotionSource> motion;
+    std::shared_ptr<const link::MotionSource> motion;
     std::uint64_t seed = 1;
     double simulatorBaud = 57600.0;
     int simulatorPriority = 0;
@@ -37,8 +37,8 @@ struct ForearmPortRequest {
 /// An opened forearm port. A simulated one owns its simulator: stop the link reading `port`
 /// first, then the simulator (stop() or the destructor).
 struct ForearmPort {
-    std::unique_ptr<device::LinkPort> port;
-    std::unique_ptr<device::SimulatedForearm> simulator;
+    std::unique_ptr<link::LinkPort> port;
+    std::unique_ptr<link::SimulatedForearm> simulator;
 
     ForearmPort();
     ForearmPort(ForearmPort&&) noexcept;

@@ -10,7 +10,7 @@
 namespace armadillo::live {
 
 GuidedDevice::GuidedDevice(const std::string& port, int baud, bool simulate, bool unpaced, TactilePlayer& player, SensorHook onSensor,
-                           std::shared_ptr<const device::MotionSource> motion)
+                           std::shared_ptr<const link::MotionSource> motion)
     : player_(player), onSensor_(std::move(onSensor))
 {
     ForearmPortRequest request;
@@ -22,8 +22,8 @@ GuidedDevice::GuidedDevice(const std::string& port, int baud, bool simulate, boo
     request.simulatorBaud = unpaced ? 0.0 : 57600.0;
     ForearmPort opened = openForearmPort(request);
     simulator_ = std::move(opened.simulator);
-    link_ = std::make_unique<device::DeviceLink>(std::move(opened.port), [this](const device::SensorCounts& counts, double t) {
-        const MotorLevels out = player_.onPacket(t);
+    link_ = std::make_unique<link::DeviceLink>(std::move(opened.port), [this](const link::SensorCounts& counts, double t) {
+        const core::MotorLevels out = player_.onPacket(t);
         if (onSensor_) onSensor_(counts, player_.clock());
         return out;
     });
@@ -38,14 +38,14 @@ GuidedDevice::~GuidedDevice()
 
 void GuidedDevice::checkAlive()
 {
-    const double now = monotonicSeconds();
-    if (interrupted_ && interrupted_()) throw IoError("interrupted");
+    const double now = core::monotonicSeconds();
+    if (interrupted_ && interrupted_()) throw core::IoError("interrupted");
     if (lastPacketAt_ < 0.0 || player_.packets() != lastPackets_) {
         lastPackets_ = player_.packets();
         lastPacketAt_ = now;
     } else if (now - lastPacketAt_ > 5.0) {
         const std::string why = link_->lastError();
-        throw IoError("no data from the device for 5 s" + (why.empty() ? std::string() : ": " + why));
+        throw core::IoError("no data from the device for 5 s" + (why.empty() ? std::string() : ": " + why));
     }
 }
 

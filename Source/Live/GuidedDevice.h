@@ -13,10 +13,10 @@
 #include <memory>
 #include <string>
 
-namespace armadillo::device {
+namespace armadillo::link {
 class DeviceLink;
 class SimulatedForearm;
-} // namespace armadillo::device
+} // namespace armadillo::link
 
 namespace armadillo::live {
 
@@ -29,10 +29,10 @@ class GuidedDevice {
 public:
     /// `onSensor` (optional) sees every sensor packet on the control thread after the player,
     /// with the player's clock; it must be real-time (no allocation, lock or I/O).
-    using SensorHook = std::function<void(const device::SensorCounts&, double t)>;
+    using SensorHook = std::function<void(const link::SensorCounts&, double t)>;
     /// `motion` (optional): how the simulated forearm moves (default: the wandering arm).
     GuidedDevice(const std::string& port, int baud, bool simulate, bool unpaced, TactilePlayer& player, SensorHook onSensor = {},
-                 std::shared_ptr<const device::MotionSource> motion = {});
+                 std::shared_ptr<const link::MotionSource> motion = {});
     ~GuidedDevice();
     GuidedDevice(const GuidedDevice&) = delete;
     GuidedDevice& operator=(const GuidedDevice&) = delete;
@@ -45,14 +45,14 @@ public:
     void waitUntil(const std::function<bool()>& done);
     /// IoError when no packet arrived for 5 s (for a caller that waits by itself; call it often).
     void checkAlive();
-    device::DeviceLink& link() { return *link_; }
+    link::DeviceLink& link() { return *link_; }
 
 private:
     TactilePlayer& player_;
     SensorHook onSensor_;
     std::function<bool()> interrupted_;
-    std::unique_ptr<device::SimulatedForearm> simulator_;
-    std::unique_ptr<device::DeviceLink> link_;
+    std::unique_ptr<link::SimulatedForearm> simulator_;
+    std::unique_ptr<link::DeviceLink> link_;
     std::uint64_t lastPackets_ = 0;
     double lastPacketAt_ = -1.0;   ///< s on the steady clock when the packet count last moved
 };

@@ -25,12 +25,12 @@ public:
 
     /// Control side: the left arm's state after this step's samples; null while off (its tracker
     /// then starts afresh when it comes back on, so no angular velocity spans the gap).
-    const ArmState* fuse() noexcept
+    const core::ArmState* fuse() noexcept
     {
         if (! on()) {
             if (wasOn_) {
                 tracker_.reset();
-                arm_ = ArmState {};
+                arm_ = core::ArmState {};
                 wasOn_ = false;
             }
             return nullptr;
@@ -44,8 +44,8 @@ private:
     std::atomic<bool> on_ {false};
     live::LiveInput input_;
     // Control side only.
-    ArmTracker tracker_;
-    ArmState arm_ {};
+    fusion::ArmTracker tracker_;
+    core::ArmState arm_ {};
     live::LiveOrientation orientation_ {};
     std::uint64_t orientationUsed_ = 0;
     bool wasOn_ = false;

@@ -12,7 +12,7 @@ void LiveInput::storeOrientation(double t, const Eigen::Quaterniond& q) noexcept
     o.x = n.x();
     o.y = n.y();
     o.z = n.z();
-    o.arrival = monotonicSeconds();
+    o.arrival = core::monotonicSeconds();
     o.serial = serial_.fetch_add(1, std::memory_order_relaxed) + 1;
     orientation_.store(o);
 }
@@ -20,11 +20,11 @@ void LiveInput::storeOrientation(double t, const Eigen::Quaterniond& q) noexcept
 bool LiveInput::pushImu(const LiveImu& sample) noexcept
 {
     LiveImu stamped = sample;
-    stamped.arrival = monotonicSeconds();
+    stamped.arrival = core::monotonicSeconds();
     return imu_.push(stamped);
 }
 
-LiveImu toLiveImu(const ImuSample& s) noexcept
+LiveImu toLiveImu(const core::ImuSample& s) noexcept
 {
     LiveImu out;
     out.t = s.t;
@@ -36,9 +36,9 @@ LiveImu toLiveImu(const ImuSample& s) noexcept
     return out;
 }
 
-ImuSample toImuSample(const LiveImu& s) noexcept
+core::ImuSample toImuSample(const LiveImu& s) noexcept
 {
-    ImuSample out;
+    core::ImuSample out;
     out.t = s.t;
     out.gyro = Eigen::Vector3d(s.g[0], s.g[1], s.g[2]);
     out.accel = Eigen::Vector3d(s.a[0], s.a[1], s.a[2]);

@@ -31,8 +31,8 @@ struct LiveImu {
 };
 
 /// ImuSample ↔ LiveImu (the mailbox stores floats; the fusion works in doubles).
-LiveImu toLiveImu(const ImuSample& s) noexcept;
-ImuSample toImuSample(const LiveImu& s) noexcept;
+LiveImu toLiveImu(const core::ImuSample& s) noexcept;
+core::ImuSample toImuSample(const LiveImu& s) noexcept;
 
 class LiveInput {
 public:
@@ -41,7 +41,7 @@ public:
     /// Stamps the sample's arrival on the monotonic clock; false when the queue is full.
     bool pushImu(const LiveImu& sample) noexcept;
     /// The same from a calibrated sample (device link, OSC receiver); false when the queue is full.
-    bool pushImu(const ImuSample& sample) noexcept { return pushImu(toLiveImu(sample)); }
+    bool pushImu(const core::ImuSample& sample) noexcept { return pushImu(toLiveImu(sample)); }
 
     /// Not for the audio thread (may wait for a pre-empted writer).
     LiveOrientation latest() const noexcept { return orientation_.load(); }
@@ -54,8 +54,8 @@ public:
     std::size_t imuWaiting() const noexcept { return imu_.size(); }
 
 private:
-    SeqLock<LiveOrientation> orientation_;
-    SpscQueue<LiveImu, 512> imu_;
+    core::SeqLock<LiveOrientation> orientation_;
+    core::SpscQueue<LiveImu, 512> imu_;
     std::atomic<std::uint64_t> serial_ {0};
 };
 

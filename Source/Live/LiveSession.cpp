@@ -29,7 +29,7 @@ ForearmPortRequest forearmRequest(const LiveConfig& c, bool left)
     r.port = left ? c.leftPort : c.port;
     r.baud = left ? c.leftBaud : c.baud;
     const std::string& motionFile = left ? c.leftMotionFile : c.motionFile;
-    if (r.simulate && !motionFile.empty()) r.motion = std::make_shared<device::FileMotion>(motionFile);
+    if (r.simulate && !motionFile.empty()) r.motion = std::make_shared<link::FileMotion>(motionFile);
     r.seed = c.engine.sceneConfig.seed + (left ? 1 : 0);
     r.simulatorBaud = c.simulatorBaud;
     r.simulatorPriority = c.link.realtimePriority > 1 ? c.link.realtimePriority - 1 : 0;
@@ -79,13 +79,13 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
     const bool twoArms = config_.leftSource != LiveConfig::LeftSource::None;
     if (twoArms) {
         if (config_.setList.empty()) {   // (with a set list every cue's engine takes both arms)
-            EngineConfig duo = config_.engine;
+            engine::EngineConfig duo = config_.engine;
             duo.twoArms = true;
-            duo_ = std::make_unique<Engine>(duo);   // InputError for an unknown scene or parameter
+            duo_ = std::make_unique<engine::Engine>(duo); // InputError for an unknown scene or parameter
             config_.engine.scene = "monitor";        // the loop's own engine only tracks the right arm
             config_.engine.parameters.clear();
         }
-        leftTracker_ = std::make_unique<ArmTracker>();
+        leftTracker_ = std::make_unique<fusion::ArmTracker>();
     }
     if (!config_.setList.empty()) {   // every cue prepared now; the loop's own engine only tracks the arm
         cues_ = std::make_unique<live::CuePlayer>(live::loadSetList(config_.setList), config_.engine.sceneConfig, config_.engine.motorCount, twoArms,
@@ -95,22 +95,22 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
     }
     {
         auto slot = std::make_unique<live::EngineSlot>();
-        if (config_.makeScene && (twoArms || cues_)) throw InputError("", 0, "", "scene '" + config_.engine.scene + "' plays alone: not with a set list or two arms");
-        slot->engine = config_.makeScene ? std::make_unique<Engine>(config_.engine, config_.makeScene())
-                                         : std::make_unique<Engine>(config_.engine);   // InputError for an unknown scene
+        if (config_.makeScene && (twoArms || cues_)) throw core::InputError("", 0, "", "scene '" + config_.engine.scene + "' plays alone: not with a set list or two arms");
+        slot->engine = config_.makeScene ? std::make_unique<engine::Engine>(config_.engine, config_.makeScene())
+                                         : std::make_unique<engine::Engine>(config_.engine); // InputError for an unknown scene
         slot->sceneName = config_.engine.scene;
         engine_ = slot->engine.get();
         loop_.replace(std::move(slot));   // nothing runs yet
     }
     sourceKind_ = config_.source == LiveConfig::Source::Osc ? live::SourceKind::Osc : live::SourceKind::Device;
     if (!config_.oscOut.empty()) {
-        device::HostPort hp;
+        osc::HostPort hp;
         try {
-            hp = device::parseHostPort(config_.oscOut);
+            hp = osc::parseHostPort(config_.oscOut);
         } catch (const std::invalid_argument& e) {
-            throw InputError("--osc-out", 0, "", e.what());
+            throw core::InputError("--osc-out", 0, "", e.what());
         }
-        if (!config_.mapping) oscOut_ = std::make_unique<device::OscSender>(hp);   // with --map only what the mapping names leaves
+        if (!config_.mapping) oscOut_ = std::make_unique<osc::OscSender>(hp);   // with --map only what the mapping names leaves
     }
     if (config_.mapping) {
         live::MappingRigOptions options;
@@ -125,26 +125,26 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
                                   midiOut_.get());
         }
     } else if (!config_.midiOut.empty()) {
-        throw InputError("--midi-out", 0, "", "MIDI out follows a mapping: give --map PRESET|FILE (e.g. --map classic)");
+        throw core::InputError("--midi-out", 0, "", "MIDI out follows a mapping: give --map PRESET|FILE (e.g. --map classic)");
     }
 
-    auto deviceHandler = [this](const device::SensorCounts& counts, double t) { return control(t, &counts, nullptr, nullptr); };
+    auto deviceHandler = [this](const link::SensorCounts& counts, double t) { return control(t, &counts, nullptr, nullptr); };
     switch (config_.source) {
     case LiveConfig::Source::Port:
     case LiveConfig::Source::Simulator: {
         // A port fails early with its own message (exit 4); later losses reconnect in the link.
         ForearmPort port = openForearmPort(forearmRequest(config_, false));
         simulator_ = std::move(port.simulator);
-        link_ = std::make_unique<device::DeviceLink>(std::move(port.port), deviceHandler, config_.link);
+        link_ = std::make_unique<link::DeviceLink>(std::move(port.port), deviceHandler, config_.link);
         break;
     }
     case LiveConfig::Source::Osc: {
-        auto onImu = [this](const ImuSample& s) { control(s.t, nullptr, &s, nullptr); };
+        auto onImu = [this](const core::ImuSample& s) { control(s.t, nullptr, &s, nullptr); };
         auto onQ = [this](double t, const Eigen::Quaterniond& q) { control(t, nullptr, nullptr, &q); };
         if (!config_.oscSerialPort.empty())
-            oscIn_ = std::make_unique<device::OscReceiver>(device::OscSerialSource {config_.oscSerialPort, config_.oscSerialBaud}, onImu, onQ, config_.osc);
+            oscIn_ = std::make_unique<osc::OscReceiver>(osc::OscSerialSource {config_.oscSerialPort, config_.oscSerialBaud}, onImu, onQ, config_.osc);
         else
-            oscIn_ = std::make_unique<device::OscReceiver>(config_.oscInPort, onImu, onQ, config_.osc);
+            oscIn_ = std::make_unique<osc::OscReceiver>(config_.oscInPort, onImu, onQ, config_.osc);
         if (config_.oscDatagramTap) oscIn_->setDatagramTap(config_.oscDatagramTap);
         break;
     }
@@ -153,21 +153,21 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
     if (config_.leftSource != LiveConfig::LeftSource::None) {
         // The left arm's packets: calibrated with its own calibration, into its mailbox; answered
         // with the left arm's latest motor levels (its own tactile engine and safety stage).
-        auto leftHandler = [this](const device::SensorCounts& counts, double t) {
-            if (motorsOff_.load(std::memory_order_acquire)) return MotorLevels {};
+        auto leftHandler = [this](const link::SensorCounts& counts, double t) {
+            if (motorsOff_.load(std::memory_order_acquire)) return core::MotorLevels {};
             leftInput_.pushImu(config_.leftCalibration.apply(t, counts));
             return leftLevels_.load();
         };
         if (config_.leftSource == LiveConfig::LeftSource::Osc) {
             // An OSC sender as the left arm: its own dialect detection and mount; its samples (or
             // its own orientations) into the left arm's mailbox. It has no motors.
-            auto onImu = [this](const ImuSample& s) { leftInput_.pushImu(s); };
+            auto onImu = [this](const core::ImuSample& s) { leftInput_.pushImu(s); };
             auto onQ = [this](double t, const Eigen::Quaterniond& q) { leftInput_.storeOrientation(t, q); };
-            leftOscIn_ = std::make_unique<device::OscReceiver>(config_.leftOscInPort, onImu, onQ, config_.leftOsc);   // IoError when taken
+            leftOscIn_ = std::make_unique<osc::OscReceiver>(config_.leftOscInPort, onImu, onQ, config_.leftOsc);   // IoError when taken
         } else {   // a port or the simulated left forearm
             ForearmPort port = openForearmPort(forearmRequest(config_, true));
             leftSimulator_ = std::move(port.simulator);
-            leftLink_ = std::make_unique<device::DeviceLink>(std::move(port.port), leftHandler, config_.link);
+            leftLink_ = std::make_unique<link::DeviceLink>(std::move(port.port), leftHandler, config_.link);
         }
         if (!config_.armsLog.empty())
             armsLog_ = std::make_unique<StreamingCsvWriter>(config_.armsLog, std::vector<std::string> {"t", "qw", "qx", "qy", "qz", "left_qw", "left_qx", "left_qy", "left_qz"});
@@ -182,13 +182,13 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
         recordingIsStems_ = !config_.audioStems.empty();
         const std::string& name = recordingIsStems_ ? config_.audioStems.front() : config_.audioIn;
         if (!cues_ && !engine_->listensToAudio())
-            throw InputError(name, 0, "", "--audio-in: scene '" + config_.engine.scene + "' does not listen to audio (score, audio-touch and layered-keyboard do)");
+            throw core::InputError(name, 0, "", "--audio-in: scene '" + config_.engine.scene + "' does not listen to audio (score, audio-touch and layered-keyboard do)");
         if (config_.audioStems.size() > static_cast<std::size_t>(LiveConfig::kMaxAudioInChannels))
-            throw InputError(name, 0, "", "at most " + std::to_string(LiveConfig::kMaxAudioInChannels) + " stems");
-        recording_ = recordingIsStems_ ? readWavStems(config_.audioStems) : readWav(config_.audioIn);   // InputError names a bad file
-        if (recording_.channels.empty() || recording_.frames() == 0) throw InputError(name, 0, "", "--audio-in: the recording holds no audio");
+            throw core::InputError(name, 0, "", "at most " + std::to_string(LiveConfig::kMaxAudioInChannels) + " stems");
+        recording_ = recordingIsStems_ ? core::readWavStems(config_.audioStems) : core::readWav(config_.audioIn); // InputError names a bad file
+        if (recording_.channels.empty() || recording_.frames() == 0) throw core::InputError(name, 0, "", "--audio-in: the recording holds no audio");
         if (std::fabs(recording_.sampleRate - config_.engine.sceneConfig.sampleRate) > 0.5)
-            throw InputError(name, 0, "", "--audio-in: the recording's sample rate (" + std::to_string(static_cast<long>(recording_.sampleRate)) +
+            throw core::InputError(name, 0, "", "--audio-in: the recording's sample rate (" + std::to_string(static_cast<long>(recording_.sampleRate)) +
                                               " Hz) differs from the engine's (" +
                                               std::to_string(static_cast<long>(config_.engine.sceneConfig.sampleRate)) +
                                               " Hz); give --sample-rate to match it");
@@ -199,7 +199,7 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
     } else if (!config_.soundCard.empty()) {
         try {
             soundCard_ = std::make_unique<audio::SoundCard>(config_.soundCard, config_.engine.sceneConfig.sampleRate);
-        } catch (const IoError& e) {
+        } catch (const core::IoError& e) {
             if (!config_.soundCardOptional) throw;
             soundCardWarning_ = e.what();
         }
@@ -210,9 +210,9 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
         // The scene's sound is handed over sample for sample: it needs the scene's audio at the
         // output's rate (no resampling on the way).
         if (tactors_->wantsSound() && !wav_ && !soundCard_)
-            throw IoError("--tactor-sound: the voice coil takes the scene's sound, and this session has none (no --out, no sound card)");
+            throw core::IoError("--tactor-sound: the voice coil takes the scene's sound, and this session has none (no --out, no sound card)");
         if (tactors_->wantsSound() && std::abs(tactors_->sampleRate() - config_.engine.sceneConfig.sampleRate) > 0.5)
-            throw IoError("--tactor-sound: the tactor output runs at " + std::to_string(static_cast<int>(tactors_->sampleRate())) + " Hz and the scene at "
+            throw core::IoError("--tactor-sound: the tactor output runs at " + std::to_string(static_cast<int>(tactors_->sampleRate())) + " Hz and the scene at "
                                  + std::to_string(static_cast<int>(config_.engine.sceneConfig.sampleRate)) + " Hz: give --sample-rate "
                                  + std::to_string(static_cast<int>(tactors_->sampleRate())));
     }
@@ -226,13 +226,13 @@ LiveSession::~LiveSession()
     }
 }
 
-MotorLevels LiveSession::control(double t, const device::SensorCounts* counts, const ImuSample* imu, const Eigen::Quaterniond* q)
+core::MotorLevels LiveSession::control(double t, const link::SensorCounts* counts, const core::ImuSample* imu, const Eigen::Quaterniond* q)
 {
     if (motorsOff_.load(std::memory_order_acquire)) {
         if (zeroPacketT_.load(std::memory_order_relaxed) < 0.0) zeroPacketT_.store(t, std::memory_order_relaxed);
         zeroPacketsSent_.fetch_add(1, std::memory_order_release);
-        if (tactors_) tactors_->push(t, MotorLevels {});
-        return MotorLevels {};
+        if (tactors_) tactors_->push(t, core::MotorLevels {});
+        return core::MotorLevels {};
     }
     double dt = lastT_ < 0.0 ? 0.0 : t - lastT_;
     // A source that went quiet (unplug, stall): forget patterns rather than resume mid-gesture.
@@ -251,7 +251,7 @@ MotorLevels LiveSession::control(double t, const device::SensorCounts* counts, c
     // The sample goes through the source's mailbox into the live rig's control step, as in the
     // plugin; here the source's own thread runs the step at once, so a motor packet leaves
     // microseconds after its sensor packet arrived.
-    ImuSample calibrated;
+    core::ImuSample calibrated;
     live::LiveInput& mailbox = loop_.input(sourceKind_);
     if (counts) {
         calibrated = config_.calibration.apply(t, *counts);
@@ -271,7 +271,7 @@ MotorLevels LiveSession::control(double t, const device::SensorCounts* counts, c
     step.transport.ppq = t * config_.bpm / 60.0;
     step.dt = dt;
     const live::ControlResult result = loop_.tick(step);
-    const ArmState& arm = result.arm;
+    const core::ArmState& arm = result.arm;
     // With a set list the loop tracked the arm (its monitor engine keeps the motors off) and the
     // current cue plays it.
     if (leftTracker_) {   // the left arm: its samples since the last step through its own tracker (bounded)
@@ -280,16 +280,16 @@ MotorLevels LiveSession::control(double t, const device::SensorCounts* counts, c
         leftArm_ = live::fuseStep(leftInput_, *leftTracker_, leftOrientation_, leftOrientationUsed_);
         if (leftArm_.valid) leftPose_.store(leftArm_.features.pose);
     }
-    MotorLevels levels = result.levels;
+    core::MotorLevels levels = result.levels;
     if (cues_ && leftTracker_) {
-        levels = arm.valid ? cues_->control(arm, leftArm_, step.transport, dt) : MotorLevels {};
-        leftLevels_.store(arm.valid ? cues_->leftLevels() : MotorLevels {});
+        levels = arm.valid ? cues_->control(arm, leftArm_, step.transport, dt) : core::MotorLevels {};
+        leftLevels_.store(arm.valid ? cues_->leftLevels() : core::MotorLevels {});
     } else if (cues_) {
-        levels = arm.valid ? cues_->control(arm, step.transport, dt) : MotorLevels {};
+        levels = arm.valid ? cues_->control(arm, step.transport, dt) : core::MotorLevels {};
     }
     if (duo_) {
-        levels = arm.valid ? duo_->control(arm, leftArm_, step.transport, dt) : MotorLevels {};
-        leftLevels_.store(arm.valid ? duo_->leftLevels() : MotorLevels {});
+        levels = arm.valid ? duo_->control(arm, leftArm_, step.transport, dt) : core::MotorLevels {};
+        leftLevels_.store(arm.valid ? duo_->leftLevels() : core::MotorLevels {});
     }
     if (leftTracker_) {
         if (armsLog_) {
@@ -310,15 +310,15 @@ MotorLevels LiveSession::control(double t, const device::SensorCounts* counts, c
         LogRow row;
         row.count = 28;
         row.v[0] = t;
-        for (int i = 0; i < 9; ++i) row.v[static_cast<std::size_t>(1 + i)] = counts ? (*counts)[static_cast<std::size_t>(i)] : kNaN;
+        for (int i = 0; i < 9; ++i) row.v[static_cast<std::size_t>(1 + i)] = counts ? (*counts)[static_cast<std::size_t>(i)] : core::kNaN;
         const Eigen::Vector3d* vs[3] = {&calibrated.gyro, &calibrated.accel, &calibrated.mag};
         for (int k = 0; k < 3; ++k)
             for (int i = 0; i < 3; ++i) row.v[static_cast<std::size_t>(10 + 3 * k + i)] = (*vs[k])[i];
         const bool haveQ = arm.valid;
-        row.v[19] = haveQ ? arm.q.w() : kNaN;
-        row.v[20] = haveQ ? arm.q.x() : kNaN;
-        row.v[21] = haveQ ? arm.q.y() : kNaN;
-        row.v[22] = haveQ ? arm.q.z() : kNaN;
+        row.v[19] = haveQ ? arm.q.w() : core::kNaN;
+        row.v[20] = haveQ ? arm.q.x() : core::kNaN;
+        row.v[21] = haveQ ? arm.q.y() : core::kNaN;
+        row.v[22] = haveQ ? arm.q.z() : core::kNaN;
         const SessionSummary link = linkCounters();
         row.v[23] = static_cast<double>(link.badPackets);
         row.v[24] = static_cast<double>(link.resyncs);
@@ -342,9 +342,9 @@ MotorLevels LiveSession::control(double t, const device::SensorCounts* counts, c
         oscOut_->sendGyro(arm.gyro);
         oscOut_->sendMotors(levels, config_.engine.motorCount);
     }
-    std::array<GestureEvent, 64> gestures {};
+    std::array<engine::GestureEvent, 64> gestures {};
     std::size_t gestureCount = 0;
-    GestureEvent ev;
+    engine::GestureEvent ev;
     while (engine().popGesture(ev)) {
         if (oscOut_) oscOut_->sendGesture(ev.name);
         if (gestureCount < gestures.size()) gestures[gestureCount++] = ev;
@@ -400,7 +400,7 @@ void LiveSession::renderScene(float* left, float* right, int n) noexcept
         cues_->renderAudio(left, right, n);
         return;
     }
-    Engine* const plays = duo_ ? duo_.get() : engine_;
+    engine::Engine* const plays = duo_ ? duo_.get() : engine_;
     if (recording_.channels.empty()) {
         plays->renderAudio(left, right, n);
         return;
@@ -519,14 +519,14 @@ void LiveSession::stop()
     if (link_) {
         if (link_->stats().inSync) {
             const std::uint64_t before = zeroPacketsSent_.load();
-            link_->waitFor([&](const device::LinkStats&) { return zeroPacketsSent_.load() > before; }, 0.2);
+            link_->waitFor([&](const link::LinkStats&) { return zeroPacketsSent_.load() > before; }, 0.2);
         }
         link_->stop();
     }
     if (oscIn_) oscIn_->stop();
     if (leftOscIn_) leftOscIn_->stop();
     if (leftLink_) {   // the left device's last packet all-off too (motorsOff_ is set)
-        if (leftLink_->stats().inSync) leftLink_->waitFor([](const device::LinkStats&) { return true; }, 0.05);
+        if (leftLink_->stats().inSync) leftLink_->waitFor([](const link::LinkStats&) { return true; }, 0.05);
         leftLink_->stop();
     }
     if (simulator_) simulator_->stop();
@@ -544,13 +544,13 @@ void LiveSession::stop()
         row.v[0] = zeroT >= 0.0 ? zeroT : latestT_.load();
         tactile_->push(row);
     }
-    if (oscOut_) oscOut_->sendMotors(MotorLevels {}, config_.engine.motorCount);
+    if (oscOut_) oscOut_->sendMotors(core::MotorLevels {}, config_.engine.motorCount);
     if (mapping_) mapping_->finish(std::max(0.0, lastT_));   // the control thread has stopped: no note is left hanging
     running_.store(false, std::memory_order_release);
     if (audioThread_.joinable()) audioThread_.join();
     if (soundCard_) soundCard_->stop();
     if (tactors_) {
-        tactors_->push(std::max(0.0, latestT_.load()), MotorLevels {});   // (the control thread has stopped)
+        tactors_->push(std::max(0.0, latestT_.load()), core::MotorLevels {}); // (the control thread has stopped)
         tactors_->stop();
     }
 }
@@ -564,25 +564,25 @@ void LiveSession::finish()
         if (!w) continue;
         try {
             w->finish();
-        } catch (const IoError& e) {
+        } catch (const core::IoError& e) {
             if (error.empty()) error = e.what();
         }
     }
     if (wav_) {
         try {
             wav_->finish();
-        } catch (const IoError& e) {
+        } catch (const core::IoError& e) {
             if (error.empty()) error = e.what();
         }
     }
-    if (!error.empty()) throw IoError(error);
+    if (!error.empty()) throw core::IoError(error);
 }
 
 SessionSummary LiveSession::linkCounters() const
 {
     SessionSummary s;
     if (link_) {
-        const device::LinkStats l = link_->stats();
+        const link::LinkStats l = link_->stats();
         s.packets = l.packets;
         s.badPackets = l.badPackets;
         s.resyncs = l.resyncs;
@@ -595,7 +595,7 @@ SessionSummary LiveSession::linkCounters() const
         if (l.packets > 1 && l.lastPacketTime > l.firstPacketTime)
             s.rateHz = static_cast<double>(l.packets - 1) / (l.lastPacketTime - l.firstPacketTime);
     } else if (oscIn_) {
-        const device::OscInputStats o = oscIn_->stats();
+        const osc::OscInputStats o = oscIn_->stats();
         s.packets = o.imu + o.orientation;
         s.badPackets = o.bad;
         s.gaps = oscGaps_.load(std::memory_order_relaxed);
@@ -615,7 +615,7 @@ SessionSummary LiveSession::summary() const
     return s;
 }
 
-device::LatencySummary LiveSession::latency() const { return link_ ? link_->latency() : device::LatencySummary {}; }
+link::LatencySummary LiveSession::latency() const { return link_ ? link_->latency() : link::LatencySummary {}; }
 
 int LiveSession::oscInPort() const noexcept { return oscIn_ ? oscIn_->port() : 0; }
 
@@ -634,21 +634,21 @@ std::string LiveSession::lastError() const
 
 bool LiveSession::enableSensorTap(bool left)
 {
-    device::OscReceiver* osc = left ? leftOscIn_.get() : oscIn_.get();
+    osc::OscReceiver* osc = left ? leftOscIn_.get() : oscIn_.get();
     if (!osc) return false;
     osc->merger().enableSensorTap(true);
     return true;
 }
 
-bool LiveSession::popSensorFrame(bool left, device::SensorFrameSample& sample)
+bool LiveSession::popSensorFrame(bool left, osc::SensorFrameSample& sample)
 {
-    device::OscReceiver* osc = left ? leftOscIn_.get() : oscIn_.get();
+    osc::OscReceiver* osc = left ? leftOscIn_.get() : oscIn_.get();
     return osc != nullptr && osc->merger().popSensorSample(sample);
 }
 
 std::string LiveSession::senderName(bool left) const
 {
-    const device::OscReceiver* osc = left ? leftOscIn_.get() : oscIn_.get();
+    const osc::OscReceiver* osc = left ? leftOscIn_.get() : oscIn_.get();
     return osc ? osc->deviceName() : std::string();
 }
 

@@ -37,11 +37,13 @@ class SequencerOut;
 namespace armadillo::mapping {
 struct StageEvent;
 }
-namespace armadillo {
+namespace armadillo::fusion {
 class ArmTracker;
 }
-namespace armadillo::device {
+namespace armadillo::link {
 class SimulatedForearm;
+}
+namespace armadillo::osc {
 class OscReceiver;
 class OscSender;
 }
@@ -62,9 +64,9 @@ struct LiveConfig {
     int oscInPort = 0;                ///< Source::Osc: UDP (and TCP) port (0 = any free port)
     std::string oscSerialPort;        ///< Source::Osc: read SLIP-framed OSC from this serial port instead (NGIMU over USB)
     int oscSerialBaud = 115200;
-    device::OscInputOptions osc {};   ///< Source::Osc: dialect (auto-detected by default) and mount
-    device::Calibration calibration = device::defaultCalibration();
-    EngineConfig engine {};
+    osc::OscInputOptions osc {};   ///< Source::Osc: dialect (auto-detected by default) and mount
+    link::Calibration calibration = link::defaultCalibration();
+    engine::EngineConfig engine {};
     double bpm = 120.0;               ///< the audio-clock transport's tempo
     std::string audioOut;             ///< WAV path; empty = no audio file
     bool audioFloat = false;
@@ -92,7 +94,7 @@ struct LiveConfig {
     std::string mappingName;          ///< for messages ("classic", a path)
     std::string midiOut;              ///< with a mapping: an ALSA sequencer output port of this name (IoError when absent)
     double forwardDeg = 0.0;          ///< with a mapping: the forward direction to start from (azimuth, °)
-    device::DeviceLinkOptions link {};
+    link::DeviceLinkOptions link {};
     /// A set list (docs/STAGE.md; `play --setlist`): its cues replace `engine.scene`, which then
     /// only tracks the arm (monitor); sample rate, seed, arm side and motor count come from
     /// `engine`. Empty = none.
@@ -107,8 +109,8 @@ struct LiveConfig {
     int leftBaud = 57600;
     std::string leftMotionFile;       ///< LeftSource::Simulator: pose/quaternion CSV; empty = wandering arm
     int leftOscInPort = 0;            ///< LeftSource::Osc: UDP (and TCP) port (0 = any free port)
-    device::OscInputOptions leftOsc {};       ///< LeftSource::Osc: its own dialect detection and mount (`--mount-left`)
-    device::Calibration leftCalibration = device::defaultCalibration();
+    osc::OscInputOptions leftOsc {};       ///< LeftSource::Osc: its own dialect detection and mount (`--mount-left`)
+    link::Calibration leftCalibration = link::defaultCalibration();
     /// Two arms: t,qw,qx,qy,qz,left_qw,left_qx,left_qy,left_qz per control update. Empty = none.
     std::string armsLog;
     /// The motor grid live as audio (`play --tactors`, docs/TACTORS.md): every control step's
@@ -118,7 +120,7 @@ struct LiveConfig {
     /// A front end's own scene (`navigate`: a scene that needs a route and a position source, so
     /// it is not made by name): called once, its scene runs instead of `engine.scene`, which then
     /// only names it. Not with a set list or two arms. Empty = the scene by name.
-    std::function<std::unique_ptr<Scene>()> makeScene;
+    std::function<std::unique_ptr<core::Scene>()> makeScene;
     /// Source::Osc: another reader of every datagram of the port (OscReceiver::setDatagramTap),
     /// e.g. `navigate`'s positions from the phone that sends the arm's motion. Empty = none.
     std::function<void(const std::uint8_t*, std::size_t)> oscDatagramTap;
@@ -165,31 +167,31 @@ public:
     /// input); popSensorFrame takes the oldest (accel m/s², gyro rad/s or NaN), false when none;
     /// senderName is the sender's device name, for the mount file. Any one thread.
     bool enableSensorTap(bool left);
-    bool popSensorFrame(bool left, device::SensorFrameSample& sample);
+    bool popSensorFrame(bool left, osc::SensorFrameSample& sample);
     std::string senderName(bool left) const;
     /// The engine that runs: the set list's current cue's, or the one scene's.
-    Engine& engine() noexcept { return sounding(); }
+    engine::Engine& engine() noexcept { return sounding(); }
     /// The set list's player (null without --setlist): request/next/previous from any thread.
     live::CuePlayer* cuePlayer() noexcept { return cues_.get(); }
     /// Two arms: the left arm's link (null with one arm) and its latest pose (any thread).
-    device::DeviceLink* leftLink() noexcept { return leftLink_.get(); }
+    link::DeviceLink* leftLink() noexcept { return leftLink_.get(); }
     /// Two arms with an OSC sender as the left arm: its receiver (format, device, counters); null otherwise.
-    device::OscReceiver* leftOscReceiver() noexcept { return leftOscIn_.get(); }
-    Pose latestLeftPose() const noexcept { return leftPose_.load(); }
+    osc::OscReceiver* leftOscReceiver() noexcept { return leftOscIn_.get(); }
+    core::Pose latestLeftPose() const noexcept { return leftPose_.load(); }
     /// IMU samples the control step dropped (more than ControlLoop::kMaxImuPerStep waiting).
     std::uint64_t droppedImu() const noexcept { return loop_.droppedImu(); }
     /// Latest pose and motor levels (any thread, lock-free).
-    Pose latestPose() const noexcept { return pose_.load(); }
-    MotorLevels latestLevels() const noexcept { return levels_.load(); }
+    core::Pose latestPose() const noexcept { return pose_.load(); }
+    core::MotorLevels latestLevels() const noexcept { return levels_.load(); }
     bool connected() const noexcept;
     std::string lastError() const;
     std::uint64_t controlUpdates() const noexcept { return updates_.load(); }
     /// The device link of a port or simulator source (null for OSC): statistics, the sent-packet log.
-    device::DeviceLink* deviceLink() noexcept { return link_.get(); }
+    link::DeviceLink* deviceLink() noexcept { return link_.get(); }
     /// Every raw packet of a device source, for one consumer thread (calibration, UI); null for OSC.
-    SpscQueue<device::RawPacket, 1024>* rawPackets() noexcept { return link_ ? &link_->packets() : nullptr; }
+    core::SpscQueue<link::RawPacket, 1024>* rawPackets() noexcept { return link_ ? &link_->packets() : nullptr; }
     /// Sensor-packet arrival → motor packet written (device sources; empty otherwise).
-    device::LatencySummary latency() const;
+    link::LatencySummary latency() const;
     /// The mapping's counters (null without --map).
     const live::MappingRig* mapping() const noexcept { return mapping_.get(); }
     live::MappingRig* mapping() noexcept { return mapping_.get(); }
@@ -198,7 +200,7 @@ public:
     /// Source::Osc: the UDP port listened on (useful with oscInPort 0); 0 otherwise.
     int oscInPort() const noexcept;
     /// Source::Osc: the receiver (format, device, counters, the mount calibration's tap); null otherwise.
-    device::OscReceiver* oscReceiver() noexcept { return oscIn_.get(); }
+    osc::OscReceiver* oscReceiver() noexcept { return oscIn_.get(); }
     /// The sound card in use (null without one) and why an optional one is not in use.
     const audio::SoundCard* soundCard() const noexcept { return soundCard_.get(); }
     const std::string& soundCardWarning() const noexcept { return soundCardWarning_; }
@@ -213,7 +215,7 @@ public:
 
 private:
     friend struct LiveSessionAudioProbe;   // Tests/Live/RealtimeLoopTests.cpp: renderBlock under the real-time guard
-    MotorLevels control(double t, const device::SensorCounts* counts, const ImuSample* imu, const Eigen::Quaterniond* q);
+    core::MotorLevels control(double t, const link::SensorCounts* counts, const core::ImuSample* imu, const Eigen::Quaterniond* q);
     /// Packets, errors, reconnects and gaps of the source so far (any thread; no session length).
     SessionSummary linkCounters() const;
     void audioLoop();
@@ -221,7 +223,7 @@ private:
     LiveConfig config_;
     live::ControlLoop loop_;            // the control step: mailbox → fusion → Engine::control (owns the engine)
     live::SourceKind sourceKind_ = live::SourceKind::Device;
-    Engine* engine_ = nullptr;          // the loop's engine; no other is ever offered
+    engine::Engine* engine_ = nullptr;  // the loop's engine; no other is ever offered
     std::unique_ptr<live::CuePlayer> cues_;   // with a set list: what plays (the loop's engine only tracks)
     bool mappingPanicked_ = false;      // control thread: the mapping's panic MIDI went out for this panic
     std::atomic<std::uint32_t> mappingPanics_ {0};
@@ -229,23 +231,23 @@ private:
     static void applyStage(void* self, const mapping::StageEvent& event) noexcept;
     // Two arms: the left arm's source and link; its calibrated samples reach the control thread
     // through a mailbox, where its own tracker fuses them; the two-arm engine plays both.
-    std::unique_ptr<device::SimulatedForearm> leftSimulator_;
-    std::unique_ptr<device::DeviceLink> leftLink_;
+    std::unique_ptr<link::SimulatedForearm> leftSimulator_;
+    std::unique_ptr<link::DeviceLink> leftLink_;
     live::LiveInput leftInput_;
-    std::unique_ptr<device::OscReceiver> leftOscIn_;
-    std::unique_ptr<ArmTracker> leftTracker_;
-    ArmState leftArm_ {};
+    std::unique_ptr<osc::OscReceiver> leftOscIn_;
+    std::unique_ptr<fusion::ArmTracker> leftTracker_;
+    core::ArmState leftArm_ {};
     live::LiveOrientation leftOrientation_ {};   // control thread: the left sender's last orientation read
     std::uint64_t leftOrientationUsed_ = 0;       // control thread: the serial of the one last fused
-    std::unique_ptr<Engine> duo_;                 // two arms: what plays (the loop's engine only tracks)
-    SeqLock<MotorLevels> leftLevels_;
-    SeqLock<Pose> leftPose_;
+    std::unique_ptr<engine::Engine> duo_;         // two arms: what plays (the loop's engine only tracks)
+    core::SeqLock<core::MotorLevels> leftLevels_;
+    core::SeqLock<core::Pose> leftPose_;
     std::unique_ptr<StreamingCsvWriter> armsLog_;
-    Engine& sounding() noexcept { return cues_ ? cues_->engine(cues_->current()) : duo_ ? *duo_ : *engine_; }
-    std::unique_ptr<device::SimulatedForearm> simulator_;
-    std::unique_ptr<device::DeviceLink> link_;
-    std::unique_ptr<device::OscReceiver> oscIn_;
-    std::unique_ptr<device::OscSender> oscOut_;
+    engine::Engine& sounding() noexcept { return cues_ ? cues_->engine(cues_->current()) : duo_ ? *duo_ : *engine_; }
+    std::unique_ptr<link::SimulatedForearm> simulator_;
+    std::unique_ptr<link::DeviceLink> link_;
+    std::unique_ptr<osc::OscReceiver> oscIn_;
+    std::unique_ptr<osc::OscSender> oscOut_;
     std::unique_ptr<live::MappingRig> mapping_;      // control thread once started
     std::unique_ptr<audio::SequencerOut> midiOut_;   // written by the control thread only
     std::unique_ptr<StreamingCsvWriter> log_, tactile_;
@@ -253,7 +255,7 @@ private:
     /// Audio thread: the scene's block with the recording (audioIn) heard and played out.
     void renderBlock(float* left, float* right, int n) noexcept;
     void renderScene(float* left, float* right, int n) noexcept;   ///< renderBlock without the hand-over to the tactors
-    AudioBuffer recording_;                  ///< audioIn (or the stems, one channel each), read at construction
+    core::AudioBuffer recording_;            ///< audioIn (or the stems, one channel each), read at construction
     bool recordingIsStems_ = false;          ///< recording_ holds stems: all channels heard, their sum played out
     std::vector<float> recordingSilence_;    ///< zeros for after the recording's end
     std::uint64_t recordingAt_ = 0;          ///< audio thread: next frame of the recording (counts on past its end)
@@ -267,10 +269,10 @@ private:
     std::atomic<std::uint64_t> updates_ {0};
     std::atomic<std::uint64_t> zeroPacketsSent_ {0};
     std::atomic<double> zeroPacketT_ {-1.0};   ///< source time of the first all-off packet answered at stop()
-    SeqLock<Pose> pose_;
-    SeqLock<MotorLevels> levels_;
+    core::SeqLock<core::Pose> pose_;
+    core::SeqLock<core::MotorLevels> levels_;
     double lastT_ = -1.0;
-    GapDetector sourceGaps_;                               // control thread: gaps of a source without a link (OSC)
+    core::GapDetector sourceGaps_;                         // control thread: gaps of a source without a link (OSC)
     std::atomic<std::uint64_t> oscGaps_ {0};
     std::atomic<double> oscLongestGap_ {0.0};
     std::atomic<double> firstT_ {-1.0}, latestT_ {-1.0};   // source packet times (for the OSC rate)

@@ -80,8 +80,8 @@ public:
 
 private:
     std::array<std::atomic<float>, mapping::kMacroCount> macros_ {};
-    SpscQueue<mapping::OscPacket, 256> osc_;
-    SpscQueue<IncomingMidi, 256> incoming_;
+    core::SpscQueue<mapping::OscPacket, 256> osc_;
+    core::SpscQueue<IncomingMidi, 256> incoming_;
     std::atomic<std::uint64_t> oscDropped_ {0};
 };
 

@@ -7,13 +7,13 @@
 
 namespace armadillo::live {
 
-MappingRig::MappingRig(const mapping::MappingDocument& doc, Engine& engine, const MappingRigOptions& options)
+MappingRig::MappingRig(const mapping::MappingDocument& doc, engine::Engine& engine, const MappingRigOptions& options)
     : out_(std::make_unique<mapping::MappingOutput>())
 {
-    const std::vector<ParamSpec> specs = engine.scene().parameters();
+    const std::vector<core::ParamSpec> specs = engine.scene().parameters();
     mapping::BuildOptions build;
     build.sourceName = options.sourceName;
-    for (const ParamSpec& p : specs) build.sceneParamIds.push_back(p.id);
+    for (const core::ParamSpec& p : specs) build.sceneParamIds.push_back(p.id);
     if (build.sceneParamIds.empty()) build.sceneParamIds.push_back("(none)");   // a scene without parameters refuses every "param"
     std::unique_ptr<mapping::MappingSet> set = mapping::MappingSet::build(doc, build);
 
@@ -27,12 +27,12 @@ MappingRig::MappingRig(const mapping::MappingDocument& doc, Engine& engine, cons
         params_.push_back(p);
     }
 
-    device::HostPort fallback {"127.0.0.1", 9000};
+    osc::HostPort fallback {"127.0.0.1", 9000};
     if (!options.oscDefault.empty()) {
         try {
-            fallback = device::parseHostPort(options.oscDefault);
+            fallback = osc::parseHostPort(options.oscDefault);
         } catch (const std::invalid_argument& e) {
-            throw InputError("", 0, "--osc-out", e.what());
+            throw core::InputError("", 0, "--osc-out", e.what());
         }
     }
     for (const mapping::OscTarget& t : set->oscTargets()) {
@@ -40,8 +40,8 @@ MappingRig::MappingRig(const mapping::MappingDocument& doc, Engine& engine, cons
             senders_.push_back(nullptr);
             continue;
         }
-        device::HostPort hp {t.host.empty() ? fallback.host : t.host, t.port > 0 ? t.port : fallback.port};
-        senders_.push_back(std::make_unique<device::OscSender>(hp));   // IoError for a host that does not resolve
+        osc::HostPort hp {t.host.empty() ? fallback.host : t.host, t.port > 0 ? t.port : fallback.port};
+        senders_.push_back(std::make_unique<osc::OscSender>(hp));   // IoError for a host that does not resolve
     }
     mapper_.replace(std::move(set));
     mapper_.setForwardAzimuth(options.forwardDeg);
@@ -57,7 +57,7 @@ std::uint64_t MappingRig::oscSent() const noexcept
     return n;
 }
 
-void MappingRig::deliver(Engine* engine) noexcept
+void MappingRig::deliver(engine::Engine* engine) noexcept
 {
     mapping::MappingOutput& o = *out_;
     for (int i = 0; i < o.midiCount; ++i) {
@@ -91,7 +91,7 @@ void MappingRig::deliver(Engine* engine) noexcept
     o.clear();
 }
 
-void MappingRig::step(double t, const ArmState& arm, const ArmState* leftArm, const GestureEvent* gestures, std::size_t count, Engine& engine,
+void MappingRig::step(double t, const core::ArmState& arm, const core::ArmState* leftArm, const engine::GestureEvent* gestures, std::size_t count, engine::Engine& engine,
                       bool stageOnly) noexcept
 {
     std::array<mapping::GestureIn, 64> g {};

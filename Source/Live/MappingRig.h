@@ -36,7 +36,7 @@ class MappingRig {
 public:
     /// Builds the set for this engine's scene: InputError for a scene parameter the scene lacks or
     /// an OSC message that does not encode; IoError for an OSC target that cannot be resolved.
-    MappingRig(const mapping::MappingDocument& doc, Engine& engine, const MappingRigOptions& options);
+    MappingRig(const mapping::MappingDocument& doc, engine::Engine& engine, const MappingRigOptions& options);
     ~MappingRig();
     MappingRig(const MappingRig&) = delete;
     MappingRig& operator=(const MappingRig&) = delete;
@@ -62,7 +62,7 @@ public:
     /// (null with one arm: its sources and the relative arms.* sources then have no value and send
     /// nothing), the gestures the scene emitted in it.
     /// stageOnly: only the stage-command mappings run (in panic, so a mapped resume is still heard).
-    void step(double t, const ArmState& arm, const ArmState* leftArm, const GestureEvent* gestures, std::size_t count, Engine& engine,
+    void step(double t, const core::ArmState& arm, const core::ArmState* leftArm, const engine::GestureEvent* gestures, std::size_t count, engine::Engine& engine,
               bool stageOnly = false) noexcept;
     /// The end: gesture notes end at their due time, held notes (zones, postures) at t.
     void finish(double t) noexcept;
@@ -83,14 +83,14 @@ public:
     std::uint64_t mqttMessages() const noexcept { return mqtt_; }
 
 private:
-    void deliver(Engine* engine) noexcept;
+    void deliver(engine::Engine* engine) noexcept;
 
     mapping::Mapper mapper_;
     std::unique_ptr<mapping::MappingOutput> out_;
-    std::vector<std::unique_ptr<device::OscSender>> senders_;   // per MappingSet::oscTargets() index (null: not sent)
+    std::vector<std::unique_ptr<osc::OscSender>> senders_;   // per MappingSet::oscTargets() index (null: not sent)
     struct Param {
         int sceneIndex = -1;
-        ParamSpec spec;   ///< the scene's parameter (SceneParameters.h: how a change sets it)
+        core::ParamSpec spec; ///< the scene's parameter (SceneParameters.h: how a change sets it)
     };
     std::vector<Param> params_;
     MidiSink sink_ = nullptr;

@@ -85,9 +85,9 @@ void MappingSession::offerWaiting()
 
 void MappingSession::configureOscTargets(const mapping::MappingSet& set)
 {
-    std::vector<device::HostPort> targets;
+    std::vector<osc::HostPort> targets;
     for (const auto& t : set.oscTargets())
-        targets.push_back(device::HostPort {t.host.empty() ? oscHost_ : t.host, t.port > 0 ? t.port : oscPort_});
+        targets.push_back(osc::HostPort {t.host.empty() ? oscHost_ : t.host, t.port > 0 ? t.port : oscPort_});
     if (oscTargets_) (void) oscTargets_(targets);   // what was refused: shown by the rig's link status
 }
 
@@ -116,7 +116,7 @@ std::string MappingSession::loadFile(const std::string& path)
     if (std::filesystem::file_size(path, ec) > kMaxStateJsonBytes) return path + " is too large for a mapping file";
     mapping::MappingDocument doc;
     try {
-        doc = mapping::parseMappingDocument(readWholeFile(path), path);
+        doc = mapping::parseMappingDocument(core::readWholeFile(path), path);
     } catch (const std::exception& e) {
         return e.what();
     }
@@ -126,7 +126,7 @@ std::string MappingSession::loadFile(const std::string& path)
 std::string MappingSession::saveFile(const std::string& path) const
 {
     try {
-        writeFileAtomically(path, mapping::toJson(doc_));
+        core::writeFileAtomically(path, mapping::toJson(doc_));
     } catch (const std::exception&) {
         return "cannot write " + path;
     }

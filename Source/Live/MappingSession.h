@@ -32,7 +32,7 @@ struct SavedMapping {
 class MappingSession {
 public:
     /// Opens the set's OSC targets (the rig's senders); returns "" or which could not be used.
-    using OscTargets = std::function<std::string(const std::vector<device::HostPort>&)>;
+    using OscTargets = std::function<std::string(const std::vector<osc::HostPort>&)>;
     /// `defaultChannel` gives the classic preset's MIDI channel (the `midiChannel` setting, so a
     /// session from before the mapping keeps its channel).
     MappingSession(BlockControl& control, const SceneParameterTable& table, std::function<int()> defaultChannel, OscTargets oscTargets);

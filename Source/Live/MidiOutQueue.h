@@ -44,7 +44,7 @@ public:
 
 private:
     std::atomic<bool> open_ {false};
-    SpscQueue<Event, 4096> queue_;
+    core::SpscQueue<Event, 4096> queue_;
     std::atomic<std::uint64_t> dropped_ {0};
 };
 

@@ -17,7 +17,7 @@ bool OscOutput::configure(bool enabled, const std::string& host, int port, std::
         return false;
     }
     try {
-        sender_ = std::make_unique<device::OscSender>(device::HostPort {host.empty() ? "127.0.0.1" : host, port});
+        sender_ = std::make_unique<osc::OscSender>(osc::HostPort {host.empty() ? "127.0.0.1" : host, port});
     } catch (const std::exception& e) {
         whyNot = e.what();
         return false;
@@ -30,7 +30,7 @@ void OscOutput::sendFrame(const ArmFrame& f)
     std::lock_guard<std::mutex> lock(mutex_);
     if (sender_ == nullptr || ! f.valid) return;
     sender_->sendOrientation(Eigen::Quaterniond(f.q[0], f.q[1], f.q[2], f.q[3]));
-    sender_->sendPose(Pose {f.pose[0], f.pose[1], f.pose[2]});
+    sender_->sendPose(core::Pose {f.pose[0], f.pose[1], f.pose[2]});
     sender_->sendGyro(Eigen::Vector3d(f.gyro[0], f.gyro[1], f.gyro[2]));
     sender_->sendMotors(f.motors, f.motorCount);
 }
@@ -53,7 +53,7 @@ OscInput::~OscInput()
     if (receiver_ != nullptr) receiver_->stop();
 }
 
-bool OscInput::configure(bool enabled, int port, std::string& whyNot, const device::OscInputOptions& options)
+bool OscInput::configure(bool enabled, int port, std::string& whyNot, const osc::OscInputOptions& options)
 {
     std::lock_guard<std::mutex> lock(mutex_);
     whyNot.clear();
@@ -72,11 +72,11 @@ bool OscInput::configure(bool enabled, int port, std::string& whyNot, const devi
         // Handlers run on the receiver's thread; the mailbox takes them without locks.
         // The receiving thread keeps time as the device link's does: each sample's arrival is
         // where its control step goes in the host's block (BlockControl, issue 36).
-        device::OscInputOptions timed = options;
+        osc::OscInputOptions timed = options;
         timed.realtimePriority = kReceiverPriority;
-        receiver_ = std::make_unique<device::OscReceiver>(
+        receiver_ = std::make_unique<osc::OscReceiver>(
             port,
-            [this](const ImuSample& s) { live_.pushImu(s); },
+            [this](const core::ImuSample& s) { live_.pushImu(s); },
             [this](double t, const Eigen::Quaterniond& q) { live_.storeOrientation(t, q); }, timed);
         receiver_->merger().enableSensorTap(tapOn_);
         receiver_->start();
@@ -95,14 +95,14 @@ bool OscInput::configure(bool enabled, int port, std::string& whyNot, const devi
 
 bool OscInput::configure(bool enabled, int port, const std::string& format, const std::string& mount, std::string& whyNot)
 {
-    device::OscInputOptions options;
-    if (! format.empty() && ! device::parseOscFormat(format, options.format)) {
-        whyNot = "unknown sender format '" + format + "' (one of " + device::oscFormatNames() + ")";
+    osc::OscInputOptions options;
+    if (! format.empty() && ! osc::parseOscFormat(format, options.format)) {
+        whyNot = "unknown sender format '" + format + "' (one of " + osc::oscFormatNames() + ")";
         return false;
     }
     if (! mount.empty()) {
         try {
-            options.mount = device::mountFromArgument(mount);
+            options.mount = link::mountFromArgument(mount);
             options.mountGiven = true;
         } catch (const std::exception& e) {
             whyNot = e.what();
@@ -112,10 +112,10 @@ bool OscInput::configure(bool enabled, int port, const std::string& format, cons
     return configure(enabled, port, whyNot, options);
 }
 
-device::OscFormat OscInput::format() const
+osc::OscFormat OscInput::format() const
 {
     std::lock_guard<std::mutex> lock(mutex_);
-    return receiver_ != nullptr ? receiver_->format() : device::OscFormat::Auto;
+    return receiver_ != nullptr ? receiver_->format() : osc::OscFormat::Auto;
 }
 
 std::string OscInput::deviceName() const
@@ -128,22 +128,22 @@ std::string OscInput::statusText() const
 {
     std::lock_guard<std::mutex> lock(mutex_);
     if (receiver_ == nullptr) return "OSC input off";
-    const device::OscInputStats s = receiver_->stats();
-    std::string text = std::string("OSC in: ") + device::oscFormatName(receiver_->format());
-    if (receiver_->format() == device::OscFormat::Auto) text += " (waiting for a sender)";
+    const osc::OscInputStats s = receiver_->stats();
+    std::string text = std::string("OSC in: ") + osc::oscFormatName(receiver_->format());
+    if (receiver_->format() == osc::OscFormat::Auto) text += " (waiting for a sender)";
     else text += " from " + receiver_->deviceName() + ", mount " + receiver_->merger().mount().name;
     const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - openedAt_).count();
     if (s.imu + s.orientation == 0 && waited >= 5.0) {
         // Nothing usable after a few seconds: what was heard instead helps find out why.
         text += "; nothing usable on UDP/TCP port " + std::to_string(receiver_->port()) + " for " + std::to_string(static_cast<int>(waited)) +
-                " s, heard: " + device::describeHeard(receiver_->merger().heard()) +
+                " s, heard: " + osc::describeHeard(receiver_->merger().heard()) +
                 " (check the sender's target address and port, the network and the firewall)";
     } else if (s.imu + s.orientation > 0) {
-        const device::OscSensorRates r = receiver_->merger().rates();
+        const osc::OscSensorRates r = receiver_->merger().rates();
         char rate[48];
         std::snprintf(rate, sizeof rate, "; %.0f Hz", r.fusion());
         text += rate;
-        const std::string advice = s.unchanged == 0 ? device::lowRateAdvice(receiver_->format(), r.fusion()) : std::string();
+        const std::string advice = s.unchanged == 0 ? osc::lowRateAdvice(receiver_->format(), r.fusion()) : std::string();
         if (!advice.empty()) text += "; warning: " + advice;
     }
     text += "; refused " + std::to_string(s.bad) + " (wrong types " + std::to_string(s.wrongTypes) + ", NaN/inf " + std::to_string(s.nonFinite)
@@ -161,16 +161,16 @@ void OscInput::enableSensorTap(bool on)
     if (receiver_ != nullptr) receiver_->merger().enableSensorTap(on);
 }
 
-bool OscInput::popSensorSample(device::SensorFrameSample& out)
+bool OscInput::popSensorSample(osc::SensorFrameSample& out)
 {
     std::lock_guard<std::mutex> lock(mutex_);
     return receiver_ != nullptr && receiver_->merger().popSensorSample(out);
 }
 
-device::OscInputStats OscInput::stats() const
+osc::OscInputStats OscInput::stats() const
 {
     std::lock_guard<std::mutex> lock(mutex_);
-    return receiver_ != nullptr ? receiver_->stats() : device::OscInputStats {};
+    return receiver_ != nullptr ? receiver_->stats() : osc::OscInputStats {};
 }
 
 } // namespace armadillo::live

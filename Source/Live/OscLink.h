@@ -21,8 +21,8 @@ struct ArmFrame {
     double q[4] {1.0, 0.0, 0.0, 0.0};        ///< w x y z, device → earth
     double pose[3] {};                       ///< elevation, azimuth, roll (deg)
     double gyro[3] {};                       ///< rad/s, device frame
-    MotorLevels motors {};                   ///< after the safety stage
-    int motorCount = kGridMotors;
+    core::MotorLevels motors {};             ///< after the safety stage
+    int motorCount = core::kGridMotors;
     bool valid = false;
     std::uint64_t serial = 0;                ///< increments with each control update
 };
@@ -38,7 +38,7 @@ public:
 
 private:
     mutable std::mutex mutex_;   // configure (message thread) vs sends (clock thread); never audio
-    std::unique_ptr<device::OscSender> sender_;
+    std::unique_ptr<osc::OscSender> sender_;
 };
 
 class OscInput {
@@ -49,27 +49,27 @@ public:
     ~OscInput();
     /// Message thread. Opens (or closes with enabled = false) the UDP port; `options` force a
     /// format and/or give a mount (default: detect, and the detected format's usual mount).
-    bool configure(bool enabled, int port, std::string& whyNot, const device::OscInputOptions& options = {});
+    bool configure(bool enabled, int port, std::string& whyNot, const osc::OscInputOptions& options = {});
     /// The same from the plugin's settings: `format` a name ("" = auto, docs/SENSORS.md) and
     /// `mount` a preset name or mount file ("" = the detected format's usual one). A bad name or
     /// file is refused with a reason (the input stays as it was).
     bool configure(bool enabled, int port, const std::string& format, const std::string& mount, std::string& whyNot);
-    device::OscInputStats stats() const;
+    osc::OscInputStats stats() const;
     /// The sender's format (Auto until detected), device, and a one-line summary for the panel.
-    device::OscFormat format() const;
+    osc::OscFormat format() const;
     std::string deviceName() const;
     std::string statusText() const;
     /// The mount calibration's feed (message thread): sensor-frame samples from the merger's
     /// tap, kept on across reconfigurations while on. pop returns false when there is none.
     void enableSensorTap(bool on);
-    bool popSensorSample(device::SensorFrameSample& out);
+    bool popSensorSample(osc::SensorFrameSample& out);
 
 private:
     live::LiveInput& live_;
     mutable std::mutex mutex_;
-    std::unique_ptr<device::OscReceiver> receiver_;
+    std::unique_ptr<osc::OscReceiver> receiver_;
     int openPort_ = 0;
-    device::OscFormat openFormat_ = device::OscFormat::Auto;
+    osc::OscFormat openFormat_ = osc::OscFormat::Auto;
     Eigen::Quaterniond openMount_ = Eigen::Quaterniond::Identity();
     bool openMountGiven_ = false;
     bool tapOn_ = false;

@@ -18,7 +18,7 @@ struct SceneParameterTable {
         std::string scene;             ///< scene name (INTERFACES.md)
         bool available = false;        ///< false: the scene could not be created (reason says why)
         std::string reason;            ///< why it is unavailable
-        std::vector<ParamSpec> specs;  ///< Scene::parameters(), in index order
+        std::vector<core::ParamSpec> specs; ///< Scene::parameters(), in index order
         std::vector<bool> exposed;     ///< false for a spec whose id another scene already took
     };
     std::vector<Entry> scenes;         ///< in sceneNames() order
@@ -27,7 +27,7 @@ struct SceneParameterTable {
 /// The value a mapping's change gives the parameter `spec`: a normalised change spans the range
 /// (0 → min, 1 → max), an absolute one is in the parameter's unit; clamped to the range and, for
 /// a choice, rounded to the nearest choice. Real-time (no allocation).
-inline float sceneParamValue(const ParamSpec& spec, const mapping::SceneParamChange& change) noexcept
+inline float sceneParamValue(const core::ParamSpec& spec, const mapping::SceneParamChange& change) noexcept
 {
     const float lo = std::min(spec.min, spec.max), hi = std::max(spec.min, spec.max);
     float v = change.normalised ? spec.min + change.value * (spec.max - spec.min) : change.value;

@@ -21,7 +21,7 @@ std::string tempNameFor(const std::string& path)
 std::FILE* openTemp(const std::string& path, const std::string& tmp)
 {
     std::FILE* f = std::fopen(tmp.c_str(), "wb");
-    if (!f) throw IoError("cannot write " + path + ": " + std::strerror(errno));
+    if (!f) throw core::IoError("cannot write " + path + ": " + std::strerror(errno));
     return f;
 }
 
@@ -34,7 +34,7 @@ void commit(std::FILE*& f, const std::string& path, const std::string& tmp, bool
     if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) {
         const int e2 = ok ? errno : e;
         std::remove(tmp.c_str());
-        throw IoError("cannot write " + path + ": " + std::strerror(e2 ? e2 : EIO));
+        throw core::IoError("cannot write " + path + ": " + std::strerror(e2 ? e2 : EIO));
     }
 }
 
@@ -45,7 +45,7 @@ void commit(std::FILE*& f, const std::string& path, const std::string& tmp, bool
 StreamingCsvWriter::StreamingCsvWriter(std::string path, const std::vector<std::string>& header, int precision)
     : path_(std::move(path)), tmp_(tempNameFor(path_)), columns_(static_cast<int>(header.size())), precision_(precision)
 {
-    if (columns_ < 1 || columns_ > kMaxLogColumns) throw IoError("CSV writer for " + path_ + ": bad column count");
+    if (columns_ < 1 || columns_ > kMaxLogColumns) throw core::IoError("CSV writer for " + path_ + ": bad column count");
     file_ = openTemp(path_, tmp_);
     std::string h;
     for (std::size_t i = 0; i < header.size(); ++i) h += (i ? "," : "") + header[i];
@@ -78,7 +78,7 @@ void StreamingCsvWriter::drain()
     while (queue_.pop(row)) {
         for (int i = 0; i < columns_; ++i) {
             if (i) text_ += ',';
-            appendNumber(text_, i < row.count ? row.v[static_cast<std::size_t>(i)] : kNaN, precision_);
+            core::appendNumber(text_, i < row.count ? row.v[static_cast<std::size_t>(i)] : core::kNaN, precision_);
         }
         text_ += '\n';
         written_.fetch_add(1, std::memory_order_relaxed);

@@ -45,7 +45,7 @@ private:
     int columns_;
     int precision_;
     std::FILE* file_ = nullptr;
-    SpscQueue<LogRow, 4096> queue_;
+    core::SpscQueue<LogRow, 4096> queue_;
     std::thread thread_;
     std::atomic<bool> stop_ {false};
     std::atomic<bool> failed_ {false};
@@ -67,7 +67,7 @@ public:
     std::uint64_t frames() const noexcept { return out_.frames(); }
 
 private:
-    WavStreamWriter out_;
+    core::WavStreamWriter out_;
     std::vector<float> interleaved_;
 };
 

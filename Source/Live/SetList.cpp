@@ -12,16 +12,16 @@
 namespace armadillo::live {
 
 namespace {
-using armadillo::JsonValue;
+using armadillo::core::JsonValue;
 
-[[noreturn]] void refuse(const std::string& source, const JsonValue& at, const std::string& path, const std::string& message)
+[[noreturn]] void refuse(const std::string& source, const core::JsonValue& at, const std::string& path, const std::string& message)
 {
-    throw InputError(source, at.line, path, message);
+    throw core::InputError(source, at.line, path, message);
 }
 
 /// An InputError's message without its "<input>: column 'x': " prefix (to re-issue it with the
 /// set list's file and line).
-std::string bareMessage(const InputError& e)
+std::string bareMessage(const core::InputError& e)
 {
     std::string m = e.what();
     if (m.rfind("<input>: ", 0) == 0) m.erase(0, 9);
@@ -35,36 +35,36 @@ std::string bareMessage(const InputError& e)
 std::string numberText(double v)
 {
     std::string s;
-    appendNumber(s, v, 9);
+    core::appendNumber(s, v, 9);
     return s;
 }
 
-const std::string& requireString(const std::string& source, const JsonValue& v, const std::string& path)
+const std::string& requireString(const std::string& source, const core::JsonValue& v, const std::string& path)
 {
-    if (v.kind != JsonValue::Kind::String) refuse(source, v, path, std::string("must be a string, not ") + JsonValue::kindName(v.kind));
+    if (v.kind != core::JsonValue::Kind::String) refuse(source, v, path, std::string("must be a string, not ") + core::JsonValue::kindName(v.kind));
     return v.string;
 }
 } // namespace
 
 SetList parseSetList(std::string_view text, const std::string& source)
 {
-    const JsonValue root = armadillo::parseJson(text, source);
-    if (root.kind != JsonValue::Kind::Object) refuse(source, root, "", "a set list is a JSON object");
+    const core::JsonValue root = armadillo::core::parseJson(text, source);
+    if (root.kind != core::JsonValue::Kind::Object) refuse(source, root, "", "a set list is a JSON object");
     SetList list;
     list.source = source;
-    const JsonValue* version = root.find("armadillo_setlist");
+    const core::JsonValue* version = root.find("armadillo_setlist");
     if (!version) refuse(source, root, "armadillo_setlist", "missing: a set list starts with \"armadillo_setlist\": 1");
-    if (version->kind != JsonValue::Kind::Number || version->number != SetList::kVersion)
+    if (version->kind != core::JsonValue::Kind::Number || version->number != SetList::kVersion)
         refuse(source, *version, "armadillo_setlist", "unsupported version (this program reads version 1)");
     for (const auto& [key, value] : root.object)
         if (key != "armadillo_setlist" && key != "cues") refuse(source, value, key, "unknown key (a set list has armadillo_setlist and cues)");
-    const JsonValue* cues = root.find("cues");
-    if (!cues || cues->kind != JsonValue::Kind::Array || cues->array.empty())
+    const core::JsonValue* cues = root.find("cues");
+    if (!cues || cues->kind != core::JsonValue::Kind::Array || cues->array.empty())
         refuse(source, cues ? *cues : root, "cues", "needs a non-empty array of cues");
     for (std::size_t i = 0; i < cues->array.size(); ++i) {
-        const JsonValue& c = cues->array[i];
+        const core::JsonValue& c = cues->array[i];
         const std::string path = "cues[" + std::to_string(i) + "]";
-        if (c.kind != JsonValue::Kind::Object) refuse(source, c, path, "a cue is an object with at least \"scene\"");
+        if (c.kind != core::JsonValue::Kind::Object) refuse(source, c, path, "a cue is an object with at least \"scene\"");
         Cue cue;
         cue.line = c.line;
         cue.name = "cue " + std::to_string(i);
@@ -77,11 +77,11 @@ SetList parseSetList(std::string_view text, const std::string& source)
             else if (key == "score") cue.score = requireString(source, value, at);
             else if (key == "text") cue.text = requireString(source, value, at);
             else if (key == "parameters") {
-                if (value.kind != JsonValue::Kind::Object) refuse(source, value, at, "must be an object of \"id\": value");
+                if (value.kind != core::JsonValue::Kind::Object) refuse(source, value, at, "must be an object of \"id\": value");
                 for (const auto& [id, v] : value.object) {
-                    if (v.kind == JsonValue::Kind::Number) cue.parameters.push_back(id + "=" + numberText(v.number));
-                    else if (v.kind == JsonValue::Kind::String) cue.parameters.push_back(id + "=" + v.string);
-                    else if (v.kind == JsonValue::Kind::Bool) cue.parameters.push_back(id + "=" + (v.boolean ? "1" : "0"));
+                    if (v.kind == core::JsonValue::Kind::Number) cue.parameters.push_back(id + "=" + numberText(v.number));
+                    else if (v.kind == core::JsonValue::Kind::String) cue.parameters.push_back(id + "=" + v.string);
+                    else if (v.kind == core::JsonValue::Kind::Bool) cue.parameters.push_back(id + "=" + (v.boolean ? "1" : "0"));
                     else refuse(source, v, at + "." + id, "a parameter is a number or a choice name");
                 }
             } else {
@@ -89,7 +89,7 @@ SetList parseSetList(std::string_view text, const std::string& source)
             }
         }
         if (cue.scene.empty()) refuse(source, c, path + ".scene", "missing: every cue names its scene");
-        const auto& names = sceneNames();
+        const auto& names = engine::sceneNames();
         if (std::find(names.begin(), names.end(), cue.scene) == names.end()) {
             std::string all;
             for (const auto& n : names) all += (all.empty() ? "" : ", ") + n;
@@ -100,15 +100,15 @@ SetList parseSetList(std::string_view text, const std::string& source)
     return list;
 }
 
-SetList loadSetList(const std::string& path) { return parseSetList(readWholeFile(path), path); }
+SetList loadSetList(const std::string& path) { return parseSetList(core::readWholeFile(path), path); }
 
-CuePlayer::CuePlayer(const SetList& list, const SceneConfig& base, int motorCount, bool twoArms, const std::array<float, kMaxMotors>& motorGain)
+CuePlayer::CuePlayer(const SetList& list, const core::SceneConfig& base, int motorCount, bool twoArms, const std::array<float, core::kMaxMotors>& motorGain)
     : cues_(list.cues), twoArms_(twoArms)
 {
-    if (cues_.empty()) throw InputError(list.source, 0, "cues", "the set list has no cues");
+    if (cues_.empty()) throw core::InputError(list.source, 0, "cues", "the set list has no cues");
     for (std::size_t i = 0; i < cues_.size(); ++i) {
         const Cue& c = cues_[i];
-        EngineConfig config;
+        engine::EngineConfig config;
         config.scene = c.scene;
         config.sceneConfig = base;
         config.sceneConfig.score = c.score;
@@ -118,16 +118,16 @@ CuePlayer::CuePlayer(const SetList& list, const SceneConfig& base, int motorCoun
         config.twoArms = twoArms;
         config.motorGain = motorGain;   // the reader's touch profile, as the single engine has it
         try {
-            engines_.push_back(std::make_unique<Engine>(config));
-        } catch (const InputError& e) {
-            throw InputError(list.source, c.line, "cues[" + std::to_string(i) + "]" + (e.column().empty() ? "" : "." + e.column()), bareMessage(e));
+            engines_.push_back(std::make_unique<engine::Engine>(config));
+        } catch (const core::InputError& e) {
+            throw core::InputError(list.source, c.line, "cues[" + std::to_string(i) + "]" + (e.column().empty() ? "" : "." + e.column()), bareMessage(e));
         } catch (const std::exception& e) {
-            throw InputError(list.source, c.line, "cues[" + std::to_string(i) + "]", std::string("scene '") + c.scene + "' cannot start: " + e.what());
+            throw core::InputError(list.source, c.line, "cues[" + std::to_string(i) + "]", std::string("scene '") + c.scene + "' cannot start: " + e.what());
         }
     }
-    SafetyParams safety;
-    safety_.prepare(safety, std::clamp(motorCount, kGridMotors, kMaxMotors));
-    leftSafety_.prepare(safety, std::clamp(motorCount, kGridMotors, kMaxMotors));
+    tactile::SafetyParams safety;
+    safety_.prepare(safety, std::clamp(motorCount, core::kGridMotors, core::kMaxMotors));
+    leftSafety_.prepare(safety, std::clamp(motorCount, core::kGridMotors, core::kMaxMotors));
     const double fs = base.sampleRate > 0.0 ? base.sampleRate : 48000.0;
     fadeLength_ = std::max(1, static_cast<int>(std::lround(kFadeSeconds * fs)));
     scratchL_.assign(kMaxBlock, 0.0f);
@@ -150,16 +150,16 @@ void CuePlayer::previous() noexcept
     while (!requested_.compare_exchange_weak(r, std::max(r - 1, 0), std::memory_order_acq_rel)) {}
 }
 
-MotorLevels CuePlayer::control(const ArmState& arm, const Transport& transport, double dt) noexcept { return step(arm, nullptr, transport, dt); }
+core::MotorLevels CuePlayer::control(const core::ArmState& arm, const core::Transport& transport, double dt) noexcept { return step(arm, nullptr, transport, dt); }
 
 void CuePlayer::restart() noexcept { engines_[static_cast<std::size_t>(controlCue_)]->restart(); }
 
-MotorLevels CuePlayer::control(const ArmState& arm, const ArmState& leftArm, const Transport& transport, double dt) noexcept
+core::MotorLevels CuePlayer::control(const core::ArmState& arm, const core::ArmState& leftArm, const core::Transport& transport, double dt) noexcept
 {
     return step(arm, twoArms_ ? &leftArm : nullptr, transport, dt);
 }
 
-MotorLevels CuePlayer::step(const ArmState& arm, const ArmState* leftArm, const Transport& transport, double dt) noexcept
+core::MotorLevels CuePlayer::step(const core::ArmState& arm, const core::ArmState* leftArm, const core::Transport& transport, double dt) noexcept
 {
     const int want = requested_.load(std::memory_order_acquire);
     if (want != controlCue_) {
@@ -170,11 +170,11 @@ MotorLevels CuePlayer::step(const ArmState& arm, const ArmState* leftArm, const 
         active_.store(controlCue_, std::memory_order_release);
         changes_.fetch_add(1, std::memory_order_relaxed);
     }
-    Engine& e = *engines_[static_cast<std::size_t>(controlCue_)];
-    const MotorLevels levels = leftArm ? e.control(arm, *leftArm, transport, dt) : e.control(arm, transport, dt);
+    engine::Engine& e = *engines_[static_cast<std::size_t>(controlCue_)];
+    const core::MotorLevels levels = leftArm ? e.control(arm, *leftArm, transport, dt) : e.control(arm, transport, dt);
     // One safety stage per arm across the whole set list: a cue change cannot restart a heat budget.
     const double step = std::isfinite(dt) && dt >= 0.0 ? std::min(dt, 0.1) : 0.0;
-    leftLevels_ = twoArms_ ? leftSafety_.process(e.leftLevels(), step) : MotorLevels {};
+    leftLevels_ = twoArms_ ? leftSafety_.process(e.leftLevels(), step) : core::MotorLevels {};
     return safety_.process(levels, step);
 }
 
@@ -184,7 +184,7 @@ void CuePlayer::processInput(const float* const* in, int channels, int numSample
         if (e->listensToAudio()) e->processInput(in, channels, numSamples);
 }
 
-void CuePlayer::processMidi(const MidiNoteEvent* events, int count) noexcept
+void CuePlayer::processMidi(const core::MidiNoteEvent* events, int count) noexcept
 {
     for (auto& e : engines_)
         if (e->listensToMidi()) e->processMidi(events, count);
@@ -249,7 +249,7 @@ namespace {
 
 /// A set list's cues as the offline renderer's performer: requested cue changes at their times,
 /// every cue hearing the recording (a follower keeps its place while another cue plays).
-class CuePerformer final : public OfflinePerformer {
+class CuePerformer final : public engine::OfflinePerformer {
 public:
     CuePerformer(CuePlayer& player, std::vector<CueChange> changes, std::string listName)
         : player_(player), changes_(std::move(changes)), listName_(std::move(listName))
@@ -259,19 +259,19 @@ public:
     {
         while (next_ < changes_.size() && changes_[next_].t <= t + 1e-9) player_.request(changes_[next_++].cue);
     }
-    MotorLevels control(const ArmState& right, const ArmState* left, const Transport& transport, double dt) override
+    core::MotorLevels control(const core::ArmState& right, const core::ArmState* left, const core::Transport& transport, double dt) override
     {
         return left != nullptr ? player_.control(right, *left, transport, dt) : player_.control(right, transport, dt);
     }
-    MotorLevels leftLevels() override { return player_.leftLevels(); }
+    core::MotorLevels leftLevels() override { return player_.leftLevels(); }
     void allOff() override { sounding().allOff(); }
-    Engine& sounding() override { return player_.engine(player_.current()); }
-    void processMidi(const MidiNoteEvent* events, int count) override { player_.processMidi(events, count); }
+    engine::Engine& sounding() override { return player_.engine(player_.current()); }
+    void processMidi(const core::MidiNoteEvent* events, int count) override { player_.processMidi(events, count); }
     void processInput(const float* const* in, int channels, int n) override { player_.processInput(in, channels, n); }
     void renderAudio(float* left, float* right, int n) override { player_.renderAudio(left, right, n); }
-    void popGestures(std::vector<GestureEvent>& out) override
+    void popGestures(std::vector<engine::GestureEvent>& out) override
     {
-        GestureEvent g;
+        engine::GestureEvent g;
         for (int c = 0; c < player_.cueCount(); ++c)
             while (player_.engine(c).popGesture(g)) out.push_back(g);
     }
@@ -299,13 +299,13 @@ private:
 
 } // namespace
 
-RenderResult renderSetList(const CsvTable& motion, const SetList& list, const RenderSettings& settings, std::vector<CueChange> changes)
+engine::RenderResult renderSetList(const core::CsvTable& motion, const SetList& list, const engine::RenderSettings& settings, std::vector<CueChange> changes)
 {
     const bool twoArms = settings.leftMotion != nullptr;
     CuePlayer player(list, settings.engine.sceneConfig, settings.engine.motorCount, twoArms, settings.engine.motorGain);
     for (const CueChange& c : changes)
         if (c.cue >= player.cueCount())
-            throw InputError(list.source, 0, "--cue-at", "cue " + std::to_string(c.cue) + " does not exist (the set list has " +
+            throw core::InputError(list.source, 0, "--cue-at", "cue " + std::to_string(c.cue) + " does not exist (the set list has " +
                                                              std::to_string(player.cueCount()) + " cues, 0.." + std::to_string(player.cueCount() - 1) + ")");
     std::stable_sort(changes.begin(), changes.end(), [](const CueChange& a, const CueChange& b) { return a.t < b.t; });
     CuePerformer performer(player, std::move(changes), list.source);

@@ -63,16 +63,16 @@ public:
     /// arm's motors have a safety stage of their own spanning the set list. `motorGain`: the
     /// reader's touch profile (EngineConfig::motorGain), given to every cue's engine as the
     /// single engine gets it.
-    CuePlayer(const SetList& list, const SceneConfig& base, int motorCount = kGridMotors, bool twoArms = false,
-              const std::array<float, kMaxMotors>& motorGain = TactileConfig::unitMotorGains());
+    CuePlayer(const SetList& list, const core::SceneConfig& base, int motorCount = core::kGridMotors, bool twoArms = false,
+              const std::array<float, core::kMaxMotors>& motorGain = tactile::TactileConfig::unitMotorGains());
     ~CuePlayer();
     CuePlayer(const CuePlayer&) = delete;
     CuePlayer& operator=(const CuePlayer&) = delete;
 
     int cueCount() const noexcept { return static_cast<int>(engines_.size()); }
     const Cue& cue(int index) const { return cues_[static_cast<std::size_t>(index)]; }
-    Engine& engine(int index) { return *engines_[static_cast<std::size_t>(index)]; }
-    const Engine& engine(int index) const { return *engines_[static_cast<std::size_t>(index)]; }
+    engine::Engine& engine(int index) { return *engines_[static_cast<std::size_t>(index)]; }
+    const engine::Engine& engine(int index) const { return *engines_[static_cast<std::size_t>(index)]; }
 
     /// Any thread: the cue to run from the next control update (clamped to the list).
     void request(int index) noexcept;
@@ -86,17 +86,17 @@ public:
 
     /// Control thread, real-time: takes a requested cue change (old cue's motors off, new
     /// cue's scene reset), runs the current cue's engine, then the set list's safety stage.
-    MotorLevels control(const ArmState& arm, const Transport& transport, double dt) noexcept;
+    core::MotorLevels control(const core::ArmState& arm, const core::Transport& transport, double dt) noexcept;
     /// Two arms (constructed with twoArms): as above with the left arm's state; the left arm's
     /// levels (after its own set-list safety stage) are leftLevels() until the next call.
-    MotorLevels control(const ArmState& arm, const ArmState& leftArm, const Transport& transport, double dt) noexcept;
-    const MotorLevels& leftLevels() const noexcept { return leftLevels_; }
+    core::MotorLevels control(const core::ArmState& arm, const core::ArmState& leftArm, const core::Transport& transport, double dt) noexcept;
+    const core::MotorLevels& leftLevels() const noexcept { return leftLevels_; }
     bool twoArms() const noexcept { return twoArms_; }
     /// Audio thread, real-time: every listening cue hears the input (a follower keeps its place).
     void processInput(const float* const* in, int channels, int numSamples) noexcept;
     /// Audio thread, real-time: the instrument's MIDI notes of the coming block (Engine::processMidi),
     /// to every cue whose scene takes MIDI input, before processInput() of the same samples.
-    void processMidi(const MidiNoteEvent* events, int count) noexcept;
+    void processMidi(const core::MidiNoteEvent* events, int count) noexcept;
     /// Audio thread, real-time: the current cue, cross-faded from the previous one after a change.
     void renderAudio(float* left, float* right, int numSamples) noexcept;
     /// Control thread, real-time: another arm from now on (a switch of source). The current cue
@@ -109,12 +109,12 @@ public:
 private:
     void renderChunk(float* left, float* right, int n) noexcept;
     std::vector<Cue> cues_;
-    std::vector<std::unique_ptr<Engine>> engines_;
-    SafetyStage safety_;
-    SafetyStage leftSafety_;                 ///< two arms: the left arm's own heat budget across the set list
-    MotorLevels leftLevels_ {};
+    std::vector<std::unique_ptr<engine::Engine>> engines_;
+    tactile::SafetyStage safety_;
+    tactile::SafetyStage leftSafety_;        ///< two arms: the left arm's own heat budget across the set list
+    core::MotorLevels leftLevels_ {};
     bool twoArms_ = false;
-    MotorLevels step(const ArmState& arm, const ArmState* leftArm, const Transport& transport, double dt) noexcept;
+    core::MotorLevels step(const core::ArmState& arm, const core::ArmState* leftArm, const core::Transport& transport, double dt) noexcept;
     std::atomic<int> requested_ {0};
     std::atomic<int> active_ {0};
     std::atomic<std::uint32_t> changes_ {0};
@@ -138,6 +138,6 @@ CueChange parseCueChange(const std::string& text);
 /// audioIn (every listening cue hears it; mixed in unless mixAudioIn is false; InputError when
 /// no cue listens), leftMotion (two arms: leftTactile and both orientations are filled), mount
 /// and leftMount, onControl (the current cue's engine) and audioSink (streamed).
-RenderResult renderSetList(const CsvTable& motion, const SetList& list, const RenderSettings& settings, std::vector<CueChange> changes);
+engine::RenderResult renderSetList(const core::CsvTable& motion, const SetList& list, const engine::RenderSettings& settings, std::vector<CueChange> changes);
 
 } // namespace armadillo::live

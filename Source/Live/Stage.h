@@ -95,7 +95,7 @@ public:
 
 private:
     using Slot = std::unique_ptr<live::CuePlayer>;
-    Handover<Slot> players_;                       // message thread → control side (Core/Handover.h)
+    core::Handover<Slot> players_;                 // message thread → control side (Core/Handover.h)
     std::atomic<bool> panic_ {false};
     std::atomic<std::uint32_t> panics_ {0};
     std::atomic<int> delta_ {0};                   // next/previous steps not applied yet

@@ -16,7 +16,7 @@ namespace armadillo::live {
 
 static_assert(sizeof(termios) <= 128, "KeyReader::saved_ must hold a termios");
 
-bool stageCommandFromOsc(const device::OscMessage& m, StageCommand& out, std::string& why)
+bool stageCommandFromOsc(const osc::OscMessage& m, StageCommand& out, std::string& why)
 {
     const std::string_view a = m.address;
     if (a == "/armadillo/panic") out = {StageCommand::Kind::Panic, 0};
@@ -67,7 +67,7 @@ std::string describe(const StageCommand& c)
 
 StageControlReceiver::StageControlReceiver(int port, Handler handler) : handler_(std::move(handler))
 {
-    fd_ = device::bindUdpAnyInterface(port, "--control-in", port_);
+    fd_ = osc::bindUdpAnyInterface(port, "--control-in", port_);
 }
 
 StageControlReceiver::~StageControlReceiver()
@@ -92,9 +92,9 @@ void StageControlReceiver::stop()
 void StageControlReceiver::handleDatagram(const std::uint8_t* data, std::size_t size)
 {
     std::string error;
-    const bool ok = device::decodeOscPacket(
+    const bool ok = osc::decodeOscPacket(
         data, size,
-        [this](const device::OscMessage& m) {
+        [this](const osc::OscMessage& m) {
             if (m.address == "/armadillo/message") {
                 double priority = 0.0;
                 const bool valid = textHandler_ && m.count >= 1 && m.count <= 2 && m.args[0].type == 's' &&

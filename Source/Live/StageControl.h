@@ -24,7 +24,7 @@ struct StageCommand {
 
 /// A decoded OSC message as a stage command. false (with the reason in `why`) for any other
 /// address or a /armadillo/cue whose argument is not one whole number ≥ 0.
-bool stageCommandFromOsc(const device::OscMessage& message, StageCommand& out, std::string& why);
+bool stageCommandFromOsc(const osc::OscMessage& message, StageCommand& out, std::string& why);
 /// A key typed on the terminal as a stage command; false for keys with no meaning.
 bool stageCommandFromKey(char key, StageCommand& out);
 /// "panic", "resume", "next cue", "previous cue", "cue 3".

@@ -48,7 +48,7 @@ std::string StageSession::readFile(const std::string& path, std::string& text)
     if (! std::filesystem::is_regular_file(path, ec)) return "no such file: " + path;
     if (std::filesystem::file_size(path, ec) > kMaxSetListBytes) return path + " is too large to be a set list";
     try {
-        text = readWholeFile(path);
+        text = core::readWholeFile(path);
     } catch (const std::exception&) {
         return "cannot read " + path;
     }

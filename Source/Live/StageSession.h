@@ -22,9 +22,9 @@ namespace armadillo::live {
 /// How every cue's engine is built: the base scene configuration (sample rate, control rate,
 /// seed, arm side), the motors, the reader's touch profile and whether the left arm plays too.
 struct CueBuild {
-    SceneConfig base;
-    int motors = kGridMotors;
-    std::array<float, kMaxMotors> gains = TactileConfig::unitMotorGains();
+    core::SceneConfig base;
+    int motors = core::kGridMotors;
+    std::array<float, core::kMaxMotors> gains = tactile::TactileConfig::unitMotorGains();
     bool twoArms = false;
 };
 

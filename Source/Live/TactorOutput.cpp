@@ -9,12 +9,12 @@ namespace armadillo::live {
 
 TactorOutput::TactorOutput(const TactorOutputConfig& config) : config_(config)
 {
-    if (config_.device.empty()) throw IoError("--tactors: no device given (an ALSA PCM such as hw:1, or jack)");
+    if (config_.device.empty()) throw core::IoError("--tactors: no device given (an ALSA PCM such as hw:1, or jack)");
     const int n = config_.map.channels;
     // The renderer's settings first (InputError), so a bad gain file opens no device.
     tactors::validate(config_.params, config_.device == "jack" ? 48000.0 : config_.sampleRate, "--tactor-model");
     if (config_.gains.count > n)
-        throw InputError(config_.gains.source, 0, "gain",
+        throw core::InputError(config_.gains.source, 0, "gain",
                          "the file gives " + std::to_string(config_.gains.count) + " gains but the map has " + std::to_string(n) + " channels");
     if (config_.device == "jack") {
         jack_ = std::make_unique<audio::JackOutput>(config_.clientName, n);   // IoError: no server
@@ -24,8 +24,8 @@ TactorOutput::TactorOutput(const TactorOutputConfig& config) : config_(config)
     } else {
         try {
             card_ = std::make_unique<audio::SoundCard>(config_.device, config_.sampleRate, config_.latencySeconds, n);
-        } catch (const IoError& e) {
-            throw IoError(std::string("tactor output: ") + e.what());   // "sound card 'hw:1': 8 output channels, 9 needed"
+        } catch (const core::IoError& e) {
+            throw core::IoError(std::string("tactor output: ") + e.what()); // "sound card 'hw:1': 8 output channels, 9 needed"
         }
         sampleRate_ = card_->info().sampleRate;
         periodFrames_ = card_->info().periodFrames;
@@ -41,18 +41,18 @@ TactorOutput::~TactorOutput()
     }
 }
 
-void TactorOutput::push(double t, const MotorLevels& levels) noexcept
+void TactorOutput::push(double t, const core::MotorLevels& levels) noexcept
 {
     Record r;
     r.t = t;
-    r.pushed = monotonicSeconds();
+    r.pushed = core::monotonicSeconds();
     r.levels = levels;
     if (!queue_.push(r)) dropped_.fetch_add(1, std::memory_order_relaxed);
 }
 
 void TactorOutput::renderPeriod(float* const* out, int n, double outputDelaySeconds) noexcept
 {
-    const double now = monotonicSeconds();
+    const double now = core::monotonicSeconds();
     Record r;
     bool any = false;
     while (queue_.pop(r)) {

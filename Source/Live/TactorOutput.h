@@ -30,7 +30,7 @@ namespace armadillo::live {
 struct TactorOutputConfig {
     std::string device;                    ///< "jack", or an ALSA PCM name ("hw:UMC1820", "plughw:1", "null")
     tactors::TactorParams params {};
-    tactors::ChannelMap map = tactors::ChannelMap::identity(kGridMotors);
+    tactors::ChannelMap map = tactors::ChannelMap::identity(core::kGridMotors);
     tactors::TactorGains gains {};
     std::string connect;                   ///< JACK: connect tactor_k to the k-th input port matching this ("" = none)
     std::string clientName = "armadillo";  ///< JACK client name
@@ -61,7 +61,7 @@ public:
     /// when they cannot be made — the client is stopped again then).
     void start();
     /// Control thread: the levels of the step at source time `t` (s). Real-time.
-    void push(double t, const MotorLevels& levels) noexcept;
+    void push(double t, const core::MotorLevels& levels) noexcept;
     /// Every channel silent, the device stopped. Idempotent.
     void stop();
     /// The scene's sound for a voice coil that is handed it (TactorParams::voiceCoilSound,
@@ -101,15 +101,15 @@ private:
     struct Record {
         double t = 0.0;
         double pushed = 0.0;   ///< monotonic s
-        MotorLevels levels {};
+        core::MotorLevels levels {};
     };
     TactorOutputConfig config_;
     tactors::TactorRenderer renderer_;
     std::unique_ptr<audio::SoundCard> card_;
     std::unique_ptr<audio::JackOutput> jack_;
-    SpscQueue<Record, 1024> queue_;
-    SpscQueue<TactorLatency, 8192> latency_;
-    SpscQueue<float, 16384> sound_;
+    core::SpscQueue<Record, 1024> queue_;
+    core::SpscQueue<TactorLatency, 8192> latency_;
+    core::SpscQueue<float, 16384> sound_;
     std::array<float, 4096> soundScratch_ {};   // audio thread
     double sampleRate_ = 0.0;
     int periodFrames_ = 0;

@@ -43,7 +43,7 @@ struct OneEuro {
 
     static double alpha(double cutoffHz, double dt) noexcept
     {
-        const double tau = 1.0 / (2.0 * kPi * cutoffHz);
+        const double tau = 1.0 / (2.0 * core::kPi * cutoffHz);
         return 1.0 / (1.0 + tau / dt);
     }
     double filter(double v, double t) noexcept

@@ -32,35 +32,35 @@ void MappingOutput::clear() noexcept
 double readSource(const SourceSpec& source, const MappingInput& in, double forwardDeg) noexcept
 {
     switch (source.kind) {
-    case SourceKind::ScenePitch: return std::isfinite(in.scene.pitch) ? static_cast<double>(in.scene.pitch) : kNaN;
-    case SourceKind::SceneFret: return std::isfinite(in.scene.fret) ? static_cast<double>(in.scene.fret) : kNaN;
-    case SourceKind::SceneStrike: return std::isfinite(in.scene.strike) ? static_cast<double>(in.scene.strike) : kNaN;
-    case SourceKind::PanelKnob: return std::isfinite(in.scene.panelKnob) ? static_cast<double>(in.scene.panelKnob) : kNaN;
-    case SourceKind::PanelLevel: return std::isfinite(in.scene.panelLevel) ? static_cast<double>(in.scene.panelLevel) : kNaN;
-    case SourceKind::PanelSelected: return std::isfinite(in.scene.panelSelected) ? static_cast<double>(in.scene.panelSelected) : kNaN;
+    case SourceKind::ScenePitch: return std::isfinite(in.scene.pitch) ? static_cast<double>(in.scene.pitch) : core::kNaN;
+    case SourceKind::SceneFret: return std::isfinite(in.scene.fret) ? static_cast<double>(in.scene.fret) : core::kNaN;
+    case SourceKind::SceneStrike: return std::isfinite(in.scene.strike) ? static_cast<double>(in.scene.strike) : core::kNaN;
+    case SourceKind::PanelKnob: return std::isfinite(in.scene.panelKnob) ? static_cast<double>(in.scene.panelKnob) : core::kNaN;
+    case SourceKind::PanelLevel: return std::isfinite(in.scene.panelLevel) ? static_cast<double>(in.scene.panelLevel) : core::kNaN;
+    case SourceKind::PanelSelected: return std::isfinite(in.scene.panelSelected) ? static_cast<double>(in.scene.panelSelected) : core::kNaN;
     case SourceKind::Gesture:
     case SourceKind::Posture:
-    case SourceKind::GestureValue: return kNaN;
+    case SourceKind::GestureValue: return core::kNaN;
     case SourceKind::ArmsAngle:
     case SourceKind::ArmsRoll:
     case SourceKind::ArmsRaised: {   // both arms, or no value
-        const ArmState* r = in.arm[0];
-        const ArmState* l = in.arm[1];
-        if (r == nullptr || l == nullptr || !r->valid || !l->valid) return kNaN;
+        const core::ArmState* r = in.arm[0];
+        const core::ArmState* l = in.arm[1];
+        if (r == nullptr || l == nullptr || !r->valid || !l->valid) return core::kNaN;
         if (source.kind == SourceKind::ArmsRaised) return std::min(r->features.pose.elevationDeg, l->features.pose.elevationDeg);
         if (source.kind == SourceKind::ArmsRoll) return wrap180(l->features.pose.rollDeg - r->features.pose.rollDeg);
         // The forearm axis is device x in earth (INTERFACES.md "Pose"); the angle from the cross and
         // dot products (exact near 0° and 180°, where acos of the dot is not).
         const Eigen::Vector3d a = r->q.normalized() * Eigen::Vector3d::UnitX();
         const Eigen::Vector3d b = l->q.normalized() * Eigen::Vector3d::UnitX();
-        return radToDeg(std::atan2(a.cross(b).norm(), a.dot(b)));
+        return core::radToDeg(std::atan2(a.cross(b).norm(), a.dot(b)));
     }
     default: break;
     }
-    if (source.arm < 0 || source.arm >= kMaxArms) return kNaN;
-    const ArmState* arm = in.arm[source.arm];
-    if (arm == nullptr || !arm->valid) return kNaN;
-    const Pose& pose = arm->features.pose;
+    if (source.arm < 0 || source.arm >= kMaxArms) return core::kNaN;
+    const core::ArmState* arm = in.arm[source.arm];
+    if (arm == nullptr || !arm->valid) return core::kNaN;
+    const core::Pose& pose = arm->features.pose;
     const double sign = arm->q.w() < 0.0 ? -1.0 : 1.0;
     const double yaw = -wrap180(pose.azimuthDeg - forwardDeg);
     switch (source.kind) {
@@ -73,9 +73,9 @@ double readSource(const SourceSpec& source, const MappingInput& in, double forwa
     case SourceKind::QuatX: return sign * arm->q.x();
     case SourceKind::QuatY: return sign * arm->q.y();
     case SourceKind::QuatZ: return sign * arm->q.z();
-    case SourceKind::AngularSpeed: return arm->gyro.allFinite() ? radToDeg(arm->gyro.norm()) : kNaN;
-    case SourceKind::FluxFace: return radToDeg(arm->features.fluxFace);
-    case SourceKind::FluxEdge: return radToDeg(arm->features.fluxEdge);
+    case SourceKind::AngularSpeed: return arm->gyro.allFinite() ? core::radToDeg(arm->gyro.norm()) : core::kNaN;
+    case SourceKind::FluxFace: return core::radToDeg(arm->features.fluxFace);
+    case SourceKind::FluxEdge: return core::radToDeg(arm->features.fluxEdge);
     case SourceKind::RollTrigger: return arm->features.rollTrigger;
     case SourceKind::Punch: return arm->features.punch;
     case SourceKind::YprQuatW:
@@ -83,7 +83,7 @@ double readSource(const SourceSpec& source, const MappingInput& in, double forwa
     case SourceKind::YprQuatY:
     case SourceKind::YprQuatZ: {
         // q = qz(yaw)·qy(pitch)·qx(roll), written out (half angles) so nothing is built per call.
-        const double a = degToRad(yaw) / 2, b = degToRad(pose.elevationDeg) / 2, c = degToRad(pose.rollDeg) / 2;
+        const double a = core::degToRad(yaw) / 2, b = core::degToRad(pose.elevationDeg) / 2, c = core::degToRad(pose.rollDeg) / 2;
         const double ca = std::cos(a), sa = std::sin(a), cb = std::cos(b), sb = std::sin(b), cc = std::cos(c), sc = std::sin(c);
         double w = ca * cb * cc + sa * sb * sc;
         double x = ca * cb * sc - sa * sb * cc;
@@ -97,14 +97,14 @@ double readSource(const SourceSpec& source, const MappingInput& in, double forwa
         }
         return source.kind == SourceKind::YprQuatW ? w : source.kind == SourceKind::YprQuatX ? x : source.kind == SourceKind::YprQuatY ? y : z;
     }
-    default: return kNaN;
+    default: return core::kNaN;
     }
 }
 
 // ---------------------------------------------------------------------------------------------
 
 struct Mapper::Impl {
-    Handover<MappingSet> sets;   // builder → control side; the replaced set back to be freed
+    core::Handover<MappingSet> sets; // builder → control side; the replaced set back to be freed
     std::atomic<double> forwardShared {0.0};
     std::atomic<bool> forwardRequest {false};
     std::atomic<std::uint64_t> forwardSerial {0};
@@ -370,15 +370,15 @@ struct Mapper::Impl {
             return;
         }
         const DestinationSpec& d = c.spec.to;
-        device::OscArg args[kMaxOscArgs];
+        osc::OscArg args[kMaxOscArgs];
         std::size_t argc = 0;
         if (d.args.empty()) {
-            args[argc++] = device::OscArg::float32(static_cast<float>(v));
+            args[argc++] = osc::OscArg::float32(static_cast<float>(v));
         } else {
             for (const OscArgSpec& a : d.args) {
                 if (argc >= static_cast<std::size_t>(kMaxOscArgs)) break;
                 if (a.kind == OscArgSpec::Kind::String) {
-                    args[argc++] = device::OscArg::string(a.text);
+                    args[argc++] = osc::OscArg::string(a.text);
                     continue;
                 }
                 double x = 0.0;
@@ -392,15 +392,15 @@ struct Mapper::Impl {
                 }
                 if (!std::isfinite(x)) x = 0.0;
                 if (a.negate) x = -x;
-                if (a.type == 'i') args[argc++] = device::OscArg::int32(static_cast<std::int32_t>(std::clamp(std::lround(x), -2147483647L, 2147483647L)));
-                else if (a.type == 'd') args[argc++] = device::OscArg::float64(x);
-                else args[argc++] = device::OscArg::float32(static_cast<float>(x));
+                if (a.type == 'i') args[argc++] = osc::OscArg::int32(static_cast<std::int32_t>(std::clamp(std::lround(x), -2147483647L, 2147483647L)));
+                else if (a.type == 'd') args[argc++] = osc::OscArg::float64(x);
+                else args[argc++] = osc::OscArg::float32(static_cast<float>(x));
             }
         }
         const std::size_t zi = c.zone >= 0 && static_cast<std::size_t>(c.zone) < c.addresses.size() ? static_cast<std::size_t>(c.zone) : 0;
         if (c.addresses.empty()) return;
         OscPacket& p = out.osc[static_cast<std::size_t>(out.oscCount)];
-        const std::size_t size = device::encodeOscMessage(c.addresses[zi], args, argc, p.bytes.data(), p.bytes.size());
+        const std::size_t size = osc::encodeOscMessage(c.addresses[zi], args, argc, p.bytes.data(), p.bytes.size());
         if (size == 0) {
             ++out.dropped;
             return;
@@ -517,7 +517,7 @@ struct Mapper::Impl {
             return;
         }
         case DestinationKind::SetForward: {
-            const ArmState* arm = in.arm[0];
+            const core::ArmState* arm = in.arm[0];
             if (arm && arm->valid) {
                 forward = wrap360(arm->features.pose.azimuthDeg);
                 forwardShared.store(forward, std::memory_order_relaxed);
@@ -637,7 +637,7 @@ struct Mapper::Impl {
 
         if (m.source.kind == SourceKind::Posture) {
             if (!s.hasPostures || c.posture < 0) return;
-            const ArmState* arm = in.arm[0];
+            const core::ArmState* arm = in.arm[0];
             if (!arm || !arm->valid) return;
             const PostureState& ps = s.postures.state(c.posture);
             const bool eventDest = m.to.kind == DestinationKind::Notes || m.to.kind == DestinationKind::Osc || m.to.kind == DestinationKind::Mqtt ||
@@ -670,8 +670,8 @@ struct Mapper::Impl {
         const double x = prepare(c, raw, t, forward);
 
         if (!m.zones.empty()) {
-            double el = kNaN;
-            const ArmState* own = in.arm[isArmSource(m.source.kind) ? m.source.arm : 0];   // a sector's elevation: the same arm's
+            double el = core::kNaN;
+            const core::ArmState* own = in.arm[isArmSource(m.source.kind) ? m.source.arm : 0]; // a sector's elevation: the same arm's
             if (own && own->valid) el = own->features.pose.elevationDeg;
             const int z = zoneFor(c, x, el);
             if (c.stage && !c.primed) {
@@ -767,7 +767,7 @@ void Mapper::process(const MappingInput& in, MappingOutput& out) noexcept
         m.forwardSeen = serial;
         m.forward = m.forwardShared.load(std::memory_order_relaxed);
     }
-    const ArmState* arm = in.arm[0];
+    const core::ArmState* arm = in.arm[0];
     if (arm && arm->valid && m.forwardRequest.exchange(false, std::memory_order_acq_rel)) {
         m.forward = wrap360(arm->features.pose.azimuthDeg);
         m.forwardShared.store(m.forward, std::memory_order_relaxed);
@@ -777,7 +777,7 @@ void Mapper::process(const MappingInput& in, MappingOutput& out) noexcept
     MappingSet::Impl& s = m.sets.active()->impl();
     m.dueNoteOffs(s, in.t, out);
     if (s.hasPostures && arm && arm->valid)
-        s.postures.update(arm->q, arm->gyro.allFinite() ? radToDeg(arm->gyro.norm()) : kNaN);
+        s.postures.update(arm->q, arm->gyro.allFinite() ? core::radToDeg(arm->gyro.norm()) : core::kNaN);
     for (std::size_t i = 0; i < s.count; ++i)
         if (!in.stageOnly || s.maps[i].spec.to.kind == DestinationKind::Stage) m.run(s, s.maps[i], in, out);
 }

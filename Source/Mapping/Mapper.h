@@ -41,8 +41,8 @@ struct GestureIn {
 /// Everything one control update offers the mapping. Pointers are borrowed for the call.
 struct MappingInput {
     double t = 0.0;                                   ///< s on the front end's timeline (events carry it)
-    const ArmState* arm[kMaxArms] {nullptr, nullptr}; ///< arm[0] = the worn arm; nullptr or !valid: continuous sources hold
-    SceneValues scene {};                             ///< the scene's own outputs (Core/Scene.h; NaN = the scene has none)
+    const core::ArmState* arm[kMaxArms] {nullptr, nullptr}; ///< arm[0] = the worn arm; nullptr or !valid: continuous sources hold
+    core::SceneValues scene {};                       ///< the scene's own outputs (Core/Scene.h; NaN = the scene has none)
     const GestureIn* gestures = nullptr;              ///< gestures since the previous update
     int gestureCount = 0;
     /// Only the mappings whose destination is a stage command run (the others keep their state):

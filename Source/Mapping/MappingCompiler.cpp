@@ -40,7 +40,7 @@ std::unique_ptr<MappingSet> MappingSet::build(const MappingDocument& doc, const 
 {
     const std::string where = options.sourceName.empty() ? std::string("mapping") : options.sourceName;
     if (doc.mappings.size() > static_cast<std::size_t>(kMaxMappings))
-        throw InputError(where, 0, "", "more than " + std::to_string(kMaxMappings) + " mappings");
+        throw core::InputError(where, 0, "", "more than " + std::to_string(kMaxMappings) + " mappings");
     std::unique_ptr<MappingSet> set(new MappingSet());
     Impl& s = *set->impl_;
     s.doc = doc;
@@ -83,7 +83,7 @@ std::unique_ptr<MappingSet> MappingSet::build(const MappingDocument& doc, const 
         c.eventDriven = isEventSource(m.source.kind) || t.hasThreshold;
         c.muted.store(m.muted);
         if (m.source.arm < 0 || m.source.arm >= kMaxArms || (m.source.arm != 0 && !isArmSource(m.source.kind)))
-            throw InputError(where, 0, "", name + ": arm " + std::to_string(m.source.arm) + " has no source \"" + sourceName(m.source) + "\"");
+            throw core::InputError(where, 0, "", name + ": arm " + std::to_string(m.source.arm) + " has no source \"" + sourceName(m.source) + "\"");
         if (m.source.kind == SourceKind::ArmsRaised && !c.spec.transform.hasThreshold) {   // a gate (documents built in code)
             c.spec.transform.hasThreshold = true;
             c.spec.transform.threshold = kDefaultArmsRaisedDeg;
@@ -91,15 +91,15 @@ std::unique_ptr<MappingSet> MappingSet::build(const MappingDocument& doc, const 
         }
         if (m.source.kind == SourceKind::Posture) {
             c.posture = s.postures.indexOf(m.source.name);
-            if (c.posture < 0) throw InputError(where, 0, "", name + ": no posture named \"" + m.source.name + "\"");
+            if (c.posture < 0) throw core::InputError(where, 0, "", name + ": no posture named \"" + m.source.name + "\"");
         }
         if (m.source.kind == SourceKind::Gesture) {
             c.gestureAny = m.source.name == "*";
             c.gestureOther = m.source.name == "other";
         }
-        if (m.zones.size() > static_cast<std::size_t>(kMaxZones)) throw InputError(where, 0, "", name + ": too many zones");
+        if (m.zones.size() > static_cast<std::size_t>(kMaxZones)) throw core::InputError(where, 0, "", name + ": too many zones");
         if (m.to.kind == DestinationKind::Macro) {
-            if (m.to.number < 1 || m.to.number > kMacroCount) throw InputError(where, 0, "", name + ": macro must be 1…8");
+            if (m.to.number < 1 || m.to.number > kMacroCount) throw core::InputError(where, 0, "", name + ": macro must be 1…8");
             s.macros |= 1u << (m.to.number - 1);
         }
         if (m.to.kind == DestinationKind::SceneParam) {
@@ -107,7 +107,7 @@ std::unique_ptr<MappingSet> MappingSet::build(const MappingDocument& doc, const 
                 std::find(options.sceneParamIds.begin(), options.sceneParamIds.end(), m.to.paramId) == options.sceneParamIds.end()) {
                 std::string list;
                 for (const std::string& id : options.sceneParamIds) list += (list.empty() ? "" : ", ") + id;
-                throw InputError(where, 0, "", name + ": the scene has no parameter \"" + m.to.paramId + "\" (it has: " + list + ")");
+                throw core::InputError(where, 0, "", name + ": the scene has no parameter \"" + m.to.paramId + "\" (it has: " + list + ")");
             }
             const auto at = std::find(s.params.begin(), s.params.end(), m.to.paramId);
             c.param = static_cast<int>(at - s.params.begin());
@@ -118,13 +118,13 @@ std::unique_ptr<MappingSet> MappingSet::build(const MappingDocument& doc, const 
             std::size_t longest = 0;   // each value at most 24 characters ("-1.23457e+308", "OFF")
             for (const MqttPayloadPart& part : c.payload) longest += part.text.size() + (part.field == MqttPayloadPart::Field::None ? 0 : 24);
             if (longest > MqttMessage::kMaxPayload)
-                throw InputError(where, 0, "", name + ": the MQTT payload can grow past " + std::to_string(MqttMessage::kMaxPayload) + " bytes");
+                throw core::InputError(where, 0, "", name + ": the MQTT payload can grow past " + std::to_string(MqttMessage::kMaxPayload) + " bytes");
             const std::size_t n = m.zones.empty() ? 1 : m.zones.size();
             for (std::size_t z = 0; z < n; ++z) {
                 std::string topic = replaceAll(m.to.address, "{arm}", std::to_string(m.source.arm));
                 topic = replaceAll(topic, "{zone}", m.zones.empty() ? std::string("0") : std::to_string(m.zones[z].value));
                 if (topic.size() >= MqttMessage::kMaxTopic)
-                    throw InputError(where, 0, "", name + ": MQTT topic \"" + topic + "\" longer than " + std::to_string(MqttMessage::kMaxTopic - 1) + " bytes");
+                    throw core::InputError(where, 0, "", name + ": MQTT topic \"" + topic + "\" longer than " + std::to_string(MqttMessage::kMaxTopic - 1) + " bytes");
                 c.addresses.push_back(topic);
             }
         }
@@ -141,18 +141,18 @@ std::unique_ptr<MappingSet> MappingSet::build(const MappingDocument& doc, const 
                 std::string a = replaceAll(m.to.address, "{arm}", std::to_string(m.source.arm));
                 a = replaceAll(a, "{zone}", m.zones.empty() ? std::string("0") : std::to_string(m.zones[z].value));
                 // The longest message this address can make must fit one packet.
-                device::OscArg args[kMaxOscArgs];
+                osc::OscArg args[kMaxOscArgs];
                 const std::size_t argc = m.to.args.empty() ? 1 : std::min<std::size_t>(m.to.args.size(), kMaxOscArgs);
                 for (std::size_t k = 0; k < argc; ++k) {
                     const OscArgSpec* spec = m.to.args.empty() ? nullptr : &m.to.args[k];
-                    if (spec && spec->type == 's') args[k] = device::OscArg::string(spec->text);
-                    else if (spec && spec->type == 'd') args[k] = device::OscArg::float64(0.0);
-                    else if (spec && spec->type == 'i') args[k] = device::OscArg::int32(0);
-                    else args[k] = device::OscArg::float32(0.0f);
+                    if (spec && spec->type == 's') args[k] = osc::OscArg::string(spec->text);
+                    else if (spec && spec->type == 'd') args[k] = osc::OscArg::float64(0.0);
+                    else if (spec && spec->type == 'i') args[k] = osc::OscArg::int32(0);
+                    else args[k] = osc::OscArg::float32(0.0f);
                 }
                 std::array<std::uint8_t, kOscPacketCapacity> probe {};
-                if (device::encodeOscMessage(a, args, argc, probe.data(), probe.size()) == 0)
-                    throw InputError(where, 0, "", name + ": the OSC message to \"" + a + "\" does not encode (a bad address, or longer than " +
+                if (osc::encodeOscMessage(a, args, argc, probe.data(), probe.size()) == 0)
+                    throw core::InputError(where, 0, "", name + ": the OSC message to \"" + a + "\" does not encode (a bad address, or longer than " +
                                                        std::to_string(kOscPacketCapacity) + " bytes)");
                 c.addresses.push_back(a);
             }

@@ -48,59 +48,59 @@ std::string allSourceNames()
 
 // ---- reading ---------------------------------------------------------------------------------
 
-using armadillo::JsonValue;
+using armadillo::core::JsonValue;
 
 class Reader {
 public:
     explicit Reader(std::string source) : source_(std::move(source)) {}
 
-    [[noreturn]] void fail(const JsonValue& at, const std::string& path, const std::string& message) const
+    [[noreturn]] void fail(const core::JsonValue& at, const std::string& path, const std::string& message) const
     {
-        throw InputError(source_, at.line, "", "column " + std::to_string(at.column) + ": " + path + ": " + message);
+        throw core::InputError(source_, at.line, "", "column " + std::to_string(at.column) + ": " + path + ": " + message);
     }
 
-    void expectKind(const JsonValue& v, JsonValue::Kind k, const std::string& path) const
+    void expectKind(const core::JsonValue& v, core::JsonValue::Kind k, const std::string& path) const
     {
         if (v.kind != k)
-            fail(v, path, std::string("expected ") + JsonValue::kindName(k) + ", found " + JsonValue::kindName(v.kind));
+            fail(v, path, std::string("expected ") + core::JsonValue::kindName(k) + ", found " + core::JsonValue::kindName(v.kind));
     }
 
-    double number(const JsonValue& v, const std::string& path) const
+    double number(const core::JsonValue& v, const std::string& path) const
     {
-        expectKind(v, JsonValue::Kind::Number, path);
+        expectKind(v, core::JsonValue::Kind::Number, path);
         if (!std::isfinite(v.number)) fail(v, path, "not a finite number");
         return v.number;
     }
 
-    double numberIn(const JsonValue& v, const std::string& path, double lo, double hi) const
+    double numberIn(const core::JsonValue& v, const std::string& path, double lo, double hi) const
     {
         const double x = number(v, path);
         if (x < lo || x > hi) fail(v, path, fmt(x) + " is outside " + fmt(lo) + "…" + fmt(hi));
         return x;
     }
 
-    int integerIn(const JsonValue& v, const std::string& path, int lo, int hi) const
+    int integerIn(const core::JsonValue& v, const std::string& path, int lo, int hi) const
     {
         const double x = numberIn(v, path, lo, hi);
         if (x != std::floor(x)) fail(v, path, fmt(x) + " is not a whole number");
         return static_cast<int>(x);
     }
 
-    bool boolean(const JsonValue& v, const std::string& path) const
+    bool boolean(const core::JsonValue& v, const std::string& path) const
     {
-        expectKind(v, JsonValue::Kind::Bool, path);
+        expectKind(v, core::JsonValue::Kind::Bool, path);
         return v.boolean;
     }
 
-    const std::string& string(const JsonValue& v, const std::string& path) const
+    const std::string& string(const core::JsonValue& v, const std::string& path) const
     {
-        expectKind(v, JsonValue::Kind::String, path);
+        expectKind(v, core::JsonValue::Kind::String, path);
         return v.string;
     }
 
-    void pair(const JsonValue& v, const std::string& path, double& a, double& b) const
+    void pair(const core::JsonValue& v, const std::string& path, double& a, double& b) const
     {
-        expectKind(v, JsonValue::Kind::Array, path);
+        expectKind(v, core::JsonValue::Kind::Array, path);
         if (v.array.size() != 2) fail(v, path, "expected [low, high] (2 numbers), found " + std::to_string(v.array.size()) + " elements");
         a = number(v.array[0], path + "[0]");
         b = number(v.array[1], path + "[1]");
@@ -108,7 +108,7 @@ public:
     }
 
     /// Refuses keys the format does not know (a misspelt "chanel" must not pass silently).
-    void onlyKeys(const JsonValue& obj, const std::string& path, std::initializer_list<const char*> allowed) const
+    void onlyKeys(const core::JsonValue& obj, const std::string& path, std::initializer_list<const char*> allowed) const
     {
         for (const auto& [key, value] : obj.object) {
             bool ok = false;
@@ -121,61 +121,61 @@ public:
         }
     }
 
-    SourceSpec source(const JsonValue& v, const std::string& path) const
+    SourceSpec source(const core::JsonValue& v, const std::string& path) const
     {
         SourceSpec s;
         if (!parseSourceName(string(v, path), s)) fail(v, path, "unknown source \"" + v.string + "\" (sources: " + allSourceNames() + ")");
         return s;
     }
 
-    AuxSpec aux(const JsonValue& v, const std::string& path) const
+    AuxSpec aux(const core::JsonValue& v, const std::string& path) const
     {
-        expectKind(v, JsonValue::Kind::Object, path);
+        expectKind(v, core::JsonValue::Kind::Object, path);
         onlyKeys(v, path, {"source", "in", "abs"});
         AuxSpec a;
         a.used = true;
-        const JsonValue* src = v.find("source");
+        const core::JsonValue* src = v.find("source");
         if (!src) fail(v, path, "missing \"source\"");
         a.source = source(*src, path + ".source");
         if (isEventSource(a.source.kind)) fail(*src, path + ".source", "an event source cannot drive a value here");
         defaultInputRange(a.source.kind, a.lo, a.hi);
-        if (const JsonValue* in = v.find("in")) pair(*in, path + ".in", a.lo, a.hi);
-        if (const JsonValue* ab = v.find("abs")) a.abs = boolean(*ab, path + ".abs");
+        if (const core::JsonValue* in = v.find("in")) pair(*in, path + ".in", a.lo, a.hi);
+        if (const core::JsonValue* ab = v.find("abs")) a.abs = boolean(*ab, path + ".abs");
         return a;
     }
 
-    std::vector<ZoneSpec> zones(const JsonValue& v, const std::string& path) const
+    std::vector<ZoneSpec> zones(const core::JsonValue& v, const std::string& path) const
     {
-        expectKind(v, JsonValue::Kind::Array, path);
+        expectKind(v, core::JsonValue::Kind::Array, path);
         if (v.array.empty()) fail(v, path, "no zones");
         if (v.array.size() > static_cast<std::size_t>(kMaxZones)) fail(v, path, "more than " + std::to_string(kMaxZones) + " zones");
         std::vector<ZoneSpec> out;
         for (std::size_t i = 0; i < v.array.size(); ++i) {
-            const JsonValue& z = v.array[i];
+            const core::JsonValue& z = v.array[i];
             const std::string p = path + "[" + std::to_string(i) + "]";
             ZoneSpec zone;
-            if (z.kind == JsonValue::Kind::Array) {
+            if (z.kind == core::JsonValue::Kind::Array) {
                 if (z.array.size() != 3) fail(z, p, "a zone is [from, to, note] (3 numbers), found " + std::to_string(z.array.size()) + " elements");
                 zone.from = number(z.array[0], p + "[0]");
                 zone.to = number(z.array[1], p + "[1]");
                 zone.value = integerIn(z.array[2], p + "[2]", 0, 16383);
-            } else if (z.kind == JsonValue::Kind::Object) {
+            } else if (z.kind == core::JsonValue::Kind::Object) {
                 onlyKeys(z, p, {"from", "to", "elevation", "note", "value"});
-                const JsonValue* f = z.find("from");
-                const JsonValue* t = z.find("to");
+                const core::JsonValue* f = z.find("from");
+                const core::JsonValue* t = z.find("to");
                 if (!f || !t) fail(z, p, "a zone needs \"from\" and \"to\"");
                 zone.from = number(*f, p + ".from");
                 zone.to = number(*t, p + ".to");
-                const JsonValue* n = z.find("note");
+                const core::JsonValue* n = z.find("note");
                 if (!n) n = z.find("value");
                 if (n) zone.value = integerIn(*n, p + (z.find("note") ? ".note" : ".value"), 0, 16383);
-                if (const JsonValue* el = z.find("elevation")) {
+                if (const core::JsonValue* el = z.find("elevation")) {
                     zone.hasElevation = true;
                     pair(*el, p + ".elevation", zone.elFrom, zone.elTo);
                     if (zone.elFrom > zone.elTo) std::swap(zone.elFrom, zone.elTo);
                 }
             } else {
-                fail(z, p, std::string("a zone is [from, to, note] or an object, found ") + JsonValue::kindName(z.kind));
+                fail(z, p, std::string("a zone is [from, to, note] or an object, found ") + core::JsonValue::kindName(z.kind));
             }
             if (zone.from == zone.to) fail(z, p, "an empty zone (from = to)");
             out.push_back(zone);
@@ -183,10 +183,10 @@ public:
         return out;
     }
 
-    OscArgSpec oscArg(const JsonValue& v, const std::string& path) const
+    OscArgSpec oscArg(const core::JsonValue& v, const std::string& path) const
     {
         OscArgSpec a;
-        if (v.kind == JsonValue::Kind::Number) {
+        if (v.kind == core::JsonValue::Kind::Number) {
             a.kind = OscArgSpec::Kind::Number;
             a.number = number(v, path);
             a.type = 'f';
@@ -217,32 +217,32 @@ public:
         return a;
     }
 
-    DestinationSpec destination(const JsonValue& v, const std::string& path, std::vector<ZoneSpec>& zonesOut) const
+    DestinationSpec destination(const core::JsonValue& v, const std::string& path, std::vector<ZoneSpec>& zonesOut) const
     {
-        expectKind(v, JsonValue::Kind::Object, path);
+        expectKind(v, core::JsonValue::Kind::Object, path);
         DestinationSpec d;
-        const JsonValue* midi = v.find("midi");
-        const JsonValue* osc = v.find("osc");
-        const JsonValue* macro = v.find("macro");
-        const JsonValue* param = v.find("param");
-        const JsonValue* action = v.find("action");
-        const JsonValue* stage = v.find("stage");
-        const JsonValue* mqtt = v.find("mqtt");
+        const core::JsonValue* midi = v.find("midi");
+        const core::JsonValue* osc = v.find("osc");
+        const core::JsonValue* macro = v.find("macro");
+        const core::JsonValue* param = v.find("param");
+        const core::JsonValue* action = v.find("action");
+        const core::JsonValue* stage = v.find("stage");
+        const core::JsonValue* mqtt = v.find("mqtt");
         const int kinds = (midi != nullptr) + (osc != nullptr) + (macro != nullptr) + (param != nullptr) + (action != nullptr) + (stage != nullptr) +
                           (mqtt != nullptr);
         if (kinds != 1)
             fail(v, path, "a destination names exactly one of \"midi\", \"osc\", \"mqtt\", \"macro\", \"param\", \"action\", \"stage\"");
         const auto channel = [&](int& out) {
-            if (const JsonValue* c = v.find("channel")) out = integerIn(*c, path + ".channel", 1, 16);
+            if (const core::JsonValue* c = v.find("channel")) out = integerIn(*c, path + ".channel", 1, 16);
         };
         const auto velocity = [&]() {
-            if (const JsonValue* vel = v.find("velocity")) {
-                if (vel->kind == JsonValue::Kind::Number) d.velocity = integerIn(*vel, path + ".velocity", 1, 127);
+            if (const core::JsonValue* vel = v.find("velocity")) {
+                if (vel->kind == core::JsonValue::Kind::Number) d.velocity = integerIn(*vel, path + ".velocity", 1, 127);
                 else d.velocitySource = aux(*vel, path + ".velocity");
             }
         };
         const auto zonesHere = [&]() {
-            if (const JsonValue* z = v.find("zones")) zonesOut = zones(*z, path + ".zones");
+            if (const core::JsonValue* z = v.find("zones")) zonesOut = zones(*z, path + ".zones");
         };
         if (midi) {
             const std::string& m = string(*midi, path + ".midi");
@@ -250,10 +250,10 @@ public:
                 onlyKeys(v, path, {"midi", "channel", "cc", "lsbFirst", "zones"});
                 d.kind = m == "cc14" ? DestinationKind::Cc14 : DestinationKind::Cc7;
                 channel(d.channel);
-                const JsonValue* cc = v.find("cc");
+                const core::JsonValue* cc = v.find("cc");
                 if (!cc) fail(v, path, "missing \"cc\"");
                 d.number = integerIn(*cc, path + ".cc", 0, d.kind == DestinationKind::Cc14 ? 31 : 127);
-                if (const JsonValue* l = v.find("lsbFirst")) {
+                if (const core::JsonValue* l = v.find("lsbFirst")) {
                     if (d.kind != DestinationKind::Cc14) fail(*l, path + ".lsbFirst", "only for \"cc14\"");
                     d.lsbFirst = boolean(*l, path + ".lsbFirst");
                 }
@@ -262,7 +262,7 @@ public:
                 onlyKeys(v, path, {"midi", "channel", "number", "zones"});
                 d.kind = DestinationKind::Nrpn;
                 channel(d.channel);
-                const JsonValue* n = v.find("number");
+                const core::JsonValue* n = v.find("number");
                 if (!n) fail(v, path, "missing \"number\" (the NRPN parameter 0…16383)");
                 d.number = integerIn(*n, path + ".number", 0, 16383);
                 zonesHere();
@@ -283,8 +283,8 @@ public:
                 velocity();
                 zonesHere();
                 d.number = 60;
-                if (const JsonValue* n = v.find("note")) d.number = integerIn(*n, path + ".note", 0, 127);
-                if (const JsonValue* l = v.find("lengthMs")) d.lengthMs = numberIn(*l, path + ".lengthMs", 1.0, 60000.0);
+                if (const core::JsonValue* n = v.find("note")) d.number = integerIn(*n, path + ".note", 0, 127);
+                if (const core::JsonValue* l = v.find("lengthMs")) d.lengthMs = numberIn(*l, path + ".lengthMs", 1.0, 60000.0);
                 for (const ZoneSpec& z : zonesOut)
                     if (z.value > 127) fail(v, path + ".zones", "note " + std::to_string(z.value) + " is outside 0…127");
             } else if (m == "mpe") {
@@ -294,18 +294,18 @@ public:
                 if (d.channel != 1 && d.channel != 16) fail(*v.find("channel"), path + ".channel", "the MPE master channel is 1 (lower zone) or 16 (upper zone)");
                 velocity();
                 zonesHere();
-                if (const JsonValue* n = v.find("members")) d.mpeMembers = integerIn(*n, path + ".members", 1, 15);
-                if (const JsonValue* b = v.find("bend")) d.mpeBend = aux(*b, path + ".bend");
-                if (const JsonValue* b = v.find("bendRange")) d.mpeBendRange = numberIn(*b, path + ".bendRange", 1.0, 96.0);
-                if (const JsonValue* p = v.find("pressure")) d.mpePressure = aux(*p, path + ".pressure");
-                if (const JsonValue* t = v.find("timbre")) d.mpeTimbre = aux(*t, path + ".timbre");
+                if (const core::JsonValue* n = v.find("members")) d.mpeMembers = integerIn(*n, path + ".members", 1, 15);
+                if (const core::JsonValue* b = v.find("bend")) d.mpeBend = aux(*b, path + ".bend");
+                if (const core::JsonValue* b = v.find("bendRange")) d.mpeBendRange = numberIn(*b, path + ".bendRange", 1.0, 96.0);
+                if (const core::JsonValue* p = v.find("pressure")) d.mpePressure = aux(*p, path + ".pressure");
+                if (const core::JsonValue* t = v.find("timbre")) d.mpeTimbre = aux(*t, path + ".timbre");
                 for (const ZoneSpec& z : zonesOut)
                     if (z.value > 127) fail(v, path + ".zones", "note " + std::to_string(z.value) + " is outside 0…127");
             } else if (m == "program") {
                 onlyKeys(v, path, {"midi", "channel", "program", "zones"});
                 d.kind = DestinationKind::ProgramChange;
                 channel(d.channel);
-                if (const JsonValue* p = v.find("program")) d.number = integerIn(*p, path + ".program", 0, 127);
+                if (const core::JsonValue* p = v.find("program")) d.number = integerIn(*p, path + ".program", 0, 127);
                 zonesHere();
                 for (const ZoneSpec& z : zonesOut)
                     if (z.value > 127) fail(v, path + ".zones", "program " + std::to_string(z.value) + " is outside 0…127");
@@ -318,14 +318,14 @@ public:
             d.address = string(*osc, path + ".osc");
             if (d.address.empty() || d.address[0] != '/') fail(*osc, path + ".osc", "an OSC address starts with '/'");
             if (d.address.size() > 128) fail(*osc, path + ".osc", "address longer than 128 characters");
-            if (const JsonValue* args = v.find("args")) {
-                expectKind(*args, JsonValue::Kind::Array, path + ".args");
+            if (const core::JsonValue* args = v.find("args")) {
+                expectKind(*args, core::JsonValue::Kind::Array, path + ".args");
                 if (args->array.size() > static_cast<std::size_t>(kMaxOscArgs))
                     fail(*args, path + ".args", "more than " + std::to_string(kMaxOscArgs) + " arguments");
                 for (std::size_t i = 0; i < args->array.size(); ++i)
                     d.args.push_back(oscArg(args->array[i], path + ".args[" + std::to_string(i) + "]"));
             }
-            if (const JsonValue* t = v.find("types")) {
+            if (const core::JsonValue* t = v.find("types")) {
                 const std::string& types = string(*t, path + ".types");
                 const std::size_t n = d.args.empty() ? 1 : d.args.size();
                 if (types.size() != n) fail(*t, path + ".types", "\"" + types + "\" has " + std::to_string(types.size()) + " type tags for " + std::to_string(n) + " arguments");
@@ -338,35 +338,35 @@ public:
                     d.args[i].type = c;
                 }
             }
-            if (const JsonValue* h = v.find("host")) {
+            if (const core::JsonValue* h = v.find("host")) {
                 d.host = string(*h, path + ".host");
                 if (d.host.empty()) fail(*h, path + ".host", "empty host");
             }
-            if (const JsonValue* p = v.find("port")) d.port = integerIn(*p, path + ".port", 1, 65535);
+            if (const core::JsonValue* p = v.find("port")) d.port = integerIn(*p, path + ".port", 1, 65535);
             zonesHere();
         } else if (mqtt) {
             onlyKeys(v, path, {"mqtt", "zones"});
-            expectKind(*mqtt, JsonValue::Kind::Object, path + ".mqtt");
+            expectKind(*mqtt, core::JsonValue::Kind::Object, path + ".mqtt");
             onlyKeys(*mqtt, path + ".mqtt", {"topic", "payload", "qos", "retain", "rate"});
             d.kind = DestinationKind::Mqtt;
-            const JsonValue* topic = mqtt->find("topic");
+            const core::JsonValue* topic = mqtt->find("topic");
             if (!topic) fail(*mqtt, path + ".mqtt", "an MQTT destination needs \"topic\"");
             d.address = string(*topic, path + ".mqtt.topic");
             if (d.address.empty()) fail(*topic, path + ".mqtt.topic", "empty topic");
             if (d.address.find_first_of("+#") != std::string::npos)
                 fail(*topic, path + ".mqtt.topic", "a topic to publish to has no wildcards ('+', '#')");
             if (d.address.size() > 120) fail(*topic, path + ".mqtt.topic", "topic longer than 120 characters");
-            if (const JsonValue* p = mqtt->find("payload")) {
+            if (const core::JsonValue* p = mqtt->find("payload")) {
                 d.payload = string(*p, path + ".mqtt.payload");
                 if (const std::string why = mqttPayloadProblem(d.payload); !why.empty()) fail(*p, path + ".mqtt.payload", why);
             }
-            if (const JsonValue* q = mqtt->find("qos")) d.qos = integerIn(*q, path + ".mqtt.qos", 0, 2);
-            if (const JsonValue* r = mqtt->find("retain")) {
-                expectKind(*r, JsonValue::Kind::Bool, path + ".mqtt.retain");
+            if (const core::JsonValue* q = mqtt->find("qos")) d.qos = integerIn(*q, path + ".mqtt.qos", 0, 2);
+            if (const core::JsonValue* r = mqtt->find("retain")) {
+                expectKind(*r, core::JsonValue::Kind::Bool, path + ".mqtt.retain");
                 d.retain = r->boolean;
             }
-            if (const JsonValue* r = mqtt->find("rate")) {
-                expectKind(*r, JsonValue::Kind::Number, path + ".mqtt.rate");
+            if (const core::JsonValue* r = mqtt->find("rate")) {
+                expectKind(*r, core::JsonValue::Kind::Number, path + ".mqtt.rate");
                 if (!(r->number >= 0.0 && r->number <= 1000.0)) fail(*r, path + ".mqtt.rate", "messages per second from 0 (no limit) to 1000");
                 d.rate = r->number;
             }
@@ -393,7 +393,7 @@ public:
                     known = true;
                 }
             if (!known) fail(*stage, path + ".stage", "unknown stage command \"" + a + "\" (next, prev, cue, panic, resume)");
-            const JsonValue* cue = v.find("cue");
+            const core::JsonValue* cue = v.find("cue");
             if (d.stage == StageAction::Cue) {
                 if (!cue) fail(v, path, "\"stage\": \"cue\" needs \"cue\": the cue's number (0-based)");
                 d.number = integerIn(*cue, path + ".cue", 0, 9999);
@@ -410,24 +410,24 @@ public:
         return d;
     }
 
-    TransformSpec transform(const JsonValue& m, const std::string& path, const SourceSpec& src) const
+    TransformSpec transform(const core::JsonValue& m, const std::string& path, const SourceSpec& src) const
     {
         TransformSpec t;
-        if (const JsonValue* in = m.find("in")) {
+        if (const core::JsonValue* in = m.find("in")) {
             t.hasIn = true;
             pair(*in, path + ".in", t.inLo, t.inHi);
         }
-        if (const JsonValue* out = m.find("out")) {
+        if (const core::JsonValue* out = m.find("out")) {
             t.hasOut = true;
             pair(*out, path + ".out", t.outLo, t.outHi);
         }
-        if (const JsonValue* x = m.find("invert")) t.invert = boolean(*x, path + ".invert");
-        if (const JsonValue* x = m.find("abs")) t.abs = boolean(*x, path + ".abs");
-        if (const JsonValue* x = m.find("forward")) {
+        if (const core::JsonValue* x = m.find("invert")) t.invert = boolean(*x, path + ".invert");
+        if (const core::JsonValue* x = m.find("abs")) t.abs = boolean(*x, path + ".abs");
+        if (const core::JsonValue* x = m.find("forward")) {
             t.forward = boolean(*x, path + ".forward");
             if (t.forward && src.kind != SourceKind::Azimuth) fail(*x, path + ".forward", "only azimuth is measured from forward (yaw always is)");
         }
-        if (const JsonValue* c = m.find("curve")) {
+        if (const core::JsonValue* c = m.find("curve")) {
             const std::string& name = string(*c, path + ".curve");
             if (name == "linear") t.curve = Curve::Linear;
             else if (name == "exp") t.curve = Curve::Exp;
@@ -436,16 +436,16 @@ public:
             else if (name == "table") t.curve = Curve::Table;
             else fail(*c, path + ".curve", "unknown curve \"" + name + "\" (linear, exp, log, s, table)");
         }
-        if (const JsonValue* s = m.find("shape")) t.shape = numberIn(*s, path + ".shape", -20.0, 20.0);
-        if (const JsonValue* tab = m.find("table")) {
+        if (const core::JsonValue* s = m.find("shape")) t.shape = numberIn(*s, path + ".shape", -20.0, 20.0);
+        if (const core::JsonValue* tab = m.find("table")) {
             if (t.curve != Curve::Table) fail(*tab, path + ".table", "a table needs \"curve\": \"table\"");
-            expectKind(*tab, JsonValue::Kind::Array, path + ".table");
+            expectKind(*tab, core::JsonValue::Kind::Array, path + ".table");
             if (tab->array.size() < 2 || tab->array.size() > static_cast<std::size_t>(kMaxTablePoints))
                 fail(*tab, path + ".table", "a table has 2…" + std::to_string(kMaxTablePoints) + " points [x, y]");
             for (std::size_t i = 0; i < tab->array.size(); ++i) {
-                const JsonValue& p = tab->array[i];
+                const core::JsonValue& p = tab->array[i];
                 const std::string pp = path + ".table[" + std::to_string(i) + "]";
-                expectKind(p, JsonValue::Kind::Array, pp);
+                expectKind(p, core::JsonValue::Kind::Array, pp);
                 if (p.array.size() != 2) fail(p, pp, "a point is [x, y]");
                 const double x = numberIn(p.array[0], pp + "[0]", 0.0, 1.0);
                 const double y = numberIn(p.array[1], pp + "[1]", 0.0, 1.0);
@@ -455,51 +455,51 @@ public:
         } else if (t.curve == Curve::Table) {
             fail(m, path, "\"curve\": \"table\" needs \"table\": [[x, y], …]");
         }
-        if (const JsonValue* s = m.find("smoothMs")) {
+        if (const core::JsonValue* s = m.find("smoothMs")) {
             const double ms = numberIn(*s, path + ".smoothMs", 0.0, 10000.0);
             t.minCutoffHz = ms > 0.0 ? 1000.0 / (2.0 * 3.14159265358979323846 * ms) : 0.0;
         }
-        if (const JsonValue* s = m.find("smooth")) {
+        if (const core::JsonValue* s = m.find("smooth")) {
             if (m.find("smoothMs")) fail(*s, path + ".smooth", "give \"smoothMs\" or \"smooth\", not both");
-            expectKind(*s, JsonValue::Kind::Object, path + ".smooth");
+            expectKind(*s, core::JsonValue::Kind::Object, path + ".smooth");
             onlyKeys(*s, path + ".smooth", {"minCutoffHz", "beta", "derivativeCutoffHz"});
-            if (const JsonValue* x = s->find("minCutoffHz")) t.minCutoffHz = numberIn(*x, path + ".smooth.minCutoffHz", 0.001, 1000.0);
+            if (const core::JsonValue* x = s->find("minCutoffHz")) t.minCutoffHz = numberIn(*x, path + ".smooth.minCutoffHz", 0.001, 1000.0);
             else fail(*s, path + ".smooth", "missing \"minCutoffHz\"");
-            if (const JsonValue* x = s->find("beta")) t.beta = numberIn(*x, path + ".smooth.beta", 0.0, 1000.0);
-            if (const JsonValue* x = s->find("derivativeCutoffHz")) t.derivativeCutoffHz = numberIn(*x, path + ".smooth.derivativeCutoffHz", 0.001, 1000.0);
+            if (const core::JsonValue* x = s->find("beta")) t.beta = numberIn(*x, path + ".smooth.beta", 0.0, 1000.0);
+            if (const core::JsonValue* x = s->find("derivativeCutoffHz")) t.derivativeCutoffHz = numberIn(*x, path + ".smooth.derivativeCutoffHz", 0.001, 1000.0);
         }
-        if (const JsonValue* x = m.find("deadZone")) t.deadZone = numberIn(*x, path + ".deadZone", 0.0, 1e6);
-        if (const JsonValue* x = m.find("hysteresis")) t.hysteresis = numberIn(*x, path + ".hysteresis", 0.0, 1e6);
-        if (const JsonValue* x = m.find("threshold")) {
+        if (const core::JsonValue* x = m.find("deadZone")) t.deadZone = numberIn(*x, path + ".deadZone", 0.0, 1e6);
+        if (const core::JsonValue* x = m.find("hysteresis")) t.hysteresis = numberIn(*x, path + ".hysteresis", 0.0, 1e6);
+        if (const core::JsonValue* x = m.find("threshold")) {
             t.hasThreshold = true;
             t.threshold = number(*x, path + ".threshold");
         }
-        if (const JsonValue* x = m.find("steps")) t.steps = integerIn(*x, path + ".steps", 2, 16384);
-        if (const JsonValue* x = m.find("scale")) {
+        if (const core::JsonValue* x = m.find("steps")) t.steps = integerIn(*x, path + ".steps", 2, 16384);
+        if (const core::JsonValue* x = m.find("scale")) {
             t.scale = string(*x, path + ".scale");
             if (scaleIntervals(t.scale) == 0) fail(*x, path + ".scale", "unknown scale \"" + t.scale + "\" (" + kScaleList + ")");
         }
-        if (const JsonValue* x = m.find("root")) t.scaleRoot = integerIn(*x, path + ".root", 0, 11);
+        if (const core::JsonValue* x = m.find("root")) t.scaleRoot = integerIn(*x, path + ".root", 0, 11);
         return t;
     }
 
-    PostureSpec posture(const JsonValue& v, const std::string& path) const
+    PostureSpec posture(const core::JsonValue& v, const std::string& path) const
     {
-        expectKind(v, JsonValue::Kind::Object, path);
+        expectKind(v, core::JsonValue::Kind::Object, path);
         onlyKeys(v, path, {"name", "examples", "radius", "hysteresis", "maxSpeed"});
         PostureSpec p;
-        const JsonValue* name = v.find("name");
+        const core::JsonValue* name = v.find("name");
         if (!name) fail(v, path, "missing \"name\"");
         p.name = string(*name, path + ".name");
         if (p.name.empty()) fail(*name, path + ".name", "empty name");
-        const JsonValue* ex = v.find("examples");
+        const core::JsonValue* ex = v.find("examples");
         if (!ex) fail(v, path, "missing \"examples\" (quaternions [w, x, y, z])");
-        expectKind(*ex, JsonValue::Kind::Array, path + ".examples");
+        expectKind(*ex, core::JsonValue::Kind::Array, path + ".examples");
         if (ex->array.empty() || ex->array.size() > 64) fail(*ex, path + ".examples", "a posture has 1…64 examples");
         for (std::size_t i = 0; i < ex->array.size(); ++i) {
-            const JsonValue& q = ex->array[i];
+            const core::JsonValue& q = ex->array[i];
             const std::string pq = path + ".examples[" + std::to_string(i) + "]";
-            expectKind(q, JsonValue::Kind::Array, pq);
+            expectKind(q, core::JsonValue::Kind::Array, pq);
             if (q.array.size() != 4) fail(q, pq, "a quaternion is [w, x, y, z]");
             std::array<double, 4> e {};
             double n2 = 0.0;
@@ -511,27 +511,27 @@ public:
             for (double& c : e) c /= std::sqrt(n2);
             p.examples.push_back(e);
         }
-        if (const JsonValue* x = v.find("radius")) p.radiusDeg = numberIn(*x, path + ".radius", 1.0, 180.0);
-        if (const JsonValue* x = v.find("hysteresis")) p.hysteresisDeg = numberIn(*x, path + ".hysteresis", 0.0, 90.0);
-        if (const JsonValue* x = v.find("maxSpeed")) p.maxSpeedDegS = numberIn(*x, path + ".maxSpeed", 1.0, 10000.0);
+        if (const core::JsonValue* x = v.find("radius")) p.radiusDeg = numberIn(*x, path + ".radius", 1.0, 180.0);
+        if (const core::JsonValue* x = v.find("hysteresis")) p.hysteresisDeg = numberIn(*x, path + ".hysteresis", 0.0, 90.0);
+        if (const core::JsonValue* x = v.find("maxSpeed")) p.maxSpeedDegS = numberIn(*x, path + ".maxSpeed", 1.0, 10000.0);
         return p;
     }
 
-    MappingSpec mapping(const JsonValue& m, const std::string& path) const
+    MappingSpec mapping(const core::JsonValue& m, const std::string& path) const
     {
-        expectKind(m, JsonValue::Kind::Object, path);
+        expectKind(m, core::JsonValue::Kind::Object, path);
         onlyKeys(m, path, {"label", "source", "arm", "in", "out", "invert", "abs", "forward", "curve", "shape", "table", "smoothMs", "smooth",
                            "deadZone", "hysteresis", "threshold", "steps", "scale", "root", "zones", "muted", "to"});
         MappingSpec s;
-        if (const JsonValue* l = m.find("label")) s.label = string(*l, path + ".label");
-        const JsonValue* src = m.find("source");
+        if (const core::JsonValue* l = m.find("label")) s.label = string(*l, path + ".label");
+        const core::JsonValue* src = m.find("source");
         if (!src) fail(m, path, "missing \"source\"");
         s.source = source(*src, path + ".source");
         if (s.source.kind == SourceKind::GestureValue) fail(*src, path + ".source", "\"value\" is only a velocity/aux source of an event mapping");
-        if (const JsonValue* arm = m.find("arm")) {
+        if (const core::JsonValue* arm = m.find("arm")) {
             // "arm": "left" (or 1) is the same as the "left." name; "right" (or 0) the unprefixed one.
             int which = 0;
-            if (arm->kind == JsonValue::Kind::String) {
+            if (arm->kind == core::JsonValue::Kind::String) {
                 if (arm->string != "right" && arm->string != "left") fail(*arm, path + ".arm", "unknown arm \"" + arm->string + "\" (right, left)");
                 which = arm->string == "left" ? 1 : 0;
             } else {
@@ -553,9 +553,9 @@ public:
                 s.transform.threshold = kDefaultArmsRaisedDeg;
             }
         }
-        if (const JsonValue* z = m.find("zones")) s.zones = zones(*z, path + ".zones");
-        if (const JsonValue* mu = m.find("muted")) s.muted = boolean(*mu, path + ".muted");
-        const JsonValue* to = m.find("to");
+        if (const core::JsonValue* z = m.find("zones")) s.zones = zones(*z, path + ".zones");
+        if (const core::JsonValue* mu = m.find("muted")) s.muted = boolean(*mu, path + ".muted");
+        const core::JsonValue* to = m.find("to");
         if (!to) fail(m, path, "missing \"to\" (the destination)");
         std::vector<ZoneSpec> zonesInTo;
         s.to = destination(*to, path + ".to", zonesInTo);
@@ -567,7 +567,7 @@ public:
         return s;
     }
 
-    void validate(const MappingSpec& s, const JsonValue& at, const std::string& path) const
+    void validate(const MappingSpec& s, const core::JsonValue& at, const std::string& path) const
     {
         const bool event = isEventSource(s.source.kind) || s.transform.hasThreshold;
         const bool zoned = !s.zones.empty();
@@ -643,7 +643,7 @@ std::string num(double x)
 std::string str(std::string_view s)
 {
     std::string out;
-    armadillo::appendJsonString(out, s);
+    armadillo::core::appendJsonString(out, s);
     return out;
 }
 
@@ -882,20 +882,20 @@ int scaleMask(const std::string& name) { return Reader::scaleIntervals(name); }
 
 MappingDocument parseMappingDocument(std::string_view text, const std::string& sourceName)
 {
-    const JsonValue root = armadillo::parseJson(text, sourceName);
+    const core::JsonValue root = armadillo::core::parseJson(text, sourceName);
     Reader r(sourceName);
-    r.expectKind(root, JsonValue::Kind::Object, "the file");
+    r.expectKind(root, core::JsonValue::Kind::Object, "the file");
     r.onlyKeys(root, "the file", {"version", "name", "mappings", "postures"});
     MappingDocument doc;
-    const JsonValue* version = root.find("version");
+    const core::JsonValue* version = root.find("version");
     if (!version) r.fail(root, "the file", "missing \"version\" (this program reads version " + std::to_string(kMappingFileVersion) + ")");
     doc.version = r.integerIn(*version, "version", 0, 1000000);
     if (doc.version != kMappingFileVersion)
         r.fail(*version, "version", "version " + std::to_string(doc.version) + " is not supported (this program reads version " +
                                         std::to_string(kMappingFileVersion) + ")");
-    if (const JsonValue* n = root.find("name")) doc.name = r.string(*n, "name");
-    if (const JsonValue* p = root.find("postures")) {
-        r.expectKind(*p, JsonValue::Kind::Array, "postures");
+    if (const core::JsonValue* n = root.find("name")) doc.name = r.string(*n, "name");
+    if (const core::JsonValue* p = root.find("postures")) {
+        r.expectKind(*p, core::JsonValue::Kind::Array, "postures");
         if (p->array.size() > 16) r.fail(*p, "postures", "more than 16 postures");
         std::set<std::string> names;
         for (std::size_t i = 0; i < p->array.size(); ++i) {
@@ -904,9 +904,9 @@ MappingDocument parseMappingDocument(std::string_view text, const std::string& s
                 r.fail(p->array[i], "postures[" + std::to_string(i) + "]", "a second posture named \"" + doc.postures.back().name + "\"");
         }
     }
-    const JsonValue* mappings = root.find("mappings");
+    const core::JsonValue* mappings = root.find("mappings");
     if (!mappings) r.fail(root, "the file", "missing \"mappings\"");
-    r.expectKind(*mappings, JsonValue::Kind::Array, "mappings");
+    r.expectKind(*mappings, core::JsonValue::Kind::Array, "mappings");
     if (mappings->array.size() > static_cast<std::size_t>(kMaxMappings))
         r.fail(*mappings, "mappings", "more than " + std::to_string(kMaxMappings) + " mappings");
     for (std::size_t i = 0; i < mappings->array.size(); ++i) {
@@ -982,12 +982,12 @@ std::string toJson(const MappingDocument& doc)
 std::vector<std::string> presetNames(const std::string& extraDir)
 {
     std::set<std::string> names;
-    for (const EmbeddedFile& f : embeddedResources()) {
+    for (const core::EmbeddedFile& f : core::embeddedResources()) {
         const std::string_view p = f.path;
         if (p.substr(0, 9) == "Mappings/" && p.size() > 14 && p.substr(p.size() - 5) == ".json")
             names.insert(std::string(p.substr(9, p.size() - 14)));
     }
-    for (const std::string& dir : resourceSearchDirs(extraDir)) {
+    for (const std::string& dir : core::resourceSearchDirs(extraDir)) {
         std::error_code ec;
         const std::filesystem::path folder = std::filesystem::path(dir) / "Mappings";
         if (!std::filesystem::is_directory(folder, ec)) continue;
@@ -1002,25 +1002,25 @@ namespace {
 MappingDocument loadMappingFile(const std::string& path)
 {
     std::ifstream in(path, std::ios::binary);
-    if (!in) throw IoError("--map " + path + ": cannot open the mapping file");
+    if (!in) throw core::IoError("--map " + path + ": cannot open the mapping file");
     std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (in.bad()) throw IoError("--map " + path + ": cannot read the mapping file");
+    if (in.bad()) throw core::IoError("--map " + path + ": cannot read the mapping file");
     return parseMappingDocument(text, path);
 }
 } // namespace
 
 MappingDocument loadMapping(const std::string& presetOrPath, const std::string& extraDir)
 {
-    if (presetOrPath.empty()) throw InputError("", 0, "--map", "empty mapping name (a preset or a .json file)");
+    if (presetOrPath.empty()) throw core::InputError("", 0, "--map", "empty mapping name (a preset or a .json file)");
     const bool looksLikeName = presetOrPath.find('/') == std::string::npos && presetOrPath.find('.') == std::string::npos;
     if (looksLikeName) {
-        if (auto found = findResource("Mappings/" + presetOrPath + ".json", extraDir))
+        if (auto found = core::findResource("Mappings/" + presetOrPath + ".json", extraDir))
             return parseMappingDocument(found->bytes, found->origin);
         std::error_code ec;
         if (std::filesystem::is_regular_file(presetOrPath, ec)) return loadMappingFile(presetOrPath);
         std::string list;
         for (const std::string& n : presetNames(extraDir)) list += (list.empty() ? "" : ", ") + n;
-        throw IoError("--map " + presetOrPath + ": no preset and no file of that name (presets: " + list + ")");
+        throw core::IoError("--map " + presetOrPath + ": no preset and no file of that name (presets: " + list + ")");
     }
     return loadMappingFile(presetOrPath);
 }

@@ -96,7 +96,7 @@ std::vector<std::uint8_t> MidiFileWriter::bytes() const
 void MidiFileWriter::write(const std::string& path) const
 {
     const std::vector<std::uint8_t> b = bytes();
-    writeFileAtomically(path, std::string_view(reinterpret_cast<const char*>(b.data()), b.size()));
+    core::writeFileAtomically(path, std::string_view(reinterpret_cast<const char*>(b.data()), b.size()));
 }
 
 } // namespace armadillo::mapping

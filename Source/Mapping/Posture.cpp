@@ -9,7 +9,7 @@ namespace {
 double distanceDeg(const std::array<double, 4>& a, const Eigen::Quaterniond& b) noexcept
 {
     const double dot = std::fabs(a[0] * b.w() + a[1] * b.x() + a[2] * b.y() + a[3] * b.z());
-    return radToDeg(2.0 * std::acos(std::min(1.0, dot)));
+    return core::radToDeg(2.0 * std::acos(std::min(1.0, dot)));
 }
 Eigen::Quaterniond toQuaternion(const std::array<double, 4>& a) { return Eigen::Quaterniond(a[0], a[1], a[2], a[3]); }
 } // namespace
@@ -17,7 +17,7 @@ Eigen::Quaterniond toQuaternion(const std::array<double, 4>& a) { return Eigen::
 double quaternionDistanceDeg(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) noexcept
 {
     const double dot = std::fabs(a.w() * b.w() + a.x() * b.x() + a.y() * b.y() + a.z() * b.z()) / (a.norm() * b.norm());
-    return radToDeg(2.0 * std::acos(std::min(1.0, dot)));
+    return core::radToDeg(2.0 * std::acos(std::min(1.0, dot)));
 }
 
 void PostureRecorder::clear()
@@ -43,7 +43,7 @@ PostureSpec PostureRecorder::finish(const std::string& name) const
     for (std::size_t i = 0; i < samples_.size(); ++i)
         if (std::isfinite(speeds_[i]) && speeds_[i] < spec.maxSpeedDegS) still.push_back(samples_[i]);
     if (still.size() < 5)
-        throw InputError("", 0, "", "posture \"" + name + "\": only " + std::to_string(still.size()) +
+        throw core::InputError("", 0, "", "posture \"" + name + "\": only " + std::to_string(still.size()) +
                                         " still samples (hold the pose for a second or more, moving slower than " +
                                         std::to_string(static_cast<int>(spec.maxSpeedDegS)) + " deg/s)");
     // Mean orientation: the normalised sum with every sample put in the first one's hemisphere.

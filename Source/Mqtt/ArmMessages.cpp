@@ -47,7 +47,7 @@ bool MessagePresenter::handOver(braille::BrailleSceneControls& scene, const Inbo
     try {
         prepared = braille::prepareArmMessage(text, "message " + std::to_string(m.id) + " from '" + m.source + "'", options_.grade,
                                               options_.method, options_.timed, m.urgent, m.id);
-    } catch (const InputError& e) {
+    } catch (const core::InputError& e) {
         ++unshowable_;
         said.push_back(std::string("not shown: ") + e.what());
         return false;

@@ -62,13 +62,13 @@ bool cleanText(const std::string& in, std::string& out, std::string& why)
     return true;
 }
 
-const armadillo::JsonValue* findPath(const armadillo::JsonValue& root, const std::string& path)
+const armadillo::core::JsonValue* findPath(const armadillo::core::JsonValue& root, const std::string& path)
 {
-    const armadillo::JsonValue* v = &root;
+    const armadillo::core::JsonValue* v = &root;
     std::size_t start = 0;
     while (v) {
         const std::size_t dot = path.find('.', start);
-        if (v->kind != armadillo::JsonValue::Kind::Object) return nullptr;
+        if (v->kind != armadillo::core::JsonValue::Kind::Object) return nullptr;
         v = v->find(std::string_view(path).substr(start, dot == std::string::npos ? std::string::npos : dot - start));
         if (dot == std::string::npos) return v;
         start = dot + 1;
@@ -82,16 +82,16 @@ bool messageText(const std::string& payload, const MqttConfig& config, std::stri
 {
     priority = 0;
     if (config.textField.empty() && config.priorityField.empty()) return cleanText(payload, text, why);
-    armadillo::JsonValue root;
+    armadillo::core::JsonValue root;
     try {
-        root = armadillo::parseJson(payload, "payload");
-    } catch (const InputError& e) {
+        root = armadillo::core::parseJson(payload, "payload");
+    } catch (const core::InputError& e) {
         why = std::string("not JSON (") + e.what() + ")";
         return false;
     }
     if (!config.priorityField.empty()) {
-        if (const armadillo::JsonValue* p = findPath(root, config.priorityField)) {
-            if (p->kind != armadillo::JsonValue::Kind::Number || !std::isfinite(p->number)) {
+        if (const armadillo::core::JsonValue* p = findPath(root, config.priorityField)) {
+            if (p->kind != armadillo::core::JsonValue::Kind::Number || !std::isfinite(p->number)) {
                 why = "field \"" + config.priorityField + "\" is not a number";
                 return false;
             }
@@ -99,13 +99,13 @@ bool messageText(const std::string& payload, const MqttConfig& config, std::stri
         }
     }
     if (config.textField.empty()) return cleanText(payload, text, why);
-    const armadillo::JsonValue* field = findPath(root, config.textField);
+    const armadillo::core::JsonValue* field = findPath(root, config.textField);
     if (!field) {
         why = "no field \"" + config.textField + "\" in the JSON payload";
         return false;
     }
-    if (field->kind != armadillo::JsonValue::Kind::String) {
-        why = "field \"" + config.textField + "\" is " + armadillo::JsonValue::kindName(field->kind) + ", not a string";
+    if (field->kind != armadillo::core::JsonValue::Kind::String) {
+        why = "field \"" + config.textField + "\" is " + armadillo::core::JsonValue::kindName(field->kind) + ", not a string";
         return false;
     }
     return cleanText(field->string, text, why);

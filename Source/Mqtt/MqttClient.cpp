@@ -71,17 +71,17 @@ void MqttClient::start()
         std::string id = config_.clientId;
         if (id.empty()) id = "armadillo-" + std::to_string(::getpid()) + "-" + std::to_string(clientCounter.fetch_add(1) + 1);
         mosq_ = mosquitto_new(id.c_str(), true, this);
-        if (!mosq_) throw IoError("MQTT: cannot create a client (" + std::string(std::strerror(errno)) + ")");
+        if (!mosq_) throw core::IoError("MQTT: cannot create a client (" + std::string(std::strerror(errno)) + ")");
         mosquitto_int_option(mosq_, MOSQ_OPT_PROTOCOL_VERSION, config_.protocol == 5 ? MQTT_PROTOCOL_V5 : MQTT_PROTOCOL_V311);
         if (!config_.username.empty()) {
             const int rc = mosquitto_username_pw_set(mosq_, config_.username.c_str(), config_.password.empty() ? nullptr : config_.password.c_str());
-            if (rc != MOSQ_ERR_SUCCESS) throw IoError("MQTT: username/password refused: " + errorText(rc));
+            if (rc != MOSQ_ERR_SUCCESS) throw core::IoError("MQTT: username/password refused: " + errorText(rc));
         }
         if (!config_.caFile.empty()) {
             const int rc = mosquitto_tls_set(mosq_, config_.caFile.c_str(), nullptr, config_.certFile.empty() ? nullptr : config_.certFile.c_str(),
                                              config_.keyFile.empty() ? nullptr : config_.keyFile.c_str(), nullptr);
             if (rc != MOSQ_ERR_SUCCESS)
-                throw IoError("MQTT: TLS with CA file '" + config_.caFile + "' refused by libmosquitto: " + errorText(rc));
+                throw core::IoError("MQTT: TLS with CA file '" + config_.caFile + "' refused by libmosquitto: " + errorText(rc));
         }
         mosquitto_connect_callback_set(mosq_, &MqttClient::onConnect);
         mosquitto_disconnect_callback_set(mosq_, &MqttClient::onDisconnect);

@@ -124,7 +124,7 @@ private:
     bool socketUp_ = false;               // network thread only: a connection exists (CONNACK or not)
     bool connackOk_ = false;              // network thread only
 
-    SpscQueue<OutgoingMessage, 1024> outbox_;
+    core::SpscQueue<OutgoingMessage, 1024> outbox_;
     std::atomic<std::uint64_t> outboxDropped_ {0};
     std::map<std::string, Pending, std::less<>> pending_;   // network thread only: the latest value per topic
 

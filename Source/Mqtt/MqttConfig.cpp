@@ -14,21 +14,21 @@ void parseBrokerAddress(const std::string& text, const std::string& option, std:
     std::string h = text, p;
     if (!h.empty() && h.front() == '[') {   // [IPv6]:port
         const auto close = h.find(']');
-        if (close == std::string::npos) throw InputError("", 0, option, "'" + text + "': '[' without ']'");
+        if (close == std::string::npos) throw core::InputError("", 0, option, "'" + text + "': '[' without ']'");
         p = close + 1 < h.size() && h[close + 1] == ':' ? h.substr(close + 2) : "";
-        if (close + 1 < h.size() && h[close + 1] != ':') throw InputError("", 0, option, "'" + text + "': expected ':PORT' after ']'");
+        if (close + 1 < h.size() && h[close + 1] != ':') throw core::InputError("", 0, option, "'" + text + "': expected ':PORT' after ']'");
         h = h.substr(1, close - 1);
     } else if (const auto colon = h.rfind(':'); colon != std::string::npos && h.find(':') == colon) {
         p = h.substr(colon + 1);
         h = h.substr(0, colon);
-        if (p.empty()) throw InputError("", 0, option, "'" + text + "': empty port after ':'");
+        if (p.empty()) throw core::InputError("", 0, option, "'" + text + "': empty port after ':'");
     }
-    if (h.empty()) throw InputError("", 0, option, "'" + text + "': no host name (HOST or HOST:PORT)");
+    if (h.empty()) throw core::InputError("", 0, option, "'" + text + "': no host name (HOST or HOST:PORT)");
     if (!p.empty()) {
         int v = 0;
         const auto r = std::from_chars(p.data(), p.data() + p.size(), v);
         if (r.ec != std::errc() || r.ptr != p.data() + p.size() || v < 1 || v > 65535)
-            throw InputError("", 0, option, "'" + text + "': port '" + p + "' is not a number from 1 to 65535");
+            throw core::InputError("", 0, option, "'" + text + "': port '" + p + "' is not a number from 1 to 65535");
         port = v;
     }
     host = h;
@@ -75,36 +75,36 @@ bool topicMatches(const std::string& filter, const std::string& topic) noexcept
 
 namespace {
 
-using armadillo::JsonValue;
+using armadillo::core::JsonValue;
 
 class Reader {
 public:
     explicit Reader(std::string source) : source_(std::move(source)) {}
 
-    [[noreturn]] void fail(const JsonValue& at, const std::string& key, const std::string& why) const
+    [[noreturn]] void fail(const core::JsonValue& at, const std::string& key, const std::string& why) const
     {
-        throw InputError(source_, at.line, "", "column " + std::to_string(at.column) + ": " + key + ": " + why);
+        throw core::InputError(source_, at.line, "", "column " + std::to_string(at.column) + ": " + key + ": " + why);
     }
-    const JsonValue& expect(const JsonValue& v, JsonValue::Kind kind, const std::string& key) const
+    const core::JsonValue& expect(const core::JsonValue& v, core::JsonValue::Kind kind, const std::string& key) const
     {
-        if (v.kind != kind) fail(v, key, std::string("expected ") + JsonValue::kindName(kind) + ", found " + JsonValue::kindName(v.kind));
+        if (v.kind != kind) fail(v, key, std::string("expected ") + core::JsonValue::kindName(kind) + ", found " + core::JsonValue::kindName(v.kind));
         return v;
     }
-    std::string text(const JsonValue& v, const std::string& key) const { return expect(v, JsonValue::Kind::String, key).string; }
-    double number(const JsonValue& v, const std::string& key, double lo, double hi) const
+    std::string text(const core::JsonValue& v, const std::string& key) const { return expect(v, core::JsonValue::Kind::String, key).string; }
+    double number(const core::JsonValue& v, const std::string& key, double lo, double hi) const
     {
-        const double x = expect(v, JsonValue::Kind::Number, key).number;
+        const double x = expect(v, core::JsonValue::Kind::Number, key).number;
         if (!std::isfinite(x) || x < lo || x > hi) fail(v, key, "must be from " + fmt(lo) + " to " + fmt(hi));
         return x;
     }
-    int integer(const JsonValue& v, const std::string& key, int lo, int hi) const
+    int integer(const core::JsonValue& v, const std::string& key, int lo, int hi) const
     {
         const double x = number(v, key, lo, hi);
         if (x != std::floor(x)) fail(v, key, "must be a whole number");
         return static_cast<int>(x);
     }
-    bool boolean(const JsonValue& v, const std::string& key) const { return expect(v, JsonValue::Kind::Bool, key).boolean; }
-    void unknown(const JsonValue& v, const std::string& key, const char* known) const
+    bool boolean(const core::JsonValue& v, const std::string& key) const { return expect(v, core::JsonValue::Kind::Bool, key).boolean; }
+    void unknown(const core::JsonValue& v, const std::string& key, const char* known) const
     {
         fail(v, key, std::string("unknown key (known: ") + known + ")");
     }
@@ -119,13 +119,13 @@ private:
     std::string source_;
 };
 
-void readTopic(const Reader& r, const JsonValue& v, const std::string& key, MqttConfig& c)
+void readTopic(const Reader& r, const core::JsonValue& v, const std::string& key, MqttConfig& c)
 {
     TopicSubscription t;
-    if (v.kind == JsonValue::Kind::String) {
+    if (v.kind == core::JsonValue::Kind::String) {
         t.filter = v.string;
     } else {
-        r.expect(v, JsonValue::Kind::Object, key);
+        r.expect(v, core::JsonValue::Kind::Object, key);
         for (const auto& [k, x] : v.object) {
             if (k == "topic") t.filter = r.text(x, key + ".topic");
             else if (k == "qos") t.qos = r.integer(x, key + ".qos", 0, 2);
@@ -142,16 +142,16 @@ void readTopic(const Reader& r, const JsonValue& v, const std::string& key, Mqtt
 
 MqttConfig parseMqttConfig(const std::string& text, const std::string& source)
 {
-    const JsonValue root = armadillo::parseJson(text, source);
+    const core::JsonValue root = armadillo::core::parseJson(text, source);
     const Reader r(source);
-    r.expect(root, JsonValue::Kind::Object, "the file");
+    r.expect(root, core::JsonValue::Kind::Object, "the file");
     MqttConfig c;
     c.source = source;
     for (const auto& [key, v] : root.object) {
         if (key == "broker") {
             try {
                 parseBrokerAddress(r.text(v, key), key, c.host, c.port);
-            } catch (const InputError& e) {
+            } catch (const core::InputError& e) {
                 r.fail(v, key, e.what());
             }
         } else if (key == "clientId") {
@@ -169,7 +169,7 @@ MqttConfig parseMqttConfig(const std::string& text, const std::string& source)
         } else if (key == "keepAlive") {
             c.keepAlive = r.integer(v, key, 5, 65535);
         } else if (key == "reconnect") {
-            r.expect(v, JsonValue::Kind::Object, key);
+            r.expect(v, core::JsonValue::Kind::Object, key);
             for (const auto& [k, x] : v.object) {
                 if (k == "min") c.reconnectMin = r.number(x, "reconnect.min", 0.01, 3600);
                 else if (k == "max") c.reconnectMax = r.number(x, "reconnect.max", 0.01, 3600);
@@ -177,7 +177,7 @@ MqttConfig parseMqttConfig(const std::string& text, const std::string& source)
             }
             if (c.reconnectMax < c.reconnectMin) r.fail(v, key, "max is below min");
         } else if (key == "tls") {
-            r.expect(v, JsonValue::Kind::Object, key);
+            r.expect(v, core::JsonValue::Kind::Object, key);
             for (const auto& [k, x] : v.object) {
                 if (k == "caFile") c.caFile = r.text(x, "tls.caFile");
                 else if (k == "certFile") c.certFile = r.text(x, "tls.certFile");
@@ -187,10 +187,10 @@ MqttConfig parseMqttConfig(const std::string& text, const std::string& source)
             if (c.caFile.empty()) r.fail(v, key, "TLS needs \"caFile\" (the CA certificate that signed the broker's)");
             if (c.certFile.empty() != c.keyFile.empty()) r.fail(v, key, "certFile and keyFile go together");
         } else if (key == "messages") {
-            r.expect(v, JsonValue::Kind::Object, key);
+            r.expect(v, core::JsonValue::Kind::Object, key);
             for (const auto& [k, x] : v.object) {
                 if (k == "topics") {
-                    r.expect(x, JsonValue::Kind::Array, "messages.topics");
+                    r.expect(x, core::JsonValue::Kind::Array, "messages.topics");
                     for (std::size_t i = 0; i < x.array.size(); ++i)
                         readTopic(r, x.array[i], "messages.topics[" + std::to_string(i) + "]", c);
                 } else if (k == "textField") {
@@ -207,7 +207,7 @@ MqttConfig parseMqttConfig(const std::string& text, const std::string& source)
                 }
             }
         } else if (key == "publish") {
-            r.expect(v, JsonValue::Kind::Object, key);
+            r.expect(v, core::JsonValue::Kind::Object, key);
             for (const auto& [k, x] : v.object) {
                 if (k == "rate") c.publishRate = r.number(x, "publish.rate", 0, 1000);
                 else r.unknown(x, "publish." + k, "rate");
@@ -223,7 +223,7 @@ MqttConfig parseMqttConfig(const std::string& text, const std::string& source)
 MqttConfig loadMqttConfig(const std::string& path)
 {
     std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path, 0, "", "cannot open the MQTT configuration file");
+    if (!in) throw core::InputError(path, 0, "", "cannot open the MQTT configuration file");
     std::ostringstream text;
     text << in.rdbuf();
     return parseMqttConfig(text.str(), path);
@@ -232,15 +232,15 @@ MqttConfig loadMqttConfig(const std::string& path)
 void validateMqttConfig(const MqttConfig& c)
 {
     const std::string& src = c.source;
-    if (c.host.empty()) throw InputError(src, 0, "broker", "no broker host");
-    if (c.port < 1 || c.port > 65535) throw InputError(src, 0, "broker", "port " + std::to_string(c.port) + " is not from 1 to 65535");
+    if (c.host.empty()) throw core::InputError(src, 0, "broker", "no broker host");
+    if (c.port < 1 || c.port > 65535) throw core::InputError(src, 0, "broker", "port " + std::to_string(c.port) + " is not from 1 to 65535");
     for (const std::string* f : {&c.caFile, &c.certFile, &c.keyFile})
         if (!f->empty() && ::access(f->c_str(), R_OK) != 0)
-            throw InputError(src, 0, "tls", "cannot read '" + *f + "' (TLS files must exist and be readable)");
-    if (!c.password.empty() && c.username.empty()) throw InputError(src, 0, "password", "a password needs a username");
+            throw core::InputError(src, 0, "tls", "cannot read '" + *f + "' (TLS files must exist and be readable)");
+    if (!c.password.empty() && c.username.empty()) throw core::InputError(src, 0, "password", "a password needs a username");
     for (const auto& t : c.topics)
         if (const std::string why = topicFilterProblem(t.filter); !why.empty())
-            throw InputError(src, 0, "messages.topics", "'" + t.filter + "': " + why);
+            throw core::InputError(src, 0, "messages.topics", "'" + t.filter + "': " + why);
 }
 
 } // namespace armadillo::mqtt

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <numbers>
 
-namespace armadillo::nav {
+namespace armadillo::navigation {
 namespace {
 constexpr double kDeg = std::numbers::pi / 180.0;
 double clampUnit(double v) noexcept { return std::clamp(v, -1.0, 1.0); }
@@ -89,4 +89,4 @@ LatLon LocalPlane::fromXY(double x, double y) const noexcept
     return {origin.lat + y / kEarthRadiusM / kDeg, wrap180(origin.lon + x / (kEarthRadiusM * std::cos(origin.lat * kDeg)) / kDeg)};
 }
 
-} // namespace armadillo::nav
+} // namespace armadillo::navigation

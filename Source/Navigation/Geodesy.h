@@ -6,7 +6,7 @@
 // a consumer GPS fix and the ±5° the compass can show (docs/NAVIGATION.md "Limits"). Angles in
 // degrees at the interface (latitude north +, longitude east +, bearings clockwise from true
 // north, 0…360), radians inside; distances in metres. Pure functions, real-time safe.
-namespace armadillo::nav {
+namespace armadillo::navigation {
 
 inline constexpr double kEarthRadiusM = 6371008.8;   ///< WGS84 mean radius R1, m
 
@@ -45,4 +45,4 @@ struct LocalPlane {
     LatLon fromXY(double x, double y) const noexcept;
 };
 
-} // namespace armadillo::nav
+} // namespace armadillo::navigation

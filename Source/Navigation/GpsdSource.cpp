@@ -5,7 +5,7 @@
 #include <cstring>
 #include <gps.h>
 
-namespace armadillo::nav {
+namespace armadillo::navigation {
 
 GpsdEndpoint parseGpsdEndpoint(const std::string& text)
 {
@@ -14,10 +14,10 @@ GpsdEndpoint parseGpsdEndpoint(const std::string& text)
     std::string host = text, port;
     if (text.front() == '[') {   // [IPv6]:PORT
         const auto close = text.find(']');
-        if (close == std::string::npos) throw InputError("--gpsd", 0, "", "'" + text + "': an IPv6 address needs its closing ']'");
+        if (close == std::string::npos) throw core::InputError("--gpsd", 0, "", "'" + text + "': an IPv6 address needs its closing ']'");
         host = text.substr(1, close - 1);
         if (close + 1 < text.size()) {
-            if (text[close + 1] != ':') throw InputError("--gpsd", 0, "", "'" + text + "': expected ':PORT' after ']'");
+            if (text[close + 1] != ':') throw core::InputError("--gpsd", 0, "", "'" + text + "': expected ':PORT' after ']'");
             port = text.substr(close + 2);
         }
     } else if (const auto colon = text.rfind(':'); colon != std::string::npos) {
@@ -28,11 +28,11 @@ GpsdEndpoint parseGpsdEndpoint(const std::string& text)
     if (!port.empty() || text.back() == ':') {
         long p = 0;
         for (char c : port) {
-            if (c < '0' || c > '9') throw InputError("--gpsd", 0, "", "'" + text + "': the port '" + port + "' is not a number");
+            if (c < '0' || c > '9') throw core::InputError("--gpsd", 0, "", "'" + text + "': the port '" + port + "' is not a number");
             p = p * 10 + (c - '0');
             if (p > 65535) break;
         }
-        if (port.empty() || p < 1 || p > 65535) throw InputError("--gpsd", 0, "", "'" + text + "': the port must be 1…65535");
+        if (port.empty() || p < 1 || p > 65535) throw core::InputError("--gpsd", 0, "", "'" + text + "': the port must be 1…65535");
         e.port = port;
     }
     return e;
@@ -69,7 +69,7 @@ struct GpsdSource::Impl {
 GpsdSource::GpsdSource(const GpsdEndpoint& endpoint, PositionMailbox& mailbox) : endpoint_(endpoint), mailbox_(mailbox), impl_(std::make_unique<Impl>())
 {
     std::string error;
-    if (!impl_->connect(endpoint_, error)) throw IoError("gpsd at " + describe() + ": cannot connect (" + error + "); is gpsd running? (docs/NAVIGATION.md)");
+    if (!impl_->connect(endpoint_, error)) throw core::IoError("gpsd at " + describe() + ": cannot connect (" + error + "); is gpsd running? (docs/NAVIGATION.md)");
     connected_ = true;
 }
 
@@ -142,4 +142,4 @@ void GpsdSource::run()
     }
 }
 
-} // namespace armadillo::nav
+} // namespace armadillo::navigation

@@ -16,7 +16,7 @@
 #include <string>
 #include <thread>
 
-namespace armadillo::nav {
+namespace armadillo::navigation {
 
 struct GpsdEndpoint {
     std::string host = "localhost";
@@ -54,4 +54,4 @@ private:
     std::atomic<std::uint64_t> fixes_ {0}, noFix_ {0}, rejected_ {0}, disconnects_ {0};
 };
 
-} // namespace armadillo::nav
+} // namespace armadillo::navigation

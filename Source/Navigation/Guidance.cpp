@@ -3,7 +3,7 @@
 #include <cmath>
 #include <limits>
 
-namespace armadillo::nav {
+namespace armadillo::navigation {
 
 const char* fixStateName(FixState s) noexcept
 {
@@ -129,4 +129,4 @@ GuidanceStep Guidance::step(double dt, const PositionFix& latest) noexcept
     return s;
 }
 
-} // namespace armadillo::nav
+} // namespace armadillo::navigation

@@ -11,7 +11,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace armadillo::nav {
+namespace armadillo::navigation {
 
 struct GuidanceParams {
     double arrivalRadiusM = 8.0;     ///< arrived within this distance of the waypoint, m
@@ -73,4 +73,4 @@ private:
     int jumps_ = 0;
 };
 
-} // namespace armadillo::nav
+} // namespace armadillo::navigation

@@ -4,7 +4,7 @@
 #include <limits>
 #include <numbers>
 
-namespace armadillo::nav {
+namespace armadillo::navigation {
 namespace {
 constexpr double kDeg = std::numbers::pi / 180.0;
 } // namespace
@@ -131,4 +131,4 @@ void HeadingLearner::fix(double t, double x, double y, double courseDeg, double 
     learn(armWindow, std::atan2(dx, dy) / kDeg);   // bearing: clockwise from north (y)
 }
 
-} // namespace armadillo::nav
+} // namespace armadillo::navigation

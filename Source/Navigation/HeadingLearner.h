@@ -15,7 +15,7 @@
 #include <cstdint>
 #include <limits>
 
-namespace armadillo::nav {
+namespace armadillo::navigation {
 
 struct HeadingLearnerParams {
     double minSpeedMps = 0.6;        ///< slower than this the walking direction is not trusted, m/s
@@ -76,4 +76,4 @@ private:
     int samples_ = 0;
 };
 
-} // namespace armadillo::nav
+} // namespace armadillo::navigation

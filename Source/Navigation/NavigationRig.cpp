@@ -4,7 +4,7 @@
 #include <charconv>
 #include <filesystem>
 
-namespace armadillo::nav {
+namespace armadillo::navigation {
 
 namespace {
 
@@ -76,4 +76,4 @@ std::string NavigationRig::routeName() const
     return route_->name.empty() ? std::filesystem::path(route_->source).filename().string() : route_->name;
 }
 
-} // namespace armadillo::nav
+} // namespace armadillo::navigation

@@ -13,7 +13,7 @@
 #include <memory>
 #include <string>
 
-namespace armadillo::nav {
+namespace armadillo::navigation {
 
 class NavigationRig {
 public:
@@ -49,4 +49,4 @@ private:
     int oscPort_ = 0;
 };
 
-} // namespace armadillo::nav
+} // namespace armadillo::navigation

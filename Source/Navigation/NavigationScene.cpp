@@ -9,7 +9,7 @@
 #include <cmath>
 #include <cstring>
 
-namespace armadillo::nav {
+namespace armadillo::navigation {
 
 const char* sensationName(Sensation s) noexcept
 {
@@ -24,16 +24,16 @@ const char* sensationName(Sensation s) noexcept
     return "?";
 }
 
-double thumbHeadingDeg(const ArmState& arm, ArmSide side) noexcept
+double thumbHeadingDeg(const core::ArmState& arm, core::ArmSide side) noexcept
 {
     if (!arm.valid) return std::numeric_limits<double>::quiet_NaN();
     // The thumb side of the forearm: device −z on the right arm, +z on the left (as the compass).
-    const Eigen::Vector3d thumb = arm.q.normalized() * Eigen::Vector3d(0.0, 0.0, side == ArmSide::Right ? -1.0 : 1.0);
+    const Eigen::Vector3d thumb = arm.q.normalized() * Eigen::Vector3d(0.0, 0.0, side == core::ArmSide::Right ? -1.0 : 1.0);
     if (std::hypot(thumb.x(), thumb.z()) < 0.3) return std::numeric_limits<double>::quiet_NaN();
     return wrap360(std::atan2(thumb.x(), -thumb.z()) * 180.0 / 3.14159265358979323846);   // earth X east, Z south
 }
 
-double forearmElevationDeg(const ArmState& arm) noexcept
+double forearmElevationDeg(const core::ArmState& arm) noexcept
 {
     if (!arm.valid) return std::numeric_limits<double>::quiet_NaN();
     const Eigen::Vector3d axis = arm.q.normalized() * Eigen::Vector3d::UnitX();   // device x: toward the hand
@@ -95,19 +95,19 @@ std::vector<TactileSegment> offRouteSensation(float level)
     return s;
 }
 
-class NavigationScene final : public Scene {
+class NavigationScene final : public core::Scene {
 public:
     NavigationScene(const Route& route, std::shared_ptr<NavigationLink> link, const NavigationOptions& options)
         : route_(route), link_(std::move(link)), options_(options), guidance_(route, options.guidance), learner_(options.heading),
-          compass_(makeCompassScene())
+          compass_(instruments::makeCompassScene())
     {
-        if (route_.points.size() < 2) throw InputError(route_.source, 0, "", "a route needs at least 2 points");
+        if (route_.points.size() < 2) throw core::InputError(route_.source, 0, "", "a route needs at least 2 points");
         if (!link_) throw std::invalid_argument("makeNavigationScene: no NavigationLink");
         plane_.origin = route_.points.front().pos;
     }
     std::string_view name() const override { return "navigate"; }
 
-    void prepare(const SceneConfig& config) override
+    void prepare(const core::SceneConfig& config) override
     {
         side_ = config.side;
         compass_->prepare(config);
@@ -129,7 +129,7 @@ public:
                 double end = 0.0;
                 try {
                     cells = access::drawnText(text, 1, braille::DisplayMethod::Rows, level, at + 0.5, end, 400);
-                } catch (const InputError&) {   // a character liblouis cannot show: letters and spaces only
+                } catch (const core::InputError&) { // a character liblouis cannot show: letters and spaces only
                     std::string plain;
                     for (char c : text)
                         if ((c >= 'a' && c <= 'z') || c == ' ') plain += c;
@@ -165,7 +165,7 @@ public:
         levels_.fill(-1.0f);
     }
 
-    void control(const ControlInput& in, SceneOutput& out) override
+    void control(const core::ControlInput& in, core::SceneOutput& out) override
     {
         const double dt = std::isfinite(in.dt) && in.dt > 0.0 ? in.dt : 0.0;
         t_ += dt;
@@ -211,8 +211,8 @@ public:
             } else if (g.fix != FixState::Ok) {
                 if (enter(Mode::Lost, out)) {
                     // Fix lost (or none yet): the centre motor swells slowly, and no direction is shown.
-                    PatternRequest breathe;
-                    breathe.kind = PatternKind::Breathing;
+                    core::PatternRequest breathe;
+                    breathe.kind = core::PatternKind::Breathing;
                     breathe.motors = static_cast<std::uint16_t>(1u << 4);
                     breathe.level = std::clamp(options_.level, 0.0f, 15.0f) * 0.8f;
                     breathe.rate = 0.5;
@@ -238,7 +238,7 @@ private:
     enum class Mode { Enter, Compass, Sequence, Lost, Idle };
 
     /// Switches the display mode; true when it changed (everything of the old mode stopped).
-    bool enter(Mode m, SceneOutput& out) noexcept
+    bool enter(Mode m, core::SceneOutput& out) noexcept
     {
         if (m == mode_) return false;
         out.motors.stopVoice(0);
@@ -261,16 +261,16 @@ private:
     }
 
     /// One step of the playing sequence; false once it is over.
-    bool play(SceneOutput& out) noexcept
+    bool play(core::SceneOutput& out) noexcept
     {
         seqT_ = t_ - startT_;
-        std::array<float, kGridMotors> want {};
-        std::array<bool, kGridMotors> soft {};
+        std::array<float, core::kGridMotors> want {};
+        std::array<bool, core::kGridMotors> soft {};
         double endAt = 0.0;
         for (const TactileSegment& s : *playing_) {
             endAt = std::max(endAt, s.at + s.duration);
             if (seqT_ < s.at || seqT_ >= s.at + s.duration) continue;
-            for (int m = 0; m < kGridMotors; ++m) {
+            for (int m = 0; m < core::kGridMotors; ++m) {
                 if (!(s.motors & (1u << m))) continue;
                 if (s.level > want[static_cast<std::size_t>(m)]) {
                     want[static_cast<std::size_t>(m)] = s.level;
@@ -278,7 +278,7 @@ private:
                 }
             }
         }
-        for (int m = 0; m < kGridMotors; ++m) {
+        for (int m = 0; m < core::kGridMotors; ++m) {
             const auto i = static_cast<std::size_t>(m);
             if (want[i] == levels_[i]) continue;
             if (soft[i]) out.motors.setSoftLevel(m, want[i]);
@@ -341,9 +341,9 @@ private:
     NavigationOptions options_;
     Guidance guidance_;
     HeadingLearner learner_;
-    std::unique_ptr<Scene> compass_;
+    std::unique_ptr<core::Scene> compass_;
     LocalPlane plane_ {};
-    ArmSide side_ = ArmSide::Right;
+    core::ArmSide side_ = core::ArmSide::Right;
     std::vector<std::vector<TactileSegment>> sequences_;   // per route point: arrival + name (+ end for the last)
     std::vector<std::string> shown_;
     std::vector<TactileSegment> offRoute_;
@@ -351,15 +351,15 @@ private:
     Sensation playingKind_ = Sensation::None;
     double t_ = 0.0, seqT_ = 0.0, startT_ = 0.0;
     Mode mode_ = Mode::Enter;
-    std::array<float, kGridMotors> levels_ {};
+    std::array<float, core::kGridMotors> levels_ {};
     int arrivals_ = 0;
 };
 
 } // namespace
 
-std::unique_ptr<Scene> makeNavigationScene(const Route& route, std::shared_ptr<NavigationLink> link, const NavigationOptions& options)
+std::unique_ptr<core::Scene> makeNavigationScene(const Route& route, std::shared_ptr<NavigationLink> link, const NavigationOptions& options)
 {
     return std::make_unique<NavigationScene>(route, std::move(link), options);
 }
 
-} // namespace armadillo::nav
+} // namespace armadillo::navigation

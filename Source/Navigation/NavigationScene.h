@@ -27,7 +27,7 @@
 #include <limits>
 #include <memory>
 
-namespace armadillo::nav {
+namespace armadillo::navigation {
 
 /// What is being felt (log column `sensation`).
 enum class Sensation : std::uint8_t { None, Compass, Arrival, OffRoute, FixLost, End };
@@ -70,8 +70,8 @@ struct NavigationLogRecord {
 /// Shared between the front end, the position source and the scene.
 struct NavigationLink {
     PositionMailbox position;
-    SeqLock<NavigationStatus> status;
-    SpscQueue<NavigationLogRecord, 8192> log;   ///< drained by the front end (a full queue drops rows, counted)
+    core::SeqLock<NavigationStatus> status;
+    core::SpscQueue<NavigationLogRecord, 8192> log; ///< drained by the front end (a full queue drops rows, counted)
     std::atomic<std::uint64_t> droppedLog {0};
     std::atomic<bool> logEnabled {false};
 };
@@ -92,14 +92,14 @@ struct NavigationOptions {
 /// The thumb's heading (deg clockwise from north; NaN when invalid or the thumb points up or
 /// down) exactly as the compass scene reads it (Instruments/CompassScene.cpp), and the forearm's
 /// elevation (deg).
-double thumbHeadingDeg(const ArmState& arm, ArmSide side) noexcept;
-double forearmElevationDeg(const ArmState& arm) noexcept;
+double thumbHeadingDeg(const core::ArmState& arm, core::ArmSide side) noexcept;
+double forearmElevationDeg(const core::ArmState& arm) noexcept;
 
 /// What the arm spells for a waypoint name: the sign shorthand of a sign word ("entrance" → "en"),
 /// else the name in lower case; "" for no name. Not real-time.
 std::string shownName(const std::string& name, NameDisplay mode, const std::vector<std::pair<std::string, std::string>>& shorthand);
 
 /// A navigation scene for `route` (at least 2 points), fed by `link`. Not real-time.
-std::unique_ptr<Scene> makeNavigationScene(const Route& route, std::shared_ptr<NavigationLink> link, const NavigationOptions& options = {});
+std::unique_ptr<core::Scene> makeNavigationScene(const Route& route, std::shared_ptr<NavigationLink> link, const NavigationOptions& options = {});
 
-} // namespace armadillo::nav
+} // namespace armadillo::navigation

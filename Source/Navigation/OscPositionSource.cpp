@@ -9,7 +9,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
-namespace armadillo::nav {
+namespace armadillo::navigation {
 namespace {
 
 bool endsWithGps(std::string_view a) noexcept
@@ -29,7 +29,7 @@ struct Decoded {
     bool position = false, rejected = false;
 };
 
-void onMessage(void* context, const device::OscMessage& m)
+void onMessage(void* context, const osc::OscMessage& m)
 {
     auto& d = *static_cast<Decoded*>(context);
     const bool ours = m.address == "/armadillo/position";
@@ -58,25 +58,25 @@ bool decodePositionDatagram(const std::uint8_t* data, std::size_t size, Position
     Decoded d;
     if (size > 0 && data[0] == '{') {   // ZIG SIM's JSON mode
         try {
-            const armadillo::JsonValue root = armadillo::parseJson(std::string_view(reinterpret_cast<const char*>(data), size), "ZIG SIM JSON");
-            const armadillo::JsonValue* sensors = root.find("sensordata");
-            const armadillo::JsonValue* gps = sensors ? sensors->find("gps") : nullptr;
+            const armadillo::core::JsonValue root = armadillo::core::parseJson(std::string_view(reinterpret_cast<const char*>(data), size), "ZIG SIM JSON");
+            const armadillo::core::JsonValue* sensors = root.find("sensordata");
+            const armadillo::core::JsonValue* gps = sensors ? sensors->find("gps") : nullptr;
             if (!gps) return false;
-            const armadillo::JsonValue* la = gps->find("latitude");
-            const armadillo::JsonValue* lo = gps->find("longitude");
+            const armadillo::core::JsonValue* la = gps->find("latitude");
+            const armadillo::core::JsonValue* lo = gps->find("longitude");
             PositionFix f;
-            if (la && lo && la->kind == armadillo::JsonValue::Kind::Number && lo->kind == armadillo::JsonValue::Kind::Number) f.pos = {la->number, lo->number};
+            if (la && lo && la->kind == armadillo::core::JsonValue::Kind::Number && lo->kind == armadillo::core::JsonValue::Kind::Number) f.pos = {la->number, lo->number};
             else f.pos = {NAN, NAN};
             rejected = !validLatLon(f.pos);
             if (!rejected) f.quality = FixQuality::Fix2D;
             out = rejected ? PositionFix {} : f;
             return true;
-        } catch (const InputError&) {
+        } catch (const core::InputError&) {
             return false;
         }
     }
     const char* error = nullptr;
-    device::decodeOscPacket(data, size, &onMessage, &d, &error);
+    osc::decodeOscPacket(data, size, &onMessage, &d, &error);
     if (!d.position) return false;
     out = d.fix;
     rejected = d.rejected;
@@ -103,7 +103,7 @@ bool storePositionDatagram(const std::uint8_t* data, std::size_t size, PositionM
 
 OscPositionSource::OscPositionSource(int port, PositionMailbox& mailbox) : mailbox_(mailbox)
 {
-    fd_ = device::bindUdpAnyInterface(port, "position OSC in", port_);
+    fd_ = osc::bindUdpAnyInterface(port, "position OSC in", port_);
 }
 
 OscPositionSource::~OscPositionSource()
@@ -136,4 +136,4 @@ void OscPositionSource::run()
     }
 }
 
-} // namespace armadillo::nav
+} // namespace armadillo::navigation

@@ -16,7 +16,7 @@
 #include <string_view>
 #include <thread>
 
-namespace armadillo::nav {
+namespace armadillo::navigation {
 
 /// One UDP datagram → a report. Returns true when it was a position message (then `out` holds a
 /// fix, or "no fix" with `rejected` set for a bad one); false for anything else. Not real-time
@@ -54,4 +54,4 @@ private:
     PositionCounters counters_;
 };
 
-} // namespace armadillo::nav
+} // namespace armadillo::navigation

@@ -11,7 +11,7 @@
 #include <cstdint>
 #include <limits>
 
-namespace armadillo::nav {
+namespace armadillo::navigation {
 
 enum class FixQuality : std::uint8_t {
     None = 0,   ///< the source is alive but has no position (no satellites, "mode 1" in gpsd)
@@ -53,10 +53,10 @@ public:
     std::uint64_t reports() const noexcept { return serial_.load(std::memory_order_relaxed); }
 
 private:
-    SeqLock<PositionFix> box_;
+    core::SeqLock<PositionFix> box_;
     std::atomic<std::uint64_t> serial_ {0};   // the one writer's counter
     PositionFix last_ {};         // the one reader's last good value
     std::atomic<std::uint64_t> rejected_ {0};
 };
 
-} // namespace armadillo::nav
+} // namespace armadillo::navigation

@@ -11,7 +11,7 @@
 #include <string_view>
 #include <vector>
 
-namespace armadillo::nav {
+namespace armadillo::navigation {
 
 struct Waypoint {
     LatLon pos {};
@@ -48,4 +48,4 @@ Route parseRouteJson(std::string_view text, const std::string& source);
 /// IoError when the file cannot be read, InputError for bad content.
 Route readRouteFile(const std::string& path);
 
-} // namespace armadillo::nav
+} // namespace armadillo::navigation

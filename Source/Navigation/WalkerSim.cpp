@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace armadillo::nav {
+namespace armadillo::navigation {
 
 namespace {
 constexpr int kLeftSide = 3;    // motorIndex(1, 0): the compass's counter-clockwise cue on the right arm
@@ -19,14 +19,14 @@ SimulatedWalker::SimulatedWalker(const LatLon& start, double headingDeg, const W
     biasY_ = p_.gpsBiasM * normal_(rng_);
 }
 
-void SimulatedWalker::feel(double t, const MotorLevels& levels) noexcept
+void SimulatedWalker::feel(double t, const core::MotorLevels& levels) noexcept
 {
     t_ = t;
     std::uint16_t on = 0;
-    for (int m = 0; m < kGridMotors; ++m)
+    for (int m = 0; m < core::kGridMotors; ++m)
         if (levels[static_cast<std::size_t>(m)] > 0) on |= static_cast<std::uint16_t>(1u << m);
     std::uint16_t was = 0;
-    for (int m = 0; m < kGridMotors; ++m)
+    for (int m = 0; m < core::kGridMotors; ++m)
         if (prev_[static_cast<std::size_t>(m)] > 0) was |= static_cast<std::uint16_t>(1u << m);
     const std::uint16_t onsets = on & ~was;
     prev_ = levels;
@@ -102,9 +102,9 @@ void SimulatedWalker::advance(double dt) noexcept
     tremor_ += a * (p_.tremorDeg * std::sqrt(2.0 / std::max(a, 1e-6)) * normal_(rng_) - tremor_);
 }
 
-ArmState SimulatedWalker::arm(double t) noexcept
+core::ArmState SimulatedWalker::arm(double t) noexcept
 {
-    ArmState s;
+    core::ArmState s;
     s.t = t;
     s.valid = true;
     double thumb = heading_ + p_.strapOffsetDeg + p_.swingYawDeg * std::sin(swingPhase_) + tremor_;
@@ -112,7 +112,7 @@ ArmState SimulatedWalker::arm(double t) noexcept
         thumb += p_.disturbance.biasDeg;
         if (p_.disturbance.flagged) s.magDisturbedS = t - p_.disturbance.fromS + 1.0;
     }
-    Pose pose;
+    core::Pose pose;
     pose.azimuthDeg = wrap360(thumb + 90.0);   // the right thumb lies 90° counter-clockwise of the forearm, palm down
     pose.elevationDeg = -10.0 + p_.swingElevationDeg * std::cos(swingPhase_);
     pose.rollDeg = 0.0;
@@ -146,10 +146,10 @@ WalkResult simulateWalk(const Route& route, const NavigationOptions& nav, const 
                         std::shared_ptr<NavigationLink> link)
 {
     if (!link) link = std::make_shared<NavigationLink>();
-    EngineConfig config;
+    engine::EngineConfig config;
     config.scene = "navigate";
     config.sceneConfig.controlRateHz = options.controlHz;
-    Engine engine(config, makeNavigationScene(route, link, nav));
+    engine::Engine engine(config, makeNavigationScene(route, link, nav));
     SimulatedWalker walker(route.points.front().pos, options.startHeadingDeg, walkerParams);
     const double dt = 1.0 / options.controlHz;
     WalkResult r;
@@ -159,8 +159,8 @@ WalkResult simulateWalk(const Route& route, const NavigationOptions& nav, const 
     for (double t = 0.0; t < options.maxSeconds; t += dt) {
         PositionFix fix;
         if (walker.gps(t, fix)) link->position.store(fix);
-        const ArmState arm = walker.arm(t);
-        const MotorLevels levels = engine.control(arm, Transport {}, dt);
+        const core::ArmState arm = walker.arm(t);
+        const core::MotorLevels levels = engine.control(arm, core::Transport {}, dt);
         ++r.steps;
         const NavigationStatus st = link->status.load();
         walker.feel(t, levels);
@@ -199,4 +199,4 @@ WalkResult simulateWalk(const Route& route, const NavigationOptions& nav, const 
     return r;
 }
 
-} // namespace armadillo::nav
+} // namespace armadillo::navigation

@@ -14,7 +14,7 @@
 #include <functional>
 #include <random>
 
-namespace armadillo::nav {
+namespace armadillo::navigation {
 
 struct WalkerParams {
     double speedMps = 1.3;           ///< walking speed, m/s
@@ -47,11 +47,11 @@ class SimulatedWalker {
 public:
     SimulatedWalker(const LatLon& start, double headingDeg, const WalkerParams& p = kDefaultWalkerParams);
     /// The motor levels (after the safety stage) felt at time t.
-    void feel(double t, const MotorLevels& levels) noexcept;
+    void feel(double t, const core::MotorLevels& levels) noexcept;
     /// Moves the body on by dt (turning as decided reactionS ago, walking).
     void advance(double dt) noexcept;
     /// The forearm's state at time t (thumb heading = body + strap + swing + tremor; swinging elevation).
-    ArmState arm(double t) noexcept;
+    core::ArmState arm(double t) noexcept;
     /// A position report when one is due at time t (every 1/gpsRateHz s).
     bool gps(double t, PositionFix& out) noexcept;
 
@@ -68,7 +68,7 @@ private:
     std::mt19937_64 rng_;
     std::normal_distribution<double> normal_ {0.0, 1.0};
     // Perception.
-    std::array<std::uint8_t, kMaxMotors> prev_ {};
+    std::array<std::uint8_t, core::kMaxMotors> prev_ {};
     double onsetL_ = -1e9, onsetR_ = -1e9, rateL_ = 0.0, rateR_ = 0.0, bothSince_ = -1.0;
     bool reading_ = false, nameComing_ = false;
     double lastAllNine_ = -1e9;
@@ -102,9 +102,9 @@ struct WalkOptions {
     double settleS = 12.0;              ///< after each arrival (and the start) errors are not counted for this long, s
     double startHeadingDeg = 0.0;       ///< the walker's first body heading
     /// Called after every control step (t, the walker, the levels sent, the scene's status): logs.
-    std::function<void(double, const SimulatedWalker&, const MotorLevels&, const NavigationStatus&)> observe;
+    std::function<void(double, const SimulatedWalker&, const core::MotorLevels&, const NavigationStatus&)> observe;
 };
 WalkResult simulateWalk(const Route& route, const NavigationOptions& nav, const WalkerParams& walker, const WalkOptions& options,
                         std::shared_ptr<NavigationLink> link = nullptr);
 
-} // namespace armadillo::nav
+} // namespace armadillo::navigation

@@ -2,7 +2,7 @@
 #include <charconv>
 #include <stdexcept>
 
-namespace armadillo::device {
+namespace armadillo::osc {
 
 HostPort parseHostPort(const std::string& text)
 {
@@ -30,4 +30,4 @@ HostPort parseHostPort(const std::string& text)
     return hp;
 }
 
-} // namespace armadillo::device
+} // namespace armadillo::osc

@@ -4,7 +4,7 @@
 // (Osc/OscIo.h) that use it.
 #include <string>
 
-namespace armadillo::device {
+namespace armadillo::osc {
 
 struct HostPort {
     std::string host;
@@ -13,4 +13,4 @@ struct HostPort {
 /// "HOST:PORT", "[v6addr]:PORT" or ":PORT"/"PORT" (localhost). Throws std::invalid_argument.
 HostPort parseHostPort(const std::string& text);
 
-} // namespace armadillo::device
+} // namespace armadillo::osc

@@ -1,7 +1,7 @@
 #include "Osc/Osc.h"
 #include <cstring>
 
-namespace armadillo::device {
+namespace armadillo::osc {
 
 bool OscArg::asNumber(double& out) const noexcept
 {
@@ -288,4 +288,4 @@ bool decodeOscPacket(const std::uint8_t* data, std::size_t size, OscMessageSink 
     return decodeAny(data, size, sink, context, error, 0, 1);
 }
 
-} // namespace armadillo::device
+} // namespace armadillo::osc

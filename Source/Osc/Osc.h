@@ -10,7 +10,7 @@
 #include <string_view>
 #include <vector>
 
-namespace armadillo::device {
+namespace armadillo::osc {
 
 struct OscArg {
     char type = 'f';
@@ -64,4 +64,4 @@ bool decodeOscPacket(const std::uint8_t* data, std::size_t size, const std::func
 /// The same without allocation: the reason is a static string (nullptr when none).
 bool decodeOscPacket(const std::uint8_t* data, std::size_t size, OscMessageSink sink, void* context, const char** error) noexcept;
 
-} // namespace armadillo::device
+} // namespace armadillo::osc

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstring>
 
-namespace armadillo::device {
+namespace armadillo::osc {
 
 namespace {
 
@@ -13,7 +13,7 @@ constexpr const char* kNames[kOscFormatCount] = {"auto", "armadillo", "sensors2o
 
 // Magnitudes no forearm produces; beyond them a message is refused as absurd (not clipped).
 constexpr double kMaxGyro = 35.0;                      // rad/s (≈ 2000 °/s, the usual MEMS full scale)
-constexpr double kMaxAccel = 16.0 * kStandardGravity;  // m/s²
+constexpr double kMaxAccel = 16.0 * core::kStandardGravity; // m/s²
 constexpr double kMaxFieldMicroTesla = 5000.0;         // µT (Earth: 25–65 µT; a fridge magnet up close ≈ 5000)
 constexpr double kMaxFieldAnyUnit = 1e6;               // /armadillo/imu: "any consistent unit"
 
@@ -43,7 +43,7 @@ Eigen::Vector3d vec(const double* v) { return Eigen::Vector3d(v[0], v[1], v[2]);
 /// (X east, Y up, Z south): X = E, Y = U, Z = −N, a −90° turn about X.
 const Eigen::Quaterniond& enuToContract()
 {
-    static const Eigen::Quaterniond q(Eigen::AngleAxisd(-kPi / 2.0, Eigen::Vector3d::UnitX()));
+    static const Eigen::Quaterniond q(Eigen::AngleAxisd(-core::kPi / 2.0, Eigen::Vector3d::UnitX()));
     return q;
 }
 
@@ -105,7 +105,7 @@ DecodeStatus decodeArmadillo(const OscMessage& m, SensorReading& out, const char
         out.kind = SensorReading::Kind::Imu;
         out.gyro = vec(v);
         out.accel = vec(v + 3);
-        out.mag = m.count == 9 ? vec(v + 6) : Eigen::Vector3d(kNaN, kNaN, kNaN);
+        out.mag = m.count == 9 ? vec(v + 6) : Eigen::Vector3d(core::kNaN, core::kNaN, core::kNaN);
         if (out.gyro.norm() > kMaxGyro) return fail(why, DecodeStatus::Absurd, "angular rate above 2000 deg/s");
         if (out.accel.norm() > kMaxAccel) return fail(why, DecodeStatus::Absurd, "acceleration above 16 g");
         if (m.count == 9 && out.mag.norm() > kMaxFieldAnyUnit) return fail(why, DecodeStatus::Absurd, "magnetic field absurdly large");
@@ -220,7 +220,7 @@ DecodeStatus decodeZigSim(const OscMessage& m, SensorReading& out, const char** 
     if (name == "accel" || name == "gravity") {
         const DecodeStatus s = numbers(m, 3, false, 3, v, why, wrong3);
         if (s != DecodeStatus::Reading) return s;
-        return accelReading(name == "accel" ? SensorReading::Kind::UserAccel : SensorReading::Kind::Gravity, -kStandardGravity * vec(v), out,
+        return accelReading(name == "accel" ? SensorReading::Kind::UserAccel : SensorReading::Kind::Gravity, -core::kStandardGravity * vec(v), out,
                             why);
     }
     if (name == "gyro") {
@@ -264,7 +264,7 @@ DecodeStatus decodeGyrOsc(const OscMessage& m, SensorReading& out, const char** 
     }
     if (name == "grav") {
         const DecodeStatus s = numbers(m, 3, false, 3, v, why, "/gyrosc/grav carries 3 floats (G)");
-        return s != DecodeStatus::Reading ? s : accelReading(SensorReading::Kind::Gravity, -kStandardGravity * vec(v), out, why);
+        return s != DecodeStatus::Reading ? s : accelReading(SensorReading::Kind::Gravity, -core::kStandardGravity * vec(v), out, why);
     }
     if (name == "comp") {
         const DecodeStatus s = numbers(m, 1, true, 1, v, why, "/gyrosc/comp carries a heading in degrees");
@@ -286,7 +286,7 @@ DecodeStatus decodeTouchOsc(const OscMessage& m, SensorReading& out, const char*
     if (m.address != "/accxyz") return DecodeStatus::NotMine;
     double v[3];
     const DecodeStatus s = numbers(m, 3, false, 3, v, why, "/accxyz carries 3 floats (G)");
-    return s != DecodeStatus::Reading ? s : accelReading(SensorReading::Kind::Accel, -kStandardGravity * vec(v), out, why);
+    return s != DecodeStatus::Reading ? s : accelReading(SensorReading::Kind::Accel, -core::kStandardGravity * vec(v), out, why);
 }
 
 // --- x-io NGIMU ---------------------------------------------------------------------------------------
@@ -309,8 +309,8 @@ DecodeStatus decodeNgimu(const OscMessage& m, SensorReading& out, const char** w
         const DecodeStatus s = numbers(m, 10, false, 10, v, why, "NGIMU /sensors carries 10 floats (gyro deg/s, accel g, mag uT, baro hPa)");
         if (s != DecodeStatus::Reading) return s;
         out.kind = SensorReading::Kind::Imu;
-        out.gyro = degToRad(1.0) * vec(v);
-        out.accel = kStandardGravity * vec(v + 3);
+        out.gyro = core::degToRad(1.0) * vec(v);
+        out.accel = core::kStandardGravity * vec(v + 3);
         out.mag = vec(v + 6);
         if (out.gyro.norm() > kMaxGyro) return fail(why, DecodeStatus::Absurd, "angular rate above 2000 deg/s");
         if (out.accel.norm() > kMaxAccel) return fail(why, DecodeStatus::Absurd, "acceleration above 16 g");
@@ -327,9 +327,9 @@ DecodeStatus decodeNgimu(const OscMessage& m, SensorReading& out, const char** w
         if (s != DecodeStatus::Reading) return s;
         if (std::abs(v[0]) > 720.0 || std::abs(v[1]) > 720.0 || std::abs(v[2]) > 720.0)
             return fail(why, DecodeStatus::Absurd, "Euler angle beyond 720 degrees");
-        const Eigen::Quaterniond q = Eigen::AngleAxisd(degToRad(v[2]), Eigen::Vector3d::UnitZ()) *
-                                     Eigen::AngleAxisd(degToRad(v[1]), Eigen::Vector3d::UnitY()) *
-                                     Eigen::AngleAxisd(degToRad(v[0]), Eigen::Vector3d::UnitX());
+        const Eigen::Quaterniond q = Eigen::AngleAxisd(core::degToRad(v[2]), Eigen::Vector3d::UnitZ()) *
+                                     Eigen::AngleAxisd(core::degToRad(v[1]), Eigen::Vector3d::UnitY()) *
+                                     Eigen::AngleAxisd(core::degToRad(v[0]), Eigen::Vector3d::UnitX());
         return orientationReading(nwuToContract(), q, true, out, why);
     }
     if (m.address == "/matrix") {
@@ -425,8 +425,8 @@ double parseIsoTimestamp(std::string_view s) noexcept
     int Y, Mo, D, h, mi, sec;
     if (!digits(0, 4, Y) || s.size() < 19 || s[4] != '-' || !digits(5, 2, Mo) || s[7] != '-' || !digits(8, 2, D) || (s[10] != 'T' && s[10] != ' ') ||
         !digits(11, 2, h) || s[13] != ':' || !digits(14, 2, mi) || s[16] != ':' || !digits(17, 2, sec))
-        return kNaN;
-    if (Mo < 1 || Mo > 12 || D < 1 || D > 31 || h > 23 || mi > 59 || sec > 60) return kNaN;
+        return core::kNaN;
+    if (Mo < 1 || Mo > 12 || D < 1 || D > 31 || h > 23 || mi > 59 || sec > 60) return core::kNaN;
     std::size_t i = 19;
     double frac = 0.0;
     if (i < s.size() && s[i] == '.') {
@@ -439,16 +439,16 @@ double parseIsoTimestamp(std::string_view s) noexcept
     } else if (i < s.size() && (s[i] == '+' || s[i] == '-')) {
         const double sign = s[i] == '-' ? -1.0 : 1.0;
         int zh = 0, zm = 0;
-        if (!digits(i + 1, 2, zh)) return kNaN;
+        if (!digits(i + 1, 2, zh)) return core::kNaN;
         std::size_t j = i + 3;
         if (j < s.size() && s[j] == ':') ++j;
-        if (!digits(j, 2, zm)) return kNaN;
+        if (!digits(j, 2, zm)) return core::kNaN;
         zone = sign * (zh * 3600.0 + zm * 60.0);
         i = j + 2;
     } else {
-        return kNaN;
+        return core::kNaN;
     }
-    if (i != s.size()) return kNaN;
+    if (i != s.size()) return core::kNaN;
     // Days since 1970-01-01 of a proleptic Gregorian date (the civil-from-days inverse).
     const int y = Y - (Mo <= 2 ? 1 : 0);
     const int era = (y >= 0 ? y : y - 399) / 400;
@@ -461,20 +461,20 @@ double parseIsoTimestamp(std::string_view s) noexcept
 
 int decodeZigSimJson(std::string_view text, SensorReading* out, int capacity, double& senderSeconds, const char** why) noexcept
 {
-    senderSeconds = kNaN;
+    senderSeconds = core::kNaN;
     try {
-        const JsonValue root = parseJson(text, "ZIG SIM JSON");
-        if (root.kind != JsonValue::Kind::Object) return fail(why, DecodeStatus::WrongTypes, "JSON that is not an object"), -1;
-        const JsonValue* data = root.find("sensordata");
-        if (!data || data->kind != JsonValue::Kind::Object)
+        const core::JsonValue root = core::parseJson(text, "ZIG SIM JSON");
+        if (root.kind != core::JsonValue::Kind::Object) return fail(why, DecodeStatus::WrongTypes, "JSON that is not an object"), -1;
+        const core::JsonValue* data = root.find("sensordata");
+        if (!data || data->kind != core::JsonValue::Kind::Object)
             return fail(why, DecodeStatus::WrongTypes, "JSON without ZIG SIM's \"sensordata\" object"), -1;
         std::string_view uuid;
-        if (const JsonValue* dev = root.find("device"); dev && dev->kind == JsonValue::Kind::Object)
-            if (const JsonValue* u = dev->find("uuid"); u && u->kind == JsonValue::Kind::String) uuid = u->string;
-        if (const JsonValue* ts = root.find("timestamp"); ts && ts->kind == JsonValue::Kind::String) senderSeconds = parseIsoTimestamp(ts->string);
-        auto num = [](const JsonValue* o, const char* key, double& v) {
-            const JsonValue* x = o ? o->find(key) : nullptr;
-            if (!x || x->kind != JsonValue::Kind::Number) return false;
+        if (const core::JsonValue* dev = root.find("device"); dev && dev->kind == core::JsonValue::Kind::Object)
+            if (const core::JsonValue* u = dev->find("uuid"); u && u->kind == core::JsonValue::Kind::String) uuid = u->string;
+        if (const core::JsonValue* ts = root.find("timestamp"); ts && ts->kind == core::JsonValue::Kind::String) senderSeconds = parseIsoTimestamp(ts->string);
+        auto num = [](const core::JsonValue* o, const char* key, double& v) {
+            const core::JsonValue* x = o ? o->find(key) : nullptr;
+            if (!x || x->kind != core::JsonValue::Kind::Number) return false;
             v = x->number;
             return true;
         };
@@ -491,11 +491,11 @@ int decodeZigSimJson(std::string_view text, SensorReading* out, int capacity, do
             out[n++] = r;
         };
         for (const char* name : {"accel", "gravity", "gyro", "quaternion"}) {
-            const JsonValue* o = data->find(name);
+            const core::JsonValue* o = data->find(name);
             if (!o) continue;
             double v[4] {};
             const bool quat = std::strcmp(name, "quaternion") == 0;
-            if (o->kind != JsonValue::Kind::Object || !num(o, "x", v[0]) || !num(o, "y", v[1]) || !num(o, "z", v[2]) || (quat && !num(o, "w", v[3]))) {
+            if (o->kind != core::JsonValue::Kind::Object || !num(o, "x", v[0]) || !num(o, "y", v[1]) || !num(o, "z", v[2]) || (quat && !num(o, "w", v[3]))) {
                 bad = quat ? "ZIG SIM JSON quaternion needs numbers x y z w" : "ZIG SIM JSON motion values need numbers x y z";
                 continue;
             }
@@ -504,13 +504,13 @@ int decodeZigSimJson(std::string_view text, SensorReading* out, int capacity, do
             if (quat) st = orientationReading(enuToContract(), Eigen::Quaterniond(v[3], v[0], v[1], v[2]), false, r, &bad);
             else if (std::strcmp(name, "gyro") == 0) st = gyroReading(v, r, &bad);
             else st = accelReading(std::strcmp(name, "accel") == 0 ? SensorReading::Kind::UserAccel : SensorReading::Kind::Gravity,
-                                   -kStandardGravity * vec(v), r, &bad);
+                                   -core::kStandardGravity * vec(v), r, &bad);
             if (st == DecodeStatus::Reading) add(r);
         }
-        if (const JsonValue* c = data->find("compass")) {
-            double deg = kNaN;
-            if (c->kind == JsonValue::Kind::Number) deg = c->number;
-            else if (c->kind == JsonValue::Kind::Object) num(c, "compass", deg);
+        if (const core::JsonValue* c = data->find("compass")) {
+            double deg = core::kNaN;
+            if (c->kind == core::JsonValue::Kind::Number) deg = c->number;
+            else if (c->kind == core::JsonValue::Kind::Object) num(c, "compass", deg);
             SensorReading r;
             if (!std::isfinite(deg)) bad = "ZIG SIM JSON compass needs a heading in degrees";
             else if (zigHeading(deg, r, &bad) == DecodeStatus::Reading) add(r);
@@ -540,4 +540,4 @@ OscFormat detectOscFormat(const OscMessage& m) noexcept
     return OscFormat::Auto;
 }
 
-} // namespace armadillo::device
+} // namespace armadillo::osc

@@ -10,7 +10,7 @@
 #include <string>
 #include <string_view>
 
-namespace armadillo::device {
+namespace armadillo::osc {
 
 enum class OscFormat : std::uint8_t {
     Auto,         ///< detect from the first recognised message
@@ -82,4 +82,4 @@ double parseIsoTimestamp(std::string_view text) noexcept;
 /// The dialect whose address scheme `m` belongs to, or Auto when none claims it.
 OscFormat detectOscFormat(const OscMessage& m) noexcept;
 
-} // namespace armadillo::device
+} // namespace armadillo::osc

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <cstring>
 
-namespace armadillo::device {
+namespace armadillo::osc {
 
 std::string oscStatsJson(const OscInputStats& s, const char* format, const std::string& device)
 {
@@ -54,17 +54,17 @@ void OscSampleMerger::setSinks(ImuSink imu, OrientationSink orientation, void* c
 void OscSampleMerger::lockFormat(OscFormat f) noexcept
 {
     if (!options_.mountGiven) {
-        Mount m;
-        mountPreset(defaultMountPresetForFormat(oscFormatName(f)), m);
+        link::Mount m;
+        mountPreset(link::defaultMountPresetForFormat(oscFormatName(f)), m);
         mountQ_ = m.rotation;
         mountName_.assign(m.name.data(), std::min<std::size_t>(m.name.size(), 63));   // capacity reserved: no allocation
     }
     format_.store(f, std::memory_order_release);
 }
 
-Mount OscSampleMerger::mount() const
+link::Mount OscSampleMerger::mount() const
 {
-    Mount m;
+    link::Mount m;
     m.rotation = mountQ_;
     m.name = mountName_;
     return m;
@@ -159,7 +159,7 @@ void OscSampleMerger::handleJson(const std::uint8_t* data, std::size_t size, dou
 {
     n_.datagrams.fetch_add(1, std::memory_order_relaxed);
     SensorReading r[6];
-    double stamp = kNaN;
+    double stamp = core::kNaN;
     const char* why = nullptr;
     const int n = decodeZigSimJson(std::string_view(reinterpret_cast<const char*>(data), size), r, 6, stamp, &why);
     if (n < 0) {
@@ -343,7 +343,7 @@ void OscSampleMerger::emitImu(double t, const Eigen::Vector3d& gyro, const Eigen
         }
         tap_.push(s);
     }
-    ImuSample s;
+    core::ImuSample s;
     s.t = t;
     s.gyro = gyro;
     s.accel = accel;
@@ -366,9 +366,9 @@ Eigen::Vector3d OscSampleMerger::fieldFromHeading(const Eigen::Vector3d& up) con
     // the device frame: the axis's horizontal part, turned back by the heading about "up".
     const Eigen::Vector3d u = up.normalized();
     Eigen::Vector3d h = headingNormal_ ? Eigen::Vector3d(u.cross(headingAxis_)) : Eigen::Vector3d(headingAxis_ - headingAxis_.dot(u) * u);
-    if (h.norm() < 0.2) return Eigen::Vector3d(kNaN, kNaN, kNaN);   // that axis is near vertical: no heading
+    if (h.norm() < 0.2) return Eigen::Vector3d(core::kNaN, core::kNaN, core::kNaN); // that axis is near vertical: no heading
     h.normalize();
-    return Eigen::AngleAxisd(degToRad(headingDeg_), u) * h;
+    return Eigen::AngleAxisd(core::degToRad(headingDeg_), u) * h;
 }
 
 void OscSampleMerger::onReading(const SensorReading& r, double t) noexcept
@@ -409,7 +409,7 @@ void OscSampleMerger::onReading(const SensorReading& r, double t) noexcept
             if (m.allFinite()) n_.synthesizedField.fetch_add(1, std::memory_order_relaxed);
             return m;
         }
-        return Eigen::Vector3d(kNaN, kNaN, kNaN);
+        return Eigen::Vector3d(core::kNaN, core::kNaN, core::kNaN);
     };
 
     noteRate(static_cast<int>(r.kind), t);
@@ -461,9 +461,9 @@ void OscSampleMerger::onReading(const SensorReading& r, double t) noexcept
         tiltT_ = t;
         // Tilt as a pose with the forearm's heading held at north: elevation = asin(up·x),
         // roll = atan2(−up·z, up·y) (INTERFACES.md pose, inverted for "up" in device axes).
-        Pose p;
-        p.elevationDeg = radToDeg(std::asin(std::clamp(tiltUp_.x(), -1.0, 1.0)));
-        p.rollDeg = radToDeg(std::atan2(-tiltUp_.z(), tiltUp_.y()));
+        core::Pose p;
+        p.elevationDeg = core::radToDeg(std::asin(std::clamp(tiltUp_.x(), -1.0, 1.0)));
+        p.rollDeg = core::radToDeg(std::atan2(-tiltUp_.z(), tiltUp_.y()));
         p.azimuthDeg = 0.0;
         emitOrientation(t, poseToQuaternion(p), true);
         return;
@@ -506,7 +506,7 @@ void OscSampleMerger::tick(double now) noexcept
     if (accel_.t > -1e299) a = accel_.v;
     else if (gravity_.t > -1e299) a = gravity_.v + (user_.t > -1e299 ? user_.v : Eigen::Vector3d::Zero());
     else return;
-    Eigen::Vector3d m(kNaN, kNaN, kNaN);
+    Eigen::Vector3d m(core::kNaN, core::kNaN, core::kNaN);
     if (mag_.t > -1e299) m = mag_.v;
     const std::uint64_t before = n_.imu.load(std::memory_order_relaxed);
     emitImu(now, Eigen::Vector3d::Zero(), a, m);
@@ -664,4 +664,4 @@ std::string lowRateAdvice(OscFormat format, double rate)
     }
 }
 
-} // namespace armadillo::device
+} // namespace armadillo::osc

@@ -21,12 +21,12 @@
 #include <cstdint>
 #include <string>
 
-namespace armadillo::device {
+namespace armadillo::osc {
 
 struct OscInputOptions {
     OscFormat format = OscFormat::Auto;   ///< Auto = detect from the first recognised message
     bool mountGiven = false;              ///< false: the detected format's usual preset (phones: phone-screen-up)
-    Mount mount {};                       ///< sensor axes → device frame when mountGiven
+    link::Mount mount {};                 ///< sensor axes → device frame when mountGiven
     double accelHoldSeconds = 0.25;       ///< s: an accelerometer reading this old still completes a gyro sample
     double magHoldSeconds = 0.5;          ///< s: older magnetometer/compass readings are dropped (6-axis instead)
     double gyroActiveSeconds = 0.5;       ///< s: a gyro stream this recent makes the sender's quaternion redundant
@@ -108,7 +108,7 @@ struct SensorFrameSample {
 
 class OscSampleMerger {
 public:
-    using ImuSink = void (*)(void* context, const ImuSample& sample);
+    using ImuSink = void (*)(void* context, const core::ImuSample& sample);
     using OrientationSink = void (*)(void* context, double t, const Eigen::Quaterniond& q);
 
     explicit OscSampleMerger(const OscInputOptions& options = {});
@@ -133,7 +133,7 @@ public:
     /// The reason the latest message was refused (a static string), or "".
     const char* lastError() const noexcept;
     /// The mount in use (after detection when none was given).
-    Mount mount() const;
+    link::Mount mount() const;
     /// Measured rate of each sensor stream of the chosen device.
     OscSensorRates rates() const noexcept;
     /// What arrived and was not used (any thread; a copy under the name lock).
@@ -220,7 +220,7 @@ private:
             unusedOrientation {0}, clockResets {0}, tiltOnly {0}, synthesizedField {0}, json {0}, unchanged {0};
     } n_;
     std::atomic<bool> tapOn_ {false};
-    SpscQueue<SensorFrameSample, 1024> tap_;
+    core::SpscQueue<SensorFrameSample, 1024> tap_;
 };
 
-} // namespace armadillo::device
+} // namespace armadillo::osc

@@ -20,7 +20,7 @@
 #include <unistd.h>
 #include <vector>
 
-namespace armadillo::device {
+namespace armadillo::osc {
 
 // --- OscSender ---------------------------------------------------------------------------------
 
@@ -32,12 +32,12 @@ OscSender::OscSender(const HostPort& destination)
     addrinfo* res = nullptr;
     const std::string port = std::to_string(destination.port);
     const int r = ::getaddrinfo(destination.host.c_str(), port.c_str(), &hints, &res);
-    if (r != 0 || !res) throw IoError("OSC out: cannot resolve '" + destination.host + "': " + ::gai_strerror(r));
+    if (r != 0 || !res) throw core::IoError("OSC out: cannot resolve '" + destination.host + "': " + ::gai_strerror(r));
     fd_ = ::socket(res->ai_family, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
     if (fd_ < 0 || res->ai_addrlen > sizeof addr_) {
         const int e = errno;
         ::freeaddrinfo(res);
-        throw IoError(std::string("OSC out: cannot create a UDP socket: ") + std::strerror(e));
+        throw core::IoError(std::string("OSC out: cannot create a UDP socket: ") + std::strerror(e));
     }
     std::memcpy(addr_, res->ai_addr, res->ai_addrlen);
     addrLen_ = static_cast<unsigned>(res->ai_addrlen);
@@ -78,7 +78,7 @@ bool OscSender::sendOrientation(const Eigen::Quaterniond& q) noexcept
     return send("/armadillo/orientation", a, 4);
 }
 
-bool OscSender::sendPose(const Pose& p) noexcept
+bool OscSender::sendPose(const core::Pose& p) noexcept
 {
     const OscArg a[] = {OscArg::float32(float(p.elevationDeg)), OscArg::float32(float(p.azimuthDeg)), OscArg::float32(float(p.rollDeg))};
     return send("/armadillo/pose", a, 3);
@@ -90,10 +90,10 @@ bool OscSender::sendGyro(const Eigen::Vector3d& g) noexcept
     return send("/armadillo/gyro", a, 3);
 }
 
-bool OscSender::sendMotors(const MotorLevels& levels, int motorCount) noexcept
+bool OscSender::sendMotors(const core::MotorLevels& levels, int motorCount) noexcept
 {
-    OscArg a[kMaxMotors];
-    const int n = std::clamp(motorCount, 1, kMaxMotors);
+    OscArg a[core::kMaxMotors];
+    const int n = std::clamp(motorCount, 1, core::kMaxMotors);
     for (int i = 0; i < n; ++i) a[i] = OscArg::int32(levels[static_cast<std::size_t>(i)]);
     return send("/armadillo/motors", a, static_cast<std::size_t>(n));
 }
@@ -106,13 +106,13 @@ bool OscSender::sendGesture(const char* name) noexcept
 
 int bindUdpAnyInterface(int port, const std::string& who, int& boundPort)
 {
-    if (port < 0 || port > 65535) throw IoError(who + ": port " + std::to_string(port) + " is outside 0..65535");
+    if (port < 0 || port > 65535) throw core::IoError(who + ": port " + std::to_string(port) + " is outside 0..65535");
     int fd = -1;
     const auto bindOrThrow = [&fd, &who, port](const sockaddr* address, socklen_t size) {
         if (::bind(fd, address, size) == 0) return;
         const int e = errno;
         ::close(fd);
-        throw IoError(who + ": cannot listen on UDP port " + std::to_string(port) + ": " + std::strerror(e));
+        throw core::IoError(who + ": cannot listen on UDP port " + std::to_string(port) + ": " + std::strerror(e));
     };
     fd = ::socket(AF_INET6, SOCK_DGRAM | SOCK_CLOEXEC, 0);
     if (fd >= 0) {
@@ -125,7 +125,7 @@ int bindUdpAnyInterface(int port, const std::string& who, int& boundPort)
         bindOrThrow(reinterpret_cast<sockaddr*>(&a), sizeof a);
     } else {
         fd = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
-        if (fd < 0) throw IoError(who + ": cannot create a UDP socket: " + std::strerror(errno));
+        if (fd < 0) throw core::IoError(who + ": cannot create a UDP socket: " + std::strerror(errno));
         sockaddr_in a {};
         a.sin_family = AF_INET;
         a.sin_addr.s_addr = htonl(INADDR_ANY);
@@ -146,7 +146,7 @@ OscReceiver::OscReceiver(int port, ImuHandler onImu, OrientationHandler onOrient
     : onImu_(std::move(onImu)), onOrientation_(std::move(onOrientation)), merger_(options), realtimePriority_(options.realtimePriority)
 {
     merger_.setSinks(
-        [](void* c, const ImuSample& s) {
+        [](void* c, const core::ImuSample& s) {
             auto* self = static_cast<OscReceiver*>(c);
             if (self->onImu_) self->onImu_(s);
         },
@@ -155,7 +155,7 @@ OscReceiver::OscReceiver(int port, ImuHandler onImu, OrientationHandler onOrient
             if (self->onOrientation_) self->onOrientation_(t, q);
         },
         this);
-    if (port < 0 || port > 65535) throw IoError("OSC in: port " + std::to_string(port) + " is outside 0..65535");
+    if (port < 0 || port > 65535) throw core::IoError("OSC in: port " + std::to_string(port) + " is outside 0..65535");
     // Phones and trackers on either protocol reach the same port, as the sender already resolves both.
     fd_ = bindUdpAnyInterface(port, "OSC in", port_);
     sockaddr_storage bound {};
@@ -198,7 +198,7 @@ OscReceiver::OscReceiver(const OscSerialSource& serial, ImuHandler onImu, Orient
       realtimePriority_(options.realtimePriority)
 {
     merger_.setSinks(
-        [](void* c, const ImuSample& s) {
+        [](void* c, const core::ImuSample& s) {
             auto* self = static_cast<OscReceiver*>(c);
             if (self->onImu_) self->onImu_(s);
         },
@@ -208,7 +208,7 @@ OscReceiver::OscReceiver(const OscSerialSource& serial, ImuHandler onImu, Orient
         },
         this);
     // The same serial code as the thesis board (libserialport, or termios for ptys and rfcomm).
-    serialPort_ = std::make_unique<SerialPort>(serial_.path, serial_.baud);
+    serialPort_ = std::make_unique<link::SerialPort>(serial_.path, serial_.baud);
     serialPort_->open();   // IoError naming the port
     start_ = std::chrono::steady_clock::now();
 }
@@ -236,7 +236,7 @@ void OscReceiver::start()
     if (thread_.joinable()) return;
     stop_.store(false);
     thread_ = std::thread([this] {
-        if (realtimePriority_ > 0) requestRealtimePriority(realtimePriority_);
+        if (realtimePriority_ > 0) core::requestRealtimePriority(realtimePriority_);
         serialPort_ ? runSerial() : run();
     });
 }
@@ -426,4 +426,4 @@ void OscReceiver::run()
         if (c.fd >= 0) ::close(c.fd);
 }
 
-} // namespace armadillo::device
+} // namespace armadillo::osc

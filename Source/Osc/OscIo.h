@@ -14,13 +14,15 @@
 #include <string>
 #include <thread>
 
-namespace armadillo {
+namespace armadillo::core {
 struct Pose;
 }
-
-namespace armadillo::device {
-
+namespace armadillo::link {
 class LinkPort;
+}
+
+namespace armadillo::osc {
+
 
 /// Sends datagrams without blocking (a full socket buffer drops the message). Messages are
 /// encoded on the stack: safe to call from the control thread.
@@ -36,9 +38,9 @@ public:
     /// An already-encoded packet (a mapping's OSC message, Mapping/Mapper.h). Real-time like send().
     bool sendPacket(const std::uint8_t* data, std::size_t size) noexcept;
     bool sendOrientation(const Eigen::Quaterniond& q) noexcept;   ///< /armadillo/orientation ffff (w x y z)
-    bool sendPose(const Pose& pose) noexcept;                     ///< /armadillo/pose fff (elevation azimuth roll, deg)
+    bool sendPose(const core::Pose& pose) noexcept;               ///< /armadillo/pose fff (elevation azimuth roll, deg)
     bool sendGyro(const Eigen::Vector3d& gyro) noexcept;          ///< /armadillo/gyro fff (rad/s, device frame)
-    bool sendMotors(const MotorLevels& levels, int motorCount = kGridMotors) noexcept;   ///< /armadillo/motors i…
+    bool sendMotors(const core::MotorLevels& levels, int motorCount = core::kGridMotors) noexcept; ///< /armadillo/motors i…
     bool sendGesture(const char* name) noexcept;                  ///< /armadillo/gesture s
 
     std::uint64_t sent() const noexcept { return sent_.load(); }
@@ -67,7 +69,7 @@ int bindUdpAnyInterface(int port, const std::string& who, int& boundPort);
 /// SIM JSON (first byte); TCP connections carry ZIG SIM's unframed stream (OscStream.h).
 class OscReceiver {
 public:
-    using ImuHandler = std::function<void(const ImuSample&)>;
+    using ImuHandler = std::function<void(const core::ImuSample&)>;
     using OrientationHandler = std::function<void(double t, const Eigen::Quaterniond& q)>;
 
     /// Binds now (port 0 = any free port); throws IoError when the UDP port is taken. A TCP port
@@ -119,7 +121,7 @@ private:
     std::string tcpError_;
     std::atomic<std::uint64_t> tcpAccepted_ {0};
     OscSerialSource serial_;
-    std::unique_ptr<LinkPort> serialPort_;
+    std::unique_ptr<link::LinkPort> serialPort_;
     mutable std::atomic<bool> serialErrorLock_ {false};
     std::string serialError_;
     ImuHandler onImu_;
@@ -132,4 +134,4 @@ private:
     std::chrono::steady_clock::time_point start_ {};
 };
 
-} // namespace armadillo::device
+} // namespace armadillo::osc

@@ -2,7 +2,7 @@
 #include <algorithm>
 #include <cstring>
 
-namespace armadillo::device {
+namespace armadillo::osc {
 
 namespace {
 constexpr char kBundle[8] = {'#', 'b', 'u', 'n', 'd', 'l', 'e', '\0'};
@@ -137,4 +137,4 @@ void OscStreamSplitter::feed(const std::uint8_t* data, std::size_t size, Sink si
     }
 }
 
-} // namespace armadillo::device
+} // namespace armadillo::osc

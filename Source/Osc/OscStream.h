@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace armadillo::device {
+namespace armadillo::osc {
 
 class OscStreamSplitter {
 public:
@@ -34,4 +34,4 @@ private:
     std::uint64_t overflows_ = 0;
 };
 
-} // namespace armadillo::device
+} // namespace armadillo::osc

@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace armadillo::device {
+namespace armadillo::osc {
 
 class SlipDecoder {
 public:
@@ -82,4 +82,4 @@ inline std::vector<std::uint8_t> slipEncode(const std::uint8_t* data, std::size_
     return out;
 }
 
-} // namespace armadillo::device
+} // namespace armadillo::osc

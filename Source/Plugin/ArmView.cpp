@@ -15,7 +15,7 @@ const juce::Colour kCymbal {0xffd9b44a};
 Eigen::Vector3d directionFor(double elevationDeg, double azimuthDeg)
 {
     // Heading clockwise from north (−Z) toward east (+X); elevation above the horizon (+Y).
-    const double e = degToRad(elevationDeg), a = degToRad(azimuthDeg);
+    const double e = core::degToRad(elevationDeg), a = core::degToRad(azimuthDeg);
     return {std::sin(a) * std::cos(e), std::sin(e), -std::cos(a) * std::cos(e)};
 }
 
@@ -70,7 +70,7 @@ void ArmView::timerCallback()
 juce::String ArmView::describePose() const
 {
     if (! valid_) return "No orientation yet";
-    const auto p = quaternionToPose(q_);
+    const auto p = core::quaternionToPose(q_);
     return "Elevation " + juce::String(juce::roundToInt(p.elevationDeg)) + " degrees, azimuth "
            + juce::String(juce::roundToInt(p.azimuthDeg)) + " degrees, roll " + juce::String(juce::roundToInt(p.rollDeg))
            + " degrees";
@@ -79,7 +79,7 @@ juce::String ArmView::describePose() const
 ArmView::Projected ArmView::project(const Eigen::Vector3d& w) const
 {
     // Turn about Y by the camera azimuth, then tilt about X by its elevation (looking down).
-    const double a = degToRad(cameraAzimuthDeg_), e = degToRad(cameraElevationDeg_);
+    const double a = core::degToRad(cameraAzimuthDeg_), e = core::degToRad(cameraElevationDeg_);
     const double x1 = w.x() * std::cos(a) - w.z() * std::sin(a);
     const double z1 = w.x() * std::sin(a) + w.z() * std::cos(a);
     const double y2 = w.y() * std::cos(e) - z1 * std::sin(e);
@@ -95,7 +95,7 @@ bool ArmView::unproject(juce::Point<float> s, Eigen::Vector3d& w) const
     const double rr = x1 * x1 + y2 * y2;
     if (rr > 1.0) return false;
     const double z2 = std::sqrt(1.0 - rr);   // the front hemisphere: the one the user sees
-    const double a = degToRad(cameraAzimuthDeg_), e = degToRad(cameraElevationDeg_);
+    const double a = core::degToRad(cameraAzimuthDeg_), e = core::degToRad(cameraElevationDeg_);
     const double y = y2 * std::cos(e) + z2 * std::sin(e);
     const double z1 = -y2 * std::sin(e) + z2 * std::cos(e);
     const double x = x1 * std::cos(a) + z1 * std::sin(a);
@@ -140,8 +140,8 @@ void ArmView::drawSceneObjects(juce::Graphics& g) const
     g.setFont(labelSize);
     if (name == "theremin") {
         // Thesis §3.5: pitch linear in sin(elevation); frets on the A-major scale.
-        const double bottom = degToRad(paramValue("theremin.bottom", -45.0f));
-        const double top = degToRad(paramValue("theremin.top", 45.0f));
+        const double bottom = core::degToRad(paramValue("theremin.bottom", -45.0f));
+        const double top = core::degToRad(paramValue("theremin.top", 45.0f));
         const double range = std::max(1.0f, paramValue("theremin.range", 12.0f));
         static const char* names[] {"A", "B", "C#", "D", "E", "F#", "G#", "A"};
         static const int steps[] {0, 2, 4, 5, 7, 9, 11, 12};
@@ -149,7 +149,7 @@ void ArmView::drawSceneObjects(juce::Graphics& g) const
             if (steps[i] > range) break;
             const double y = std::sin(bottom) + (std::sin(top) - std::sin(bottom)) * steps[i] / range;
             if (y < -1.0 || y > 1.0) continue;
-            const double elev = radToDeg(std::asin(y));
+            const double elev = core::radToDeg(std::asin(y));
             drawLatitude(g, elev, kFret.withAlpha(0.85f), 1.6f);
             // Labels on the left limb, away from the compass letters.
             const auto label = project(directionFor(elev, -90.0 - cameraAzimuthDeg_));
@@ -263,12 +263,12 @@ void ArmView::paint(juce::Graphics& g)
     }
 }
 
-Pose ArmView::currentPose() const
+core::Pose ArmView::currentPose() const
 {
-    return valid_ ? quaternionToPose(q_) : Pose {};
+    return valid_ ? core::quaternionToPose(q_) : core::Pose {};
 }
 
-void ArmView::moveArm(const Pose& pose)
+void ArmView::moveArm(const core::Pose& pose)
 {
     switch (processor_.source()) {
     case SourceKind::Simulator: processor_.steerSimulator(pose); break;
@@ -288,7 +288,7 @@ void ArmView::mouseDrag(const juce::MouseEvent& e)
 {
     if (e.mods.isRightButtonDown() || e.mods.isShiftDown()) {
         const auto d = e.position - lastDrag_;
-        cameraAzimuthDeg_ = wrapDeg360(cameraAzimuthDeg_ + d.x * 0.4);
+        cameraAzimuthDeg_ = core::wrapDeg360(cameraAzimuthDeg_ + d.x * 0.4);
         cameraElevationDeg_ = juce::jlimit(-80.0, 80.0, cameraElevationDeg_ + d.y * 0.4);
         lastDrag_ = e.position;
         repaint();
@@ -296,9 +296,9 @@ void ArmView::mouseDrag(const juce::MouseEvent& e)
     }
     Eigen::Vector3d w;
     if (! unproject(e.position, w)) return;
-    Pose p = currentPose();
-    p.elevationDeg = radToDeg(std::asin(juce::jlimit(-1.0, 1.0, w.y())));
-    p.azimuthDeg = wrapDeg360(radToDeg(std::atan2(w.x(), -w.z())));
+    core::Pose p = currentPose();
+    p.elevationDeg = core::radToDeg(std::asin(juce::jlimit(-1.0, 1.0, w.y())));
+    p.azimuthDeg = core::wrapDeg360(core::radToDeg(std::atan2(w.x(), -w.z())));
     moveArm(p);
 }
 
@@ -308,20 +308,20 @@ bool ArmView::keyPressed(const juce::KeyPress& key)
     const int code = key.getKeyCode();
     if (shift && (code == juce::KeyPress::leftKey || code == juce::KeyPress::rightKey || code == juce::KeyPress::upKey
                   || code == juce::KeyPress::downKey)) {
-        if (code == juce::KeyPress::leftKey) cameraAzimuthDeg_ = wrapDeg360(cameraAzimuthDeg_ - 10.0);
-        if (code == juce::KeyPress::rightKey) cameraAzimuthDeg_ = wrapDeg360(cameraAzimuthDeg_ + 10.0);
+        if (code == juce::KeyPress::leftKey) cameraAzimuthDeg_ = core::wrapDeg360(cameraAzimuthDeg_ - 10.0);
+        if (code == juce::KeyPress::rightKey) cameraAzimuthDeg_ = core::wrapDeg360(cameraAzimuthDeg_ + 10.0);
         if (code == juce::KeyPress::upKey) cameraElevationDeg_ = juce::jlimit(-80.0, 80.0, cameraElevationDeg_ + 10.0);
         if (code == juce::KeyPress::downKey) cameraElevationDeg_ = juce::jlimit(-80.0, 80.0, cameraElevationDeg_ - 10.0);
         repaint();
         return true;
     }
-    Pose p = currentPose();
+    core::Pose p = currentPose();
     if (code == juce::KeyPress::upKey) p.elevationDeg = std::min(90.0, p.elevationDeg + 5.0);
     else if (code == juce::KeyPress::downKey) p.elevationDeg = std::max(-90.0, p.elevationDeg - 5.0);
-    else if (code == juce::KeyPress::leftKey) p.azimuthDeg = wrapDeg360(p.azimuthDeg - 5.0);
-    else if (code == juce::KeyPress::rightKey) p.azimuthDeg = wrapDeg360(p.azimuthDeg + 5.0);
-    else if (key.getTextCharacter() == ',') p.rollDeg = wrapDeg180(p.rollDeg - 10.0);
-    else if (key.getTextCharacter() == '.') p.rollDeg = wrapDeg180(p.rollDeg + 10.0);
+    else if (code == juce::KeyPress::leftKey) p.azimuthDeg = core::wrapDeg360(p.azimuthDeg - 5.0);
+    else if (code == juce::KeyPress::rightKey) p.azimuthDeg = core::wrapDeg360(p.azimuthDeg + 5.0);
+    else if (key.getTextCharacter() == ',') p.rollDeg = core::wrapDeg180(p.rollDeg - 10.0);
+    else if (key.getTextCharacter() == '.') p.rollDeg = core::wrapDeg180(p.rollDeg + 10.0);
     else if (key.getTextCharacter() == 'w' || key.getTextCharacter() == 'W') {
         processor_.setSimulatorWandering(true);
         return true;

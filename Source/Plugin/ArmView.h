@@ -37,8 +37,8 @@ private:
     void drawCircle(juce::Graphics&, const std::vector<Eigen::Vector3d>& pts, juce::Colour c, float width, bool closed = true) const;
     void drawLatitude(juce::Graphics&, double elevationDeg, juce::Colour c, float width) const;
     void drawSceneObjects(juce::Graphics&) const;
-    void moveArm(const Pose& pose);
-    Pose currentPose() const;
+    void moveArm(const core::Pose& pose);
+    core::Pose currentPose() const;
     float paramValue(const char* id, float fallback) const;
 
     ArmadilloProcessor& processor_;

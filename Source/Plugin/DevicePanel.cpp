@@ -78,7 +78,7 @@ DevicePanel::DevicePanel(ArmadilloProcessor& processor)
     describe(oscFormat_, "OSC sender format",
              "Which app or sensor sends: auto detects it from the first messages; choose one to accept only its messages.");
     oscFormat_.addItem("auto (detect)", 1);
-    for (int i = 1; i < device::kOscFormatCount; ++i) oscFormat_.addItem(device::oscFormatName(static_cast<device::OscFormat>(i)), i + 1);
+    for (int i = 1; i < osc::kOscFormatCount; ++i) oscFormat_.addItem(osc::oscFormatName(static_cast<osc::OscFormat>(i)), i + 1);
     oscFormat_.onChange = [this] {
         const int id = oscFormat_.getSelectedId();
         processor_.settings().setProperty(SettingIds::oscInFormat, id <= 1 ? juce::String() : oscFormat_.getItemText(id - 1), nullptr);
@@ -86,7 +86,7 @@ DevicePanel::DevicePanel(ArmadilloProcessor& processor)
     describe(oscMount_, "Sensor mount",
              "How the sensor is strapped on the forearm: the sender's usual way, a preset, or a mount file (Mount file... or "
              "Calibrate mount...).");
-    mountPresets_.addTokens(juce::String(device::mountPresetNames()), ", ", "");
+    mountPresets_.addTokens(juce::String(link::mountPresetNames()), ", ", "");
     mountPresets_.removeEmptyStrings();
     oscMount_.onChange = [this] {
         const int id = oscMount_.getSelectedId();
@@ -134,9 +134,9 @@ void DevicePanel::rescanPorts()
     const auto current = processor_.settings()[SettingIds::serialPort].toString();
     port_.clear(juce::dontSendNotification);
     int id = 1, selected = 0;
-    std::vector<device::PortInfo> ports;
+    std::vector<link::PortInfo> ports;
     try {
-        ports = device::listSerialPorts();
+        ports = link::listSerialPorts();
     } catch (const std::exception&) {
         // No enumeration (no sysfs, no permission): the simulated forearm is still offered.
     }
@@ -206,7 +206,7 @@ void DevicePanel::chooseMountFile()
                               const auto file = fc.getResult();
                               if (file == juce::File()) return;
                               try {
-                                  (void) device::loadMount(file.getFullPathName().toStdString());   // a clear refusal now, not later
+                                  (void) link::loadMount(file.getFullPathName().toStdString());   // a clear refusal now, not later
                                   processor_.settings().setProperty(SettingIds::oscInMount, file.getFullPathName(), nullptr);
                                   mountFileError_.clear();
                               } catch (const std::exception& e) {

@@ -15,14 +15,14 @@ std::unique_ptr<live::EngineSlot> EngineHandover::build(const EngineRequest& req
 {
     auto slot = std::make_unique<live::EngineSlot>();
     slot->generation = ++generation_;
-    EngineConfig config;
-    const auto& names = sceneNames();
+    engine::EngineConfig config;
+    const auto& names = engine::sceneNames();
     config.scene = names.empty() ? std::string("monitor") : names[static_cast<std::size_t>(request.scene) % names.size()];
-    config.motorCount = request.backMotors ? kGridMotors + kBackMotors : kGridMotors;
+    config.motorCount = request.backMotors ? core::kGridMotors + core::kBackMotors : core::kGridMotors;
     config.sceneConfig.sampleRate = request.sampleRate;
     config.sceneConfig.controlRateHz = kControlRateHz;
     config.sceneConfig.seed = 1;
-    config.sceneConfig.side = request.left ? ArmSide::Left : ArmSide::Right;
+    config.sceneConfig.side = request.left ? core::ArmSide::Left : core::ArmSide::Right;
     config.twoArms = request.twoArms;   // issue 28: the left arm's own tactile engine and safety stage
     config.sceneConfig.text = request.text;
     config.sceneConfig.score = request.score;
@@ -31,7 +31,7 @@ std::unique_ptr<live::EngineSlot> EngineHandover::build(const EngineRequest& req
     // every scene gets it; the settings only keep a profile that parses (PluginState.cpp).
     if (! request.touchProfile.empty()) {
         try {
-            config.motorGain = device::touchProfileGains(device::parseTouchProfile(request.touchProfile, "the touch profile setting"));
+            config.motorGain = link::touchProfileGains(link::parseTouchProfile(request.touchProfile, "the touch profile setting"));
         } catch (const std::exception& e) {
             status_("The touch profile is not used: " + juce::String(e.what()));
         }
@@ -41,9 +41,9 @@ std::unique_ptr<live::EngineSlot> EngineHandover::build(const EngineRequest& req
     try {
         if (request.route != nullptr && request.navigation != nullptr) {   // a walk: the navigation scene
             config.scene = "navigation";
-            slot->engine = std::make_unique<Engine>(config, nav::makeNavigationScene(*request.route, request.navigation));
+            slot->engine = std::make_unique<engine::Engine>(config, navigation::makeNavigationScene(*request.route, request.navigation));
         } else {
-            slot->engine = std::make_unique<Engine>(config);
+            slot->engine = std::make_unique<engine::Engine>(config);
         }
         status_({});   // the scene starts: an earlier "cannot start" no longer holds
     } catch (const std::exception& e) {
@@ -51,7 +51,7 @@ std::unique_ptr<live::EngineSlot> EngineHandover::build(const EngineRequest& req
                 + "); running \"monitor\" instead.");
         config.scene = "monitor";
         try {
-            slot->engine = std::make_unique<Engine>(config);
+            slot->engine = std::make_unique<engine::Engine>(config);
         } catch (const std::exception& e2) {
             status_("The engine cannot start: " + juce::String(e2.what()));
             return slot;

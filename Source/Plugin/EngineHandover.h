@@ -38,8 +38,8 @@ struct EngineRequest {
     std::uint64_t session = 0;
     /// A walk in the app (NavigationRig.h, issue 34): while both are set, the engine runs the
     /// navigation scene for this route and link instead of `scene` (compared by identity).
-    std::shared_ptr<const nav::Route> route;
-    std::shared_ptr<nav::NavigationLink> navigation;
+    std::shared_ptr<const navigation::Route> route;
+    std::shared_ptr<navigation::NavigationLink> navigation;
     bool operator==(const EngineRequest&) const = default;
 };
 

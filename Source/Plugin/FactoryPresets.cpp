@@ -31,7 +31,7 @@ bool applyFactoryPreset(int index, juce::AudioProcessorValueTreeState& parameter
     const auto& presets = factoryPresets();
     if (index < 0 || index >= static_cast<int>(presets.size())) return false;
     const FactoryPreset& preset = presets[static_cast<std::size_t>(index)];
-    const auto& names = sceneNames();
+    const auto& names = engine::sceneNames();
     int sceneIndex = -1;
     for (std::size_t i = 0; i < names.size(); ++i)
         if (names[i] == preset.scene) sceneIndex = static_cast<int>(i);

@@ -47,9 +47,9 @@ public:
     {
         return {buffer.getArrayOfWritePointers(), buffer.getNumChannels(), buffer.getNumSamples()};
     }
-    static Transport transportOf(juce::AudioPlayHead* playHead) noexcept
+    static core::Transport transportOf(juce::AudioPlayHead* playHead) noexcept
     {
-        Transport t;
+        core::Transport t;
         if (playHead == nullptr) return t;
         if (const auto pos = playHead->getPosition()) {
             t.valid = pos->getTimeInSeconds().hasValue() || pos->getPpqPosition().hasValue();

@@ -74,7 +74,7 @@ void MotorDisplay::paint(juce::Graphics& g)
     const juce::Rectangle<float> grid(area.getX(), area.getY(), cell * 3.0f, cell * 3.0f);
 
     auto drawMotor = [&](juce::Rectangle<float> r, int index, bool enabled) {
-        const float level = enabled ? levels_[static_cast<std::size_t>(index)] / static_cast<float>(kMaxLevel) : 0.0f;
+        const float level = enabled ? levels_[static_cast<std::size_t>(index)] / static_cast<float>(core::kMaxLevel) : 0.0f;
         const auto hot = juce::Colour(0xffff8a3d).withBrightness(0.35f + 0.65f * level);
         g.setColour(enabled ? juce::Colour(0xff222c38).interpolatedWith(hot, level) : juce::Colour(0xff1b2028));
         g.fillRoundedRectangle(r.reduced(cell * 0.06f), cell * 0.12f);
@@ -94,15 +94,15 @@ void MotorDisplay::paint(juce::Graphics& g)
         g.setFont(text * 0.85f);
         g.drawText(rows[row], labelColumn.withY(grid.getY() + cell * row).withHeight(cell), juce::Justification::centredLeft);
         for (int col = 0; col < 3; ++col)
-            drawMotor({grid.getX() + cell * col, grid.getY() + cell * row, cell, cell}, motorIndex(row, col), true);
+            drawMotor({grid.getX() + cell * col, grid.getY() + cell * row, cell, cell}, core::motorIndex(row, col), true);
     }
     const float backCell = std::min(cell, back.getHeight());
     g.setColour(juce::Colours::lightgrey);
     g.setFont(text * 0.85f);
     g.drawText("back", labelColumn.withY(back.getY()).withHeight(backCell), juce::Justification::centredLeft);
-    for (int i = 0; i < kBackMotors; ++i)
-        drawMotor({grid.getX() + cell * i + (cell - backCell) * 0.5f, back.getY(), backCell, backCell}, kGridMotors + i,
-                  motorCount_ > kGridMotors + i);
+    for (int i = 0; i < core::kBackMotors; ++i)
+        drawMotor({grid.getX() + cell * i + (cell - backCell) * 0.5f, back.getY(), backCell, backCell}, core::kGridMotors + i,
+                  motorCount_ > core::kGridMotors + i);
 
     g.setFont(text * 0.85f);
     g.setColour(juce::Colours::lightgrey);

@@ -19,8 +19,8 @@ public:
 private:
     void timerCallback() override;
     ArmadilloProcessor& processor_;
-    MotorLevels levels_ {};
-    int motorCount_ = kGridMotors;
+    core::MotorLevels levels_ {};
+    int motorCount_ = core::kGridMotors;
     juce::String lastGesture_;
     std::uint64_t gestureCount_ = 0;
     double gestureFlash_ = 0.0;

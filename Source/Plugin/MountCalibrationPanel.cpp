@@ -56,7 +56,7 @@ void MountCalibrationPanel::start()
     }
     auto& osc = processor_.oscInput();
     osc.enableSensorTap(true);
-    device::SensorFrameSample stale;
+    osc::SensorFrameSample stale;
     while (osc.popSensorSample(stale)) {}   // samples from before the start are not a pose
     session_.begin(osc.deviceName());
     open_ = true;
@@ -85,7 +85,7 @@ bool MountCalibrationPanel::refresh()
 {
     if (! open_) return false;
     auto& osc = processor_.oscInput();
-    session_.drain([&osc](device::SensorFrameSample& s) { return osc.popSensorSample(s); });
+    session_.drain([&osc](osc::SensorFrameSample& s) { return osc.popSensorSample(s); });
     showStep();
     const bool finished = session_.finished(), failed = ! session_.failure().empty();
     progressValue_ = finished ? 1.0 : session_.progress();
@@ -135,13 +135,13 @@ void MountCalibrationPanel::skip()
 void MountCalibrationPanel::apply()
 {
     // Kept per device in the app's data folder and used at once (the OSC input reopens with it).
-    device::Mount mount = session_.result();
+    link::Mount mount = session_.result();
     if (mount.device.empty()) mount.device = processor_.oscInput().deviceName();
     const juce::File file = mountFileFor(mount.device);
     juce::String message;
     try {
         file.getParentDirectory().createDirectory();
-        device::saveMount(file.getFullPathName().toStdString(), mount);
+        link::saveMount(file.getFullPathName().toStdString(), mount);
         processor_.settings().setProperty(SettingIds::oscInMount, file.getFullPathName(), nullptr);
         message = "Applied; kept for this sender as " + file.getFileName() + " (app data folder, ARMadillo/mounts).";
     } catch (const std::exception& e) {
@@ -161,11 +161,11 @@ void MountCalibrationPanel::save()
                               auto file = fc.getResult();
                               if (file == juce::File()) return;
                               if (! file.hasFileExtension("json")) file = file.withFileExtension("json");
-                              device::Mount mount = session_.result();
+                              link::Mount mount = session_.result();
                               if (mount.device.empty()) mount.device = processor_.oscInput().deviceName();
                               juce::String message;
                               try {
-                                  device::saveMount(file.getFullPathName().toStdString(), mount);
+                                  link::saveMount(file.getFullPathName().toStdString(), mount);
                                   processor_.settings().setProperty(SettingIds::oscInMount, file.getFullPathName(), nullptr);
                                   message = "Saved as " + file.getFileName() + " and in use.";
                               } catch (const std::exception& e) {

@@ -89,7 +89,7 @@ void NavigationPanel::toggle()
     } else if (route_ == juce::File()) {
         say("Choose a route first", true);
     } else {
-        const auto why = processor_.startNavigation(route_, source_.getSelectedId() == 1 ? nav::NavigationRig::Source::Gpsd : nav::NavigationRig::Source::Osc,
+        const auto why = processor_.startNavigation(route_, source_.getSelectedId() == 1 ? navigation::NavigationRig::Source::Gpsd : navigation::NavigationRig::Source::Osc,
                                                     where_.getText());
         say(why.isNotEmpty() ? why : "Walking " + juce::String(processor_.navigation().routeName()) + ": the arm guides", true);
     }
@@ -109,7 +109,7 @@ juce::String NavigationPanel::spokenStatus() const
     if (s.finished) return "The end of the route: all " + juce::String(s.arrivals) + " waypoints reached.";
     juce::String text = "Waypoint " + juce::String(s.waypoint) + " of " + juce::String(s.waypointCount);
     if (s.name[0] != '\0') text << ", " << juce::String::fromUTF8(s.name);
-    if (s.fix != nav::FixState::Ok) return text + ". " + (s.fix == nav::FixState::Lost ? "Fix lost." : "Waiting for a position fix.");
+    if (s.fix != navigation::FixState::Ok) return text + ". " + (s.fix == navigation::FixState::Lost ? "Fix lost." : "Waiting for a position fix.");
     text << ": " << metres(s.distanceM) << ", bearing " << juce::roundToInt(s.bearingDeg) << " degrees, " << compassPoint(s.bearingDeg) << ".";
     if (s.offRoute) text << " Off route.";
     return text;
@@ -145,7 +145,7 @@ void NavigationPanel::timerCallback()
     }
     routeFile_.setText(juce::String(rig.routeName()) + " (" + juce::String(rig.sourceStatus()) + ")", juce::dontSendNotification);
     const auto s = rig.status();
-    const bool fix = s.fix == nav::FixState::Ok;
+    const bool fix = s.fix == navigation::FixState::Ok;
     const auto name = s.name[0] != '\0' ? juce::String::fromUTF8(s.name) : "Waypoint " + juce::String(s.waypoint);
     waypoint_.setText(s.finished ? juce::String("Route done") : name, juce::dontSendNotification);
     distance_.setText(fix && ! s.finished ? metres(s.distanceM) : juce::String(), juce::dontSendNotification);
@@ -154,7 +154,7 @@ void NavigationPanel::timerCallback()
                          : juce::String(),
                      juce::dontSendNotification);
     juce::String detail = juce::String(rig.routeName()) + ": waypoint " + juce::String(s.waypoint) + " of " + juce::String(s.waypointCount) + ", "
-                          + juce::String(s.arrivals) + " reached. Fix: " + nav::fixStateName(s.fix) + ".";
+                          + juce::String(s.arrivals) + " reached. Fix: " + navigation::fixStateName(s.fix) + ".";
     if (s.offRoute) detail << " Off route.";
     if (s.magDisturbed) detail << " Magnetic disturbance: heading from the gyroscope.";
     if (s.headingLearned) detail << " Strap offset learned: " << juce::roundToInt(s.offsetDeg) << " degrees.";
@@ -163,7 +163,7 @@ void NavigationPanel::timerCallback()
     // Each change said once: a new waypoint (after an arrival), the fix lost or back, off route, the end.
     if (s.arrivals > lastArrivals_ && s.waypoint > 1) say("Arrived at waypoint " + juce::String(s.waypoint - 1) + ". " + spokenStatus(), true);
     else if (s.waypoint != lastWaypoint_ && lastWaypoint_ < 0 && s.waypoint > 0) say(spokenStatus(), false);
-    if (static_cast<int>(s.fix) != lastFix_ && lastFix_ >= 0) say(s.fix == nav::FixState::Ok ? "Fix back. " + spokenStatus() : "Fix lost", true);
+    if (static_cast<int>(s.fix) != lastFix_ && lastFix_ >= 0) say(s.fix == navigation::FixState::Ok ? "Fix back. " + spokenStatus() : "Fix lost", true);
     if (s.offRoute && ! lastOffRoute_) say("Off route", true);
     if (s.finished && ! lastFinished_) say("The end of the route", true);
     lastWaypoint_ = s.waypoint;

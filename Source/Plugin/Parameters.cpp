@@ -16,11 +16,11 @@ SceneParameterTable querySceneParameters()
     std::set<std::string> taken {ParamIds::elevation, ParamIds::azimuth, ParamIds::roll, ParamIds::source,
                                  ParamIds::scene};
     for (const char* id : ParamIds::macros) taken.insert(id);
-    for (const auto& name : sceneNames()) {
+    for (const auto& name : engine::sceneNames()) {
         SceneParameterTable::Entry entry;
         entry.scene = name;
         try {
-            entry.specs = createScene(name)->parameters();
+            entry.specs = engine::createScene(name)->parameters();
             entry.available = true;
         } catch (const std::exception& e) {
             entry.reason = e.what();
@@ -40,7 +40,7 @@ juce::String withUnit(float value, const std::string& unit, int decimals)
     return unit.empty() ? text : text + " " + juce::String(unit);
 }
 
-std::unique_ptr<juce::RangedAudioParameter> makeSceneParameter(const std::string& sceneName, const ParamSpec& spec)
+std::unique_ptr<juce::RangedAudioParameter> makeSceneParameter(const std::string& sceneName, const core::ParamSpec& spec)
 {
     const juce::ParameterID id {juce::String(spec.id), kParameterVersion};
     const auto name = juce::String(sceneName) + ": " + juce::String(spec.name.empty() ? spec.id : spec.name);

@@ -160,7 +160,7 @@ void PerformanceView::paint(juce::Graphics& g)
     for (int i = 0; i < 9 && i < motorCount_; ++i) {
         const auto r = juce::Rectangle<float>(area.getX() + static_cast<float>(i % 3) * cell, area.getY() + static_cast<float>(i / 3) * cell, cell, cell)
                            .reduced(cell * 0.05f);
-        const float level = static_cast<float>(levels_[static_cast<std::size_t>(i)]) / static_cast<float>(kMaxLevel);
+        const float level = static_cast<float>(levels_[static_cast<std::size_t>(i)]) / static_cast<float>(core::kMaxLevel);
         g.setColour(juce::Colour(0xff222c38).interpolatedWith(juce::Colour(0xffff8a3d), level));
         g.fillRoundedRectangle(r, cell * 0.1f);
         g.setColour(juce::Colours::white);

@@ -57,7 +57,7 @@ private:
     juce::Label cue_, nextCue_, arms_, state_;
     juce::String cueLine_, nextLine_, armLine_, stateLine_;
     live::StatusLine sourceTracker_;     // the status line's counters: live or silent
-    MotorLevels levels_ {};
+    core::MotorLevels levels_ {};
     int motorCount_ = 9;
 };
 

@@ -79,12 +79,12 @@ ArmadilloEditor::ArmadilloEditor(ArmadilloProcessor& processor)
     dismiss_.onClick = [this] { processor_.clearStatusMessage(); timerCallback(); };
     describe(about_, "About ARMadillo", "Version, licence and where your own scores go.");
     about_.onClick = [] {
-        const juce::String version {std::string(kVersion)};
+        const juce::String version {std::string(core::kVersion)};
         juce::AlertWindow::showMessageBoxAsync(
             juce::MessageBoxIconType::InfoIcon, "About ARMadillo",
             "ARMadillo " + version + " - forearm controller and tactile display (after D. Sachs, MIT 2005).\n\n"
                 "Licence: GPL-3.0-or-later (it is built with JUCE 7 from Debian, which is GPL-3.0).\n\n"
-                "Your own scores: " + juce::String(userResourceDir()) + "/Scores/NAME.score\n"
+                "Your own scores: " + juce::String(core::userResourceDir()) + "/Scores/NAME.score\n"
                 "Documentation: /usr/share/doc/armadillo (installed) or docs/ in the sources.");
     };
     describe(help_, "Help", "Opens the welcome page again: what plays, how to hear it, connecting an arm or a phone (F1).");

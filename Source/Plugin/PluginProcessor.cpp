@@ -39,7 +39,7 @@ juce::AudioProcessor::BusesProperties ArmadilloProcessor::busesFor(juce::AudioPr
                      .withOutput("Output", juce::AudioChannelSet::stereo(), true);
     if (wrapper == wrapperType_VST3) {
         for (const char* name : kStemBuses) buses = buses.withInput(name, juce::AudioChannelSet::stereo(), false);
-        buses = buses.withOutput(kTactorBus, tactorbus::layoutFor(kGridMotors), false);
+        buses = buses.withOutput(kTactorBus, tactorbus::layoutFor(core::kGridMotors), false);
     }
     return buses;
 }
@@ -54,7 +54,7 @@ ArmadilloProcessor::ArmadilloProcessor()
       control_(loop_, token_, cellsOf(apvts_), motors_),
       connections_(loop_, control_, motors_),
       mapping_(control_, sceneTable_, [this] { return static_cast<int>(settings_[SettingIds::midiChannel]); },
-               [this](const std::vector<device::HostPort>& targets) { return connections_.configureMappingOsc(targets); })
+               [this](const std::vector<osc::HostPort>& targets) { return connections_.configureMappingOsc(targets); })
 {
     scene_ = apvts_.getRawParameterValue(ParamIds::scene);
     jassert(scene_ != nullptr);
@@ -393,11 +393,11 @@ void ArmadilloProcessor::writeMacrosToParameters()
     }
 }
 
-void ArmadilloProcessor::setOrientationFromUser(const Pose& pose)
+void ArmadilloProcessor::setOrientationFromUser(const core::Pose& pose)
 {
     if (isLiveSource(source())) return;   // live sources own the orientation parameters
-    const float values[3] {static_cast<float>(pose.elevationDeg), static_cast<float>(wrapDeg360(pose.azimuthDeg)),
-                           static_cast<float>(wrapDeg180(pose.rollDeg))};
+    const float values[3] {static_cast<float>(pose.elevationDeg), static_cast<float>(core::wrapDeg360(pose.azimuthDeg)),
+                           static_cast<float>(core::wrapDeg180(pose.rollDeg))};
     const char* ids[3] {ParamIds::elevation, ParamIds::azimuth, ParamIds::roll};
     for (int i = 0; i < 3; ++i) {
         auto* p = apvts_.getParameter(ids[i]);
@@ -407,7 +407,7 @@ void ArmadilloProcessor::setOrientationFromUser(const Pose& pose)
     }
 }
 
-void ArmadilloProcessor::steerSimulator(const Pose& pose)
+void ArmadilloProcessor::steerSimulator(const core::Pose& pose)
 {
     connections_.steerSimulator(pose);
     settings_.setProperty(SettingIds::simWandering, false, nullptr);
@@ -488,10 +488,10 @@ namespace {
 /// (all 1) when there is none or it does not parse.
 void fitToReader(access::TactilePlayer& player, const juce::ValueTree& settings)
 {
-    auto gains = TactileConfig::unitMotorGains();
+    auto gains = tactile::TactileConfig::unitMotorGains();
     if (const auto json = settings[SettingIds::touchProfile].toString(); json.isNotEmpty()) {
         try {
-            gains = device::touchProfileGains(device::parseTouchProfile(json.toStdString(), "the touch profile setting"));
+            gains = link::touchProfileGains(link::parseTouchProfile(json.toStdString(), "the touch profile setting"));
         } catch (const std::exception&) {
         }
     }
@@ -543,12 +543,12 @@ void ArmadilloProcessor::endTouchTest(bool keep)
     if (keep && touchTest_.state() == procedures::TouchTest::State::Done) {
         auto profile = touchTest_.profile();
         profile.arm = settings_[SettingIds::armSide].toString().toStdString();
-        settings_.setProperty(SettingIds::touchProfile, juce::String(device::touchProfileToJson(profile)), nullptr);
+        settings_.setProperty(SettingIds::touchProfile, juce::String(link::touchProfileToJson(profile)), nullptr);
     }
     touchTest_.cancel();
 }
 
-juce::String ArmadilloProcessor::startNavigation(const juce::File& route, nav::NavigationRig::Source source, const juce::String& where)
+juce::String ArmadilloProcessor::startNavigation(const juce::File& route, navigation::NavigationRig::Source source, const juce::String& where)
 {
     const juce::String why(navigation_.start(route.getFullPathName().toStdString(), source, where.toStdString()));
     engines_.update(currentRequest());   // the navigation scene is offered now (or the chosen scene again)
@@ -574,7 +574,7 @@ juce::String ArmadilloProcessor::setMessages(bool on)
 
 int ArmadilloProcessor::motorCount() const
 {
-    return static_cast<bool>(settings_[SettingIds::backMotors]) ? kGridMotors + kBackMotors : kGridMotors;
+    return static_cast<bool>(settings_[SettingIds::backMotors]) ? core::kGridMotors + core::kBackMotors : core::kGridMotors;
 }
 
 juce::String ArmadilloProcessor::setTactorOutput(bool on)
@@ -767,13 +767,13 @@ live::CueBuild ArmadilloProcessor::cueBuild(double sampleRate) const
     b.base.sampleRate = sampleRate > 0.0 ? sampleRate : 48000.0;
     b.base.controlRateHz = kControlRateHz;
     b.base.seed = 1;
-    b.base.side = settings_[SettingIds::armSide].toString() == "left" ? ArmSide::Left : ArmSide::Right;
-    b.motors = static_cast<bool>(settings_[SettingIds::backMotors]) ? kGridMotors + kBackMotors : kGridMotors;
+    b.base.side = settings_[SettingIds::armSide].toString() == "left" ? core::ArmSide::Left : core::ArmSide::Right;
+    b.motors = static_cast<bool>(settings_[SettingIds::backMotors]) ? core::kGridMotors + core::kBackMotors : core::kGridMotors;
     // The reader's touch profile for every cue, as the Scene box's engine gets it (EngineHandover);
     // the settings only keep a profile that parses (PluginState.cpp), so a failure here is moot.
     if (const auto json = settings_[SettingIds::touchProfile].toString(); json.isNotEmpty()) {
         try {
-            b.gains = device::touchProfileGains(device::parseTouchProfile(json.toStdString(), "the touch profile setting"));
+            b.gains = link::touchProfileGains(link::parseTouchProfile(json.toStdString(), "the touch profile setting"));
         } catch (const std::exception&) {
         }
     }

@@ -95,12 +95,12 @@ public:
     int sceneIndex() const noexcept;
     juce::String statusMessage() const;
     void clearStatusMessage();
-    Pose simulatorPose() const { return connections_.simulatorPose(); }
+    core::Pose simulatorPose() const { return connections_.simulatorPose(); }
     bool simulatorWandering() const { return connections_.simulatorWandering(); }
-    void steerSimulator(const Pose& pose);
+    void steerSimulator(const core::Pose& pose);
     void setSimulatorWandering(bool on);
     /// Arm view / keyboard under host automation: user edits of the orientation parameters.
-    void setOrientationFromUser(const Pose& pose);
+    void setOrientationFromUser(const core::Pose& pose);
     juce::String linkStatus() const { return juce::String(connections_.linkStatus()); }
     void connectDevice(bool connect);
     bool deviceConnected() const noexcept { return connections_.deviceConnected(); }
@@ -247,9 +247,9 @@ public:
 
     /// Navigation (NavigationRig.h, issue 34; message thread): a walk along a route, positions
     /// from gpsd or OSC, the navigation scene in place of the chosen one until it stops.
-    juce::String startNavigation(const juce::File& route, nav::NavigationRig::Source source, const juce::String& where);
+    juce::String startNavigation(const juce::File& route, navigation::NavigationRig::Source source, const juce::String& where);
     void stopNavigation();
-    const nav::NavigationRig& navigation() const noexcept { return navigation_; }
+    const navigation::NavigationRig& navigation() const noexcept { return navigation_; }
 
     /// Messages on the arm over MQTT (MessagesRig.h, issue 35; message thread): on/off (the
     /// mqttEnabled setting follows; "" or why not), the service while on, and what it did.
@@ -296,14 +296,14 @@ private:
     // The live rig, in the order it is built (and the reverse of teardown).
     live::ControlLoop loop_;
     live::ControlToken token_;
-    device::LevelSchedule motors_;               // control steps → device link
+    link::LevelSchedule motors_;               // control steps → device link
     EngineHandover engines_;
     TrainingAccess training_;
     procedures::TouchTest touchTest_;                 // before control_: its player outlives the control step's pointer
     // Before control_ too. All 12 motors: the Tactors window's test buttons reach the back motors.
     access::TactilePlayer feedbackPlayer_ {[] {
-                                               TactileConfig c;
-                                               c.motorCount = kGridMotors + kBackMotors;
+                                               tactile::TactileConfig c;
+                                               c.motorCount = core::kGridMotors + core::kBackMotors;
                                                return c;
                                            }(),
                                            0.0};
@@ -316,7 +316,7 @@ private:
     MidiPort midiPort_;                          // the standalone app's ALSA sequencer port (before the rig: its clock drains it)
     live::BlockRig connections_;                 // the rig's sources and outputs, its idle clock (Live/BlockRig.h)
     TactorRig tactorRig_ {control_, token_};
-    nav::NavigationRig navigation_;                   // its route and link ride in the engine request     // after connections_: goes first (its output's pointer out of the step)
+    navigation::NavigationRig navigation_;            // its route and link ride in the engine request     // after connections_: goes first (its output's pointer out of the step)
     std::mutex mappingMutex_;                    // message thread vs a host's state calls; never audio
     live::MappingSession mapping_;
     std::unique_ptr<access::ReaderVoice> voice_ = std::make_unique<access::ReaderVoice>();

@@ -117,7 +117,7 @@ void installSettings(juce::ValueTree& settings, const juce::ValueTree& loaded)
     // a gain from a damaged state; a refused one means none (every motor gain 1).
     if (const auto json = settings[SettingIds::touchProfile].toString(); json.isNotEmpty()) {
         try {
-            (void) device::parseTouchProfile(json.toStdString(), "the saved touch profile");
+            (void) link::parseTouchProfile(json.toStdString(), "the saved touch profile");
         } catch (const std::exception&) {
             settings.setProperty(SettingIds::touchProfile, "", nullptr);
         }
@@ -137,7 +137,7 @@ void save(juce::AudioProcessorValueTreeState& parameters, const juce::ValueTree&
 {
     juce::ValueTree root("ARMADILLO");
     root.setProperty("version", kVersion, nullptr);
-    root.setProperty("pluginVersion", juce::String(std::string(armadillo::kVersion)), nullptr);   // project(VERSION)
+    root.setProperty("pluginVersion", juce::String(std::string(armadillo::core::kVersion)), nullptr); // project(VERSION)
     root.appendChild(parameters.copyState(), nullptr);
     root.appendChild(settings.createCopy(), nullptr);
     if (mapping.isValid()) root.appendChild(mapping.createCopy(), nullptr);   // additive: older builds ignore it

@@ -428,8 +428,8 @@ void ReaderPanel::saveProfile()
                               const auto file = fc.getResult();
                               if (file == juce::File()) return;
                               try {
-                                  device::saveTouchProfile(file.getFullPathName().toStdString(),
-                                                           device::parseTouchProfile(json.toStdString(), "the touch profile setting"));
+                                  link::saveTouchProfile(file.getFullPathName().toStdString(),
+                                                           link::parseTouchProfile(json.toStdString(), "the touch profile setting"));
                                   announce("Touch profile saved to " + file.getFullPathName());
                               } catch (const std::exception& e) {
                                   announce("The touch profile was not saved: " + juce::String(e.what()));
@@ -446,9 +446,9 @@ void ReaderPanel::refresh()
         juce::String text = "Touch profile: none (every motor alike)";
         if (json.isNotEmpty()) {
             try {
-                const auto profile = device::parseTouchProfile(json.toStdString(), "the touch profile setting");
+                const auto profile = link::parseTouchProfile(json.toStdString(), "the touch profile setting");
                 text = "Touch profile: thresholds";
-                for (int m = 0; m < device::kProfileMotors; ++m)
+                for (int m = 0; m < link::kProfileMotors; ++m)
                     text << " m" << (m + 1) << "=" << profile.threshold[static_cast<std::size_t>(m)];
                 if (profile.comfort > 0) text << "; comfortable level " << profile.comfort << " (m" << profile.comfortMotor << ")";
             } catch (const std::exception& e) {
@@ -474,8 +474,8 @@ juce::String ReaderPanel::loadTouchProfile(const juce::File& file)
 {
     juce::String message;
     try {
-        const auto profile = device::loadTouchProfile(file.getFullPathName().toStdString());
-        processor_.settings().setProperty(SettingIds::touchProfile, juce::String(device::touchProfileToJson(profile)), nullptr);
+        const auto profile = link::loadTouchProfile(file.getFullPathName().toStdString());
+        processor_.settings().setProperty(SettingIds::touchProfile, juce::String(link::touchProfileToJson(profile)), nullptr);
         refresh();   // announces the thresholds
         return {};
     } catch (const std::exception& e) {

@@ -102,14 +102,14 @@ void SceneControls::rebuild()
         c.label->setText("Score", juce::dontSendNotification);
         auto box = std::make_unique<ChoiceBox>();
         int itemId = 1;
-        for (const ScoreEntry& s : listScores()) box->addItem(juce::String(s.name), itemId++);
+        for (const core::ScoreEntry& s : core::listScores()) box->addItem(juce::String(s.name), itemId++);
         box->addSeparator();
         constexpr int kImportItem = 10000;
         box->addItem("Import a file... (MIDI, WAV, AHAP, .haptic, .tact)", kImportItem);
         box->setEditableText(true);
         box->setText(processor_.settings()[SettingIds::score].toString(), juce::dontSendNotification);
         box->setTitle("Score");
-        box->setDescription("A score by name (the shipped ones and yours in " + juce::String(userResourceDir())
+        box->setDescription("A score by name (the shipped ones and yours in " + juce::String(core::userResourceDir())
                             + "/Scores), the path of a .score file, or Import a file: a MIDI file, a multichannel WAV, an AHAP, a .haptic or a bHaptics .tact file.");
         box->onChange = [this, b = box.get()] {
             if (b->getSelectedId() == kImportItem) {
@@ -141,7 +141,7 @@ void SceneControls::chooseScoreFile(juce::ComboBox& box)
                               const std::string path = f.getFullPathName().toStdString();
                               try {
                                   // The same import the engine runs as it loads: its errors name the file and the byte or line.
-                                  const ImportedScore s = importScoreFile(path);
+                                  const formats::ImportedScore s = formats::importScoreFile(path);
                                   processor_.settings().setProperty(SettingIds::score, juce::String(path), nullptr);
                                   if (safeBox != nullptr) safeBox->setText(juce::String(path), juce::dontSendNotification);
                                   note_.setText("Imported " + f.getFileName() + ": " + juce::String(s.report.notes) + " notes, " +

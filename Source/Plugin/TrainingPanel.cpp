@@ -355,7 +355,7 @@ void TrainingPanel::save()
                                   log_.clear();
                               } else {
                                   try {
-                                      writeFileAtomically(file.getFullPathName().toStdString(), log_);
+                                      core::writeFileAtomically(file.getFullPathName().toStdString(), log_);
                                       message = "Training log saved to " + file.getFullPathName();
                                   } catch (const std::exception& e) {
                                       message = "The training log was not saved: " + juce::String(e.what());

@@ -109,7 +109,7 @@ void AdaptiveTraining::start(const Options& options)
     access::ReaderProfile out = reader_;
     out.sessions.push_back({access_.session, utcNow(), access_.method, 0.0});
     access::saveReaderProfile(options_.profilePath, out);
-    if (! options_.logPath.empty()) writeFileAtomically(options_.logPath, log_);
+    if (! options_.logPath.empty()) core::writeFileAtomically(options_.logPath, log_);
     drawTrial();
 }
 
@@ -317,7 +317,7 @@ void AdaptiveTraining::save()
         if (plan_) out.answers = plan_->answers();
         out.sessions.push_back({access_.session, utcNow(), access_.method, now()});
         access::saveReaderProfile(options_.profilePath, out);
-        if (! options_.logPath.empty()) writeFileAtomically(options_.logPath, log_);
+        if (! options_.logPath.empty()) core::writeFileAtomically(options_.logPath, log_);
         saveError_.clear();
     } catch (const std::exception& e) {
         saveError_ = e.what();

@@ -7,19 +7,19 @@
 
 namespace armadillo::procedures {
 
-void DeviceCalibration::offer(double t, const device::SensorCounts& counts) noexcept
+void DeviceCalibration::offer(double t, const link::SensorCounts& counts) noexcept
 {
     if (! accepting_.load(std::memory_order_acquire)) return;
     if (! queue_.push(Packet {t, counts})) dropped_.fetch_add(1, std::memory_order_relaxed);
 }
 
-void DeviceCalibration::begin(const device::Calibration& start) { begin(start, device::CalibrationProcedure::Params {}); }
+void DeviceCalibration::begin(const link::Calibration& start) { begin(start, link::CalibrationProcedure::Params {}); }
 
-void DeviceCalibration::begin(const device::Calibration& start, const device::CalibrationProcedure::Params& params)
+void DeviceCalibration::begin(const link::Calibration& start, const link::CalibrationProcedure::Params& params)
 {
     accepting_.store(false, std::memory_order_release);
     discardQueued();   // packets of an earlier run must not count toward this one
-    procedure_ = std::make_unique<device::CalibrationProcedure>(start, params);
+    procedure_ = std::make_unique<link::CalibrationProcedure>(start, params);
     for (bool& m : measured_) m = false;
     stopReason_.clear();
     fed_ = 0;
@@ -107,7 +107,7 @@ bool DeviceCalibration::next(std::string& why)
     const Step was = procedure_->step();
     try {
         procedure_->finishStep();
-    } catch (const InputError&) {
+    } catch (const core::InputError&) {
         why = "Not enough data for this step yet (" + std::to_string(static_cast<int>(progress() * 100.0)) + " %): keep following the instruction.";
         return false;
     }
@@ -123,16 +123,16 @@ void DeviceCalibration::skip()
     if (finished()) accepting_.store(false, std::memory_order_release);
 }
 
-device::Calibration DeviceCalibration::result() const { return procedure_ != nullptr ? procedure_->result() : device::Calibration {}; }
+link::Calibration DeviceCalibration::result() const { return procedure_ != nullptr ? procedure_->result() : link::Calibration {}; }
 
 void DeviceCalibration::save(const std::string& path) const
 {
-    device::Calibration c = result();
+    link::Calibration c = result();
     const std::time_t now = std::time(nullptr);
     char date[32];
     std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
     c.date = date;
-    device::saveCalibration(path, c);
+    link::saveCalibration(path, c);
 }
 
 std::string DeviceCalibration::measuredList(bool measured) const
@@ -204,15 +204,15 @@ Eigen::Quaterniond CalibrationRehearsal::orientation(DeviceCalibration::Step s, 
     case Step::GyroTurnY:
     case Step::GyroTurnZ: {   // one full turn in 2 s, then still
         const Eigen::Vector3d axis = Eigen::Vector3d::Unit(static_cast<int>(s) - static_cast<int>(Step::GyroTurnX));
-        return restOrientation() * Q(A(2 * pi * std::clamp(since / 2.0, 0.0, 1.0), axis));
+        return core::restOrientation() * Q(A(2 * pi * std::clamp(since / 2.0, 0.0, 1.0), axis));
     }
     case Step::GyroStill:
     case Step::Done: break;
     }
-    return restOrientation();
+    return core::restOrientation();
 }
 
-device::MotionState CalibrationRehearsal::at(double t) const
+link::MotionState CalibrationRehearsal::at(double t) const
 {
     double start = start_.load(std::memory_order_relaxed);
     if (start < 0.0) {   // the step's movement begins now
@@ -222,9 +222,9 @@ device::MotionState CalibrationRehearsal::at(double t) const
     last_.store(t, std::memory_order_relaxed);
     const auto s = static_cast<DeviceCalibration::Step>(step_.load(std::memory_order_acquire));
     const double since = std::max(0.0, t - start), h = 1e-3;
-    device::MotionState m;
+    link::MotionState m;
     m.q = orientation(s, since);
-    m.omega = device::angularVelocity(m.q, orientation(s, since + h), h);
+    m.omega = link::angularVelocity(m.q, orientation(s, since + h), h);
     return m;
 }
 

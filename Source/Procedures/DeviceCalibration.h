@@ -1,10 +1,10 @@
 #pragma once
-// The guided device calibration of thesis §2.4 (device::CalibrationProcedure, Link/Calibration.h)
+// The guided device calibration of thesis §2.4 (link::CalibrationProcedure, Link/Calibration.h)
 // run beside a live link, written once for `armadillo calibrate` (Cli/CmdCalibrate.cpp presents it
 // on stdin/stderr) and the app's Calibration window (Plugin/CalibrationPanel.cpp). Seven steps,
 // each with a title and an instruction; the presenter offers Next (accepted when the step has
 // enough data, else refused with why), Skip (the step keeps the starting calibration's numbers)
-// and Cancel. The result is a device::Calibration, written by save().
+// and Cancel. The result is a link::Calibration, written by save().
 // Threads: the link thread offers every raw sensor packet (offer(): lock-free, never blocks; a
 // full queue drops the packet and counts it); the front-end thread (the app's message thread, the
 // CLI's main thread) drains the queue (drain()), feeds the procedure and owns everything else. The
@@ -21,7 +21,7 @@ namespace armadillo::procedures {
 
 class DeviceCalibration {
 public:
-    using Step = device::CalibrationProcedure::Step;
+    using Step = link::CalibrationProcedure::Step;
     /// Packets the queue holds: 5 s at the thesis's 200 Hz, so a stalled UI timer loses nothing.
     static constexpr std::size_t kQueueCapacity = 1024;
     /// Steps the user goes through (Done is not one).
@@ -30,13 +30,13 @@ public:
     // --- link thread -----------------------------------------------------------------------
     /// Queues one raw packet (t in s, increasing) while a calibration runs; otherwise does
     /// nothing. Never blocks, allocates or throws.
-    void offer(double t, const device::SensorCounts& counts) noexcept;
+    void offer(double t, const link::SensorCounts& counts) noexcept;
 
     // --- front-end thread ------------------------------------------------------------------
     /// Starts (or restarts) the procedure from `start`, the calibration the link uses now: its
     /// rad/s thresholds decide what "still" means, and a skipped step keeps its numbers.
-    void begin(const device::Calibration& start);
-    void begin(const device::Calibration& start, const device::CalibrationProcedure::Params& params);
+    void begin(const link::Calibration& start);
+    void begin(const link::Calibration& start, const link::CalibrationProcedure::Params& params);
     /// Stops without a result; `why` is kept for the UI ("" = the user cancelled).
     void cancel(const std::string& why = {});
     /// Moves queued packets into the procedure; returns how many.
@@ -56,7 +56,7 @@ public:
     bool next(std::string& why);
     void skip();
     /// The calibration so far (finished steps applied, the others as started).
-    device::Calibration result() const;
+    link::Calibration result() const;
     /// Writes result() to `path` (atomic; IoError when it cannot), `date` stamped now (UTC).
     void save(const std::string& path) const;
     /// Which steps were measured (true) and which kept the starting numbers (skipped).
@@ -76,14 +76,14 @@ public:
 private:
     struct Packet {
         double t = 0.0;
-        device::SensorCounts counts {};
+        link::SensorCounts counts {};
     };
     void discardQueued() noexcept;
 
-    SpscQueue<Packet, kQueueCapacity> queue_;
+    core::SpscQueue<Packet, kQueueCapacity> queue_;
     std::atomic<bool> accepting_ {false};
     std::atomic<std::uint64_t> dropped_ {0};
-    std::unique_ptr<device::CalibrationProcedure> procedure_;
+    std::unique_ptr<link::CalibrationProcedure> procedure_;
     bool measured_[kStepCount + 1] {};
     std::string stopReason_;
     std::uint64_t fed_ = 0;
@@ -96,14 +96,14 @@ private:
 /// movement at the first sample after that, and performed() says when it has gone through it
 /// once — the simulated user's "done" (a step taken as soon as it is ready() would measure half
 /// a turn or half the extremes). at() runs on the simulator's thread: lock-free.
-class CalibrationRehearsal final : public device::MotionSource {
+class CalibrationRehearsal final : public link::MotionSource {
 public:
     void setStep(DeviceCalibration::Step s) noexcept;
     /// The step's movement has been done once (any thread).
     bool performed() const noexcept;
     /// s of movement a step takes (0 for keeping still: the procedure times that itself).
     static double movementSeconds(DeviceCalibration::Step s) noexcept;
-    device::MotionState at(double t) const override;
+    link::MotionState at(double t) const override;
 
 private:
     Eigen::Quaterniond orientation(DeviceCalibration::Step s, double since) const;

@@ -4,12 +4,12 @@
 
 namespace armadillo::procedures {
 
-void MountCalibration::begin(const std::string& device, Advance advance) { begin(device, device::MountCalibration::Params {}, advance); }
+void MountCalibration::begin(const std::string& device, Advance advance) { begin(device, link::MountCalibration::Params {}, advance); }
 
-void MountCalibration::begin(const std::string& device, const device::MountCalibration::Params& params, Advance advance)
+void MountCalibration::begin(const std::string& device, const link::MountCalibration::Params& params, Advance advance)
 {
-    calibration_ = std::make_unique<device::MountCalibration>(params);
-    result_ = device::Mount {};
+    calibration_ = std::make_unique<link::MountCalibration>(params);
+    result_ = link::Mount {};
     device_ = device;
     advance_ = advance;
     failed_.clear();
@@ -35,7 +35,7 @@ void MountCalibration::cancel(const std::string& why)
     stopReason_ = why;
 }
 
-void MountCalibration::feed(const device::SensorFrameSample& s)
+void MountCalibration::feed(const osc::SensorFrameSample& s)
 {
     // A pose with enough data waits for Next: the arm moving on must not replace it.
     if (! running() || calibration_->ready()) return;
@@ -51,10 +51,10 @@ void MountCalibration::feed(const device::SensorFrameSample& s)
     }
 }
 
-std::size_t MountCalibration::drain(const std::function<bool(device::SensorFrameSample&)>& pop)
+std::size_t MountCalibration::drain(const std::function<bool(osc::SensorFrameSample&)>& pop)
 {
     std::size_t n = 0;
-    device::SensorFrameSample s;
+    osc::SensorFrameSample s;
     while (pop(s)) {   // popped even when not running, so no stale samples wait in the tap
         feed(s);
         ++n;
@@ -67,13 +67,13 @@ std::string MountCalibration::stepTitle() const
     if (finished_) return "Mount calibration done";
     if (! failed_.empty()) return "Mount calibration failed";
     const Pose p = pose();
-    return "Pose " + std::to_string(static_cast<int>(p) + 1) + " of " + std::to_string(kPoseCount) + ": " + device::MountCalibration::poseName(p);
+    return "Pose " + std::to_string(static_cast<int>(p) + 1) + " of " + std::to_string(kPoseCount) + ": " + link::MountCalibration::poseName(p);
 }
 
 std::string MountCalibration::instruction() const
 {
     if (! failed_.empty()) return failed_;
-    std::string s = device::MountCalibration::instruction(finished_ ? Pose::Done : pose());
+    std::string s = link::MountCalibration::instruction(finished_ ? Pose::Done : pose());
     if (! s.empty()) s[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(s[0])));
     return s + ".";
 }
@@ -83,8 +83,8 @@ std::string MountCalibration::announcement() const
     if (! failed_.empty()) return "mount calibration failed: " + failedWhy_;
     const Pose p = pose();
     if (finished_ || p == Pose::Done) return "mount calibration complete";
-    return "mount calibration pose " + std::to_string(static_cast<int>(p) + 1) + " (" + device::MountCalibration::poseName(p) +
-           "): " + device::MountCalibration::instruction(p);
+    return "mount calibration pose " + std::to_string(static_cast<int>(p) + 1) + " (" + link::MountCalibration::poseName(p) +
+           "): " + link::MountCalibration::instruction(p);
 }
 
 void MountCalibration::announce() const
@@ -141,7 +141,7 @@ bool MountCalibration::conclude(std::string& why)
 
 bool MountCalibration::solve(std::string& why)
 {
-    device::Mount m;
+    link::Mount m;
     if (! calibration_->solve(m, why)) {
         failedWhy_ = why;
         failed_ = "No mount found: " + why + ". Start again.";
@@ -153,7 +153,7 @@ bool MountCalibration::solve(std::string& why)
     return true;
 }
 
-void MountCalibration::save(const std::string& path) const { device::saveMount(path, result_); }
+void MountCalibration::save(const std::string& path) const { link::saveMount(path, result_); }
 
 std::string MountCalibration::fileNameForDevice(const std::string& device)
 {

@@ -1,5 +1,5 @@
 #pragma once
-// The guided mount calibration of an OSC sensor (device::MountCalibration, Link/Mount.h: arm level
+// The guided mount calibration of an OSC sensor (link::MountCalibration, Link/Mount.h: arm level
 // ahead, arm hanging down, optionally a quarter roll), written once for the app's Mount window
 // (Plugin/MountCalibrationPanel.cpp) and the command line's `play --calibrate-mount`
 // (Cli/CmdPlay.cpp's GuidedMount, with Advance::WhenReady), both fed from the rig's sensor-frame
@@ -12,7 +12,7 @@
 //     (conclude()).
 // The presenter hears each pose through the announcer (one line a pose: "mount calibration pose
 // 2 (hanging down): let the arm hang …", then "mount calibration complete"); the result is a
-// device::Mount, written by save().
+// link::Mount, written by save().
 // Threads: one front-end thread (the app's message thread, the CLI's main thread); the OSC
 // receiver thread only pushes into the merger's lock-free tap, and drain() pops from it.
 #include "Link/Mount.h"
@@ -26,7 +26,7 @@ namespace armadillo::procedures {
 
 class MountCalibration {
 public:
-    using Pose = device::MountCalibration::Pose;
+    using Pose = link::MountCalibration::Pose;
     enum class Advance { OnNext, WhenReady };
     /// Poses the user goes through (the third is optional).
     static constexpr int kPoseCount = 3;
@@ -35,15 +35,15 @@ public:
     void setAnnouncer(std::function<void(const std::string& line)> announce) { announce_ = std::move(announce); }
     /// Starts (or restarts) the calibration; `device` names the sensor (for the saved file).
     void begin(const std::string& device = {}, Advance advance = Advance::OnNext);
-    void begin(const std::string& device, const device::MountCalibration::Params& params, Advance advance = Advance::OnNext);
+    void begin(const std::string& device, const link::MountCalibration::Params& params, Advance advance = Advance::OnNext);
     /// Names the sensor once it is known (a sender's name arrives with its first packets).
     void setDevice(const std::string& device);
     /// Stops without a result; `why` is kept for the UI ("" = the user cancelled).
     void cancel(const std::string& why = {});
     /// One sensor-frame sample (accel m/s², gyro rad/s or NaN). Ignored unless running.
-    void feed(const device::SensorFrameSample& s);
+    void feed(const osc::SensorFrameSample& s);
     /// Pops samples with `pop` (the OSC input's tap) until it returns false; returns how many.
-    std::size_t drain(const std::function<bool(device::SensorFrameSample&)>& pop);
+    std::size_t drain(const std::function<bool(osc::SensorFrameSample&)>& pop);
 
     bool running() const noexcept { return calibration_ != nullptr && ! finished_ && failed_.empty(); }
     /// Solved: result() holds the mount.
@@ -74,7 +74,7 @@ public:
     /// ("two poses are needed", …; pose() says where it stopped).
     bool conclude(std::string& why);
     /// The solved mount (name "calibrated", device as given to begin() or setDevice()).
-    const device::Mount& result() const noexcept { return result_; }
+    const link::Mount& result() const noexcept { return result_; }
     /// Writes result() to `path` (atomic; IoError when it cannot).
     void save(const std::string& path) const;
     const std::string& device() const noexcept { return device_; }
@@ -90,9 +90,9 @@ private:
     bool solve(std::string& why);
     void announce() const;
 
-    std::unique_ptr<device::MountCalibration> calibration_;
+    std::unique_ptr<link::MountCalibration> calibration_;
     std::function<void(const std::string&)> announce_;
-    device::Mount result_;
+    link::Mount result_;
     std::string device_, failed_, failedWhy_, stopReason_;
     Advance advance_ = Advance::OnNext;
     bool finished_ = false;

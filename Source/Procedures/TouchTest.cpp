@@ -8,7 +8,7 @@ namespace armadillo::procedures {
 // Right-arm layout: index i = motor m(i+1), the profile's order.
 TouchTest::TouchTest() : TouchTest(Params {}) {}
 
-TouchTest::TouchTest(const Params& params) : params_(params), player_(TactileConfig {}, params.packetPeriod) {}
+TouchTest::TouchTest(const Params& params) : params_(params), player_(tactile::TactileConfig {}, params.packetPeriod) {}
 
 void TouchTest::begin(std::uint64_t seed, bool comfort)
 {
@@ -28,7 +28,7 @@ void TouchTest::begin(std::uint64_t seed, bool comfort)
 void TouchTest::next()
 {
     if (order_.empty()) {
-        for (int m = 0; m < device::kProfileMotors; ++m)
+        for (int m = 0; m < link::kProfileMotors; ++m)
             if (! stairs_[static_cast<std::size_t>(m)].done()) order_.push_back(m);
         if (order_.empty()) {
             if (! askComfort_ || comfortStep_) {
@@ -38,10 +38,10 @@ void TouchTest::next()
             // The comfortable level: from the comfort motor's threshold + 1 upwards; at the top
             // level it is taken without asking.
             comfortStep_ = true;
-            motor_ = device::TouchProfile {}.comfortMotor - 1;
-            level_ = std::min(kMaxLevel, stairs_[static_cast<std::size_t>(motor_)].threshold() + 1);
-            if (level_ >= kMaxLevel) {
-                comfort_ = kMaxLevel;
+            motor_ = link::TouchProfile {}.comfortMotor - 1;
+            level_ = std::min(core::kMaxLevel, stairs_[static_cast<std::size_t>(motor_)].threshold() + 1);
+            if (level_ >= core::kMaxLevel) {
+                comfort_ = core::kMaxLevel;
                 state_ = State::Done;
                 return;
             }
@@ -85,8 +85,8 @@ void TouchTest::answer(bool felt)
 {
     if (state_ != State::Asking) return;
     if (comfortStep_) {   // felt = "comfortable"
-        if (felt || level_ + 1 >= kMaxLevel) {
-            comfort_ = felt ? level_ : kMaxLevel;
+        if (felt || level_ + 1 >= core::kMaxLevel) {
+            comfort_ = felt ? level_ : core::kMaxLevel;
             state_ = State::Done;
             return;
         }
@@ -117,10 +117,10 @@ int TouchTest::loweredTo() const noexcept
     return sent < level_ ? sent : 0;
 }
 
-device::TouchProfile TouchTest::profile() const
+link::TouchProfile TouchTest::profile() const
 {
-    device::TouchProfile p;
-    for (std::size_t m = 0; m < device::kProfileMotors; ++m) {
+    link::TouchProfile p;
+    for (std::size_t m = 0; m < link::kProfileMotors; ++m) {
         p.threshold[m] = stairs_[m].threshold();
         p.felt[m] = stairs_[m].felt();
     }
@@ -134,26 +134,26 @@ device::TouchProfile TouchTest::profile() const
     return p;
 }
 
-void TouchTest::save(const std::string& path) const { device::saveTouchProfile(path, profile()); }
+void TouchTest::save(const std::string& path) const { link::saveTouchProfile(path, profile()); }
 
 namespace {
-std::string thresholdList(const device::TouchProfile& p)
+std::string thresholdList(const link::TouchProfile& p)
 {
     std::string out;
-    for (std::size_t m = 0; m < device::kProfileMotors; ++m) out += (m ? "," : "") + std::to_string(p.threshold[m]);
+    for (std::size_t m = 0; m < link::kProfileMotors; ++m) out += (m ? "," : "") + std::to_string(p.threshold[m]);
     return out;
 }
 } // namespace
 
 std::string TouchTest::summary() const
 {
-    const device::TouchProfile p = profile();
+    const link::TouchProfile p = profile();
     return "thresholds " + thresholdList(p) + (p.comfort ? ", comfortable level " + std::to_string(p.comfort) : "");
 }
 
 std::string TouchTest::summaryJson() const
 {
-    const device::TouchProfile p = profile();
+    const link::TouchProfile p = profile();
     std::ostringstream o;
     o << "{\"stimuli\":" << p.stimuli << ",\"stimulus_seconds\":" << p.stimulusSeconds << ",\"threshold\":[" << thresholdList(p)
       << "],\"comfort\":" << p.comfort << "}";

@@ -10,7 +10,7 @@
 // one motor). The reader answers felt / not felt after each stimulus. Then a comfortable level on
 // the profile's comfort motor (m5): ascending from its threshold + 1, one level a step, until the
 // reader answers "comfortable" (at level 15 it is taken without asking). The result is a
-// device::TouchProfile ("comfort" included), written by save().
+// link::TouchProfile ("comfort" included), written by save().
 //
 // Threads: everything here runs on one front-end thread (the app's message thread, the CLI's main
 // thread); the player's control side (TactilePlayer::onPacket) runs on the control step (the app's
@@ -72,7 +72,7 @@ public:
     int level() const noexcept { return level_; }
     int stimuli() const noexcept { return stimuli_; }
     /// The measured profile (valid in Done); `date` stamped now (UTC).
-    device::TouchProfile profile() const;
+    link::TouchProfile profile() const;
     /// Writes profile() to `path` (atomic; IoError when it cannot).
     void save(const std::string& path) const;
     /// "thresholds 2,5,9,…, comfortable level 7": the result in words.
@@ -86,8 +86,8 @@ private:
 
     Params params_;
     access::TactilePlayer player_;
-    std::array<Staircase, device::kProfileMotors> stairs_ {};
-    std::array<double, device::kProfileMotors> lastStart_ {};
+    std::array<tactile::Staircase, link::kProfileMotors> stairs_ {};
+    std::array<double, link::kProfileMotors> lastStart_ {};
     std::vector<int> order_;
     std::mt19937_64 rng_ {1};
     State state_ = State::Idle;

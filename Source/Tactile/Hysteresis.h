@@ -1,7 +1,7 @@
 #pragma once
 // Two thresholds on every boundary (thesis §3.2.4): a state turns on when the signal rises above
 // `enter` and off only when it falls below `exit`, so noise near one threshold cannot chatter.
-namespace armadillo {
+namespace armadillo::tactile {
 
 class Hysteresis {
 public:
@@ -42,4 +42,4 @@ private:
     bool on_;
 };
 
-} // namespace armadillo
+} // namespace armadillo::tactile

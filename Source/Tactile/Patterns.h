@@ -11,7 +11,7 @@
 #include <optional>
 #include <string_view>
 
-namespace armadillo {
+namespace armadillo::tactile {
 
 /// Named motor sets (bit i = motor index i). The anchors are the motors lying on bone (thesis
 /// §3.2.6, [CCB01]): both sides of the wrist, and the two side columns along radius and ulna.
@@ -20,7 +20,7 @@ constexpr std::uint16_t bit(int index) noexcept { return static_cast<std::uint16
 constexpr std::uint16_t row(int r) noexcept { return static_cast<std::uint16_t>(0x7u << (3 * r)); }
 constexpr std::uint16_t column(int c) noexcept
 {
-    return static_cast<std::uint16_t>(bit(motorIndex(0, c)) | bit(motorIndex(1, c)) | bit(motorIndex(2, c)));
+    return static_cast<std::uint16_t>(bit(core::motorIndex(0, c)) | bit(core::motorIndex(1, c)) | bit(core::motorIndex(2, c)));
 }
 inline constexpr std::uint16_t kGrid = 0x01FF;
 inline constexpr std::uint16_t kBack = 0x0E00;             ///< motors 10..12
@@ -31,7 +31,7 @@ inline constexpr std::uint16_t kLeftColumn = column(0);
 inline constexpr std::uint16_t kUndersideColumn = column(1);
 inline constexpr std::uint16_t kRightColumn = column(2);
 /// Wrist-bone anchors: felt as two distinct points even together (thesis Figure 3-11).
-inline constexpr std::uint16_t kWristAnchors = bit(motorIndex(0, 0)) | bit(motorIndex(0, 2));
+inline constexpr std::uint16_t kWristAnchors = bit(core::motorIndex(0, 0)) | bit(core::motorIndex(0, 2));
 /// Every motor lying on bone: the wrist pair and both side columns (radius and ulna).
 inline constexpr std::uint16_t kBoneAnchors = kLeftColumn | kRightColumn;
 } // namespace motors
@@ -64,24 +64,24 @@ inline constexpr PatternParams kDefaultPatternParams {};
 /// Stable names used by score files and docs: "point", "pulse", "fade-in-pulse",
 /// "fade-out-pulse", "breathing", "jolt", "tickle", "massage", "twist", "broken-glass",
 /// "accent", "gear-pull", "geiger".
-std::string_view patternName(PatternKind kind) noexcept;
-std::optional<PatternKind> patternKindFromName(std::string_view name) noexcept;
+std::string_view patternName(core::PatternKind kind) noexcept;
+std::optional<core::PatternKind> patternKindFromName(std::string_view name) noexcept;
 inline constexpr int kPatternKinds = 13;
 
 /// True for patterns that repeat until stopped when `duration` is 0.
-bool patternIsPeriodic(PatternKind kind) noexcept;
+bool patternIsPeriodic(core::PatternKind kind) noexcept;
 /// The pattern's length in s: request.duration when > 0, infinity when < 0 (until stopped),
 /// else the pattern's default (infinity for periodic patterns, BrokenGlass included).
-double patternLength(const PatternRequest& request, const PatternParams& params) noexcept;
+double patternLength(const core::PatternRequest& request, const PatternParams& params) noexcept;
 /// The rate in Hz a periodic pattern runs at (request.rate, or the pattern's default); the
 /// phase of a periodic pattern is t × this rate. 0 for one-shot patterns.
-double patternRate(const PatternRequest& request, const PatternParams& params) noexcept;
+double patternRate(const core::PatternRequest& request, const PatternParams& params) noexcept;
 /// Length in s of one broken-glass sequence (shown once, then mirrored).
 double brokenGlassCycle(const PatternParams& params) noexcept;
 
 /// One instant of a pattern.
 struct PatternSample {
-    std::array<float, kMaxMotors> level {};   ///< 0..15 per motor (right-arm layout)
+    std::array<float, core::kMaxMotors> level {}; ///< 0..15 per motor (right-arm layout)
     std::uint16_t active = 0;                 ///< motors this pattern drives now (level > 0)
     std::uint16_t smooth = 0;                 ///< motors whose rise is a fade (no jump-start)
     /// s from t until the current on-segment of the active motors ends (a click, a touch, a
@@ -92,7 +92,7 @@ struct PatternSample {
 
 /// The pattern at time t s after it started (t may be any value in [0, length)). `seed` picks
 /// the random choices (tickle); the same seed gives the same touches.
-PatternSample evaluatePattern(const PatternRequest& request, const PatternParams& params, double t,
+PatternSample evaluatePattern(const core::PatternRequest& request, const PatternParams& params, double t,
                               std::uint64_t seed) noexcept;
 
-} // namespace armadillo
+} // namespace armadillo::tactile

@@ -17,7 +17,7 @@
 #include <cmath>
 #include <limits>
 
-namespace armadillo {
+namespace armadillo::tactile {
 
 namespace {
 constexpr std::size_t kRecordsPerMotor = 2048;   // run-length records per motor (power of two)
@@ -25,16 +25,16 @@ constexpr std::size_t kRecordsPerMotor = 2048;   // run-length records per motor
 constexpr double kSlack = 1e-9;
 } // namespace
 
-SafetyStage::SafetyStage() { prepare(kDefaultSafetyParams, kMaxMotors); }
+SafetyStage::SafetyStage() { prepare(kDefaultSafetyParams, core::kMaxMotors); }
 
 void SafetyStage::prepare(const SafetyParams& params, int motorCount)
 {
     params_ = params;
-    params_.ratedLevel = std::clamp(params_.ratedLevel, 0, kMaxLevel);
+    params_.ratedLevel = std::clamp(params_.ratedLevel, 0, core::kMaxLevel);
     params_.maxHoldTime = std::max(params_.maxHoldTime, 1e-4);
-    motorCount_ = std::clamp(motorCount, 0, kMaxMotors);
+    motorCount_ = std::clamp(motorCount, 0, core::kMaxMotors);
     capacity_ = kRecordsPerMotor;
-    const std::size_t n = capacity_ * static_cast<std::size_t>(kMaxMotors);
+    const std::size_t n = capacity_ * static_cast<std::size_t>(core::kMaxMotors);
     start_.assign(n, 0.0);
     cumE_.assign(n, 0.0);
     cumA_.assign(n, 0.0);
@@ -103,7 +103,7 @@ void SafetyStage::push(int m, std::uint8_t level) noexcept
     level_[r] = level;
 }
 
-MotorLevels SafetyStage::process(const MotorLevels& requested, double dt) noexcept
+core::MotorLevels SafetyStage::process(const core::MotorLevels& requested, double dt) noexcept
 {
     limited_ = 0;
     const bool error = !(dt >= 0.0) || !std::isfinite(dt);
@@ -114,11 +114,11 @@ MotorLevels SafetyStage::process(const MotorLevels& requested, double dt) noexce
     const double dutyWindow = params_.aboveRatingWindow;
     const double dutyLimit = params_.maxAboveRatingFraction * dutyWindow;
     const double powerWindow = params_.powerWindow;
-    const double energyLimit = params_.maxMeanPower * double(kMaxLevel * kMaxLevel) * powerWindow;
+    const double energyLimit = params_.maxMeanPower * double(core::kMaxLevel * core::kMaxLevel) * powerWindow;
     const std::size_t mask = capacity_ - 1;
 
-    MotorLevels out {};
-    for (int m = 0; m < kMaxMotors; ++m) {
+    core::MotorLevels out {};
+    for (int m = 0; m < core::kMaxMotors; ++m) {
         const auto mi = static_cast<std::size_t>(m);
         // What the previous packet did during the dt that just passed.
         if (!error) {
@@ -128,7 +128,7 @@ MotorLevels SafetyStage::process(const MotorLevels& requested, double dt) noexce
             rest_[mi] = std::max(0.0, rest_[mi] - dt);
         }
         dropOld(m);
-        int level = std::min<int>(requested[mi], kMaxLevel);
+        int level = std::min<int>(requested[mi], core::kMaxLevel);
         const int wanted = level;
         if (error || forceOff_ || m >= motorCount_ || rest_[mi] > 0.0) level = 0;
 
@@ -198,4 +198,4 @@ MotorLevels SafetyStage::process(const MotorLevels& requested, double dt) noexce
     return out;
 }
 
-} // namespace armadillo
+} // namespace armadillo::tactile

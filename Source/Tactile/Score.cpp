@@ -32,7 +32,7 @@
 #include <optional>
 #include <unordered_set>
 
-namespace armadillo {
+namespace armadillo::tactile {
 
 namespace {
 
@@ -92,7 +92,7 @@ bool parseMotorNumber(std::string_view s, int& k) noexcept
         if (c < '0' || c > '9') return false;
         k = 10 * k + (c - '0');
     }
-    return k >= 1 && k <= kMaxMotors;
+    return k >= 1 && k <= core::kMaxMotors;
 }
 
 class Parser {
@@ -139,7 +139,7 @@ public:
 private:
     [[noreturn]] void fail(std::string_view field, const std::string& message) const
     {
-        throw InputError(source_, line_, std::string(field), message);
+        throw core::InputError(source_, line_, std::string(field), message);
     }
 
     double number(std::string_view word, std::string_view field, double lo, double hi)
@@ -296,7 +296,7 @@ private:
 
     float level(std::string_view word)
     {
-        return static_cast<float>(number(word, "level", 0.0, double(kMaxLevel)));
+        return static_cast<float>(number(word, "level", 0.0, double(core::kMaxLevel)));
     }
 
     // Seconds from the file's units (time or duration measured from `fromUnits`).
@@ -417,7 +417,7 @@ private:
     void stop(double t)
     {
         if (words_.size() == 3 && words_[2] == "all") {
-            for (int v = 0; v < kPatternVoices; ++v) pendingStops_.push_back({t, v, line_});
+            for (int v = 0; v < core::kPatternVoices; ++v) pendingStops_.push_back({t, v, line_});
             return;
         }
         const Args a = arguments(2, {"voice"});
@@ -429,7 +429,7 @@ private:
 
     int voiceNumber(std::string_view word)
     {
-        const double v = number(word, "voice", 0.0, double(kPatternVoices - 1));
+        const double v = number(word, "voice", 0.0, double(core::kPatternVoices - 1));
         if (std::floor(v) != v) fail("voice", "a voice is a whole number 0..7");
         return static_cast<int>(v);
     }
@@ -452,7 +452,7 @@ private:
         std::string s;
         for (int k = 0; k < kPatternKinds; ++k) {
             if (k) s += ", ";
-            s += patternName(static_cast<PatternKind>(k));
+            s += patternName(static_cast<core::PatternKind>(k));
         }
         return s;
     }
@@ -473,12 +473,12 @@ private:
         // its voice, whichever comes first. One pass over each list (patterns and stops are in
         // file order, so in time order): per voice, the next pattern is found walking backwards
         // and the first stop at or after a pattern by a cursor that only moves forward.
-        std::vector<std::vector<std::size_t>> stopsOf(kPatternVoices);
+        std::vector<std::vector<std::size_t>> stopsOf(core::kPatternVoices);
         for (std::size_t k = 0; k < pendingStops_.size(); ++k) stopsOf[static_cast<std::size_t>(pendingStops_[k].voice)].push_back(k);
-        std::vector<std::size_t> stopCursor(kPatternVoices, 0);
+        std::vector<std::size_t> stopCursor(core::kPatternVoices, 0);
         std::vector<double> nextOnVoice(pendingPatterns_.size(), kInfinity);
         {
-            std::vector<double> later(kPatternVoices, kInfinity);
+            std::vector<double> later(core::kPatternVoices, kInfinity);
             for (std::size_t i = pendingPatterns_.size(); i-- > 0;) {
                 const auto v = static_cast<std::size_t>(pendingPatterns_[i].request.voice);
                 nextOnVoice[i] = later[v];
@@ -538,7 +538,7 @@ private:
     struct PendingPattern {
         double at = 0.0;
         long line = 0;
-        PatternRequest request {};
+        core::PatternRequest request {};
         double durUnits = 0.0;
         bool hold = false;
     };
@@ -701,6 +701,6 @@ Score parseScore(std::string_view text, const std::string& sourceName)
     return Parser(text, sourceName).run();
 }
 
-Score loadScore(const std::string& path) { return parseScore(readWholeFile(path), path); }
+Score loadScore(const std::string& path) { return parseScore(core::readWholeFile(path), path); }
 
-} // namespace armadillo
+} // namespace armadillo::tactile

@@ -10,7 +10,7 @@
 #include <string_view>
 #include <vector>
 
-namespace armadillo {
+namespace armadillo::tactile {
 
 inline constexpr int kMaxScoreParts = 8;
 
@@ -73,7 +73,7 @@ struct ScoreCue {
 /// A pattern running on one voice over [start, end) (end = infinity: until the score ends).
 struct ScorePattern {
     double start = 0.0, end = 0.0;   ///< s of score time
-    PatternRequest request {};       ///< duration here is the written one (0 = pattern default)
+    core::PatternRequest request {}; ///< duration here is the written one (0 = pattern default)
     long line = 0;
 };
 
@@ -116,4 +116,4 @@ ScoreFileReader scoreFileReader() noexcept;
 /// Returns false for anything else.
 bool parseMotorSet(std::string_view text, std::uint16_t& mask) noexcept;
 
-} // namespace armadillo
+} // namespace armadillo::tactile

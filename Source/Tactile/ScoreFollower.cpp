@@ -21,7 +21,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace armadillo {
+namespace armadillo::tactile {
 
 static_assert(std::atomic<double>::is_always_lock_free, "the follower publishes doubles lock-free");
 static_assert(std::atomic<std::uint64_t>::is_always_lock_free, "the follower publishes 64-bit words lock-free");
@@ -51,7 +51,7 @@ constexpr double kNoHold = 1e300;
 void ScoreFollower::prepare(const Score& score, double sampleRate, const FollowerParams& params)
 {
     if (!(sampleRate >= 8000.0 && sampleRate <= 192000.0))
-        throw InputError("", 0, "sampleRate", "the score follower needs a sample rate of 8000..192000 Hz");
+        throw core::InputError("", 0, "sampleRate", "the score follower needs a sample rate of 8000..192000 Hz");
     params_ = params;
     sampleRate_ = sampleRate;
     hop_ = std::max(8, static_cast<int>(std::lround(sampleRate * params.hopSeconds)));
@@ -76,7 +76,7 @@ void ScoreFollower::prepare(const Score& score, double sampleRate, const Followe
             const ScoreNote& n = score.notes[static_cast<std::size_t>(i)];
             const double period = sampleRate / n.pitchHz;
             if (period + window_ + 2 >= kRing)
-                throw InputError(score.source, n.line, "pitch", "pitch too low for the follower at this sample rate");
+                throw core::InputError(score.source, n.line, "pitch", "pitch too low for the follower at this sample rate");
             bool known = false;
             for (int k = 0; k < f.pitches; ++k) known = known || std::fabs(f.periodSamples[static_cast<std::size_t>(k)] / period - 1.0) < 0.01;
             if (!known && f.pitches < kEventPitches) f.periodSamples[static_cast<std::size_t>(f.pitches++)] = period;
@@ -384,4 +384,4 @@ FollowState ScoreFollower::state() const noexcept
     return s;
 }
 
-} // namespace armadillo
+} // namespace armadillo::tactile

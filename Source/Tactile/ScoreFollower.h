@@ -14,7 +14,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace armadillo {
+namespace armadillo::tactile {
 
 /// Notes that start together are one event of the alignment (a chord, a melody note with its
 /// bass): notes of parts that follow notes, with a pitch, whose starts lie within this much score
@@ -132,4 +132,4 @@ private:
     std::array<std::atomic<float>, kMaxScoreParts> pubEnv_ {};
 };
 
-} // namespace armadillo
+} // namespace armadillo::tactile

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace armadillo {
+namespace armadillo::tactile {
 
 void ScorePlayer::setScore(Score score)
 {
@@ -26,7 +26,7 @@ void ScorePlayer::setScore(Score score)
     // last-listed pattern whose span [start, end) holds the position. One sweep per voice over
     // its boundaries in order, with the started patterns in a heap by listing order (those that
     // have ended are dropped when they come to the top): O(P log P), not P × boundaries.
-    for (int v = 0; v < kPatternVoices; ++v) {
+    for (int v = 0; v < core::kPatternVoices; ++v) {
         auto& spans = spans_[static_cast<std::size_t>(v)];
         spans.clear();
         std::vector<std::size_t> mine;
@@ -89,10 +89,10 @@ void ScorePlayer::reset() noexcept
     resync_ = true;
 }
 
-void ScorePlayer::silence(MotorCanvas& canvas) noexcept
+void ScorePlayer::silence(core::MotorCanvas& canvas) noexcept
 {
     canvas.clearLevels();
-    for (int v = 0; v < kPatternVoices; ++v) {
+    for (int v = 0; v < core::kPatternVoices; ++v) {
         if (running_[static_cast<std::size_t>(v)] != 0) canvas.stopVoice(v);
         running_[static_cast<std::size_t>(v)] = 0;
     }
@@ -116,7 +116,7 @@ float ScorePlayer::amplitudeLevel(const ScoreNote& note, const ScorePart& part, 
     return static_cast<float>(static_cast<double>(*lo) + x * static_cast<double>(*hi - *lo));
 }
 
-void ScorePlayer::control(const Transport& transport, double dt, MotorCanvas& canvas, const FollowState* follow) noexcept
+void ScorePlayer::control(const core::Transport& transport, double dt, core::MotorCanvas& canvas, const FollowState* follow) noexcept
 {
     if (!(dt >= 0.0) || !std::isfinite(dt)) dt = 0.0;
     double position;
@@ -170,7 +170,7 @@ void ScorePlayer::control(const Transport& transport, double dt, MotorCanvas& ca
         resync_ = true;
     previous_ = position;
     if (resync_) {
-        for (int v = 0; v < kPatternVoices; ++v) {
+        for (int v = 0; v < core::kPatternVoices; ++v) {
             if (running_[static_cast<std::size_t>(v)] != 0) canvas.stopVoice(v);
             running_[static_cast<std::size_t>(v)] = 0;
         }
@@ -178,7 +178,7 @@ void ScorePlayer::control(const Transport& transport, double dt, MotorCanvas& ca
     }
 
     // Notes: the sustained target of every motor, from the position alone.
-    std::array<float, kMaxMotors> level {};
+    std::array<float, core::kMaxMotors> level {};
     std::uint16_t soft = 0;   // motors whose loudest note asked for a soft start
     if (position < score_.length) {
         const auto firstAfter = std::upper_bound(score_.notes.begin(), score_.notes.end(), position,
@@ -197,7 +197,7 @@ void ScorePlayer::control(const Transport& transport, double dt, MotorCanvas& ca
                 l = amplitudeLevel(*it, score_.parts[static_cast<std::size_t>(it->part)],
                                    follow->envelope[static_cast<std::size_t>(it->part)], true);
             if (!(l > 0.0f)) continue;
-            for (int m = 0; m < kMaxMotors; ++m)
+            for (int m = 0; m < core::kMaxMotors; ++m)
                 if ((it->motors & (1u << m)) && l > level[static_cast<std::size_t>(m)]) {
                     level[static_cast<std::size_t>(m)] = l;
                     soft = static_cast<std::uint16_t>(it->soft ? (soft | (1u << m)) : (soft & ~(1u << m)));
@@ -213,7 +213,7 @@ void ScorePlayer::control(const Transport& transport, double dt, MotorCanvas& ca
                                 ? amplitudeLevel(n, part, follow->envelope[static_cast<std::size_t>(n.part)], false)
                                 : n.levelAtFraction(follow->sinceOnset / (n.end - n.start));
             const bool noteSoft = n.soft || part.followAmplitude;   // a followed envelope is a swell
-            for (int m = 0; m < kMaxMotors; ++m)
+            for (int m = 0; m < core::kMaxMotors; ++m)
                 if ((n.motors & (1u << m)) && l > level[static_cast<std::size_t>(m)]) {
                     level[static_cast<std::size_t>(m)] = l;
                     soft = static_cast<std::uint16_t>(noteSoft ? (soft | (1u << m)) : (soft & ~(1u << m)));
@@ -221,13 +221,13 @@ void ScorePlayer::control(const Transport& transport, double dt, MotorCanvas& ca
         }
     }
     const float gain = std::clamp(intensity_, 0.0f, 1.5f);
-    for (int m = 0; m < kMaxMotors; ++m) {
+    for (int m = 0; m < core::kMaxMotors; ++m) {
         if (soft & (1u << m)) canvas.setSoftLevel(m, level[static_cast<std::size_t>(m)] * gain);
         else canvas.setLevel(m, level[static_cast<std::size_t>(m)] * gain);
     }
 
     // Patterns: per voice, the one whose span holds the position.
-    for (int v = 0; v < kPatternVoices; ++v) {
+    for (int v = 0; v < core::kPatternVoices; ++v) {
         const auto vi = static_cast<std::size_t>(v);
         if (!used_[vi]) continue;
         const long active = position < score_.length ? activePattern(v, position) : 0;
@@ -236,8 +236,8 @@ void ScorePlayer::control(const Transport& transport, double dt, MotorCanvas& ca
             canvas.stopVoice(v);
         } else {
             const ScorePattern& p = score_.patterns[static_cast<std::size_t>(active - 1)];
-            PatternRequest r = p.request;
-            r.level = std::min(float(kMaxLevel), r.level * gain);
+            core::PatternRequest r = p.request;
+            r.level = std::min(float(core::kMaxLevel), r.level * gain);
             // The voice runs for what is left of its span, in real seconds.
             r.duration = std::isfinite(p.end) ? (p.end - position) / speed : -1.0;
             canvas.trigger(r);
@@ -246,4 +246,4 @@ void ScorePlayer::control(const Transport& transport, double dt, MotorCanvas& ca
     }
 }
 
-} // namespace armadillo
+} // namespace armadillo::tactile

@@ -10,7 +10,7 @@
 #include <cstddef>
 #include <vector>
 
-namespace armadillo {
+namespace armadillo::tactile {
 
 class ScorePlayer {
 public:
@@ -36,7 +36,7 @@ public:
     /// recording's envelope, and everything else plays at the position the alignment gives
     /// (the followed note heard last, or the cues of a texture score). Nothing plays before
     /// the recording's first sound.
-    void control(const Transport& transport, double dt, MotorCanvas& canvas, const FollowState* follow = nullptr) noexcept;
+    void control(const core::Transport& transport, double dt, core::MotorCanvas& canvas, const FollowState* follow = nullptr) noexcept;
     /// The level a note of an amplitude-following part has at envelope `amplitude` (linear):
     /// the part's curve from floor to top mapped onto the note's written levels (lowest..highest).
     /// Below the floor: the lowest level, or 0 when `offBelowFloor`.
@@ -46,7 +46,7 @@ public:
     bool finished() const noexcept { return position_ >= score_.length; }
 
 private:
-    void silence(MotorCanvas& canvas) noexcept;
+    void silence(core::MotorCanvas& canvas) noexcept;
     long activePattern(int voice, double position) noexcept;
 
     /// Which pattern (index + 1, 0 = none) a voice plays from `start` until the next span:
@@ -63,14 +63,14 @@ private:
     double position_ = 0.0;
     double previous_ = -1.0;                       ///< last position (s); < 0: none yet
     bool resync_ = true;
-    std::array<long, kPatternVoices> running_ {};  ///< index into score_.patterns + 1; 0 = none
-    std::array<bool, kPatternVoices> used_ {};     ///< voices the score writes (others left alone)
-    std::array<std::vector<VoiceSpan>, kPatternVoices> spans_ {};   ///< per voice, by start
-    std::array<std::size_t, kPatternVoices> spanCursor_ {};         ///< span of the last step
+    std::array<long, core::kPatternVoices> running_ {}; ///< index into score_.patterns + 1; 0 = none
+    std::array<bool, core::kPatternVoices> used_ {}; ///< voices the score writes (others left alone)
+    std::array<std::vector<VoiceSpan>, core::kPatternVoices> spans_ {}; ///< per voice, by start
+    std::array<std::size_t, core::kPatternVoices> spanCursor_ {};   ///< span of the last step
     double longestNote_ = 0.0;
     std::vector<int> followedOf_;   ///< per note: its followed event, -1 = not followed
     std::vector<std::vector<int>> events_;   ///< followedEvents(score_)
     std::vector<double> eventLength_;        ///< per event: s from its start to its longest note's end
 };
 
-} // namespace armadillo
+} // namespace armadillo::tactile

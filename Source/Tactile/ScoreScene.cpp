@@ -11,7 +11,7 @@
 #include <filesystem>
 
 
-namespace armadillo {
+namespace armadillo::tactile {
 
 namespace {
 
@@ -19,41 +19,41 @@ namespace {
 /// folders (a user's own scores live there) and then among the built-in ones; anything with a
 /// slash or ending in ".score" is a path, and a MIDI or haptic file (.mid, .wav, .ahap, .haptic, .tact)
 /// is imported by the reader the engine installed (docs/FORMATS.md).
-Score resolveScore(const SceneConfig& config)
+Score resolveScore(const core::SceneConfig& config)
 {
     const std::string& name = config.score;
-    if (name.empty()) throw InputError("", 0, "score", "no score given (a name such as rite-of-spring, or a file)");
+    if (name.empty()) throw core::InputError("", 0, "score", "no score given (a name such as rite-of-spring, or a file)");
     const ScoreFileReader reader = scoreFileReader();
     const bool other = reader.accepts && reader.load && reader.accepts(name);   // a MIDI or haptic file
     const bool isPath = other || name.find('/') != std::string::npos || name.ends_with(".score");
     if (!isPath) {
-        if (auto file = findResource("Scores/" + name + ".score", config.resourceDir))
+        if (auto file = core::findResource("Scores/" + name + ".score", config.resourceDir))
             return parseScore(file->bytes, file->origin);
         std::string known;
-        for (const ScoreEntry& e : listScores(config.resourceDir)) known += (known.empty() ? "" : ", ") + e.name;
-        throw InputError(name, 0, "score", "no such score (known: " + known + "; or give a .score file)");
+        for (const core::ScoreEntry& e : core::listScores(config.resourceDir)) known += (known.empty() ? "" : ", ") + e.name;
+        throw core::InputError(name, 0, "score", "no such score (known: " + known + "; or give a .score file)");
     }
     // A path that cannot be read is an I/O failure (exit 4), as for every other input file; a
     // name that is not a path and not found above is bad input (exit 3).
-    if (!std::filesystem::exists(name)) throw IoError("cannot read score file '" + name + "': no such file");
+    if (!std::filesystem::exists(name)) throw core::IoError("cannot read score file '" + name + "': no such file");
     if (other) return reader.load(name);
     return loadScore(name);
 }
 
-class ScoreScene final : public Scene {
+class ScoreScene final : public core::Scene {
 public:
     std::string_view name() const override { return "score"; }
 
-    std::vector<ParamSpec> parameters() const override
+    std::vector<core::ParamSpec> parameters() const override
     {
         return {
-            ParamSpec {"score.intensity", "Intensity", 0.0f, 150.0f, 100.0f, "%", {}},
-            ParamSpec {"score.sync", "Follow", 0.0f, 1.0f, 0.0f, "", {"transport seconds", "transport beats"}},
-            ParamSpec {"score.listen", "Listen to the audio input", 0.0f, 1.0f, 1.0f, "", {"off", "on"}},
+            core::ParamSpec {"score.intensity", "Intensity", 0.0f, 150.0f, 100.0f, "%", {}},
+            core::ParamSpec {"score.sync", "Follow", 0.0f, 1.0f, 0.0f, "", {"transport seconds", "transport beats"}},
+            core::ParamSpec {"score.listen", "Listen to the audio input", 0.0f, 1.0f, 1.0f, "", {"off", "on"}},
         };
     }
 
-    void prepare(const SceneConfig& config) override
+    void prepare(const core::SceneConfig& config) override
     {
         Score score = resolveScore(config);
         follower_.prepare(score, config.sampleRate > 0.0 ? config.sampleRate : 48000.0);
@@ -82,7 +82,7 @@ public:
         inputBlocks_.fetch_add(1, std::memory_order_release);
     }
 
-    void control(const ControlInput& in, SceneOutput& out) override
+    void control(const core::ControlInput& in, core::SceneOutput& out) override
     {
         player_.setIntensity(intensity_.load());
         player_.setSync(beats_.load() ? ScorePlayer::Sync::Beats : ScorePlayer::Sync::Seconds);
@@ -125,6 +125,6 @@ private:
 
 } // namespace
 
-std::unique_ptr<Scene> makeScoreScene() { return std::make_unique<ScoreScene>(); }
+std::unique_ptr<core::Scene> makeScoreScene() { return std::make_unique<ScoreScene>(); }
 
-} // namespace armadillo
+} // namespace armadillo::tactile

@@ -4,6 +4,6 @@
 #include "Core/Scene.h"
 #include <memory>
 
-namespace armadillo {
-std::unique_ptr<Scene> makeScoreScene();   ///< "score" — SceneConfig::score names the score
-} // namespace armadillo
+namespace armadillo::tactile {
+std::unique_ptr<core::Scene> makeScoreScene(); ///< "score" — SceneConfig::score names the score
+} // namespace armadillo::tactile

@@ -2,7 +2,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace armadillo {
+namespace armadillo::tactile {
 
 Staircase::Staircase(const StaircaseParams& params) : p_(params)
 {
@@ -68,4 +68,4 @@ int Staircase::threshold() const noexcept
     return lowestFelt_;
 }
 
-} // namespace armadillo
+} // namespace armadillo::tactile

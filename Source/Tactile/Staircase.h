@@ -11,7 +11,7 @@
 // construction, no clock — the caller presents level(), then reports answer().
 #include <vector>
 
-namespace armadillo {
+namespace armadillo::tactile {
 
 struct StaircaseParams {
     int startLevel = 8;        ///< the first level shown (clearly felt by most skins at the motors' rating)
@@ -45,4 +45,4 @@ private:
     std::vector<int> finalLevels_;   // reserved in the constructor
 };
 
-} // namespace armadillo
+} // namespace armadillo::tactile

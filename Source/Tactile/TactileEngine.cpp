@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace armadillo {
+namespace armadillo::tactile {
 
 namespace {
 std::uint64_t mixSeed(std::uint64_t a, std::uint64_t b) noexcept
@@ -22,7 +22,7 @@ std::uint64_t mixSeed(std::uint64_t a, std::uint64_t b) noexcept
 float sanitise(float level) noexcept
 {
     if (!(level > 0.0f)) return 0.0f;   // NaN, negative, zero
-    return std::min(level, float(kMaxLevel));
+    return std::min(level, float(core::kMaxLevel));
 }
 } // namespace
 
@@ -32,15 +32,15 @@ TactileEngine::~TactileEngine() = default;
 void TactileEngine::prepare(const TactileConfig& config)
 {
     config_ = config;
-    config_.motorCount = std::clamp(config_.motorCount, 0, kMaxMotors);
+    config_.motorCount = std::clamp(config_.motorCount, 0, core::kMaxMotors);
     config_.jumpStartTime = std::max(0.0, config_.jumpStartTime);
     config_.jumpStartLevel = sanitise(config_.jumpStartLevel);
     safety_.prepare(config_.safety, config_.motorCount);
     // The profile is per physical motor; intents are in the right-arm layout, mirrored after
     // shaping for the left arm, so the gain of intent m is that of the motor it lands on.
-    for (int m = 0; m < kMaxMotors; ++m) {
+    for (int m = 0; m < core::kMaxMotors; ++m) {
         int physical = m;
-        if (config_.side == ArmSide::Left && m < kGridMotors && m % 3 != 1) physical = m % 3 == 0 ? m + 2 : m - 2;
+        if (config_.side == core::ArmSide::Left && m < core::kGridMotors && m % 3 != 1) physical = m % 3 == 0 ? m + 2 : m - 2;
         const float g = config_.motorGain[static_cast<std::size_t>(physical)];
         gain_[static_cast<std::size_t>(m)] = std::isfinite(g) && g >= 0.0f ? g : 1.0f;
     }
@@ -53,14 +53,14 @@ void TactileEngine::prepare(const TactileConfig& config)
 
 void TactileEngine::setLevel(int motorIndex, float level)
 {
-    if (motorIndex < 0 || motorIndex >= kMaxMotors) return;
+    if (motorIndex < 0 || motorIndex >= core::kMaxMotors) return;
     target_[static_cast<std::size_t>(motorIndex)] = sanitise(level);
     softTargets_ = static_cast<std::uint16_t>(softTargets_ & ~(1u << motorIndex));
 }
 
 void TactileEngine::setSoftLevel(int motorIndex, float level)
 {
-    if (motorIndex < 0 || motorIndex >= kMaxMotors) return;
+    if (motorIndex < 0 || motorIndex >= core::kMaxMotors) return;
     target_[static_cast<std::size_t>(motorIndex)] = sanitise(level);
     softTargets_ = static_cast<std::uint16_t>(softTargets_ | (1u << motorIndex));
 }
@@ -71,9 +71,9 @@ void TactileEngine::clearLevels()
     softTargets_ = 0;
 }
 
-void TactileEngine::trigger(const PatternRequest& request)
+void TactileEngine::trigger(const core::PatternRequest& request)
 {
-    if (request.voice < 0 || request.voice >= kPatternVoices) return;
+    if (request.voice < 0 || request.voice >= core::kPatternVoices) return;
     Voice& v = voices_[static_cast<std::size_t>(request.voice)];
     const PatternParams& p = config_.patterns;
     const double length = patternLength(request, p);
@@ -97,13 +97,13 @@ void TactileEngine::trigger(const PatternRequest& request)
 
 void TactileEngine::stopVoice(int voice)
 {
-    if (voice < 0 || voice >= kPatternVoices) return;
+    if (voice < 0 || voice >= core::kPatternVoices) return;
     voices_[static_cast<std::size_t>(voice)].active = false;
 }
 
 bool TactileEngine::voiceActive(int voice) const noexcept
 {
-    return voice >= 0 && voice < kPatternVoices && voices_[static_cast<std::size_t>(voice)].active;
+    return voice >= 0 && voice < core::kPatternVoices && voices_[static_cast<std::size_t>(voice)].active;
 }
 
 void TactileEngine::clearDrive() noexcept
@@ -126,21 +126,21 @@ void TactileEngine::allOff() noexcept
     safety_.allOff();
 }
 
-MotorLevels TactileEngine::tick(double dt, double motorOnTime) noexcept
+core::MotorLevels TactileEngine::tick(double dt, double motorOnTime) noexcept
 {
     if (!(dt >= 0.0) || !std::isfinite(dt)) {
         allOff();
-        return safety_.process(MotorLevels {}, dt);   // the stage treats a bad dt as an error: all off
+        return safety_.process(core::MotorLevels {}, dt); // the stage treats a bad dt as an error: all off
     }
-    std::array<float, kMaxMotors> desired {};
+    std::array<float, core::kMaxMotors> desired {};
     std::uint16_t smooth = 0;
 
     // Sustained targets, optionally slewed (a fade of 15 levels takes targetFadeIn/Out s).
-    for (std::size_t m = 0; m < kMaxMotors; ++m) {
+    for (std::size_t m = 0; m < core::kMaxMotors; ++m) {
         const float goal = target_[m];
         float& s = slewed_[m];
-        if (goal > s) s = config_.targetFadeIn > 0.0 ? std::min(goal, s + float(dt * kMaxLevel / config_.targetFadeIn)) : goal;
-        else if (goal < s) s = config_.targetFadeOut > 0.0 ? std::max(goal, s - float(dt * kMaxLevel / config_.targetFadeOut)) : goal;
+        if (goal > s) s = config_.targetFadeIn > 0.0 ? std::min(goal, s + float(dt * core::kMaxLevel / config_.targetFadeIn)) : goal;
+        else if (goal < s) s = config_.targetFadeOut > 0.0 ? std::max(goal, s - float(dt * core::kMaxLevel / config_.targetFadeOut)) : goal;
         desired[m] = s;
         if ((config_.targetFadeIn > 0.0 || (softTargets_ & (1u << m)) != 0) && s > 0.0f)
             smooth = static_cast<std::uint16_t>(smooth | (1u << m));
@@ -154,7 +154,7 @@ MotorLevels TactileEngine::tick(double dt, double motorOnTime) noexcept
         // A click shorter than the spike (its on-time from this packet's start) plays at its
         // own level: a 30 ms spike would be all of it.
         const bool brief = sample.segmentLeft + 0.5 * dt <= config_.jumpStartTime + 1e-9;
-        for (int m = 0; m < kMaxMotors; ++m) {
+        for (int m = 0; m < core::kMaxMotors; ++m) {
             const auto mi = static_cast<std::size_t>(m);
             if ((sample.active & (1u << m)) == 0 || !(sample.level[mi] > desired[mi])) continue;
             desired[mi] = sample.level[mi];
@@ -166,11 +166,11 @@ MotorLevels TactileEngine::tick(double dt, double motorOnTime) noexcept
     }
 
     // The reader's touch profile: each motor's level scaled so all are felt alike (no-op at gain 1).
-    for (std::size_t m = 0; m < kMaxMotors; ++m)
-        if (gain_[m] != 1.0f) desired[m] = std::min(desired[m] * gain_[m], float(kMaxLevel));
+    for (std::size_t m = 0; m < core::kMaxMotors; ++m)
+        if (gain_[m] != 1.0f) desired[m] = std::min(desired[m] * gain_[m], float(core::kMaxLevel));
 
     // Drive shaping: jump-start and dithering, per motor.
-    MotorLevels shaped {};
+    core::MotorLevels shaped {};
     for (int m = 0; m < config_.motorCount; ++m) {
         const auto mi = static_cast<std::size_t>(m);
         const float x = forceOff_ ? 0.0f : desired[mi];
@@ -209,19 +209,19 @@ MotorLevels TactileEngine::tick(double dt, double motorOnTime) noexcept
         } else {
             q = std::round(level);
         }
-        shaped[mi] = static_cast<std::uint8_t>(std::clamp(q, 0.0, double(kMaxLevel)));
+        shaped[mi] = static_cast<std::uint8_t>(std::clamp(q, 0.0, double(core::kMaxLevel)));
         ditherLevel_[mi] = level;
         lastShaped_[mi] = shaped[mi];
     }
     forceOff_ = false;
 
     // Left arm: the grid's columns swap (the back motors run along the arm and stay).
-    if (config_.side == ArmSide::Left)
+    if (config_.side == core::ArmSide::Left)
         for (int row = 0; row < 3; ++row)
-            std::swap(shaped[static_cast<std::size_t>(motorIndex(row, 0))], shaped[static_cast<std::size_t>(motorIndex(row, 2))]);
+            std::swap(shaped[static_cast<std::size_t>(core::motorIndex(row, 0))], shaped[static_cast<std::size_t>(core::motorIndex(row, 2))]);
 
     time_ += dt;
     return safety_.process(shaped, motorOnTime >= 0.0 ? motorOnTime : dt);   // last, always
 }
 
-} // namespace armadillo
+} // namespace armadillo::tactile

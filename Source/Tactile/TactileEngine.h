@@ -16,11 +16,11 @@
 #include <cstdint>
 #include <vector>
 
-namespace armadillo {
+namespace armadillo::tactile {
 
 /// The overheating rules of thesis §3.2.3, as bounds on the output of every motor.
 struct SafetyParams {
-    int ratedLevel = kRatedLevel;         ///< level; above it the motor heats up (duty 0.33 of 9 V)
+    int ratedLevel = core::kRatedLevel;   ///< level; above it the motor heats up (duty 0.33 of 9 V)
     double maxAboveRatingRun = 0.300;     ///< s: longest uninterrupted run above ratedLevel
     double aboveRatingWindow = 2.0;       ///< s: sliding window for the duty limit below
     double maxAboveRatingFraction = 0.30; ///< fraction of any aboveRatingWindow spent above rating
@@ -41,17 +41,17 @@ class SafetyStage {
 public:
     SafetyStage();
     /// Not real-time: sizes the per-motor history. Clears all history.
-    void prepare(const SafetyParams& params, int motorCount = kMaxMotors);
+    void prepare(const SafetyParams& params, int motorCount = core::kMaxMotors);
     /// `dt` s since the previous call (the time the previous output was on); `requested` levels
     /// 0..15 (larger values clamp to 15). Returns the levels to send now. A non-finite or
     /// negative dt is an error: everything off. Allocates nothing.
-    MotorLevels process(const MotorLevels& requested, double dt) noexcept;
+    core::MotorLevels process(const core::MotorLevels& requested, double dt) noexcept;
     /// The next process() call returns all zeros whatever is requested; the heat history is kept.
     void allOff() noexcept { forceOff_ = true; }
     const SafetyParams& params() const noexcept { return params_; }
     int motorCount() const noexcept { return motorCount_; }
     /// Levels of the last process() call.
-    const MotorLevels& lastOutput() const noexcept { return last_; }
+    const core::MotorLevels& lastOutput() const noexcept { return last_; }
     /// How many levels were lowered in the last process() call (0 = nothing limited).
     int limitedCount() const noexcept { return limited_; }
 
@@ -62,24 +62,24 @@ private:
     void dropOld(int m) noexcept;
 
     SafetyParams params_ {};
-    int motorCount_ = kMaxMotors;
+    int motorCount_ = core::kMaxMotors;
     std::size_t capacity_ = 0;                 ///< records per motor (power of two)
     // Per-motor run-length history of the output: record r starts at start_[r] with level level_[r];
     // cumE_/cumA_ = integral of level² / of (level > rated) from time 0 to start_[r].
     std::vector<double> start_, cumE_, cumA_;
     std::vector<std::uint8_t> level_;
-    std::array<std::uint64_t, kMaxMotors> oldest_ {}, newest_ {};
-    std::array<std::uint64_t, kMaxMotors> powerCursor_ {}, dutyCursor_ {};   ///< window-edge search starts
-    std::array<double, kMaxMotors> aboveRun_ {}, onRun_ {}, rest_ {};
-    MotorLevels last_ {};
+    std::array<std::uint64_t, core::kMaxMotors> oldest_ {}, newest_ {};
+    std::array<std::uint64_t, core::kMaxMotors> powerCursor_ {}, dutyCursor_ {}; ///< window-edge search starts
+    std::array<double, core::kMaxMotors> aboveRun_ {}, onRun_ {}, rest_ {};
+    core::MotorLevels last_ {};
     double now_ = 0.0;
     bool forceOff_ = false;
     int limited_ = 0;
 };
 
 struct TactileConfig {
-    int motorCount = kGridMotors;         ///< 9, 12 with the back motors, up to 16
-    ArmSide side = ArmSide::Right;        ///< Left mirrors the grid's columns (back motors stay)
+    int motorCount = core::kGridMotors;   ///< 9, 12 with the back motors, up to 16
+    core::ArmSide side = core::ArmSide::Right; ///< Left mirrors the grid's columns (back motors stay)
     SafetyParams safety {};
     PatternParams patterns {};            ///< timings and shapes of the pattern library
     std::uint64_t seed = 1;               ///< random patterns (tickle) derive from this
@@ -95,17 +95,17 @@ struct TactileConfig {
     /// arm), so that every motor is felt alike. Applied to the requested level before the drive
     /// shaping and the safety stage (the result is clamped to 15; the safety stage still has the
     /// last word). All 1 = no profile. Non-finite or negative gains count as 1.
-    std::array<float, kMaxMotors> motorGain = unitMotorGains();
+    std::array<float, core::kMaxMotors> motorGain = unitMotorGains();
 
-    static constexpr std::array<float, kMaxMotors> unitMotorGains() noexcept
+    static constexpr std::array<float, core::kMaxMotors> unitMotorGains() noexcept
     {
-        std::array<float, kMaxMotors> g {};
+        std::array<float, core::kMaxMotors> g {};
         for (float& x : g) x = 1.0f;
         return g;
     }
 };
 
-class TactileEngine final : public MotorCanvas {
+class TactileEngine final : public core::MotorCanvas {
 public:
     TactileEngine();
     ~TactileEngine() override;
@@ -118,7 +118,7 @@ public:
     /// differs from dt: a front end whose link schedules levels on the wall clock (the plugin:
     /// Link/LevelSchedule.h) passes it after a host stall, so the safety stage charges what the
     /// motor got, not the audio timeline's tick. Negative: the same as dt.
-    MotorLevels tick(double dt, double motorOnTime = -1.0) noexcept;
+    core::MotorLevels tick(double dt, double motorOnTime = -1.0) noexcept;
     /// Stop, disconnect or error: everything off at once; patterns and targets cleared. The
     /// next tick returns zeros; the safety stage keeps its heat history.
     void allOff() noexcept;
@@ -127,7 +127,7 @@ public:
     void setLevel(int motorIndex, float level) override;
     void setSoftLevel(int motorIndex, float level) override;
     void clearLevels() override;
-    void trigger(const PatternRequest& request) override;
+    void trigger(const core::PatternRequest& request) override;
     void stopVoice(int voice) override;
 
     const TactileConfig& config() const noexcept { return config_; }
@@ -137,7 +137,7 @@ public:
 
 private:
     struct Voice {
-        PatternRequest request {};
+        core::PatternRequest request {};
         double elapsed = 0.0;      ///< s since the pattern started (at the start of the next packet)
         double length = 0.0;       ///< s; infinity = until stopped
         std::uint64_t seed = 0;
@@ -148,19 +148,19 @@ private:
 
     TactileConfig config_ {};
     SafetyStage safety_;
-    std::array<Voice, kPatternVoices> voices_ {};
-    std::array<float, kMaxMotors> gain_ {};        ///< config_.motorGain in the right-arm layout
-    std::array<float, kMaxMotors> target_ {};      ///< sustained targets (right-arm layout)
+    std::array<Voice, core::kPatternVoices> voices_ {};
+    std::array<float, core::kMaxMotors> gain_ {};  ///< config_.motorGain in the right-arm layout
+    std::array<float, core::kMaxMotors> target_ {}; ///< sustained targets (right-arm layout)
     std::uint16_t softTargets_ = 0;                ///< targets set by setSoftLevel (never kicked)
-    std::array<float, kMaxMotors> slewed_ {};      ///< targets after targetFadeIn/Out
-    std::array<float, kMaxMotors> previous_ {};    ///< desired level of the previous packet
-    std::array<double, kMaxMotors> kickLeft_ {};   ///< s of jump-start spike still to give
-    std::array<double, kMaxMotors> ditherError_ {};///< level·s carried by the error diffusion
-    std::array<double, kMaxMotors> ditherLevel_ {};///< level the previous packet stood for
-    MotorLevels lastShaped_ {};                    ///< the previous packet, before mirroring
+    std::array<float, core::kMaxMotors> slewed_ {}; ///< targets after targetFadeIn/Out
+    std::array<float, core::kMaxMotors> previous_ {}; ///< desired level of the previous packet
+    std::array<double, core::kMaxMotors> kickLeft_ {}; ///< s of jump-start spike still to give
+    std::array<double, core::kMaxMotors> ditherError_ {};///< level·s carried by the error diffusion
+    std::array<double, core::kMaxMotors> ditherLevel_ {};///< level the previous packet stood for
+    core::MotorLevels lastShaped_ {};              ///< the previous packet, before mirroring
     std::uint64_t triggerCount_ = 0;
     double time_ = 0.0;
     bool forceOff_ = false;
 };
 
-} // namespace armadillo
+} // namespace armadillo::tactile

@@ -43,21 +43,21 @@ bool parseModel(std::string_view text, TactorModel& out) noexcept
 void validate(const TactorParams& p, double sampleRate, const std::string& source)
 {
     const auto in = [](double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; };
-    if (!in(sampleRate, 8000.0, 384000.0)) throw InputError(source, 0, "sample rate", "sample rate " + num(sampleRate) + " Hz is outside 8000…384000");
-    if (!in(p.ermStartHz, 40.0, 400.0)) throw InputError(source, 0, "erm start", "the ERM's start frequency must lie in 40…400 Hz (got " + num(p.ermStartHz) + ")");
+    if (!in(sampleRate, 8000.0, 384000.0)) throw core::InputError(source, 0, "sample rate", "sample rate " + num(sampleRate) + " Hz is outside 8000…384000");
+    if (!in(p.ermStartHz, 40.0, 400.0)) throw core::InputError(source, 0, "erm start", "the ERM's start frequency must lie in 40…400 Hz (got " + num(p.ermStartHz) + ")");
     if (!in(p.ermFullHz, p.ermStartHz, 400.0))
-        throw InputError(source, 0, "erm full", "the ERM's full-drive frequency must lie in " + num(p.ermStartHz) + "…400 Hz (got " + num(p.ermFullHz) + ")");
-    if (!in(p.ermSpinTime, 0.0, 0.2)) throw InputError(source, 0, "erm spin", "the ERM's spin-up time must lie in 0…0.2 s (got " + num(p.ermSpinTime) + ")");
-    if (!in(p.lraHz, 40.0, 400.0)) throw InputError(source, 0, "lra", "the LRA's resonance must lie in 40…400 Hz (got " + num(p.lraHz) + ")");
-    if (!in(p.lraBrakeTime, 0.0, 0.02)) throw InputError(source, 0, "lra brake", "the LRA's braking pulse must last 0…0.02 s (got " + num(p.lraBrakeTime) + ")");
-    if (!in(p.voiceCoilHz, 40.0, 400.0)) throw InputError(source, 0, "voice-coil", "the voice coil's carrier must lie in 40…400 Hz (got " + num(p.voiceCoilHz) + ")");
+        throw core::InputError(source, 0, "erm full", "the ERM's full-drive frequency must lie in " + num(p.ermStartHz) + "…400 Hz (got " + num(p.ermFullHz) + ")");
+    if (!in(p.ermSpinTime, 0.0, 0.2)) throw core::InputError(source, 0, "erm spin", "the ERM's spin-up time must lie in 0…0.2 s (got " + num(p.ermSpinTime) + ")");
+    if (!in(p.lraHz, 40.0, 400.0)) throw core::InputError(source, 0, "lra", "the LRA's resonance must lie in 40…400 Hz (got " + num(p.lraHz) + ")");
+    if (!in(p.lraBrakeTime, 0.0, 0.02)) throw core::InputError(source, 0, "lra brake", "the LRA's braking pulse must last 0…0.02 s (got " + num(p.lraBrakeTime) + ")");
+    if (!in(p.voiceCoilHz, 40.0, 400.0)) throw core::InputError(source, 0, "voice-coil", "the voice coil's carrier must lie in 40…400 Hz (got " + num(p.voiceCoilHz) + ")");
     if (!in(p.soundLowHz, 20.0, 1000.0) || !in(p.soundHighHz, p.soundLowHz, 1000.0))
-        throw InputError(source, 0, "sound band", "the sound's band must lie within 20…1000 Hz, low before high (got " + num(p.soundLowHz) + "…" + num(p.soundHighHz) + ")");
+        throw core::InputError(source, 0, "sound band", "the sound's band must lie within 20…1000 Hz, low before high (got " + num(p.soundLowHz) + "…" + num(p.soundHighHz) + ")");
     if (p.voiceCoilSound && p.model != TactorModel::VoiceCoil)
-        throw InputError(source, 0, "sound", "a scene's sound can be handed over to the voice-coil model only");
-    if (p.voiceCoilSound && !(p.soundHighHz < sampleRate / 2.0)) throw InputError(source, 0, "sound band", "the sound's band must lie below half the sample rate");
+        throw core::InputError(source, 0, "sound", "a scene's sound can be handed over to the voice-coil model only");
+    if (p.voiceCoilSound && !(p.soundHighHz < sampleRate / 2.0)) throw core::InputError(source, 0, "sound band", "the sound's band must lie below half the sample rate");
     const double highest = p.model == TactorModel::Erm ? p.ermFullHz : p.model == TactorModel::Lra ? p.lraHz : p.voiceCoilHz;
-    if (!(highest < sampleRate / 2.0)) throw InputError(source, 0, "carrier", "the carrier must lie below half the sample rate");
+    if (!(highest < sampleRate / 2.0)) throw core::InputError(source, 0, "carrier", "the carrier must lie below half the sample rate");
 }
 
 double carrierHz(const TactorParams& p, double level) noexcept
@@ -88,17 +88,17 @@ ChannelMap parseChannelMap(std::string_view text, int motors)
     const std::string src = "--tactor-map";
     ChannelMap map;
     map.motor.fill(-1);
-    if (text.empty()) throw InputError(src, 0, "", "empty map: give one motor per channel, e.g. 1,2,3,4,5,6,7,8,9 (- for a silent channel)");
+    if (text.empty()) throw core::InputError(src, 0, "", "empty map: give one motor per channel, e.g. 1,2,3,4,5,6,7,8,9 (- for a silent channel)");
     std::size_t at = 0;
     while (true) {
         const std::size_t comma = text.find(',', at);
         const std::string_view item = text.substr(at, comma == std::string_view::npos ? std::string_view::npos : comma - at);
         const auto motorNumber = [&](std::string_view s) {
             if (s.empty() || s.size() > 2 || !std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; }))
-                throw InputError(src, 0, "", "'" + std::string(item) + "' is not a motor number (1.." + std::to_string(motors) + ") or -");
+                throw core::InputError(src, 0, "", "'" + std::string(item) + "' is not a motor number (1.." + std::to_string(motors) + ") or -");
             const int k = std::stoi(std::string(s));
             if (k < 1 || k > motors)
-                throw InputError(src, 0, "", "motor " + std::to_string(k) + " does not exist: this rig has motors 1.." + std::to_string(motors) +
+                throw core::InputError(src, 0, "", "motor " + std::to_string(k) + " does not exist: this rig has motors 1.." + std::to_string(motors) +
                                                  (motors < 12 && k <= 12 ? " (m10..m12 are the back motors: render and tactors test take --back-motors)" : ""));
             return k;
         };
@@ -108,12 +108,12 @@ ChannelMap parseChannelMap(std::string_view text, int motors)
         } else if (const std::size_t dash = item.find('-'); dash != std::string_view::npos) {
             from = motorNumber(item.substr(0, dash));
             to = motorNumber(item.substr(dash + 1));
-            if (to < from) throw InputError(src, 0, "", "range '" + std::string(item) + "' runs backwards");
+            if (to < from) throw core::InputError(src, 0, "", "range '" + std::string(item) + "' runs backwards");
         } else {
             from = to = motorNumber(item);
         }
         for (int k = from; k <= to; ++k) {
-            if (map.channels == kMaxChannels) throw InputError(src, 0, "", "at most " + std::to_string(kMaxChannels) + " channels");
+            if (map.channels == kMaxChannels) throw core::InputError(src, 0, "", "at most " + std::to_string(kMaxChannels) + " channels");
             map.motor[static_cast<std::size_t>(map.channels++)] = k - 1;   // "-" → -1
         }
         if (comma == std::string_view::npos) break;
@@ -135,29 +135,29 @@ std::string channelMapText(const ChannelMap& map)
 
 TactorGains parseTactorGains(std::string_view json, const std::string& source)
 {
-    const armadillo::JsonValue root = armadillo::parseJson(json, source);   // InputError with the line of a syntax error
-    if (root.kind != armadillo::JsonValue::Kind::Object) throw InputError(source, root.line, "", "a tactor gain file is a JSON object");
+    const armadillo::core::JsonValue root = armadillo::core::parseJson(json, source); // InputError with the line of a syntax error
+    if (root.kind != armadillo::core::JsonValue::Kind::Object) throw core::InputError(source, root.line, "", "a tactor gain file is a JSON object");
     for (const auto& [key, value] : root.object)
         if (key != "armadillo" && key != "version" && key != "gain" && key != "comment")
-            throw InputError(source, value.line, key, "unknown key (known: armadillo, version, gain, comment)");
-    const armadillo::JsonValue* kind = root.find("armadillo");
-    if (!kind || kind->kind != armadillo::JsonValue::Kind::String || kind->string != "tactor-gains")
-        throw InputError(source, kind ? kind->line : root.line, "armadillo", "not a tactor gain file: \"armadillo\": \"tactor-gains\" is missing");
-    const armadillo::JsonValue* version = root.find("version");
-    if (!version || version->kind != armadillo::JsonValue::Kind::Number || version->number != 1.0)
-        throw InputError(source, version ? version->line : root.line, "version", "version 1 is the only one known");
-    const armadillo::JsonValue* gain = root.find("gain");
-    if (!gain || gain->kind != armadillo::JsonValue::Kind::Array)
-        throw InputError(source, gain ? gain->line : root.line, "gain", "\"gain\" must be an array of 1..16 numbers in 0..1, channel 1 first");
+            throw core::InputError(source, value.line, key, "unknown key (known: armadillo, version, gain, comment)");
+    const armadillo::core::JsonValue* kind = root.find("armadillo");
+    if (!kind || kind->kind != armadillo::core::JsonValue::Kind::String || kind->string != "tactor-gains")
+        throw core::InputError(source, kind ? kind->line : root.line, "armadillo", "not a tactor gain file: \"armadillo\": \"tactor-gains\" is missing");
+    const armadillo::core::JsonValue* version = root.find("version");
+    if (!version || version->kind != armadillo::core::JsonValue::Kind::Number || version->number != 1.0)
+        throw core::InputError(source, version ? version->line : root.line, "version", "version 1 is the only one known");
+    const armadillo::core::JsonValue* gain = root.find("gain");
+    if (!gain || gain->kind != armadillo::core::JsonValue::Kind::Array)
+        throw core::InputError(source, gain ? gain->line : root.line, "gain", "\"gain\" must be an array of 1..16 numbers in 0..1, channel 1 first");
     if (gain->array.empty() || gain->array.size() > static_cast<std::size_t>(kMaxChannels))
-        throw InputError(source, gain->line, "gain", "\"gain\" holds " + std::to_string(gain->array.size()) + " numbers: 1..16 (one per channel)");
+        throw core::InputError(source, gain->line, "gain", "\"gain\" holds " + std::to_string(gain->array.size()) + " numbers: 1..16 (one per channel)");
     TactorGains g;
     g.source = source;
-    for (const armadillo::JsonValue& v : gain->array) {
+    for (const armadillo::core::JsonValue& v : gain->array) {
         const std::string channel = "gain[" + std::to_string(g.count + 1) + "]";
-        if (v.kind != armadillo::JsonValue::Kind::Number) throw InputError(source, v.line, channel, "channel " + std::to_string(g.count + 1) + ": a number in 0..1");
+        if (v.kind != armadillo::core::JsonValue::Kind::Number) throw core::InputError(source, v.line, channel, "channel " + std::to_string(g.count + 1) + ": a number in 0..1");
         if (!(std::isfinite(v.number) && v.number >= 0.0 && v.number <= 1.0))
-            throw InputError(source, v.line, channel,
+            throw core::InputError(source, v.line, channel,
                              "channel " + std::to_string(g.count + 1) + ": gain " + num(v.number) +
                                  " is outside 0..1 (gains only attenuate: turn the amplifier up for the weakest tactor)");
         g.gain[static_cast<std::size_t>(g.count++)] = static_cast<float>(v.number);
@@ -168,20 +168,20 @@ TactorGains parseTactorGains(std::string_view json, const std::string& source)
 TactorGains loadTactorGains(const std::string& path)
 {
     std::ifstream in(path, std::ios::binary);
-    if (!in) throw IoError("tactor gain file '" + path + "': cannot be read");
+    if (!in) throw core::IoError("tactor gain file '" + path + "': cannot be read");
     std::ostringstream s;
     s << in.rdbuf();
-    if (in.bad()) throw IoError("tactor gain file '" + path + "': read error");
+    if (in.bad()) throw core::IoError("tactor gain file '" + path + "': read error");
     return parseTactorGains(s.str(), path);
 }
 
 void TactorRenderer::prepare(const TactorParams& params, const ChannelMap& map, const TactorGains& gains, double sampleRate,
-                             const SafetyParams& safety)
+                             const tactile::SafetyParams& safety)
 {
     validate(params, sampleRate, "tactor settings");
-    if (map.channels < 1 || map.channels > kMaxChannels) throw InputError("--tactor-map", 0, "", "1..16 channels");
+    if (map.channels < 1 || map.channels > kMaxChannels) throw core::InputError("--tactor-map", 0, "", "1..16 channels");
     if (gains.count > map.channels)
-        throw InputError(gains.source.empty() ? std::string("tactor gains") : gains.source, 0, "gain",
+        throw core::InputError(gains.source.empty() ? std::string("tactor gains") : gains.source, 0, "gain",
                          "the file gives " + std::to_string(gains.count) + " gains but the map has " + std::to_string(map.channels) + " channels");
     params_ = params;
     map_ = map;
@@ -197,8 +197,8 @@ void TactorRenderer::prepare(const TactorParams& params, const ChannelMap& map, 
         c.hz = c.targetHz = carrierHz(params, 0.0);
     }
     // The sound's band: 2nd-order Butterworth high-pass and low-pass (Core/Biquad.h).
-    highPass_ = Biquad::make(true, params.soundLowHz, sampleRate);
-    lowPass_ = Biquad::make(false, params.soundHighHz, sampleRate);
+    highPass_ = core::Biquad::make(true, params.soundLowHz, sampleRate);
+    lowPass_ = core::Biquad::make(false, params.soundHighHz, sampleRate);
     envelope_ = 0.0;
     release_ = std::exp(-1.0 / (0.05 * sampleRate));   // the envelope falls 1/e in 50 ms
     powerSlew_ = 1.0 - std::exp(-1.0 / (0.02 * sampleRate));
@@ -210,9 +210,9 @@ void TactorRenderer::prepare(const TactorParams& params, const ChannelMap& map, 
     soundLeft_ = 0;
 }
 
-void TactorRenderer::setLevels(const MotorLevels& levels, double dt) noexcept
+void TactorRenderer::setLevels(const core::MotorLevels& levels, double dt) noexcept
 {
-    MotorLevels want {};
+    core::MotorLevels want {};
     const int n = map_.channels;
     for (int c = 0; c < n; ++c) {
         Channel& s = ch_[static_cast<std::size_t>(c)];
@@ -230,7 +230,7 @@ void TactorRenderer::setLevels(const MotorLevels& levels, double dt) noexcept
         want[static_cast<std::size_t>(c)] = s.brakeLeft > 0 ? static_cast<std::uint8_t>(s.brakeAmplitude) : level;
         s.level = level;
     }
-    const MotorLevels got = guard_.process(want, dt);
+    const core::MotorLevels got = guard_.process(want, dt);
     for (int c = 0; c < n; ++c) {
         Channel& s = ch_[static_cast<std::size_t>(c)];
         const std::size_t i = static_cast<std::size_t>(c);
@@ -331,9 +331,9 @@ void TactorRenderer::render(float* const* out, int n) noexcept
     }
 }
 
-AudioBuffer renderTactileRows(const std::vector<TactileRow>& rows, TactorRenderer& renderer, const std::vector<float>* sound)
+core::AudioBuffer renderTactileRows(const std::vector<core::TactileRow>& rows, TactorRenderer& renderer, const std::vector<float>* sound)
 {
-    AudioBuffer out;
+    core::AudioBuffer out;
     out.sampleRate = renderer.sampleRate();
     const auto channels = static_cast<std::size_t>(renderer.channels());
     if (rows.empty()) {
@@ -371,14 +371,14 @@ TactorSetup resolveTactorSetup(std::string_view model, std::string_view mapText,
 {
     TactorSetup s;
     if (!parseModel(model, s.params.model))
-        throw InputError("tactor model", 0, "", "unknown model '" + std::string(model) + "' (one of " + kModelNames + ")");
+        throw core::InputError("tactor model", 0, "", "unknown model '" + std::string(model) + "' (one of " + kModelNames + ")");
     s.map = mapText.empty() ? ChannelMap::identity(channels > 0 ? std::min(motors, channels) : motors) : parseChannelMap(mapText, motors);
     if (channels > 0 && s.map.channels > channels)
-        throw InputError("--tactor-map", 0, "",
+        throw core::InputError("--tactor-map", 0, "",
                          "the map has " + std::to_string(s.map.channels) + " channels but the output " + std::to_string(channels));
     if (!gainFile.empty()) s.gains = loadTactorGains(gainFile);
     if (s.gains.count > s.map.channels)
-        throw InputError(s.gains.source, 0, "gain",
+        throw core::InputError(s.gains.source, 0, "gain",
                          "the file gives " + std::to_string(s.gains.count) + " gains but the map has " + std::to_string(s.map.channels) + " channels");
     return s;
 }

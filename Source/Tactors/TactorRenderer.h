@@ -34,7 +34,7 @@
 
 namespace armadillo::tactors {
 
-inline constexpr int kMaxChannels = kMaxMotors;   ///< 16: a 16-output interface, or 12 motors + spare
+inline constexpr int kMaxChannels = core::kMaxMotors; ///< 16: a 16-output interface, or 12 motors + spare
 
 enum class TactorModel { Erm, Lra, VoiceCoil };
 const char* modelName(TactorModel m) noexcept;   ///< "erm", "lra", "voice-coil"
@@ -115,10 +115,10 @@ public:
     /// Not real-time: checks the settings (InputError), sizes the guard, clears all state.
     /// The gains must not name more channels than the map has (InputError naming the gain file).
     void prepare(const TactorParams& params, const ChannelMap& map, const TactorGains& gains, double sampleRate,
-                 const SafetyParams& safety = kDefaultSafetyParams);
+                 const tactile::SafetyParams& safety = tactile::kDefaultSafetyParams);
     /// New motor levels from now on; `dt` s since the previous call (the time the previous levels
     /// were on; the control step's dt). Real-time.
-    void setLevels(const MotorLevels& levels, double dt) noexcept;
+    void setLevels(const core::MotorLevels& levels, double dt) noexcept;
     /// Every channel silent from now on (stop, a stalled source); the guard's heat history stays.
     void allOff() noexcept;
     /// Every channel silent until the next setLevels() (a stalled source); the guard keeps charging
@@ -144,7 +144,7 @@ public:
     const TactorParams& params() const noexcept { return params_; }
     /// What each channel carries now, as a level (the guard's output: the level, or the braking
     /// pulse's), channel 0 first.
-    const MotorLevels& channelLevels() const noexcept { return guard_.lastOutput(); }
+    const core::MotorLevels& channelLevels() const noexcept { return guard_.lastOutput(); }
     /// How many channel levels the guard has lowered since prepare() (0 on an engine's levels).
     std::uint64_t limited() const noexcept { return limited_; }
 
@@ -164,12 +164,12 @@ private:
     double sampleRate_ = 48000.0;
     double slew_ = 1.0;            ///< erm: per-sample share of the way to the target frequency
     int brakeSamples_ = 0;
-    int ratedLevel_ = kRatedLevel;
+    int ratedLevel_ = core::kRatedLevel;
     std::array<Channel, kMaxChannels> ch_ {};
-    SafetyStage guard_;
+    tactile::SafetyStage guard_;
     std::uint64_t limited_ = 0;
     // The scene's sound as the carrier (usesSound()).
-    Biquad highPass_, lowPass_;
+    core::Biquad highPass_, lowPass_;
     double envelope_ = 0.0, release_ = 0.0, fallbackPhase_ = 0.0, meanSquare_ = 0.0, powerSlew_ = 1.0, recent_ = 0.0, fastRelease_ = 0.0;
     const float* sound_ = nullptr;
     int soundLeft_ = 0;
@@ -184,6 +184,6 @@ private:
 /// each row's dt as the live output does, so a file and a live channel carry the same samples.
 /// `sound` (mono, sample 0 = the first row's time, at the renderer's rate): the scene's own sound
 /// for a voice-coil renderer with voiceCoilSound (`render --tactor-sound`); null = none.
-AudioBuffer renderTactileRows(const std::vector<TactileRow>& rows, TactorRenderer& renderer, const std::vector<float>* sound = nullptr);
+core::AudioBuffer renderTactileRows(const std::vector<core::TactileRow>& rows, TactorRenderer& renderer, const std::vector<float>* sound = nullptr);
 
 } // namespace armadillo::tactors

@@ -7,6 +7,7 @@
 #include <map>
 
 using namespace armadillo;
+using namespace armadillo::core;
 using namespace armadillo::access;
 
 namespace {

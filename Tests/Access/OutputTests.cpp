@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 using namespace armadillo;
+using namespace armadillo::core;
 using namespace armadillo::access;
 
 TEST_CASE("chords: S D F J K L are dots 3 2 1 4 5 6; groups are letters", "[chords]")

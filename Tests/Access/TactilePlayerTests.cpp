@@ -8,6 +8,8 @@
 #include <vector>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::tactile;
 using namespace armadillo::access;
 using armadillo::test::RealtimeGuard;
 

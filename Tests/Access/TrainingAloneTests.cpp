@@ -16,6 +16,8 @@
 #include <string>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::tactile;
 using namespace armadillo::access;
 using armadillo::test::RealtimeGuard;
 

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 using namespace armadillo;
+using namespace armadillo::core;
 
 TEST_CASE("Channel messages become the ALSA sequencer events of the same meaning", "[audio][midi]")
 {

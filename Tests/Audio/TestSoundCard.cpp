@@ -14,6 +14,7 @@
 #include <vector>
 
 using namespace armadillo;
+using namespace armadillo::core;
 using Clock = std::chrono::steady_clock;
 
 namespace {

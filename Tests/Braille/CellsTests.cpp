@@ -10,6 +10,7 @@
 #include <random>
 
 using namespace armadillo;
+using namespace armadillo::core;
 using namespace armadillo::braille;
 
 namespace {

@@ -8,6 +8,8 @@
 #include <random>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::fusion;
 using namespace armadillo::braille;
 using namespace armadillo::braille::test;
 

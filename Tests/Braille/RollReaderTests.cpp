@@ -5,6 +5,7 @@
 #include <random>
 
 using namespace armadillo;
+using namespace armadillo::core;
 using namespace armadillo::braille;
 using namespace armadillo::braille::test;
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 using namespace armadillo;
+using namespace armadillo::core;
 using namespace armadillo::braille;
 using namespace armadillo::braille::test;
 

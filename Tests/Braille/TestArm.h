@@ -11,12 +11,12 @@ inline constexpr double kRate = 200.0;   // control updates per second
 inline constexpr double kDt = 1.0 / kRate;
 
 struct Motion {
-    std::vector<ArmState> states;
+    std::vector<core::ArmState> states;
     double t = 0.0;
 
-    void add(const Pose& p)
+    void add(const core::Pose& p)
     {
-        ArmState s;
+        core::ArmState s;
         s.t = t;
         s.q = poseToQuaternion(p);
         s.valid = true;
@@ -24,12 +24,12 @@ struct Motion {
         t += kDt;
     }
     /// Holds a pose for `seconds`.
-    void hold(const Pose& p, double seconds)
+    void hold(const core::Pose& p, double seconds)
     {
         for (int i = 0, n = static_cast<int>(seconds * kRate); i < n; ++i) add(p);
     }
     /// Moves linearly in (elevation, azimuth, roll) from a to b over `seconds`.
-    void move(const Pose& a, const Pose& b, double seconds)
+    void move(const core::Pose& a, const core::Pose& b, double seconds)
     {
         const int n = static_cast<int>(seconds * kRate);
         for (int i = 1; i <= n; ++i) {
@@ -42,8 +42,8 @@ struct Motion {
 
 /// The hanging arm (thesis §4.3: forearm pointing down) with the board's normal turned `roll`.
 /// Azimuth 90 like level(), so raising the arm from one to the other is a pure elevation change.
-inline Pose hanging(double roll, double tiltDeg = 0.0) { return {-90.0 + tiltDeg, 90.0, roll}; }
+inline core::Pose hanging(double roll, double tiltDeg = 0.0) { return {-90.0 + tiltDeg, 90.0, roll}; }
 /// The forearm held level, pointing east, board rolled by `roll`.
-inline Pose level(double roll, double elevation = 0.0) { return {elevation, 90.0, roll}; }
+inline core::Pose level(double roll, double elevation = 0.0) { return {elevation, 90.0, roll}; }
 
 } // namespace armadillo::braille::test

@@ -12,6 +12,7 @@
 #include <vector>
 
 using namespace armadillo;
+using namespace armadillo::core;
 using namespace armadillo::braille;
 using namespace armadillo::braille::test;
 using Kind = TrainingNotice::Kind;

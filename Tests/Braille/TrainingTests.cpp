@@ -9,6 +9,7 @@
 #include <sstream>
 
 using namespace armadillo;
+using namespace armadillo::core;
 using namespace armadillo::braille;
 using namespace armadillo::braille::test;
 

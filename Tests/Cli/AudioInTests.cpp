@@ -9,6 +9,8 @@
 #include <cmath>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::tactile;
 
 namespace {
 std::string stillMotion(const std::string& name, double seconds)

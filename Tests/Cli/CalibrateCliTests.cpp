@@ -89,7 +89,7 @@ Interactive runAnswering(const std::vector<std::string>& args, const std::functi
     int status = 0;
     ::waitpid(pid, &status, 0);
     r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = armadillo::readWholeFile(outPath);
+    r.out = armadillo::core::readWholeFile(outPath);
     return r;
 }
 
@@ -115,7 +115,7 @@ TEST_CASE("calibrate --simulate: the seven steps on stdin/stderr, Enter waits fo
     CHECK(r.err.find("calibration written to " + out) != std::string::npos);
     // The simulated board's ADC is the built-in calibration: what was measured is close to it,
     // what was skipped is exactly it.
-    const armadillo::device::Calibration c = armadillo::device::loadCalibration(out), d = armadillo::device::defaultCalibration();
+    const armadillo::link::Calibration c = armadillo::link::loadCalibration(out), d = armadillo::link::defaultCalibration();
     CHECK((c.accel.scale - d.accel.scale).cwiseAbs().maxCoeff() < 0.03 * d.accel.scale.cwiseAbs().maxCoeff());
     CHECK((c.accel.bias - d.accel.bias).cwiseAbs().maxCoeff() < 15.0);   // counts
     CHECK(c.mag.bias.isApprox(d.mag.bias, 1e-9));                         // skipped: kept (as written in the JSON)

@@ -24,7 +24,7 @@ inline std::string path(const std::string& name) { return (workDir() / name).str
 
 inline std::string file(const std::string& name, const std::string& content)
 {
-    writeFileAtomically(path(name), content);
+    core::writeFileAtomically(path(name), content);
     return path(name);
 }
 
@@ -37,8 +37,8 @@ inline Run runArmadillo(const std::string& args, const std::string& input = "/de
     const int status = std::system(cmd.c_str());
     Run r;
     r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = readWholeFile(out);
-    r.err = readWholeFile(err);
+    r.out = core::readWholeFile(out);
+    r.err = core::readWholeFile(err);
     return r;
 }
 
@@ -52,8 +52,8 @@ inline Run runArmadilloWithin(double seconds, const std::string& args, const std
     const int status = std::system(cmd.c_str());
     Run r;
     r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = readWholeFile(out);
-    r.err = readWholeFile(err);
+    r.out = core::readWholeFile(out);
+    r.err = core::readWholeFile(err);
     return r;
 }
 

@@ -72,7 +72,7 @@ TEST_CASE("cli: render writes the WAV, one tactile row per motion row and the al
     const Run r = runArmadillo("render --scene monitor --motion '" + motion + "' --out '" + wav + "' --tactile '" + tactile + "'");
     REQUIRE(r.code == 0);
     CHECK(fs::file_size(wav) > 44);
-    const std::string t = armadillo::readWholeFile(tactile);
+    const std::string t = armadillo::core::readWholeFile(tactile);
     CHECK(t.rfind("t,m1,m2,m3,m4,m5,m6,m7,m8,m9\n", 0) == 0);
     CHECK(std::count(t.begin(), t.end(), '\n') == 52);   // header, 50 rows, the all-off
     CHECK(t.substr(t.rfind('\n', t.size() - 2) + 1) == "0.49,0,0,0,0,0,0,0,0,0\n");   // at the last row's time (no --tail)
@@ -108,7 +108,7 @@ TEST_CASE("cli: the shipped scores play from any folder without the source tree;
     auto run = [&](const std::string& args) {
         const std::string out = (elsewhere / "out.txt").string();
         const int status = std::system((env + "'" + ARMADILLO_BIN + "' " + args + " >'" + out + "' 2>&1").c_str());
-        return std::make_pair(WIFEXITED(status) ? WEXITSTATUS(status) : -1, armadillo::readWholeFile(out));
+        return std::make_pair(WIFEXITED(status) ? WEXITSTATUS(status) : -1, armadillo::core::readWholeFile(out));
     };
     for (const char* score : {"rite-of-spring", "polytope"}) {
         INFO(score);
@@ -116,7 +116,7 @@ TEST_CASE("cli: the shipped scores play from any folder without the source tree;
                                         "' --out s.wav --tactile s.csv");
         INFO(output);
         REQUIRE(code == 0);
-        const std::string t = armadillo::readWholeFile((elsewhere / "s.csv").string());
+        const std::string t = armadillo::core::readWholeFile((elsewhere / "s.csv").string());
         CHECK(std::count(t.begin(), t.end(), '\n') == 402);   // header, 400 rows, the all-off
         // The score drove a motor somewhere in the first four seconds (a level other than 0).
         bool moved = false;
@@ -127,7 +127,7 @@ TEST_CASE("cli: the shipped scores play from any folder without the source tree;
         CHECK(moved);
     }
     // The program does not carry the checkout's Resources path at all.
-    const std::string binary = armadillo::readWholeFile(ARMADILLO_BIN);
+    const std::string binary = armadillo::core::readWholeFile(ARMADILLO_BIN);
     CHECK(binary.find(std::string(ARMADILLO_SOURCE_DIR) + "/Resources") == std::string::npos);
 
     // A score of the user's own in ~/.local/share/armadillo/Scores: listed and played by name.
@@ -203,7 +203,7 @@ TEST_CASE("cli: play shows progress on a terminal's stderr, and only there", "[c
     INFO(terminal);
     CHECK(terminal.find(" s of 2  packets ") != std::string::npos);
     CHECK(terminal.find("link up") != std::string::npos);
-    const std::string json = armadillo::readWholeFile(out);
+    const std::string json = armadillo::core::readWholeFile(out);
     CHECK(json.rfind("{\"packets\":", 0) == 0);
     CHECK(std::count(json.begin(), json.end(), '\n') == 1);
     // Without a terminal (the other tests' case) stderr carries no progress line.

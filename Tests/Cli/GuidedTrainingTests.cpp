@@ -193,7 +193,7 @@ TEST_CASE("adaptive training with no screen and no sound: the arm alone carries 
     CHECK(std::count(r.feltRight.begin(), r.feltRight.end(), false) >= 2);   // e and i came back, and were missed
     CHECK(std::count(r.feltRight.begin(), r.feltRight.end(), true) >= 2);
     // The log: one answer row per trial, holding what the reader chorded, scored as the reader knows.
-    const auto rows = csvRows(armadillo::readWholeFile(log));
+    const auto rows = csvRows(armadillo::core::readWholeFile(log));
     REQUIRE(!rows.empty());
     CHECK(rows[0].size() == 13);
     std::vector<std::string> logged;
@@ -223,7 +223,7 @@ TEST_CASE("adaptive training with no screen and no sound: the arm alone carries 
         }
     CHECK(gestures == 1);
     // The profile kept every answer.
-    const std::string profile = armadillo::readWholeFile(reader);
+    const std::string profile = armadillo::core::readWholeFile(reader);
     CHECK(profile.find("\"format\": \"armadillo-reader\"") != std::string::npos);
     std::size_t n = 0;
     for (std::size_t at = 0; (at = profile.find("\"expected\"", at)) != std::string::npos; ++at) ++n;
@@ -240,7 +240,7 @@ TEST_CASE("adaptive training with speech and a braille display captured: every p
     const ArmReaderRun r = runArmReader(reader, log, trials, {"--speech", "capture:" + speech, "--braille-display", "capture:" + display});
     INFO(r.err);
     REQUIRE(r.code == 0);
-    const std::string said = armadillo::readWholeFile(speech), shown = armadillo::readWholeFile(display);
+    const std::string said = armadillo::core::readWholeFile(speech), shown = armadillo::core::readWholeFile(display);
     INFO(said);
     INFO(shown);
     for (int k = 1; k <= trials; ++k) {
@@ -284,7 +284,7 @@ TEST_CASE("adaptive training stopped early keeps every answer given, in the log 
     CHECK(r.out.find("\"stopped\":true") != std::string::npos);
     CHECK(r.err.find("training stopped after 20 of 60 trials") != std::string::npos);
     REQUIRE(std::filesystem::exists(log));
-    const auto rows = csvRows(armadillo::readWholeFile(log));
+    const auto rows = csvRows(armadillo::core::readWholeFile(log));
     int answered = 0, ends = 0;
     for (const auto& row : rows) {
         if (row.size() != 13) continue;
@@ -297,7 +297,7 @@ TEST_CASE("adaptive training stopped early keeps every answer given, in the log 
     CHECK(answered == 20);
     CHECK(ends == 1);
     CHECK(rows.back()[1] == "end");
-    const std::string profile = armadillo::readWholeFile(reader);
+    const std::string profile = armadillo::core::readWholeFile(reader);
     std::size_t n = 0;
     for (std::size_t at = 0; (at = profile.find("\"expected\"", at)) != std::string::npos; ++at) ++n;
     CHECK(n >= 20);   // a confused pair is also recorded as its letters
@@ -308,7 +308,7 @@ TEST_CASE("adaptive training stopped early keeps every answer given, in the log 
                                                  " --simulate --unpaced --trials 3 --seed 4 --log " + log2, file("full-answers.txt", "a\nb\nc\n"));
     CHECK(full.code == 0);
     CHECK(full.out.find("\"stopped\":false") != std::string::npos);
-    const auto rows2 = csvRows(armadillo::readWholeFile(log2));
+    const auto rows2 = csvRows(armadillo::core::readWholeFile(log2));
     REQUIRE(!rows2.empty());
     CHECK(rows2.back()[1] == "end");
     CHECK(rows2.back()[11].empty());
@@ -371,11 +371,11 @@ TEST_CASE("adaptive training: Perkins keys on a terminal â€” S D F J K L, Space 
     CHECK((after.c_lflag & ECHO) != 0);
     ::close(master);
     ::close(slave);
-    INFO(armadillo::readWholeFile(err));
+    INFO(armadillo::core::readWholeFile(err));
     REQUIRE(WIFEXITED(status));
     CHECK(WEXITSTATUS(status) == 0);
     std::vector<std::string> answers;
-    for (const auto& row : csvRows(armadillo::readWholeFile(log)))
+    for (const auto& row : csvRows(armadillo::core::readWholeFile(log)))
         if (row.size() == 13 && row[1] == "answer") answers.push_back(row[11]);
     CHECK(answers == std::vector<std::string> {"b", "e", "b"});
 }
@@ -401,7 +401,7 @@ TEST_CASE("play --training-log with speech and a braille display captured: the Â
                                file("play-answers.txt", answers));
     INFO(r.err);
     REQUIRE(r.code == 0);
-    const std::string said = armadillo::readWholeFile(speech), shown = armadillo::readWholeFile(display);
+    const std::string said = armadillo::core::readWholeFile(speech), shown = armadillo::core::readWholeFile(display);
     const std::string n = std::to_string(expected.size());
     for (std::size_t k = 1; k <= expected.size(); ++k) {
         const std::string prompt = "trial " + std::to_string(k) + " of " + n + ": ";
@@ -442,7 +442,7 @@ TEST_CASE("adaptive training on a braille display alone: prompts and feedback to
     REQUIRE(r.code == 0);
     CHECK(server.enteredTty());
     std::vector<std::string> answers;
-    for (const auto& row : csvRows(armadillo::readWholeFile(log)))
+    for (const auto& row : csvRows(armadillo::core::readWholeFile(log)))
         if (row.size() == 13 && row[1] == "answer") answers.push_back(row[11]);
     CHECK(answers == std::vector<std::string> {"b", "x", "x"});
     const auto writes = server.writes();

@@ -22,6 +22,7 @@
 #include <vector>
 
 using namespace armadillo;
+using namespace armadillo::core;
 using namespace armadillo::cli;
 using armadillo::mapping::test::readSmf;
 using armadillo::mapping::test::Smf;
@@ -248,7 +249,7 @@ TEST_CASE("render --map scenerotator: SceneRotator's decoding within 0.05°, LSB
     CHECK(packets.size() == 2 * rows.size());
     std::size_t ypr = 0;
     for (const auto& p : packets) {
-        REQUIRE(device::decodeOscPacket(p.data(), p.size(), [&](const device::OscMessage& m) {
+        REQUIRE(osc::decodeOscPacket(p.data(), p.size(), [&](const osc::OscMessage& m) {
             if (m.address != "/SceneRotator/ypr") return;
             REQUIRE(m.types == "fff");
             REQUIRE(ypr < rows.size());
@@ -311,7 +312,7 @@ TEST_CASE("play --map sends the mapping's OSC (and only it) to --osc-out", "[cli
     const auto packets = udp.drain();
     CHECK(packets.size() > 5);
     for (const auto& p : packets)
-        device::decodeOscPacket(p.data(), p.size(), [&](const device::OscMessage& m) {
+        osc::decodeOscPacket(p.data(), p.size(), [&](const osc::OscMessage& m) {
             CHECK(m.address == "/el");   // no /armadillo/* stream with --map
             CHECK(std::fabs(m.args[0].f) <= 90.0f);
         });
@@ -412,7 +413,7 @@ TEST_CASE("--forward sets where yaw is measured from; play takes SIGUSR1 as 'set
         std::uint8_t buf[512];
         const ssize_t n = ::recv(udp.fd, buf, sizeof buf, 0);
         if (n <= 0) return false;
-        return device::decodeOscPacket(buf, static_cast<std::size_t>(n), [&](const device::OscMessage& m) { out = m.args[0].f; });
+        return osc::decodeOscPacket(buf, static_cast<std::size_t>(n), [&](const osc::OscMessage& m) { out = m.args[0].f; });
     };
     float y = 0.0f;
     int before = 0;
@@ -447,7 +448,7 @@ TEST_CASE("render --map --osc-out: the issue example's OSC destination sends out
     const auto packets = udp.drain();
     REQUIRE(packets.size() == rows.size());   // every row changes the elevation: one message each
     for (std::size_t i = 0; i < packets.size(); ++i) {
-        REQUIRE(device::decodeOscPacket(packets[i].data(), packets[i].size(), [&](const device::OscMessage& m) {
+        REQUIRE(osc::decodeOscPacket(packets[i].data(), packets[i].size(), [&](const osc::OscMessage& m) {
             CHECK(m.address == "/synth/cutoff");
             REQUIRE(m.types == "f");
             CHECK(m.args[0].f == Approx((rows[i].el + 90.0) / 180.0).margin(1e-6));
@@ -548,7 +549,7 @@ TEST_CASE("play with two simulated arms --map: the left arm's and the relative s
     std::map<std::string, double> last;
     std::map<std::string, int> count;
     for (const auto& p : udp.drain())
-        device::decodeOscPacket(p.data(), p.size(), [&](const device::OscMessage& m) {
+        osc::decodeOscPacket(p.data(), p.size(), [&](const osc::OscMessage& m) {
             last[std::string(m.address)] = static_cast<double>(m.args[0].f);
             ++count[std::string(m.address)];
         });

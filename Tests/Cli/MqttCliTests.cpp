@@ -23,6 +23,7 @@
 #include <thread>
 
 using namespace armadillo;
+using namespace armadillo::core;
 
 namespace {
 
@@ -316,8 +317,8 @@ TEST_CASE("e2e: armadillo read: messages only, from MQTT and OSC, shown as play 
                 if (phase == 1 && shownLines == 1) {
                     // The same session's OSC control port: /armadillo/message "text" (docs/MQTT.md).
                     phase = 2;
-                    device::OscSender sender(device::HostPort {"127.0.0.1", oscPort});
-                    const std::vector<std::uint8_t> packet = device::encodeOscMessage("/armadillo/message", {device::OscArg::string("on my way")});
+                    osc::OscSender sender(osc::HostPort {"127.0.0.1", oscPort});
+                    const std::vector<std::uint8_t> packet = osc::encodeOscMessage("/armadillo/message", {osc::OscArg::string("on my way")});
                     sender.sendPacket(packet.data(), packet.size());
                 }
                 if (phase == 2 && shownLines == 2) dev.terminate();
@@ -419,7 +420,7 @@ TEST_CASE("e2e: the arm as a remote: a mapping's MQTT destination over a recorde
     std::vector<std::pair<double, int>> heard;   // (time received, level)
     mqtt::MqttClient listener(sub);
     listener.setMessageHandler([&](const mqtt::ReceivedMessage& m) {
-        const armadillo::JsonValue v = armadillo::parseJson(m.payload, "payload");
+        const armadillo::core::JsonValue v = armadillo::core::parseJson(m.payload, "payload");
         std::lock_guard lock(mutex);
         heard.emplace_back(nowSeconds(), static_cast<int>(v.find("level")->number));
     });
@@ -450,9 +451,9 @@ TEST_CASE("e2e: the arm as a remote: a mapping's MQTT destination over a recorde
     CHECK(r.out.find("\"connection_losses\":1") != std::string::npos);
     // Nothing the mapping computed went missing inside ARMadillo: every value it handed over was
     // published or replaced by a newer one for its topic (the rate limit, the outage), none dropped.
-    const armadillo::JsonValue summary = armadillo::parseJson(r.out.substr(r.out.rfind('{', r.out.find("\"packets\""))), "summary");
-    const auto number = [](const armadillo::JsonValue* v) { return v ? static_cast<long>(v->number) : -1L; };
-    const armadillo::JsonValue* client = summary.find("mqtt");
+    const armadillo::core::JsonValue summary = armadillo::core::parseJson(r.out.substr(r.out.rfind('{', r.out.find("\"packets\""))), "summary");
+    const auto number = [](const armadillo::core::JsonValue* v) { return v ? static_cast<long>(v->number) : -1L; };
+    const armadillo::core::JsonValue* client = summary.find("mqtt");
     REQUIRE(client);
     const long mapped = number(summary.find("mapping_mqtt_messages")), published = number(client->find("published")),
                coalesced = number(client->find("coalesced"));

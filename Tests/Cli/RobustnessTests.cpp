@@ -28,6 +28,8 @@
 
 namespace fs = std::filesystem;
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::tactile;
 using cli::Run;
 
 namespace {
@@ -726,19 +728,19 @@ TEST_CASE("robustness: size: 200 000 pattern/stop pairs, 200 000 cues and a 200 
         CHECK(std::string(e.what()) == "cues.score:" + std::to_string(n + 3) + ": column 'cue': cue 'c12345' given twice");
     }
 
-    std::string json = device::calibrationToJson(device::defaultCalibration());
-    const device::Calibration plain = device::parseCalibration(json, "plain.json");
-    const std::size_t plainKeys = armadillo::parseJson(json, "plain.json").object.size();
+    std::string json = link::calibrationToJson(link::defaultCalibration());
+    const link::Calibration plain = link::parseCalibration(json, "plain.json");
+    const std::size_t plainKeys = armadillo::core::parseJson(json, "plain.json").object.size();
     json.erase(json.rfind('}'));
     for (int i = 0; i < n; ++i) json += ",\n\"extra" + std::to_string(i) + "\": " + std::to_string(i);
-    const device::Calibration c = device::parseCalibration(json + "\n}\n", "keys.json");
+    const link::Calibration c = link::parseCalibration(json + "\n}\n", "keys.json");
     CHECK(c.accel.scale == plain.accel.scale);
     CHECK(c.gyro.bias == plain.gyro.bias);
-    const armadillo::JsonValue v = armadillo::parseJson(json + "\n}\n", "keys.json");
+    const armadillo::core::JsonValue v = armadillo::core::parseJson(json + "\n}\n", "keys.json");
     CHECK(v.object.size() == static_cast<std::size_t>(n) + plainKeys);
     const long lines = static_cast<long>(std::count(json.begin(), json.end(), '\n')) + 1;
     try {
-        (void) armadillo::parseJson(json + ",\n  \"extra7\": 1}", "keys.json");
+        (void) armadillo::core::parseJson(json + ",\n  \"extra7\": 1}", "keys.json");
         FAIL("a duplicate key was accepted");
     } catch (const InputError& e) {
         CHECK(std::string(e.what()) == "keys.json:" + std::to_string(lines + 1) + ": at column 3: duplicate key \"extra7\"");

@@ -20,7 +20,7 @@ struct SafetyReport {
     }
 };
 
-inline SafetyReport checkSafety(const std::vector<TactileRow>& rows, int motorCount)
+inline SafetyReport checkSafety(const std::vector<core::TactileRow>& rows, int motorCount)
 {
     SafetyReport report;
     const std::size_t n = rows.size();

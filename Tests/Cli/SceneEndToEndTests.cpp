@@ -11,6 +11,7 @@
 #include <set>
 
 using namespace armadillo;
+using namespace armadillo::core;
 using armadillo::testing::checkSafety;
 
 namespace {

@@ -31,7 +31,7 @@ TEST_CASE("cli: score import turns a MIDI file into a score; bad usage 2, bad in
     REQUIRE(r.code == 0);
     CHECK(r.out.find("\"format\":\"midi\"") != std::string::npos);
     CHECK(r.out.find("\"notes\":4") != std::string::npos);
-    const armadillo::Score s = armadillo::loadScore(out);
+    const armadillo::tactile::Score s = armadillo::tactile::loadScore(out);
     CHECK(s.notes.size() == 4);
     CHECK(s.version == 2);
 
@@ -59,7 +59,7 @@ TEST_CASE("cli: render plays a MIDI file directly and writes the motors as a mul
     const Run r = runArmadillo("render --scene score --score '" + mid + "' --motion '" + motion + "' --out '" + wav + "' --tactile '" + csv +
                                "' --tactile-wav '" + tactileWav + "' --back-motors");
     REQUIRE(r.code == 0);
-    const armadillo::AudioBuffer t = armadillo::readWav(tactileWav);
+    const armadillo::core::AudioBuffer t = armadillo::core::readWav(tactileWav);
     CHECK(t.channels.size() == 12);
     float peak = 0.0f;
     for (const auto& c : t.channels)
@@ -95,12 +95,12 @@ TEST_CASE("cli: render writes the motors as AHAP and .haptic files that import b
 
 TEST_CASE("cli: render takes stems for audio-touch; unknown stems and stems for other scenes are refused", "[cli][stems]")
 {
-    armadillo::AudioBuffer tone;
+    armadillo::core::AudioBuffer tone;
     tone.channels.assign(1, std::vector<float>(24000));
     for (std::size_t i = 0; i < tone.frames(); ++i) tone.channels[0][i] = static_cast<float>(0.4 * std::sin(2.0 * 3.14159265358979 * 55.0 * static_cast<double>(i) / 48000.0));
     const std::string bass = path("bass.wav"), drums = path("drums.wav");
-    armadillo::writeWav(bass, tone);
-    armadillo::writeWav(drums, tone);
+    armadillo::core::writeWav(bass, tone);
+    armadillo::core::writeWav(drums, tone);
     const std::string motion = stillMotion("still3.csv", 0.5);
     const std::string out = path("stems.wav"), csv = path("stems.csv");
     CHECK(runArmadillo("render --scene audio-touch --motion '" + motion + "' --out '" + out + "' --stem bass='" + bass + "' --stem drums='" + drums + "' --tactile '" + csv + "'").code == 0);
@@ -115,19 +115,19 @@ TEST_CASE("cli: play feels stems apart and plays them out together; bad stems ar
     // A bass line (55 Hz, 0.4) and a silent vocal stem: the bass's motors (7, 9: the elbow) run,
     // the vocals' (1, 3: the wrist) never do, and the output holds the bass as it was.
     const std::size_t n = 48000;
-    armadillo::AudioBuffer bassTone, silence;
+    armadillo::core::AudioBuffer bassTone, silence;
     bassTone.channels.assign(1, std::vector<float>(n));
     for (std::size_t i = 0; i < n; ++i) bassTone.channels[0][i] = static_cast<float>(0.4 * std::sin(2.0 * 3.14159265358979 * 55.0 * static_cast<double>(i) / 48000.0));
     silence.channels.assign(2, std::vector<float>(n / 2, 0.0f));   // stereo and shorter: mixed to mono, padded
     const std::string bass = path("play-bass.wav"), vocals = path("play-vocals.wav");
-    armadillo::writeWav(bass, bassTone, true);
-    armadillo::writeWav(vocals, silence);
+    armadillo::core::writeWav(bass, bassTone, true);
+    armadillo::core::writeWav(vocals, silence);
     const std::string out = path("play-stems.wav"), csv = path("play-stems.csv");
     const Run r = runArmadillo("play --scene audio-touch --simulate --seconds 2 --stem bass='" + bass + "' --stem vocals='" + vocals + "' --out '" + out +
                                "' --tactile '" + csv + "'");
     INFO(r.err);
     REQUIRE(r.code == 0);
-    const auto rows = armadillo::readTactile(armadillo::CsvTable::read(csv));
+    const auto rows = armadillo::core::readTactile(armadillo::core::CsvTable::read(csv));
     int bassOn = 0, vocalsOn = 0;
     for (const auto& row : rows) {
         bassOn += row.levels[6] > 0 || row.levels[8] > 0;
@@ -135,7 +135,7 @@ TEST_CASE("cli: play feels stems apart and plays them out together; bad stems ar
     }
     CHECK(bassOn > 20);
     CHECK(vocalsOn == 0);
-    const armadillo::AudioBuffer played = armadillo::readWav(out);
+    const armadillo::core::AudioBuffer played = armadillo::core::readWav(out);
     REQUIRE(played.frames() > n / 2);
     double err = 0.0, energy = 0.0;
     for (std::size_t i = 0; i < n / 2; ++i) {
@@ -147,10 +147,10 @@ TEST_CASE("cli: play feels stems apart and plays them out together; bad stems ar
 
     // Two --audio-in files are stems too, named by their file names.
     const std::string drums = path("drums.wav");
-    armadillo::writeWav(drums, bassTone);
+    armadillo::core::writeWav(drums, bassTone);
     CHECK(runArmadillo("play --scene audio-touch --simulate --seconds 0.5 --audio-in '" + drums + "' --audio-in '" + bass + "' --out '" + out + "'").code == 3);   // "play-bass" is no stem
     const std::string bass2 = path("bass.wav");
-    armadillo::writeWav(bass2, bassTone);
+    armadillo::core::writeWav(bass2, bassTone);
     CHECK(runArmadillo("play --scene audio-touch --simulate --seconds 0.5 --audio-in '" + drums + "' --audio-in '" + bass2 + "' --out '" + out + "'").code == 0);
 
     const std::string base = "play --simulate --seconds 0.5 --out '" + out + "' ";
@@ -160,10 +160,10 @@ TEST_CASE("cli: play feels stems apart and plays them out together; bad stems ar
     CHECK(runArmadillo("play --simulate --seconds 0.5 --no-audio --scene audio-touch --stem bass='" + bass + "'").code == 2);
     CHECK(runArmadillo(base + "--scene audio-touch --stem guitar='" + bass + "'").code == 3);          // no such stem preset
     CHECK(runArmadillo(base + "--scene audio-touch --stem bass='" + path("absent.wav") + "'").code == 4);
-    armadillo::AudioBuffer other = bassTone;
+    armadillo::core::AudioBuffer other = bassTone;
     other.sampleRate = 44100.0;
     const std::string slow = path("vocals-44k.wav");
-    armadillo::writeWav(slow, other);
+    armadillo::core::writeWav(slow, other);
     const Run rate = runArmadillo(base + "--scene audio-touch --stem bass='" + bass + "' --stem vocals='" + slow + "'");
     CHECK(rate.code == 3);
     CHECK(rate.err.find("vocals-44k.wav") != std::string::npos);
@@ -184,7 +184,7 @@ TEST_CASE("cli: render writes the motors as a bHaptics .tact that imports back; 
     // --score takes the .tact directly: the same motor levels as the render it came from.
     const std::string csv2 = path("replayed-tact.csv");
     REQUIRE(runArmadillo("render --scene score --score '" + tact + "' --motion '" + motion + "' --out '" + path("tact2.wav") + "' --tactile '" + csv2 + "'").code == 0);
-    const auto first = armadillo::readTactile(armadillo::CsvTable::read(csv)), second = armadillo::readTactile(armadillo::CsvTable::read(csv2));
+    const auto first = armadillo::core::readTactile(armadillo::core::CsvTable::read(csv)), second = armadillo::core::readTactile(armadillo::core::CsvTable::read(csv2));
     REQUIRE(second.size() >= 200);
     int worst = 0;
     for (std::size_t i = 0; i < 200; ++i)

@@ -9,6 +9,7 @@
 #include <functional>
 
 using namespace armadillo;
+using namespace armadillo::core;
 
 namespace {
 struct Segment {

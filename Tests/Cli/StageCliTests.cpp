@@ -22,6 +22,7 @@
 #include <cstdio>
 
 using namespace armadillo;
+using namespace armadillo::core;
 using namespace armadillo::cli;
 
 namespace {
@@ -311,8 +312,8 @@ Run playWithSenders(const std::string& args, const std::vector<std::pair<int, st
 {
     std::atomic<bool> done {false};
     std::thread sending([&] {
-        std::vector<std::unique_ptr<device::OscSender>> out;
-        for (const auto& s : senders) out.push_back(std::make_unique<device::OscSender>(device::HostPort {"127.0.0.1", s.first}));
+        std::vector<std::unique_ptr<osc::OscSender>> out;
+        for (const auto& s : senders) out.push_back(std::make_unique<osc::OscSender>(osc::HostPort {"127.0.0.1", s.first}));
         const auto start = std::chrono::steady_clock::now();
         while (!done.load()) {
             const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -608,16 +609,16 @@ TEST_CASE("cli: play --calibrate-mount-left: the guided mount calibration of the
     std::remove(out.c_str());
     std::atomic<bool> done {false};
     std::thread sending([&] {
-        device::OscSender sender(device::HostPort {"127.0.0.1", port});
+        osc::OscSender sender(osc::HostPort {"127.0.0.1", port});
         const auto start = std::chrono::steady_clock::now();
         while (!done.load()) {
             const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             const Eigen::Vector3d up = t < 2.0 ? Eigen::Vector3d(0.0, g, 0.0) : Eigen::Vector3d(-g, 0.0, 0.0);
             const Eigen::Vector3d a = strap.conjugate() * up;   // in the sensor's own axes
-            const std::vector<device::OscArg> args {device::OscArg::float32(0.0f), device::OscArg::float32(0.0f), device::OscArg::float32(0.0f),
-                                                    device::OscArg::float32(static_cast<float>(a.x())), device::OscArg::float32(static_cast<float>(a.y())),
-                                                    device::OscArg::float32(static_cast<float>(a.z()))};
-            const std::vector<std::uint8_t> packet = device::encodeOscMessage("/armadillo/imu", args);
+            const std::vector<osc::OscArg> args {osc::OscArg::float32(0.0f), osc::OscArg::float32(0.0f), osc::OscArg::float32(0.0f),
+                                                    osc::OscArg::float32(static_cast<float>(a.x())), osc::OscArg::float32(static_cast<float>(a.y())),
+                                                    osc::OscArg::float32(static_cast<float>(a.z()))};
+            const std::vector<std::uint8_t> packet = osc::encodeOscMessage("/armadillo/imu", args);
             sender.sendPacket(packet.data(), packet.size());
             std::this_thread::sleep_for(std::chrono::milliseconds(10));
         }
@@ -630,7 +631,7 @@ TEST_CASE("cli: play --calibrate-mount-left: the guided mount calibration of the
     REQUIRE(r.code == 0);
     CHECK(r.err.find("left arm mount calibration pose 2") != std::string::npos);
     CHECK(r.err.find("left arm mount calibration written to") != std::string::npos);
-    const device::Mount solved = device::loadMount(out);
+    const link::Mount solved = link::loadMount(out);
     const double err = angleDeg(solved.rotation, strap);
     std::printf("play --calibrate-mount-left: the left sensor's strap recovered within %.3f deg\n", err);
     CHECK(err < 1.0);
@@ -654,11 +655,11 @@ TEST_CASE("cli: play --osc-in-left with an IMU sender: the left arm's own fusion
     const int port = test::freeUdpPort();
     std::atomic<bool> done {false};
     std::thread sending([&] {
-        device::OscSender sender(device::HostPort {"127.0.0.1", port});
-        std::vector<device::OscArg> args(3, device::OscArg::float32(0.0f));
+        osc::OscSender sender(osc::HostPort {"127.0.0.1", port});
+        std::vector<osc::OscArg> args(3, osc::OscArg::float32(0.0f));
         for (const Eigen::Vector3d* v : {&a, &m})
-            for (int k = 0; k < 3; ++k) args.push_back(device::OscArg::float32(static_cast<float>((*v)[k])));
-        const std::vector<std::uint8_t> packet = device::encodeOscMessage("/armadillo/imu", args);
+            for (int k = 0; k < 3; ++k) args.push_back(osc::OscArg::float32(static_cast<float>((*v)[k])));
+        const std::vector<std::uint8_t> packet = osc::encodeOscMessage("/armadillo/imu", args);
         while (!done.load()) {
             sender.sendPacket(packet.data(), packet.size());
             std::this_thread::sleep_for(std::chrono::milliseconds(10));

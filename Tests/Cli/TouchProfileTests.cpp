@@ -87,7 +87,7 @@ TEST_CASE("touch-profile over a pty finds nine different thresholds within one l
     const ReaderResult r = runSimulatedReader(hidden, out);
     INFO(r.err);
     REQUIRE(r.code == 0);
-    const std::string json = armadillo::readWholeFile(out);
+    const std::string json = armadillo::core::readWholeFile(out);
     INFO(json);
     const std::vector<int> found = jsonIntArray(json, "threshold");
     REQUIRE(found.size() == 9);
@@ -137,7 +137,7 @@ TEST_CASE("render --profile: each motor's levels scaled by its threshold over th
         REQUIRE(r.code == 0);
         // Every level each wrist-row motor took, counted: rows "t,m1,…,m9".
         std::array<std::map<int, int>, 3> seen;
-        std::istringstream in(armadillo::readWholeFile(path("p.csv")));
+        std::istringstream in(armadillo::core::readWholeFile(path("p.csv")));
         std::string line;
         std::getline(in, line);
         while (std::getline(in, line)) {

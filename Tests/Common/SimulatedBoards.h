@@ -7,9 +7,9 @@ namespace armadillo::testing {
 
 /// Sensor model of a board with its own bias and scale on every axis and a steady gyro bias of
 /// zero (the procedure's still step then measures the ADC bias alone).
-inline device::SensorModelParams boardWithItsOwnAdc()
+inline link::SensorModelParams boardWithItsOwnAdc()
 {
-    device::SensorModelParams p;
+    link::SensorModelParams p;
     p.adc.accel.bias = Eigen::Vector3d(2100, 1990, 2060);
     p.adc.accel.scale = Eigen::Vector3d(0.026, 0.022, 0.025);
     p.adc.gyro.bias = Eigen::Vector3d(2000, 2090, 2030);

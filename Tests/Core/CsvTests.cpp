@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 using namespace armadillo;
+using namespace armadillo::core;
 namespace fs = std::filesystem;
 
 namespace {

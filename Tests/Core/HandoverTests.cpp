@@ -8,6 +8,7 @@
 #include <thread>
 
 using namespace armadillo;
+using namespace armadillo::core;
 
 namespace {
 

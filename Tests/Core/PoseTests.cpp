@@ -4,6 +4,7 @@
 #include <random>
 
 using namespace armadillo;
+using namespace armadillo::core;
 
 namespace {
 Eigen::Vector3d earth(const Eigen::Quaterniond& q, const Eigen::Vector3d& v) { return q * v; }

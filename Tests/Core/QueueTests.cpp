@@ -3,6 +3,7 @@
 #include <thread>
 
 using namespace armadillo;
+using namespace armadillo::core;
 
 TEST_CASE("SpscQueue: FIFO, bounded, never blocks", "[queue]")
 {
@@ -54,14 +55,14 @@ TEST_CASE("SeqLock: readers see whole values, never a torn mix", "[queue][thread
     CHECK(box.load().a == 199999);
 }
 
-namespace armadillo {
+namespace armadillo::core {
 /// Holds a write open the way a writer pre-empted in the middle of store() would.
 template <typename U>
 struct SeqLockProbe {
     static void beginWrite(SeqLock<U>& box) { box.sequence_.fetch_add(1); }
     static void endWrite(SeqLock<U>& box) { box.sequence_.fetch_add(1); }
 };
-} // namespace armadillo
+} // namespace armadillo::core
 
 TEST_CASE("SeqLock: a writer stuck mid-write cannot stall a reader; it keeps its last good value", "[queue]")
 {

@@ -12,6 +12,7 @@
 
 namespace fs = std::filesystem;
 using namespace armadillo;
+using namespace armadillo::core;
 
 namespace {
 

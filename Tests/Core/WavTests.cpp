@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 using namespace armadillo;
+using namespace armadillo::core;
 
 TEST_CASE("WAV: 16-bit and float round trips", "[wav]")
 {

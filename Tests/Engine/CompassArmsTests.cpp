@@ -7,6 +7,8 @@
 #include <algorithm>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::engine;
 
 namespace {
 /// Physical motor columns as the board drives them (after the engine's mirroring). The motor

@@ -7,6 +7,9 @@
 #include <cmath>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::engine;
+using namespace armadillo::fusion;
 
 namespace {
 std::string poseMotion(double seconds, double rate, double elevationDeg)

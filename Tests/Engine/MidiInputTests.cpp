@@ -11,6 +11,8 @@
 #include <vector>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::engine;
 
 TEST_CASE("MIDI input: every scene but layered-keyboard ignores it; handing it over allocates nothing", "[engine][midi][realtime]")
 {

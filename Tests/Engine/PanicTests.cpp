@@ -13,6 +13,8 @@
 #include <vector>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::engine;
 using namespace armadillo::test;
 
 namespace {

@@ -15,6 +15,9 @@
 #include <string>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::engine;
+using namespace armadillo::fusion;
 
 namespace {
 constexpr double kFs = 48000.0;

@@ -14,6 +14,8 @@ extern "C" {
 #include <cstring>
 #include <stdexcept>
 
+using namespace armadillo;
+
 namespace armadillo::firmware_test {
 
 namespace {
@@ -43,7 +45,7 @@ std::string firmwareElf()
 
 // ---- MPU-9250 + AK8963 ----------------------------------------------------------------------------
 
-Mpu9250Model::Mpu9250Model(std::shared_ptr<const device::MotionSource> motion, const device::SensorModelParams& params)
+Mpu9250Model::Mpu9250Model(std::shared_ptr<const link::MotionSource> motion, const link::SensorModelParams& params)
     : motion_(std::move(motion)), model_(params)
 {
     mpu_.fill(0);

@@ -24,7 +24,7 @@ namespace armadillo::firmware_test {
 /// and full-scale settings as the firmware configured them.
 class Mpu9250Model {
 public:
-    Mpu9250Model(std::shared_ptr<const device::MotionSource> motion, const device::SensorModelParams& params);
+    Mpu9250Model(std::shared_ptr<const link::MotionSource> motion, const link::SensorModelParams& params);
     /// One I2C message from simavr's TWI master (avr_twi_msg_irq_t value); returns true and sets
     /// `reply` when the model answers (ACK or a data byte).
     void onTwi(std::uint32_t msg, double t, avr_t* avr, avr_irq_t* replyIrq);
@@ -32,13 +32,13 @@ public:
     std::array<std::uint8_t, 3> asa {176, 171, 165};   ///< AK8963 factory sensitivity adjustment (typical values)
     double fieldMicroTesla = 50.0;     ///< µT per "field unit" of the sensor model
     std::uint64_t mpuReads = 0, magReads = 0;
-    device::ProtocolLevels motors {};  ///< for the model's motor vibration noise
+    link::ProtocolLevels motors {};  ///< for the model's motor vibration noise
 
 private:
     void sampleMpu(double t);
     void updateMag(double t);
-    std::shared_ptr<const device::MotionSource> motion_;
-    device::SensorModel model_;
+    std::shared_ptr<const link::MotionSource> motion_;
+    link::SensorModel model_;
     std::array<std::uint8_t, 128> mpu_ {};
     std::array<std::uint8_t, 0x13> ak_ {};
     int selected_ = 0;                 ///< 0 none, 1 MPU, 2 AK8963
@@ -46,15 +46,15 @@ private:
     std::uint8_t ptr_ = 0;
     double nextMag_ = -1.0;            ///< s: next AK8963 measurement in continuous mode
     double lastSample_ = -1.0;
-    ImuSample truth_ {};
+    core::ImuSample truth_ {};
 };
 
 class SimBoard {
 public:
     struct Options {
         std::string elf;
-        std::shared_ptr<const device::MotionSource> motion = std::make_shared<device::WanderingMotion>();
-        device::SensorModelParams sensors {};
+        std::shared_ptr<const link::MotionSource> motion = std::make_shared<link::WanderingMotion>();
+        link::SensorModelParams sensors {};
         bool imuPresent = true;
         /// simavr 1.6 counts a parity bit in every UART byte (11 bits for 8N1); true corrects the
         /// byte time to the real 10 bits once the firmware has set the baud rate.

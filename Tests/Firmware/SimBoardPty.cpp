@@ -25,6 +25,7 @@
 #include <unistd.h>
 
 using namespace armadillo;
+using namespace armadillo::core;
 using armadillo::firmware_test::SimBoard;
 
 namespace {
@@ -55,9 +56,9 @@ int main(int argc, char** argv)
     if (link.empty()) return usage("--link is required");
     if (motionName != "sweeps" && motionName != "wandering") return usage("--motion must be sweeps or wandering");
 
-    std::shared_ptr<const device::MotionSource> motion;
-    if (motionName == "wandering") motion = std::make_shared<device::WanderingMotion>(3);
-    else motion = std::make_shared<device::FunctionMotion>([](double t) {
+    std::shared_ptr<const link::MotionSource> motion;
+    if (motionName == "wandering") motion = std::make_shared<link::WanderingMotion>(3);
+    else motion = std::make_shared<link::FunctionMotion>([](double t) {
         Pose p;
         p.elevationDeg = 40.0 * std::sin(2.0 * kPi * t / 7.0);
         p.azimuthDeg = 360.0 + 60.0 * std::sin(2.0 * kPi * t / 11.0);

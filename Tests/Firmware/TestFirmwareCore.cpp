@@ -16,7 +16,7 @@
 
 using armfw::DeviceLink;
 using armfw::LinkEvent;
-namespace dev = armadillo::device;
+namespace dev = armadillo::link;
 
 namespace {
 const uint16_t kCounts[9] = {0x123, 0x456, 0x789, 0xABC, 0xDEF, 0x012, 0x345, 0x678, 0x9AB};
@@ -425,7 +425,7 @@ TEST_CASE("firmware scaling: MPU-9250/AK8963 LSB through the default calibration
     armfw::toCounts(raw, magQ, counts);
     dev::SensorCounts c {};
     for (int i = 0; i < 9; ++i) c[static_cast<size_t>(i)] = counts[i];
-    const armadillo::ImuSample s = cal.apply(0.0, c);
+    const armadillo::core::ImuSample s = cal.apply(0.0, c);
     CHECK(s.accel.y() == Approx(9.80665).epsilon(0.005));       // device y = out of the face = up
     CHECK(std::abs(s.accel.x()) < 0.03);
     CHECK(std::abs(s.accel.z()) < 0.03);

@@ -21,7 +21,9 @@
 #include <vector>
 
 using namespace armadillo;
-using namespace armadillo::device;
+using namespace armadillo::core;
+using namespace armadillo::fusion;
+using namespace armadillo::link;
 using armadillo::firmware_test::SimBoard;
 
 namespace {

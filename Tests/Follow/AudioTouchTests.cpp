@@ -13,6 +13,8 @@
 #include <random>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::engine;
 using namespace armadillo::test;
 
 namespace {

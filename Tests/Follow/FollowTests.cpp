@@ -16,6 +16,9 @@
 #include <random>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::engine;
+using namespace armadillo::tactile;
 using namespace armadillo::test;
 
 namespace {

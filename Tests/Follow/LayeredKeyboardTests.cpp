@@ -20,6 +20,9 @@
 #include <vector>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::engine;
+using namespace armadillo::instruments;
 using namespace armadillo::test;
 
 namespace {

@@ -19,6 +19,10 @@
 #include <unistd.h>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::engine;
+using namespace armadillo::formats;
+using namespace armadillo::tactile;
 using namespace armadillo::test;
 
 namespace {

@@ -20,7 +20,7 @@ struct PlayedNote {
 };
 
 struct Performance {
-    AudioBuffer audio;
+    core::AudioBuffer audio;
     std::vector<PlayedNote> notes;
     std::vector<double> envelope;   ///< the synthesised amplitude, one value per sample
     double envelopeAt(double t) const
@@ -43,16 +43,16 @@ struct PerformanceStyle {
 
 /// Score-time → performance-time map for notes, rests kept: each note's duration is divided by
 /// the local tempo factor at its start; the first note lasts firstNoteSeconds.
-inline Performance perform(const Score& score, const std::vector<int>& followed, const PerformanceStyle& st)
+inline Performance perform(const tactile::Score& score, const std::vector<int>& followed, const PerformanceStyle& st)
 {
     Performance p;
     const double fs = st.sampleRate;
     std::vector<PlayedNote> played;
     double t = st.start;
     for (std::size_t k = 0; k < followed.size(); ++k) {
-        const ScoreNote& n = score.notes[static_cast<std::size_t>(followed[k])];
+        const tactile::ScoreNote& n = score.notes[static_cast<std::size_t>(followed[k])];
         if (k > 0) {   // the gap (rest) before this note, at the local tempo
-            const ScoreNote& prev = score.notes[static_cast<std::size_t>(followed[k - 1])];
+            const tactile::ScoreNote& prev = score.notes[static_cast<std::size_t>(followed[k - 1])];
             const double beat = score.beatAtSeconds(prev.end);
             const double factor = 1.0 + st.tempoSwing * std::sin(2.0 * 3.14159265358979 * beat / st.swingPeriodBeats);
             t += (n.start - prev.end) / factor;
@@ -129,7 +129,7 @@ inline Performance perform(const Score& score, const std::vector<int>& followed,
 /// When `motor` turns on (off in the row before) in the tactile rows near a note that sounds at
 /// `onset` s: the first such row within [onset − 0.15 s, onset + 0.3 s], as its time − onset (s);
 /// NaN when there is none.
-inline double motorOnsetNear(const std::vector<TactileRow>& rows, int motor, double onset)
+inline double motorOnsetNear(const std::vector<core::TactileRow>& rows, int motor, double onset)
 {
     const auto m = static_cast<std::size_t>(motor);
     for (std::size_t i = 1; i < rows.size(); ++i) {

@@ -15,6 +15,10 @@
 #include <unistd.h>
 
 using namespace armadillo;
+using namespace armadillo::tactile;
+using namespace armadillo::core;
+using namespace armadillo::engine;
+using namespace armadillo::formats;
 
 namespace {
 std::string tempPath(const std::string& name)
@@ -306,19 +310,19 @@ TEST_CASE("ahap export: the file says the loudest of the chosen motors at every 
     // Read with Apple's definition ("Representing haptic patterns in AHAP files"): a Pattern of
     // Events; a HapticContinuous event lasts EventDuration (at most 30 s) from Time, at
     // HapticIntensity 0..1; with no intensity control, the actuator's level is 15 x intensity.
-    const armadillo::JsonValue root = armadillo::parseJson(text, "export.ahap");
+    const armadillo::core::JsonValue root = armadillo::core::parseJson(text, "export.ahap");
     REQUIRE(root.find("Version"));
     CHECK(root.find("Version")->number == 1.0);
-    const armadillo::JsonValue* pattern = root.find("Pattern");
+    const armadillo::core::JsonValue* pattern = root.find("Pattern");
     REQUIRE(pattern);
-    REQUIRE(pattern->kind == armadillo::JsonValue::Kind::Array);
+    REQUIRE(pattern->kind == armadillo::core::JsonValue::Kind::Array);
     struct Ev { double time, duration, intensity; };
     std::vector<Ev> events;
     for (const auto& entry : pattern->array) {
-        const armadillo::JsonValue* e = entry.find("Event");
+        const armadillo::core::JsonValue* e = entry.find("Event");
         REQUIRE(e);
         REQUIRE(e->find("EventType")->string == "HapticContinuous");
-        const armadillo::JsonValue* params = e->find("EventParameters");
+        const armadillo::core::JsonValue* params = e->find("EventParameters");
         REQUIRE(params);
         REQUIRE(params->array.size() == 1);
         REQUIRE(params->array[0].find("ParameterID")->string == "HapticIntensity");
@@ -358,10 +362,10 @@ TEST_CASE("meta .haptic export: the amplitude envelope steps through the chosen 
     // Read with the Lofelt data model v1 (NiceVibrations core/datamodel/src/v1.rs): version
     // {major 1}; signals.continuous.envelopes.amplitude: breakpoints {time, amplitude 0..1},
     // times never decreasing, the amplitude linear between consecutive breakpoints.
-    const armadillo::JsonValue root = armadillo::parseJson(text, "export.haptic");
+    const armadillo::core::JsonValue root = armadillo::core::parseJson(text, "export.haptic");
     REQUIRE(root.find("version"));
     CHECK(root.find("version")->find("major")->number == 1.0);
-    const armadillo::JsonValue* amplitude = root.find("signals")->find("continuous")->find("envelopes")->find("amplitude");
+    const armadillo::core::JsonValue* amplitude = root.find("signals")->find("continuous")->find("envelopes")->find("amplitude");
     REQUIRE(amplitude);
     std::vector<std::pair<double, double>> points;
     for (const auto& p : amplitude->array) {
@@ -527,7 +531,7 @@ TEST_CASE("tact export: every motor of a render survives the round trip within o
     // still path points), written, read back as JSON with the .tact structure, and imported.
     const auto rows = randomRows(1200, 41);
     const std::string text = exportTact(rows, "round trip");
-    const armadillo::JsonValue root = armadillo::parseJson(text, "out.tact");
+    const armadillo::core::JsonValue root = armadillo::core::parseJson(text, "out.tact");
     REQUIRE(root.find("project"));
     const auto* tracks = root.find("project")->find("tracks");
     REQUIRE(tracks);

@@ -7,6 +7,8 @@
 #include <random>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::formats;
 using namespace armadillo::test;
 
 namespace {

@@ -6,6 +6,9 @@
 #include <map>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::formats;
+using namespace armadillo::tactile;
 using namespace armadillo::test;
 
 namespace {

@@ -6,6 +6,8 @@
 #include <cmath>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::fusion;
 using Eigen::Quaterniond;
 using Eigen::Vector3d;
 

@@ -16,6 +16,8 @@
 #include <unistd.h>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::fusion;
 namespace fs = std::filesystem;
 
 namespace {

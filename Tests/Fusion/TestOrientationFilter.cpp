@@ -33,6 +33,8 @@ void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 #endif
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::fusion;
 using Eigen::Quaterniond;
 using Eigen::Vector3d;
 

@@ -6,6 +6,7 @@
 #include <random>
 
 using namespace armadillo;
+using namespace armadillo::fusion;
 
 namespace {
 template <int Dense, int K>

@@ -5,6 +5,7 @@
 #include <random>
 
 using namespace armadillo;
+using namespace armadillo::fusion;
 
 namespace {
 struct Linear3 {

@@ -7,6 +7,8 @@
 #include <random>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::fusion;
 
 TEST_CASE("bias tracker: still device gives the mean gyro; motion clears rest", "[fusion][trackers]")
 {

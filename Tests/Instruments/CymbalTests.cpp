@@ -9,6 +9,9 @@
 #include <filesystem>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::fusion;
+using namespace armadillo::instruments;
 using namespace armadillo::test;
 
 namespace {

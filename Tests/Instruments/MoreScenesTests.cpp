@@ -5,6 +5,8 @@
 #include <cmath>
 
 using namespace armadillo;
+using namespace armadillo::instruments;
+using namespace armadillo::core;
 using namespace armadillo::test;
 
 namespace {

@@ -16,6 +16,8 @@
 #include <thread>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::instruments;
 using namespace armadillo::test;
 
 namespace {

@@ -18,33 +18,33 @@
 
 namespace armadillo::test {
 
-class RecordingCanvas final : public MotorCanvas {
+class RecordingCanvas final : public core::MotorCanvas {
 public:
     struct Call {
         enum Kind { Level, Clear, Trigger, Stop } kind;
         double t;              ///< s, harness time of the control update
         int motor = -1;        ///< Level: motor index; Stop: voice
         float level = 0.0f;    ///< Level
-        PatternRequest request {};
+        core::PatternRequest request {};
     };
     std::vector<Call> calls;
     double now = 0.0;
-    std::array<float, kMaxMotors> levels {};
+    std::array<float, core::kMaxMotors> levels {};
 
     void setLevel(int motorIndex, float level) override
     {
         calls.push_back({Call::Level, now, motorIndex, level, {}});
-        if (motorIndex >= 0 && motorIndex < kMaxMotors) levels[static_cast<std::size_t>(motorIndex)] = level;
+        if (motorIndex >= 0 && motorIndex < core::kMaxMotors) levels[static_cast<std::size_t>(motorIndex)] = level;
     }
     void clearLevels() override
     {
         calls.push_back({Call::Clear, now, -1, 0.0f, {}});
         levels.fill(0.0f);
     }
-    void trigger(const PatternRequest& r) override { calls.push_back({Call::Trigger, now, -1, r.level, r}); }
+    void trigger(const core::PatternRequest& r) override { calls.push_back({Call::Trigger, now, -1, r.level, r}); }
     void stopVoice(int voice) override { calls.push_back({Call::Stop, now, voice, 0.0f, {}}); }
 
-    std::vector<Call> triggers(PatternKind kind) const
+    std::vector<Call> triggers(core::PatternKind kind) const
     {
         std::vector<Call> out;
         for (const auto& c : calls)
@@ -53,7 +53,7 @@ public:
     }
 };
 
-class RecordingEvents final : public EventSink {
+class RecordingEvents final : public core::EventSink {
 public:
     struct Event {
         std::string name;
@@ -72,9 +72,9 @@ public:
 };
 
 /// ArmState as the engine's tracker builds it from an orientation source.
-inline ArmState armStateFromPose(const Pose& pose, const Eigen::Quaterniond* previous, double dt, double t)
+inline core::ArmState armStateFromPose(const core::Pose& pose, const Eigen::Quaterniond* previous, double dt, double t)
 {
-    ArmState s;
+    core::ArmState s;
     s.t = t;
     s.q = poseToQuaternion(pose);
     if (previous && dt > 0.0) {
@@ -83,8 +83,8 @@ inline ArmState armStateFromPose(const Pose& pose, const Eigen::Quaterniond* pre
         const Eigen::AngleAxisd aa(d);
         s.gyro = aa.axis() * (aa.angle() / dt);   // device frame
     }
-    s.accel = s.q.conjugate() * Eigen::Vector3d(0.0, kStandardGravity, 0.0);
-    s.features = computeArmFeatures(s.q, s.gyro, s.accel);
+    s.accel = s.q.conjugate() * Eigen::Vector3d(0.0, core::kStandardGravity, 0.0);
+    s.features = fusion::computeArmFeatures(s.q, s.gyro, s.accel);
     s.valid = true;
     return s;
 }
@@ -99,7 +99,7 @@ class SceneHarness {
 public:
     static constexpr double kControlRate = 200.0;
 
-    SceneHarness(std::unique_ptr<Scene> scene, std::uint64_t seed = 1, double sampleRate = 48000.0)
+    SceneHarness(std::unique_ptr<core::Scene> scene, std::uint64_t seed = 1, double sampleRate = 48000.0)
         : scene_(std::move(scene))
     {
         config_.sampleRate = sampleRate;
@@ -108,8 +108,8 @@ public:
         if (scene_) scene_->prepare(config_);
     }
 
-    Scene& scene() { return *scene_; }
-    const SceneConfig& config() const { return config_; }
+    core::Scene& scene() { return *scene_; }
+    const core::SceneConfig& config() const { return config_; }
 
     /// Sets a parameter by its stable id; fails loudly (throws) on an unknown id.
     void set(const std::string& id, float value)
@@ -124,10 +124,10 @@ public:
     }
 
     /// One control update with this pose, then the audio until the next update.
-    void step(const Pose& pose)
+    void step(const core::Pose& pose)
     {
         const double dt = 1.0 / kControlRate;
-        ControlInput in;
+        core::ControlInput in;
         in.arm = armStateFromPose(pose, haveQ_ ? &lastQ_ : nullptr, dt, time_);
         in.dt = dt;
         lastQ_ = in.arm.q;
@@ -135,21 +135,21 @@ public:
         lastPose = pose;
         canvas.now = time_;
         events.now = time_;
-        SceneOutput out {canvas, events};
+        core::SceneOutput out {canvas, events};
         scene_->control(in, out);
         renderUntil(time_ + dt);
         time_ += dt;
     }
 
     /// Holds a pose for `seconds`.
-    void hold(const Pose& pose, double seconds)
+    void hold(const core::Pose& pose, double seconds)
     {
         const int n = static_cast<int>(std::lround(seconds * kControlRate));
         for (int i = 0; i < n; ++i) step(pose);
     }
 
     /// Moves linearly (in pose coordinates) from `from` to `to` over `seconds`; the last step is `to`.
-    void move(const Pose& from, const Pose& to, double seconds)
+    void move(const core::Pose& from, const core::Pose& to, double seconds)
     {
         const int n = std::max(1, static_cast<int>(std::lround(seconds * kControlRate)));
         for (int i = 1; i <= n; ++i) {
@@ -164,7 +164,7 @@ public:
     RecordingCanvas canvas;
     RecordingEvents events;
     RenderedAudio audio;
-    Pose lastPose {};
+    core::Pose lastPose {};
     /// Called with (left, right, n) around each renderAudio call when set (the real-time guard).
     std::function<void(const std::function<void()>&)> renderWrapper;
     int blockSize = 240;   ///< samples per renderAudio call (the engine's may differ)
@@ -186,8 +186,8 @@ private:
         }
     }
 
-    std::unique_ptr<Scene> scene_;
-    SceneConfig config_ {};
+    std::unique_ptr<core::Scene> scene_;
+    core::SceneConfig config_ {};
     double time_ = 0.0;
     Eigen::Quaterniond lastQ_ = Eigen::Quaterniond::Identity();
     bool haveQ_ = false;

@@ -8,6 +8,8 @@
 #include <cmath>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::instruments;
 using namespace armadillo::test;
 
 namespace {

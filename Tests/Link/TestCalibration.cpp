@@ -11,7 +11,8 @@
 #include <fstream>
 
 using namespace armadillo;
-using namespace armadillo::device;
+using namespace armadillo::core;
+using namespace armadillo::link;
 
 namespace {
 std::string refusal(const std::string& json)

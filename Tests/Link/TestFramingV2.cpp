@@ -5,7 +5,7 @@
 #include <catch2/catch.hpp>
 #include <random>
 
-using namespace armadillo::device;
+using namespace armadillo::link;
 
 TEST_CASE("FramingV2 codecs round-trip and refuse every corrupted byte", "[device][v2]")
 {
@@ -117,8 +117,8 @@ TEST_CASE("FramingV2Host survives 10^6 random bytes in every mode", "[device][v2
 
 TEST_CASE("HostLink with negotiateV2: an offer switches to v2 frames, gaps and CRC failures are counted, a reset asks again", "[device][v2]")
 {
-    using namespace armadillo::device;
-    using armadillo::MotorLevels;
+    using namespace armadillo::link;
+    using armadillo::core::MotorLevels;
     struct Peer : LinkPeer {
         std::vector<std::vector<std::uint8_t>> writes;
         std::vector<std::uint64_t> deviceTimes;

@@ -15,7 +15,9 @@
 #include <random>
 
 using namespace armadillo;
-using namespace armadillo::device;
+using namespace armadillo::core;
+using namespace armadillo::osc;
+using namespace armadillo::link;
 
 namespace {
 

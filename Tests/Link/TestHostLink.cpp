@@ -6,9 +6,10 @@
 #include <catch2/catch.hpp>
 
 using namespace armadillo;
-using namespace armadillo::device;
-using armadillo::device::testing::VirtualWire;
-using armadillo::device::testing::WireFault;
+using namespace armadillo::core;
+using namespace armadillo::link;
+using armadillo::link::testing::VirtualWire;
+using armadillo::link::testing::WireFault;
 
 namespace {
 

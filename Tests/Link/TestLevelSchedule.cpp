@@ -11,7 +11,9 @@
 #include <random>
 
 using namespace armadillo;
-using namespace armadillo::device;
+using namespace armadillo::core;
+using namespace armadillo::tactile;
+using namespace armadillo::link;
 
 namespace {
 

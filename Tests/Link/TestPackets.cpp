@@ -4,7 +4,8 @@
 #include <random>
 
 using namespace armadillo;
-using namespace armadillo::device;
+using namespace armadillo::core;
+using namespace armadillo::link;
 
 TEST_CASE("sensor packet: MSB-first 12-bit samples ax..mz then end nibble 0x0", "[device][packets]")
 {

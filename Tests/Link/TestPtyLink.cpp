@@ -12,7 +12,8 @@
 #include <unistd.h>
 
 using namespace armadillo;
-using namespace armadillo::device;
+using namespace armadillo::core;
+using namespace armadillo::link;
 using Clock = std::chrono::steady_clock;
 
 namespace {

@@ -10,7 +10,8 @@
 #include <fstream>
 
 using namespace armadillo;
-using namespace armadillo::device;
+using namespace armadillo::core;
+using namespace armadillo::link;
 
 TEST_CASE("device side: answers good motor packets, waits for 0x8 after a bad one", "[device][simulator]")
 {

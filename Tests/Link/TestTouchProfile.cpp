@@ -4,7 +4,8 @@
 #include <catch2/catch.hpp>
 
 using namespace armadillo;
-using namespace armadillo::device;
+using namespace armadillo::core;
+using namespace armadillo::link;
 
 TEST_CASE("touch profile: written, read back, and gains = threshold / median", "[touchprofile]")
 {

@@ -12,31 +12,31 @@
 #include <stdexcept>
 #include <vector>
 
-namespace armadillo::device::testing {
+namespace armadillo::link::testing {
 
 enum class WireFault { CorruptEnd, DropByte, InsertByte, Stall, CorruptMotorEnd };
 
-class VirtualWire : public LinkPeer {
+class VirtualWire : public link::LinkPeer {
 public:
     double t = 0.0;
     double byteTime = 10.0 / 57600.0;
     double latency = 50e-6;
     double deviceDelay = 20e-6;           ///< device turnaround
     double stallSeconds = 0.05;
-    HostLink host;
-    DeviceProtocol device;
+    link::HostLink host;
+    link::DeviceProtocol device;
     std::uint16_t seq = 0;                ///< next sequence number the device stamps
     std::vector<std::uint16_t> received;  ///< sequence numbers of the good packets the host got
     std::vector<double> receivedAt;
     std::map<std::uint16_t, WireFault> faults;   ///< fault applied to the packet with this seq
-    MotorLevels reply {};
+    core::MotorLevels reply {};
     std::uint64_t motorPacketsAtDevice = 0;
 
-    explicit VirtualWire(const LinkConfig& cfg = {}) : host(cfg) { host.reset(0.0); }
+    explicit VirtualWire(const link::LinkConfig& cfg = {}) : host(cfg) { host.reset(0.0); }
 
-    MotorLevels onSensorPacket(const SensorCounts& counts, double now) override
+    core::MotorLevels onSensorPacket(const link::SensorCounts& counts, double now) override
     {
-        received.push_back(counts[kAx]);
+        received.push_back(counts[link::kAx]);
         receivedAt.push_back(now);
         return reply;
     }
@@ -49,7 +49,7 @@ public:
         }
         hostWireFree_ = when - latency;
         // A corrupted motor packet end: flip the last byte's low nibble of the next motor packet.
-        if (corruptNextMotor_ && count == kMotorPacketSize) {
+        if (corruptNextMotor_ && count == link::kMotorPacketSize) {
             toDevice_.back().second = static_cast<std::uint8_t>(toDevice_.back().second ^ 0x01);
             corruptNextMotor_ = false;
         }
@@ -69,8 +69,8 @@ public:
                 const std::uint8_t b = toDevice_.front().second;
                 toDevice_.pop_front();
                 const auto e = device.onByte(b);
-                if (e == DeviceProtocol::Event::MotorPacket) ++motorPacketsAtDevice;
-                if (e == DeviceProtocol::Event::MotorPacket || e == DeviceProtocol::Event::Resynced) deviceAnswer();
+                if (e == link::DeviceProtocol::Event::MotorPacket) ++motorPacketsAtDevice;
+                if (e == link::DeviceProtocol::Event::MotorPacket || e == link::DeviceProtocol::Event::Resynced) deviceAnswer();
             }
             while (!toHost_.empty() && toHost_.front().first <= t) {
                 const std::uint8_t b = toHost_.front().second;
@@ -87,10 +87,10 @@ public:
 private:
     void deviceAnswer()
     {
-        SensorCounts c {};
-        c[kAx] = seq;
-        c[kAy] = 100;
-        c[kMz] = 0x5A5;
+        link::SensorCounts c {};
+        c[link::kAx] = seq;
+        c[link::kAy] = 100;
+        c[link::kMz] = 0x5A5;
         auto p = encodeSensorPacket(c);
         std::vector<std::uint8_t> bytes(p.begin(), p.end());
         double start = std::max(t + deviceDelay, deviceWireFree_);
@@ -118,4 +118,4 @@ private:
     bool corruptNextMotor_ = false;
 };
 
-} // namespace armadillo::device::testing
+} // namespace armadillo::link::testing

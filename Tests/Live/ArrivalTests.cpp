@@ -11,6 +11,8 @@
 #include <limits>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::fusion;
 using namespace armadillo::live;
 using namespace armadillo::test;
 

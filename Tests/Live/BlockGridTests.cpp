@@ -17,6 +17,8 @@
 #include <vector>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::engine;
 
 namespace {
 constexpr double kFs = 48000.0;
@@ -40,7 +42,7 @@ struct Midi final : live::BlockMidi {
 struct Rig {
     live::ControlLoop loop;
     live::ControlToken token;
-    device::LevelSchedule motors;
+    link::LevelSchedule motors;
     std::atomic<float> elevation {0.0f}, azimuth {0.0f}, roll {0.0f}, source {static_cast<float>(live::SourceKind::HostAutomation)};
     std::unique_ptr<live::BlockControl> control;
     std::vector<float> left = std::vector<float>(kBlock), right = std::vector<float>(kBlock);

@@ -9,13 +9,13 @@ namespace armadillo::test {
 
 inline std::unique_ptr<live::EngineSlot> loopSlot(const std::string& scene, bool twoArms = false)
 {
-    EngineConfig config;
+    engine::EngineConfig config;
     config.scene = scene;
     config.twoArms = twoArms;
     config.sceneConfig.sampleRate = 48000.0;
     config.sceneConfig.controlRateHz = 200.0;
     auto slot = std::make_unique<live::EngineSlot>();
-    slot->engine = std::make_unique<Engine>(config);
+    slot->engine = std::make_unique<engine::Engine>(config);
     slot->sceneName = config.scene;
     return slot;
 }

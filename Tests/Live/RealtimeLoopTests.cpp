@@ -25,6 +25,8 @@
 #include <unistd.h>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::engine;
 using namespace armadillo::live;
 using namespace armadillo::test;
 

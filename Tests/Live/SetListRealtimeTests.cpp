@@ -9,6 +9,7 @@
 #include <vector>
 
 using namespace armadillo;
+using namespace armadillo::core;
 using namespace armadillo::live;
 using namespace armadillo::test;
 

@@ -11,6 +11,9 @@
 #include <string>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::engine;
+using namespace armadillo::tactile;
 using namespace armadillo::live;
 
 namespace {

@@ -13,6 +13,7 @@
 #include <vector>
 
 using namespace armadillo;
+using namespace armadillo::core;
 using namespace armadillo::live;
 
 namespace {

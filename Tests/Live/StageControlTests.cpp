@@ -20,7 +20,7 @@ bool parse(const std::vector<std::uint8_t>& bytes, StageCommand& out, std::strin
 {
     bool result = false;
     std::string error;
-    const bool ok = device::decodeOscPacket(bytes.data(), bytes.size(), [&](const device::OscMessage& m) { result = stageCommandFromOsc(m, out, why); }, &error);
+    const bool ok = osc::decodeOscPacket(bytes.data(), bytes.size(), [&](const osc::OscMessage& m) { result = stageCommandFromOsc(m, out, why); }, &error);
     return ok && result;
 }
 } // namespace
@@ -30,24 +30,24 @@ TEST_CASE("stage: OSC addresses become commands; anything else is refused with a
     using K = StageCommand::Kind;
     StageCommand c;
     std::string why;
-    REQUIRE(parse(device::encodeOscMessage("/armadillo/panic", {}), c, why));
+    REQUIRE(parse(osc::encodeOscMessage("/armadillo/panic", {}), c, why));
     CHECK(c.kind == K::Panic);
-    REQUIRE(parse(device::encodeOscMessage("/armadillo/resume", {}), c, why));
+    REQUIRE(parse(osc::encodeOscMessage("/armadillo/resume", {}), c, why));
     CHECK(c.kind == K::Resume);
-    REQUIRE(parse(device::encodeOscMessage("/armadillo/cue/next", {}), c, why));
+    REQUIRE(parse(osc::encodeOscMessage("/armadillo/cue/next", {}), c, why));
     CHECK(c.kind == K::CueNext);
-    REQUIRE(parse(device::encodeOscMessage("/armadillo/cue/prev", {}), c, why));
+    REQUIRE(parse(osc::encodeOscMessage("/armadillo/cue/prev", {}), c, why));
     CHECK(c.kind == K::CuePrev);
-    REQUIRE(parse(device::encodeOscMessage("/armadillo/cue", {device::OscArg::int32(3)}), c, why));
+    REQUIRE(parse(osc::encodeOscMessage("/armadillo/cue", {osc::OscArg::int32(3)}), c, why));
     CHECK(c.kind == K::CueGoto);
     CHECK(c.cue == 3);
-    REQUIRE(parse(device::encodeOscMessage("/armadillo/cue", {device::OscArg::float32(2.0f)}), c, why));
+    REQUIRE(parse(osc::encodeOscMessage("/armadillo/cue", {osc::OscArg::float32(2.0f)}), c, why));
     CHECK(c.cue == 2);
     CHECK(describe(c) == "cue 2");
-    for (const auto& bad : {device::encodeOscMessage("/armadillo/cue", {}), device::encodeOscMessage("/armadillo/cue", {device::OscArg::int32(-1)}),
-                            device::encodeOscMessage("/armadillo/cue", {device::OscArg::float32(1.5f)}),
-                            device::encodeOscMessage("/armadillo/cue", {device::OscArg::string("one")}),
-                            device::encodeOscMessage("/armadillo/panik", {})}) {
+    for (const auto& bad : {osc::encodeOscMessage("/armadillo/cue", {}), osc::encodeOscMessage("/armadillo/cue", {osc::OscArg::int32(-1)}),
+                            osc::encodeOscMessage("/armadillo/cue", {osc::OscArg::float32(1.5f)}),
+                            osc::encodeOscMessage("/armadillo/cue", {osc::OscArg::string("one")}),
+                            osc::encodeOscMessage("/armadillo/panik", {})}) {
         why.clear();
         CHECK_FALSE(parse(bad, c, why));
         CHECK_FALSE(why.empty());
@@ -95,9 +95,9 @@ TEST_CASE("stage: the control port takes commands over loopback UDP and counts w
     auto send = [&](const std::vector<std::uint8_t>& bytes) {
         ::sendto(fd, bytes.data(), bytes.size(), 0, reinterpret_cast<const sockaddr*>(&to), sizeof to);
     };
-    send(device::encodeOscMessage("/armadillo/panic", {}));
-    send(device::encodeOscMessage("/armadillo/cue", {device::OscArg::int32(2)}));
-    send(device::encodeOscMessage("/armadillo/imu", {device::OscArg::float32(1.0f)}));   // not a stage command
+    send(osc::encodeOscMessage("/armadillo/panic", {}));
+    send(osc::encodeOscMessage("/armadillo/cue", {osc::OscArg::int32(2)}));
+    send(osc::encodeOscMessage("/armadillo/imu", {osc::OscArg::float32(1.0f)}));   // not a stage command
     send({0x01, 0x02, 0x03});                                                          // not OSC
     CHECK(armadillo::testing::eventually([&] { return receiver.commands() == 2 && receiver.refused() == 2; }));
     CHECK(panics == 1);
@@ -114,15 +114,15 @@ TEST_CASE("stage: /armadillo/message carries a text and a priority for the arm (
     StageControlReceiver receiver(0, [&](const StageCommand&) { ++commands; });
     const auto send = [&](const std::vector<std::uint8_t>& bytes) { receiver.handleDatagram(bytes.data(), bytes.size()); };
     // Without a text handler the message is refused (counted), not taken for a command.
-    send(device::encodeOscMessage("/armadillo/message", {device::OscArg::string("exit")}));
+    send(osc::encodeOscMessage("/armadillo/message", {osc::OscArg::string("exit")}));
     CHECK(receiver.refused() == 1);
     receiver.setTextHandler([&](const std::string& t, int priority) { texts.emplace_back(t, priority); });
-    send(device::encodeOscMessage("/armadillo/message", {device::OscArg::string("exit")}));
-    send(device::encodeOscMessage("/armadillo/message", {device::OscArg::string("fire"), device::OscArg::int32(2)}));
-    send(device::encodeOscMessage("/armadillo/message", {device::OscArg::string("later"), device::OscArg::float32(0.5f)}));
-    send(device::encodeOscMessage("/armadillo/message", {}));                                   // no text
-    send(device::encodeOscMessage("/armadillo/message", {device::OscArg::int32(3)}));           // not a string
-    send(device::encodeOscMessage("/armadillo/message", {device::OscArg::string("a"), device::OscArg::string("b")}));
+    send(osc::encodeOscMessage("/armadillo/message", {osc::OscArg::string("exit")}));
+    send(osc::encodeOscMessage("/armadillo/message", {osc::OscArg::string("fire"), osc::OscArg::int32(2)}));
+    send(osc::encodeOscMessage("/armadillo/message", {osc::OscArg::string("later"), osc::OscArg::float32(0.5f)}));
+    send(osc::encodeOscMessage("/armadillo/message", {}));                                   // no text
+    send(osc::encodeOscMessage("/armadillo/message", {osc::OscArg::int32(3)}));           // not a string
+    send(osc::encodeOscMessage("/armadillo/message", {osc::OscArg::string("a"), osc::OscArg::string("b")}));
     CHECK(texts == std::vector<std::pair<std::string, int>> {{"exit", 0}, {"fire", 1}, {"later", 0}});
     CHECK(receiver.refused() == 4);
     CHECK(receiver.commands() == 3);

@@ -18,7 +18,9 @@
 #include <unistd.h>
 
 using namespace armadillo;
-using namespace armadillo::device;
+using namespace armadillo::core;
+using namespace armadillo::fusion;
+using namespace armadillo::link;
 using namespace armadillo::live;
 
 namespace {

@@ -19,7 +19,9 @@
 #include <unistd.h>
 
 using namespace armadillo;
-using namespace armadillo::device;
+using namespace armadillo::core;
+using namespace armadillo::link;
+using namespace armadillo::osc;
 using namespace armadillo::live;
 using Clock = std::chrono::steady_clock;
 
@@ -229,10 +231,10 @@ TEST_CASE("armadillo play --calibrate: a still arm completes the gyro step and w
     std::remove(cal.c_str());
     const Run r = runArmadillo({"play", "--scene", "monitor", "--simulate", "--unpaced", "--motion", pose, "--seconds", "4", "--calibrate", cal});
     CHECK(r.status == 0);
-    const device::Calibration c = device::loadCalibration(cal);
+    const link::Calibration c = link::loadCalibration(cal);
     // The simulator's gyro bias at power-up (counts): default calibration 2048 + bias / scale.
-    const device::Calibration d = device::defaultCalibration();
-    const Eigen::Vector3d expected = d.gyro.bias + device::SensorModelParams {}.gyroBiasStart.cwiseQuotient(d.gyro.scale);
+    const link::Calibration d = link::defaultCalibration();
+    const Eigen::Vector3d expected = d.gyro.bias + link::SensorModelParams {}.gyroBiasStart.cwiseQuotient(d.gyro.scale);
     CHECK((c.gyro.bias - expected).cwiseAbs().maxCoeff() < 1.5);
     CHECK(c.accel.bias == d.accel.bias);   // later steps did not complete: kept
     CHECK(runArmadillo({"play", "--scene", "monitor", "--osc-in", "9999", "--calibrate", cal}).status == 2);

@@ -15,6 +15,8 @@
 #include <vector>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::fusion;
 using namespace armadillo::live;
 using namespace armadillo::test;
 

@@ -18,17 +18,17 @@ inline std::string parseMessage(const std::string& json, const std::string& sour
 {
     try {
         parseMappingDocument(json, source);
-    } catch (const InputError& e) {
+    } catch (const core::InputError& e) {
         return e.what();
     }
     return "(accepted)";
 }
 
-inline ArmState armAt(double elevation, double azimuth, double roll, double t = 0.0)
+inline core::ArmState armAt(double elevation, double azimuth, double roll, double t = 0.0)
 {
-    ArmState a;
+    core::ArmState a;
     a.t = t;
-    a.features.pose = Pose {elevation, azimuth, roll};
+    a.features.pose = core::Pose {elevation, azimuth, roll};
     a.q = poseToQuaternion(a.features.pose);
     a.gyro.setZero();
     a.valid = true;
@@ -67,7 +67,7 @@ struct Rig {
         out->clear();
     }
     /// One control update; returns the number of MIDI events it produced.
-    std::size_t step(const ArmState& arm, double t, const GestureIn* gestures = nullptr, int count = 0, SceneValues scene = {})
+    std::size_t step(const core::ArmState& arm, double t, const GestureIn* gestures = nullptr, int count = 0, core::SceneValues scene = {})
     {
         MappingInput in;
         in.t = t;
@@ -81,7 +81,7 @@ struct Rig {
         return midi.size() - before;
     }
     std::size_t pose(double el, double az, double roll, double t) { return step(armAt(el, az, roll, t), t); }
-    std::size_t gesture(const char* name, float value, double t, const ArmState& arm = armAt(0, 0, 0))
+    std::size_t gesture(const char* name, float value, double t, const core::ArmState& arm = armAt(0, 0, 0))
     {
         GestureIn g {name, value};
         return step(arm, t, &g, 1);

@@ -9,6 +9,7 @@
 #include <cmath>
 
 using namespace armadillo;
+using namespace armadillo::core;
 using namespace armadillo::mapping;
 using namespace armadillo::mapping::test;
 
@@ -276,7 +277,7 @@ TEST_CASE("Quantise to a scale: semitones snap to the nearest degree of the scal
         rig.pose(step, 0.0, 0.0, t);
         if (rig.osc.empty()) continue;   // same note as before: nothing sent
         float got = 0.0f;
-        device::decodeOscPacket(rig.osc[0].data(), rig.osc[0].size(), [&](const device::OscMessage& m) { got = m.args[0].f; });
+        osc::decodeOscPacket(rig.osc[0].data(), rig.osc[0].size(), [&](const osc::OscMessage& m) { got = m.args[0].f; });
         const int semis = 48 + step;
         int best = -1;
         for (int d = 0; d <= 6 && best < 0; ++d)
@@ -318,7 +319,7 @@ TEST_CASE("Smoothing an azimuth through north does not swing round the long way"
         rig.osc.clear();
         rig.pose(0.0, std::fmod(359.0 + 2.0 * std::sin(i * 0.3) + 360.0, 360.0), 0.0, t);
         for (const auto& p : rig.osc)
-            device::decodeOscPacket(p.data(), p.size(), [&](const device::OscMessage& m) {
+            osc::decodeOscPacket(p.data(), p.size(), [&](const osc::OscMessage& m) {
                 const double v = m.args[0].f;
                 const float d = static_cast<float>(std::min(std::fabs(v - 359.0), 360.0 - std::fabs(v - 359.0)));
                 lo = std::min(lo, d);
@@ -385,7 +386,7 @@ TEST_CASE("Forward: yaw is measured from the forward direction the performer set
         rig.osc.clear();
         rig.pose(0.0, az, 0.0, t);
         float y = 999.0f;
-        for (const auto& p : rig.osc) device::decodeOscPacket(p.data(), p.size(), [&](const device::OscMessage& m) { y = m.args[0].f; });
+        for (const auto& p : rig.osc) osc::decodeOscPacket(p.data(), p.size(), [&](const osc::OscMessage& m) { y = m.args[0].f; });
         return y;
     };
     CHECK(yaw(30.0, 0.0) == Approx(-30.0f));    // turning clockwise (east) is negative yaw

@@ -18,6 +18,7 @@
 #include <set>
 
 using namespace armadillo;
+using namespace armadillo::core;
 using namespace armadillo::mapping;
 using namespace armadillo::mapping::test;
 
@@ -26,21 +27,21 @@ namespace {
 /// Home Assistant's MQTT light JSON schema, command side: "" when `payload` conforms, else why.
 std::string haJsonLightProblem(const std::string& payload, int brightnessScale = 255)
 {
-    armadillo::JsonValue v;
+    armadillo::core::JsonValue v;
     try {
-        v = armadillo::parseJson(payload, "payload");
+        v = armadillo::core::parseJson(payload, "payload");
     } catch (const std::exception& e) {
         return std::string("not JSON: ") + e.what();
     }
-    if (v.kind != armadillo::JsonValue::Kind::Object) return "not a JSON object";
+    if (v.kind != armadillo::core::JsonValue::Kind::Object) return "not a JSON object";
     static const std::set<std::string> documented {"state", "brightness", "color_temp", "color", "effect", "flash", "transition", "white", "color_mode"};
     for (const auto& [k, x] : v.object)
         if (!documented.count(k)) return "undocumented key " + k;
-    const armadillo::JsonValue* state = v.find("state");
-    if (!state || state->kind != armadillo::JsonValue::Kind::String || (state->string != "ON" && state->string != "OFF"))
+    const armadillo::core::JsonValue* state = v.find("state");
+    if (!state || state->kind != armadillo::core::JsonValue::Kind::String || (state->string != "ON" && state->string != "OFF"))
         return "\"state\" must be \"ON\" or \"OFF\"";
-    if (const armadillo::JsonValue* b = v.find("brightness")) {
-        if (b->kind != armadillo::JsonValue::Kind::Number || b->number != std::floor(b->number)) return "\"brightness\" must be a whole number";
+    if (const armadillo::core::JsonValue* b = v.find("brightness")) {
+        if (b->kind != armadillo::core::JsonValue::Kind::Number || b->number != std::floor(b->number)) return "\"brightness\" must be a whole number";
         if (b->number < 0 || b->number > brightnessScale) return "\"brightness\" outside 0…" + std::to_string(brightnessScale);
     }
     return {};
@@ -207,8 +208,8 @@ TEST_CASE("The Home Assistant preset's payloads follow Home Assistant's MQTT lig
         if (topic == "armadillo/light/set") {
             ++light;
             CHECK(haJsonLightProblem(payload).empty());
-            const armadillo::JsonValue v = armadillo::parseJson(payload, "p");
-            if (const armadillo::JsonValue* b = v.find("brightness")) brightness.insert(static_cast<int>(b->number));
+            const armadillo::core::JsonValue v = armadillo::core::parseJson(payload, "p");
+            if (const armadillo::core::JsonValue* b = v.find("brightness")) brightness.insert(static_cast<int>(b->number));
             (v.find("state")->string == "ON" ? on : off)++;
         } else if (topic == "armadillo/switch/set") {
             ++switches;

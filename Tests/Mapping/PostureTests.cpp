@@ -8,6 +8,7 @@
 #include <random>
 
 using namespace armadillo;
+using namespace armadillo::core;
 using namespace armadillo::mapping;
 using namespace armadillo::mapping::test;
 

@@ -15,6 +15,7 @@
 #include <random>
 
 using namespace armadillo;
+using namespace armadillo::core;
 using namespace armadillo::mapping;
 using namespace armadillo::mapping::test;
 
@@ -93,7 +94,7 @@ TEST_CASE("scenerotator-osc: /SceneRotator/ypr carries the same angles; /quatern
     REQUIRE(rig.osc.size() == 2);
     int seen = 0;
     for (const auto& p : rig.osc) {
-        REQUIRE(device::decodeOscPacket(p.data(), p.size(), [&](const device::OscMessage& m) {
+        REQUIRE(osc::decodeOscPacket(p.data(), p.size(), [&](const osc::OscMessage& m) {
             if (m.address == "/SceneRotator/ypr") {
                 REQUIRE(m.types == "fff");
                 CHECK(m.args[0].f == Approx(-std::remainder(a, 360.0)).margin(1e-4));

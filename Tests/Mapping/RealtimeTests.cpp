@@ -11,6 +11,7 @@
 #include <vector>
 
 using namespace armadillo;
+using namespace armadillo::core;
 using namespace armadillo::mapping;
 using namespace armadillo::mapping::test;
 using armadillo::test::RealtimeGuard;

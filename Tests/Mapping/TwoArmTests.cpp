@@ -9,6 +9,7 @@
 #include <cmath>
 
 using namespace armadillo;
+using namespace armadillo::core;
 using namespace armadillo::mapping;
 using namespace armadillo::mapping::test;
 

@@ -12,6 +12,7 @@
 #include <catch2/catch.hpp>
 
 using namespace armadillo;
+using namespace armadillo::core;
 using namespace armadillo::braille;
 using namespace armadillo::braille::test;
 using armadillo::test::RealtimeGuard;

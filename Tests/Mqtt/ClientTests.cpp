@@ -14,6 +14,7 @@
 #include <vector>
 
 using namespace armadillo;
+using namespace armadillo::core;
 using namespace armadillo::mqtt;
 using armadillo::testing::eventually;
 

@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 using namespace armadillo;
+using namespace armadillo::core;
 using namespace armadillo::mqtt;
 
 namespace {

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <random>
 
-using namespace armadillo::nav;
+using namespace armadillo::navigation;
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;

@@ -33,7 +33,8 @@
 extern char** environ;
 
 using namespace armadillo;
-using namespace armadillo::nav;
+using namespace armadillo::core;
+using namespace armadillo::navigation;
 
 namespace {
 
@@ -410,9 +411,9 @@ TEST_CASE("navigate --osc-in without --port/--simulate: a phone's ZIG SIM motion
         to.sin_family = AF_INET;
         to.sin_port = htons(static_cast<std::uint16_t>(port));
         to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-        using device::OscArg;
-        const auto quat = device::encodeOscMessage("/ZIGSIM/phone1/quaternion", {OscArg::float32(0.0f), OscArg::float32(0.0f), OscArg::float32(0.0f), OscArg::float32(1.0f)});
-        const auto gps = device::encodeOscMessage("/ZIGSIM/phone1/gps", {OscArg::float32(48.1494f), OscArg::float32(11.5678f)});
+        using osc::OscArg;
+        const auto quat = osc::encodeOscMessage("/ZIGSIM/phone1/quaternion", {OscArg::float32(0.0f), OscArg::float32(0.0f), OscArg::float32(0.0f), OscArg::float32(1.0f)});
+        const auto gps = osc::encodeOscMessage("/ZIGSIM/phone1/gps", {OscArg::float32(48.1494f), OscArg::float32(11.5678f)});
         for (int i = 0; !stop.load() && i < 3000; ++i) {
             ::sendto(fd, quat.data(), quat.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to);
             if (i % 20 == 0) ::sendto(fd, gps.data(), gps.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to);

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <random>
 
-using namespace armadillo::nav;
+using namespace armadillo::navigation;
 
 namespace {
 

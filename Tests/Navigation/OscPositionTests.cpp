@@ -12,11 +12,11 @@
 #include <unistd.h>
 
 using namespace armadillo;
-using namespace armadillo::nav;
+using namespace armadillo::navigation;
 
 namespace {
 
-std::vector<std::uint8_t> msg(const std::string& address, const std::vector<device::OscArg>& args) { return device::encodeOscMessage(address, args); }
+std::vector<std::uint8_t> msg(const std::string& address, const std::vector<osc::OscArg>& args) { return osc::encodeOscMessage(address, args); }
 
 bool decode(const std::vector<std::uint8_t>& packet, PositionFix& fix, bool& rejected)
 {
@@ -29,13 +29,13 @@ TEST_CASE("OSC positions: /armadillo/position with and without accuracy, in any 
 {
     PositionFix f;
     bool rejected = true;
-    REQUIRE(decode(msg("/armadillo/position", {device::OscArg::float64(48.1372), device::OscArg::float64(11.5756), device::OscArg::float32(4.5f)}), f, rejected));
+    REQUIRE(decode(msg("/armadillo/position", {osc::OscArg::float64(48.1372), osc::OscArg::float64(11.5756), osc::OscArg::float32(4.5f)}), f, rejected));
     CHECK_FALSE(rejected);
     CHECK(f.quality == FixQuality::Fix2D);
     CHECK(f.pos.lat == Approx(48.1372));
     CHECK(f.pos.lon == Approx(11.5756));
     CHECK(f.accuracyM == Approx(4.5));
-    REQUIRE(decode(msg("/armadillo/position", {device::OscArg::float32(-33.86f), device::OscArg::float32(151.21f)}), f, rejected));
+    REQUIRE(decode(msg("/armadillo/position", {osc::OscArg::float32(-33.86f), osc::OscArg::float32(151.21f)}), f, rejected));
     CHECK_FALSE(rejected);
     CHECK(std::isnan(f.accuracyM));
     CHECK(f.pos.lat == Approx(-33.86).margin(1e-5));
@@ -45,10 +45,10 @@ TEST_CASE("OSC positions: ZIG SIM's gps in OSC (with and without the /ZIGSIM pre
 {
     PositionFix f;
     bool rejected = true;
-    REQUIRE(decode(msg("/ZIGSIM/abc123/gps", {device::OscArg::float32(35.6586f), device::OscArg::float32(139.7454f)}), f, rejected));
+    REQUIRE(decode(msg("/ZIGSIM/abc123/gps", {osc::OscArg::float32(35.6586f), osc::OscArg::float32(139.7454f)}), f, rejected));
     CHECK_FALSE(rejected);
     CHECK(f.pos.lon == Approx(139.7454).margin(1e-4));
-    REQUIRE(decode(msg("/abc123/gps", {device::OscArg::float32(35.6586f), device::OscArg::float32(139.7454f)}), f, rejected));
+    REQUIRE(decode(msg("/abc123/gps", {osc::OscArg::float32(35.6586f), osc::OscArg::float32(139.7454f)}), f, rejected));
     CHECK_FALSE(rejected);
     const std::string json = R"({"device":{"uuid":"abc"},"timestamp":"x","sensordata":{"gps":{"latitude":51.5007,"longitude":-0.1246}}})";
     REQUIRE(decodePositionDatagram(reinterpret_cast<const std::uint8_t*>(json.data()), json.size(), f, rejected));
@@ -58,9 +58,9 @@ TEST_CASE("OSC positions: ZIG SIM's gps in OSC (with and without the /ZIGSIM pre
     // Other ZIG SIM data and other addresses are not positions.
     const std::string motion = R"({"sensordata":{"gyro":{"x":0,"y":0,"z":0}}})";
     CHECK_FALSE(decodePositionDatagram(reinterpret_cast<const std::uint8_t*>(motion.data()), motion.size(), f, rejected));
-    CHECK_FALSE(decode(msg("/ZIGSIM/abc/gyro", {device::OscArg::float32(0), device::OscArg::float32(0), device::OscArg::float32(0)}), f, rejected));
-    CHECK_FALSE(decode(msg("/a/b/gps", {device::OscArg::float32(1), device::OscArg::float32(2)}), f, rejected));
-    CHECK_FALSE(decode(msg("/armadillo/imu", {device::OscArg::float32(1)}), f, rejected));
+    CHECK_FALSE(decode(msg("/ZIGSIM/abc/gyro", {osc::OscArg::float32(0), osc::OscArg::float32(0), osc::OscArg::float32(0)}), f, rejected));
+    CHECK_FALSE(decode(msg("/a/b/gps", {osc::OscArg::float32(1), osc::OscArg::float32(2)}), f, rejected));
+    CHECK_FALSE(decode(msg("/armadillo/imu", {osc::OscArg::float32(1)}), f, rejected));
 }
 
 TEST_CASE("OSC positions: garbage is refused and reported as no fix, never as a place", "[osc]")
@@ -68,14 +68,14 @@ TEST_CASE("OSC positions: garbage is refused and reported as no fix, never as a 
     PositionFix f;
     bool rejected = false;
     const auto nan = std::nanf("");
-    for (const auto& packet : {msg("/armadillo/position", {device::OscArg::float32(nan), device::OscArg::float32(11.0f)}),
-                               msg("/armadillo/position", {device::OscArg::float32(95.0f), device::OscArg::float32(11.0f)}),
-                               msg("/armadillo/position", {device::OscArg::float32(45.0f), device::OscArg::float32(200.0f)}),
-                               msg("/armadillo/position", {device::OscArg::float32(45.0f)}),
-                               msg("/armadillo/position", {device::OscArg::string("north"), device::OscArg::float32(11.0f)}),
-                               msg("/armadillo/position", {device::OscArg::float32(45.0f), device::OscArg::float32(11.0f), device::OscArg::float32(-3.0f)}),
-                               msg("/armadillo/position", {device::OscArg::float32(45.0f), device::OscArg::float32(11.0f), device::OscArg::float32(3.0f), device::OscArg::float32(1.0f)}),
-                               msg("/Z/gps", {device::OscArg::string("x"), device::OscArg::float32(1.0f)})}) {
+    for (const auto& packet : {msg("/armadillo/position", {osc::OscArg::float32(nan), osc::OscArg::float32(11.0f)}),
+                               msg("/armadillo/position", {osc::OscArg::float32(95.0f), osc::OscArg::float32(11.0f)}),
+                               msg("/armadillo/position", {osc::OscArg::float32(45.0f), osc::OscArg::float32(200.0f)}),
+                               msg("/armadillo/position", {osc::OscArg::float32(45.0f)}),
+                               msg("/armadillo/position", {osc::OscArg::string("north"), osc::OscArg::float32(11.0f)}),
+                               msg("/armadillo/position", {osc::OscArg::float32(45.0f), osc::OscArg::float32(11.0f), osc::OscArg::float32(-3.0f)}),
+                               msg("/armadillo/position", {osc::OscArg::float32(45.0f), osc::OscArg::float32(11.0f), osc::OscArg::float32(3.0f), osc::OscArg::float32(1.0f)}),
+                               msg("/Z/gps", {osc::OscArg::string("x"), osc::OscArg::float32(1.0f)})}) {
         REQUIRE(decode(packet, f, rejected));
         CHECK(rejected);
         CHECK(f.quality == FixQuality::None);
@@ -99,9 +99,9 @@ TEST_CASE("OSC positions: a real UDP socket hands fixes to the mailbox from its 
     to.sin_family = AF_INET;
     to.sin_port = htons(static_cast<std::uint16_t>(port));
     to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    const auto good = msg("/armadillo/position", {device::OscArg::float64(48.5), device::OscArg::float64(9.25), device::OscArg::float32(3.0f)});
-    const auto bad = msg("/armadillo/position", {device::OscArg::float32(200.0f), device::OscArg::float32(9.0f)});
-    const auto other = msg("/armadillo/imu", {device::OscArg::float32(1.0f)});
+    const auto good = msg("/armadillo/position", {osc::OscArg::float64(48.5), osc::OscArg::float64(9.25), osc::OscArg::float32(3.0f)});
+    const auto bad = msg("/armadillo/position", {osc::OscArg::float32(200.0f), osc::OscArg::float32(9.0f)});
+    const auto other = msg("/armadillo/imu", {osc::OscArg::float32(1.0f)});
     REQUIRE(testing::eventually([&] {
         ::sendto(fd, good.data(), good.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to);
         return box.latest().serial > 0;
@@ -119,7 +119,7 @@ TEST_CASE("OSC positions: a real UDP socket hands fixes to the mailbox from its 
 
 TEST_CASE("OSC positions: fuzzed datagrams never crash and never yield a place out of range", "[osc][fuzz]")
 {
-    const auto seedOsc = msg("/armadillo/position", {device::OscArg::float64(48.1), device::OscArg::float64(11.5), device::OscArg::float32(3.0f)});
+    const auto seedOsc = msg("/armadillo/position", {osc::OscArg::float64(48.1), osc::OscArg::float64(11.5), osc::OscArg::float32(3.0f)});
     const std::string seedJson = R"({"sensordata":{"gps":{"latitude":48.1,"longitude":11.5}}})";
     std::mt19937_64 rng(341);
     int positions = 0, fixes = 0;

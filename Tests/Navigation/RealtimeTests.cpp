@@ -8,7 +8,8 @@
 #include <catch2/catch.hpp>
 
 using namespace armadillo;
-using namespace armadillo::nav;
+using namespace armadillo::core;
+using namespace armadillo::navigation;
 
 namespace {
 class NullCanvas final : public MotorCanvas {

@@ -1,4 +1,4 @@
-// The app's walk, below JUCE (nav::NavigationRig): a route that is not one, a port that is not
+// The app's walk, below JUCE (navigation::NavigationRig): a route that is not one, a port that is not
 // one and a gpsd that is not there are refused with the reason and leave nothing running; a walk
 // on a real UDP port takes positions into the link the navigation scene reads, and its status
 // says so; stop closes the port again.
@@ -15,7 +15,8 @@
 #include <unistd.h>
 
 using namespace armadillo;
-using namespace armadillo::nav;
+using namespace armadillo::core;
+using namespace armadillo::navigation;
 
 namespace {
 
@@ -77,8 +78,8 @@ TEST_CASE("navigation rig: a walk on a real UDP port feeds the link; stop closes
     REQUIRE(rig.link() != nullptr);
     CHECK(rig.routeName() == "Test walk");
     CHECK(rig.sourceStatus() == "OSC UDP " + std::to_string(port) + ", 0 fixes");
-    const auto fix = device::encodeOscMessage("/armadillo/position", {device::OscArg::float64(48.1494), device::OscArg::float64(11.5678),
-                                                                      device::OscArg::float32(4.0f)});
+    const auto fix = osc::encodeOscMessage("/armadillo/position", {osc::OscArg::float64(48.1494), osc::OscArg::float64(11.5678),
+                                                                      osc::OscArg::float32(4.0f)});
     REQUIRE(testing::eventually([&] {
         send(port, fix);
         return rig.link()->position.latest().serial > 0;

@@ -7,7 +7,8 @@
 #include <random>
 
 using namespace armadillo;
-using namespace armadillo::nav;
+using namespace armadillo::core;
+using namespace armadillo::navigation;
 
 namespace {
 

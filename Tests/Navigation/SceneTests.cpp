@@ -8,7 +8,9 @@
 #include <catch2/catch.hpp>
 
 using namespace armadillo;
-using namespace armadillo::nav;
+using namespace armadillo::core;
+using namespace armadillo::engine;
+using namespace armadillo::navigation;
 
 namespace {
 

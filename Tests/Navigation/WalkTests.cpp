@@ -8,7 +8,8 @@
 #include <vector>
 
 using namespace armadillo;
-using namespace armadillo::nav;
+using namespace armadillo::core;
+using namespace armadillo::navigation;
 
 namespace {
 

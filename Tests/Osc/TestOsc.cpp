@@ -8,7 +8,8 @@
 #include <mutex>
 
 using namespace armadillo;
-using namespace armadillo::device;
+using namespace armadillo::core;
+using namespace armadillo::osc;
 
 TEST_CASE("osc: encoding matches the 1.0 spec byte for byte", "[device][osc]")
 {

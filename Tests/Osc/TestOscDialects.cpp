@@ -14,7 +14,9 @@
 #include <vector>
 
 using namespace armadillo;
-using namespace armadillo::device;
+using namespace armadillo::core;
+using namespace armadillo::link;
+using namespace armadillo::osc;
 
 namespace {
 

@@ -19,7 +19,8 @@
 #include <unistd.h>
 
 using namespace armadillo;
-using namespace armadillo::device;
+using namespace armadillo::core;
+using namespace armadillo::osc;
 using Bytes = std::vector<std::uint8_t>;
 
 namespace {

@@ -17,6 +17,8 @@
 #include <memory>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::engine;
 using namespace armadillo::plugin;
 
 namespace {
@@ -43,7 +45,7 @@ private:
 struct Rig {
     live::ControlLoop loop;
     live::ControlToken token;
-    device::LevelSchedule motors;
+    link::LevelSchedule motors;
     std::atomic<float> elevation {0.0f}, azimuth {0.0f}, roll {0.0f}, source {static_cast<float>(live::SourceKind::Osc)};
     std::unique_ptr<live::BlockControl> control;
     HostBlock host;   // the host's buffers as the block clock takes them

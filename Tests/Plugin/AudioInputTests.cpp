@@ -13,6 +13,8 @@
 #include <vector>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::engine;
 using namespace armadillo::plugin;
 using armadillo::test::RealtimeGuard;
 
@@ -43,7 +45,7 @@ public:
 struct Rig {
     live::ControlLoop loop;
     live::ControlToken token;
-    device::LevelSchedule motors;
+    link::LevelSchedule motors;
     std::atomic<float> elevation {0.0f}, azimuth {0.0f}, roll {0.0f}, source {static_cast<float>(live::SourceKind::HostAutomation)};
     EarScene* ear = nullptr;
     std::unique_ptr<live::BlockControl> control;

@@ -16,7 +16,8 @@
 #include <vector>
 
 using namespace armadillo;
-using namespace armadillo::device;
+using namespace armadillo::core;
+using namespace armadillo::link;
 using CalibrationSession = armadillo::procedures::DeviceCalibration;   // the app's session is the procedure (issue 32)
 using armadillo::live::DeviceConnection;
 using armadillo::live::LiveImu;
@@ -181,7 +182,7 @@ TEST_CASE("CalibrationSession: a UI that stops draining loses packets, never blo
 TEST_CASE("DeviceConnection: the simulated forearm feeds the calibration; a new calibration applies without reconnecting")
 {
     LiveInput input;
-    device::LevelSchedule motors;
+    link::LevelSchedule motors;
     DeviceConnection connection(input, motors);
     std::string message;
     REQUIRE(connection.connect(DeviceConnection::kSimulatedPort, 57600, "", message));

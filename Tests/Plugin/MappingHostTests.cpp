@@ -459,7 +459,7 @@ TEST_CASE("VST3: the mapping's OSC destinations leave from the control clock to 
         std::uint8_t bytes[512];
         const int n = receiver.read(bytes, sizeof bytes, false);
         if (n <= 0) continue;
-        armadillo::device::decodeOscPacket(bytes, static_cast<std::size_t>(n), [&](const armadillo::device::OscMessage& m) {
+        armadillo::osc::decodeOscPacket(bytes, static_cast<std::size_t>(n), [&](const armadillo::osc::OscMessage& m) {
             address = std::string(m.address);
             double v = 0.0;
             if (m.count == 1 && m.args[0].asNumber(v)) got = v;

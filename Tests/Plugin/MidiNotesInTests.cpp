@@ -12,6 +12,8 @@
 #include <vector>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::engine;
 using namespace armadillo::plugin;
 using armadillo::test::RealtimeGuard;
 
@@ -36,7 +38,7 @@ float piano(long i)
 struct Rig {
     live::ControlLoop loop;
     live::ControlToken token;
-    device::LevelSchedule motors;
+    link::LevelSchedule motors;
     live::Stage stage;
     std::atomic<float> elevation {30.0f}, azimuth {10.0f}, roll {0.0f}, source {static_cast<float>(live::SourceKind::HostAutomation)};
     std::unique_ptr<live::BlockControl> control;

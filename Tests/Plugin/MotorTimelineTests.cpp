@@ -19,6 +19,9 @@
 #include <thread>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::engine;
+using namespace armadillo::tactile;
 using namespace armadillo::plugin;
 
 namespace {
@@ -85,7 +88,7 @@ RunResult runHost(const HostPlan& plan)
         loop.replace(std::move(slot));
     }
     live::ControlToken token;
-    device::LevelSchedule motors;
+    link::LevelSchedule motors;
     std::atomic<float> elevation {0.0f}, azimuth {0.0f}, roll {0.0f}, source {static_cast<float>(live::SourceKind::HostAutomation)};
     live::BlockControl control(loop, token, live::BlockControl::Cells {&elevation, &azimuth, &roll, &source}, motors);
     control.prepare(kRate);
@@ -191,7 +194,7 @@ TEST_CASE("plugin path: the motor budget holds on the packets the link wrote, at
     for (const auto& plan : plans) {
         const RunResult r = runHost(plan);
         const test::BoundsReport b = test::measureBounds(r.levels, r.hold);
-        const double limit = device::LevelSchedule::Params {}.staleAfter + 2.0 * device::LevelSchedule::Params {}.packetInterval + 0.002;
+        const double limit = link::LevelSchedule::Params {}.staleAfter + 2.0 * link::LevelSchedule::Params {}.packetInterval + 0.002;
         std::printf("[motor timeline] block %5d: %zu packets, max level %d; longest above-rating run %.3f s (limit %.3f), "
                     "worst 2 s share %.3f (limit %.2f), worst 10 s mean power %.4f (limit %.4f), on after the host went "
                     "silent %.1f ms past its last step (limit %.1f ms); longest gap between packets %.1f ms, %d link stop(s) "

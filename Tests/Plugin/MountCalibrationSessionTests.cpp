@@ -11,6 +11,7 @@
 #include <random>
 
 using namespace armadillo;
+using namespace armadillo::core;
 using MountCalibrationSession = armadillo::procedures::MountCalibration;   // the app's session is the procedure (issue 32)
 using Pose = MountCalibrationSession::Pose;
 
@@ -41,12 +42,12 @@ struct Arm {
     Q strap;
     std::mt19937 rng {7};
     double t = 0.0;
-    device::SensorFrameSample sample(const V& upDevice, double noise)
+    osc::SensorFrameSample sample(const V& upDevice, double noise)
     {
         std::normal_distribution<double> n(0.0, noise);
         const V accelDevice = upDevice * kStandardGravity + V(n(rng), n(rng), n(rng));
         const V a = strap.conjugate() * accelDevice;   // device → sensor axes
-        device::SensorFrameSample s;
+        osc::SensorFrameSample s;
         t += 0.01;
         s.t = t;
         for (int i = 0; i < 3; ++i) {
@@ -59,7 +60,7 @@ struct Arm {
     void move(MountCalibrationSession& session)
     {
         for (int i = 0; i < 50; ++i) {
-            device::SensorFrameSample s = sample(V(0.5, 0.5, 0.7).normalized(), 3.0);
+            osc::SensorFrameSample s = sample(V(0.5, 0.5, 0.7).normalized(), 3.0);
             s.gyro[0] = 2.0;
             session.feed(s);
         }
@@ -167,11 +168,11 @@ TEST_CASE("mount calibration session: fed from the OSC merger's tap, in the sens
     // the tap must give the sensor's own axes back, so the calibration does not depend on the mount in use.
     std::mt19937 rng(5);
     const Q strap = randomRotation(rng);
-    device::OscInputOptions options;
-    options.format = device::OscFormat::Armadillo;
-    REQUIRE(device::mountPreset("phone-screen-up", options.mount));
+    osc::OscInputOptions options;
+    options.format = osc::OscFormat::Armadillo;
+    REQUIRE(link::mountPreset("phone-screen-up", options.mount));
     options.mountGiven = true;
-    device::OscSampleMerger merger(options);
+    osc::OscSampleMerger merger(options);
     int delivered = 0;
     merger.setSinks([](void* c, const ImuSample&) { ++*static_cast<int*>(c); }, [](void*, double, const Q&) {}, &delivered);
     merger.enableSensorTap(true);
@@ -182,17 +183,17 @@ TEST_CASE("mount calibration session: fed from the OSC merger's tap, in the sens
     double arrival = 10.0;
     auto send = [&](Pose p, int n) {
         for (int i = 0; i < n; ++i) {
-            const device::SensorFrameSample s = arm.sample(upInDevice(p), 0.05);
-            const std::vector<device::OscArg> args {
-                device::OscArg::float32(static_cast<float>(s.gyro[0])),  device::OscArg::float32(static_cast<float>(s.gyro[1])),
-                device::OscArg::float32(static_cast<float>(s.gyro[2])),  device::OscArg::float32(static_cast<float>(s.accel[0])),
-                device::OscArg::float32(static_cast<float>(s.accel[1])), device::OscArg::float32(static_cast<float>(s.accel[2]))};
-            const auto bytes = device::encodeOscMessage("/armadillo/imu", args);
+            const osc::SensorFrameSample s = arm.sample(upInDevice(p), 0.05);
+            const std::vector<osc::OscArg> args {
+                osc::OscArg::float32(static_cast<float>(s.gyro[0])),  osc::OscArg::float32(static_cast<float>(s.gyro[1])),
+                osc::OscArg::float32(static_cast<float>(s.gyro[2])),  osc::OscArg::float32(static_cast<float>(s.accel[0])),
+                osc::OscArg::float32(static_cast<float>(s.accel[1])), osc::OscArg::float32(static_cast<float>(s.accel[2]))};
+            const auto bytes = osc::encodeOscMessage("/armadillo/imu", args);
             arrival += 0.01;
             merger.handleDatagram(bytes.data(), bytes.size(), arrival, 1, "udp-sender");
-            if (i % 10 == 9) session.drain([&](device::SensorFrameSample& out) { return merger.popSensorSample(out); });
+            if (i % 10 == 9) session.drain([&](osc::SensorFrameSample& out) { return merger.popSensorSample(out); });
         }
-        session.drain([&](device::SensorFrameSample& out) { return merger.popSensorSample(out); });
+        session.drain([&](osc::SensorFrameSample& out) { return merger.popSensorSample(out); });
     };
     std::string why;
     send(Pose::LevelForward, 100);

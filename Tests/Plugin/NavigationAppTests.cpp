@@ -54,8 +54,8 @@ int freeUdpPort()
 
 void sendPosition(int port, double lat, double lon)
 {
-    const auto packet = device::encodeOscMessage("/armadillo/position", {device::OscArg::float64(lat), device::OscArg::float64(lon),
-                                                                         device::OscArg::float64(4.0)});
+    const auto packet = osc::encodeOscMessage("/armadillo/position", {osc::OscArg::float64(lat), osc::OscArg::float64(lon),
+                                                                         osc::OscArg::float64(4.0)});
     const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
     REQUIRE(fd >= 0);
     sockaddr_in a {};
@@ -87,31 +87,31 @@ TEST_CASE("app: the Navigation window walks a route from OSC positions; name, di
     // A bad route and a bad port: said, nothing started.
     const auto bad = dir.getChildFile("bad.json");
     REQUIRE(bad.replaceWithText("[{\"lat\": 95, \"lon\": 0}, {\"lat\": 1, \"lon\": 1}]"));
-    auto why = processor.startNavigation(bad, nav::NavigationRig::Source::Osc, "9004");
+    auto why = processor.startNavigation(bad, navigation::NavigationRig::Source::Osc, "9004");
     CHECK(why.contains("bad.json"));
     CHECK_FALSE(processor.navigation().running());
-    why = processor.startNavigation(routeFile, nav::NavigationRig::Source::Osc, "0");
+    why = processor.startNavigation(routeFile, navigation::NavigationRig::Source::Osc, "0");
     CHECK(why.isNotEmpty());
     CHECK_FALSE(processor.navigation().running());
     // gpsd that is not there: refused, naming where it looked.
     const int nobody = freeUdpPort();
-    why = processor.startNavigation(routeFile, nav::NavigationRig::Source::Gpsd, "127.0.0.1:" + juce::String(nobody));
+    why = processor.startNavigation(routeFile, navigation::NavigationRig::Source::Gpsd, "127.0.0.1:" + juce::String(nobody));
     CHECK(why.contains(juce::String(nobody)));
     CHECK_FALSE(processor.navigation().running());
 
     const int port = freeUdpPort();
-    why = processor.startNavigation(routeFile, nav::NavigationRig::Source::Osc, juce::String(port));
+    why = processor.startNavigation(routeFile, navigation::NavigationRig::Source::Osc, juce::String(port));
     INFO(why);
     REQUIRE(why.isEmpty());
     REQUIRE(processor.navigation().running());
 
     // 30 m south of the Entrance, standing.
-    const nav::LatLon here {48.1494696, 11.5678};
-    const nav::LatLon entrance {48.1497396, 11.5678};
+    const navigation::LatLon here {48.1494696, 11.5678};
+    const navigation::LatLon entrance {48.1497396, 11.5678};
     juce::AudioBuffer<float> buffer(2, 480);
     juce::MidiBuffer midi;
-    nav::NavigationStatus s;
-    for (int i = 0; i < 400 && (s.waypoint == 0 || s.fix != nav::FixState::Ok); ++i) {
+    navigation::NavigationStatus s;
+    for (int i = 0; i < 400 && (s.waypoint == 0 || s.fix != navigation::FixState::Ok); ++i) {
         if (i % 20 == 0) sendPosition(port, here.lat, here.lon);
         buffer.clear();
         processor.processBlock(buffer, midi);   // the control step runs the navigation scene
@@ -120,9 +120,9 @@ TEST_CASE("app: the Navigation window walks a route from OSC positions; name, di
         s = processor.navigation().status();
     }
     REQUIRE(s.waypoint == 2);   // the first point is the start: guidance goes to the Entrance
-    REQUIRE(s.fix == nav::FixState::Ok);
+    REQUIRE(s.fix == navigation::FixState::Ok);
     CHECK(juce::String(s.name) == "Entrance");
-    CHECK(s.distanceM == Approx(nav::distanceM(here, entrance)).margin(2.0));
+    CHECK(s.distanceM == Approx(navigation::distanceM(here, entrance)).margin(2.0));
     CHECK(s.bearingDeg == Approx(0.0).margin(2.0));
     pumpMessages(300);   // the panel's timer
     CHECK(panel.waypointLabel().getText() == "Entrance");

@@ -21,7 +21,11 @@
 #include <set>
 #include <sstream>
 
+using namespace armadillo;
 using namespace armadillo::plugin;
+using namespace armadillo::core;
+using namespace armadillo::engine;
+using namespace armadillo::tactile;
 // The app's sessions are the procedures (issue 32: each guided procedure written once, below JUCE).
 using TouchTestSession = armadillo::procedures::TouchTest;
 using AdaptiveSession = armadillo::procedures::AdaptiveTraining;
@@ -341,7 +345,7 @@ TEST_CASE("Sensitivity test in the app: a simulated reader's nine thresholds fou
     CHECK(profile.comfort == truth[4] + 3);
     CHECK(profile.comfortMotor == 5);
     // The profile round-trips through its JSON (what the state keeps), the comfort included.
-    const auto back = armadillo::device::parseTouchProfile(armadillo::device::touchProfileToJson(profile), "test");
+    const auto back = armadillo::link::parseTouchProfile(armadillo::link::touchProfileToJson(profile), "test");
     CHECK(back.threshold == profile.threshold);
     CHECK(back.comfort == profile.comfort);
     // Without the comfort step (the CLI's --no-comfort) the test ends with the thresholds.
@@ -414,11 +418,11 @@ TEST_CASE("VST3: the reader's settings in the plugin's state; the profile applie
 
 namespace {
 /// A scene that holds the underside middle motor (index 4) at level 3: what the stimulus replaces.
-class HoldScene final : public armadillo::Scene {
+class HoldScene final : public armadillo::core::Scene {
 public:
     std::string_view name() const override { return "hold"; }
-    void prepare(const armadillo::SceneConfig&) override {}
-    void control(const armadillo::ControlInput&, armadillo::SceneOutput& out) override { out.motors.setLevel(4, 3.0f); }
+    void prepare(const armadillo::core::SceneConfig&) override {}
+    void control(const armadillo::core::ControlInput&, armadillo::core::SceneOutput& out) override { out.motors.setLevel(4, 3.0f); }
 };
 } // namespace
 
@@ -447,7 +451,7 @@ TEST_CASE("Arm feedback through the plugin's control path: the stimulus takes th
         loop.replace(std::move(slot));
     }
     live::ControlToken token;
-    device::LevelSchedule motors;
+    link::LevelSchedule motors;
     std::atomic<float> elevation {0.0f}, azimuth {0.0f}, roll {0.0f}, source {static_cast<float>(live::SourceKind::HostAutomation)};
     live::BlockControl control(loop, token, live::BlockControl::Cells {&elevation, &azimuth, &roll, &source}, motors);
     control.prepare(kRate);

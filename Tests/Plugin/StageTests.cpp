@@ -15,6 +15,8 @@
 #include <vector>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::tactile;
 using namespace armadillo::plugin;
 
 namespace {
@@ -417,7 +419,7 @@ TEST_CASE("stage: the OSC stage commands reach the plugin's set list over loopba
     rig.processor.settings().setProperty(SettingIds::stageOscEnabled, true, nullptr);
     const int port = rig.processor.stageOscPort();
     REQUIRE(port > 0);
-    device::OscSender sender(device::HostPort {"127.0.0.1", port});
+    osc::OscSender sender(osc::HostPort {"127.0.0.1", port});
     const auto until = [&](auto done) {
         // Polls with a deadline (UDP and the receiver's thread): each try runs one block.
         const double end = juce::Time::getMillisecondCounterHiRes() + 3000.0;
@@ -427,7 +429,7 @@ TEST_CASE("stage: the OSC stage commands reach the plugin's set list over loopba
         }
         return done();
     };
-    const device::OscArg two = device::OscArg::int32(2);
+    const osc::OscArg two = osc::OscArg::int32(2);
     REQUIRE(sender.send("/armadillo/cue", &two, 1));
     CHECK(until([&] { return rig.processor.stageInfo().cue == 2; }));
     REQUIRE(sender.send("/armadillo/cue/next", nullptr, 0));

@@ -163,11 +163,11 @@ TEST_CASE("VST3: the Tactors bus carries render --tactile-wav's envelope for the
 
     // What `render --tactile-wav` makes of the same poses: the offline renderer's rows, drawn by
     // the same tactor renderer with the same model.
-    armadillo::RenderSettings rs;
+    armadillo::engine::RenderSettings rs;
     rs.engine.scene = "theremin";
     rs.engine.sceneConfig.sampleRate = kRate;
-    const auto table = armadillo::CsvTable::parse(poses.str(), "poses");
-    const auto rendered = armadillo::renderOffline(table, rs);
+    const auto table = armadillo::core::CsvTable::parse(poses.str(), "poses");
+    const auto rendered = armadillo::engine::renderOffline(table, rs);
     armadillo::tactors::TactorParams params;
     params.model = armadillo::tactors::TactorModel::Lra;
     armadillo::tactors::TactorRenderer renderer;

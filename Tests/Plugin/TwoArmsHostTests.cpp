@@ -53,9 +53,9 @@ struct Block {
 
 /// One block: the left arm's orientation sent first (the sender keeps sending, as a phone does),
 /// then the block rendered, then the plugin's message thread pumped.
-Block sendAndRender(Hosted& h, armadillo::device::OscSender& sender, const armadillo::Pose& left)
+Block sendAndRender(Hosted& h, armadillo::osc::OscSender& sender, const armadillo::core::Pose& left)
 {
-    sender.sendOrientation(armadillo::poseToQuaternion(left));
+    sender.sendOrientation(armadillo::core::poseToQuaternion(left));
     juce::AudioBuffer<float> buffer(2, kBlock);
     juce::MidiBuffer midi;
     buffer.clear();
@@ -71,7 +71,7 @@ Block sendAndRender(Hosted& h, armadillo::device::OscSender& sender, const armad
 
 /// RMS over the last `window` blocks, rendering (and sending) until `done(rms)` or 10 s.
 template <typename Done>
-double renderUntil(Hosted& h, armadillo::device::OscSender& sender, const armadillo::Pose& left, Done done, int window = 20)
+double renderUntil(Hosted& h, armadillo::osc::OscSender& sender, const armadillo::core::Pose& left, Done done, int window = 20)
 {
     std::vector<double> energies;
     const auto deadline = juce::Time::getMillisecondCounter() + 10000;
@@ -88,7 +88,7 @@ double renderUntil(Hosted& h, armadillo::device::OscSender& sender, const armadi
     return rms;
 }
 
-const armadillo::Pose kLeftRaised {30.0, 0.0, 0.0}, kLeftHanging {-85.0, 0.0, 0.0};
+const armadillo::core::Pose kLeftRaised {30.0, 0.0, 0.0}, kLeftHanging {-85.0, 0.0, 0.0};
 const int kDuo = choiceIndex("Scene", "theremin-duo");
 
 } // namespace
@@ -97,7 +97,7 @@ TEST_CASE("VST3: an OSC sender as the left arm plays theremin-duo's articulation
 {
     REQUIRE(kDuo >= 0);
     const int port = freeUdpPort();
-    armadillo::device::OscSender sender(armadillo::device::HostPort {"127.0.0.1", port});
+    armadillo::osc::OscSender sender(armadillo::osc::HostPort {"127.0.0.1", port});
     auto h = loadVst3();
     prepare(h);
     setValue(h, "Elevation", 20.0f, -90.0f, 90.0f);   // the right arm plays a note (host automation)
@@ -138,12 +138,12 @@ TEST_CASE("VST3: an OSC sender as the left arm plays theremin-duo's articulation
 TEST_CASE("VST3: a mapping on left.elevation sends its CC from the left arm's sender, and nothing without it", "[plugin][two-arms]")
 {
     const int port = freeUdpPort();
-    armadillo::device::OscSender sender(armadillo::device::HostPort {"127.0.0.1", port});
+    armadillo::osc::OscSender sender(armadillo::osc::HostPort {"127.0.0.1", port});
     auto h = loadVst3();
     prepare(h);
     const juce::String mapping = R"({"version": 1, "mappings": [
         {"source": "left.elevation", "in": [-90, 90], "to": {"midi": "cc", "channel": 1, "cc": 20}}]})";
-    auto lastCc20 = [&](const armadillo::Pose& left, int blocks) {
+    auto lastCc20 = [&](const armadillo::core::Pose& left, int blocks) {
         int value = -1;
         for (int i = 0; i < blocks; ++i)
             for (const auto& m : sendAndRender(h, sender, left).midi)
@@ -179,7 +179,7 @@ TEST_CASE("VST3: processBlock allocates nothing with two arms", "[plugin][two-ar
         REQUIRE(guard.allocations() >= 2);
     }
     const int port = freeUdpPort();
-    armadillo::device::OscSender sender(armadillo::device::HostPort {"127.0.0.1", port});
+    armadillo::osc::OscSender sender(armadillo::osc::HostPort {"127.0.0.1", port});
     auto h = loadVst3();
     prepare(h);
     setValue(h, "Elevation", 20.0f, -90.0f, 90.0f);
@@ -194,7 +194,7 @@ TEST_CASE("VST3: processBlock allocates nothing with two arms", "[plugin][two-ar
     for (int round = 0; round < 10; ++round) {
         // The sender moves the left arm between batches: the blocks fuse it and play both arms.
         const double elevation = round % 2 == 0 ? 30.0 : -85.0;
-        for (int i = 0; i < 5; ++i) sender.sendOrientation(armadillo::poseToQuaternion(armadillo::Pose {elevation, 10.0 * i, 0.0}));
+        for (int i = 0; i < 5; ++i) sender.sendOrientation(armadillo::core::poseToQuaternion(armadillo::core::Pose {elevation, 10.0 * i, 0.0}));
         const BlockCounts c = countDuringProcessing(h, 20, true);
         total.blocks += c.blocks;
         total.allocations += c.allocations;

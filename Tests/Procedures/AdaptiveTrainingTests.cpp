@@ -71,7 +71,7 @@ std::filesystem::path dir(const std::string& name)
 
 TEST_CASE("AdaptiveTraining: a scripted reader's session — prompts, stimuli, verdicts, log and profile", "[procedures][training]")
 {
-    acc::TactilePlayer player(armadillo::TactileConfig {}, 0.0);
+    acc::TactilePlayer player(armadillo::tactile::TactileConfig {}, 0.0);
     ScriptedPlayerSide side(player);
     AdaptiveTraining training(player);
     AdaptiveTraining::Options o;
@@ -142,7 +142,7 @@ TEST_CASE("AdaptiveTraining: a scripted reader's session — prompts, stimuli, v
 
     // The log on disk is the log in memory: one trial, answer and feedback row per trial, the
     // trial shown again has two "next" cues, rows carry their unit and step, one `end` (not stopped).
-    CHECK(armadillo::readWholeFile(o.logPath) == training.logText());
+    CHECK(armadillo::core::readWholeFile(o.logPath) == training.logText());
     std::map<std::string, int> count, nextCues;
     for (const auto& r : csvRows(training.logText())) {
         REQUIRE(r.size() == 13);
@@ -171,7 +171,7 @@ TEST_CASE("AdaptiveTraining: a scripted reader's session — prompts, stimuli, v
 
 TEST_CASE("AdaptiveTraining: a session stopped early keeps every answer in its log and profile", "[procedures][training]")
 {
-    acc::TactilePlayer player(armadillo::TactileConfig {}, 0.0);
+    acc::TactilePlayer player(armadillo::tactile::TactileConfig {}, 0.0);
     ScriptedPlayerSide side(player);
     const std::string profile = (dir("stopped") / "reader.json").string();
     for (int session = 1; session <= 2; ++session) {
@@ -190,7 +190,7 @@ TEST_CASE("AdaptiveTraining: a session stopped early keeps every answer in its l
         CHECK(training.state() == AdaptiveTraining::State::Idle);
         CHECK(training.answered() == 3);
         CHECK(training.summaryJson(true).find("\"trials_done\":3,\"stopped\":true") != std::string::npos);
-        const auto rows = csvRows(armadillo::readWholeFile(training.logPath()));
+        const auto rows = csvRows(armadillo::core::readWholeFile(training.logPath()));
         REQUIRE(! rows.empty());
         CHECK(rows.back()[1] == "end");
         CHECK(rows.back()[11] == "stopped");
@@ -199,13 +199,13 @@ TEST_CASE("AdaptiveTraining: a session stopped early keeps every answer in its l
         CHECK(std::count_if(saved.answers.begin(), saved.answers.end(), [&](const auto& a) { return a.session == session; }) >= 3);
         CHECK(static_cast<int>(saved.sessions.size()) == session);
         training.stop();   // twice: nothing more
-        CHECK(armadillo::readWholeFile(training.logPath()) == training.logText());
+        CHECK(armadillo::core::readWholeFile(training.logPath()) == training.logText());
     }
 }
 
 TEST_CASE("AdaptiveTraining: bad choices and unwritable files are refused before the first trial", "[procedures][training]")
 {
-    acc::TactilePlayer player(armadillo::TactileConfig {}, 0.0);
+    acc::TactilePlayer player(armadillo::tactile::TactileConfig {}, 0.0);
     AdaptiveTraining training(player);
     std::string why;
     AdaptiveChoices bad;

@@ -20,7 +20,7 @@ namespace {
 /// The link side: 200 packets a second from the board moved by the rehearsal, offered one by
 /// one, drained every 20 (the app's UI timer, the CLI's answer loop).
 struct Board {
-    device::SensorModel model;
+    link::SensorModel model;
     CalibrationRehearsal motion;
     double t = 0.0;
     /// Runs until `done()` or `maxSeconds`; true when done.
@@ -43,10 +43,10 @@ struct Board {
 
 TEST_CASE("DeviceCalibration: the rehearsal satisfies every step and the steps recover the board's calibration", "[procedures][calibration]")
 {
-    const device::SensorModelParams p = armadillo::testing::boardWithItsOwnAdc();
-    Board board {device::SensorModel(p), {}};
+    const link::SensorModelParams p = armadillo::testing::boardWithItsOwnAdc();
+    Board board {link::SensorModel(p), {}};
     DeviceCalibration calibration;
-    const device::Calibration start = device::defaultCalibration();
+    const link::Calibration start = link::defaultCalibration();
     calibration.begin(start);
     std::vector<std::string> prompts;
     for (int k = 0; k < DeviceCalibration::kStepCount; ++k) {
@@ -68,7 +68,7 @@ TEST_CASE("DeviceCalibration: the rehearsal satisfies every step and the steps r
     }
     REQUIRE(calibration.finished());
     CHECK(calibration.stepTitle() == "Calibration complete");
-    const device::Calibration c = calibration.result();
+    const link::Calibration c = calibration.result();
     CHECK(c.gyro.bias.isApprox(p.adc.gyro.bias, 2e-3));
     CHECK(c.accel.bias.isApprox(p.adc.accel.bias, 5e-3));
     CHECK(c.accel.scale.isApprox(p.adc.accel.scale, 1e-2));
@@ -80,16 +80,16 @@ TEST_CASE("DeviceCalibration: the rehearsal satisfies every step and the steps r
     // The file both presenters write.
     const std::string path = (armadillo::test::scratchDir("procedures-calibration") / "cal.json").string();
     calibration.save(path);
-    const device::Calibration back = device::loadCalibration(path);
+    const link::Calibration back = link::loadCalibration(path);
     CHECK(back.gyro.bias.isApprox(c.gyro.bias, 1e-6));
     CHECK(! back.date.empty());
 }
 
 TEST_CASE("DeviceCalibration: skipped steps keep the starting numbers; cancel and a stalled drain", "[procedures][calibration]")
 {
-    Board board {device::SensorModel {}, {}};
+    Board board {link::SensorModel {}, {}};
     DeviceCalibration calibration;
-    device::Calibration start = device::defaultCalibration();
+    link::Calibration start = link::defaultCalibration();
     start.gyro.scale *= 1.1;   // something a skip must keep
     calibration.begin(start);
     board.motion.setStep(Step::GyroStill);
@@ -102,14 +102,14 @@ TEST_CASE("DeviceCalibration: skipped steps keep the starting numbers; cancel an
     CHECK(calibration.measuredList(true) == "gyro bias");
     CHECK(calibration.measuredList(false) == "accelerometer, magnetometer, gyro roll, gyro turn, gyro tip");
     // A finished run takes no packets; cancel forgets it.
-    calibration.offer(1e3, device::SensorCounts {});
+    calibration.offer(1e3, link::SensorCounts {});
     CHECK(calibration.drain() == 0);
     calibration.cancel("the device was disconnected");
     CHECK_FALSE(calibration.running());
     CHECK(calibration.stopReason() == "the device was disconnected");
     // A front end that stops draining loses packets, never blocks the link thread.
     calibration.begin(start);
-    for (std::size_t i = 0; i < DeviceCalibration::kQueueCapacity + 10; ++i) calibration.offer(static_cast<double>(i), device::SensorCounts {});
+    for (std::size_t i = 0; i < DeviceCalibration::kQueueCapacity + 10; ++i) calibration.offer(static_cast<double>(i), link::SensorCounts {});
     CHECK(calibration.packetsDropped() == 10);
     CHECK(calibration.drain() == DeviceCalibration::kQueueCapacity);
 }

@@ -9,6 +9,7 @@
 #include <random>
 
 using namespace armadillo;
+using namespace armadillo::core;
 using armadillo::procedures::MountCalibration;
 using Pose = MountCalibration::Pose;
 using Q = Eigen::Quaterniond;
@@ -32,11 +33,11 @@ struct Arm {
     Q strap;
     std::mt19937 rng {5};
     double t = 0.0;
-    device::SensorFrameSample sample(const V& up, double noise = 0.08)
+    osc::SensorFrameSample sample(const V& up, double noise = 0.08)
     {
         std::normal_distribution<double> n(0.0, noise);
         const V a = strap.conjugate() * (up * kStandardGravity + V(n(rng), n(rng), n(rng)));
-        device::SensorFrameSample s;
+        osc::SensorFrameSample s;
         s.t = (t += 0.01);
         for (int i = 0; i < 3; ++i) {
             s.accel[i] = a[i];
@@ -45,10 +46,10 @@ struct Arm {
         return s;
     }
     /// A tap of `count` samples of pose `p` (the OSC input's sensor-frame tap).
-    std::function<bool(device::SensorFrameSample&)> tap(Pose p, int count)
+    std::function<bool(osc::SensorFrameSample&)> tap(Pose p, int count)
     {
         auto left = std::make_shared<int>(count);
-        return [this, p, left](device::SensorFrameSample& s) {
+        return [this, p, left](osc::SensorFrameSample& s) {
             if (*left <= 0) return false;
             --*left;
             s = sample(upInDevice(p));
@@ -68,8 +69,8 @@ TEST_CASE("MountCalibration: a text presenter's walk — each pose taken when re
     calibration.setAnnouncer([&](const std::string& line) { said.push_back(line); });
     calibration.begin({}, MountCalibration::Advance::WhenReady);
     REQUIRE(said.size() == 1);
-    CHECK(said[0] == std::string("mount calibration pose 1 (") + device::MountCalibration::poseName(Pose::LevelForward) +
-                         "): " + device::MountCalibration::instruction(Pose::LevelForward));
+    CHECK(said[0] == std::string("mount calibration pose 1 (") + link::MountCalibration::poseName(Pose::LevelForward) +
+                         "): " + link::MountCalibration::instruction(Pose::LevelForward));
     calibration.drain(arm.tap(Pose::LevelForward, 100));
     CHECK(calibration.pose() == Pose::HangingDown);   // taken without a Next
     REQUIRE(said.size() == 2);
@@ -86,7 +87,7 @@ TEST_CASE("MountCalibration: a text presenter's walk — each pose taken when re
     CHECK(calibration.result().device == "phone-7");
     const std::string path = (armadillo::test::scratchDir("procedures-mount") / MountCalibration::fileNameForDevice("phone-7")).string();
     calibration.save(path);
-    const device::Mount back = device::loadMount(path);
+    const link::Mount back = link::loadMount(path);
     CHECK(back.rotation.angularDistance(calibration.result().rotation) < 1e-6);
 
     // With the roll pose held too, the walk completes by itself and says so.
@@ -123,7 +124,7 @@ TEST_CASE("MountCalibration: the app's walk — a full pose waits for Next, the 
     calibration.drain(arm.tap(Pose::HangingDown, 100));   // moving on before Next cannot overwrite it
     CHECK(calibration.pose() == Pose::LevelForward);
     REQUIRE(calibration.next(why));
-    CHECK(calibration.stepTitle() == std::string("Pose 2 of 3: ") + device::MountCalibration::poseName(Pose::HangingDown));
+    CHECK(calibration.stepTitle() == std::string("Pose 2 of 3: ") + link::MountCalibration::poseName(Pose::HangingDown));
     calibration.drain(arm.tap(Pose::HangingDown, 100));
     REQUIRE(calibration.next(why));
     REQUIRE(calibration.canSkip());

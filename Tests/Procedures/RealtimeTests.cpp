@@ -11,6 +11,7 @@
 #include <catch2/catch.hpp>
 
 using namespace armadillo;
+using namespace armadillo::tactile;
 using armadillo::test::RealtimeGuard;
 
 TEST_CASE("procedures: the link thread's offer, the control step's players and the rehearsal allocate, lock and throw nothing",
@@ -18,14 +19,14 @@ TEST_CASE("procedures: the link thread's offer, the control step's players and t
 {
     ARMADILLO_REQUIRE_GUARD_SEES_ALLOCATION();
     procedures::DeviceCalibration calibration;
-    calibration.begin(device::defaultCalibration());
+    calibration.begin(link::defaultCalibration());
     procedures::CalibrationRehearsal rehearsal;
     rehearsal.setStep(procedures::DeviceCalibration::Step::MagVertical);
     {
         RealtimeGuard guard;
         double sum = 0.0;
         for (int i = 0; i < 3000; ++i) {   // past the queue's capacity: dropped, never blocked
-            calibration.offer(0.005 * i, device::SensorCounts {});
+            calibration.offer(0.005 * i, link::SensorCounts {});
             sum += rehearsal.at(0.005 * i).q.w();
         }
         CHECK(guard.allocations() == 0);

@@ -21,7 +21,7 @@ public:
     {
         for (double waited = 0.0; waited < maxSeconds; waited += kStep) {
             if (done()) return true;
-            const MotorLevels levels = player_.onPacket(t_);
+            const core::MotorLevels levels = player_.onPacket(t_);
             int set = 0;
             for (int m = 0; m < 9; ++m)
                 if (levels[static_cast<std::size_t>(m)] > 0) {

@@ -104,7 +104,7 @@ TEST_CASE("TouchTest: a scripted reader's nine thresholds within one level, the 
     // The file and the summary both presenters give.
     const std::string path = (armadillo::test::scratchDir("procedures-touch") / "profile.json").string();
     test.save(path);
-    const auto back = armadillo::device::loadTouchProfile(path);
+    const auto back = armadillo::link::loadTouchProfile(path);
     CHECK(back.threshold == profile.threshold);
     CHECK(back.comfort == profile.comfort);
     CHECK(test.summaryJson().rfind("{\"stimuli\":" + std::to_string(test.stimuli()) + ",", 0) == 0);

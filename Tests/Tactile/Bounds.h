@@ -38,11 +38,11 @@ inline double maxWindowIntegral(const std::vector<double>& value, const std::vec
     return best;
 }
 
-inline BoundsReport measureBounds(const std::vector<MotorLevels>& packets, const std::vector<double>& hold,
-                                  const SafetyParams& p = kDefaultSafetyParams)
+inline BoundsReport measureBounds(const std::vector<core::MotorLevels>& packets, const std::vector<double>& hold,
+                                  const tactile::SafetyParams& p = tactile::kDefaultSafetyParams)
 {
     BoundsReport r;
-    for (int m = 0; m < kMaxMotors; ++m) {
+    for (int m = 0; m < core::kMaxMotors; ++m) {
         std::vector<double> above(packets.size()), power(packets.size());
         double aboveRun = 0.0, onRun = 0.0;
         for (std::size_t i = 0; i < packets.size(); ++i) {
@@ -60,7 +60,7 @@ inline BoundsReport measureBounds(const std::vector<MotorLevels>& packets, const
     return r;
 }
 
-inline bool withinBounds(const BoundsReport& r, const SafetyParams& p = kDefaultSafetyParams)
+inline bool withinBounds(const BoundsReport& r, const tactile::SafetyParams& p = tactile::kDefaultSafetyParams)
 {
     const double eps = 1e-9;
     return r.maxAboveRun <= p.maxAboveRatingRun + eps

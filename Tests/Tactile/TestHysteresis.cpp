@@ -5,6 +5,7 @@
 #include <random>
 
 using namespace armadillo;
+using namespace armadillo::tactile;
 
 namespace {
 // A slow ramp from −0.5 to +0.5 that lingers near 0, with uniform noise of ±noise.

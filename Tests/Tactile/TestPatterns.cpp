@@ -9,6 +9,8 @@
 #include <vector>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::tactile;
 
 namespace {
 const PatternParams P = kDefaultPatternParams;

@@ -7,6 +7,8 @@
 #include <sstream>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::tactile;
 
 namespace {
 std::string shipped(const std::string& name)

@@ -11,6 +11,8 @@
 #include <random>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::tactile;
 
 // Counts heap allocations while `g_counting` is set (the whole test binary shares this).
 static std::atomic<bool> g_counting {false};

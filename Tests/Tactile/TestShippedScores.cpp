@@ -9,6 +9,8 @@
 #include <set>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::tactile;
 using armadillo::test::measureBounds;
 using armadillo::test::withinBounds;
 

@@ -7,6 +7,8 @@
 #include <random>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::tactile;
 
 namespace {
 /// Runs a staircase against a reader who feels every level ≥ threshold (deterministic).

@@ -22,6 +22,8 @@
 #include <sys/wait.h>
 
 using namespace armadillo;
+using namespace armadillo::formats;
+using namespace armadillo::core;
 
 namespace {
 

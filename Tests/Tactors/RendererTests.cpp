@@ -15,6 +15,8 @@
 #include <vector>
 
 using namespace armadillo;
+using namespace armadillo::formats;
+using namespace armadillo::core;
 using namespace armadillo::tactors;
 
 namespace {

@@ -16,6 +16,8 @@
 #include <vector>
 
 using namespace armadillo;
+using namespace armadillo::core;
+using namespace armadillo::tactile;
 using namespace armadillo::tactors;
 
 namespace {

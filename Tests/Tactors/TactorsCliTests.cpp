@@ -18,6 +18,7 @@
 #include <sstream>
 
 using namespace armadillo;
+using namespace armadillo::core;
 
 namespace {
 
