@@ -90,4 +90,36 @@ std::string letterChord(char letter)
     return "";
 }
 
+bool PerkinsChords::isChordKey(char key) noexcept { return keyDot(key) != 0; }
+
+bool PerkinsChords::down(char key)
+{
+    const int d = keyDot(key);
+    if (d == 0) return false;
+    held_ |= 1u << (d - 1);
+    chord_ = static_cast<braille::Dots>(chord_ | (1u << (d - 1)));
+    return true;
+}
+
+PerkinsChords::Event PerkinsChords::up(char key)
+{
+    Event e;
+    const int d = keyDot(key);
+    if (d == 0 || (held_ & (1u << (d - 1))) == 0) return e;
+    held_ &= ~(1u << (d - 1));
+    if (held_ != 0 || chord_ == 0) return e;
+    e.dots = chord_;
+    chord_ = 0;
+    // The letter of the cell through the same table the terminal's chords use (liblouis Grade 1).
+    const char c = letterByCell()[e.dots & 63u];
+    if (c != 0) {
+        e.kind = Event::Kind::Letter;
+        e.letter = c;
+    } else {
+        e.kind = Event::Kind::NotLetter;
+        e.why = "dots " + braille::dotNumbers(e.dots) + " is not a letter";
+    }
+    return e;
+}
+
 } // namespace armadillo::access

@@ -5,57 +5,6 @@
 
 namespace armadillo::plugin {
 
-namespace {
-/// S D F J K L = dots 3 2 1 4 5 6 (the layout of Access/Chords.h); 0 for any other key.
-int dotOf(char key) noexcept
-{
-    switch (std::tolower(static_cast<unsigned char>(key))) {
-    case 'f': return 1;
-    case 'd': return 2;
-    case 's': return 3;
-    case 'j': return 4;
-    case 'k': return 5;
-    case 'l': return 6;
-    default: return 0;
-    }
-}
-} // namespace
-
-bool PerkinsChords::isChordKey(char key) noexcept { return dotOf(key) != 0; }
-
-bool PerkinsChords::down(char key)
-{
-    const int d = dotOf(key);
-    if (d == 0) return false;
-    held_ |= 1u << (d - 1);
-    chord_ = static_cast<braille::Dots>(chord_ | (1u << (d - 1)));
-    return true;
-}
-
-PerkinsChords::Event PerkinsChords::up(char key)
-{
-    Event e;
-    const int d = dotOf(key);
-    if (d == 0 || (held_ & (1u << (d - 1))) == 0) return e;
-    held_ &= ~(1u << (d - 1));
-    if (held_ != 0 || chord_ == 0) return e;
-    e.dots = chord_;
-    chord_ = 0;
-    // The letter of the cell through the same table the CLI's chords use (liblouis Grade 1).
-    std::string keys;
-    for (int dot = 1; dot <= 6; ++dot)
-        if (e.dots & (1u << (dot - 1))) keys += "fdsjkl"[dot - 1];
-    std::string letters, why;
-    if (access::chordsToLetters(keys, letters, why) && letters.size() == 1) {
-        e.kind = Event::Kind::Letter;
-        e.letter = letters[0];
-    } else {
-        e.kind = Event::Kind::NotLetter;
-        e.why = "dots " + braille::dotNumbers(e.dots) + " is not a letter";
-    }
-    return e;
-}
-
 void TrainingKeys::attach(juce::TextEditor& answer, std::function<void()> submit,
                           std::function<void(const juce::String&)> announce, access::ReaderVoice* voice)
 {
@@ -121,7 +70,7 @@ bool TrainingKeys::keyPressed(const juce::KeyPress& key, juce::Component*)
     }
     if (! chordMode_ || key.getModifiers().isCtrlDown() || key.getModifiers().isAltDown()) return false;
     const auto c = static_cast<char>(key.getTextCharacter() != 0 ? key.getTextCharacter() : code);
-    if (PerkinsChords::isChordKey(c)) {
+    if (access::PerkinsChords::isChordKey(c)) {
         const char lower = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
         if (chords_.down(lower) && down_.find(lower) == std::string::npos) down_ += lower;
         return true;   // never typed into the field as a letter
@@ -156,9 +105,9 @@ bool TrainingKeys::keyStateChanged(bool isKeyDown, juce::Component*)
         down_.erase(i, 1);
         used = true;
         const auto e = chords_.up(k);
-        if (e.kind == PerkinsChords::Event::Kind::Letter) {
+        if (e.kind == access::PerkinsChords::Event::Kind::Letter) {
             if (onLetter) onLetter(e.letter);
-        } else if (e.kind == PerkinsChords::Event::Kind::NotLetter) {
+        } else if (e.kind == access::PerkinsChords::Event::Kind::NotLetter) {
             if (onSay) onSay(e.why);
         }
     }

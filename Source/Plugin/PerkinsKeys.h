@@ -5,12 +5,12 @@
 // the set of chord keys that were down at any moment since the first went down, and it is taken
 // when the last one comes up. Space submits the answer, Backspace takes back the last cell.
 //
-// PerkinsChords is the JUCE-free state machine (key down / key up, tested without a window);
+// The chord itself is access::PerkinsChords (Access/Chords.h, JUCE-free, tested in tests_access);
 // TrainingKeys is the JUCE KeyListener the Training panel puts on its answer field: F2 turns
 // chord entry on and off (off = letters are typed as usual), F3 repeats what was last said, F4
 // stops speech. Keys the listener does not use fall through to the field. Threads: message
 // thread only.
-#include "Braille/Cells.h"
+#include "Access/Chords.h"
 #include <juce_gui_basics/juce_gui_basics.h>
 #include <functional>
 #include <string>
@@ -20,31 +20,6 @@ class ReaderVoice;
 }
 
 namespace armadillo::plugin {
-
-class PerkinsChords {
-public:
-    struct Event {
-        enum class Kind { None, Letter, NotLetter };
-        Kind kind = Kind::None;
-        char letter = 0;          ///< Letter: a..z
-        braille::Dots dots = 0;   ///< the chord's cell
-        std::string why;          ///< NotLetter: "dots 3 6 is not a letter"
-    };
-    /// True when `key` is one of S D F J K L (either case).
-    static bool isChordKey(char key) noexcept;
-    /// A chord key went down (repeats are harmless). False for any other key.
-    bool down(char key);
-    /// A chord key came up: the chord's event once no chord key is down any more.
-    Event up(char key);
-    /// Forget a half-typed chord (focus lost, mode switched).
-    void reset() noexcept { held_ = 0; chord_ = 0; }
-    bool holding() const noexcept { return held_ != 0; }
-
-private:
-    unsigned held_ = 0;           ///< bit d-1: the key of dot d is down
-    braille::Dots chord_ = 0;     ///< every dot pressed since the chord began
-};
-
 
 class TrainingKeys : public juce::KeyListener {
 public:
@@ -74,7 +49,7 @@ private:
     juce::TextEditor* answer_ = nullptr;
     access::ReaderVoice* voice_ = nullptr;
     bool chordMode_ = false;
-    PerkinsChords chords_;
+    access::PerkinsChords chords_;
     std::string down_;            ///< chord keys seen down and not yet seen up
 };
 

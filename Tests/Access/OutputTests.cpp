@@ -15,6 +15,22 @@ using namespace armadillo;
 using namespace armadillo::core;
 using namespace armadillo::access;
 
+namespace {
+
+/// Grade 1 letters a–z as dot numbers, written from the braille alphabet (World Braille Usage,
+/// UNESCO 2013, the English/French base letters) — not from the code under test.
+const char* const kLetterDots[26] = {"1",    "12",   "14",   "145",  "15",    "124",  "1245", "125",  "24",
+                                     "245",  "13",   "123",  "134",  "1345",  "135",  "1234", "12345", "1235",
+                                     "234",  "2345", "136",  "1236", "2456",  "1346", "13456", "1356"};
+
+/// The key of each dot on the Perkins home row: dots 1 2 3 = F D S, dots 4 5 6 = J K L.
+char keyOfDot(char dot)
+{
+    return "fdsjkl"[dot - '1'];
+}
+
+} // namespace
+
 TEST_CASE("chords: S D F J K L are dots 3 2 1 4 5 6; groups are letters", "[chords]")
 {
     braille::Dots d = 0;
@@ -37,6 +53,30 @@ TEST_CASE("chords: S D F J K L are dots 3 2 1 4 5 6; groups are letters", "[chor
     CHECK_FALSE(chordsToLetters("   ", letters, why));
     CHECK(letterChord('x') == "fsjl");
     CHECK(letterChord('a') == "f");
+}
+
+TEST_CASE("Perkins chords: every letter from its dots, keys released in any order", "[chords]")
+{
+    for (int i = 0; i < 26; ++i) {
+        PerkinsChords c;
+        std::string keys;
+        for (const char* d = kLetterDots[i]; *d != '\0'; ++d) keys += keyOfDot(*d);
+        for (char k : keys) CHECK(c.down(k));
+        // Released in reverse: nothing until the last key comes up.
+        for (std::size_t j = keys.size(); j-- > 1;) CHECK(c.up(keys[j]).kind == PerkinsChords::Event::Kind::None);
+        const auto e = c.up(keys[0]);
+        INFO("letter " << char('a' + i) << " keys " << keys);
+        REQUIRE(e.kind == PerkinsChords::Event::Kind::Letter);
+        CHECK(e.letter == 'a' + i);
+        CHECK(! c.holding());
+    }
+    PerkinsChords c;
+    CHECK(! c.down('a'));   // not a chord key
+    CHECK(c.down('S'));     // either case
+    const auto e = c.up('s');
+    CHECK(e.kind == PerkinsChords::Event::Kind::NotLetter);   // dot 3 alone is no letter
+    CHECK(e.why == "dots 3 is not a letter");
+    CHECK(c.up('s').kind == PerkinsChords::Event::Kind::None);   // an up with nothing down
 }
 
 TEST_CASE("speech and braille display: capture backends record what a reader would hear and feel", "[speech]")

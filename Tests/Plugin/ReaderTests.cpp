@@ -1,6 +1,6 @@
 // The app's reader functions (issue 26) without a window: self-voicing and the braille display
-// (ReaderVoice, captured through the core's capture backends), Perkins chord entry (PerkinsChords,
-// TrainingKeys driven by simulated key presses as the Training panel's answer field gets them),
+// (ReaderVoice, captured through the core's capture backends), Perkins chord entry (the
+// TrainingKeys listener driven by simulated key presses as the Training panel's answer field gets them),
 // the detection that turns self-voicing on by default, and the touch profile kept in the state.
 #include "Access/Feedback.h"
 #include "Engine/Engine.h"
@@ -49,18 +49,6 @@ juce::StringArray linesOf(const juce::File& f)
     return lines;
 }
 
-/// Grade 1 letters a–z as dot numbers, written from the braille alphabet (World Braille Usage,
-/// UNESCO 2013, the English/French base letters) — not from the code under test.
-const char* const kLetterDots[26] = {"1",    "12",   "14",   "145",  "15",    "124",  "1245", "125",  "24",
-                                     "245",  "13",   "123",  "134",  "1345",  "135",  "1234", "12345", "1235",
-                                     "234",  "2345", "136",  "1236", "2456",  "1346", "13456", "1356"};
-
-/// The key of each dot on the Perkins home row: dots 1 2 3 = F D S, dots 4 5 6 = J K L.
-char keyOfDot(char dot)
-{
-    return "fdsjkl"[dot - '1'];
-}
-
 /// Presses and releases a chord on `keys` the way JUCE delivers it: a keyPressed per key going
 /// down, then keyStateChanged(false) as each comes up (`held` is what isKeyCurrentlyDown sees).
 void chord(TrainingKeys& keys, juce::Component& field, const std::string& chordKeys, std::set<int>& held)
@@ -76,30 +64,6 @@ void chord(TrainingKeys& keys, juce::Component& field, const std::string& chordK
 }
 
 } // namespace
-
-TEST_CASE("Perkins chords: every letter from its dots, keys released in any order", "[plugin][reader]")
-{
-    for (int i = 0; i < 26; ++i) {
-        PerkinsChords c;
-        std::string keys;
-        for (const char* d = kLetterDots[i]; *d != '\0'; ++d) keys += keyOfDot(*d);
-        for (char k : keys) CHECK(c.down(k));
-        // Released in reverse: nothing until the last key comes up.
-        for (std::size_t j = keys.size(); j-- > 1;) CHECK(c.up(keys[j]).kind == PerkinsChords::Event::Kind::None);
-        const auto e = c.up(keys[0]);
-        INFO("letter " << char('a' + i) << " keys " << keys);
-        REQUIRE(e.kind == PerkinsChords::Event::Kind::Letter);
-        CHECK(e.letter == 'a' + i);
-        CHECK(! c.holding());
-    }
-    PerkinsChords c;
-    CHECK(! c.down('a'));   // not a chord key
-    CHECK(c.down('S'));     // either case
-    const auto e = c.up('s');
-    CHECK(e.kind == PerkinsChords::Event::Kind::NotLetter);   // dot 3 alone is no letter
-    CHECK(e.why == "dots 3 is not a letter");
-    CHECK(c.up('s').kind == PerkinsChords::Event::Kind::None);   // an up with nothing down
-}
 
 TEST_CASE("Self-voicing: every text reaches the speech and the braille display; repeat, stop, rate", "[plugin][reader]")
 {
