@@ -300,7 +300,7 @@ std::unique_ptr<PlayRequest> readPlayRequest(const CommandLine& cl, const LiveCo
     if (cl.has("--speak") || cl.has("--speech") || cl.has("--brlapi") || cl.has("--braille-display")) voice = std::make_unique<ReaderIo>(cl, true);
     else if (cl.has("--rate")) throw UsageError("--rate sets the speech rate: use it with --speak");
     if (cl.has("--keys") && cl.has("--training-log")) throw UsageError("--keys and --training-log both read stdin: choose one");
-    engine.panicGesture = cl.has("--panic-gesture");
+    config.panicGesture = cl.has("--panic-gesture");
     const int controlPort = cl.has("--control-in") ? static_cast<int>(cl.integer("--control-in", 0, 1, 65535)) : -1;
 
     if (cl.has("--tactors")) config.tactors = tactorConfig(cl, config.engine.motorCount);
@@ -585,11 +585,6 @@ private:
     bool reportStage()
     {
         engine::Engine& engine = session_.engine();
-        if (cues_ && engine.panicked()) {   // (a gesture panics the current cue only: spread it)
-            bool all = true;
-            for (int c = 0; c < cues_->cueCount(); ++c) all = all && cues_->engine(c).panicked();
-            if (!all) cues_->panic();
-        }
         if (cues_ && cues_->current() != shownCue_) {
             shownCue_ = cues_->current();
             const live::Cue& q = cues_->cue(shownCue_);

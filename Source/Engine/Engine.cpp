@@ -127,8 +127,6 @@ core::MotorLevels Engine::run(const core::ArmState& arm, const core::ArmState* l
     if (!(dt >= 0.0)) dt = 0.0;
     dt = std::min(dt, 0.1);
     time_ = arm.t;
-    // The forearm hanging straight down, held (PanicGesture.h: once per hang).
-    if (config_.panicGesture && panicGesture_.update(arm.t, arm)) panic();
     if (panic_.load(std::memory_order_acquire)) {
         // Every motor off through the tactile engine's all-off path; the safety stage keeps
         // accounting the time (its heat history stays true for the resume).

@@ -8,7 +8,6 @@
 #include "Core/Scene.h"
 #include "Core/SpscQueue.h"
 #include "Core/Types.h"
-#include "Engine/PanicGesture.h"
 #include "Tactile/TactileEngine.h"
 #include <array>
 #include <atomic>
@@ -39,9 +38,6 @@ struct EngineConfig {
     /// The reader's touch profile as per-motor gains (TactileConfig::motorGain; physical motor
     /// order m1…). All 1 = none. Device/TouchProfile.h makes them from a profile file.
     std::array<float, core::kMaxMotors> motorGain = tactile::TactileConfig::unitMotorGains();
-    /// The panic gesture (docs/STAGE.md): the forearm hanging straight down (elevation ≤ −75°)
-    /// for 2 s panics the engine. Off by default (`play --panic-gesture` turns it on).
-    bool panicGesture = false;
     /// Two arms (docs/STAGE.md): a second tactile engine (its own shaping and safety stage,
     /// left-arm mirroring) for the left arm's motors; control() then takes the left arm's state.
     bool twoArms = false;
@@ -108,12 +104,10 @@ public:
     /// over kResumeFadeSeconds.
     void resume() noexcept;
     bool panicked() const noexcept { return panic_.load(std::memory_order_acquire); }
-    /// Panics so far (each panic() while not panicked, and each panic gesture, counts once).
+    /// Panics so far (each panic() while not panicked counts once).
     std::uint32_t panicCount() const noexcept { return panicCount_.load(std::memory_order_relaxed); }
     static constexpr double kPanicFadeSeconds = 0.001;
     static constexpr double kResumeFadeSeconds = 0.020;
-    static constexpr double kPanicGestureElevation = PanicGesture::kElevationDeg;   ///< deg
-    static constexpr double kPanicGestureSeconds = PanicGesture::kSeconds;
 
     /// Sets one of the scene's own parameters by its stable id (ParamSpec::id). `value` is a
     /// number in the parameter's unit, or one of its choice names. Throws InputError naming the
@@ -152,7 +146,6 @@ private:
     std::atomic<std::uint32_t> panicCount_ {0};
     bool controlPanicked_ = false;       // control thread: the state of the previous control()
     bool restartPending_ = false;        // control thread: restart() asked, the scene not yet reset
-    PanicGesture panicGesture_;          // control thread: the hang detector (config_.panicGesture)
     double audioGain_ = 1.0;             // audio thread: the panic/resume fade
 };
 

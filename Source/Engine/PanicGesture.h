@@ -1,8 +1,9 @@
 #pragma once
 // The panic gesture (docs/STAGE.md "Panic"): the forearm hanging straight down (elevation
 // ≤ kElevationDeg) for kSeconds fires once; the arm must rise above kElevationDeg before hanging
-// counts again, so a resume while it still hangs does not panic again. Shared by the Engine
-// (`armadillo play --panic-gesture`) and the plugin's control step (the panicGesture setting).
+// counts again, so a resume while it still hangs does not panic again. Run by the one control
+// step, live::ControlLoop::tick, for `armadillo play --panic-gesture` and the app's panicGesture
+// setting alike.
 //
 // Real-time: no allocation, lock, I/O or throw. One thread (the control step) calls update().
 #include "Core/ArmState.h"

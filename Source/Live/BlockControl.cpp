@@ -72,10 +72,13 @@ void BlockControl::step(double dt, double wall, bool toMotors, const core::Trans
     s.dt = dt;
     s.cues = cues_;              // a set list's cues run in place of the engine
     s.panic = panicApplied_;
+    s.panicGesture = stage_ != nullptr && stage_->panicGesture();
     s.leftArm = leftArm_ != nullptr ? leftArm_->fuse() : nullptr;   // null: one arm
     s.arrivalCutoff = cutoff;
     ControlResult result = loop_.tick(s);   // swap-in, parameters, fusion, Engine::control
     if (! result.ran) return;
+    // The panic gesture (docs/STAGE.md) panics the stage, as CC 120 or F12 do.
+    if (result.gesturePanic) stage_->panic();
     if (result.swapped) mapper_.resendSceneParams();   // the new scene starts from its defaults
     if (auto* stimulus = stimulus_.load(std::memory_order_acquire))
         // The sensitivity test or the training has the motors; the roll rate feeds its arm gestures.
@@ -95,13 +98,6 @@ void BlockControl::step(double dt, double wall, bool toMotors, const core::Trans
     engine::Engine& engine = *runningEngine();
     clock_ += dt;
     const core::ArmState& arm = result.arm;
-    // The panic gesture (docs/STAGE.md): the right forearm hanging down for 2 s panics the stage,
-    // as CC 120 or F12 do, from the next block on. Off: a hang in progress is forgotten.
-    if (stage_ != nullptr && stage_->panicGesture()) {
-        if (panicGesture_.update(clock_, arm)) stage_->panic();
-    } else {
-        panicGesture_.reset();
-    }
     ArmFrame f;
     f.t = clock_;
     f.valid = arm.valid;

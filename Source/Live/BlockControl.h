@@ -20,7 +20,6 @@
 //  - the accessors below: any thread (atomics, a seqlock, one SPSC queue for one consumer).
 #include "Core/Handover.h"
 #include "Core/SpscQueue.h"
-#include "Engine/PanicGesture.h"
 #include "Link/LevelSchedule.h"
 #include "Live/ControlLoop.h"
 #include "Live/ControlToken.h"
@@ -284,7 +283,6 @@ private:
     LeftArm* leftArm_ = nullptr;
     CuePlayer* cues_ = nullptr;   ///< token holder: the set list's player this block (null: none)
     bool panicApplied_ = false;         ///< token holder: the stage's panic as applied
-    engine::PanicGesture panicGesture_; ///< token holder: the right arm's hang (Stage::panicGesture)
     std::atomic<std::uint64_t> stageCommands_ {0};   ///< stage commands the mapping fired
     std::uint64_t frameSerial_ = 0;
     /// The listened-to input of one control step (≤ 192 kHz / 200 Hz samples), fixed size.

@@ -142,6 +142,13 @@ ControlResult ControlLoop::tick(const ControlStep& step) noexcept
         arm = fuse(input(step.source), step.arrivalCutoff);
     }
     result.arm = arm;
+    if (!step.panicGesture) {
+        panicGesture_.reset();
+    } else if (panicGesture_.update(clock_, arm)) {   // once per hang; motors off from this step
+        engine.panic();
+        if (step.cues != nullptr) step.cues->panic();
+        result.gesturePanic = true;
+    }
     if (step.cues != nullptr && step.leftArm != nullptr && step.cues->twoArms()) result.levels = step.cues->control(arm, *step.leftArm, step.transport, dt);
     else if (step.cues != nullptr) result.levels = step.cues->control(arm, step.transport, dt);
     else if (step.leftArm != nullptr && engine.twoArms()) result.levels = engine.control(arm, *step.leftArm, step.transport, dt);

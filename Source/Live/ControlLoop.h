@@ -15,6 +15,7 @@
 #include "Core/Scene.h"
 #include "Fusion/ArmTracker.h"
 #include "Engine/Engine.h"
+#include "Engine/PanicGesture.h"
 #include "Live/LiveInput.h"
 #include <array>
 #include <atomic>
@@ -57,6 +58,10 @@ struct ControlStep {
     /// The front end is in panic (docs/STAGE.md): the engine (and every cue) is panicked before
     /// its control() runs, so an engine swapped in at this step is all-off from its first step.
     bool panic = false;
+    /// The panic gesture is on (docs/STAGE.md, Engine/PanicGesture.h): the right forearm hanging
+    /// straight down for 2 s panics the engine and every cue at this step (ControlResult::gesturePanic).
+    /// Off: a hang in progress is forgotten.
+    bool panicGesture = false;
     /// Two arms (docs/STAGE.md): the left arm's state this step, fused by the front end from its
     /// own source (null: one arm). An engine built with EngineConfig::twoArms hears both arms
     /// (Engine::control(right, left, …)), and so do a set list's cues built with twoArms; any
@@ -73,6 +78,9 @@ struct ControlResult {
     core::MotorLevels levels {};
     bool ran = false;             ///< false: no engine to run
     bool swapped = false;         ///< an offered engine took over at this step
+    /// The panic gesture fired at this step: the engine and step.cues are panicked; the front end
+    /// records it as its own panic (the plugin's stage) and panics what it runs beside the loop.
+    bool gesturePanic = false;
 };
 
 class ControlLoop {
@@ -137,6 +145,7 @@ private:
 
     fusion::ArmTracker tracker_;        // control side
     double clock_ = 0.0;                // s, advanced by dt per step
+    engine::PanicGesture panicGesture_; // control side: the right arm's hang (ControlStep::panicGesture)
     int lastSource_ = -1;
     std::uint64_t lastOrientationSerial_ = 0;
     LiveOrientation lastOrientation_ {};

@@ -270,7 +270,13 @@ core::MotorLevels LiveSession::control(double t, const link::SensorCounts* count
     step.transport.bpm = config_.bpm;
     step.transport.ppq = t * config_.bpm / 60.0;
     step.dt = dt;
+    step.panicGesture = config_.panicGesture;
     const live::ControlResult result = loop_.tick(step);
+    // The loop panicked its own engine; a set list's cues and the duo play beside it here.
+    if (result.gesturePanic) {
+        if (cues_) cues_->panic();
+        else sounding().panic();
+    }
     const core::ArmState& arm = result.arm;
     // With a set list the loop tracked the arm (its monitor engine keeps the motors off) and the
     // current cue plays it.

@@ -68,6 +68,10 @@ struct LiveConfig {
     link::Calibration calibration = link::defaultCalibration();
     engine::EngineConfig engine {};
     double bpm = 120.0;               ///< the audio-clock transport's tempo
+    /// The panic gesture (docs/STAGE.md): the right forearm hanging straight down (elevation
+    /// ≤ −75°) for 2 s panics what plays — the scene, every cue of a set list, both arms' duo.
+    /// Off by default (`play --panic-gesture` turns it on). Run by the control step (ControlLoop).
+    bool panicGesture = false;
     std::string audioOut;             ///< WAV path; empty = no audio file
     bool audioFloat = false;
     std::string soundCard;            ///< ALSA device to play on when audioOut is empty ("" = none)

@@ -106,6 +106,17 @@ TEST_CASE("cli: play --setlist steps cues by keys and panics them all; mistakes 
     for (std::size_t i = static_cast<std::size_t>(0.3 * 48000); i < p.frames(); ++i) late = std::max(late, std::fabs(static_cast<double>(p.channels[0][i])));
     CHECK(late == 0.0);
 
+    // The panic gesture with a set list (0.5.0: the cues never heard it before): the arm hanging
+    // at −80° from the start panics every cue after 2 s, said and counted as a gesture.
+    std::string hang = "t,elevation,azimuth,roll\n";
+    for (int i = 0; i <= 700; ++i) hang += std::to_string(i / 200.0) + ",-80,0,0\n";
+    const Run gesture = runArmadillo("play --setlist '" + show + "' --simulate --motion '" + file("play-hang.csv", hang) +
+                                     "' --seconds 3 --panic-gesture --no-audio");
+    INFO(gesture.err);
+    CHECK(gesture.code == 0);
+    CHECK(gesture.err.find("PANIC (gesture)") != std::string::npos);
+    CHECK(gesture.out.find("\"panics\":1") != std::string::npos);
+
     CHECK(runArmadillo("play --simulate --seconds 1 --no-audio").code == 2);   // neither --scene nor --setlist
     CHECK(runArmadillo("play --setlist '" + show + "' --scene theremin --simulate --seconds 1 --no-audio").code == 2);
     CHECK(runArmadillo("play --setlist '" + path("nope.json") + "' --simulate --seconds 1 --no-audio").code == 4);

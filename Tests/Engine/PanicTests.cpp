@@ -6,6 +6,7 @@
 #include "Common/RealtimeGuard.h"
 #include "Core/Pose.h"
 #include "Engine/Engine.h"
+#include "Engine/PanicGesture.h"
 #include <catch2/catch.hpp>
 #include <atomic>
 #include <cmath>
@@ -48,13 +49,12 @@ public:
 struct Rig {
     DroneScene* scene = nullptr;
     std::unique_ptr<Engine> engine;
-    explicit Rig(bool gesture = false)
+    Rig()
     {
         auto s = std::make_unique<DroneScene>();
         scene = s.get();
         EngineConfig config;
         config.scene = "drone";
-        config.panicGesture = gesture;
         engine = std::make_unique<Engine>(config, std::move(s));
     }
     /// One block of 64 samples after one control update at time t and elevation el.
@@ -134,41 +134,10 @@ TEST_CASE("panic: silence within one block, every motor off at the next update, 
     CHECK(rig.engine->panicCount() == 1u);
 }
 
-TEST_CASE("panic gesture: the forearm hanging straight down for 2 s panics; once per hang", "[engine][panic]")
-{
-    std::vector<float> l, r;
-    {   // off by default
-        Rig rig(false);
-        for (int i = 0; i < 2000; ++i) rig.block(i * 64.0 / kFs, l, r, -85.0);
-        CHECK_FALSE(rig.engine->panicked());
-    }
-    Rig rig(true);
-    double t = 0.0;
-    const double dt = 64.0 / kFs;
-    auto hold = [&](double seconds, double el) {
-        for (const double end = t + seconds; t < end; t += dt) rig.block(t, l, r, el);
-    };
-    hold(1.0, 0.0);
-    hold(1.9, -80.0);                  // not long enough
-    hold(0.2, -60.0);                  // up again: the count starts over
-    hold(1.9, -80.0);
-    CHECK_FALSE(rig.engine->panicked());
-    hold(0.2, -80.0);                  // 2.1 s hanging: panic
-    CHECK(rig.engine->panicked());
-    CHECK(rig.engine->panicCount() == 1u);
-    rig.engine->resume();
-    hold(3.0, -80.0);                  // resumed while still hanging: no second panic
-    CHECK_FALSE(rig.engine->panicked());
-    hold(0.5, 0.0);
-    hold(2.1, -80.0);                  // a new hang: a new panic
-    CHECK(rig.engine->panicked());
-    CHECK(rig.engine->panicCount() == 2u);
-}
-
 TEST_CASE("panic and resume allocate, lock and throw nothing, from another thread too", "[engine][panic][realtime]")
 {
     ARMADILLO_REQUIRE_GUARD();
-    Rig rig(true);
+    Rig rig;
     std::vector<float> l(64), r(64);
     ArmState arm;
     arm.valid = true;
