@@ -413,10 +413,7 @@ public:
         if (controlIn_) controlIn_->stop();
         session_.stop();
         if (request_.messages) request_.messages->stop();
-        if (needsData() && request_.dataTimeout > 0.0 && noData_.empty() && session_.summary().packets == 0)
-            noData_ = report_->noData(session_.summary().seconds);
-        if (request_.leftNeedsData && request_.dataTimeout > 0.0 && noData_.empty() && report_->leftPackets() == 0)
-            noData_ = report_->noData(session_.summary().seconds, true);
+        if (request_.dataTimeout > 0.0 && noData_.empty()) noData_ = silence(session_.summary().seconds);
         if (!noData_.empty()) {   // nothing was played: no file is written
             std::cout << live::summaryJson(session_.summary()) << "\n" << std::flush;
             throw core::IoError(noData_);
@@ -468,6 +465,15 @@ private:
     }
 
     bool needsData() const { return config_.source != live::LiveConfig::Source::Simulator; }
+
+    /// A port or OSC source (the right arm's, then the left arm's) that sent nothing in
+    /// `seconds`, in words with what was heard; "" when every source that needs data sent some.
+    std::string silence(double seconds) const
+    {
+        if (needsData() && session_.summary().packets == 0) return report_->noData(seconds);
+        if (request_.leftNeedsData && report_->leftPackets() == 0) return report_->noData(seconds, true);
+        return {};
+    }
 
     void openStageCommands(const CommandLine& cl)
     {
@@ -551,13 +557,9 @@ private:
     bool ended(double elapsed)
     {
         if (request_.seconds > 0.0 && elapsed >= request_.seconds) return true;
-        if (needsData() && request_.dataTimeout > 0.0 && elapsed >= request_.dataTimeout && session_.summary().packets == 0) {
-            noData_ = report_->noData(request_.dataTimeout);
-            return true;
-        }
-        if (request_.leftNeedsData && request_.dataTimeout > 0.0 && elapsed >= request_.dataTimeout && report_->leftPackets() == 0) {   // the left arm's source too
-            noData_ = report_->noData(request_.dataTimeout, true);
-            return true;
+        if (request_.dataTimeout > 0.0 && elapsed >= request_.dataTimeout) {
+            noData_ = silence(request_.dataTimeout);
+            if (!noData_.empty()) return true;
         }
         if (session_.recordingEnded()) {
             recordingEnded_ = true;
