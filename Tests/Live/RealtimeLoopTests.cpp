@@ -182,6 +182,7 @@ RunResult run(const std::string& scene, SourceKind source)
     ControlStep step;
     step.source = source;
     step.dt = kDt;
+    step.panicGesture = true;   // the hang detector runs in every guarded step too
     step.transport.valid = true;
     step.transport.playing = true;
     const int steps = 200 + 6 * static_cast<int>(values.size()) + 200;
