@@ -94,25 +94,12 @@ RenderResult renderOffline(const core::CsvTable& motion, const RenderSettings& s
     return renderOffline(motion, settings, performer);
 }
 
-RenderResult renderOffline(const core::CsvTable& motion, const RenderSettings& settings, OfflinePerformer& engine)
+namespace {
+
+/// The audio input and MIDI notes a render hears, checked against the performer before anything
+/// runs (InputError naming the recording, the MIDI file or the option).
+void checkRenderInputs(const RenderSettings& settings, OfflinePerformer& engine, double sampleRate)
 {
-    const MotionRows source = MotionRows::load(motion, settings.mount, "--mount");
-    if (source.size() == 0) throw core::InputError(motion.source(), 0, "", "the motion file has no rows");
-    // A rate taken from the recording names the recording; any other names the option.
-    const bool rateOfInput = settings.audioIn != nullptr && settings.audioIn->sampleRate == settings.engine.sceneConfig.sampleRate;
-    const double sampleRate = core::engineSampleRate(settings.engine.sceneConfig.sampleRate,
-                                               rateOfInput && !settings.audioInName.empty() ? settings.audioInName : std::string("--sample-rate"));
-
-    // The span is checked before the engine starts or anything is rendered: a time column that
-    // jumps to 1e12 s is a bad file, not a request for a year of audio.
-    // Collected in memory (no audioSink), the audio is bounded more tightly: an hour of stereo
-    // float is 1.4 GB; longer renders stream.
-    const double t0 = source.time(0);
-    const double tail = std::max(0.0, settings.tailSeconds);
-    const double maxSeconds = settings.audioSink ? settings.maxSeconds : std::min(settings.maxSeconds, kMaxCollectedRenderSeconds);
-    checkRenderSpan(motion, source.size(), [&](std::size_t i) { return source.time(i); }, tail, maxSeconds);
-
-    fusion::ArmTracker tracker;
     const std::string audioInName = settings.audioInName.empty() ? std::string("--audio-in") : settings.audioInName;
     const core::AudioBuffer* input = settings.audioIn;
     if (std::string whyNot; input && !engine.listensToAudio(whyNot))
@@ -127,144 +114,220 @@ RenderResult renderOffline(const core::CsvTable& motion, const RenderSettings& s
     if (std::string whyNot; settings.midiIn && !engine.listensToMidi(whyNot))
         throw core::InputError(settings.midiInName.empty() ? std::string("--midi-in") : settings.midiInName, 0, "",
                          "--midi-in: " + whyNot + " (layered-keyboard does)");
-    std::vector<core::MidiNoteEvent> midiBlock(settings.midiIn ? settings.midiIn->size() : 0);
-    std::size_t nextMidi = 0;
-    const int block = std::clamp(settings.blockSize, 1, 8192);
-    std::vector<const float*> inputChannels(input ? input->channels.size() : 0, nullptr);
-    std::vector<std::vector<float>> inputScratch(inputChannels.size(), std::vector<float>(static_cast<std::size_t>(block), 0.0f));
+}
 
-    RenderResult result;
-    const bool twoArms = settings.leftMotion != nullptr;
-    MotionRows leftSource;
-    fusion::ArmTracker leftTracker;
-    std::size_t leftRow = 0;
-    core::ArmState leftArm;
-    if (twoArms) {
-        leftSource = MotionRows::load(*settings.leftMotion, settings.leftMount, "--mount-left");
-        if (leftSource.size() == 0) throw core::InputError(settings.leftMotion->source(), 0, "--motion-left", "the left arm's motion file has no rows");
+/// One offline render: the motion's rows drive the control step (the file's clock), the audio
+/// between rows is rendered block by block with the recording and the MIDI notes it hears.
+class OfflineRun {
+public:
+    OfflineRun(const MotionRows& source, const RenderSettings& settings, OfflinePerformer& engine, double sampleRate, double tail)
+        : source_(source), settings_(settings), engine_(engine), sampleRate_(sampleRate), input_(settings.audioIn),
+          block_(std::clamp(settings.blockSize, 1, 8192)), t0_(source.time(0)), tEnd_(source.time(source.size() - 1) + tail)
+    {
+        midiBlock_.resize(settings.midiIn ? settings.midiIn->size() : 0);
+        inputChannels_.assign(input_ ? input_->channels.size() : 0, nullptr);
+        inputScratch_.assign(inputChannels_.size(), std::vector<float>(static_cast<std::size_t>(block_), 0.0f));
+        left_.resize(static_cast<std::size_t>(block_));
+        right_.resize(static_cast<std::size_t>(block_));
+        totalFrames_ = static_cast<std::size_t>(std::llround((tEnd_ - t0_) * sampleRate)) + 1;
+        result_.audio.sampleRate = sampleRate;
+        if (!settings.audioSink) result_.audio.channels.assign(2, std::vector<float>(totalFrames_, 0.0f));   // bounded by maxSeconds
+        result_.tactile.reserve(source.size() + 1);
+        previous_ = t0_;
     }
-    const double tEnd = source.time(source.size() - 1) + tail;
-    const auto totalFrames = static_cast<std::size_t>(std::llround((tEnd - t0) * sampleRate)) + 1;
-    result.audio.sampleRate = sampleRate;
-    if (!settings.audioSink) result.audio.channels.assign(2, std::vector<float>(totalFrames, 0.0f));   // bounded by maxSeconds
-    result.tactile.reserve(source.size() + 1);
 
-    std::vector<float> left(static_cast<std::size_t>(block)), right(static_cast<std::size_t>(block));
-    std::size_t frame = 0;
-    const auto renderUntil = [&](double t) {
-        const auto target = std::min(totalFrames, static_cast<std::size_t>(std::llround((t - t0) * sampleRate)));
-        while (frame < target) {
-            const int n = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(block), target - frame));
-            if (settings.midiIn) {   // the block's MIDI notes, before its audio (Scene::processMidi)
-                int count = 0;
-                const auto& notes = *settings.midiIn;
-                while (nextMidi < notes.size()) {
-                    const auto at = static_cast<std::size_t>(std::max(0.0, std::round(notes[nextMidi].t * sampleRate)));
-                    if (at >= frame + static_cast<std::size_t>(n)) break;
-                    const TimedMidiNote& m = notes[nextMidi++];
-                    core::MidiNoteEvent& e = midiBlock[static_cast<std::size_t>(count++)];
-                    e.offset = at > frame ? static_cast<int>(at - frame) : 0;
-                    e.note = static_cast<std::uint8_t>(std::clamp(m.note, 0, 127));
-                    e.velocity = static_cast<std::uint8_t>(std::clamp(m.velocity, 0, 127));
-                    e.channel = static_cast<std::uint8_t>(std::clamp(m.channel, 0, 15));
-                }
-                if (count > 0) engine.processMidi(midiBlock.data(), count);
-            }
-            if (input) {   // past the recording's end silence still comes in (the input stays connected)
-                for (std::size_t c = 0; c < inputChannels.size(); ++c) {
-                    if (frame + static_cast<std::size_t>(n) <= input->frames()) {
-                        inputChannels[c] = input->channels[c].data() + frame;
-                        continue;
-                    }
-                    auto& scratch = inputScratch[c];
-                    for (int i = 0; i < n; ++i) {
-                        const std::size_t at = frame + static_cast<std::size_t>(i);
-                        scratch[static_cast<std::size_t>(i)] = at < input->frames() ? input->channels[c][at] : 0.0f;
-                    }
-                    inputChannels[c] = scratch.data();
-                }
-                engine.processInput(inputChannels.data(), static_cast<int>(inputChannels.size()), n);
-            }
-            std::fill(left.begin(), left.begin() + n, 0.0f);
-            std::fill(right.begin(), right.begin() + n, 0.0f);
-            engine.renderAudio(left.data(), right.data(), n);
-            for (int i = 0; i < n; ++i)
-                result.scenePeak = std::max({result.scenePeak, std::fabs(left[static_cast<std::size_t>(i)]), std::fabs(right[static_cast<std::size_t>(i)])});
-            if (input && settings.mixAudioIn) {   // the recording as the listener hears it, under the scene's sound
-                const float* first = inputChannels[0];
-                const float* second = inputChannels[inputChannels.size() > 1 ? 1 : 0];
-                for (int i = 0; i < n; ++i) {
-                    left[static_cast<std::size_t>(i)] = std::clamp(left[static_cast<std::size_t>(i)] + first[i], -1.0f, 1.0f);
-                    right[static_cast<std::size_t>(i)] = std::clamp(right[static_cast<std::size_t>(i)] + second[i], -1.0f, 1.0f);
-                }
-            }
-            for (int i = 0; i < n; ++i)
-                result.peak = std::max({result.peak, std::fabs(left[static_cast<std::size_t>(i)]), std::fabs(right[static_cast<std::size_t>(i)])});
-            if (settings.audioSink) {
-                settings.audioSink(left.data(), right.data(), n);
-            } else {
-                std::copy(left.begin(), left.begin() + n, result.audio.channels[0].begin() + static_cast<std::ptrdiff_t>(frame));
-                std::copy(right.begin(), right.begin() + n, result.audio.channels[1].begin() + static_cast<std::ptrdiff_t>(frame));
-            }
-            frame += static_cast<std::size_t>(n);
+    /// The left arm's rows (two arms).
+    void setLeft(const MotionRows* left) { leftSource_ = left; }
+
+    RenderResult run()
+    {
+        if (input_) engine_.processInput(inputChannels_.data(), static_cast<int>(inputChannels_.size()), 0);   // the recording itself, from sample 0
+        for (std::size_t i = 0; i < source_.size(); ++i) {
+            renderUntil(source_.time(i));
+            controlRow(i);
         }
-    };
+        renderUntil(tEnd_ + 1.0 / sampleRate_);
+        // The render ends as a session does: every motor off, in one last packet (the tactile file's
+        // last row), at the end of the audio.
+        engine_.allOff();
+        result_.tactile.push_back({tEnd_, core::MotorLevels {}});
+        result_.frames = frame_;
+        return std::move(result_);
+    }
 
-    if (input) engine.processInput(inputChannels.data(), static_cast<int>(inputChannels.size()), 0);   // the recording itself, from sample 0
-    double previous = t0;
-    bool anyPose = false;
-    for (std::size_t i = 0; i < source.size(); ++i) {
-        const double t = source.time(i);
-        renderUntil(t);
-        engine.beforeRow(t - t0);
-        const core::ArmState arm = source.apply(tracker, i);
+private:
+    void renderUntil(double t)
+    {
+        const auto target = std::min(totalFrames_, static_cast<std::size_t>(std::llround((t - t0_) * sampleRate_)));
+        while (frame_ < target) {
+            const int n = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(block_), target - frame_));
+            if (settings_.midiIn) feedMidi(n);
+            if (input_) feedInput(n);
+            renderBlock(n);
+            frame_ += static_cast<std::size_t>(n);
+        }
+    }
+
+    /// The block's MIDI notes, before its audio (Scene::processMidi).
+    void feedMidi(int n)
+    {
+        int count = 0;
+        const auto& notes = *settings_.midiIn;
+        while (nextMidi_ < notes.size()) {
+            const auto at = static_cast<std::size_t>(std::max(0.0, std::round(notes[nextMidi_].t * sampleRate_)));
+            if (at >= frame_ + static_cast<std::size_t>(n)) break;
+            const TimedMidiNote& m = notes[nextMidi_++];
+            core::MidiNoteEvent& e = midiBlock_[static_cast<std::size_t>(count++)];
+            e.offset = at > frame_ ? static_cast<int>(at - frame_) : 0;
+            e.note = static_cast<std::uint8_t>(std::clamp(m.note, 0, 127));
+            e.velocity = static_cast<std::uint8_t>(std::clamp(m.velocity, 0, 127));
+            e.channel = static_cast<std::uint8_t>(std::clamp(m.channel, 0, 15));
+        }
+        if (count > 0) engine_.processMidi(midiBlock_.data(), count);
+    }
+
+    /// The block of the recording; past its end silence still comes in (the input stays connected).
+    void feedInput(int n)
+    {
+        for (std::size_t c = 0; c < inputChannels_.size(); ++c) {
+            if (frame_ + static_cast<std::size_t>(n) <= input_->frames()) {
+                inputChannels_[c] = input_->channels[c].data() + frame_;
+                continue;
+            }
+            auto& scratch = inputScratch_[c];
+            for (int i = 0; i < n; ++i) {
+                const std::size_t at = frame_ + static_cast<std::size_t>(i);
+                scratch[static_cast<std::size_t>(i)] = at < input_->frames() ? input_->channels[c][at] : 0.0f;
+            }
+            inputChannels_[c] = scratch.data();
+        }
+        engine_.processInput(inputChannels_.data(), static_cast<int>(inputChannels_.size()), n);
+    }
+
+    void renderBlock(int n)
+    {
+        std::fill(left_.begin(), left_.begin() + n, 0.0f);
+        std::fill(right_.begin(), right_.begin() + n, 0.0f);
+        engine_.renderAudio(left_.data(), right_.data(), n);
+        for (int i = 0; i < n; ++i)
+            result_.scenePeak = std::max({result_.scenePeak, std::fabs(left_[static_cast<std::size_t>(i)]), std::fabs(right_[static_cast<std::size_t>(i)])});
+        if (input_ && settings_.mixAudioIn) {   // the recording as the listener hears it, under the scene's sound
+            const float* first = inputChannels_[0];
+            const float* second = inputChannels_[inputChannels_.size() > 1 ? 1 : 0];
+            for (int i = 0; i < n; ++i) {
+                left_[static_cast<std::size_t>(i)] = std::clamp(left_[static_cast<std::size_t>(i)] + first[i], -1.0f, 1.0f);
+                right_[static_cast<std::size_t>(i)] = std::clamp(right_[static_cast<std::size_t>(i)] + second[i], -1.0f, 1.0f);
+            }
+        }
+        for (int i = 0; i < n; ++i)
+            result_.peak = std::max({result_.peak, std::fabs(left_[static_cast<std::size_t>(i)]), std::fabs(right_[static_cast<std::size_t>(i)])});
+        if (settings_.audioSink) {
+            settings_.audioSink(left_.data(), right_.data(), n);
+        } else {
+            std::copy(left_.begin(), left_.begin() + n, result_.audio.channels[0].begin() + static_cast<std::ptrdiff_t>(frame_));
+            std::copy(right_.begin(), right_.begin() + n, result_.audio.channels[1].begin() + static_cast<std::ptrdiff_t>(frame_));
+        }
+    }
+
+    void notePose(const core::Pose& p)
+    {
+        if (!std::isfinite(p.elevationDeg) || !std::isfinite(p.azimuthDeg)) return;
+        result_.minElevation = anyPose_ ? std::min(result_.minElevation, p.elevationDeg) : p.elevationDeg;
+        result_.maxElevation = anyPose_ ? std::max(result_.maxElevation, p.elevationDeg) : p.elevationDeg;
+        result_.minAzimuth = anyPose_ ? std::min(result_.minAzimuth, p.azimuthDeg) : p.azimuthDeg;
+        result_.maxAzimuth = anyPose_ ? std::max(result_.maxAzimuth, p.azimuthDeg) : p.azimuthDeg;
+        anyPose_ = true;
+    }
+
+    /// The control step of motion row i: the arm (both arms), the engine, what it felt and did.
+    void controlRow(std::size_t i)
+    {
+        const double t = source_.time(i);
+        engine_.beforeRow(t - t0_);
+        const core::ArmState arm = source_.apply(tracker_, i);
+        const bool twoArms = leftSource_ != nullptr;
         if (twoArms)   // the left arm's rows up to this time
-            while (leftRow < leftSource.size() && leftSource.time(leftRow) <= t + 1e-9) leftArm = leftSource.apply(leftTracker, leftRow++);
+            while (leftRow_ < leftSource_->size() && leftSource_->time(leftRow_) <= t + 1e-9) leftArm_ = leftSource_->apply(leftTracker_, leftRow_++);
         core::Transport transport;
         transport.valid = true;
         transport.playing = true;
-        transport.seconds = t - t0;
-        transport.bpm = settings.bpm;
-        transport.ppq = transport.seconds * settings.bpm / 60.0;
+        transport.seconds = t - t0_;
+        transport.bpm = settings_.bpm;
+        transport.ppq = transport.seconds * settings_.bpm / 60.0;
         core::MotorLevels levels {};
         if (arm.valid) {
-            levels = engine.control(arm, twoArms ? &leftArm : nullptr, transport, t - previous);
-            const core::Pose& p = arm.features.pose;
-            if (std::isfinite(p.elevationDeg) && std::isfinite(p.azimuthDeg)) {
-                result.minElevation = anyPose ? std::min(result.minElevation, p.elevationDeg) : p.elevationDeg;
-                result.maxElevation = anyPose ? std::max(result.maxElevation, p.elevationDeg) : p.elevationDeg;
-                result.minAzimuth = anyPose ? std::min(result.minAzimuth, p.azimuthDeg) : p.azimuthDeg;
-                result.maxAzimuth = anyPose ? std::max(result.maxAzimuth, p.azimuthDeg) : p.azimuthDeg;
-                anyPose = true;
-            }
+            levels = engine_.control(arm, twoArms ? &leftArm_ : nullptr, transport, t - previous_);
+            notePose(arm.features.pose);
         } else {
-            engine.allOff();
-            ++result.invalidRows;
+            engine_.allOff();
+            ++result_.invalidRows;
         }
-        if (Engine& sounding = engine.sounding(); sounding.failed())
+        if (Engine& sounding = engine_.sounding(); sounding.failed())
             throw std::runtime_error("scene '" + sounding.config().scene + "' failed at t = " + std::to_string(t)
                                      + " s (motors off): " + sounding.failure());
-        previous = t;
-        result.tactile.push_back({t, levels});
+        previous_ = t;
+        result_.tactile.push_back({t, levels});
         if (twoArms) {
-            result.leftTactile.push_back({t, engine.leftLevels()});
-            result.rightOrientation.push_back({t, arm.valid ? arm.q : Eigen::Quaterniond::Identity()});
-            result.leftOrientation.push_back({t, leftArm.valid ? leftArm.q : Eigen::Quaterniond::Identity()});
+            result_.leftTactile.push_back({t, engine_.leftLevels()});
+            result_.rightOrientation.push_back({t, arm.valid ? arm.q : Eigen::Quaterniond::Identity()});
+            result_.leftOrientation.push_back({t, leftArm_.valid ? leftArm_.q : Eigen::Quaterniond::Identity()});
         }
-        ++result.controlUpdates;
-        const std::size_t firstGesture = result.gestures.size();
-        engine.popGestures(result.gestures);
-        if (settings.onControl)
-            settings.onControl(t, arm, twoArms ? &leftArm : nullptr, result.gestures.data() + firstGesture, result.gestures.size() - firstGesture,
-                               engine.sounding());
+        ++result_.controlUpdates;
+        const std::size_t firstGesture = result_.gestures.size();
+        engine_.popGestures(result_.gestures);
+        if (settings_.onControl)
+            settings_.onControl(t, arm, twoArms ? &leftArm_ : nullptr, result_.gestures.data() + firstGesture, result_.gestures.size() - firstGesture,
+                                engine_.sounding());
     }
-    renderUntil(tEnd + 1.0 / sampleRate);
-    // The render ends as a session does: every motor off, in one last packet (the tactile file's
-    // last row), at the end of the audio.
-    engine.allOff();
-    result.tactile.push_back({tEnd, core::MotorLevels {}});
-    result.frames = frame;
-    return result;
+
+    const MotionRows& source_;
+    const RenderSettings& settings_;
+    OfflinePerformer& engine_;
+    const double sampleRate_;
+    const core::AudioBuffer* input_;
+    const int block_;
+    const double t0_, tEnd_;
+    std::size_t totalFrames_ = 0, frame_ = 0, nextMidi_ = 0;
+    std::vector<core::MidiNoteEvent> midiBlock_;
+    std::vector<const float*> inputChannels_;
+    std::vector<std::vector<float>> inputScratch_;
+    std::vector<float> left_, right_;
+    fusion::ArmTracker tracker_, leftTracker_;
+    const MotionRows* leftSource_ = nullptr;
+    std::size_t leftRow_ = 0;
+    core::ArmState leftArm_ {};
+    double previous_ = 0.0;
+    bool anyPose_ = false;
+    RenderResult result_;
+};
+
+} // namespace
+
+RenderResult renderOffline(const core::CsvTable& motion, const RenderSettings& settings, OfflinePerformer& engine)
+{
+    const MotionRows source = MotionRows::load(motion, settings.mount, "--mount");
+    if (source.size() == 0) throw core::InputError(motion.source(), 0, "", "the motion file has no rows");
+    // A rate taken from the recording names the recording; any other names the option.
+    const bool rateOfInput = settings.audioIn != nullptr && settings.audioIn->sampleRate == settings.engine.sceneConfig.sampleRate;
+    const double sampleRate = core::engineSampleRate(settings.engine.sceneConfig.sampleRate,
+                                               rateOfInput && !settings.audioInName.empty() ? settings.audioInName : std::string("--sample-rate"));
+
+    // The span is checked before the engine starts or anything is rendered: a time column that
+    // jumps to 1e12 s is a bad file, not a request for a year of audio.
+    // Collected in memory (no audioSink), the audio is bounded more tightly: an hour of stereo
+    // float is 1.4 GB; longer renders stream.
+    const double tail = std::max(0.0, settings.tailSeconds);
+    const double maxSeconds = settings.audioSink ? settings.maxSeconds : std::min(settings.maxSeconds, kMaxCollectedRenderSeconds);
+    checkRenderSpan(motion, source.size(), [&](std::size_t i) { return source.time(i); }, tail, maxSeconds);
+    checkRenderInputs(settings, engine, sampleRate);
+    MotionRows leftSource;
+    if (settings.leftMotion != nullptr) {
+        leftSource = MotionRows::load(*settings.leftMotion, settings.leftMount, "--mount-left");
+        if (leftSource.size() == 0) throw core::InputError(settings.leftMotion->source(), 0, "--motion-left", "the left arm's motion file has no rows");
+    }
+    OfflineRun run(source, settings, engine, sampleRate, tail);
+    if (settings.leftMotion != nullptr) run.setLeft(&leftSource);
+    return run.run();
 }
 
 std::string silenceReason(const RenderResult& r, const RenderSettings& settings)
