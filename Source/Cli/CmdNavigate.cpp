@@ -1,7 +1,8 @@
 // `armadillo navigate`: walk a route guided by the arm alone (issue 34, docs/NAVIGATION.md).
-// The front end only wires: a route file, a position source (gpsd, or the simulated walk), the
-// arm's source and motors (a device or the simulated forearm, through play's LiveSession), the
-// navigation scene (Source/Navigation) in the engine, and the logs.
+// The front end only asks and presents: the live session builds the arm's source and motors (a
+// device, the simulated forearm or a phone), the walk's position source and the navigation scene
+// (Live/LiveSession.h, LiveConfig::walk); this file reads the options, announces the walk and
+// keeps its logs. --simulate-walk runs the whole walk offline (Navigation/WalkerSim.h).
 #include "Cli/CommandLine.h"
 #include "Cli/LiveOptions.h"
 #include "Cli/Commands.h"
@@ -13,9 +14,7 @@
 #include "Link/Calibration.h"
 #include "Link/Mount.h"
 #include "Live/LiveSession.h"
-#include "Navigation/GpsdSource.h"
-#include "Navigation/NavigationScene.h"
-#include "Navigation/OscPositionSource.h"
+#include "Navigation/NavigationRig.h"
 #include "Navigation/WalkerSim.h"
 #include <chrono>
 #include <cmath>
@@ -122,6 +121,270 @@ std::string tactileRow(double t, const core::MotorLevels& levels)
 
 } // namespace
 
+namespace {
+
+std::vector<OptionSpec> navigateOptionSpecs()
+{
+    std::vector<OptionSpec> o {
+        {"--route", "FILE", "the route: GPX 1.1 (<rte>, <trk> or <wpt>) or a JSON waypoint list", true},
+        {"--gpsd", "HOST[:PORT]", "positions from gpsd (port 2947 unless given; 'localhost' for the local one)"},
+        {"--osc-in", "PORT", "positions over OSC/UDP on PORT: /armadillo/position lat lon [accuracy_m], ZIG SIM's gps;\n"
+                             "without --port/--simulate the arm's motion comes from the same port (a phone: ZIG SIM motion + gps)"},
+        {"--mount", "NAME", "with --osc-in as the arm: how the phone is worn (docs/SENSORS.md; as `play --mount`)"},
+        {"--simulate-walk", "", "a simulated walker follows the motors (with --simulate; offline, deterministic)"},
+        {"--simulate", "", "the built-in simulated forearm (with --gpsd: it holds still; with --simulate-walk: the walker's arm)"},
+        {"--motion", "FILE", "with --simulate and --gpsd: the simulated forearm moves as this pose/quaternion CSV"},
+        {"--profile", "PROFILE.json", "the reader's touch profile (as `play`)"},
+        {"--arm", "right|left", "the arm wearing the device (default right)"},
+        {"--log", "NAV.csv", "one row per control update: t,lat,lon,fix,waypoint,distance_m,bearing_deg,heading_deg,…"},
+        {"--tactile", "T.csv", "every motor packet: t,m1..m9"},
+        {"--seconds", "N", "stop after N seconds (simulated seconds with --simulate-walk)"},
+        {"--arrival-radius", "M", "arrived within M metres of a waypoint (default 8)"},
+        {"--off-route", "M", "off route further than M metres from the leg (default 20)"},
+        {"--names", "shorthand|full|none", "how waypoint names are spelt on the arm (default shorthand: a sign word's §5.3 shorthand)"},
+        {"--heading-offset", "DEG", "a known strap offset (thumb − walking direction), used until one is learned"},
+        {"--no-learn", "", "do not learn the heading offset from the walk (§5.3); --heading-offset only"},
+        {"--level", "L", "level of the sensations, 1..15 (default 5; the safety stage still decides)"},
+        {"--strap-offset", "DEG", "with --simulate-walk: the simulated strap's offset (default 20)"},
+        {"--seed", "N", "with --simulate-walk: the walker's and its GPS's random seed (default 1)"},
+    };
+    // The device: as play's source group says it (Cli/LiveOptions.h).
+    const auto device = pickOptions(sourceOptionSpecs(), {"--port", "--baud", "--calibration"});
+    o.insert(o.begin() + 4, device.begin(), device.end());
+    const auto io = readerIoOptionSpecs();   // --speak, --speech, --rate, --brlapi, --braille-display
+    o.insert(o.end(), io.begin(), io.end());
+    // The motors on a tactor rig (docs/TACTORS.md), beside the device or the simulator.
+    const auto tactorOptions = tactorOptionSpecs(true);
+    o.insert(o.end(), tactorOptions.begin(), tactorOptions.end());
+    return o;
+}
+
+/// What `navigate` was asked for, every option checked and the route read (exit 2, 3 or 4 before
+/// anything runs).
+struct NavigateRequest {
+    bool gpsd = false, walk = false, osc = false, armFromOsc = false;
+    int oscPort = 0;
+    navigation::NavigationOptions options;
+    double seconds = -1.0;
+    std::string arm, logPath, tactilePath;
+    std::shared_ptr<const navigation::Route> route;
+};
+
+/// The choice of sources: one position source, one arm, and the options that go with each.
+void checkNavigateSources(const CommandLine& cl, NavigateRequest& r)
+{
+    r.gpsd = cl.has("--gpsd");
+    r.walk = cl.has("--simulate-walk");
+    r.osc = cl.has("--osc-in");
+    if (int(r.gpsd) + int(r.walk) + int(r.osc) != 1) throw UsageError("choose one position source: --gpsd HOST[:PORT], --osc-in PORT or --simulate-walk");
+    r.oscPort = r.osc ? static_cast<int>(cl.integer("--osc-in", 0, 1, 65535)) : 0;
+    r.armFromOsc = r.osc && !cl.has("--port") && !cl.has("--simulate");   // a phone sends motion and positions
+    if (int(cl.has("--port")) + int(cl.has("--simulate")) != 1 && !r.armFromOsc)
+        throw UsageError("choose the arm: --port NAME or --simulate (or, with --osc-in, the phone's own motion on that port)");
+    if (cl.has("--mount") && !r.armFromOsc) throw UsageError("--mount says how a phone is worn: with --osc-in as the arm (no --port, no --simulate)");
+    if (r.walk && !cl.has("--simulate")) throw UsageError("--simulate-walk moves the simulated forearm: use it with --simulate");
+    if (r.walk && (cl.has("--tactors") || anyTactorSetting(cl))) throw UsageError("--simulate-walk runs offline: the tactor options are for a live walk");
+    if (anyTactorSetting(cl) && !cl.has("--tactors")) throw UsageError("the --tactor-* options shape --tactors: give it too");
+    if (cl.has("--motion") && (!cl.has("--simulate") || r.walk)) throw UsageError("--motion drives the simulated forearm with --gpsd or --osc-in: use it with --simulate");
+    for (const char* o : {"--strap-offset", "--seed"})
+        if (cl.has(o) && !r.walk) throw UsageError(std::string(o) + " applies to --simulate-walk");
+    if (cl.has("--baud") && !cl.has("--port")) throw UsageError("--baud applies to --port");
+}
+
+/// The guidance's settings.
+navigation::NavigationOptions readGuidanceOptions(const CommandLine& cl)
+{
+    navigation::NavigationOptions options;
+    options.guidance.arrivalRadiusM = cl.number("--arrival-radius", 8.0);
+    if (!(options.guidance.arrivalRadiusM >= 1.0 && options.guidance.arrivalRadiusM <= 200.0)) throw UsageError("--arrival-radius must be 1…200 m");
+    options.guidance.offRouteM = cl.number("--off-route", 20.0);
+    if (!(options.guidance.offRouteM >= 5.0 && options.guidance.offRouteM <= 1000.0)) throw UsageError("--off-route must be 5…1000 m");
+    options.guidance.backOnRouteM = 0.75 * options.guidance.offRouteM;
+    const std::string names = cl.value("--names", "shorthand");
+    if (names == "shorthand") options.names = navigation::NameDisplay::Shorthand;
+    else if (names == "full") options.names = navigation::NameDisplay::Full;
+    else if (names == "none") options.names = navigation::NameDisplay::None;
+    else throw UsageError("--names must be shorthand, full or none");
+    options.headingOffsetDeg = cl.number("--heading-offset", 0.0);
+    if (!(std::fabs(options.headingOffsetDeg) <= 180.0)) throw UsageError("--heading-offset must be −180…180 degrees");
+    options.learnHeading = !cl.has("--no-learn");
+    options.level = static_cast<float>(cl.number("--level", 5.0));
+    if (!(options.level >= 1.0f && options.level <= 15.0f)) throw UsageError("--level must be 1…15");
+    return options;
+}
+
+NavigateRequest readNavigateRequest(const CommandLine& cl)
+{
+    NavigateRequest r;
+    checkNavigateSources(cl, r);
+    r.options = readGuidanceOptions(cl);
+    r.seconds = cl.number("--seconds", -1.0);
+    if (cl.has("--seconds") && !(r.seconds > 0.0 && r.seconds <= 7 * 24 * 3600.0)) throw UsageError("--seconds must be a positive number of seconds (at most a week)");
+    r.arm = cl.value("--arm", "right");
+    if (r.arm != "right" && r.arm != "left") throw UsageError("--arm must be right or left");
+    r.logPath = cl.value("--log");
+    r.tactilePath = cl.value("--tactile");
+    if (!r.logPath.empty()) checkOutputPath("--log", r.logPath);
+    if (!r.tactilePath.empty()) checkOutputPath("--tactile", r.tactilePath);
+    checkDistinctOutputs({{"--log", r.logPath}, {"--tactile", r.tactilePath}});
+    if (r.gpsd) navigation::parseGpsdEndpoint(cl.value("--gpsd"));   // InputError (exit 3) for a bad port, before the route is read
+
+    // Inputs: a route that cannot be read is exit 4, one that is not a route 3.
+    r.route = std::make_shared<const navigation::Route>(navigation::readRouteFile(cl.value("--route")));
+    const navigation::Route& route = *r.route;
+    std::cerr << "armadillo navigate: route '" << (route.name.empty() ? route.source : route.name) << "': start and " << route.points.size() - 1
+              << " waypoints, " << static_cast<long>(std::lround(route.lengthM())) << " m\n";
+    return r;
+}
+
+/// The navigation log as the walk goes: each record announced (stderr, and speech or a braille
+/// display when asked) and, with --log, kept as a row.
+class WalkLog {
+public:
+    WalkLog(const navigation::Route& route, ReaderIo* voice, bool keep) : announcer_(route, voice), keep_(keep) {}
+    void drain(navigation::NavigationLink& link)
+    {
+        navigation::NavigationLogRecord r;
+        while (link.log.pop(r)) {
+            announcer_.note(r);
+            if (keep_) appendRow(text_, r);
+        }
+    }
+    void write(const std::string& path) const
+    {
+        if (keep_) core::writeFileAtomically(path, text_);
+    }
+
+private:
+    Announcer announcer_;
+    bool keep_;
+    std::string text_ = logHeader();
+};
+
+/// --simulate-walk: the whole walk offline; the walker feels the motors, its GPS feeds the scene.
+int runSimulatedWalk(const CommandLine& cl, const NavigateRequest& req)
+{
+    navigation::WalkerParams w;
+    w.strapOffsetDeg = cl.number("--strap-offset", 20.0);
+    if (!(std::fabs(w.strapOffsetDeg) <= 180.0)) throw UsageError("--strap-offset must be −180…180 degrees");
+    w.seed = static_cast<std::uint64_t>(cl.integer("--seed", 1, 0, 1L << 62));
+    if (cl.has("--speak") || cl.has("--speech") || cl.has("--brlapi") || cl.has("--braille-display"))
+        throw UsageError("--speak and the braille display are for a live walk, not --simulate-walk");
+    if (cl.has("--rate")) throw UsageError("--rate sets the speech rate: use it with --speak");
+    const navigation::Route& route = *req.route;
+    auto link = std::make_shared<navigation::NavigationLink>();
+    link->logEnabled = true;   // the announcer reads it too
+    WalkLog log(route, nullptr, !req.logPath.empty());
+    std::string tactile = "t,m1,m2,m3,m4,m5,m6,m7,m8,m9\n";
+    navigation::WalkOptions o;
+    o.maxSeconds = req.seconds > 0.0 ? req.seconds : 3 * 3600.0;
+    o.observe = [&](double t, const navigation::SimulatedWalker&, const core::MotorLevels& levels, const navigation::NavigationStatus&) {
+        log.drain(*link);
+        if (!req.tactilePath.empty()) tactile += tactileRow(t, levels);
+    };
+    if (cl.has("--profile") || cl.has("--calibration") || cl.has("--arm"))
+        std::cerr << "armadillo navigate: --simulate-walk uses the walker's own right arm; --profile, --calibration and --arm are for a device\n";
+    const navigation::WalkResult r = navigation::simulateWalk(route, req.options, w, o, link);
+    log.drain(*link);
+    log.write(req.logPath);
+    if (!req.tactilePath.empty()) core::writeFileAtomically(req.tactilePath, tactile);
+    char json[400];
+    std::snprintf(json, sizeof json,
+                  "{\"finished\":%s,\"seconds\":%.1f,\"arrivals\":%zu,\"waypoints\":%zu,\"max_off_route_m\":%.2f,\"median_heading_error_deg\":%.2f,"
+                  "\"learned_offset_deg\":%.2f,\"strap_offset_deg\":%.2f}",
+                  r.finished ? "true" : "false", r.seconds, r.arrivals.size(), route.points.size() - 1, r.maxOffRouteM, r.medianHeadingErrorDeg,
+                  r.learnedOffsetDeg, w.strapOffsetDeg);
+    std::cout << json << "\n" << std::flush;
+    return core::kExitOk;
+}
+
+/// A live walk's session: the arm (a device, the simulated forearm, or the phone on --osc-in), the
+/// walk's position source and the navigation scene, all built by the live session.
+live::LiveConfig liveWalkConfig(const CommandLine& cl, const NavigateRequest& req)
+{
+    live::LiveConfig config;
+    if (cl.has("--port")) {
+        config.source = live::LiveConfig::Source::Port;
+        config.port = cl.value("--port");
+        if (config.port.empty()) throw UsageError("--port needs a device name");
+        config.baud = static_cast<int>(cl.integer("--baud", 57600, 1200, 4000000));
+    } else if (req.armFromOsc) {
+        config.source = live::LiveConfig::Source::Osc;
+        config.oscInPort = req.oscPort;
+        if (cl.has("--mount")) {
+            config.osc.mount = link::mountFromArgument(cl.value("--mount"));
+            config.osc.mountGiven = true;
+        }
+    } else {
+        config.source = live::LiveConfig::Source::Simulator;
+        config.motionFile = cl.value("--motion");
+    }
+    config.engine.scene = "navigate";
+    config.engine.sceneConfig.side = req.arm == "left" ? core::ArmSide::Left : core::ArmSide::Right;
+    readProfileOption(cl, config.engine);
+    if (cl.has("--calibration")) config.calibration = link::loadCalibration(cl.value("--calibration"));
+    config.tactileOut = req.tactilePath;
+    if (cl.has("--tactors")) config.tactors = tactorConfig(cl, config.engine.motorCount);   // IoError / InputError before anything runs
+    config.walk.route = req.route;
+    config.walk.options = req.options;
+    using Positions = navigation::NavigationRig::Source;
+    config.walk.positions = req.gpsd ? Positions::Gpsd : req.armFromOsc ? Positions::ArmOsc : Positions::Osc;
+    config.walk.where = req.gpsd ? cl.value("--gpsd") : std::to_string(req.oscPort);
+    return config;
+}
+
+/// Until the route's end (and its last sensation), --seconds, an interrupt or a failed scene.
+void walk(live::LiveSession& session, const NavigateRequest& req, WalkLog& log)
+{
+    navigation::NavigationRig& nav = *session.navigation();
+    const auto start = std::chrono::steady_clock::now();
+    double finishedAt = -1.0;
+    bool shownDown = false;
+    while (!interrupted()) {
+        const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (req.seconds > 0.0 && elapsed >= req.seconds) break;
+        log.drain(*nav.link());
+        const navigation::NavigationStatus st = nav.status();
+        if (st.finished && st.sensation == navigation::Sensation::None && finishedAt < 0.0) finishedAt = elapsed;
+        if (finishedAt >= 0.0 && elapsed > finishedAt + 0.5) break;
+        if (!nav.sourceConnected() && !shownDown) std::cerr << "armadillo navigate: " << nav.describeSource() << " went away (reconnecting)\n";
+        shownDown = !nav.sourceConnected();
+        if (session.engine().failed()) {
+            std::cerr << "armadillo navigate: the scene failed and was stopped (motors off): " << session.engine().failure() << "\n";
+            break;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+}
+
+int runLiveWalk(const CommandLine& cl, const NavigateRequest& req)
+{
+    live::LiveConfig config = liveWalkConfig(cl, req);
+    const bool wantsVoice = cl.has("--speak") || cl.has("--speech") || cl.has("--brlapi") || cl.has("--braille-display");
+    if (cl.has("--rate") && !wantsVoice) throw UsageError("--rate sets the speech rate: use it with --speak");
+    std::unique_ptr<ReaderIo> voice;
+    if (wantsVoice) voice = std::make_unique<ReaderIo>(cl, true);   // IoError when the backend asked for cannot be opened
+    installInterruptHandlers();
+    live::LiveSession session(config);   // the position source: IoError (exit 4) when gpsd cannot be reached or the port is taken
+    navigation::NavigationRig& nav = *session.navigation();
+    nav.link()->logEnabled = !req.logPath.empty();
+    WalkLog log(*req.route, voice.get(), !req.logPath.empty());
+    session.start();
+    for (const std::string& line : session.outputLines()) std::cerr << "armadillo navigate: " << line << "\n";
+    std::cerr << "armadillo navigate: " << nav.describeSource() << "\n";
+    walk(session, req, log);
+    session.stop();
+    log.drain(*nav.link());
+    session.finish();
+    log.write(req.logPath);
+    std::string summary = live::summaryJson(session.summary());
+    summary.insert(summary.size() - 1, nav.summaryJson());
+    std::cout << summary << "\n" << std::flush;
+    return session.engine().failed() ? int(core::kExitFailure) : int(core::kExitOk);
+}
+
+} // namespace
+
 int runNavigate(const Arguments& args)
 {
     return guarded("navigate", [&]() -> int {
@@ -134,222 +397,10 @@ int runNavigate(const Arguments& args)
             "ZIG SIM's gps), or from a simulated walker guided by the motors (--simulate-walk: the whole walk offline,\n"
             "as fast as it computes). Ends at the route's end, after --seconds, or on SIGINT/SIGTERM, with every\n"
             "motor off, and prints one JSON line.",
-            [] {
-                std::vector<OptionSpec> o {
-                {"--route", "FILE", "the route: GPX 1.1 (<rte>, <trk> or <wpt>) or a JSON waypoint list", true},
-                {"--gpsd", "HOST[:PORT]", "positions from gpsd (port 2947 unless given; 'localhost' for the local one)"},
-                {"--osc-in", "PORT", "positions over OSC/UDP on PORT: /armadillo/position lat lon [accuracy_m], ZIG SIM's gps;\n"
-                                     "without --port/--simulate the arm's motion comes from the same port (a phone: ZIG SIM motion + gps)"},
-                {"--mount", "NAME", "with --osc-in as the arm: how the phone is worn (docs/SENSORS.md; as `play --mount`)"},
-                {"--simulate-walk", "", "a simulated walker follows the motors (with --simulate; offline, deterministic)"},
-                {"--simulate", "", "the built-in simulated forearm (with --gpsd: it holds still; with --simulate-walk: the walker's arm)"},
-                {"--motion", "FILE", "with --simulate and --gpsd: the simulated forearm moves as this pose/quaternion CSV"},
-                {"--profile", "PROFILE.json", "the reader's touch profile (as `play`)"},
-                {"--arm", "right|left", "the arm wearing the device (default right)"},
-                {"--log", "NAV.csv", "one row per control update: t,lat,lon,fix,waypoint,distance_m,bearing_deg,heading_deg,…"},
-                {"--tactile", "T.csv", "every motor packet: t,m1..m9"},
-                {"--seconds", "N", "stop after N seconds (simulated seconds with --simulate-walk)"},
-                {"--arrival-radius", "M", "arrived within M metres of a waypoint (default 8)"},
-                {"--off-route", "M", "off route further than M metres from the leg (default 20)"},
-                {"--names", "shorthand|full|none", "how waypoint names are spelt on the arm (default shorthand: a sign word's §5.3 shorthand)"},
-                {"--heading-offset", "DEG", "a known strap offset (thumb − walking direction), used until one is learned"},
-                {"--no-learn", "", "do not learn the heading offset from the walk (§5.3); --heading-offset only"},
-                {"--level", "L", "level of the sensations, 1..15 (default 5; the safety stage still decides)"},
-                {"--strap-offset", "DEG", "with --simulate-walk: the simulated strap's offset (default 20)"},
-                {"--seed", "N", "with --simulate-walk: the walker's and its GPS's random seed (default 1)"},
-                };
-                // The device: as play's source group says it (Cli/LiveOptions.h).
-                const auto device = pickOptions(sourceOptionSpecs(), {"--port", "--baud", "--calibration"});
-                o.insert(o.begin() + 4, device.begin(), device.end());
-                const auto io = readerIoOptionSpecs();   // --speak, --speech, --rate, --brlapi, --braille-display
-                o.insert(o.end(), io.begin(), io.end());
-                // The motors on a tactor rig (docs/TACTORS.md), beside the device or the simulator.
-                const auto tactorOptions = tactorOptionSpecs(true);
-                o.insert(o.end(), tactorOptions.begin(), tactorOptions.end());
-                return o;
-            }());
+            navigateOptionSpecs());
         if (!cl.parse(args)) return core::kExitOk;
-        const bool gpsd = cl.has("--gpsd"), walk = cl.has("--simulate-walk"), osc = cl.has("--osc-in");
-        if (int(gpsd) + int(walk) + int(osc) != 1) throw UsageError("choose one position source: --gpsd HOST[:PORT], --osc-in PORT or --simulate-walk");
-        const int oscPort = osc ? static_cast<int>(cl.integer("--osc-in", 0, 1, 65535)) : 0;
-        const bool armFromOsc = osc && !cl.has("--port") && !cl.has("--simulate");   // a phone sends motion and positions
-        if (int(cl.has("--port")) + int(cl.has("--simulate")) != 1 && !armFromOsc)
-            throw UsageError("choose the arm: --port NAME or --simulate (or, with --osc-in, the phone's own motion on that port)");
-        if (cl.has("--mount") && !armFromOsc) throw UsageError("--mount says how a phone is worn: with --osc-in as the arm (no --port, no --simulate)");
-        if (walk && !cl.has("--simulate")) throw UsageError("--simulate-walk moves the simulated forearm: use it with --simulate");
-        if (walk && (cl.has("--tactors") || anyTactorSetting(cl))) throw UsageError("--simulate-walk runs offline: the tactor options are for a live walk");
-        if (anyTactorSetting(cl) && !cl.has("--tactors")) throw UsageError("the --tactor-* options shape --tactors: give it too");
-        if (cl.has("--motion") && (!cl.has("--simulate") || walk)) throw UsageError("--motion drives the simulated forearm with --gpsd or --osc-in: use it with --simulate");
-        for (const char* o : {"--strap-offset", "--seed"})
-            if (cl.has(o) && !walk) throw UsageError(std::string(o) + " applies to --simulate-walk");
-        if (cl.has("--baud") && !cl.has("--port")) throw UsageError("--baud applies to --port");
-
-        navigation::NavigationOptions options;
-        options.guidance.arrivalRadiusM = cl.number("--arrival-radius", 8.0);
-        if (!(options.guidance.arrivalRadiusM >= 1.0 && options.guidance.arrivalRadiusM <= 200.0)) throw UsageError("--arrival-radius must be 1…200 m");
-        options.guidance.offRouteM = cl.number("--off-route", 20.0);
-        if (!(options.guidance.offRouteM >= 5.0 && options.guidance.offRouteM <= 1000.0)) throw UsageError("--off-route must be 5…1000 m");
-        options.guidance.backOnRouteM = 0.75 * options.guidance.offRouteM;
-        const std::string names = cl.value("--names", "shorthand");
-        if (names == "shorthand") options.names = navigation::NameDisplay::Shorthand;
-        else if (names == "full") options.names = navigation::NameDisplay::Full;
-        else if (names == "none") options.names = navigation::NameDisplay::None;
-        else throw UsageError("--names must be shorthand, full or none");
-        options.headingOffsetDeg = cl.number("--heading-offset", 0.0);
-        if (!(std::fabs(options.headingOffsetDeg) <= 180.0)) throw UsageError("--heading-offset must be −180…180 degrees");
-        options.learnHeading = !cl.has("--no-learn");
-        options.level = static_cast<float>(cl.number("--level", 5.0));
-        if (!(options.level >= 1.0f && options.level <= 15.0f)) throw UsageError("--level must be 1…15");
-        const double seconds = cl.number("--seconds", -1.0);
-        if (cl.has("--seconds") && !(seconds > 0.0 && seconds <= 7 * 24 * 3600.0)) throw UsageError("--seconds must be a positive number of seconds (at most a week)");
-        const std::string arm = cl.value("--arm", "right");
-        if (arm != "right" && arm != "left") throw UsageError("--arm must be right or left");
-        const std::string logPath = cl.value("--log"), tactilePath = cl.value("--tactile");
-        if (!logPath.empty()) checkOutputPath("--log", logPath);
-        if (!tactilePath.empty()) checkOutputPath("--tactile", tactilePath);
-        checkDistinctOutputs({{"--log", logPath}, {"--tactile", tactilePath}});
-        navigation::GpsdEndpoint endpoint;
-        if (gpsd) endpoint = navigation::parseGpsdEndpoint(cl.value("--gpsd"));
-
-        // Inputs: a route that cannot be read is exit 4, one that is not a route 3.
-        const navigation::Route route = navigation::readRouteFile(cl.value("--route"));
-        std::cerr << "armadillo navigate: route '" << (route.name.empty() ? route.source : route.name) << "': start and " << route.points.size() - 1
-                  << " waypoints, " << static_cast<long>(std::lround(route.lengthM())) << " m\n";
-        auto link = std::make_shared<navigation::NavigationLink>();
-        link->logEnabled = !logPath.empty();
-        std::string log = logHeader(), tactile = "t,m1,m2,m3,m4,m5,m6,m7,m8,m9\n";
-        const bool wantsVoice = cl.has("--speak") || cl.has("--speech") || cl.has("--brlapi") || cl.has("--braille-display");
-        if (wantsVoice && walk) throw UsageError("--speak and the braille display are for a live walk, not --simulate-walk");
-        if (cl.has("--rate") && !wantsVoice) throw UsageError("--rate sets the speech rate: use it with --speak");
-        std::unique_ptr<ReaderIo> voice;
-        if (wantsVoice) voice = std::make_unique<ReaderIo>(cl, true);   // IoError when the backend asked for cannot be opened
-        Announcer announcer(route, voice.get());
-        const auto drain = [&] {
-            navigation::NavigationLogRecord r;
-            while (link->log.pop(r)) {
-                announcer.note(r);
-                if (!logPath.empty()) appendRow(log, r);
-            }
-        };
-
-        if (walk) {   // the whole walk offline: the walker feels the motors, its GPS feeds the scene
-            navigation::WalkerParams w;
-            w.strapOffsetDeg = cl.number("--strap-offset", 20.0);
-            if (!(std::fabs(w.strapOffsetDeg) <= 180.0)) throw UsageError("--strap-offset must be −180…180 degrees");
-            w.seed = static_cast<std::uint64_t>(cl.integer("--seed", 1, 0, 1L << 62));
-            navigation::WalkOptions o;
-            o.maxSeconds = seconds > 0.0 ? seconds : 3 * 3600.0;
-            link->logEnabled = true;   // the announcer reads it too
-            o.observe = [&](double t, const navigation::SimulatedWalker&, const core::MotorLevels& levels, const navigation::NavigationStatus&) {
-                drain();
-                if (!tactilePath.empty()) tactile += tactileRow(t, levels);
-            };
-            if (cl.has("--profile") || cl.has("--calibration") || cl.has("--arm"))
-                std::cerr << "armadillo navigate: --simulate-walk uses the walker's own right arm; --profile, --calibration and --arm are for a device\n";
-            const navigation::WalkResult r = navigation::simulateWalk(route, options, w, o, link);
-            drain();
-            if (!logPath.empty()) core::writeFileAtomically(logPath, log);
-            if (!tactilePath.empty()) core::writeFileAtomically(tactilePath, tactile);
-            char json[400];
-            std::snprintf(json, sizeof json,
-                          "{\"finished\":%s,\"seconds\":%.1f,\"arrivals\":%zu,\"waypoints\":%zu,\"max_off_route_m\":%.2f,\"median_heading_error_deg\":%.2f,"
-                          "\"learned_offset_deg\":%.2f,\"strap_offset_deg\":%.2f}",
-                          r.finished ? "true" : "false", r.seconds, r.arrivals.size(), route.points.size() - 1, r.maxOffRouteM, r.medianHeadingErrorDeg,
-                          r.learnedOffsetDeg, w.strapOffsetDeg);
-            std::cout << json << "\n" << std::flush;
-            return core::kExitOk;
-        }
-
-        // A device or the simulated forearm, through play's live session, with the navigation scene.
-        live::LiveConfig config;
-        if (cl.has("--port")) {
-            config.source = live::LiveConfig::Source::Port;
-            config.port = cl.value("--port");
-            if (config.port.empty()) throw UsageError("--port needs a device name");
-            config.baud = static_cast<int>(cl.integer("--baud", 57600, 1200, 4000000));
-        } else if (armFromOsc) {
-            config.source = live::LiveConfig::Source::Osc;
-            config.oscInPort = oscPort;
-            if (cl.has("--mount")) {
-                config.osc.mount = link::mountFromArgument(cl.value("--mount"));
-                config.osc.mountGiven = true;
-            }
-        } else {
-            config.source = live::LiveConfig::Source::Simulator;
-            config.motionFile = cl.value("--motion");
-        }
-        config.engine.scene = "navigate";
-        config.engine.sceneConfig.side = arm == "left" ? core::ArmSide::Left : core::ArmSide::Right;
-        readProfileOption(cl, config.engine);
-        if (cl.has("--calibration")) config.calibration = link::loadCalibration(cl.value("--calibration"));
-        config.tactileOut = tactilePath;
-        if (cl.has("--tactors")) config.tactors = tactorConfig(cl, config.engine.motorCount);   // IoError / InputError before anything runs
-        config.makeScene = [&route, link, options] { return navigation::makeNavigationScene(route, link, options); };
-
-        installInterruptHandlers();
-        // The position source: IoError (exit 4) when gpsd cannot be reached or the port is taken.
-        std::unique_ptr<navigation::GpsdSource> gpsdSource;
-        std::unique_ptr<navigation::OscPositionSource> oscSource;
-        auto shared = std::make_shared<navigation::PositionCounters>(); // positions on the arm's own OSC port
-        if (gpsd) gpsdSource = std::make_unique<navigation::GpsdSource>(endpoint, link->position);
-        else if (!armFromOsc) oscSource = std::make_unique<navigation::OscPositionSource>(oscPort, link->position);
-        else config.oscDatagramTap = [link, shared](const std::uint8_t* d, std::size_t n) { navigation::storePositionDatagram(d, n, link->position, *shared); };
-        live::LiveSession session(config);
-        session.start();
-        if (live::TactorOutput* t = session.tactors()) std::cerr << "armadillo navigate: tactors on " << t->describe() << "\n";
-        if (gpsdSource) {
-            gpsdSource->start();
-            std::cerr << "armadillo navigate: positions from gpsd at " << gpsdSource->describe() << "\n";
-        } else if (oscSource) {
-            oscSource->start();
-            std::cerr << "armadillo navigate: positions over OSC on UDP port " << oscSource->port() << "\n";
-        } else {
-            std::cerr << "armadillo navigate: the arm's motion and the positions over OSC on port " << oscPort << "\n";
-        }
-        const auto start = std::chrono::steady_clock::now();
-        double finishedAt = -1.0;
-        bool shownDown = false;
-        while (!interrupted()) {
-            const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            if (seconds > 0.0 && elapsed >= seconds) break;
-            drain();
-            const navigation::NavigationStatus st = link->status.load();
-            if (st.finished && st.sensation == navigation::Sensation::None && finishedAt < 0.0) finishedAt = elapsed;
-            if (finishedAt >= 0.0 && elapsed > finishedAt + 0.5) break;
-            if (gpsdSource) {
-                if (!gpsdSource->connected() && !shownDown) std::cerr << "armadillo navigate: gpsd at " << gpsdSource->describe() << " went away (reconnecting)\n";
-                shownDown = !gpsdSource->connected();
-            }
-            if (session.engine().failed()) {
-                std::cerr << "armadillo navigate: the scene failed and was stopped (motors off): " << session.engine().failure() << "\n";
-                break;
-            }
-            std::this_thread::sleep_for(std::chrono::milliseconds(20));
-        }
-        if (gpsdSource) gpsdSource->stop();
-        if (oscSource) oscSource->stop();
-        session.stop();
-        drain();
-        session.finish();
-        if (!logPath.empty()) core::writeFileAtomically(logPath, log);
-        const navigation::NavigationStatus st = link->status.load();
-        std::string summary = live::summaryJson(session.summary());
-        char extra[400];
-        if (gpsdSource)
-            std::snprintf(extra, sizeof extra, ",\"finished\":%s,\"arrivals\":%d,\"waypoints\":%zu,\"gpsd_fixes\":%llu,\"gpsd_no_fix\":%llu,\"gpsd_rejected\":%llu,\"gpsd_disconnects\":%llu,\"log_dropped\":%llu",
-                          st.finished ? "true" : "false", st.arrivals, route.points.size() - 1, static_cast<unsigned long long>(gpsdSource->fixes()),
-                          static_cast<unsigned long long>(gpsdSource->noFix()), static_cast<unsigned long long>(gpsdSource->rejected()),
-                          static_cast<unsigned long long>(gpsdSource->disconnects()), static_cast<unsigned long long>(link->droppedLog.load()));
-        else
-            std::snprintf(extra, sizeof extra, ",\"finished\":%s,\"arrivals\":%d,\"waypoints\":%zu,\"osc_fixes\":%llu,\"osc_rejected\":%llu,\"osc_ignored\":%llu,\"log_dropped\":%llu",
-                          st.finished ? "true" : "false", st.arrivals, route.points.size() - 1,
-                          static_cast<unsigned long long>(oscSource ? oscSource->fixes() : shared->fixes.load()),
-                          static_cast<unsigned long long>(oscSource ? oscSource->rejected() : shared->rejected.load()),
-                          static_cast<unsigned long long>(oscSource ? oscSource->ignored() : shared->ignored.load()),
-                          static_cast<unsigned long long>(link->droppedLog.load()));
-        summary.insert(summary.size() - 1, extra);
-        std::cout << summary << "\n" << std::flush;
-        return session.engine().failed() ? int(core::kExitFailure) : int(core::kExitOk);
+        const NavigateRequest request = readNavigateRequest(cl);
+        return request.walk ? runSimulatedWalk(cl, request) : runLiveWalk(cl, request);
     });
 }
 

@@ -347,9 +347,7 @@ std::string sessionSummary(live::LiveSession& session, const live::SourceReport&
     summary.insert(summary.size() - 1, report.leftSummaryJson());
     if (messages) summary.insert(summary.size() - 1, messages->summaryJson());
     if (cues) summary.insert(summary.size() - 1, ",\"cue\":" + std::to_string(cues->current()) + ",\"cue_changes\":" + std::to_string(cues->changes()));
-    if (live::TactorOutput* t = session.tactors())   // the tactor output's own counters (docs/TACTORS.md)
-        summary.insert(summary.size() - 1, ",\"tactor_frames\":" + std::to_string(t->framesRendered()) + ",\"tactor_dropped\":" +
-                                               std::to_string(t->recordsDropped()) + ",\"tactor_limited\":" + std::to_string(t->limited()));
+    summary.insert(summary.size() - 1, session.outputsJson());   // the tactor output's own counters (docs/TACTORS.md)
     return summary;
 }
 
@@ -423,8 +421,7 @@ public:
         const std::string trainingCsv = brailleScene_ ? brailleScene_->trainingLogCsv() : std::string();   // control has stopped
         session_.finish();   // the session's own files first: a failing training log must not lose them
         if (brailleScene_) core::writeFileAtomically(request_.trainingLog, trainingCsv);
-        if (const audio::SoundCard* card = session_.soundCard(); card && card->underruns() > 0)
-            std::cerr << who_ << "the sound card ran dry " << card->underruns() << " time(s) (audible clicks)\n";
+        for (const std::string& line : session_.outputClosingLines()) std::cerr << who_ << line << "\n";   // a sound card that ran dry
         for (const auto& g : mountCalibrations_) g->finish();
         if (calibration_) {
             if (!calibration_->finished())
@@ -443,26 +440,15 @@ private:
 
     /// Stage commands (OSC control port, keys): panic and resume act on the engine at once
     /// (atomics, any thread); what happened is reported by reportStage().
-    void onCommand(const live::StageCommand& c)
+    void onCommand(const core::StageCommand& c)
     {
-        using K = live::StageCommand::Kind;
-        if (c.kind == K::Panic) cues_ ? cues_->panic() : session_.engine().panic();
-        else if (c.kind == K::Resume) cues_ ? cues_->resume() : session_.engine().resume();
-        else if (cues_ && c.kind == K::CueNext) cues_->next();
-        else if (cues_ && c.kind == K::CuePrev) cues_->previous();
-        else if (cues_ && c.kind == K::CueGoto) cues_->request(c.cue);   // clamped to the list
         lastCommand_.store(static_cast<int>(c.kind));
+        session_.stage().apply(c);   // the one switch (Live/Stage.h); acts at the next control step
     }
 
-    /// Panics of every cue (a set list) or of the one engine; a panic gesture in one cue panics
-    /// them all (a cue change must not bring the sound back).
-    std::uint32_t panicTotal()
-    {
-        if (!cues_) return session_.engine().panicCount();
-        std::uint32_t n = 0;
-        for (int c = 0; c < cues_->cueCount(); ++c) n = std::max(n, cues_->engine(c).panicCount());
-        return n;
-    }
+    /// Panics of the stage: commands, keys, the mapping and the gesture alike (a cue change does
+    /// not bring the sound back).
+    std::uint32_t panicTotal() { return session_.stage().panics(); }
 
     bool needsData() const { return config_.source != live::LiveConfig::Source::Simulator; }
 
@@ -477,7 +463,7 @@ private:
 
     void openStageCommands(const CommandLine& cl)
     {
-        const auto handler = [this](const live::StageCommand& c) { onCommand(c); };
+        const auto handler = [this](const core::StageCommand& c) { onCommand(c); };
         if (cues_)
             std::cerr << who_ << "set list of " << cues_->cueCount() << " cues; cue 0 '" << cues_->cue(0).name << "' (" << cues_->cue(0).scene << ")\n";
         if (request_.controlPort > 0) {
@@ -529,15 +515,9 @@ private:
     /// The sound card and the tactors, as opened; then the mount calibrations begin.
     void announceOutputs()
     {
-        if (const audio::SoundCard* card = session_.soundCard()) {
-            const audio::SoundCardInfo& i = card->info();
-            std::cerr << who_ << "sound on '" << i.device << "' (" << i.sampleRate << " Hz, " << i.format << ", "
-                      << 1000.0 * i.bufferFrames / i.sampleRate << " ms buffer)\n";
-        } else if (!session_.soundCardWarning().empty()) {
-            std::cerr << who_ << "no sound: " << session_.soundCardWarning()
-                      << " (--out FILE records the audio instead; --no-audio silences this message)\n";
-        }
-        if (live::TactorOutput* t = session_.tactors()) std::cerr << who_ << "tactors on " << t->describe() << "\n";
+        for (const std::string& line : session_.outputLines()) std::cerr << who_ << line << "\n";   // the sound card, the tactors
+        if (!session_.soundCardWarning().empty())
+            std::cerr << who_ << "no sound: " << session_.soundCardWarning() << " (--out FILE records the audio instead; --no-audio silences this message)\n";
         for (const auto& [out, left, option, arm] : {std::tuple {request_.mountOut, false, "--calibrate-mount", ""},
                                                      std::tuple {request_.leftMountOut, true, "--calibrate-mount-left", "left arm "}}) {
             if (out.empty() || !session_.enableSensorTap(left)) continue;
@@ -592,19 +572,20 @@ private:
             const live::Cue& q = cues_->cue(shownCue_);
             std::cerr << lineStart_ << who_ << "cue " << shownCue_ << " '" << q.name << "' (" << q.scene << ")\n";
         }
-        if (const std::uint32_t n = panicTotal(); n != shownPanics_ || engine.panicked() != shownPanicked_) {
+        const bool panicked = session_.stage().panicked();
+        if (const std::uint32_t n = panicTotal(); n != shownPanics_ || panicked != shownPanicked_) {
             const int k = lastCommand_.exchange(-1);
             const std::uint32_t mapped = session_.mappingPanics();   // a mapping's "stage": "panic"
             const bool byMapping = mapped != shownMappingPanics_;
             shownMappingPanics_ = mapped;
             if (n != shownPanics_)
                 std::cerr << lineStart_ << who_ << "PANIC ("
-                          << (k == static_cast<int>(live::StageCommand::Kind::Panic) ? "command" : byMapping ? "mapping" : "gesture")
+                          << (k == static_cast<int>(core::StageCommand::Kind::Panic) ? "command" : byMapping ? "mapping" : "gesture")
                           << "): all sound and every motor off; resume with r or /armadillo/resume\n";
-            else if (!engine.panicked())
+            else if (!panicked)
                 std::cerr << lineStart_ << who_ << "resumed: scene '" << engine.config().scene << "' again\n";
             shownPanics_ = n;
-            shownPanicked_ = engine.panicked();
+            shownPanicked_ = panicked;
         }
         if (engine.failed()) {   // the scene threw: its motors are off; stop and say so
             std::cerr << who_ << "the scene failed and was stopped (motors off): " << engine.failure() << "\n";
@@ -626,14 +607,7 @@ private:
         for (const std::string& line : report_->poll(elapsed)) std::cerr << lineStart_ << who_ << line << "\n";
         for (const auto& g : mountCalibrations_) g->step();
         if (request_.messages) request_.messages->poll(messageScene_, std::cerr, lineStart_);
-        if (const audio::SoundCard* card = session_.soundCard(); card && card->failed() && !shownCardError_) {
-            std::cerr << lineStart_ << who_ << card->lastError() << "; playing on without sound\n";
-            shownCardError_ = true;
-        }
-        if (live::TactorOutput* t = session_.tactors(); t && t->failed() && !shownTactorError_) {
-            std::cerr << lineStart_ << who_ << "the tactor output stopped (its JACK server or sound card went away); the device plays on\n";
-            shownTactorError_ = true;
-        }
+        for (const std::string& line : session_.outputFailures()) std::cerr << lineStart_ << who_ << line << "\n";   // once each
     }
 
     void stepProcedures()
@@ -686,7 +660,7 @@ private:
     double shownAt_ = -1.0;
     int shownCue_ = -1;
     std::uint32_t shownPanics_ = 0, shownMappingPanics_ = 0;
-    bool shownPanicked_ = false, shownCardError_ = false, shownTactorError_ = false;
+    bool shownPanicked_ = false;
     std::string shownError_, noData_;
     bool recordingEnded_ = false;
 };

@@ -210,21 +210,34 @@ void BlockControl::applySceneParam(const mapping::SceneParamChange& change) noex
     }
 }
 
-void BlockControl::processBlock(const AudioBlock& buffer, BlockMidi& midi, const core::Transport& transport, bool offline,
-                                const Listen& listen) noexcept
+BlockControl::BlockPlan BlockControl::planBlock(const AudioBlock& buffer, const Listen& listen) noexcept
 {
-    const int n = buffer.numSamples;
-    // The input channels are read step by step below; the output is written over them.
-    const int listenCount = (listen.first >= 0 && listen.first + listen.count <= buffer.numChannels) ? std::min(listen.count, 2) : 0;
-    const int throughCount = std::min({listen.through, 2, buffer.numChannels});
+    BlockPlan plan;
+    // The input channels are read step by step; the output is written over them.
+    plan.listenCount = (listen.first >= 0 && listen.first + listen.count <= buffer.numChannels) ? std::min(listen.count, 2) : 0;
+    plan.throughCount = std::min({listen.through, 2, buffer.numChannels});
     // Stems whose channels all lie in the buffer (a host that hands fewer channels than the
     // layout promised gets the stems up to the first that does not fit).
-    int stemCount = 0;
-    while (stemCount < std::min(listen.stemCount, kMaxStems)) {
-        const Bus& bus = listen.stems[static_cast<std::size_t>(stemCount)];
+    while (plan.stemCount < std::min(listen.stemCount, kMaxStems)) {
+        const Bus& bus = listen.stems[static_cast<std::size_t>(plan.stemCount)];
         if (bus.first < 0 || bus.count < 1 || bus.count > 2 || bus.first + bus.count > buffer.numChannels) break;
-        ++stemCount;
+        ++plan.stemCount;
     }
+    // The Tactors bus: a renderer offered since the last block first; the bus's channels, when
+    // the host's buffer holds them all.
+    tactors_.takeOffered([](tactors::TactorRenderer*) {});
+    plan.tactorBus = tactors_.active();
+    plan.busCount = std::clamp(listen.tactorCount, 0, tactors::kMaxChannels);
+    for (int c = 0; c < plan.busCount; ++c) {
+        const int channel = listen.tactorChannel[static_cast<std::size_t>(c)];
+        if (channel < 2 || channel >= buffer.numChannels) plan.busCount = 0;   // not all in the buffer: none
+    }
+    plan.busRendered = plan.tactorBus != nullptr ? std::min(plan.tactorBus->channels(), plan.busCount) : 0;
+    return plan;
+}
+
+void BlockControl::readMidiInput(BlockMidi& midi, int n) noexcept
+{
     // The MIDI input is never played or passed through: its stage messages (Stage.h: program
     // change, the cue notes, CC 120/119) act at this block's start (beginStage), its other
     // channel messages go to the message thread for the mapping editor's "learn destination".
@@ -255,6 +268,96 @@ void BlockControl::processBlock(const AudioBlock& buffer, BlockMidi& midi, const
     // The buffer carries the mapping's events out from here (the host's adapter keeps it from
     // growing on the audio thread: Plugin/HostBlock.h).
     midi.beginOutput();
+}
+
+void BlockControl::hearStretch(const AudioBlock& buffer, const Listen& listen, const BlockPlan& plan, int pos, int len) noexcept
+{
+    notesRunning(pos, len);   // the notes of this stretch, before its input (Scene::processMidi)
+    if (const int stems = engineStems(); stems > 0) {
+        // Stems: each bus mixed to one mono channel, in the engine's stem order; an engine
+        // built for another number of stems hears nothing (a layout change in flight).
+        if (stems == plan.stemCount) {
+            const float* in[kMaxStems + 2] {input_[0].data(), input_[1].data(), input_[2].data(),
+                                            input_[3].data(), input_[4].data(), input_[5].data()};
+            for (int k = 0; k < plan.stemCount; ++k) {
+                const Bus& bus = listen.stems[static_cast<std::size_t>(k)];
+                float* mono = input_[static_cast<std::size_t>(k)].data();
+                std::copy_n(buffer.channels[bus.first] + pos, len, mono);
+                for (int c = 1; c < bus.count; ++c) addInto(mono, buffer.channels[bus.first + c] + pos, len);
+                if (bus.count > 1) std::transform(mono, mono + len, mono, [g = 1.0f / static_cast<float>(bus.count)](float x) { return x * g; });
+            }
+            // The main input after them (audio-touch's `mixed`, and its fallback while the
+            // stems are silent).
+            for (int c = 0; c < plan.listenCount; ++c)
+                std::copy_n(buffer.channels[listen.first + c] + pos, len, input_[static_cast<std::size_t>(plan.stemCount + c)].begin());
+            inputRunning(in, plan.stemCount + plan.listenCount, len);
+        }
+    } else if (plan.listenCount > 0) {
+        // The scene hears this stretch of the input before its sound for it is rendered.
+        const float* in[2] {input_[0].data(), input_[1].data()};
+        for (int c = 0; c < plan.listenCount; ++c)
+            std::copy_n(buffer.channels[listen.first + c] + pos, len, input_[static_cast<std::size_t>(c)].begin());
+        inputRunning(in, plan.listenCount, len);
+    }
+    for (int c = 0; c < plan.throughCount; ++c)   // the main input, before the output overwrites it
+        std::copy_n(buffer.channels[c] + pos, len, through_[static_cast<std::size_t>(c)].begin());
+}
+
+void BlockControl::renderStretch(const AudioBlock& buffer, const Listen& listen, const BlockPlan& plan, int pos, int len) noexcept
+{
+    float* left = buffer.channels[0];
+    float* right = buffer.channels[1];
+    std::fill_n(left + pos, len, 0.0f);
+    std::fill_n(right + pos, len, 0.0f);
+    renderRunning(left + pos, right + pos, len);
+    if (plan.busRendered > 0 && plan.tactorBus->usesSound()) {   // the scene's own sound, before the track is mixed in
+        for (int i = 0; i < len; ++i) tactorSound_[static_cast<std::size_t>(i)] = 0.5f * (left[pos + i] + right[pos + i]);
+        plan.tactorBus->setSound(tactorSound_.data(), len);
+    }
+    if (plan.throughCount > 0) {
+        addInto(left + pos, through_[0].data(), len);
+        addInto(right + pos, through_[plan.throughCount > 1 ? 1 : 0].data(), len);
+    }
+    if (plan.busCount > 0) {   // after this stretch's input was read: the bus may share its channels
+        std::array<float*, tactors::kMaxChannels> channels {};
+        for (int c = 0; c < plan.busCount; ++c)
+            channels[static_cast<std::size_t>(c)] = buffer.channels[listen.tactorChannel[static_cast<std::size_t>(c)]] + pos;
+        if (plan.busRendered > 0) plan.tactorBus->render(channels.data(), len);
+        for (int c = plan.busRendered; c < plan.busCount; ++c) std::fill_n(channels[static_cast<std::size_t>(c)], len, 0.0f);
+    }
+}
+
+void BlockControl::finishBlock(const AudioBlock& buffer, BlockMidi& midi, const Listen& listen, const BlockPlan& plan, double blockStart) noexcept
+{
+    const int n = buffer.numSamples;
+    // The app's tactor output with a voice coil handed the scene's sound: this block's output.
+    if (auto* out = tactorOut_.load(std::memory_order_acquire); out != nullptr && out->wantsSound())
+        out->pushSound(buffer.channels[0], buffer.channels[1], n);
+    const auto busEnd = listen.tactorChannel.begin() + plan.busCount;
+    for (int c = 2; c < buffer.numChannels; ++c)   // sidechain / extra inputs; not the Tactors bus
+        if (std::find(listen.tactorChannel.begin(), busEnd, c) == busEnd) std::fill_n(buffer.channels[c], n, 0.0f);
+    // Note-offs due before the block's end that no step reached (a gesture note's 50 ms).
+    mapper_.flush(blockStart + (n - 0.5) / sampleRate_.load(std::memory_order_relaxed), mapOut_);
+    deliver(&midi, blockStart, n);
+}
+
+void BlockControl::moveGridPastSkipped(int samplesPerTick) noexcept
+{
+    // Blocks skipped since the last one (the idle clock held the token) still passed on the host's
+    // timeline: the 200 Hz grid moves on by their samples, so mapped MIDI stays on the samples of
+    // the grid counted from prepare(). Their time is not added to the next step's dt: the idle
+    // clock's steps covered it.
+    if (const long long skipped = std::exchange(skippedSamples_, 0); skipped > 0) {
+        const long long phase = (samplesToTick_ - skipped) % samplesPerTick;
+        samplesToTick_ = static_cast<int>(phase < 0 ? phase + samplesPerTick : phase);
+    }
+}
+
+void BlockControl::processBlock(const AudioBlock& buffer, BlockMidi& midi, const core::Transport& transport, bool offline,
+                                const Listen& listen) noexcept
+{
+    const int n = buffer.numSamples;
+    readMidiInput(midi, n);
     bypassed_ = false;
     const double wall = core::monotonicSeconds();
     lastAudioMs_.store(wall * 1e3, std::memory_order_relaxed);
@@ -267,24 +370,8 @@ void BlockControl::processBlock(const AudioBlock& buffer, BlockMidi& midi, const
 
     const double sr = sampleRate_.load(std::memory_order_relaxed);
     const int samplesPerTick = std::max(1, static_cast<int>(std::lround(sr / kControlRateHz)));
-    // Blocks skipped since the last one (the idle clock held the token) still passed on the host's
-    // timeline: the 200 Hz grid moves on by their samples, so mapped MIDI stays on the samples of
-    // the grid counted from prepare(). Their time is not added to the next step's dt: the idle
-    // clock's steps covered it.
-    if (const long long skipped = std::exchange(skippedSamples_, 0); skipped > 0) {
-        const long long phase = (samplesToTick_ - skipped) % samplesPerTick;
-        samplesToTick_ = static_cast<int>(phase < 0 ? phase + samplesPerTick : phase);
-    }
-    // The Tactors bus: a renderer offered since the last block first; the bus's channels, when
-    // the host's buffer holds them all.
-    tactors_.takeOffered([](tactors::TactorRenderer*) {});
-    tactors::TactorRenderer* const tactorBus = tactors_.active();
-    int busCount = std::clamp(listen.tactorCount, 0, tactors::kMaxChannels);
-    for (int c = 0; c < busCount; ++c) {
-        const int channel = listen.tactorChannel[static_cast<std::size_t>(c)];
-        if (channel < 2 || channel >= buffer.numChannels) busCount = 0;   // not all in the buffer: none
-    }
-    const int busRendered = tactorBus != nullptr ? std::min(tactorBus->channels(), busCount) : 0;
+    moveGridPastSkipped(samplesPerTick);
+    const BlockPlan plan = planBlock(buffer, listen);
     // The mapping's timeline at this block's first sample: the previous step's time plus the
     // samples rendered since.
     const double blockStart = clock_ + samplesSinceStep_ / sr;
@@ -300,8 +387,6 @@ void BlockControl::processBlock(const AudioBlock& buffer, BlockMidi& midi, const
         deliver(&midi, blockStart, n);
     }
     beginStage(&midi, blockStart, n);
-    float* left = buffer.channels[0];
-    float* right = buffer.channels[1];
     int pos = 0;
     while (pos < n) {
         if (samplesToTick_ <= 0) {
@@ -330,65 +415,13 @@ void BlockControl::processBlock(const AudioBlock& buffer, BlockMidi& midi, const
             }
         }
         const int len = std::min({n - pos, samplesToTick_, kInputScratch});
-        notesRunning(pos, len);   // the notes of this stretch, before its input (Scene::processMidi)
-        if (const int stems = engineStems(); stems > 0) {
-            // Stems: each bus mixed to one mono channel, in the engine's stem order; an engine
-            // built for another number of stems hears nothing (a layout change in flight).
-            if (stems == stemCount) {
-                const float* in[kMaxStems + 2] {input_[0].data(), input_[1].data(), input_[2].data(),
-                                                input_[3].data(), input_[4].data(), input_[5].data()};
-                for (int k = 0; k < stemCount; ++k) {
-                    const Bus& bus = listen.stems[static_cast<std::size_t>(k)];
-                    float* mono = input_[static_cast<std::size_t>(k)].data();
-                    std::copy_n(buffer.channels[bus.first] + pos, len, mono);
-                    for (int c = 1; c < bus.count; ++c) addInto(mono, buffer.channels[bus.first + c] + pos, len);
-                    if (bus.count > 1) std::transform(mono, mono + len, mono, [g = 1.0f / static_cast<float>(bus.count)](float x) { return x * g; });
-                }
-                // The main input after them (audio-touch's `mixed`, and its fallback while the
-                // stems are silent).
-                for (int c = 0; c < listenCount; ++c)
-                    std::copy_n(buffer.channels[listen.first + c] + pos, len, input_[static_cast<std::size_t>(stemCount + c)].begin());
-                inputRunning(in, stemCount + listenCount, len);
-            }
-        } else if (listenCount > 0) {
-            // The scene hears this stretch of the input before its sound for it is rendered.
-            const float* in[2] {input_[0].data(), input_[1].data()};
-            for (int c = 0; c < listenCount; ++c)
-                std::copy_n(buffer.channels[listen.first + c] + pos, len, input_[static_cast<std::size_t>(c)].begin());
-            inputRunning(in, listenCount, len);
-        }
-        for (int c = 0; c < throughCount; ++c)   // the main input, before the output overwrites it
-            std::copy_n(buffer.channels[c] + pos, len, through_[static_cast<std::size_t>(c)].begin());
-        std::fill_n(left + pos, len, 0.0f);
-        std::fill_n(right + pos, len, 0.0f);
-        renderRunning(left + pos, right + pos, len);
-        if (busRendered > 0 && tactorBus->usesSound()) {   // the scene's own sound, before the track is mixed in
-            for (int i = 0; i < len; ++i) tactorSound_[static_cast<std::size_t>(i)] = 0.5f * (left[pos + i] + right[pos + i]);
-            tactorBus->setSound(tactorSound_.data(), len);
-        }
-        if (throughCount > 0) {
-            addInto(left + pos, through_[0].data(), len);
-            addInto(right + pos, through_[throughCount > 1 ? 1 : 0].data(), len);
-        }
-        if (busCount > 0) {   // after this stretch's input was read: the bus may share its channels
-            std::array<float*, tactors::kMaxChannels> channels {};
-            for (int c = 0; c < busCount; ++c)
-                channels[static_cast<std::size_t>(c)] = buffer.channels[listen.tactorChannel[static_cast<std::size_t>(c)]] + pos;
-            if (busRendered > 0) tactorBus->render(channels.data(), len);
-            for (int c = busRendered; c < busCount; ++c) std::fill_n(channels[static_cast<std::size_t>(c)], len, 0.0f);
-        }
+        hearStretch(buffer, listen, plan, pos, len);
+        renderStretch(buffer, listen, plan, pos, len);
         pos += len;
         samplesToTick_ -= len;
         samplesSinceStep_ += len;
     }
-    // The app's tactor output with a voice coil handed the scene's sound: this block's output.
-    if (auto* out = tactorOut_.load(std::memory_order_acquire); out != nullptr && out->wantsSound()) out->pushSound(left, right, n);
-    for (int c = 2; c < buffer.numChannels; ++c)   // sidechain / extra inputs; not the Tactors bus
-        if (std::find(listen.tactorChannel.begin(), listen.tactorChannel.begin() + busCount, c) == listen.tactorChannel.begin() + busCount)
-            std::fill_n(buffer.channels[c], n, 0.0f);
-    // Note-offs due before the block's end that no step reached (a gesture note's 50 ms).
-    mapper_.flush(blockStart + (n - 0.5) / sr, mapOut_);
-    deliver(&midi, blockStart, n);
+    finishBlock(buffer, midi, listen, plan, blockStart);
     token_.release();
 }
 
@@ -438,14 +471,7 @@ void BlockControl::applyMappedStage() noexcept
     for (int i = 0; i < mapOut_.stageCount; ++i) {
         const mapping::StageEvent& e = mapOut_.stage[static_cast<std::size_t>(i)];
         stageCommands_.fetch_add(1, std::memory_order_relaxed);
-        if (stage_ == nullptr) continue;
-        switch (e.action) {
-        case mapping::StageAction::Next: stage_->next(); break;
-        case mapping::StageAction::Previous: stage_->previous(); break;
-        case mapping::StageAction::Cue: stage_->cue(e.cue); break;
-        case mapping::StageAction::Panic: stage_->panic(); break;
-        case mapping::StageAction::Resume: stage_->resume(); break;
-        }
+        if (stage_ != nullptr) stage_->apply(e.command);
     }
     mapOut_.stageCount = 0;
 }

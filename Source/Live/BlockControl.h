@@ -218,6 +218,29 @@ public:
     const MappingOutputs& mappingOutputs() const noexcept { return outputs_; }
 
 private:
+    /// What a block's buffer holds for this block's stretches (processBlock's first step).
+    struct BlockPlan {
+        int listenCount = 0;    ///< main-input channels the scene hears (≤ 2)
+        int throughCount = 0;   ///< main-input channels played through
+        int stemCount = 0;      ///< stems whose channels all lie in the buffer
+        int busCount = 0;       ///< Tactors bus channels in the buffer (0: none)
+        int busRendered = 0;    ///< of them, the ones the renderer fills
+        tactors::TactorRenderer* tactorBus = nullptr;
+    };
+    BlockPlan planBlock(const AudioBlock& buffer, const Listen& listen) noexcept;
+    /// The block's MIDI input: stage messages to the stage, notes for the scene, the rest to the
+    /// message thread; then the buffer is the block's MIDI output.
+    void readMidiInput(BlockMidi& midi, int n) noexcept;
+    /// The 200 Hz grid moved past the samples of blocks skipped since the last one.
+    void moveGridPastSkipped(int samplesPerTick) noexcept;
+    /// One stretch between steps: the scene hears its notes and input ([pos, pos + len)), the
+    /// main input is kept for the pass-through …
+    void hearStretch(const AudioBlock& buffer, const Listen& listen, const BlockPlan& plan, int pos, int len) noexcept;
+    /// … then its sound is rendered over the output, the input passed through, the Tactors bus rendered.
+    void renderStretch(const AudioBlock& buffer, const Listen& listen, const BlockPlan& plan, int pos, int len) noexcept;
+    /// The block's end: the sound to the app's voice coil, the extra inputs silenced, the
+    /// mapping's due note-offs delivered.
+    void finishBlock(const AudioBlock& buffer, BlockMidi& midi, const Listen& listen, const BlockPlan& plan, double blockStart) noexcept;
     /// One control step; `wall` is the monotonic time its levels belong to by the wall clock, and
     /// `toMotors` whether they go to the link.
     /// `cutoff` (monotonic s): only live samples that arrived by then are fused (+∞: all waiting).

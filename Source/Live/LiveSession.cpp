@@ -13,6 +13,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <sstream>
 #include <stdexcept>
 
 namespace armadillo::live {
@@ -78,26 +79,28 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
 {
     const bool twoArms = config_.leftSource != LiveConfig::LeftSource::None;
     if (twoArms) {
-        if (config_.setList.empty()) {   // (with a set list every cue's engine takes both arms)
-            engine::EngineConfig duo = config_.engine;
-            duo.twoArms = true;
-            duo_ = std::make_unique<engine::Engine>(duo); // InputError for an unknown scene or parameter
-            config_.engine.scene = "monitor";        // the loop's own engine only tracks the right arm
-            config_.engine.parameters.clear();
-        }
+        // The loop's engine hears both arms (Engine::control(right, left, …)); with a set list
+        // every cue's engine does.
+        config_.engine.twoArms = config_.setList.empty();
         leftTracker_ = std::make_unique<fusion::ArmTracker>();
     }
     if (!config_.setList.empty()) {   // every cue prepared now; the loop's own engine only tracks the arm
-        cues_ = std::make_unique<live::CuePlayer>(live::loadSetList(config_.setList), config_.engine.sceneConfig, config_.engine.motorCount, twoArms,
-                                                  config_.engine.motorGain);   // the reader's touch profile for every cue
+        stage_.replace(std::make_unique<live::CuePlayer>(live::loadSetList(config_.setList), config_.engine.sceneConfig, config_.engine.motorCount,
+                                                         twoArms, config_.engine.motorGain));   // the reader's touch profile for every cue
+        cues_ = stage_.cues();   // the stage runs it from here on (Live/Stage.h)
         config_.engine.scene = "monitor";
         config_.engine.parameters.clear();
     }
     {
         auto slot = std::make_unique<live::EngineSlot>();
-        if (config_.makeScene && (twoArms || cues_)) throw core::InputError("", 0, "", "scene '" + config_.engine.scene + "' plays alone: not with a set list or two arms");
-        slot->engine = config_.makeScene ? std::make_unique<engine::Engine>(config_.engine, config_.makeScene())
-                                         : std::make_unique<engine::Engine>(config_.engine); // InputError for an unknown scene
+        if (config_.walk.route) {   // the walk's position source now (IoError: gpsd not reachable, the port taken)
+            if (twoArms || cues_) throw core::InputError("", 0, "", "scene '" + config_.engine.scene + "' plays alone: not with a set list or two arms");
+            navigation_ = std::make_unique<navigation::NavigationRig>();
+            navigation_->open(config_.walk.route, config_.walk.positions, config_.walk.where);
+        }
+        slot->engine = navigation_ ? std::make_unique<engine::Engine>(config_.engine, navigation::makeNavigationScene(*navigation_->route(), navigation_->link(),
+                                                                                                                 config_.walk.options))
+                                   : std::make_unique<engine::Engine>(config_.engine); // InputError for an unknown scene
         slot->sceneName = config_.engine.scene;
         engine_ = slot->engine.get();
         loop_.replace(std::move(slot));   // nothing runs yet
@@ -117,7 +120,7 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
         options.oscDefault = config_.oscOut;
         options.sourceName = config_.mappingName;
         options.forwardDeg = config_.forwardDeg;
-        mapping_ = std::make_unique<live::MappingRig>(*config_.mapping, duo_ ? *duo_ : *engine_, options);   // for the scene that plays
+        mapping_ = std::make_unique<live::MappingRig>(*config_.mapping, *engine_, options);   // for the scene that plays
         mapping_->setStageSink(&LiveSession::applyStage, this);
         if (!config_.midiOut.empty()) {
             midiOut_ = std::make_unique<audio::SequencerOut>(config_.midiOut);   // IoError naming the cause (exit 4)
@@ -145,7 +148,7 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
             oscIn_ = std::make_unique<osc::OscReceiver>(osc::OscSerialSource {config_.oscSerialPort, config_.oscSerialBaud}, onImu, onQ, config_.osc);
         else
             oscIn_ = std::make_unique<osc::OscReceiver>(config_.oscInPort, onImu, onQ, config_.osc);
-        if (config_.oscDatagramTap) oscIn_->setDatagramTap(config_.oscDatagramTap);
+        if (navigation_ && navigation_->datagramTap()) oscIn_->setDatagramTap(navigation_->datagramTap());   // a phone's gps on the arm's port
         break;
     }
     }
@@ -238,7 +241,7 @@ core::MotorLevels LiveSession::control(double t, const link::SensorCounts* count
     // A source that went quiet (unplug, stall): forget patterns rather than resume mid-gesture.
     if (dt > 0.25) {
         engine_->allOff();
-        if (cues_) engine().allOff();
+        if (cues_) sounding().allOff();
     }
     if (!link_ && dt > 0.0 && sourceGaps_.step(dt)) {
         oscGaps_.store(sourceGaps_.count(), std::memory_order_relaxed);
@@ -262,8 +265,20 @@ core::MotorLevels LiveSession::control(double t, const link::SensorCounts* count
     } else {
         mailbox.storeOrientation(t, *q);
     }
+    // The stage first (Live/Stage.h): cue requests, panic and resume from every place that makes
+    // them (keys, the control port, the mapping), applied at this step as the plugin's block does.
+    beginStage();
+    if (leftTracker_) {   // the left arm: its samples since the last step through its own tracker (bounded)
+        // As the right arm's step (live::fuseStep): the newest samples, or a self-fusing
+        // sender's newest orientation once.
+        leftArm_ = live::fuseStep(leftInput_, *leftTracker_, leftOrientation_, leftOrientationUsed_);
+        if (leftArm_.valid) leftPose_.store(leftArm_.features.pose);
+    }
     live::ControlStep step;
     step.source = sourceKind_;
+    step.cues = cues_;             // a set list's cues run in place of the loop's (monitor) engine
+    step.panic = panicApplied_;
+    step.leftArm = leftTracker_ ? &leftArm_ : nullptr;
     step.transport.valid = true;
     step.transport.playing = true;
     step.transport.seconds = t;
@@ -271,32 +286,11 @@ core::MotorLevels LiveSession::control(double t, const link::SensorCounts* count
     step.transport.ppq = t * config_.bpm / 60.0;
     step.dt = dt;
     step.panicGesture = config_.panicGesture;
-    const live::ControlResult result = loop_.tick(step);
-    // The loop panicked its own engine; a set list's cues and the duo play beside it here.
-    if (result.gesturePanic) {
-        if (cues_) cues_->panic();
-        else sounding().panic();
-    }
+    const live::ControlResult result = loop_.tick(step);   // the loop panicked the engine and the cues on a gesture
+    if (result.gesturePanic) stage_.panic();            // … and the stage remembers it until resume, as a command's
     const core::ArmState& arm = result.arm;
-    // With a set list the loop tracked the arm (its monitor engine keeps the motors off) and the
-    // current cue plays it.
-    if (leftTracker_) {   // the left arm: its samples since the last step through its own tracker (bounded)
-        // As the right arm's step (live::fuseStep): the newest samples, or a self-fusing
-        // sender's newest orientation once.
-        leftArm_ = live::fuseStep(leftInput_, *leftTracker_, leftOrientation_, leftOrientationUsed_);
-        if (leftArm_.valid) leftPose_.store(leftArm_.features.pose);
-    }
-    core::MotorLevels levels = result.levels;
-    if (cues_ && leftTracker_) {
-        levels = arm.valid ? cues_->control(arm, leftArm_, step.transport, dt) : core::MotorLevels {};
-        leftLevels_.store(arm.valid ? cues_->leftLevels() : core::MotorLevels {});
-    } else if (cues_) {
-        levels = arm.valid ? cues_->control(arm, step.transport, dt) : core::MotorLevels {};
-    }
-    if (duo_) {
-        levels = arm.valid ? duo_->control(arm, leftArm_, step.transport, dt) : core::MotorLevels {};
-        leftLevels_.store(arm.valid ? duo_->leftLevels() : core::MotorLevels {});
-    }
+    const core::MotorLevels levels = result.levels;
+    if (leftTracker_) leftLevels_.store(cues_ ? cues_->leftLevels() : engine_->leftLevels());
     if (leftTracker_) {
         if (armsLog_) {
             LogRow row;
@@ -358,7 +352,7 @@ core::MotorLevels LiveSession::control(double t, const link::SensorCounts* count
     // A panic (a command, a key, the gesture) also silences what the mapping sent, as the plugin
     // does: its sounding notes end and CC 120 + CC 123 go out on all 16 channels as it starts,
     // and the mapping sends nothing more until resume.
-    const bool panicNow = sounding().panicked() || engine().panicked();
+    const bool panicNow = panicApplied_ || result.gesturePanic;
     if (mapping_ && panicNow && !mappingPanicked_) mapping_->panic(t);
     mappingPanicked_ = panicNow;
     // In panic only the stage-command mappings run (a mapped resume), nothing else is sent.
@@ -370,26 +364,23 @@ core::MotorLevels LiveSession::control(double t, const link::SensorCounts* count
 void LiveSession::applyStage(void* self, const mapping::StageEvent& e) noexcept
 {
     auto& s = *static_cast<LiveSession*>(self);
-    live::CuePlayer* cues = s.cues_.get();
-    switch (e.action) {
-    case mapping::StageAction::Panic:
-        s.mappingPanics_.fetch_add(1, std::memory_order_relaxed);
-        if (cues) cues->panic();
-        else s.engine().panic();
-        return;
-    case mapping::StageAction::Resume:
-        if (cues) cues->resume();
-        else s.engine().resume();
-        return;
-    case mapping::StageAction::Next:
-        if (cues) cues->next();
-        return;
-    case mapping::StageAction::Previous:
-        if (cues) cues->previous();
-        return;
-    case mapping::StageAction::Cue:
-        if (cues) cues->request(e.cue);   // clamped to the list
-        return;
+    if (e.command.kind == core::StageCommand::Kind::Panic) s.mappingPanics_.fetch_add(1, std::memory_order_relaxed);
+    s.stage_.apply(e.command);   // acts at the next step, as every other stage command does
+}
+
+void LiveSession::beginStage() noexcept
+{
+    stage_.beginStep();   // cue requests since the last step, to cues_ (installed at construction, never replaced)
+    const bool panic = stage_.panicked();
+    if (panic) {   // every step while in panic: idempotent, and it reaches a cue that took over since
+        engine_->panic();
+        if (cues_) cues_->panic();
+    }
+    if (panic == panicApplied_) return;
+    panicApplied_ = panic;
+    if (!panic) {   // resume: the current scene (or cue) from its start, sound fading back in
+        engine_->resume();
+        if (cues_) cues_->resume();
     }
 }
 
@@ -406,7 +397,7 @@ void LiveSession::renderScene(float* left, float* right, int n) noexcept
         cues_->renderAudio(left, right, n);
         return;
     }
-    engine::Engine* const plays = duo_ ? duo_.get() : engine_;
+    engine::Engine* const plays = engine_;
     if (recording_.channels.empty()) {
         plays->renderAudio(left, right, n);
         return;
@@ -510,6 +501,7 @@ void LiveSession::start()
     if (leftLink_) leftLink_->start();
     if (oscIn_) oscIn_->start();
     if (leftOscIn_) leftOscIn_->start();
+    if (navigation_) navigation_->startSource();
     if (wav_) audioThread_ = std::thread([this] { audioLoop(); });
     if (soundCard_)
         soundCard_->start([this](float* l, float* r, int n) { renderBlock(l, r, n); },
@@ -531,13 +523,13 @@ void LiveSession::stop()
     }
     if (oscIn_) oscIn_->stop();
     if (leftOscIn_) leftOscIn_->stop();
+    if (navigation_) navigation_->stopSource();
     if (leftLink_) {   // the left device's last packet all-off too (motorsOff_ is set)
         if (leftLink_->stats().inSync) leftLink_->waitFor([](const link::LinkStats&) { return true; }, 0.05);
         leftLink_->stop();
     }
     if (simulator_) simulator_->stop();
     if (leftSimulator_) leftSimulator_->stop();
-    if (duo_) duo_->allOff();
     engine_->allOff();
     if (cues_)
         for (int c = 0; c < cues_->cueCount(); ++c) cues_->engine(c).allOff();
@@ -619,6 +611,48 @@ SessionSummary LiveSession::summary() const
     const auto end = running_.load() ? std::chrono::steady_clock::now() : stopped_;
     s.seconds = started_.time_since_epoch().count() ? std::chrono::duration<double>(end - started_).count() : 0.0;
     return s;
+}
+
+std::vector<std::string> LiveSession::outputLines() const
+{
+    std::vector<std::string> lines;
+    if (soundCard_) {
+        const audio::SoundCardInfo& i = soundCard_->info();
+        std::ostringstream line;   // (as a stream prints the numbers: "48000 Hz", "21.3333 ms")
+        line << "sound on '" << i.device << "' (" << i.sampleRate << " Hz, " << i.format << ", " << 1000.0 * i.bufferFrames / i.sampleRate << " ms buffer)";
+        lines.push_back(line.str());
+    }
+    if (tactors_) lines.push_back("tactors on " + tactors_->describe());
+    return lines;
+}
+
+std::vector<std::string> LiveSession::outputFailures()
+{
+    std::vector<std::string> lines;
+    if (soundCard_ && soundCard_->failed() && !shownCardFailure_) {
+        lines.push_back(soundCard_->lastError() + "; playing on without sound");
+        shownCardFailure_ = true;
+    }
+    if (tactors_ && tactors_->failed() && !shownTactorFailure_) {
+        lines.push_back("the tactor output stopped (its JACK server or sound card went away); the device plays on");
+        shownTactorFailure_ = true;
+    }
+    return lines;
+}
+
+std::vector<std::string> LiveSession::outputClosingLines() const
+{
+    std::vector<std::string> lines;
+    if (soundCard_ && soundCard_->underruns() > 0)
+        lines.push_back("the sound card ran dry " + std::to_string(soundCard_->underruns()) + " time(s) (audible clicks)");
+    return lines;
+}
+
+std::string LiveSession::outputsJson() const
+{
+    if (!tactors_) return {};
+    return ",\"tactor_frames\":" + std::to_string(tactors_->framesRendered()) + ",\"tactor_dropped\":" + std::to_string(tactors_->recordsDropped()) +
+           ",\"tactor_limited\":" + std::to_string(tactors_->limited());
 }
 
 link::LatencySummary LiveSession::latency() const { return link_ ? link_->latency() : link::LatencySummary {}; }

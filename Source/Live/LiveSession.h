@@ -22,7 +22,9 @@
 #include "Engine/Engine.h"
 #include "Live/ControlLoop.h"
 #include "Mapping/MappingSpec.h"
+#include "Navigation/NavigationRig.h"
 #include "Live/SetList.h"
+#include "Live/Stage.h"
 #include "Live/TactorOutput.h"
 #include <atomic>
 #include <functional>
@@ -121,13 +123,19 @@ struct LiveConfig {
     /// levels (the right arm's, as sent to its device) onto an ALSA PCM or JACK ports, beside
     /// the device. tactors.device empty = none.
     live::TactorOutputConfig tactors {};
-    /// A front end's own scene (`navigate`: a scene that needs a route and a position source, so
-    /// it is not made by name): called once, its scene runs instead of `engine.scene`, which then
-    /// only names it. Not with a set list or two arms. Empty = the scene by name.
-    std::function<std::unique_ptr<core::Scene>()> makeScene;
-    /// Source::Osc: another reader of every datagram of the port (OscReceiver::setDatagramTap),
-    /// e.g. `navigate`'s positions from the phone that sends the arm's motion. Empty = none.
-    std::function<void(const std::uint8_t*, std::size_t)> oscDatagramTap;
+    /// A walk (`armadillo navigate`, docs/NAVIGATION.md): the route, the guidance, and where the
+    /// positions come from (gpsd, an OSC port of their own, or the arm's own OSC port: a phone
+    /// that sends motion and gps). The session opens the position source
+    /// (navigation::NavigationRig, the one place it is built) and runs the navigation scene in
+    /// place of `engine.scene`, which then only names it. Not with a set list or two arms. No
+    /// route = no walk.
+    struct Walk {
+        std::shared_ptr<const navigation::Route> route;
+        navigation::NavigationOptions options {};
+        navigation::NavigationRig::Source positions = navigation::NavigationRig::Source::Gpsd;
+        std::string where;   ///< gpsd's HOST[:PORT], or the OSC port
+    };
+    Walk walk {};
 };
 
 struct SessionSummary {
@@ -175,8 +183,11 @@ public:
     std::string senderName(bool left) const;
     /// The engine that runs: the set list's current cue's, or the one scene's.
     engine::Engine& engine() noexcept { return sounding(); }
-    /// The set list's player (null without --setlist): request/next/previous from any thread.
-    live::CuePlayer* cuePlayer() noexcept { return cues_.get(); }
+    /// The set list's player (null without --setlist): its cues and the one playing, any thread.
+    live::CuePlayer* cuePlayer() noexcept { return cues_; }
+    /// The stage (Live/Stage.h): every stage command (keys, the control port, the mapping) goes
+    /// through Stage::apply and acts at the next control step; its panic count. Any thread.
+    live::Stage& stage() noexcept { return stage_; }
     /// Two arms: the left arm's link (null with one arm) and its latest pose (any thread).
     link::DeviceLink* leftLink() noexcept { return leftLink_.get(); }
     /// Two arms with an OSC sender as the left arm: its receiver (format, device, counters); null otherwise.
@@ -205,10 +216,23 @@ public:
     int oscInPort() const noexcept;
     /// Source::Osc: the receiver (format, device, counters, the mount calibration's tap); null otherwise.
     osc::OscReceiver* oscReceiver() noexcept { return oscIn_.get(); }
-    /// The sound card in use (null without one) and why an optional one is not in use.
-    const audio::SoundCard* soundCard() const noexcept { return soundCard_.get(); }
+    /// Why an optional sound card is not in use ("" when it is, or none was asked for).
     const std::string& soundCardWarning() const noexcept { return soundCardWarning_; }
-    /// The tactor output (null without LiveConfig::tactors.device).
+    /// The outputs as opened, in words for the person who runs the session: "sound on 'default'
+    /// (48000 Hz, S16_LE, 21.3 ms buffer)", "tactors on JACK …". After start().
+    std::vector<std::string> outputLines() const;
+    /// An output that stopped since the last call (the sound card, the tactor output), each said
+    /// once. One thread (the front end's).
+    std::vector<std::string> outputFailures();
+    /// After stop(): what the outputs have to say at the end (a sound card that ran dry).
+    std::vector<std::string> outputClosingLines() const;
+    /// The outputs' counters as JSON members for the summary line: ,"tactor_frames":…,
+    /// "tactor_dropped":…,"tactor_limited":… with a tactor output (docs/TACTORS.md); "" otherwise.
+    std::string outputsJson() const;
+    /// The walk (LiveConfig::walk): its route, status, log (drained by one front-end thread) and
+    /// position source; null without one.
+    navigation::NavigationRig* navigation() noexcept { return navigation_.get(); }
+    /// The tactor output (null without LiveConfig::tactors.device): for tests and benchmarks.
     live::TactorOutput* tactors() noexcept { return tactors_.get(); }
     /// The recording (LiveConfig::audioIn) has been played to its end (never with audioInLoop or
     /// without a recording): by the audio thread's position, or by the wall clock when no audio
@@ -225,10 +249,14 @@ private:
     void audioLoop();
 
     LiveConfig config_;
+    std::unique_ptr<navigation::NavigationRig> navigation_;   // before loop_: the scene reads its link until the engine goes
     live::ControlLoop loop_;            // the control step: mailbox → fusion → Engine::control (owns the engine)
     live::SourceKind sourceKind_ = live::SourceKind::Device;
     engine::Engine* engine_ = nullptr;  // the loop's engine; no other is ever offered
-    std::unique_ptr<live::CuePlayer> cues_;   // with a set list: what plays (the loop's engine only tracks)
+    live::Stage stage_;                 // the set list's player, panic and resume (one switch: Stage::apply)
+    live::CuePlayer* cues_ = nullptr;   // control thread: stage_'s player (null: none); the loop's engine only tracks
+    bool panicApplied_ = false;         // control thread: the stage's panic as last applied
+    void beginStage() noexcept;
     bool mappingPanicked_ = false;      // control thread: the mapping's panic MIDI went out for this panic
     std::atomic<std::uint32_t> mappingPanics_ {0};
     /// The mapping's stage commands (control thread, real-time): as `play`'s keys and OSC do.
@@ -243,11 +271,10 @@ private:
     core::ArmState leftArm_ {};
     live::LiveOrientation leftOrientation_ {};   // control thread: the left sender's last orientation read
     std::uint64_t leftOrientationUsed_ = 0;       // control thread: the serial of the one last fused
-    std::unique_ptr<engine::Engine> duo_;         // two arms: what plays (the loop's engine only tracks)
     core::SeqLock<core::MotorLevels> leftLevels_;
     core::SeqLock<core::Pose> leftPose_;
     std::unique_ptr<StreamingCsvWriter> armsLog_;
-    engine::Engine& sounding() noexcept { return cues_ ? cues_->engine(cues_->current()) : duo_ ? *duo_ : *engine_; }
+    engine::Engine& sounding() noexcept { return cues_ ? cues_->engine(cues_->current()) : *engine_; }
     std::unique_ptr<link::SimulatedForearm> simulator_;
     std::unique_ptr<link::DeviceLink> link_;
     std::unique_ptr<osc::OscReceiver> oscIn_;
@@ -267,6 +294,7 @@ private:
     std::unique_ptr<audio::SoundCard> soundCard_;
     std::unique_ptr<live::TactorOutput> tactors_;
     std::string soundCardWarning_;
+    bool shownCardFailure_ = false, shownTactorFailure_ = false;   // outputFailures(): said once
     std::thread audioThread_;
     std::atomic<bool> running_ {false};
     std::atomic<bool> motorsOff_ {false};

@@ -32,37 +32,48 @@ void Stage::resume() noexcept
     panic_.store(false, std::memory_order_release);
 }
 
-bool Stage::handleMidi(const std::uint8_t* bytes, int size) noexcept
+void Stage::apply(const core::StageCommand& c) noexcept
 {
+    using K = core::StageCommand::Kind;
+    switch (c.kind) {
+    case K::Panic: panic(); return;
+    case K::Resume: resume(); return;
+    case K::CueNext: next(); return;
+    case K::CuePrev: previous(); return;
+    case K::CueGoto: cue(c.cue); return;   // clamped to the list when applied
+    }
+}
+
+bool Stage::commandFromMidi(const std::uint8_t* bytes, int size, core::StageCommand& out) const noexcept
+{
+    using K = core::StageCommand::Kind;
     if (bytes == nullptr || size < 2) return false;
     const int status = bytes[0] & 0xF0;
     const int data1 = bytes[1] & 0x7F;
     if (status == 0xC0) {   // program change: 2 bytes
-        cue(data1);
+        out = {K::CueGoto, data1};
         return true;
     }
     if (size < 3) return false;
     const int data2 = bytes[2] & 0x7F;
     if (status == 0x90 && data2 > 0) {   // a note-on with velocity 0 is a note-off
-        if (data1 == nextNote_.load(std::memory_order_relaxed)) {
-            next();
-            return true;
-        }
-        if (data1 == prevNote_.load(std::memory_order_relaxed)) {
-            previous();
-            return true;
-        }
-        return false;
-    }
-    if (status == 0xB0 && data1 == kPanicCc) {
-        panic();
+        if (data1 == nextNote_.load(std::memory_order_relaxed)) out = {K::CueNext, 0};
+        else if (data1 == prevNote_.load(std::memory_order_relaxed)) out = {K::CuePrev, 0};
+        else return false;
         return true;
     }
-    if (status == 0xB0 && data1 == kResumeCc && data2 >= 64) {
-        resume();
-        return true;
-    }
-    return false;
+    if (status == 0xB0 && data1 == kPanicCc) out = {K::Panic, 0};
+    else if (status == 0xB0 && data1 == kResumeCc && data2 >= 64) out = {K::Resume, 0};
+    else return false;
+    return true;
+}
+
+bool Stage::handleMidi(const std::uint8_t* bytes, int size) noexcept
+{
+    core::StageCommand c;
+    if (!commandFromMidi(bytes, size, c)) return false;
+    apply(c);
+    return true;
 }
 
 live::CuePlayer* Stage::beginStep() noexcept

@@ -21,6 +21,7 @@
 //   CC 119, value ≥ 64      → resume (CC 119 is undefined in the MIDI 1.0 table; CC 121 is
 //                             Reset All Controllers and is left alone)
 #include "Core/Handover.h"
+#include "Core/StageCommand.h"
 #include "Live/SetList.h"
 #include <atomic>
 #include <cstdint>
@@ -60,6 +61,10 @@ public:
     }
 
     // Any thread ----------------------------------------------------------------------------------
+    /// Every stage command, from wherever it comes (OSC control port, keys, MIDI, a mapping's
+    /// "stage" destination, the app's buttons), is applied here and only here: the one switch.
+    /// Atomics only; the control side acts on it at the start of its next step (beginStep()).
+    void apply(const core::StageCommand& command) noexcept;
     void panic() noexcept;
     void resume() noexcept;
     bool panicked() const noexcept { return panic_.load(std::memory_order_acquire); }
@@ -67,8 +72,10 @@ public:
     void next() noexcept { delta_.fetch_add(1, std::memory_order_acq_rel); }
     void previous() noexcept { delta_.fetch_sub(1, std::memory_order_acq_rel); }
     void cue(int index) noexcept { goto_.store(index < 0 ? 0 : index, std::memory_order_release); }
-    /// One MIDI message of the plugin's input (1–3 bytes): acts on it when it is a stage message
-    /// (see above) and returns true. Real-time.
+    /// One MIDI message of the plugin's input (1–3 bytes) as a stage command (see above): false
+    /// when it is none. Real-time.
+    bool commandFromMidi(const std::uint8_t* bytes, int size, core::StageCommand& out) const noexcept;
+    /// commandFromMidi, then apply(): true when the message was a stage command. Real-time.
     bool handleMidi(const std::uint8_t* bytes, int size) noexcept;
     /// The notes that step the cues (−1: none).
     void setCueNotes(int nextNote, int previousNote) noexcept

@@ -16,20 +16,20 @@ namespace armadillo::live {
 
 static_assert(sizeof(termios) <= 128, "KeyReader::saved_ must hold a termios");
 
-bool stageCommandFromOsc(const osc::OscMessage& m, StageCommand& out, std::string& why)
+bool stageCommandFromOsc(const osc::OscMessage& m, core::StageCommand& out, std::string& why)
 {
     const std::string_view a = m.address;
-    if (a == "/armadillo/panic") out = {StageCommand::Kind::Panic, 0};
-    else if (a == "/armadillo/resume") out = {StageCommand::Kind::Resume, 0};
-    else if (a == "/armadillo/cue/next") out = {StageCommand::Kind::CueNext, 0};
-    else if (a == "/armadillo/cue/prev") out = {StageCommand::Kind::CuePrev, 0};
+    if (a == "/armadillo/panic") out = {core::StageCommand::Kind::Panic, 0};
+    else if (a == "/armadillo/resume") out = {core::StageCommand::Kind::Resume, 0};
+    else if (a == "/armadillo/cue/next") out = {core::StageCommand::Kind::CueNext, 0};
+    else if (a == "/armadillo/cue/prev") out = {core::StageCommand::Kind::CuePrev, 0};
     else if (a == "/armadillo/cue") {
         double v = 0.0;
         if (m.count != 1 || !m.args[0].asNumber(v) || !(v >= 0.0) || v > 9999.0 || std::floor(v) != v) {
             why = "/armadillo/cue needs one whole number >= 0 (the cue's index)";
             return false;
         }
-        out = {StageCommand::Kind::CueGoto, static_cast<int>(v)};
+        out = {core::StageCommand::Kind::CueGoto, static_cast<int>(v)};
     } else {
         why = "not a stage command: " + std::string(a);
         return false;
@@ -37,30 +37,30 @@ bool stageCommandFromOsc(const osc::OscMessage& m, StageCommand& out, std::strin
     return true;
 }
 
-bool stageCommandFromKey(char key, StageCommand& out)
+bool stageCommandFromKey(char key, core::StageCommand& out)
 {
     switch (key) {
-    case 'p': case 'P': case 27: out = {StageCommand::Kind::Panic, 0}; return true;
-    case 'r': case 'R': out = {StageCommand::Kind::Resume, 0}; return true;
-    case 'n': case 'N': case ' ': out = {StageCommand::Kind::CueNext, 0}; return true;
-    case 'b': case 'B': out = {StageCommand::Kind::CuePrev, 0}; return true;
+    case 'p': case 'P': case 27: out = {core::StageCommand::Kind::Panic, 0}; return true;
+    case 'r': case 'R': out = {core::StageCommand::Kind::Resume, 0}; return true;
+    case 'n': case 'N': case ' ': out = {core::StageCommand::Kind::CueNext, 0}; return true;
+    case 'b': case 'B': out = {core::StageCommand::Kind::CuePrev, 0}; return true;
     default:
         if (key >= '0' && key <= '9') {
-            out = {StageCommand::Kind::CueGoto, key - '0'};
+            out = {core::StageCommand::Kind::CueGoto, key - '0'};
             return true;
         }
         return false;
     }
 }
 
-std::string describe(const StageCommand& c)
+std::string describe(const core::StageCommand& c)
 {
     switch (c.kind) {
-    case StageCommand::Kind::Panic: return "panic";
-    case StageCommand::Kind::Resume: return "resume";
-    case StageCommand::Kind::CueNext: return "next cue";
-    case StageCommand::Kind::CuePrev: return "previous cue";
-    case StageCommand::Kind::CueGoto: return "cue " + std::to_string(c.cue);
+    case core::StageCommand::Kind::Panic: return "panic";
+    case core::StageCommand::Kind::Resume: return "resume";
+    case core::StageCommand::Kind::CueNext: return "next cue";
+    case core::StageCommand::Kind::CuePrev: return "previous cue";
+    case core::StageCommand::Kind::CueGoto: return "cue " + std::to_string(c.cue);
     }
     return "?";
 }
@@ -107,7 +107,7 @@ void StageControlReceiver::handleDatagram(const std::uint8_t* data, std::size_t 
                 textHandler_(std::string(m.args[0].bytes), priority >= 1.0 ? 1 : 0);
                 return;
             }
-            StageCommand c;
+            core::StageCommand c;
             std::string why;
             if (!stageCommandFromOsc(m, c, why)) {
                 refused_.fetch_add(1);
@@ -175,7 +175,7 @@ void KeyReader::run()
         const ssize_t n = ::read(fd_, &c, 1);
         if (n == 0 || (n < 0 && errno != EINTR && errno != EAGAIN)) break;   // stdin ended
         if (n != 1) continue;
-        StageCommand command;
+        core::StageCommand command;
         if (stageCommandFromKey(c, command) && handler_) handler_(command);
     }
 }

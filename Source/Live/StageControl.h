@@ -9,6 +9,7 @@
 //   /armadillo/message s [i|f]  a text for the arm to read, priority ≥ 1 = urgent (issue 35)
 // Keys: p or Escape = panic, r = resume, n or Space = next cue, b = previous cue, 0..9 = cue.
 // Parsing is separate from the socket so tests can feed it messages and keys directly.
+#include "Core/StageCommand.h"
 #include "Osc/Osc.h"
 #include <atomic>
 #include <functional>
@@ -17,24 +18,19 @@
 
 namespace armadillo::live {
 
-struct StageCommand {
-    enum class Kind { Panic, Resume, CueNext, CuePrev, CueGoto } kind = Kind::Panic;
-    int cue = 0;   ///< CueGoto: the cue's index (0-based)
-};
-
 /// A decoded OSC message as a stage command. false (with the reason in `why`) for any other
 /// address or a /armadillo/cue whose argument is not one whole number ≥ 0.
-bool stageCommandFromOsc(const osc::OscMessage& message, StageCommand& out, std::string& why);
+bool stageCommandFromOsc(const osc::OscMessage& message, core::StageCommand& out, std::string& why);
 /// A key typed on the terminal as a stage command; false for keys with no meaning.
-bool stageCommandFromKey(char key, StageCommand& out);
+bool stageCommandFromKey(char key, core::StageCommand& out);
 /// "panic", "resume", "next cue", "previous cue", "cue 3".
-std::string describe(const StageCommand& command);
+std::string describe(const core::StageCommand& command);
 
 /// Listens for stage commands on a UDP port (all interfaces, IPv6 and IPv4) on its own thread;
 /// the handler runs on that thread. Refused messages are counted.
 class StageControlReceiver {
 public:
-    using Handler = std::function<void(const StageCommand&)>;
+    using Handler = std::function<void(const core::StageCommand&)>;
     /// Binds now (port 0 = any free port); throws IoError when the port is taken.
     StageControlReceiver(int port, Handler handler);
     ~StageControlReceiver();
@@ -68,7 +64,7 @@ private:
 /// off line buffering and echo (restored by stop()/the destructor); from a pipe it reads bytes.
 class KeyReader {
 public:
-    using Handler = std::function<void(const StageCommand&)>;
+    using Handler = std::function<void(const core::StageCommand&)>;
     KeyReader(int fd, Handler handler);
     ~KeyReader();
     KeyReader(const KeyReader&) = delete;

@@ -147,15 +147,7 @@ std::string StageSession::setOsc(bool on, int port)
     try {
         // StageControl.h: /armadillo/panic, /armadillo/resume, /armadillo/cue/next|prev,
         // /armadillo/cue i, as `armadillo play --control-in` takes them. Its own thread: atomics only.
-        osc_ = std::make_unique<StageControlReceiver>(port, [this](const StageCommand& c) {
-            switch (c.kind) {
-            case StageCommand::Kind::Panic: stage_.panic(); break;
-            case StageCommand::Kind::Resume: stage_.resume(); break;
-            case StageCommand::Kind::CueNext: stage_.next(); break;
-            case StageCommand::Kind::CuePrev: stage_.previous(); break;
-            case StageCommand::Kind::CueGoto: stage_.cue(c.cue); break;
-            }
-        });
+        osc_ = std::make_unique<StageControlReceiver>(port, [this](const core::StageCommand& c) { stage_.apply(c); });
         osc_->start();
     } catch (const std::exception& e) {
         osc_.reset();

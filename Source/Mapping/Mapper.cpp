@@ -533,7 +533,7 @@ struct Mapper::Impl {
                 ++out.dropped;
                 return;
             }
-            out.stage[static_cast<std::size_t>(out.stageCount++)] = {t, d.stage, d.number, c.index};
+            out.stage[static_cast<std::size_t>(out.stageCount++)] = {t, core::StageCommand {d.stage, d.number}, c.index};
             c.active.store(true, std::memory_order_relaxed);
             c.meter.store(1.0f, std::memory_order_relaxed);
             return;

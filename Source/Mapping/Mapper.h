@@ -86,8 +86,7 @@ struct MqttMessage {
 /// A stage command a Stage destination fired (docs/STAGE.md): once per rising edge of its source.
 struct StageEvent {
     double t = 0.0;
-    StageAction action = StageAction::Next;
-    int cue = 0;                           ///< StageAction::Cue: the cue (0-based)
+    core::StageCommand command {};         ///< what it asks (CueGoto: command.cue is the cue, 0-based)
     int mapping = 0;                       ///< index of the mapping that fired it
 };
 

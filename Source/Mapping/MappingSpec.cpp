@@ -387,14 +387,14 @@ public:
             d.kind = DestinationKind::Stage;
             const std::string& a = string(*stage, path + ".stage");
             bool known = false;
-            for (StageAction k : {StageAction::Next, StageAction::Previous, StageAction::Cue, StageAction::Panic, StageAction::Resume})
+            for (core::StageCommand::Kind k : {core::StageCommand::Kind::CueNext, core::StageCommand::Kind::CuePrev, core::StageCommand::Kind::CueGoto, core::StageCommand::Kind::Panic, core::StageCommand::Kind::Resume})
                 if (a == stageActionName(k)) {
                     d.stage = k;
                     known = true;
                 }
             if (!known) fail(*stage, path + ".stage", "unknown stage command \"" + a + "\" (next, prev, cue, panic, resume)");
             const core::JsonValue* cue = v.find("cue");
-            if (d.stage == StageAction::Cue) {
+            if (d.stage == core::StageCommand::Kind::CueGoto) {
                 if (!cue) fail(v, path, "\"stage\": \"cue\" needs \"cue\": the cue's number (0-based)");
                 d.number = integerIn(*cue, path + ".cue", 0, 9999);
             } else if (cue) {
@@ -738,7 +738,7 @@ std::string destinationJson(const MappingSpec& m)
     case DestinationKind::SetForward: return "{\"action\": \"forward\"}";
     case DestinationKind::Stage:
         return std::string("{\"stage\": \"") + stageActionName(d.stage) + "\"" +
-               (d.stage == StageAction::Cue ? ", \"cue\": " + std::to_string(d.number) : std::string()) + "}";
+               (d.stage == core::StageCommand::Kind::CueGoto ? ", \"cue\": " + std::to_string(d.number) : std::string()) + "}";
     }
     return "{}";
 }
@@ -747,14 +747,14 @@ std::string destinationJson(const MappingSpec& m)
 
 // ---- public ----------------------------------------------------------------------------------
 
-const char* stageActionName(StageAction a) noexcept
+const char* stageActionName(core::StageCommand::Kind a) noexcept
 {
     switch (a) {
-    case StageAction::Next: return "next";
-    case StageAction::Previous: return "prev";
-    case StageAction::Cue: return "cue";
-    case StageAction::Panic: return "panic";
-    case StageAction::Resume: return "resume";
+    case core::StageCommand::Kind::CueNext: return "next";
+    case core::StageCommand::Kind::CuePrev: return "prev";
+    case core::StageCommand::Kind::CueGoto: return "cue";
+    case core::StageCommand::Kind::Panic: return "panic";
+    case core::StageCommand::Kind::Resume: return "resume";
     }
     return "next";
 }

@@ -8,6 +8,7 @@
 // File format: JSON, `"version": 1`, read with the project's line-numbered JSON reader; every
 // error names the file, line and column (InputError, exit code 3). The contract subset is in
 // docs/INTERFACES.md, the whole format in docs/MAPPING.md.
+#include "Core/StageCommand.h"
 #include <array>
 #include <cstdint>
 #include <string>
@@ -228,10 +229,9 @@ std::vector<MqttPayloadPart> splitMqttPayload(const std::string& payload);
 /// Why a payload template is refused ("" when it is fine): an unknown "{name}" placeholder.
 std::string mqttPayloadProblem(const std::string& payload);
 
-/// What a Stage destination does (DestinationSpec::stage).
-enum class StageAction : std::uint8_t { Next, Previous, Cue, Panic, Resume };
+/// What a Stage destination does (DestinationSpec::stage) is a core::StageCommand::Kind.
 /// The file's spelling: "next", "prev", "cue", "panic", "resume".
-const char* stageActionName(StageAction a) noexcept;
+const char* stageActionName(core::StageCommand::Kind a) noexcept;
 
 /// One argument of a templated OSC message: a constant or a value of the moment.
 struct OscArgSpec {
@@ -265,7 +265,7 @@ struct DestinationSpec {
     std::string host;         ///< OSC target; empty = the front end's default target (--osc-out, else 127.0.0.1)
     int port = 0;             ///< OSC target port; 0 = the front end's default (9000)
     std::string paramId;      ///< SceneParam: the scene parameter's stable id
-    StageAction stage = StageAction::Next;   ///< Stage: what it does; Cue: `number` is the cue (0-based)
+    core::StageCommand::Kind stage = core::StageCommand::Kind::CueNext;   ///< Stage: what it does; CueGoto: `number` is the cue (0-based)
     // Mqtt: the topic template is `address`.
     std::string payload = "{value}";   ///< payload template
     int qos = 0;              ///< 0, 1 or 2

@@ -94,7 +94,7 @@ juce::String destinationText(const mapping::DestinationSpec& d)
     case DestinationKind::SetForward: return "set forward";
     case DestinationKind::Mqtt: return "MQTT " + juce::String(d.address) + " (sent while Setup, MQTT messages is connected)";
     case DestinationKind::Stage:
-        return d.stage == mapping::StageAction::Cue ? "stage: cue " + juce::String(d.number) : "stage: " + juce::String(mapping::stageActionName(d.stage));
+        return d.stage == core::StageCommand::Kind::CueGoto ? "stage: cue " + juce::String(d.number) : "stage: " + juce::String(mapping::stageActionName(d.stage));
     }
     return {};
 }

@@ -16,7 +16,7 @@ using namespace armadillo::live;
 
 namespace {
 /// Decodes an encoded message back into an OscMessage and parses it as a stage command.
-bool parse(const std::vector<std::uint8_t>& bytes, StageCommand& out, std::string& why)
+bool parse(const std::vector<std::uint8_t>& bytes, core::StageCommand& out, std::string& why)
 {
     bool result = false;
     std::string error;
@@ -27,8 +27,8 @@ bool parse(const std::vector<std::uint8_t>& bytes, StageCommand& out, std::strin
 
 TEST_CASE("stage: OSC addresses become commands; anything else is refused with a reason", "[stage]")
 {
-    using K = StageCommand::Kind;
-    StageCommand c;
+    using K = core::StageCommand::Kind;
+    core::StageCommand c;
     std::string why;
     REQUIRE(parse(osc::encodeOscMessage("/armadillo/panic", {}), c, why));
     CHECK(c.kind == K::Panic);
@@ -56,8 +56,8 @@ TEST_CASE("stage: OSC addresses become commands; anything else is refused with a
 
 TEST_CASE("stage: keys", "[stage]")
 {
-    using K = StageCommand::Kind;
-    StageCommand c;
+    using K = core::StageCommand::Kind;
+    core::StageCommand c;
     REQUIRE(stageCommandFromKey('p', c));
     CHECK(c.kind == K::Panic);
     REQUIRE(stageCommandFromKey(27, c));
@@ -77,9 +77,9 @@ TEST_CASE("stage: keys", "[stage]")
 TEST_CASE("stage: the control port takes commands over loopback UDP and counts what it refuses", "[stage][osc]")
 {
     std::atomic<int> panics {0}, cues {0}, lastCue {-1};
-    StageControlReceiver receiver(0, [&](const StageCommand& c) {
-        if (c.kind == StageCommand::Kind::Panic) ++panics;
-        if (c.kind == StageCommand::Kind::CueGoto) {
+    StageControlReceiver receiver(0, [&](const core::StageCommand& c) {
+        if (c.kind == core::StageCommand::Kind::Panic) ++panics;
+        if (c.kind == core::StageCommand::Kind::CueGoto) {
             lastCue = c.cue;
             ++cues;
         }
@@ -111,7 +111,7 @@ TEST_CASE("stage: /armadillo/message carries a text and a priority for the arm (
 {
     std::vector<std::pair<std::string, int>> texts;
     int commands = 0;
-    StageControlReceiver receiver(0, [&](const StageCommand&) { ++commands; });
+    StageControlReceiver receiver(0, [&](const core::StageCommand&) { ++commands; });
     const auto send = [&](const std::vector<std::uint8_t>& bytes) { receiver.handleDatagram(bytes.data(), bytes.size()); };
     // Without a text handler the message is refused (counted), not taken for a command.
     send(osc::encodeOscMessage("/armadillo/message", {osc::OscArg::string("exit")}));

@@ -55,7 +55,8 @@ TEST_CASE("Stage destinations are read, written back and refused when wrong, nam
         {"source": "azimuth", "zones": [[0, 90, 1]], "to": {"stage": "resume"}}],
         "postures": [{"name": "down", "examples": [[1, 0, 0, 0]]}]})", "stage.json");
     REQUIRE(doc.mappings.size() == 5);
-    const StageAction expected[] {StageAction::Next, StageAction::Previous, StageAction::Cue, StageAction::Panic, StageAction::Resume};
+    using K = core::StageCommand::Kind;
+    const K expected[] {K::CueNext, K::CuePrev, K::CueGoto, K::Panic, K::Resume};
     for (std::size_t i = 0; i < 5; ++i) {
         CHECK(doc.mappings[i].to.kind == DestinationKind::Stage);
         CHECK(doc.mappings[i].to.stage == expected[i]);
@@ -93,7 +94,7 @@ TEST_CASE("A threshold fires its stage command once as it is crossed upward, not
     CHECK(rig.elevation(30.0, 1.12) == 0);   // off (no command on the falling edge)
     CHECK(rig.elevation(50.0, 1.13) == 1);   // a second rising edge
     REQUIRE(rig.fired.size() == 2);
-    CHECK(rig.fired[0].action == StageAction::Next);
+    CHECK(rig.fired[0].command.kind == core::StageCommand::Kind::CueNext);
     CHECK(rig.fired[0].t == Approx(0.02));
     CHECK(rig.fired[1].t == Approx(1.13));
     CHECK(rig.fired[0].mapping == 0);
@@ -108,9 +109,9 @@ TEST_CASE("A source already on when the mapping is loaded does not fire until it
     CHECK(rig.elevation(-20.0, 0.02) == 0);
     CHECK(rig.elevation(70.0, 0.03) == 2);
     REQUIRE(rig.fired.size() == 2);
-    CHECK(rig.fired[0].action == StageAction::Panic);
-    CHECK(rig.fired[1].action == StageAction::Cue);
-    CHECK(rig.fired[1].cue == 2);
+    CHECK(rig.fired[0].command.kind == core::StageCommand::Kind::Panic);
+    CHECK(rig.fired[1].command.kind == core::StageCommand::Kind::CueGoto);
+    CHECK(rig.fired[1].command.cue == 2);
 }
 
 TEST_CASE("Each gesture event, a zone entered and a posture entered fire their stage command once", "[mapping][stage]")
@@ -144,13 +145,13 @@ TEST_CASE("Each gesture event, a zone entered and a posture entered fire their s
     CHECK(rig.step(hanging, 0.10) == 1);                  // posture entered
     for (int i = 0; i < 50; ++i) CHECK(rig.step(hanging, 0.11 + i * 0.005) == 0);   // held
     REQUIRE(rig.fired.size() == 6);
-    CHECK(rig.fired[0].action == StageAction::Next);
-    CHECK(rig.fired[1].action == StageAction::Next);
-    CHECK(rig.fired[2].action == StageAction::Previous);
-    CHECK(rig.fired[3].action == StageAction::Resume);
-    CHECK(rig.fired[4].action == StageAction::Resume);
-    CHECK(rig.fired[5].action == StageAction::Cue);
-    CHECK(rig.fired[5].cue == 5);
+    CHECK(rig.fired[0].command.kind == core::StageCommand::Kind::CueNext);
+    CHECK(rig.fired[1].command.kind == core::StageCommand::Kind::CueNext);
+    CHECK(rig.fired[2].command.kind == core::StageCommand::Kind::CuePrev);
+    CHECK(rig.fired[3].command.kind == core::StageCommand::Kind::Resume);
+    CHECK(rig.fired[4].command.kind == core::StageCommand::Kind::Resume);
+    CHECK(rig.fired[5].command.kind == core::StageCommand::Kind::CueGoto);
+    CHECK(rig.fired[5].command.cue == 5);
     CHECK(rig.fired[5].mapping == 3);
 }
 
@@ -178,7 +179,7 @@ TEST_CASE("In panic only stage mappings run, and a panic does not make a held so
     in.stageOnly = true;
     rig.mapper.process(in, *rig.out);
     CHECK(rig.out->stageCount == 1);             // the mapped resume is heard in panic
-    CHECK(rig.out->stage[0].action == StageAction::Resume);
+    CHECK(rig.out->stage[0].command.kind == core::StageCommand::Kind::Resume);
     CHECK(rig.out->midiCount == 0);              // nothing else is sent
     rig.out->clear();
     CHECK(rig.step(raised, 0.05) == 0);          // held through the panic: no second panic
