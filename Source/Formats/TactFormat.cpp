@@ -146,18 +146,11 @@ bool hasContent(const core::JsonValue& mode)
     return false;
 }
 
-} // namespace
-
-ImportedScore importTact(std::string_view json, const std::string& source, const HapticImportOptions& o)
+/// Which device: the one asked for, else the forearm that has something to play (ForearmR when
+/// both do). The other devices with content are named in the report's warnings.
+std::string chooseTactDevice(const core::JsonValue& project, const core::JsonValue& tracks, const HapticImportOptions& o, const std::string& source,
+                             ImportReport& report)
 {
-    const core::JsonValue root = armadillo::core::parseJson(json, source);
-    if (root.kind != core::JsonValue::Kind::Object) throw core::InputError(source, root.line, "", "a .tact file is a JSON object");
-    const core::JsonValue& project = member(root, "project", core::JsonValue::Kind::Object, source);
-    const core::JsonValue& tracks = member(project, "tracks", core::JsonValue::Kind::Array, source);
-    if (!(o.tactPathStep >= 0.001 && o.tactPathStep <= 0.1)) throw core::InputError(source, 0, "step", "the path step must be 1..100 ms");
-
-    // Which device: the one asked for, else the forearm that has something to play (ForearmR
-    // when both do).
     std::map<std::string, int> contentByDevice;   // device name → effects with content
     for (const core::JsonValue& track : tracks.array) {
         if (track.kind != core::JsonValue::Kind::Object) throw core::InputError(source, track.line, "tracks", "each track is an object");
@@ -183,130 +176,125 @@ ImportedScore importTact(std::string_view json, const std::string& source, const
                              (others.empty() ? std::string(" (no device has any points)") : " (the file plays on: " + others + ")") +
                              ": only the forearm (Tactosy) layout maps onto the arm");
     }
-    const bool mirror = deviceName == "ForearmL";
-    ImportReport report;
-    report.format = "tact";
     for (const auto& [name, n] : contentByDevice)
         if (name != deviceName)
             report.warnings.push_back(name + " (" + std::to_string(n) + " effects) left out: " +
                                       (name == "ForearmL" || name == "ForearmR" ? "choose it with --device " + name : "not the forearm layout"));
+    return deviceName;
+}
 
-    std::vector<Piece> pieces;
-    int clipped = 0;
-    for (const core::JsonValue& track : tracks.array) {
-        if (const core::JsonValue* enable = track.find("enable"); enable && enable->kind == core::JsonValue::Kind::Bool && !enable->boolean) continue;
-        const core::JsonValue* effects = track.find("effects");
-        if (!effects) continue;
-        for (const core::JsonValue& effect : effects->array) {
-            const core::JsonValue* mode = member(effect, "modes", core::JsonValue::Kind::Object, source).find(deviceName);
-            if (!mode) continue;
-            if (mode->kind != core::JsonValue::Kind::Object) throw core::InputError(source, mode->line, deviceName, "must be an object");
-            const double start = seconds(effect, "startTime", source, true);
-            const double length = seconds(effect, "offsetTime", source, true);
-            const double limit = length > 0.0 ? length : 1e9;   // a feedback past the effect's length is cut there
-            const std::string& kind = member(*mode, "mode", core::JsonValue::Kind::String, source).string;
-            if (kind == "DOT_MODE") {
-                const core::JsonValue& feedback = member(member(*mode, "dotMode", core::JsonValue::Kind::Object, source), "feedback", core::JsonValue::Kind::Array, source);
-                for (const core::JsonValue& fb : feedback.array) {
-                    if (fb.kind != core::JsonValue::Kind::Object) throw core::InputError(source, fb.line, "feedback", "each feedback is an object");
-                    std::string playback;
-                    checkPlayback(fb, source, playback);
-                    const double s = seconds(fb, "startTime", source);
-                    double e = seconds(fb, "endTime", source);
-                    if (e < s) throw core::InputError(source, fb.line, "endTime", "a feedback ends before it starts");
-                    const double fullEnd = e;
-                    if (e > limit) {
-                        e = limit;
-                        ++clipped;
-                    }
-                    if (!(e > s)) continue;
-                    for (const core::JsonValue& p : member(fb, "pointList", core::JsonValue::Kind::Array, source).array) {
-                        if (p.kind != core::JsonValue::Kind::Object) throw core::InputError(source, p.line, "pointList", "each point is an object");
-                        const double index = tactNumber(p, "index", source);
-                        if (index != std::floor(index) || index < 0.0 || index > 5.0)
-                            throw core::InputError(source, p.line, "index", "a forearm motor index is 0..5 (three across, two rows)");
-                        const int i = static_cast<int>(index);
-                        const int col = mirror ? 2 - i % 3 : i % 3;
-                        const int motor = motorAt(i < 3 ? 0 : 2, col);
-                        const double level = kFullScale * intensityOf(p, source);
-                        // A fade over the whole feedback [s, fullEnd]: one piece per linear part.
-                        std::vector<double> cuts {s, e};
-                        if (playback == "FADE_IN_OUT" && 0.5 * (s + fullEnd) < e) cuts.insert(cuts.begin() + 1, 0.5 * (s + fullEnd));
-                        for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
-                            const double ua = (cuts[k] - s) / (fullEnd - s), ub = (cuts[k + 1] - s) / (fullEnd - s);
-                            pieces.push_back({motor, start + cuts[k], start + cuts[k + 1], level * fade(playback, ua), level * fade(playback, ub)});
-                        }
-                    }
-                }
-            } else if (kind == "PATH_MODE") {
-                const core::JsonValue& feedback = member(member(*mode, "pathMode", core::JsonValue::Kind::Object, source), "feedback", core::JsonValue::Kind::Array, source);
-                for (const core::JsonValue& fb : feedback.array) {
-                    if (fb.kind != core::JsonValue::Kind::Object) throw core::InputError(source, fb.line, "feedback", "each feedback is an object");
-                    std::string playback;
-                    checkPlayback(fb, source, playback);
-                    struct Key {
-                        double t, x, y, intensity;
-                    };
-                    std::vector<Key> keys;
-                    for (const core::JsonValue& p : member(fb, "pointList", core::JsonValue::Kind::Array, source).array) {
-                        if (p.kind != core::JsonValue::Kind::Object) throw core::InputError(source, p.line, "pointList", "each point is an object");
-                        Key k {seconds(p, "time", source), tactNumber(p, "x", source), tactNumber(p, "y", source), intensityOf(p, source)};
-                        if (k.x < 0.0 || k.x > 1.0 || k.y < 0.0 || k.y > 1.0) throw core::InputError(source, p.line, "x", "a path point lies in 0..1 × 0..1");
-                        if (!keys.empty() && k.t < keys.back().t) throw core::InputError(source, p.line, "time", "path point times must not decrease");
-                        if (mirror) k.x = 1.0 - k.x;
-                        keys.push_back(k);
-                    }
-                    if (keys.empty()) continue;
-                    if (keys.size() == 1) keys.push_back({std::max(keys[0].t, length), keys[0].x, keys[0].y, keys[0].intensity});   // held to the effect's end
-                    const double t0 = keys.front().t, t1 = keys.back().t;
-                    const auto sample = [&](double t) {   // position and intensity × fade at t (between keys: linear)
-                        std::size_t j = 1;
-                        while (j + 1 < keys.size() && keys[j].t < t) ++j;
-                        const Key &a = keys[j - 1], &b = keys[j];
-                        const double u = b.t > a.t ? std::clamp((t - a.t) / (b.t - a.t), 0.0, 1.0) : 1.0;
-                        const double f = fade(playback, t1 > t0 ? (t - t0) / (t1 - t0) : 0.0);
-                        return Key {t, a.x + (b.x - a.x) * u, a.y + (b.y - a.y) * u, (a.intensity + (b.intensity - a.intensity) * u) * f};
-                    };
-                    for (std::size_t j = 0; j + 1 < keys.size(); ++j) {
-                        const double a = keys[j].t, b = std::min(keys[j + 1].t, limit);
-                        if (keys[j + 1].t > limit) ++clipped;
-                        if (!(b > a)) continue;
-                        const int steps = std::max(1, static_cast<int>(std::ceil((b - a) / o.tactPathStep - 1e-9)));
-                        for (int k = 0; k < steps; ++k) {
-                            const double ta = a + (b - a) * k / steps, tb = a + (b - a) * (k + 1) / steps;
-                            Key ka = sample(ta), kb = sample(tb);
-                            if (j + 1 < keys.size() && k + 1 == steps && tb == keys[j + 1].t) kb = Key {tb, keys[j + 1].x, keys[j + 1].y, keys[j + 1].intensity * fade(playback, t1 > t0 ? (tb - t0) / (t1 - t0) : 0.0)};
-                            if (k == 0) ka = Key {ta, keys[j].x, keys[j].y, keys[j].intensity * fade(playback, t1 > t0 ? (ta - t0) / (t1 - t0) : 0.0)};
-                            const auto wa = spread(ka.x, ka.y), wb = spread(kb.x, kb.y);
-                            for (int m = 0; m < 9; ++m) {
-                                const double la = kFullScale * ka.intensity * wa[static_cast<std::size_t>(m)], lb = kFullScale * kb.intensity * wb[static_cast<std::size_t>(m)];
-                                if (la > 0.0 || lb > 0.0) pieces.push_back({m, start + ta, start + tb, la, lb});
-                            }
-                        }
-                    }
-                }
-            } else {
-                throw core::InputError(source, mode->line, "mode", "'" + kind + "' is not DOT_MODE or PATH_MODE");
+/// One effect's device mode as pieces: where it starts, how long it may run, and which columns
+/// are mirrored (ForearmL in the right-arm layout).
+struct TactEffect {
+    const core::JsonValue* mode = nullptr;
+    double start = 0.0, limit = 1e9, length = 0.0;
+    bool mirror = false;
+};
+
+/// DOT_MODE: each point a motor, with the feedback's fade.
+void dotPieces(const TactEffect& effect, const std::string& source, std::vector<Piece>& pieces, int& clipped)
+{
+    const core::JsonValue* mode = effect.mode;
+    const double start = effect.start, limit = effect.limit;
+    const bool mirror = effect.mirror;
+    const core::JsonValue& feedback = member(member(*mode, "dotMode", core::JsonValue::Kind::Object, source), "feedback", core::JsonValue::Kind::Array, source);
+    for (const core::JsonValue& fb : feedback.array) {
+        if (fb.kind != core::JsonValue::Kind::Object) throw core::InputError(source, fb.line, "feedback", "each feedback is an object");
+        std::string playback;
+        checkPlayback(fb, source, playback);
+        const double s = seconds(fb, "startTime", source);
+        double e = seconds(fb, "endTime", source);
+        if (e < s) throw core::InputError(source, fb.line, "endTime", "a feedback ends before it starts");
+        const double fullEnd = e;
+        if (e > limit) {
+            e = limit;
+            ++clipped;
+        }
+        if (!(e > s)) continue;
+        for (const core::JsonValue& p : member(fb, "pointList", core::JsonValue::Kind::Array, source).array) {
+            if (p.kind != core::JsonValue::Kind::Object) throw core::InputError(source, p.line, "pointList", "each point is an object");
+            const double index = tactNumber(p, "index", source);
+            if (index != std::floor(index) || index < 0.0 || index > 5.0)
+                throw core::InputError(source, p.line, "index", "a forearm motor index is 0..5 (three across, two rows)");
+            const int i = static_cast<int>(index);
+            const int col = mirror ? 2 - i % 3 : i % 3;
+            const int motor = motorAt(i < 3 ? 0 : 2, col);
+            const double level = kFullScale * intensityOf(p, source);
+            // A fade over the whole feedback [s, fullEnd]: one piece per linear part.
+            std::vector<double> cuts {s, e};
+            if (playback == "FADE_IN_OUT" && 0.5 * (s + fullEnd) < e) cuts.insert(cuts.begin() + 1, 0.5 * (s + fullEnd));
+            for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
+                const double ua = (cuts[k] - s) / (fullEnd - s), ub = (cuts[k + 1] - s) / (fullEnd - s);
+                pieces.push_back({motor, start + cuts[k], start + cuts[k + 1], level * fade(playback, ua), level * fade(playback, ub)});
             }
         }
     }
-    if (clipped > 0) report.warnings.push_back(std::to_string(clipped) + " feedback parts past their effect's length (offsetTime) cut there");
+}
 
-    // Per motor: cut at every piece boundary; on each part the louder of the pieces that cover it
-    // at each end, joined linearly.
-    std::string text = "armadillo-score 2\n# Imported from " + scoretext::oneLine(std::filesystem::path(source).filename().string()) +
-                       " by `armadillo score import` (docs/FORMATS.md, \"bHaptics .tact\").\n";
-    const std::string title = scoretext::oneLine(std::filesystem::path(source).stem().string());
-    text += "title " + (title.empty() ? std::string("imported") : title) + "\nunits seconds\n";
-    text += "# " + deviceName + (mirror ? " (columns mirrored into the right-arm layout)" : "") +
-            ": Tactosy row y=0 -> wrist motors 1-3, y=1 -> elbow motors 7-9; level = 15 x intensity; fades linear;"
-            " path points spread bilinearly over the 3x3.\n";
-    struct Line {
-        double t;
-        std::string text;
-    };
-    std::vector<Line> lines;
-    double end = 0.0;
+/// PATH_MODE: a moving point spread bilinearly over the grid, sampled every tactPathStep.
+void pathPieces(const TactEffect& effect, const std::string& source, const HapticImportOptions& o, std::vector<Piece>& pieces, int& clipped)
+{
+    const core::JsonValue* mode = effect.mode;
+    const double start = effect.start, limit = effect.limit, length = effect.length;
+    const bool mirror = effect.mirror;
+    const core::JsonValue& feedback = member(member(*mode, "pathMode", core::JsonValue::Kind::Object, source), "feedback", core::JsonValue::Kind::Array, source);
+    for (const core::JsonValue& fb : feedback.array) {
+        if (fb.kind != core::JsonValue::Kind::Object) throw core::InputError(source, fb.line, "feedback", "each feedback is an object");
+        std::string playback;
+        checkPlayback(fb, source, playback);
+        struct Key {
+            double t, x, y, intensity;
+        };
+        std::vector<Key> keys;
+        for (const core::JsonValue& p : member(fb, "pointList", core::JsonValue::Kind::Array, source).array) {
+            if (p.kind != core::JsonValue::Kind::Object) throw core::InputError(source, p.line, "pointList", "each point is an object");
+            Key k {seconds(p, "time", source), tactNumber(p, "x", source), tactNumber(p, "y", source), intensityOf(p, source)};
+            if (k.x < 0.0 || k.x > 1.0 || k.y < 0.0 || k.y > 1.0) throw core::InputError(source, p.line, "x", "a path point lies in 0..1 × 0..1");
+            if (!keys.empty() && k.t < keys.back().t) throw core::InputError(source, p.line, "time", "path point times must not decrease");
+            if (mirror) k.x = 1.0 - k.x;
+            keys.push_back(k);
+        }
+        if (keys.empty()) continue;
+        if (keys.size() == 1) keys.push_back({std::max(keys[0].t, length), keys[0].x, keys[0].y, keys[0].intensity});   // held to the effect's end
+        const double t0 = keys.front().t, t1 = keys.back().t;
+        const auto sample = [&](double t) {   // position and intensity × fade at t (between keys: linear)
+            std::size_t j = 1;
+            while (j + 1 < keys.size() && keys[j].t < t) ++j;
+            const Key &a = keys[j - 1], &b = keys[j];
+            const double u = b.t > a.t ? std::clamp((t - a.t) / (b.t - a.t), 0.0, 1.0) : 1.0;
+            const double f = fade(playback, t1 > t0 ? (t - t0) / (t1 - t0) : 0.0);
+            return Key {t, a.x + (b.x - a.x) * u, a.y + (b.y - a.y) * u, (a.intensity + (b.intensity - a.intensity) * u) * f};
+        };
+        for (std::size_t j = 0; j + 1 < keys.size(); ++j) {
+            const double a = keys[j].t, b = std::min(keys[j + 1].t, limit);
+            if (keys[j + 1].t > limit) ++clipped;
+            if (!(b > a)) continue;
+            const int steps = std::max(1, static_cast<int>(std::ceil((b - a) / o.tactPathStep - 1e-9)));
+            for (int k = 0; k < steps; ++k) {
+                const double ta = a + (b - a) * k / steps, tb = a + (b - a) * (k + 1) / steps;
+                Key ka = sample(ta), kb = sample(tb);
+                if (j + 1 < keys.size() && k + 1 == steps && tb == keys[j + 1].t) kb = Key {tb, keys[j + 1].x, keys[j + 1].y, keys[j + 1].intensity * fade(playback, t1 > t0 ? (tb - t0) / (t1 - t0) : 0.0)};
+                if (k == 0) ka = Key {ta, keys[j].x, keys[j].y, keys[j].intensity * fade(playback, t1 > t0 ? (ta - t0) / (t1 - t0) : 0.0)};
+                const auto wa = spread(ka.x, ka.y), wb = spread(kb.x, kb.y);
+                for (int m = 0; m < 9; ++m) {
+                    const double la = kFullScale * ka.intensity * wa[static_cast<std::size_t>(m)], lb = kFullScale * kb.intensity * wb[static_cast<std::size_t>(m)];
+                    if (la > 0.0 || lb > 0.0) pieces.push_back({m, start + ta, start + tb, la, lb});
+                }
+            }
+        }
+    }
+}
+
+/// Per motor: cut at every piece boundary; on each part the louder of the pieces that cover it
+/// at each end, joined linearly. The score's note lines in time order, and where the last ends.
+struct TactLine {
+    double t;
+    std::string text;
+};
+std::vector<TactLine> motorLines(std::vector<Piece>& pieces, const core::JsonValue& project, const std::string& source, ImportReport& report, double& end)
+{
+    std::vector<TactLine> lines;
+    end = 0.0;
     // A sweep over each motor's pieces in time order: the pieces sounding in each part are the
     // active ones (bounded: a file with more than kMaxOverlap at once on a motor is refused).
     std::stable_sort(pieces.begin(), pieces.end(), [](const Piece& x, const Piece& y) { return x.start < y.start; });
@@ -343,9 +331,58 @@ ImportedScore importTact(std::string_view json, const std::string& source, const
             end = std::max(end, b);
         }
     }
+    std::stable_sort(lines.begin(), lines.end(), [](const TactLine& x, const TactLine& y) { return x.t < y.t; });
+    return lines;
+}
+
+} // namespace
+
+ImportedScore importTact(std::string_view json, const std::string& source, const HapticImportOptions& o)
+{
+    const core::JsonValue root = armadillo::core::parseJson(json, source);
+    if (root.kind != core::JsonValue::Kind::Object) throw core::InputError(source, root.line, "", "a .tact file is a JSON object");
+    const core::JsonValue& project = member(root, "project", core::JsonValue::Kind::Object, source);
+    const core::JsonValue& tracks = member(project, "tracks", core::JsonValue::Kind::Array, source);
+    if (!(o.tactPathStep >= 0.001 && o.tactPathStep <= 0.1)) throw core::InputError(source, 0, "step", "the path step must be 1..100 ms");
+    ImportReport report;
+    report.format = "tact";
+    const std::string deviceName = chooseTactDevice(project, tracks, o, source, report);
+    const bool mirror = deviceName == "ForearmL";
+
+    std::vector<Piece> pieces;
+    int clipped = 0;
+    for (const core::JsonValue& track : tracks.array) {
+        if (const core::JsonValue* enable = track.find("enable"); enable && enable->kind == core::JsonValue::Kind::Bool && !enable->boolean) continue;
+        const core::JsonValue* effects = track.find("effects");
+        if (!effects) continue;
+        for (const core::JsonValue& effect : effects->array) {
+            TactEffect e;
+            e.mode = member(effect, "modes", core::JsonValue::Kind::Object, source).find(deviceName);
+            if (!e.mode) continue;
+            if (e.mode->kind != core::JsonValue::Kind::Object) throw core::InputError(source, e.mode->line, deviceName, "must be an object");
+            e.start = seconds(effect, "startTime", source, true);
+            e.length = seconds(effect, "offsetTime", source, true);
+            e.limit = e.length > 0.0 ? e.length : 1e9;   // a feedback past the effect's length is cut there
+            e.mirror = mirror;
+            const std::string& kind = member(*e.mode, "mode", core::JsonValue::Kind::String, source).string;
+            if (kind == "DOT_MODE") dotPieces(e, source, pieces, clipped);
+            else if (kind == "PATH_MODE") pathPieces(e, source, o, pieces, clipped);
+            else throw core::InputError(source, e.mode->line, "mode", "'" + kind + "' is not DOT_MODE or PATH_MODE");
+        }
+    }
+    if (clipped > 0) report.warnings.push_back(std::to_string(clipped) + " feedback parts past their effect's length (offsetTime) cut there");
+
+    std::string text = "armadillo-score 2\n# Imported from " + scoretext::oneLine(std::filesystem::path(source).filename().string()) +
+                       " by `armadillo score import` (docs/FORMATS.md, \"bHaptics .tact\").\n";
+    const std::string title = scoretext::oneLine(std::filesystem::path(source).stem().string());
+    text += "title " + (title.empty() ? std::string("imported") : title) + "\nunits seconds\n";
+    text += "# " + deviceName + (mirror ? " (columns mirrored into the right-arm layout)" : "") +
+            ": Tactosy row y=0 -> wrist motors 1-3, y=1 -> elbow motors 7-9; level = 15 x intensity; fades linear;"
+            " path points spread bilinearly over the 3x3.\n";
+    double end = 0.0;
+    const std::vector<TactLine> lines = motorLines(pieces, project, source, report, end);
     if (report.notes == 0) throw core::InputError(source, project.line, "tracks", "nothing to feel on " + deviceName + " (every intensity is 0)");
-    std::stable_sort(lines.begin(), lines.end(), [](const Line& x, const Line& y) { return x.t < y.t; });
-    for (const Line& l : lines) text += l.text;
+    for (const TactLine& l : lines) text += l.text;
     text += "length " + scoretext::lengthNumber(end) + "\n";
     ImportedScore out;
     out.text = std::move(text);

@@ -217,6 +217,180 @@ public:
         return a;
     }
 
+    void channel(const core::JsonValue& v, const std::string& path, int& out) const
+    {
+        if (const core::JsonValue* c = v.find("channel")) out = integerIn(*c, path + ".channel", 1, 16);
+    }
+    void velocity(const core::JsonValue& v, const std::string& path, DestinationSpec& d) const
+    {
+        if (const core::JsonValue* vel = v.find("velocity")) {
+            if (vel->kind == core::JsonValue::Kind::Number) d.velocity = integerIn(*vel, path + ".velocity", 1, 127);
+            else d.velocitySource = aux(*vel, path + ".velocity");
+        }
+    }
+    void zonesHere(const core::JsonValue& v, const std::string& path, std::vector<ZoneSpec>& zonesOut) const
+    {
+        if (const core::JsonValue* z = v.find("zones")) zonesOut = zones(*z, path + ".zones");
+    }
+
+    void midiDestination(const core::JsonValue& v, const core::JsonValue* midi, const std::string& path, DestinationSpec& d, std::vector<ZoneSpec>& zonesOut) const
+    {
+        const std::string& m = string(*midi, path + ".midi");
+        if (m == "cc" || m == "cc7" || m == "cc14") {
+            onlyKeys(v, path, {"midi", "channel", "cc", "lsbFirst", "zones"});
+            d.kind = m == "cc14" ? DestinationKind::Cc14 : DestinationKind::Cc7;
+            channel(v, path, d.channel);
+            const core::JsonValue* cc = v.find("cc");
+            if (!cc) fail(v, path, "missing \"cc\"");
+            d.number = integerIn(*cc, path + ".cc", 0, d.kind == DestinationKind::Cc14 ? 31 : 127);
+            if (const core::JsonValue* l = v.find("lsbFirst")) {
+                if (d.kind != DestinationKind::Cc14) fail(*l, path + ".lsbFirst", "only for \"cc14\"");
+                d.lsbFirst = boolean(*l, path + ".lsbFirst");
+            }
+            zonesHere(v, path, zonesOut);
+        } else if (m == "nrpn") {
+            onlyKeys(v, path, {"midi", "channel", "number", "zones"});
+            d.kind = DestinationKind::Nrpn;
+            channel(v, path, d.channel);
+            const core::JsonValue* n = v.find("number");
+            if (!n) fail(v, path, "missing \"number\" (the NRPN parameter 0…16383)");
+            d.number = integerIn(*n, path + ".number", 0, 16383);
+            zonesHere(v, path, zonesOut);
+        } else if (m == "pitchbend") {
+            onlyKeys(v, path, {"midi", "channel", "zones"});
+            d.kind = DestinationKind::PitchBend;
+            channel(v, path, d.channel);
+            zonesHere(v, path, zonesOut);
+        } else if (m == "pressure") {
+            onlyKeys(v, path, {"midi", "channel", "zones"});
+            d.kind = DestinationKind::ChannelPressure;
+            channel(v, path, d.channel);
+            zonesHere(v, path, zonesOut);
+        } else if (m == "notes" || m == "note") {
+            onlyKeys(v, path, {"midi", "channel", "velocity", "zones", "note", "lengthMs"});
+            d.kind = DestinationKind::Notes;
+            channel(v, path, d.channel);
+            velocity(v, path, d);
+            zonesHere(v, path, zonesOut);
+            d.number = 60;
+            if (const core::JsonValue* n = v.find("note")) d.number = integerIn(*n, path + ".note", 0, 127);
+            if (const core::JsonValue* l = v.find("lengthMs")) d.lengthMs = numberIn(*l, path + ".lengthMs", 1.0, 60000.0);
+            for (const ZoneSpec& z : zonesOut)
+                if (z.value > 127) fail(v, path + ".zones", "note " + std::to_string(z.value) + " is outside 0…127");
+        } else if (m == "mpe") {
+            onlyKeys(v, path, {"midi", "channel", "velocity", "zones", "members", "bend", "bendRange", "pressure", "timbre"});
+            d.kind = DestinationKind::Mpe;
+            channel(v, path, d.channel);
+            if (d.channel != 1 && d.channel != 16) fail(*v.find("channel"), path + ".channel", "the MPE master channel is 1 (lower zone) or 16 (upper zone)");
+            velocity(v, path, d);
+            zonesHere(v, path, zonesOut);
+            if (const core::JsonValue* n = v.find("members")) d.mpeMembers = integerIn(*n, path + ".members", 1, 15);
+            if (const core::JsonValue* b = v.find("bend")) d.mpeBend = aux(*b, path + ".bend");
+            if (const core::JsonValue* b = v.find("bendRange")) d.mpeBendRange = numberIn(*b, path + ".bendRange", 1.0, 96.0);
+            if (const core::JsonValue* p = v.find("pressure")) d.mpePressure = aux(*p, path + ".pressure");
+            if (const core::JsonValue* t = v.find("timbre")) d.mpeTimbre = aux(*t, path + ".timbre");
+            for (const ZoneSpec& z : zonesOut)
+                if (z.value > 127) fail(v, path + ".zones", "note " + std::to_string(z.value) + " is outside 0…127");
+        } else if (m == "program") {
+            onlyKeys(v, path, {"midi", "channel", "program", "zones"});
+            d.kind = DestinationKind::ProgramChange;
+            channel(v, path, d.channel);
+            if (const core::JsonValue* p = v.find("program")) d.number = integerIn(*p, path + ".program", 0, 127);
+            zonesHere(v, path, zonesOut);
+            for (const ZoneSpec& z : zonesOut)
+                if (z.value > 127) fail(v, path + ".zones", "program " + std::to_string(z.value) + " is outside 0…127");
+        } else {
+            fail(*midi, path + ".midi", "unknown MIDI destination \"" + m + "\" (cc, cc14, nrpn, pitchbend, pressure, notes, note, mpe, program)");
+        }
+    }
+
+    void oscDestination(const core::JsonValue& v, const core::JsonValue* osc, const std::string& path, DestinationSpec& d, std::vector<ZoneSpec>& zonesOut) const
+    {
+        onlyKeys(v, path, {"osc", "args", "types", "host", "port", "zones"});
+        d.kind = DestinationKind::Osc;
+        d.address = string(*osc, path + ".osc");
+        if (d.address.empty() || d.address[0] != '/') fail(*osc, path + ".osc", "an OSC address starts with '/'");
+        if (d.address.size() > 128) fail(*osc, path + ".osc", "address longer than 128 characters");
+        if (const core::JsonValue* args = v.find("args")) {
+            expectKind(*args, core::JsonValue::Kind::Array, path + ".args");
+            if (args->array.size() > static_cast<std::size_t>(kMaxOscArgs))
+                fail(*args, path + ".args", "more than " + std::to_string(kMaxOscArgs) + " arguments");
+            for (std::size_t i = 0; i < args->array.size(); ++i)
+                d.args.push_back(oscArg(args->array[i], path + ".args[" + std::to_string(i) + "]"));
+        }
+        if (const core::JsonValue* t = v.find("types")) {
+            const std::string& types = string(*t, path + ".types");
+            const std::size_t n = d.args.empty() ? 1 : d.args.size();
+            if (types.size() != n) fail(*t, path + ".types", "\"" + types + "\" has " + std::to_string(types.size()) + " type tags for " + std::to_string(n) + " arguments");
+            if (d.args.empty()) d.args.push_back(OscArgSpec {});
+            for (std::size_t i = 0; i < n; ++i) {
+                const char c = types[i];
+                if (c != 'f' && c != 'i' && c != 'd' && c != 's') fail(*t, path + ".types", std::string("type tag '") + c + "' is not one of f i d s");
+                if ((c == 's') != (d.args[i].kind == OscArgSpec::Kind::String))
+                    fail(*t, path + ".types", "argument " + std::to_string(i) + ": 's' goes with a string constant and only with one");
+                d.args[i].type = c;
+            }
+        }
+        if (const core::JsonValue* h = v.find("host")) {
+            d.host = string(*h, path + ".host");
+            if (d.host.empty()) fail(*h, path + ".host", "empty host");
+        }
+        if (const core::JsonValue* p = v.find("port")) d.port = integerIn(*p, path + ".port", 1, 65535);
+        zonesHere(v, path, zonesOut);
+    }
+
+    void mqttDestination(const core::JsonValue& v, const core::JsonValue* mqtt, const std::string& path, DestinationSpec& d, std::vector<ZoneSpec>& zonesOut) const
+    {
+        onlyKeys(v, path, {"mqtt", "zones"});
+        expectKind(*mqtt, core::JsonValue::Kind::Object, path + ".mqtt");
+        onlyKeys(*mqtt, path + ".mqtt", {"topic", "payload", "qos", "retain", "rate"});
+        d.kind = DestinationKind::Mqtt;
+        const core::JsonValue* topic = mqtt->find("topic");
+        if (!topic) fail(*mqtt, path + ".mqtt", "an MQTT destination needs \"topic\"");
+        d.address = string(*topic, path + ".mqtt.topic");
+        if (d.address.empty()) fail(*topic, path + ".mqtt.topic", "empty topic");
+        if (d.address.find_first_of("+#") != std::string::npos)
+            fail(*topic, path + ".mqtt.topic", "a topic to publish to has no wildcards ('+', '#')");
+        if (d.address.size() > 120) fail(*topic, path + ".mqtt.topic", "topic longer than 120 characters");
+        if (const core::JsonValue* p = mqtt->find("payload")) {
+            d.payload = string(*p, path + ".mqtt.payload");
+            if (const std::string why = mqttPayloadProblem(d.payload); !why.empty()) fail(*p, path + ".mqtt.payload", why);
+        }
+        if (const core::JsonValue* q = mqtt->find("qos")) d.qos = integerIn(*q, path + ".mqtt.qos", 0, 2);
+        if (const core::JsonValue* r = mqtt->find("retain")) {
+            expectKind(*r, core::JsonValue::Kind::Bool, path + ".mqtt.retain");
+            d.retain = r->boolean;
+        }
+        if (const core::JsonValue* r = mqtt->find("rate")) {
+            expectKind(*r, core::JsonValue::Kind::Number, path + ".mqtt.rate");
+            if (!(r->number >= 0.0 && r->number <= 1000.0)) fail(*r, path + ".mqtt.rate", "messages per second from 0 (no limit) to 1000");
+            d.rate = r->number;
+        }
+        zonesHere(v, path, zonesOut);
+    }
+
+    void stageDestination(const core::JsonValue& v, const core::JsonValue* stage, const std::string& path, DestinationSpec& d, std::vector<ZoneSpec>& zonesOut) const
+    {
+        onlyKeys(v, path, {"stage", "cue", "zones"});
+        d.kind = DestinationKind::Stage;
+        const std::string& a = string(*stage, path + ".stage");
+        bool known = false;
+        for (core::StageCommand::Kind k : {core::StageCommand::Kind::CueNext, core::StageCommand::Kind::CuePrev, core::StageCommand::Kind::CueGoto, core::StageCommand::Kind::Panic, core::StageCommand::Kind::Resume})
+            if (a == stageActionName(k)) {
+                d.stage = k;
+                known = true;
+            }
+        if (!known) fail(*stage, path + ".stage", "unknown stage command \"" + a + "\" (next, prev, cue, panic, resume)");
+        const core::JsonValue* cue = v.find("cue");
+        if (d.stage == core::StageCommand::Kind::CueGoto) {
+            if (!cue) fail(v, path, "\"stage\": \"cue\" needs \"cue\": the cue's number (0-based)");
+            d.number = integerIn(*cue, path + ".cue", 0, 9999);
+        } else if (cue) {
+            fail(*cue, path + ".cue", "\"cue\" goes only with \"stage\": \"cue\"");
+        }
+        zonesHere(v, path, zonesOut);
+    }
+
     DestinationSpec destination(const core::JsonValue& v, const std::string& path, std::vector<ZoneSpec>& zonesOut) const
     {
         expectKind(v, core::JsonValue::Kind::Object, path);
@@ -232,175 +406,25 @@ public:
                           (mqtt != nullptr);
         if (kinds != 1)
             fail(v, path, "a destination names exactly one of \"midi\", \"osc\", \"mqtt\", \"macro\", \"param\", \"action\", \"stage\"");
-        const auto channel = [&](int& out) {
-            if (const core::JsonValue* c = v.find("channel")) out = integerIn(*c, path + ".channel", 1, 16);
-        };
-        const auto velocity = [&]() {
-            if (const core::JsonValue* vel = v.find("velocity")) {
-                if (vel->kind == core::JsonValue::Kind::Number) d.velocity = integerIn(*vel, path + ".velocity", 1, 127);
-                else d.velocitySource = aux(*vel, path + ".velocity");
-            }
-        };
-        const auto zonesHere = [&]() {
-            if (const core::JsonValue* z = v.find("zones")) zonesOut = zones(*z, path + ".zones");
-        };
         if (midi) {
-            const std::string& m = string(*midi, path + ".midi");
-            if (m == "cc" || m == "cc7" || m == "cc14") {
-                onlyKeys(v, path, {"midi", "channel", "cc", "lsbFirst", "zones"});
-                d.kind = m == "cc14" ? DestinationKind::Cc14 : DestinationKind::Cc7;
-                channel(d.channel);
-                const core::JsonValue* cc = v.find("cc");
-                if (!cc) fail(v, path, "missing \"cc\"");
-                d.number = integerIn(*cc, path + ".cc", 0, d.kind == DestinationKind::Cc14 ? 31 : 127);
-                if (const core::JsonValue* l = v.find("lsbFirst")) {
-                    if (d.kind != DestinationKind::Cc14) fail(*l, path + ".lsbFirst", "only for \"cc14\"");
-                    d.lsbFirst = boolean(*l, path + ".lsbFirst");
-                }
-                zonesHere();
-            } else if (m == "nrpn") {
-                onlyKeys(v, path, {"midi", "channel", "number", "zones"});
-                d.kind = DestinationKind::Nrpn;
-                channel(d.channel);
-                const core::JsonValue* n = v.find("number");
-                if (!n) fail(v, path, "missing \"number\" (the NRPN parameter 0…16383)");
-                d.number = integerIn(*n, path + ".number", 0, 16383);
-                zonesHere();
-            } else if (m == "pitchbend") {
-                onlyKeys(v, path, {"midi", "channel", "zones"});
-                d.kind = DestinationKind::PitchBend;
-                channel(d.channel);
-                zonesHere();
-            } else if (m == "pressure") {
-                onlyKeys(v, path, {"midi", "channel", "zones"});
-                d.kind = DestinationKind::ChannelPressure;
-                channel(d.channel);
-                zonesHere();
-            } else if (m == "notes" || m == "note") {
-                onlyKeys(v, path, {"midi", "channel", "velocity", "zones", "note", "lengthMs"});
-                d.kind = DestinationKind::Notes;
-                channel(d.channel);
-                velocity();
-                zonesHere();
-                d.number = 60;
-                if (const core::JsonValue* n = v.find("note")) d.number = integerIn(*n, path + ".note", 0, 127);
-                if (const core::JsonValue* l = v.find("lengthMs")) d.lengthMs = numberIn(*l, path + ".lengthMs", 1.0, 60000.0);
-                for (const ZoneSpec& z : zonesOut)
-                    if (z.value > 127) fail(v, path + ".zones", "note " + std::to_string(z.value) + " is outside 0…127");
-            } else if (m == "mpe") {
-                onlyKeys(v, path, {"midi", "channel", "velocity", "zones", "members", "bend", "bendRange", "pressure", "timbre"});
-                d.kind = DestinationKind::Mpe;
-                channel(d.channel);
-                if (d.channel != 1 && d.channel != 16) fail(*v.find("channel"), path + ".channel", "the MPE master channel is 1 (lower zone) or 16 (upper zone)");
-                velocity();
-                zonesHere();
-                if (const core::JsonValue* n = v.find("members")) d.mpeMembers = integerIn(*n, path + ".members", 1, 15);
-                if (const core::JsonValue* b = v.find("bend")) d.mpeBend = aux(*b, path + ".bend");
-                if (const core::JsonValue* b = v.find("bendRange")) d.mpeBendRange = numberIn(*b, path + ".bendRange", 1.0, 96.0);
-                if (const core::JsonValue* p = v.find("pressure")) d.mpePressure = aux(*p, path + ".pressure");
-                if (const core::JsonValue* t = v.find("timbre")) d.mpeTimbre = aux(*t, path + ".timbre");
-                for (const ZoneSpec& z : zonesOut)
-                    if (z.value > 127) fail(v, path + ".zones", "note " + std::to_string(z.value) + " is outside 0…127");
-            } else if (m == "program") {
-                onlyKeys(v, path, {"midi", "channel", "program", "zones"});
-                d.kind = DestinationKind::ProgramChange;
-                channel(d.channel);
-                if (const core::JsonValue* p = v.find("program")) d.number = integerIn(*p, path + ".program", 0, 127);
-                zonesHere();
-                for (const ZoneSpec& z : zonesOut)
-                    if (z.value > 127) fail(v, path + ".zones", "program " + std::to_string(z.value) + " is outside 0…127");
-            } else {
-                fail(*midi, path + ".midi", "unknown MIDI destination \"" + m + "\" (cc, cc14, nrpn, pitchbend, pressure, notes, note, mpe, program)");
-            }
+            midiDestination(v, midi, path, d, zonesOut);
         } else if (osc) {
-            onlyKeys(v, path, {"osc", "args", "types", "host", "port", "zones"});
-            d.kind = DestinationKind::Osc;
-            d.address = string(*osc, path + ".osc");
-            if (d.address.empty() || d.address[0] != '/') fail(*osc, path + ".osc", "an OSC address starts with '/'");
-            if (d.address.size() > 128) fail(*osc, path + ".osc", "address longer than 128 characters");
-            if (const core::JsonValue* args = v.find("args")) {
-                expectKind(*args, core::JsonValue::Kind::Array, path + ".args");
-                if (args->array.size() > static_cast<std::size_t>(kMaxOscArgs))
-                    fail(*args, path + ".args", "more than " + std::to_string(kMaxOscArgs) + " arguments");
-                for (std::size_t i = 0; i < args->array.size(); ++i)
-                    d.args.push_back(oscArg(args->array[i], path + ".args[" + std::to_string(i) + "]"));
-            }
-            if (const core::JsonValue* t = v.find("types")) {
-                const std::string& types = string(*t, path + ".types");
-                const std::size_t n = d.args.empty() ? 1 : d.args.size();
-                if (types.size() != n) fail(*t, path + ".types", "\"" + types + "\" has " + std::to_string(types.size()) + " type tags for " + std::to_string(n) + " arguments");
-                if (d.args.empty()) d.args.push_back(OscArgSpec {});
-                for (std::size_t i = 0; i < n; ++i) {
-                    const char c = types[i];
-                    if (c != 'f' && c != 'i' && c != 'd' && c != 's') fail(*t, path + ".types", std::string("type tag '") + c + "' is not one of f i d s");
-                    if ((c == 's') != (d.args[i].kind == OscArgSpec::Kind::String))
-                        fail(*t, path + ".types", "argument " + std::to_string(i) + ": 's' goes with a string constant and only with one");
-                    d.args[i].type = c;
-                }
-            }
-            if (const core::JsonValue* h = v.find("host")) {
-                d.host = string(*h, path + ".host");
-                if (d.host.empty()) fail(*h, path + ".host", "empty host");
-            }
-            if (const core::JsonValue* p = v.find("port")) d.port = integerIn(*p, path + ".port", 1, 65535);
-            zonesHere();
+            oscDestination(v, osc, path, d, zonesOut);
         } else if (mqtt) {
-            onlyKeys(v, path, {"mqtt", "zones"});
-            expectKind(*mqtt, core::JsonValue::Kind::Object, path + ".mqtt");
-            onlyKeys(*mqtt, path + ".mqtt", {"topic", "payload", "qos", "retain", "rate"});
-            d.kind = DestinationKind::Mqtt;
-            const core::JsonValue* topic = mqtt->find("topic");
-            if (!topic) fail(*mqtt, path + ".mqtt", "an MQTT destination needs \"topic\"");
-            d.address = string(*topic, path + ".mqtt.topic");
-            if (d.address.empty()) fail(*topic, path + ".mqtt.topic", "empty topic");
-            if (d.address.find_first_of("+#") != std::string::npos)
-                fail(*topic, path + ".mqtt.topic", "a topic to publish to has no wildcards ('+', '#')");
-            if (d.address.size() > 120) fail(*topic, path + ".mqtt.topic", "topic longer than 120 characters");
-            if (const core::JsonValue* p = mqtt->find("payload")) {
-                d.payload = string(*p, path + ".mqtt.payload");
-                if (const std::string why = mqttPayloadProblem(d.payload); !why.empty()) fail(*p, path + ".mqtt.payload", why);
-            }
-            if (const core::JsonValue* q = mqtt->find("qos")) d.qos = integerIn(*q, path + ".mqtt.qos", 0, 2);
-            if (const core::JsonValue* r = mqtt->find("retain")) {
-                expectKind(*r, core::JsonValue::Kind::Bool, path + ".mqtt.retain");
-                d.retain = r->boolean;
-            }
-            if (const core::JsonValue* r = mqtt->find("rate")) {
-                expectKind(*r, core::JsonValue::Kind::Number, path + ".mqtt.rate");
-                if (!(r->number >= 0.0 && r->number <= 1000.0)) fail(*r, path + ".mqtt.rate", "messages per second from 0 (no limit) to 1000");
-                d.rate = r->number;
-            }
-            zonesHere();
+            mqttDestination(v, mqtt, path, d, zonesOut);
         } else if (macro) {
             onlyKeys(v, path, {"macro", "zones"});
             d.kind = DestinationKind::Macro;
             d.number = integerIn(*macro, path + ".macro", 1, kMacroCount);
-            zonesHere();
+            zonesHere(v, path, zonesOut);
         } else if (param) {
             onlyKeys(v, path, {"param", "zones"});
             d.kind = DestinationKind::SceneParam;
             d.paramId = string(*param, path + ".param");
             if (d.paramId.empty()) fail(*param, path + ".param", "empty parameter id");
-            zonesHere();
+            zonesHere(v, path, zonesOut);
         } else if (stage) {
-            onlyKeys(v, path, {"stage", "cue", "zones"});
-            d.kind = DestinationKind::Stage;
-            const std::string& a = string(*stage, path + ".stage");
-            bool known = false;
-            for (core::StageCommand::Kind k : {core::StageCommand::Kind::CueNext, core::StageCommand::Kind::CuePrev, core::StageCommand::Kind::CueGoto, core::StageCommand::Kind::Panic, core::StageCommand::Kind::Resume})
-                if (a == stageActionName(k)) {
-                    d.stage = k;
-                    known = true;
-                }
-            if (!known) fail(*stage, path + ".stage", "unknown stage command \"" + a + "\" (next, prev, cue, panic, resume)");
-            const core::JsonValue* cue = v.find("cue");
-            if (d.stage == core::StageCommand::Kind::CueGoto) {
-                if (!cue) fail(v, path, "\"stage\": \"cue\" needs \"cue\": the cue's number (0-based)");
-                d.number = integerIn(*cue, path + ".cue", 0, 9999);
-            } else if (cue) {
-                fail(*cue, path + ".cue", "\"cue\" goes only with \"stage\": \"cue\"");
-            }
-            zonesHere();
+            stageDestination(v, stage, path, d, zonesOut);
         } else {
             onlyKeys(v, path, {"action"});
             const std::string& a = string(*action, path + ".action");

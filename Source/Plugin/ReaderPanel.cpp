@@ -17,6 +17,20 @@ ReaderPanel::ReaderPanel(ArmadilloProcessor& processor) : processor_(processor)
     heading_.setFont(juce::Font(16.0f, juce::Font::bold));
     describe(heading_, "Reader settings", "Settings for a reader who cannot see or hear the screen.");
 
+    setUpVoice();
+    setUpTouch();
+    setUpAdaptive();
+    setUpAdaptiveChoices();
+    setUpReport();
+    for (juce::Component* c : std::initializer_list<juce::Component*> {&heading_, &voice_, &rate_, &repeat_, &stop_, &voiceState_, &armFeedback_, &touch_,
+                                                                        &loadTouch_, &clearTouch_, &saveTouch_, &startTest_, &felt_, &notFelt_, &again_, &testState_, &adaptiveStart_, &adaptiveAgain_, &adaptiveAnswer_, &adaptiveState_, &adaptiveTrials_, &adaptiveLevel_, &adaptiveMethod_, &adaptiveStages_, &readerProfile_, &forgetReader_, &reportHeading_, &loadReport_, &report_})
+        addAndMakeVisible(*c);
+    refresh();
+    startTimerHz(4);
+}
+
+void ReaderPanel::setUpVoice()
+{
     voiceLabel_.setText("Speak and braille", juce::dontSendNotification);
     voice_.addItemList({"Auto (when a screen reader or brltty runs)", "On", "Off"}, 1);
     describe(voice_, "Self-voicing",
@@ -53,7 +67,10 @@ ReaderPanel::ReaderPanel(ArmadilloProcessor& processor) : processor_(processor)
     armFeedback_.getToggleStateValue().referTo(processor_.settings().getPropertyAsValue(SettingIds::armFeedback, nullptr));
     armFeedback_.onClick = [this] { announce(armFeedback_.getToggleState() ? "Feedback on the arm: on" : "Feedback on the arm: off"); };
     describe(voiceState_, "Speech and display state", "Which voice and braille display are in use.");
+}
 
+void ReaderPanel::setUpTouch()
+{
     describe(touch_, "Touch profile", "The reader's touch profile: each motor's threshold, used to scale it.");
     describe(loadTouch_, "Load touch profile",
              "Load a touch profile made by armadillo touch-profile. It is saved with the setup and scales every motor.");
@@ -81,7 +98,10 @@ ReaderPanel::ReaderPanel(ArmadilloProcessor& processor) : processor_(processor)
     describe(testState_, "Sensitivity test state", "Which motor and level the test is at, or its result.");
     describe(saveTouch_, "Save touch profile", "Write the touch profile in use to a file (for armadillo --profile).");
     saveTouch_.onClick = [this] { saveProfile(); };
+}
 
+void ReaderPanel::setUpAdaptive()
+{
     describe(adaptiveStart_, "Adaptive training",
              "Train letters and words adapted to everything you answered before: choose or name your reader profile "
              "file. The trials, stages, method and level below; drawn on the arm; answer in the field (letters and Return, "
@@ -99,7 +119,10 @@ ReaderPanel::ReaderPanel(ArmadilloProcessor& processor) : processor_(processor)
     adaptiveKeys_.attach(adaptiveAnswer_, [this] { answerAdaptive(); }, [this](const juce::String& t) { announce(t); },
                          &processor_.voice());
     describe(adaptiveState_, "Adaptive training state", "The trial and its prompt, or the last feedback.");
+}
 
+void ReaderPanel::setUpAdaptiveChoices()
+{
     // The adaptive training's choices, kept in the settings (the CLI's --trials --stages --method --level).
     auto& settings = processor_.settings();
     trialsLabel_.setText("Trials", juce::dontSendNotification);
@@ -146,7 +169,10 @@ ReaderPanel::ReaderPanel(ArmadilloProcessor& processor) : processor_(processor)
         processor_.settings().setProperty(SettingIds::readerProfile, "", nullptr);
         showReaderProfile();
     };
+}
 
+void ReaderPanel::setUpReport()
+{
     reportHeading_.setText("Progress", juce::dontSendNotification);
     describe(reportHeading_, "Progress", "The progress report of a reader profile.");
     describe(loadReport_, "Progress report",
@@ -172,12 +198,6 @@ ReaderPanel::ReaderPanel(ArmadilloProcessor& processor) : processor_(processor)
     report_.setCaretVisible(true);   // the caret is where a braille reader reads
     report_.setFont(juce::Font(juce::Font::getDefaultMonospacedFontName(), 14.0f, juce::Font::plain));
     report_.setTextToShowWhenEmpty("no report loaded", juce::Colours::grey);
-
-    for (juce::Component* c : std::initializer_list<juce::Component*> {&heading_, &voice_, &rate_, &repeat_, &stop_, &voiceState_, &armFeedback_, &touch_,
-                                                                        &loadTouch_, &clearTouch_, &saveTouch_, &startTest_, &felt_, &notFelt_, &again_, &testState_, &adaptiveStart_, &adaptiveAgain_, &adaptiveAnswer_, &adaptiveState_, &adaptiveTrials_, &adaptiveLevel_, &adaptiveMethod_, &adaptiveStages_, &readerProfile_, &forgetReader_, &reportHeading_, &loadReport_, &report_})
-        addAndMakeVisible(*c);
-    refresh();
-    startTimerHz(4);
 }
 
 ReaderPanel::~ReaderPanel()

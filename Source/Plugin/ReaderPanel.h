@@ -46,6 +46,13 @@ public:
     juce::String takeStages();
 
 private:
+    // The constructor's parts, in order: speech and the braille display, the touch profile and the
+    // sensitivity test, the adaptive training and its choices, the progress report and messages.
+    void setUpVoice();
+    void setUpTouch();
+    void setUpAdaptive();
+    void setUpAdaptiveChoices();
+    void setUpReport();
     void timerCallback() override;
     void refresh();
     void announce(const juce::String& text);

@@ -192,7 +192,25 @@ float ScoreFollower::correlation(double period) const noexcept
 void ScoreFollower::analyse() noexcept
 {
     level_ = static_cast<float>(std::sqrt(hopEnergy_ / hop_));
+    const float recentMin = trackLevel();
+    // Envelopes.
+    for (std::size_t p = 0; p < parts_.size(); ++p) {
+        float& e = env_[p];
+        e += (level_ - e) * (level_ > e ? attackCoef_[p] : releaseCoef_[p]);
+    }
+    cueEnvelope_ += (level_ - cueEnvelope_) * (level_ > cueEnvelope_ ? cueAttack_ : cueRelease_);
+    const float r0 = alignNotes();
+    sounding_ = gate_ || (current_ >= 0 && r0 >= params_.pitchThreshold) || (current_ >= 0 && onsetFrame_ == written_);
+    if (!heard_ && (gate_ || current_ >= 0)) {
+        heard_ = true;
+        firstSoundFrame_ = written_ - static_cast<std::uint64_t>(hop_);
+    }
+    followCues(recentMin);
+    publish();
+}
 
+float ScoreFollower::trackLevel() noexcept
+{
     // Noise floor, gate, dips and onsets.
     // The first 100 ms after a start learn the floor (the lowest hop); the gate waits for them.
     const bool learning = hopsSinceReset_ < 40;
@@ -224,23 +242,13 @@ void ScoreFollower::analyse() noexcept
     for (float l : recentLevels_) recentMin = std::min(recentMin, l);
     recentLevels_[static_cast<std::size_t>(recentIndex_)] = level_;
     recentIndex_ = (recentIndex_ + 1) % static_cast<int>(recentLevels_.size());
+    return recentMin;
+}
 
-    // Envelopes.
-    for (std::size_t p = 0; p < parts_.size(); ++p) {
-        float& e = env_[p];
-        e += (level_ - e) * (level_ > e ? attackCoef_[p] : releaseCoef_[p]);
-    }
-    cueEnvelope_ += (level_ - cueEnvelope_) * (level_ > cueEnvelope_ ? cueAttack_ : cueRelease_);
-
-    // Notes: a left-to-right alignment over the followed events. An event's match is the sum of
-    // its pitches' correlations (each ≥ 0, the sum at most 1): in a mix of harmonic tones of
-    // unrelated periods the correlation at one tone's period is about that tone's share of the
-    // energy, so a chord that sounds scores ≈ 1 and each of its notes alone ≈ its share.
+void ScoreFollower::matchCandidates(PitchMatches& rp, CandidateMatches& r) noexcept
+{
     const int count = static_cast<int>(notes_.size());
-    std::array<std::array<float, kEventPitches>, kCandidates> rp {};
-    std::array<float, kCandidates> r {};
-    r.fill(-1.0f);
-    if (count > 0 && level_ > 1e-5f) {
+    {
         std::array<double, kCandidates * kEventPitches> seenPeriod {};
         std::array<float, kCandidates * kEventPitches> seenR {};
         int seen = 0;
@@ -282,6 +290,21 @@ void ScoreFollower::analyse() noexcept
             }
             r[static_cast<std::size_t>(c)] = std::min(1.0f, sum);
         }
+    }
+}
+
+float ScoreFollower::alignNotes() noexcept
+{
+    // Notes: a left-to-right alignment over the followed events. An event's match is the sum of
+    // its pitches' correlations (each ≥ 0, the sum at most 1): in a mix of harmonic tones of
+    // unrelated periods the correlation at one tone's period is about that tone's share of the
+    // energy, so a chord that sounds scores ≈ 1 and each of its notes alone ≈ its share.
+    const int count = static_cast<int>(notes_.size());
+    PitchMatches rp {};
+    CandidateMatches r {};
+    r.fill(-1.0f);
+    if (count > 0 && level_ > 1e-5f) {
+        matchCandidates(rp, r);
         // What event a explains that event b does not: its pitches that b lacks.
         const auto exclusive = [&](int a, int b) {
             const int ia = current_ + a, ib = current_ + b;
@@ -319,12 +342,11 @@ void ScoreFollower::analyse() noexcept
             peak_ = std::max(peak_, level_);
         }
     }
-    sounding_ = gate_ || (current_ >= 0 && r[0] >= params_.pitchThreshold) || (current_ >= 0 && onsetFrame_ == written_);
-    if (!heard_ && (gate_ || current_ >= 0)) {
-        heard_ = true;
-        firstSoundFrame_ = written_ - static_cast<std::uint64_t>(hop_);
-    }
+    return r[0];
+}
 
+void ScoreFollower::followCues(float recentMin) noexcept
+{
     // Cues: score time runs with the audio from the first sound; a cue seen moves it, and a
     // cue not yet seen holds score time at its own time until it is seen or its window ends.
     holdAt_ = kNoHold;
@@ -349,7 +371,6 @@ void ScoreFollower::analyse() noexcept
             holdAt_ = c.time - 1e-3;   // just before it: what starts at the cue waits for it
         }
     }
-    publish();
 }
 
 void ScoreFollower::publish() noexcept

@@ -77,7 +77,17 @@ private:
         bool repeatsPrevious = false;   ///< the same pitches as the event before
     };
     void reset() noexcept;
-    void analyse() noexcept;
+    void analyse() noexcept;   // one hop: the steps below, then publish()
+    /// The hop's level: noise floor, gate, dips and onsets. Returns the lowest recent level.
+    float trackLevel() noexcept;
+    using PitchMatches = std::array<std::array<float, kEventPitches>, kCandidates>;
+    using CandidateMatches = std::array<float, kCandidates>;
+    /// How well each candidate event (current_ + c) and each of its pitches match the hop.
+    void matchCandidates(PitchMatches& rp, CandidateMatches& r) noexcept;
+    /// Moves current_ to a candidate that clearly sounds. Returns the current event's match.
+    float alignNotes() noexcept;
+    /// Score time and the cues: seen, missed or held for.
+    void followCues(float recentMin) noexcept;
     float correlation(double period) const noexcept;
     /// Whether `period` is one of event e's pitches (within 1 %).
     bool hasPitch(int e, double period) const noexcept;
