@@ -9,7 +9,6 @@
 #include "Cli/TactorOptions.h"
 #include "Live/MappingRig.h"
 #include "Core/Errors.h"
-#include "Audio/SoundCard.h"
 #include "Braille/BrailleScene.h"
 #include "Braille/TrainingFeeder.h"
 #include "Core/AtomicFile.h"

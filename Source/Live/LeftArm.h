@@ -3,7 +3,7 @@
 // with its own mailbox and tracker (its own SR-UKF for IMU samples, its own orientations for a
 // sender that fuses itself), fused on the control side each step as the right arm's source is
 // (live::fuseStep: at most kMaxImuPerStep samples, the newest). Its receiver (same
-// dialects, detection and mount as the right arm's OSC input) lives in Connections.
+// dialects, detection and mount as the right arm's OSC input) is built by Live/BlockRig.
 //
 // Threads: setOn() on the message thread; the OSC receiver's thread fills input(); fuse() on the
 // control side (the token holder): no allocation, lock, I/O or throw.

@@ -12,6 +12,7 @@
 // allocates, locks or throws (tested with the RealtimeGuard).
 #include "Core/SpscQueue.h"
 #include "Core/Types.h"
+#include "Live/TactorOutputConfig.h"
 #include "Tactors/TactorRenderer.h"
 #include <array>
 #include <atomic>
@@ -26,18 +27,6 @@ class JackOutput;
 }
 
 namespace armadillo::live {
-
-struct TactorOutputConfig {
-    std::string device;                    ///< "jack", or an ALSA PCM name ("hw:UMC1820", "plughw:1", "null")
-    tactors::TactorParams params {};
-    tactors::ChannelMap map = tactors::ChannelMap::identity(core::kGridMotors);
-    tactors::TactorGains gains {};
-    std::string connect;                   ///< JACK: connect tactor_k to the k-th input port matching this ("" = none)
-    std::string clientName = "armadillo";  ///< JACK client name
-    double sampleRate = 48000.0;           ///< ALSA: the rate asked of the device (JACK: the server's)
-    double latencySeconds = 0.010;         ///< ALSA: buffer asked of the device
-    int realtimePriority = 0;              ///< ALSA thread: SCHED_FIFO priority (0 = none)
-};
 
 /// One latency record: a control step's levels from push() to the first sample that carries them.
 struct TactorLatency {
