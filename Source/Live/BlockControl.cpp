@@ -47,7 +47,7 @@ void BlockControl::prepare(double sampleRate)
     offlineRender_.store(false, std::memory_order_relaxed);
     samplesSinceStep_ = std::max(1, static_cast<int>(std::lround(sampleRate_.load() / kControlRateHz)));
     notesOffPending_.store(true, std::memory_order_relaxed);   // a restart: nothing may hang
-    cues_ = nullptr;   // the stage may have replaced its player (prepareToPlay): taken again at the next block
+    runner_.forgetCues();   // the stage may have replaced its player (prepareToPlay): taken again at the next block
 }
 
 void BlockControl::step(double dt, double wall, bool toMotors, const core::Transport& transport, BlockMidi* midi,
@@ -70,15 +70,12 @@ void BlockControl::step(double dt, double wall, bool toMotors, const core::Trans
                          cells_.roll->load(std::memory_order_relaxed)};
     s.transport = transport;
     s.dt = dt;
-    s.cues = cues_;              // a set list's cues run in place of the engine
-    s.panic = panicApplied_;
-    s.panicGesture = stage_ != nullptr && stage_->panicGesture();
     s.leftArm = leftArm_ != nullptr ? leftArm_->fuse() : nullptr;   // null: one arm
     s.arrivalCutoff = cutoff;
-    ControlResult result = loop_.tick(s);   // swap-in, parameters, fusion, Engine::control
+    // The stage's cues and panic; the panic gesture (docs/STAGE.md) panics the stage, as CC 120
+    // or F12 do (Live/StepRunner.h).
+    ControlResult result = runner_.step(s);
     if (! result.ran) return;
-    // The panic gesture (docs/STAGE.md) panics the stage, as CC 120 or F12 do.
-    if (result.gesturePanic) stage_->panic();
     if (result.swapped) mapper_.resendSceneParams();   // the new scene starts from its defaults
     if (auto* stimulus = stimulus_.load(std::memory_order_acquire))
         // The sensitivity test or the training has the motors; the roll rate feeds its arm gestures.
@@ -133,7 +130,7 @@ void BlockControl::step(double dt, double wall, bool toMotors, const core::Trans
     in.scene = engine.sceneValues();
     in.gestures = stepGestures_.data();
     in.gestureCount = gestureCount;
-    in.stageOnly = panicApplied_;   // in panic no note is sent until resume; a mapped resume still runs
+    in.stageOnly = runner_.panicked();   // in panic no note is sent until resume; a mapped resume still runs
     mapper_.process(in, mapOut_);
     applyMappedStage();
     learnRange(in);
@@ -478,20 +475,18 @@ void BlockControl::applyMappedStage() noexcept
 
 engine::Engine* BlockControl::runningEngine() noexcept
 {
-    if (cues_ != nullptr) return &cues_->engine(cues_->current());
-    auto* slot = loop_.active();
-    return slot != nullptr ? slot->engine.get() : nullptr;
+    return runner_.running();
 }
 
 void BlockControl::renderRunning(float* left, float* right, int numSamples) noexcept
 {
-    if (cues_ != nullptr) cues_->renderAudio(left, right, numSamples);
+    if (CuePlayer* cues = runner_.cues(); cues != nullptr) cues->renderAudio(left, right, numSamples);
     else loop_.render(left, right, numSamples);
 }
 
 void BlockControl::inputRunning(const float* const* in, int channels, int numSamples) noexcept
 {
-    if (cues_ != nullptr) cues_->processInput(in, channels, numSamples);
+    if (CuePlayer* cues = runner_.cues(); cues != nullptr) cues->processInput(in, channels, numSamples);
     else loop_.processInput(in, channels, numSamples);
 }
 
@@ -502,30 +497,15 @@ void BlockControl::notesRunning(int from, int len) noexcept
         notesIn_[static_cast<std::size_t>(notesInNext_++)].offset -= from;
     const int count = notesInNext_ - first;
     if (count == 0) return;
-    if (cues_ != nullptr) cues_->processMidi(notesIn_.data() + first, count);
+    if (CuePlayer* cues = runner_.cues(); cues != nullptr) cues->processMidi(notesIn_.data() + first, count);
     else loop_.processMidi(notesIn_.data() + first, count);
 }
 
 void BlockControl::beginStage(BlockMidi* midi, double blockStart, int blockSamples) noexcept
 {
-    if (stage_ == nullptr) return;
-    cues_ = stage_->beginStep();
-    const bool panic = stage_->panicked();
-    engine::Engine* engine = nullptr;
-    if (auto* slot = loop_.active(); slot != nullptr) engine = slot->engine.get();
-    if (panic) {
-        // Every block while in panic: idempotent, and it reaches an engine or a set list that
-        // took over since. Before anything of this block is rendered: silent within the block.
-        if (engine != nullptr) engine->panic();
-        if (cues_ != nullptr) cues_->panic();
-    }
-    if (panic == panicApplied_) return;
-    panicApplied_ = panic;
-    if (! panic) {   // resume: the current scene (or cue) from reset(), sound fading back in
-        if (engine != nullptr) engine->resume();
-        if (cues_ != nullptr) cues_->resume();
-        return;
-    }
+    // Cue requests, panic and resume reach the engine and the cues (Live/StepRunner.h) before
+    // anything of this block is rendered.
+    if (runner_.beginStage() != StepRunner::StageChange::PanicStarted) return;
     // Every note the mapping has sounding ends now, then All Sound Off and All Notes Off on all
     // 16 channels (MIDI 1.0, CC 120 / CC 123, value 0) for whatever the receivers still hold
     // (Mapper::panic, which `play --midi-out` sends too), at the block's first sample.

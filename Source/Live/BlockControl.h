@@ -29,6 +29,7 @@
 #include "Live/OscLink.h"
 #include "Live/SceneParameters.h"
 #include "Live/Stage.h"
+#include "Live/StepRunner.h"
 #include "Mapping/Mapper.h"
 #include "Tactors/TactorRenderer.h"
 #include <array>
@@ -97,7 +98,11 @@ public:
     void setMidiPort(MidiOutQueue* port) noexcept { port_ = port; }
     /// Before the control side runs: the stage (set list, panic, MIDI stage messages; Stage.h).
     /// Its commands act at the start of the next block (or idle step), never mid-block.
-    void setStage(Stage* stage) noexcept { stage_ = stage; }
+    void setStage(Stage* stage) noexcept
+    {
+        stage_ = stage;
+        runner_.setStage(stage);
+    }
     /// Before the control side runs: the left arm (LeftArm.h, docs/STAGE.md "Two arms"). While it
     /// is on, each step fuses it and hands it to the engine (Engine::control with both arms when
     /// the engine was built with twoArms) and to the mapping (`left.*`, `arms.*` sources).
@@ -304,8 +309,7 @@ private:
     MidiOutQueue* port_ = nullptr;
     Stage* stage_ = nullptr;
     LeftArm* leftArm_ = nullptr;
-    CuePlayer* cues_ = nullptr;   ///< token holder: the set list's player this block (null: none)
-    bool panicApplied_ = false;         ///< token holder: the stage's panic as applied
+    StepRunner runner_ {loop_, nullptr};   ///< token holder: the stage applied, the control step (Live/StepRunner.h)
     std::atomic<std::uint64_t> stageCommands_ {0};   ///< stage commands the mapping fired
     std::uint64_t frameSerial_ = 0;
     /// The listened-to input of one control step (≤ 192 kHz / 200 Hz samples), fixed size.

@@ -267,7 +267,7 @@ core::MotorLevels LiveSession::control(double t, const link::SensorCounts* count
     }
     // The stage first (Live/Stage.h): cue requests, panic and resume from every place that makes
     // them (keys, the control port, the mapping), applied at this step as the plugin's block does.
-    beginStage();
+    runner_.beginStage();
     if (leftTracker_) {   // the left arm: its samples since the last step through its own tracker (bounded)
         // As the right arm's step (live::fuseStep): the newest samples, or a self-fusing
         // sender's newest orientation once.
@@ -276,8 +276,6 @@ core::MotorLevels LiveSession::control(double t, const link::SensorCounts* count
     }
     live::ControlStep step;
     step.source = sourceKind_;
-    step.cues = cues_;             // a set list's cues run in place of the loop's (monitor) engine
-    step.panic = panicApplied_;
     step.leftArm = leftTracker_ ? &leftArm_ : nullptr;
     step.transport.valid = true;
     step.transport.playing = true;
@@ -286,8 +284,8 @@ core::MotorLevels LiveSession::control(double t, const link::SensorCounts* count
     step.transport.ppq = t * config_.bpm / 60.0;
     step.dt = dt;
     step.panicGesture = config_.panicGesture;
-    const live::ControlResult result = loop_.tick(step);   // the loop panicked the engine and the cues on a gesture
-    if (result.gesturePanic) stage_.panic();            // … and the stage remembers it until resume, as a command's
+    // The stage's cues and panic; a gesture panic is the stage's too, held until resume.
+    const live::ControlResult result = runner_.step(step);
     const core::ArmState& arm = result.arm;
     const core::MotorLevels levels = result.levels;
     if (leftTracker_) leftLevels_.store(cues_ ? cues_->leftLevels() : engine_->leftLevels());
@@ -352,7 +350,7 @@ core::MotorLevels LiveSession::control(double t, const link::SensorCounts* count
     // A panic (a command, a key, the gesture) also silences what the mapping sent, as the plugin
     // does: its sounding notes end and CC 120 + CC 123 go out on all 16 channels as it starts,
     // and the mapping sends nothing more until resume.
-    const bool panicNow = panicApplied_ || result.gesturePanic;
+    const bool panicNow = runner_.panicked() || result.gesturePanic;
     if (mapping_ && panicNow && !mappingPanicked_) mapping_->panic(t);
     mappingPanicked_ = panicNow;
     // In panic only the stage-command mappings run (a mapped resume), nothing else is sent.
@@ -366,22 +364,6 @@ void LiveSession::applyStage(void* self, const mapping::StageEvent& e) noexcept
     auto& s = *static_cast<LiveSession*>(self);
     if (e.command.kind == core::StageCommand::Kind::Panic) s.mappingPanics_.fetch_add(1, std::memory_order_relaxed);
     s.stage_.apply(e.command);   // acts at the next step, as every other stage command does
-}
-
-void LiveSession::beginStage() noexcept
-{
-    stage_.beginStep();   // cue requests since the last step, to cues_ (installed at construction, never replaced)
-    const bool panic = stage_.panicked();
-    if (panic) {   // every step while in panic: idempotent, and it reaches a cue that took over since
-        engine_->panic();
-        if (cues_) cues_->panic();
-    }
-    if (panic == panicApplied_) return;
-    panicApplied_ = panic;
-    if (!panic) {   // resume: the current scene (or cue) from its start, sound fading back in
-        engine_->resume();
-        if (cues_) cues_->resume();
-    }
 }
 
 void LiveSession::renderBlock(float* left, float* right, int n) noexcept

@@ -25,6 +25,7 @@
 #include "Navigation/NavigationRig.h"
 #include "Live/SetList.h"
 #include "Live/Stage.h"
+#include "Live/StepRunner.h"
 #include "Live/TactorOutput.h"
 #include <atomic>
 #include <functional>
@@ -254,9 +255,8 @@ private:
     live::SourceKind sourceKind_ = live::SourceKind::Device;
     engine::Engine* engine_ = nullptr;  // the loop's engine; no other is ever offered
     live::Stage stage_;                 // the set list's player, panic and resume (one switch: Stage::apply)
-    live::CuePlayer* cues_ = nullptr;   // control thread: stage_'s player (null: none); the loop's engine only tracks
-    bool panicApplied_ = false;         // control thread: the stage's panic as last applied
-    void beginStage() noexcept;
+    live::StepRunner runner_ {loop_, &stage_};   // the one control step (Live/StepRunner.h)
+    live::CuePlayer* cues_ = nullptr;   // stage_'s player, installed at construction, never replaced (null: none)
     bool mappingPanicked_ = false;      // control thread: the mapping's panic MIDI went out for this panic
     std::atomic<std::uint32_t> mappingPanics_ {0};
     /// The mapping's stage commands (control thread, real-time): as `play`'s keys and OSC do.
