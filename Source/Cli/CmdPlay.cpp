@@ -214,7 +214,7 @@ struct PlayRequest {
     std::string mountOut, leftMountOut, calibrateOut, trainingLog;
     int controlPort = -1;
     std::unique_ptr<ReaderIo> voice;
-    std::unique_ptr<PlayMessages> messages;   // outlives the session: the braille scene holds its messages
+    std::unique_ptr<PlayMessages> messages;   // what the session's messages say on stderr (null: no broker)
 };
 
 /// Step 1: the options, group by group (Cli/LiveOptions.h), into a request; every output is
@@ -305,12 +305,15 @@ std::unique_ptr<PlayRequest> readPlayRequest(const CommandLine& cl, const LiveCo
     if (cl.has("--tactors")) config.tactors = tactorConfig(cl, config.engine.motorCount);
     else if (anyTactorSetting(cl)) throw UsageError("the --tactor-* options set up --tactors DEVICE|jack: give it too");
 
-    // Messages on the arm (docs/MQTT.md): declared before the session so the messages it hands
-    // the braille scene outlive the scene's control thread.
-    std::unique_ptr<PlayMessages> messages = readPlayMessages(cl, engine.scene, engine.parameters, engine.sceneConfig.resourceDir);
-    if (command.reader && !(messages && messages->wantsMessages()))
+    // Messages on the arm (docs/MQTT.md): the session owns the service; this says what it does.
+    config.messages = readPlayMessages(cl, engine.scene, engine.parameters, engine.sceneConfig.resourceDir);
+    if (command.reader && !(config.messages.on && !config.messages.config.topics.empty()))
         throw UsageError("read shows messages only: give a broker and topics (--mqtt HOST[:PORT] --messages TOPIC, or both in --mqtt-config)");
-    if (messages) messages->setCommand(command.name);
+    std::unique_ptr<PlayMessages> messages;
+    if (config.messages.on) {
+        messages = std::make_unique<PlayMessages>();
+        messages->setCommand(command.name);
+    }
     auto request = std::make_unique<PlayRequest>();
     request->config = std::move(config);
     request->seconds = seconds;
@@ -327,7 +330,7 @@ std::unique_ptr<PlayRequest> readPlayRequest(const CommandLine& cl, const LiveCo
 }
 
 /// The summary line of step 5 (docs/INTERFACES.md): the link's counters and what each part did.
-std::string sessionSummary(live::LiveSession& session, const live::SourceReport& report, const PlayMessages* messages,
+std::string sessionSummary(live::LiveSession& session, const live::SourceReport& report,
                            live::CuePlayer* cues, std::uint32_t panics)
 {
     std::string summary = live::summaryJson(session.summary());
@@ -344,7 +347,7 @@ std::string sessionSummary(live::LiveSession& session, const live::SourceReport&
             summary.insert(summary.size() - 1, ",\"panic_midi_events\":" + std::to_string(m->panicMidiEvents()));
     }
     summary.insert(summary.size() - 1, report.leftSummaryJson());
-    if (messages) summary.insert(summary.size() - 1, messages->summaryJson());
+    summary.insert(summary.size() - 1, session.messagesJson());
     if (cues) summary.insert(summary.size() - 1, ",\"cue\":" + std::to_string(cues->current()) + ",\"cue_changes\":" + std::to_string(cues->changes()));
     summary.insert(summary.size() - 1, session.outputsJson());   // the tactor output's own counters (docs/TACTORS.md)
     return summary;
@@ -409,7 +412,6 @@ public:
         if (keys_) keys_->stop();
         if (controlIn_) controlIn_->stop();
         session_.stop();
-        if (request_.messages) request_.messages->stop();
         if (request_.dataTimeout > 0.0 && noData_.empty()) noData_ = silence(session_.summary().seconds);
         if (!noData_.empty()) {   // nothing was played: no file is written
             std::cout << live::summaryJson(session_.summary()) << "\n" << std::flush;
@@ -428,7 +430,7 @@ public:
                           << "'; that step and the later ones keep the starting calibration\n";
             link::saveCalibration(request_.calibrateOut, calibration_->result());
         }
-        std::cout << sessionSummary(session_, *report_, request_.messages.get(), cues_, panicTotal()) << "\n" << std::flush;
+        std::cout << sessionSummary(session_, *report_, cues_, panicTotal()) << "\n" << std::flush;
         return session_.engine().failed() ? int(core::kExitFailure) : int(core::kExitOk);
     }
 
@@ -467,8 +469,8 @@ private:
             std::cerr << who_ << "set list of " << cues_->cueCount() << " cues; cue 0 '" << cues_->cue(0).name << "' (" << cues_->cue(0).scene << ")\n";
         if (request_.controlPort > 0) {
             controlIn_ = std::make_unique<live::StageControlReceiver>(request_.controlPort, handler);   // IoError (exit 4) when taken
-            if (request_.messages && request_.messages->wantsMessages())   // /armadillo/message "text" [priority] (docs/MQTT.md)
-                controlIn_->setTextHandler([m = request_.messages.get()](const std::string& text, int priority) { m->offerText(text, priority); });
+            if (session_.showsMessages())   // /armadillo/message "text" [priority] (docs/MQTT.md)
+                controlIn_->setTextHandler([s = &session_](const std::string& text, int priority) { s->offerMessage(text, priority); });
             controlIn_->start();
         }
         if (cl.has("--keys")) {
@@ -487,13 +489,7 @@ private:
             if (!brailleScene_) throw UsageError("--training-log needs the braille scene");
             training_ = std::make_unique<TerminalTraining>(*brailleScene_, request_.voice.get());
         }
-        messageScene_ = messages && messages->wantsMessages() ? dynamic_cast<braille::BrailleSceneControls*>(&session_.engine().scene()) : nullptr;
-        if (messages && messages->wantsMessages() && !messageScene_) throw UsageError("--messages need the braille scene");
-        if (messages) {
-            if (live::MappingRig* rig = session_.mapping()) rig->setMqttSink(&PlayMessages::publishMapped, messages);
-            if (request_.voice) messages->setMirror([v = request_.voice.get()](const std::string& line) { v->note(line); });   // --speak, --brlapi
-            messages->start();
-        }
+        if (messages && request_.voice) messages->setMirror([v = request_.voice.get()](const std::string& line) { v->note(line); });   // --speak, --brlapi
         // --calibrate: the device calibration (procedures::DeviceCalibration, as `armadillo
         // calibrate` and the app's Calibration window present it), each step taken when it has enough data.
         if (!request_.calibrateOut.empty()) {
@@ -605,7 +601,7 @@ private:
         shownError_ = e;
         for (const std::string& line : report_->poll(elapsed)) std::cerr << lineStart_ << who_ << line << "\n";
         for (const auto& g : mountCalibrations_) g->step();
-        if (request_.messages) request_.messages->poll(messageScene_, std::cerr, lineStart_);
+        if (request_.messages) request_.messages->poll(session_, std::cerr, lineStart_);
         for (const std::string& line : session_.outputFailures()) std::cerr << lineStart_ << who_ << line << "\n";   // once each
     }
 
@@ -648,7 +644,6 @@ private:
     std::unique_ptr<live::KeyReader> keys_;
     std::unique_ptr<TerminalTraining> training_;
     braille::BrailleSceneControls* brailleScene_ = nullptr;
-    braille::BrailleSceneControls* messageScene_ = nullptr;
     std::unique_ptr<procedures::DeviceCalibration> calibration_;
     std::vector<std::unique_ptr<GuidedMount>> mountCalibrations_;   // the right arm's, the left arm's
     ForwardOff forwardOff_;

@@ -52,22 +52,9 @@ void addTopics(const CommandLine& cl, const char* option, bool urgent, mqtt::Mqt
 
 } // namespace
 
-PlayMessages::PlayMessages(mqtt::MqttConfig config, mqtt::PresenterOptions options) : service_(std::move(config), std::move(options)) {}
-
-PlayMessages::~PlayMessages() { stop(); }
-
-void PlayMessages::start() { service_.start(); }
-void PlayMessages::stop() { service_.stop(); }
-
-bool PlayMessages::publishMapped(void* self, const mapping::MqttMessage& m)
+void PlayMessages::poll(live::LiveSession& session, std::ostream& err, const char* lineStart)
 {
-    return static_cast<PlayMessages*>(self)->service_.publishValue(std::string_view(m.topic.data(), m.topicLength),
-                                                                   std::string_view(m.payload.data(), m.payloadLength), m.qos, m.retain, m.rate);
-}
-
-void PlayMessages::poll(braille::BrailleSceneControls* scene, std::ostream& err, const char* lineStart)
-{
-    const mqtt::MqttStatus s = service_.status();
+    const mqtt::MqttStatus s = session.messagesStatus();
     if (s.state != shownState_) {
         shownState_ = s.state;
         err << lineStart << who_ << "MQTT " << s.broker << ": " << mqtt::connectionStateName(s.state);
@@ -75,7 +62,7 @@ void PlayMessages::poll(braille::BrailleSceneControls* scene, std::ostream& err,
         if (s.state == mqtt::ConnectionState::Connected && s.connects > 1) err << " again (reconnection " << s.connects - 1 << ")";
         err << "\n";
     }
-    const mqtt::InboxStats in = service_.inbox();
+    const mqtt::InboxStats in = session.messagesInbox();
     if (in.refused != shownRefused_) {
         shownRefused_ = in.refused;
         err << lineStart << who_ << in.lastRefusal << "\n";
@@ -84,44 +71,32 @@ void PlayMessages::poll(braille::BrailleSceneControls* scene, std::ostream& err,
         shownDropped_ = in.droppedOldest;
         err << lineStart << who_ << "the message queue was full: " << in.droppedOldest << " oldest message(s) dropped so far\n";
     }
-    if (!scene) return;
-    for (const std::string& line : service_.present(*scene)) {
+    for (const std::string& line : session.presentMessages()) {
         err << lineStart << who_ << line << "\n";
         if (mirror_ && line.find(" on the arm: ") != std::string::npos) mirror_(line);
     }
 }
 
-std::string PlayMessages::summaryJson() const
-{
-    const mqtt::MqttStatus s = service_.status();
-    const mqtt::InboxStats in = service_.inbox();
-    return ",\"mqtt\":{\"connects\":" + std::to_string(s.connects) + ",\"connection_losses\":" + std::to_string(s.connectionLosses) +
-           ",\"published\":" + std::to_string(s.published) + ",\"coalesced\":" + std::to_string(s.coalesced) +
-           ",\"outbox_dropped\":" + std::to_string(s.outboxDropped) +
-           ",\"received\":" + std::to_string(s.received) + ",\"messages_accepted\":" + std::to_string(in.accepted) +
-           ",\"messages_refused\":" + std::to_string(in.refused) + ",\"messages_dropped\":" + std::to_string(in.droppedOldest) +
-           ",\"messages_shown\":" + std::to_string(service_.shown()) + ",\"messages_waiting\":" + std::to_string(in.waiting) + "}";
-}
-
 /// For play: reads every MQTT option; null when there is no broker. UsageError for messages
 /// without a broker or without the braille scene.
-std::unique_ptr<PlayMessages> readPlayMessages(const CommandLine& cl, const std::string& scene, const std::vector<std::string>& parameters,
-                                               const std::string& resourceDir)
+live::LiveConfig::Messages readPlayMessages(const CommandLine& cl, const std::string& scene, const std::vector<std::string>& parameters,
+                                            const std::string& resourceDir)
 {
-    mqtt::MqttConfig config;
+    live::LiveConfig::Messages messages;
+    mqtt::MqttConfig& config = messages.config;
     const bool broker = readMqttOptions(cl, config);
     const bool wantsMessages = cl.has("--messages") || cl.has("--urgent");
     for (const char* o : {"--message-display", "--message-shorthand"})
         if (cl.has(o) && !wantsMessages && (!broker || config.topics.empty())) throw UsageError(std::string(o) + " applies to --messages");
     if (!broker) {
         if (wantsMessages) throw UsageError("--messages needs a broker: --mqtt HOST[:PORT] or --mqtt-config FILE");
-        return nullptr;
+        return messages;
     }
     addTopics(cl, "--messages", false, config);
     addTopics(cl, "--urgent", true, config);
     // Without topics the broker serves the mapping's MQTT destinations only.
     if (!config.topics.empty() && scene != "braille") throw UsageError("--messages are read in Arm Braille: use --scene braille");
-    mqtt::PresenterOptions options;
+    mqtt::PresenterOptions& options = messages.options;
     const std::string display = cl.value("--message-display", "roll");
     if (display != "roll" && display != "timed") throw UsageError("--message-display: '" + display + "' (roll or timed)");
     options.timed = display == "timed";
@@ -132,7 +107,8 @@ std::unique_ptr<PlayMessages> readPlayMessages(const CommandLine& cl, const std:
         if (p.rfind("braille.method=", 0) == 0) braille::parseDisplayMethod(p.substr(15), options.method);
     }
     if (cl.has("--message-shorthand")) options.shorthand = braille::signShorthand(braille::defaultSignWords(resourceDir));
-    return std::make_unique<PlayMessages>(std::move(config), std::move(options));
+    messages.on = true;
+    return messages;
 }
 
 } // namespace armadillo::cli

@@ -5,7 +5,7 @@
 #include "Cli/CommandLine.h"
 #include "Mapping/Mapper.h"
 #include "Mqtt/ArmMessages.h"
-#include "Mqtt/MessageService.h"
+#include "Live/LiveSession.h"
 #include <functional>
 #include <memory>
 #include <ostream>
@@ -24,44 +24,30 @@ std::vector<OptionSpec> mqttMessageOptionSpecs();
 /// False when neither option is given. `brokerOption`: the broker's option name (mqtt check: --broker).
 bool readMqttOptions(const CommandLine& cl, mqtt::MqttConfig& config, const char* brokerOption = "--mqtt");
 
-/// Messages on the arm during `play` and `read` (both run Cli/LiveCommand.h's session): the core's
-/// MessageService (the client, its inbox and the presenter that hands the messages to the braille
-/// scene, as the app uses it) with the command line's status lines and summary. Declared before
-/// the session it serves, so it outlives it.
+/// Messages on the arm during `play` and `read` (both run Cli/LiveCommand.h's session), as the
+/// command line says them: the live session owns the service (LiveConfig::messages); this prints
+/// its connection changes, refusals and what was shown on the arm.
 class PlayMessages {
 public:
-    PlayMessages(mqtt::MqttConfig config, mqtt::PresenterOptions options);
-    ~PlayMessages();
-    void start();
-    /// Main loop: connection changes and what the presenter did, said on `err` (`scene`: the
-    /// braille scene showing the messages; null when there are no message topics).
-    void poll(braille::BrailleSceneControls* scene, std::ostream& err, const char* lineStart);
-    bool wantsMessages() const noexcept { return !service_.config().topics.empty(); }
+    /// Main loop: connection changes and what the session handed to the arm, said on `err`.
+    void poll(live::LiveSession& session, std::ostream& err, const char* lineStart);
     /// The command whose stderr lines these are ("play", "read"): "armadillo NAME: …".
     void setCommand(const std::string& name) { who_ = "armadillo " + name + ": "; }
     /// Also tells each message handed to the arm here (play's --speak / --brlapi: ReaderIo::note),
-    /// as the training's prompts are. Set before start().
+    /// as the training's prompts are.
     void setMirror(std::function<void(const std::string&)> mirror) { mirror_ = std::move(mirror); }
-    /// A text from OSC (`--control-in`'s /armadillo/message): queued as a message from "osc".
-    void offerText(const std::string& text, int priority) { service_.offerText(text, "osc", priority); }
-    /// live::MqttSink for the mapping's MQTT destinations (real-time: the client's SPSC outbox).
-    static bool publishMapped(void* self, const mapping::MqttMessage& message);
-    void stop();
-    /// ,"mqtt":{...} for the summary line.
-    std::string summaryJson() const;
 
 private:
-    mqtt::MessageService service_;
     std::function<void(const std::string&)> mirror_;
     std::string who_ = "armadillo play: ";
     mqtt::ConnectionState shownState_ = mqtt::ConnectionState::Stopped;
     std::uint64_t shownRefused_ = 0, shownDropped_ = 0;
 };
 
-/// For play: every MQTT option read; null when there is no broker.
-/// UsageError for messages without a broker or without the braille scene.
+/// For play: every MQTT option read into the session's description (`on` false when there is no
+/// broker). UsageError for messages without a broker or without the braille scene.
 /// `parameters`: the scene's --param list (the reader's braille.grade and braille.method).
-std::unique_ptr<PlayMessages> readPlayMessages(const CommandLine& cl, const std::string& scene, const std::vector<std::string>& parameters,
-                                               const std::string& resourceDir);
+live::LiveConfig::Messages readPlayMessages(const CommandLine& cl, const std::string& scene, const std::vector<std::string>& parameters,
+                                            const std::string& resourceDir);
 
 } // namespace armadillo::cli

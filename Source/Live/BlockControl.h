@@ -126,7 +126,7 @@ public:
     /// step whose levels reach the motors is pushed to it too (its SPSC queue). Any thread; null
     /// = none. Before deleting an output set here, set null and take the token once.
     void setTactorOutput(TactorOutput* output) noexcept { tactorOut_.store(output, std::memory_order_release); }
-    /// The app's MQTT connection (MessagesRig.h): the mapping's `mqtt` destinations are published
+    /// The app's MQTT connection (Live/MessagesRig.h): the mapping's `mqtt` destinations are published
     /// through it (its client's SPSC outbox). Any thread; null = none (they are dropped and counted
     /// in mappedMqttDropped()). The service must outlive its use here (MessagesRig keeps every one).
     void setMqtt(mqtt::MessageService* service) noexcept { mqtt_.store(service, std::memory_order_release); }

@@ -1,5 +1,6 @@
 #include "Live/LiveSession.h"
 #include "Audio/SequencerOut.h"
+#include "Braille/BrailleScene.h"
 #include "Live/ForearmPort.h"
 #include "Live/MappingRig.h"
 #include "Audio/SoundCard.h"
@@ -106,6 +107,11 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
         loop_.replace(std::move(slot));   // nothing runs yet
     }
     sourceKind_ = config_.source == LiveConfig::Source::Osc ? live::SourceKind::Osc : live::SourceKind::Device;
+    if (config_.messages.on) {   // InputError for a bad configuration; nothing connects before start()
+        messages_ = std::make_unique<mqtt::MessageService>(config_.messages.config, config_.messages.options);
+        messageScene_ = dynamic_cast<braille::BrailleSceneControls*>(&engine_->scene());
+        if (showsMessages() && !messageScene_) throw core::InputError("--messages", 0, "", "messages are read in Arm Braille: use the braille scene");
+    }
     if (!config_.oscOut.empty()) {
         osc::HostPort hp;
         try {
@@ -122,6 +128,7 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
         options.forwardDeg = config_.forwardDeg;
         mapping_ = std::make_unique<live::MappingRig>(*config_.mapping, *engine_, options);   // for the scene that plays
         mapping_->setStageSink(&LiveSession::applyStage, this);
+        if (messages_) mapping_->setMqttSink(&LiveSession::publishMapped, this);   // the arm as a remote (docs/MQTT.md)
         if (!config_.midiOut.empty()) {
             midiOut_ = std::make_unique<audio::SequencerOut>(config_.midiOut);   // IoError naming the cause (exit 4)
             mapping_->setMidiSink([](void* ctx, const mapping::MidiEvent& e) { static_cast<audio::SequencerOut*>(ctx)->send(e.bytes.data(), e.size); },
@@ -484,6 +491,7 @@ void LiveSession::start()
     if (oscIn_) oscIn_->start();
     if (leftOscIn_) leftOscIn_->start();
     if (navigation_) navigation_->startSource();
+    if (messages_) messages_->start();   // a broker that is down is no error: it keeps trying
     if (wav_) audioThread_ = std::thread([this] { audioLoop(); });
     if (soundCard_)
         soundCard_->start([this](float* l, float* r, int n) { renderBlock(l, r, n); },
@@ -527,6 +535,7 @@ void LiveSession::stop()
     if (oscOut_) oscOut_->sendMotors(core::MotorLevels {}, config_.engine.motorCount);
     if (mapping_) mapping_->finish(std::max(0.0, lastT_));   // the control thread has stopped: no note is left hanging
     running_.store(false, std::memory_order_release);
+    if (messages_) messages_->stop();   // the control thread has stopped: nothing publishes any more
     if (audioThread_.joinable()) audioThread_.join();
     if (soundCard_) soundCard_->stop();
     if (tactors_) {
@@ -593,6 +602,41 @@ SessionSummary LiveSession::summary() const
     const auto end = running_.load() ? std::chrono::steady_clock::now() : stopped_;
     s.seconds = started_.time_since_epoch().count() ? std::chrono::duration<double>(end - started_).count() : 0.0;
     return s;
+}
+
+bool LiveSession::publishMapped(void* self, const mapping::MqttMessage& m)
+{
+    auto& s = *static_cast<LiveSession*>(self);
+    return s.messages_->publishValue(std::string_view(m.topic.data(), m.topicLength), std::string_view(m.payload.data(), m.payloadLength), m.qos,
+                                     m.retain, m.rate);
+}
+
+std::vector<std::string> LiveSession::presentMessages()
+{
+    if (!messages_ || !messageScene_) return {};
+    return messages_->present(*messageScene_);
+}
+
+mqtt::MqttStatus LiveSession::messagesStatus() const { return messages_ ? messages_->status() : mqtt::MqttStatus {}; }
+
+mqtt::InboxStats LiveSession::messagesInbox() const { return messages_ ? messages_->inbox() : mqtt::InboxStats {}; }
+
+void LiveSession::offerMessage(const std::string& text, int priority)
+{
+    if (messages_) messages_->offerText(text, "osc", priority);
+}
+
+std::string LiveSession::messagesJson() const
+{
+    if (!messages_) return {};
+    const mqtt::MqttStatus s = messages_->status();
+    const mqtt::InboxStats in = messages_->inbox();
+    return ",\"mqtt\":{\"connects\":" + std::to_string(s.connects) + ",\"connection_losses\":" + std::to_string(s.connectionLosses) +
+           ",\"published\":" + std::to_string(s.published) + ",\"coalesced\":" + std::to_string(s.coalesced) +
+           ",\"outbox_dropped\":" + std::to_string(s.outboxDropped) +
+           ",\"received\":" + std::to_string(s.received) + ",\"messages_accepted\":" + std::to_string(in.accepted) +
+           ",\"messages_refused\":" + std::to_string(in.refused) + ",\"messages_dropped\":" + std::to_string(in.droppedOldest) +
+           ",\"messages_shown\":" + std::to_string(messages_->shown()) + ",\"messages_waiting\":" + std::to_string(in.waiting) + "}";
 }
 
 std::vector<std::string> LiveSession::outputLines() const

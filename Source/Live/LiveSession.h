@@ -23,6 +23,7 @@
 #include "Live/ControlLoop.h"
 #include "Mapping/MappingSpec.h"
 #include "Navigation/NavigationRig.h"
+#include "Mqtt/MessageService.h"
 #include "Live/SetList.h"
 #include "Live/Stage.h"
 #include "Live/StepRunner.h"
@@ -39,6 +40,7 @@ class SequencerOut;
 }
 namespace armadillo::mapping {
 struct StageEvent;
+struct MqttMessage;
 }
 namespace armadillo::fusion {
 class ArmTracker;
@@ -137,6 +139,17 @@ struct LiveConfig {
         std::string where;   ///< gpsd's HOST[:PORT], or the OSC port
     };
     Walk walk {};
+    /// Messages on the arm and the mapping's MQTT destinations (docs/MQTT.md; `play --mqtt`,
+    /// `read`): the broker, the topics shown on the arm and how. The session owns the service
+    /// (mqtt::MessageService: the client, its inbox, the presenter), starts it with the sources and
+    /// stops it after them; the mapping's `mqtt` destinations publish through it and OSC
+    /// /armadillo/message texts join its inbox. Off: no broker.
+    struct Messages {
+        bool on = false;
+        mqtt::MqttConfig config {};
+        mqtt::PresenterOptions options {};
+    };
+    Messages messages {};
 };
 
 struct SessionSummary {
@@ -230,6 +243,16 @@ public:
     /// The outputs' counters as JSON members for the summary line: ,"tactor_frames":…,
     /// "tactor_dropped":…,"tactor_limited":… with a tactor output (docs/TACTORS.md); "" otherwise.
     std::string outputsJson() const;
+    /// Messages (LiveConfig::messages): whether topics are shown on the arm; for the front end's
+    /// thread, the waiting messages handed to the braille scene when it is free (what happened,
+    /// in words: "message 3 from 'arm/inbox' on the arm: …"); the connection and the inbox; a
+    /// text from elsewhere (OSC /armadillo/message) queued; the summary's ,"mqtt":{…}.
+    bool showsMessages() const noexcept { return messages_ && !messages_->config().topics.empty(); }
+    std::vector<std::string> presentMessages();
+    mqtt::MqttStatus messagesStatus() const;
+    mqtt::InboxStats messagesInbox() const;
+    void offerMessage(const std::string& text, int priority);
+    std::string messagesJson() const;
     /// The walk (LiveConfig::walk): its route, status, log (drained by one front-end thread) and
     /// position source; null without one.
     navigation::NavigationRig* navigation() noexcept { return navigation_.get(); }
@@ -251,6 +274,9 @@ private:
 
     LiveConfig config_;
     std::unique_ptr<navigation::NavigationRig> navigation_;   // before loop_: the scene reads its link until the engine goes
+    std::unique_ptr<mqtt::MessageService> messages_;           // before loop_: the braille scene holds the messages it was handed
+    braille::BrailleSceneControls* messageScene_ = nullptr;    // the scene the messages are shown on (null: none)
+    static bool publishMapped(void* self, const mapping::MqttMessage& message);
     live::ControlLoop loop_;            // the control step: mailbox → fusion → Engine::control (owns the engine)
     live::SourceKind sourceKind_ = live::SourceKind::Device;
     engine::Engine* engine_ = nullptr;  // the loop's engine; no other is ever offered

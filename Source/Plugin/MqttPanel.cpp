@@ -87,7 +87,7 @@ void MqttPanel::timerCallback()
     configFile_.setText(file.isEmpty() ? "none" : juce::File(file).getFileName(), juce::dontSendNotification);
     connect_.setToggleState(processor_.messages().running(), juce::dontSendNotification);
     test_.setEnabled(processor_.messages().running());
-    juce::String line = "Status: " + processor_.messages().describe();
+    juce::String line = "Status: " + juce::String(processor_.messages().describe());
     if (said_.isNotEmpty()) line << "\n" << said_;
     status_.setText(line, juce::dontSendNotification);
 }

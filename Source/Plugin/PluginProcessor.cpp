@@ -195,7 +195,7 @@ void ArmadilloProcessor::prepareToPlay(double sampleRate, int)
     if (cues != nullptr) stageSession_.install(std::move(cues));
     control_.prepare(sampleRate_.load());
     hostBlock_.prepare();   // MIDI storage for the host's buffer, off the audio thread
-    const auto tactorWhy = tactorRig_.prepareBus(settings_, listen.tactorCount, motorCount(), sampleRate_.load());
+    const auto tactorWhy = juce::String(tactorRig_.prepareBus(PluginState::tactorSettings(settings_), listen.tactorCount, motorCount(), sampleRate_.load()));
     token_.release();
     if (tactorWhy.isNotEmpty()) setStatus(tactorWhy);
 }
@@ -444,7 +444,7 @@ void ArmadilloProcessor::valueTreePropertyChanged(juce::ValueTree&, const juce::
     } else if (id == SettingIds::tactorModel || id == SettingIds::tactorMap || id == SettingIds::tactorGains || id == SettingIds::tactorSound
                || id == SettingIds::backMotors
                || ((id == SettingIds::tactorDevice || id == SettingIds::tactorConnect) && tactorRig_.outputOpen())) {
-        if (const auto why = tactorRig_.settingsChanged(settings_, motorCount()); why.isNotEmpty()) setStatus(why);
+        if (const auto why = tactorRig_.settingsChanged(PluginState::tactorSettings(settings_), motorCount()); ! why.empty()) setStatus(juce::String(why));
     } else if (id == SettingIds::mqttEnabled) {
         if (static_cast<bool>(settings_[SettingIds::mqttEnabled]) != messages_.running())
             if (const auto why = setMessages(static_cast<bool>(settings_[SettingIds::mqttEnabled])); why.isNotEmpty()) setStatus(why);
@@ -565,7 +565,7 @@ juce::String ArmadilloProcessor::setMessages(bool on)
 {
     juce::String why;
     control_.setMqtt(nullptr);
-    if (on) why = messages_.start(settings_);
+    if (on) why = juce::String(messages_.start(PluginState::messagesSettings(settings_)));
     else messages_.stop();
     control_.setMqtt(messages_.service());   // the mapping's mqtt destinations go out through it
     settings_.setProperty(SettingIds::mqttEnabled, messages_.running(), nullptr);   // off again when it failed
@@ -581,7 +581,7 @@ juce::String ArmadilloProcessor::setTactorOutput(bool on)
 {
     juce::String why;
     if (on && wrapperType != wrapperType_Standalone) why = "Tactors: in a host, route the Tactors output bus instead";
-    else if (on) why = tactorRig_.openOutput(settings_, motorCount());
+    else if (on) why = juce::String(tactorRig_.openOutput(PluginState::tactorSettings(settings_), motorCount()));
     else tactorRig_.closeOutput();
     settings_.setProperty(SettingIds::tactorOutput, tactorRig_.outputOpen(), nullptr);   // off again when it failed
     return why;
@@ -589,7 +589,7 @@ juce::String ArmadilloProcessor::setTactorOutput(bool on)
 
 juce::String ArmadilloProcessor::testTactorChannel(int channel)
 {
-    const int motor = tactorRig_.motorOfChannel(channel, settings_, motorCount());
+    const int motor = tactorRig_.motorOfChannel(channel, PluginState::tactorSettings(settings_), motorCount());
     if (motor < 0 || motor >= motorCount()) return "Tactor channel " + juce::String(channel + 1) + " is silent in the map";
     if (touchTest_.state() != procedures::TouchTest::State::Idle || adaptive_.state() != procedures::AdaptiveTraining::State::Idle)
         return "The sensitivity test or the training has the motors: end it first";

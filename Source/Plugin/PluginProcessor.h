@@ -23,9 +23,7 @@
 #include "Plugin/Parameters.h"
 #include "Plugin/PluginState.h"
 #include "Live/Stage.h"
-#include "Plugin/TactorRig.h"
 #include "Navigation/NavigationRig.h"
-#include "Plugin/MessagesRig.h"
 #include "Live/StageSession.h"
 #include "Access/ReaderVoice.h"
 #include "Procedures/AdaptiveTraining.h"
@@ -236,7 +234,7 @@ public:
     static constexpr const char* kTactorBus = "Tactors";
 
     /// The tactor rig (TactorRig.h; message thread): the Tactors bus and the app's tactor output.
-    TactorRig& tactorRig() noexcept { return tactorRig_; }
+    live::TactorRig& tactorRig() noexcept { return tactorRig_; }
     /// The app's tactor output on or off (the tactorOutput setting follows): "" or why not.
     juce::String setTactorOutput(bool on);
     /// Buzzes the motor of tactor channel `channel` (0-based) at level 8 for 0.5 s through the
@@ -254,7 +252,7 @@ public:
     /// Messages on the arm over MQTT (MessagesRig.h, issue 35; message thread): on/off (the
     /// mqttEnabled setting follows; "" or why not), the service while on, and what it did.
     juce::String setMessages(bool on);
-    MessagesRig& messages() noexcept { return messages_; }
+    live::MessagesRig& messages() noexcept { return messages_; }
     /// The last things the message presenter said ("message 3 from 'arm/inbox' on the arm: ..."),
     /// newest last (at most 50), for the Reader window's message list.
     juce::StringArray messageLog() const { return messageLog_; }
@@ -290,7 +288,7 @@ private:
     std::vector<std::string> stems_;             // under stemsMutex_: the enabled sidechain buses' stem names
 
     // Before the engines: a braille scene may still hold a message its presenter handed over.
-    MessagesRig messages_;
+    live::MessagesRig messages_;
     juce::StringArray messageLog_;
 
     // The live rig, in the order it is built (and the reverse of teardown).
@@ -315,7 +313,7 @@ private:
     HostBlock hostBlock_;                        // the host's buffers as the block clock takes them (audio thread)
     MidiPort midiPort_;                          // the standalone app's ALSA sequencer port (before the rig: its clock drains it)
     live::BlockRig connections_;                 // the rig's sources and outputs, its idle clock (Live/BlockRig.h)
-    TactorRig tactorRig_ {control_, token_};
+    live::TactorRig tactorRig_ {control_, token_};
     navigation::NavigationRig navigation_;            // its route and link ride in the engine request     // after connections_: goes first (its output's pointer out of the step)
     std::mutex mappingMutex_;                    // message thread vs a host's state calls; never audio
     live::MappingSession mapping_;

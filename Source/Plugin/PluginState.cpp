@@ -229,4 +229,27 @@ live::SavedMapping savedMapping(const juce::ValueTree& node)
     return saved;
 }
 
+live::TactorSettings tactorSettings(const juce::ValueTree& settings)
+{
+    live::TactorSettings t;
+    t.model = settings[SettingIds::tactorModel].toString().toStdString();
+    t.map = settings[SettingIds::tactorMap].toString().toStdString();
+    t.gains = settings[SettingIds::tactorGains].toString().toStdString();
+    t.sound = static_cast<bool>(settings[SettingIds::tactorSound]);
+    t.device = settings[SettingIds::tactorDevice].toString().toStdString();
+    t.connect = settings[SettingIds::tactorConnect].toString().toStdString();
+    return t;
+}
+
+live::MessagesSettings messagesSettings(const juce::ValueTree& settings)
+{
+    live::MessagesSettings m;
+    m.configFile = settings[SettingIds::mqttConfig].toString().toStdString();
+    m.broker = settings[SettingIds::mqttBroker].toString().toStdString();
+    m.topics = settings[SettingIds::mqttTopics].toString().toStdString();
+    m.urgent = settings[SettingIds::mqttUrgent].toString().toStdString();
+    m.timed = settings[SettingIds::messageDisplay].toString() == "timed";
+    return m;
+}
+
 } // namespace armadillo::plugin::PluginState

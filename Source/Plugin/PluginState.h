@@ -6,6 +6,8 @@
 // Threads: the message thread and the host's state calls (getStateInformation /
 // setStateInformation, which hosts make from a non-audio thread). Never the audio thread.
 #include "Live/MappingSession.h"
+#include "Live/MessagesRig.h"
+#include "Live/TactorRig.h"
 #include <juce_audio_processors/juce_audio_processors.h>
 
 namespace armadillo::plugin {
@@ -103,6 +105,11 @@ juce::String writeSetupFile(const juce::MemoryBlock& state, const juce::File& fi
 /// Reads a setup file back into the bytes restore() takes. Returns "" or why it is not a setup
 /// (restore() then still validates every value).
 juce::String readSetupFile(const juce::File& file, juce::MemoryBlock& state);
+
+/// The tactor and MQTT settings as the instrument's parts take them (Live/TactorRig.h,
+/// Live/MessagesRig.h).
+live::TactorSettings tactorSettings(const juce::ValueTree& settings);
+live::MessagesSettings messagesSettings(const juce::ValueTree& settings);
 
 } // namespace PluginState
 

@@ -51,7 +51,7 @@ TactorsPanel::TactorsPanel(ArmadilloProcessor& processor)
         processor_.settings().setProperty(SettingIds::tactorConnect, connect_.getText().trim(), nullptr);
         const auto why = processor_.setTactorOutput(output_.getToggleState());
         output_.setToggleState(processor_.tactorRig().outputOpen(), juce::dontSendNotification);
-        say(why.isNotEmpty() ? why : (processor_.tactorRig().outputOpen() ? "Tactor output on: " + processor_.tactorRig().outputStatus() : "Tactor output off"));
+        say(why.isNotEmpty() ? why : (processor_.tactorRig().outputOpen() ? "Tactor output on: " + juce::String(processor_.tactorRig().outputStatus()) : "Tactor output off"));
     };
     for (auto* c : std::initializer_list<juce::Component*> {&device_, &connect_, &output_, &deviceLabel_, &connectLabel_}) {
         c->setVisible(standalone_);
@@ -83,7 +83,7 @@ TactorsPanel::TactorsPanel(ArmadilloProcessor& processor)
         describe(b, "Test tactor channel " + juce::String(k + 1), "Buzz this channel's motor for half a second and say which motor it is.");
         b.onClick = [this, k] {
             const auto why = processor_.testTactorChannel(k);
-            const int motor = processor_.tactorRig().motorOfChannel(k, processor_.settings(), processor_.motorCount());
+            const int motor = processor_.tactorRig().motorOfChannel(k, PluginState::tactorSettings(processor_.settings()), processor_.motorCount());
             say(why.isNotEmpty() ? why : "Channel " + juce::String(k + 1) + ": motor m" + juce::String(motor + 1));
         };
         addAndMakeVisible(b);
@@ -122,7 +122,7 @@ void TactorsPanel::timerCallback()
     const int motors = processor_.motorCount();
     const int channels = standalone_ ? motors : (rig.busChannels() > 0 ? rig.busChannels() : motors);
     for (int k = 0; k < kChannels; ++k) test_[static_cast<std::size_t>(k)].setVisible(k < channels);
-    juce::String line = standalone_ ? "Output: " + rig.outputStatus()
+    juce::String line = standalone_ ? "Output: " + juce::String(rig.outputStatus())
                                     : (rig.busChannels() > 0 ? "Tactors bus: " + juce::String(rig.busChannels()) + " channels, enabled"
                                                              : "Tactors bus: disabled in the host");
     if (shown_.isNotEmpty()) line << "\n" << shown_;
