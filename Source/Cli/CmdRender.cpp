@@ -85,6 +85,8 @@ int runRender(const Arguments& args)
                            o.push_back({"--tactile-haptic", "OUT.haptic", "the motors as a Meta Haptics Studio .haptic file: one actuator,\n"
                                                                           "level = 15 x amplitude (docs/FORMATS.md)"});
                            o.push_back({"--tactile-tact", "OUT.tact", "the motors as a bHaptics .tact forearm (ForearmR) effect (docs/FORMATS.md)"});
+                           o.push_back({"--tactile-hjif", "OUT.hjif", "the motors as an MPEG haptics (ISO/IEC 23090-31) .hjif file: one channel per motor,\n"
+                                                                      "amplitude = level/15 (docs/FORMATS.md)"});
                            o.push_back({"--actuator-motors", "SET", "with --tactile-ahap/--tactile-haptic: the motors the one actuator carries\n"
                                                                     "(the loudest of them at each packet; default all of the render's motors)"});
                            return o;
@@ -136,7 +138,8 @@ int runRender(const Arguments& args)
         }
         const std::string out = cl.value("--out"), tactile = cl.value("--tactile"), midiOut = cl.value("--midi-out"),
                           tactileWav = cl.value("--tactile-wav"), tactileAhap = cl.value("--tactile-ahap"),
-                          tactileHaptic = cl.value("--tactile-haptic"), tactileTact = cl.value("--tactile-tact");
+                          tactileHaptic = cl.value("--tactile-haptic"), tactileTact = cl.value("--tactile-tact"),
+                          tactileHjif = cl.value("--tactile-hjif");
         if (cl.has("--out")) checkOutputPath("--out", out);
         if (cl.has("--tactile")) checkOutputPath("--tactile", tactile);
         if (cl.has("--midi-out")) checkOutputPath("--midi-out", midiOut);
@@ -144,12 +147,13 @@ int runRender(const Arguments& args)
         if (cl.has("--tactile-ahap")) checkOutputPath("--tactile-ahap", tactileAhap);
         if (cl.has("--tactile-haptic")) checkOutputPath("--tactile-haptic", tactileHaptic);
         if (cl.has("--tactile-tact")) checkOutputPath("--tactile-tact", tactileTact);
+        if (cl.has("--tactile-hjif")) checkOutputPath("--tactile-hjif", tactileHjif);
         const std::string tactileLeft = cl.value("--tactile-left"), armsLog = cl.value("--arms-log");
         if (cl.has("--tactile-left")) checkOutputPath("--tactile-left", tactileLeft);
         if (cl.has("--arms-log")) checkOutputPath("--arms-log", armsLog);
         checkDistinctOutputs({{"--out", out}, {"--tactile", tactile}, {"--midi-out", midiOut}, {"--tactile-wav", tactileWav},
                               {"--tactile-ahap", tactileAhap}, {"--tactile-haptic", tactileHaptic}, {"--tactile-tact", tactileTact},
-                              {"--tactile-left", tactileLeft}, {"--arms-log", armsLog}});
+                              {"--tactile-hjif", tactileHjif}, {"--tactile-left", tactileLeft}, {"--arms-log", armsLog}});
         std::uint16_t actuator = static_cast<std::uint16_t>((1u << engine.motorCount) - 1u);
         if (cl.has("--actuator-motors")) {
             if (!cl.has("--tactile-ahap") && !cl.has("--tactile-haptic")) throw UsageError("--actuator-motors applies to --tactile-ahap and --tactile-haptic");
@@ -287,6 +291,7 @@ int runRender(const Arguments& args)
         if (cl.has("--tactile-ahap")) core::writeFileAtomically(tactileAhap, formats::exportAhap(r.tactile, actuator, project));
         if (cl.has("--tactile-haptic")) core::writeFileAtomically(tactileHaptic, formats::exportMetaHaptic(r.tactile, actuator, project));
         if (cl.has("--tactile-tact")) core::writeFileAtomically(tactileTact, formats::exportTact(r.tactile, project));
+        if (cl.has("--tactile-hjif")) core::writeFileAtomically(tactileHjif, formats::exportHjif(r.tactile, engine.motorCount, project));
         if (wav) {
             try {
                 wav->finish();
