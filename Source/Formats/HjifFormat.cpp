@@ -133,6 +133,14 @@ private:
                 if (!integer(e, "id", -2147483648LL, 2147483647LL, eid)) continue;
                 if (!library.emplace(eid, &e).second) fail(e.line, "id", "library effect id " + std::to_string(eid) + " is not unique");
             }
+        // Every library effect is checked where it stands, referenced or not (its keyframes,
+        // types, the references it holds); what it plays is added where it is referenced.
+        {
+            Band scratch;
+            const double seconds = file.seconds;
+            for (const auto& [eid, e] : library) readEffect(*e, 0.0, false, scratch, library, 0);
+            file.seconds = seconds;
+        }
         const JsonValue* channels = get(p, "channels", Kind::Array);
         if (!channels) return;
         const std::size_t maxChannels = level_ == 1 ? 127 : 65535;

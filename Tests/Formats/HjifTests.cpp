@@ -352,6 +352,10 @@ TEST_CASE("hjif: malformed files are refused naming the file and what is wrong",
     refused(fileWith("[" + channelWith(R"([{"band_type": "Curve", "curve_type": "Bezier", "lower_frequency_limit": 0, "upper_frequency_limit": 50,
         "effects": [{"effect_type": "Basis", "position": 0, "keyframes": [{"relative_position": 0, "amplitude_modulation": 0.2}]}]}])") + "]"), "Bezier curves are not imported");
     refused(fileWith("[]", "[]", 1000, R"(, {"id": 1, "avatar_id": 1, "description": "f", "perception_modality": "Force", "effect_library": [], "channels": []})"), "no Vibrotactile channel");
+    // A library effect nothing references is checked all the same.
+    refused(fileWith("[" + channelWith(R"([{"band_type": "VectorialWave", "lower_frequency_limit": 0, "upper_frequency_limit": 300, "effects": []}])") + "]",
+                     R"([{"id": 9, "effect_type": "Basis", "position": 0, "base_signal": "Noise", "keyframes": []}])"),
+            "unknown base signal 'Noise'");
     // A reference to itself: nesting refused, not a stack overflow.
     refused(fileWith("[" + channelWith(R"([{"band_type": "VectorialWave", "lower_frequency_limit": 0, "upper_frequency_limit": 300, "effects": [{"effect_type": "Reference", "id": 1, "position": 0}]}])") + "]",
                      R"([{"id": 1, "effect_type": "Composite", "position": 0, "timeline": [{"effect_type": "Reference", "id": 1, "position": 10}]}])"),
