@@ -77,7 +77,7 @@ struct Problem {
 std::vector<Problem> checkStructure(std::string_view json, const std::string& source);
 
 /// Parses and resolves a file; the first structure problem, an effect this importer cannot
-/// evaluate (WaveletWave, Bezier and Bspline curves: docs/FORMATS.md) or an absurd size throws
+/// evaluate (WaveletWave: docs/FORMATS.md) or an absurd size throws
 /// InputError naming `source`.
 File parse(std::string_view json, const std::string& source);
 

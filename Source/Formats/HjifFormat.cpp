@@ -274,10 +274,6 @@ private:
                      "source/Spiht) that ARMadillo does not decode (docs/FORMATS.md)");
             return;
         }
-        if (band.type == BandType::Curve && (band.curve == CurveType::Bezier || band.curve == CurveType::Bspline) && !collect_)
-            return fail(e.line, "curve_type", std::string(band.curve == CurveType::Bezier ? "Bezier" : "Bspline") +
-                                                  " curves are not imported: the reference evaluates them only sample by sample in its band synthesis "
-                                                  "(source/Tools/src/Tools.cpp), with no point definition to follow (docs/FORMATS.md)");
         if (const JsonValue* kfs = get(e, "keyframes", Kind::Array, false)) {
             long long previous = 0;
             effect.keyframes.reserve(kfs->array.size());
@@ -334,6 +330,68 @@ std::vector<double> akimaSlopes(const std::vector<std::pair<double, double>>& p)
     }
     return b;
 }
+
+/// Bezier (Tools.cpp, bezierInterpolation): keyframes taken three at a time, each triple one
+/// quadratic Bezier from the first to the third with the second as its control point, in time as
+/// in value (the time solved for its parameter); with an even count the last keyframe is left out.
+double bezierValue(const std::vector<std::pair<double, double>>& p, double t)
+{
+    const std::size_t used = p.size() % 2 == 0 ? p.size() - 1 : p.size();
+    for (std::size_t i = 0; i + 2 < used; i += 2) {
+        const auto& [x0, y0] = p[i];
+        const auto& [x1, y1] = p[i + 1];
+        const auto& [x2, y2] = p[i + 2];
+        if (t > x2 || x2 <= x0) continue;
+        const double a = x0 - 2 * x1 + x2, b = 2 * (x1 - x0), c = x0 - t;
+        double u = 0.0;
+        if (std::fabs(a) < 1e-15) u = b != 0.0 ? -c / b : 0.0;
+        else u = (-b + std::sqrt(std::max(0.0, b * b - 4 * a * c))) / (2 * a);
+        u = std::clamp(u, 0.0, 1.0);
+        return (1 - u) * (1 - u) * y0 + 2 * u * (1 - u) * y1 + u * u * y2;
+    }
+    return 0.0;   // past the last keyframe used
+}
+
+/// Bspline (Tools.cpp, bsplineInterpolation): the quadratic B-spline of the keyframes as control
+/// points, clamped, uniform knots 0, 0, 0, 1/(n−2), …, 1, 1, 1, in time as in value (the time
+/// solved for its parameter by bisection: time rises with the parameter).
+struct Bspline {
+    const std::vector<std::pair<double, double>>& p;
+    std::vector<double> knots;
+    explicit Bspline(const std::vector<std::pair<double, double>>& points) : p(points)
+    {
+        const std::size_t n = p.size();
+        if (n < 3) return;   // (two keyframes are linear)
+        knots = {0.0, 0.0};
+        for (std::size_t i = 0; i + 1 < n; ++i) knots.push_back(static_cast<double>(i) / static_cast<double>(n - 2));
+        knots.push_back(1.0);
+        knots.push_back(1.0);
+    }
+    std::pair<double, double> at(double u) const   // de Boor, degree 2
+    {
+        std::size_t k = 2;
+        while (k + 1 < p.size() && u >= knots[k + 1]) ++k;   // knots[k] <= u < knots[k + 1]
+        std::pair<double, double> d[3] = {p[k - 2], p[k - 1], p[k]};
+        for (int r = 1; r <= 2; ++r)
+            for (int j = 2; j >= r; --j) {
+                const std::size_t i = k - 2 + static_cast<std::size_t>(j);
+                const double span = knots[i + 3 - static_cast<std::size_t>(r)] - knots[i];
+                const double w = span > 0.0 ? (u - knots[i]) / span : 0.0;
+                d[j].first = (1 - w) * d[j - 1].first + w * d[j].first;
+                d[j].second = (1 - w) * d[j - 1].second + w * d[j].second;
+            }
+        return d[2];
+    }
+    double value(double t) const
+    {
+        double lo = 0.0, hi = 1.0;
+        for (int i = 0; i < 48; ++i) {
+            const double mid = 0.5 * (lo + hi);
+            (at(mid).first < t ? lo : hi) = mid;
+        }
+        return at(0.5 * (lo + hi)).second;
+    }
+};
 
 double curveValue(CurveType type, const std::vector<std::pair<double, double>>& p, const std::vector<double>& slopes, std::size_t i, double t)
 {
@@ -418,11 +476,17 @@ std::vector<Envelope> evaluate(const File& file, double step, const std::string&
                 if (band.type == BandType::Curve) {
                     if (amps.empty()) continue;
                     const std::vector<double> slopes = band.curve == CurveType::Akima && amps.size() > 2 ? akimaSlopes(amps) : std::vector<double> {};
+                    const bool spline = amps.size() > 2 && (band.curve == CurveType::Bezier || band.curve == CurveType::Bspline);
+                    const Bspline bspline(amps);
                     std::size_t i = 0;
                     for (std::size_t f = f0; f < f1; ++f) {
                         const double t = (static_cast<double>(f) + 0.5) * step - e.start;
                         if (t >= amps.back().first) break;   // at and after the last keyframe: 0
                         if (t < amps.front().first) { sum[f] += std::fabs(amps.front().second); continue; }
+                        if (spline) {
+                            sum[f] += std::fabs(band.curve == CurveType::Bezier ? bezierValue(amps, t) : bspline.value(t));
+                            continue;
+                        }
                         while (i + 2 < amps.size() && t >= amps[i + 1].first) ++i;
                         if (amps[i + 1].first <= amps[i].first) continue;
                         sum[f] += std::fabs(curveValue(band.curve, amps, slopes, i, t));

@@ -262,6 +262,7 @@ TEST_CASE("hjif: transients are 22 ms bursts, curves follow their type, and band
         return hjif::evaluate(hjif::parse(text, "c.hjif"), 0.001, "c.hjif")[0].amplitude;
     };
     const std::string three = R"([{"relative_position": 0, "amplitude_modulation": 0}, {"relative_position": 200, "amplitude_modulation": 0.8}, {"relative_position": 400, "amplitude_modulation": 0.2}])";
+    const std::string arch = R"([{"relative_position": 0, "amplitude_modulation": 0}, {"relative_position": 200, "amplitude_modulation": 0.8}, {"relative_position": 400, "amplitude_modulation": 0}])";
     const auto linear = curve("Linear", three), cubic = curve("Cubic", three), unknown = curve("Unknown", three);
     const auto akima = curve("Akima", R"([{"relative_position": 0, "amplitude_modulation": 0.1}, {"relative_position": 100, "amplitude_modulation": 0.3}, {"relative_position": 300, "amplitude_modulation": 0.7}, {"relative_position": 400, "amplitude_modulation": 0.9}])");
     const auto two = curve("Cubic", R"([{"relative_position": 0, "amplitude_modulation": 0.2}, {"relative_position": 100, "amplitude_modulation": 0.6}])");
@@ -276,6 +277,27 @@ TEST_CASE("hjif: transients are 22 ms bursts, curves follow their type, and band
         if (k < 100) CHECK(two[k] == Approx(0.2 + 4.0 * t).margin(1e-6));
     }
     CHECK(linear[400] == 0.0f);   // at the last keyframe the curve has ended
+    // Bezier: (0, 0), (200, 0.8), (400, 0) is one quadratic Bezier; its time is linear in the
+    // parameter u (the control point halfway), so the value is 2u(1 − u)·0.8 at u = t / 0.4. A
+    // fourth keyframe (an even count) is left out: the curve ends at the third. Bspline: on three
+    // keyframes the same quadratic (clamped knots 0 0 0 1 1 1); on five evenly spaced keyframes on
+    // one line, that line.
+    const auto bezier = curve("Bezier", arch);
+    const auto bezierEven = curve("Bezier", R"([{"relative_position": 0, "amplitude_modulation": 0}, {"relative_position": 200, "amplitude_modulation": 0.8}, {"relative_position": 400, "amplitude_modulation": 0}, {"relative_position": 600, "amplitude_modulation": 0.5}])");
+    const auto bspline3 = curve("Bspline", arch);
+    const auto bsplineLine = curve("Bspline", R"([{"relative_position": 0, "amplitude_modulation": 0.1}, {"relative_position": 100, "amplitude_modulation": 0.2}, {"relative_position": 200, "amplitude_modulation": 0.3}, {"relative_position": 300, "amplitude_modulation": 0.4}, {"relative_position": 400, "amplitude_modulation": 0.5}])");
+    for (std::size_t k = 0; k < 600; ++k) {
+        const double t = (static_cast<double>(k) + 0.5) * 0.001, u = t / 0.4;
+        CAPTURE(t);
+        if (k < 400) {
+            CHECK(bezier[k] == Approx(2 * u * (1 - u) * 0.8).margin(1e-6));
+            CHECK(bezierEven[k] == Approx(2 * u * (1 - u) * 0.8).margin(1e-6));
+            CHECK(bspline3[k] == Approx(2 * u * (1 - u) * 0.8).margin(1e-6));
+            CHECK(bsplineLine[k] == Approx(0.1 + t).margin(1e-6));
+        } else {
+            CHECK(bezierEven[k] == 0.0f);
+        }
+    }
     // Two bands of 0.7 on one channel: 1.4 clamped to 1, then the gain 0.5 and 10^-1 of perception_unit_exponent.
     std::string both = fileWith("[" + channelWith(R"([{"band_type": "Curve", "curve_type": "Linear", "lower_frequency_limit": 0, "upper_frequency_limit": 50, "effects": [
         {"effect_type": "Basis", "position": 0, "keyframes": [{"relative_position": 0, "amplitude_modulation": 0.7}, {"relative_position": 100, "amplitude_modulation": 0.7}]}]},
@@ -349,8 +371,6 @@ TEST_CASE("hjif: malformed files are refused naming the file and what is wrong",
     refused(edit("\"perception_modality\": \"Vibrotactile\"", "\"perception_modality\": \"Smell\""), "unknown modality");
     refused(fileWith("[" + channelWith(R"([{"band_type": "WaveletWave", "block_length": 32, "lower_frequency_limit": 0, "upper_frequency_limit": 1000,
         "effects": [{"effect_type": "Basis", "position": 0, "wavelet_stream": "AAAA"}]}])") + "]"), "WaveletWave bands are not imported");
-    refused(fileWith("[" + channelWith(R"([{"band_type": "Curve", "curve_type": "Bezier", "lower_frequency_limit": 0, "upper_frequency_limit": 50,
-        "effects": [{"effect_type": "Basis", "position": 0, "keyframes": [{"relative_position": 0, "amplitude_modulation": 0.2}]}]}])") + "]"), "Bezier curves are not imported");
     refused(fileWith("[]", "[]", 1000, R"(, {"id": 1, "avatar_id": 1, "description": "f", "perception_modality": "Force", "effect_library": [], "channels": []})"), "no Vibrotactile channel");
     // A library effect nothing references is checked all the same.
     refused(fileWith("[" + channelWith(R"([{"band_type": "VectorialWave", "lower_frequency_limit": 0, "upper_frequency_limit": 300, "effects": []}])") + "]",
