@@ -434,6 +434,10 @@ std::vector<Envelope> evaluate(const File& file, double step, const std::string&
                                                           " s: more than the 30 million frames an import evaluates");
     std::vector<Envelope> out(file.channels.size());
     double work = 0.0;
+    constexpr double kMaxWork = 2.0e8;
+    const auto overBudget = [&] {
+        throw core::InputError(source, 0, "effects", "the effects overlap so much that evaluating them exceeds the import's budget (200 million frame evaluations)");
+    };
     // Frames k whose time (k + 0.5)·step lies in [a, b] (b inclusive).
     const auto frameRange = [&](double a, double b) {
         const double first = std::max(0.0, std::ceil(a / step - 0.5 - 1e-9));
@@ -458,9 +462,10 @@ std::vector<Envelope> evaluate(const File& file, double step, const std::string&
                         if (!k.hasAmplitude) continue;
                         const auto [f0, f1] = frameRange(e.start + k.time, e.start + k.time + kTransientSeconds);
                         for (std::size_t f = f0; f < f1; ++f) sum[f] += std::fabs(k.amplitude);
-                        work += static_cast<double>(f1 - f0) + 1.0;
+                        work += static_cast<double>(f1 > f0 ? f1 - f0 : 0) + 1.0;
                         if (k.amplitude != 0.0) carrier(2.0 / kTransientSeconds);
                     }
+                    if (work > kMaxWork) overBudget();
                     continue;
                 }
                 std::vector<std::pair<double, double>> amps, freqs;
@@ -471,8 +476,7 @@ std::vector<Envelope> evaluate(const File& file, double step, const std::string&
                 const double length = kfs.back().time;
                 const auto [f0, f1] = frameRange(e.start, e.start + length);
                 work += static_cast<double>(f1 > f0 ? f1 - f0 : 0) + static_cast<double>(kfs.size());
-                if (work > 2.0e8)
-                    throw core::InputError(source, 0, "effects", "the effects overlap so much that evaluating them exceeds the import's budget (200 million frame evaluations)");
+                if (work > kMaxWork) overBudget();
                 if (band.type == BandType::Curve) {
                     if (amps.empty()) continue;
                     const std::vector<double> slopes = band.curve == CurveType::Akima && amps.size() > 2 ? akimaSlopes(amps) : std::vector<double> {};

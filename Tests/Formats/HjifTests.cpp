@@ -376,6 +376,13 @@ TEST_CASE("hjif: malformed files are refused naming the file and what is wrong",
     refused(fileWith("[" + channelWith(R"([{"band_type": "VectorialWave", "lower_frequency_limit": 0, "upper_frequency_limit": 300, "effects": []}])") + "]",
                      R"([{"id": 9, "effect_type": "Basis", "position": 0, "base_signal": "Noise", "keyframes": []}])"),
             "unknown base signal 'Noise'");
+    // 2000 effects each lasting nearly the hour, piled on each other: refused, not evaluated for minutes.
+    std::string piled;
+    for (int i = 0; i < 2000; ++i)
+        piled += std::string(i ? "," : "") + R"({"effect_type": "Basis", "position": )" + std::to_string(i) +
+                 R"(, "keyframes": [{"relative_position": 0, "amplitude_modulation": 0.1, "frequency_modulation": 100}, {"relative_position": 3500000}]})";
+    refused(fileWith("[" + channelWith(R"([{"band_type": "VectorialWave", "lower_frequency_limit": 0, "upper_frequency_limit": 300, "effects": [)" + piled + "]}]") + "]"),
+            "exceeds the import's budget");
     // A reference to itself: nesting refused, not a stack overflow.
     refused(fileWith("[" + channelWith(R"([{"band_type": "VectorialWave", "lower_frequency_limit": 0, "upper_frequency_limit": 300, "effects": [{"effect_type": "Reference", "id": 1, "position": 0}]}])") + "]",
                      R"([{"id": 1, "effect_type": "Composite", "position": 0, "timeline": [{"effect_type": "Reference", "id": 1, "position": 10}]}])"),
