@@ -59,6 +59,7 @@ struct File {
     unsigned timescale = 1000;
     std::vector<Channel> channels;         ///< the vibrotactile ones, in file order
     int otherPerceptions = 0;              ///< perceptions of other modalities (not felt here)
+    int otherFelt = 0;                     ///< perceptions of modality Other felt (the file has no Vibrotactile one)
     double seconds = 0.0;                  ///< the end of the last effect
 };
 

@@ -61,6 +61,14 @@ public:
         get(root, "syncs", Kind::Array);
         if (const JsonValue* ps = get(root, "perceptions", Kind::Array)) {
             std::set<long long> ids;
+            // Modality "Other" is felt when nothing in the file is Vibrotactile: the reference's
+            // encoder wrote "Other" on the vibration files it converted (its example outputs
+            // Evaluation1_1/1_2), and its synthesizer (Synthesizer/src/Helper.cpp) renders every
+            // perception whatever its modality.
+            otherFelt_ = true;
+            for (const JsonValue& p : ps->array)
+                if (const JsonValue* m = p.kind == Kind::Object ? p.find("perception_modality") : nullptr)
+                    if (m->kind == Kind::String && (m->string == "Vibrotactile" || m->string == "Vibration")) otherFelt_ = false;
             for (const JsonValue& p : ps->array) {
                 if (p.kind != Kind::Object) { fail(p.line, "perceptions", "each perception is an object"); continue; }
                 readPerception(p, ids);
@@ -69,6 +77,7 @@ public:
     }
 
 private:
+    bool otherFelt_ = false;
     const std::string& source_;
     bool collect_;
     std::string profile_ = "Main";
@@ -122,8 +131,10 @@ private:
                                                       "Wind", "Kinesthetic", "Force", "Vibrotactile Texture", "Texture", "Stiffness", "Friction", "Electrotactile"};
             if (!known.count(modality)) fail(m->line, "perception_modality", "unknown modality '" + modality + "'");
         }
-        const bool felt = modality == "Vibrotactile" || modality == "Vibration";
+        const bool other = modality == "Other" && otherFelt_;
+        const bool felt = modality == "Vibrotactile" || modality == "Vibration" || other;
         if (!felt) ++file.otherPerceptions;
+        if (other) ++file.otherFelt;
         // The library: by id (unique); each entry stays JSON and is resolved where it is referenced.
         std::map<long long, const JsonValue*> library;
         if (const JsonValue* lib = get(p, "effect_library", Kind::Array))
@@ -157,7 +168,10 @@ private:
             ch.id = static_cast<int>(cid);
             if (const JsonValue* d = get(c, "description", Kind::String)) ch.description = d->string;
             if (const JsonValue* g = get(c, "gain", Kind::Number)) ch.gain = g->number;
-            get(c, "mixing_coefficient", Kind::Number);
+            // `mixing_weight` is the same field under the name the reference used until its commit
+            // 1bf6166 (2023-12): every example output under scripts/RM_submission/out/ carries it.
+            if (c.find("mixing_weight") == nullptr || c.find("mixing_coefficient") != nullptr) get(c, "mixing_coefficient", Kind::Number);
+            else get(c, "mixing_weight", Kind::Number);
             if (integer(c, "body_part_mask", 0, 4294967295LL, mask)) ch.bodyPartMask = static_cast<std::uint32_t>(mask);
             readActuators(c, ch);
             if (const JsonValue* bands = get(c, "bands", Kind::Array)) {
@@ -217,7 +231,9 @@ private:
             static const std::map<std::string, CurveType> curves {{"Unknown", CurveType::Unknown}, {"Cubic", CurveType::Cubic}, {"Linear", CurveType::Linear},
                                                                   {"Akima", CurveType::Akima}, {"Bezier", CurveType::Bezier}, {"Bspline", CurveType::Bspline}};
             const auto c = curves.find(ct->string);
-            if (band.type != BandType::Curve) fail(ct->line, "curve_type", "given on a " + type->string + " band (only Curve bands have one)");
+            // "Unknown" on another band says "no curve": the reference's writer put it on every band
+            // before it wrote it on Curve bands only, and its example outputs carry it on VectorialWave bands.
+            if (band.type != BandType::Curve && ct->string != "Unknown") fail(ct->line, "curve_type", "given on a " + type->string + " band (only Curve bands have one)");
             else if (c == curves.end()) fail(ct->line, "curve_type", "unknown curve type '" + ct->string + "'");
             else band.curve = c->second;
         }
@@ -622,6 +638,8 @@ ImportedScore importHjif(std::string_view json, const std::string& source, const
     report.format = "hjif";
     if (file.otherPerceptions > 0)
         report.warnings.push_back(std::to_string(file.otherPerceptions) + " perception(s) of another modality than Vibrotactile: not felt, left out");
+    if (file.otherFelt > 0)
+        report.warnings.push_back(std::to_string(file.otherFelt) + " perception(s) of modality Other felt as vibration: the file has no Vibrotactile perception");
     if (file.channels.empty()) throw core::InputError(source, 0, "perceptions", "no Vibrotactile channel: nothing for the motors");
     // Channel -> motors.
     std::vector<std::uint16_t> motorsOf(file.channels.size(), 0);
