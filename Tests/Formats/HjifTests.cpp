@@ -599,6 +599,8 @@ TEST_CASE("hjif done-when on the files of $ARMADILLO_HJIF_EXAMPLES (for instance
         WARN("ARMADILLO_HJIF_EXAMPLES is not set: no example directory checked");
         return;
     }
+    INFO("ARMADILLO_HJIF_EXAMPLES=" << dir);
+    REQUIRE(std::filesystem::is_directory(dir));
     std::vector<std::filesystem::path> files;
     for (const auto& entry : std::filesystem::directory_iterator(dir))
         if (entry.is_regular_file() && entry.path().extension() == ".hjif") files.push_back(entry.path());
