@@ -504,7 +504,7 @@ void checkFelt(const std::string& name, const std::string& text, const std::stri
         return l;
     };
     int onsets = 0, silences = 0;
-    double worstR = 1.0, worstRawR = 1.0;
+    double worstR = 1.0, worstRawR = 1.0, latest = -1.0;
     for (int m = 0; m < 9; ++m) {
         double peak = 0.0;
         for (double t = 0.0; t < seconds; t += 0.001) peak = std::max(peak, def.motorEnvelope(m, t));
@@ -530,6 +530,11 @@ void checkFelt(const std::string& name, const std::string& text, const std::stri
                 } else {
                     CHECK(levelAt(m, t - 0.005, t + 0.030) > 0);
                     ++onsets;
+                    for (const auto& r : rows)   // the first packet on from 5 ms before: how late the onset is felt
+                        if (r.t >= t - 0.005 - 1e-9 && r.levels[static_cast<std::size_t>(m)] > 0) {
+                            latest = std::max(latest, r.t - t);
+                            break;
+                        }
                 }
             }
             before = e;
@@ -571,9 +576,9 @@ void checkFelt(const std::string& name, const std::string& text, const std::stri
             quiet = e == 0.0;
         }
     }
-    std::printf("hjif %s: %d onsets felt within 30 ms, %d silences >= 50 ms, lowest envelope/level correlation r = %.3f; "
+    std::printf("hjif %s: %d onsets felt within 30 ms (the latest %.0f ms after the envelope crosses 20 %%), %d silences >= 50 ms, lowest envelope/level correlation r = %.3f; "
                 "the safety bounds held %d onsets off and %.1f %% of the motor packets below the definition (r against the definition without them %.3f)\n",
-                name.c_str(), onsets, silences, worstR, heldOnsets, 100.0 * static_cast<double>(heldPackets) / (9.0 * static_cast<double>(rows.size())), worstRawR);
+                name.c_str(), onsets, std::max(0.0, 1000.0 * latest), silences, worstR, heldOnsets, 100.0 * static_cast<double>(heldPackets) / (9.0 * static_cast<double>(rows.size())), worstRawR);
     CHECK(onsets > 0);
     CHECK(silences > 0);
 }
