@@ -77,6 +77,8 @@ std::vector<OptionSpec> renderOptionSpecs()
     o.push_back({"--tactile-haptic", "OUT.haptic", "the motors as a Meta Haptics Studio .haptic file: one actuator,\n"
                                                    "level = 15 x amplitude (docs/FORMATS.md)"});
     o.push_back({"--tactile-tact", "OUT.tact", "the motors as a bHaptics .tact forearm (ForearmR) effect (docs/FORMATS.md)"});
+    o.push_back({"--tactile-hjif", "OUT.hjif", "the motors as an MPEG haptics (ISO/IEC 23090-31) .hjif file: one channel per motor,\n"
+                                               "amplitude = level/15 (docs/FORMATS.md)"});
     o.push_back({"--actuator-motors", "SET", "with --tactile-ahap/--tactile-haptic: the motors the one actuator carries\n"
                                              "(the loudest of them at each packet; default all of the render's motors)"});
     return o;
@@ -118,10 +120,13 @@ live::TactorOutputConfig readRenderScene(const CommandLine& cl, engine::RenderSe
 /// Every file the render writes, checked before any input is read or anything rendered: a
 /// missing folder is an error now, not after the WAV was written.
 struct RenderOutputs {
-    std::string out, tactile, midiOut, tactileWav, tactileAhap, tactileHaptic, tactileTact, tactileLeft, armsLog;
+    std::string out, tactile, midiOut, tactileWav, tactileAhap, tactileHaptic, tactileTact, tactileHjif, tactileLeft, armsLog;
     std::uint16_t actuator = 0;   ///< the motors the AHAP's or .haptic's one actuator carries
     /// Every output named, for removing them all when the WAV fails.
-    std::vector<const std::string*> all() const { return {&tactile, &midiOut, &tactileWav, &tactileAhap, &tactileHaptic, &tactileTact, &tactileLeft, &armsLog}; }
+    std::vector<const std::string*> all() const
+    {
+        return {&tactile, &midiOut, &tactileWav, &tactileAhap, &tactileHaptic, &tactileTact, &tactileHjif, &tactileLeft, &armsLog};
+    }
 };
 
 RenderOutputs checkRenderOutputs(const CommandLine& cl, int motorCount)
@@ -141,7 +146,7 @@ RenderOutputs checkRenderOutputs(const CommandLine& cl, int motorCount)
     RenderOutputs o;
     const std::vector<std::pair<const char*, std::string*>> files {
         {"--out", &o.out}, {"--tactile", &o.tactile}, {"--midi-out", &o.midiOut}, {"--tactile-wav", &o.tactileWav},
-        {"--tactile-ahap", &o.tactileAhap}, {"--tactile-haptic", &o.tactileHaptic}, {"--tactile-tact", &o.tactileTact},
+        {"--tactile-ahap", &o.tactileAhap}, {"--tactile-haptic", &o.tactileHaptic}, {"--tactile-tact", &o.tactileTact}, {"--tactile-hjif", &o.tactileHjif},
         {"--tactile-left", &o.tactileLeft}, {"--arms-log", &o.armsLog}};
     std::vector<std::pair<std::string, std::string>> named;
     for (const auto& [option, file] : files) {
@@ -303,6 +308,7 @@ void writeTactileFiles(const CommandLine& cl, const RenderOutputs& o, const engi
     if (cl.has("--tactile-ahap")) core::writeFileAtomically(o.tactileAhap, formats::exportAhap(r.tactile, o.actuator, project));
     if (cl.has("--tactile-haptic")) core::writeFileAtomically(o.tactileHaptic, formats::exportMetaHaptic(r.tactile, o.actuator, project));
     if (cl.has("--tactile-tact")) core::writeFileAtomically(o.tactileTact, formats::exportTact(r.tactile, project));
+    if (cl.has("--tactile-hjif")) core::writeFileAtomically(o.tactileHjif, formats::exportHjif(r.tactile, engine.motorCount, project));
 }
 
 void printRenderSummary(const engine::EngineConfig& engine, const engine::RenderResult& r, const live::MappingRig* rig)

@@ -29,6 +29,25 @@ formats::MidiTrackRule trackRule(const std::string& text)
     return r;
 }
 
+/// `--actuator-motors C=SET`: an .hjif channel on these motors.
+std::pair<int, std::uint16_t> channelMotors(const std::string& text)
+{
+    const auto eq = text.find('=');
+    if (eq == std::string::npos || eq == 0) throw UsageError("--actuator-motors takes C=MOTORS (e.g. 1=wrist or 2=7-9), not '" + text + "'");
+    int channel = 0;
+    try {
+        std::size_t used = 0;
+        channel = std::stoi(text.substr(0, eq), &used);
+        if (used != eq || channel < 1) throw std::invalid_argument(text);
+    } catch (const std::exception&) {
+        throw UsageError("--actuator-motors: '" + text.substr(0, eq) + "' is not a channel number (1, 2, ...)");
+    }
+    std::uint16_t motors = 0;
+    const std::string set = text.substr(eq + 1);
+    if (!tactile::parseMotorSet(set, motors) || motors == 0) throw UsageError("--actuator-motors: '" + set + "' is not a motor set (1-16, 1,3, 7-9, elbow, wrist, ...)");
+    return {channel, motors};
+}
+
 int runImport(const Arguments& args)
 {
     CommandLine cl("score import", "FILE --out SCORE [options]",
@@ -41,6 +60,10 @@ int runImport(const Arguments& args)
                    "  .haptic      Meta Haptics Studio: amplitude envelope and emphasis\n"
                    "  .tact        bHaptics Designer, the forearm (Tactosy) device: its 3x2 grid on the wrist and\n"
                    "               elbow rows, dot and path modes (an interpretation: docs/FORMATS.md)\n"
+                   "  .hjif        MPEG haptics (ISO/IEC 23090-31) as its reference software synthesises it: the\n"
+                   "               amplitude envelope of every Vibrotactile channel (Transient, Curve, VectorialWave\n"
+                   "               bands; Basis, Reference, Composite effects); a channel's actuator_target picks its\n"
+                   "               motors, else it plays on all nine (WaveletWave bands are refused: docs/FORMATS.md)\n"
                    "The score is written whole or not at all; one JSON line on stdout says what was imported.",
                    {{"--out", "SCORE", "the score file to write (armadillo-score 2)", true},
                     {"--max-motors", "N", "MIDI: at most N notes at once (1..9, default 4)"},
@@ -50,8 +73,10 @@ int runImport(const Arguments& args)
                     {"--motors", "SET", "AHAP, .haptic: the motors the one actuator drives (default all: 1-9)"},
                     {"--device", "ForearmR|ForearmL", ".tact: which forearm's effects (default: the one that plays, ForearmR\n"
                                                       "when both do; ForearmL is mirrored into the right-arm layout)"},
+                    {"--actuator-motors", "C=MOTORS", ".hjif: the file's Vibrotactile channel C (1-based) on these motors,\n"
+                                                      "e.g. 1=wrist or 2=7-9 (repeatable; the channels not named are left out)"},
                     {"--frame-ms", "MS", "WAV: the analysis frame (default 5 ms; the carrier must reach its peak\n"
-                                         "within a frame: >= 100 Hz at 5 ms)"}});
+                                         "within a frame: >= 100 Hz at 5 ms); .hjif: the frame the envelope is sampled at"}});
     if (args.empty() || args[0].rfind("--", 0) == 0) {
         if (!cl.parse(args)) return 0;
         throw UsageError("score import needs a FILE to import");
@@ -74,6 +99,7 @@ int runImport(const Arguments& args)
     const double frameMs = cl.number("--frame-ms", 5.0);
     if (!(frameMs >= 1.0 && frameMs <= 100.0)) throw UsageError("--frame-ms must lie in 1..100");
     haptic.frameSeconds = frameMs / 1000.0;
+    for (const std::string& c : cl.values("--actuator-motors")) haptic.hjifChannels.push_back(channelMotors(c));
     const formats::ImportedScore s = importScoreFile(file, midi, haptic);
     core::writeFileAtomically(cl.value("--out"), s.text);
     std::string json = "{\"format\":";
@@ -98,7 +124,7 @@ int runScore(const Arguments& args)
             std::cout << "usage: armadillo score import FILE --out SCORE [options]\n\n"
                          "Tactile scores from other files (docs/FORMATS.md).\n\nsubcommands:\n"
                          "  import      a MIDI file (.mid), a multichannel WAV (.wav), an AHAP (.ahap), a Meta\n"
-                         "              .haptic or a bHaptics .tact file -> a tactile score (see armadillo score import --help)\n";
+                         "              .haptic, a bHaptics .tact or an MPEG .hjif file -> a tactile score (see armadillo score import --help)\n";
             if (args.empty()) throw UsageError("score needs a subcommand (import)");
             return 0;
         }

@@ -18,7 +18,7 @@ std::vector<OptionSpec> sceneOptionSpecs()
         {"--scene", "SCENE", sceneList(), true},
         {"--sample-rate", "HZ", "audio sample rate (default 48000)"},
         {"--score", "NAME", "score scene: rite-of-spring, polytope, a score of yours (armadillo resources), a .score file,\n"
-                             "or a file to import as it plays: .mid .wav .ahap .haptic .tact (docs/FORMATS.md)"},
+                             "or a file to import as it plays: .mid .wav .ahap .haptic .tact .hjif (docs/FORMATS.md)"},
         {"--text", "TEXT", "braille scene: the text to read (@FILE reads a text or .brf file)"},
         {"--seed", "N", "seed of every random choice (default 1)"},
         {"--audio", "FILE.wav", "cymbal: a recording to cut crash fragments from (mixed with the built-in bank)"},

@@ -466,7 +466,7 @@ std::string readText(const std::string& path)
 bool isImportableScorePath(const std::string& path) noexcept
 {
     const std::string e = lowerExtension(path);
-    return e == ".mid" || e == ".midi" || e == ".wav" || e == ".ahap" || e == ".haptic" || e == ".tact";
+    return e == ".mid" || e == ".midi" || e == ".wav" || e == ".ahap" || e == ".haptic" || e == ".tact" || e == ".hjif";
 }
 
 ImportedScore importScoreFile(const std::string& path, const MidiImportOptions& midi, const HapticImportOptions& haptic)
@@ -478,6 +478,7 @@ ImportedScore importScoreFile(const std::string& path, const MidiImportOptions& 
     if (e == ".ahap") return importAhap(readText(path), path, haptic);
     if (e == ".haptic") return importMetaHaptic(readText(path), path, haptic);
     if (e == ".tact") return importTact(readText(path), path, haptic);
+    if (e == ".hjif") return importHjif(readText(path), path, haptic);
     if (e == ".score") {
         ImportedScore s;
         s.text = readText(path);
@@ -486,7 +487,7 @@ ImportedScore importScoreFile(const std::string& path, const MidiImportOptions& 
         s.report.notes = static_cast<int>(s.score.notes.size());
         return s;
     }
-    throw core::InputError(path, 0, "", "unknown score format '" + e + "' (known: .score .mid .midi .wav .ahap .haptic .tact)");
+    throw core::InputError(path, 0, "", "unknown score format '" + e + "' (known: .score .mid .midi .wav .ahap .haptic .tact .hjif)");
 }
 
 tactile::Score loadAnyScore(const std::string& path) { return importScoreFile(path).score; }

@@ -5,6 +5,7 @@
 // file a person can read and edit — and the result is parsed back by the score parser, so what
 // is imported is exactly what `--score FILE.score` plays. No JUCE.
 #include "Core/Csv.h"
+#include "Formats/Hjif.h"
 #include "Formats/MidiFile.h"
 #include "Tactile/Score.h"
 #include "Tactile/TactileEngine.h"
@@ -69,6 +70,11 @@ struct HapticImportOptions {
     double emphasisSeconds = 0.030;       ///< .haptic: how long an emphasis is held (Lofelt's emphasis length)
     std::string tactDevice;               ///< .tact: "ForearmR" or "ForearmL"; empty: the forearm that plays (ForearmR when both)
     double tactPathStep = 0.020;          ///< .tact: a path is followed in steps of this (s; the Designer's 20 ms frame)
+    /// .hjif: channel (1-based, the file's Vibrotactile channels in order) -> motors
+    /// (`--actuator-motors C=SET`); empty: the default rule (hjifDefaultMotors). With any given,
+    /// the channels not named are left out.
+    std::vector<std::pair<int, std::uint16_t>> hjifChannels;
+    int hjifGridMotors = 9;               ///< .hjif: the grid the default rule spreads over (12 with the back row)
 };
 
 /// A multichannel WAV (9 or 12 channels, or up to 16): channel k → motor k; each frame's level is
@@ -85,7 +91,19 @@ ImportedScore importMetaHaptic(std::string_view json, const std::string& source,
 /// spread bilinearly over the 3 × 3 (column 2x, row 2y); overlaps: the louder.
 ImportedScore importTact(std::string_view json, const std::string& source, const HapticImportOptions& options);
 
-/// By extension: .score (parsed as is), .mid/.midi, .wav, .ahap, .haptic, .tact. InputError for an
+/// MPEG haptics `.hjif` (ISO/IEC 23090-31, docs/FORMATS.md "MPEG haptics .hjif"): every
+/// Vibrotactile channel's amplitude envelope as the reference software synthesises it, per
+/// `frameSeconds` frame, level = 15 x envelope on the channel's motors (the loudest channel on a
+/// shared motor).
+ImportedScore importHjif(std::string_view json, const std::string& source, const HapticImportOptions& options);
+/// The default motors of a channel: with actuator_resolution and actuator_target, the targets on
+/// the 3 x 3 grid (X = column from the left, Y = row from the wrist; a 3 x 3 or 3 x 4 resolution
+/// as is, another spread in proportion); otherwise every motor of the grid (`gridMotors`).
+std::uint16_t hjifDefaultMotors(const hjif::Channel& channel, int gridMotors) noexcept;
+/// `--tactile-hjif`: the motors as an .hjif file (hjif::write; docs/FORMATS.md).
+std::string exportHjif(const std::vector<core::TactileRow>& rows, int motors, const std::string& project);
+
+/// By extension: .score (parsed as is), .mid/.midi, .wav, .ahap, .haptic, .tact, .hjif. InputError for an
 /// unknown extension, naming the ones known.
 ImportedScore importScoreFile(const std::string& path, const MidiImportOptions& midi = {}, const HapticImportOptions& haptic = {});
 /// importScoreFile(path).score: what `--score FILE` plays for a file of any of those formats.

@@ -105,12 +105,12 @@ void SceneControls::rebuild()
         for (const core::ScoreEntry& s : core::listScores()) box->addItem(juce::String(s.name), itemId++);
         box->addSeparator();
         constexpr int kImportItem = 10000;
-        box->addItem("Import a file... (MIDI, WAV, AHAP, .haptic, .tact)", kImportItem);
+        box->addItem("Import a file... (MIDI, WAV, AHAP, .haptic, .tact, .hjif)", kImportItem);
         box->setEditableText(true);
         box->setText(processor_.settings()[SettingIds::score].toString(), juce::dontSendNotification);
         box->setTitle("Score");
         box->setDescription("A score by name (the shipped ones and yours in " + juce::String(core::userResourceDir())
-                            + "/Scores), the path of a .score file, or Import a file: a MIDI file, a multichannel WAV, an AHAP, a .haptic or a bHaptics .tact file.");
+                            + "/Scores), the path of a .score file, or Import a file: a MIDI file, a multichannel WAV, an AHAP, a .haptic, a bHaptics .tact or an MPEG .hjif file.");
         box->onChange = [this, b = box.get()] {
             if (b->getSelectedId() == kImportItem) {
                 chooseScoreFile(*b);
@@ -130,9 +130,9 @@ void SceneControls::chooseScoreFile(juce::ComboBox& box)
 {
     const juce::String current = processor_.settings()[SettingIds::score].toString();
     box.setText(current, juce::dontSendNotification);   // until a file is chosen and imports
-    chooser_ = std::make_unique<juce::FileChooser>("Import a score from a MIDI, WAV, AHAP, .haptic or .tact file",
+    chooser_ = std::make_unique<juce::FileChooser>("Import a score from a MIDI, WAV, AHAP, .haptic, .tact or .hjif file",
                                                    juce::File::getSpecialLocation(juce::File::userMusicDirectory),
-                                                   "*.mid;*.midi;*.wav;*.ahap;*.haptic;*.tact;*.score");
+                                                   "*.mid;*.midi;*.wav;*.ahap;*.haptic;*.tact;*.hjif;*.score");
     juce::Component::SafePointer<juce::ComboBox> safeBox(&box);
     chooser_->launchAsync(juce::FileBrowserComponent::openMode | juce::FileBrowserComponent::canSelectFiles,
                           [this, safeBox](const juce::FileChooser& fc) {

@@ -7,6 +7,8 @@
 #include "Tactile/Score.h"
 #include <catch2/catch.hpp>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 using namespace armadillo::cli;
 namespace fs = std::filesystem;
@@ -198,5 +200,62 @@ TEST_CASE("cli: render writes the motors as a bHaptics .tact that imports back; 
     CHECK(bad.err.find("index") != std::string::npos);
     CHECK(runArmadillo("score import '" + tact + "' --out '" + never + "' --device ForearmX").code == 2);
     CHECK(runArmadillo("score import '" + tact + "' --out '" + never + "' --device ForearmL").code == 3);   // nothing on the left
+    CHECK_FALSE(fs::exists(never));
+}
+
+TEST_CASE("cli: score import and --score read MPEG .hjif; render writes --tactile-hjif that imports back; bad files exit 3", "[cli][import][export][hjif]")
+{
+    const std::string source = std::string(ARMADILLO_SOURCE_DIR) + "/Tests/Formats/data/hjif/";
+    const std::string out = path("curves.score");
+    const Run r = runArmadillo("score import '" + source + "curves_two_channels.hjif' --out '" + out + "'");
+    REQUIRE(r.code == 0);
+    CHECK(r.out.find("\"format\":\"hjif\"") != std::string::npos);
+    // The two channels' actuator_target: the wrist row (1-3) and the elbow row (7-9), nothing else.
+    const armadillo::tactile::Score s = armadillo::tactile::loadScore(out);
+    REQUIRE(!s.notes.empty());
+    for (const auto& n : s.notes) CHECK((n.motors == 0x0007 || n.motors == 0x01C0));
+    // --actuator-motors: channel 1 on motor 5 only, channel 2 left out.
+    REQUIRE(runArmadillo("score import '" + source + "curves_two_channels.hjif' --out '" + out + "' --actuator-motors 1=5").code == 0);
+    for (const auto& n : armadillo::tactile::loadScore(out).notes) CHECK(n.motors == 0x0010);
+    CHECK(runArmadillo("score import '" + source + "curves_two_channels.hjif' --out '" + out + "' --actuator-motors 1").code == 2);
+    CHECK(runArmadillo("score import '" + source + "curves_two_channels.hjif' --out '" + out + "' --actuator-motors 0=5").code == 2);
+    CHECK(runArmadillo("score import '" + source + "curves_two_channels.hjif' --out '" + out + "' --actuator-motors 1=nowhere").code == 2);
+
+    // Render from the .hjif directly, export the motors as .hjif, play that: the same levels.
+    const std::string motion = stillMotion("still-hjif.csv", 2.0);
+    const std::string csv = path("hjif-1.csv"), hjif = path("exported.hjif"), csv2 = path("hjif-2.csv");
+    REQUIRE(runArmadillo("render --scene score --score '" + source + "ten_seconds.hjif' --motion '" + motion + "' --out '" + path("hjif.wav") +
+                         "' --tactile '" + csv + "' --tactile-hjif '" + hjif + "'").code == 0);
+    const Run back = runArmadillo("score import '" + hjif + "' --out '" + path("from-hjif.score") + "'");
+    CHECK(back.code == 0);
+    REQUIRE(runArmadillo("render --scene score --score '" + hjif + "' --motion '" + motion + "' --out '" + path("hjif2.wav") + "' --tactile '" + csv2 + "'").code == 0);
+    const auto first = armadillo::core::readTactile(armadillo::core::CsvTable::read(csv)), second = armadillo::core::readTactile(armadillo::core::CsvTable::read(csv2));
+    REQUIRE(second.size() >= 380);
+    int worst = 0, on = 0;
+    for (std::size_t i = 0; i < 380; ++i)
+        for (std::size_t m = 0; m < 9; ++m) {
+            worst = std::max(worst, std::abs(int(first[i].levels[m]) - int(second[i].levels[m])));
+            on += first[i].levels[m] > 0;
+        }
+    CHECK(on > 100);
+    CHECK(worst <= 1);
+
+    const std::string never = path("never-hjif.score");
+    const Run truncated = runArmadillo("score import '" + file("cut.hjif", R"({"version": "2023", "profile": "Main", "perceptions": [)") + "' --out '" + never + "'");
+    CHECK(truncated.code == 3);
+    CHECK(truncated.err.find("cut.hjif") != std::string::npos);
+    std::string text;
+    {
+        std::ifstream in(source + "library_vectorial.hjif");
+        std::ostringstream ss;
+        ss << in.rdbuf();
+        text = ss.str();
+    }
+    text.replace(text.find("\"VectorialWave\""), 15, "\"Wobble\"");
+    const Run unknown = runArmadillo("score import '" + file("wobble.hjif", text) + "' --out '" + never + "'");
+    CHECK(unknown.code == 3);
+    CHECK(unknown.err.find("wobble.hjif") != std::string::npos);
+    CHECK(unknown.err.find("unknown band type 'Wobble'") != std::string::npos);
+    CHECK(runArmadillo("render --scene score --score '" + path("wobble.hjif") + "' --motion '" + motion + "' --out '" + path("never.wav") + "'").code == 3);
     CHECK_FALSE(fs::exists(never));
 }
