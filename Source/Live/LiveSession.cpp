@@ -78,6 +78,21 @@ const std::vector<std::string>& sessionLogHeader()
 
 LiveSession::LiveSession(const LiveConfig& config) : config_(config)
 {
+    // In this order: a bad scene, set list, route or mapping is refused before any port is
+    // opened; the tactor output last, so a missing device leaves nothing open.
+    buildEngine();
+    sourceKind_ = config_.source == LiveConfig::Source::Osc ? live::SourceKind::Osc : live::SourceKind::Device;
+    openMessagesAndMapping();
+    openRightSource();
+    openLeftArm();
+    openRecordings();
+    openAudio();
+}
+
+/// The engine the loop runs (the scene, or the navigation scene of a walk; a monitor under a set
+/// list's cues) and, with two arms, the left arm's tracker.
+void LiveSession::buildEngine()
+{
     const bool twoArms = config_.leftSource != LiveConfig::LeftSource::None;
     if (twoArms) {
         // The loop's engine hears both arms (Engine::control(right, left, …)); with a set list
@@ -106,7 +121,11 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
         engine_ = slot->engine.get();
         loop_.replace(std::move(slot));   // nothing runs yet
     }
-    sourceKind_ = config_.source == LiveConfig::Source::Osc ? live::SourceKind::Osc : live::SourceKind::Device;
+}
+
+/// Messages, the fixed OSC stream or the mapping with its MIDI, OSC, MQTT and stage sinks.
+void LiveSession::openMessagesAndMapping()
+{
     if (config_.messages.on) {   // InputError for a bad configuration; nothing connects before start()
         messages_ = std::make_unique<mqtt::MessageService>(config_.messages.config, config_.messages.options);
         messageScene_ = dynamic_cast<braille::BrailleSceneControls*>(&engine_->scene());
@@ -137,7 +156,11 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
     } else if (!config_.midiOut.empty()) {
         throw core::InputError("--midi-out", 0, "", "MIDI out follows a mapping: give --map PRESET|FILE (e.g. --map classic)");
     }
+}
 
+/// The right arm's source: a port or the simulated forearm through a device link, or OSC.
+void LiveSession::openRightSource()
+{
     auto deviceHandler = [this](const link::SensorCounts& counts, double t) { return control(t, &counts, nullptr, nullptr); };
     switch (config_.source) {
     case LiveConfig::Source::Port:
@@ -159,7 +182,11 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
         break;
     }
     }
+}
 
+/// Two arms: the left arm's source (a port, the simulated forearm or an OSC sender) and its log.
+void LiveSession::openLeftArm()
+{
     if (config_.leftSource != LiveConfig::LeftSource::None) {
         // The left arm's packets: calibrated with its own calibration, into its mailbox; answered
         // with the left arm's latest motor levels (its own tactile engine and safety stage).
@@ -182,6 +209,11 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
         if (!config_.armsLog.empty())
             armsLog_ = std::make_unique<StreamingCsvWriter>(config_.armsLog, std::vector<std::string> {"t", "qw", "qx", "qy", "qz", "left_qw", "left_qx", "left_qy", "left_qz"});
     }
+}
+
+/// The session log, the tactile CSV and the recording the scene listens to.
+void LiveSession::openRecordings()
+{
     if (!config_.logOut.empty()) log_ = std::make_unique<StreamingCsvWriter>(config_.logOut, sessionLogHeader());
     if (!config_.tactileOut.empty()) {
         std::vector<std::string> h {"t"};
@@ -204,6 +236,11 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
                                               " Hz); give --sample-rate to match it");
         recordingSilence_.assign(8192, 0.0f);
     }
+}
+
+/// Where the sound goes (a WAV file or a sound card) and the tactor output.
+void LiveSession::openAudio()
+{
     if (!config_.audioOut.empty()) {
         wav_ = std::make_unique<StreamingWavWriter>(config_.audioOut, config_.engine.sceneConfig.sampleRate, config_.audioFloat);
     } else if (!config_.soundCard.empty()) {

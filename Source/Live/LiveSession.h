@@ -267,6 +267,13 @@ public:
 
 private:
     friend struct LiveSessionAudioProbe;   // Tests/Live/RealtimeLoopTests.cpp: renderBlock under the real-time guard
+    // The constructor's steps, in order.
+    void buildEngine();
+    void openMessagesAndMapping();
+    void openRightSource();
+    void openLeftArm();
+    void openRecordings();
+    void openAudio();
     core::MotorLevels control(double t, const link::SensorCounts* counts, const core::ImuSample* imu, const Eigen::Quaterniond* q);
     /// Packets, errors, reconnects and gaps of the source so far (any thread; no session length).
     SessionSummary linkCounters() const;
