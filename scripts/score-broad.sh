@@ -6,6 +6,9 @@
 #   scripts/score-broad.sh [ARMADILLO_BINARY] [DATA_DIR]
 # ARMADILLO_BINARY defaults to build/bin/armadillo; DATA_DIR to ../shared/data/broad-dev.
 # Extra arguments for `armadillo fuse` can be given in FUSE_ARGS (e.g. FUSE_ARGS=--no-mag).
+# Then the leave-one-trial-out cross-validation of the tuned parameters (scripts/cv_broad.py: for
+# each trial, the parameters chosen on the others from a small grid score it) is printed beside the
+# in-sample figure; CV_GRID overrides its grid, CV_JOBS (default 2) its parallel runs, CV=0 skips it.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bin="${1:-$here/build/bin/armadillo}"
@@ -47,3 +50,12 @@ done
 [[ $n -gt 0 ]] || { echo "score-broad: no *_imu.csv.gz in $data" >&2; exit 2; }
 printf '%-40s %8.3f %17s | %8.3f %17s | %8.3f\n' "mean total RMSE ($n trials)" "$(python3 -c "print($sum / $n)")" "" \
     "$(python3 -c "print($vsum / $n)")" "" "$(python3 -c "print($osum / $n)")"
+if [[ "${CV:-1}" != "0" ]]; then
+    echo
+    python3 "$here/scripts/cv_broad.py" "$bin" "$data" "$scorer" --jobs "${CV_JOBS:-2}" ${CV_GRID:+--grid "$CV_GRID"} > "$tmp/cv.txt" \
+        || { echo "score-broad: cross-validation failed" >&2; exit 1; }
+    cat "$tmp/cv.txt"
+    printf '\n%-40s %8.3f | cross-validated %s | VQF %8.3f | offline VQF %8.3f\n' "in-sample mean (defaults)" \
+        "$(python3 -c "print($sum / $n)")" "$(sed -n 's/^CV_LOTO=\([^ ]*\).*/\1/p' "$tmp/cv.txt")" \
+        "$(python3 -c "print($vsum / $n)")" "$(python3 -c "print($osum / $n)")"
+fi

@@ -5,7 +5,9 @@
 #include "Core/Csv.h"
 #include "Core/Pose.h"
 #include "Fusion/OrientationFilter.h"
+#include <cmath>
 #include <iostream>
+#include <stdexcept>
 #include <vector>
 
 namespace armadillo::cli {
@@ -22,13 +24,31 @@ int runFuse(const Arguments& args)
                        {{"--in", "IMU.csv", "IMU file to fuse", true},
                         {"--out", "Q.csv", "quaternion file to write (whole or not at all)", true},
                         {"--features", "", "append elevation,azimuth,roll (degrees) to each row", false},
-                        {"--no-mag", "", "ignore the magnetometer columns (6-axis fusion)", false}});
+                        {"--no-mag", "", "ignore the magnetometer columns (6-axis fusion)", false},
+                        {"--param", "NAME=VALUE", "set one filter parameter (repeatable; tuning and cross-validation runs,\n"
+                                                  "scripts/score-broad.sh): a member of OrientationFilter::Params by name,\n"
+                                                  "e.g. headingNoise=0.6, field.normTolerance=0.1; booleans 0/1", false}});
         if (!cl.parse(args)) return 0;
         checkOutputPath("--out", cl.value("--out"));   // before the fusion, not after it
-        const core::CsvTable table = core::CsvTable::read(cl.value("--in"));
-        const std::vector<core::ImuSample> samples = readImu(table);
         fusion::OrientationFilter::Params params = fusion::OrientationFilter::defaultParams();
         if (cl.has("--no-mag")) params.useMagnetometer = false;
+        for (const std::string& setting : cl.values("--param")) {
+            const auto eq = setting.find('=');
+            const std::string name = setting.substr(0, eq);
+            double value = 0.0;
+            std::size_t used = 0;
+            try {
+                if (eq != std::string::npos) value = std::stod(setting.substr(eq + 1), &used);
+            } catch (const std::exception&) {
+                used = 0;
+            }
+            if (eq == std::string::npos || used == 0 || used != setting.size() - eq - 1 || !std::isfinite(value))
+                throw UsageError("--param " + setting + ": expected NAME=NUMBER");
+            if (!fusion::OrientationFilter::setParameter(params, name, value))
+                throw UsageError("--param " + setting + ": no filter parameter '" + name + "'");
+        }
+        const core::CsvTable table = core::CsvTable::read(cl.value("--in"));
+        const std::vector<core::ImuSample> samples = readImu(table);
         fusion::OrientationFilter filter(params);
         const bool features = cl.has("--features");
         std::vector<std::string> header {"t", "qw", "qx", "qy", "qz"};
@@ -54,7 +74,8 @@ int runFuse(const Arguments& args)
                   << filter.magneticRejections() << " magnetometer samples rejected, " << filter.recovery().gaps
                   << " gaps (" << filter.recovery().bridged << " bridged, " << filter.recovery().reacquired
                   << " re-acquired, longest " << filter.recovery().longestGap << " s), " << filter.recovery().headingResets
-                  << " heading and " << filter.recovery().tiltResets << " tilt resets"
+                  << " heading and " << filter.recovery().tiltResets << " tilt resets, " << filter.recovery().reacquireSteps
+                  << " re-acquisition steps"
                   << (filter.initialised() ? "" : " (no usable sample: rest orientation written)") << "\n";
         return 0;
     });

@@ -11,6 +11,93 @@ const OrientationFilter::Params& OrientationFilter::defaultParams()
     return p;
 }
 
+namespace {
+using Params = OrientationFilter::Params;
+struct NumericParameter {
+    const char* name;
+    double& (*member)(Params&);
+};
+struct BoolParameter {
+    const char* name;
+    bool& (*member)(Params&);
+};
+// Every numeric parameter by its member name (tuning and cross-validation: `armadillo fuse --param`).
+const NumericParameter kNumeric[] = {
+        {"rotationNoise", [](Params& p) -> double& { return p.rotationNoise; }},
+        {"rateNoise", [](Params& p) -> double& { return p.rateNoise; }},
+        {"angularAccelNoise", [](Params& p) -> double& { return p.angularAccelNoise; }},
+        {"biasNoise", [](Params& p) -> double& { return p.biasNoise; }},
+        {"shockThreshold", [](Params& p) -> double& { return p.shockThreshold; }},
+        {"shockRotationNoise", [](Params& p) -> double& { return p.shockRotationNoise; }},
+        {"gyroNoise", [](Params& p) -> double& { return p.gyroNoise; }},
+        {"accelFilterTau", [](Params& p) -> double& { return p.accelFilterTau; }},
+        {"magFilterTau", [](Params& p) -> double& { return p.magFilterTau; }},
+        {"magDisagreementTau", [](Params& p) -> double& { return p.magDisagreementTau; }},
+        {"startupFilterSeconds", [](Params& p) -> double& { return p.startupFilterSeconds; }},
+        {"gravityNoise", [](Params& p) -> double& { return p.gravityNoise; }},
+        {"youngAverageVelocity", [](Params& p) -> double& { return p.youngAverageVelocity; }},
+        {"gravityNormGain", [](Params& p) -> double& { return p.gravityNormGain; }},
+        {"gravityNisLimit", [](Params& p) -> double& { return p.gravityNisLimit; }},
+        {"headingNoise", [](Params& p) -> double& { return p.headingNoise; }},
+        {"headingNisLimit", [](Params& p) -> double& { return p.headingNisLimit; }},
+        {"biasObservationNoise", [](Params& p) -> double& { return p.biasObservationNoise; }},
+        {"initialTiltStd", [](Params& p) -> double& { return p.initialTiltStd; }},
+        {"initialHeadingStd", [](Params& p) -> double& { return p.initialHeadingStd; }},
+        {"initialBiasStd", [](Params& p) -> double& { return p.initialBiasStd; }},
+        {"reacquireAccelTolerance", [](Params& p) -> double& { return p.reacquireAccelTolerance; }},
+        {"maxBridge", [](Params& p) -> double& { return p.maxBridge; }},
+        {"reacquireWindow", [](Params& p) -> double& { return p.reacquireWindow; }},
+        {"reacquireHeadingNoise", [](Params& p) -> double& { return p.reacquireHeadingNoise; }},
+        {"disagreementTime", [](Params& p) -> double& { return p.disagreementTime; }},
+        {"acquireDisagreementTime", [](Params& p) -> double& { return p.acquireDisagreementTime; }},
+        {"acquireRotationNoise", [](Params& p) -> double& { return p.acquireRotationNoise; }},
+        {"acquireTime", [](Params& p) -> double& { return p.acquireTime; }},
+        {"headingDisagreement", [](Params& p) -> double& { return p.headingDisagreement; }},
+        {"headingConsistency", [](Params& p) -> double& { return p.headingConsistency; }},
+        {"tiltDisagreement", [](Params& p) -> double& { return p.tiltDisagreement; }},
+        {"minHorizontalField", [](Params& p) -> double& { return p.minHorizontalField; }},
+        {"bias.restGyroDeviation", [](Params& p) -> double& { return p.bias.restGyroDeviation; }},
+        {"bias.restAccelDeviation", [](Params& p) -> double& { return p.bias.restAccelDeviation; }},
+        {"bias.restFilterTau", [](Params& p) -> double& { return p.bias.restFilterTau; }},
+        {"bias.minRestTime", [](Params& p) -> double& { return p.bias.minRestTime; }},
+        {"field.tau", [](Params& p) -> double& { return p.field.tau; }},
+        {"field.accelTolerance", [](Params& p) -> double& { return p.field.accelTolerance; }},
+        {"field.normTolerance", [](Params& p) -> double& { return p.field.normTolerance; }},
+        {"field.dipTolerance", [](Params& p) -> double& { return p.field.dipTolerance; }},
+        {"field.newFieldTime", [](Params& p) -> double& { return p.field.newFieldTime; }},
+        {"field.candidateTau", [](Params& p) -> double& { return p.field.candidateTau; }},
+};
+const BoolParameter kBool[] = {
+        {"shockRestartsFieldLowPass", [](Params& p) -> bool& { return p.shockRestartsFieldLowPass; }},
+        {"accelTaperedStart", [](Params& p) -> bool& { return p.accelTaperedStart; }},
+        {"useMagnetometer", [](Params& p) -> bool& { return p.useMagnetometer; }},
+        {"gyroCoversPrecedingInterval", [](Params& p) -> bool& { return p.gyroCoversPrecedingInterval; }},
+};
+} // namespace
+
+bool OrientationFilter::setParameter(Params& p, const std::string& name, double value)
+{
+    for (const NumericParameter& n : kNumeric)
+        if (name == n.name) {
+            n.member(p) = value;
+            return true;
+        }
+    for (const BoolParameter& b : kBool)
+        if (name == b.name) {
+            b.member(p) = value != 0.0;
+            return true;
+        }
+    return false;
+}
+
+std::vector<std::string> OrientationFilter::parameterNames()
+{
+    std::vector<std::string> out;
+    for (const NumericParameter& n : kNumeric) out.emplace_back(n.name);
+    for (const BoolParameter& b : kBool) out.emplace_back(b.name);
+    return out;
+}
+
 bool orientationFromVectors(const Eigen::Vector3d& accel, const Eigen::Vector3d& mag, Eigen::Quaterniond& q)
 {
     q = Eigen::Quaterniond::Identity();
@@ -57,6 +144,8 @@ void OrientationFilter::reset()
     lastGyro_.setConstant(core::kNaN);
     gaps_ = core::GapDetector(params_.gap);
     headingDisagreeT_ = tiltDisagreeT_ = 0.0;
+    reacquirePending_ = false;
+    magAverageInertial_.setConstant(core::kNaN);
     initialised_ = false;
     skipped_ = 0;
     magRejected_ = 0;
@@ -136,6 +225,9 @@ void OrientationFilter::reacquire(const core::ImuSample& s)
     resetCovariance(std::max(params_.initialTiltStd, params_.initialHeadingStd));
     ++recovery_.reacquired;
     acquireStartT_ = s.t;
+    reacquirePending_ = params_.reacquireWindow > 0.0;
+    reacquireStartT_ = s.t;
+    reacquireSamples_ = reacquireFieldSamples_ = 0;
     headingDisagreeT_ = tiltDisagreeT_ = 0.0;
     restartInertialFrame();
 }
@@ -147,6 +239,61 @@ void OrientationFilter::restartInertialFrame()
     accelLowPass_.reset();
     magLowPass_.reset();
     magFastLowPass_.reset();
+    magAverageInertial_.setConstant(core::kNaN);
+}
+
+void OrientationFilter::reacquireStep(const Eigen::Vector3d& up, const Eigen::Vector3d& field)
+{
+    // After a gap the state is the orientation before it (levelled by the first sample): good if
+    // the arm held still, anything if it turned. The young averages are a measurement of known
+    // quality (tilt: the gravity noise and the Δv/T of a young average, as in updateGravity;
+    // heading: reacquireHeadingNoise plus the tilt error it inherits through the field's dip). Their
+    // disagreement d with the state is the state's error plus theirs, so the state's own error is
+    // about √(d² − σ²), and the two combine with the weight w = (d² − σ²)/d² on the measurement:
+    // a state that agrees keeps its precision, one that disagrees by far more than the averages'
+    // error takes theirs. Tilt first (levelling turns least), then heading about the vertical.
+    Eigen::Quaterniond q = ukf_.state().q;
+    const double T = std::max(lastT_ - reacquireStartT_, 1e-3);
+    const double young = params_.youngAverageVelocity / (core::kStandardGravity * T);
+    const double tiltVar = params_.gravityNoise * params_.gravityNoise + young * young;
+    const Eigen::Vector3d upEarth = quat::rotate(q, up.normalized());
+    const double tilt = std::acos(std::clamp(upEarth.y(), -1.0, 1.0));
+    const double wTilt = tilt * tilt > tiltVar ? 1.0 - tiltVar / (tilt * tilt) : 0.0;
+    bool moved = false;
+    if (wTilt > 0.0) {
+        const Eigen::AngleAxisd level(Eigen::Quaterniond::FromTwoVectors(upEarth, Eigen::Vector3d::UnitY()));
+        q = quat::normalised(Eigen::Quaterniond(Eigen::AngleAxisd(wTilt * level.angle(), level.axis())) * q);
+        moved = true;
+    }
+    // The tilt's remaining error: the combination's variance (w·σ² of the measurement's) where the
+    // measurement counted, else the state's (at most the disagreement seen).
+    const double tiltAfter = std::sqrt(wTilt * tiltVar + (1.0 - wTilt) * std::min(tilt * tilt, tiltVar));
+    double rotationStd = tiltAfter;
+    if (field.allFinite()) {
+        Eigen::Vector3d me = quat::rotate(q, field);
+        const double total = me.norm();
+        me.y() = 0.0;
+        if (me.norm() > params_.minHorizontalField * total) {
+            me.normalize();
+            const double turn = std::atan2(me.cross(-Eigen::Vector3d::UnitZ()).y(), -me.z());
+            // A tilt error about the horizontal axis across the field turns the field's horizontal
+            // part by up to tan(inclination) times as much.
+            const double inclination = std::abs(std::asin(std::clamp(quat::rotate(q, field.normalized()).y(), -1.0, 1.0)));
+            const double headingVar = params_.reacquireHeadingNoise * params_.reacquireHeadingNoise +
+                                      std::pow(tiltAfter * std::tan(std::min(inclination, 1.4)), 2);
+            const double wHeading = turn * turn > headingVar ? 1.0 - headingVar / (turn * turn) : 0.0;
+            if (wHeading > 0.0) {
+                q = quat::normalised(Eigen::Quaterniond(Eigen::AngleAxisd(wHeading * turn, Eigen::Vector3d::UnitY())) * q);
+                moved = true;
+            }
+            rotationStd = std::max(rotationStd, std::sqrt(wHeading * headingVar + (1.0 - wHeading) * std::min(turn * turn, headingVar)));
+        }
+    }
+    if (!moved) return;
+    ++recovery_.reacquireSteps;
+    ukf_.state().q = q;
+    resetCovariance(std::clamp(rotationStd, params_.gravityNoise, std::max(params_.initialTiltStd, params_.initialHeadingStd)));
+    headingDisagreeT_ = tiltDisagreeT_ = 0.0;
 }
 
 void OrientationFilter::setupLowPass(double dt)
@@ -358,14 +505,27 @@ void OrientationFilter::update(const core::ImuSample& s)
     const double accelNorm = s.accel.norm();
     const Eigen::Vector3d accelSmooth =
         quat::rotateInverse(inertial_, accelLowPass_.filter(quat::rotate(inertial_, s.accel)));
+    Eigen::Vector3d inertialMag, magFast;
+    if (fieldTrusted) {
+        inertialMag = quat::rotate(inertial_, s.mag);
+        magAverageInertial_ = magLowPass_.filter(inertialMag);
+        magFast = quat::rotateInverse(inertial_, magFastLowPass_.filter(inertialMag));
+    }
+    if (reacquirePending_) {
+        ++reacquireSamples_;
+        if (fieldTrusted) ++reacquireFieldSamples_;
+        if (lastT_ - reacquireStartT_ >= params_.reacquireWindow) {
+            // The field's average counts if most of the window's samples were trusted.
+            const bool field = 2 * reacquireFieldSamples_ > reacquireSamples_ && magAverageInertial_.allFinite();
+            reacquireStep(accelSmooth, field ? quat::rotateInverse(inertial_, magAverageInertial_)
+                                             : Eigen::Vector3d::Constant(core::kNaN));
+            reacquirePending_ = false;
+        }
+    }
     updateGravity(accelSmooth, accelNorm, dt);
 
     if (fieldTrusted)
-    {
-        const Eigen::Vector3d inertialMag = quat::rotate(inertial_, s.mag);
-        updateHeading(quat::rotateInverse(inertial_, magLowPass_.filter(inertialMag)),
-                      quat::rotateInverse(inertial_, magFastLowPass_.filter(inertialMag)), dt);
-    }
+        updateHeading(quat::rotateInverse(inertial_, magAverageInertial_), magFast, dt);
 }
 
 } // namespace armadillo::fusion

@@ -20,6 +20,8 @@
 #include "Fusion/Trackers.h"
 #include <Eigen/Geometry>
 #include <cstddef>
+#include <string>
+#include <vector>
 
 namespace armadillo::fusion {
 
@@ -79,6 +81,12 @@ public:
         double reacquireAccelTolerance = 0.2; ///< fraction of g: a sample whose |a| is further off gives no tilt
         double maxBridge = 0.04;              ///< s: longer gaps re-acquire; shorter ones are extrapolated
                                               ///< with ω and α (what they can honestly carry, docs/FUSION.md)
+        // Re-acquisition's joint gravity + heading step: reacquireWindow after the data returns, the
+        // young averages of accelerometer and field give an orientation; the state moves towards it
+        // by as much as their disagreement exceeds what the averages can be trusted for (the gyro is
+        // gone over the gap, so how far the arm turned shows only in that disagreement).
+        double reacquireWindow = 0.1;         ///< s of samples averaged before the step (0: no step)
+        double reacquireHeadingNoise = 0.1;   ///< rad: heading error of the young field average itself
         // Gates reject outliers, never the truth: a state that the (trusted) measurements contradict
         // by more than these angles without a break for disagreementTime is re-acquired.
         double disagreementTime = 1.5;        ///< s
@@ -100,6 +108,11 @@ public:
         MagneticFieldTracker::Params field {};
     };
     static const Params& defaultParams();
+    /// Sets one numeric parameter by its member name (`rotationNoise`, `field.normTolerance`, …;
+    /// booleans as 0/1): for tuning and cross-validation runs (`armadillo fuse --param`). Returns
+    /// false for an unknown name. parameterNames() lists them.
+    static bool setParameter(Params& p, const std::string& name, double value);
+    static std::vector<std::string> parameterNames();
 
     explicit OrientationFilter(const Params& p = defaultParams());
     void reset();
@@ -120,6 +133,7 @@ public:
         std::size_t reacquired = 0;      ///< … too long: started again from gravity and field
         std::size_t headingResets = 0;   ///< heading re-acquired after persistent disagreement
         std::size_t tiltResets = 0;      ///< tilt re-acquired after persistent disagreement
+        std::size_t reacquireSteps = 0;  ///< joint gravity + heading steps that moved the state (re-acquisition)
         double longestGap = 0.0;         ///< s
     };
     const Recovery& recovery() const { return recovery_; }
@@ -143,6 +157,9 @@ private:
     void updateGravity(const Eigen::Vector3d& accelSmooth, double rawNorm, double dt);
     void updateHeading(const Eigen::Vector3d& mag, const Eigen::Vector3d& magFast, double dt);
     void restartInertialFrame();
+    /// The joint gravity + heading step of a re-acquisition (docs/FUSION.md): `up` and `field`
+    /// (device frame; field NaN when none was trusted) are the young averages.
+    void reacquireStep(const Eigen::Vector3d& up, const Eigen::Vector3d& field);
     void setupLowPass(double dt);
 
     Params params_;
@@ -168,6 +185,11 @@ private:
     double headingDisagreeT_ = 0.0, tiltDisagreeT_ = 0.0;   ///< s of unbroken disagreement
     double headingDisagreeMean_ = 0.0;                       ///< rad, mean heading innovation of that run
     Recovery recovery_ {};
+    // Re-acquisition's joint step, pending from the gap's end for reacquireWindow.
+    bool reacquirePending_ = false;
+    double reacquireStartT_ = 0.0;
+    std::size_t reacquireSamples_ = 0, reacquireFieldSamples_ = 0;
+    Eigen::Vector3d magAverageInertial_ = Eigen::Vector3d::Constant(core::kNaN);   ///< the long field average's latest output
     bool initialised_ = false;
     std::size_t skipped_ = 0;
     std::size_t magRejected_ = 0;

@@ -417,3 +417,38 @@ TEST_CASE("filter: heading comes back after a long magnetic disturbance ends", "
     CHECK(radToDeg(r.median(70.0, 100.0)) < 5.0);
 }
 
+
+TEST_CASE("filter: a state that agrees with the young averages after a gap keeps its own precision", "[fusion][filter][gaps]")
+{
+    // The arm holds still through a 1 s gap: the state before the gap is right, and the young
+    // averages (0.1 s of samples) are not better than it, so the step leaves it alone.
+    Link link;
+    link.gaps = {{20.0, 21.0}};
+    const SimResult r = simulate(30.0, poseToQuaternion({10.0, 20.0, 0.0}), zero, zero, smallBias, true, 5.0, 11,
+                                 OrientationFilter::defaultParams(), link);
+    CHECK(r.recovery.reacquired == 1);
+    CHECK(r.recovery.reacquireSteps == 0);
+    INFO("worst error 0–3 s after the gap " << radToDeg(r.worst(21.0, 24.0)) << "°");
+    CHECK(radToDeg(r.worst(21.0, 24.0)) < 1.5);
+}
+
+TEST_CASE("filter: every parameter can be set by its name (armadillo fuse --param)", "[fusion][filter]")
+{
+    OrientationFilter::Params p = OrientationFilter::defaultParams();
+    CHECK(OrientationFilter::setParameter(p, "headingNoise", 0.4));
+    CHECK(p.headingNoise == 0.4);
+    CHECK(OrientationFilter::setParameter(p, "field.normTolerance", 0.2));
+    CHECK(p.field.normTolerance == 0.2);
+    CHECK(OrientationFilter::setParameter(p, "bias.minRestTime", 2.0));
+    CHECK(p.bias.minRestTime == 2.0);
+    CHECK(OrientationFilter::setParameter(p, "useMagnetometer", 0.0));
+    CHECK_FALSE(p.useMagnetometer);
+    CHECK_FALSE(OrientationFilter::setParameter(p, "nosuchThing", 1.0));
+    const std::vector<std::string> names = OrientationFilter::parameterNames();
+    CHECK(std::find(names.begin(), names.end(), "reacquireWindow") != names.end());
+    CHECK(std::find(names.begin(), names.end(), "magFilterTau") != names.end());
+    for (const std::string& n : names) {
+        OrientationFilter::Params q = OrientationFilter::defaultParams();
+        CHECK(OrientationFilter::setParameter(q, n, 1.0));
+    }
+}
