@@ -294,7 +294,12 @@ int runNavigate(const Arguments& args)
         if (gpsd) gpsdSource = std::make_unique<navigation::GpsdSource>(endpoint, link->position);
         else if (!armFromOsc) oscSource = std::make_unique<navigation::OscPositionSource>(oscPort, link->position);
         else config.oscDatagramTap = [link, shared](const std::uint8_t* d, std::size_t n) { navigation::storePositionDatagram(d, n, link->position, *shared); };
+        // The log under its own name as the walk goes (a crash keeps it; an existing file kept aside).
+        std::unique_ptr<core::RecordingFile> navLog;
+        if (!logPath.empty()) navLog = std::make_unique<core::RecordingFile>(logPath);
         live::LiveSession session(config);
+        if (navLog && !navLog->keptAs().empty()) std::cerr << "armadillo navigate: " << core::keptAsideNote(logPath, navLog->keptAs()) << "\n";
+        for (const std::string& line : session.keptAside()) std::cerr << "armadillo navigate: " << line << "\n";
         session.start();
         if (live::TactorOutput* t = session.tactors()) std::cerr << "armadillo navigate: tactors on " << t->describe() << "\n";
         if (gpsdSource) {
@@ -313,6 +318,10 @@ int runNavigate(const Arguments& args)
             const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             if (seconds > 0.0 && elapsed >= seconds) break;
             drain();
+            if (navLog && !log.empty()) {   // whole rows, memory bounded however long the walk
+                navLog->append(log);
+                log.clear();
+            }
             const navigation::NavigationStatus st = link->status.load();
             if (st.finished && st.sensation == navigation::Sensation::None && finishedAt < 0.0) finishedAt = elapsed;
             if (finishedAt >= 0.0 && elapsed > finishedAt + 0.5) break;
@@ -331,7 +340,10 @@ int runNavigate(const Arguments& args)
         session.stop();
         drain();
         session.finish();
-        if (!logPath.empty()) core::writeFileAtomically(logPath, log);
+        if (navLog) {
+            navLog->append(log);
+            navLog->finish();
+        }
         const navigation::NavigationStatus st = link->status.load();
         std::string summary = live::summaryJson(session.summary());
         char extra[400];
