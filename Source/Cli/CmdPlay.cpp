@@ -187,7 +187,8 @@ std::vector<OptionSpec> playOptionSpecs()
     };
     std::vector<OptionSpec> own {stage.front()};   // --setlist, right after --scene
     for (const auto& group : {sourceOptionSpecs(), outputOptionSpecs(), mapping, procedures, leftArmOptionSpecs(),
-                              std::vector<OptionSpec>(stage.begin() + 1, stage.end())})
+                              std::vector<OptionSpec>(stage.begin() + 1, stage.begin() + 2), controlListenOptionSpecs(),
+                              std::vector<OptionSpec>(stage.begin() + 2, stage.end())})
         own.insert(own.end(), group.begin(), group.end());
     o.insert(o.begin() + 1, own.begin(), own.end());
     // The motor grid live as audio (docs/TACTORS.md), beside the device.
@@ -196,6 +197,9 @@ std::vector<OptionSpec> playOptionSpecs()
     o.push_back({"--back-motors", "", "drive the three back motors 10..12 as well: in the tactile CSV, OSC out and the tactor\n"
                                       "output (the thesis's serial packet carries motors 1..9)"});
     for (const auto& specs : {mqttBrokerOptionSpecs(), mqttMessageOptionSpecs()}) o.insert(o.end(), specs.begin(), specs.end());
+    o.push_back({"--status-file", "FILE", "once a second, FILE is replaced (whole, never half-written) by one JSON line: the\n"
+                                          "summary so far plus seconds and the sensor-to-motor latency (latency_p50_us,\n"
+                                          "latency_p99_us, latency_max_us since the start) for a watcher (scripts/soak.sh)"});
     // Speech and a braille display for the training's prompts and the link's state.
     const auto io = readerIoOptionSpecs();
     o.insert(o.end(), io.begin(), io.end());
@@ -214,6 +218,8 @@ struct PlayRequest {
     bool leftNeedsData = false;
     std::string mountOut, leftMountOut, calibrateOut, trainingLog;
     int controlPort = -1;
+    live::StageControlListen controlListen;   // --control-bind, --control-allow
+    std::string statusFile;                   // --status-file
     std::unique_ptr<ReaderIo> voice;
     std::unique_ptr<PlayMessages> messages;   // outlives the session: the braille scene holds its messages
 };
@@ -274,7 +280,7 @@ std::unique_ptr<PlayRequest> readPlayRequest(const CommandLine& cl, const LiveCo
     const std::vector<std::pair<std::string, std::string>> outputs {
         {"--out", config.audioOut}, {"--tactile", config.tactileOut}, {"--log", config.logOut},
         {"--calibrate", calibrateOut}, {"--calibrate-mount", mountOut}, {"--calibrate-mount-left", leftMountOut}, {"--training-log", trainingLog},
-        {"--arms-log", config.armsLog}};
+        {"--arms-log", config.armsLog}, {"--status-file", cl.value("--status-file")}};
     for (const auto& [option, file] : outputs)
         if (cl.has(option)) checkOutputPath(option, file);
     checkDistinctOutputs(outputs);
@@ -322,6 +328,8 @@ std::unique_ptr<PlayRequest> readPlayRequest(const CommandLine& cl, const LiveCo
     request->calibrateOut = calibrateOut;
     request->trainingLog = trainingLog;
     request->controlPort = controlPort;
+    request->controlListen = readControlListenOptions(cl);
+    request->statusFile = cl.value("--status-file");
     request->voice = std::move(voice);
     request->messages = std::move(messages);
     return request;
@@ -396,6 +404,7 @@ public:
             showProgress(elapsed);
             if (!reportStage()) break;
             reportOutputs(elapsed);
+            writeStatus(elapsed);
             stepProcedures();
             if (training_) {
                 if (!stepTraining()) break;
@@ -415,6 +424,7 @@ public:
         if (request_.messages) request_.messages->stop();
         if (request_.dataTimeout > 0.0 && noData_.empty()) noData_ = silence(session_.summary().seconds);
         if (!noData_.empty()) {   // nothing was played: no file is written
+            session_.discardRecordings();
             std::cout << live::summaryJson(session_.summary()) << "\n" << std::flush;
             throw core::IoError(noData_);
         }
@@ -432,7 +442,9 @@ public:
                           << "'; that step and the later ones keep the starting calibration\n";
             link::saveCalibration(request_.calibrateOut, calibration_->result());
         }
-        std::cout << sessionSummary(session_, *report_, request_.messages.get(), cues_, panicTotal()) << "\n" << std::flush;
+        std::string summary = sessionSummary(session_, *report_, request_.messages.get(), cues_, panicTotal());
+        if (controlIn_) summary.insert(summary.size() - 1, controlIn_->summaryJson());   // (docs/SECURITY.md)
+        std::cout << summary << "\n" << std::flush;
         return session_.engine().failed() ? int(core::kExitFailure) : int(core::kExitOk);
     }
 
@@ -481,7 +493,10 @@ private:
         if (cues_)
             std::cerr << who_ << "set list of " << cues_->cueCount() << " cues; cue 0 '" << cues_->cue(0).name << "' (" << cues_->cue(0).scene << ")\n";
         if (request_.controlPort > 0) {
-            controlIn_ = std::make_unique<live::StageControlReceiver>(request_.controlPort, handler);   // IoError (exit 4) when taken
+            controlIn_ = std::make_unique<live::StageControlReceiver>(request_.controlPort, handler, request_.controlListen);   // IoError (exit 4) when taken
+            if (!osc::isLoopbackAddress(controlIn_->boundAddress()) && request_.controlListen.allow.empty())
+                std::cerr << who_ << "stage control on " << controlIn_->boundAddress() << " port " << controlIn_->port()
+                          << " takes commands from anyone who reaches it (--control-allow limits who)\n";
             if (request_.messages && request_.messages->wantsMessages())   // /armadillo/message "text" [priority] (docs/MQTT.md)
                 controlIn_->setTextHandler([m = request_.messages.get()](const std::string& text, int priority) { m->offerText(text, priority); });
             controlIn_->start();
@@ -529,6 +544,7 @@ private:
     /// The sound card and the tactors, as opened; then the mount calibrations begin.
     void announceOutputs()
     {
+        for (const std::string& line : session_.keptAside()) std::cerr << who_ << line << "\n";   // never half-replaced
         if (const audio::SoundCard* card = session_.soundCard()) {
             const audio::SoundCardInfo& i = card->info();
             std::cerr << who_ << "sound on '" << i.device << "' (" << i.sampleRate << " Hz, " << i.format << ", "
@@ -626,6 +642,7 @@ private:
         for (const std::string& line : report_->poll(elapsed)) std::cerr << lineStart_ << who_ << line << "\n";
         for (const auto& g : mountCalibrations_) g->step();
         if (request_.messages) request_.messages->poll(messageScene_, std::cerr, lineStart_);
+        if (controlIn_) for (const std::string& line : controlIn_->takeRefusals()) std::cerr << lineStart_ << who_ << line << "\n";
         if (const audio::SoundCard* card = session_.soundCard(); card && card->failed() && !shownCardError_) {
             std::cerr << lineStart_ << who_ << card->lastError() << "; playing on without sound\n";
             shownCardError_ = true;
@@ -633,6 +650,26 @@ private:
         if (live::TactorOutput* t = session_.tactors(); t && t->failed() && !shownTactorError_) {
             std::cerr << lineStart_ << who_ << "the tactor output stopped (its JACK server or sound card went away); the device plays on\n";
             shownTactorError_ = true;
+        }
+    }
+
+    /// --status-file: the summary so far and the latency, once a second, replaced whole.
+    void writeStatus(double elapsed)
+    {
+        if (request_.statusFile.empty() || elapsed - statusAt_ < 1.0) return;
+        statusAt_ = elapsed;
+        std::string status = sessionSummary(session_, *report_, request_.messages.get(), cues_, panicTotal());
+        if (controlIn_) status.insert(status.size() - 1, controlIn_->summaryJson());
+        const link::LatencySummary l = session_.latency();
+        char more[160];
+        std::snprintf(more, sizeof more, ",\"seconds\":%.1f,\"latency_p50_us\":%.0f,\"latency_p99_us\":%.0f,\"latency_max_us\":%.0f", elapsed,
+                      l.p50Us, l.p99Us, l.maxUs);
+        status.insert(status.size() - 1, more);
+        try {
+            core::writeFileAtomically(request_.statusFile, status + "\n");
+        } catch (const core::IoError& e) {   // said once; the session plays on
+            if (!statusFailed_) std::cerr << lineStart_ << who_ << e.what() << "\n";
+            statusFailed_ = true;
         }
     }
 
@@ -683,7 +720,8 @@ private:
     std::chrono::steady_clock::time_point start_;
     bool progress_ = false;
     const char* lineStart_ = "";
-    double shownAt_ = -1.0;
+    double shownAt_ = -1.0, statusAt_ = -1.0;
+    bool statusFailed_ = false;
     int shownCue_ = -1;
     std::uint32_t shownPanics_ = 0, shownMappingPanics_ = 0;
     bool shownPanicked_ = false, shownCardError_ = false, shownTactorError_ = false;

@@ -18,7 +18,8 @@ std::vector<OptionSpec> readOptionSpecs()
     const std::vector<std::string> fromPlay {"--port", "--simulate", "--motion", "--unpaced", "--baud", "--v2", "--calibration",
                                              "--seconds", "--tactile", "--log", "--arm", "--profile",
                                              "--mqtt", "--mqtt-config", "--messages", "--urgent", "--message-display",
-                                             "--message-shorthand", "--speak", "--speech", "--rate", "--brlapi", "--braille-display"};
+                                             "--message-shorthand", "--speak", "--speech", "--rate", "--brlapi", "--braille-display",
+                                             "--control-bind", "--control-allow"};
     const std::vector<OptionSpec> all = playOptionSpecs();
     std::vector<OptionSpec> o;
     for (const std::string& name : fromPlay) {
