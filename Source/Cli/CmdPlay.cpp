@@ -163,8 +163,8 @@ std::vector<OptionSpec> playOptionSpecs()
     const std::vector<OptionSpec> stage {
         {"--setlist", "FILE", "a set list (docs/STAGE.md) instead of --scene: starts at cue 0; steps with --keys\n"
                               "(n, b, 0..9) and --control-in (/armadillo/cue/next, /armadillo/cue/prev, /armadillo/cue i)"},
-        {"--control-in", "PORT", "stage commands as OSC on this UDP port (docs/STAGE.md): /armadillo/panic,\n"
-                                 "/armadillo/resume, /armadillo/cue/next, /armadillo/cue/prev, /armadillo/cue i"},
+        {"--control-in", "PORT", "stage commands as OSC on this UDP port, on 127.0.0.1 unless --control-bind (docs/STAGE.md):\n"
+                                 "/armadillo/panic, /armadillo/resume, /armadillo/cue/next, /armadillo/cue/prev, /armadillo/cue i"},
         {"--keys", "", "stage keys on stdin: p or Escape = panic, r = resume, n or Space = next cue,\n"
                        "b = previous cue, 0..9 = cue"},
         {"--panic-gesture", "", "the forearm hanging straight down (elevation <= -75 deg) for 2 s panics"},

@@ -95,7 +95,9 @@ std::vector<OptionSpec> outputOptionSpecs()
 {
     return {
         {"--seconds", "N", "stop after N seconds (default: run until interrupted)"},
-        {"--out", "OUT.wav", "record the scene's audio, 16-bit stereo (written whole at the end) instead of playing it"},
+        {"--out", "OUT.wav", "record the scene's audio, 16-bit stereo, instead of playing it. Recordings (--out, --log,\n"
+                             "--tactile, --arms-log) are readable under their own name while they grow (a crash\n"
+                             "keeps all but the last second); a file already there is kept as NAME.1 (docs/SECURITY.md)"},
         {"--audio-device", "NAME", "ALSA device to play on (default: 'default'; e.g. hw:1, plughw:1,0); an error if it\n"
                                    "cannot be opened"},
         {"--no-audio", "", "no sound at all (no --out, no sound card)"},

@@ -364,3 +364,20 @@ TEST_CASE("OSC input: the first sender keeps the arm; who else tried is named", 
     CHECK(m.otherDeviceName() == "10.0.0.99:9000");
     CHECK(m.deviceName() == "10.0.0.7:9000");
 }
+
+TEST_CASE("armadillo play that never gets data leaves no recording and puts the file it kept aside back", "[security][recording][cli]")
+{
+    const std::string log = out("nodata.csv");
+    std::remove((log + ".1").c_str());
+    { std::ofstream(log) << "an older log\n"; }
+    Child play({"play", "--scene", "theremin", "--osc-in", std::to_string(freeUdpPort()), "--no-audio", "--data-timeout", "1", "--log", log}, "nodata");
+    int status = 0;
+    REQUIRE(eventually([&] { return ::waitpid(play.pid, &status, WNOHANG) == play.pid; }, 30.0));
+    play.pid = -1;
+    CHECK(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 4);
+    CHECK(play.err().find("kept as '" + log + ".1'") != std::string::npos);   // said when it was kept aside…
+    CHECK(slurp(log) == "an older log\n");                                      // …and put back: nothing was recorded
+    CHECK_FALSE(std::ifstream(log + ".1").good());
+    std::remove(log.c_str());
+}
