@@ -407,6 +407,12 @@ public:
             writeStatus(elapsed);
             stepProcedures();
             if (training_) {
+                if (trainingLog_ && elapsed - trainingAt_ >= 1.0) {   // the rows so far, under the log's own name
+                    trainingAt_ = elapsed;
+                    const std::string csv = brailleScene_->trainingLogCsv();   // (consumer side: its own lock)
+                    trainingLog_->append(std::string_view(csv).substr(std::min(trainingWritten_, csv.size())));
+                    trainingWritten_ = csv.size();
+                }
                 if (!stepTraining()) break;
             } else {
                 std::this_thread::sleep_for(std::chrono::milliseconds(10));
@@ -432,7 +438,10 @@ public:
             std::cerr << who_ << "the recording ended after " << session_.recordingSeconds() << " s (--loop plays it again and again)\n";
         const std::string trainingCsv = brailleScene_ ? brailleScene_->trainingLogCsv() : std::string();   // control has stopped
         session_.finish();   // the session's own files first: a failing training log must not lose them
-        if (brailleScene_) core::writeFileAtomically(request_.trainingLog, trainingCsv);
+        if (trainingLog_) {
+            trainingLog_->append(std::string_view(trainingCsv).substr(std::min(trainingWritten_, trainingCsv.size())));
+            trainingLog_->finish();
+        }
         if (const audio::SoundCard* card = session_.soundCard(); card && card->underruns() > 0)
             std::cerr << who_ << "the sound card ran dry " << card->underruns() << " time(s) (audible clicks)\n";
         for (const auto& g : mountCalibrations_) g->finish();
@@ -516,6 +525,8 @@ private:
             brailleScene_ = dynamic_cast<braille::BrailleSceneControls*>(&session_.engine().scene());
             if (!brailleScene_) throw UsageError("--training-log needs the braille scene");
             training_ = std::make_unique<TerminalTraining>(*brailleScene_, request_.voice.get());
+            trainingLog_ = std::make_unique<core::RecordingFile>(request_.trainingLog);   // grows as answered (docs/SECURITY.md)
+            if (!trainingLog_->keptAs().empty()) std::cerr << who_ << core::keptAsideNote(request_.trainingLog, trainingLog_->keptAs()) << "\n";
         }
         messageScene_ = messages && messages->wantsMessages() ? dynamic_cast<braille::BrailleSceneControls*>(&session_.engine().scene()) : nullptr;
         if (messages && messages->wantsMessages() && !messageScene_) throw UsageError("--messages need the braille scene");
@@ -711,6 +722,9 @@ private:
     std::unique_ptr<live::StageControlReceiver> controlIn_;
     std::unique_ptr<live::KeyReader> keys_;
     std::unique_ptr<TerminalTraining> training_;
+    std::unique_ptr<core::RecordingFile> trainingLog_;   // --training-log
+    std::size_t trainingWritten_ = 0;
+    double trainingAt_ = -1.0;
     braille::BrailleSceneControls* brailleScene_ = nullptr;
     braille::BrailleSceneControls* messageScene_ = nullptr;
     std::unique_ptr<procedures::DeviceCalibration> calibration_;
