@@ -159,6 +159,7 @@ std::string StageSession::listenFromSettings(const std::string& bind, const std:
 
 std::string StageSession::setOsc(bool on, int port, const StageControlListen& listen)
 {
+    std::lock_guard<std::mutex> lock(mutex_);   // tick() takes the refusals on the same receiver
     const std::string allow = listen.allow.describe();
     if (osc_ != nullptr && on && (port == 0 || osc_->port() == port) && listen.bind == oscBind_ && allow == oscAllow_) return {};
     if (osc_ != nullptr) osc_->stop();
@@ -188,6 +189,7 @@ std::string StageSession::setOsc(bool on, int port, const StageControlListen& li
 
 int StageSession::oscPort() const
 {
+    std::lock_guard<std::mutex> lock(mutex_);
     return osc_ != nullptr ? osc_->port() : 0;
 }
 

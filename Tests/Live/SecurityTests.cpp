@@ -9,6 +9,7 @@
 #include "Core/Errors.h"
 #include "Core/Wav.h"
 #include "Live/StageControl.h"
+#include "Live/StageSession.h"
 #include "Osc/AllowList.h"
 #include "Osc/Osc.h"
 #include "Osc/OscInput.h"
@@ -380,4 +381,38 @@ TEST_CASE("armadillo play that never gets data leaves no recording and puts the 
     CHECK(slurp(log) == "an older log\n");                                      // …and put back: nothing was recorded
     CHECK_FALSE(std::ifstream(log + ".1").good());
     std::remove(log.c_str());
+}
+
+TEST_CASE("the app's stage commands: stageOscBind and stageOscAllow as StageSession takes them", "[security][stage]")
+{
+    live::Stage stage;
+    live::StageSession session(stage);
+    live::StageControlListen listen;
+    REQUIRE(live::StageSession::listenFromSettings("", "", listen).empty());
+    REQUIRE(session.setOsc(true, 0, listen).empty());
+    int port = session.oscPort();
+    REQUIRE(port > 0);
+    CHECK(udpListeners(port) == std::vector<std::string> {"127.0.0.1"});   // this machine only by default
+
+    REQUIRE(live::StageSession::listenFromSettings("0.0.0.0", "127.0.0.2", listen).empty());
+    REQUIRE(session.setOsc(true, 0, listen).empty());   // a new address: opened again
+    port = session.oscPort();
+    CHECK(udpListeners(port) == std::vector<std::string> {"0.0.0.0"});
+    const auto panic = osc::encodeOscMessage("/armadillo/panic", {});
+    REQUIRE(sendFrom("127.0.0.1", port, panic));
+    std::vector<std::string> refused;
+    REQUIRE(eventually([&] {
+        const auto r = session.tick().refused;
+        refused.insert(refused.end(), r.begin(), r.end());
+        return !refused.empty();
+    }, 10.0));
+    CHECK(refused == std::vector<std::string> {"refused stage control from 127.0.0.1 (not in the allow-list)"});
+    CHECK_FALSE(stage.panicked());
+    REQUIRE(sendFrom("127.0.0.2", port, panic));
+    CHECK(eventually([&] { return stage.panicked(); }, 10.0));
+
+    CHECK(live::StageSession::listenFromSettings("stage-pc", "", listen).find("not an IPv4 or IPv6 address") != std::string::npos);
+    CHECK(live::StageSession::listenFromSettings("", "10.0.0.0/99", listen).find("allow-list: '10.0.0.0/99'") != std::string::npos);
+    CHECK(session.setOsc(false, 0).empty());
+    CHECK(session.oscPort() == 0);
 }
