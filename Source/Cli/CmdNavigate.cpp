@@ -238,26 +238,45 @@ NavigateRequest readNavigateRequest(const CommandLine& cl)
 }
 
 /// The navigation log as the walk goes: each record announced (stderr, and speech or a braille
-/// display when asked) and, with --log, kept as a row.
+/// display when asked) and, with --log, kept as a row. A live walk's log grows under its own
+/// name as the walk goes (a crash keeps it; an existing file is kept aside: docs/SECURITY.md);
+/// the offline walk's is written whole at its end.
 class WalkLog {
 public:
-    WalkLog(const navigation::Route& route, ReaderIo* voice, bool keep) : announcer_(route, voice), keep_(keep) {}
+    WalkLog(const navigation::Route& route, ReaderIo* voice, const std::string& path, bool growing) : announcer_(route, voice), path_(path)
+    {
+        if (!path_.empty() && growing) file_ = std::make_unique<core::RecordingFile>(path_);   // IoError naming the path
+    }
+    /// "NAV.csv existed: kept as NAV.csv.1" when it did, else "".
+    std::string keptAside() const { return file_ && !file_->keptAs().empty() ? core::keptAsideNote(path_, file_->keptAs()) : std::string(); }
     void drain(navigation::NavigationLink& link)
     {
         navigation::NavigationLogRecord r;
         while (link.log.pop(r)) {
             announcer_.note(r);
-            if (keep_) appendRow(text_, r);
+            if (!path_.empty()) appendRow(text_, r);
+        }
+        if (file_ && !text_.empty()) {   // whole rows, memory bounded however long the walk
+            file_->append(text_);
+            text_.clear();
         }
     }
-    void write(const std::string& path) const
+    void write()
     {
-        if (keep_) core::writeFileAtomically(path, text_);
+        if (path_.empty()) return;
+        if (!file_) {
+            core::writeFileAtomically(path_, text_);
+            return;
+        }
+        file_->append(text_);
+        text_.clear();
+        file_->finish();
     }
 
 private:
     Announcer announcer_;
-    bool keep_;
+    std::string path_;
+    std::unique_ptr<core::RecordingFile> file_;
     std::string text_ = logHeader();
 };
 
@@ -274,7 +293,7 @@ int runSimulatedWalk(const CommandLine& cl, const NavigateRequest& req)
     const navigation::Route& route = *req.route;
     auto link = std::make_shared<navigation::NavigationLink>();
     link->logEnabled = true;   // the announcer reads it too
-    WalkLog log(route, nullptr, !req.logPath.empty());
+    WalkLog log(route, nullptr, req.logPath, false);
     std::string tactile = "t,m1,m2,m3,m4,m5,m6,m7,m8,m9\n";
     navigation::WalkOptions o;
     o.maxSeconds = req.seconds > 0.0 ? req.seconds : 3 * 3600.0;
@@ -286,7 +305,7 @@ int runSimulatedWalk(const CommandLine& cl, const NavigateRequest& req)
         std::cerr << "armadillo navigate: --simulate-walk uses the walker's own right arm; --profile, --calibration and --arm are for a device\n";
     const navigation::WalkResult r = navigation::simulateWalk(route, req.options, w, o, link);
     log.drain(*link);
-    log.write(req.logPath);
+    log.write();
     if (!req.tactilePath.empty()) core::writeFileAtomically(req.tactilePath, tactile);
     char json[400];
     std::snprintf(json, sizeof json,
@@ -365,10 +384,12 @@ int runLiveWalk(const CommandLine& cl, const NavigateRequest& req)
     std::unique_ptr<ReaderIo> voice;
     if (wantsVoice) voice = std::make_unique<ReaderIo>(cl, true);   // IoError when the backend asked for cannot be opened
     installInterruptHandlers();
+    WalkLog log(*req.route, voice.get(), req.logPath, true);   // the log under its own name as the walk goes
     live::LiveSession session(config);   // the position source: IoError (exit 4) when gpsd cannot be reached or the port is taken
     navigation::NavigationRig& nav = *session.navigation();
     nav.link()->logEnabled = !req.logPath.empty();
-    WalkLog log(*req.route, voice.get(), !req.logPath.empty());
+    if (const std::string kept = log.keptAside(); !kept.empty()) std::cerr << "armadillo navigate: " << kept << "\n";
+    for (const std::string& line : session.keptAside()) std::cerr << "armadillo navigate: " << line << "\n";
     session.start();
     for (const std::string& line : session.outputLines()) std::cerr << "armadillo navigate: " << line << "\n";
     std::cerr << "armadillo navigate: " << nav.describeSource() << "\n";
@@ -376,7 +397,7 @@ int runLiveWalk(const CommandLine& cl, const NavigateRequest& req)
     session.stop();
     log.drain(*nav.link());
     session.finish();
-    log.write(req.logPath);
+    log.write();
     std::string summary = live::summaryJson(session.summary());
     summary.insert(summary.size() - 1, nav.summaryJson());
     std::cout << summary << "\n" << std::flush;

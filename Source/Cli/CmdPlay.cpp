@@ -162,8 +162,8 @@ std::vector<OptionSpec> playOptionSpecs()
     const std::vector<OptionSpec> stage {
         {"--setlist", "FILE", "a set list (docs/STAGE.md) instead of --scene: starts at cue 0; steps with --keys\n"
                               "(n, b, 0..9) and --control-in (/armadillo/cue/next, /armadillo/cue/prev, /armadillo/cue i)"},
-        {"--control-in", "PORT", "stage commands as OSC on this UDP port (docs/STAGE.md): /armadillo/panic,\n"
-                                 "/armadillo/resume, /armadillo/cue/next, /armadillo/cue/prev, /armadillo/cue i"},
+        {"--control-in", "PORT", "stage commands as OSC on this UDP port, on 127.0.0.1 unless --control-bind (docs/STAGE.md):\n"
+                                 "/armadillo/panic, /armadillo/resume, /armadillo/cue/next, /armadillo/cue/prev, /armadillo/cue i"},
         {"--keys", "", "stage keys on stdin: p or Escape = panic, r = resume, n or Space = next cue,\n"
                        "b = previous cue, 0..9 = cue"},
         {"--panic-gesture", "", "the forearm hanging straight down (elevation <= -75 deg) for 2 s panics"},
@@ -186,7 +186,8 @@ std::vector<OptionSpec> playOptionSpecs()
     };
     std::vector<OptionSpec> own {stage.front()};   // --setlist, right after --scene
     for (const auto& group : {sourceOptionSpecs(), outputOptionSpecs(), mapping, procedures, leftArmOptionSpecs(),
-                              std::vector<OptionSpec>(stage.begin() + 1, stage.end())})
+                              std::vector<OptionSpec>(stage.begin() + 1, stage.begin() + 2), controlListenOptionSpecs(),
+                              std::vector<OptionSpec>(stage.begin() + 2, stage.end())})
         own.insert(own.end(), group.begin(), group.end());
     o.insert(o.begin() + 1, own.begin(), own.end());
     // The motor grid live as audio (docs/TACTORS.md), beside the device.
@@ -195,6 +196,9 @@ std::vector<OptionSpec> playOptionSpecs()
     o.push_back({"--back-motors", "", "drive the three back motors 10..12 as well: in the tactile CSV, OSC out and the tactor\n"
                                       "output (the thesis's serial packet carries motors 1..9)"});
     for (const auto& specs : {mqttBrokerOptionSpecs(), mqttMessageOptionSpecs()}) o.insert(o.end(), specs.begin(), specs.end());
+    o.push_back({"--status-file", "FILE", "once a second, FILE is replaced (whole, never half-written) by one JSON line: the\n"
+                                          "summary so far plus seconds and the sensor-to-motor latency (latency_p50_us,\n"
+                                          "latency_p99_us, latency_max_us since the start) for a watcher (scripts/soak.sh)"});
     // Speech and a braille display for the training's prompts and the link's state.
     const auto io = readerIoOptionSpecs();
     o.insert(o.end(), io.begin(), io.end());
@@ -213,6 +217,8 @@ struct PlayRequest {
     bool leftNeedsData = false;
     std::string mountOut, leftMountOut, calibrateOut, trainingLog;
     int controlPort = -1;
+    live::StageControlListen controlListen;   // --control-bind, --control-allow
+    std::string statusFile;                   // --status-file
     std::unique_ptr<ReaderIo> voice;
     std::unique_ptr<PlayMessages> messages;   // what the session's messages say on stderr (null: no broker)
 };
@@ -273,7 +279,7 @@ std::unique_ptr<PlayRequest> readPlayRequest(const CommandLine& cl, const LiveCo
     const std::vector<std::pair<std::string, std::string>> outputs {
         {"--out", config.audioOut}, {"--tactile", config.tactileOut}, {"--log", config.logOut},
         {"--calibrate", calibrateOut}, {"--calibrate-mount", mountOut}, {"--calibrate-mount-left", leftMountOut}, {"--training-log", trainingLog},
-        {"--arms-log", config.armsLog}};
+        {"--arms-log", config.armsLog}, {"--status-file", cl.value("--status-file")}};
     for (const auto& [option, file] : outputs)
         if (cl.has(option)) checkOutputPath(option, file);
     checkDistinctOutputs(outputs);
@@ -324,6 +330,8 @@ std::unique_ptr<PlayRequest> readPlayRequest(const CommandLine& cl, const LiveCo
     request->calibrateOut = calibrateOut;
     request->trainingLog = trainingLog;
     request->controlPort = controlPort;
+    request->controlListen = readControlListenOptions(cl);
+    request->statusFile = cl.value("--status-file");
     request->voice = std::move(voice);
     request->messages = std::move(messages);
     return request;
@@ -396,8 +404,15 @@ public:
             showProgress(elapsed);
             if (!reportStage()) break;
             reportOutputs(elapsed);
+            writeStatus(elapsed);
             stepProcedures();
             if (training_) {
+                if (trainingLog_ && elapsed - trainingAt_ >= 1.0) {   // the rows so far, under the log's own name
+                    trainingAt_ = elapsed;
+                    const std::string csv = brailleScene_->trainingLogCsv();   // (consumer side: its own lock)
+                    trainingLog_->append(std::string_view(csv).substr(std::min(trainingWritten_, csv.size())));
+                    trainingWritten_ = csv.size();
+                }
                 if (!stepTraining()) break;
             } else {
                 std::this_thread::sleep_for(std::chrono::milliseconds(10));
@@ -414,6 +429,7 @@ public:
         session_.stop();
         if (request_.dataTimeout > 0.0 && noData_.empty()) noData_ = silence(session_.summary().seconds);
         if (!noData_.empty()) {   // nothing was played: no file is written
+            session_.discardRecordings();
             std::cout << live::summaryJson(session_.summary()) << "\n" << std::flush;
             throw core::IoError(noData_);
         }
@@ -421,7 +437,10 @@ public:
             std::cerr << who_ << "the recording ended after " << session_.recordingSeconds() << " s (--loop plays it again and again)\n";
         const std::string trainingCsv = brailleScene_ ? brailleScene_->trainingLogCsv() : std::string();   // control has stopped
         session_.finish();   // the session's own files first: a failing training log must not lose them
-        if (brailleScene_) core::writeFileAtomically(request_.trainingLog, trainingCsv);
+        if (trainingLog_) {
+            trainingLog_->append(std::string_view(trainingCsv).substr(std::min(trainingWritten_, trainingCsv.size())));
+            trainingLog_->finish();
+        }
         for (const std::string& line : session_.outputClosingLines()) std::cerr << who_ << line << "\n";   // a sound card that ran dry
         for (const auto& g : mountCalibrations_) g->finish();
         if (calibration_) {
@@ -430,7 +449,9 @@ public:
                           << "'; that step and the later ones keep the starting calibration\n";
             link::saveCalibration(request_.calibrateOut, calibration_->result());
         }
-        std::cout << sessionSummary(session_, *report_, cues_, panicTotal()) << "\n" << std::flush;
+        std::string summary = sessionSummary(session_, *report_, cues_, panicTotal());
+        if (controlIn_) summary.insert(summary.size() - 1, controlIn_->summaryJson());   // (docs/SECURITY.md)
+        std::cout << summary << "\n" << std::flush;
         return session_.engine().failed() ? int(core::kExitFailure) : int(core::kExitOk);
     }
 
@@ -468,7 +489,10 @@ private:
         if (cues_)
             std::cerr << who_ << "set list of " << cues_->cueCount() << " cues; cue 0 '" << cues_->cue(0).name << "' (" << cues_->cue(0).scene << ")\n";
         if (request_.controlPort > 0) {
-            controlIn_ = std::make_unique<live::StageControlReceiver>(request_.controlPort, handler);   // IoError (exit 4) when taken
+            controlIn_ = std::make_unique<live::StageControlReceiver>(request_.controlPort, handler, request_.controlListen);   // IoError (exit 4) when taken
+            if (!osc::isLoopbackAddress(controlIn_->boundAddress()) && request_.controlListen.allow.empty())
+                std::cerr << who_ << "stage control on " << controlIn_->boundAddress() << " port " << controlIn_->port()
+                          << " takes commands from anyone who reaches it (--control-allow limits who)\n";
             if (session_.showsMessages())   // /armadillo/message "text" [priority] (docs/MQTT.md)
                 controlIn_->setTextHandler([s = &session_](const std::string& text, int priority) { s->offerMessage(text, priority); });
             controlIn_->start();
@@ -488,6 +512,8 @@ private:
             brailleScene_ = dynamic_cast<braille::BrailleSceneControls*>(&session_.engine().scene());
             if (!brailleScene_) throw UsageError("--training-log needs the braille scene");
             training_ = std::make_unique<TerminalTraining>(*brailleScene_, request_.voice.get());
+            trainingLog_ = std::make_unique<core::RecordingFile>(request_.trainingLog);   // grows as answered (docs/SECURITY.md)
+            if (!trainingLog_->keptAs().empty()) std::cerr << who_ << core::keptAsideNote(request_.trainingLog, trainingLog_->keptAs()) << "\n";
         }
         if (messages && request_.voice) messages->setMirror([v = request_.voice.get()](const std::string& line) { v->note(line); });   // --speak, --brlapi
         // --calibrate: the device calibration (procedures::DeviceCalibration, as `armadillo
@@ -510,6 +536,7 @@ private:
     /// The sound card and the tactors, as opened; then the mount calibrations begin.
     void announceOutputs()
     {
+        for (const std::string& line : session_.keptAside()) std::cerr << who_ << line << "\n";   // never half-replaced
         for (const std::string& line : session_.outputLines()) std::cerr << who_ << line << "\n";   // the sound card, the tactors
         if (!session_.soundCardWarning().empty())
             std::cerr << who_ << "no sound: " << session_.soundCardWarning() << " (--out FILE records the audio instead; --no-audio silences this message)\n";
@@ -602,7 +629,28 @@ private:
         for (const std::string& line : report_->poll(elapsed)) std::cerr << lineStart_ << who_ << line << "\n";
         for (const auto& g : mountCalibrations_) g->step();
         if (request_.messages) request_.messages->poll(session_, std::cerr, lineStart_);
+        if (controlIn_) for (const std::string& line : controlIn_->takeRefusals()) std::cerr << lineStart_ << who_ << line << "\n";
         for (const std::string& line : session_.outputFailures()) std::cerr << lineStart_ << who_ << line << "\n";   // once each
+    }
+
+    /// --status-file: the summary so far and the latency, once a second, replaced whole.
+    void writeStatus(double elapsed)
+    {
+        if (request_.statusFile.empty() || elapsed - statusAt_ < 1.0) return;
+        statusAt_ = elapsed;
+        std::string status = sessionSummary(session_, *report_, cues_, panicTotal());
+        if (controlIn_) status.insert(status.size() - 1, controlIn_->summaryJson());
+        const link::LatencySummary l = session_.latency();
+        char more[160];
+        std::snprintf(more, sizeof more, ",\"seconds\":%.1f,\"latency_p50_us\":%.0f,\"latency_p99_us\":%.0f,\"latency_max_us\":%.0f", elapsed,
+                      l.p50Us, l.p99Us, l.maxUs);
+        status.insert(status.size() - 1, more);
+        try {
+            core::writeFileAtomically(request_.statusFile, status + "\n");
+        } catch (const core::IoError& e) {   // said once; the session plays on
+            if (!statusFailed_) std::cerr << lineStart_ << who_ << e.what() << "\n";
+            statusFailed_ = true;
+        }
     }
 
     void stepProcedures()
@@ -643,6 +691,9 @@ private:
     std::unique_ptr<live::StageControlReceiver> controlIn_;
     std::unique_ptr<live::KeyReader> keys_;
     std::unique_ptr<TerminalTraining> training_;
+    std::unique_ptr<core::RecordingFile> trainingLog_;   // --training-log
+    std::size_t trainingWritten_ = 0;
+    double trainingAt_ = -1.0;
     braille::BrailleSceneControls* brailleScene_ = nullptr;
     std::unique_ptr<procedures::DeviceCalibration> calibration_;
     std::vector<std::unique_ptr<GuidedMount>> mountCalibrations_;   // the right arm's, the left arm's
@@ -651,7 +702,8 @@ private:
     std::chrono::steady_clock::time_point start_;
     bool progress_ = false;
     const char* lineStart_ = "";
-    double shownAt_ = -1.0;
+    double shownAt_ = -1.0, statusAt_ = -1.0;
+    bool statusFailed_ = false;
     int shownCue_ = -1;
     std::uint32_t shownPanics_ = 0, shownMappingPanics_ = 0;
     bool shownPanicked_ = false;

@@ -18,7 +18,8 @@ std::vector<OptionSpec> readOptionSpecs()
     const std::vector<std::string> fromPlay {"--port", "--simulate", "--motion", "--unpaced", "--baud", "--v2", "--calibration",
                                              "--seconds", "--tactile", "--log", "--arm", "--profile",
                                              "--mqtt", "--mqtt-config", "--messages", "--urgent", "--message-display",
-                                             "--message-shorthand", "--speak", "--speech", "--rate", "--brlapi", "--braille-display"};
+                                             "--message-shorthand", "--speak", "--speech", "--rate", "--brlapi", "--braille-display",
+                                             "--control-bind", "--control-allow"};
     const std::vector<OptionSpec> all = playOptionSpecs();
     std::vector<OptionSpec> o;
     for (const std::string& name : fromPlay) {
@@ -32,8 +33,9 @@ std::vector<OptionSpec> readOptionSpecs()
                                 "(docs/BRAILLE.md); not braille.mode, and --grade / --method for grade and method"},
         {"--data-timeout", "SECONDS", "with --port: no usable sensor data within this time is an error naming the port and\n"
                                       "what was heard instead (exit 4; default 5, 0 = wait for ever)"},
-        {"--control-in", "PORT", "OSC on this UDP port: /armadillo/message \"text\" [priority] is a message too (priority >= 1:\n"
-                                 "urgent); /armadillo/panic and /armadillo/resume as in play (docs/STAGE.md)"},
+        {"--control-in", "PORT", "OSC on this UDP port (127.0.0.1 unless --control-bind): /armadillo/message \"text\" [priority]\n"
+                                 "is a message too (priority >= 1: urgent); /armadillo/panic and /armadillo/resume as in play\n"
+                                 "(docs/STAGE.md)"},
     };
     o.insert(o.end(), own.begin(), own.end());
     return o;

@@ -9,6 +9,41 @@
 
 namespace armadillo::cli {
 
+std::vector<OptionSpec> controlListenOptionSpecs()
+{
+    return {
+        {"--control-bind", "ADDR", "with --control-in: the address it listens on (default 127.0.0.1: this machine only);\n"
+                                   "an interface's address, or 0.0.0.0 (every IPv4 interface) or :: (every interface)\n"
+                                   "for a tablet on stage; see --control-allow (docs/SECURITY.md)"},
+        {"--control-allow", "ADDR[/BITS],...", "with --control-in: only these senders (IPv4 or IPv6, with an optional prefix\n"
+                                               "length: 192.168.1.23,10.0.0.0/24); a datagram from anyone else is refused,\n"
+                                               "counted and its sender named once on stderr"},
+    };
+}
+
+live::StageControlListen readControlListenOptions(const CommandLine& cl)
+{
+    live::StageControlListen listen;
+    if (!cl.has("--control-in")) {
+        for (const char* o : {"--control-bind", "--control-allow"})
+            if (cl.has(o)) throw UsageError(std::string(o) + " sets who reaches the stage-control port: give --control-in PORT too");
+        return listen;
+    }
+    if (cl.has("--control-bind")) {
+        listen.bind = cl.value("--control-bind");
+        if (!osc::isIpAddress(listen.bind))
+            throw UsageError("--control-bind: '" + listen.bind + "' is not an IPv4 or IPv6 address (such as 127.0.0.1, 192.168.1.20, 0.0.0.0 or ::)");
+    }
+    if (cl.has("--control-allow")) {
+        try {
+            listen.allow = osc::AllowList::parse(cl.value("--control-allow"));
+        } catch (const std::invalid_argument& e) {
+            throw UsageError(std::string("--control-allow: ") + e.what());
+        }
+    }
+    return listen;
+}
+
 std::vector<OptionSpec> sourceOptionSpecs()
 {
     return {
@@ -60,7 +95,9 @@ std::vector<OptionSpec> outputOptionSpecs()
 {
     return {
         {"--seconds", "N", "stop after N seconds (default: run until interrupted)"},
-        {"--out", "OUT.wav", "record the scene's audio, 16-bit stereo (written whole at the end) instead of playing it"},
+        {"--out", "OUT.wav", "record the scene's audio, 16-bit stereo, instead of playing it. Recordings (--out, --log,\n"
+                             "--tactile, --arms-log) are readable under their own name while they grow (a crash\n"
+                             "keeps all but the last second); a file already there is kept as NAME.1 (docs/SECURITY.md)"},
         {"--audio-device", "NAME", "ALSA device to play on (default: 'default'; e.g. hw:1, plughw:1,0); an error if it\n"
                                    "cannot be opened"},
         {"--no-audio", "", "no sound at all (no --out, no sound card)"},

@@ -7,6 +7,7 @@
 // (MqttOptions.h) and the reader's voice (ReaderIo.h) are groups of their own.
 #include "Cli/CommandLine.h"
 #include "Live/LiveSession.h"
+#include "Live/StageControl.h"
 #include <string>
 #include <vector>
 
@@ -46,5 +47,12 @@ std::string readLeftArmOptions(const CommandLine& cl, live::LiveConfig& config);
 /// The outputs group into `config`; `soundByDefault`: the default sound card when neither --out
 /// nor --audio-device nor --no-audio is given (a missing card is then a warning).
 void readOutputOptions(const CommandLine& cl, live::LiveConfig& config, bool soundByDefault);
+
+/// --control-bind, --control-allow: who reaches --control-in (docs/SECURITY.md).
+std::vector<OptionSpec> controlListenOptionSpecs();
+/// Those two into the listener's settings: loopback unless --control-bind says otherwise.
+/// UsageError (exit 2) naming the option for an address that is not one, a malformed list, or
+/// either option without --control-in.
+live::StageControlListen readControlListenOptions(const CommandLine& cl);
 
 } // namespace armadillo::cli

@@ -1,6 +1,7 @@
 #include "Core/AtomicFile.h"
 #include "Core/Errors.h"
 #include <cerrno>
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <fcntl.h>
@@ -45,6 +46,95 @@ void writeFileAtomically(const std::string& path, std::string_view content)
         ::unlink(tmpl.c_str());
         throw IoError("cannot replace '" + path + "': " + reason);
     }
+}
+
+int openRecording(const std::string& path, std::string& keptAs)
+{
+    keptAs.clear();
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode)) {
+        // The first free PATH.N; RENAME_NOREPLACE so a name that appears meanwhile is not lost.
+        for (int n = 1; n <= 9999 && keptAs.empty(); ++n) {
+            const std::string aside = path + "." + std::to_string(n);
+            if (::renameat2(AT_FDCWD, path.c_str(), AT_FDCWD, aside.c_str(), RENAME_NOREPLACE) == 0) {
+                keptAs = aside;
+            } else if (errno == EINVAL || errno == ENOSYS) {   // a file system without RENAME_NOREPLACE
+                struct stat other {};
+                if (::lstat(aside.c_str(), &other) == 0) continue;
+                if (::rename(path.c_str(), aside.c_str()) != 0)
+                    throw IoError("cannot keep the existing '" + path + "' aside as '" + aside + "': " + std::strerror(errno));
+                keptAs = aside;
+            } else if (errno != EEXIST) {
+                throw IoError("cannot keep the existing '" + path + "' aside as '" + aside + "': " + std::strerror(errno));
+            }
+        }
+        if (keptAs.empty()) throw IoError("cannot keep the existing '" + path + "' aside: " + path + ".1 … .9999 all exist");
+    }
+    // A device or a pipe (/dev/null) is written as it is; a regular file is new now.
+    const bool regular = keptAs.empty() ? ::stat(path.c_str(), &st) != 0 || S_ISREG(st.st_mode) : true;
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC | (regular ? O_CREAT | O_TRUNC : 0), 0644);
+    if (fd < 0) {
+        const std::string reason = std::strerror(errno);
+        if (!keptAs.empty()) ::rename(keptAs.c_str(), path.c_str());
+        keptAs.clear();
+        throw IoError("cannot write " + path + ": " + reason);
+    }
+    return fd;
+}
+
+void abandonRecording(const std::string& path, const std::string& keptAs) noexcept
+{
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode)) ::unlink(path.c_str());
+    if (!keptAs.empty()) ::rename(keptAs.c_str(), path.c_str());
+}
+
+std::string keptAsideNote(const std::string& path, const std::string& keptAs)
+{
+    return keptAs.empty() ? std::string() : "'" + path + "' existed: kept as '" + keptAs + "'";
+}
+
+RecordingFile::RecordingFile(std::string path) : path_(std::move(path))
+{
+    fd_ = openRecording(path_, keptAs_);
+}
+
+RecordingFile::~RecordingFile()
+{
+    if (fd_ < 0) return;
+    ::close(fd_);
+    if (!wrote_) abandonRecording(path_, keptAs_);
+}
+
+void RecordingFile::append(std::string_view rows)
+{
+    if (fd_ < 0) throw IoError("cannot write " + path_ + ": already closed");
+    const char* p = rows.data();
+    std::size_t left = rows.size();
+    while (left > 0) {
+        const ssize_t n = ::write(fd_, p, left);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) throw IoError("cannot write " + path_ + ": " + std::strerror(n < 0 ? errno : ENOSPC));
+        p += n;
+        left -= static_cast<std::size_t>(n);
+        wrote_ = true;
+    }
+    const double now = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+    if (now - syncedAt_ >= 1.0) {
+        ::fdatasync(fd_);
+        syncedAt_ = now;
+    }
+}
+
+void RecordingFile::finish()
+{
+    if (fd_ < 0) return;
+    const bool synced = ::fsync(fd_) == 0;
+    const int e = errno;
+    const bool closed = ::close(fd_) == 0;
+    fd_ = -1;
+    wrote_ = true;   // (closed: the destructor leaves it)
+    if (!synced || !closed) throw IoError("cannot write " + path_ + ": " + std::strerror(synced ? errno : e));
 }
 
 std::string readWholeFile(const std::string& path)

@@ -1,6 +1,7 @@
 // Audio files through libsndfile (Core/Wav.h). What this file adds: atomic writes (temporary
 // name, fsync, rename), RF64 with downgrade for long recordings, and errors that name the file.
 #include "Core/Wav.h"
+#include "Core/AtomicFile.h"
 #include "Core/Errors.h"
 #include <sndfile.h>
 #include <algorithm>
@@ -26,11 +27,19 @@ SNDFILE* handle(void* p) { return static_cast<SNDFILE*>(p); }
 
 } // namespace
 
-WavStreamWriter::WavStreamWriter(std::string path, double sampleRate, int channels, bool float32)
-    : path_(std::move(path)), tmp_(temporaryNameFor(path_)), channels_(std::max(1, channels))
+WavStreamWriter::WavStreamWriter(std::string path, double sampleRate, int channels, bool float32, WavWriteMode mode)
+    : path_(std::move(path)), tmp_(mode == WavWriteMode::Atomic ? temporaryNameFor(path_) : std::string()),
+      channels_(std::max(1, channels))
 {
-    const int fd = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (fd < 0) throw IoError("cannot write " + path_ + ": " + std::strerror(errno));
+    int fd = -1;
+    if (mode == WavWriteMode::Recording) {
+        fd = openRecording(path_, keptAs_);   // IoError naming the path
+        headerEvery_ = static_cast<std::uint64_t>(std::max(1.0, std::round(sampleRate)));
+        headerAt_ = headerEvery_;
+    } else {
+        fd = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+        if (fd < 0) throw IoError("cannot write " + path_ + ": " + std::strerror(errno));
+    }
     SF_INFO info {};
     info.samplerate = static_cast<int>(std::lround(sampleRate));
     info.channels = channels_;
@@ -41,9 +50,11 @@ WavStreamWriter::WavStreamWriter(std::string path, double sampleRate, int channe
     if (f == nullptr) {
         const std::string why = sf_strerror(nullptr);
         ::close(fd);
-        std::remove(tmp_.c_str());
+        if (tmp_.empty()) abandonRecording(path_, keptAs_);
+        else std::remove(tmp_.c_str());
         throw IoError("cannot write " + path_ + ": " + why);
     }
+    fd_ = fd;
     sf_command(f, SFC_RF64_AUTO_DOWNGRADE, nullptr, SF_TRUE);
     sf_command(f, SFC_SET_ADD_PEAK_CHUNK, nullptr, SF_FALSE);   // plain files: fmt, fact (float), data
     sf_command(f, SFC_SET_CLIPPING, nullptr, SF_TRUE);          // 16-bit: clip instead of wrapping
@@ -52,10 +63,10 @@ WavStreamWriter::WavStreamWriter(std::string path, double sampleRate, int channe
 
 WavStreamWriter::~WavStreamWriter()
 {
-    if (file_ != nullptr) {
-        sf_close(handle(file_));
-        std::remove(tmp_.c_str());
-    }
+    if (file_ == nullptr) return;
+    sf_close(handle(file_));   // a recording's header holds every frame written
+    if (!tmp_.empty()) std::remove(tmp_.c_str());
+    else if (frames_ == 0) abandonRecording(path_, keptAs_);
 }
 
 bool WavStreamWriter::write(const float* interleaved, std::size_t frames)
@@ -71,6 +82,13 @@ bool WavStreamWriter::write(const float* interleaved, std::size_t frames)
         return false;
     }
     frames_ += frames;
+    if (headerEvery_ > 0 && frames_ >= headerAt_) {
+        // A recording: the RIFF and data sizes as they are now, and the data on the disk, so a
+        // crash leaves a file that reads to within a second of it.
+        headerAt_ = frames_ + headerEvery_;
+        sf_command(handle(file_), SFC_UPDATE_HEADER_NOW, nullptr, 0);
+        ::fdatasync(fd_);
+    }
     return true;
 }
 
@@ -80,11 +98,20 @@ void WavStreamWriter::finish()
     sf_write_sync(handle(file_));
     const int closed = sf_close(handle(file_));
     file_ = nullptr;
-    if (failed_ || closed != 0 || std::rename(tmp_.c_str(), path_.c_str()) != 0) {
+    if (failed_ || closed != 0 || (!tmp_.empty() && std::rename(tmp_.c_str(), path_.c_str()) != 0)) {
         const std::string why = failed_ ? error_ : closed != 0 ? sf_error_number(closed) : std::strerror(errno);
-        std::remove(tmp_.c_str());
+        if (!tmp_.empty()) std::remove(tmp_.c_str());   // (a recording keeps what it holds)
         throw IoError("cannot write " + path_ + ": " + why);
     }
+}
+
+void WavStreamWriter::discard() noexcept
+{
+    if (file_ == nullptr) return;
+    sf_close(handle(file_));
+    file_ = nullptr;
+    if (!tmp_.empty()) std::remove(tmp_.c_str());
+    else abandonRecording(path_, keptAs_);
 }
 
 void writeWav(const std::string& path, const AudioBuffer& audio, bool float32)

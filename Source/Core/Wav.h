@@ -3,7 +3,9 @@
 // instruments' user-supplied audio (any format libsndfile reads: WAV, AIFF, FLAC, Ogg, 8–32-bit
 // PCM, float). Written WAVs start as RF64 and are downgraded to a plain RIFF/WAVE on close when
 // they stay under 4 GiB, so a six-hour recording is still one valid file; float WAVs carry the
-// `fact` chunk. Every file is written under a temporary name and renamed in when complete.
+// `fact` chunk. Every file is written under a temporary name and renamed in when complete,
+// except a live recording (WavWriteMode::Recording), which is readable under its own name while
+// it grows.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -35,12 +37,26 @@ constexpr double kMaxEngineSampleRate = 384000.0;
 /// whose rate the engine was to take (a recording), or the option that set it.
 double engineSampleRate(double rate, const std::string& source);
 
+/// How a WavStreamWriter puts its file in place.
+enum class WavWriteMode {
+    /// A temporary file renamed over the target by finish(); destroyed without finish(), it
+    /// leaves nothing behind (the renderer's one-shot files).
+    Atomic,
+    /// A live session's recording (core::openRecording): written under its own name, an existing
+    /// file kept aside as NAME.1 …; the header's sizes are rewritten and the data synced to disk
+    /// once a second of audio, so a crash or a power cut leaves a valid WAV of all but the last
+    /// second. Destroyed without finish(), it keeps what was written (or, with no audio at all,
+    /// is removed and the file kept aside put back).
+    Recording,
+};
+
 /// A WAV written as audio arrives. Not real-time itself: call it from a writer thread, not an
-/// audio callback. Samples go to a temporary file; finish() closes it and renames it in place;
-/// destroyed without finish(), it leaves nothing behind.
+/// audio callback. Samples go to a temporary file; finish() closes it and renames it in place
+/// (WavWriteMode::Atomic), or to the file itself (WavWriteMode::Recording).
 class WavStreamWriter {
 public:
-    WavStreamWriter(std::string path, double sampleRate, int channels, bool float32);   ///< IoError
+    WavStreamWriter(std::string path, double sampleRate, int channels, bool float32,
+                    WavWriteMode mode = WavWriteMode::Atomic);   ///< IoError
     ~WavStreamWriter();
     WavStreamWriter(const WavStreamWriter&) = delete;
     WavStreamWriter& operator=(const WavStreamWriter&) = delete;
@@ -49,11 +65,18 @@ public:
     bool write(const float* interleaved, std::size_t frames);
     /// Closes and renames; IoError naming the path if anything failed on the way.
     void finish();
+    /// Closes and removes what was written (a recording: the file kept aside is put back).
+    void discard() noexcept;
     std::uint64_t frames() const noexcept { return frames_; }
+    /// Recording: where a file already at the path was kept aside ("" when there was none).
+    const std::string& keptAs() const noexcept { return keptAs_; }
 
 private:
-    std::string path_, tmp_;
+    std::string path_, tmp_, keptAs_;
     int channels_;
+    int fd_ = -1;                     // the descriptor libsndfile writes (it closes it)
+    std::uint64_t headerEvery_ = 0;   // Recording: frames between header rewrites (one second)
+    std::uint64_t headerAt_ = 0;      // Recording: frames_ at which the header is rewritten next
     void* file_ = nullptr;   // SNDFILE*
     std::uint64_t frames_ = 0;
     bool failed_ = false;

@@ -1,4 +1,5 @@
 #include "Live/LiveSession.h"
+#include "Core/AtomicFile.h"
 #include "Audio/SequencerOut.h"
 #include "Braille/BrailleScene.h"
 #include "Live/ForearmPort.h"
@@ -602,6 +603,22 @@ void LiveSession::finish()
         }
     }
     if (!error.empty()) throw core::IoError(error);
+}
+
+void LiveSession::discardRecordings() noexcept
+{
+    for (StreamingCsvWriter* w : {log_.get(), tactile_.get(), armsLog_.get()})
+        if (w) w->discard();
+    if (wav_) wav_->discard();
+}
+
+std::vector<std::string> LiveSession::keptAside() const
+{
+    std::vector<std::string> lines;
+    for (const StreamingCsvWriter* w : {log_.get(), tactile_.get(), armsLog_.get()})
+        if (w && !w->keptAs().empty()) lines.push_back(core::keptAsideNote(w->path(), w->keptAs()));
+    if (wav_ && !wav_->keptAs().empty()) lines.push_back(core::keptAsideNote(config_.audioOut, wav_->keptAs()));
+    return lines;
 }
 
 SessionSummary LiveSession::linkCounters() const

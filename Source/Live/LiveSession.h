@@ -185,6 +185,12 @@ public:
     void stop();
     /// After stop(): writes the audio, tactile and log files whole (IoError on failure).
     void finish();
+    /// The recordings' files that existed before the session, in words: "'A.wav' existed: kept
+    /// as 'A.wav.1'" (Live/SessionWriters.h), one line each.
+    std::vector<std::string> keptAside() const;
+    /// After stop(), instead of finish(): a session that played nothing leaves no file (each
+    /// recording removed, a file kept aside put back under its name).
+    void discardRecordings() noexcept;
 
     SessionSummary summary() const;
     const LiveConfig& config() const noexcept { return config_; }

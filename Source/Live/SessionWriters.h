@@ -1,8 +1,11 @@
 #pragma once
 // Outputs of a live session that may run for hours: rows and audio are handed over lock-free
 // (fixed-size queue, no allocation on the control or audio path) and written by a writer thread
-// to a temporary file, which is renamed over the target only when the session finishes — whole
-// or nothing (INTERFACES.md), with memory bounded however long the session runs.
+// straight into the file under its own name (core::openRecording: an existing file is kept aside
+// as NAME.1 …, never half-replaced), so a session that dies leaves what it recorded
+// (INTERFACES.md "Recordings"): CSV rows go to the file whole (one write of whole rows at a time,
+// every 20 ms) and are synced to disk once a second; the WAV's header is rewritten once a second
+// of audio. Memory stays bounded however long the session runs.
 #include "Core/SpscQueue.h"
 #include "Core/Wav.h"
 #include <array>
@@ -25,26 +28,36 @@ struct LogRow {
 /// counts it (reported by finish()).
 class StreamingCsvWriter {
 public:
-    /// Opens the temporary file now; throws IoError naming the path when it cannot.
+    /// Opens the file now (an existing one kept aside: keptAs()) and writes the header; throws
+    /// IoError naming the path when it cannot.
     StreamingCsvWriter(std::string path, const std::vector<std::string>& header, int precision = 9);
-    ~StreamingCsvWriter();   ///< without finish(): the temporary is removed, the target untouched
+    /// Without finish(): the rows queued so far are written and the file stays; a file that got
+    /// no row at all is removed and the one kept aside put back.
+    ~StreamingCsvWriter();
     StreamingCsvWriter(const StreamingCsvWriter&) = delete;
     StreamingCsvWriter& operator=(const StreamingCsvWriter&) = delete;
 
     bool push(const LogRow& row) noexcept;
-    /// Drains, flushes, syncs and renames. Throws IoError on any failure (nothing is left behind).
+    /// Drains, syncs and closes. Throws IoError naming the file on any failure (a failed write
+    /// on the way included); the rows written stay in the file.
     void finish();
+    /// Stops and removes the file (a session that played nothing); the file kept aside is put back.
+    void discard() noexcept;
     std::uint64_t rowsWritten() const noexcept { return written_.load(); }
     std::uint64_t rowsDropped() const noexcept { return dropped_.load(); }
     const std::string& path() const noexcept { return path_; }
+    /// Where a file already at path() was kept aside ("" when there was none).
+    const std::string& keptAs() const noexcept { return keptAs_; }
 
 private:
     void run();
     void drain();
-    std::string path_, tmp_;
+    void writeAll(const std::string& text);
+    std::string path_, keptAs_;
     int columns_;
     int precision_;
-    std::FILE* file_ = nullptr;
+    int fd_ = -1;
+    int errno_ = 0;   // the first failed write's reason
     core::SpscQueue<LogRow, 4096> queue_;
     std::thread thread_;
     std::atomic<bool> stop_ {false};
@@ -58,13 +71,16 @@ private:
 /// it from a writer thread, not an audio callback.
 class StreamingWavWriter {
 public:
+    /// Opens the file under its own name (core::WavWriteMode::Recording).
     StreamingWavWriter(std::string path, double sampleRate, bool float32);
     StreamingWavWriter(const StreamingWavWriter&) = delete;
     StreamingWavWriter& operator=(const StreamingWavWriter&) = delete;
 
     void write(const float* left, const float* right, int frames);
     void finish();
+    void discard() noexcept { out_.discard(); }
     std::uint64_t frames() const noexcept { return out_.frames(); }
+    const std::string& keptAs() const noexcept { return out_.keptAs(); }
 
 private:
     core::WavStreamWriter out_;

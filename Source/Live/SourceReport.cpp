@@ -1,6 +1,7 @@
 #include "Live/SourceReport.h"
 #include "Live/LiveSession.h"
 #include "Osc/OscIo.h"
+#include <algorithm>
 #include <cstdio>
 #include <utility>
 
@@ -27,6 +28,13 @@ std::vector<std::string> SourceReport::poll(double elapsed)
     if (osc::OscReceiver* osc = session_.oscReceiver()) {
         const osc::OscInputStats st = osc->stats();
         const bool usable = st.imu + st.orientation > 0;
+        // Who else tried: a second sender is ignored while the first streams, and named once.
+        if (const std::string other = osc->merger().otherDeviceName(); !other.empty() && shownOthers_.size() < 16 &&
+                                                                       std::find(shownOthers_.begin(), shownOthers_.end(), other) == shownOthers_.end()) {
+            shownOthers_.push_back(other);
+            lines.push_back("OSC input: ignored messages from " + other + " (another device; " +
+                            (osc->deviceName().empty() ? std::string("the first sender") : osc->deviceName()) + " streams, one device at a time)");
+        }
         if (!osc->serialPath().empty()) {
             const std::string se = osc->serialError();
             if (se != shownSerialError_ && !se.empty()) lines.push_back(se + " (reopening)");

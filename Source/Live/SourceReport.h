@@ -35,6 +35,7 @@ private:
     live::LiveSession& session_;
     bool shownRates_ = false, shownFormat_ = false, shownLeftFormat_ = false;
     std::string shownSerialError_;
+    std::vector<std::string> shownOthers_;   // other OSC senders named so far (each once)
 };
 
 } // namespace armadillo::live

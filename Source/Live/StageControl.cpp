@@ -1,6 +1,7 @@
 #include "Live/StageControl.h"
 #include "Core/Errors.h"
 #include "Osc/OscIo.h"
+#include <algorithm>
 #include <arpa/inet.h>
 #include <cerrno>
 #include <cmath>
@@ -65,9 +66,42 @@ std::string describe(const core::StageCommand& c)
     return "?";
 }
 
-StageControlReceiver::StageControlReceiver(int port, Handler handler) : handler_(std::move(handler))
+StageControlReceiver::StageControlReceiver(int port, Handler handler, const StageControlListen& listen)
+    : handler_(std::move(handler)), listen_(listen)
 {
-    fd_ = osc::bindUdpAnyInterface(port, "--control-in", port_);
+    fd_ = osc::bindUdp(listen_.bind, port, "--control-in", port_);
+    sockaddr_storage bound {};
+    socklen_t len = sizeof bound;
+    ::getsockname(fd_, reinterpret_cast<sockaddr*>(&bound), &len);
+    boundAddress_ = osc::addressName(reinterpret_cast<const sockaddr*>(&bound));
+}
+
+std::vector<std::string> StageControlReceiver::takeRefusals()
+{
+    std::lock_guard<std::mutex> lock(refusalsMutex_);
+    std::vector<std::string> out;
+    out.swap(newRefusals_);
+    return out;
+}
+
+std::string StageControlReceiver::summaryJson() const
+{
+    return ",\"control_commands\":" + std::to_string(commands()) + ",\"control_refused\":" + std::to_string(refused()) +
+           ",\"control_not_allowed\":" + std::to_string(notAllowed());
+}
+
+void StageControlReceiver::handleFrom(const sockaddr* sender, const std::uint8_t* data, std::size_t size)
+{
+    if (listen_.allow.allows(sender)) {
+        handleDatagram(data, size);
+        return;
+    }
+    notAllowed_.fetch_add(1);
+    const std::string name = osc::addressName(sender);
+    std::lock_guard<std::mutex> lock(refusalsMutex_);
+    if (refusedSenders_.size() >= 64 || std::find(refusedSenders_.begin(), refusedSenders_.end(), name) != refusedSenders_.end()) return;
+    refusedSenders_.push_back(name);
+    newRefusals_.push_back("refused stage control from " + name + " (not in " + listen_.allowName + ")");
 }
 
 StageControlReceiver::~StageControlReceiver()
@@ -126,8 +160,10 @@ void StageControlReceiver::run()
     while (!stop_.load(std::memory_order_relaxed)) {
         pollfd p {fd_, POLLIN, 0};
         if (::poll(&p, 1, 20) <= 0) continue;
-        const ssize_t n = ::recv(fd_, buffer.data(), buffer.size(), MSG_DONTWAIT);
-        if (n > 0) handleDatagram(buffer.data(), static_cast<std::size_t>(n));
+        sockaddr_storage from {};
+        socklen_t fromLength = sizeof from;
+        const ssize_t n = ::recvfrom(fd_, buffer.data(), buffer.size(), MSG_DONTWAIT, reinterpret_cast<sockaddr*>(&from), &fromLength);
+        if (n > 0) handleFrom(reinterpret_cast<const sockaddr*>(&from), buffer.data(), static_cast<std::size_t>(n));
     }
 }
 

@@ -10,11 +10,14 @@
 // Keys: p or Escape = panic, r = resume, n or Space = next cue, b = previous cue, 0..9 = cue.
 // Parsing is separate from the socket so tests can feed it messages and keys directly.
 #include "Core/StageCommand.h"
+#include "Osc/AllowList.h"
 #include "Osc/Osc.h"
 #include <atomic>
 #include <functional>
+#include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 namespace armadillo::live {
 
@@ -26,13 +29,25 @@ bool stageCommandFromKey(char key, core::StageCommand& out);
 /// "panic", "resume", "next cue", "previous cue", "cue 3".
 std::string describe(const core::StageCommand& command);
 
-/// Listens for stage commands on a UDP port (all interfaces, IPv6 and IPv4) on its own thread;
-/// the handler runs on that thread. Refused messages are counted.
+/// Who the stage-control port hears (docs/SECURITY.md): the address it binds (loopback unless
+/// told otherwise: `play --control-bind`, the app's stageOscBind) and the senders allowed
+/// (`--control-allow`, stageOscAllow; empty: every sender that reaches the bound address).
+struct StageControlListen {
+    std::string bind = osc::kLoopbackAddress;
+    osc::AllowList allow;
+    /// How the refusal names the allow-list ("refused stage control from 10.0.0.9 (not in --control-allow)").
+    std::string allowName = "--control-allow";
+};
+
+/// Listens for stage commands on a UDP port (loopback unless StageControlListen says otherwise)
+/// on its own thread; the handler runs on that thread. Refused messages are counted; datagrams
+/// from senders outside the allow-list are counted apart and each such sender named once.
 class StageControlReceiver {
 public:
     using Handler = std::function<void(const core::StageCommand&)>;
-    /// Binds now (port 0 = any free port); throws IoError when the port is taken.
-    StageControlReceiver(int port, Handler handler);
+    /// Binds now (port 0 = any free port); throws IoError when the port is taken or the bind
+    /// address is not one of this machine's.
+    StageControlReceiver(int port, Handler handler, const StageControlListen& listen = {});
     ~StageControlReceiver();
     StageControlReceiver(const StageControlReceiver&) = delete;
     StageControlReceiver& operator=(const StageControlReceiver&) = delete;
@@ -46,13 +61,31 @@ public:
     int port() const noexcept { return port_; }
     std::uint64_t commands() const noexcept { return commands_.load(); }
     std::uint64_t refused() const noexcept { return refused_.load(); }
+    /// Datagrams dropped because their sender is not in the allow-list.
+    std::uint64_t notAllowed() const noexcept { return notAllowed_.load(); }
+    /// The address the socket is bound to, as getsockname says ("127.0.0.1").
+    const std::string& boundAddress() const noexcept { return boundAddress_; }
+    /// "refused stage control from ADDR (not in --control-allow)" for each sender refused since
+    /// the last call, every sender once (the first 64; later ones are only counted).
+    std::vector<std::string> takeRefusals();
+    /// The counters as JSON members for the session summary: ,"control_commands":N,
+    /// "control_refused":N,"control_not_allowed":N.
+    std::string summaryJson() const;
     /// Decodes one datagram and runs the handler for each command in it (public for tests).
     void handleDatagram(const std::uint8_t* data, std::size_t size);
+    /// What the thread does with a datagram from `sender`: refused (counted, named once) when
+    /// the allow-list does not hold it, else handleDatagram. Public for tests.
+    void handleFrom(const struct sockaddr* sender, const std::uint8_t* data, std::size_t size);
 
 private:
     void run();
     int fd_ = -1;
     int port_ = 0;
+    std::string boundAddress_;
+    StageControlListen listen_;
+    std::mutex refusalsMutex_;
+    std::vector<std::string> refusedSenders_, newRefusals_;   // under refusalsMutex_
+    std::atomic<std::uint64_t> notAllowed_ {0};
     Handler handler_;
     TextHandler textHandler_;
     std::thread thread_;

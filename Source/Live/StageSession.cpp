@@ -99,6 +99,7 @@ StageSession::Report StageSession::tick()
     stage_.collect();   // the player the control side gave up is deleted here, never on the audio thread
     if (waitingSet_ && stage_.offer(waiting_)) waitingSet_ = false;
     Report r;
+    if (osc_ != nullptr) r.refused = osc_->takeRefusals();
     const bool panicked = stage_.panicked();
     const auto count = stage_.panics();
     r.panicked = panicked && (! reportedPanicked_ || count != reportedPanics_);
@@ -138,16 +139,38 @@ StageSession::Info StageSession::info() const
     return info;
 }
 
-std::string StageSession::setOsc(bool on, int port)
+std::string StageSession::listenFromSettings(const std::string& bind, const std::string& allow, StageControlListen& listen)
 {
-    if (osc_ != nullptr && on && (port == 0 || osc_->port() == port)) return {};
+    listen = StageControlListen {};
+    listen.allowName = "the allow-list";
+    if (!bind.empty()) {
+        if (!osc::isIpAddress(bind)) return "stage control address '" + bind + "' is not an IPv4 or IPv6 address";
+        listen.bind = bind;
+    }
+    if (allow.find_first_not_of(" \t") != std::string::npos) {
+        try {
+            listen.allow = osc::AllowList::parse(allow);
+        } catch (const std::invalid_argument& e) {
+            return std::string("stage control allow-list: ") + e.what();
+        }
+    }
+    return {};
+}
+
+std::string StageSession::setOsc(bool on, int port, const StageControlListen& listen)
+{
+    std::lock_guard<std::mutex> lock(mutex_);   // tick() takes the refusals on the same receiver
+    const std::string allow = listen.allow.describe();
+    if (osc_ != nullptr && on && (port == 0 || osc_->port() == port) && listen.bind == oscBind_ && allow == oscAllow_) return {};
     if (osc_ != nullptr) osc_->stop();
     osc_.reset();
     if (! on) return {};
     try {
         // StageControl.h: /armadillo/panic, /armadillo/resume, /armadillo/cue/next|prev,
         // /armadillo/cue i, as `armadillo play --control-in` takes them. Its own thread: atomics only.
-        osc_ = std::make_unique<StageControlReceiver>(port, [this](const core::StageCommand& c) { stage_.apply(c); });
+        osc_ = std::make_unique<StageControlReceiver>(port, [this](const core::StageCommand& c) { stage_.apply(c); }, listen);
+        oscBind_ = listen.bind;
+        oscAllow_ = allow;
         osc_->start();
     } catch (const std::exception& e) {
         osc_.reset();
@@ -158,6 +181,7 @@ std::string StageSession::setOsc(bool on, int port)
 
 int StageSession::oscPort() const
 {
+    std::lock_guard<std::mutex> lock(mutex_);
     return osc_ != nullptr ? osc_->port() : 0;
 }
 

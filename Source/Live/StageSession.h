@@ -16,6 +16,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <vector>
 
 namespace armadillo::live {
 
@@ -58,6 +59,9 @@ public:
         bool panicked = false;    ///< a panic began (or another one came)
         bool resumed = false;
         std::string cue;          ///< "Cue 2 of 4: 'Verse' (cymbal)" when the cue changed, else ""
+        /// "refused stage control from 10.0.0.9 (not in the allow-list)" for each sender the OSC
+        /// stage commands refused since the last tick, every sender once (docs/SECURITY.md).
+        std::vector<std::string> refused;
     };
     /// The message thread's timer: collects the player the control side gave up (deleted here),
     /// retries a waiting hand-over, and reports.
@@ -76,8 +80,12 @@ public:
     };
     Info info() const;
 
-    /// The OSC stage commands on UDP `port` (0: any free port), or off. Returns "" or why not.
-    std::string setOsc(bool on, int port);
+    /// The OSC stage commands on UDP `port` (0: any free port), or off; heard on `listen.bind`
+    /// (loopback by default) from the senders `listen.allow` holds. Returns "" or why not.
+    std::string setOsc(bool on, int port, const StageControlListen& listen = {});
+    /// The app's settings as a listener: `bind` ("" = loopback) and `allow` ("" = every sender
+    /// that reaches it; else ADDR[/BITS],…). Returns "" or why not (the setting named).
+    static std::string listenFromSettings(const std::string& bind, const std::string& allow, StageControlListen& listen);
     /// The port they are heard on, 0 when off.
     int oscPort() const;
 
@@ -96,6 +104,7 @@ private:
     std::uint32_t reportedPanics_ = 0;
     // Last, so it stops first: its thread calls into stage_.
     std::unique_ptr<StageControlReceiver> osc_;
+    std::string oscBind_, oscAllow_;   // what osc_ was opened with (a change reopens it)
 };
 
 } // namespace armadillo::live

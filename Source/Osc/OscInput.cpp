@@ -70,6 +70,14 @@ link::Mount OscSampleMerger::mount() const
     return m;
 }
 
+std::string OscSampleMerger::otherDeviceName() const
+{
+    while (nameLock_.exchange(true, std::memory_order_acquire)) {}
+    std::string s = otherDeviceName_;
+    nameLock_.store(false, std::memory_order_release);
+    return s;
+}
+
 std::string OscSampleMerger::deviceName() const
 {
     while (nameLock_.exchange(true, std::memory_order_acquire)) {}
@@ -220,6 +228,9 @@ bool OscSampleMerger::acceptDevice(const SensorReading& r, double arrival, std::
     if (deviceKey_ != 0 && arrival - deviceLastArrival_ <= options_.deviceTimeoutSeconds) {
         n_.otherDevice.fetch_add(1, std::memory_order_relaxed);
         lastError_.store("messages from a second device ignored (one device at a time)", std::memory_order_release);
+        while (nameLock_.exchange(true, std::memory_order_acquire)) {}
+        std::snprintf(otherDeviceName_, sizeof otherDeviceName_, "%s", r.device[0] ? r.device : (senderName ? senderName : "?"));
+        nameLock_.store(false, std::memory_order_release);
         return false;
     }
     if (deviceKey_ != 0) {

@@ -130,6 +130,9 @@ public:
     OscInputStats stats() const noexcept;
     OscFormat format() const noexcept { return format_.load(std::memory_order_acquire); }
     std::string deviceName() const;
+    /// The latest other device whose messages were ignored while the chosen one streamed (its
+    /// own name or its address:port), "" when none: who else tried (docs/SECURITY.md).
+    std::string otherDeviceName() const;
     /// The reason the latest message was refused (a static string), or "".
     const char* lastError() const noexcept;
     /// The mount in use (after detection when none was given).
@@ -179,6 +182,7 @@ private:
     double deviceLastArrival_ = -1e300;
     mutable std::atomic<bool> nameLock_ {false};
     char deviceName_[64] {};
+    char otherDeviceName_[64] {};   // under nameLock_
 
     // Time tags → receiver clock.
     bool haveOffset_ = false;

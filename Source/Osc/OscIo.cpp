@@ -140,6 +140,42 @@ int bindUdpAnyInterface(int port, const std::string& who, int& boundPort)
     return fd;
 }
 
+int bindUdp(const std::string& address, int port, const std::string& who, int& boundPort)
+{
+    if (address.empty()) return bindUdpAnyInterface(port, who, boundPort);
+    if (port < 0 || port > 65535) throw core::IoError(who + ": port " + std::to_string(port) + " is outside 0..65535");
+    sockaddr_in a4 {};
+    sockaddr_in6 a6 {};
+    const bool v4 = ::inet_pton(AF_INET, address.c_str(), &a4.sin_addr) == 1;
+    if (!v4 && ::inet_pton(AF_INET6, address.c_str(), &a6.sin6_addr) != 1)
+        throw core::IoError(who + ": '" + address + "' is not an IPv4 or IPv6 address");
+    const int fd = ::socket(v4 ? AF_INET : AF_INET6, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+    if (fd < 0) throw core::IoError(who + ": cannot create a UDP socket: " + std::strerror(errno));
+    int r = -1;
+    if (v4) {
+        a4.sin_family = AF_INET;
+        a4.sin_port = htons(static_cast<std::uint16_t>(port));
+        r = ::bind(fd, reinterpret_cast<sockaddr*>(&a4), sizeof a4);
+    } else {
+        const int off = 0;   // "::" takes IPv4 too, as bindUdpAnyInterface does
+        ::setsockopt(fd, IPPROTO_IPV6, IPV6_V6ONLY, &off, sizeof off);
+        a6.sin6_family = AF_INET6;
+        a6.sin6_port = htons(static_cast<std::uint16_t>(port));
+        r = ::bind(fd, reinterpret_cast<sockaddr*>(&a6), sizeof a6);
+    }
+    if (r != 0) {
+        const int e = errno;
+        ::close(fd);
+        throw core::IoError(who + ": cannot listen on UDP " + address + " port " + std::to_string(port) + ": " + std::strerror(e));
+    }
+    sockaddr_storage bound {};
+    socklen_t len = sizeof bound;
+    ::getsockname(fd, reinterpret_cast<sockaddr*>(&bound), &len);
+    boundPort = bound.ss_family == AF_INET6 ? ntohs(reinterpret_cast<sockaddr_in6*>(&bound)->sin6_port)
+                                            : ntohs(reinterpret_cast<sockaddr_in*>(&bound)->sin_port);
+    return fd;
+}
+
 // --- OscReceiver -------------------------------------------------------------------------------
 
 OscReceiver::OscReceiver(int port, ImuHandler onImu, OrientationHandler onOrientation, const OscInputOptions& options)

@@ -63,6 +63,10 @@ struct OscSerialSource {
 /// v4-mapped addresses), or plain IPv4 when the machine has no IPv6. Returns the descriptor and
 /// the port actually bound (`port` 0 picks a free one). Throws IoError starting with `who`.
 int bindUdpAnyInterface(int port, const std::string& who, int& boundPort);
+/// A UDP socket bound to `port` on one address (Osc/AllowList.h): a numeric IPv4 or IPv6
+/// address ("127.0.0.1", "192.168.1.20", "0.0.0.0" = every IPv4 interface, "::" = every
+/// interface, IPv6 and IPv4); "" is bindUdpAnyInterface. Throws IoError starting with `who`.
+int bindUdp(const std::string& address, int port, const std::string& who, int& boundPort);
 
 /// Listens on a UDP port and the same TCP port (all interfaces) on its own thread, or reads
 /// SLIP-framed OSC from a serial port; handlers run on that thread. UDP datagrams are OSC or ZIG

@@ -435,7 +435,7 @@ void ArmadilloProcessor::valueTreePropertyChanged(juce::ValueTree&, const juce::
         if (id == SettingIds::leftArmOsc && settings_[SettingIds::setList].toString().isNotEmpty())
             if (const auto why = useSetList(settings_[SettingIds::setList].toString(), settings_[SettingIds::setListName].toString()); why.isNotEmpty())
                 setStatus(why);
-    } else if (id == SettingIds::stageOscEnabled || id == SettingIds::stageOscPort) {
+    } else if (id == SettingIds::stageOscEnabled || id == SettingIds::stageOscPort || id == SettingIds::stageOscBind || id == SettingIds::stageOscAllow) {
         applyStageOsc();
     } else if (id == SettingIds::cueNextNote || id == SettingIds::cuePrevNote) {
         stage_.setCueNotes(static_cast<int>(settings_[SettingIds::cueNextNote]), static_cast<int>(settings_[SettingIds::cuePrevNote]));
@@ -824,6 +824,7 @@ juce::String ArmadilloProcessor::applySavedSetList()
 void ArmadilloProcessor::stageTick()
 {
     const auto report = stageSession_.tick();
+    for (const auto& refused : report.refused) setStatus(juce::String(refused));   // each sender once
     if (report.panicked) {
         setStatus("PANIC: all sound and every motor off, the notes sent ended (CC 120 and 123 on all channels). "
                   "Resume: R in the performance view, Stage > Resume, or MIDI CC 119.");
@@ -840,7 +841,11 @@ void ArmadilloProcessor::stageTick()
 
 void ArmadilloProcessor::applyStageOsc()
 {
-    const auto why = stageSession_.setOsc(static_cast<bool>(settings_[SettingIds::stageOscEnabled]), static_cast<int>(settings_[SettingIds::stageOscPort]));
+    live::StageControlListen listen;   // loopback unless stageOscBind says otherwise (docs/SECURITY.md)
+    auto why = live::StageSession::listenFromSettings(settings_[SettingIds::stageOscBind].toString().toStdString(),
+                                                      settings_[SettingIds::stageOscAllow].toString().toStdString(), listen);
+    if (why.empty())
+        why = stageSession_.setOsc(static_cast<bool>(settings_[SettingIds::stageOscEnabled]), static_cast<int>(settings_[SettingIds::stageOscPort]), listen);
     if (! why.empty()) setStatus("OSC stage commands: " + juce::String(why));
 }
 

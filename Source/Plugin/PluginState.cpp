@@ -40,6 +40,8 @@ juce::ValueTree defaultSettings()
     s.setProperty(SettingIds::cuePrevNote, 1, nullptr);   // Stage::kPrevNote
     s.setProperty(SettingIds::stageOscEnabled, false, nullptr);
     s.setProperty(SettingIds::stageOscPort, 9002, nullptr);
+    s.setProperty(SettingIds::stageOscBind, "127.0.0.1", nullptr);
+    s.setProperty(SettingIds::stageOscAllow, "", nullptr);
     s.setProperty(SettingIds::panicGesture, false, nullptr);
     s.setProperty(SettingIds::leftArmOsc, false, nullptr);
     s.setProperty(SettingIds::leftArmOscPort, 9003, nullptr);

@@ -45,6 +45,8 @@ inline const juce::Identifier cuePrevNote {"cuePrevNote"};   ///< MIDI note that
 inline const juce::Identifier stageOscEnabled {"stageOscEnabled"}; ///< bool: listen for OSC stage commands (docs/STAGE.md)
 inline const juce::Identifier panicGesture {"panicGesture"}; ///< bool: the arm hanging down for 2 s panics (docs/STAGE.md)
 inline const juce::Identifier stageOscPort {"stageOscPort"}; ///< their UDP port (0: any free port)
+inline const juce::Identifier stageOscBind {"stageOscBind"}; ///< the address they are heard on ("127.0.0.1": this machine only; docs/SECURITY.md)
+inline const juce::Identifier stageOscAllow {"stageOscAllow"}; ///< senders allowed, ADDR[/BITS],… ("": everyone who reaches stageOscBind)
 inline const juce::Identifier leftArmOsc {"leftArmOsc"};     ///< bool: an OSC sender as the left arm (docs/STAGE.md "Two arms")
 inline const juce::Identifier leftArmOscPort {"leftArmOscPort"}; ///< its UDP (and TCP) port, 1..65535 (9003)
 // The app's adaptive braille training (Procedures/AdaptiveTraining.h; the CLI's --trials --stages --method --level)

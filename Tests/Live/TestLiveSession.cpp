@@ -10,6 +10,7 @@
 #include <catch2/catch.hpp>
 #include <array>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <glob.h>
@@ -97,9 +98,11 @@ TEST_CASE("live session: simulator → calibration → tracker → engine, with 
         REQUIRE(eventually([&] { return s.controlUpdates() >= 2000; }));
         CHECK(s.connected());
         s.stop();
-        // Nothing is written before finish(): whole or nothing.
-        CHECK_FALSE(std::ifstream(c.logOut).good());
+        // The recordings grow under their own names (issue 48, docs/SECURITY.md): no hidden
+        // temporary file is left beside them, and finish() completes them.
         s.finish();
+        for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(c.logOut).parent_path()))
+            CHECK(e.path().filename().string().find("session.csv.tmp-") == std::string::npos);
         const SessionSummary sum = s.summary();
         CHECK(sum.packets >= 2000);
         CHECK(sum.badPackets == 0);
@@ -247,12 +250,11 @@ TEST_CASE("armadillo play: SIGINT ends cleanly with the summary and whole files"
     const std::string tactile = out("cli-sigint.csv");
     std::remove(tactile.c_str());
     const std::string wav = out("cli-sigint.wav");
-    // This child's temporary tactile file appears once its session runs (handlers installed): interrupt then.
-    auto running = [&](pid_t pid) {
-        glob_t g {};
-        const bool found = ::glob((tactile + ".tmp-" + std::to_string(pid) + "-*").c_str(), 0, nullptr, &g) == 0 && g.gl_pathc > 0;
-        ::globfree(&g);
-        return found;
+    // The tactile file gets its first row once the session runs (handlers installed): interrupt then.
+    auto running = [&](pid_t) {
+        std::ifstream in(tactile);
+        std::string header, row;
+        return std::getline(in, header) && std::getline(in, row) && in.good();   // a whole first row (more follows)
     };
     const Run r = runArmadillo({"play", "--scene", "monitor", "--simulate", "--seconds", "600", "--tactile", tactile, "--out", wav}, running);
     CHECK(r.status == 0);
