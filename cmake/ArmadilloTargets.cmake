@@ -3,7 +3,8 @@
 # Warnings for project code only (dependencies are included as SYSTEM headers).
 add_library(armadillo_warnings INTERFACE)
 target_compile_options(armadillo_warnings INTERFACE
-    $<$<CXX_COMPILER_ID:GNU,Clang>:-Wall -Wextra -Wshadow=local -Wnon-virtual-dtor -Wdouble-promotion>
+    $<$<CXX_COMPILER_ID:GNU,Clang>:-Wall -Wextra -Wnon-virtual-dtor -Wdouble-promotion>
+    $<$<CXX_COMPILER_ID:GNU>:-Wshadow=local>   # clang has no -Wshadow=local
     # GCC 12 reports false -Wrestrict positives inside libstdc++ for std::string concatenation
     # (GCC bug 105651); they point into system headers, not at project code.
     $<$<CXX_COMPILER_ID:GNU>:-Wno-restrict>)

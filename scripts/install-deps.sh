@@ -10,6 +10,8 @@ packages=(
     build-essential cmake ninja-build pkg-config git
     # compiler cache for repeated builds (-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
     ccache
+    # fuzzing (scripts/fuzz.sh, docs/SECURITY.md): clang, its libFuzzer and sanitizer runtimes
+    clang libclang-rt-14-dev
     # the core: Eigen, serial ports, braille tables, tests
     libeigen3-dev libserialport-dev liblouis-dev liblouis-data catch2
     # a reader alone (docs/ACCESSIBILITY.md): speech-dispatcher and BrlAPI, loaded at run time (dlopen);

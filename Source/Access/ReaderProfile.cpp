@@ -4,6 +4,7 @@
 #include "Core/Errors.h"
 #include "Core/Json.h"
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 namespace armadillo::access {
@@ -26,6 +27,16 @@ const core::JsonValue& member(const core::JsonValue& object, const char* key, co
     if (v->kind != kind)
         throw core::InputError(source, v->line, key, std::string("is ") + core::JsonValue::kindName(v->kind) + ", expected " + core::JsonValue::kindName(kind));
     return *v;
+}
+
+// A session number: a whole number from `least` to a million (a number outside int's range was
+// undefined behaviour to convert; found by fuzzing, Tests/Fuzz/regressions/reader_profile/).
+int sessionNumber(const core::JsonValue& object, int least, const std::string& source)
+{
+    const core::JsonValue& v = member(object, "session", core::JsonValue::Kind::Number, source);
+    if (!(v.number >= least && v.number <= 1e6) || v.number != std::floor(v.number))
+        throw core::InputError(source, v.line, "session", "must be a whole number, " + std::to_string(least) + " or more");
+    return static_cast<int>(v.number);
 }
 
 std::string optionalString(const core::JsonValue& object, const char* key, const std::string& source)
@@ -52,7 +63,7 @@ ReaderProfile parseReaderProfile(std::string_view json, const std::string& sourc
         for (const core::JsonValue& e : s->array) {
             if (e.kind != core::JsonValue::Kind::Object) throw core::InputError(source, e.line, "sessions", "expected objects");
             ReaderSession r;
-            r.session = static_cast<int>(member(e, "session", core::JsonValue::Kind::Number, source).number);
+            r.session = sessionNumber(e, 0, source);
             r.date = optionalString(e, "date", source);
             r.method = optionalString(e, "method", source);
             if (const core::JsonValue* sec = e.find("seconds"); sec && sec->kind == core::JsonValue::Kind::Number) r.seconds = sec->number;
@@ -64,8 +75,7 @@ ReaderProfile parseReaderProfile(std::string_view json, const std::string& sourc
         for (const core::JsonValue& e : a->array) {
             if (e.kind != core::JsonValue::Kind::Object) throw core::InputError(source, e.line, "answers", "expected objects");
             ReaderAnswer r;
-            r.session = static_cast<int>(member(e, "session", core::JsonValue::Kind::Number, source).number);
-            if (r.session < 1) throw core::InputError(source, e.line, "session", "must be 1 or more");
+            r.session = sessionNumber(e, 1, source);
             r.stage = member(e, "stage", core::JsonValue::Kind::String, source).string;
             r.method = optionalString(e, "method", source);
             r.expected = member(e, "expected", core::JsonValue::Kind::String, source).string;

@@ -22,6 +22,15 @@ struct JsonValue {
     long line = 0;
     long column = 0;   ///< 1-based byte column of the value's first character
 
+    // Declared here, defaulted in Json.cpp: clang (with libstdc++'s C++20 vector) would otherwise
+    // need std::pair<std::string, JsonValue> complete while JsonValue itself is not yet.
+    JsonValue();
+    ~JsonValue();
+    JsonValue(const JsonValue&);
+    JsonValue(JsonValue&&) noexcept;
+    JsonValue& operator=(const JsonValue&);
+    JsonValue& operator=(JsonValue&&) noexcept;
+
     const JsonValue* find(std::string_view key) const noexcept;
     static const char* kindName(Kind k) noexcept;
 };

@@ -75,8 +75,12 @@ const char* defaultMountPresetForFormat(std::string_view format)
 
 Mount loadMount(const std::string& path)
 {
-    const std::string text = core::readWholeFile(path); // IoError (exit 4) naming the file when it cannot be read
-    const core::JsonValue root = core::parseJson(text, path);
+    return parseMount(core::readWholeFile(path), path); // IoError (exit 4) naming the file when it cannot be read
+}
+
+Mount parseMount(std::string_view json, const std::string& path)
+{
+    const core::JsonValue root = core::parseJson(json, path);
     const core::JsonValue* m = root.kind == core::JsonValue::Kind::Object ? root.find("mount") : nullptr;
     if (!m || m->kind != core::JsonValue::Kind::Object) throw core::InputError(path, root.line, "mount", "expected an object {\"mount\": {\"quaternion\": [w, x, y, z]}}");
     const core::JsonValue* q = m->find("quaternion");

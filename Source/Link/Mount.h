@@ -40,6 +40,8 @@ const char* defaultMountPresetForFormat(std::string_view formatName);
 /// Mount JSON: {"mount":{"quaternion":[w,x,y,z],"name":"…","device":"…"}} (extra keys ignored).
 /// loadMount throws InputError (file, message) for a bad file; saveMount writes atomically.
 Mount loadMount(const std::string& path);
+/// The same from the file's text (`source` names it in errors).
+Mount parseMount(std::string_view json, const std::string& source);
 void saveMount(const std::string& path, const Mount& mount);
 /// A preset name or a file path (anything that is not a preset name).
 Mount mountFromArgument(const std::string& presetOrPath);

@@ -1,9 +1,15 @@
 #include "Navigation/GpsdSource.h"
 #include "Core/Errors.h"
+#include "Core/Json.h"
+#include "Osc/OscDialects.h"
 #include <chrono>
 #include <cmath>
+#include <cerrno>
 #include <cstring>
 #include <gps.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <vector>
 
 namespace armadillo::navigation {
 
@@ -38,9 +44,73 @@ GpsdEndpoint parseGpsdEndpoint(const std::string& text)
     return e;
 }
 
+GpsdReport readGpsdJson(std::string_view line, PositionFix& out)
+{
+    // The report is read here, not by libgps: libgps 3.22's reader never returns on some reports
+    // a gpsd (which may be on another host: `--gpsd HOST:PORT`) could send — an unterminated
+    // DEVICES array, or a "devices" array in any other report (found by fuzzing,
+    // Tests/Fuzz/regressions/gpsd/). Only the TPV fields gpsd_json(5) documents are used.
+    out = PositionFix {};
+    core::JsonValue root;
+    try {
+        root = core::parseJson(line, "gpsd");
+    } catch (const core::InputError&) {
+        return GpsdReport::None;
+    }
+    if (root.kind != core::JsonValue::Kind::Object) return GpsdReport::None;
+    const core::JsonValue* kind = root.find("class");
+    if (!kind || kind->kind != core::JsonValue::Kind::String || kind->string != "TPV") return GpsdReport::None;   // VERSION, DEVICES, SKY, …
+    const auto number = [&root](const char* key) {
+        const core::JsonValue* v = root.find(key);
+        return v && v->kind == core::JsonValue::Kind::Number ? v->number : std::nan("");
+    };
+    if (const core::JsonValue* t = root.find("time"); t && t->kind == core::JsonValue::Kind::String)
+        out.sourceTime = osc::parseIsoTimestamp(t->string);
+    const double mode = number("mode");   // 0 unknown, 1 no fix, 2 2D, 3 3D
+    if (!(mode >= 2.0) || (!root.find("lat") && !root.find("lon"))) return GpsdReport::NoFix;
+    out.pos = {number("lat"), number("lon")};
+    if (!validLatLon(out.pos)) {   // garbage: refused, and said as "no fix"
+        out = PositionFix {};
+        return GpsdReport::Rejected;
+    }
+    out.quality = mode >= 3.0 ? FixQuality::Fix3D : FixQuality::Fix2D;
+    const double eph = number("eph"), epx = number("epx"), epy = number("epy");
+    if (std::isfinite(eph)) out.accuracyM = eph;
+    else if (std::isfinite(epx) && std::isfinite(epy)) out.accuracyM = std::hypot(epx, epy);
+    const double speed = number("speed"), track = number("track");
+    if (std::isfinite(speed) && std::isfinite(track)) {
+        out.speedMps = speed;
+        out.courseDeg = track;
+    }
+    return GpsdReport::Fix;
+}
+
 struct GpsdSource::Impl {
     gps_data_t data {};
     bool open = false;
+    std::string pending;   // the start of a report line not yet complete
+    static constexpr std::size_t kMaxLine = 1 << 16;   // gpsd's longest reports (SKY) are a few KB
+    /// Waits up to `ms` for bytes and appends the complete lines that arrived. False when gpsd
+    /// closed the connection or it failed. The lines are read here rather than by gps_read, so
+    /// each goes through readGpsdJson's check before libgps parses it.
+    bool receive(int ms, std::vector<std::string>& lines)
+    {
+        pollfd p {data.gps_fd, POLLIN, 0};
+        const int ready = ::poll(&p, 1, ms);
+        if (ready < 0) return errno == EINTR;
+        if (ready == 0) return true;
+        char buffer[4096];
+        const ssize_t n = ::recv(data.gps_fd, buffer, sizeof buffer, 0);
+        if (n < 0) return errno == EINTR || errno == EAGAIN;
+        if (n == 0) return false;
+        pending.append(buffer, static_cast<std::size_t>(n));
+        std::size_t start = 0;
+        for (std::size_t nl; (nl = pending.find('\n', start)) != std::string::npos; start = nl + 1)
+            lines.emplace_back(pending, start, nl - start);
+        pending.erase(0, start);
+        if (pending.size() > kMaxLine) pending.clear();   // no report is this long: dropped
+        return true;
+    }
     bool connect(const GpsdEndpoint& e, std::string& error)
     {
         std::memset(&data, 0, sizeof data);
@@ -63,6 +133,7 @@ struct GpsdSource::Impl {
             gps_close(&data);
         }
         open = false;
+        pending.clear();
     }
 };
 
@@ -94,6 +165,7 @@ void GpsdSource::stop()
 void GpsdSource::run()
 {
     auto lastTry = std::chrono::steady_clock::now();
+    std::vector<std::string> lines;
     while (running_.load()) {
         if (!impl_->open) {   // gpsd went away: try again every second, reporting nothing meanwhile
             if (std::chrono::steady_clock::now() - lastTry < std::chrono::seconds(1)) {
@@ -105,40 +177,28 @@ void GpsdSource::run()
             if (impl_->connect(endpoint_, error)) connected_ = true;
             continue;
         }
-        if (!gps_waiting(&impl_->data, 200000)) {   // µs; also false on a closed socket, read below tells
-            continue;
-        }
-        impl_->data.set = 0;
-        if (gps_read(&impl_->data, nullptr, 0) < 0) {
+        lines.clear();
+        if (!impl_->receive(200, lines)) {
             impl_->close();
             connected_ = false;
             disconnects_.fetch_add(1);
             lastTry = std::chrono::steady_clock::now();
             continue;
         }
-        if (!(impl_->data.set & MODE_SET)) continue;   // not a TPV report (VERSION, DEVICES, SKY, …)
-        const gps_fix_t& f = impl_->data.fix;
-        PositionFix fix;
-        fix.sourceTime = static_cast<double>(f.time.tv_sec) + 1e-9 * static_cast<double>(f.time.tv_nsec);
-        if (f.mode >= MODE_2D && (impl_->data.set & LATLON_SET)) {
-            fix.pos = {f.latitude, f.longitude};
-            if (!validLatLon(fix.pos)) {   // garbage: refused, and said as "no fix"
+        for (const std::string& line : lines) {
+            PositionFix fix;
+            const GpsdReport report = readGpsdJson(line, fix);
+            if (report == GpsdReport::None) continue;   // not a TPV report (VERSION, DEVICES, SKY, …) or not JSON
+            if (report == GpsdReport::Rejected) {
                 rejected_.fetch_add(1);
                 mailbox_.countRejected();
                 mailbox_.store(PositionFix {});
                 continue;
             }
-            fix.quality = f.mode >= MODE_3D ? FixQuality::Fix3D : FixQuality::Fix2D;
-            if (std::isfinite(f.eph)) fix.accuracyM = f.eph;
-            else if (std::isfinite(f.epx) && std::isfinite(f.epy)) fix.accuracyM = std::hypot(f.epx, f.epy);
-            if ((impl_->data.set & SPEED_SET) && std::isfinite(f.speed)) fix.speedMps = f.speed;
-            if ((impl_->data.set & TRACK_SET) && std::isfinite(f.track)) fix.courseDeg = f.track;
-            if (!std::isfinite(fix.speedMps) || !std::isfinite(fix.courseDeg)) fix.speedMps = fix.courseDeg = std::nan("");
-            fixes_.fetch_add(1);
-        } else {
-            noFix_.fetch_add(1);
+            if (report == GpsdReport::Fix) fixes_.fetch_add(1);
+            else noFix_.fetch_add(1);
+            mailbox_.store(fix);
         }
-        mailbox_.store(fix);
     }
 }
 

@@ -14,6 +14,7 @@
 #include <atomic>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <thread>
 
 namespace armadillo::navigation {
@@ -25,6 +26,15 @@ struct GpsdEndpoint {
 /// "HOST:PORT", "HOST", ":PORT" or "" (localhost:2947); "[::1]:PORT" for IPv6. InputError
 /// (source "--gpsd") for a bad port.
 GpsdEndpoint parseGpsdEndpoint(const std::string& text);
+
+/// What one gpsd report gives the walker: nothing (not a TPV report: VERSION, DEVICES, SKY, …),
+/// a fix, "no fix", or a position refused as garbage (then `out` is "no fix").
+enum class GpsdReport : std::uint8_t { None, Fix, NoFix, Rejected };
+/// One line of gpsd's JSON protocol (gpsd_json(5)) as the source reads it (every line it
+/// receives): a TPV report's mode, time, lat, lon, eph (or epx, epy), speed and track; a fix
+/// whose position is not two numbers in range is Rejected. libgps only connects and asks for
+/// the reports (its own JSON reader hangs on some malformed ones).
+GpsdReport readGpsdJson(std::string_view line, PositionFix& out);
 
 class GpsdSource {
 public:

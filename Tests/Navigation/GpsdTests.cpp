@@ -15,6 +15,7 @@
 #include "RowsDecoder.h"
 #include <arpa/inet.h>
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <csignal>
 #include <fcntl.h>
 #include <cstdio>
@@ -437,4 +438,29 @@ TEST_CASE("navigate --osc-in without --port/--simulate: a phone's ZIG SIM motion
         CHECK(std::stod(log[i][5]) == Approx(distanceM({48.1494, 11.5678}, {48.14965, 11.5678})).margin(0.5));
     }
     CHECK(ok > 10);
+}
+
+TEST_CASE("gpsd: one JSON report read as the source reads it (readGpsdJson)", "[gpsd]")
+{
+    PositionFix fix;
+    REQUIRE(readGpsdJson(R"({"class":"TPV","device":"/dev/ttyUSB0","mode":3,"time":"2026-11-29T06:00:00.000Z",)"
+                         R"("lat":52.52,"lon":13.405,"eph":4.5,"speed":1.2,"track":90.0})", fix) == GpsdReport::Fix);
+    CHECK(fix.pos.lat == Approx(52.52));
+    CHECK(fix.pos.lon == Approx(13.405));
+    CHECK(fix.quality == FixQuality::Fix3D);
+    CHECK(fix.accuracyM == Approx(4.5));
+    CHECK(fix.courseDeg == Approx(90.0));
+    CHECK(readGpsdJson(R"({"class":"TPV","mode":1})", fix) == GpsdReport::NoFix);
+    CHECK(readGpsdJson(R"({"class":"TPV","mode":2,"lat":91.5,"lon":13.4})", fix) == GpsdReport::Rejected);
+    CHECK(fix.quality == FixQuality::None);
+    CHECK(readGpsdJson(R"({"class":"VERSION","release":"3.22"})", fix) == GpsdReport::None);
+    CHECK(readGpsdJson("not json", fix) == GpsdReport::None);
+    // libgps 3.22's own reader never returns on these lines (found by fuzzing); ours reads them.
+    CHECK(readGpsdJson(R"({"class":"DEVICES","devices":[{"class":"DEVICE"})", fix) == GpsdReport::None);
+    CHECK(readGpsdJson(R"({"class":"VERSION","devices":[{"class":"DEVICE"}]})", fix) == GpsdReport::None);
+    REQUIRE(readGpsdJson(R"({"class":"TPV","mode":2,"lat":-33.9,"lon":151.2,"devices":[{"class":"DEVICE"}]})", fix) == GpsdReport::Fix);
+    CHECK(fix.quality == FixQuality::Fix2D);
+    CHECK(fix.pos.lon == Approx(151.2));
+    CHECK(std::isnan(fix.accuracyM));
+    CHECK(std::isnan(fix.speedMps));
 }
