@@ -1,15 +1,10 @@
 #include "Live/MessagesRig.h"
+#include "Core/Text.h"
 
 namespace armadillo::live {
 
 namespace {
 
-std::string trimmed(const std::string& s)
-{
-    const auto a = s.find_first_not_of(" \t\r\n");
-    if (a == std::string::npos) return {};
-    return s.substr(a, s.find_last_not_of(" \t\r\n") - a + 1);
-}
 
 /// Each comma-separated filter of `list` subscribed (urgent or not). "" or why one is refused.
 std::string addTopics(mqtt::MqttConfig& config, const std::string& list, bool urgent)
@@ -17,7 +12,7 @@ std::string addTopics(mqtt::MqttConfig& config, const std::string& list, bool ur
     std::size_t from = 0;
     while (from <= list.size()) {
         const std::size_t comma = std::min(list.find(',', from), list.size());
-        const std::string t = trimmed(list.substr(from, comma - from));
+        const std::string t = core::trimmed(list.substr(from, comma - from));
         from = comma + 1;
         if (t.empty()) continue;
         if (const auto why = mqtt::topicFilterProblem(t); !why.empty()) return "topic '" + t + "': " + why;
@@ -32,9 +27,9 @@ std::string MessagesRig::start(const MessagesSettings& settings)
 {
     stop();
     try {
-        const std::string file = trimmed(settings.configFile);
+        const std::string file = core::trimmed(settings.configFile);
         mqtt::MqttConfig config = !file.empty() ? mqtt::loadMqttConfig(file) : mqtt::MqttConfig {};
-        const std::string broker = trimmed(settings.broker);
+        const std::string broker = core::trimmed(settings.broker);
         if (!broker.empty()) mqtt::parseBrokerAddress(broker, "broker", config.host, config.port);
         if (auto why = addTopics(config, settings.topics, false); !why.empty()) return "MQTT: " + why;
         if (auto why = addTopics(config, settings.urgent, true); !why.empty()) return "MQTT: " + why;

@@ -67,7 +67,7 @@ std::string describe(const core::StageCommand& c)
 }
 
 StageControlReceiver::StageControlReceiver(int port, Handler handler, const StageControlListen& listen)
-    : handler_(std::move(handler)), listen_(listen)
+    : listen_(listen), handler_(std::move(handler))
 {
     fd_ = osc::bindUdp(listen_.bind, port, "--control-in", port_);
     sockaddr_storage bound {};

@@ -1,21 +1,11 @@
 #include "Live/TactorRig.h"
+#include "Core/Text.h"
 #include "Core/Errors.h"
 #include "Live/TactorOutput.h"
 #include <cmath>
 #include <sstream>
 
 namespace armadillo::live {
-
-namespace {
-
-std::string trimmed(const std::string& s)
-{
-    const auto a = s.find_first_not_of(" \t\r\n");
-    if (a == std::string::npos) return {};
-    return s.substr(a, s.find_last_not_of(" \t\r\n") - a + 1);
-}
-
-} // namespace
 
 TactorRig::TactorRig(BlockControl& control, ControlToken& token) : control_(control), token_(token) {}
 
@@ -84,7 +74,7 @@ void TactorRig::tick()
 std::string TactorRig::openOutput(const TactorSettings& settings, int motors)
 {
     closeOutput();
-    const std::string device = trimmed(settings.device);
+    const std::string device = core::trimmed(settings.device);
     if (device.empty()) return "Tactors: choose an output (jack, or an ALSA device such as hw:1)";
     try {
         const auto setup = tactors::resolveTactorSetup(settings.model, settings.map, settings.gains, motors, 0);
@@ -94,7 +84,7 @@ std::string TactorRig::openOutput(const TactorSettings& settings, int motors)
         config.params.voiceCoilSound = settings.sound && config.params.model == tactors::TactorModel::VoiceCoil;
         config.map = setup.map;
         config.gains = setup.gains;
-        config.connect = trimmed(settings.connect);
+        config.connect = core::trimmed(settings.connect);
         config.clientName = "ARMadillo";
         auto output = std::make_unique<TactorOutput>(config);   // IoError / InputError: nothing opened
         if (output->wantsSound() && std::abs(output->sampleRate() - sampleRate_) > 0.5) {

@@ -1,4 +1,5 @@
 #include "Navigation/NavigationRig.h"
+#include "Core/Text.h"
 #include "Navigation/Route.h"
 #include <cctype>
 #include <cstdio>
@@ -7,18 +8,6 @@
 #include <stdexcept>
 
 namespace armadillo::navigation {
-
-namespace {
-
-std::string trimmed(const std::string& s)
-{
-    std::size_t a = 0, b = s.size();
-    while (a < b && std::isspace(static_cast<unsigned char>(s[a]))) ++a;
-    while (b > a && std::isspace(static_cast<unsigned char>(s[b - 1]))) --b;
-    return s.substr(a, b - a);
-}
-
-} // namespace
 
 std::string NavigationRig::start(const std::string& routePath, Source source, const std::string& where)
 {
@@ -37,7 +26,7 @@ void NavigationRig::open(std::shared_ptr<const Route> route, Source source, cons
 {
     stop();
     auto link = std::make_shared<NavigationLink>();
-    const std::string w = trimmed(where);
+    const std::string w = core::trimmed(where);
     if (source == Source::Gpsd) {
         gpsd_ = std::make_unique<GpsdSource>(parseGpsdEndpoint(w), link->position);   // IoError: not reachable
     } else {

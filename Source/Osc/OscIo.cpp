@@ -104,6 +104,16 @@ bool OscSender::sendGesture(const char* name) noexcept
     return send("/armadillo/gesture", a, 1);
 }
 
+/// The port a bound socket got (the one asked for, or the free one given for port 0).
+static int localPort(int fd) noexcept
+{
+    sockaddr_storage bound {};
+    socklen_t len = sizeof bound;
+    ::getsockname(fd, reinterpret_cast<sockaddr*>(&bound), &len);
+    return bound.ss_family == AF_INET6 ? ntohs(reinterpret_cast<sockaddr_in6*>(&bound)->sin6_port)
+                                       : ntohs(reinterpret_cast<sockaddr_in*>(&bound)->sin_port);
+}
+
 int bindUdpAnyInterface(int port, const std::string& who, int& boundPort)
 {
     if (port < 0 || port > 65535) throw core::IoError(who + ": port " + std::to_string(port) + " is outside 0..65535");
@@ -132,11 +142,7 @@ int bindUdpAnyInterface(int port, const std::string& who, int& boundPort)
         a.sin_port = htons(static_cast<std::uint16_t>(port));
         bindOrThrow(reinterpret_cast<sockaddr*>(&a), sizeof a);
     }
-    sockaddr_storage bound {};
-    socklen_t len = sizeof bound;
-    ::getsockname(fd, reinterpret_cast<sockaddr*>(&bound), &len);
-    boundPort = bound.ss_family == AF_INET6 ? ntohs(reinterpret_cast<sockaddr_in6*>(&bound)->sin6_port)
-                                            : ntohs(reinterpret_cast<sockaddr_in*>(&bound)->sin_port);
+    boundPort = localPort(fd);
     return fd;
 }
 
@@ -168,11 +174,7 @@ int bindUdp(const std::string& address, int port, const std::string& who, int& b
         ::close(fd);
         throw core::IoError(who + ": cannot listen on UDP " + address + " port " + std::to_string(port) + ": " + std::strerror(e));
     }
-    sockaddr_storage bound {};
-    socklen_t len = sizeof bound;
-    ::getsockname(fd, reinterpret_cast<sockaddr*>(&bound), &len);
-    boundPort = bound.ss_family == AF_INET6 ? ntohs(reinterpret_cast<sockaddr_in6*>(&bound)->sin6_port)
-                                            : ntohs(reinterpret_cast<sockaddr_in*>(&bound)->sin_port);
+    boundPort = localPort(fd);
     return fd;
 }
 
