@@ -2,7 +2,7 @@
 // The front end only asks and presents: the live session builds the arm's source and motors (a
 // device, the simulated forearm or a phone), the walk's position source and the navigation scene
 // (Live/LiveSession.h, LiveConfig::walk); this file reads the options, announces the walk and
-// keeps its logs. --simulate-walk runs the whole walk offline (Navigation/WalkerSim.h).
+// keeps its logs. --simulate-walk runs the whole walk offline (Navigation/WalkRehearsal.h).
 #include "Cli/CommandLine.h"
 #include "Cli/LiveOptions.h"
 #include "Cli/Commands.h"
@@ -15,7 +15,7 @@
 #include "Link/Mount.h"
 #include "Live/LiveSession.h"
 #include "Navigation/NavigationRig.h"
-#include "Navigation/WalkerSim.h"
+#include "Navigation/WalkRehearsal.h"
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -297,7 +297,7 @@ int runSimulatedWalk(const CommandLine& cl, const NavigateRequest& req)
     std::string tactile = "t,m1,m2,m3,m4,m5,m6,m7,m8,m9\n";
     navigation::WalkOptions o;
     o.maxSeconds = req.seconds > 0.0 ? req.seconds : 3 * 3600.0;
-    o.observe = [&](double t, const navigation::SimulatedWalker&, const core::MotorLevels& levels, const navigation::NavigationStatus&) {
+    o.observe = [&](double t, const navigation::WalkerView&, const core::MotorLevels& levels, const navigation::NavigationStatus&) {
         log.drain(*link);
         if (!req.tactilePath.empty()) tactile += tactileRow(t, levels);
     };
@@ -307,13 +307,7 @@ int runSimulatedWalk(const CommandLine& cl, const NavigateRequest& req)
     log.drain(*link);
     log.write();
     if (!req.tactilePath.empty()) core::writeFileAtomically(req.tactilePath, tactile);
-    char json[400];
-    std::snprintf(json, sizeof json,
-                  "{\"finished\":%s,\"seconds\":%.1f,\"arrivals\":%zu,\"waypoints\":%zu,\"max_off_route_m\":%.2f,\"median_heading_error_deg\":%.2f,"
-                  "\"learned_offset_deg\":%.2f,\"strap_offset_deg\":%.2f}",
-                  r.finished ? "true" : "false", r.seconds, r.arrivals.size(), route.points.size() - 1, r.maxOffRouteM, r.medianHeadingErrorDeg,
-                  r.learnedOffsetDeg, w.strapOffsetDeg);
-    std::cout << json << "\n" << std::flush;
+    std::cout << navigation::walkResultJson(r, route, w) << "\n" << std::flush;
     return core::kExitOk;
 }
 
