@@ -1,7 +1,7 @@
 // `armadillo navigate`: walk a route guided by the arm alone (issue 34, docs/NAVIGATION.md).
 // The front end only asks and presents: the live session builds the arm's source and motors (a
 // device, the simulated forearm or a phone), the walk's position source and the navigation scene
-// (Live/LiveSession.h, LiveConfig::walk); this file reads the options, announces the walk and
+// (Live/Session/LiveSession.h, LiveConfig::walk); this file reads the options, announces the walk and
 // keeps its logs. --simulate-walk runs the whole walk offline (Navigation/WalkRehearsal.h).
 #include "Cli/CommandLine.h"
 #include "Cli/LiveOptions.h"
@@ -14,7 +14,7 @@
 #include "Link/Calibration.h"
 #include "Link/Mount.h"
 #include "Osc/HostPort.h"
-#include "Live/LiveSession.h"
+#include "Live/Session/LiveSession.h"
 #include "Navigation/NavigationRig.h"
 #include "Navigation/WalkRehearsal.h"
 #include <chrono>

@@ -5,7 +5,7 @@
 #include "Cli/TactorOptions.h"
 #include "Core/Clock.h"
 #include "Core/Errors.h"
-#include "Live/TactorTest.h"
+#include "Live/Outputs/TactorTest.h"
 #include <iostream>
 
 namespace armadillo::cli {
