@@ -235,6 +235,8 @@ struct WebServer::Impl {
         server.Get("/api/scene", [this](const httplib::Request&, httplib::Response& r) {
             r.set_content(sceneJson(instrument.status(), instrument.parameters()), "application/json");
         });
+        // Browsers ask for an icon on their own; the page has none (no refusal to report).
+        server.Get("/favicon.ico", [](const httplib::Request&, httplib::Response& r) { r.status = 204; });
         server.Post("/api/stage", [this](const httplib::Request& q, httplib::Response& r) { takeStage(q, r); });
         server.Post("/api/param", [this](const httplib::Request& q, httplib::Response& r) { takeParameter(q, r); });
         server.Get(R"(/[a-z]*(\.[a-z]+)?)", [this](const httplib::Request& q, httplib::Response& r) { servePage(q, r); });
