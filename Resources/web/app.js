@@ -50,6 +50,21 @@
     if (s.cue >= 0 && $('cue').options.length > 0 && document.activeElement !== $('cue')) $('cue').value = String(s.cue);
     showMessages(s.messages);
     showWalk(s.walk);
+    showCalibration(s.calibration);
+  }
+
+  function showCalibration(c) {
+    let state;
+    if (!c.available) state = 'Not available: ' + c.why + '.';
+    else if (c.finished) state = c.title + '.';
+    else if (c.running) state = c.title + ' — ' + Math.round(100 * c.progress) + '% of its data' + (c.ready ? ', ready: take it with Next step.' : '.');
+    else state = 'Not running.';
+    $('cal-state').textContent = state;
+    $('cal-instruction').textContent = c.running ? 'What to do: ' + c.instruction : '';
+    $('cal-note').textContent = c.note ? 'Last: ' + c.note : '';
+    $('cal-begin').disabled = !c.available;
+    for (const id of ['cal-next', 'cal-skip', 'cal-cancel']) $(id).disabled = !c.running;
+    $('cal-download').hidden = !c.finished;
   }
 
   function showMessages(list) {
@@ -88,6 +103,10 @@
       if (!s.panicked && last.panicked) announce('Resumed.');
       if (s.cue !== last.cue && s.cue >= 0) announce('Cue ' + (s.cue + 1) + ': ' + s.scene + '.');
       if (s.messages.length > 0 && s.messages[0] !== last.messages[0]) announce('Message: ' + s.messages[0]);
+      if (s.calibration.running && (s.calibration.step !== last.calibration.step || !last.calibration.running))
+        announce('Calibration ' + s.calibration.title + ': ' + s.calibration.instruction);
+      if (s.calibration.ready && !last.calibration.ready) announce('Calibration: this step has enough data.');
+      if (s.calibration.finished && !last.calibration.finished) announce('Calibration complete.');
       if (s.walk && last.walk && s.walk.arrivals > last.walk.arrivals)
         announce(s.walk.finished ? 'Arrived: the route is finished.' : 'Arrived at a waypoint; next is ' + s.walk.waypoint + '.');
     }
@@ -180,6 +199,14 @@
     };
   }
 
+  for (const b of document.querySelectorAll('button[data-cal]'))
+    b.addEventListener('click', async () => {
+      try {
+        showCalibration((await post('api/calibration', b.dataset.cal)).calibration);
+      } catch (e) {
+        $('cal-note').textContent = b.textContent + ' was not taken: ' + e.message;
+      }
+    });
   for (const b of document.querySelectorAll('button[data-command]'))
     b.addEventListener('click', () => stageCommand(b.dataset.command, b.textContent));
   $('params-form').addEventListener('submit', applyParameters);

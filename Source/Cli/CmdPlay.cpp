@@ -321,6 +321,8 @@ std::unique_ptr<PlayRequest> readPlayRequest(const CommandLine& cl, const LiveCo
         messages->setCommand(command.name);
     }
     readWebOptions(cl, config);   // the instrument as a web page (--web, --web-bind)
+    if (cl.has("--web") && cl.has("--calibrate"))
+        throw UsageError("--calibrate and --web both present the device calibration: use one (the page has it under 'Device calibration')");
     auto request = std::make_unique<PlayRequest>();
     request->config = std::move(config);
     request->seconds = seconds;

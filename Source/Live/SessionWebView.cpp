@@ -81,6 +81,11 @@ web::InstrumentStatus SessionWebView::status()
         for (int i = 0; i < cues->cueCount(); ++i) s.cues.push_back(cues->cue(i).name.empty() ? cues->cue(i).scene : cues->cue(i).name);
     }
     s.messages = session_.recentMessages();
+    {
+        std::lock_guard<std::mutex> lock(calibrationMutex_);
+        pumpCalibration();
+        s.calibration = calibrationStatus();
+    }
     if (navigation::NavigationRig* nav = session_.navigation(); nav != nullptr && nav->running()) {
         const navigation::NavigationStatus n = nav->status();
         s.walk.on = true;
@@ -128,6 +133,80 @@ bool SessionWebView::setParameter(const std::string& id, double value, double& s
         return true;
     }
     return false;
+}
+
+void SessionWebView::pumpCalibration()
+{
+    core::SpscQueue<link::RawPacket, 1024>* packets = session_.rawPackets();
+    if (packets == nullptr || !calibration_.running()) return;
+    link::RawPacket p;
+    while (packets->pop(p)) calibration_.offer(p.t, p.counts);
+    calibration_.drain();
+}
+
+web::ProcedureStatus SessionWebView::calibrationStatus()
+{
+    web::ProcedureStatus c;
+    c.available = session_.rawPackets() != nullptr;
+    if (!c.available) c.why = "the device calibration needs a device (--port) or the simulated forearm; this source sends OSC";
+    c.steps = procedures::DeviceCalibration::kStepCount;
+    c.running = calibration_.running();
+    c.finished = calibration_.finished();
+    if (calibrationBegun_) {
+        c.step = calibration_.stepNumber();
+        c.title = calibration_.stepTitle();
+        c.instruction = c.finished ? std::string() : calibration_.instruction();
+        c.progress = calibration_.progress();
+        c.ready = calibration_.ready();
+    }
+    c.note = calibrationNote_;
+    return c;
+}
+
+void SessionWebView::calibration(web::ProcedureCommand command)
+{
+    std::lock_guard<std::mutex> lock(calibrationMutex_);
+    core::SpscQueue<link::RawPacket, 1024>* packets = session_.rawPackets();
+    if (packets == nullptr) {
+        calibrationNote_ = "not available: this source sends OSC";
+        return;
+    }
+    using C = web::ProcedureCommand;
+    if (command == C::Begin) {
+        link::RawPacket stale;
+        while (packets->pop(stale)) {}   // only what comes from now on
+        calibration_.begin(session_.config().calibration);
+        calibrationBegun_ = true;
+        calibrationNote_ = "begun: keep the arm as the step asks";
+        return;
+    }
+    if (!calibration_.running()) {
+        calibrationNote_ = "no calibration runs: begin it first";
+        return;
+    }
+    pumpCalibration();
+    if (command == C::Next) {
+        std::string why;
+        calibrationNote_ = calibration_.next(why) ? "step taken" : "not yet: " + why;
+    } else if (command == C::Skip) {
+        calibration_.skip();
+        calibrationNote_ = "step skipped: it keeps the starting calibration's numbers";
+    } else {
+        calibration_.cancel();
+        calibrationBegun_ = false;
+        calibrationNote_ = "cancelled: nothing kept";
+    }
+    if (calibration_.finished()) {
+        const std::string measured = calibration_.measuredList(true), kept = calibration_.measuredList(false);
+        calibrationNote_ = "calibration complete: " + (measured.empty() ? std::string("nothing measured") : "measured " + measured) +
+                           (kept.empty() ? std::string() : "; kept " + kept) + ". Download it below and use it with --calibration.";
+    }
+}
+
+std::string SessionWebView::calibrationFile()
+{
+    std::lock_guard<std::mutex> lock(calibrationMutex_);
+    return calibration_.finished() ? link::calibrationToJson(calibration_.result()) : std::string();
 }
 
 } // namespace armadillo::live

@@ -15,6 +15,21 @@
 
 namespace armadillo::web {
 
+/// A guided procedure as the page presents it (today the device calibration of thesis §2.4,
+/// procedures::DeviceCalibration: the same steps, prompts and results as `armadillo calibrate`
+/// and the app's Calibration window).
+struct ProcedureStatus {
+    bool available = false;        ///< the source can run it (a device or the simulated forearm)
+    std::string why;               ///< why not, when not available
+    bool running = false, finished = false;
+    int step = 0, steps = 0;       ///< 1-based step, of steps
+    std::string title, instruction;
+    double progress = 0.0;         ///< 0..1: how much of the step's data is in
+    bool ready = false;            ///< the step has enough data: Next takes it
+    std::string note;              ///< what the last command did ("not enough data yet: …", "skipped", …)
+};
+enum class ProcedureCommand { Begin, Next, Skip, Cancel };
+
 /// The instrument's state as the page shows it.
 struct InstrumentStatus {
     double t = 0.0;                ///< the session's time, s (the source's clock: the tactile CSV's t)
@@ -41,6 +56,7 @@ struct InstrumentStatus {
         std::string fix;           ///< "waiting", "good", …
     };
     Walk walk;
+    ProcedureStatus calibration;
 };
 
 /// One of the scene's own parameters (Core/Scene.h ParamSpec) and the value it has as far as the
@@ -62,6 +78,11 @@ public:
     /// Sets a parameter of the scene that plays, clamped to its range (a choice rounded);
     /// returns the value set, or false when the scene has no parameter `id`.
     virtual bool setParameter(const std::string& id, double value, double& set) = 0;
+    /// The device calibration: begin, take the step (when it has enough data), skip it, cancel.
+    /// What it did is in status().calibration.note.
+    virtual void calibration(ProcedureCommand command) = 0;
+    /// The finished calibration as a calibration file (docs/INTERFACES.md), "" before it is finished.
+    virtual std::string calibrationFile() = 0;
 };
 
 } // namespace armadillo::web

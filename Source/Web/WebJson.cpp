@@ -78,6 +78,24 @@ void walkJson(std::string& out, const InstrumentStatus::Walk& w)
     out += '}';
 }
 
+void procedureJson(std::string& out, const ProcedureStatus& p)
+{
+    key(out, "calibration");
+    out += '{';
+    flag(out, "available", p.available);
+    field(out, "why", p.why);
+    flag(out, "running", p.running);
+    flag(out, "finished", p.finished);
+    field(out, "step", static_cast<std::uint64_t>(std::max(0, p.step)));
+    field(out, "steps", static_cast<std::uint64_t>(std::max(0, p.steps)));
+    field(out, "title", p.title);
+    field(out, "instruction", p.instruction);
+    field(out, "progress", p.progress, 2);
+    flag(out, "ready", p.ready);
+    field(out, "note", p.note);
+    out += '}';
+}
+
 } // namespace
 
 std::string statusJson(const InstrumentStatus& s)
@@ -110,6 +128,7 @@ std::string statusJson(const InstrumentStatus& s)
     field(out, "cue_count", static_cast<std::uint64_t>(s.cues.size()));
     strings(out, "messages", s.messages);
     walkJson(out, s.walk);
+    procedureJson(out, s.calibration);
     out += '}';
     return out;
 }

@@ -163,6 +163,15 @@ std::optional<core::StageCommand> parseStageCommand(std::string_view body)
     return core::StageCommand {Kind::CueGoto, index};
 }
 
+std::optional<ProcedureCommand> parseProcedureCommand(std::string_view body)
+{
+    if (body == "begin") return ProcedureCommand::Begin;
+    if (body == "next") return ProcedureCommand::Next;
+    if (body == "skip") return ProcedureCommand::Skip;
+    if (body == "cancel") return ProcedureCommand::Cancel;
+    return std::nullopt;
+}
+
 std::optional<ParamRequest> parseParamRequest(std::string_view body)
 {
     constexpr std::string_view idKey = "id=", valueKey = "&value=";

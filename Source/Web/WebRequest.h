@@ -7,6 +7,7 @@
 // client may ask. Plain functions and one small class, no sockets and no HTTP library, so the
 // fuzz target `web_request` and the unit tests reach every rule.
 #include "Core/StageCommand.h"
+#include "Web/WebInstrument.h"
 #include <chrono>
 #include <cstdint>
 #include <mutex>
@@ -52,6 +53,10 @@ const PageFile* pageFile(std::string_view path) noexcept;
 /// A stage command as the page sends it (the body of POST /api/stage): "panic", "resume",
 /// "next", "previous" or "cue=N" (N a cue index 0..9999). Nothing else, no surrounding space.
 std::optional<core::StageCommand> parseStageCommand(std::string_view body);
+
+/// A command of the guided calibration (the body of POST /api/calibration): "begin", "next",
+/// "skip" or "cancel", nothing else.
+std::optional<ProcedureCommand> parseProcedureCommand(std::string_view body);
 
 /// A scene parameter as the page sends it (the body of POST /api/param):
 /// "id=ID&value=NUMBER" — ID 1..64 characters of [a-z0-9._-], NUMBER a finite decimal of at most

@@ -225,6 +225,33 @@ struct WebServer::Impl {
         res.set_content(parameterSetJson(p->id, set), "application/json");
     }
 
+    void takeCalibration(const httplib::Request& req, httplib::Response& res)
+    {
+        const std::optional<ProcedureCommand> command = parseProcedureCommand(req.body);
+        if (!command) {
+            refuse(&Counters::refusedBody, "a malformed calibration command", req.remote_addr);
+            refusal(res, 400, "not a calibration command (begin, next, skip, cancel)");
+            return;
+        }
+        instrument.calibration(*command);
+        {
+            std::lock_guard<std::mutex> lock(mutex);
+            ++counters.procedureCommands;
+        }
+        res.set_content(statusJson(instrument.status()), "application/json");
+    }
+
+    void serveCalibrationFile(httplib::Response& res)
+    {
+        const std::string file = instrument.calibrationFile();
+        if (file.empty()) {
+            refusal(res, 404, "no finished calibration yet");
+            return;
+        }
+        res.set_header("Content-Disposition", "attachment; filename=\"calibration.json\"");
+        res.set_content(file, "application/json");
+    }
+
     void routes()
     {
         server.set_pre_routing_handler([this](const httplib::Request& q, httplib::Response& r) { return check(q, r); });
@@ -239,6 +266,8 @@ struct WebServer::Impl {
         server.Get("/favicon.ico", [](const httplib::Request&, httplib::Response& r) { r.status = 204; });
         server.Post("/api/stage", [this](const httplib::Request& q, httplib::Response& r) { takeStage(q, r); });
         server.Post("/api/param", [this](const httplib::Request& q, httplib::Response& r) { takeParameter(q, r); });
+        server.Post("/api/calibration", [this](const httplib::Request& q, httplib::Response& r) { takeCalibration(q, r); });
+        server.Get("/api/calibration.json", [this](const httplib::Request&, httplib::Response& r) { serveCalibrationFile(r); });
         server.Get(R"(/[a-z]*(\.[a-z]+)?)", [this](const httplib::Request& q, httplib::Response& r) { servePage(q, r); });
         server.set_error_handler([this](const httplib::Request& q, httplib::Response& r) {
             if (r.status == 404 && r.body.empty()) {

@@ -68,7 +68,7 @@ public:
 
     struct Counters {
         std::uint64_t requests = 0, refusedHost = 0, refusedOrigin = 0, refusedToken = 0, refusedPath = 0,
-                      refusedRate = 0, refusedBody = 0, stageCommands = 0, parameters = 0;
+                      refusedRate = 0, refusedBody = 0, stageCommands = 0, parameters = 0, procedureCommands = 0;
     };
     Counters counters() const;
 

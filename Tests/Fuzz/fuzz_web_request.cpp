@@ -19,6 +19,7 @@ ARMADILLO_FUZZ_TARGET(web_request)
     const std::string_view body = b == std::string_view::npos ? rest : rest.substr(b + 1);
 
     (void) parseStageCommand(body);
+    (void) parseProcedureCommand(body);
     if (const auto p = parseParamRequest(body)) {
         if (p->id.empty() || p->id.size() > 64) __builtin_trap();   // the bounds parseParamRequest promises
     }

@@ -81,6 +81,15 @@ TEST_CASE("stage commands: five words, nothing else", "[web]")
         CHECK_FALSE(parseStageCommand(bad).has_value());
 }
 
+TEST_CASE("calibration commands: four words, nothing else", "[web]")
+{
+    CHECK(parseProcedureCommand("begin") == ProcedureCommand::Begin);
+    CHECK(parseProcedureCommand("next") == ProcedureCommand::Next);
+    CHECK(parseProcedureCommand("skip") == ProcedureCommand::Skip);
+    CHECK(parseProcedureCommand("cancel") == ProcedureCommand::Cancel);
+    for (const char* bad : {"", "save", "begin ", "NEXT", "next\n"}) CHECK_FALSE(parseProcedureCommand(bad).has_value());
+}
+
 TEST_CASE("parameters: a plain id and a finite number", "[web]")
 {
     const auto p = parseParamRequest("id=theremin.range&value=24.5");
@@ -134,6 +143,8 @@ struct FakeInstrument : InstrumentView {
         set = std::clamp(value, 0.0, 1.0);
         return true;
     }
+    void calibration(ProcedureCommand) override {}
+    std::string calibrationFile() override { return {}; }
 };
 
 /// Sends `request` raw to 127.0.0.1:port; returns the status code (0 when nothing came back).
@@ -194,6 +205,7 @@ TEST_CASE("server: what reaches the instrument, what is refused before it", "[we
     CHECK(send(port, "GET /../../etc/passwd HTTP/1.1\r\n" + host + "Connection: close\r\n\r\n", &reply) == 400);
     CHECK(reply.find("root:") == std::string::npos);
     CHECK(send(port, "GET /secret.txt HTTP/1.1\r\n" + host + "Connection: close\r\n\r\n") == 404);
+    CHECK(send(port, "GET /api/calibration.json HTTP/1.1\r\n" + host + "Connection: close\r\n\r\n") == 404);   // none finished
 
     CHECK(send(port, post(port, "/api/stage", "panic", "http://evil.example", token)) == 403);
     CHECK(send(port, post(port, "/api/stage", "panic", self, "0123")) == 403);

@@ -305,6 +305,28 @@ def check_refusals(port, token):
     check(status in (400, 403, 404) and "root:" not in reply, f"GET /%2e%2e/%2e%2e/etc/passwd (raw) refused: HTTP {status}")
 
 
+def check_calibration(driver):
+    """The page as the third presenter of the device calibration: begin, a step's prompt, skip to the end, the file."""
+    driver.find_element(By.XPATH, "//button[normalize-space()='Begin calibration']").click()
+    shown = poll(3, lambda: re.match(r"Step 1 of 7: .+", text(driver, "cal-state")))
+    check(bool(shown), "calibration: the page shows step 1 of 7: " + text(driver, "cal-state"))
+    check(text(driver, "cal-instruction").startswith("What to do: ") and len(text(driver, "cal-instruction")) > 20,
+          "calibration: the step's instruction is shown: " + text(driver, "cal-instruction"))
+    progress = poll(3, lambda: (m := re.search(r"(\d+)% of its data", text(driver, "cal-state"))) and int(m.group(1)) > 0 and m)
+    check(bool(progress), "calibration: the session's raw packets reach the procedure (progress while the arm holds still): " +
+          text(driver, "cal-state"))
+    for step in range(2, 9):
+        driver.find_element(By.XPATH, "//button[normalize-space()='Skip step']").click()
+        want = f"Step {step} of 7" if step <= 7 else "complete"
+        if not check(bool(poll(3, lambda: want in text(driver, "cal-state"))), f"calibration: after a skip, '{want}': " + text(driver, "cal-state")):
+            return
+    check("calibration complete" in text(driver, "cal-note"), "calibration: the result is said: " + text(driver, "cal-note"))
+    body = driver.execute_async_script(
+        "const done = arguments[arguments.length - 1];"
+        "fetch('api/calibration.json', {credentials: 'same-origin'}).then(r => r.text()).then(done).catch(e => done('error ' + e));")
+    check('"accel"' in body and '"gyro"' in body and '"mag"' in body, "calibration: the finished calibration downloads as a calibration file: " + body[:80])
+
+
 def read_tactile(path):
     rows = []
     with open(path) as f:
@@ -370,6 +392,7 @@ def run_play(args, work):
         check_ax_tree(driver)
         check_tab_order(driver)
         pressed = check_panic(driver, work)
+        check_calibration(driver)   # the arm holds still from t = 8 s: the first step's data comes in
         code = program.wait(30)
         check(code == 0, f"play ended by itself with exit 0: {code}")
         if pressed is not None:
