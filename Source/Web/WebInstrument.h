@@ -2,7 +2,7 @@
 // What the web page asks of the instrument it presents: a snapshot of its state, the scene's
 // parameters, and the two kinds of state change the page may make — a stage command (through
 // the instrument's one switch, live::Stage::apply) and a scene parameter (clamped to its range
-// by the instrument). The live session implements it (Live/SessionWebView.h); the web room
+// by the instrument). The live session implements it (Live/Session/SessionWebView.h); the web room
 // knows nothing above Core, so it cannot reach a source, the control step or the audio thread
 // except through this.
 //
