@@ -50,8 +50,8 @@ std::vector<OptionSpec> webOptionSpecs()
 {
     return {
         {"--web", "PORT", "the running instrument as a web page at http://127.0.0.1:PORT/ (0 = a free port; the address\n"
-                          "is printed on stderr): status, orientation, stage, scene parameters, messages, the walk\n"
-                          "(docs/INTERFACES.md \"The web page\"); this machine only unless --web-bind"},
+                          "is printed on stderr): status, orientation, stage, scene parameters, messages, the walk, the\n"
+                          "device calibration (docs/INTERFACES.md \"The web page\"); this machine only unless --web-bind"},
         {"--web-bind", "ADDR", "with --web: listen on this address of the machine instead (0.0.0.0 or :: for every\n"
                                "interface: a phone on the Wi-Fi); every request then needs the session's token, which\n"
                                "the printed address and its QR code carry (docs/SECURITY.md)"},
