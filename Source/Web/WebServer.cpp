@@ -293,7 +293,7 @@ struct WebServer::Impl {
         });
         server.set_payload_max_length(kMaxBody);
         server.set_keep_alive_max_count(100);
-        server.set_keep_alive_timeout(5);
+        server.set_keep_alive_timeout(3);
         server.set_read_timeout(5, 0);
         server.set_write_timeout(5, 0);
         server.new_task_queue = [] { return new httplib::ThreadPool(kWorkers); };

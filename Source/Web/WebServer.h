@@ -38,7 +38,7 @@ bool isNumericAddress(const std::string& address);
 
 class WebServer {
 public:
-    static constexpr int kWorkers = 8;         ///< request threads (the event streams hold one each)
+    static constexpr int kWorkers = 12;        ///< request threads (the event streams and idle keep-alive connections hold one each)
     static constexpr int kMaxStreams = 4;      ///< event streams at once (more: 503)
     static constexpr int kEventPeriodMs = 200; ///< a status event every 200 ms
     static constexpr std::size_t kMaxBody = 256;
