@@ -15,6 +15,9 @@ read:     `armadillo read` with a Mosquitto on a free loopback port: the page lo
           status, and a message published to the topic appears under "Messages read on the arm".
 navigate: `armadillo navigate --route R.json --osc-in PORT --simulate --web 0`: the page shows the
           walk (next waypoint, distance) once positions arrive over OSC.
+bind:     `play --web 0 --web-bind 127.0.0.1`: the printed address carries the token (and a QR code
+          follows); without it every request is refused; with it the page shows the live
+          orientation (its files and events through the cookie) and its Panic acts.
 
 Every wait polls with a deadline; the browser, the program and the broker are stopped in finally
 blocks. Exit 0 when every check held, 1 with the failures listed otherwise."""
@@ -473,11 +476,39 @@ def run_navigate(args, work):
             program.stop()
 
 
+def run_bind(args, work):
+    """--web-bind: the token in the printed address opens the page (cookie), nothing opens it without."""
+    driver, program = None, None
+    try:
+        driver = browser(work)
+        program = Program([args.armadillo, "play", "--simulate", "--scene", "theremin", "--seconds", "10", "--no-audio",
+                           "--web", "0", "--web-bind", "127.0.0.1"], work, "bind")
+        url = program.address()
+        m = re.match(r"http://127\.0\.0\.1:(\d+)/\?token=([0-9a-f]{32})$", url)
+        if not check(bool(m), "bind: the address printed carries the token: " + url):
+            return
+        port = int(m.group(1))
+        check("\u2588" in program.stderr() or "\u2580" in program.stderr(), "bind: a QR code follows the address on stderr")
+        for path in ("/", "/app.js", "/api/status", "/events"):
+            status, _ = raw_request(port, f"GET {path} HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nConnection: close\r\n\r\n")
+            check(status == 403, f"bind: GET {path} without the token refused: HTTP {status}")
+        driver.get(url)
+        check(bool(poll(10, lambda: page_status(driver))), "bind: the page opened with the token shows the live orientation: " +
+              text(driver, "orientation"))
+        driver.find_element(By.XPATH, "//button[normalize-space()='Panic']").click()
+        check(bool(poll(5, lambda: "PANIC" in text(driver, "stage-state"))), "bind: Panic from the page acts: " + text(driver, "stage-state"))
+    finally:
+        if driver:
+            driver.quit()
+        if program:
+            program.stop()
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--armadillo", required=True)
     ap.add_argument("--work", required=True)
-    ap.add_argument("--case", choices=["play", "read", "navigate"], required=True)
+    ap.add_argument("--case", choices=["play", "read", "navigate", "bind"], required=True)
     ap.add_argument("--axe-dir", default=os.path.join(os.path.expanduser("~"), ".cache", "armadillo", "axe-core"))
     args = ap.parse_args()
     args.armadillo = os.path.abspath(args.armadillo)
@@ -485,7 +516,7 @@ def main():
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
     try:
-        {"play": run_play, "read": run_read, "navigate": run_navigate}[args.case](args, work)
+        {"play": run_play, "read": run_read, "navigate": run_navigate, "bind": run_bind}[args.case](args, work)
     except Exception as e:   # a broken run is a failure, said with its cause
         check(False, f"{type(e).__name__}: {e}")
     if FAILURES:
