@@ -8,9 +8,13 @@ Prints, for Source/:
     signature starts to its closing brace, and
   - every mention of a concrete source or sink class in Source/Cli and Source/Plugin (the front
     ends ask the live session with a description instead), and
-  - every file that runs the control step (calls ControlLoop::tick): one file should.
-Exits 1 when a function is too long (the rule that holds), unless --report-only; the other two
-are counted on the last line, so their progress is visible in every run.
+  - every file that runs the control step (calls ControlLoop::tick): one file should, and
+  - every data member of Plugin/PluginProcessor.h whose type is of a core room's namespace
+    (armadillo::live, ::link, ::access, ...; `using` aliases of such types in Source/Plugin
+    count too): the processor holds the instrument and its clock, not its parts (at most 3).
+Exits 1 when a function is too long, a file other than Live/StepRunner.cpp runs the control step,
+or the processor holds more than 3 core objects, unless --report-only; the concrete names are
+counted on the last line, so their progress is visible in every run.
 Comments, string and character literals are skipped; the brace matcher counts a '{' whose
 preceding declaration holds a '(' at namespace or class scope as a function body."""
 import argparse
@@ -109,6 +113,39 @@ def functions(code):
     return found
 
 
+CORE_ROOMS = ["access", "audio", "braille", "core", "engine", "follow", "formats", "fusion", "instruments", "link",
+              "live", "mapping", "mqtt", "navigation", "osc", "procedures", "tactile", "tactors"]
+MAX_PROCESSOR_CORE_OBJECTS = 3
+
+
+def processor_core_members(src):
+    """(line, type, name) of each data member of the plugin processor whose type is a core room's."""
+    aliases = set()
+    plugin = os.path.join(src, "Plugin")
+    rooms = "|".join(CORE_ROOMS)
+    for path in source_files(plugin):
+        with open(path, encoding="utf-8", errors="replace") as f:
+            code = strip_code(f.read())
+        aliases.update(re.findall(r"\busing\s+(?:" + rooms + r")::(\w+)\s*;", code))
+        aliases.update(re.findall(r"\busing\s+(\w+)\s*=\s*(?:" + rooms + r")::", code))
+    path = os.path.join(plugin, "PluginProcessor.h")
+    if not os.path.exists(path):
+        return []
+    with open(path, encoding="utf-8", errors="replace") as f:
+        code = strip_code(f.read())
+    found = []
+    member = re.compile(r"^\s*(?:mutable\s+)?((?:std::(?:unique_ptr|shared_ptr|optional)<\s*)?([\w:]+)(?:\s*>)?)\s+(\w+_)\s*(?:[{=;]|\{)")
+    for lineno, text in enumerate(code.split("\n"), 1):
+        m = member.match(text)
+        if not m:
+            continue
+        type_name = m.group(2)
+        room = type_name.split("::")[0] if "::" in type_name else None
+        if (room in CORE_ROOMS) or (room is None and type_name in aliases):
+            found.append((lineno, m.group(1).strip(), m.group(3)))
+    return found
+
+
 def source_files(folder):
     for base, _, names in os.walk(folder):
         for name in sorted(names):
@@ -150,10 +187,17 @@ def main():
         print(f"front end names a concrete source or sink: {rel}:{lineno} {cls}")
     for rel, lineno in ticks:
         print(f"runs the control step (ControlLoop::tick): {rel}:{lineno}")
+    members = processor_core_members(src)
+    for lineno, type_name, name in members:
+        print(f"processor holds a core object: Source/Plugin/PluginProcessor.h:{lineno} {type_name} {name}")
+    tick_files = {rel for rel, _ in ticks}
+    stray_ticks = sorted(t for t in tick_files if not t.endswith(os.path.join("Live", "StepRunner.cpp")))
     files = len({rel for rel, _, _ in concrete})
     print(f"structure: {len(long_functions)} functions over {args.max_function_lines} lines, "
-          f"{len(concrete)} mentions of concrete sources or sinks in {files} front-end files, {len({rel for rel, _ in ticks})} files that run the control step")
-    return 1 if long_functions and not args.report_only else 0
+          f"{len(concrete)} mentions of concrete sources or sinks in {files} front-end files, {len(tick_files)} files that run the control step, "
+          f"{len(members)} core objects in the plugin processor")
+    failed = long_functions or stray_ticks or len(members) > MAX_PROCESSOR_CORE_OBJECTS
+    return 1 if failed and not args.report_only else 0
 
 
 if __name__ == "__main__":

@@ -23,6 +23,11 @@ BlockRig::BlockRig(ControlLoop& loop, BlockControl& control, link::LevelSchedule
 
 BlockRig::~BlockRig()
 {
+    stop();
+}
+
+void BlockRig::stop()
+{
     clockRunning_.store(false);
     if (clock_.joinable()) clock_.join();   // waits for a running tick
     device_.reset();    // link thread stopped; its last packet was all-off

@@ -49,6 +49,9 @@ public:
     void setClockHook(std::function<void()> hook) { clockHook_ = std::move(hook); }
     /// Starts the control clock (after the owner is fully built).
     void start();
+    /// Stops the control clock (waiting for a running tick), then the device link (its last
+    /// packet all-off). Idempotent; the destructor calls it. The device stays disconnected.
+    void stop();
 
     // Simulated arm (message thread)
     core::Pose simulatorPose() const;

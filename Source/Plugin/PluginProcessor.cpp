@@ -49,37 +49,32 @@ ArmadilloProcessor::ArmadilloProcessor()
       sceneTable_(querySceneParameters()),
       apvts_(*this, nullptr, "PARAMETERS", createParameterLayout(sceneTable_)),
       settings_(PluginState::defaultSettings()),
-      engines_(loop_, sceneTable_, apvts_, [this](const juce::String& m) { setEngineStatus(m); }),
-      training_(engines_),
-      control_(loop_, token_, cellsOf(apvts_), motors_),
-      connections_(loop_, control_, motors_),
-      mapping_(control_, sceneTable_, [this] { return static_cast<int>(settings_[SettingIds::midiChannel]); },
-               [this](const std::vector<osc::HostPort>& targets) { return connections_.configureMappingOsc(targets); })
+      instrument_(live::BlockInstrument::Host {cellsOf(apvts_), &sceneTable_,
+                                                [this] { return static_cast<int>(settings_[SettingIds::midiChannel]); }}),
+      engines_(instrument_.loop(), sceneTable_, apvts_, [this](const juce::String& m) { setEngineStatus(m); }),
+      training_(engines_)
 {
     scene_ = apvts_.getRawParameterValue(ParamIds::scene);
     jassert(scene_ != nullptr);
     settings_.addListener(this);
-    engines_.install(currentRequest(), token_);
+    engines_.install(currentRequest(), instrument_.token());
     applyNetworkSettings();
     applyVoiceSettings();
     // The mapping (before the control clock starts): scene parameters for its destinations, the
     // classic preset until a state says otherwise, and in the standalone app an ALSA sequencer
     // port for its MIDI (docs/PLUGIN.md "MIDI out").
-    control_.setSceneTable(&sceneTable_);
-    control_.setStage(&stage_);
-    control_.setLeftArm(&connections_.leftArm());
     applyLeftArm();
-    stage_.setCueNotes(static_cast<int>(settings_[SettingIds::cueNextNote]), static_cast<int>(settings_[SettingIds::cuePrevNote]));
-    stage_.setPanicGesture(static_cast<bool>(settings_[SettingIds::panicGesture]));
+    instrument_.stage().setCueNotes(static_cast<int>(settings_[SettingIds::cueNextNote]), static_cast<int>(settings_[SettingIds::cuePrevNote]));
+    instrument_.stage().setPanicGesture(static_cast<bool>(settings_[SettingIds::panicGesture]));
     applyStageOsc();
-    mapping_.setControlStopped(true);   // nothing runs the control step yet: install, not offer
-    if (const auto why = mapping_.fromSaved({}); ! why.empty()) setStatus(why);
-    mapping_.setControlStopped(false);
+    instrument_.mapping().setControlStopped(true);   // nothing runs the control step yet: install, not offer
+    if (const auto why = instrument_.mapping().fromSaved({}); ! why.empty()) setStatus(why);
+    instrument_.mapping().setControlStopped(false);
     if (wrapperType == wrapperType_Standalone) {
         juce::String why;
         if (midiPort_.open("ARMadillo", why)) {
-            control_.setMidiPort(&midiPort_.queue());
-            connections_.setClockHook([this] { midiPort_.drain(); });   // the clock sends the queued MIDI
+            instrument_.control().setMidiPort(&midiPort_.queue());
+            instrument_.rig().setClockHook([this] { midiPort_.drain(); });   // the clock sends the queued MIDI
         } else {
             setStatus(why);   // the editor's status line, and the terminal the app was started from
             std::cerr << "ARMadillo: " << why << std::endl;
@@ -87,15 +82,15 @@ ArmadilloProcessor::ArmadilloProcessor()
     }
     // Only the standalone app lets its idle clock drive the motors (a performer without a sound
     // card); in a host, no processBlock means stopped, bypassed or removed: motors off.
-    control_.setIdleDrivesMotors(wrapperType == wrapperType_Standalone);
-    connections_.start();
+    instrument_.control().setIdleDrivesMotors(wrapperType == wrapperType_Standalone);
+    instrument_.start();
     startTimerHz(50);
 }
 
 ArmadilloProcessor::~ArmadilloProcessor()
 {
     stopTimer();
-    control_.setStimulus(nullptr);
+    instrument_.stop();   // the idle clock, the device link (its last packet all-off), every port and thread
     settings_.removeListener(this);
     if (gestureOpen_)
         for (auto* id : {ParamIds::elevation, ParamIds::azimuth, ParamIds::roll})
@@ -103,8 +98,6 @@ ArmadilloProcessor::~ArmadilloProcessor()
     for (int i = 0; i < ParamIds::kMacroCount; ++i)
         if (macroWrites_[static_cast<std::size_t>(i)].open)
             if (auto* p = apvts_.getParameter(ParamIds::macros[i])) p->endChangeGesture();
-    // connections_ (clock, then the device link with its all-off packet) goes first, as members
-    // are destroyed in reverse order.
 }
 
 bool ArmadilloProcessor::isBusesLayoutSupported(const BusesLayout& layouts) const
@@ -141,8 +134,8 @@ EngineRequest ArmadilloProcessor::currentRequest() const
     r.touchProfile = settings_[SettingIds::touchProfile].toString().toStdString();
     r.twoArms = static_cast<bool>(settings_[SettingIds::leftArmOsc]);   // every scene hears the left arm too
     r.session = statesLoaded_.load(std::memory_order_relaxed);
-    r.route = navigation_.route();       // a walk runs the navigation scene instead
-    r.navigation = navigation_.link();
+    r.route = instrument_.navigation().route();       // a walk runs the navigation scene instead
+    r.navigation = instrument_.navigation().link();
     const auto& scenes = sceneTable_.scenes;
     if (r.scene >= 0 && r.scene < static_cast<int>(scenes.size()) && scenes[static_cast<std::size_t>(r.scene)].scene == "audio-touch") {
         std::lock_guard<std::mutex> lock(stemsMutex_);
@@ -183,20 +176,20 @@ void ArmadilloProcessor::prepareToPlay(double sampleRate, int)
             listen.tactorChannel[static_cast<std::size_t>(k)] =
                 bus->getChannelIndexInProcessBlockBuffer(tactorbus::juceIndexOfTactor(bus->getCurrentLayout(), k));
     }
-    listen_ = listen;
-    engines_.install(currentRequest(), token_);
+    instrument_.setListen(listen);
+    engines_.install(currentRequest(), instrument_.token());
     // A set list prepared for another sample rate is built again for this one (audio is stopped).
     std::string cuesWhy;
-    auto cues = stageSession_.rebuild(settings_[SettingIds::setList].toString().toStdString(),
+    auto cues = instrument_.stageSession().rebuild(settings_[SettingIds::setList].toString().toStdString(),
                                       settings_[SettingIds::setListName].toString().toStdString(), cueBuild(sampleRate_.load()), cuesWhy);
     if (! cuesWhy.empty())
         setStatus("The set list cannot be prepared at " + juce::String(sampleRate_.load()) + " Hz: " + juce::String(cuesWhy));
-    token_.take();   // the idle clock holds it for < 1 ms; audio is stopped during prepareToPlay
-    if (cues != nullptr) stageSession_.install(std::move(cues));
-    control_.prepare(sampleRate_.load());
+    instrument_.token().take();   // the idle clock holds it for < 1 ms; audio is stopped during prepareToPlay
+    if (cues != nullptr) instrument_.stageSession().install(std::move(cues));
+    instrument_.control().prepare(sampleRate_.load());
     hostBlock_.prepare();   // MIDI storage for the host's buffer, off the audio thread
-    const auto tactorWhy = juce::String(tactorRig_.prepareBus(PluginState::tactorSettings(settings_), listen.tactorCount, motorCount(), sampleRate_.load()));
-    token_.release();
+    const auto tactorWhy = juce::String(instrument_.tactorRig().prepareBus(PluginState::tactorSettings(settings_), listen.tactorCount, motorCount(), sampleRate_.load()));
+    instrument_.token().release();
     if (tactorWhy.isNotEmpty()) setStatus(tactorWhy);
 }
 
@@ -205,7 +198,7 @@ void ArmadilloProcessor::processBlock(juce::AudioBuffer<float>& buffer, juce::Mi
     juce::ScopedNoDenormals noDenormals;
     hostRunning_.store(true, std::memory_order_relaxed);
     const int n = buffer.getNumSamples();
-    const auto listen = listen_;
+    const auto listen = instrument_.listen();
     float inPeak = 0.0f;
     for (int c = 0; c < listen.count; ++c)
         if (listen.first + c < buffer.getNumChannels()) inPeak = std::max(inPeak, buffer.getMagnitude(listen.first + c, 0, n));
@@ -214,7 +207,7 @@ void ArmadilloProcessor::processBlock(juce::AudioBuffer<float>& buffer, juce::Mi
         for (int c = stem.first; c < std::min(stem.first + stem.count, buffer.getNumChannels()); ++c)
             inPeak = std::max(inPeak, buffer.getMagnitude(c, 0, n));
     }
-    hostBlock_.process(control_, buffer, midi, getPlayHead(), isNonRealtime(), listen);
+    hostBlock_.process(instrument_.control(), buffer, midi, getPlayHead(), isNonRealtime(), listen);
     // The test tone (welcome panel): added over the scene's sound, on the main stereo output.
     if (int left = testToneSamples_.load(std::memory_order_relaxed); left > 0) {
         const int count = std::min(left, n);
@@ -241,16 +234,7 @@ void ArmadilloProcessor::playTestTone(double seconds) noexcept
 
 std::uint64_t ArmadilloProcessor::sourceSamples(SourceKind kind) const
 {
-    switch (kind) {
-    case SourceKind::Simulator: return connections_.simulatorSteps();
-    case SourceKind::Device: return connections_.devicePackets();
-    case SourceKind::Osc: {
-        const auto in = connections_.oscInputStats();
-        return in.imu + in.orientation;
-    }
-    case SourceKind::HostAutomation: return 0;
-    }
-    return 0;
+    return instrument_.sourceSamples(kind);
 }
 
 bool ArmadilloProcessor::sceneListens() const
@@ -265,7 +249,7 @@ bool ArmadilloProcessor::sceneListens() const
 void ArmadilloProcessor::processBlockBypassed(juce::AudioBuffer<float>& buffer, juce::MidiBuffer& midi)
 {
     hostRunning_.store(true, std::memory_order_relaxed);
-    hostBlock_.bypass(control_, buffer, midi);
+    hostBlock_.bypass(instrument_.control(), buffer, midi);
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -301,8 +285,8 @@ void ArmadilloProcessor::timerCallback()
 {
     applyRequestedProgram();
     stageTick();
-    tactorRig_.tick();
-    if (auto* service = messages_.service()) {   // messages to the braille scene when it runs
+    instrument_.tactorRig().tick();
+    if (auto* service = instrument_.messages().service()) {   // messages to the braille scene when it runs
         std::vector<std::string> said;
         training_.with([&](braille::BrailleSceneControls& scene, std::uint64_t) { said = service->present(scene); });
         for (const auto& line : said) {
@@ -313,12 +297,12 @@ void ArmadilloProcessor::timerCallback()
     }
     if (const auto failure = engines_.takeNewFailure(); failure.isNotEmpty()) setEngineStatus(failure);
     training_.collect();   // keeps a braille training log's queue drained while no panel asks for it
-    if (feedbackUntil_ > 0 && feedbackPlayer_.completed() >= feedbackUntil_) {
+    if (feedbackUntil_ > 0 && instrument_.feedbackPlayer().completed() >= feedbackUntil_) {
         feedbackUntil_ = 0;
         if (std::exchange(feedbackRestart_, false))   // the trial from its first row, now felt
             training_.with([](braille::BrailleSceneControls& scene, std::uint64_t) { scene.restartTrainingTrial(); });
-        if (touchTest_.state() == procedures::TouchTest::State::Idle && adaptive_.state() == procedures::AdaptiveTraining::State::Idle)
-            control_.setStimulus(nullptr);   // the scene has the motors again
+        if (instrument_.proceduresIdle())
+            instrument_.control().setStimulus(nullptr);   // the scene has the motors again
     }
     engines_.update(currentRequest());
     // Parameter edits go to the host: not before it has played a block. A host still setting the
@@ -334,9 +318,9 @@ void ArmadilloProcessor::timerCallback()
     }
     {
         std::lock_guard<std::mutex> lock(mappingMutex_);
-        mapping_.timerTick();
+        instrument_.mapping().timerTick();
     }
-    connections_.drainCalibration();
+    instrument_.rig().drainCalibration();
     // The performer's standalone app (or a session) reopens its saved port by itself, once.
     if (! autoConnectTried_ && static_cast<bool>(settings_[SettingIds::connectOnStart]) && source() == SourceKind::Device
         && ! deviceConnected() && settings_[SettingIds::serialPort].toString().isNotEmpty()) {
@@ -355,7 +339,7 @@ void ArmadilloProcessor::writeLiveOrientationToParameters()
         gestureOpen_ = false;
         return;
     }
-    const auto f = control_.latestFrame();
+    const auto f = instrument_.control().latestFrame();
     if (! f.valid || f.serial == lastWrittenSerial_) return;
     lastWrittenSerial_ = f.serial;
     // One long gesture while a live source plays the arm: hosts record it like a held knob.
@@ -378,7 +362,7 @@ void ArmadilloProcessor::writeMacrosToParameters()
     for (int i = 0; i < ParamIds::kMacroCount; ++i) {
         auto& w = macroWrites_[static_cast<std::size_t>(i)];
         auto* p = apvts_.getParameter(ParamIds::macros[i]);
-        const float v = control_.mappingOutputs().macro(i);
+        const float v = instrument_.control().mappingOutputs().macro(i);
         if (p == nullptr) continue;
         if (std::isfinite(v) && std::abs(v - w.last) > 1.0e-5f) {
             if (! w.open) p->beginChangeGesture();
@@ -409,7 +393,7 @@ void ArmadilloProcessor::setOrientationFromUser(const core::Pose& pose)
 
 void ArmadilloProcessor::steerSimulator(const core::Pose& pose)
 {
-    connections_.steerSimulator(pose);
+    instrument_.rig().steerSimulator(pose);
     settings_.setProperty(SettingIds::simWandering, false, nullptr);
 }
 
@@ -421,13 +405,13 @@ void ArmadilloProcessor::setSimulatorWandering(bool on)
 void ArmadilloProcessor::valueTreePropertyChanged(juce::ValueTree&, const juce::Identifier& id)
 {
     if (id == SettingIds::simWandering) {
-        connections_.setSimulatorWandering(static_cast<bool>(settings_[SettingIds::simWandering]));
+        instrument_.rig().setSimulatorWandering(static_cast<bool>(settings_[SettingIds::simWandering]));
     } else if (id == SettingIds::serialPort || id == SettingIds::connectOnStart) {
         autoConnectTried_ = false;
         if (id == SettingIds::serialPort && deviceConnected()) connectDevice(false);
     } else if (id == SettingIds::midiChannel) {
         std::lock_guard<std::mutex> lock(mappingMutex_);
-        if (mapping_.name() == "classic") mapping_.usePreset("classic");   // the classic wiring's channel
+        if (instrument_.mapping().name() == "classic") instrument_.mapping().usePreset("classic");   // the classic wiring's channel
     } else if (id == SettingIds::leftArmOsc || id == SettingIds::leftArmOscPort) {
         applyLeftArm();
         // A set list's cues are built for one or two arms: switching the left arm rebuilds them
@@ -438,18 +422,18 @@ void ArmadilloProcessor::valueTreePropertyChanged(juce::ValueTree&, const juce::
     } else if (id == SettingIds::stageOscEnabled || id == SettingIds::stageOscPort || id == SettingIds::stageOscBind || id == SettingIds::stageOscAllow) {
         applyStageOsc();
     } else if (id == SettingIds::cueNextNote || id == SettingIds::cuePrevNote) {
-        stage_.setCueNotes(static_cast<int>(settings_[SettingIds::cueNextNote]), static_cast<int>(settings_[SettingIds::cuePrevNote]));
+        instrument_.stage().setCueNotes(static_cast<int>(settings_[SettingIds::cueNextNote]), static_cast<int>(settings_[SettingIds::cuePrevNote]));
     } else if (id == SettingIds::panicGesture) {
-        stage_.setPanicGesture(static_cast<bool>(settings_[SettingIds::panicGesture]));
+        instrument_.stage().setPanicGesture(static_cast<bool>(settings_[SettingIds::panicGesture]));
     } else if (id == SettingIds::tactorModel || id == SettingIds::tactorMap || id == SettingIds::tactorGains || id == SettingIds::tactorSound
                || id == SettingIds::backMotors
-               || ((id == SettingIds::tactorDevice || id == SettingIds::tactorConnect) && tactorRig_.outputOpen())) {
-        if (const auto why = tactorRig_.settingsChanged(PluginState::tactorSettings(settings_), motorCount()); ! why.empty()) setStatus(juce::String(why));
+               || ((id == SettingIds::tactorDevice || id == SettingIds::tactorConnect) && instrument_.tactorRig().outputOpen())) {
+        if (const auto why = instrument_.tactorRig().settingsChanged(PluginState::tactorSettings(settings_), motorCount()); ! why.empty()) setStatus(juce::String(why));
     } else if (id == SettingIds::mqttEnabled) {
-        if (static_cast<bool>(settings_[SettingIds::mqttEnabled]) != messages_.running())
+        if (static_cast<bool>(settings_[SettingIds::mqttEnabled]) != instrument_.messages().running())
             if (const auto why = setMessages(static_cast<bool>(settings_[SettingIds::mqttEnabled])); why.isNotEmpty()) setStatus(why);
     } else if (id == SettingIds::tactorOutput) {
-        if (static_cast<bool>(settings_[SettingIds::tactorOutput]) != tactorRig_.outputOpen())
+        if (static_cast<bool>(settings_[SettingIds::tactorOutput]) != instrument_.tactorRig().outputOpen())
             if (const auto why = setTactorOutput(static_cast<bool>(settings_[SettingIds::tactorOutput])); why.isNotEmpty()) setStatus(why);
     } else if (id == SettingIds::readerVoice || id == SettingIds::speechRate) {
         applyVoiceSettings();
@@ -511,12 +495,12 @@ procedures::AdaptiveChoices ArmadilloProcessor::adaptiveChoices() const
 
 bool ArmadilloProcessor::beginAdaptive(const juce::File& readerProfile, juce::String& why)
 {
-    if (touchTest_.state() != procedures::TouchTest::State::Idle) endTouchTest(false);
+    if (instrument_.touchTest().state() != procedures::TouchTest::State::Idle) endTouchTest(false);
     std::string reason;
-    fitToReader(feedbackPlayer_, settings_);   // the cells and cues felt alike on every motor, as in a scene
-    control_.setStimulus(&feedbackPlayer_);   // before the first trial is queued: its cue plays at once
-    if (! adaptive_.begin(readerProfile.getFullPathName().toStdString(), adaptiveChoices(), reason)) {
-        control_.setStimulus(nullptr);
+    fitToReader(instrument_.feedbackPlayer(), settings_);   // the cells and cues felt alike on every motor, as in a scene
+    instrument_.control().setStimulus(&instrument_.feedbackPlayer());   // before the first trial is queued: its cue plays at once
+    if (! instrument_.adaptive().begin(readerProfile.getFullPathName().toStdString(), adaptiveChoices(), reason)) {
+        instrument_.control().setStimulus(nullptr);
         why = juce::String(reason);
         return false;
     }
@@ -526,49 +510,47 @@ bool ArmadilloProcessor::beginAdaptive(const juce::File& readerProfile, juce::St
 
 void ArmadilloProcessor::endAdaptive()
 {
-    adaptive_.stop();
-    if (touchTest_.state() == procedures::TouchTest::State::Idle) control_.setStimulus(nullptr);
+    instrument_.adaptive().stop();
+    if (instrument_.touchTest().state() == procedures::TouchTest::State::Idle) instrument_.control().setStimulus(nullptr);
 }
 
 void ArmadilloProcessor::beginTouchTest(std::uint64_t seed)
 {
-    if (adaptive_.state() != procedures::AdaptiveTraining::State::Idle) endAdaptive();
-    touchTest_.begin(seed);
-    control_.setStimulus(&touchTest_.player());
+    if (instrument_.adaptive().state() != procedures::AdaptiveTraining::State::Idle) endAdaptive();
+    instrument_.touchTest().begin(seed);
+    instrument_.control().setStimulus(&instrument_.touchTest().player());
 }
 
 void ArmadilloProcessor::endTouchTest(bool keep)
 {
-    control_.setStimulus(nullptr);
-    if (keep && touchTest_.state() == procedures::TouchTest::State::Done) {
-        auto profile = touchTest_.profile();
+    instrument_.control().setStimulus(nullptr);
+    if (keep && instrument_.touchTest().state() == procedures::TouchTest::State::Done) {
+        auto profile = instrument_.touchTest().profile();
         profile.arm = settings_[SettingIds::armSide].toString().toStdString();
         settings_.setProperty(SettingIds::touchProfile, juce::String(link::touchProfileToJson(profile)), nullptr);
     }
-    touchTest_.cancel();
+    instrument_.touchTest().cancel();
 }
 
 juce::String ArmadilloProcessor::startNavigation(const juce::File& route, navigation::NavigationRig::Source source, const juce::String& where)
 {
-    const juce::String why(navigation_.start(route.getFullPathName().toStdString(), source, where.toStdString()));
+    const juce::String why(instrument_.navigation().start(route.getFullPathName().toStdString(), source, where.toStdString()));
     engines_.update(currentRequest());   // the navigation scene is offered now (or the chosen scene again)
     return why;
 }
 
 void ArmadilloProcessor::stopNavigation()
 {
-    navigation_.stop();
+    instrument_.navigation().stop();
     engines_.update(currentRequest());
 }
 
 juce::String ArmadilloProcessor::setMessages(bool on)
 {
     juce::String why;
-    control_.setMqtt(nullptr);
-    if (on) why = juce::String(messages_.start(PluginState::messagesSettings(settings_)));
-    else messages_.stop();
-    control_.setMqtt(messages_.service());   // the mapping's mqtt destinations go out through it
-    settings_.setProperty(SettingIds::mqttEnabled, messages_.running(), nullptr);   // off again when it failed
+    if (on) why = juce::String(instrument_.startMessages(PluginState::messagesSettings(settings_)));
+    else instrument_.stopMessages();   // the mapping's mqtt destinations go out through the running service
+    settings_.setProperty(SettingIds::mqttEnabled, instrument_.messages().running(), nullptr);   // off again when it failed
     return why;
 }
 
@@ -581,38 +563,38 @@ juce::String ArmadilloProcessor::setTactorOutput(bool on)
 {
     juce::String why;
     if (on && wrapperType != wrapperType_Standalone) why = "Tactors: in a host, route the Tactors output bus instead";
-    else if (on) why = juce::String(tactorRig_.openOutput(PluginState::tactorSettings(settings_), motorCount()));
-    else tactorRig_.closeOutput();
-    settings_.setProperty(SettingIds::tactorOutput, tactorRig_.outputOpen(), nullptr);   // off again when it failed
+    else if (on) why = juce::String(instrument_.tactorRig().openOutput(PluginState::tactorSettings(settings_), motorCount()));
+    else instrument_.tactorRig().closeOutput();
+    settings_.setProperty(SettingIds::tactorOutput, instrument_.tactorRig().outputOpen(), nullptr);   // off again when it failed
     return why;
 }
 
 juce::String ArmadilloProcessor::testTactorChannel(int channel)
 {
-    const int motor = tactorRig_.motorOfChannel(channel, PluginState::tactorSettings(settings_), motorCount());
+    const int motor = instrument_.tactorRig().motorOfChannel(channel, PluginState::tactorSettings(settings_), motorCount());
     if (motor < 0 || motor >= motorCount()) return "Tactor channel " + juce::String(channel + 1) + " is silent in the map";
-    if (touchTest_.state() != procedures::TouchTest::State::Idle || adaptive_.state() != procedures::AdaptiveTraining::State::Idle)
+    if (! instrument_.proceduresIdle())
         return "The sensitivity test or the training has the motors: end it first";
-    fitToReader(feedbackPlayer_, settings_);
+    fitToReader(instrument_.feedbackPlayer(), settings_);
     access::TactileSegment buzz;
     buzz.duration = 0.5;
     buzz.motors = static_cast<std::uint16_t>(1u << motor);
     buzz.level = 8.0f;
-    feedbackUntil_ = feedbackPlayer_.play({buzz}, 0.1);
+    feedbackUntil_ = instrument_.feedbackPlayer().play({buzz}, 0.1);
     feedbackRestart_ = false;
-    control_.setStimulus(&feedbackPlayer_);
+    instrument_.control().setStimulus(&instrument_.feedbackPlayer());
     return {};
 }
 
 void ArmadilloProcessor::armFeedback(bool right, const std::string& expected)
 {
     if (! static_cast<bool>(settings_[SettingIds::armFeedback])) return;
-    if (touchTest_.state() != procedures::TouchTest::State::Idle || adaptive_.state() != procedures::AdaptiveTraining::State::Idle) return;
-    fitToReader(feedbackPlayer_, settings_);
+    if (! instrument_.proceduresIdle()) return;
+    fitToReader(instrument_.feedbackPlayer(), settings_);
     // Right / wrong, then (wrong) the right letters or words again, then the "next" cue.
-    feedbackUntil_ = feedbackPlayer_.play(access::feedbackSequence(right, expected, 10.0f), 0.2);
+    feedbackUntil_ = instrument_.feedbackPlayer().play(access::feedbackSequence(right, expected, 10.0f), 0.2);
     feedbackRestart_ = true;
-    control_.setStimulus(&feedbackPlayer_);
+    instrument_.control().setStimulus(&instrument_.feedbackPlayer());
 }
 
 void ArmadilloProcessor::speakAnnouncement(const juce::String& text, bool interrupt) const
@@ -622,57 +604,56 @@ void ArmadilloProcessor::speakAnnouncement(const juce::String& text, bool interr
 
 void ArmadilloProcessor::applyNetworkSettings()
 {
-    connections_.configureOsc(static_cast<bool>(settings_[SettingIds::oscOutEnabled]), settings_[SettingIds::oscOutHost].toString().toStdString(),
+    instrument_.rig().configureOsc(static_cast<bool>(settings_[SettingIds::oscOutEnabled]), settings_[SettingIds::oscOutHost].toString().toStdString(),
                               static_cast<int>(settings_[SettingIds::oscOutPort]), static_cast<bool>(settings_[SettingIds::oscInEnabled]),
                               static_cast<int>(settings_[SettingIds::oscInPort]), settings_[SettingIds::oscInFormat].toString().toStdString(),
                               settings_[SettingIds::oscInMount].toString().toStdString());
     std::lock_guard<std::mutex> lock(mappingMutex_);
-    mapping_.setDefaultOscTarget(settings_[SettingIds::oscOutHost].toString().toStdString(), static_cast<int>(settings_[SettingIds::oscOutPort]));
+    instrument_.mapping().setDefaultOscTarget(settings_[SettingIds::oscOutHost].toString().toStdString(), static_cast<int>(settings_[SettingIds::oscOutPort]));
 }
 
 void ArmadilloProcessor::applyLeftArm()
 {
     // The receiver opens (or closes) here; the engine is rebuilt with twoArms by the timer's
     // request (currentRequest), and the control side fuses the left arm only while it listens.
-    const auto why = connections_.configureLeftArmOsc(static_cast<bool>(settings_[SettingIds::leftArmOsc]),
+    const auto why = instrument_.rig().configureLeftArmOsc(static_cast<bool>(settings_[SettingIds::leftArmOsc]),
                                                       static_cast<int>(settings_[SettingIds::leftArmOscPort]));
     if (! why.empty()) setStatus(juce::String(why));
 }
 
 std::uint64_t ArmadilloProcessor::leftArmSamples() const
 {
-    const auto in = connections_.leftOscInputStats();
-    return in.imu + in.orientation;
+    return instrument_.leftArmSamples();
 }
 
 juce::String ArmadilloProcessor::mappingStatus() const
 {
     juce::String s;
     if (wrapperType == wrapperType_Standalone) s << midiPort_.status() << "\n";
-    s << "Mapping OSC sent " << juce::String(static_cast<juce::int64>(connections_.mappingOscSent())) << ", dropped "
-      << juce::String(static_cast<juce::int64>(connections_.mappingOscDropped() + control_.mappingOutputs().oscDropped()))
-      << "; MIDI events dropped " << juce::String(static_cast<juce::int64>(control_.midiDropped()));
+    s << "Mapping OSC sent " << juce::String(static_cast<juce::int64>(instrument_.rig().mappingOscSent())) << ", dropped "
+      << juce::String(static_cast<juce::int64>(instrument_.rig().mappingOscDropped() + instrument_.control().mappingOutputs().oscDropped()))
+      << "; MIDI events dropped " << juce::String(static_cast<juce::int64>(instrument_.control().midiDropped()));
     return s;
 }
 
 void ArmadilloProcessor::connectDevice(bool connect)
 {
     if (! connect) {
-        connections_.disconnectDevice();
+        instrument_.rig().disconnectDevice();
         return;
     }
     // Connect means "play from the device": the source follows, so the simulator (or OSC) can no
     // longer move the arm while the device stays silent; the status line then says it is silent.
     if (auto* p = apvts_.getParameter(ParamIds::source); p != nullptr && source() != SourceKind::Device)
         p->setValueNotifyingHost(p->convertTo0to1(static_cast<float>(SourceKind::Device)));
-    connections_.connectDevice(settings_[SettingIds::serialPort].toString().toStdString(), static_cast<int>(settings_[SettingIds::baudRate]),
+    instrument_.rig().connectDevice(settings_[SettingIds::serialPort].toString().toStdString(), static_cast<int>(settings_[SettingIds::baudRate]),
                                settings_[SettingIds::calibrationFile].toString().toStdString());
 }
 
 bool ArmadilloProcessor::saveCalibration(const juce::File& file, juce::String& message)
 {
     std::string said;
-    const bool saved = connections_.saveCalibration(file.getFullPathName().toStdString(), settings_[SettingIds::serialPort].toString().toStdString(), said);
+    const bool saved = instrument_.rig().saveCalibration(file.getFullPathName().toStdString(), settings_[SettingIds::serialPort].toString().toStdString(), said);
     message = juce::String(said);
     if (! saved) return false;
     settings_.setProperty(SettingIds::calibrationFile, file.getFullPathName(), nullptr);
@@ -716,7 +697,7 @@ void ArmadilloProcessor::clearStatusMessage()
 void ArmadilloProcessor::getStateInformation(juce::MemoryBlock& destData)
 {
     std::lock_guard<std::mutex> lock(mappingMutex_);
-    PluginState::save(apvts_, settings_, destData, PluginState::mappingNode(mapping_.toSaved()));
+    PluginState::save(apvts_, settings_, destData, PluginState::mappingNode(instrument_.mapping().toSaved()));
 }
 
 juce::String ArmadilloProcessor::saveSetup(const juce::File& file)
@@ -748,7 +729,7 @@ void ArmadilloProcessor::setStateInformation(const void* data, int sizeInBytes)
     if (const auto why = applySavedSetList(); why.isNotEmpty()) message = (message + " " + why).trim();
     {
         std::lock_guard<std::mutex> lock(mappingMutex_);
-        if (const auto why = mapping_.fromSaved(PluginState::savedMapping(mapping)); ! why.empty()) message = (message + " " + juce::String(why)).trim();
+        if (const auto why = instrument_.mapping().fromSaved(PluginState::savedMapping(mapping)); ! why.empty()) message = (message + " " + juce::String(why)).trim();
     }
     setStatus(message);
     // Built here (the host's thread, which may allocate) and offered now, so the first block
@@ -785,7 +766,7 @@ live::CueBuild ArmadilloProcessor::cueBuild(double sampleRate) const
 juce::String ArmadilloProcessor::useSetList(const juce::String& text, const juce::String& name)
 {
     std::string summary;
-    if (const auto why = stageSession_.use(text.toStdString(), name.toStdString(), cueBuild(sampleRate_.load()), summary); ! why.empty())
+    if (const auto why = instrument_.stageSession().use(text.toStdString(), name.toStdString(), cueBuild(sampleRate_.load()), summary); ! why.empty())
         return juce::String(why);
     settings_.setProperty(SettingIds::setListName, name, nullptr);
     settings_.setProperty(SettingIds::setList, text, nullptr);
@@ -802,7 +783,7 @@ juce::String ArmadilloProcessor::loadSetList(const juce::File& file)
 
 void ArmadilloProcessor::clearSetList()
 {
-    stageSession_.clear();
+    instrument_.stageSession().clear();
     settings_.setProperty(SettingIds::setList, "", nullptr);
     settings_.setProperty(SettingIds::setListName, "", nullptr);
 }
@@ -812,7 +793,7 @@ juce::String ArmadilloProcessor::applySavedSetList()
     const auto text = settings_[SettingIds::setList].toString();
     const auto name = settings_[SettingIds::setListName].toString();
     if (text.isEmpty()) {
-        if (stageSession_.loaded()) clearSetList();
+        if (instrument_.stageSession().loaded()) clearSetList();
         return {};
     }
     const auto why = useSetList(text, name.isNotEmpty() ? name : juce::String("the saved set list"));
@@ -823,7 +804,7 @@ juce::String ArmadilloProcessor::applySavedSetList()
 
 void ArmadilloProcessor::stageTick()
 {
-    const auto report = stageSession_.tick();
+    const auto report = instrument_.stageSession().tick();
     for (const auto& refused : report.refused) setStatus(juce::String(refused));   // each sender once
     if (report.panicked) {
         setStatus("PANIC: all sound and every motor off, the notes sent ended (CC 120 and 123 on all channels). "
@@ -834,7 +815,7 @@ void ArmadilloProcessor::stageTick()
         announce(*this, "stage", "Resumed.", juce::AccessibilityHandler::AnnouncementPriority::high);
     }
     if (! report.cue.empty()) {
-        if (! stage_.panicked()) setStatus(juce::String(report.cue));
+        if (! instrument_.stage().panicked()) setStatus(juce::String(report.cue));
         announce(*this, "stage", juce::String(report.cue), juce::AccessibilityHandler::AnnouncementPriority::medium);
     }
 }
@@ -845,7 +826,7 @@ void ArmadilloProcessor::applyStageOsc()
     auto why = live::StageSession::listenFromSettings(settings_[SettingIds::stageOscBind].toString().toStdString(),
                                                       settings_[SettingIds::stageOscAllow].toString().toStdString(), listen);
     if (why.empty())
-        why = stageSession_.setOsc(static_cast<bool>(settings_[SettingIds::stageOscEnabled]), static_cast<int>(settings_[SettingIds::stageOscPort]), listen);
+        why = instrument_.stageSession().setOsc(static_cast<bool>(settings_[SettingIds::stageOscEnabled]), static_cast<int>(settings_[SettingIds::stageOscPort]), listen);
     if (! why.empty()) setStatus("OSC stage commands: " + juce::String(why));
 }
 

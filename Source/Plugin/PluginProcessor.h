@@ -1,35 +1,25 @@
 #pragma once
-// The plugin/standalone shell over armadillo::Engine (Surge habit: the engine is a library, this is
-// glue). It owns the parts and wires them; each part states its own thread rules in its file:
-//  - EngineHandover.h  engines built on the message thread, handed to the control side lock-free;
-//  - BlockControl.h    the control step on the audio block timeline (real-time), MIDI out, the
-//                      published frame, motor levels stamped for the link (LevelSchedule);
-//  - Connections.h     device link and guided calibration, simulated arm, OSC, the idle clock;
+// The plugin/standalone shell over the live instrument (Surge habit: the engine is a library, this
+// is glue). It holds three objects of the core: the scenes' parameter table (the parameter layout
+// is built from it), the instrument (Live/BlockInstrument.h: sources, control step on the block
+// clock, stage, mapping, tactors, navigation, messages, procedures — built and torn down in one
+// order) and the self-voicing. What is the host's stays here, each part stating its own threads:
+//  - EngineHandover.h  engines built from the parameters on the message thread, handed to the
+//                      instrument's control loop lock-free;
+//  - HostBlock.h       the host's buffers, MIDI and play head as the block clock takes them;
 //  - PluginState.h     saved state and settings, validated on the way in;
-//  - MappingSession.h  the mapping set: presets, files, state, hand-over to the control side, learn;
-//  - TrainingAccess.h  braille training for the Training panel;
-//  - Stage.h           the set list's CuePlayer handed over lock-free, panic/resume, MIDI stage messages.
+//  - TrainingAccess.h  braille training for the Training panel.
 // This class adds the AudioProcessor entry points, the message-thread timer (engine updates,
 // live orientation → parameters with change gestures, auto-connect) and the status line.
-#include "Link/LevelSchedule.h"
-#include "Live/ControlLoop.h"
-#include "Live/BlockControl.h"
-#include "Plugin/HostBlock.h"
-#include "Live/BlockRig.h"
-#include "Plugin/MidiPort.h"
-#include "Live/ControlToken.h"
+#include "Access/ReaderVoice.h"
+#include "Live/BlockInstrument.h"
+#include "Plugin/Accessibility.h"
 #include "Plugin/EngineHandover.h"
-#include "Live/MappingSession.h"
+#include "Plugin/HostBlock.h"
+#include "Plugin/MidiPort.h"
 #include "Plugin/Parameters.h"
 #include "Plugin/PluginState.h"
-#include "Live/Stage.h"
-#include "Navigation/NavigationRig.h"
-#include "Live/StageSession.h"
-#include "Access/ReaderVoice.h"
-#include "Procedures/AdaptiveTraining.h"
-#include "Procedures/TouchTest.h"
 #include "Plugin/TrainingAccess.h"
-#include "Plugin/Accessibility.h"
 #include <juce_audio_processors/juce_audio_processors.h>
 #include <array>
 #include <atomic>
@@ -88,37 +78,37 @@ public:
     juce::AudioProcessorValueTreeState& parameters() noexcept { return apvts_; }
     juce::ValueTree& settings() noexcept { return settings_; }
     const SceneParameterTable& sceneTable() const noexcept { return sceneTable_; }
-    live::ArmFrame latestFrame() const noexcept { return control_.latestFrame(); }
-    SourceKind source() const noexcept { return control_.source(); }
+    live::ArmFrame latestFrame() const noexcept { return instrument_.control().latestFrame(); }
+    SourceKind source() const noexcept { return instrument_.control().source(); }
     int sceneIndex() const noexcept;
     juce::String statusMessage() const;
     void clearStatusMessage();
-    core::Pose simulatorPose() const { return connections_.simulatorPose(); }
-    bool simulatorWandering() const { return connections_.simulatorWandering(); }
+    core::Pose simulatorPose() const { return instrument_.rig().simulatorPose(); }
+    bool simulatorWandering() const { return instrument_.rig().simulatorWandering(); }
     void steerSimulator(const core::Pose& pose);
     void setSimulatorWandering(bool on);
     /// Arm view / keyboard under host automation: user edits of the orientation parameters.
     void setOrientationFromUser(const core::Pose& pose);
-    juce::String linkStatus() const { return juce::String(connections_.linkStatus()); }
+    juce::String linkStatus() const { return juce::String(instrument_.rig().linkStatus()); }
     void connectDevice(bool connect);
-    bool deviceConnected() const noexcept { return connections_.deviceConnected(); }
-    const procedures::DeviceCalibration& calibration() const noexcept { return connections_.calibration(); }
+    bool deviceConnected() const noexcept { return instrument_.rig().deviceConnected(); }
+    const procedures::DeviceCalibration& calibration() const noexcept { return instrument_.rig().calibration(); }
     bool beginCalibration(juce::String& why)
     {
         std::string w;
-        const bool ok = connections_.beginCalibration(w);
+        const bool ok = instrument_.rig().beginCalibration(w);
         why = juce::String(w);
         return ok;
     }
     bool calibrationNext(juce::String& why)
     {
         std::string w;
-        const bool ok = connections_.calibrationNext(w);
+        const bool ok = instrument_.rig().calibrationNext(w);
         why = juce::String(w);
         return ok;
     }
-    void calibrationSkip() { connections_.calibrationSkip(); }
-    void cancelCalibration() { connections_.cancelCalibration(); }
+    void calibrationSkip() { instrument_.rig().calibrationSkip(); }
+    void cancelCalibration() { instrument_.rig().cancelCalibration(); }
     /// Writes the applied guided result as calibration JSON and remembers the file in the
     /// settings (the next connection loads it). False with the reason when it cannot be written.
     bool saveCalibration(const juce::File& file, juce::String& message);
@@ -131,18 +121,18 @@ public:
     {
         return training_.copyLog(generation, csv, why);
     }
-    std::uint64_t oscMessagesSent() const noexcept { return connections_.oscMessagesSent(); }
-    live::OscInput& oscInput() noexcept { return connections_.oscInput(); }
-    const char* lastGesture() const noexcept { return control_.lastGesture(); }
-    std::uint64_t gestureCount() const noexcept { return control_.gestureCount(); }
-    double controlRateMeasured() const noexcept { return connections_.controlRateMeasured(); }
+    std::uint64_t oscMessagesSent() const noexcept { return instrument_.rig().oscMessagesSent(); }
+    live::OscInput& oscInput() noexcept { return instrument_.rig().oscInput(); }
+    const char* lastGesture() const noexcept { return instrument_.control().lastGesture(); }
+    std::uint64_t gestureCount() const noexcept { return instrument_.control().gestureCount(); }
+    double controlRateMeasured() const noexcept { return instrument_.rig().controlRateMeasured(); }
     /// The mapping set (message thread; the host's state calls take the same lock).
     struct MappingAccess {
         std::unique_lock<std::mutex> lock;
         live::MappingSession& session;
         live::MappingSession* operator->() const noexcept { return &session; }
     };
-    MappingAccess mapping() { return {std::unique_lock<std::mutex>(mappingMutex_), mapping_}; }
+    MappingAccess mapping() { return {std::unique_lock<std::mutex>(mappingMutex_), instrument_.mapping()}; }
     /// Self-voicing and the braille display (ReaderVoice.h; message thread). On when the
     /// readerVoice setting is "on", or "auto" in the standalone app while a screen reader or
     /// brltty runs. ARMADILLO_SPEECH / ARMADILLO_BRAILLE name the backends (default auto / brlapi).
@@ -152,7 +142,7 @@ public:
     /// The sensitivity test (Procedures/TouchTest.h; message thread): while it runs, the motors play
     /// its stimuli instead of the scene. endTouchTest(true) keeps a finished test's profile as
     /// the touchProfile setting (applied to every scene, saved in the state).
-    procedures::TouchTest& touchTest() noexcept { return touchTest_; }
+    procedures::TouchTest& touchTest() noexcept { return instrument_.touchTest(); }
     void beginTouchTest(std::uint64_t seed);
     void endTouchTest(bool keep);
     /// Braille training's answer felt on the arm when the armFeedback setting is on (a deafblind
@@ -165,12 +155,12 @@ public:
     /// once it is over (so rows rolled past under the feedback are shown again).
     /// Not during the sensitivity test or the adaptive training. Message thread.
     void armFeedback(bool right, const std::string& expected = {});
-    bool armFeedbackPlaying() const noexcept { return feedbackUntil_ > 0 && feedbackPlayer_.completed() < feedbackUntil_; }
+    bool armFeedbackPlaying() const noexcept { return feedbackUntil_ > 0 && instrument_.feedbackPlayer().completed() < feedbackUntil_; }
     /// Adaptive training (Procedures/AdaptiveTraining.h; message thread): while it runs its cells and cues
     /// take the motors in place of the scene, with the reader's touch profile. Its choices come from the settings
     /// (adaptiveChoices(); SettingIds::adaptiveTrials …); the reader profile becomes the
     /// readerProfile setting (the Training panel adds its answers there too).
-    procedures::AdaptiveTraining& adaptive() noexcept { return adaptive_; }
+    procedures::AdaptiveTraining& adaptive() noexcept { return instrument_.adaptive(); }
     procedures::AdaptiveChoices adaptiveChoices() const;
     bool beginAdaptive(const juce::File& readerProfile, juce::String& why);
     void endAdaptive();
@@ -183,7 +173,7 @@ public:
     std::uint64_t sourceSamples(SourceKind kind) const;
     /// The left arm (docs/STAGE.md "Two arms"): whether its OSC sender is in use and listened to,
     /// its port, and the orientation/IMU messages it delivered so far.
-    bool leftArmOn() const noexcept { return connections_.leftArmOn(); }
+    bool leftArmOn() const noexcept { return instrument_.rig().leftArmOn(); }
     int leftArmPort() const { return static_cast<int>(settings_[SettingIds::leftArmOscPort]); }
     std::uint64_t leftArmSamples() const;
     /// Audio blocks processed so far (counts only: a host or sound card that stops calling
@@ -208,21 +198,21 @@ public:
     /// Back to the single scene (the Scene box).
     void clearSetList();
     /// Panic, resume and cue steps: any thread (atomics); they act at the next block's start.
-    void panic() noexcept { stage_.panic(); }
-    void resume() noexcept { stage_.resume(); }
-    void nextCue() noexcept { stage_.next(); }
-    void previousCue() noexcept { stage_.previous(); }
-    void goToCue(int index) noexcept { stage_.cue(index); }
-    bool panicked() const noexcept { return stage_.panicked(); }
+    void panic() noexcept { instrument_.stage().panic(); }
+    void resume() noexcept { instrument_.stage().resume(); }
+    void nextCue() noexcept { instrument_.stage().next(); }
+    void previousCue() noexcept { instrument_.stage().previous(); }
+    void goToCue(int index) noexcept { instrument_.stage().cue(index); }
+    bool panicked() const noexcept { return instrument_.stage().panicked(); }
     /// Message thread: the newest set list's player (null: none), for tests and the UI.
-    const live::CuePlayer* cuePlayer() const noexcept { return stage_.newest(); }
+    const live::CuePlayer* cuePlayer() const noexcept { return instrument_.stage().newest(); }
     /// The UDP port the OSC stage commands are heard on (the stageOsc settings), 0 when off.
-    int stageOscPort() const { return stageSession_.oscPort(); }
-    std::uint32_t panics() const noexcept { return stage_.panics(); }
+    int stageOscPort() const { return instrument_.stageSession().oscPort(); }
+    std::uint32_t panics() const noexcept { return instrument_.stage().panics(); }
     /// Stage commands the mapping's "stage" destinations fired (any thread; docs/STAGE.md).
-    std::uint64_t mappedStageCommands() const noexcept { return control_.mappedStageCommands(); }
+    std::uint64_t mappedStageCommands() const noexcept { return instrument_.control().mappedStageCommands(); }
     /// What the performance view shows.
-    live::StageSession::Info stageInfo() const { return stageSession_.info(); }
+    live::StageSession::Info stageInfo() const { return instrument_.stageSession().info(); }
 
     /// The VST3's sidechain input buses, after its main input (input buses 1…4, stereo, disabled
     /// until the host routes them): each is a stem of audio-touch with the scene's preset of the
@@ -234,7 +224,7 @@ public:
     static constexpr const char* kTactorBus = "Tactors";
 
     /// The tactor rig (TactorRig.h; message thread): the Tactors bus and the app's tactor output.
-    live::TactorRig& tactorRig() noexcept { return tactorRig_; }
+    live::TactorRig& tactorRig() noexcept { return instrument_.tactorRig(); }
     /// The app's tactor output on or off (the tactorOutput setting follows): "" or why not.
     juce::String setTactorOutput(bool on);
     /// Buzzes the motor of tactor channel `channel` (0-based) at level 8 for 0.5 s through the
@@ -247,12 +237,12 @@ public:
     /// from gpsd or OSC, the navigation scene in place of the chosen one until it stops.
     juce::String startNavigation(const juce::File& route, navigation::NavigationRig::Source source, const juce::String& where);
     void stopNavigation();
-    const navigation::NavigationRig& navigation() const noexcept { return navigation_; }
+    const navigation::NavigationRig& navigation() const noexcept { return instrument_.navigation(); }
 
     /// Messages on the arm over MQTT (MessagesRig.h, issue 35; message thread): on/off (the
     /// mqttEnabled setting follows; "" or why not), the service while on, and what it did.
     juce::String setMessages(bool on);
-    live::MessagesRig& messages() noexcept { return messages_; }
+    live::MessagesRig& messages() noexcept { return instrument_.messages(); }
     /// The last things the message presenter said ("message 3 from 'arm/inbox' on the arm: ..."),
     /// newest last (at most 50), for the Reader window's message list.
     juce::StringArray messageLog() const { return messageLog_; }
@@ -283,40 +273,22 @@ private:
     juce::ValueTree settings_;
     std::atomic<double> sampleRate_ {48000.0};
     std::atomic<std::uint64_t> statesLoaded_ {0};   ///< EngineRequest::session
-    live::BlockControl::Listen listen_ {};             // set in prepareToPlay (audio stopped), read by processBlock
     mutable std::mutex stemsMutex_;              // prepareToPlay vs the message thread's requests; never audio
     std::vector<std::string> stems_;             // under stemsMutex_: the enabled sidechain buses' stem names
 
-    // Before the engines: a braille scene may still hold a message its presenter handed over.
-    live::MessagesRig messages_;
     juce::StringArray messageLog_;
-
-    // The live rig, in the order it is built (and the reverse of teardown).
-    live::ControlLoop loop_;
-    live::ControlToken token_;
-    link::LevelSchedule motors_;               // control steps → device link
-    EngineHandover engines_;
-    TrainingAccess training_;
-    procedures::TouchTest touchTest_;                 // before control_: its player outlives the control step's pointer
-    // Before control_ too. All 12 motors: the Tactors window's test buttons reach the back motors.
-    access::TactilePlayer feedbackPlayer_ {[] {
-                                               tactile::TactileConfig c;
-                                               c.motorCount = core::kGridMotors + core::kBackMotors;
-                                               return c;
-                                           }(),
-                                           0.0};
-    procedures::AdaptiveTraining adaptive_ {feedbackPlayer_};   // plays through feedbackPlayer_
-    int feedbackUntil_ = 0;                      // the sequence whose end gives the motors back to the scene
-    live::Stage stage_;                                // before control_: the control step keeps a pointer
-    bool feedbackRestart_ = false;               // then the braille trial starts again from its first row
-    live::BlockControl control_;
     HostBlock hostBlock_;                        // the host's buffers as the block clock takes them (audio thread)
-    MidiPort midiPort_;                          // the standalone app's ALSA sequencer port (before the rig: its clock drains it)
-    live::BlockRig connections_;                 // the rig's sources and outputs, its idle clock (Live/BlockRig.h)
-    live::TactorRig tactorRig_ {control_, token_};
-    navigation::NavigationRig navigation_;            // its route and link ride in the engine request     // after connections_: goes first (its output's pointer out of the step)
+    MidiPort midiPort_;                          // the standalone app's ALSA sequencer port (before the instrument: its clock drains it)
+
+    // The live instrument (Live/BlockInstrument.h): its parts built in one order and torn down in
+    // the reverse; the destructor stops it first (its idle clock drains midiPort_ and reads the
+    // engines below).
+    live::BlockInstrument instrument_;
+    EngineHandover engines_;                     // builds engines for instrument_.loop()
+    TrainingAccess training_;
+    int feedbackUntil_ = 0;                      // the sequence whose end gives the motors back to the scene
+    bool feedbackRestart_ = false;               // then the braille trial starts again from its first row
     std::mutex mappingMutex_;                    // message thread vs a host's state calls; never audio
-    live::MappingSession mapping_;
     std::unique_ptr<access::ReaderVoice> voice_ = std::make_unique<access::ReaderVoice>();
     bool voiceOn_ = false;
     juce::String voiceOpened_;                   // the readerVoice setting the backends were opened for
@@ -349,9 +321,6 @@ private:
     mutable std::mutex statusMutex_;             // message thread and host state calls; never audio
     juce::String status_;
     bool statusFromEngine_ = false;              // status_ came from the engine hand-over
-
-    // Last, so it goes first: its OSC thread calls into stage_.
-    live::StageSession stageSession_ {stage_};   // the set list's builder side, the stage's reports (Live/StageSession.h)
 
     JUCE_DECLARE_NON_COPYABLE_WITH_LEAK_DETECTOR(ArmadilloProcessor)
 };
