@@ -24,7 +24,7 @@ void* tildeNew(t_symbol*, int, t_atom*)
 {
     auto* x = reinterpret_cast<ArmadilloTilde*>(pd_new(tildeClass));
     try {
-        x->host = new BlockHost(sys_getsr() > 0 ? sys_getsr() : 48000.0);
+        x->host = new BlockHost(sys_getsr() > 0 ? static_cast<double>(sys_getsr()) : 48000.0);
         x->front = new Front(*x->host, canvas_getdir(canvas_getcurrent())->s_name);
     } catch (const std::exception& e) {
         pd_error(x, "armadillo~: %s", e.what());
