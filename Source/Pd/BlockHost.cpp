@@ -3,6 +3,7 @@
 #include "Core/StageCommand.h"
 #include "Link/Motion.h"
 #include "Live/BlockInstrument.h"
+#include "Live/ForearmPort.h"
 
 namespace armadillo::pd {
 
@@ -79,6 +80,14 @@ void BlockHost::chooseSource(const Settings& s)
         break;
     case Settings::Source::Port:
         if (rig.deviceConnected()) rig.disconnectDevice();
+        {
+            // The rig's link waits for a missing port (the app shows "waiting"); a patch is told
+            // now: the port is opened once here (IoError naming it), closed, then given to the rig.
+            live::ForearmPortRequest probe;
+            probe.port = s.port;
+            probe.baud = s.baud;
+            (void) live::openForearmPort(probe);
+        }
         rig.connectDevice(s.port, s.baud, s.calibrationFile);
         if (!rig.deviceConnected()) {
             setSourceCell(live::SourceKind::Device);

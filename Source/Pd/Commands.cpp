@@ -89,7 +89,7 @@ bool Commands::handle(const std::string& selector, const std::vector<Atom>& args
     } else if (selector == "osc") {
         atMost(args, 1, "osc");
         const double p = number(args, 0, "osc (the UDP port)");
-        if (!(p >= 1 && p <= 65535) || p != std::floor(p)) throw problem("osc: port " + atomText(args[0]) + " is not 1…65535");
+        if (!(p >= 1 && p <= 65535) || p != std::floor(p)) throw problem("osc: port " + atomText(args[0]) + " is not 1-65535");
         next.source = Settings::Source::Osc;
         next.oscPort = static_cast<int>(p);
     } else if (selector == "format") {
