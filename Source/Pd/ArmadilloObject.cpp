@@ -48,15 +48,21 @@ void armadilloAnything(Armadillo* x, t_symbol* s, int argc, t_atom* argv) { x->f
 void armadilloBang(Armadillo* x) { x->front->message(x, "armadillo", gensym("bang"), 0, nullptr); }
 
 } // namespace
-} // namespace armadillo::pd
 
-using namespace armadillo::pd;
-
-extern "C" __attribute__((visibility("default"))) void armadillo_setup(void)
+void registerArmadillo()
 {
+    if (zgetfn(&pd_objectmaker, gensym("armadillo")) != nullptr) return;   // registered already: the library loaded under its other name
     armadilloClass = class_new(gensym("armadillo"), newMethod(armadilloNew),
                                method(armadilloFree), sizeof(Armadillo), CLASS_DEFAULT, A_GIMME, 0);
     class_addbang(armadilloClass, method(armadilloBang));
     class_addanything(armadilloClass, method(armadilloAnything));
 }
 
+} // namespace armadillo::pd
+
+/// Pd loads armadillo.pd_linux for [armadillo] (or for `[declare -lib armadillo]`): both classes.
+extern "C" __attribute__((visibility("default"))) void armadillo_setup(void)
+{
+    armadillo::pd::registerArmadillo();
+    armadillo::pd::registerArmadilloTilde();
+}

@@ -73,15 +73,22 @@ void tildeAnything(ArmadilloTilde* x, t_symbol* s, int argc, t_atom* argv) { x->
 void tildeBang(ArmadilloTilde* x) { x->front->message(x, "armadillo~", gensym("bang"), 0, nullptr); }
 
 } // namespace
-} // namespace armadillo::pd
 
-using namespace armadillo::pd;
-
-extern "C" __attribute__((visibility("default"))) void armadillo_tilde_setup(void)
+void registerArmadilloTilde()
 {
+    if (zgetfn(&pd_objectmaker, gensym("armadillo~")) != nullptr) return;   // registered already: the library loaded under its other name
     tildeClass = class_new(gensym("armadillo~"), newMethod(tildeNew),
                            method(tildeFree), sizeof(ArmadilloTilde), CLASS_DEFAULT, A_GIMME, 0);
     class_addbang(tildeClass, method(tildeBang));
     class_addanything(tildeClass, method(tildeAnything));
     class_addmethod(tildeClass, method(tildeDsp), gensym("dsp"), A_CANT, 0);
+}
+
+} // namespace armadillo::pd
+
+/// Pd loads armadillo~.pd_linux (the same library under the class's name) for [armadillo~].
+extern "C" __attribute__((visibility("default"))) void armadillo_tilde_setup(void)
+{
+    armadillo::pd::registerArmadillo();
+    armadillo::pd::registerArmadilloTilde();
 }

@@ -8,8 +8,9 @@
 // [armadillo~]'s DSP method clocks live::BlockInstrument's control step with Pd's DSP blocks
 // (Pd/BlockHost.h), as a plugin host's blocks clock the plugin's. No control loop is run here.
 //
-// Each object is a binary of its own (armadillo.pd_linux, armadillo~.pd_linux: Pd finds an object
-// by its file name), each with the core linked in and only its setup function exported.
+// One library holds both classes and is installed under both names (armadillo.pd_linux and
+// armadillo~.pd_linux: Pd finds an object by its file name); either setup function registers
+// both classes, once (`[declare -lib armadillo]` then gives both from Pd's extra folder).
 #include "Pd/Commands.h"
 #include <m_pd.h>
 #include <exception>
@@ -115,5 +116,9 @@ struct Front {
         }
     }
 };
+
+/// Each class registered with Pd unless it already is (ArmadilloObject.cpp, ArmadilloTildeObject.cpp).
+void registerArmadillo();
+void registerArmadilloTilde();
 
 } // namespace armadillo::pd
