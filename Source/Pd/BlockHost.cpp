@@ -117,6 +117,17 @@ void BlockHost::apply(const Settings& settings)
     case Settings::Source::Osc: source_ = "osc"; break;
     case Settings::Source::None: break;
     }
+    setStopped(settings.source == Settings::Source::None);
+}
+
+void BlockHost::setStopped(bool stopped)
+{
+    // Without a source the scene would go on playing its last intents (the patch's targets, a
+    // theremin's note): the stage holds it silent, motors off, until a source comes — unless
+    // the patch asked for panic itself, which only `resume` ends.
+    stopped_ = stopped;
+    if (stopped_) instrument_->stage().apply({core::StageCommand::Kind::Panic});
+    else if (!userPanic_) instrument_->stage().apply({core::StageCommand::Kind::Resume});
 }
 
 void BlockHost::stopSource()
@@ -126,6 +137,7 @@ void BlockHost::stopSource()
     (void) rig.configureOsc(false, "", 0, false, 0, "", "");
     setSourceCell(live::SourceKind::Device);              // nothing arrives: no arm is fused
     source_ = "none";
+    setStopped(true);
 }
 
 void BlockHost::setParameter(const std::string& id, const std::string& value)
@@ -134,8 +146,17 @@ void BlockHost::setParameter(const std::string& id, const std::string& value)
     if (live::EngineSlot* slot = instrument_->loop().newest(); slot != nullptr && slot->engine) slot->engine->setSceneParameter(id, value);
 }
 
-void BlockHost::panic() { instrument_->stage().apply({core::StageCommand::Kind::Panic}); }
-void BlockHost::resume() { instrument_->stage().apply({core::StageCommand::Kind::Resume}); }
+void BlockHost::panic()
+{
+    userPanic_ = true;
+    instrument_->stage().apply({core::StageCommand::Kind::Panic});
+}
+
+void BlockHost::resume()
+{
+    userPanic_ = false;
+    if (!stopped_) instrument_->stage().apply({core::StageCommand::Kind::Resume});
+}
 
 bool BlockHost::poll(Frame& frame)
 {

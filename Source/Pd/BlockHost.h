@@ -57,6 +57,7 @@ private:
     };
     void installEngine();
     void chooseSource(const Settings& settings);
+    void setStopped(bool stopped);
     void setSourceCell(live::SourceKind kind) noexcept { sourceCell_.store(static_cast<float>(kind), std::memory_order_relaxed); }
 
     const Commands* commands_ = nullptr;
@@ -70,6 +71,8 @@ private:
     std::uint64_t lastSerial_ = 0;
     std::uint64_t lastGestureCount_ = 0;
     std::string source_ = "none";
+    bool stopped_ = true;     // no source: the stage holds the scene silent
+    bool userPanic_ = false;  // the patch's own `panic`, until its `resume`
 };
 
 } // namespace armadillo::pd

@@ -71,6 +71,11 @@ std::string Commands::resolve(const std::string& path) const
 
 bool Commands::handle(const std::string& selector, const std::vector<Atom>& args)
 {
+    // A setting that changes nothing running now (an OSC format without an OSC source): kept for later.
+    const auto keep = [this](const Settings& s) {
+        settings_ = s;
+        return false;
+    };
     Settings next = settings_;
     const bool sourceRuns = settings_.source != Settings::Source::None;
     if (selector == "bang") return true;
@@ -97,7 +102,7 @@ bool Commands::handle(const std::string& selector, const std::vector<Atom>& args
         next.format = text(args, 0, "format", "a sender's format (" + osc::oscFormatNames() + ")");
         osc::OscFormat f {};
         if (!osc::parseOscFormat(next.format, f)) throw problem("format: unknown format '" + next.format + "' (one of " + osc::oscFormatNames() + ")");
-        if (next.source != Settings::Source::Osc) return settings_ = next, false;
+        if (next.source != Settings::Source::Osc) return keep(next);
     } else if (selector == "mount") {
         atMost(args, 1, "mount");
         const std::string m = text(args, 0, "mount", "a preset name or a mount file");
@@ -108,7 +113,7 @@ bool Commands::handle(const std::string& selector, const std::vector<Atom>& args
             next.mount = resolve(m);
             (void) link::mountFromArgument(next.mount);   // still bad: its own error names it
         }
-        if (next.source != Settings::Source::Osc) return settings_ = next, false;
+        if (next.source != Settings::Source::Osc) return keep(next);
     } else if (selector == "stop") {
         settings_.source = Settings::Source::None;
         instrument_.stopSource();
@@ -117,7 +122,7 @@ bool Commands::handle(const std::string& selector, const std::vector<Atom>& args
         atMost(args, 1, "calibration");
         next.calibrationFile = resolve(text(args, 0, "calibration", "a calibration file"));
         (void) link::loadCalibration(next.calibrationFile);   // a bad file is refused here, naming it
-        if (!sourceRuns) return settings_ = next, false;
+        if (!sourceRuns) return keep(next);
     } else if (selector == "profile") {
         atMost(args, 1, "profile");
         next.profileFile = resolve(text(args, 0, "profile", "a touch profile file"));

@@ -175,13 +175,15 @@ def case_theremin(args):
         if len(inside) < 20:
             failures += fail("pose %d: %d reports inside its hold [%.1f, %.1f] s" % (i + 1, len(inside), t0, t1))
             continue
-        worst = 0.0
+        worst, total = 0.0, 0.0
         for r in inside:
             # The angles of docs/INTERFACES.md "Pose": elevation, azimuth (0..360), roll.
             err = max(abs(r[1] - pose[0]), angle_deg(r[2], pose[1] % 360.0), angle_deg(r[3], pose[2]))
             worst = max(worst, err)
+            total += err
         ok = worst <= 3.0
-        print("pose %d %s: %d reports, worst error %.3f deg %s" % (i + 1, pose, len(inside), worst, "ok" if ok else "FAIL"))
+        print("pose %d %s: %d reports, worst error %.6f deg, mean %.6f deg %s"
+              % (i + 1, pose, len(inside), worst, total / len(inside), "ok" if ok else "FAIL"))
         failures += 0 if ok else 1
         w0, w1 = hold_window(i, 0.6, 0.6)
         f_ref = pitch_hz(ref_x[int(w0 * ref_sr):int(w1 * ref_sr)], ref_sr)
