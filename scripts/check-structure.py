@@ -12,7 +12,7 @@ Prints, for Source/:
   - every data member of Plugin/PluginProcessor.h whose type is of a core room's namespace
     (armadillo::live, ::link, ::access, ...; `using` aliases of such types in Source/Plugin
     count too): the processor holds the instrument and its clock, not its parts (at most 3).
-Exits 1 when a function is too long, a file other than Live/StepRunner.cpp runs the control step,
+Exits 1 when a function is too long, a file other than Live/Step/StepRunner.cpp runs the control step,
 or the processor holds more than 3 core objects, unless --report-only; the concrete names are
 counted on the last line, so their progress is visible in every run.
 Comments, string and character literals are skipped; the brace matcher counts a '{' whose
@@ -196,7 +196,7 @@ def main():
     for lineno, type_name, name in members:
         print(f"processor holds a core object: Source/Plugin/PluginProcessor.h:{lineno} {type_name} {name}")
     tick_files = {rel for rel, _ in ticks}
-    stray_ticks = sorted(t for t in tick_files if not t.endswith(os.path.join("Live", "StepRunner.cpp")))
+    stray_ticks = sorted(t for t in tick_files if not t.endswith(os.path.join("Live", "Step", "StepRunner.cpp")))
     files = len({rel for rel, _, _ in concrete})
     print(f"structure: {len(long_functions)} functions over {args.max_function_lines} lines, "
           f"{len(concrete)} mentions of concrete sources or sinks in {files} front-end files, {len(tick_files)} files that run the control step, "

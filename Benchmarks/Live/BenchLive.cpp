@@ -3,7 +3,7 @@
 // engine (scene, shaping, safety stage) before its motor packet is written. Prints the sustained
 // rate as a fraction of the 57 600-baud lock-step rate, the unpaced rate, and the time from a
 // sensor packet's arrival to its motor packet leaving. Usage: bench_live [seconds] [scene…]
-#include "Live/LiveSession.h"
+#include "Live/Session/LiveSession.h"
 #include "Link/Simulator.h"
 #include <cstdio>
 #include <cstdlib>

@@ -14,8 +14,8 @@
 #include "Core/Errors.h"
 #include "Link/Calibration.h"
 #include "Link/Simulator.h"
-#include "Live/ControlLoop.h"
-#include "Live/MappingRig.h"
+#include "Live/Step/ControlLoop.h"
+#include "Live/Outputs/MappingRig.h"
 #include "Mapping/Mapper.h"
 #include <alsa/asoundlib.h>
 #include <algorithm>

@@ -6,7 +6,7 @@
 // Also the renderer's cost per period (thread CPU time, best of 5) for each model.
 // Prints numbers only; nothing passes or fails on time.
 #include "Tactors/JackFixtures.h"
-#include "Live/TactorOutput.h"
+#include "Live/Outputs/TactorOutput.h"
 #include <algorithm>
 #include <chrono>
 #include <cstdio>

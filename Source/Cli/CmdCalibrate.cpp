@@ -13,7 +13,7 @@
 #include "Cli/ReaderIo.h"
 #include "Core/Errors.h"
 #include "Link/Calibration.h"
-#include "Live/GuidedDevice.h"
+#include "Live/Sources/GuidedDevice.h"
 #include "Procedures/DeviceCalibration.h"
 #include <algorithm>
 #include <cctype>

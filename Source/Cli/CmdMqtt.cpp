@@ -5,10 +5,8 @@
 #include "Core/Errors.h"
 #include "Core/Json.h"
 #include "Core/Types.h"
-#include <chrono>
+#include "Mqtt/BrokerCheck.h"
 #include <iostream>
-#include <mutex>
-#include <thread>
 
 namespace armadillo::cli {
 
@@ -29,56 +27,24 @@ int check(const CommandLine& cl)
     if (!(seconds >= 0.0 && seconds <= 86400.0)) throw UsageError("--seconds must lie in 0..86400 s");
     const long maxCount = cl.integer("--count", 0, 0, 1000000);
 
-    std::mutex mutex;
-    long heard = 0;
-    mqtt::MqttClient client(config);
-    client.setMessageHandler([&](const mqtt::ReceivedMessage& m) {
-        std::lock_guard lock(mutex);
-        ++heard;
-        std::string line = "{\"topic\":";
-        armadillo::core::appendJsonString(line, m.topic);
-        line += ",\"bytes\":" + std::to_string(m.payload.size()) + ",\"retained\":" + (m.retained ? "true" : "false") + ",\"text\":";
-        mqtt::MqttConfig plain;
-        plain.textField = config.textField;
-        std::string text, why;
-        int priority = 0;
-        if (m.payload.size() <= 4096 && mqtt::messageText(m.payload, plain, text, priority, why)) armadillo::core::appendJsonString(line, text);
-        else armadillo::core::appendJsonString(line, "(not shown: " + (m.payload.size() > 4096 ? std::to_string(m.payload.size()) + " bytes" : why) + ")");
-        std::cout << line << "}\n" << std::flush;
-    });
-    installInterruptHandlers();
-    client.start();
-    std::cerr << "mqtt check: connecting to " << config.host << ":" << config.port << "\n";
-    if (!client.waitConnected(timeout)) {
-        const mqtt::MqttStatus s = client.status();
-        client.stop();
-        throw core::IoError("mqtt check: no connection to " + s.broker + " within " + std::to_string(timeout).substr(0, 4) + " s: " +
-                      (s.lastError.empty() ? std::string("no answer") : s.lastError));
-    }
-    std::cerr << "mqtt check: connected to " << config.host << ":" << config.port << ", subscribed to";
-    for (const auto& t : config.topics) std::cerr << " '" << t.filter << "'";
-    std::cerr << "; listening for " << seconds << " s\n";
+    mqtt::BrokerCheckOptions options;
+    options.timeout = timeout;
+    options.seconds = seconds;
+    options.maxCount = maxCount;
     if (cl.has("--publish")) {
         if (config.topics.size() != 1 || config.topics[0].filter.find_first_of("+#") != std::string::npos)
             throw UsageError("--publish sends to the one --topic given, which must have no wildcard");
-        client.publishText(config.topics[0].filter, cl.value("--publish"), 1);
+        options.publish = true;
+        options.text = cl.value("--publish");
     }
-    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-    while (!interrupted() && std::chrono::steady_clock::now() < end) {
-        {
-            std::lock_guard lock(mutex);
-            if (maxCount > 0 && heard >= maxCount) break;
-        }
-        std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    const mqtt::MqttStatus s = client.status();
-    client.stop();
-    std::lock_guard lock(mutex);
-    std::cerr << "mqtt check: heard " << heard << " message(s)\n";
-    std::cout << "{\"connected\":true,\"broker\":";
+    installInterruptHandlers();
+    const auto r = mqtt::checkBroker(
+        config, options, [](const std::string& line) { std::cout << line << "\n" << std::flush; },
+        [](const std::string& text) { std::cerr << "mqtt check: " << text << "\n"; }, [] { return interrupted(); });
+    std::cerr << "mqtt check: heard " << r.heard << " message(s)\n";
     std::string b;
-    armadillo::core::appendJsonString(b, s.broker);
-    std::cout << b << ",\"messages\":" << heard << ",\"connects\":" << s.connects << "}\n";
+    armadillo::core::appendJsonString(b, r.broker);
+    std::cout << "{\"connected\":true,\"broker\":" << b << ",\"messages\":" << r.heard << ",\"connects\":" << r.connects << "}\n";
     return 0;
 }
 

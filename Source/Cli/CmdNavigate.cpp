@@ -1,8 +1,8 @@
 // `armadillo navigate`: walk a route guided by the arm alone (issue 34, docs/NAVIGATION.md).
 // The front end only asks and presents: the live session builds the arm's source and motors (a
 // device, the simulated forearm or a phone), the walk's position source and the navigation scene
-// (Live/LiveSession.h, LiveConfig::walk); this file reads the options, announces the walk and
-// keeps its logs. --simulate-walk runs the whole walk offline (Navigation/WalkerSim.h).
+// (Live/Session/LiveSession.h, LiveConfig::walk); this file reads the options, announces the walk and
+// keeps its logs. --simulate-walk runs the whole walk offline (Navigation/WalkRehearsal.h).
 #include "Cli/CommandLine.h"
 #include "Cli/LiveOptions.h"
 #include "Cli/Commands.h"
@@ -13,9 +13,10 @@
 #include "Core/Errors.h"
 #include "Link/Calibration.h"
 #include "Link/Mount.h"
-#include "Live/LiveSession.h"
+#include "Osc/HostPort.h"
+#include "Live/Session/LiveSession.h"
 #include "Navigation/NavigationRig.h"
-#include "Navigation/WalkerSim.h"
+#include "Navigation/WalkRehearsal.h"
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -138,6 +139,9 @@ std::vector<OptionSpec> navigateOptionSpecs()
         {"--arm", "right|left", "the arm wearing the device (default right)"},
         {"--log", "NAV.csv", "one row per control update: t,lat,lon,fix,waypoint,distance_m,bearing_deg,heading_deg,…"},
         {"--tactile", "T.csv", "every motor packet: t,m1..m9"},
+        {"--session-log", "SESSION.csv", "a live walk's session log, as `play --log`: one row per sensor packet (t, raw counts,\n"
+                                         "calibrated SI values, qw,qx,qy,qz, the link's counters)"},
+        {"--osc-out", "HOST:PORT", "a live walk's arm as OSC, as `play --osc-out`: orientation, pose, gyro, motors, gestures"},
         {"--seconds", "N", "stop after N seconds (simulated seconds with --simulate-walk)"},
         {"--arrival-radius", "M", "arrived within M metres of a waypoint (default 8)"},
         {"--off-route", "M", "off route further than M metres from the leg (default 20)"},
@@ -167,6 +171,7 @@ struct NavigateRequest {
     navigation::NavigationOptions options;
     double seconds = -1.0;
     std::string arm, logPath, tactilePath;
+    std::string sessionLogPath, oscOut;   ///< a live walk's: play's --log and --osc-out
     std::shared_ptr<const navigation::Route> route;
 };
 
@@ -189,6 +194,8 @@ void checkNavigateSources(const CommandLine& cl, NavigateRequest& r)
     for (const char* o : {"--strap-offset", "--seed"})
         if (cl.has(o) && !r.walk) throw UsageError(std::string(o) + " applies to --simulate-walk");
     if (cl.has("--baud") && !cl.has("--port")) throw UsageError("--baud applies to --port");
+    for (const char* o : {"--session-log", "--osc-out"})
+        if (cl.has(o) && r.walk) throw UsageError(std::string(o) + " is a live walk's (the arm's packets): --simulate-walk runs offline");
 }
 
 /// The guidance's settings.
@@ -226,7 +233,17 @@ NavigateRequest readNavigateRequest(const CommandLine& cl)
     r.tactilePath = cl.value("--tactile");
     if (!r.logPath.empty()) checkOutputPath("--log", r.logPath);
     if (!r.tactilePath.empty()) checkOutputPath("--tactile", r.tactilePath);
-    checkDistinctOutputs({{"--log", r.logPath}, {"--tactile", r.tactilePath}});
+    r.sessionLogPath = cl.value("--session-log");
+    if (cl.has("--session-log")) checkOutputPath("--session-log", r.sessionLogPath);
+    checkDistinctOutputs({{"--log", r.logPath}, {"--tactile", r.tactilePath}, {"--session-log", r.sessionLogPath}});
+    if (cl.has("--osc-out")) {
+        r.oscOut = cl.value("--osc-out");
+        try {
+            osc::parseHostPort(r.oscOut);
+        } catch (const std::invalid_argument& e) {
+            throw UsageError(std::string("--osc-out: ") + e.what());
+        }
+    }
     if (r.gpsd) navigation::parseGpsdEndpoint(cl.value("--gpsd"));   // InputError (exit 3) for a bad port, before the route is read
 
     // Inputs: a route that cannot be read is exit 4, one that is not a route 3.
@@ -297,7 +314,7 @@ int runSimulatedWalk(const CommandLine& cl, const NavigateRequest& req)
     std::string tactile = "t,m1,m2,m3,m4,m5,m6,m7,m8,m9\n";
     navigation::WalkOptions o;
     o.maxSeconds = req.seconds > 0.0 ? req.seconds : 3 * 3600.0;
-    o.observe = [&](double t, const navigation::SimulatedWalker&, const core::MotorLevels& levels, const navigation::NavigationStatus&) {
+    o.observe = [&](double t, const navigation::WalkerView&, const core::MotorLevels& levels, const navigation::NavigationStatus&) {
         log.drain(*link);
         if (!req.tactilePath.empty()) tactile += tactileRow(t, levels);
     };
@@ -307,13 +324,7 @@ int runSimulatedWalk(const CommandLine& cl, const NavigateRequest& req)
     log.drain(*link);
     log.write();
     if (!req.tactilePath.empty()) core::writeFileAtomically(req.tactilePath, tactile);
-    char json[400];
-    std::snprintf(json, sizeof json,
-                  "{\"finished\":%s,\"seconds\":%.1f,\"arrivals\":%zu,\"waypoints\":%zu,\"max_off_route_m\":%.2f,\"median_heading_error_deg\":%.2f,"
-                  "\"learned_offset_deg\":%.2f,\"strap_offset_deg\":%.2f}",
-                  r.finished ? "true" : "false", r.seconds, r.arrivals.size(), route.points.size() - 1, r.maxOffRouteM, r.medianHeadingErrorDeg,
-                  r.learnedOffsetDeg, w.strapOffsetDeg);
-    std::cout << json << "\n" << std::flush;
+    std::cout << navigation::walkResultJson(r, route, w) << "\n" << std::flush;
     return core::kExitOk;
 }
 
@@ -343,6 +354,8 @@ live::LiveConfig liveWalkConfig(const CommandLine& cl, const NavigateRequest& re
     readProfileOption(cl, config.engine);
     if (cl.has("--calibration")) config.calibration = link::loadCalibration(cl.value("--calibration"));
     config.tactileOut = req.tactilePath;
+    config.logOut = req.sessionLogPath;   // the same session log and OSC stream as play's
+    config.oscOut = req.oscOut;
     if (cl.has("--tactors")) config.tactors = tactorConfig(cl, config.engine.motorCount);   // IoError / InputError before anything runs
     config.walk.route = req.route;
     config.walk.options = req.options;

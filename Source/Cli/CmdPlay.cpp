@@ -7,21 +7,21 @@
 #include "Cli/ReaderIo.h"
 #include "Cli/SceneOptions.h"
 #include "Cli/TactorOptions.h"
-#include "Live/MappingRig.h"
+#include "Live/Outputs/MappingRig.h"
 #include "Core/Errors.h"
 #include "Braille/BrailleScene.h"
 #include "Braille/TrainingFeeder.h"
 #include "Core/AtomicFile.h"
 #include "Core/Wav.h"
-#include "Live/LiveSession.h"
+#include "Live/Session/LiveSession.h"
 #include "Link/Calibration.h"
-#include "Live/SourceReport.h"
+#include "Live/Sources/SourceReport.h"
 #include "Osc/HostPort.h"
 #include "Osc/OscDialects.h"
 #include "Link/Mount.h"
 #include "Procedures/DeviceCalibration.h"
 #include "Procedures/MountCalibration.h"
-#include "Live/StageControl.h"
+#include "Live/Stage/StageControl.h"
 #include "Engine/Engine.h"
 #include <algorithm>
 #include <atomic>
@@ -387,7 +387,7 @@ public:
         ::signal(SIGUSR1, onForwardSignal);
         session_.start();
         start_ = std::chrono::steady_clock::now();
-        report_ = std::make_unique<live::SourceReport>(session_);   // what the sources say, in words (Live/SourceReport.h)
+        report_ = std::make_unique<live::SourceReport>(session_);   // what the sources say, in words (Live/Sources/SourceReport.h)
         for (const std::string& line : report_->startup()) std::cerr << who_ << line << "\n";
         // A progress line on a terminal (stderr only, so stdout keeps just the JSON summary), not
         // while a guided procedure prints its own instructions there.
@@ -465,7 +465,7 @@ private:
     void onCommand(const core::StageCommand& c)
     {
         lastCommand_.store(static_cast<int>(c.kind));
-        session_.stage().apply(c);   // the one switch (Live/Stage.h); acts at the next control step
+        session_.stage().apply(c);   // the one switch (Live/Stage/Stage.h); acts at the next control step
     }
 
     /// Panics of the stage: commands, keys, the mapping and the gesture alike (a cue change does

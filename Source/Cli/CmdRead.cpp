@@ -16,7 +16,7 @@ namespace {
 std::vector<OptionSpec> readOptionSpecs()
 {
     const std::vector<std::string> fromPlay {"--port", "--simulate", "--motion", "--unpaced", "--baud", "--v2", "--calibration",
-                                             "--seconds", "--tactile", "--log", "--arm", "--profile",
+                                             "--seconds", "--tactile", "--log", "--osc-out", "--status-file", "--arm", "--profile",
                                              "--mqtt", "--mqtt-config", "--messages", "--urgent", "--message-display",
                                              "--message-shorthand", "--speak", "--speech", "--rate", "--brlapi", "--braille-display",
                                              "--control-bind", "--control-allow"};

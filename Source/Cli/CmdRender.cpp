@@ -5,7 +5,7 @@
 #include "Cli/TactorOptions.h"
 #include "Osc/HostPort.h"
 #include "Link/Mount.h"
-#include "Live/MappingRig.h"
+#include "Live/Outputs/MappingRig.h"
 #include "Mapping/MidiFile.h"
 #include "Core/Csv.h"
 #include "Core/AtomicFile.h"
@@ -15,7 +15,7 @@
 #include "Engine/OfflineRenderer.h"
 #include "Formats/ScoreImport.h"
 #include "Instruments/LayeredKeyboard.h"
-#include "Live/SetList.h"
+#include "Live/Stage/SetList.h"
 #include "Core/AtomicFile.h"
 #include <algorithm>
 #include <cmath>

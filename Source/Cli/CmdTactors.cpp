@@ -5,27 +5,10 @@
 #include "Cli/TactorOptions.h"
 #include "Core/Clock.h"
 #include "Core/Errors.h"
-#include "Live/TactorOutput.h"
-#include "Tactile/TactileEngine.h"
-#include <chrono>
-#include <cmath>
+#include "Live/Outputs/TactorTest.h"
 #include <iostream>
-#include <thread>
 
 namespace armadillo::cli {
-
-namespace {
-
-/// Where motor index m sits on the right forearm (docs/TACTILE.md: index = 3·row + col).
-std::string motorPlace(int m)
-{
-    if (m >= 9) return "back " + std::to_string(m - 8);
-    static const char* rows[] = {"wrist", "middle", "elbow"};
-    static const char* cols[] = {"left", "underside", "right"};
-    return std::string(rows[m / 3]) + ", " + cols[m % 3];
-}
-
-} // namespace
 
 int runTactors(const Arguments& args)
 {
@@ -60,45 +43,16 @@ int runTactors(const Arguments& args)
         if (!(on >= 0.05 && on <= 2.0)) throw UsageError("--on must lie in 0.05..2 s");
         if (!(gap >= 0.0 && gap <= 5.0)) throw UsageError("--gap must lie in 0..5 s");
 
-        live::TactorOutput output(config);   // IoError / InputError before anything sounds
-        tactile::TactileConfig tc;
-        tc.motorCount = motors;
-        tactile::TactileEngine engine;
-        engine.prepare(tc);
+        live::TactorTest test(config, motors);   // IoError / InputError before anything sounds
         installInterruptHandlers();
-        output.start();
-        std::cerr << "armadillo tactors: " << output.describe() << "\n";
-        constexpr double kStep = 0.005;   // the control rate of a live rig (200 Hz)
-        double t = 0.0;
-        const auto start = std::chrono::steady_clock::now();
-        // Runs the engine for `seconds`, pushing each step to the output on the wall clock.
-        const auto run = [&](double seconds) {
-            const double end = t + seconds;
-            while (t < end - 1e-9 && !interrupted()) {
-                output.push(t, engine.tick(t == 0.0 ? 0.0 : kStep));
-                t += kStep;
-                std::this_thread::sleep_until(start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(t)));
-            }
-        };
-        run(0.1);
-        for (int c = 0; c < output.channels() && !interrupted(); ++c) {
-            const int m = config.map.motor[static_cast<std::size_t>(c)];
-            const std::string port = config.device == "jack" ? " (tactor_" + std::to_string(c + 1) + ")" : "";
-            if (m < 0) {
-                std::cout << "channel " << c + 1 << port << ": silent (- in the map)\n" << std::flush;
-                continue;
-            }
-            std::cout << "channel " << c + 1 << port << ": motor m" << m + 1 << ", " << motorPlace(m) << "\n" << std::flush;
-            engine.setSoftLevel(m, static_cast<float>(level));
-            run(on);
-            engine.clearLevels();
-            run(gap);
-        }
-        engine.allOff();
-        output.push(t, engine.tick(kStep));
-        run(0.05);
-        output.stop();
-        if (output.failed()) throw core::IoError("the tactor output stopped during the test (its JACK server or sound card went away)");
+        std::cerr << "armadillo tactors: " << test.describe() << "\n";
+        test.run({level, on, gap},
+                 [&](int c, int m) {
+                     const std::string port = config.device == "jack" ? " (tactor_" + std::to_string(c + 1) + ")" : "";
+                     if (m < 0) std::cout << "channel " << c + 1 << port << ": silent (- in the map)\n" << std::flush;
+                     else std::cout << "channel " << c + 1 << port << ": motor m" << m + 1 << ", " << live::TactorTest::motorPlace(m) << "\n" << std::flush;
+                 },
+                 [] { return interrupted(); });
         return interrupted() ? int(core::kExitFailure) : int(core::kExitOk);
     });
 }

@@ -11,7 +11,7 @@
 #include "Cli/ReaderIo.h"
 #include "Core/Errors.h"
 #include "Link/TouchProfile.h"
-#include "Live/GuidedDevice.h"
+#include "Live/Sources/GuidedDevice.h"
 #include "Procedures/TouchTest.h"
 #include <iostream>
 

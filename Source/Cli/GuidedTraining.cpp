@@ -27,7 +27,7 @@
 #include "Core/Errors.h"
 #include "Link/Calibration.h"
 #include "Link/TouchProfile.h"
-#include "Live/GuidedDevice.h"
+#include "Live/Sources/GuidedDevice.h"
 #include "Procedures/AdaptiveTraining.h"
 #include <algorithm>
 #include <atomic>

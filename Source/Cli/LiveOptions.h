@@ -6,8 +6,8 @@
 // (SceneOptions.h), the mapping (MapOptions.h), the tactors (TactorOptions.h), MQTT
 // (MqttOptions.h) and the reader's voice (ReaderIo.h) are groups of their own.
 #include "Cli/CommandLine.h"
-#include "Live/LiveSession.h"
-#include "Live/StageControl.h"
+#include "Live/Session/LiveSession.h"
+#include "Live/Stage/StageControl.h"
 #include <string>
 #include <vector>
 

@@ -5,7 +5,7 @@
 #include "Cli/CommandLine.h"
 #include "Mapping/Mapper.h"
 #include "Mqtt/ArmMessages.h"
-#include "Live/LiveSession.h"
+#include "Live/Session/LiveSession.h"
 #include <functional>
 #include <memory>
 #include <ostream>

@@ -3,7 +3,7 @@
 // `render --tactile-wav`: --tactors, --tactor-model, --tactor-map, --tactor-gain, --tactor-connect,
 // --tactor-rate and the model's carrier options.
 #include "Cli/CommandLine.h"
-#include "Live/TactorOutputConfig.h"
+#include "Live/Outputs/TactorOutputConfig.h"
 #include <vector>
 
 namespace armadillo::cli {

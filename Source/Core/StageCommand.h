@@ -1,7 +1,7 @@
 #pragma once
 // A stage command (docs/STAGE.md): what a performer's panic button, a cue key, an OSC control
 // message, a MIDI foot switch or a mapping's "stage" destination asks of what plays. One type for
-// every place that makes one (Live/StageControl.h: OSC and keys; Live/Stage.h: MIDI; Mapping:
+// every place that makes one (Live/Stage/StageControl.h: OSC and keys; Live/Stage/Stage.h: MIDI; Mapping:
 // "stage" destinations), applied in one place, live::Stage::apply.
 #include <cstdint>
 

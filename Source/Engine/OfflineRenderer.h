@@ -108,7 +108,7 @@ struct MotionRows {
 std::string silenceReason(const RenderResult& r, const RenderSettings& settings);
 
 /// What an offline render plays: one engine (renderOffline's own, from RenderSettings::engine),
-/// or a set list's cues (Live/SetList.h renderSetList). The renderer owns the clock, the motion,
+/// or a set list's cues (Live/Stage/SetList.h renderSetList). The renderer owns the clock, the motion,
 /// the recording, the MIDI notes and the audio; the performer answers for the sound and the
 /// motors. One renderer for both, so a set list renders exactly as a scene does.
 class OfflinePerformer {

@@ -1,7 +1,7 @@
 #pragma once
 // A walk's sources, the one place a position source is built (issue 45): for the app's
 // Navigation window (issue 34, docs/NAVIGATION.md "In the app"), which starts and stops walks
-// while it runs, and for the live session `armadillo navigate` runs (Live/LiveSession.h). The
+// while it runs, and for the live session `armadillo navigate` runs (Live/Session/LiveSession.h). The
 // route read and checked, the position source opened (gpsd, OSC /armadillo/position and ZIG SIM's
 // gps on a UDP port of its own, or those messages on the arm's own OSC port), and the
 // NavigationLink the navigation scene reads. While a walk runs, the front end's engine request

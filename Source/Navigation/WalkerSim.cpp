@@ -3,6 +3,7 @@
 #include "Engine/Engine.h"
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace armadillo::navigation {
 
@@ -165,7 +166,7 @@ WalkResult simulateWalk(const Route& route, const NavigationOptions& nav, const 
         const NavigationStatus st = link->status.load();
         walker.feel(t, levels);
         walker.advance(dt);
-        if (options.observe) options.observe(t, walker, levels, st);
+        if (options.observe) options.observe(t, WalkerView {walker.position(), walker.bodyHeadingDeg(), walker.reading()}, levels, st);
         if (st.arrivals != lastArrivals) {
             for (int a = lastArrivals; a < st.arrivals; ++a) r.arrivals.push_back(st.waypoint - (st.arrivals - a));
             lastArrivals = st.arrivals;
@@ -197,6 +198,21 @@ WalkResult simulateWalk(const Route& route, const NavigationOptions& nav, const 
         r.p90HeadingErrorDeg = errors[errors.size() * 9 / 10];
     }
     return r;
+}
+
+} // namespace armadillo::navigation
+
+namespace armadillo::navigation {
+
+std::string walkResultJson(const WalkResult& r, const Route& route, const WalkerParams& walker)
+{
+    char json[400];
+    std::snprintf(json, sizeof json,
+                  "{\"finished\":%s,\"seconds\":%.1f,\"arrivals\":%zu,\"waypoints\":%zu,\"max_off_route_m\":%.2f,\"median_heading_error_deg\":%.2f,"
+                  "\"learned_offset_deg\":%.2f,\"strap_offset_deg\":%.2f}",
+                  r.finished ? "true" : "false", r.seconds, r.arrivals.size(), route.points.empty() ? std::size_t {0} : route.points.size() - 1,
+                  r.maxOffRouteM, r.medianHeadingErrorDeg, r.learnedOffsetDeg, walker.strapOffsetDeg);
+    return json;
 }
 
 } // namespace armadillo::navigation

@@ -2,7 +2,7 @@
 // Who may talk to a listening socket (docs/SECURITY.md): the address a listener binds (loopback
 // unless told otherwise) and an allow-list of networks, `ADDR[/BITS],…` in IPv4 or IPv6
 // (`play --control-bind`, `--control-allow`, the app's stage-control settings). Plain values and
-// socket addresses only: the sockets themselves are in Osc/OscIo.h and Live/StageControl.h.
+// socket addresses only: the sockets themselves are in Osc/OscIo.h and Live/Stage/StageControl.h.
 #include <array>
 #include <cstdint>
 #include <string>

@@ -2,8 +2,8 @@
 #include "Core/Errors.h"
 #include "Core/StageCommand.h"
 #include "Link/Motion.h"
-#include "Live/BlockInstrument.h"
-#include "Live/ForearmPort.h"
+#include "Live/Session/BlockInstrument.h"
+#include "Live/Sources/ForearmPort.h"
 
 namespace armadillo::pd {
 

@@ -10,8 +10,8 @@
 // (Pd runs DSP and messages on one thread, so no message runs during a block); the instrument's
 // idle clock and device link run on their own threads (BlockInstrument.h). render() is real-time:
 // it allocates, locks and waits for nothing (Tests/Pd/BlockHostRealtimeTests.cpp).
-#include "Live/BlockControl.h"
-#include "Live/SceneParameters.h"
+#include "Live/Session/BlockControl.h"
+#include "Live/Step/SceneParameters.h"
 #include "Pd/Commands.h"
 #include <atomic>
 #include <memory>

@@ -2,7 +2,7 @@
 #include "Core/Pose.h"
 #include "Core/StageCommand.h"
 #include "Link/Mount.h"
-#include "Live/LiveSession.h"
+#include "Live/Session/LiveSession.h"
 #include "Osc/OscDialects.h"
 
 namespace armadillo::pd {

@@ -7,9 +7,9 @@
 // builder lock. The audio thread never takes that lock: it only swaps the offered engine in at the
 // start of a control step (ControlLoop::tick). install() replaces the engine outright and needs
 // the control token (the caller proves the control side is not running).
-#include "Live/ControlLoop.h"
+#include "Live/Step/ControlLoop.h"
 #include "Navigation/NavigationScene.h"
-#include "Live/ControlToken.h"
+#include "Live/Step/ControlToken.h"
 #include "Plugin/Parameters.h"
 #include <juce_audio_processors/juce_audio_processors.h>
 #include <cstdint>

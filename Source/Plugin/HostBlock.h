@@ -1,5 +1,5 @@
 #pragma once
-// The host's side of one audio block, handed to the rig's block clock (Live/BlockControl.h): the
+// The host's side of one audio block, handed to the rig's block clock (Live/Session/BlockControl.h): the
 // AudioBuffer as an AudioBlock, the play head as a Transport, and the MidiBuffer as a BlockMidi.
 // The host's MIDI buffer may be sized for a few events only, and a control step that emits
 // several would grow it on the audio thread: the first block hands it storage sized in prepare()
@@ -9,7 +9,7 @@
 // could still make it grow (JUCE's own wrappers do not): the plugin tests measure the real hosts'
 // path.
 // Threads: prepare() on the message thread with the audio stopped; the rest on the audio thread.
-#include "Live/BlockControl.h"
+#include "Live/Session/BlockControl.h"
 #include <juce_audio_processors/juce_audio_processors.h>
 
 namespace armadillo::plugin {

@@ -6,10 +6,10 @@
 // Threads:
 //  - message thread: open() / close() (the sequencer client and port are created and destroyed
 //    there only), status().
-//  - control side (real-time, the control-token holder): queue().push() (Live/MidiOutQueue.h).
+//  - control side (real-time, the control-token holder): queue().push() (Live/Outputs/MidiOutQueue.h).
 //  - the control clock (one non-audio thread): drain() — sends the queued events to the port.
 //    The port is shared with open()/close() under a mutex the audio thread never takes.
-#include "Live/MidiOutQueue.h"
+#include "Live/Outputs/MidiOutQueue.h"
 #include <juce_core/juce_core.h>
 #include <atomic>
 #include <cstdint>
@@ -35,7 +35,7 @@ public:
     /// "ALSA sequencer port 'ARMadillo' (client 128:0), 1234 events sent" or why it is closed.
     juce::String status() const;
 
-    /// The control side's queue (Live/MidiOutQueue.h): what the rig pushes, drain() sends.
+    /// The control side's queue (Live/Outputs/MidiOutQueue.h): what the rig pushes, drain() sends.
     live::MidiOutQueue& queue() noexcept { return queue_; }
     /// Control clock: sends every queued event. Returns how many were sent.
     int drain();

@@ -3,8 +3,8 @@
 // (INTERFACES.md "Plugin parameters"): hosts store automation under them, and LV2 uses them as
 // property symbols. The version hint is bumped only for a parameter whose meaning changes.
 #include "Core/Scene.h"
-#include "Live/ControlLoop.h"
-#include "Live/SceneParameters.h"
+#include "Live/Step/ControlLoop.h"
+#include "Live/Step/SceneParameters.h"
 #include <juce_audio_processors/juce_audio_processors.h>
 #include <string>
 #include <vector>
@@ -32,7 +32,7 @@ using SourceKind = live::SourceKind;   // Device, Simulator, Osc, HostAutomation
 const juce::StringArray& sourceChoiceNames();
 using live::isLiveSource;
 
-/// Every scene's own parameters, queried once from the scenes themselves (Live/SceneParameters.h).
+/// Every scene's own parameters, queried once from the scenes themselves (Live/Step/SceneParameters.h).
 using live::SceneParameterTable;
 live::SceneParameterTable querySceneParameters();
 

@@ -9,7 +9,7 @@
 // panel is never open at the same time (the view closes it), so its chord keys cannot clash.
 // Message thread only.
 #include "Core/Types.h"
-#include "Live/StatusLine.h"
+#include "Live/Session/StatusLine.h"
 #include <juce_audio_processors/juce_audio_processors.h>
 
 namespace armadillo::plugin {

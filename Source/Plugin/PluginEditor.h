@@ -10,7 +10,7 @@
 #include "Plugin/MotorDisplay.h"
 #include "Plugin/PerformanceView.h"
 #include "Plugin/SceneControls.h"
-#include "Live/StatusLine.h"
+#include "Live/Session/StatusLine.h"
 #include "Plugin/TrainingPanel.h"
 #include "Plugin/WelcomePanel.h"
 #include <juce_audio_processors/juce_audio_processors.h>

@@ -1,7 +1,7 @@
 #pragma once
 // The plugin/standalone shell over the live instrument (Surge habit: the engine is a library, this
 // is glue). It holds three objects of the core: the scenes' parameter table (the parameter layout
-// is built from it), the instrument (Live/BlockInstrument.h: sources, control step on the block
+// is built from it), the instrument (Live/Session/BlockInstrument.h: sources, control step on the block
 // clock, stage, mapping, tactors, navigation, messages, procedures — built and torn down in one
 // order) and the self-voicing. What is the host's stays here, each part stating its own threads:
 //  - EngineHandover.h  engines built from the parameters on the message thread, handed to the
@@ -12,7 +12,7 @@
 // This class adds the AudioProcessor entry points, the message-thread timer (engine updates,
 // live orientation → parameters with change gestures, auto-connect) and the status line.
 #include "Access/ReaderVoice.h"
-#include "Live/BlockInstrument.h"
+#include "Live/Session/BlockInstrument.h"
 #include "Plugin/Accessibility.h"
 #include "Plugin/EngineHandover.h"
 #include "Plugin/HostBlock.h"
@@ -280,7 +280,7 @@ private:
     HostBlock hostBlock_;                        // the host's buffers as the block clock takes them (audio thread)
     MidiPort midiPort_;                          // the standalone app's ALSA sequencer port (before the instrument: its clock drains it)
 
-    // The live instrument (Live/BlockInstrument.h): its parts built in one order and torn down in
+    // The live instrument (Live/Session/BlockInstrument.h): its parts built in one order and torn down in
     // the reverse; the destructor stops it first (its idle clock drains midiPort_ and reads the
     // engines below).
     live::BlockInstrument instrument_;

@@ -5,9 +5,9 @@
 //
 // Threads: the message thread and the host's state calls (getStateInformation /
 // setStateInformation, which hosts make from a non-audio thread). Never the audio thread.
-#include "Live/MappingSession.h"
-#include "Live/MessagesRig.h"
-#include "Live/TactorRig.h"
+#include "Live/Outputs/MappingSession.h"
+#include "Live/Outputs/MessagesRig.h"
+#include "Live/Outputs/TactorRig.h"
 #include <juce_audio_processors/juce_audio_processors.h>
 
 namespace armadillo::plugin {
@@ -108,8 +108,8 @@ juce::String writeSetupFile(const juce::MemoryBlock& state, const juce::File& fi
 /// (restore() then still validates every value).
 juce::String readSetupFile(const juce::File& file, juce::MemoryBlock& state);
 
-/// The tactor and MQTT settings as the instrument's parts take them (Live/TactorRig.h,
-/// Live/MessagesRig.h).
+/// The tactor and MQTT settings as the instrument's parts take them (Live/Outputs/TactorRig.h,
+/// Live/Outputs/MessagesRig.h).
 live::TactorSettings tactorSettings(const juce::ValueTree& settings);
 live::MessagesSettings messagesSettings(const juce::ValueTree& settings);
 

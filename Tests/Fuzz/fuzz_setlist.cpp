@@ -1,7 +1,7 @@
-// Set lists (Live/SetList.h parseSetList) and the cue changes a performance log gives
+// Set lists (Live/Stage/SetList.h parseSetList) and the cue changes a performance log gives
 // (parseCueChange, `render --cues`). Input: the set list; its last line is also read as a cue change.
 #include "FuzzTarget.h"
-#include "Live/SetList.h"
+#include "Live/Stage/SetList.h"
 
 ARMADILLO_FUZZ_TARGET(setlist)
 {

@@ -1,11 +1,11 @@
 // Live samples carry their arrival on the monotonic clock (LiveInput stamps it), and a control
 // step can fuse only the samples that arrived by a cutoff (issue 36: the plugin places each
-// step at its sample's arrival in the host's block, Live/BlockControl). Real-time like the
+// step at its sample's arrival in the host's block, Live/Session/BlockControl). Real-time like the
 // rest of the step (RealtimeLoopTests.cpp is this executable's guard TU).
 #include "Common/RealtimeGuard.h"
 #include "Core/Clock.h"
 #include "Fusion/ArmTracker.h"
-#include "Live/ControlLoop.h"
+#include "Live/Step/ControlLoop.h"
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>

@@ -4,9 +4,9 @@
 // taken, as when audio resumes after a pause or a slow host calls late) is rendered silent and
 // takes no step, but the grid keeps counting its samples: the blocks after it stay on the grid.
 #include "Engine/Engine.h"
-#include "Live/BlockControl.h"
-#include "Live/ControlLoop.h"
-#include "Live/ControlToken.h"
+#include "Live/Session/BlockControl.h"
+#include "Live/Step/ControlLoop.h"
+#include "Live/Step/ControlToken.h"
 #include "Link/LevelSchedule.h"
 #include "Mapping/Mapper.h"
 #include "Mapping/MappingSpec.h"

@@ -1,9 +1,9 @@
-// The instrument on the block clock, assembled once (Live/BlockInstrument.h, issue 45): built with
+// The instrument on the block clock, assembled once (Live/Session/BlockInstrument.h, issue 45): built with
 // nothing but the host's cells and an engine, it runs the control step on its own idle clock with
 // the simulated arm as source, steers to a pose, applies a panic through its stage, and stops —
 // the clock and every part — once, however often it is asked.
 #include "Engine/Engine.h"
-#include "Live/BlockInstrument.h"
+#include "Live/Session/BlockInstrument.h"
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <cmath>

@@ -1,7 +1,7 @@
 #pragma once
 // An engine slot for live::ControlLoop tests: one scene at 48 kHz with the 200 Hz control rate,
 // optionally built for two arms. Shared by the loop tests of both live executables.
-#include "Live/ControlLoop.h"
+#include "Live/Step/ControlLoop.h"
 #include <memory>
 #include <string>
 

@@ -4,8 +4,8 @@
 // Before 0.5.0 the engine ran the gesture itself, so a set list in `play` never heard it (its
 // cues' engines were not told) and the app ran a copy of its own.
 #include "Core/Pose.h"
-#include "Live/ControlLoop.h"
-#include "Live/SetList.h"
+#include "Live/Step/ControlLoop.h"
+#include "Live/Stage/SetList.h"
 #include "LoopSlots.h"
 #include <catch2/catch.hpp>
 #include <memory>

@@ -1,6 +1,6 @@
 // One owner per serial port (PortRegistry): a second claim, from this process or another, is
 // refused with a message saying who owns it, and the port is free again once the owner lets go.
-#include "Live/PortRegistry.h"
+#include "Live/Sources/PortRegistry.h"
 #include <catch2/catch.hpp>
 #include <cstdlib>
 #include <string>

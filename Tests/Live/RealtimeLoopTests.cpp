@@ -10,8 +10,8 @@
 #include "Braille/BrailleScene.h"
 #include "Core/Pose.h"
 #include "Core/Wav.h"
-#include "Live/ControlLoop.h"
-#include "Live/LiveSession.h"
+#include "Live/Step/ControlLoop.h"
+#include "Live/Session/LiveSession.h"
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <cmath>

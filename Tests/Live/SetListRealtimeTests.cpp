@@ -3,7 +3,7 @@
 // and proves first that the guard sees what it counts).
 #include "Common/RealtimeGuard.h"
 #include "Core/Pose.h"
-#include "Live/SetList.h"
+#include "Live/Stage/SetList.h"
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <vector>

@@ -4,7 +4,7 @@
 #include "Core/Csv.h"
 #include "Core/Errors.h"
 #include "Core/Pose.h"
-#include "Live/SetList.h"
+#include "Live/Stage/SetList.h"
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>

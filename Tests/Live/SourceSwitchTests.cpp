@@ -4,8 +4,8 @@
 // that source from the start (a DAW session reopened with host automation). Before 0.5.0 the old
 // source's heading survived the switch.
 #include "Core/Pose.h"
-#include "Live/ControlLoop.h"
-#include "Live/SetList.h"
+#include "Live/Step/ControlLoop.h"
+#include "Live/Stage/SetList.h"
 #include "LoopSlots.h"
 #include <catch2/catch.hpp>
 #include <cmath>

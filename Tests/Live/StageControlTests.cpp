@@ -2,7 +2,7 @@
 // port over loopback UDP.
 #include "Common/Eventually.h"
 #include "Osc/Osc.h"
-#include "Live/StageControl.h"
+#include "Live/Stage/StageControl.h"
 #include <catch2/catch.hpp>
 #include <arpa/inet.h>
 #include <atomic>

@@ -1,6 +1,6 @@
-// The app's status line (Live/StatusLine.h) reports only what the counters show: a source that
+// The app's status line (Live/Session/StatusLine.h) reports only what the counters show: a source that
 // stops sending is "silent" within a second, a steady one its rate; audio and motors likewise.
-#include "Live/StatusLine.h"
+#include "Live/Session/StatusLine.h"
 #include <catch2/catch.hpp>
 
 using armadillo::live::SourceKind;

@@ -4,8 +4,8 @@
 // resume, as a command's is.
 #include "Core/Pose.h"
 #include "Core/StageCommand.h"
-#include "Live/SetList.h"
-#include "Live/StepRunner.h"
+#include "Live/Stage/SetList.h"
+#include "Live/Step/StepRunner.h"
 #include "LoopSlots.h"
 #include <catch2/catch.hpp>
 #include <memory>

@@ -6,7 +6,7 @@
 #include "Core/Pose.h"
 #include "Link/Calibration.h"
 #include "Link/DeviceLink.h"
-#include "Live/LiveSession.h"
+#include "Live/Session/LiveSession.h"
 #include "Link/Simulator.h"
 #include "Fusion/ArmTracker.h"
 #include "Fusion/Quaternion.h"

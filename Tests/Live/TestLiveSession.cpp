@@ -3,7 +3,7 @@
 #include "Core/Csv.h"
 #include "Core/Errors.h"
 #include "Core/Wav.h"
-#include "Live/LiveSession.h"
+#include "Live/Session/LiveSession.h"
 #include "Osc/OscIo.h"
 #include "Link/Simulator.h"
 #include "Common/Eventually.h"

@@ -5,8 +5,8 @@
 #include "Common/RealtimeGuard.h"
 #include "Core/Pose.h"
 #include "Fusion/ArmTracker.h"
-#include "Live/ControlLoop.h"
-#include "Live/SetList.h"
+#include "Live/Step/ControlLoop.h"
+#include "Live/Stage/SetList.h"
 #include "LoopSlots.h"
 #include <algorithm>
 #include <catch2/catch.hpp>

@@ -15,7 +15,9 @@
 #include "RowsDecoder.h"
 #include <arpa/inet.h>
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <csignal>
 #include <fcntl.h>
 #include <cstdio>
@@ -385,6 +387,9 @@ TEST_CASE("navigate: bad usage is exit 2, a bad route 3 with file and line, a mi
     CHECK(run("navigate " + route + "--simulate-walk --simulate --arrival-radius 0", err) == 2);
     CHECK(run("navigate " + route + "--simulate-walk --simulate --names braille", err) == 2);
     CHECK(run("navigate " + route + "--simulate-walk --simulate --speak", err) == 2);
+    CHECK(run("navigate " + route + "--simulate-walk --simulate --session-log '" + path("s.csv") + "'", err) == 2);   // offline: no packets
+    CHECK(run("navigate " + route + "--simulate-walk --simulate --osc-out 127.0.0.1:9", err) == 2);
+    CHECK(run("navigate " + route + "--gpsd localhost --simulate --osc-out nowhere", err) == 2);
     CHECK(run("navigate " + route + "--gpsd localhost:http --simulate", err) == 3);
     CHECK(run("navigate --simulate-walk --simulate", err) == 2);                           // no route
     writeFileAtomically(path("bad.gpx"), "<gpx version=\"1.1\">\n<rte>\n<rtept lat=\"48\" lon=\"east\"/>\n</rte></gpx>\n");
@@ -463,4 +468,65 @@ TEST_CASE("gpsd: one JSON report read as the source reads it (readGpsdJson)", "[
     CHECK(fix.pos.lon == Approx(151.2));
     CHECK(std::isnan(fix.accuracyM));
     CHECK(std::isnan(fix.speedMps));
+}
+
+TEST_CASE("navigate is play's instrument: a live walk writes play's session log and sends play's OSC stream", "[cli][osc]")
+{
+    (void) testRoute();
+    const int port = test::freeUdpPort();
+    REQUIRE(port > 0);
+    // The receiver of --osc-out: counts what arrives, by address.
+    const int rx = ::socket(AF_INET, SOCK_DGRAM, 0);
+    REQUIRE(rx >= 0);
+    sockaddr_in at {};
+    at.sin_family = AF_INET;
+    at.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    REQUIRE(::bind(rx, reinterpret_cast<sockaddr*>(&at), sizeof at) == 0);
+    socklen_t len = sizeof at;
+    REQUIRE(::getsockname(rx, reinterpret_cast<sockaddr*>(&at), &len) == 0);
+    const int outPort = ntohs(at.sin_port);
+    timeval tv {0, 200000};
+    ::setsockopt(rx, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+    std::atomic<bool> stop {false};
+    std::atomic<int> orientations {0}, motors {0};
+    std::thread receiver([&] {
+        char buf[2048];
+        while (!stop.load()) {
+            const auto n = ::recv(rx, buf, sizeof buf, 0);
+            if (n <= 0) continue;
+            const std::string address(buf, ::strnlen(buf, static_cast<std::size_t>(n)));
+            if (address == "/armadillo/orientation") ++orientations;
+            if (address == "/armadillo/motors") ++motors;
+        }
+    });
+    std::thread sender([&] {   // positions over OSC, the arm is the simulated forearm
+        const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+        sockaddr_in to {};
+        to.sin_family = AF_INET;
+        to.sin_port = htons(static_cast<std::uint16_t>(port));
+        to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        const auto fix = osc::encodeOscMessage("/armadillo/position", {osc::OscArg::float32(48.1494f), osc::OscArg::float32(11.5678f)});
+        for (int i = 0; !stop.load() && i < 400; ++i) {
+            ::sendto(fd, fix.data(), fix.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to);
+            ::usleep(20000);
+        }
+        ::close(fd);
+    });
+    std::string err;
+    const int code = run("navigate --route '" + path("route.gpx") + "' --osc-in " + std::to_string(port) + " --simulate --seconds 3 --session-log '" +
+                             path("session.csv") + "' --osc-out 127.0.0.1:" + std::to_string(outPort),
+                         err);
+    stop = true;
+    sender.join();
+    receiver.join();
+    ::close(rx);
+    INFO(err);
+    REQUIRE(code == 0);
+    const auto log = readCsv(path("session.csv"));
+    REQUIRE(log.size() > 100);   // ~3 s of the simulated forearm's packets
+    CHECK(log[0][0] == "t");
+    CHECK(std::find(log[0].begin(), log[0].end(), "qw") != log[0].end());
+    CHECK(std::find(log[0].begin(), log[0].end(), "reconnects") != log[0].end());
+    CHECK(orientations.load() > 100);
+    CHECK(motors.load() > 100);
 }

@@ -116,7 +116,7 @@ TEST_CASE("a magnetic disturbance the fusion reports does not teach the strap of
         double worst = 0.0;
         WalkOptions o;
         o.maxSeconds = 100.0;
-        o.observe = [&](double t, const SimulatedWalker&, const MotorLevels&, const NavigationStatus& st) {
+        o.observe = [&](double t, const WalkerView&, const MotorLevels&, const NavigationStatus& st) {
             if (t > 45.0) worst = std::max(worst, std::fabs(wrap180(st.offsetDeg - w.strapOffsetDeg)));
         };
         const WalkResult r = simulateWalk(compassTargets(), {}, w, o);
@@ -138,7 +138,7 @@ TEST_CASE("the whole walk's motor levels keep the safety bounds (docs/TACTILE.md
     const double dt = 0.01;
     std::vector<std::array<std::uint8_t, kGridMotors>> frames;
     WalkOptions o;
-    o.observe = [&](double, const SimulatedWalker&, const MotorLevels& levels, const NavigationStatus&) {
+    o.observe = [&](double, const WalkerView&, const MotorLevels& levels, const NavigationStatus&) {
         std::array<std::uint8_t, kGridMotors> f {};
         for (int m = 0; m < kGridMotors; ++m) f[static_cast<std::size_t>(m)] = levels[static_cast<std::size_t>(m)];
         frames.push_back(f);

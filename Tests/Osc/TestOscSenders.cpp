@@ -14,7 +14,7 @@
 #include "Link/Mount.h"
 #include "Osc/Osc.h"
 #include "Osc/OscDialects.h"
-#include "Live/OscLink.h"
+#include "Live/Sources/OscLink.h"
 #include <arpa/inet.h>
 #include <catch2/catch.hpp>
 #include <algorithm>

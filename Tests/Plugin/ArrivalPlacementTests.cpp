@@ -8,7 +8,7 @@
 #include "Core/Clock.h"
 #include "Core/Pose.h"
 #include "Engine/Engine.h"
-#include "Live/BlockControl.h"
+#include "Live/Session/BlockControl.h"
 #include "Plugin/HostBlock.h"
 #include <catch2/catch.hpp>
 #include <algorithm>

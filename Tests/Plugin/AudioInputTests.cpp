@@ -5,7 +5,7 @@
 // not mute its track); extra input channels are cleared; nothing allocates or locks.
 #include "Common/RealtimeGuard.h"
 #include "Engine/Engine.h"
-#include "Live/BlockControl.h"
+#include "Live/Session/BlockControl.h"
 #include "Plugin/HostBlock.h"
 #include <catch2/catch.hpp>
 #include <cmath>

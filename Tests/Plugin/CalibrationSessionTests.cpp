@@ -7,7 +7,7 @@
 #include "Common/SimulatedBoards.h"
 #include "Link/Simulator.h"
 #include "Procedures/DeviceCalibration.h"
-#include "Live/DeviceConnection.h"
+#include "Live/Sources/DeviceConnection.h"
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <chrono>

@@ -5,7 +5,7 @@
 // other scenes play the same with and without the notes; nothing allocates, locks or throws.
 #include "Common/RealtimeGuard.h"
 #include "Engine/Engine.h"
-#include "Live/BlockControl.h"
+#include "Live/Session/BlockControl.h"
 #include "Plugin/HostBlock.h"
 #include <catch2/catch.hpp>
 #include <cmath>

@@ -10,9 +10,9 @@
 #include "../Tactile/Bounds.h"
 #include "Core/Clock.h"
 #include "Engine/Engine.h"
-#include "Live/BlockControl.h"
+#include "Live/Session/BlockControl.h"
 #include "Plugin/HostBlock.h"
-#include "Live/DeviceConnection.h"
+#include "Live/Sources/DeviceConnection.h"
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <cstdio>

@@ -4,7 +4,7 @@
 // the detection that turns self-voicing on by default, and the touch profile kept in the state.
 #include "Access/Feedback.h"
 #include "Engine/Engine.h"
-#include "Live/BlockControl.h"
+#include "Live/Session/BlockControl.h"
 #include "Plugin/HostBlock.h"
 #include "Access/ReaderProfile.h"
 #include "Procedures/AdaptiveTraining.h"

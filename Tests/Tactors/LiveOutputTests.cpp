@@ -1,4 +1,4 @@
-// The live tactor output (Live/TactorOutput) and `armadillo play --tactors` / `tactors test` as a
+// The live tactor output (Live/Outputs/TactorOutput) and `armadillo play --tactors` / `tactors test` as a
 // user runs them, against a JACK server of the test's own (dummy backend) and ALSA's null PCM.
 #define ARMADILLO_REALTIME_GUARD_IMPLEMENTATION
 #include "Common/RealtimeGuard.h"
@@ -10,7 +10,7 @@
 #include "Core/Errors.h"
 #include "Core/Wav.h"
 #include "Formats/ScoreImport.h"
-#include "Live/TactorOutput.h"
+#include "Live/Outputs/TactorOutput.h"
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <array>

@@ -1,0 +1,127 @@
+#include "Live/Outputs/MappingRig.h"
+#include "Live/Step/SceneParameters.h"
+#include "Core/Errors.h"
+#include <algorithm>
+#include <array>
+#include <stdexcept>
+
+namespace armadillo::live {
+
+MappingRig::MappingRig(const mapping::MappingDocument& doc, engine::Engine& engine, const MappingRigOptions& options)
+    : out_(std::make_unique<mapping::MappingOutput>())
+{
+    const std::vector<core::ParamSpec> specs = engine.scene().parameters();
+    mapping::BuildOptions build;
+    build.sourceName = options.sourceName;
+    for (const core::ParamSpec& p : specs) build.sceneParamIds.push_back(p.id);
+    if (build.sceneParamIds.empty()) build.sceneParamIds.push_back("(none)");   // a scene without parameters refuses every "param"
+    std::unique_ptr<mapping::MappingSet> set = mapping::MappingSet::build(doc, build);
+
+    for (const std::string& id : set->sceneParamIds()) {
+        Param p;
+        for (std::size_t i = 0; i < specs.size(); ++i) {
+            if (specs[i].id != id) continue;
+            p.sceneIndex = static_cast<int>(i);
+            p.spec = specs[i];
+        }
+        params_.push_back(p);
+    }
+
+    osc::HostPort fallback {"127.0.0.1", 9000};
+    if (!options.oscDefault.empty()) {
+        try {
+            fallback = osc::parseHostPort(options.oscDefault);
+        } catch (const std::invalid_argument& e) {
+            throw core::InputError("", 0, "--osc-out", e.what());
+        }
+    }
+    for (const mapping::OscTarget& t : set->oscTargets()) {
+        if (!options.sendOsc) {
+            senders_.push_back(nullptr);
+            continue;
+        }
+        osc::HostPort hp {t.host.empty() ? fallback.host : t.host, t.port > 0 ? t.port : fallback.port};
+        senders_.push_back(std::make_unique<osc::OscSender>(hp));   // IoError for a host that does not resolve
+    }
+    mapper_.replace(std::move(set));
+    mapper_.setForwardAzimuth(options.forwardDeg);
+}
+
+MappingRig::~MappingRig() = default;
+
+std::uint64_t MappingRig::oscSent() const noexcept
+{
+    std::uint64_t n = 0;
+    for (const auto& s : senders_)
+        if (s) n += s->sent();
+    return n;
+}
+
+void MappingRig::deliver(engine::Engine* engine) noexcept
+{
+    mapping::MappingOutput& o = *out_;
+    for (int i = 0; i < o.midiCount; ++i) {
+        ++midi_;
+        if (sink_) sink_(sinkContext_, o.midi[static_cast<std::size_t>(i)]);
+    }
+    for (int i = 0; i < o.oscCount; ++i) {
+        const mapping::OscPacket& p = o.osc[static_cast<std::size_t>(i)];
+        ++osc_;
+        const auto target = static_cast<std::size_t>(p.target);
+        if (target < senders_.size() && senders_[target]) senders_[target]->sendPacket(p.bytes.data(), p.size);
+    }
+    for (int i = 0; i < o.mqttCount; ++i) {
+        ++mqtt_;
+        if (mqttSink_ && !mqttSink_(mqttContext_, o.mqtt[static_cast<std::size_t>(i)])) ++dropped_;   // the client's queue was full
+    }
+    for (int i = 0; i < o.stageCount; ++i) {
+        ++stage_;
+        if (stageSink_) stageSink_(stageContext_, o.stage[static_cast<std::size_t>(i)]);
+    }
+    if (engine) {
+        for (int i = 0; i < o.paramCount; ++i) {
+            const mapping::SceneParamChange& c = o.params[static_cast<std::size_t>(i)];
+            if (c.index < 0 || static_cast<std::size_t>(c.index) >= params_.size()) continue;
+            const Param& p = params_[static_cast<std::size_t>(c.index)];
+            if (p.sceneIndex < 0) continue;
+            engine->scene().setParameter(p.sceneIndex, sceneParamValue(p.spec, c));
+        }
+    }
+    dropped_ += o.dropped;
+    o.clear();
+}
+
+void MappingRig::step(double t, const core::ArmState& arm, const core::ArmState* leftArm, const engine::GestureEvent* gestures, std::size_t count, engine::Engine& engine,
+                      bool stageOnly) noexcept
+{
+    std::array<mapping::GestureIn, 64> g {};
+    const std::size_t n = std::min(count, g.size());
+    for (std::size_t i = 0; i < n; ++i) g[i] = {gestures[i].name, gestures[i].value};
+    mapping::MappingInput in;
+    in.t = t;
+    in.arm[0] = &arm;
+    in.arm[1] = leftArm;
+    in.scene = engine.sceneValues();
+    in.gestures = g.data();
+    in.gestureCount = static_cast<int>(n);
+    in.stageOnly = stageOnly;
+    mapper_.process(in, *out_);
+    deliver(&engine);
+}
+
+void MappingRig::finish(double t) noexcept
+{
+    mapper_.flush(t + 3600.0, *out_);   // gesture notes end at their own due time
+    mapper_.allNotesOff(t, *out_);      // held notes (zones, postures, thresholds) at the end
+    deliver(nullptr);
+}
+
+void MappingRig::panic(double t) noexcept
+{
+    const std::uint64_t before = midi_;
+    mapper_.panic(t, *out_);
+    deliver(nullptr);
+    panicMidi_ += midi_ - before;
+}
+
+} // namespace armadillo::live

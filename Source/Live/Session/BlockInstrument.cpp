@@ -1,0 +1,90 @@
+#include "Live/Session/BlockInstrument.h"
+
+namespace armadillo::live {
+
+tactile::TactileConfig BlockInstrument::feedbackConfig()
+{
+    tactile::TactileConfig c;
+    c.motorCount = core::kGridMotors + core::kBackMotors;
+    return c;
+}
+
+BlockInstrument::BlockInstrument(const Host& host)
+    : feedbackPlayer_(feedbackConfig(), 0.0),
+      adaptive_(feedbackPlayer_),
+      control_(loop_, token_, host.cells, motors_),
+      rig_(loop_, control_, motors_),
+      tactorRig_(control_, token_),
+      mapping_(control_, *host.sceneTable, host.midiChannel,
+               [this](const std::vector<osc::HostPort>& targets) { return rig_.configureMappingOsc(targets); }),
+      stageSession_(stage_)
+{
+    // Wired before anything runs the step: the scenes' parameters for the mapping, the stage, the
+    // left arm (fused and heard while its sender is on).
+    control_.setSceneTable(host.sceneTable);
+    control_.setStage(&stage_);
+    control_.setLeftArm(&rig_.leftArm());
+}
+
+BlockInstrument::~BlockInstrument()
+{
+    stop();
+}
+
+void BlockInstrument::start()
+{
+    if (stopped_) return;
+    rig_.start();
+}
+
+void BlockInstrument::stop()
+{
+    if (std::exchange(stopped_, true)) return;
+    control_.setStimulus(nullptr);
+    (void) stageSession_.setOsc(false, 0);   // its OSC thread calls into the stage
+    tactorRig_.closeOutput();                // its audio thread reads the step's levels
+    rig_.stop();                             // the idle clock, then the device link (all-off)
+    navigation_.stop();                      // the position source
+    stopMessages();                          // after the clock: the mapping published through it
+}
+
+std::string BlockInstrument::startMessages(const MessagesSettings& settings)
+{
+    control_.setMqtt(nullptr);
+    auto why = messages_.start(settings);
+    control_.setMqtt(messages_.service());
+    return why;
+}
+
+void BlockInstrument::stopMessages()
+{
+    control_.setMqtt(nullptr);
+    messages_.stop();
+}
+
+bool BlockInstrument::proceduresIdle() const noexcept
+{
+    return touchTest_.state() == procedures::TouchTest::State::Idle && adaptive_.state() == procedures::AdaptiveTraining::State::Idle;
+}
+
+std::uint64_t BlockInstrument::sourceSamples(SourceKind kind) const
+{
+    switch (kind) {
+    case SourceKind::Simulator: return rig_.simulatorSteps();
+    case SourceKind::Device: return rig_.devicePackets();
+    case SourceKind::Osc: {
+        const auto in = rig_.oscInputStats();
+        return in.imu + in.orientation;
+    }
+    case SourceKind::HostAutomation: return 0;
+    }
+    return 0;
+}
+
+std::uint64_t BlockInstrument::leftArmSamples() const
+{
+    const auto in = rig_.leftOscInputStats();
+    return in.imu + in.orientation;
+}
+
+} // namespace armadillo::live

@@ -1,0 +1,138 @@
+#pragma once
+// The live instrument on the block clock, assembled once (issue 45): every part the app and the
+// plugin run below JUCE, built in one order and torn down in the reverse, so a front end holds
+// this one object and its clock instead of its parts. Pure Data's [armadillo~] and the plugin
+// drive it from their audio blocks (BlockControl::processBlock through control()); while no audio
+// comes, its own idle clock (BlockRig) runs the step.
+//
+// What it owns, in the order it is built (each part states its thread rules in its own file):
+//  - MessagesRig    messages on the arm (MQTT): first, so it goes last — a braille scene may still
+//                   hold a message its presenter handed over until the engines are gone;
+//  - ControlLoop    the control step's engine, mailboxes and fusion (ControlLoop.h);
+//  - ControlToken   who runs the step now: an audio block or the idle clock;
+//  - LevelSchedule  the motor levels stamped for the device link;
+//  - the stimuli    the sensitivity test, the feedback player and the adaptive training, which
+//                   the control step may point at (before BlockControl: they outlive its pointer);
+//  - Stage          set list, panic and resume, every stage command (before BlockControl, which
+//                   keeps a pointer);
+//  - BlockControl   the step on the block clock, the published frame, the mapping's outputs;
+//  - BlockRig       the sources (device, simulated arm, OSC, left arm) and the idle clock;
+//  - TactorRig      the Tactors bus and the app's tactor output;
+//  - NavigationRig  a walk's route and position source (its link rides in the engine request);
+//  - MappingSession the mapping set on the message thread;
+//  - StageSession   last, so it goes first: its OSC thread calls into the stage.
+//
+// Not here: what is the host's (JUCE's parameters, the engine request built from them, the
+// editor, the self-voicing). The engines are built by the front end and handed to loop().
+//
+// Threads: construction, start(), stop() and the accessors' message-thread methods on the message
+// thread; control() is driven by the audio thread (processBlock) as BlockControl.h says.
+#include "Access/TactilePlayer.h"
+#include "Live/Session/BlockControl.h"
+#include "Live/Session/BlockRig.h"
+#include "Live/Step/ControlLoop.h"
+#include "Live/Step/ControlToken.h"
+#include "Live/Outputs/MappingSession.h"
+#include "Live/Outputs/MessagesRig.h"
+#include "Live/Step/SceneParameters.h"
+#include "Live/Stage/Stage.h"
+#include "Live/Stage/StageSession.h"
+#include "Live/Outputs/TactorRig.h"
+#include "Link/LevelSchedule.h"
+#include "Navigation/NavigationRig.h"
+#include "Procedures/AdaptiveTraining.h"
+#include "Procedures/TouchTest.h"
+#include <atomic>
+#include <functional>
+#include <string>
+
+namespace armadillo::live {
+
+class BlockInstrument {
+public:
+    /// What the host gives the instrument: the parameter cells the step reads (host automation and
+    /// the source choice), the scenes' parameter table (the mapping's scene destinations; it must
+    /// outlive the instrument) and the MIDI channel the classic mapping plays on.
+    struct Host {
+        BlockControl::Cells cells {};
+        const SceneParameterTable* sceneTable = nullptr;
+        std::function<int()> midiChannel;
+    };
+    explicit BlockInstrument(const Host& host);
+    /// stop(), then every part in the reverse of its building.
+    ~BlockInstrument();
+    BlockInstrument(const BlockInstrument&) = delete;
+    BlockInstrument& operator=(const BlockInstrument&) = delete;
+
+    /// Starts the idle clock (after the owner has installed an engine and its settings).
+    void start();
+    /// Motors off and every thread the instrument runs stopped, in order: the stage's OSC port,
+    /// the tactor output, the idle clock and the device link (its last packet all-off), the
+    /// position source, the messages. Idempotent; the destructor calls it.
+    void stop();
+
+    /// The block clock (audio thread) and its outputs (any thread), BlockControl.h.
+    BlockControl& control() noexcept { return control_; }
+    const BlockControl& control() const noexcept { return control_; }
+    /// Where the step's audio sits in the host's buffer (set with the audio stopped, in prepare;
+    /// read by the audio thread at each block).
+    void setListen(const BlockControl::Listen& listen) noexcept { listen_ = listen; }
+    const BlockControl::Listen& listen() const noexcept { return listen_; }
+
+    ControlLoop& loop() noexcept { return loop_; }
+    ControlToken& token() noexcept { return token_; }
+    BlockRig& rig() noexcept { return rig_; }
+    const BlockRig& rig() const noexcept { return rig_; }
+    Stage& stage() noexcept { return stage_; }
+    const Stage& stage() const noexcept { return stage_; }
+    StageSession& stageSession() noexcept { return stageSession_; }
+    const StageSession& stageSession() const noexcept { return stageSession_; }
+    TactorRig& tactorRig() noexcept { return tactorRig_; }
+    navigation::NavigationRig& navigation() noexcept { return navigation_; }
+    const navigation::NavigationRig& navigation() const noexcept { return navigation_; }
+    MappingSession& mapping() noexcept { return mapping_; }
+    MessagesRig& messages() noexcept { return messages_; }
+    const MessagesRig& messages() const noexcept { return messages_; }
+
+    /// Messages on the arm (message thread): started with these settings ("" or why not) or
+    /// stopped; the mapping's `mqtt` destinations publish through the running service.
+    std::string startMessages(const MessagesSettings& settings);
+    void stopMessages();
+
+    /// The stimuli that may take the motors from the scene (message thread): the sensitivity
+    /// test, and the player of braille feedback, tactor tests and the adaptive training.
+    procedures::TouchTest& touchTest() noexcept { return touchTest_; }
+    access::TactilePlayer& feedbackPlayer() noexcept { return feedbackPlayer_; }
+    const access::TactilePlayer& feedbackPlayer() const noexcept { return feedbackPlayer_; }
+    procedures::AdaptiveTraining& adaptive() noexcept { return adaptive_; }
+    /// True while neither the sensitivity test nor the adaptive training runs.
+    bool proceduresIdle() const noexcept;
+
+    /// Samples the given source has delivered so far: the simulator's steps, the device link's
+    /// good packets, OSC orientation/IMU messages (0 for host automation). Any thread.
+    std::uint64_t sourceSamples(SourceKind kind) const;
+    /// The left arm's OSC sender's orientation/IMU messages so far.
+    std::uint64_t leftArmSamples() const;
+
+private:
+    static tactile::TactileConfig feedbackConfig();
+
+    MessagesRig messages_;
+    ControlLoop loop_;
+    ControlToken token_;
+    link::LevelSchedule motors_;
+    procedures::TouchTest touchTest_;
+    access::TactilePlayer feedbackPlayer_;   // all 12 motors: the tactor tests reach the back motors
+    procedures::AdaptiveTraining adaptive_;  // plays through feedbackPlayer_
+    Stage stage_;
+    BlockControl control_;
+    BlockControl::Listen listen_ {};
+    BlockRig rig_;
+    TactorRig tactorRig_;
+    navigation::NavigationRig navigation_;
+    MappingSession mapping_;
+    StageSession stageSession_;
+    bool stopped_ = false;
+};
+
+} // namespace armadillo::live

@@ -1,0 +1,66 @@
+#include "Live/Sources/GuidedDevice.h"
+#include "Core/Clock.h"
+#include "Core/Errors.h"
+#include "Link/DeviceLink.h"
+#include "Link/Simulator.h"
+#include "Live/Sources/ForearmPort.h"
+#include <chrono>
+#include <thread>
+
+namespace armadillo::live {
+
+GuidedDevice::GuidedDevice(const std::string& port, int baud, bool simulate, bool unpaced, TactilePlayer& player, SensorHook onSensor,
+                           std::shared_ptr<const link::MotionSource> motion)
+    : player_(player), onSensor_(std::move(onSensor))
+{
+    ForearmPortRequest request;
+    request.simulate = simulate;
+    request.port = port;
+    request.baud = baud;
+    request.openNow = true;   // a missing port is an error now (exit 4), not a silent retry
+    request.motion = std::move(motion);
+    request.simulatorBaud = unpaced ? 0.0 : 57600.0;
+    ForearmPort opened = openForearmPort(request);
+    simulator_ = std::move(opened.simulator);
+    link_ = std::make_unique<link::DeviceLink>(std::move(opened.port), [this](const link::SensorCounts& counts, double t) {
+        const core::MotorLevels out = player_.onPacket(t);
+        if (onSensor_) onSensor_(counts, player_.clock());
+        return out;
+    });
+    link_->start();
+}
+
+GuidedDevice::~GuidedDevice()
+{
+    link_->stop();
+    if (simulator_) simulator_->stop();
+}
+
+void GuidedDevice::checkAlive()
+{
+    const double now = core::monotonicSeconds();
+    if (interrupted_ && interrupted_()) throw core::IoError("interrupted");
+    if (lastPacketAt_ < 0.0 || player_.packets() != lastPackets_) {
+        lastPackets_ = player_.packets();
+        lastPacketAt_ = now;
+    } else if (now - lastPacketAt_ > 5.0) {
+        const std::string why = link_->lastError();
+        throw core::IoError("no data from the device for 5 s" + (why.empty() ? std::string() : ": " + why));
+    }
+}
+
+void GuidedDevice::waitUntil(const std::function<bool()>& done)
+{
+    lastPacketAt_ = -1.0;   // the 5 s count from the start of this wait
+    while (!done()) {
+        checkAlive();
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+}
+
+void GuidedDevice::waitFor(int n)
+{
+    waitUntil([&] { return player_.completed() >= n; });
+}
+
+} // namespace armadillo::live

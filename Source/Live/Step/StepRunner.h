@@ -1,0 +1,57 @@
+#pragma once
+// The one place the live control step runs (issue 45): the stage's commands applied (a set list's
+// cue requests, panic, resume) and then live::ControlLoop::tick — engine hand-over, source
+// choice, bounded fusion of both arms, the scene's parameters, Engine::control or a set list's
+// cues, the panic gesture. Every clock drives it: `play`, `read` and `navigate` once per sensor
+// packet (LiveSession), the app and the plugin at their audio blocks' 200 Hz grid or the idle
+// clock (BlockControl). What a clock does with a step's levels, frame, gestures and mapping is
+// its own; the step itself, and how panic and resume reach the engine and the cues, is here once.
+//
+// Threads: one control thread at a time (the source's thread, or the control-token holder):
+// beginStage() and step() are real-time (no allocation, lock, I/O or throw). The stage's commands
+// come from any thread through live::Stage (atomics).
+#include "Live/Step/ControlLoop.h"
+#include "Live/Stage/Stage.h"
+
+namespace armadillo::live {
+
+class StepRunner {
+public:
+    /// `stage` may be null (no stage commands: a bare loop in a test).
+    StepRunner(ControlLoop& loop, Stage* stage) noexcept : loop_(loop), stage_(stage) {}
+    /// Before the control side runs: the stage (a front end that gets it later).
+    void setStage(Stage* stage) noexcept { stage_ = stage; }
+    /// Control side, with nothing running: the set list's player is taken again at the next
+    /// beginStage() (the stage may have replaced it while the audio was stopped).
+    void forgetCues() noexcept { cues_ = nullptr; }
+    StepRunner(const StepRunner&) = delete;
+    StepRunner& operator=(const StepRunner&) = delete;
+
+    /// What beginStage() changed.
+    enum class StageChange { None, PanicStarted, Resumed };
+    /// The start of a block or step: the stage's offered set list taken and its cue requests
+    /// applied; while in panic the engine and the cues are panicked (idempotent: it reaches an
+    /// engine or a cue that took over since); the moment panic starts or ends is returned, so
+    /// the caller silences or restarts what it sends beside the engine (the mapping's notes).
+    StageChange beginStage() noexcept;
+
+    /// One control step. `step.cues` and `step.panic` are the stage's (set here); the panic
+    /// gesture is on when the step or the stage asks for it. A gesture panic panics the stage
+    /// too, so it holds until resume as a command's does.
+    ControlResult step(ControlStep step) noexcept;
+
+    /// The set list's player this step (null: none), as the last beginStage() took it.
+    CuePlayer* cues() const noexcept { return cues_; }
+    /// The stage's panic as last applied.
+    bool panicked() const noexcept { return panicApplied_; }
+    /// The engine that sounds: the current cue's with a set list, else the loop's (null: none).
+    engine::Engine* running() noexcept;
+
+private:
+    ControlLoop& loop_;
+    Stage* stage_ = nullptr;
+    CuePlayer* cues_ = nullptr;
+    bool panicApplied_ = false;
+};
+
+} // namespace armadillo::live
