@@ -131,6 +131,23 @@ def pitch_hz(x, sr, lo=40.0, hi=2500.0):
     return sr / (k + d)
 
 
+def qmul(a, b):
+    w1, x1, y1, z1 = a
+    w2, x2, y2, z2 = b
+    return (w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2, w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
+            w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2, w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2)
+
+
+def pose_quaternion(el, az, roll):
+    """docs/INTERFACES.md "Frames and poses": q = qY(90 - azimuth) qz(elevation) qx(roll)."""
+    def axis(a, deg):
+        h = math.radians(deg) / 2
+        v = [0.0, 0.0, 0.0]
+        v[a] = math.sin(h)
+        return (math.cos(h), v[0], v[1], v[2])
+    return qmul(qmul(axis(1, 90.0 - az), axis(2, el)), axis(0, roll))
+
+
 def angle_deg(a, b):
     """The smallest difference of two angles in degrees."""
     return abs((a - b + 180.0) % 360.0 - 180.0)
@@ -155,12 +172,22 @@ def case_theremin(args):
     errors = [l for l in lines if "error" in l.lower() or "couldn't create" in l]
     if errors:
         return fail("Pd said:\n  " + "\n  ".join(errors))
-    reports = []
+    reports, quat, mismatch, pairs = [], None, 0.0, 0
     for l in lines:
+        if l.startswith("quat:"):
+            quat = [float(s) for s in l.split()[1:]]
         if l.startswith("orient:"):
             v = [float(s) for s in l.split()[1:]]
             if len(v) == 4:
                 reports.append(v)
+                if quat is not None and len(quat) == 4:   # the same step's `quaternion`, sent just before
+                    q = pose_quaternion(v[1], v[2], v[3])
+                    d = min(max(abs(a - b) for a, b in zip(q, quat)), max(abs(a + b) for a, b in zip(q, quat)))
+                    mismatch, pairs = max(mismatch, d), pairs + 1
+                quat = None
+    print("quaternion vs orientation: %d pairs, largest component difference %.5f" % (pairs, mismatch))
+    if pairs < 100 or mismatch > 1e-3:
+        return fail("the quaternion and the orientation of a step disagree (or too few pairs)")
     if len(reports) < 100:
         return fail("only %d orientation reports" % len(reports))
     status = [l for l in lines if l.startswith("status:")]
