@@ -190,6 +190,10 @@ def case_theremin(args):
         return fail("the quaternion and the orientation of a step disagree (or too few pairs)")
     if len(reports) < 100:
         return fail("only %d orientation reports" % len(reports))
+    frets = [l for l in lines if l.startswith("gesture: fret")]
+    print("gesture reports: %d 'fret'" % len(frets))
+    if len(frets) < 4:   # five poses, each on another fret: at least the four changes
+        return fail("fewer than 4 fret gestures for 4 changes of fret")
     status = [l for l in lines if l.startswith("status:")]
     print("status lines: " + " | ".join(status[-2:]))
     failures = 0
