@@ -114,7 +114,9 @@ Status SessionInstrument::status() const
     Status s;
     s.source = source_;
     if (!session_) return s;
-    s.connection = session_->connected() ? "connected" : "waiting";
+    // An OSC port is open from the start: the sender counts as connected once its data came.
+    const bool heard = source_ != "osc" || session_->controlUpdates() > 0;
+    s.connection = session_->connected() && heard ? "connected" : "waiting";
     const live::SessionSummary sum = session_->summary();
     s.dropped = session_->droppedImu() + sum.badPackets + session_->gesturesDropped();
     return s;
