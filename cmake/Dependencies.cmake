@@ -12,3 +12,5 @@ if(ARMADILLO_BUILD_TESTS)
 endif()
 pkg_check_modules(PUGIXML    REQUIRED IMPORTED_TARGET pugixml)      # GPX routes (Navigation, docs/NAVIGATION.md)
 pkg_check_modules(LIBGPS     REQUIRED IMPORTED_TARGET libgps)       # gpsd positions (Navigation)
+pkg_check_modules(HTTPLIB    REQUIRED IMPORTED_TARGET cpp-httplib)  # the web page's server (Source/Web, docs/ARCHITECTURE.md)
+pkg_check_modules(QRENCODE   REQUIRED IMPORTED_TARGET libqrencode)  # the page's address as a QR code in the terminal

@@ -23,6 +23,10 @@ packages=(
     libsndfile1-dev libsamplerate0-dev
     # MQTT (docs/MQTT.md): the client library; the broker its tests start on loopback, and its clients
     libmosquitto-dev mosquitto mosquitto-clients
+    # the live instrument as a web page (issue 47): its HTTP server, the address as a QR code; the
+    # browser tests drive Debian's Chromium headless through chromium-driver and Selenium
+    # (axe-core, which Debian does not package, comes from npm at test time: Tests/Web/README.md)
+    libcpp-httplib-dev libqrencode-dev chromium chromium-driver python3-selenium
     # JUCE 7 (Debian ships it with its CMake config) and what its modules link on Linux
     # (ALSA for the CLI's sound card too; JACK headers for the standalone app's JACK driver)
     juce-modules-source lv2-dev libasound2-dev libjack-jackd2-dev libfreetype-dev libfontconfig1-dev

@@ -160,6 +160,8 @@ std::vector<OptionSpec> navigateOptionSpecs()
     // The motors on a tactor rig (docs/TACTORS.md), beside the device or the simulator.
     const auto tactorOptions = tactorOptionSpecs(true);
     o.insert(o.end(), tactorOptions.begin(), tactorOptions.end());
+    const auto web = webOptionSpecs();   // the walk as a web page (as play's)
+    o.insert(o.end(), web.begin(), web.end());
     return o;
 }
 
@@ -307,6 +309,7 @@ int runSimulatedWalk(const CommandLine& cl, const NavigateRequest& req)
     if (cl.has("--speak") || cl.has("--speech") || cl.has("--brlapi") || cl.has("--braille-display"))
         throw UsageError("--speak and the braille display are for a live walk, not --simulate-walk");
     if (cl.has("--rate")) throw UsageError("--rate sets the speech rate: use it with --speak");
+    if (cl.has("--web") || cl.has("--web-bind")) throw UsageError("--web shows a live walk; --simulate-walk runs offline");
     const navigation::Route& route = *req.route;
     auto link = std::make_shared<navigation::NavigationLink>();
     link->logEnabled = true;   // the announcer reads it too
@@ -362,6 +365,7 @@ live::LiveConfig liveWalkConfig(const CommandLine& cl, const NavigateRequest& re
     using Positions = navigation::NavigationRig::Source;
     config.walk.positions = req.gpsd ? Positions::Gpsd : req.armFromOsc ? Positions::ArmOsc : Positions::Osc;
     config.walk.where = req.gpsd ? cl.value("--gpsd") : std::to_string(req.oscPort);
+    readWebOptions(cl, config);
     return config;
 }
 
@@ -379,6 +383,7 @@ void walk(live::LiveSession& session, const NavigateRequest& req, WalkLog& log)
         const navigation::NavigationStatus st = nav.status();
         if (st.finished && st.sensation == navigation::Sensation::None && finishedAt < 0.0) finishedAt = elapsed;
         if (finishedAt >= 0.0 && elapsed > finishedAt + 0.5) break;
+        reportWebPage(session, "armadillo navigate: ");
         if (!nav.sourceConnected() && !shownDown) std::cerr << "armadillo navigate: " << nav.describeSource() << " went away (reconnecting)\n";
         shownDown = !nav.sourceConnected();
         if (session.engine().failed()) {
@@ -406,6 +411,7 @@ int runLiveWalk(const CommandLine& cl, const NavigateRequest& req)
     session.start();
     for (const std::string& line : session.outputLines()) std::cerr << "armadillo navigate: " << line << "\n";
     std::cerr << "armadillo navigate: " << nav.describeSource() << "\n";
+    announceWebPage(session, "armadillo navigate: ");
     walk(session, req, log);
     session.stop();
     log.drain(*nav.link());

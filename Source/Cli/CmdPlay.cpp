@@ -187,7 +187,7 @@ std::vector<OptionSpec> playOptionSpecs()
     std::vector<OptionSpec> own {stage.front()};   // --setlist, right after --scene
     for (const auto& group : {sourceOptionSpecs(), outputOptionSpecs(), mapping, procedures, leftArmOptionSpecs(),
                               std::vector<OptionSpec>(stage.begin() + 1, stage.begin() + 2), controlListenOptionSpecs(),
-                              std::vector<OptionSpec>(stage.begin() + 2, stage.end())})
+                              std::vector<OptionSpec>(stage.begin() + 2, stage.end()), webOptionSpecs()})
         own.insert(own.end(), group.begin(), group.end());
     o.insert(o.begin() + 1, own.begin(), own.end());
     // The motor grid live as audio (docs/TACTORS.md), beside the device.
@@ -320,6 +320,9 @@ std::unique_ptr<PlayRequest> readPlayRequest(const CommandLine& cl, const LiveCo
         messages = std::make_unique<PlayMessages>();
         messages->setCommand(command.name);
     }
+    readWebOptions(cl, config);   // the instrument as a web page (--web, --web-bind)
+    if (cl.has("--web") && cl.has("--calibrate"))
+        throw UsageError("--calibrate and --web both present the device calibration: use one (the page has it under 'Device calibration')");
     auto request = std::make_unique<PlayRequest>();
     request->config = std::move(config);
     request->seconds = seconds;
@@ -389,6 +392,7 @@ public:
         start_ = std::chrono::steady_clock::now();
         report_ = std::make_unique<live::SourceReport>(session_);   // what the sources say, in words (Live/Sources/SourceReport.h)
         for (const std::string& line : report_->startup()) std::cerr << who_ << line << "\n";
+        announceWebPage(session_, who_);   // --web: the page's address (Cli/LiveOptions.h)
         // A progress line on a terminal (stderr only, so stdout keeps just the JSON summary), not
         // while a guided procedure prints its own instructions there.
         progress_ = ::isatty(STDERR_FILENO) == 1 && !calibration_ && mountCalibrations_.empty() && !training_;
@@ -404,6 +408,7 @@ public:
             showProgress(elapsed);
             if (!reportStage()) break;
             reportOutputs(elapsed);
+            reportWebPage(session_, who_, lineStart_);
             writeStatus(elapsed);
             stepProcedures();
             if (training_) {
@@ -600,9 +605,12 @@ private:
             const std::uint32_t mapped = session_.mappingPanics();   // a mapping's "stage": "panic"
             const bool byMapping = mapped != shownMappingPanics_;
             shownMappingPanics_ = mapped;
+            const std::uint64_t fromPage = session_.webServer() ? session_.webServer()->counters().stageCommands : 0;   // --web
+            const bool byPage = fromPage != shownPageCommands_;
+            shownPageCommands_ = fromPage;
             if (n != shownPanics_)
                 std::cerr << lineStart_ << who_ << "PANIC ("
-                          << (k == static_cast<int>(core::StageCommand::Kind::Panic) ? "command" : byMapping ? "mapping" : "gesture")
+                          << (k == static_cast<int>(core::StageCommand::Kind::Panic) ? "command" : byMapping ? "mapping" : byPage ? "web page" : "gesture")
                           << "): all sound and every motor off; resume with r or /armadillo/resume\n";
             else if (!panicked)
                 std::cerr << lineStart_ << who_ << "resumed: scene '" << engine.config().scene << "' again\n";
@@ -706,6 +714,7 @@ private:
     bool statusFailed_ = false;
     int shownCue_ = -1;
     std::uint32_t shownPanics_ = 0, shownMappingPanics_ = 0;
+    std::uint64_t shownPageCommands_ = 0;   // stage commands the web page sent, as last seen
     bool shownPanicked_ = false;
     std::string shownError_, noData_;
     bool recordingEnded_ = false;

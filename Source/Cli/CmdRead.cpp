@@ -19,7 +19,7 @@ std::vector<OptionSpec> readOptionSpecs()
                                              "--seconds", "--tactile", "--log", "--osc-out", "--status-file", "--arm", "--profile",
                                              "--mqtt", "--mqtt-config", "--messages", "--urgent", "--message-display",
                                              "--message-shorthand", "--speak", "--speech", "--rate", "--brlapi", "--braille-display",
-                                             "--control-bind", "--control-allow"};
+                                             "--control-bind", "--control-allow", "--web", "--web-bind"};
     const std::vector<OptionSpec> all = playOptionSpecs();
     std::vector<OptionSpec> o;
     for (const std::string& name : fromPlay) {

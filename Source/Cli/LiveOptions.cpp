@@ -5,6 +5,8 @@
 #include "Osc/HostPort.h"
 #include "Link/Mount.h"
 #include "Osc/OscDialects.h"
+#include "Web/QrText.h"
+#include <iostream>
 #include <stdexcept>
 
 namespace armadillo::cli {
@@ -42,6 +44,50 @@ live::StageControlListen readControlListenOptions(const CommandLine& cl)
         }
     }
     return listen;
+}
+
+std::vector<OptionSpec> webOptionSpecs()
+{
+    return {
+        {"--web", "PORT", "the running instrument as a web page at http://127.0.0.1:PORT/ (0 = a free port; the address\n"
+                          "is printed on stderr): status, orientation, stage, scene parameters, messages, the walk, the\n"
+                          "device calibration (docs/INTERFACES.md \"The web page\"); this machine only unless --web-bind"},
+        {"--web-bind", "ADDR", "with --web: listen on this address of the machine instead (0.0.0.0 or :: for every\n"
+                               "interface: a phone on the Wi-Fi); every request then needs the session's token, which\n"
+                               "the printed address and its QR code carry (docs/SECURITY.md)"},
+    };
+}
+
+void readWebOptions(const CommandLine& cl, live::LiveConfig& config)
+{
+    if (!cl.has("--web")) {
+        if (cl.has("--web-bind")) throw UsageError("--web-bind sets where the web page listens: give --web PORT too");
+        return;
+    }
+    config.web.on = true;
+    config.web.port = static_cast<int>(cl.integer("--web", 0, 0, 65535));
+    if (cl.has("--web-bind")) {
+        config.web.bind = cl.value("--web-bind");
+        if (!web::isNumericAddress(config.web.bind))
+            throw UsageError("--web-bind: '" + config.web.bind + "' is not an IPv4 or IPv6 address (such as 127.0.0.1, 192.168.1.20, 0.0.0.0 or ::)");
+    }
+}
+
+void announceWebPage(live::LiveSession& session, const std::string& who)
+{
+    web::WebServer* server = session.webServer();
+    if (server == nullptr) return;
+    const std::string address = server->address();
+    std::cerr << who << "web: " << address << "\n";
+    if (!server->tokenRequired()) return;
+    std::cerr << who << "web: open on the network; the address carries the session's token (scan to open it on a phone):\n";
+    for (const std::string& line : web::qrLines(address)) std::cerr << line << "\n";
+}
+
+void reportWebPage(live::LiveSession& session, const std::string& who, const std::string& lineStart)
+{
+    if (web::WebServer* server = session.webServer())
+        for (const std::string& line : server->takeLines()) std::cerr << lineStart << who << "web: " << line << "\n";
 }
 
 std::vector<OptionSpec> sourceOptionSpecs()

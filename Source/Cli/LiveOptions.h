@@ -55,4 +55,15 @@ std::vector<OptionSpec> controlListenOptionSpecs();
 /// either option without --control-in.
 live::StageControlListen readControlListenOptions(const CommandLine& cl);
 
+/// --web PORT, --web-bind ADDR: the instrument as a web page (docs/INTERFACES.md "The web page").
+std::vector<OptionSpec> webOptionSpecs();
+/// Those two into config.web: UsageError (exit 2) for a port outside 0..65535, an address that is
+/// not a numeric IPv4/IPv6 address, or --web-bind without --web.
+void readWebOptions(const CommandLine& cl, live::LiveConfig& config);
+/// After start(): the page's address on stderr ("armadillo play: web: http://127.0.0.1:PORT/");
+/// with --web-bind the address with its token and a QR code of it. Nothing without --web.
+void announceWebPage(live::LiveSession& session, const std::string& who);
+/// What the page's server said since the last call (commands taken, clients refused), on stderr.
+void reportWebPage(live::LiveSession& session, const std::string& who, const std::string& lineStart = {});
+
 } // namespace armadillo::cli

@@ -9,6 +9,7 @@
 #include "Link/Motion.h"
 #include "Osc/OscIo.h"
 #include "Live/Outputs/SessionWriters.h"
+#include "Live/Session/SessionWebView.h"
 #include "Link/Simulator.h"
 #include "Fusion/ArmTracker.h"
 #include <algorithm>
@@ -88,6 +89,10 @@ LiveSession::LiveSession(const LiveConfig& config) : config_(config)
     openLeftArm();
     openRecordings();
     openAudio();
+    if (config_.web.on) {   // bound now: a port that is taken is an error before anything runs
+        webView_ = std::make_unique<SessionWebView>(*this);
+        web_ = std::make_unique<web::WebServer>(config_.web, *webView_);
+    }
 }
 
 /// The engine the loop runs (the scene, or the navigation scene of a walk; a monitor under a set
@@ -536,11 +541,13 @@ void LiveSession::start()
     if (soundCard_)
         soundCard_->start([this](float* l, float* r, int n) { renderBlock(l, r, n); },
                           config_.link.realtimePriority);
+    if (web_) web_->start();
 }
 
 void LiveSession::stop()
 {
     if (!running_.load()) return;
+    if (web_) web_->stop();   // first: the page reads the session until then
     stopped_ = std::chrono::steady_clock::now();
     // Motors off: answer the next sensor packet with all zeros before the link stops.
     motorsOff_.store(true, std::memory_order_release);
@@ -670,7 +677,20 @@ bool LiveSession::publishMapped(void* self, const mapping::MqttMessage& m)
 std::vector<std::string> LiveSession::presentMessages()
 {
     if (!messages_ || !messageScene_) return {};
-    return messages_->present(*messageScene_);
+    std::vector<std::string> lines = messages_->present(*messageScene_);
+    std::lock_guard<std::mutex> lock(recentMutex_);
+    for (const std::string& line : lines) {
+        if (line.find(" on the arm: ") == std::string::npos) continue;
+        recent_.push_front(line);
+        if (recent_.size() > 20) recent_.pop_back();
+    }
+    return lines;
+}
+
+std::vector<std::string> LiveSession::recentMessages() const
+{
+    std::lock_guard<std::mutex> lock(recentMutex_);
+    return {recent_.begin(), recent_.end()};
 }
 
 mqtt::MqttStatus LiveSession::messagesStatus() const { return messages_ ? messages_->status() : mqtt::MqttStatus {}; }

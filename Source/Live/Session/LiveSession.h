@@ -28,7 +28,10 @@
 #include "Live/Stage/Stage.h"
 #include "Live/Step/StepRunner.h"
 #include "Live/Outputs/TactorOutput.h"
+#include "Web/WebServer.h"
 #include <array>
+#include <deque>
+#include <mutex>
 #include <atomic>
 #include <functional>
 #include <memory>
@@ -151,6 +154,10 @@ struct LiveConfig {
         mqtt::PresenterOptions options {};
     };
     Messages messages {};
+    /// The instrument as a web page (`play`/`read`/`navigate --web PORT [--web-bind ADDR]`,
+    /// docs/INTERFACES.md "The web page"): the session owns the server, binds it at construction
+    /// (IoError when the port is taken), starts it with the sources and stops it before them.
+    web::WebConfig web {};
 };
 
 struct SessionSummary {
@@ -279,6 +286,12 @@ public:
     bool recordingEnded() const noexcept;
     /// Seconds of the recording (0 without one).
     double recordingSeconds() const noexcept;
+    /// The session's time: the latest sensor packet's time, s (the tactile CSV's t; −1 before one). Any thread.
+    double sessionTime() const noexcept { return latestT_.load(std::memory_order_relaxed); }
+    /// The messages presentMessages() put on the arm, newest first (at most 20). Any thread.
+    std::vector<std::string> recentMessages() const;
+    /// The web page's server (LiveConfig::web; null without it): its address, what it refused.
+    web::WebServer* webServer() noexcept { return web_.get(); }
 
 private:
     friend struct LiveSessionAudioProbe;   // Tests/Live/RealtimeLoopTests.cpp: renderBlock under the real-time guard
@@ -361,6 +374,11 @@ private:
     std::atomic<double> firstT_ {-1.0}, latestT_ {-1.0};   // source packet times (for the OSC rate)
     std::chrono::steady_clock::time_point started_ {}, stopped_ {};
     std::string audioError_;
+    mutable std::mutex recentMutex_;                    // recent_
+    std::deque<std::string> recent_;                    // messages on the arm, newest first
+    // Last, so it goes first: its threads read everything above.
+    std::unique_ptr<web::InstrumentView> webView_;      // the session as the page sees it (Live/SessionWebView.h)
+    std::unique_ptr<web::WebServer> web_;
 };
 
 } // namespace armadillo::live

@@ -1,0 +1,212 @@
+#include "Live/Session/SessionWebView.h"
+#include "Live/Session/LiveSession.h"
+#include "Live/Step/SceneParameters.h"
+#include "Navigation/Guidance.h"
+#include <charconv>
+#include <cmath>
+
+namespace armadillo::live {
+
+namespace {
+
+std::string describeSource(const LiveConfig& c)
+{
+    switch (c.source) {
+    case LiveConfig::Source::Port: return "device on " + c.port;
+    case LiveConfig::Source::Simulator:
+        return c.motionFile.empty() ? std::string("simulated forearm (wandering)") : "simulated forearm (motion " + c.motionFile + ")";
+    case LiveConfig::Source::Osc:
+        return c.oscSerialPort.empty() ? "OSC sender on UDP port " + std::to_string(c.oscInPort) : "OSC over SLIP on " + c.oscSerialPort;
+    }
+    return "?";
+}
+
+/// "id=value" settings as numbers: a number, or a choice's name as its index.
+void readAssignments(const std::vector<std::string>& assignments, const std::vector<core::ParamSpec>& specs,
+                     std::map<std::string, double>& values)
+{
+    for (const std::string& a : assignments) {
+        const std::size_t eq = a.find('=');
+        if (eq == std::string::npos) continue;
+        const std::string id = a.substr(0, eq), text = a.substr(eq + 1);
+        for (const core::ParamSpec& s : specs) {
+            if (s.id != id) continue;
+            double v = 0.0;
+            const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+            if (ec == std::errc() && end == text.data() + text.size()) values[id] = v;
+            for (std::size_t k = 0; k < s.choices.size(); ++k)
+                if (s.choices[k] == text) values[id] = static_cast<double>(k);
+        }
+    }
+}
+
+} // namespace
+
+SessionWebView::SessionWebView(LiveSession& session) : session_(session), source_(describeSource(session.config()))
+{
+    const std::vector<core::ParamSpec> specs = session.engine().scene().parameters();
+    for (const core::ParamSpec& s : specs) values_[s.id] = s.defaultValue;
+    readAssignments(session.config().engine.parameters, specs, values_);
+    if (live::CuePlayer* cues = session.cuePlayer())
+        for (int i = 0; i < cues->cueCount(); ++i) {
+            const std::vector<core::ParamSpec> cueSpecs = cues->engine(i).scene().parameters();
+            for (const core::ParamSpec& s : cueSpecs) values_.emplace(s.id, s.defaultValue);
+            readAssignments(cues->cue(i).parameters, cueSpecs, values_);
+        }
+}
+
+web::InstrumentStatus SessionWebView::status()
+{
+    web::InstrumentStatus s;
+    const SessionSummary sum = session_.summary();
+    s.t = std::max(0.0, session_.sessionTime());
+    s.source = source_;
+    s.connected = session_.connected() && session_.controlUpdates() > 0;
+    s.rateHz = sum.rateHz;
+    s.packets = sum.packets;
+    s.badPackets = sum.badPackets;
+    s.gaps = sum.gaps;
+    s.dropped = session_.droppedImu();
+    s.sender = session_.senderName(false);
+    s.hasPose = session_.controlUpdates() > 0;
+    const core::Pose pose = session_.latestPose();
+    s.elevationDeg = pose.elevationDeg;
+    s.azimuthDeg = pose.azimuthDeg;
+    s.rollDeg = pose.rollDeg;
+    s.scene = std::string(session_.engine().scene().name());
+    s.panicked = session_.stage().panicked();
+    s.panics = session_.stage().panics();
+    if (live::CuePlayer* cues = session_.cuePlayer()) {
+        s.cue = cues->current();
+        for (int i = 0; i < cues->cueCount(); ++i) s.cues.push_back(cues->cue(i).name.empty() ? cues->cue(i).scene : cues->cue(i).name);
+    }
+    s.messages = session_.recentMessages();
+    {
+        std::lock_guard<std::mutex> lock(calibrationMutex_);
+        pumpCalibration();
+        s.calibration = calibrationStatus();
+    }
+    if (navigation::NavigationRig* nav = session_.navigation(); nav != nullptr && nav->running()) {
+        const navigation::NavigationStatus n = nav->status();
+        s.walk.on = true;
+        s.walk.route = nav->routeName();
+        s.walk.waypoint = n.waypoint;
+        s.walk.waypointCount = n.waypointCount;
+        s.walk.waypointName = n.name;
+        s.walk.arrivals = n.arrivals;
+        s.walk.distanceM = std::isfinite(n.distanceM) ? n.distanceM : -1.0;
+        s.walk.bearingDeg = std::isfinite(n.bearingDeg) ? n.bearingDeg : -1.0;
+        s.walk.finished = n.finished;
+        s.walk.fix = navigation::fixStateName(n.fix);
+    }
+    return s;
+}
+
+std::vector<web::ParameterInfo> SessionWebView::parameters()
+{
+    const std::vector<core::ParamSpec> specs = session_.engine().scene().parameters();
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<web::ParameterInfo> out;
+    for (const core::ParamSpec& s : specs) {
+        const auto v = values_.find(s.id);
+        out.push_back({s.id, s.name, s.unit, s.min, s.max, v != values_.end() ? v->second : static_cast<double>(s.defaultValue), s.choices});
+    }
+    return out;
+}
+
+void SessionWebView::stage(const core::StageCommand& command) { session_.stage().apply(command); }
+
+bool SessionWebView::setParameter(const std::string& id, double value, double& set)
+{
+    core::Scene& scene = session_.engine().scene();
+    const std::vector<core::ParamSpec> specs = scene.parameters();
+    for (std::size_t i = 0; i < specs.size(); ++i) {
+        if (specs[i].id != id) continue;
+        mapping::SceneParamChange change;
+        change.value = static_cast<float>(std::clamp(value, -1e9, 1e9));
+        change.normalised = false;
+        const float v = live::sceneParamValue(specs[i], change);   // clamped to the range, a choice rounded
+        scene.setParameter(static_cast<int>(i), v);                // the scene's atomics (Core/Scene.h)
+        std::lock_guard<std::mutex> lock(mutex_);
+        values_[id] = v;
+        set = v;
+        return true;
+    }
+    return false;
+}
+
+void SessionWebView::pumpCalibration()
+{
+    core::SpscQueue<link::RawPacket, 1024>* packets = session_.rawPackets();
+    if (packets == nullptr || !calibration_.running()) return;
+    link::RawPacket p;
+    while (packets->pop(p)) calibration_.offer(p.t, p.counts);
+    calibration_.drain();
+}
+
+web::ProcedureStatus SessionWebView::calibrationStatus()
+{
+    web::ProcedureStatus c;
+    c.available = session_.rawPackets() != nullptr;
+    if (!c.available) c.why = "the device calibration needs a device (--port) or the simulated forearm; this source sends OSC";
+    c.steps = procedures::DeviceCalibration::kStepCount;
+    c.running = calibration_.running();
+    c.finished = calibration_.finished();
+    if (calibrationBegun_) {
+        c.step = calibration_.stepNumber();
+        c.title = calibration_.stepTitle();
+        c.instruction = c.finished ? std::string() : calibration_.instruction();
+        c.progress = calibration_.progress();
+        c.ready = calibration_.ready();
+    }
+    c.note = calibrationNote_;
+    return c;
+}
+
+void SessionWebView::calibration(web::ProcedureCommand command)
+{
+    std::lock_guard<std::mutex> lock(calibrationMutex_);
+    core::SpscQueue<link::RawPacket, 1024>* packets = session_.rawPackets();
+    if (packets == nullptr) {
+        calibrationNote_ = "not available: this source sends OSC";
+        return;
+    }
+    using C = web::ProcedureCommand;
+    if (command == C::Begin) {
+        link::RawPacket stale;
+        while (packets->pop(stale)) {}   // only what comes from now on
+        calibration_.begin(session_.config().calibration);
+        calibrationBegun_ = true;
+        calibrationNote_ = "begun: keep the arm as the step asks";
+        return;
+    }
+    if (!calibration_.running()) {
+        calibrationNote_ = "no calibration runs: begin it first";
+        return;
+    }
+    pumpCalibration();
+    if (command == C::Next) {
+        std::string why;
+        calibrationNote_ = calibration_.next(why) ? "step taken" : "not yet: " + why;
+    } else if (command == C::Skip) {
+        calibration_.skip();
+        calibrationNote_ = "step skipped: it keeps the starting calibration's numbers";
+    } else {
+        calibration_.cancel();
+        calibrationBegun_ = false;
+        calibrationNote_ = "cancelled: nothing kept";
+    }
+    if (calibration_.finished()) {
+        const std::string measured = calibration_.measuredList(true), kept = calibration_.measuredList(false);
+        calibrationNote_ = "calibration complete: " + (measured.empty() ? std::string("nothing measured") : "measured " + measured) +
+                           (kept.empty() ? std::string() : "; kept " + kept) + ". Download it below and use it with --calibration.";
+    }
+}
+
+std::string SessionWebView::calibrationFile()
+{
+    std::lock_guard<std::mutex> lock(calibrationMutex_);
+    return calibration_.finished() ? link::calibrationToJson(calibration_.result()) : std::string();
+}
+
+} // namespace armadillo::live

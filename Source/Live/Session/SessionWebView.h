@@ -1,0 +1,41 @@
+#pragma once
+// The live session as the web page sees it (web::InstrumentView, Web/WebInstrument.h): its state
+// read from the session's lock-free snapshots and counters, stage commands handed to its one
+// switch (live::Stage::apply), scene parameters clamped to their range (live::sceneParamValue,
+// the rule the mapping uses) and stored into the scene's atomics (Scene::setParameter). Nothing
+// here waits for the control step or touches the audio thread. Any thread (the web server's).
+#include "Procedures/DeviceCalibration.h"
+#include "Web/WebInstrument.h"
+#include <map>
+#include <mutex>
+#include <string>
+
+namespace armadillo::live {
+
+class LiveSession;
+
+class SessionWebView final : public web::InstrumentView {
+public:
+    explicit SessionWebView(live::LiveSession& session);
+
+    web::InstrumentStatus status() override;
+    std::vector<web::ParameterInfo> parameters() override;
+    void stage(const core::StageCommand& command) override;
+    bool setParameter(const std::string& id, double value, double& set) override;
+    void calibration(web::ProcedureCommand command) override;
+    std::string calibrationFile() override;
+
+private:
+    live::LiveSession& session_;
+    std::string source_;                       // the source in words, fixed at construction
+    std::mutex mutex_;                         // values_
+    std::map<std::string, double> values_;     // parameter id → value as configured or last set here
+    std::mutex calibrationMutex_;              // everything below
+    procedures::DeviceCalibration calibration_;
+    bool calibrationBegun_ = false;
+    std::string calibrationNote_;
+    void pumpCalibration();                    // raw packets into the procedure (calibrationMutex_ held)
+    web::ProcedureStatus calibrationStatus();  // (calibrationMutex_ held)
+};
+
+} // namespace armadillo::live
