@@ -10,8 +10,8 @@ set(CPACK_PACKAGE_DESCRIPTION
 into an instrument you can feel, a braille display read by rolling the arm, and
 a source of orientation for a DAW (after D. Sachs, MIT 2005).
 This package holds the armadillo command line program (offline fusion and
-rendering, the live engine headless), the ARMadillo VST3 and LV2 plugins and
-the standalone app. A simulated forearm and OSC input (phone apps, NGIMU) let
+rendering, the live engine headless), the ARMadillo VST3 and LV2 plugins, the
+standalone app and the Pure Data objects [armadillo] and [armadillo~]. A simulated forearm and OSC input (phone apps, NGIMU) let
 it play without the hardware.")
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_STRIP_FILES ON)
@@ -28,6 +28,8 @@ set(CPACK_DEBIAN_PACKAGE_DEPENDS "liblouis-data, libx11-6, libxext6, libxinerama
 # A reader alone (docs/ACCESSIBILITY.md): speech and braille displays are opened with dlopen()
 # only when asked for (--speak, --brlapi), so they are recommended, not required.
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "libspeechd2 | espeak-ng, libbrlapi0.8")
+# Pure Data's [armadillo] and [armadillo~] (lib/pd/extra/armadillo) need a Pd to load them.
+set(CPACK_DEBIAN_PACKAGE_SUGGESTS "puredata-core | puredata")
 set(CPACK_DEBIAN_PACKAGE_HOMEPAGE "https://armadillo.invalid")
 set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS OFF)
 set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)

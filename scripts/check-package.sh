@@ -6,7 +6,8 @@
 #     /usr/lib/vst3/ARMadillo.vst3 and plays every scene, the score scene with both shipped scores;
 #   - pedalboard (PyPI; a third-party host) loads the same VST3 and plays every scene
 #     (scripts/play_scenes.py; skipped with a message when PyPI is out of reach);
-#   - the installed `armadillo` renders both scores from / and from /tmp with an empty HOME.
+#   - the installed `armadillo` renders both scores from / and from /tmp with an empty HOME;
+#   - Debian's Pd opens the Pd objects' help patches from /usr/lib/pd/extra/armadillo.
 # Usage: bash scripts/check-package.sh [PACKAGE.deb]   (default: the newest build/armadillo_*.deb)
 # Needs root (chroot, mount) and debootstrap (install-deps.sh --packaging).
 set -euo pipefail
@@ -78,5 +79,18 @@ for dir in / /tmp; do
     done
 done
 in_root sh -c 'HOME=/tmp/u armadillo resources --scores | tr "\n" " "'; echo
+
+echo "== Pure Data's [armadillo] and [armadillo~] from /usr/lib/pd/extra/armadillo (Debian's puredata-core)"
+if in_root sh -c 'DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends puredata-core > /dev/null 2>&1'; then
+    # Every help patch and the example open with no "couldn't create" and no error (docs/PUREDATA.md).
+    printf '#N canvas 0 0 300 200 12;\n#X obj 10 10 loadbang;\n#X obj 10 40 delay 2000;\n#X msg 10 70 \\; pd quit;\n#X connect 0 0 1 0;\n#X connect 1 0 2 0;\n' > "$root/opt/check/quit.pd"
+    for patch in "$root"/usr/lib/pd/extra/armadillo/*.pd; do
+        name=$(basename "$patch")
+        out=$(in_root sh -c "cd /tmp && timeout 60 pd -nogui -nosound -stderr -open /usr/lib/pd/extra/armadillo/$name -open /opt/check/quit.pd 2>&1")
+        if echo "$out" | grep -qi "couldn't create\|error"; then echo "$name: FAILED"; echo "$out" | grep -i "couldn't create\|error"; fail=1; else echo "$name: opens"; fi
+    done
+else
+    echo "puredata-core could not be installed: skipped"
+fi
 [ $fail = 0 ] && echo "check-package: ok" || echo "check-package: FAILED"
 exit $fail

@@ -6,8 +6,8 @@
 Prints, for Source/:
   - every function (or constructor) longer than N lines (default 150), from the line its
     signature starts to its closing brace, and
-  - every mention of a concrete source or sink class in Source/Cli and Source/Plugin (the front
-    ends ask the live session with a description instead), and
+  - every mention of a concrete source or sink class in Source/Cli, Source/Plugin and Source/Pd
+    (the front ends ask the live session with a description instead; in Source/Pd one fails), and
   - every file that runs the control step (calls ControlLoop::tick): one file should, and
   - every data member of Plugin/PluginProcessor.h whose type is of a core room's namespace
     (armadillo::live, ::link, ::access, ...; `using` aliases of such types in Source/Plugin
@@ -113,6 +113,11 @@ def functions(code):
     return found
 
 
+# The front ends: they drive a clock and present; they ask the instrument with a description. In
+# those listed as strict (born after issue 45: Pure Data's objects) a concrete class fails the check.
+FRONT_ENDS = ["Cli", "Plugin", "Pd"]
+STRICT_FRONT_ENDS = ["Pd"]
+
 CORE_ROOMS = ["access", "audio", "braille", "core", "engine", "follow", "formats", "fusion", "instruments", "link",
               "live", "mapping", "mqtt", "navigation", "osc", "procedures", "tactile", "tactors"]
 MAX_PROCESSOR_CORE_OBJECTS = 3
@@ -167,7 +172,7 @@ def main():
         for start, end, name in functions(code):
             if end - start + 1 > args.max_function_lines:
                 long_functions.append((end - start + 1, rel, start, name))
-        front_end = rel.startswith(os.path.join("Source", "Cli")) or rel.startswith(os.path.join("Source", "Plugin"))
+        front_end = any(rel.startswith(os.path.join("Source", f)) for f in FRONT_ENDS)
         for lineno, text in enumerate(code.split("\n"), 1):
             if front_end:
                 for cls in CONCRETE:
@@ -196,7 +201,8 @@ def main():
     print(f"structure: {len(long_functions)} functions over {args.max_function_lines} lines, "
           f"{len(concrete)} mentions of concrete sources or sinks in {files} front-end files, {len(tick_files)} files that run the control step, "
           f"{len(members)} core objects in the plugin processor")
-    failed = long_functions or stray_ticks or len(members) > MAX_PROCESSOR_CORE_OBJECTS
+    strict = [c for c in concrete if any(c[0].startswith(os.path.join("Source", f)) for f in STRICT_FRONT_ENDS)]
+    failed = long_functions or stray_ticks or strict or len(members) > MAX_PROCESSOR_CORE_OBJECTS
     return 1 if failed and not args.report_only else 0
 
 

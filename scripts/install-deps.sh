@@ -36,8 +36,10 @@ packages=(
     xvfb xauth
     # the tactor output's tests and benchmark start their own JACK server (dummy backend; issue 33)
     jackd2
-    # benchmarks' scoring scripts (scripts/bench_gaps.py, BROAD)
+    # benchmarks' scoring scripts (scripts/bench_gaps.py, BROAD); the Pd tests' pitch measurement
     python3-numpy
+    # Pure Data's [armadillo] and [armadillo~] (docs/PUREDATA.md): m_pd.h, and the pd its tests run
+    puredata-core puredata-dev
     # the reference firmware (docs/HARDWARE.md): AVR toolchain and its simavr loop test
     gcc-avr avr-libc binutils-avr simavr libsimavr-dev libelf-dev
 )

@@ -14,6 +14,8 @@
 
 namespace armadillo::core {
 
+class MotorTargets;
+
 /// Musical transport: the host's (plugin) or the audio clock's (standalone/CLI).
 struct Transport {
     bool valid = false;          ///< false: no transport, scenes use their own clock
@@ -135,6 +137,9 @@ struct SceneConfig {
     /// audio-touch: the audio input is stems, one mono channel each, in this order, each named by
     /// its preset (drums, bass, other, vocals: docs/INSTRUMENTS.md); empty: one mixed input.
     std::vector<std::string> stems;
+    /// patch scene (issue 46): the cell a front end writes the grid's targets into
+    /// (Core/MotorTargets.h; Pure Data's `motors L1 … L9`). Null: the scene keeps its own, all 0.
+    std::shared_ptr<MotorTargets> motorTargets;
 };
 
 /// A scene's own parameter; id is stable ("theremin.range"), value in the given unit.

@@ -23,7 +23,11 @@ namespace armadillo::engine {
 
 /// Scene names of INTERFACES.md, in the order of the plugin's `scene` choice.
 const std::vector<std::string>& sceneNames();
-/// A new scene by name; throws InputError for an unknown name.
+/// Scenes a front end plays by writing into them, made by createScene() too but not in the
+/// plugin's choice or `play`'s list: "patch" (issue 46; the grid's targets from a patch,
+/// SceneConfig::motorTargets), for Pure Data's [armadillo] and [armadillo~].
+const std::vector<std::string>& hostedSceneNames();
+/// A new scene by name (sceneNames() or hostedSceneNames()); throws InputError for an unknown name.
 std::unique_ptr<core::Scene> createScene(const std::string& name);
 /// What is wrong with one "id=value" setting for `scene` (the check Engine::setSceneParameter
 /// makes, without preparing the scene): empty when it would be accepted. For front ends that

@@ -26,7 +26,21 @@ const Entry kScenes[] = {
     {"layered-keyboard", instruments::makeLayeredKeyboardScene}, // issue 28; new scenes go last (choice indices stay)
     {"theremin-duo", instruments::makeThereminDuoScene}, // issue 28, two arms
 };
+/// Scenes a front end drives by writing into them (hostedSceneNames()); not the plugin's choice.
+const Entry kHostedScenes[] = {
+    {"patch", instruments::makePatchScene}, // issue 46: the grid's targets from a patch
+};
 } // namespace
+
+const std::vector<std::string>& hostedSceneNames()
+{
+    static const std::vector<std::string> names = [] {
+        std::vector<std::string> v;
+        for (const auto& e : kHostedScenes) v.emplace_back(e.name);
+        return v;
+    }();
+    return names;
+}
 
 const std::vector<std::string>& sceneNames()
 {
@@ -44,6 +58,9 @@ std::unique_ptr<core::Scene> createScene(const std::string& name)
     // through the importers of the formats module, which sits above the tactile one.
     tactile::setScoreFileReader({&formats::isImportableScorePath, &formats::loadAnyScore});
     for (const auto& e : kScenes) {
+        if (name == e.name) return e.make();
+    }
+    for (const auto& e : kHostedScenes) {
         if (name == e.name) return e.make();
     }
     std::string all;

@@ -11,5 +11,6 @@ std::unique_ptr<core::Scene> makeSoundDesignScene(); ///< "sound-design" — ges
 std::unique_ptr<core::Scene> makeCompassScene(); ///< "compass"      — tactile compass, thesis §4.1
 std::unique_ptr<core::Scene> makeAudioTouchScene(); ///< "audio-touch"  — any audio in, felt on the arm (bands → rows)
 std::unique_ptr<core::Scene> makeThereminDuoScene(); ///< "theremin-duo" — a theremin for two arms (docs/STAGE.md)
+std::unique_ptr<core::Scene> makePatchScene(); ///< "patch" — the grid's targets set by a front end's patch (Core/MotorTargets.h), issue 46
 std::unique_ptr<core::Scene> makeLayeredKeyboardScene(); ///< "layered-keyboard" — the arm plays over a real instrument, thesis §5.2
 } // namespace armadillo::instruments

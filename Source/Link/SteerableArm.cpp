@@ -8,15 +8,28 @@ namespace armadillo::link {
 void SteerableArm::steerTo(const core::Pose& target) noexcept
 {
     wandering_ = false;
+    motion_.reset();
     target_.elevationDeg = std::clamp(target.elevationDeg, -90.0, 90.0);
     target_.azimuthDeg = core::wrapDeg360(target.azimuthDeg);
     target_.rollDeg = core::wrapDeg180(target.rollDeg);
+}
+
+void SteerableArm::follow(std::shared_ptr<const MotionSource> motion) noexcept
+{
+    motion_ = std::move(motion);
+    motionStart_ = t_;
+    wandering_ = true;   // (without a motion: the wandering path again)
 }
 
 Eigen::Quaterniond SteerableArm::advance(double dt)
 {
     dt = std::clamp(dt, 0.0, 0.1);
     t_ += dt;
+    if (motion_) {
+        const Eigen::Quaterniond q = motion_->at(t_ - motionStart_).q;
+        current_ = core::quaternionToPose(q);
+        return q;
+    }
     if (wandering_) {
         Eigen::Quaterniond q = path_.at(t_).q;
         const double phase = std::fmod(t_, kFlickEvery);

@@ -9,6 +9,7 @@
 #include "Core/Pose.h"
 #include "Link/Motion.h"
 #include <Eigen/Geometry>
+#include <memory>
 
 namespace armadillo::link {
 
@@ -20,7 +21,16 @@ public:
     Eigen::Quaterniond advance(double dt);
     /// The user steers: ease toward this pose and stop wandering.
     void steerTo(const core::Pose& target) noexcept;
-    void setWandering(bool on) noexcept { wandering_ = on; }
+    void setWandering(bool on) noexcept
+    {
+        motion_.reset();
+        wandering_ = on;
+    }
+    /// The arm follows `motion` (a pose or quaternion file, FileMotion: `simulate FILE` of Pure
+    /// Data's [armadillo~]) from its start, at the pace advance() is called with; null: it
+    /// wanders again (issue 46). Steering takes it off the motion as it takes it off the path.
+    void follow(std::shared_ptr<const MotionSource> motion) noexcept;
+    bool following() const noexcept { return motion_ != nullptr; }
     bool wandering() const noexcept { return wandering_; }
     core::Pose pose() const noexcept { return current_; }
     double time() const noexcept { return t_; }
@@ -30,6 +40,8 @@ public:
 
 private:
     WanderingMotion path_;
+    std::shared_ptr<const MotionSource> motion_;
+    double motionStart_ = 0.0;   ///< t_ when the motion began (its time 0; t_ itself never goes back)
     double t_ = 0.0;
     bool wandering_ = true;
     core::Pose target_ {};

@@ -8,6 +8,7 @@
 #include <catch2/catch.hpp>
 #include <cstdio>
 #include <fstream>
+#include <memory>
 
 using namespace armadillo;
 using namespace armadillo::core;
@@ -182,4 +183,30 @@ TEST_CASE("steerable arm: wanders on the simulator's path with roll flicks, ease
     CHECK(held.angularDistance(poseToQuaternion(target)) < 1e-3);
     arm.setWandering(true);
     CHECK(arm.advance(0.005).angularDistance(path.at(arm.time()).q) < 1e-9);
+}
+
+TEST_CASE("steerable arm: follows a motion from the moment it is given, on its own time; steering or wandering leaves it",
+          "[device][simulator][steer]")
+{
+    SteerableArm arm;
+    for (int i = 0; i < 50; ++i) arm.advance(0.005);   // 0.25 s of wandering first: the motion starts at its own 0
+    const auto motion = std::make_shared<FunctionMotion>([](double t) { return poseToQuaternion({10.0 * t, 30.0, 0.0}); });
+    arm.follow(motion);
+    CHECK(arm.following());
+    const double t0 = arm.time();
+    for (int i = 1; i <= 200; ++i) {   // 1 s
+        const Eigen::Quaterniond q = arm.advance(0.005);
+        REQUIRE(q.angularDistance(motion->at(arm.time() - t0).q) < 1e-12);
+    }
+    CHECK(arm.pose().elevationDeg == Approx(10.0).margin(1e-6));   // 1 s into the motion
+    CHECK(arm.time() > t0);                                         // the arm's own time never went back
+
+    arm.steerTo({-20.0, 90.0, 0.0});
+    CHECK_FALSE(arm.following());
+    arm.follow(motion);
+    arm.setWandering(true);
+    CHECK_FALSE(arm.following());
+    arm.follow(nullptr);
+    CHECK_FALSE(arm.following());
+    CHECK(arm.wandering());
 }

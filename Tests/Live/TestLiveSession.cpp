@@ -9,6 +9,7 @@
 #include "Common/Eventually.h"
 #include <catch2/catch.hpp>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -315,4 +316,33 @@ TEST_CASE("armadillo play --port: a device unplugged for 0.5 s is one reconnect 
     CHECK(unplugged < 1.0);
     CHECK(table.value(table.rowCount() - 1, longestCol) == Approx(unplugged).margin(0.01));
     std::remove(log.c_str());
+}
+
+TEST_CASE("live session: a front end reads the scene's gestures in order and the arm's quaternion (issue 46)", "[live]")
+{
+    // The arm steps between poses an octave apart: the theremin's fret changes, each a `fret` gesture.
+    const std::string motion = out("gesture-poses.csv");
+    {
+        std::ofstream f(motion);
+        f << "t,elevation,azimuth,roll\n";
+        for (int i = 0; i <= 400; ++i) f << i * 0.01 << "," << ((i / 100) % 2 == 0 ? -40.0 : 40.0) << ",0,0\n";
+    }
+    LiveConfig c;
+    c.source = LiveConfig::Source::Simulator;
+    c.simulatorBaud = 0.0;   // unpaced
+    c.motionFile = motion;
+    c.engine.scene = "theremin";
+    LiveSession s(c);
+    CHECK(s.latestQuaternion() == std::array<double, 4> {0.0, 0.0, 0.0, 0.0});   // nothing fused yet
+    s.start();
+    std::vector<std::string> names;
+    REQUIRE(eventually([&] {
+        for (engine::GestureEvent g; s.popGesture(g);) names.emplace_back(g.name);
+        return names.size() >= 3;
+    }));
+    for (const auto& n : names) CHECK(n == "fret");
+    const auto q = s.latestQuaternion();
+    CHECK(std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]) == Approx(1.0).margin(1e-6));
+    s.stop();
+    std::remove(motion.c_str());
 }

@@ -153,6 +153,12 @@ void BlockRig::setSimulatorWandering(bool on)
     simulator_.setWandering(on);
 }
 
+void BlockRig::followSimulatorMotion(std::shared_ptr<const link::MotionSource> motion)
+{
+    std::lock_guard<std::mutex> lock(simMutex_);   // (message ↔ clock thread only; never audio)
+    simulator_.follow(std::move(motion));
+}
+
 // ------------------------------------------------------------------------------------------------
 // OSC
 

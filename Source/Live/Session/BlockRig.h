@@ -58,6 +58,9 @@ public:
     bool simulatorWandering() const;
     void steerSimulator(const core::Pose& pose);
     void setSimulatorWandering(bool on);
+    /// The simulated arm follows `motion` (a pose or quaternion file: link::FileMotion) from now,
+    /// on the control clock's time; null: it wanders again (issue 46: Pure Data's `simulate FILE`).
+    void followSimulatorMotion(std::shared_ptr<const link::MotionSource> motion);
 
     // OSC (message thread): returns "" or what was refused.
     std::string configureOsc(bool outEnabled, const std::string& outHost, int outPort, bool inEnabled, int inPort,

@@ -351,6 +351,7 @@ core::MotorLevels LiveSession::control(double t, const link::SensorCounts* count
     }
     updates_.fetch_add(1, std::memory_order_relaxed);
     pose_.store(arm.features.pose);
+    if (arm.valid) quaternion_.store({arm.q.w(), arm.q.x(), arm.q.y(), arm.q.z()});
     levels_.store(levels);
     if (tactors_) tactors_->push(t, levels);   // the same levels as the device's packet, at once
 
@@ -396,6 +397,7 @@ core::MotorLevels LiveSession::control(double t, const link::SensorCounts* count
     while (engine().popGesture(ev)) {
         if (oscOut_) oscOut_->sendGesture(ev.name);
         if (gestureCount < gestures.size()) gestures[gestureCount++] = ev;
+        if (!gestureOut_.push(ev)) gesturesDropped_.fetch_add(1, std::memory_order_relaxed);   // a front end's queue (popGesture)
     }
     // A panic (a command, a key, the gesture) also silences what the mapping sent, as the plugin
     // does: its sounding notes end and CC 120 + CC 123 go out on all 16 channels as it starts,

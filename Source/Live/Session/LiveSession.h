@@ -29,6 +29,7 @@
 #include "Live/Step/StepRunner.h"
 #include "Live/Outputs/TactorOutput.h"
 #include "Web/WebServer.h"
+#include <array>
 #include <deque>
 #include <mutex>
 #include <atomic>
@@ -225,6 +226,14 @@ public:
     /// Latest pose and motor levels (any thread, lock-free).
     core::Pose latestPose() const noexcept { return pose_.load(); }
     core::MotorLevels latestLevels() const noexcept { return levels_.load(); }
+    /// The arm's latest orientation (device → earth, w x y z); all 0 before the first fused step.
+    /// Any thread, lock-free.
+    std::array<double, 4> latestQuaternion() const noexcept { return quaternion_.load(); }
+    /// The scene's gestures (strikes, rolls, postures: GestureEvent::name a string literal), in
+    /// order, for one consumer thread (a front end that presents them: Pure Data's [armadillo]).
+    /// At most 128 wait; more are dropped and counted.
+    bool popGesture(engine::GestureEvent& event) noexcept { return gestureOut_.pop(event); }
+    std::uint64_t gesturesDropped() const noexcept { return gesturesDropped_.load(std::memory_order_relaxed); }
     bool connected() const noexcept;
     std::string lastError() const;
     std::uint64_t controlUpdates() const noexcept { return updates_.load(); }
@@ -355,6 +364,9 @@ private:
     std::atomic<double> zeroPacketT_ {-1.0};   ///< source time of the first all-off packet answered at stop()
     core::SeqLock<core::Pose> pose_;
     core::SeqLock<core::MotorLevels> levels_;
+    core::SeqLock<std::array<double, 4>> quaternion_;
+    core::SpscQueue<engine::GestureEvent, 128> gestureOut_;   // control thread → one front-end thread
+    std::atomic<std::uint64_t> gesturesDropped_ {0};
     double lastT_ = -1.0;
     core::GapDetector sourceGaps_;                         // control thread: gaps of a source without a link (OSC)
     std::atomic<std::uint64_t> oscGaps_ {0};
