@@ -1,11 +1,15 @@
 // The web page's checks (Web/WebRequest.h) one rule at a time, and the server (Web/WebServer.h)
 // over real loopback sockets with a stand-in instrument: what reaches the instrument and what is
 // refused before it (docs/SECURITY.md "The web page").
+#include "Web/WebPage.h"
 #include "Web/WebRequest.h"
 #include "Web/WebServer.h"
 #include <catch2/catch.hpp>
 #include <arpa/inet.h>
 #include <atomic>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <mutex>
 #include <netinet/in.h>
 #include <string>
@@ -265,4 +269,26 @@ TEST_CASE("server: a client that floods is cut off", "[web][security]")
     for (const std::string& line : server.takeLines()) named = named || line.find("cut off 127.0.0.1") != std::string::npos;
     CHECK(named);
     server.stop();
+}
+
+TEST_CASE("page files: every file of Resources/web is built in with the source tree's bytes, and nothing else", "[web]")
+{
+    namespace fs = std::filesystem;
+    const fs::path source = fs::path(ARMADILLO_SOURCE_DIR) / "Resources" / "web";
+    std::size_t onDisk = 0;
+    for (const auto& entry : fs::directory_iterator(source)) {
+        if (!entry.is_regular_file() || entry.path().filename() == "README.md") continue;
+        ++onDisk;
+        const std::string path = "/" + entry.path().filename().string();
+        INFO(path);
+        const PageFile* f = pageFile(path);
+        REQUIRE(f != nullptr);
+        std::ifstream in(entry.path(), std::ios::binary);
+        std::ostringstream bytes;
+        bytes << in.rdbuf();
+        CHECK(std::string(f->body) == bytes.str());
+        CHECK_FALSE(f->contentType.empty());
+    }
+    CHECK(onDisk >= 3);   // the HTML, its style sheet and its script
+    CHECK(pageFiles().size() == onDisk);
 }
