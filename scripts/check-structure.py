@@ -9,11 +9,14 @@ Prints, for Source/:
   - every mention of a concrete source or sink class in Source/Cli, Source/Plugin and Source/Pd
     (the front ends ask the live session with a description instead; in Source/Pd one fails), and
   - every file that runs the control step (calls ControlLoop::tick): one file should, and
+  - every place a source of the instrument is constructed outside the one file allowed for its
+    class (the source registry, Live/Sources/SourceRegistry.cpp; the position sources in
+    Navigation/NavigationRig.cpp, the one place that knows a route), and
   - every data member of Plugin/PluginProcessor.h whose type is of a core room's namespace
     (armadillo::live, ::link, ::access, ...; `using` aliases of such types in Source/Plugin
     count too): the processor holds the instrument and its clock, not its parts (at most 3).
 Exits 1 when a function is too long, a file other than Live/Step/StepRunner.cpp runs the control step,
-or the processor holds more than 3 core objects, unless --report-only; the concrete names are
+a source is constructed outside its one place, or the processor holds more than 3 core objects, unless --report-only; the concrete names are
 counted on the last line, so their progress is visible in every run.
 Comments, string and character literals are skipped; the brace matcher counts a '{' whose
 preceding declaration holds a '(' at namespace or class scope as a function body."""
@@ -25,6 +28,19 @@ import sys
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 CONCRETE = ["DeviceLink", "OscReceiver", "OscSender", "SimulatedForearm", "WalkerSim", "GpsdSource",
             "OscPositionSource", "MqttClient", "MessageService", "TactorOutput", "SoundCard", "SequencerOut"]
+
+# Where each source class of the instrument may be constructed (one place per class, issue 45).
+REGISTRY = "Source/Live/Sources/SourceRegistry.cpp"
+SOURCE_CONSTRUCTED_IN = {"DeviceLink": REGISTRY, "OscReceiver": REGISTRY, "SimulatedForearm": REGISTRY,
+                         "MessageService": REGISTRY, "GpsdSource": "Source/Navigation/NavigationRig.cpp",
+                         "OscPositionSource": "Source/Navigation/NavigationRig.cpp"}
+
+
+def constructions(code, cls):
+    """Line numbers where `code` constructs a `cls`: make_unique/make_shared, new, or an object."""
+    q = r"(?:\w+::)*" + cls
+    pattern = re.compile(r"make_(?:unique|shared)\s*<\s*" + q + r"\s*>|\bnew\s+" + q + r"\b|(?<![\w:<*&])" + q + r"\s+\w+\s*[({]")
+    return [code.count("\n", 0, m.start()) + 1 for m in pattern.finditer(code)]
 
 
 def strip_code(text):
@@ -164,7 +180,7 @@ def main():
     ap.add_argument("--report-only", action="store_true")
     args = ap.parse_args()
     src = os.path.join(ROOT, "Source")
-    long_functions, concrete, ticks = [], [], []
+    long_functions, concrete, ticks, misplaced = [], [], [], []
     for path in source_files(src):
         rel = os.path.relpath(path, ROOT)
         with open(path, encoding="utf-8", errors="replace") as f:
@@ -172,6 +188,11 @@ def main():
         for start, end, name in functions(code):
             if end - start + 1 > args.max_function_lines:
                 long_functions.append((end - start + 1, rel, start, name))
+        for cls, allowed in SOURCE_CONSTRUCTED_IN.items():
+            if os.path.basename(rel) in (cls + ".cpp", cls + ".h") or rel == allowed:
+                continue
+            for lineno in constructions(code, cls):
+                misplaced.append((rel, lineno, cls, allowed))
         front_end = any(rel.startswith(os.path.join("Source", f)) for f in FRONT_ENDS)
         for lineno, text in enumerate(code.split("\n"), 1):
             if front_end:
@@ -190,6 +211,8 @@ def main():
         print(f"function longer than {args.max_function_lines} lines: {rel}:{start} {name} ({n} lines)")
     for rel, lineno, cls in concrete:
         print(f"front end names a concrete source or sink: {rel}:{lineno} {cls}")
+    for rel, lineno, cls, allowed in misplaced:
+        print(f"constructs a source outside its one place: {rel}:{lineno} {cls} (only in {allowed})")
     for rel, lineno in ticks:
         print(f"runs the control step (ControlLoop::tick): {rel}:{lineno}")
     members = processor_core_members(src)
@@ -200,9 +223,9 @@ def main():
     files = len({rel for rel, _, _ in concrete})
     print(f"structure: {len(long_functions)} functions over {args.max_function_lines} lines, "
           f"{len(concrete)} mentions of concrete sources or sinks in {files} front-end files, {len(tick_files)} files that run the control step, "
-          f"{len(members)} core objects in the plugin processor")
+          f"{len(members)} core objects in the plugin processor, {len(misplaced)} sources constructed outside their one place")
     strict = [c for c in concrete if any(c[0].startswith(os.path.join("Source", f)) for f in STRICT_FRONT_ENDS)]
-    failed = long_functions or stray_ticks or strict or len(members) > MAX_PROCESSOR_CORE_OBJECTS
+    failed = long_functions or stray_ticks or strict or misplaced or len(members) > MAX_PROCESSOR_CORE_OBJECTS
     return 1 if failed and not args.report_only else 0
 
 

@@ -3,7 +3,7 @@
 #include "Core/StageCommand.h"
 #include "Link/Motion.h"
 #include "Live/Session/BlockInstrument.h"
-#include "Live/Sources/ForearmPort.h"
+#include "Live/Sources/SourceRegistry.h"
 
 namespace armadillo::pd {
 

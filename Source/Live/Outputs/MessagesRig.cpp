@@ -1,4 +1,5 @@
 #include "Live/Outputs/MessagesRig.h"
+#include "Live/Sources/SourceRegistry.h"
 #include "Core/Text.h"
 
 namespace armadillo::live {
@@ -35,7 +36,7 @@ std::string MessagesRig::start(const MessagesSettings& settings)
         if (auto why = addTopics(config, settings.urgent, true); !why.empty()) return "MQTT: " + why;
         mqtt::PresenterOptions options;
         options.timed = settings.timed;
-        auto service = std::make_unique<mqtt::MessageService>(std::move(config), std::move(options));
+        auto service = openMessageSource(std::move(config), std::move(options));   // the registry (Live/Sources/SourceRegistry.h)
         service->start();
         current_ = service.get();
         services_.push_back(std::move(service));

@@ -2,7 +2,7 @@
 #include "Core/AtomicFile.h"
 #include "Audio/SequencerOut.h"
 #include "Braille/BrailleScene.h"
-#include "Live/Sources/ForearmPort.h"
+#include "Live/Sources/SourceRegistry.h"
 #include "Live/Outputs/MappingRig.h"
 #include "Audio/SoundCard.h"
 #include "Core/Errors.h"
@@ -10,7 +10,6 @@
 #include "Osc/OscIo.h"
 #include "Live/Outputs/SessionWriters.h"
 #include "Live/Session/SessionWebView.h"
-#include "Link/Simulator.h"
 #include "Fusion/ArmTracker.h"
 #include <algorithm>
 #include <array>
@@ -133,7 +132,7 @@ void LiveSession::buildEngine()
 void LiveSession::openMessagesAndMapping()
 {
     if (config_.messages.on) {   // InputError for a bad configuration; nothing connects before start()
-        messages_ = std::make_unique<mqtt::MessageService>(config_.messages.config, config_.messages.options);
+        messages_ = openMessageSource(config_.messages.config, config_.messages.options);
         messageScene_ = dynamic_cast<braille::BrailleSceneControls*>(&engine_->scene());
         if (showsMessages() && !messageScene_) throw core::InputError("--messages", 0, "", "messages are read in Arm Braille: use the braille scene");
     }
@@ -164,57 +163,60 @@ void LiveSession::openMessagesAndMapping()
     }
 }
 
-/// The right arm's source: a port or the simulated forearm through a device link, or OSC.
+/// The right arm's source, through the registry: a port or the simulated forearm read by a
+/// device link, or an OSC sender (UDP or SLIP serial).
 void LiveSession::openRightSource()
 {
-    auto deviceHandler = [this](const link::SensorCounts& counts, double t) { return control(t, &counts, nullptr, nullptr); };
-    switch (config_.source) {
-    case LiveConfig::Source::Port:
-    case LiveConfig::Source::Simulator: {
-        // A port fails early with its own message (exit 4); later losses reconnect in the link.
-        ForearmPort port = openForearmPort(forearmRequest(config_, false));
-        simulator_ = std::move(port.simulator);
-        link_ = std::make_unique<link::DeviceLink>(std::move(port.port), deviceHandler, config_.link);
-        break;
+    ArmSourceDescription d;
+    ArmSourceHandlers h;
+    if (config_.source == LiveConfig::Source::Osc) {
+        d.kind = config_.oscSerialPort.empty() ? ArmSourceDescription::Kind::OscUdp : ArmSourceDescription::Kind::OscSerial;
+        d.oscPort = config_.oscInPort;
+        d.oscSerial = osc::OscSerialSource {config_.oscSerialPort, config_.oscSerialBaud};
+        d.osc = config_.osc;
+        h.onImu = [this](const core::ImuSample& s) { control(s.t, nullptr, &s, nullptr); };
+        h.onOrientation = [this](double t, const Eigen::Quaterniond& q) { control(t, nullptr, nullptr, &q); };
+    } else {   // a port fails early with its own message (exit 4); later losses reconnect in the link
+        d.forearm = forearmRequest(config_, false);
+        d.link = config_.link;
+        h.onPacket = [this](const link::SensorCounts& counts, double t) { return control(t, &counts, nullptr, nullptr); };
     }
-    case LiveConfig::Source::Osc: {
-        auto onImu = [this](const core::ImuSample& s) { control(s.t, nullptr, &s, nullptr); };
-        auto onQ = [this](double t, const Eigen::Quaterniond& q) { control(t, nullptr, nullptr, &q); };
-        if (!config_.oscSerialPort.empty())
-            oscIn_ = std::make_unique<osc::OscReceiver>(osc::OscSerialSource {config_.oscSerialPort, config_.oscSerialBaud}, onImu, onQ, config_.osc);
-        else
-            oscIn_ = std::make_unique<osc::OscReceiver>(config_.oscInPort, onImu, onQ, config_.osc);
-        if (navigation_ && navigation_->datagramTap()) oscIn_->setDatagramTap(navigation_->datagramTap());   // a phone's gps on the arm's port
-        break;
-    }
-    }
+    right_ = openArmSource(d, std::move(h));
+    link_ = right_->link();
+    oscIn_ = right_->osc();
+    if (oscIn_ && navigation_ && navigation_->datagramTap()) oscIn_->setDatagramTap(navigation_->datagramTap());   // a phone's gps on the arm's port
 }
 
 /// Two arms: the left arm's source (a port, the simulated forearm or an OSC sender) and its log.
 void LiveSession::openLeftArm()
 {
-    if (config_.leftSource != LiveConfig::LeftSource::None) {
+    if (config_.leftSource == LiveConfig::LeftSource::None) return;
+    ArmSourceDescription d;
+    ArmSourceHandlers h;
+    if (config_.leftSource == LiveConfig::LeftSource::Osc) {
+        // An OSC sender as the left arm: its own dialect detection and mount; its samples (or
+        // its own orientations) into the left arm's mailbox. It has no motors.
+        d.kind = ArmSourceDescription::Kind::OscUdp;
+        d.oscPort = config_.leftOscInPort;
+        d.osc = config_.leftOsc;
+        h.onImu = [this](const core::ImuSample& s) { leftInput_.pushImu(s); };
+        h.onOrientation = [this](double t, const Eigen::Quaterniond& q) { leftInput_.storeOrientation(t, q); };
+    } else {   // a port or the simulated left forearm
         // The left arm's packets: calibrated with its own calibration, into its mailbox; answered
         // with the left arm's latest motor levels (its own tactile engine and safety stage).
-        auto leftHandler = [this](const link::SensorCounts& counts, double t) {
+        d.forearm = forearmRequest(config_, true);
+        d.link = config_.link;
+        h.onPacket = [this](const link::SensorCounts& counts, double t) {
             if (motorsOff_.load(std::memory_order_acquire)) return core::MotorLevels {};
             leftInput_.pushImu(config_.leftCalibration.apply(t, counts));
             return leftLevels_.load();
         };
-        if (config_.leftSource == LiveConfig::LeftSource::Osc) {
-            // An OSC sender as the left arm: its own dialect detection and mount; its samples (or
-            // its own orientations) into the left arm's mailbox. It has no motors.
-            auto onImu = [this](const core::ImuSample& s) { leftInput_.pushImu(s); };
-            auto onQ = [this](double t, const Eigen::Quaterniond& q) { leftInput_.storeOrientation(t, q); };
-            leftOscIn_ = std::make_unique<osc::OscReceiver>(config_.leftOscInPort, onImu, onQ, config_.leftOsc);   // IoError when taken
-        } else {   // a port or the simulated left forearm
-            ForearmPort port = openForearmPort(forearmRequest(config_, true));
-            leftSimulator_ = std::move(port.simulator);
-            leftLink_ = std::make_unique<link::DeviceLink>(std::move(port.port), leftHandler, config_.link);
-        }
-        if (!config_.armsLog.empty())
-            armsLog_ = std::make_unique<StreamingCsvWriter>(config_.armsLog, std::vector<std::string> {"t", "qw", "qx", "qy", "qz", "left_qw", "left_qx", "left_qy", "left_qz"});
     }
+    left_ = openArmSource(d, std::move(h));   // IoError when a port is missing or taken
+    leftLink_ = left_->link();
+    leftOscIn_ = left_->osc();
+    if (!config_.armsLog.empty())
+        armsLog_ = std::make_unique<StreamingCsvWriter>(config_.armsLog, std::vector<std::string> {"t", "qw", "qx", "qy", "qz", "left_qw", "left_qx", "left_qy", "left_qz"});
 }
 
 /// The session log, the tactile CSV and the recording the scene listens to.
@@ -531,10 +533,8 @@ void LiveSession::start()
         }
     }
     started_ = std::chrono::steady_clock::now();
-    if (link_) link_->start();
-    if (leftLink_) leftLink_->start();
-    if (oscIn_) oscIn_->start();
-    if (leftOscIn_) leftOscIn_->start();
+    if (right_) right_->start();
+    if (left_) left_->start();
     if (navigation_) navigation_->startSource();
     if (messages_) messages_->start();   // a broker that is down is no error: it keeps trying
     if (wav_) audioThread_ = std::thread([this] { audioLoop(); });
@@ -565,8 +565,8 @@ void LiveSession::stop()
         if (leftLink_->stats().inSync) leftLink_->waitFor([](const link::LinkStats&) { return true; }, 0.05);
         leftLink_->stop();
     }
-    if (simulator_) simulator_->stop();
-    if (leftSimulator_) leftSimulator_->stop();
+    if (right_) right_->stop();   // the simulated forearms stop after their links
+    if (left_) left_->stop();
     engine_->allOff();
     if (cues_)
         for (int c = 0; c < cues_->cueCount(); ++c) cues_->engine(c).allOff();
@@ -776,7 +776,7 @@ std::string LiveSession::lastError() const
 
 bool LiveSession::enableSensorTap(bool left)
 {
-    osc::OscReceiver* osc = left ? leftOscIn_.get() : oscIn_.get();
+    osc::OscReceiver* osc = left ? leftOscIn_ : oscIn_;
     if (!osc) return false;
     osc->merger().enableSensorTap(true);
     return true;
@@ -784,13 +784,13 @@ bool LiveSession::enableSensorTap(bool left)
 
 bool LiveSession::popSensorFrame(bool left, osc::SensorFrameSample& sample)
 {
-    osc::OscReceiver* osc = left ? leftOscIn_.get() : oscIn_.get();
+    osc::OscReceiver* osc = left ? leftOscIn_ : oscIn_;
     return osc != nullptr && osc->merger().popSensorSample(sample);
 }
 
 std::string LiveSession::senderName(bool left) const
 {
-    const osc::OscReceiver* osc = left ? leftOscIn_.get() : oscIn_.get();
+    const osc::OscReceiver* osc = left ? leftOscIn_ : oscIn_;
     return osc ? osc->deviceName() : std::string();
 }
 

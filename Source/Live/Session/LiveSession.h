@@ -49,9 +49,6 @@ struct MqttMessage;
 namespace armadillo::fusion {
 class ArmTracker;
 }
-namespace armadillo::link {
-class SimulatedForearm;
-}
 namespace armadillo::osc {
 class OscReceiver;
 class OscSender;
@@ -59,6 +56,7 @@ class OscSender;
 
 namespace armadillo::live {
 
+class ArmSource;
 class MappingRig;
 class StreamingCsvWriter;
 class StreamingWavWriter;
@@ -217,9 +215,9 @@ public:
     /// through Stage::apply and acts at the next control step; its panic count. Any thread.
     live::Stage& stage() noexcept { return stage_; }
     /// Two arms: the left arm's link (null with one arm) and its latest pose (any thread).
-    link::DeviceLink* leftLink() noexcept { return leftLink_.get(); }
+    link::DeviceLink* leftLink() noexcept { return leftLink_; }
     /// Two arms with an OSC sender as the left arm: its receiver (format, device, counters); null otherwise.
-    osc::OscReceiver* leftOscReceiver() noexcept { return leftOscIn_.get(); }
+    osc::OscReceiver* leftOscReceiver() noexcept { return leftOscIn_; }
     core::Pose latestLeftPose() const noexcept { return leftPose_.load(); }
     /// IMU samples the control step dropped (more than ControlLoop::kMaxImuPerStep waiting).
     std::uint64_t droppedImu() const noexcept { return loop_.droppedImu(); }
@@ -238,7 +236,7 @@ public:
     std::string lastError() const;
     std::uint64_t controlUpdates() const noexcept { return updates_.load(); }
     /// The device link of a port or simulator source (null for OSC): statistics, the sent-packet log.
-    link::DeviceLink* deviceLink() noexcept { return link_.get(); }
+    link::DeviceLink* deviceLink() noexcept { return link_; }
     /// Every raw packet of a device source, for one consumer thread (calibration, UI); null for OSC.
     core::SpscQueue<link::RawPacket, 1024>* rawPackets() noexcept { return link_ ? &link_->packets() : nullptr; }
     /// Sensor-packet arrival → motor packet written (device sources; empty otherwise).
@@ -251,7 +249,7 @@ public:
     /// Source::Osc: the UDP port listened on (useful with oscInPort 0); 0 otherwise.
     int oscInPort() const noexcept;
     /// Source::Osc: the receiver (format, device, counters, the mount calibration's tap); null otherwise.
-    osc::OscReceiver* oscReceiver() noexcept { return oscIn_.get(); }
+    osc::OscReceiver* oscReceiver() noexcept { return oscIn_; }
     /// Why an optional sound card is not in use ("" when it is, or none was asked for).
     const std::string& soundCardWarning() const noexcept { return soundCardWarning_; }
     /// The outputs as opened, in words for the person who runs the session: "sound on 'default'
@@ -324,10 +322,10 @@ private:
     static void applyStage(void* self, const mapping::StageEvent& event) noexcept;
     // Two arms: the left arm's source and link; its calibrated samples reach the control thread
     // through a mailbox, where its own tracker fuses them; the two-arm engine plays both.
-    std::unique_ptr<link::SimulatedForearm> leftSimulator_;
-    std::unique_ptr<link::DeviceLink> leftLink_;
     live::LiveInput leftInput_;
-    std::unique_ptr<osc::OscReceiver> leftOscIn_;
+    std::unique_ptr<live::ArmSource> left_;       // opened through the registry (Live/Sources/SourceRegistry.h)
+    link::DeviceLink* leftLink_ = nullptr;        // left_'s link (a forearm) or
+    osc::OscReceiver* leftOscIn_ = nullptr;       // its OSC receiver (a sender)
     std::unique_ptr<fusion::ArmTracker> leftTracker_;
     core::ArmState leftArm_ {};
     live::LiveOrientation leftOrientation_ {};   // control thread: the left sender's last orientation read
@@ -336,9 +334,9 @@ private:
     core::SeqLock<core::Pose> leftPose_;
     std::unique_ptr<StreamingCsvWriter> armsLog_;
     engine::Engine& sounding() noexcept { return cues_ ? cues_->engine(cues_->current()) : *engine_; }
-    std::unique_ptr<link::SimulatedForearm> simulator_;
-    std::unique_ptr<link::DeviceLink> link_;
-    std::unique_ptr<osc::OscReceiver> oscIn_;
+    std::unique_ptr<live::ArmSource> right_;      // the right arm, opened through the registry
+    link::DeviceLink* link_ = nullptr;            // right_'s link (a forearm) or
+    osc::OscReceiver* oscIn_ = nullptr;           // its OSC receiver (a sender)
     std::unique_ptr<osc::OscSender> oscOut_;
     std::unique_ptr<live::MappingRig> mapping_;      // control thread once started
     std::unique_ptr<audio::SequencerOut> midiOut_;   // written by the control thread only

@@ -1,8 +1,6 @@
 #include "Live/Sources/DeviceConnection.h"
 #include "Link/DeviceLink.h"
-#include "Link/LinkPort.h"
-#include "Link/Simulator.h"
-#include "Live/Sources/ForearmPort.h"
+#include "Live/Sources/SourceRegistry.h"
 #include "Core/Clock.h"
 #include <csignal>
 #include <cstdio>
@@ -51,14 +49,19 @@ bool DeviceConnection::connect(const std::string& port, int baud, const std::str
         ~RestoreMask() { pthread_sigmask(SIG_SETMASK, &mask, nullptr); }
     } restore {previous};
 
-    ForearmPortRequest request;
+    ArmSourceDescription description;
+    description.kind = ArmSourceDescription::Kind::Forearm;
+    ForearmPortRequest& request = description.forearm;
     request.simulate = port == kSimulatedPort;
     request.port = port;
     request.baud = baud;
     request.openNow = false;   // a missing port: the link waits for it, the status says so
     request.simulatorBaud = 57600.0;   // paced like the thesis's Bluetooth serial link
     request.simulatorPriority = kLinkPriority - 1;   // the board's side of the wire keeps time too
-    std::unique_ptr<link::LinkPort> linkPort;
+    // The link is the last stage before the motors: a packet it writes late holds the previous
+    // levels longer than the safety stage planned (its horizon is 25 ms). It asks for
+    // SCHED_FIFO, as `armadillo play` does (falls back silently where that is not allowed).
+    description.link.realtimePriority = kLinkPriority;
     try {
         if (request.simulate) {
             calibration_ = link::defaultCalibration();   // the simulator's ADC is the default one
@@ -71,15 +74,13 @@ bool DeviceConnection::connect(const std::string& port, int baud, const std::str
                 return false;
             }
         }
-        ForearmPort opened = openForearmPort(request);
-        simulator_ = std::move(opened.simulator);
-        linkPort = std::move(opened.port);
         publishCalibration();
         packetSafety_.prepare(tactile::kDefaultSafetyParams, core::kMaxMotors); // allocates: here, before the link thread starts
         lastPacketAt_ = -1.0;
         linkSeen_ = 0;
         linkGeneration_.store(0, std::memory_order_release);
-        auto handler = [this](const link::SensorCounts& counts, double t) {
+        ArmSourceHandlers handlers;
+        handlers.onPacket = [this](const link::SensorCounts& counts, double t) {
             // A calibration published by the message thread (connect, guided calibration) is
             // taken up here, between packets: a seqlock read, no lock, no allocation.
             const std::uint64_t generation = pendingGeneration_.load(std::memory_order_acquire);
@@ -100,19 +101,14 @@ bool DeviceConnection::connect(const std::string& port, int baud, const std::str
             lastPacketAt_ = now;
             return packetSafety_.process(due, held);
         };
-        // The link is the last stage before the motors: a packet it writes late holds the previous
-        // levels longer than the safety stage planned (its horizon is 25 ms). It asks for
-        // SCHED_FIFO, as `armadillo play` does (falls back silently where that is not allowed).
-        link::DeviceLinkOptions linkOptions;
-        linkOptions.realtimePriority = kLinkPriority;
-        link_ = std::make_unique<link::DeviceLink>(std::move(linkPort), handler, linkOptions);
+        source_ = openArmSource(description, std::move(handlers));   // the simulated forearm starts here
+        link_ = source_->link();
         if (sentLog_) link_->enableSentLog();
         linkEpoch_ = core::monotonicSeconds();
-        link_->start();
+        source_->start();
     } catch (const std::exception& e) {
-        link_.reset();
-        if (simulator_ != nullptr) simulator_->stop();
-        simulator_.reset();
+        link_ = nullptr;
+        source_.reset();   // stops the simulated forearm
         claim_.reset();
         message += std::string("Cannot open ") + port + ": " + e.what();
         return false;
@@ -124,10 +120,9 @@ bool DeviceConnection::connect(const std::string& port, int baud, const std::str
 void DeviceConnection::disconnect()
 {
     if (calibrationSession_.running()) calibrationSession_.cancel("the device was disconnected");
-    if (link_ != nullptr) link_->stop();   // no motor packet leaves after this
-    link_.reset();
-    if (simulator_ != nullptr) simulator_->stop();
-    simulator_.reset();
+    if (source_ != nullptr) source_->stop();   // no motor packet leaves after this; then the simulated forearm stops
+    link_ = nullptr;
+    source_.reset();
     claim_.reset();
 }
 

@@ -15,17 +15,13 @@
 #include "Procedures/DeviceCalibration.h"
 #include "Live/Step/LiveInput.h"
 #include "Live/Sources/PortRegistry.h"
+#include "Live/Sources/SourceRegistry.h"
 #include "Tactile/TactileEngine.h"
 #include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
-
-namespace armadillo::link {
-class DeviceLink;
-class SimulatedForearm;
-} // namespace armadillo::link
 
 namespace armadillo::live {
 
@@ -99,8 +95,8 @@ private:
     std::atomic<std::uint64_t> linkGeneration_ {0};
     procedures::DeviceCalibration calibrationSession_;
     std::unique_ptr<PortClaim> claim_;
-    std::unique_ptr<link::SimulatedForearm> simulator_;
-    std::unique_ptr<link::DeviceLink> link_;
+    std::unique_ptr<ArmSource> source_;      // the forearm, opened through the registry (SourceRegistry.h)
+    link::DeviceLink* link_ = nullptr;       // source_'s link (null when not open)
 };
 
 } // namespace armadillo::live

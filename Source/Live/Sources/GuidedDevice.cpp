@@ -1,9 +1,7 @@
 #include "Live/Sources/GuidedDevice.h"
 #include "Core/Clock.h"
 #include "Core/Errors.h"
-#include "Link/DeviceLink.h"
-#include "Link/Simulator.h"
-#include "Live/Sources/ForearmPort.h"
+#include "Live/Sources/SourceRegistry.h"
 #include <chrono>
 #include <thread>
 
@@ -13,28 +11,25 @@ GuidedDevice::GuidedDevice(const std::string& port, int baud, bool simulate, boo
                            std::shared_ptr<const link::MotionSource> motion)
     : player_(player), onSensor_(std::move(onSensor))
 {
-    ForearmPortRequest request;
-    request.simulate = simulate;
-    request.port = port;
-    request.baud = baud;
-    request.openNow = true;   // a missing port is an error now (exit 4), not a silent retry
-    request.motion = std::move(motion);
-    request.simulatorBaud = unpaced ? 0.0 : 57600.0;
-    ForearmPort opened = openForearmPort(request);
-    simulator_ = std::move(opened.simulator);
-    link_ = std::make_unique<link::DeviceLink>(std::move(opened.port), [this](const link::SensorCounts& counts, double t) {
+    ArmSourceDescription description;
+    description.kind = ArmSourceDescription::Kind::Forearm;
+    description.forearm.simulate = simulate;
+    description.forearm.port = port;
+    description.forearm.baud = baud;
+    description.forearm.openNow = true;   // a missing port is an error now (exit 4), not a silent retry
+    description.forearm.motion = std::move(motion);
+    description.forearm.simulatorBaud = unpaced ? 0.0 : 57600.0;
+    ArmSourceHandlers handlers;
+    handlers.onPacket = [this](const link::SensorCounts& counts, double t) {
         const core::MotorLevels out = player_.onPacket(t);
         if (onSensor_) onSensor_(counts, player_.clock());
         return out;
-    });
-    link_->start();
+    };
+    source_ = openArmSource(description, std::move(handlers));
+    source_->start();
 }
 
-GuidedDevice::~GuidedDevice()
-{
-    link_->stop();
-    if (simulator_) simulator_->stop();
-}
+GuidedDevice::~GuidedDevice() { source_->stop(); }
 
 void GuidedDevice::checkAlive()
 {
@@ -44,7 +39,7 @@ void GuidedDevice::checkAlive()
         lastPackets_ = player_.packets();
         lastPacketAt_ = now;
     } else if (now - lastPacketAt_ > 5.0) {
-        const std::string why = link_->lastError();
+        const std::string why = source_->link()->lastError();
         throw core::IoError("no data from the device for 5 s" + (why.empty() ? std::string() : ": " + why));
     }
 }

@@ -9,14 +9,10 @@
 #include "Access/TactilePlayer.h"
 #include "Link/Motion.h"
 #include "Link/Packets.h"
+#include "Live/Sources/SourceRegistry.h"
 #include <functional>
 #include <memory>
 #include <string>
-
-namespace armadillo::link {
-class DeviceLink;
-class SimulatedForearm;
-} // namespace armadillo::link
 
 namespace armadillo::live {
 
@@ -45,14 +41,13 @@ public:
     void waitUntil(const std::function<bool()>& done);
     /// IoError when no packet arrived for 5 s (for a caller that waits by itself; call it often).
     void checkAlive();
-    link::DeviceLink& link() { return *link_; }
+    link::DeviceLink& link() { return *source_->link(); }
 
 private:
     TactilePlayer& player_;
     SensorHook onSensor_;
     std::function<bool()> interrupted_;
-    std::unique_ptr<link::SimulatedForearm> simulator_;
-    std::unique_ptr<link::DeviceLink> link_;
+    std::unique_ptr<ArmSource> source_;   // the forearm, opened through the registry (Live/Sources/SourceRegistry.h)
     std::uint64_t lastPackets_ = 0;
     double lastPacketAt_ = -1.0;   ///< s on the steady clock when the packet count last moved
 };

@@ -50,7 +50,7 @@ std::uint64_t OscOutput::messagesSent() const
 OscInput::~OscInput()
 {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (receiver_ != nullptr) receiver_->stop();
+    if (source_ != nullptr) source_->stop();
 }
 
 bool OscInput::configure(bool enabled, int port, std::string& whyNot, const osc::OscInputOptions& options)
@@ -60,8 +60,9 @@ bool OscInput::configure(bool enabled, int port, std::string& whyNot, const osc:
     const bool sameOptions = openFormat_ == options.format && openMountGiven_ == options.mountGiven
                              && (! options.mountGiven || openMount_.isApprox(options.mount.rotation));
     if (enabled && receiver_ != nullptr && openPort_ == port && sameOptions) return true;
-    if (receiver_ != nullptr) receiver_->stop();
-    receiver_.reset();
+    if (source_ != nullptr) source_->stop();
+    source_.reset();
+    receiver_ = nullptr;
     openPort_ = 0;
     if (! enabled) return true;
     if (port < 1 || port > 65535) {
@@ -72,16 +73,21 @@ bool OscInput::configure(bool enabled, int port, std::string& whyNot, const osc:
         // Handlers run on the receiver's thread; the mailbox takes them without locks.
         // The receiving thread keeps time as the device link's does: each sample's arrival is
         // where its control step goes in the host's block (BlockControl, issue 36).
-        osc::OscInputOptions timed = options;
-        timed.realtimePriority = kReceiverPriority;
-        receiver_ = std::make_unique<osc::OscReceiver>(
-            port,
-            [this](const core::ImuSample& s) { live_.pushImu(s); },
-            [this](double t, const Eigen::Quaterniond& q) { live_.storeOrientation(t, q); }, timed);
+        ArmSourceDescription description;
+        description.kind = ArmSourceDescription::Kind::OscUdp;
+        description.oscPort = port;
+        description.osc = options;
+        description.osc.realtimePriority = kReceiverPriority;
+        ArmSourceHandlers handlers;
+        handlers.onImu = [this](const core::ImuSample& s) { live_.pushImu(s); };
+        handlers.onOrientation = [this](double t, const Eigen::Quaterniond& q) { live_.storeOrientation(t, q); };
+        source_ = openArmSource(description, std::move(handlers));   // IoError when the port is taken
+        receiver_ = source_->osc();
         receiver_->merger().enableSensorTap(tapOn_);
-        receiver_->start();
+        source_->start();
     } catch (const std::exception& e) {
-        receiver_.reset();
+        source_.reset();
+        receiver_ = nullptr;
         whyNot = e.what();
         return false;
     }

@@ -7,6 +7,7 @@
 #include "Core/Types.h"
 #include "Osc/OscIo.h"
 #include "Live/Step/LiveInput.h"
+#include "Live/Sources/SourceRegistry.h"
 #include <atomic>
 #include <chrono>
 #include <memory>
@@ -67,7 +68,8 @@ public:
 private:
     live::LiveInput& live_;
     mutable std::mutex mutex_;
-    std::unique_ptr<osc::OscReceiver> receiver_;
+    std::unique_ptr<ArmSource> source_;        // the sender's port, opened through the registry (SourceRegistry.h)
+    osc::OscReceiver* receiver_ = nullptr;     // source_'s receiver (null when off)
     int openPort_ = 0;
     osc::OscFormat openFormat_ = osc::OscFormat::Auto;
     Eigen::Quaterniond openMount_ = Eigen::Quaterniond::Identity();
