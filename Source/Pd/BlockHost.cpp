@@ -15,9 +15,7 @@ BlockHost::BlockHost(double sampleRate) : sampleRate_(sampleRate > 0.0 ? sampleR
     host.sceneTable = &table_;
     host.midiChannel = [] { return 1; };
     instrument_ = std::make_unique<live::BlockInstrument>(host);
-    instrument_->token().take();
-    instrument_->control().prepare(sampleRate_);
-    instrument_->token().release();
+    instrument_->prepare(sampleRate_);
     left_.assign(64, 0.0f);
     right_.assign(64, 0.0f);
     instrument_->start();   // the idle clock: the step runs (and the messages flow) while Pd's DSP is off
@@ -33,9 +31,7 @@ void BlockHost::prepare(double sampleRate, int maxBlock)
     }
     const bool newRate = sampleRate > 0.0 && sampleRate != sampleRate_;
     if (newRate) sampleRate_ = sampleRate;
-    instrument_->token().take();   // the idle clock holds it for < 1 ms
-    instrument_->control().prepare(sampleRate_);
-    instrument_->token().release();
+    instrument_->prepare(sampleRate_);   // between two idle steps
     if (newRate && commands_ != nullptr) installEngine();
 }
 
@@ -60,9 +56,7 @@ void BlockHost::installEngine()
     slot->engine = std::make_unique<engine::Engine>(config);   // InputError: the old engine plays on
     slot->sceneName = config.scene;
     slot->generation = ++generation_;
-    instrument_->token().take();   // Pd's thread runs no block now; the idle clock holds it < 1 ms
-    instrument_->loop().replace(std::move(slot));
-    instrument_->token().release();
+    instrument_->install(std::move(slot));   // Pd's thread runs no block now
 }
 
 void BlockHost::chooseSource(const Settings& s)

@@ -2,9 +2,12 @@
 // nothing but the host's cells and an engine, it runs the control step on its own idle clock with
 // the simulated arm as source, steers to a pose, applies a panic through its stage, and stops —
 // the clock and every part — once, however often it is asked.
+#include "Common/HttpProbe.h"
 #include "Engine/Engine.h"
 #include "Live/Session/BlockInstrument.h"
 #include <catch2/catch.hpp>
+#include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <thread>
@@ -27,10 +30,8 @@ void installEngine(live::BlockInstrument& instrument, const std::string& scene)
     auto slot = std::make_unique<live::EngineSlot>();
     slot->engine = std::make_unique<Engine>(config);
     slot->sceneName = config.scene;
-    instrument.token().take();
-    instrument.loop().replace(std::move(slot));
-    instrument.control().prepare(config.sceneConfig.sampleRate);
-    instrument.token().release();
+    instrument.install(std::move(slot));
+    instrument.prepare(config.sceneConfig.sampleRate);
 }
 
 /// Polls `done` until it holds or `seconds` of wall time pass (no fixed sleep decides a result).
@@ -86,4 +87,80 @@ TEST_CASE("block instrument: its idle clock runs the step from the simulated arm
     instrument.start();   // not after stop(): the instrument stays stopped
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
     CHECK(instrument.control().latestFrame().serial == last);
+}
+
+// The web page from the block instrument (issue 47: the app's Setup → Web page): the page's
+// status follows the steered arm, the page's Panic reaches the instrument's one switch and
+// silences the motors, a parameter goes through the host, and a foreign Host or Origin is refused
+// before anything reaches the instrument. Over real loopback sockets.
+TEST_CASE("block instrument: its web page shows the arm, its Panic silences the motors, the host sets its parameters",
+          "[live][instrument][web]")
+{
+    Cells cells;
+    live::SceneParameterTable table;
+    live::BlockInstrument instrument(live::BlockInstrument::Host {cells.cells(), &table, [] { return 1; }});
+    installEngine(instrument, "theremin");
+    instrument.rig().setSimulatorWandering(false);
+    Pose target;
+    target.elevationDeg = 35.0;
+    target.azimuthDeg = -10.0;
+    instrument.rig().steerSimulator(target);
+    instrument.start();
+    std::atomic<int> hostSets {0};
+    live::BlockWebView::Host host;
+    host.parameters = [] { return std::vector<web::ParameterInfo> {{"theremin.range", "Range", "st", 12.0, 48.0, 24.0, {}}}; };
+    host.setParameter = [&](const std::string& id, double value, double& set) {
+        if (id != "theremin.range") return false;
+        set = std::clamp(value, 12.0, 48.0);
+        ++hostSets;
+        return true;
+    };
+    REQUIRE(instrument.startWeb(web::WebConfig {true, 0, ""}, host).empty());
+    REQUIRE(instrument.webServer() != nullptr);
+    const int port = instrument.webServer()->port();
+    CHECK(instrument.webServer()->address() == "http://127.0.0.1:" + std::to_string(port) + "/");
+    instrument.refreshWeb("theremin");   // the message thread's part
+
+    // The status: the scene, the source, and the elevation of the steered arm.
+    std::string reply;
+    REQUIRE(within(5.0, [&] {
+        if (testing::httpSend(port, testing::httpGet(port, "/api/status"), &reply) != 200) return false;
+        const std::size_t at = reply.find("\"elevation_deg\":");
+        return at != std::string::npos && std::abs(std::stod(reply.substr(at + 16)) - target.elevationDeg) < 3.0;
+    }));
+    CHECK(reply.find("\"scene\":\"theremin\"") != std::string::npos);
+    CHECK(reply.find("simulated forearm (steered)") != std::string::npos);
+    CHECK(reply.find("Calibration window") != std::string::npos);   // the calibration says where it runs
+
+    // Refused before the instrument: a foreign Host, a foreign Origin.
+    const std::string self = "http://127.0.0.1:" + std::to_string(port);
+    const std::string token = testing::pageToken(port);
+    REQUIRE(token.size() == 32);
+    CHECK(testing::httpSend(port, "GET /api/status HTTP/1.1\r\nHost: evil.example\r\nConnection: close\r\n\r\n") == 403);
+    CHECK(testing::httpSend(port, testing::httpPost(port, "/api/stage", "panic", "http://evil.example", token)) == 403);
+    CHECK_FALSE(instrument.stage().panicked());
+
+    // A parameter through the host, clamped there.
+    CHECK(testing::httpSend(port, testing::httpPost(port, "/api/param", "id=theremin.range&value=99", self, token), &reply) == 200);
+    CHECK(hostSets == 1);
+    CHECK(reply.find("\"value\":48.0000") != std::string::npos);
+
+    // Panic from the page: the stage holds it and every motor of the following steps is off.
+    CHECK(testing::httpSend(port, testing::httpPost(port, "/api/stage", "panic", self, token)) == 200);
+    REQUIRE(within(2.0, [&] { return instrument.stage().panicked(); }));
+    const auto afterPanic = instrument.control().latestFrame().serial;
+    REQUIRE(within(2.0, [&] { return instrument.control().latestFrame().serial > afterPanic + 5; }));
+    const auto frame = instrument.control().latestFrame();
+    for (int m = 0; m < frame.motorCount; ++m) CHECK(frame.motors[static_cast<std::size_t>(m)] == 0);
+    CHECK(testing::httpSend(port, testing::httpPost(port, "/api/stage", "resume", self, token)) == 200);
+    REQUIRE(within(2.0, [&] { return !instrument.stage().panicked(); }));
+
+    // Off: the port is closed; stop() closes it too when it is on.
+    instrument.stopWeb();
+    CHECK(instrument.webServer() == nullptr);
+    CHECK(testing::httpSend(port, testing::httpGet(port, "/api/status")) == 0);
+    REQUIRE(instrument.startWeb(web::WebConfig {true, 0, ""}, host).empty());
+    const int second = instrument.webServer()->port();
+    instrument.stop();
+    CHECK(testing::httpSend(second, testing::httpGet(second, "/api/status")) == 0);
 }

@@ -1,6 +1,7 @@
 // The web page's checks (Web/WebRequest.h) one rule at a time, and the server (Web/WebServer.h)
 // over real loopback sockets with a stand-in instrument: what reaches the instrument and what is
 // refused before it (docs/SECURITY.md "The web page").
+#include "Common/HttpProbe.h"
 #include "Web/WebPage.h"
 #include "Web/WebRequest.h"
 #include "Web/WebServer.h"
@@ -151,42 +152,12 @@ struct FakeInstrument : InstrumentView {
     std::string calibrationFile() override { return {}; }
 };
 
-/// Sends `request` raw to 127.0.0.1:port; returns the status code (0 when nothing came back).
-int send(int port, const std::string& request, std::string* reply = nullptr)
-{
-    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in a {};
-    a.sin_family = AF_INET;
-    a.sin_port = htons(static_cast<std::uint16_t>(port));
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    timeval tv {5, 0};
-    ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
-    if (::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
-        ::close(fd);
-        return 0;
-    }
-    (void) ::send(fd, request.data(), request.size(), MSG_NOSIGNAL);
-    std::string got;
-    char buf[4096];
-    for (ssize_t n; (n = ::recv(fd, buf, sizeof buf, 0)) > 0;) got.append(buf, static_cast<std::size_t>(n));
-    ::close(fd);
-    if (reply) *reply = got;
-    return got.rfind("HTTP/1.1 ", 0) == 0 ? std::stoi(got.substr(9, 3)) : 0;
-}
-
+int send(int port, const std::string& request, std::string* reply = nullptr) { return testing::httpSend(port, request, reply); }
 std::string post(int port, const std::string& path, const std::string& body, const std::string& origin, const std::string& token)
 {
-    return "POST " + path + " HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(port) + "\r\nOrigin: " + origin +
-           "\r\nX-Armadillo-Token: " + token + "\r\nContent-Length: " + std::to_string(body.size()) + "\r\nConnection: close\r\n\r\n" + body;
+    return testing::httpPost(port, path, body, origin, token);
 }
-
-std::string tokenOf(int port)
-{
-    std::string page;
-    send(port, "GET / HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(port) + "\r\nConnection: close\r\n\r\n", &page);
-    const std::size_t at = page.find("armadillo-token\" content=\"");
-    return at == std::string::npos ? std::string() : page.substr(at + 26, 32);
-}
+std::string tokenOf(int port) { return testing::pageToken(port); }
 
 } // namespace
 

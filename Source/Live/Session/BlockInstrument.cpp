@@ -40,12 +40,55 @@ void BlockInstrument::start()
 void BlockInstrument::stop()
 {
     if (std::exchange(stopped_, true)) return;
+    stopWeb();                               // first: its threads read everything below
     control_.setStimulus(nullptr);
     (void) stageSession_.setOsc(false, 0);   // its OSC thread calls into the stage
     tactorRig_.closeOutput();                // its audio thread reads the step's levels
     rig_.stop();                             // the idle clock, then the device link (all-off)
     navigation_.stop();                      // the position source
     stopMessages();                          // after the clock: the mapping published through it
+}
+
+void BlockInstrument::install(std::unique_ptr<EngineSlot> slot)
+{
+    token_.take();   // the idle clock holds it for < 1 ms; a block that finds it taken is silent
+    loop_.replace(std::move(slot));
+    token_.release();
+}
+
+void BlockInstrument::prepare(double sampleRate)
+{
+    token_.take();
+    control_.prepare(sampleRate);
+    token_.release();
+}
+
+std::string BlockInstrument::startWeb(const web::WebConfig& config, BlockWebView::Host host)
+{
+    stopWeb();
+    if (stopped_) return "the instrument has stopped";
+    try {
+        webView_ = std::make_unique<BlockWebView>(*this, std::move(host));
+        web_ = std::make_unique<web::WebServer>(config, *webView_);   // binds now: IoError when the port is taken
+        web_->start();
+        return {};
+    } catch (const std::exception& e) {
+        web_.reset();
+        webView_.reset();
+        return std::string("web page: ") + e.what();
+    }
+}
+
+void BlockInstrument::stopWeb()
+{
+    if (web_) web_->stop();
+    web_.reset();
+    webView_.reset();
+}
+
+void BlockInstrument::refreshWeb(const std::string& scene)
+{
+    if (webView_) webView_->refresh(scene);
 }
 
 std::string BlockInstrument::startMessages(const MessagesSettings& settings)

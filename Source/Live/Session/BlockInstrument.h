@@ -20,7 +20,9 @@
 //  - TactorRig      the Tactors bus and the app's tactor output;
 //  - NavigationRig  a walk's route and position source (its link rides in the engine request);
 //  - MappingSession the mapping set on the message thread;
-//  - StageSession   last, so it goes first: its OSC thread calls into the stage.
+//  - StageSession   its OSC thread calls into the stage;
+//  - the web page   last, so it goes first (BlockWebView and a web::WebServer, on while the front
+//                   end asks: startWeb): its threads read everything above.
 //
 // Not here: what is the host's (JUCE's parameters, the engine request built from them, the
 // editor, the self-voicing). The engines are built by the front end and handed to loop().
@@ -30,6 +32,7 @@
 #include "Access/TactilePlayer.h"
 #include "Live/Session/BlockControl.h"
 #include "Live/Session/BlockRig.h"
+#include "Live/Session/BlockWebView.h"
 #include "Live/Step/ControlLoop.h"
 #include "Live/Step/ControlToken.h"
 #include "Live/Outputs/MappingSession.h"
@@ -42,8 +45,10 @@
 #include "Navigation/NavigationRig.h"
 #include "Procedures/AdaptiveTraining.h"
 #include "Procedures/TouchTest.h"
+#include "Web/WebServer.h"
 #include <atomic>
 #include <functional>
+#include <memory>
 #include <string>
 
 namespace armadillo::live {
@@ -66,7 +71,7 @@ public:
 
     /// Starts the idle clock (after the owner has installed an engine and its settings).
     void start();
-    /// Motors off and every thread the instrument runs stopped, in order: the stage's OSC port,
+    /// Motors off and every thread the instrument runs stopped, in order: the web page, the stage's OSC port,
     /// the tactor output, the idle clock and the device link (its last packet all-off), the
     /// position source, the messages. Idempotent; the destructor calls it.
     void stop();
@@ -78,6 +83,23 @@ public:
     /// read by the audio thread at each block).
     void setListen(const BlockControl::Listen& listen) noexcept { listen_ = listen; }
     const BlockControl::Listen& listen() const noexcept { return listen_; }
+
+    /// Message thread, never with the audio running a block that waits on it: hands the step a
+    /// new engine between two steps (the token taken, held by an idle step for < 1 ms).
+    void install(std::unique_ptr<EngineSlot> slot);
+    /// Prepares the block clock for `sampleRate` between two steps (the token taken).
+    void prepare(double sampleRate);
+
+    /// The web page (issue 47; message thread): binds now (`config.port` 0 = a free port, loopback
+    /// unless `config.bind` names an address, then with a token) and serves the instrument through
+    /// BlockWebView with the host's scene parameters. Returns "" or why not (the port taken, an
+    /// address that is not this machine's); a running page is stopped first.
+    std::string startWeb(const web::WebConfig& config, BlockWebView::Host host);
+    void stopWeb();
+    /// The page's server while on (its address, what it refused), else null.
+    web::WebServer* webServer() noexcept { return web_.get(); }
+    /// Message thread, a few times a second while on: the status only it may read.
+    void refreshWeb(const std::string& scene);
 
     ControlLoop& loop() noexcept { return loop_; }
     ControlToken& token() noexcept { return token_; }
@@ -132,6 +154,8 @@ private:
     navigation::NavigationRig navigation_;
     MappingSession mapping_;
     StageSession stageSession_;
+    std::unique_ptr<BlockWebView> webView_;
+    std::unique_ptr<web::WebServer> web_;   // last: its threads read everything above
     bool stopped_ = false;
 };
 

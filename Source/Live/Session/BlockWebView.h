@@ -1,0 +1,57 @@
+#pragma once
+// The block instrument (the app, the plugin) as the web page sees it (web::InstrumentView,
+// Web/WebInstrument.h; issue 47), the block clock's counterpart of SessionWebView:
+//  - the arm's pose and the time from the published frame (BlockControl::latestFrame, a seqlock),
+//    the stage's panic from the stage (atomics), the walk from the navigation rig — read on the
+//    web server's threads, lock-free;
+//  - what only the message thread may read (the source in words, its connection, rate and
+//    counters, the sender's dialect, the cues, the messages) from a snapshot the front end's
+//    timer refreshes (refresh(), a few times a second), under a mutex no other thread waits on
+//    for long;
+//  - stage commands to the instrument's one switch (live::Stage::apply);
+//  - scene parameters through the host (the plugin's parameters are the host's: the page sets
+//    them as an automation gesture would, on the message thread), so host automation, the
+//    editor and the page never disagree.
+// The device calibration is the app's Calibration window's: the page says so.
+#include "Web/WebInstrument.h"
+#include <functional>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace armadillo::live {
+
+class BlockInstrument;
+
+class BlockWebView final : public web::InstrumentView {
+public:
+    /// The scene's parameters as the host holds them (any thread).
+    struct Host {
+        std::function<std::vector<web::ParameterInfo>()> parameters;
+        /// Sets parameter `id` of the playing scene to `value` clamped to its range; false when the
+        /// scene has no such parameter. `set` is the value it gets.
+        std::function<bool(const std::string& id, double value, double& set)> setParameter;
+    };
+    BlockWebView(BlockInstrument& instrument, Host host);
+
+    /// Message thread: the part of the status only it may read. `scene`: the scene that plays.
+    void refresh(const std::string& scene);
+
+    web::InstrumentStatus status() override;
+    std::vector<web::ParameterInfo> parameters() override;
+    void stage(const core::StageCommand& command) override;
+    bool setParameter(const std::string& id, double value, double& set) override;
+    void calibration(web::ProcedureCommand command) override;
+    std::string calibrationFile() override;
+
+    static constexpr const char* kCalibrationElsewhere =
+        "the app's device calibration runs in its Calibration window (Device, then Calibrate); its result is the device's calibration at once";
+
+private:
+    BlockInstrument& instrument_;
+    Host host_;
+    std::mutex mutex_;                 // snapshot_
+    web::InstrumentStatus snapshot_;   // message thread → web threads
+};
+
+} // namespace armadillo::live
