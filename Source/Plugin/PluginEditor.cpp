@@ -8,6 +8,7 @@
 #include "Plugin/TactorsPanel.h"
 #include "Plugin/NavigationPanel.h"
 #include "Plugin/MqttPanel.h"
+#include "Plugin/WebPanel.h"
 #include "Core/Resources.h"
 #include "Core/Version.h"
 
@@ -165,6 +166,7 @@ ArmadilloEditor::~ArmadilloEditor()
     if (tactorsWindow_ != nullptr) delete tactorsWindow_.getComponent();
     if (navigationWindow_ != nullptr) delete navigationWindow_.getComponent();
     if (mqttWindow_ != nullptr) delete mqttWindow_.getComponent();
+    if (webWindow_ != nullptr) delete webWindow_.getComponent();
     sourceAttachment_.reset();
     sceneAttachment_.reset();
 }
@@ -262,6 +264,11 @@ void ArmadilloEditor::showMqtt()
     openWindow(mqttWindow_, [this] { return std::make_unique<MqttPanel>(processor_); }, {640, 330}, "ARMadillo MQTT messages");
 }
 
+void ArmadilloEditor::showWebPage()
+{
+    openWindow(webWindow_, [this] { return std::make_unique<WebPanel>(processor_); }, {640, 400}, "ARMadillo web page");
+}
+
 void ArmadilloEditor::showSetupMenu()
 {
     juce::PopupMenu menu;
@@ -271,10 +278,12 @@ void ArmadilloEditor::showSetupMenu()
     menu.addItem(3, "Tactors...");
     menu.addItem(4, "Navigation...");
     menu.addItem(5, "MQTT messages...");
+    menu.addItem(6, "Web page...");
     menu.showMenuAsync(juce::PopupMenu::Options().withTargetComponent(&setup_), [this](int choice) {
         if (choice == 3) showTactors();
         if (choice == 4) showNavigation();
         if (choice == 5) showMqtt();
+        if (choice == 6) showWebPage();
         if (choice != 1 && choice != 2) return;
         const bool save = choice == 1;
         const auto folder = setupFolder();

@@ -71,7 +71,9 @@ private:
     juce::Component::SafePointer<juce::DialogWindow> navigationWindow_;   // NavigationPanel (issue 34)
     void showNavigation();
     juce::Component::SafePointer<juce::DialogWindow> mqttWindow_;   // MqttPanel (issue 35)
+    juce::Component::SafePointer<juce::DialogWindow> webWindow_;    // WebPanel (issue 47)
     void showMqtt();
+    void showWebPage();
     std::unique_ptr<juce::FileChooser> chooser_;
     std::unique_ptr<juce::AudioProcessorValueTreeState::ComboBoxAttachment> sourceAttachment_, sceneAttachment_;
     ArmView armView_;

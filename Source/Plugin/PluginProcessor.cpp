@@ -89,6 +89,7 @@ ArmadilloProcessor::ArmadilloProcessor()
 
 ArmadilloProcessor::~ArmadilloProcessor()
 {
+    *alive_ = false;   // a parameter change the page queued finds no processor
     stopTimer();
     instrument_.stop();   // the idle clock, the device link (its last packet all-off), every port and thread
     settings_.removeListener(this);
@@ -295,6 +296,19 @@ void ArmadilloProcessor::timerCallback()
         }
         while (messageLog_.size() > 50) messageLog_.remove(0);
     }
+    if (auto* web = instrument_.webServer(); web != nullptr && --webRefreshCountdown_ <= 0) {   // 5 times a second
+        webRefreshCountdown_ = 10;
+        const auto& scenes = sceneTable_.scenes;
+        const int index = sceneIndex();
+        instrument_.refreshWeb(instrument_.navigation().route() ? std::string("navigation")
+                                                                 : index < static_cast<int>(scenes.size()) ? scenes[static_cast<std::size_t>(index)].scene
+                                                                                                           : std::string());
+        for (const auto& line : web->takeLines()) {
+            webLog_.add(juce::String(line));
+            if (line.find("panic") != std::string::npos) speakAnnouncement("Web page: " + juce::String(line), false);
+        }
+        while (webLog_.size() > 50) webLog_.remove(0);
+    }
     if (const auto failure = engines_.takeNewFailure(); failure.isNotEmpty()) setEngineStatus(failure);
     training_.collect();   // keeps a braille training log's queue drained while no panel asks for it
     if (feedbackUntil_ > 0 && instrument_.feedbackPlayer().completed() >= feedbackUntil_) {
@@ -432,6 +446,11 @@ void ArmadilloProcessor::valueTreePropertyChanged(juce::ValueTree&, const juce::
     } else if (id == SettingIds::mqttEnabled) {
         if (static_cast<bool>(settings_[SettingIds::mqttEnabled]) != instrument_.messages().running())
             if (const auto why = setMessages(static_cast<bool>(settings_[SettingIds::mqttEnabled])); why.isNotEmpty()) setStatus(why);
+    } else if (id == SettingIds::webEnabled) {
+        if (static_cast<bool>(settings_[SettingIds::webEnabled]) != (instrument_.webServer() != nullptr))
+            if (const auto why = setWebPage(static_cast<bool>(settings_[SettingIds::webEnabled])); why.isNotEmpty()) setStatus(why);
+    } else if ((id == SettingIds::webPort || id == SettingIds::webBind) && instrument_.webServer() != nullptr) {
+        if (const auto why = setWebPage(true); why.isNotEmpty()) setStatus(why);   // reopened where it is asked to be
     } else if (id == SettingIds::tactorOutput) {
         if (static_cast<bool>(settings_[SettingIds::tactorOutput]) != instrument_.tactorRig().outputOpen())
             if (const auto why = setTactorOutput(static_cast<bool>(settings_[SettingIds::tactorOutput])); why.isNotEmpty()) setStatus(why);
@@ -543,6 +562,77 @@ void ArmadilloProcessor::stopNavigation()
 {
     instrument_.navigation().stop();
     engines_.update(currentRequest());
+}
+
+live::BlockWebView::Host ArmadilloProcessor::webHost()
+{
+    live::BlockWebView::Host host;
+    // The playing scene's exposed parameters, as the host holds them (an atomic read each).
+    const auto specsOfScene = [this]() -> const live::SceneParameterTable::Entry* {
+        const int index = sceneIndex();
+        return index < static_cast<int>(sceneTable_.scenes.size()) ? &sceneTable_.scenes[static_cast<std::size_t>(index)] : nullptr;
+    };
+    host.parameters = [this, specsOfScene] {
+        std::vector<web::ParameterInfo> out;
+        if (const auto* entry = specsOfScene())
+            for (std::size_t i = 0; i < entry->specs.size(); ++i) {
+                if (! entry->exposed[i]) continue;
+                const core::ParamSpec& spec = entry->specs[i];
+                const auto* value = apvts_.getRawParameterValue(juce::String(spec.id));
+                out.push_back({spec.id, spec.name, spec.unit, spec.min, spec.max, value != nullptr ? static_cast<double>(value->load()) : spec.defaultValue,
+                               spec.choices});
+            }
+        return out;
+    };
+    host.setParameter = [this, specsOfScene](const std::string& id, double value, double& set) {
+        const auto* entry = specsOfScene();
+        if (entry == nullptr) return false;
+        for (std::size_t i = 0; i < entry->specs.size(); ++i) {
+            if (! entry->exposed[i] || entry->specs[i].id != id) continue;
+            mapping::SceneParamChange change;
+            change.value = static_cast<float>(std::clamp(value, -1e9, 1e9));
+            change.normalised = false;
+            const float v = live::sceneParamValue(entry->specs[i], change);   // clamped, a choice rounded
+            set = v;
+            // The host's parameter, as a gesture of the page's: on the message thread.
+            juce::MessageManager::callAsync([this, alive = alive_, paramId = juce::String(id), v] {
+                if (! *alive) return;
+                if (auto* p = apvts_.getParameter(paramId)) {
+                    p->beginChangeGesture();
+                    p->setValueNotifyingHost(p->convertTo0to1(v));
+                    p->endChangeGesture();
+                }
+            });
+            return true;
+        }
+        return false;
+    };
+    return host;
+}
+
+juce::String ArmadilloProcessor::setWebPage(bool on)
+{
+    juce::String why;
+    if (on) {
+        web::WebConfig config;
+        config.on = true;
+        config.port = static_cast<int>(settings_[SettingIds::webPort]);
+        config.bind = settings_[SettingIds::webBind].toString().trim().toStdString();
+        if (config.port < 0 || config.port > 65535) why = "Web page: the port must be 0 (a free one) to 65535";
+        else if (! config.bind.empty() && ! web::isNumericAddress(config.bind)) why = "Web page: the address must be numeric (such as 0.0.0.0 or 192.168.1.20)";
+        else why = juce::String(instrument_.startWeb(config, webHost()));
+        webRefreshCountdown_ = 0;
+    } else {
+        instrument_.stopWeb();
+    }
+    settings_.setProperty(SettingIds::webEnabled, instrument_.webServer() != nullptr, nullptr);   // off again when it failed
+    return why;
+}
+
+juce::String ArmadilloProcessor::webAddress() const
+{
+    auto* web = const_cast<live::BlockInstrument&>(instrument_).webServer();
+    return web != nullptr ? juce::String(web->address()) : juce::String();
 }
 
 juce::String ArmadilloProcessor::setMessages(bool on)

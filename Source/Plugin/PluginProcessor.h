@@ -247,6 +247,15 @@ public:
     /// newest last (at most 50), for the Reader window's message list.
     juce::StringArray messageLog() const { return messageLog_; }
 
+    /// The web page (issue 47; message thread): on or off with the webPort and webBind settings
+    /// (the webEnabled setting follows; "" or why not). The page's scene parameters are this
+    /// processor's: read from the host's parameters, set as an automation gesture on the message
+    /// thread.
+    juce::String setWebPage(bool on);
+    /// Where to open it ("" while off) and the server's refusals and commands so far, in words.
+    juce::String webAddress() const;
+    juce::StringArray webLog() const { return webLog_; }
+
 private:
     static BusesProperties busesFor(WrapperType wrapper);
     // Message thread
@@ -277,6 +286,12 @@ private:
     std::vector<std::string> stems_;             // under stemsMutex_: the enabled sidechain buses' stem names
 
     juce::StringArray messageLog_;
+    juce::StringArray webLog_;                   // the web server's lines, newest last (at most 50)
+    int webRefreshCountdown_ = 0;                // timer ticks until the page's snapshot is refreshed
+    // The page's parameter changes reach the message thread through callAsync; this says whether
+    // the processor is still there when one runs (both on the message thread).
+    std::shared_ptr<bool> alive_ = std::make_shared<bool>(true);
+    live::BlockWebView::Host webHost();
     HostBlock hostBlock_;                        // the host's buffers as the block clock takes them (audio thread)
     MidiPort midiPort_;                          // the standalone app's ALSA sequencer port (before the instrument: its clock drains it)
 

@@ -56,6 +56,9 @@ juce::ValueTree defaultSettings()
     s.setProperty(SettingIds::tactorSound, false, nullptr);
     s.setProperty(SettingIds::tactorOutput, false, nullptr);
     s.setProperty(SettingIds::mqttEnabled, false, nullptr);
+    s.setProperty(SettingIds::webEnabled, false, nullptr);
+    s.setProperty(SettingIds::webPort, 0, nullptr);
+    s.setProperty(SettingIds::webBind, "", nullptr);
     s.setProperty(SettingIds::mqttBroker, "localhost:1883", nullptr);
     s.setProperty(SettingIds::mqttTopics, "arm/inbox", nullptr);
     s.setProperty(SettingIds::mqttUrgent, "", nullptr);
@@ -102,6 +105,7 @@ void installSettings(juce::ValueTree& settings, const juce::ValueTree& loaded)
     clampInt(SettingIds::cuePrevNote, -1, 127, 1);
     clampInt(SettingIds::stageOscPort, 0, 65535, 9002);
     clampInt(SettingIds::leftArmOscPort, 1, 65535, 9003);
+    clampInt(SettingIds::webPort, 0, 65535, 0);
     // The set list's text is checked (parsed, every cue prepared) by the processor, which says
     // in the status line why a saved one is not used (ArmadilloProcessor::applySavedSetList).
     const auto voice = settings[SettingIds::readerVoice].toString();

@@ -70,6 +70,10 @@ inline const juce::Identifier mqttTopics {"mqttTopics"};       ///< topic filter
 inline const juce::Identifier mqttUrgent {"mqttUrgent"};       ///< topic filters whose messages interrupt
 inline const juce::Identifier mqttConfig {"mqttConfig"};       ///< a configuration file (docs/MQTT.md), "" = none
 inline const juce::Identifier messageDisplay {"messageDisplay"}; ///< "roll" | "timed"
+// The web page (issue 47, docs/INTERFACES.md "The web page (HTTP)"; closed by default)
+inline const juce::Identifier webEnabled {"webEnabled"};       ///< bool: serve the page (on start too)
+inline const juce::Identifier webPort {"webPort"};             ///< int: TCP port, 0 = a free port
+inline const juce::Identifier webBind {"webBind"};             ///< "" = loopback only; else a numeric address (then a token)
 } // namespace SettingIds
 
 namespace PluginState {

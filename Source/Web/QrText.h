@@ -8,6 +8,10 @@
 
 namespace armadillo::web {
 
+/// The QR code's modules, row by row (true = dark), `width` modules a side, no quiet zone; empty
+/// when the text cannot be encoded. The app draws these (Setup → Web page).
+std::vector<bool> qrModules(const std::string& text, int& width);
+
 /// The lines (UTF-8), top to bottom; empty when the text cannot be encoded.
 std::vector<std::string> qrLines(const std::string& text);
 

@@ -2,6 +2,7 @@
 // over real loopback sockets with a stand-in instrument: what reaches the instrument and what is
 // refused before it (docs/SECURITY.md "The web page").
 #include "Common/HttpProbe.h"
+#include "Web/QrText.h"
 #include "Web/WebPage.h"
 #include "Web/WebRequest.h"
 #include "Web/WebServer.h"
@@ -262,4 +263,22 @@ TEST_CASE("page files: every file of Resources/web is built in with the source t
     }
     CHECK(onDisk >= 3);   // the HTML, its style sheet and its script
     CHECK(pageFiles().size() == onDisk);
+}
+
+TEST_CASE("QR code: the page's address as modules (the app draws them) and as terminal lines", "[web]")
+{
+    const std::string address = "http://192.168.1.20:8080/?token=0123456789abcdef0123456789abcdef";
+    int w = 0;
+    const std::vector<bool> dark = qrModules(address, w);
+    REQUIRE(w >= 21);
+    CHECK((w - 17) % 4 == 0);   // a QR version's size: 21, 25, 29, …
+    REQUIRE(dark.size() == static_cast<std::size_t>(w * w));
+    // The three finder patterns: a dark 7×7 ring around a light ring around a dark 3×3 centre.
+    for (const auto [ox, oy] : {std::pair {0, 0}, std::pair {w - 7, 0}, std::pair {0, w - 7}}) {
+        CHECK(dark[static_cast<std::size_t>(oy * w + ox)]);
+        CHECK(dark[static_cast<std::size_t>((oy + 6) * w + ox + 6)]);
+        CHECK_FALSE(dark[static_cast<std::size_t>((oy + 1) * w + ox + 1)]);
+        CHECK(dark[static_cast<std::size_t>((oy + 3) * w + ox + 3)]);
+    }
+    CHECK(qrLines(address).size() == static_cast<std::size_t>((w + 4 + 1) / 2));   // two rows a line, quiet zone 2
 }
