@@ -110,3 +110,38 @@ TEST_CASE("step runner: cue commands reach a set list's player at the next step;
     for (int c = 0; c < runner.cues()->cueCount(); ++c) CHECK(runner.cues()->engine(c).panicked());
     CHECK(runner.running() == &runner.cues()->engine(runner.cues()->current()));
 }
+
+TEST_CASE("step runner: a guided procedure's stimulus has the motors instead of the scene, and a panic silences it too",
+          "[live][stage][panic]")
+{
+    ControlLoop loop;
+    loop.replace(test::loopSlot("monitor"));   // a scene that leaves the grid alone
+    Stage stage;
+    StepRunner runner(loop, &stage);
+    access::TactilePlayer player(tactile::TactileConfig {}, 0.0);
+    // Motor m5 at level 10 for 2 s.
+    player.play({access::TactileSegment {0.0, 2.0, static_cast<std::uint16_t>(1u << 4), 10.0f}});
+    auto levelsOfStep = [&] {
+        runner.beginStage();
+        ControlStep step;
+        step.automation = Pose {20.0, 0.0, 0.0};
+        step.dt = 0.005;
+        return runner.step(step).levels;
+    };
+    int quiet = 0;
+    for (int i = 0; i < 40; ++i) quiet += levelsOfStep()[4];
+    CHECK(quiet == 0);   // no stimulus set: the scene's levels
+    runner.setStimulus(&player);
+    CHECK(runner.hasStimulus());
+    int strongest = 0;
+    for (int i = 0; i < 40; ++i) strongest = std::max(strongest, static_cast<int>(levelsOfStep()[4]));
+    CHECK(strongest >= 8);   // the stimulus's motor, through its own engine and safety stage
+
+    stage.apply({StageCommand::Kind::Panic, 0});
+    for (int i = 0; i < 40; ++i) {
+        const MotorLevels levels = levelsOfStep();
+        for (int m = 0; m < kMaxMotors; ++m) REQUIRE(levels[static_cast<std::size_t>(m)] == 0);
+    }
+    runner.setStimulus(nullptr);
+    CHECK_FALSE(runner.hasStimulus());
+}

@@ -77,9 +77,6 @@ void BlockControl::step(double dt, double wall, bool toMotors, const core::Trans
     ControlResult result = runner_.step(s);
     if (! result.ran) return;
     if (result.swapped) mapper_.resendSceneParams();   // the new scene starts from its defaults
-    if (auto* stimulus = stimulus_.load(std::memory_order_acquire))
-        // The sensitivity test or the training has the motors; the roll rate feeds its arm gestures.
-        result.levels = stimulus->onPacket(clock_ + dt, result.arm.valid ? result.arm.gyro.x() : std::nan(""));
     if (auto* bus = tactors_.active()) bus->setLevels(result.levels, dt);   // the Tactors bus (rendered by processBlock)
     if (toMotors) {
         if (auto* out = tactorOut_.load(std::memory_order_acquire)) out->push(clock_ + dt, result.levels);   // the app's tactor output

@@ -109,9 +109,9 @@ public:
     void setLeftArm(LeftArm* arm) noexcept { leftArm_ = arm; }
     /// The app's sensitivity test (Procedures/TouchTest.h, issue 26): while set, each control step's
     /// levels come from this player (its own TactileEngine and SafetyStage) instead of the
-    /// scene's; nullptr gives the motors back to the scene. Any thread; the player must outlive
-    /// this object (the processor owns both).
-    void setStimulus(access::TactilePlayer* player) noexcept { stimulus_.store(player, std::memory_order_release); }
+    /// scene's (never during a panic: Live/Step/StepRunner.h applies it); nullptr gives the motors
+    /// back to the scene. Any thread; the player must outlive this object (the instrument owns both).
+    void setStimulus(access::TactilePlayer* player) noexcept { runner_.setStimulus(player); }
     /// The Tactors bus's renderer (issue 33): every control step's levels (the scene's, or a
     /// stimulus's) go to it with the step's dt, and processBlock renders it into the bus's
     /// channels segment by segment, so a level change starts at its step's sample. It renders in
@@ -281,7 +281,6 @@ private:
     std::atomic<double> lastAudioMs_ {-1.0e9};
     std::atomic<bool> idleDrivesMotors_ {false};
     std::atomic<bool> offlineRender_ {false};   ///< the last block was the host's offline render
-    std::atomic<access::TactilePlayer*> stimulus_ {nullptr};
     core::Handover<tactors::TactorRenderer> tactors_;
     std::atomic<TactorOutput*> tactorOut_ {nullptr};
     std::atomic<mqtt::MessageService*> mqtt_ {nullptr};

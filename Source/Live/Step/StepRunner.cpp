@@ -1,5 +1,6 @@
 #include "Live/Step/StepRunner.h"
 #include "Live/Stage/SetList.h"
+#include <cmath>
 
 namespace armadillo::live {
 
@@ -35,8 +36,13 @@ ControlResult StepRunner::step(ControlStep s) noexcept
     s.cues = cues_;   // a set list's cues run in place of the loop's engine
     s.panic = panicApplied_;
     s.panicGesture = s.panicGesture || (stage_ != nullptr && stage_->panicGesture());
-    const ControlResult result = loop_.tick(s);   // swap-in, parameters, fusion, Engine::control
+    ControlResult result = loop_.tick(s);   // swap-in, parameters, fusion, Engine::control
     if (result.gesturePanic && stage_ != nullptr) stage_->panic();
+    if (!result.ran) return result;
+    stimulusClock_ += s.dt;
+    if (access::TactilePlayer* stimulus = stimulus_.load(std::memory_order_acquire); stimulus != nullptr && !panicApplied_ && !result.gesturePanic)
+        // A guided procedure has the motors; the roll rate feeds its arm gestures.
+        result.levels = stimulus->onPacket(stimulusClock_, result.arm.valid ? result.arm.gyro.x() : std::nan(""));
     return result;
 }
 

@@ -2,7 +2,9 @@
 // The one place the live control step runs (issue 45): the stage's commands applied (a set list's
 // cue requests, panic, resume) and then live::ControlLoop::tick — engine hand-over, source
 // choice, bounded fusion of both arms, the scene's parameters, Engine::control or a set list's
-// cues, the panic gesture. Every clock drives it: `play`, `read` and `navigate` once per sensor
+// cues, the panic gesture; and a stimulus that has the motors instead of the scene (a guided
+// procedure: the sensitivity test, the adaptive training), silenced by a panic as the scene is.
+// Every clock drives it: `play`, `read` and `navigate` once per sensor
 // packet (LiveSession), the app and the plugin at their audio blocks' 200 Hz grid or the idle
 // clock (BlockControl). What a clock does with a step's levels, frame, gestures and mapping is
 // its own; the step itself, and how panic and resume reach the engine and the cues, is here once.
@@ -10,8 +12,10 @@
 // Threads: one control thread at a time (the source's thread, or the control-token holder):
 // beginStage() and step() are real-time (no allocation, lock, I/O or throw). The stage's commands
 // come from any thread through live::Stage (atomics).
+#include "Access/TactilePlayer.h"
 #include "Live/Step/ControlLoop.h"
 #include "Live/Stage/Stage.h"
+#include <atomic>
 
 namespace armadillo::live {
 
@@ -40,6 +44,14 @@ public:
     /// too, so it holds until resume as a command's does.
     ControlResult step(ControlStep step) noexcept;
 
+    /// A guided procedure's player (Procedures/TouchTest.h, AdaptiveTraining.h): while set, each
+    /// step's levels come from it (its own TactileEngine and SafetyStage) instead of the scene's,
+    /// on the steps' clock, with the arm's roll rate for its gestures; never during a panic (the
+    /// motors stay off until resume). nullptr gives the motors back to the scene. Any thread; the
+    /// player must outlive its use (until the next step after it is unset).
+    void setStimulus(access::TactilePlayer* player) noexcept { stimulus_.store(player, std::memory_order_release); }
+    bool hasStimulus() const noexcept { return stimulus_.load(std::memory_order_acquire) != nullptr; }
+
     /// The set list's player this step (null: none), as the last beginStage() took it.
     CuePlayer* cues() const noexcept { return cues_; }
     /// The stage's panic as last applied.
@@ -52,6 +64,8 @@ private:
     Stage* stage_ = nullptr;
     CuePlayer* cues_ = nullptr;
     bool panicApplied_ = false;
+    std::atomic<access::TactilePlayer*> stimulus_ {nullptr};
+    double stimulusClock_ = 0.0;   // s: the steps' clock (the sum of their dt)
 };
 
 } // namespace armadillo::live
