@@ -51,6 +51,23 @@
     showMessages(s.messages);
     showWalk(s.walk);
     showCalibration(s.calibration);
+    showTouch(s.touch);
+  }
+
+  function showTouch(t) {
+    let state;
+    if (!t.available) state = 'Not available: ' + t.why + '.';
+    else if (t.asking) state = 'Stimulus ' + t.stimuli + (t.comfort ? ' (comfortable level)' : '') + ' played: answer it.';
+    else if (t.running) state = 'Stimulus ' + t.stimuli + (t.comfort ? ' (comfortable level)' : '') + ': feel\u2026';
+    else if (t.finished) state = 'Complete: ' + t.result + '.';
+    else state = 'Not running.';
+    $('touch-state').textContent = state;
+    $('touch-question').textContent = t.asking ? 'Question: ' + t.question : '';
+    $('touch-note').textContent = t.note ? 'Last: ' + t.note : '';
+    $('touch-begin').disabled = !t.available || t.running;
+    for (const id of ['touch-felt', 'touch-not-felt', 'touch-again']) $(id).disabled = !t.asking;
+    $('touch-cancel').disabled = !t.running;
+    $('touch-download').hidden = !t.finished;
   }
 
   function showCalibration(c) {
@@ -107,6 +124,8 @@
         announce('Calibration ' + s.calibration.title + ': ' + s.calibration.instruction);
       if (s.calibration.ready && !last.calibration.ready) announce('Calibration: this step has enough data.');
       if (s.calibration.finished && !last.calibration.finished) announce('Calibration complete.');
+      if (s.touch.asking && (!last.touch.asking || s.touch.stimuli !== last.touch.stimuli)) announce(s.touch.question);
+      if (s.touch.finished && !last.touch.finished) announce('Sensitivity test complete: ' + s.touch.result + '.');
       if (s.walk && last.walk && s.walk.arrivals > last.walk.arrivals)
         announce(s.walk.finished ? 'Arrived: the route is finished.' : 'Arrived at a waypoint; next is ' + s.walk.waypoint + '.');
     }
@@ -205,6 +224,14 @@
         showCalibration((await post('api/calibration', b.dataset.cal)).calibration);
       } catch (e) {
         $('cal-note').textContent = b.textContent + ' was not taken: ' + e.message;
+      }
+    });
+  for (const b of document.querySelectorAll('button[data-touch]'))
+    b.addEventListener('click', async () => {
+      try {
+        showTouch((await post('api/touch', b.dataset.touch)).touch);
+      } catch (e) {
+        $('touch-note').textContent = b.textContent + ' was not taken: ' + e.message;
       }
     });
   for (const b of document.querySelectorAll('button[data-command]'))

@@ -607,6 +607,9 @@ live::BlockWebView::Host ArmadilloProcessor::webHost()
         }
         return false;
     };
+    // The sensitivity test as the Reader window runs it: the measured profile becomes the reader's.
+    host.beginTouchTest = [this](std::uint64_t seed) { beginTouchTest(seed); };
+    host.endTouchTest = [this](bool keep) { endTouchTest(keep); };
     return host;
 }
 

@@ -30,6 +30,23 @@ struct ProcedureStatus {
 };
 enum class ProcedureCommand { Begin, Next, Skip, Cancel };
 
+/// The sensitivity test as the page presents it (procedures::TouchTest, issue 26: one motor at a
+/// time, "felt it?", a staircase per motor, then a comfortable level; the same questions as
+/// `armadillo touch-profile` and the app's Reader window).
+struct TouchTestStatus {
+    bool available = false;        ///< the instrument has motors to test
+    std::string why;               ///< why not, when not available
+    bool running = false;          ///< a test runs (presenting or asking)
+    bool asking = false;           ///< a stimulus was played: answer felt / not felt, or feel it again
+    bool comfort = false;          ///< the thresholds are measured: now the comfortable level
+    bool finished = false;         ///< a profile was measured (its file can be downloaded)
+    int stimuli = 0;               ///< stimuli so far
+    std::string question;          ///< "motor m3, level 8: felt it?" while asking
+    std::string result;            ///< the profile in words, when finished
+    std::string note;              ///< what the last command did
+};
+enum class TouchCommand { Begin, Felt, NotFelt, Again, Cancel };
+
 /// The instrument's state as the page shows it.
 struct InstrumentStatus {
     double t = 0.0;                ///< the session's time, s (the source's clock: the tactile CSV's t)
@@ -57,6 +74,7 @@ struct InstrumentStatus {
     };
     Walk walk;
     ProcedureStatus calibration;
+    TouchTestStatus touch;
 };
 
 /// One of the scene's own parameters (Core/Scene.h ParamSpec) and the value it has as far as the
@@ -83,6 +101,11 @@ public:
     virtual void calibration(ProcedureCommand command) = 0;
     /// The finished calibration as a calibration file (docs/INTERFACES.md), "" before it is finished.
     virtual std::string calibrationFile() = 0;
+    /// The sensitivity test: begin it (the motors are the test's until it ends), answer the
+    /// stimulus just played, feel it again, cancel. What it did is in status().touch.note.
+    virtual void touchTest(TouchCommand command) = 0;
+    /// The measured touch profile as a touch-profile file (docs/INTERFACES.md), "" before one is.
+    virtual std::string touchProfileFile() = 0;
 };
 
 } // namespace armadillo::web

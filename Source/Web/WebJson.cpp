@@ -96,6 +96,23 @@ void procedureJson(std::string& out, const ProcedureStatus& p)
     out += '}';
 }
 
+void touchJson(std::string& out, const TouchTestStatus& t)
+{
+    key(out, "touch");
+    out += '{';
+    flag(out, "available", t.available);
+    field(out, "why", t.why);
+    flag(out, "running", t.running);
+    flag(out, "asking", t.asking);
+    flag(out, "comfort", t.comfort);
+    flag(out, "finished", t.finished);
+    field(out, "stimuli", static_cast<std::uint64_t>(std::max(0, t.stimuli)));
+    field(out, "question", t.question);
+    field(out, "result", t.result);
+    field(out, "note", t.note);
+    out += '}';
+}
+
 } // namespace
 
 std::string statusJson(const InstrumentStatus& s)
@@ -129,6 +146,7 @@ std::string statusJson(const InstrumentStatus& s)
     strings(out, "messages", s.messages);
     walkJson(out, s.walk);
     procedureJson(out, s.calibration);
+    touchJson(out, s.touch);
     out += '}';
     return out;
 }

@@ -172,6 +172,16 @@ std::optional<ProcedureCommand> parseProcedureCommand(std::string_view body)
     return std::nullopt;
 }
 
+std::optional<TouchCommand> parseTouchCommand(std::string_view body)
+{
+    if (body == "begin") return TouchCommand::Begin;
+    if (body == "felt") return TouchCommand::Felt;
+    if (body == "not-felt") return TouchCommand::NotFelt;
+    if (body == "again") return TouchCommand::Again;
+    if (body == "cancel") return TouchCommand::Cancel;
+    return std::nullopt;
+}
+
 std::optional<ParamRequest> parseParamRequest(std::string_view body)
 {
     constexpr std::string_view idKey = "id=", valueKey = "&value=";

@@ -57,6 +57,8 @@ std::optional<core::StageCommand> parseStageCommand(std::string_view body);
 /// A command of the guided calibration (the body of POST /api/calibration): "begin", "next",
 /// "skip" or "cancel", nothing else.
 std::optional<ProcedureCommand> parseProcedureCommand(std::string_view body);
+/// A sensitivity-test command: exactly `begin`, `felt`, `not-felt`, `again` or `cancel`.
+std::optional<TouchCommand> parseTouchCommand(std::string_view body);
 
 /// A scene parameter as the page sends it (the body of POST /api/param):
 /// "id=ID&value=NUMBER" — ID 1..64 characters of [a-z0-9._-], NUMBER a finite decimal of at most

@@ -241,6 +241,33 @@ struct WebServer::Impl {
         res.set_content(statusJson(instrument.status()), "application/json");
     }
 
+    void takeTouch(const httplib::Request& req, httplib::Response& res)
+    {
+        const std::optional<TouchCommand> command = parseTouchCommand(req.body);
+        if (!command) {
+            refuse(&Counters::refusedBody, "a malformed sensitivity-test command", req.remote_addr);
+            refusal(res, 400, "not a sensitivity-test command (begin, felt, not-felt, again, cancel)");
+            return;
+        }
+        instrument.touchTest(*command);
+        {
+            std::lock_guard<std::mutex> lock(mutex);
+            ++counters.procedureCommands;
+        }
+        res.set_content(statusJson(instrument.status()), "application/json");
+    }
+
+    void serveTouchProfile(httplib::Response& res)
+    {
+        const std::string file = instrument.touchProfileFile();
+        if (file.empty()) {
+            refusal(res, 404, "no measured touch profile yet");
+            return;
+        }
+        res.set_header("Content-Disposition", "attachment; filename=\"touch-profile.json\"");
+        res.set_content(file, "application/json");
+    }
+
     void serveCalibrationFile(httplib::Response& res)
     {
         const std::string file = instrument.calibrationFile();
@@ -268,6 +295,8 @@ struct WebServer::Impl {
         server.Post("/api/param", [this](const httplib::Request& q, httplib::Response& r) { takeParameter(q, r); });
         server.Post("/api/calibration", [this](const httplib::Request& q, httplib::Response& r) { takeCalibration(q, r); });
         server.Get("/api/calibration.json", [this](const httplib::Request&, httplib::Response& r) { serveCalibrationFile(r); });
+        server.Post("/api/touch", [this](const httplib::Request& q, httplib::Response& r) { takeTouch(q, r); });
+        server.Get("/api/touch-profile.json", [this](const httplib::Request&, httplib::Response& r) { serveTouchProfile(r); });
         server.Get(R"(/[a-z]*(\.[a-z]+)?)", [this](const httplib::Request& q, httplib::Response& r) { servePage(q, r); });
         server.set_error_handler([this](const httplib::Request& q, httplib::Response& r) {
             if (r.status == 404 && r.body.empty()) {

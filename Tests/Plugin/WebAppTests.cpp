@@ -127,6 +127,21 @@ TEST_CASE("app: Setup → Web page serves the app's instrument: the pose as text
     pumpMessages(300);
     CHECK(processor.webLog().joinIntoString("\n").contains("panic"));
 
+    // The sensitivity test from the page: the Reader window's own test runs (on the message
+    // thread), asks, takes an answer, and gives the motors back when cancelled.
+    processor.resume();
+    REQUIRE(armadillo::testing::httpSend(port, armadillo::testing::httpPost(port, "/api/touch", "begin", self, token)) == 200);
+    REQUIRE(run(5.0, [&] { return processor.touchTest().state() != procedures::TouchTest::State::Idle; }));
+    REQUIRE(run(10.0, [&] {
+        return armadillo::testing::httpSend(port, armadillo::testing::httpGet(port, "/api/status"), &reply) == 200
+               && reply.find("\"asking\":true") != std::string::npos && reply.find("felt it?") != std::string::npos;
+    }));
+    const int asked = processor.touchTest().stimuli();
+    REQUIRE(armadillo::testing::httpSend(port, armadillo::testing::httpPost(port, "/api/touch", "not-felt", self, token)) == 200);
+    REQUIRE(run(10.0, [&] { return processor.touchTest().stimuli() > asked; }));
+    REQUIRE(armadillo::testing::httpSend(port, armadillo::testing::httpPost(port, "/api/touch", "cancel", self, token)) == 200);
+    REQUIRE(run(5.0, [&] { return processor.touchTest().state() == procedures::TouchTest::State::Idle; }));
+
     // Given an address (here loopback's, as a network address would be): reopened there, and
     // every request needs the token the address shown carries.
     processor.settings().setProperty(SettingIds::webBind, "127.0.0.1", nullptr);

@@ -94,6 +94,12 @@ TEST_CASE("calibration commands: four words, nothing else", "[web]")
     CHECK(parseProcedureCommand("skip") == ProcedureCommand::Skip);
     CHECK(parseProcedureCommand("cancel") == ProcedureCommand::Cancel);
     for (const char* bad : {"", "save", "begin ", "NEXT", "next\n"}) CHECK_FALSE(parseProcedureCommand(bad).has_value());
+    CHECK(parseTouchCommand("begin") == TouchCommand::Begin);
+    CHECK(parseTouchCommand("felt") == TouchCommand::Felt);
+    CHECK(parseTouchCommand("not-felt") == TouchCommand::NotFelt);
+    CHECK(parseTouchCommand("again") == TouchCommand::Again);
+    CHECK(parseTouchCommand("cancel") == TouchCommand::Cancel);
+    for (const char* bad : {"", "yes", "felt ", "FELT", "not felt", "next"}) CHECK_FALSE(parseTouchCommand(bad).has_value());
 }
 
 TEST_CASE("parameters: a plain id and a finite number", "[web]")
@@ -151,6 +157,9 @@ struct FakeInstrument : InstrumentView {
     }
     void calibration(ProcedureCommand) override {}
     std::string calibrationFile() override { return {}; }
+    std::atomic<int> touches {0};
+    void touchTest(TouchCommand) override { ++touches; }
+    std::string touchProfileFile() override { return {}; }
 };
 
 int send(int port, const std::string& request, std::string* reply = nullptr) { return testing::httpSend(port, request, reply); }
@@ -195,12 +204,19 @@ TEST_CASE("server: what reaches the instrument, what is refused before it", "[we
     CHECK(reply.find("\"value\":1.0000") != std::string::npos);   // clamped by the instrument
     CHECK(send(port, post(port, "/api/param", "id=x.other&value=7", self, token)) == 404);
     CHECK(instrument.params == 1);
+    CHECK(send(port, post(port, "/api/touch", "yes", self, token)) == 400);
+    CHECK(send(port, post(port, "/api/touch", "felt", "http://evil.example", token)) == 403);
+    CHECK(instrument.touches == 0);
+    CHECK(send(port, post(port, "/api/touch", "felt", self, token), &reply) == 200);
+    CHECK(instrument.touches == 1);
+    CHECK(reply.find("\"touch\":{\"available\":false") != std::string::npos);
+    CHECK(send(port, "GET /api/touch-profile.json HTTP/1.1\r\n" + host + "Connection: close\r\n\r\n") == 404);   // none measured
 
     const WebServer::Counters c = server.counters();
     CHECK(c.refusedHost == 1);
-    CHECK(c.refusedOrigin == 1);
+    CHECK(c.refusedOrigin == 2);
     CHECK(c.refusedToken == 1);
-    CHECK(c.refusedBody == 1);
+    CHECK(c.refusedBody == 2);
     CHECK(c.stageCommands == 1);
     server.stop();
 }

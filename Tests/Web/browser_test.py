@@ -330,6 +330,28 @@ def check_calibration(driver):
     check('"accel"' in body and '"gyro"' in body and '"mag"' in body, "calibration: the finished calibration downloads as a calibration file: " + body[:80])
 
 
+def check_touch(driver):
+    """The page as the third presenter of the sensitivity test: begin, a stimulus asked about and
+    announced, an answer moves it on, cancel gives the motors back. Returns the first stimulus's
+    (motor, level), or None."""
+    driver.find_element(By.XPATH, "//button[normalize-space()='Begin the sensitivity test']").click()
+    asked = poll(10, lambda: re.search(r"motor m(\d+), level (\d+)", text(driver, "touch-question")))
+    if not check(bool(asked), "touch test: the page asks about the first stimulus: " + text(driver, "touch-question") +
+                 " / " + text(driver, "touch-state")):
+        return None
+    first = (int(asked.group(1)), int(asked.group(2)))
+    stimuli = int(re.search(r"Stimulus (\d+)", text(driver, "touch-state")).group(1))
+    check(bool(poll(3, lambda: asked.group(0) in text(driver, "announce"))), "touch test: the question is announced in the live region")
+    driver.find_element(By.XPATH, "//button[normalize-space()='Felt it']").click()
+    moved = poll(10, lambda: (m := re.search(r"Stimulus (\d+) .*answer it", text(driver, "touch-state"))) and int(m.group(1)) > stimuli)
+    check(bool(moved), "touch test: after Felt it the next stimulus is asked: " + text(driver, "touch-state") + " / " +
+          text(driver, "touch-question"))
+    driver.find_element(By.XPATH, "//button[normalize-space()='Cancel the test']").click()
+    check(bool(poll(3, lambda: "Not running" in text(driver, "touch-state"))), "touch test: cancelled: " + text(driver, "touch-state"))
+    check("cancelled" in text(driver, "touch-note"), "touch test: the page says it was cancelled: " + text(driver, "touch-note"))
+    return first
+
+
 def read_tactile(path):
     rows = []
     with open(path) as f:
@@ -422,7 +444,7 @@ def run_read(args, work):
         check(bool(poll(10, lambda: port_open(broker_port), 0.1)), f"read: Mosquitto listens on 127.0.0.1:{broker_port}")
         driver = browser(work)
         program = Program([args.armadillo, "read", "--simulate", "--mqtt", f"127.0.0.1:{broker_port}", "--messages", "arm/inbox",
-                           "--seconds", "20", "--web", "0"], work, "read")
+                           "--seconds", "30", "--tactile", "T.csv", "--web", "0"], work, "read")
         driver.get(program.address())
         check(bool(poll(10, lambda: "connected" in text(driver, "connected"))), "read: the page shows the status: " + text(driver, "connected"))
         check("braille" in text(driver, "scene"), "read: the scene is braille: " + text(driver, "scene"))
@@ -434,6 +456,14 @@ def run_read(args, work):
 
         check(bool(poll(12, published, 0.5)), "read: a message read on the arm is listed: " + text(driver, "messages"))
         check(bool(poll(3, lambda: "Message:" in text(driver, "announce"))), "read: the message is announced")
+        stimulus = check_touch(driver)
+        code = program.wait(40)
+        check(code == 0, f"read ended by itself with exit 0: {code}")
+        if stimulus is not None:
+            motor, level = stimulus
+            alone = [t for t, m in read_tactile(os.path.join(work, "T.csv"))
+                     if m[motor - 1] > 0 and all(x == 0 for i, x in enumerate(m) if i != motor - 1)]
+            check(len(alone) > 0, f"touch test: motor m{motor} buzzed alone (the stimulus reached the motors): {len(alone)} rows")
     finally:
         if driver:
             driver.quit()

@@ -1,6 +1,7 @@
 #include "Live/Session/BlockWebView.h"
 #include "Live/Session/BlockInstrument.h"
 #include "Mqtt/MessageService.h"
+#include "Link/TouchProfile.h"
 #include "Navigation/Guidance.h"
 #include <algorithm>
 #include <cmath>
@@ -58,7 +59,10 @@ void BlockWebView::refresh(const std::string& scene)
     s.calibration.available = false;
     s.calibration.why = kCalibrationElsewhere;
     s.calibration.steps = procedures::DeviceCalibration::kStepCount;
+    runTouchCommands();
+    s.touch = touch_;
     std::lock_guard<std::mutex> lock(mutex_);
+    s.calibration.note = snapshot_.calibration.note;
     snapshot_ = std::move(s);
 }
 
@@ -110,5 +114,74 @@ void BlockWebView::calibration(web::ProcedureCommand)
 }
 
 std::string BlockWebView::calibrationFile() { return {}; }
+
+void BlockWebView::touchTest(web::TouchCommand command)
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (pendingTouch_.size() < 16) pendingTouch_.push_back(command);   // a flood keeps the first 16
+}
+
+std::string BlockWebView::touchProfileFile()
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    return touchProfile_;
+}
+
+void BlockWebView::runTouchCommands()
+{
+    using State = procedures::TouchTest::State;
+    using C = web::TouchCommand;
+    std::vector<C> commands;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        commands.swap(pendingTouch_);
+    }
+    procedures::TouchTest& test = instrument_.touchTest();
+    touch_.available = host_.beginTouchTest && host_.endTouchTest;
+    touch_.why = touch_.available ? std::string() : "this front end offers no sensitivity test";
+    auto running = [&] { return test.state() == State::Presenting || test.state() == State::Asking; };
+    for (const C command : commands) {
+        (void) test.poll();
+        if (!touch_.available) {
+            touch_.note = "not available: " + touch_.why;
+        } else if (command == C::Begin) {
+            if (running()) {
+                touch_.note = "a test runs already: answer it, or cancel it first";
+            } else {
+                host_.beginTouchTest(static_cast<std::uint64_t>(1 + instrument_.control().ticks()));
+                touch_.finished = false;
+                touch_.result.clear();
+                touch_.note = "begun: one motor at a time; answer each stimulus once it has played";
+            }
+        } else if (command == C::Cancel) {
+            touch_.note = running() ? "cancelled: nothing kept; the motors are the scene's again" : "no test runs";
+            if (running()) host_.endTouchTest(false);
+        } else if (test.state() != State::Asking) {
+            touch_.note = running() ? "wait: the stimulus is still playing" : "no test runs: begin it first";
+        } else if (command == C::Again) {
+            test.again();
+            touch_.note = "again: the same stimulus";
+        } else {
+            test.answer(command == C::Felt);
+            touch_.note = command == C::Felt ? "answered: felt" : "answered: not felt";
+        }
+    }
+    (void) test.poll();
+    if (touch_.available && test.state() == State::Done) {
+        touch_.finished = true;
+        touch_.result = test.summary();
+        touch_.note = "complete: " + touch_.result + ". The profile is the reader's now.";
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            touchProfile_ = link::touchProfileToJson(test.profile());
+        }
+        host_.endTouchTest(true);
+    }
+    touch_.running = running();
+    touch_.asking = test.state() == State::Asking;
+    touch_.comfort = test.comfortStep();
+    touch_.stimuli = test.stimuli();
+    touch_.question = touch_.asking ? test.question() : std::string();
+}
 
 } // namespace armadillo::live

@@ -12,8 +12,12 @@
 //  - scene parameters through the host (the plugin's parameters are the host's: the page sets
 //    them as an automation gesture would, on the message thread), so host automation, the
 //    editor and the page never disagree.
-// The device calibration is the app's Calibration window's: the page says so.
+// The sensitivity test runs on the message thread: the page's commands wait in a queue that
+// refresh() takes, and the host begins and ends it (the app: its Reader window's own functions,
+// so the measured profile becomes the reader's setting). The device calibration is the app's
+// Calibration window's: the page says so.
 #include "Web/WebInstrument.h"
+#include <cstdint>
 #include <functional>
 #include <mutex>
 #include <string>
@@ -31,6 +35,10 @@ public:
         /// Sets parameter `id` of the playing scene to `value` clamped to its range; false when the
         /// scene has no such parameter. `set` is the value it gets.
         std::function<bool(const std::string& id, double value, double& set)> setParameter;
+        /// Message thread: the sensitivity test begun (the motors the test's), ended (`keep`: the
+        /// measured profile becomes the reader's). Empty: the page offers no test.
+        std::function<void(std::uint64_t seed)> beginTouchTest;
+        std::function<void(bool keep)> endTouchTest;
     };
     BlockWebView(BlockInstrument& instrument, Host host);
 
@@ -43,6 +51,8 @@ public:
     bool setParameter(const std::string& id, double value, double& set) override;
     void calibration(web::ProcedureCommand command) override;
     std::string calibrationFile() override;
+    void touchTest(web::TouchCommand command) override;
+    std::string touchProfileFile() override;
 
     static constexpr const char* kCalibrationElsewhere =
         "the app's device calibration runs in its Calibration window (Device, then Calibrate); its result is the device's calibration at once";
@@ -52,6 +62,11 @@ private:
     Host host_;
     std::mutex mutex_;                 // snapshot_
     web::InstrumentStatus snapshot_;   // message thread → web threads
+    std::vector<web::TouchCommand> pendingTouch_;   // web threads → message thread (under mutex_)
+    std::string touchProfile_;         // the measured profile as a file (under mutex_)
+    // Message thread only:
+    web::TouchTestStatus touch_;       // what the page shows of the test (note, result)
+    void runTouchCommands();
 };
 
 } // namespace armadillo::live

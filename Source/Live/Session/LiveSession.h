@@ -214,6 +214,11 @@ public:
     /// The stage (Live/Stage/Stage.h): every stage command (keys, the control port, the mapping) goes
     /// through Stage::apply and acts at the next control step; its panic count. Any thread.
     live::Stage& stage() noexcept { return stage_; }
+    /// A guided procedure's player has the motors instead of the scene from the next step on
+    /// (live::StepRunner::setStimulus; never during a panic); nullptr gives them back. Any thread.
+    void setStimulus(access::TactilePlayer* player) noexcept { runner_.setStimulus(player); }
+    /// Whether the session drives motors: a device or the simulated forearm, or a tactor output.
+    bool hasMotors() const noexcept { return link_ != nullptr || tactors_ != nullptr; }
     /// Two arms: the left arm's link (null with one arm) and its latest pose (any thread).
     link::DeviceLink* leftLink() noexcept { return leftLink_; }
     /// Two arms with an OSC sender as the left arm: its receiver (format, device, counters); null otherwise.

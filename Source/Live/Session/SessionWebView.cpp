@@ -55,6 +55,8 @@ SessionWebView::SessionWebView(LiveSession& session) : session_(session), source
         }
 }
 
+SessionWebView::~SessionWebView() { session_.setStimulus(nullptr); }
+
 web::InstrumentStatus SessionWebView::status()
 {
     web::InstrumentStatus s;
@@ -85,6 +87,10 @@ web::InstrumentStatus SessionWebView::status()
         std::lock_guard<std::mutex> lock(calibrationMutex_);
         pumpCalibration();
         s.calibration = calibrationStatus();
+    }
+    {
+        std::lock_guard<std::mutex> lock(touchMutex_);
+        s.touch = touchStatus();
     }
     if (navigation::NavigationRig* nav = session_.navigation(); nav != nullptr && nav->running()) {
         const navigation::NavigationStatus n = nav->status();
@@ -201,6 +207,84 @@ void SessionWebView::calibration(web::ProcedureCommand command)
         calibrationNote_ = "calibration complete: " + (measured.empty() ? std::string("nothing measured") : "measured " + measured) +
                            (kept.empty() ? std::string() : "; kept " + kept) + ". Download it below and use it with --calibration.";
     }
+}
+
+void SessionWebView::endTouch()
+{
+    session_.setStimulus(nullptr);
+    touch_.cancel();
+}
+
+web::TouchTestStatus SessionWebView::touchStatus()
+{
+    using State = procedures::TouchTest::State;
+    web::TouchTestStatus t;
+    t.available = session_.hasMotors();
+    if (!t.available) t.why = "the sensitivity test needs motors: a device (--port), the simulated forearm or a tactor output (--tactors)";
+    (void) touch_.poll();   // a stimulus played to its end: the test asks now
+    if (touch_.state() == State::Done) {
+        touchResult_ = touch_.summary();
+        touchProfile_ = link::touchProfileToJson(touch_.profile());
+        touchFinished_ = true;
+        touchNote_ = "complete: " + touchResult_ + ". Download it below and use it with --touch-profile.";
+        endTouch();
+    }
+    t.running = touch_.state() == State::Presenting || touch_.state() == State::Asking;
+    t.asking = touch_.state() == State::Asking;
+    t.comfort = touch_.comfortStep();
+    t.finished = touchFinished_;
+    t.stimuli = touch_.stimuli();
+    t.question = t.asking ? touch_.question() : std::string();
+    if (t.asking && touch_.loweredTo() > 0) t.question += " (the safety stage let level " + std::to_string(touch_.loweredTo()) + " through)";
+    t.result = touchResult_;
+    t.note = touchNote_;
+    return t;
+}
+
+void SessionWebView::touchTest(web::TouchCommand command)
+{
+    using State = procedures::TouchTest::State;
+    using C = web::TouchCommand;
+    std::lock_guard<std::mutex> lock(touchMutex_);
+    (void) touchStatus();   // up to date before the command
+    const bool running = touch_.state() == State::Presenting || touch_.state() == State::Asking;
+    if (command == C::Begin) {
+        if (!session_.hasMotors()) {
+            touchNote_ = "not available: this session drives no motors";
+        } else if (running) {
+            touchNote_ = "a test runs already: answer it, or cancel it first";
+        } else {
+            touch_.begin(static_cast<std::uint64_t>(std::max(1.0, 1000.0 * session_.sessionTime())));
+            session_.setStimulus(&touch_.player());   // the motors are the test's from the next step
+            touchFinished_ = false;
+            touchResult_.clear();
+            touchProfile_.clear();
+            touchNote_ = "begun: one motor at a time; answer each stimulus once it has played";
+        }
+        return;
+    }
+    if (command == C::Cancel) {
+        touchNote_ = running ? "cancelled: nothing kept; the motors are the scene's again" : "no test runs";
+        if (running) endTouch();
+        return;
+    }
+    if (touch_.state() != State::Asking) {
+        touchNote_ = running ? "wait: the stimulus is still playing" : "no test runs: begin it first";
+        return;
+    }
+    if (command == C::Again) {
+        touch_.again();
+        touchNote_ = "again: the same stimulus";
+    } else {
+        touch_.answer(command == C::Felt);
+        touchNote_ = command == C::Felt ? (touch_.comfortStep() ? "answered: comfortable / felt" : "answered: felt") : "answered: not felt";
+    }
+}
+
+std::string SessionWebView::touchProfileFile()
+{
+    std::lock_guard<std::mutex> lock(touchMutex_);
+    return touchFinished_ ? touchProfile_ : std::string();
 }
 
 std::string SessionWebView::calibrationFile()

@@ -5,6 +5,7 @@
 // the rule the mapping uses) and stored into the scene's atomics (Scene::setParameter). Nothing
 // here waits for the control step or touches the audio thread. Any thread (the web server's).
 #include "Procedures/DeviceCalibration.h"
+#include "Procedures/TouchTest.h"
 #include "Web/WebInstrument.h"
 #include <map>
 #include <mutex>
@@ -17,6 +18,7 @@ class LiveSession;
 class SessionWebView final : public web::InstrumentView {
 public:
     explicit SessionWebView(live::LiveSession& session);
+    ~SessionWebView() override;   // the motors back to the scene
 
     web::InstrumentStatus status() override;
     std::vector<web::ParameterInfo> parameters() override;
@@ -24,6 +26,8 @@ public:
     bool setParameter(const std::string& id, double value, double& set) override;
     void calibration(web::ProcedureCommand command) override;
     std::string calibrationFile() override;
+    void touchTest(web::TouchCommand command) override;
+    std::string touchProfileFile() override;
 
 private:
     live::LiveSession& session_;
@@ -36,6 +40,13 @@ private:
     std::string calibrationNote_;
     void pumpCalibration();                    // raw packets into the procedure (calibrationMutex_ held)
     web::ProcedureStatus calibrationStatus();  // (calibrationMutex_ held)
+    std::mutex touchMutex_;                    // everything below
+    procedures::TouchTest touch_;              // its player has the motors while it runs
+    std::string touchNote_;
+    bool touchFinished_ = false;
+    std::string touchResult_, touchProfile_;   // the measured profile in words and as a file
+    web::TouchTestStatus touchStatus();        // (touchMutex_ held): polls the test on
+    void endTouch();                           // (touchMutex_ held): the motors back to the scene
 };
 
 } // namespace armadillo::live
