@@ -103,7 +103,8 @@ void LiveSession::buildEngine()
         // The loop's engine hears both arms (Engine::control(right, left, …)); with a set list
         // every cue's engine does.
         config_.engine.twoArms = config_.setList.empty();
-        leftTracker_ = std::make_unique<fusion::ArmTracker>();
+        leftArm_ = std::make_unique<live::LeftArm>();   // the block clock's left arm, on from the start
+        leftArm_->setOn(true);
     }
     if (!config_.setList.empty()) {   // every cue prepared now; the loop's own engine only tracks the arm
         stage_.replace(std::make_unique<live::CuePlayer>(live::loadSetList(config_.setList), config_.engine.sceneConfig, config_.engine.motorCount,
@@ -199,8 +200,8 @@ void LiveSession::openLeftArm()
         d.kind = ArmSourceDescription::Kind::OscUdp;
         d.oscPort = config_.leftOscInPort;
         d.osc = config_.leftOsc;
-        h.onImu = [this](const core::ImuSample& s) { leftInput_.pushImu(s); };
-        h.onOrientation = [this](double t, const Eigen::Quaterniond& q) { leftInput_.storeOrientation(t, q); };
+        h.onImu = [this](const core::ImuSample& s) { leftArm_->input().pushImu(s); };
+        h.onOrientation = [this](double t, const Eigen::Quaterniond& q) { leftArm_->input().storeOrientation(t, q); };
     } else {   // a port or the simulated left forearm
         // The left arm's packets: calibrated with its own calibration, into its mailbox; answered
         // with the left arm's latest motor levels (its own tactile engine and safety stage).
@@ -208,7 +209,7 @@ void LiveSession::openLeftArm()
         d.link = config_.link;
         h.onPacket = [this](const link::SensorCounts& counts, double t) {
             if (motorsOff_.load(std::memory_order_acquire)) return core::MotorLevels {};
-            leftInput_.pushImu(config_.leftCalibration.apply(t, counts));
+            leftArm_->input().pushImu(config_.leftCalibration.apply(t, counts));
             return leftLevels_.load();
         };
     }
@@ -320,15 +321,13 @@ core::MotorLevels LiveSession::control(double t, const link::SensorCounts* count
     // The stage first (Live/Stage/Stage.h): cue requests, panic and resume from every place that makes
     // them (keys, the control port, the mapping), applied at this step as the plugin's block does.
     runner_.beginStage();
-    if (leftTracker_) {   // the left arm: its samples since the last step through its own tracker (bounded)
-        // As the right arm's step (live::fuseStep): the newest samples, or a self-fusing
-        // sender's newest orientation once.
-        leftArm_ = live::fuseStep(leftInput_, *leftTracker_, leftOrientation_, leftOrientationUsed_);
-        if (leftArm_.valid) leftPose_.store(leftArm_.features.pose);
-    }
+    // The left arm: its samples since the last step through its own tracker (live::LeftArm, as
+    // the block clock's), or null with one arm.
+    const core::ArmState* leftArm = leftArm_ ? leftArm_->fuse() : nullptr;
+    if (leftArm != nullptr && leftArm->valid) leftPose_.store(leftArm->features.pose);
     live::ControlStep step;
     step.source = sourceKind_;
-    step.leftArm = leftTracker_ ? &leftArm_ : nullptr;
+    step.leftArm = leftArm;
     step.transport.valid = true;
     step.transport.playing = true;
     step.transport.seconds = t;
@@ -340,12 +339,12 @@ core::MotorLevels LiveSession::control(double t, const link::SensorCounts* count
     const live::ControlResult result = runner_.step(step);
     const core::ArmState& arm = result.arm;
     const core::MotorLevels levels = result.levels;
-    if (leftTracker_) leftLevels_.store(cues_ ? cues_->leftLevels() : engine_->leftLevels());
-    if (leftTracker_) {
+    if (leftArm != nullptr) {
+        leftLevels_.store(cues_ ? cues_->leftLevels() : engine_->leftLevels());
         if (armsLog_) {
             LogRow row;
             row.count = 9;
-            const Eigen::Quaterniond qr = arm.valid ? arm.q : Eigen::Quaterniond::Identity(), ql = leftArm_.valid ? leftArm_.q : Eigen::Quaterniond::Identity();
+            const Eigen::Quaterniond qr = arm.valid ? arm.q : Eigen::Quaterniond::Identity(), ql = leftArm->valid ? leftArm->q : Eigen::Quaterniond::Identity();
             const double v[9] = {t, qr.w(), qr.x(), qr.y(), qr.z(), ql.w(), ql.x(), ql.y(), ql.z()};
             for (int i = 0; i < 9; ++i) row.v[static_cast<std::size_t>(i)] = v[i];
             armsLog_->push(row);
@@ -409,7 +408,7 @@ core::MotorLevels LiveSession::control(double t, const link::SensorCounts* count
     mappingPanicked_ = panicNow;
     // In panic only the stage-command mappings run (a mapped resume), nothing else is sent.
     if (mapping_ && result.ran)
-        mapping_->step(t, arm, leftTracker_ ? &leftArm_ : nullptr, gestures.data(), gestureCount, engine(), panicNow);
+        mapping_->step(t, arm, leftArm, gestures.data(), gestureCount, engine(), panicNow);
     return levels;
 }
 

@@ -21,6 +21,7 @@
 #include "Core/Wav.h"
 #include "Engine/Engine.h"
 #include "Live/Step/ControlLoop.h"
+#include "Live/Step/LeftArm.h"
 #include "Mapping/MappingSpec.h"
 #include "Navigation/NavigationRig.h"
 #include "Mqtt/MessageService.h"
@@ -327,14 +328,10 @@ private:
     static void applyStage(void* self, const mapping::StageEvent& event) noexcept;
     // Two arms: the left arm's source and link; its calibrated samples reach the control thread
     // through a mailbox, where its own tracker fuses them; the two-arm engine plays both.
-    live::LiveInput leftInput_;
+    std::unique_ptr<live::LeftArm> leftArm_;      // before left_: its mailbox outlives the source (null: one arm)
     std::unique_ptr<live::ArmSource> left_;       // opened through the registry (Live/Sources/SourceRegistry.h)
     link::DeviceLink* leftLink_ = nullptr;        // left_'s link (a forearm) or
     osc::OscReceiver* leftOscIn_ = nullptr;       // its OSC receiver (a sender)
-    std::unique_ptr<fusion::ArmTracker> leftTracker_;
-    core::ArmState leftArm_ {};
-    live::LiveOrientation leftOrientation_ {};   // control thread: the left sender's last orientation read
-    std::uint64_t leftOrientationUsed_ = 0;       // control thread: the serial of the one last fused
     core::SeqLock<core::MotorLevels> leftLevels_;
     core::SeqLock<core::Pose> leftPose_;
     std::unique_ptr<StreamingCsvWriter> armsLog_;

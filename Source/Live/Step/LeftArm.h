@@ -1,12 +1,13 @@
 #pragma once
-// The plugin's left arm (docs/STAGE.md "Two arms", issue 28): a second source, an OSC sender,
-// with its own mailbox and tracker (its own SR-UKF for IMU samples, its own orientations for a
-// sender that fuses itself), fused on the control side each step as the right arm's source is
-// (live::fuseStep: at most kMaxImuPerStep samples, the newest). Its receiver (same
-// dialects, detection and mount as the right arm's OSC input) is built by Live/Session/BlockRig.
+// The left arm (docs/STAGE.md "Two arms", issue 28), for every clock: a second source with its
+// own mailbox and tracker (its own SR-UKF for IMU samples, its own orientations for a sender
+// that fuses itself), fused on the control side each step as the right arm's source is
+// (live::fuseStep: at most kMaxImuPerStep samples, the newest). Its source is opened through the
+// registry (Live/Sources/SourceRegistry.h): an OSC sender for the block clock (BlockRig), an OSC
+// sender, a port or the simulated forearm for `play` (LiveSession).
 //
-// Threads: setOn() on the message thread; the OSC receiver's thread fills input(); fuse() on the
-// control side (the token holder): no allocation, lock, I/O or throw.
+// Threads: setOn() on the message thread; the source's thread fills input(); fuse() on the
+// control side (the token holder, or the right arm's source thread): no allocation, lock, I/O or throw.
 #include "Fusion/ArmTracker.h"
 #include "Live/Step/ControlLoop.h"
 #include "Live/Step/LiveInput.h"
