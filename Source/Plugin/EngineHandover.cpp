@@ -67,13 +67,10 @@ std::unique_ptr<live::EngineSlot> EngineHandover::build(const EngineRequest& req
     return slot;
 }
 
-void EngineHandover::install(const EngineRequest& request, live::ControlToken& token)
+void EngineHandover::install(const EngineRequest& request, live::BlockInstrument& instrument)
 {
     std::lock_guard<std::mutex> lock(mutex_);
-    auto slot = build(request);
-    token.take();                     // the idle clock holds it for < 1 ms; audio is stopped here
-    loop_.replace(std::move(slot));   // the control side is not running: we hold the token
-    token.release();
+    instrument.install(build(request));   // between two idle steps; audio is stopped here
     built_ = request;
 }
 

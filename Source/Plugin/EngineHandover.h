@@ -9,7 +9,7 @@
 // the control token (the caller proves the control side is not running).
 #include "Live/Step/ControlLoop.h"
 #include "Navigation/NavigationScene.h"
-#include "Live/Step/ControlToken.h"
+#include "Live/Session/BlockInstrument.h"
 #include "Plugin/Parameters.h"
 #include <juce_audio_processors/juce_audio_processors.h>
 #include <cstdint>
@@ -52,9 +52,9 @@ public:
     EngineHandover(live::ControlLoop& loop, const SceneParameterTable& table, juce::AudioProcessorValueTreeState& parameters,
                    std::function<void(const juce::String&)> status);
 
-    /// Builds an engine for `request` and installs it at once (constructor, prepareToPlay): takes
-    /// `token` while it swaps, so the control side is not running meanwhile.
-    void install(const EngineRequest& request, live::ControlToken& token);
+    /// Builds an engine for `request` and installs it at once (constructor, prepareToPlay) through
+    /// the instrument (BlockInstrument::install: the control token held while it swaps).
+    void install(const EngineRequest& request, live::BlockInstrument& instrument);
     /// Timer: deletes the engine the control side gave up, and offers a new one when `request`
     /// differs from what the newest engine was built for (one hand-over in flight at a time).
     void update(const EngineRequest& request);

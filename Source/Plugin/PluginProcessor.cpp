@@ -57,7 +57,7 @@ ArmadilloProcessor::ArmadilloProcessor()
     scene_ = apvts_.getRawParameterValue(ParamIds::scene);
     jassert(scene_ != nullptr);
     settings_.addListener(this);
-    engines_.install(currentRequest(), instrument_.token());
+    engines_.install(currentRequest(), instrument_);
     applyNetworkSettings();
     applyVoiceSettings();
     // The mapping (before the control clock starts): scene parameters for its destinations, the
@@ -178,7 +178,7 @@ void ArmadilloProcessor::prepareToPlay(double sampleRate, int)
                 bus->getChannelIndexInProcessBlockBuffer(tactorbus::juceIndexOfTactor(bus->getCurrentLayout(), k));
     }
     instrument_.setListen(listen);
-    engines_.install(currentRequest(), instrument_.token());
+    engines_.install(currentRequest(), instrument_);
     // A set list prepared for another sample rate is built again for this one (audio is stopped).
     std::string cuesWhy;
     auto cues = instrument_.stageSession().rebuild(settings_[SettingIds::setList].toString().toStdString(),
