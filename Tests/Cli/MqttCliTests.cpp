@@ -7,6 +7,7 @@
 // same way, with a message from OSC too. And `armadillo mqtt check`; the arm as a remote (a
 // mapping's MQTT destinations over a recorded motion, the broker restarted mid-way); the virtual
 // control panel's knobs published as it is played.
+#include "Common/OscCounter.h"
 #include "CliRun.h"
 #include "Common/FreePort.h"
 #include "Mqtt/Broker.h"
@@ -564,36 +565,15 @@ TEST_CASE("e2e: the virtual control panel as a remote: its knobs, level and sele
 
 TEST_CASE("read is play's instrument: its OSC stream and its status file, with the broker away", "[mqtt][osc]")
 {
-    // The receiver of --osc-out, on a free loopback port: counts the orientation messages.
-    const int rx = ::socket(AF_INET, SOCK_DGRAM, 0);
-    REQUIRE(rx >= 0);
-    sockaddr_in at {};
-    at.sin_family = AF_INET;
-    at.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    REQUIRE(::bind(rx, reinterpret_cast<sockaddr*>(&at), sizeof at) == 0);
-    socklen_t len = sizeof at;
-    REQUIRE(::getsockname(rx, reinterpret_cast<sockaddr*>(&at), &len) == 0);
-    timeval tv {0, 200000};
-    ::setsockopt(rx, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
-    std::atomic<bool> stop {false};
-    std::atomic<int> orientations {0};
-    std::thread receiver([&] {
-        char buf[2048];
-        while (!stop.load()) {
-            const auto n = ::recv(rx, buf, sizeof buf, 0);
-            if (n > 0 && std::string(buf, ::strnlen(buf, static_cast<std::size_t>(n))) == "/armadillo/orientation") ++orientations;
-        }
-    });
+    testing::OscCounter received;   // the receiver of --osc-out, on a free loopback port
+    REQUIRE(received.port() > 0);
     const std::string status = (std::filesystem::temp_directory_path() / ("armadillo-read-status-" + std::to_string(::getpid()) + ".json")).string();
     std::filesystem::remove(status);
     const auto r = cli::runArmadillo("read --simulate --mqtt 127.0.0.1:1 --messages arm/inbox --seconds 3 --osc-out 127.0.0.1:" +
-                                     std::to_string(ntohs(at.sin_port)) + " --status-file '" + status + "'");
-    stop = true;
-    receiver.join();
-    ::close(rx);
+                                     std::to_string(received.port()) + " --status-file '" + status + "'");
     INFO(r.err);
     REQUIRE(r.code == 0);
-    CHECK(orientations.load() > 100);   // ~3 s of the simulated forearm's control updates
+    CHECK(received.count("/armadillo/orientation") > 100);   // ~3 s of the simulated forearm's control updates
     std::ifstream in(status);
     std::string line;
     REQUIRE(std::getline(in, line));
