@@ -167,6 +167,11 @@
     scene.parameters.forEach((p, i) => box.appendChild(paramControl(p, i)));
     $('params-apply').hidden = scene.parameters.length === 0;
     if (scene.parameters.length === 0) box.textContent = 'This scene has no parameters of its own.';
+    const choice = $('scene-choice');
+    choice.textContent = '';
+    scene.scenes.forEach((name) => choice.add(new Option(name, name, false, name === scene.scene)));
+    $('scene-form').hidden = scene.scenes.length === 0;
+    if (scene.scene_choice) $('scene-result').textContent = 'The scene cannot be changed here: ' + scene.scene_choice + '.';
     const cue = $('cue');
     cue.textContent = '';
     scene.cues.forEach((name, i) => cue.add(new Option((i + 1) + ': ' + name, String(i))));
@@ -237,6 +242,16 @@
   for (const b of document.querySelectorAll('button[data-command]'))
     b.addEventListener('click', () => stageCommand(b.dataset.command, b.textContent));
   $('params-form').addEventListener('submit', applyParameters);
+  $('scene-form').addEventListener('submit', async (e) => {
+    e.preventDefault();
+    const name = $('scene-choice').value;
+    try {
+      await post('api/scene', 'scene=' + name);
+      $('scene-result').textContent = 'Scene ' + name + ' asked for: it plays from the next control step.';
+    } catch (err) {
+      $('scene-result').textContent = err.message;
+    }
+  });
   $('cue-form').addEventListener('submit', (e) => {
     e.preventDefault();
     stageCommand('cue=' + $('cue').value, 'Cue ' + (Number($('cue').value) + 1));

@@ -516,6 +516,7 @@ private:
         if (!request_.trainingLog.empty()) {
             brailleScene_ = dynamic_cast<braille::BrailleSceneControls*>(&session_.engine().scene());
             if (!brailleScene_) throw UsageError("--training-log needs the braille scene");
+            session_.holdScene("the training (--training-log) reads in the braille scene");
             training_ = std::make_unique<TerminalTraining>(*brailleScene_, request_.voice.get());
             trainingLog_ = std::make_unique<core::RecordingFile>(request_.trainingLog);   // grows as answered (docs/SECURITY.md)
             if (!trainingLog_->keptAs().empty()) std::cerr << who_ << core::keptAsideNote(request_.trainingLog, trainingLog_->keptAs()) << "\n";

@@ -45,6 +45,9 @@ public:
     }
     /// Deletes the object the real-time side gave up, if any.
     void collect() noexcept { delete retired_.exchange(nullptr, std::memory_order_acq_rel); }
+    /// The object the real-time side gave up, if any, for the builder to keep (another thread may
+    /// still read it: the builder decides when it is safe to delete).
+    std::unique_ptr<T> takeRetired() noexcept { return std::unique_ptr<T>(retired_.exchange(nullptr, std::memory_order_acq_rel)); }
     /// Installs `next` at once, deleting whatever was active, pending or retired. Only while the
     /// real-time side is known not to run (its token held, or nothing runs yet).
     void replace(std::unique_ptr<T> next) noexcept

@@ -298,6 +298,12 @@ void ArmadilloProcessor::timerCallback()
     }
     if (auto* web = instrument_.webServer(); web != nullptr && --webRefreshCountdown_ <= 0) {   // 5 times a second
         webRefreshCountdown_ = 10;
+        {
+            std::lock_guard<std::mutex> lock(webSceneMutex_);   // what the page's scene choice is refused for, if anything
+            webSceneRefusal_ = instrument_.stage().newest() != nullptr ? "a set list plays: choose one of its cues"
+                               : instrument_.navigation().route()   ? "a walk plays the navigation scene"
+                                                                    : "";
+        }
         const auto& scenes = sceneTable_.scenes;
         const int index = sceneIndex();
         instrument_.refreshWeb(instrument_.navigation().route() ? std::string("navigation")
@@ -606,6 +612,37 @@ live::BlockWebView::Host ArmadilloProcessor::webHost()
             return true;
         }
         return false;
+    };
+    // The scene: the host's `scene` parameter, as a gesture of the page's (message thread).
+    const auto choiceRefusal = [this]() -> std::string {   // as the timer last saw it (webSceneRefusal_)
+        std::lock_guard<std::mutex> lock(webSceneMutex_);
+        return webSceneRefusal_;
+    };
+    host.sceneChoices = [this, choiceRefusal](std::string& why) {
+        why = choiceRefusal();
+        std::vector<std::string> names;
+        if (why.empty())
+            for (const auto& entry : sceneTable_.scenes)
+                if (entry.available) names.push_back(entry.scene);
+        return names;
+    };
+    host.chooseScene = [this, choiceRefusal](const std::string& name) -> std::string {
+        if (auto why = choiceRefusal(); ! why.empty()) return why;
+        const auto& scenes = sceneTable_.scenes;
+        for (std::size_t i = 0; i < scenes.size(); ++i) {
+            if (scenes[i].scene != name) continue;
+            if (! scenes[i].available) return scenes[i].reason;
+            juce::MessageManager::callAsync([this, alive = alive_, index = static_cast<float>(i)] {
+                if (! *alive) return;
+                if (auto* p = apvts_.getParameter(ParamIds::scene)) {
+                    p->beginChangeGesture();
+                    p->setValueNotifyingHost(p->convertTo0to1(index));
+                    p->endChangeGesture();
+                }
+            });
+            return {};
+        }
+        return "no scene '" + name + "'";
     };
     // The sensitivity test as the Reader window runs it: the measured profile becomes the reader's.
     host.beginTouchTest = [this](std::uint64_t seed) { beginTouchTest(seed); };

@@ -288,6 +288,8 @@ private:
     juce::StringArray messageLog_;
     juce::StringArray webLog_;                   // the web server's lines, newest last (at most 50)
     int webRefreshCountdown_ = 0;                // timer ticks until the page's snapshot is refreshed
+    std::mutex webSceneMutex_;                   // webSceneRefusal_: the timer writes, the page's threads read
+    std::string webSceneRefusal_;
     // The page's parameter changes reach the message thread through callAsync; this says whether
     // the processor is still there when one runs (both on the message thread).
     std::shared_ptr<bool> alive_ = std::make_shared<bool>(true);

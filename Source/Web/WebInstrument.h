@@ -101,6 +101,11 @@ public:
     virtual void calibration(ProcedureCommand command) = 0;
     /// The finished calibration as a calibration file (docs/INTERFACES.md), "" before it is finished.
     virtual std::string calibrationFile() = 0;
+    /// The scenes the page may choose now (docs/INTERFACES.md names), or none with `why` not (a
+    /// set list plays: its cues are the choice; a walk; …).
+    virtual std::vector<std::string> sceneChoices(std::string& why) = 0;
+    /// `name` plays instead of the scene that plays (from the next control step): "" or why not.
+    virtual std::string chooseScene(const std::string& name) = 0;
     /// The sensitivity test: begin it (the motors are the test's until it ends), answer the
     /// stimulus just played, feel it again, cancel. What it did is in status().touch.note.
     virtual void touchTest(TouchCommand command) = 0;

@@ -151,11 +151,14 @@ std::string statusJson(const InstrumentStatus& s)
     return out;
 }
 
-std::string sceneJson(const InstrumentStatus& s, const std::vector<ParameterInfo>& parameters)
+std::string sceneJson(const InstrumentStatus& s, const std::vector<ParameterInfo>& parameters, const std::vector<std::string>& scenes,
+                      const std::string& sceneChoice)
 {
     std::string out = "{";
     field(out, "scene", s.scene);
     strings(out, "cues", s.cues);
+    strings(out, "scenes", scenes);
+    field(out, "scene_choice", sceneChoice);
     key(out, "parameters");
     out += '[';
     for (std::size_t i = 0; i < parameters.size(); ++i) {

@@ -9,7 +9,9 @@
 namespace armadillo::web {
 
 std::string statusJson(const InstrumentStatus& status);
-std::string sceneJson(const InstrumentStatus& status, const std::vector<ParameterInfo>& parameters);
+/// `scenes`: the scenes the page may choose now; `sceneChoice`: why none may be ("" = they may).
+std::string sceneJson(const InstrumentStatus& status, const std::vector<ParameterInfo>& parameters, const std::vector<std::string>& scenes,
+                      const std::string& sceneChoice);
 std::string commandJson(const std::string& command, double t);
 std::string parameterSetJson(const std::string& id, double value);
 

@@ -172,6 +172,17 @@ std::optional<ProcedureCommand> parseProcedureCommand(std::string_view body)
     return std::nullopt;
 }
 
+std::optional<std::string> parseSceneChoice(std::string_view body)
+{
+    constexpr std::string_view key = "scene=";
+    if (body.substr(0, key.size()) != key) return std::nullopt;
+    const std::string_view name = body.substr(key.size());
+    if (name.empty() || name.size() > 40) return std::nullopt;
+    for (const char c : name)
+        if (!((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-')) return std::nullopt;
+    return std::string(name);
+}
+
 std::optional<TouchCommand> parseTouchCommand(std::string_view body)
 {
     if (body == "begin") return TouchCommand::Begin;

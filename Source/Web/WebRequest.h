@@ -57,6 +57,8 @@ std::optional<core::StageCommand> parseStageCommand(std::string_view body);
 /// A command of the guided calibration (the body of POST /api/calibration): "begin", "next",
 /// "skip" or "cancel", nothing else.
 std::optional<ProcedureCommand> parseProcedureCommand(std::string_view body);
+/// A scene choice: exactly `scene=NAME`, NAME of 1–40 lower-case letters, digits and '-'.
+std::optional<std::string> parseSceneChoice(std::string_view body);
 /// A sensitivity-test command: exactly `begin`, `felt`, `not-felt`, `again` or `cancel`.
 std::optional<TouchCommand> parseTouchCommand(std::string_view body);
 

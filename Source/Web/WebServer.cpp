@@ -225,6 +225,26 @@ struct WebServer::Impl {
         res.set_content(parameterSetJson(p->id, set), "application/json");
     }
 
+    void takeSceneChoice(const httplib::Request& req, httplib::Response& res)
+    {
+        const std::optional<std::string> name = parseSceneChoice(req.body);
+        if (!name) {
+            refuse(&Counters::refusedBody, "a malformed scene choice", req.remote_addr);
+            refusal(res, 400, "not a scene choice (scene=NAME)");
+            return;
+        }
+        if (const std::string why = instrument.chooseScene(*name); !why.empty()) {
+            refusal(res, 409, "scene " + *name + " not played: " + why);
+            return;
+        }
+        {
+            std::lock_guard<std::mutex> lock(mutex);
+            ++counters.stageCommands;
+        }
+        say("scene " + *name + " from " + req.remote_addr);
+        res.set_content(std::string("{\"ok\":true,\"scene\":\"") + *name + "\"}", "application/json");
+    }
+
     void takeCalibration(const httplib::Request& req, httplib::Response& res)
     {
         const std::optional<ProcedureCommand> command = parseProcedureCommand(req.body);
@@ -287,7 +307,9 @@ struct WebServer::Impl {
             r.set_content(statusJson(instrument.status()), "application/json");
         });
         server.Get("/api/scene", [this](const httplib::Request&, httplib::Response& r) {
-            r.set_content(sceneJson(instrument.status(), instrument.parameters()), "application/json");
+            std::string why;
+            const std::vector<std::string> scenes = instrument.sceneChoices(why);
+            r.set_content(sceneJson(instrument.status(), instrument.parameters(), scenes, why), "application/json");
         });
         // Browsers ask for an icon on their own; the page has none (no refusal to report).
         server.Get("/favicon.ico", [](const httplib::Request&, httplib::Response& r) { r.status = 204; });
@@ -295,6 +317,7 @@ struct WebServer::Impl {
         server.Post("/api/param", [this](const httplib::Request& q, httplib::Response& r) { takeParameter(q, r); });
         server.Post("/api/calibration", [this](const httplib::Request& q, httplib::Response& r) { takeCalibration(q, r); });
         server.Get("/api/calibration.json", [this](const httplib::Request&, httplib::Response& r) { serveCalibrationFile(r); });
+        server.Post("/api/scene", [this](const httplib::Request& q, httplib::Response& r) { takeSceneChoice(q, r); });
         server.Post("/api/touch", [this](const httplib::Request& q, httplib::Response& r) { takeTouch(q, r); });
         server.Get("/api/touch-profile.json", [this](const httplib::Request&, httplib::Response& r) { serveTouchProfile(r); });
         server.Get(R"(/[a-z]*(\.[a-z]+)?)", [this](const httplib::Request& q, httplib::Response& r) { servePage(q, r); });

@@ -21,6 +21,7 @@ ARMADILLO_FUZZ_TARGET(web_request)
     (void) parseStageCommand(body);
     (void) parseProcedureCommand(body);
     (void) parseTouchCommand(body);
+    (void) parseSceneChoice(body);
     if (const auto p = parseParamRequest(body)) {
         if (p->id.empty() || p->id.size() > 64) __builtin_trap();   // the bounds parseParamRequest promises
     }

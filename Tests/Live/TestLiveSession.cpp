@@ -8,6 +8,7 @@
 #include "Link/Simulator.h"
 #include "Common/Eventually.h"
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -345,4 +346,63 @@ TEST_CASE("live session: a front end reads the scene's gestures in order and the
     CHECK(std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]) == Approx(1.0).margin(1e-6));
     s.stop();
     std::remove(motion.c_str());
+}
+
+// A scene change while the session runs (the web page's scene chooser, issue 47): the control
+// step takes the new engine at its next step and the audio thread follows at its next block,
+// while the engine given up stays alive (the audio, main and web threads may still read it); a
+// session bound to its first scene says why it cannot change. Run under TSan/ASan by sanitize.sh.
+TEST_CASE("live session: chooseScene swaps the playing scene while the sources and the audio thread run", "[live][web]")
+{
+    LiveConfig c;
+    c.source = LiveConfig::Source::Simulator;
+    c.simulatorBaud = 0.0;
+    c.engine.scene = "theremin";
+    c.audioOut = out("scene-change.wav");   // the audio thread renders the engine that plays
+    LiveSession s(c);
+    CHECK(s.chooseScene("cymbal") == "the session does not run");
+    s.start();
+    REQUIRE(eventually([&] { return s.controlUpdates() >= 200; }));
+    std::string why;
+    const std::vector<std::string> choices = s.sceneChoices(why);
+    CHECK(why.empty());
+    CHECK(std::find(choices.begin(), choices.end(), "cymbal") != choices.end());
+    CHECK(s.chooseScene("no-such-scene").find("no scene") != std::string::npos);
+    CHECK(s.chooseScene("patch").find("no scene") != std::string::npos);   // hosted only (Pd)
+    for (const char* next : {"cymbal", "monitor", "theremin", "cymbal"}) {
+        std::string answer;
+        // A change just asked may not have been taken yet: the next one waits its turn.
+        REQUIRE(eventually([&] { return (answer = s.chooseScene(next)).empty(); }, 10.0));
+        REQUIRE(eventually([&] { return std::string(s.engine().scene().name()) == next; }, 10.0));
+        const std::uint64_t before = s.controlUpdates();
+        REQUIRE(eventually([&] { return s.controlUpdates() > before + 100; }));   // it plays on
+    }
+    s.holdScene("held for the test");
+    CHECK(s.chooseScene("monitor") == "held for the test");
+    CHECK(s.sceneChoices(why).empty());
+    CHECK(why == "held for the test");
+    s.stop();
+    s.finish();
+    const AudioBuffer wav = readWav(c.audioOut);
+    CHECK(wav.frames() > 0);
+}
+
+TEST_CASE("live session: a set list's session refuses a scene change and names its cues as the choice", "[live][web]")
+{
+    const std::string list = out("two-cues.json");
+    {
+        std::ofstream f(list);
+        f << R"({"armadillo_setlist": 1, "cues": [{"name": "A", "scene": "theremin"}, {"name": "B", "scene": "cymbal"}]})";
+    }
+    LiveConfig c;
+    c.source = LiveConfig::Source::Simulator;
+    c.simulatorBaud = 0.0;
+    c.setList = list;
+    LiveSession s(c);
+    s.start();
+    std::string why;
+    CHECK(s.sceneChoices(why).empty());
+    CHECK(why.find("set list") != std::string::npos);
+    CHECK(s.chooseScene("monitor").find("set list") != std::string::npos);
+    s.stop();
 }

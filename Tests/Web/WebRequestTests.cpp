@@ -94,6 +94,11 @@ TEST_CASE("calibration commands: four words, nothing else", "[web]")
     CHECK(parseProcedureCommand("skip") == ProcedureCommand::Skip);
     CHECK(parseProcedureCommand("cancel") == ProcedureCommand::Cancel);
     for (const char* bad : {"", "save", "begin ", "NEXT", "next\n"}) CHECK_FALSE(parseProcedureCommand(bad).has_value());
+    CHECK(parseSceneChoice("scene=theremin") == std::optional<std::string>("theremin"));
+    CHECK(parseSceneChoice("scene=audio-touch") == std::optional<std::string>("audio-touch"));
+    for (const char* bad : {"", "scene=", "theremin", "scene=Theremin", "scene=../x", "scene=a b", "scene=a\n"})
+        CHECK_FALSE(parseSceneChoice(bad).has_value());
+    CHECK_FALSE(parseSceneChoice("scene=" + std::string(41, 'a')).has_value());
     CHECK(parseTouchCommand("begin") == TouchCommand::Begin);
     CHECK(parseTouchCommand("felt") == TouchCommand::Felt);
     CHECK(parseTouchCommand("not-felt") == TouchCommand::NotFelt);
@@ -157,6 +162,18 @@ struct FakeInstrument : InstrumentView {
     }
     void calibration(ProcedureCommand) override {}
     std::string calibrationFile() override { return {}; }
+    std::vector<std::string> sceneChoices(std::string& why) override
+    {
+        why.clear();
+        return {"theremin", "cymbal"};
+    }
+    std::atomic<int> sceneChanges {0};
+    std::string chooseScene(const std::string& name) override
+    {
+        if (name != "cymbal") return "not here";
+        ++sceneChanges;
+        return {};
+    }
     std::atomic<int> touches {0};
     void touchTest(TouchCommand) override { ++touches; }
     std::string touchProfileFile() override { return {}; }
@@ -204,6 +221,15 @@ TEST_CASE("server: what reaches the instrument, what is refused before it", "[we
     CHECK(reply.find("\"value\":1.0000") != std::string::npos);   // clamped by the instrument
     CHECK(send(port, post(port, "/api/param", "id=x.other&value=7", self, token)) == 404);
     CHECK(instrument.params == 1);
+    CHECK(send(port, post(port, "/api/scene", "scene=cymbal", "http://evil.example", token)) == 403);
+    CHECK(send(port, post(port, "/api/scene", "scene=../x", self, token)) == 400);
+    CHECK(send(port, post(port, "/api/scene", "scene=braille", self, token), &reply) == 409);
+    CHECK(reply.find("not here") != std::string::npos);
+    CHECK(instrument.sceneChanges == 0);
+    CHECK(send(port, post(port, "/api/scene", "scene=cymbal", self, token)) == 200);
+    CHECK(instrument.sceneChanges == 1);
+    CHECK(send(port, "GET /api/scene HTTP/1.1\r\n" + host + "Connection: close\r\n\r\n", &reply) == 200);
+    CHECK(reply.find("\"scenes\":[\"theremin\",\"cymbal\"],\"scene_choice\":\"\"") != std::string::npos);
     CHECK(send(port, post(port, "/api/touch", "yes", self, token)) == 400);
     CHECK(send(port, post(port, "/api/touch", "felt", "http://evil.example", token)) == 403);
     CHECK(instrument.touches == 0);
@@ -214,10 +240,10 @@ TEST_CASE("server: what reaches the instrument, what is refused before it", "[we
 
     const WebServer::Counters c = server.counters();
     CHECK(c.refusedHost == 1);
-    CHECK(c.refusedOrigin == 2);
+    CHECK(c.refusedOrigin == 3);
     CHECK(c.refusedToken == 1);
-    CHECK(c.refusedBody == 2);
-    CHECK(c.stageCommands == 1);
+    CHECK(c.refusedBody == 3);
+    CHECK(c.stageCommands == 2);
     server.stop();
 }
 

@@ -38,6 +38,7 @@ from selenium.webdriver.chrome.options import Options
 from selenium.webdriver.chrome.service import Service
 from selenium.webdriver.common.by import By
 from selenium.webdriver.common.keys import Keys
+from selenium.webdriver.support.ui import Select
 
 FAILURES = []
 
@@ -499,6 +500,8 @@ def run_navigate(args, work):
         if m:
             check(90 <= int(m.group(1)) <= 130, f"navigate: the distance shown ({m.group(1)} m) is the route's 111 m")
         check("simulated forearm" in text(driver, "source"), "navigate: the page shows the status: " + text(driver, "source"))
+        check(bool(poll(3, lambda: "walk plays the navigation scene" in text(driver, "scene-result"))),
+              "navigate: the page says why the scene cannot be changed: " + text(driver, "scene-result"))
     finally:
         if driver:
             driver.quit()
@@ -525,6 +528,13 @@ def run_bind(args, work):
         driver.get(url)
         check(bool(poll(10, lambda: page_status(driver))), "bind: the page opened with the token shows the live orientation: " +
               text(driver, "orientation"))
+        # The scene chooser: another scene plays, its parameters follow.
+        Select(driver.find_element(By.ID, "scene-choice")).select_by_visible_text("cymbal")
+        driver.find_element(By.XPATH, "//button[normalize-space()='Play this scene']").click()
+        check(bool(poll(5, lambda: text(driver, "scene") == "Scene: cymbal.")), "bind: the chosen scene plays: " + text(driver, "scene") +
+              " / " + text(driver, "scene-result"))
+        check(bool(poll(5, lambda: "cymbal" in text(driver, "params-legend"))), "bind: the cymbal's parameters are shown: " +
+              text(driver, "params-legend"))
         driver.find_element(By.XPATH, "//button[normalize-space()='Panic']").click()
         check(bool(poll(5, lambda: "PANIC" in text(driver, "stage-state"))), "bind: Panic from the page acts: " + text(driver, "stage-state"))
     finally:

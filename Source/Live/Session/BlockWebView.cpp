@@ -115,6 +115,20 @@ void BlockWebView::calibration(web::ProcedureCommand)
 
 std::string BlockWebView::calibrationFile() { return {}; }
 
+std::vector<std::string> BlockWebView::sceneChoices(std::string& why)
+{
+    if (!host_.sceneChoices) {
+        why = "this front end chooses its scene itself";
+        return {};
+    }
+    return host_.sceneChoices(why);
+}
+
+std::string BlockWebView::chooseScene(const std::string& name)
+{
+    return host_.chooseScene ? host_.chooseScene(name) : std::string("this front end chooses its scene itself");
+}
+
 void BlockWebView::touchTest(web::TouchCommand command)
 {
     std::lock_guard<std::mutex> lock(mutex_);

@@ -39,6 +39,10 @@ public:
         /// measured profile becomes the reader's). Empty: the page offers no test.
         std::function<void(std::uint64_t seed)> beginTouchTest;
         std::function<void(bool keep)> endTouchTest;
+        /// Any thread: the scenes the page may choose (empty with `why`), and a choice made ("" or
+        /// why not; the plugin: its `scene` parameter, set on the message thread). Empty: none.
+        std::function<std::vector<std::string>(std::string& why)> sceneChoices;
+        std::function<std::string(const std::string& name)> chooseScene;
     };
     BlockWebView(BlockInstrument& instrument, Host host);
 
@@ -51,6 +55,8 @@ public:
     bool setParameter(const std::string& id, double value, double& set) override;
     void calibration(web::ProcedureCommand command) override;
     std::string calibrationFile() override;
+    std::vector<std::string> sceneChoices(std::string& why) override;
+    std::string chooseScene(const std::string& name) override;
     void touchTest(web::TouchCommand command) override;
     std::string touchProfileFile() override;
 

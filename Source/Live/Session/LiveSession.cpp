@@ -124,7 +124,7 @@ void LiveSession::buildEngine()
                                                                                                                  config_.walk.options))
                                    : std::make_unique<engine::Engine>(config_.engine); // InputError for an unknown scene
         slot->sceneName = config_.engine.scene;
-        engine_ = slot->engine.get();
+        engine_.store(slot->engine.get(), std::memory_order_release);
         loop_.replace(std::move(slot));   // nothing runs yet
     }
 }
@@ -134,7 +134,7 @@ void LiveSession::openMessagesAndMapping()
 {
     if (config_.messages.on) {   // InputError for a bad configuration; nothing connects before start()
         messages_ = openMessageSource(config_.messages.config, config_.messages.options);
-        messageScene_ = dynamic_cast<braille::BrailleSceneControls*>(&engine_->scene());
+        messageScene_ = dynamic_cast<braille::BrailleSceneControls*>(&loopEngine().scene());
         if (showsMessages() && !messageScene_) throw core::InputError("--messages", 0, "", "messages are read in Arm Braille: use the braille scene");
     }
     if (!config_.oscOut.empty()) {
@@ -151,7 +151,7 @@ void LiveSession::openMessagesAndMapping()
         options.oscDefault = config_.oscOut;
         options.sourceName = config_.mappingName;
         options.forwardDeg = config_.forwardDeg;
-        mapping_ = std::make_unique<live::MappingRig>(*config_.mapping, *engine_, options);   // for the scene that plays
+        mapping_ = std::make_unique<live::MappingRig>(*config_.mapping, loopEngine(), options);   // for the scene that plays
         mapping_->setStageSink(&LiveSession::applyStage, this);
         if (messages_) mapping_->setMqttSink(&LiveSession::publishMapped, this);   // the arm as a remote (docs/MQTT.md)
         if (!config_.midiOut.empty()) {
@@ -232,7 +232,7 @@ void LiveSession::openRecordings()
     if (!config_.audioIn.empty() || !config_.audioStems.empty()) {
         recordingIsStems_ = !config_.audioStems.empty();
         const std::string& name = recordingIsStems_ ? config_.audioStems.front() : config_.audioIn;
-        if (!cues_ && !engine_->listensToAudio())
+        if (!cues_ && !loopEngine().listensToAudio())
             throw core::InputError(name, 0, "", "--audio-in: scene '" + config_.engine.scene + "' does not listen to audio (score, audio-touch and layered-keyboard do)");
         if (config_.audioStems.size() > static_cast<std::size_t>(LiveConfig::kMaxAudioInChannels))
             throw core::InputError(name, 0, "", "at most " + std::to_string(LiveConfig::kMaxAudioInChannels) + " stems");
@@ -274,6 +274,55 @@ void LiveSession::openAudio()
     }
 }
 
+std::string LiveSession::sceneChangeRefusal() const
+{
+    if (cues_) return "a set list plays: choose one of its cues";
+    if (navigation_) return "a walk plays the navigation scene";
+    if (mapping_) return "the mapping (--map) is bound to the scene the session began with";
+    if (messages_) return "the messages are read in the braille scene";
+    if (!recording_.channels.empty()) return "--audio-in feeds the scene the session began with";
+    if (!sceneHeld_.empty()) return sceneHeld_;
+    if (retiredEngines_.size() >= kMaxSceneChanges)
+        return "this session changed its scene " + std::to_string(kMaxSceneChanges) + " times: start it again to change it more";
+    return {};
+}
+
+std::vector<std::string> LiveSession::sceneChoices(std::string& why)
+{
+    std::lock_guard<std::mutex> lock(sceneMutex_);
+    why = sceneChangeRefusal();
+    return why.empty() ? engine::sceneNames() : std::vector<std::string> {};
+}
+
+void LiveSession::holdScene(const std::string& why)
+{
+    std::lock_guard<std::mutex> lock(sceneMutex_);
+    sceneHeld_ = why;
+}
+
+std::string LiveSession::chooseScene(const std::string& name)
+{
+    std::lock_guard<std::mutex> lock(sceneMutex_);
+    if (std::string why = sceneChangeRefusal(); !why.empty()) return why;
+    if (!running_.load(std::memory_order_acquire)) return "the session does not run";
+    const std::vector<std::string>& names = engine::sceneNames();
+    if (std::find(names.begin(), names.end(), name) == names.end()) return "no scene '" + name + "' (docs/INTERFACES.md lists them)";
+    if (auto given = loop_.takeRetired()) retiredEngines_.push_back(std::move(given));   // kept: another thread may still read it
+    if (!loop_.canOffer()) return "the previous scene change has not taken effect yet: try again";
+    engine::EngineConfig c = config_.engine;
+    c.scene = name;
+    c.parameters.clear();   // the session's --param settings were the first scene's
+    auto slot = std::make_unique<live::EngineSlot>();
+    try {
+        slot->engine = std::make_unique<engine::Engine>(c);   // InputError for an unknown scene: nothing changes
+    } catch (const std::exception& e) {
+        return e.what();
+    }
+    slot->sceneName = name;
+    if (!loop_.offer(slot)) return "the previous scene change has not taken effect yet: try again";
+    return {};   // the control step takes it at its next step (ControlLoop: the scene starts afresh)
+}
+
 LiveSession::~LiveSession()
 {
     try {
@@ -293,7 +342,7 @@ core::MotorLevels LiveSession::control(double t, const link::SensorCounts* count
     double dt = lastT_ < 0.0 ? 0.0 : t - lastT_;
     // A source that went quiet (unplug, stall): forget patterns rather than resume mid-gesture.
     if (dt > 0.25) {
-        engine_->allOff();
+        loopEngine().allOff();
         if (cues_) sounding().allOff();
     }
     if (!link_ && dt > 0.0 && sourceGaps_.step(dt)) {
@@ -337,10 +386,11 @@ core::MotorLevels LiveSession::control(double t, const link::SensorCounts* count
     step.panicGesture = config_.panicGesture;
     // The stage's cues and panic; a gesture panic is the stage's too, held until resume.
     const live::ControlResult result = runner_.step(step);
+    if (result.swapped && !cues_) engine_.store(runner_.running(), std::memory_order_release);   // a scene change took over
     const core::ArmState& arm = result.arm;
     const core::MotorLevels levels = result.levels;
     if (leftArm != nullptr) {
-        leftLevels_.store(cues_ ? cues_->leftLevels() : engine_->leftLevels());
+        leftLevels_.store(cues_ ? cues_->leftLevels() : loopEngine().leftLevels());
         if (armsLog_) {
             LogRow row;
             row.count = 9;
@@ -432,7 +482,7 @@ void LiveSession::renderScene(float* left, float* right, int n) noexcept
         cues_->renderAudio(left, right, n);
         return;
     }
-    engine::Engine* const plays = engine_;
+    engine::Engine* const plays = engine_.load(std::memory_order_acquire);   // a scene change takes effect here at the next block
     if (recording_.channels.empty()) {
         plays->renderAudio(left, right, n);
         return;
@@ -566,7 +616,7 @@ void LiveSession::stop()
     }
     if (right_) right_->stop();   // the simulated forearms stop after their links
     if (left_) left_->stop();
-    engine_->allOff();
+    loopEngine().allOff();
     if (cues_)
         for (int c = 0; c < cues_->cueCount(); ++c) cues_->engine(c).allOff();
     // The tactile file ends with the all-off that was sent: the zero packet answered above (at

@@ -215,6 +215,18 @@ public:
     /// The stage (Live/Stage/Stage.h): every stage command (keys, the control port, the mapping) goes
     /// through Stage::apply and acts at the next control step; its panic count. Any thread.
     live::Stage& stage() noexcept { return stage_; }
+    /// Any thread (the web page): `name` (engine::sceneNames()) plays instead of the scene from the
+    /// next control step, built with the session's settings and the scene's own defaults. "" or
+    /// why not: not with a set list (its cues), a walk, a mapping, messages or --audio-in (each is
+    /// bound to the first scene), nor after kMaxSceneChanges changes (every engine given up stays
+    /// alive until the session ends), nor while holdScene() holds it.
+    std::string chooseScene(const std::string& name);
+    static constexpr std::size_t kMaxSceneChanges = 64;
+    /// The scenes chooseScene() takes now, or none with `why` not.
+    std::vector<std::string> sceneChoices(std::string& why);
+    /// A front end that holds the scene itself (the command line's training log holds the braille
+    /// scene): no scene change from now on, for `why`.
+    void holdScene(const std::string& why);
     /// A guided procedure's player has the motors instead of the scene from the next step on
     /// (live::StepRunner::setStimulus; never during a panic); nullptr gives them back. Any thread.
     void setStimulus(access::TactilePlayer* player) noexcept { runner_.setStimulus(player); }
@@ -318,7 +330,15 @@ private:
     static bool publishMapped(void* self, const mapping::MqttMessage& message);
     live::ControlLoop loop_;            // the control step: mailbox → fusion → Engine::control (owns the engine)
     live::SourceKind sourceKind_ = live::SourceKind::Device;
-    engine::Engine* engine_ = nullptr;  // the loop's engine; no other is ever offered
+    // The loop's engine: the control thread stores the new one when a scene change took over
+    // (chooseScene); the audio, main and web threads read it. Engines given up stay alive in
+    // retiredEngines_ until the session ends, so no thread ever reads a deleted one.
+    std::atomic<engine::Engine*> engine_ {nullptr};
+    std::string sceneChangeRefusal() const;   // (sceneMutex_ held)
+    engine::Engine& loopEngine() const noexcept { return *engine_.load(std::memory_order_acquire); }
+    std::mutex sceneMutex_;                                        // chooseScene, holdScene (builder side of loop_)
+    std::vector<std::unique_ptr<live::EngineSlot>> retiredEngines_;
+    std::string sceneHeld_;                                         // why the scene may not change ("" = it may)
     live::Stage stage_;                 // the set list's player, panic and resume (one switch: Stage::apply)
     live::StepRunner runner_ {loop_, &stage_};   // the one control step (Live/Step/StepRunner.h)
     live::CuePlayer* cues_ = nullptr;   // stage_'s player, installed at construction, never replaced (null: none)
@@ -335,7 +355,7 @@ private:
     core::SeqLock<core::MotorLevels> leftLevels_;
     core::SeqLock<core::Pose> leftPose_;
     std::unique_ptr<StreamingCsvWriter> armsLog_;
-    engine::Engine& sounding() noexcept { return cues_ ? cues_->engine(cues_->current()) : *engine_; }
+    engine::Engine& sounding() noexcept { return cues_ ? cues_->engine(cues_->current()) : loopEngine(); }
     std::unique_ptr<live::ArmSource> right_;      // the right arm, opened through the registry
     link::DeviceLink* link_ = nullptr;            // right_'s link (a forearm) or
     osc::OscReceiver* oscIn_ = nullptr;           // its OSC receiver (a sender)

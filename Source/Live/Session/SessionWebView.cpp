@@ -209,6 +209,17 @@ void SessionWebView::calibration(web::ProcedureCommand command)
     }
 }
 
+std::vector<std::string> SessionWebView::sceneChoices(std::string& why) { return session_.sceneChoices(why); }
+
+std::string SessionWebView::chooseScene(const std::string& name)
+{
+    {
+        std::lock_guard<std::mutex> lock(touchMutex_);
+        if (touch_.state() != procedures::TouchTest::State::Idle) return "the sensitivity test runs: cancel it first";
+    }
+    return session_.chooseScene(name);
+}
+
 void SessionWebView::endTouch()
 {
     session_.setStimulus(nullptr);

@@ -26,6 +26,8 @@ public:
     bool setParameter(const std::string& id, double value, double& set) override;
     void calibration(web::ProcedureCommand command) override;
     std::string calibrationFile() override;
+    std::vector<std::string> sceneChoices(std::string& why) override;
+    std::string chooseScene(const std::string& name) override;
     void touchTest(web::TouchCommand command) override;
     std::string touchProfileFile() override;
 

@@ -107,6 +107,9 @@ public:
     bool canOffer() const noexcept { return engines_.canOffer(); }
     /// Deletes the engine the control side gave up, if any. Builder side only.
     void collect() noexcept { engines_.collect(); }
+    /// The engine the control side gave up, if any, for a builder that keeps it alive while other
+    /// threads may still read it (a live session's scene change). Builder side only.
+    std::unique_ptr<EngineSlot> takeRetired() noexcept { return engines_.takeRetired(); }
     /// Installs an engine at once. Only while the control side is known not to run (the caller
     /// holds the control token, or nothing runs yet); drops anything pending or retired.
     void replace(std::unique_ptr<EngineSlot> slot) noexcept;
