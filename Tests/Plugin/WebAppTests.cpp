@@ -142,6 +142,23 @@ TEST_CASE("app: Setup → Web page serves the app's instrument: the pose as text
     REQUIRE(armadillo::testing::httpSend(port, armadillo::testing::httpPost(port, "/api/touch", "cancel", self, token)) == 200);
     REQUIRE(run(5.0, [&] { return processor.touchTest().state() == procedures::TouchTest::State::Idle; }));
 
+    // The scene chooser: the host's scene parameter follows the page's choice.
+    int cymbal = -1;
+    for (std::size_t i = 0; i < scenes.size(); ++i)
+        if (scenes[i].scene == "cymbal") cymbal = static_cast<int>(i);
+    REQUIRE(cymbal >= 0);
+    REQUIRE(armadillo::testing::httpSend(port, armadillo::testing::httpGet(port, "/api/scene"), &reply) == 200);
+    CHECK(reply.find("\"cymbal\"") != std::string::npos);
+    CHECK(reply.find("\"scene_choice\":\"\"") != std::string::npos);
+    CHECK(armadillo::testing::httpSend(port, armadillo::testing::httpPost(port, "/api/scene", "scene=nothing", self, token)) == 409);
+    REQUIRE(armadillo::testing::httpSend(port, armadillo::testing::httpPost(port, "/api/scene", "scene=cymbal", self, token)) == 200);
+    auto* sceneParam = apvts.getParameter(ParamIds::scene);
+    REQUIRE(run(5.0, [&] { return static_cast<int>(std::lround(sceneParam->convertFrom0to1(sceneParam->getValue()))) == cymbal; }));
+    REQUIRE(run(5.0, [&] {
+        return armadillo::testing::httpSend(port, armadillo::testing::httpGet(port, "/api/status"), &reply) == 200
+               && reply.find("\"scene\":\"cymbal\"") != std::string::npos;
+    }));
+
     // Given an address (here loopback's, as a network address would be): reopened there, and
     // every request needs the token the address shown carries.
     processor.settings().setProperty(SettingIds::webBind, "127.0.0.1", nullptr);
