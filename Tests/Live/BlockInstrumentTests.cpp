@@ -130,7 +130,29 @@ TEST_CASE("block instrument: its web page shows the arm, its Panic silences the 
     }));
     CHECK(reply.find("\"scene\":\"theremin\"") != std::string::npos);
     CHECK(reply.find("simulated forearm (steered)") != std::string::npos);
-    CHECK(reply.find("Calibration window") != std::string::npos);   // the calibration says where it runs
+    CHECK(reply.find("the device calibration needs a device") != std::string::npos);   // no device connected: said
+
+    // The guided device calibration from the page, on the device (the simulated forearm in-process):
+    // begun, its first step shown, every step skipped to the end, the result offered as a file.
+    const std::string selfUrl = "http://127.0.0.1:" + std::to_string(port);
+    const std::string pageToken = testing::pageToken(port);
+    instrument.rig().connectDevice(live::DeviceConnection::kSimulatedPort, 57600, "");
+    REQUIRE(instrument.rig().deviceConnected());
+    CHECK(testing::httpSend(port, testing::httpPost(port, "/api/calibration", "begin", selfUrl, pageToken)) == 200);
+    instrument.refreshWeb("theremin");   // the message thread takes the command
+    REQUIRE(testing::httpSend(port, testing::httpGet(port, "/api/status"), &reply) == 200);
+    CHECK(reply.find("\"calibration\":{\"available\":true") != std::string::npos);
+    CHECK(reply.find("\"running\":true,\"finished\":false,\"step\":1,\"steps\":7") != std::string::npos);
+    CHECK(testing::httpSend(port, testing::httpGet(port, "/api/calibration.json")) == 404);
+    for (int step = 0; step < 7; ++step) {
+        CHECK(testing::httpSend(port, testing::httpPost(port, "/api/calibration", "skip", selfUrl, pageToken)) == 200);
+        instrument.refreshWeb("theremin");
+    }
+    REQUIRE(testing::httpSend(port, testing::httpGet(port, "/api/status"), &reply) == 200);
+    CHECK(reply.find("calibration complete") != std::string::npos);
+    REQUIRE(testing::httpSend(port, testing::httpGet(port, "/api/calibration.json"), &reply) == 200);
+    CHECK(reply.find("\"gyro\"") != std::string::npos);
+    instrument.rig().disconnectDevice();
 
     // Refused before the instrument: a foreign Host, a foreign Origin.
     const std::string self = "http://127.0.0.1:" + std::to_string(port);

@@ -11,7 +11,6 @@ namespace armadillo::live {
 BlockWebView::BlockWebView(BlockInstrument& instrument, Host host) : instrument_(instrument), host_(std::move(host))
 {
     snapshot_.source = "starting";
-    snapshot_.calibration.why = kCalibrationElsewhere;
 }
 
 void BlockWebView::refresh(const std::string& scene)
@@ -56,13 +55,10 @@ void BlockWebView::refresh(const std::string& scene)
         const std::vector<mqtt::InboxMessage> recent = service->recent(20);
         for (auto m = recent.rbegin(); m != recent.rend(); ++m) s.messages.push_back(m->text + " (from " + m->source + ")");
     }
-    s.calibration.available = false;
-    s.calibration.why = kCalibrationElsewhere;
-    s.calibration.steps = procedures::DeviceCalibration::kStepCount;
+    s.calibration = runCalibrationCommands();
     runTouchCommands();
     s.touch = touch_;
     std::lock_guard<std::mutex> lock(mutex_);
-    s.calibration.note = snapshot_.calibration.note;
     snapshot_ = std::move(s);
 }
 
@@ -107,13 +103,75 @@ bool BlockWebView::setParameter(const std::string& id, double value, double& set
     return host_.setParameter && std::isfinite(value) && host_.setParameter(id, value, set);
 }
 
-void BlockWebView::calibration(web::ProcedureCommand)
+void BlockWebView::calibration(web::ProcedureCommand command)
 {
     std::lock_guard<std::mutex> lock(mutex_);
-    snapshot_.calibration.note = std::string("not here: ") + kCalibrationElsewhere;
+    if (pendingCalibration_.size() < 16) pendingCalibration_.push_back(command);   // a flood keeps the first 16
 }
 
-std::string BlockWebView::calibrationFile() { return {}; }
+std::string BlockWebView::calibrationFile()
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    return calibrationFile_;
+}
+
+web::ProcedureStatus BlockWebView::runCalibrationCommands()
+{
+    using C = web::ProcedureCommand;
+    std::vector<C> commands;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        commands.swap(pendingCalibration_);
+    }
+    BlockRig& rig = instrument_.rig();
+    for (const C command : commands) {
+        std::string why;
+        if (command == C::Begin) {
+            calibrationNote_ = rig.beginCalibration(why) ? "begun: keep the arm as the step asks" : "not begun: " + why;
+            if (why.empty()) {
+                std::lock_guard<std::mutex> lock(mutex_);
+                calibrationFile_.clear();
+            }
+        } else if (!rig.deviceConnected() || !rig.calibration().running()) {
+            calibrationNote_ = "no calibration runs: begin it first";
+        } else if (command == C::Next) {
+            calibrationNote_ = rig.calibrationNext(why) ? "step taken" : "not yet: " + why;
+        } else if (command == C::Skip) {
+            rig.calibrationSkip();
+            calibrationNote_ = "step skipped: it keeps the starting calibration's numbers";
+        } else {
+            rig.cancelCalibration();
+            calibrationNote_ = "cancelled: nothing kept";
+        }
+        if (command != C::Begin && command != C::Cancel && rig.deviceConnected() && rig.calibration().finished()) {
+            const procedures::DeviceCalibration& done = rig.calibration();
+            const std::string measured = done.measuredList(true), kept = done.measuredList(false);
+            calibrationNote_ = "calibration complete: " + (measured.empty() ? std::string("nothing measured") : "measured " + measured) +
+                               (kept.empty() ? std::string() : "; kept " + kept) +
+                               ". It is the device's calibration now (not saved): download it below, or save it in the Calibration window.";
+            std::lock_guard<std::mutex> lock(mutex_);
+            calibrationFile_ = link::calibrationToJson(done.result());
+        }
+    }
+    web::ProcedureStatus c;
+    c.available = rig.deviceConnected();
+    if (!c.available) c.why = "the device calibration needs a device or the simulated forearm connected (Device…)";
+    c.steps = procedures::DeviceCalibration::kStepCount;
+    if (c.available) {
+        const procedures::DeviceCalibration& session = rig.calibration();
+        c.running = session.running();
+        c.finished = session.finished();
+        if (c.running || c.finished) {
+            c.step = session.stepNumber();
+            c.title = session.stepTitle();
+            c.instruction = c.finished ? std::string() : session.instruction();
+            c.progress = session.progress();
+            c.ready = session.ready();
+        }
+    }
+    c.note = calibrationNote_;
+    return c;
+}
 
 std::vector<std::string> BlockWebView::sceneChoices(std::string& why)
 {

@@ -14,8 +14,10 @@
 //    editor and the page never disagree.
 // The sensitivity test runs on the message thread: the page's commands wait in a queue that
 // refresh() takes, and the host begins and ends it (the app: its Reader window's own functions,
-// so the measured profile becomes the reader's setting). The device calibration is the app's
-// Calibration window's: the page says so.
+// so the measured profile becomes the reader's setting). The guided device calibration runs the
+// same way: the page's commands go to the block rig's calibration (BlockRig: the one the
+// Calibration window runs) on the message thread; a finished one is applied to the device at once
+// (not saved: the page offers it to download, the window saves it).
 #include "Web/WebInstrument.h"
 #include <cstdint>
 #include <functional>
@@ -60,8 +62,6 @@ public:
     void touchTest(web::TouchCommand command) override;
     std::string touchProfileFile() override;
 
-    static constexpr const char* kCalibrationElsewhere =
-        "the app's device calibration runs in its Calibration window (Device, then Calibrate); its result is the device's calibration at once";
 
 private:
     BlockInstrument& instrument_;
@@ -69,10 +69,14 @@ private:
     std::mutex mutex_;                 // snapshot_
     web::InstrumentStatus snapshot_;   // message thread → web threads
     std::vector<web::TouchCommand> pendingTouch_;   // web threads → message thread (under mutex_)
+    std::vector<web::ProcedureCommand> pendingCalibration_;   // likewise
+    std::string calibrationFile_;      // the finished calibration as a file (under mutex_)
     std::string touchProfile_;         // the measured profile as a file (under mutex_)
     // Message thread only:
     web::TouchTestStatus touch_;       // what the page shows of the test (note, result)
+    std::string calibrationNote_;
     void runTouchCommands();
+    web::ProcedureStatus runCalibrationCommands();
 };
 
 } // namespace armadillo::live
