@@ -65,6 +65,11 @@ public:
         double youngAverageVelocity = 0.5;    ///< m/s: velocity change the accelerometer's young average may
                                               ///< carry: its direction is off by up to this/(g·T) after T s of
                                               ///< averaging, added to the gravity noise (docs/FUSION.md, issue 36)
+        double youngMaxVelocity = 2.0;        ///< m/s: the most a fast arm's velocity can change (a fast gesture's
+                                              ///< speed). The young average's Δv is taken as the linear acceleration
+                                              ///< seen since it restarted (∫ ||a| − g| dt), at least youngAverageVelocity
+                                              ///< and at most this (issue 49: a translating arm's young average is
+                                              ///< 30–150° off for half a second, not the 29°/T·0.1 s of 0.5 m/s)
         double gravityNormGain = 4.0;         ///< noise ×(1 + gain·||a|−g|/g): linear acceleration shows in |a|
         double gravityNisLimit = 12.0;        ///< χ²(3) soft gate on the gravity innovation (inflate beyond)
         double headingNoise = 0.6;            ///< rad, heading from the horizontal field (slow: τ ≈ 10–20 s)
@@ -87,6 +92,19 @@ public:
         // gone over the gap, so how far the arm turned shows only in that disagreement).
         double reacquireWindow = 0.1;         ///< s of samples averaged before the step (0: no step)
         double reacquireHeadingNoise = 0.1;   ///< rad: heading error of the young field average itself
+                                              ///< (with reacquireFieldVector: its direction error)
+        // The step as one least-squares rotation (Wahba's problem) from three sources at once: the
+        // orientation before the gap turned by the gyro since (trusted as far as the arm can have
+        // turned during the gap: its rate before and after the gap times the gap's length), the
+        // young gravity average, and the young field average as a whole direction (the field's
+        // reference dip from the field tracker): a clean field fixes two of the three axes at
+        // once, whatever the accelerometer's linear acceleration. false: the tilt-then-heading
+        // step of the first issue-49 session (the young field projected on the young tilt).
+        bool reacquireFieldVector = true;
+        /// While acquiring after a gap, a trusted field is observed as a whole direction (tilt and
+        /// heading, noise reacquireHeadingNoise) instead of its heading only: the young gravity
+        /// average of a moving arm is tens of degrees off for the first second, the field is not.
+        bool acquireFieldVector = true;
         // Gates reject outliers, never the truth: a state that the (trusted) measurements contradict
         // by more than these angles without a break for disagreementTime is re-acquired.
         double disagreementTime = 1.5;        ///< s
@@ -146,7 +164,7 @@ private:
     void initialise(const core::ImuSample& s);
     /// Starts again from this sample (tilt at once, heading once the field is trusted), wide
     /// covariance, gyro bias kept, low-pass restarted.
-    void reacquire(const core::ImuSample& s);
+    void reacquire(const core::ImuSample& s, double gap);
     void resetCovariance(double rotationStd);
     /// 1 right after start-up or a re-acquisition, falling to 0 over acquireTime.
     double acquiring() const;
@@ -154,12 +172,13 @@ private:
     /// Turns the state by the gyro `gyro` (rad/s, bias included) over dt, extrapolating with α
     /// `accel` (rad/s², non-zero only over a bridged gap, where `bridge` adds the noise of that).
     void predict(double dt, const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel, double shock, bool bridge);
-    void updateGravity(const Eigen::Vector3d& accelSmooth, double rawNorm, double dt);
+    void updateGravity(const Eigen::Vector3d& accelSmooth, double rawNorm, double dt, bool tiltRule = true, double extraStd = 0.0);
     void updateHeading(const Eigen::Vector3d& mag, const Eigen::Vector3d& magFast, double dt);
     void restartInertialFrame();
     /// The joint gravity + heading step of a re-acquisition (docs/FUSION.md): `up` and `field`
     /// (device frame; field NaN when none was trusted) are the young averages.
     void reacquireStep(const Eigen::Vector3d& up, const Eigen::Vector3d& field);
+    void reacquireStepJoint(const Eigen::Vector3d& up, const Eigen::Vector3d& field);
     void setupLowPass(double dt);
 
     Params params_;
@@ -178,6 +197,10 @@ private:
     double initT_ = 0.0;       ///< s, time of the initialising sample (start of the low-pass ramp)
     double acquireStartT_ = 0.0;   ///< s, start of the latest acquisition: start-up, gap, re-acquisition
     double accelAverageStartT_ = 0.0;   ///< s, when the accelerometer's low-pass last restarted
+    double youngDv_ = 0.0;              ///< m/s, ∫ ||a| − g| dt since then (capped at youngMaxVelocity)
+    /// m/s: the velocity change the accelerometer's young average may carry (youngAverageVelocity …
+    /// youngMaxVelocity, from the linear acceleration seen since it restarted).
+    double youngVelocity() const;
     double lastT_ = 0.0;
     Eigen::Vector3d lastAccel_ = Eigen::Vector3d::Constant(core::kNaN); ///< m/s², previous sample (shock detection)
     Eigen::Vector3d lastGyro_ = Eigen::Vector3d::Constant(core::kNaN); ///< rad/s, previous sample (α, timing)
@@ -187,8 +210,12 @@ private:
     Recovery recovery_ {};
     // Re-acquisition's joint step, pending from the gap's end for reacquireWindow.
     bool reacquirePending_ = false;
+    bool afterGap_ = false;            ///< the latest acquisition began at a gap (not at start-up)
     double reacquireStartT_ = 0.0;
     std::size_t reacquireSamples_ = 0, reacquireFieldSamples_ = 0;
+    double gapLength_ = 0.0;          ///< s, the gap that started the pending step
+    double rateBeforeGap_ = 0.0;      ///< rad/s, |ω| of the last sample before it
+    double reacquireTurn_ = 0.0;      ///< rad, ∫|ω| dt over the step's window (the arm's rate after the gap)
     Eigen::Vector3d magAverageInertial_ = Eigen::Vector3d::Constant(core::kNaN);   ///< the long field average's latest output
     bool initialised_ = false;
     std::size_t skipped_ = 0;
