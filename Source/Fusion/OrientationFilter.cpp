@@ -40,6 +40,8 @@ const NumericParameter kNumeric[] = {
         {"gravityNoise", [](Params& p) -> double& { return p.gravityNoise; }},
         {"youngAverageVelocity", [](Params& p) -> double& { return p.youngAverageVelocity; }},
         {"youngMaxVelocity", [](Params& p) -> double& { return p.youngMaxVelocity; }},
+        {"leverArmTau", [](Params& p) -> double& { return p.leverArmTau; }},
+        {"leverArmPrior", [](Params& p) -> double& { return p.leverArmPrior; }},
         {"gravityNormGain", [](Params& p) -> double& { return p.gravityNormGain; }},
         {"gravityNisLimit", [](Params& p) -> double& { return p.gravityNisLimit; }},
         {"headingNoise", [](Params& p) -> double& { return p.headingNoise; }},
@@ -152,6 +154,9 @@ void OrientationFilter::reset()
     headingDisagreeT_ = tiltDisagreeT_ = 0.0;
     reacquirePending_ = false;
     afterGap_ = false;
+    leverH_.setZero();
+    leverY_.setZero();
+    leverArm_.setZero();
     magAverageInertial_.setConstant(core::kNaN);
     initialised_ = false;
     skipped_ = 0;
@@ -603,10 +608,33 @@ void OrientationFilter::update(const core::ImuSample& s)
         ukf_.updateLinear<3>(biasTracker_.bias() - BiasObservation {}(ukf_.state()), biasH,
                              Eigen::Vector3d::Constant(params_.biasObservationNoise));
     }
-    const double accelNorm = s.accel.norm();
+    // The acceleration of the turn at the lever arm, as the gyro predicts it, is not gravity.
+    Eigen::Vector3d accel = s.accel;
+    if (params_.leverArmTau > 0.0) {
+        const Eigen::Vector3d w = s.gyro - ukf_.state().bias;
+        const Eigen::Vector3d al = ukf_.state().accel;
+        Eigen::Matrix3d M;
+        M << -(w.y() * w.y() + w.z() * w.z()), w.x() * w.y() - al.z(), w.x() * w.z() + al.y(),
+            w.x() * w.y() + al.z(), -(w.x() * w.x() + w.z() * w.z()), w.y() * w.z() - al.x(),
+            w.x() * w.z() - al.y(), w.y() * w.z() + al.x(), -(w.x() * w.x() + w.y() * w.y());
+        if (M.allFinite()) {
+            // Learned only from the steady filter (its gravity is what the residual is taken against).
+            if (acquiring() <= 0.0 && shock <= 0.0 && !gap) {
+                const Eigen::Vector3d lin = s.accel - quat::rotateInverse(ukf_.state().q, Eigen::Vector3d(0.0, core::kStandardGravity, 0.0));
+                const double k = std::min(1.0, dt / params_.leverArmTau);
+                leverH_ += k * (M.transpose() * M - leverH_);
+                leverY_ += k * (M.transpose() * lin - leverY_);
+                leverArm_ = (leverH_ + params_.leverArmPrior * Eigen::Matrix3d::Identity()).ldlt().solve(leverY_);
+            }
+            // Taken off only while the accelerometer's average is young: the turn's acceleration
+            // turns with the arm, and a full-length average in the inertial frame cancels it anyway.
+            if (lastT_ - accelAverageStartT_ < params_.accelFilterTau) accel -= M * leverArm_;
+        }
+    }
+    const double accelNorm = accel.norm();
     if (youngDv_ < params_.youngMaxVelocity) youngDv_ += std::abs(accelNorm - core::kStandardGravity) * dt;
     const Eigen::Vector3d accelSmooth =
-        quat::rotateInverse(inertial_, accelLowPass_.filter(quat::rotate(inertial_, s.accel)));
+        quat::rotateInverse(inertial_, accelLowPass_.filter(quat::rotate(inertial_, accel)));
     Eigen::Vector3d inertialMag, magFast;
     if (fieldTrusted) {
         inertialMag = quat::rotate(inertial_, s.mag);

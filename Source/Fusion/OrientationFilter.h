@@ -70,6 +70,15 @@ public:
                                               ///< seen since it restarted (∫ ||a| − g| dt), at least youngAverageVelocity
                                               ///< and at most this (issue 49: a translating arm's young average is
                                               ///< 30–150° off for half a second, not the 29°/T·0.1 s of 0.5 m/s)
+        // The accelerometer sits at a lever arm r from the centre the arm turns about (elbow, shoulder,
+        // wrist): it reads ω×(ω×r) + α×r besides gravity and the centre's own acceleration. r (device
+        // frame) is learned by least squares from the steady filter (specific force less the state's
+        // gravity against [ω]×² + [α]×, forgetting over leverArmTau), and the turn's acceleration the
+        // gyro predicts is taken off every sample before it is averaged as gravity (issue 49: in the
+        // stationary-magnet trial a 0.13–0.15 m lever arm explains half the linear acceleration).
+        double leverArmTau = 20.0;            ///< s (0: no lever arm)
+        double leverArmPrior = 1.0;           ///< (rad/s²)²: ridge toward r = 0 (the motion must exceed this to
+                                              ///< make r observable: ω² or α of about 1 rad/s² and up)
         double gravityNormGain = 4.0;         ///< noise ×(1 + gain·||a|−g|/g): linear acceleration shows in |a|
         double gravityNisLimit = 12.0;        ///< χ²(3) soft gate on the gravity innovation (inflate beyond)
         double headingNoise = 0.6;            ///< rad, heading from the horizontal field (slow: τ ≈ 10–20 s)
@@ -139,6 +148,7 @@ public:
     Eigen::Quaterniond orientation() const;          ///< device → earth (X east, Y up, Z south)
     Eigen::Vector3d angularVelocity() const;         ///< rad/s, device frame, bias removed
     Eigen::Vector3d gyroBias() const;                ///< rad/s, device frame
+    Eigen::Vector3d leverArm() const { return leverArm_; }   ///< m, device frame (learned; leverArmTau)
     bool initialised() const { return initialised_; }
     std::size_t skippedSamples() const { return skipped_; }
     std::size_t magneticRejections() const { return magRejected_; }
@@ -197,6 +207,9 @@ private:
     double initT_ = 0.0;       ///< s, time of the initialising sample (start of the low-pass ramp)
     double acquireStartT_ = 0.0;   ///< s, start of the latest acquisition: start-up, gap, re-acquisition
     double accelAverageStartT_ = 0.0;   ///< s, when the accelerometer's low-pass last restarted
+    Eigen::Matrix3d leverH_ = Eigen::Matrix3d::Zero();   ///< Σ MᵀM (forgetting), M = [ω]×² + [α]×
+    Eigen::Vector3d leverY_ = Eigen::Vector3d::Zero();   ///< Σ Mᵀ (a − gravity)
+    Eigen::Vector3d leverArm_ = Eigen::Vector3d::Zero(); ///< m, device frame
     double youngDv_ = 0.0;              ///< m/s, ∫ ||a| − g| dt since then (capped at youngMaxVelocity)
     /// m/s: the velocity change the accelerometer's young average may carry (youngAverageVelocity …
     /// youngMaxVelocity, from the linear acceleration seen since it restarted).

@@ -199,6 +199,7 @@ TEST_CASE("broad: after a dropout in a fast translation the tilt does not follow
     OrientationFilter::Params headingOnly = OrientationFilter::defaultParams();
     headingOnly.acquireFieldVector = false;
     headingOnly.reacquireFieldVector = false;
+    headingOnly.leverArmTau = 0.0;
     for (const auto& [at, length] : {std::pair {40.0, 0.3}, std::pair {120.0, 1.0}, std::pair {40.0, 3.0}}) {
         const double with = medianAfterGap(d, at, at + length, 0.0, 1.0, OrientationFilter::defaultParams(), true);
         const double without = medianAfterGap(d, at, at + length, 0.0, 1.0, headingOnly, true);
