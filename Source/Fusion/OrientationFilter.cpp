@@ -156,7 +156,6 @@ void OrientationFilter::reset()
     afterGap_ = false;
     leverH_.setZero();
     leverY_.setZero();
-    leverArm_.setZero();
     magAverageInertial_.setConstant(core::kNaN);
     initialised_ = false;
     skipped_ = 0;
@@ -175,6 +174,12 @@ Eigen::Vector3d OrientationFilter::angularVelocity() const
 }
 
 Eigen::Vector3d OrientationFilter::gyroBias() const { return ukf_.state().bias; }
+
+Eigen::Vector3d OrientationFilter::leverArm() const
+{
+    // Ridge least squares: (Σ MᵀM + λI) r = Σ Mᵀ(a − gravity); r = 0 while the motion shows none.
+    return (leverH_ + params_.leverArmPrior * Eigen::Matrix3d::Identity()).ldlt().solve(leverY_);
+}
 
 void OrientationFilter::resetCovariance(double rotationStd)
 {
@@ -624,11 +629,10 @@ void OrientationFilter::update(const core::ImuSample& s)
                 const double k = std::min(1.0, dt / params_.leverArmTau);
                 leverH_ += k * (M.transpose() * M - leverH_);
                 leverY_ += k * (M.transpose() * lin - leverY_);
-                leverArm_ = (leverH_ + params_.leverArmPrior * Eigen::Matrix3d::Identity()).ldlt().solve(leverY_);
             }
             // Taken off only while the accelerometer's average is young: the turn's acceleration
             // turns with the arm, and a full-length average in the inertial frame cancels it anyway.
-            if (lastT_ - accelAverageStartT_ < params_.accelFilterTau) accel -= M * leverArm_;
+            if (lastT_ - accelAverageStartT_ < params_.accelFilterTau) accel -= M * leverArm();
         }
     }
     const double accelNorm = accel.norm();

@@ -148,7 +148,9 @@ public:
     Eigen::Quaterniond orientation() const;          ///< device → earth (X east, Y up, Z south)
     Eigen::Vector3d angularVelocity() const;         ///< rad/s, device frame, bias removed
     Eigen::Vector3d gyroBias() const;                ///< rad/s, device frame
-    Eigen::Vector3d leverArm() const { return leverArm_; }   ///< m, device frame (learned; leverArmTau)
+    /// m, device frame: the lever arm learned so far (leverArmTau; solved when asked: the filter
+    /// needs it only while the accelerometer's average is young).
+    Eigen::Vector3d leverArm() const;
     bool initialised() const { return initialised_; }
     std::size_t skippedSamples() const { return skipped_; }
     std::size_t magneticRejections() const { return magRejected_; }
@@ -209,7 +211,6 @@ private:
     double accelAverageStartT_ = 0.0;   ///< s, when the accelerometer's low-pass last restarted
     Eigen::Matrix3d leverH_ = Eigen::Matrix3d::Zero();   ///< Σ MᵀM (forgetting), M = [ω]×² + [α]×
     Eigen::Vector3d leverY_ = Eigen::Vector3d::Zero();   ///< Σ Mᵀ (a − gravity)
-    Eigen::Vector3d leverArm_ = Eigen::Vector3d::Zero(); ///< m, device frame
     double youngDv_ = 0.0;              ///< m/s, ∫ ||a| − g| dt since then (capped at youngMaxVelocity)
     /// m/s: the velocity change the accelerometer's young average may carry (youngAverageVelocity …
     /// youngMaxVelocity, from the linear acceleration seen since it restarted).
