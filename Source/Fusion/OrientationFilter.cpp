@@ -42,6 +42,8 @@ const NumericParameter kNumeric[] = {
         {"youngMaxVelocity", [](Params& p) -> double& { return p.youngMaxVelocity; }},
         {"leverArmTau", [](Params& p) -> double& { return p.leverArmTau; }},
         {"leverArmPrior", [](Params& p) -> double& { return p.leverArmPrior; }},
+        {"hardIronTau", [](Params& p) -> double& { return p.hardIronTau; }},
+        {"hardIronPrior", [](Params& p) -> double& { return p.hardIronPrior; }},
         {"gravityNormGain", [](Params& p) -> double& { return p.gravityNormGain; }},
         {"gravityNisLimit", [](Params& p) -> double& { return p.gravityNisLimit; }},
         {"headingNoise", [](Params& p) -> double& { return p.headingNoise; }},
@@ -154,6 +156,10 @@ void OrientationFilter::reset()
     headingDisagreeT_ = tiltDisagreeT_ = 0.0;
     reacquirePending_ = false;
     afterGap_ = false;
+    hardIronW_ = 0.0;
+    hardIronR_.setZero();
+    hardIronRm_.setZero();
+    hardIronM_.setZero();
     leverH_.setZero();
     leverY_.setZero();
     magAverageInertial_.setConstant(core::kNaN);
@@ -174,6 +180,21 @@ Eigen::Vector3d OrientationFilter::angularVelocity() const
 }
 
 Eigen::Vector3d OrientationFilter::gyroBias() const { return ukf_.state().bias; }
+
+Eigen::Vector3d OrientationFilter::hardIron() const
+{
+    // Ridge least squares for (m_earth, h) in m = Rᵀ m_earth + h: the ridge only on h, so that what
+    // the turns do not separate is the earth's field.
+    Eigen::Matrix<double, 6, 6> H;
+    H.topLeftCorner<3, 3>() = (hardIronW_ + 1e-9) * Eigen::Matrix3d::Identity();
+    H.topRightCorner<3, 3>() = hardIronR_;
+    H.bottomLeftCorner<3, 3>() = hardIronR_.transpose();
+    H.bottomRightCorner<3, 3>() = (hardIronW_ + params_.hardIronPrior) * Eigen::Matrix3d::Identity();
+    Eigen::Matrix<double, 6, 1> y;
+    y << hardIronRm_, hardIronM_;
+    const Eigen::Matrix<double, 6, 1> x = H.ldlt().solve(y);
+    return x.allFinite() ? Eigen::Vector3d(x.tail<3>()) : Eigen::Vector3d::Zero();
+}
 
 Eigen::Vector3d OrientationFilter::leverArm() const
 {
@@ -641,7 +662,20 @@ void OrientationFilter::update(const core::ImuSample& s)
         quat::rotateInverse(inertial_, accelLowPass_.filter(quat::rotate(inertial_, accel)));
     Eigen::Vector3d inertialMag, magFast;
     if (fieldTrusted) {
-        inertialMag = quat::rotate(inertial_, s.mag);
+        Eigen::Vector3d mag = s.mag;
+        if (params_.hardIronTau > 0.0) {
+            // Learned only from the steady filter, taken off only while the averages are young.
+            if (acquiring() <= 0.0 && !gap) {
+                const Eigen::Matrix3d R = ukf_.state().q.toRotationMatrix();   // device → earth
+                const double k = std::min(1.0, dt / params_.hardIronTau);
+                hardIronW_ += k * (1.0 - hardIronW_);
+                hardIronR_ += k * (R - hardIronR_);
+                hardIronRm_ += k * (R * s.mag - hardIronRm_);
+                hardIronM_ += k * (s.mag - hardIronM_);
+            }
+            if (lastT_ - accelAverageStartT_ < params_.accelFilterTau) mag -= hardIron();
+        }
+        inertialMag = quat::rotate(inertial_, mag);
         magAverageInertial_ = magLowPass_.filter(inertialMag);
         magFast = quat::rotateInverse(inertial_, magFastLowPass_.filter(inertialMag));
     }

@@ -79,6 +79,14 @@ public:
         double leverArmTau = 20.0;            ///< s (0: no lever arm)
         double leverArmPrior = 1.0;           ///< (rad/s²)²: ridge toward r = 0 (the motion must exceed this to
                                               ///< make r observable: ω² or α of about 1 rad/s² and up)
+        // A magnet carried with the sensor (hard iron) adds a field h fixed in the device frame: the
+        // magnetometer reads Rᵀ m_earth + h. Learned by least squares from the steady filter over the
+        // arm's turns (forgetting over hardIronTau; ridge hardIronPrior toward h = 0, so that an arm
+        // that does not turn leaves it at 0) and taken off the field while its averages are young:
+        // a long average in the inertial frame cancels h as the arm turns, a young one does not
+        // (issue 49: trial 34, attached magnet, 1–3 s after a gap at 80 s, 20–26° → 8–12°).
+        double hardIronTau = 20.0;            ///< s (0: no hard-iron estimate)
+        double hardIronPrior = 0.1;           ///< ridge on h (the information of a unit turn is ≈ 1)
         double gravityNormGain = 4.0;         ///< noise ×(1 + gain·||a|−g|/g): linear acceleration shows in |a|
         double gravityNisLimit = 12.0;        ///< χ²(3) soft gate on the gravity innovation (inflate beyond)
         double headingNoise = 0.6;            ///< rad, heading from the horizontal field (slow: τ ≈ 10–20 s)
@@ -151,6 +159,8 @@ public:
     /// m, device frame: the lever arm learned so far (leverArmTau; solved when asked: the filter
     /// needs it only while the accelerometer's average is young).
     Eigen::Vector3d leverArm() const;
+    /// The magnetometer's hard-iron offset learned so far (its unit; hardIronTau), solved when asked.
+    Eigen::Vector3d hardIron() const;
     bool initialised() const { return initialised_; }
     std::size_t skippedSamples() const { return skipped_; }
     std::size_t magneticRejections() const { return magRejected_; }
@@ -209,6 +219,11 @@ private:
     double initT_ = 0.0;       ///< s, time of the initialising sample (start of the low-pass ramp)
     double acquireStartT_ = 0.0;   ///< s, start of the latest acquisition: start-up, gap, re-acquisition
     double accelAverageStartT_ = 0.0;   ///< s, when the accelerometer's low-pass last restarted
+    // Σ AᵀA and Σ Aᵀm for A = [Rᵀ | I] (forgetting): AᵀA = [[I, R], [Rᵀ, I]], so the weight, the
+    // mean R, the mean R m and the mean m are all it takes.
+    double hardIronW_ = 0.0;
+    Eigen::Matrix3d hardIronR_ = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d hardIronRm_ = Eigen::Vector3d::Zero(), hardIronM_ = Eigen::Vector3d::Zero();
     Eigen::Matrix3d leverH_ = Eigen::Matrix3d::Zero();   ///< Σ MᵀM (forgetting), M = [ω]×² + [α]×
     Eigen::Vector3d leverY_ = Eigen::Vector3d::Zero();   ///< Σ Mᵀ (a − gravity)
     double youngDv_ = 0.0;              ///< m/s, ∫ ||a| − g| dt since then (capped at youngMaxVelocity)
