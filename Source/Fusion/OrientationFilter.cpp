@@ -562,6 +562,43 @@ void OrientationFilter::updateHeading(const Eigen::Vector3d& mag, const Eigen::V
                    params_.headingNisLimit);
 }
 
+Eigen::Vector3d OrientationFilter::withoutTurnAcceleration(const core::ImuSample& s, double dt, bool unsteady)
+{
+    if (!(params_.leverArmTau > 0.0)) return s.accel;
+    const Eigen::Vector3d w = s.gyro - ukf_.state().bias;
+    const Eigen::Vector3d al = ukf_.state().accel;
+    Eigen::Matrix3d M;   // [ω]×² + [α]×
+    M << -(w.y() * w.y() + w.z() * w.z()), w.x() * w.y() - al.z(), w.x() * w.z() + al.y(),
+        w.x() * w.y() + al.z(), -(w.x() * w.x() + w.z() * w.z()), w.y() * w.z() - al.x(),
+        w.x() * w.z() - al.y(), w.y() * w.z() + al.x(), -(w.x() * w.x() + w.y() * w.y());
+    if (!M.allFinite()) return s.accel;
+    // Learned only from the steady filter (its gravity is what the residual is taken against).
+    if (acquiring() <= 0.0 && !unsteady) {
+        const Eigen::Vector3d lin = s.accel - quat::rotateInverse(ukf_.state().q, Eigen::Vector3d(0.0, core::kStandardGravity, 0.0));
+        const double k = std::min(1.0, dt / params_.leverArmTau);
+        leverH_ += k * (M.transpose() * M - leverH_);
+        leverY_ += k * (M.transpose() * lin - leverY_);
+    }
+    // Taken off only while the accelerometer's average is young: the turn's acceleration turns with
+    // the arm, and a full-length average in the inertial frame cancels it anyway.
+    return lastT_ - accelAverageStartT_ < params_.accelFilterTau ? Eigen::Vector3d(s.accel - M * leverArm()) : s.accel;
+}
+
+Eigen::Vector3d OrientationFilter::withoutHardIron(const Eigen::Vector3d& mag, double dt, bool gap)
+{
+    if (!(params_.hardIronTau > 0.0)) return mag;
+    // Learned only from the steady filter, taken off only while the averages are young.
+    if (acquiring() <= 0.0 && !gap) {
+        const Eigen::Matrix3d R = ukf_.state().q.toRotationMatrix();   // device → earth
+        const double k = std::min(1.0, dt / params_.hardIronTau);
+        hardIronW_ += k * (1.0 - hardIronW_);
+        hardIronR_ += k * (R - hardIronR_);
+        hardIronRm_ += k * (R * mag - hardIronRm_);
+        hardIronM_ += k * (mag - hardIronM_);
+    }
+    return lastT_ - accelAverageStartT_ < params_.accelFilterTau ? Eigen::Vector3d(mag - hardIron()) : mag;
+}
+
 void OrientationFilter::update(const core::ImuSample& s)
 {
     if (!std::isfinite(s.t) || !s.gyro.allFinite() || !s.accel.allFinite() || !(s.accel.norm() > 0.0)) {
@@ -635,47 +672,14 @@ void OrientationFilter::update(const core::ImuSample& s)
                              Eigen::Vector3d::Constant(params_.biasObservationNoise));
     }
     // The acceleration of the turn at the lever arm, as the gyro predicts it, is not gravity.
-    Eigen::Vector3d accel = s.accel;
-    if (params_.leverArmTau > 0.0) {
-        const Eigen::Vector3d w = s.gyro - ukf_.state().bias;
-        const Eigen::Vector3d al = ukf_.state().accel;
-        Eigen::Matrix3d M;
-        M << -(w.y() * w.y() + w.z() * w.z()), w.x() * w.y() - al.z(), w.x() * w.z() + al.y(),
-            w.x() * w.y() + al.z(), -(w.x() * w.x() + w.z() * w.z()), w.y() * w.z() - al.x(),
-            w.x() * w.z() - al.y(), w.y() * w.z() + al.x(), -(w.x() * w.x() + w.y() * w.y());
-        if (M.allFinite()) {
-            // Learned only from the steady filter (its gravity is what the residual is taken against).
-            if (acquiring() <= 0.0 && shock <= 0.0 && !gap) {
-                const Eigen::Vector3d lin = s.accel - quat::rotateInverse(ukf_.state().q, Eigen::Vector3d(0.0, core::kStandardGravity, 0.0));
-                const double k = std::min(1.0, dt / params_.leverArmTau);
-                leverH_ += k * (M.transpose() * M - leverH_);
-                leverY_ += k * (M.transpose() * lin - leverY_);
-            }
-            // Taken off only while the accelerometer's average is young: the turn's acceleration
-            // turns with the arm, and a full-length average in the inertial frame cancels it anyway.
-            if (lastT_ - accelAverageStartT_ < params_.accelFilterTau) accel -= M * leverArm();
-        }
-    }
+    const Eigen::Vector3d accel = withoutTurnAcceleration(s, dt, shock > 0.0 || gap);
     const double accelNorm = accel.norm();
     if (youngDv_ < params_.youngMaxVelocity) youngDv_ += std::abs(accelNorm - core::kStandardGravity) * dt;
     const Eigen::Vector3d accelSmooth =
         quat::rotateInverse(inertial_, accelLowPass_.filter(quat::rotate(inertial_, accel)));
     Eigen::Vector3d inertialMag, magFast;
     if (fieldTrusted) {
-        Eigen::Vector3d mag = s.mag;
-        if (params_.hardIronTau > 0.0) {
-            // Learned only from the steady filter, taken off only while the averages are young.
-            if (acquiring() <= 0.0 && !gap) {
-                const Eigen::Matrix3d R = ukf_.state().q.toRotationMatrix();   // device → earth
-                const double k = std::min(1.0, dt / params_.hardIronTau);
-                hardIronW_ += k * (1.0 - hardIronW_);
-                hardIronR_ += k * (R - hardIronR_);
-                hardIronRm_ += k * (R * s.mag - hardIronRm_);
-                hardIronM_ += k * (s.mag - hardIronM_);
-            }
-            if (lastT_ - accelAverageStartT_ < params_.accelFilterTau) mag -= hardIron();
-        }
-        inertialMag = quat::rotate(inertial_, mag);
+        inertialMag = quat::rotate(inertial_, withoutHardIron(s.mag, dt, gap));
         magAverageInertial_ = magLowPass_.filter(inertialMag);
         magFast = quat::rotateInverse(inertial_, magFastLowPass_.filter(inertialMag));
     }

@@ -69,7 +69,7 @@ public:
                                               ///< speed). The young average's Δv is taken as the linear acceleration
                                               ///< seen since it restarted (∫ ||a| − g| dt), at least youngAverageVelocity
                                               ///< and at most this (issue 49: a translating arm's young average is
-                                              ///< 30–150° off for half a second, not the 29°/T·0.1 s of 0.5 m/s)
+                                              ///< 30–150° off for half a second; 0.5 m/s says 29° at 0.1 s, 6° at 0.5 s)
         // The accelerometer sits at a lever arm r from the centre the arm turns about (elbow, shoulder,
         // wrist): it reads ω×(ω×r) + α×r besides gravity and the centre's own acceleration. r (device
         // frame) is learned by least squares from the steady filter (specific force less the state's
@@ -202,6 +202,11 @@ private:
     void reacquireStep(const Eigen::Vector3d& up, const Eigen::Vector3d& field);
     void reacquireStepJoint(const Eigen::Vector3d& up, const Eigen::Vector3d& field);
     void setupLowPass(double dt);
+    /// The accelerometer sample less the turn's acceleration at the learned lever arm while the
+    /// average is young (learning r from the steady filter unless `unsteady`: shock, gap).
+    Eigen::Vector3d withoutTurnAcceleration(const core::ImuSample& s, double dt, bool unsteady);
+    /// The magnetometer sample less the learned hard-iron offset while the averages are young.
+    Eigen::Vector3d withoutHardIron(const Eigen::Vector3d& mag, double dt, bool gap);
 
     Params params_;
     SquareRootUkf<AttitudeSpace> ukf_;
