@@ -1,5 +1,8 @@
 #include "Fusion/OrientationFilter.h"
 #include "Core/Pose.h"
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 
@@ -36,6 +39,11 @@ const NumericParameter kNumeric[] = {
         {"startupFilterSeconds", [](Params& p) -> double& { return p.startupFilterSeconds; }},
         {"gravityNoise", [](Params& p) -> double& { return p.gravityNoise; }},
         {"youngAverageVelocity", [](Params& p) -> double& { return p.youngAverageVelocity; }},
+        {"youngMaxVelocity", [](Params& p) -> double& { return p.youngMaxVelocity; }},
+        {"leverArmTau", [](Params& p) -> double& { return p.leverArmTau; }},
+        {"leverArmPrior", [](Params& p) -> double& { return p.leverArmPrior; }},
+        {"hardIronTau", [](Params& p) -> double& { return p.hardIronTau; }},
+        {"hardIronPrior", [](Params& p) -> double& { return p.hardIronPrior; }},
         {"gravityNormGain", [](Params& p) -> double& { return p.gravityNormGain; }},
         {"gravityNisLimit", [](Params& p) -> double& { return p.gravityNisLimit; }},
         {"headingNoise", [](Params& p) -> double& { return p.headingNoise; }},
@@ -71,6 +79,8 @@ const BoolParameter kBool[] = {
         {"shockRestartsFieldLowPass", [](Params& p) -> bool& { return p.shockRestartsFieldLowPass; }},
         {"accelTaperedStart", [](Params& p) -> bool& { return p.accelTaperedStart; }},
         {"useMagnetometer", [](Params& p) -> bool& { return p.useMagnetometer; }},
+        {"reacquireFieldVector", [](Params& p) -> bool& { return p.reacquireFieldVector; }},
+        {"acquireFieldVector", [](Params& p) -> bool& { return p.acquireFieldVector; }},
         {"gyroCoversPrecedingInterval", [](Params& p) -> bool& { return p.gyroCoversPrecedingInterval; }},
 };
 } // namespace
@@ -145,6 +155,13 @@ void OrientationFilter::reset()
     gaps_ = core::GapDetector(params_.gap);
     headingDisagreeT_ = tiltDisagreeT_ = 0.0;
     reacquirePending_ = false;
+    afterGap_ = false;
+    hardIronW_ = 0.0;
+    hardIronR_.setZero();
+    hardIronRm_.setZero();
+    hardIronM_.setZero();
+    leverH_.setZero();
+    leverY_.setZero();
     magAverageInertial_.setConstant(core::kNaN);
     initialised_ = false;
     skipped_ = 0;
@@ -163,6 +180,27 @@ Eigen::Vector3d OrientationFilter::angularVelocity() const
 }
 
 Eigen::Vector3d OrientationFilter::gyroBias() const { return ukf_.state().bias; }
+
+Eigen::Vector3d OrientationFilter::hardIron() const
+{
+    // Ridge least squares for (m_earth, h) in m = Rᵀ m_earth + h: the ridge only on h, so that what
+    // the turns do not separate is the earth's field.
+    Eigen::Matrix<double, 6, 6> H;
+    H.topLeftCorner<3, 3>() = (hardIronW_ + 1e-9) * Eigen::Matrix3d::Identity();
+    H.topRightCorner<3, 3>() = hardIronR_;
+    H.bottomLeftCorner<3, 3>() = hardIronR_.transpose();
+    H.bottomRightCorner<3, 3>() = (hardIronW_ + params_.hardIronPrior) * Eigen::Matrix3d::Identity();
+    Eigen::Matrix<double, 6, 1> y;
+    y << hardIronRm_, hardIronM_;
+    const Eigen::Matrix<double, 6, 1> x = H.ldlt().solve(y);
+    return x.allFinite() ? Eigen::Vector3d(x.tail<3>()) : Eigen::Vector3d::Zero();
+}
+
+Eigen::Vector3d OrientationFilter::leverArm() const
+{
+    // Ridge least squares: (Σ MᵀM + λI) r = Σ Mᵀ(a − gravity); r = 0 while the motion shows none.
+    return (leverH_ + params_.leverArmPrior * Eigen::Matrix3d::Identity()).ldlt().solve(leverY_);
+}
 
 void OrientationFilter::resetCovariance(double rotationStd)
 {
@@ -194,6 +232,7 @@ void OrientationFilter::initialise(const core::ImuSample& s)
     lastT_ = s.t;
     lastGyro_ = s.gyro;
     initT_ = acquireStartT_ = s.t;
+    afterGap_ = false;
     lastAccel_ = s.accel;
     initialised_ = true;
     restartInertialFrame();
@@ -208,7 +247,7 @@ static Eigen::Quaterniond levelled(const Eigen::Quaterniond& q, const Eigen::Vec
     return quat::normalised(Eigen::Quaterniond::FromTwoVectors(upNow, Eigen::Vector3d::UnitY()) * q);
 }
 
-void OrientationFilter::reacquire(const core::ImuSample& s)
+void OrientationFilter::reacquire(const core::ImuSample& s, double gap)
 {
     // The orientation is unknown after a gap the filter cannot bridge: start again as at start-up.
     // Tilt from this sample when its norm says it is mostly gravity (one sample of a moving arm can
@@ -217,7 +256,13 @@ void OrientationFilter::reacquire(const core::ImuSample& s)
     // heading reset in updateHeading): one sample that passes the field tracker inside a disturbed
     // field would otherwise throw a good heading away.
     OrientationState& x = ukf_.state();
-    if (std::abs(s.accel.norm() - core::kStandardGravity) < params_.reacquireAccelTolerance * core::kStandardGravity)
+    gapLength_ = gap;
+    rateBeforeGap_ = x.rate.allFinite() ? x.rate.norm() : 0.0;
+    reacquireTurn_ = 0.0;
+    // With the joint step the orientation before the gap is its prior, kept unlevelled (one sample
+    // of a moving arm can carry g of linear acceleration in any direction within the tolerance).
+    const bool step = params_.reacquireWindow > 0.0 && params_.reacquireFieldVector;
+    if (!step && std::abs(s.accel.norm() - core::kStandardGravity) < params_.reacquireAccelTolerance * core::kStandardGravity)
         x.q = levelled(x.q, s.accel);
     x.rate = s.gyro - x.bias;
     x.accel.setZero();
@@ -226,6 +271,7 @@ void OrientationFilter::reacquire(const core::ImuSample& s)
     ++recovery_.reacquired;
     acquireStartT_ = s.t;
     reacquirePending_ = params_.reacquireWindow > 0.0;
+    afterGap_ = true;
     reacquireStartT_ = s.t;
     reacquireSamples_ = reacquireFieldSamples_ = 0;
     headingDisagreeT_ = tiltDisagreeT_ = 0.0;
@@ -236,6 +282,7 @@ void OrientationFilter::restartInertialFrame()
 {
     inertial_ = ukf_.state().q;
     accelAverageStartT_ = lastT_;
+    youngDv_ = 0.0;
     accelLowPass_.reset();
     magLowPass_.reset();
     magFastLowPass_.reset();
@@ -244,6 +291,10 @@ void OrientationFilter::restartInertialFrame()
 
 void OrientationFilter::reacquireStep(const Eigen::Vector3d& up, const Eigen::Vector3d& field)
 {
+    if (params_.reacquireFieldVector) {
+        reacquireStepJoint(up, field);
+        return;
+    }
     // After a gap the state is the orientation before it (levelled by the first sample): good if
     // the arm held still, anything if it turned. The young averages are a measurement of known
     // quality (tilt: the gravity noise and the Δv/T of a young average, as in updateGravity;
@@ -254,7 +305,7 @@ void OrientationFilter::reacquireStep(const Eigen::Vector3d& up, const Eigen::Ve
     // error takes theirs. Tilt first (levelling turns least), then heading about the vertical.
     Eigen::Quaterniond q = ukf_.state().q;
     const double T = std::max(lastT_ - reacquireStartT_, 1e-3);
-    const double young = params_.youngAverageVelocity / (core::kStandardGravity * T);
+    const double young = youngVelocity() / (core::kStandardGravity * T);
     const double tiltVar = params_.gravityNoise * params_.gravityNoise + young * young;
     const Eigen::Vector3d upEarth = quat::rotate(q, up.normalized());
     const double tilt = std::acos(std::clamp(upEarth.y(), -1.0, 1.0));
@@ -296,6 +347,82 @@ void OrientationFilter::reacquireStep(const Eigen::Vector3d& up, const Eigen::Ve
     headingDisagreeT_ = tiltDisagreeT_ = 0.0;
 }
 
+void OrientationFilter::reacquireStepJoint(const Eigen::Vector3d& up, const Eigen::Vector3d& field)
+{
+    // Wahba's problem (Markley's SVD solution): the rotation A (earth → device) that best maps each
+    // earth-frame reference r_i onto its device-frame measurement b_i, weighted by 1/σ_i². Three
+    // sources (docs/FUSION.md, "Dropouts and re-acquisition"):
+    //  - the orientation before the gap, turned since by the gyro (inertial_: the gyro-only frame
+    //    restarted at the gap's end from that orientation), as its three axes. Its error is the
+    //    turn during the gap, which nobody measured: at most the arm's rate around the gap (before
+    //    it, and the mean over the window after it) times the gap's length;
+    //  - the young gravity average (up), trusted as the gravity update trusts it (Δv/T);
+    //  - the young field average as a direction against the earth's field (north, dipping by the
+    //    reference dip of the field tracker), trusted to reacquireHeadingNoise.
+    // The information each adds about the device-frame error angle is w_i (I − b_i b_iᵀ); its
+    // inverse is the rotation covariance the filter continues with.
+    const double T = std::max(lastT_ - reacquireStartT_, 1e-3);
+    const double young = youngVelocity() / (core::kStandardGravity * T);
+    const double gravityVar = params_.gravityNoise * params_.gravityNoise + young * young;
+    const double rate = std::max(rateBeforeGap_, reacquireTurn_ / T);
+    const double priorStd = std::max(rate * gapLength_, params_.gravityNoise);
+    const Eigen::Quaterniond prior = inertial_;
+    Eigen::Matrix3d B = Eigen::Matrix3d::Zero();
+    Eigen::Matrix3d info = Eigen::Matrix3d::Identity() / (priorStd * priorStd);
+    auto add = [&](const Eigen::Vector3d& b, const Eigen::Vector3d& r, double w) {
+        B += w * b * r.transpose();
+        info += w * (Eigen::Matrix3d::Identity() - b * b.transpose());
+    };
+    // Each axis of the prior carries half the information of an isotropic error σ on two axes.
+    const Eigen::Matrix3d Rp = prior.toRotationMatrix();   // device → earth
+    for (int k = 0; k < 3; ++k) {
+        const double w = 0.5 / (priorStd * priorStd);
+        B += w * Rp.row(k).transpose() * Eigen::Vector3d::Unit(k).transpose();
+    }
+    const double un = up.norm();
+    const bool haveUp = un > 0.0 && std::isfinite(un);
+    const bool haveField = field.allFinite() && field.norm() > 0.0 && fieldTracker_.haveDip();
+    // The young averages of gravity and of a clean field must meet at the field's reference dip
+    // (the angle between up and the field, ≈ 90° + inclination); the gravity average is off by at
+    // least as much as they miss it (the field's direction is good to a few degrees).
+    const double dipMiss = haveUp && haveField
+                               ? std::abs(std::acos(std::clamp(up.dot(field) / (un * field.norm()), -1.0, 1.0)) - fieldTracker_.referenceDip())
+                               : 0.0;
+    if (haveUp) add(up / un, Eigen::Vector3d::UnitY(), 1.0 / (gravityVar + dipMiss * dipMiss));
+    if (haveField) {
+        const double inclination = fieldTracker_.referenceDip() - 0.5 * core::kPi;
+        const Eigen::Vector3d r(0.0, -std::sin(inclination), -std::cos(inclination));   // north (−Z), dipping down
+        add(field.normalized(), r, 1.0 / (params_.reacquireHeadingNoise * params_.reacquireHeadingNoise));
+    }
+    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(B, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::Vector3d d(1.0, 1.0, svd.matrixU().determinant() * svd.matrixV().determinant());
+    const Eigen::Matrix3d A = svd.matrixU() * d.asDiagonal() * svd.matrixV().transpose();   // earth → device
+    const Eigen::Quaterniond q = quat::normalised(Eigen::Quaterniond(Eigen::Matrix3d(A.transpose())));
+    const Eigen::Matrix3d P = info.inverse();
+    // A state that agrees with the answer within the answer's own spread keeps its precision.
+    const Eigen::Quaterniond& now = ukf_.state().q;
+    const Eigen::Vector3d e = quat::log(now.conjugate() * q);
+    if (!(e.dot(info * e) > 3.0)) return;   // within the 3-dof spread of the solution
+    ++recovery_.reacquireSteps;
+    ukf_.state().q = q;
+    // Rotation block: the solution's covariance, its spread kept within [gravityNoise, cap] per axis.
+    const double cap = std::max(params_.initialTiltStd, params_.initialHeadingStd);
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(P);
+    Eigen::Vector3d ev = es.eigenvalues();
+    for (int i = 0; i < 3; ++i) ev(i) = std::clamp(ev(i), params_.gravityNoise * params_.gravityNoise, cap * cap);
+    const Eigen::Matrix3d Pc = es.eigenvectors() * ev.asDiagonal() * es.eigenvectors().transpose();
+    const Eigen::Matrix<double, kAttDim, kAttDim> Pold = ukf_.covariance();
+    Eigen::Matrix<double, kAttDim, kAttDim> Pnew = Eigen::Matrix<double, kAttDim, kAttDim>::Zero();
+    Pnew.block<3, 3>(kAttRotation, kAttRotation) = Pc;
+    for (int i = 0; i < 3; ++i) {
+        const double b = Pold(kAttBias + i, kAttBias + i);
+        const double sd = std::isfinite(b) && b > 0.0 ? std::min(std::sqrt(b), params_.initialBiasStd) : params_.initialBiasStd;
+        Pnew(kAttBias + i, kAttBias + i) = sd * sd;
+    }
+    ukf_.reset(ukf_.state(), Eigen::Matrix<double, kAttDim, kAttDim>(Pnew.llt().matrixL()));
+    headingDisagreeT_ = tiltDisagreeT_ = 0.0;
+}
+
 void OrientationFilter::setupLowPass(double dt)
 {
     // Right after initialisation the gyro bias is not known yet, so the gyro-only inertial frame
@@ -314,6 +441,11 @@ void OrientationFilter::setupLowPass(double dt)
     accelLowPass_.setup(params_.accelFilterTau * ramp, dt);
     magLowPass_.setup(params_.magFilterTau * ramp, dt);
     magFastLowPass_.setup(params_.magDisagreementTau * ramp, dt);
+}
+
+double OrientationFilter::youngVelocity() const
+{
+    return std::max(params_.youngAverageVelocity, std::min(youngDv_, params_.youngMaxVelocity));
 }
 
 double OrientationFilter::acquiring() const
@@ -352,7 +484,7 @@ void OrientationFilter::predict(double dt, const Eigen::Vector3d& gyro, const Ei
     ukf_.predictLinearised(GyroInputModel {dt, gyro, accel}, GyroInputJacobian {dt, delta}, sd);
 }
 
-void OrientationFilter::updateGravity(const Eigen::Vector3d& accel, double rawNorm, double dt)
+void OrientationFilter::updateGravity(const Eigen::Vector3d& accel, double rawNorm, double dt, bool tiltRule, double extraStd)
 {
     const double n = accel.norm();
     if (!(n > 0.0) || !std::isfinite(n) || !std::isfinite(rawNorm)) return;
@@ -361,7 +493,7 @@ void OrientationFilter::updateGravity(const Eigen::Vector3d& accel, double rawNo
     const Eigen::Vector3d upDevice = accel / n;
     const Eigen::Vector3d upState = quat::rotateInverse(ukf_.state().q, Eigen::Vector3d::UnitY());
     const double angle = std::acos(std::clamp(upDevice.dot(upState), -1.0, 1.0));
-    tiltDisagreeT_ = angle > params_.tiltDisagreement ? tiltDisagreeT_ + dt : 0.0;
+    tiltDisagreeT_ = tiltRule && angle > params_.tiltDisagreement ? tiltDisagreeT_ + dt : 0.0;
     if (tiltDisagreeT_ > disagreementLimit()) {
         ukf_.state().q = levelled(ukf_.state().q, upDevice);
         resetCovariance(std::max(params_.initialTiltStd, params_.initialHeadingStd));
@@ -374,9 +506,9 @@ void OrientationFilter::updateGravity(const Eigen::Vector3d& accel, double rawNo
     // The low-passed direction is gravity plus the velocity change over its window divided by the
     // window: right after a restart (start-up, gap) the window is short and a moving arm's Δv/T is
     // tens of degrees, so the young average is trusted as little as that (issue 36).
-    const double young = params_.youngAverageVelocity / (core::kStandardGravity * std::max(lastT_ - accelAverageStartT_, dt));
+    const double young = youngVelocity() / (core::kStandardGravity * std::max(lastT_ - accelAverageStartT_, dt));
     const double base = params_.gravityNoise * (1.0 + params_.gravityNormGain * deviation);
-    const double sd = std::sqrt(base * base + young * young);
+    const double sd = std::sqrt(base * base + young * young + extraStd * extraStd);
     ukf_.update<3, 3>(upDevice, GravityObservation {}, Eigen::Vector3d::Constant(sd), params_.gravityNisLimit);
 }
 
@@ -430,6 +562,43 @@ void OrientationFilter::updateHeading(const Eigen::Vector3d& mag, const Eigen::V
                    params_.headingNisLimit);
 }
 
+Eigen::Vector3d OrientationFilter::withoutTurnAcceleration(const core::ImuSample& s, double dt, bool unsteady)
+{
+    if (!(params_.leverArmTau > 0.0)) return s.accel;
+    const Eigen::Vector3d w = s.gyro - ukf_.state().bias;
+    const Eigen::Vector3d al = ukf_.state().accel;
+    Eigen::Matrix3d M;   // [ω]×² + [α]×
+    M << -(w.y() * w.y() + w.z() * w.z()), w.x() * w.y() - al.z(), w.x() * w.z() + al.y(),
+        w.x() * w.y() + al.z(), -(w.x() * w.x() + w.z() * w.z()), w.y() * w.z() - al.x(),
+        w.x() * w.z() - al.y(), w.y() * w.z() + al.x(), -(w.x() * w.x() + w.y() * w.y());
+    if (!M.allFinite()) return s.accel;
+    // Learned only from the steady filter (its gravity is what the residual is taken against).
+    if (acquiring() <= 0.0 && !unsteady) {
+        const Eigen::Vector3d lin = s.accel - quat::rotateInverse(ukf_.state().q, Eigen::Vector3d(0.0, core::kStandardGravity, 0.0));
+        const double k = std::min(1.0, dt / params_.leverArmTau);
+        leverH_ += k * (M.transpose() * M - leverH_);
+        leverY_ += k * (M.transpose() * lin - leverY_);
+    }
+    // Taken off only while the accelerometer's average is young: the turn's acceleration turns with
+    // the arm, and a full-length average in the inertial frame cancels it anyway.
+    return lastT_ - accelAverageStartT_ < params_.accelFilterTau ? Eigen::Vector3d(s.accel - M * leverArm()) : s.accel;
+}
+
+Eigen::Vector3d OrientationFilter::withoutHardIron(const Eigen::Vector3d& mag, double dt, bool gap)
+{
+    if (!(params_.hardIronTau > 0.0)) return mag;
+    // Learned only from the steady filter, taken off only while the averages are young.
+    if (acquiring() <= 0.0 && !gap) {
+        const Eigen::Matrix3d R = ukf_.state().q.toRotationMatrix();   // device → earth
+        const double k = std::min(1.0, dt / params_.hardIronTau);
+        hardIronW_ += k * (1.0 - hardIronW_);
+        hardIronR_ += k * (R - hardIronR_);
+        hardIronRm_ += k * (R * mag - hardIronRm_);
+        hardIronM_ += k * (mag - hardIronM_);
+    }
+    return lastT_ - accelAverageStartT_ < params_.accelFilterTau ? Eigen::Vector3d(mag - hardIron()) : mag;
+}
+
 void OrientationFilter::update(const core::ImuSample& s)
 {
     if (!std::isfinite(s.t) || !s.gyro.allFinite() || !s.accel.allFinite() || !(s.accel.norm() > 0.0)) {
@@ -467,7 +636,7 @@ void OrientationFilter::update(const core::ImuSample& s)
     // on that error for magFilterTau. Its history is dropped (it restarts with a plain mean).
     if (shock > 0.0 && params_.shockRestartsFieldLowPass) magLowPass_.reset();
     if (gap && dt > params_.maxBridge) {
-        reacquire(s);
+        reacquire(s, dt);
         return;
     }
     // The gyro is the process model's input (departure 12): the step turns by ω t + α t²/2 (the
@@ -502,18 +671,22 @@ void OrientationFilter::update(const core::ImuSample& s)
         ukf_.updateLinear<3>(biasTracker_.bias() - BiasObservation {}(ukf_.state()), biasH,
                              Eigen::Vector3d::Constant(params_.biasObservationNoise));
     }
-    const double accelNorm = s.accel.norm();
+    // The acceleration of the turn at the lever arm, as the gyro predicts it, is not gravity.
+    const Eigen::Vector3d accel = withoutTurnAcceleration(s, dt, shock > 0.0 || gap);
+    const double accelNorm = accel.norm();
+    if (youngDv_ < params_.youngMaxVelocity) youngDv_ += std::abs(accelNorm - core::kStandardGravity) * dt;
     const Eigen::Vector3d accelSmooth =
-        quat::rotateInverse(inertial_, accelLowPass_.filter(quat::rotate(inertial_, s.accel)));
+        quat::rotateInverse(inertial_, accelLowPass_.filter(quat::rotate(inertial_, accel)));
     Eigen::Vector3d inertialMag, magFast;
     if (fieldTrusted) {
-        inertialMag = quat::rotate(inertial_, s.mag);
+        inertialMag = quat::rotate(inertial_, withoutHardIron(s.mag, dt, gap));
         magAverageInertial_ = magLowPass_.filter(inertialMag);
         magFast = quat::rotateInverse(inertial_, magFastLowPass_.filter(inertialMag));
     }
     if (reacquirePending_) {
         ++reacquireSamples_;
         if (fieldTrusted) ++reacquireFieldSamples_;
+        reacquireTurn_ += (s.gyro - ukf_.state().bias).norm() * dt;
         if (lastT_ - reacquireStartT_ >= params_.reacquireWindow) {
             // The field's average counts if most of the window's samples were trusted.
             const bool field = 2 * reacquireFieldSamples_ > reacquireSamples_ && magAverageInertial_.allFinite();
@@ -522,10 +695,30 @@ void OrientationFilter::update(const core::ImuSample& s)
             reacquirePending_ = false;
         }
     }
-    updateGravity(accelSmooth, accelNorm, dt);
+    // While acquiring after a gap a trusted field is observed whole (below): it fixes the tilt
+    // better than the young gravity average, so that average's disagreement is no reason to level.
+    const bool fieldVector = fieldTrusted && afterGap_ && params_.acquireFieldVector && acquiring() > 0.0 && fieldTracker_.haveDip();
+    // The young averages of gravity and of a clean field must meet at the field's reference dip;
+    // by as much as they do not, the gravity average is off (the field's direction is good to a few
+    // degrees): its error shows, at least in the plane of the two.
+    double dipMiss = 0.0;
+    if (fieldVector && accelSmooth.norm() > 0.0) {
+        const Eigen::Vector3d f = quat::rotateInverse(inertial_, magAverageInertial_);
+        dipMiss = std::abs(std::acos(std::clamp(accelSmooth.normalized().dot(f.normalized()), -1.0, 1.0)) - fieldTracker_.referenceDip());
+    }
+    updateGravity(accelSmooth, accelNorm, dt, !fieldVector, dipMiss);
 
-    if (fieldTrusted)
-        updateHeading(quat::rotateInverse(inertial_, magAverageInertial_), magFast, dt);
+    if (fieldTrusted) {
+        if (fieldVector) {
+            const double inclination = fieldTracker_.referenceDip() - 0.5 * core::kPi;
+            FieldObservation h;
+            h.field = Eigen::Vector3d(0.0, -std::sin(inclination), -std::cos(inclination));
+            ukf_.update<3, 3>(quat::rotateInverse(inertial_, magAverageInertial_).normalized(), h,
+                              Eigen::Vector3d::Constant(params_.reacquireHeadingNoise), params_.gravityNisLimit);
+        } else {
+            updateHeading(quat::rotateInverse(inertial_, magAverageInertial_), magFast, dt);
+        }
+    }
 }
 
 } // namespace armadillo::fusion

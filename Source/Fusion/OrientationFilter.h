@@ -65,6 +65,28 @@ public:
         double youngAverageVelocity = 0.5;    ///< m/s: velocity change the accelerometer's young average may
                                               ///< carry: its direction is off by up to this/(g·T) after T s of
                                               ///< averaging, added to the gravity noise (docs/FUSION.md, issue 36)
+        double youngMaxVelocity = 2.0;        ///< m/s: the most a fast arm's velocity can change (a fast gesture's
+                                              ///< speed). The young average's Δv is taken as the linear acceleration
+                                              ///< seen since it restarted (∫ ||a| − g| dt), at least youngAverageVelocity
+                                              ///< and at most this (issue 49: a translating arm's young average is
+                                              ///< 30–150° off for half a second; 0.5 m/s says 29° at 0.1 s, 6° at 0.5 s)
+        // The accelerometer sits at a lever arm r from the centre the arm turns about (elbow, shoulder,
+        // wrist): it reads ω×(ω×r) + α×r besides gravity and the centre's own acceleration. r (device
+        // frame) is learned by least squares from the steady filter (specific force less the state's
+        // gravity against [ω]×² + [α]×, forgetting over leverArmTau), and the turn's acceleration the
+        // gyro predicts is taken off every sample before it is averaged as gravity (issue 49: in the
+        // stationary-magnet trial a 0.13–0.15 m lever arm explains half the linear acceleration).
+        double leverArmTau = 20.0;            ///< s (0: no lever arm)
+        double leverArmPrior = 1.0;           ///< (rad/s²)²: ridge toward r = 0 (the motion must exceed this to
+                                              ///< make r observable: ω² or α of about 1 rad/s² and up)
+        // A magnet carried with the sensor (hard iron) adds a field h fixed in the device frame: the
+        // magnetometer reads Rᵀ m_earth + h. Learned by least squares from the steady filter over the
+        // arm's turns (forgetting over hardIronTau; ridge hardIronPrior toward h = 0, so that an arm
+        // that does not turn leaves it at 0) and taken off the field while its averages are young:
+        // a long average in the inertial frame cancels h as the arm turns, a young one does not
+        // (issue 49: trial 34, attached magnet, 1–3 s after a gap at 80 s, 20–26° → 8–12°).
+        double hardIronTau = 20.0;            ///< s (0: no hard-iron estimate)
+        double hardIronPrior = 0.1;           ///< ridge on h (the information of a unit turn is ≈ 1)
         double gravityNormGain = 4.0;         ///< noise ×(1 + gain·||a|−g|/g): linear acceleration shows in |a|
         double gravityNisLimit = 12.0;        ///< χ²(3) soft gate on the gravity innovation (inflate beyond)
         double headingNoise = 0.6;            ///< rad, heading from the horizontal field (slow: τ ≈ 10–20 s)
@@ -87,6 +109,19 @@ public:
         // gone over the gap, so how far the arm turned shows only in that disagreement).
         double reacquireWindow = 0.1;         ///< s of samples averaged before the step (0: no step)
         double reacquireHeadingNoise = 0.1;   ///< rad: heading error of the young field average itself
+                                              ///< (with reacquireFieldVector: its direction error)
+        // The step as one least-squares rotation (Wahba's problem) from three sources at once: the
+        // orientation before the gap turned by the gyro since (trusted as far as the arm can have
+        // turned during the gap: its rate before and after the gap times the gap's length), the
+        // young gravity average, and the young field average as a whole direction (the field's
+        // reference dip from the field tracker): a clean field fixes two of the three axes at
+        // once, whatever the accelerometer's linear acceleration. false: the tilt-then-heading
+        // step of the first issue-49 session (the young field projected on the young tilt).
+        bool reacquireFieldVector = true;
+        /// While acquiring after a gap, a trusted field is observed as a whole direction (tilt and
+        /// heading, noise reacquireHeadingNoise) instead of its heading only: the young gravity
+        /// average of a moving arm is tens of degrees off for the first second, the field is not.
+        bool acquireFieldVector = true;
         // Gates reject outliers, never the truth: a state that the (trusted) measurements contradict
         // by more than these angles without a break for disagreementTime is re-acquired.
         double disagreementTime = 1.5;        ///< s
@@ -121,6 +156,11 @@ public:
     Eigen::Quaterniond orientation() const;          ///< device → earth (X east, Y up, Z south)
     Eigen::Vector3d angularVelocity() const;         ///< rad/s, device frame, bias removed
     Eigen::Vector3d gyroBias() const;                ///< rad/s, device frame
+    /// m, device frame: the lever arm learned so far (leverArmTau; solved when asked: the filter
+    /// needs it only while the accelerometer's average is young).
+    Eigen::Vector3d leverArm() const;
+    /// The magnetometer's hard-iron offset learned so far (its unit; hardIronTau), solved when asked.
+    Eigen::Vector3d hardIron() const;
     bool initialised() const { return initialised_; }
     std::size_t skippedSamples() const { return skipped_; }
     std::size_t magneticRejections() const { return magRejected_; }
@@ -146,7 +186,7 @@ private:
     void initialise(const core::ImuSample& s);
     /// Starts again from this sample (tilt at once, heading once the field is trusted), wide
     /// covariance, gyro bias kept, low-pass restarted.
-    void reacquire(const core::ImuSample& s);
+    void reacquire(const core::ImuSample& s, double gap);
     void resetCovariance(double rotationStd);
     /// 1 right after start-up or a re-acquisition, falling to 0 over acquireTime.
     double acquiring() const;
@@ -154,13 +194,19 @@ private:
     /// Turns the state by the gyro `gyro` (rad/s, bias included) over dt, extrapolating with α
     /// `accel` (rad/s², non-zero only over a bridged gap, where `bridge` adds the noise of that).
     void predict(double dt, const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel, double shock, bool bridge);
-    void updateGravity(const Eigen::Vector3d& accelSmooth, double rawNorm, double dt);
+    void updateGravity(const Eigen::Vector3d& accelSmooth, double rawNorm, double dt, bool tiltRule = true, double extraStd = 0.0);
     void updateHeading(const Eigen::Vector3d& mag, const Eigen::Vector3d& magFast, double dt);
     void restartInertialFrame();
     /// The joint gravity + heading step of a re-acquisition (docs/FUSION.md): `up` and `field`
     /// (device frame; field NaN when none was trusted) are the young averages.
     void reacquireStep(const Eigen::Vector3d& up, const Eigen::Vector3d& field);
+    void reacquireStepJoint(const Eigen::Vector3d& up, const Eigen::Vector3d& field);
     void setupLowPass(double dt);
+    /// The accelerometer sample less the turn's acceleration at the learned lever arm while the
+    /// average is young (learning r from the steady filter unless `unsteady`: shock, gap).
+    Eigen::Vector3d withoutTurnAcceleration(const core::ImuSample& s, double dt, bool unsteady);
+    /// The magnetometer sample less the learned hard-iron offset while the averages are young.
+    Eigen::Vector3d withoutHardIron(const Eigen::Vector3d& mag, double dt, bool gap);
 
     Params params_;
     SquareRootUkf<AttitudeSpace> ukf_;
@@ -178,6 +224,17 @@ private:
     double initT_ = 0.0;       ///< s, time of the initialising sample (start of the low-pass ramp)
     double acquireStartT_ = 0.0;   ///< s, start of the latest acquisition: start-up, gap, re-acquisition
     double accelAverageStartT_ = 0.0;   ///< s, when the accelerometer's low-pass last restarted
+    // Σ AᵀA and Σ Aᵀm for A = [Rᵀ | I] (forgetting): AᵀA = [[I, R], [Rᵀ, I]], so the weight, the
+    // mean R, the mean R m and the mean m are all it takes.
+    double hardIronW_ = 0.0;
+    Eigen::Matrix3d hardIronR_ = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d hardIronRm_ = Eigen::Vector3d::Zero(), hardIronM_ = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d leverH_ = Eigen::Matrix3d::Zero();   ///< Σ MᵀM (forgetting), M = [ω]×² + [α]×
+    Eigen::Vector3d leverY_ = Eigen::Vector3d::Zero();   ///< Σ Mᵀ (a − gravity)
+    double youngDv_ = 0.0;              ///< m/s, ∫ ||a| − g| dt since then (capped at youngMaxVelocity)
+    /// m/s: the velocity change the accelerometer's young average may carry (youngAverageVelocity …
+    /// youngMaxVelocity, from the linear acceleration seen since it restarted).
+    double youngVelocity() const;
     double lastT_ = 0.0;
     Eigen::Vector3d lastAccel_ = Eigen::Vector3d::Constant(core::kNaN); ///< m/s², previous sample (shock detection)
     Eigen::Vector3d lastGyro_ = Eigen::Vector3d::Constant(core::kNaN); ///< rad/s, previous sample (α, timing)
@@ -187,8 +244,12 @@ private:
     Recovery recovery_ {};
     // Re-acquisition's joint step, pending from the gap's end for reacquireWindow.
     bool reacquirePending_ = false;
+    bool afterGap_ = false;            ///< the latest acquisition began at a gap (not at start-up)
     double reacquireStartT_ = 0.0;
     std::size_t reacquireSamples_ = 0, reacquireFieldSamples_ = 0;
+    double gapLength_ = 0.0;          ///< s, the gap that started the pending step
+    double rateBeforeGap_ = 0.0;      ///< rad/s, |ω| of the last sample before it
+    double reacquireTurn_ = 0.0;      ///< rad, ∫|ω| dt over the step's window (the arm's rate after the gap)
     Eigen::Vector3d magAverageInertial_ = Eigen::Vector3d::Constant(core::kNaN);   ///< the long field average's latest output
     bool initialised_ = false;
     std::size_t skipped_ = 0;
