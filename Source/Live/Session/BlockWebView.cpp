@@ -2,7 +2,7 @@
 #include "Live/Session/BlockInstrument.h"
 #include "Mqtt/MessageService.h"
 #include "Link/TouchProfile.h"
-#include "Navigation/Guidance.h"
+#include "Live/Session/WebWalk.h"
 #include <algorithm>
 #include <cmath>
 
@@ -77,20 +77,7 @@ web::InstrumentStatus BlockWebView::status()
     s.rollDeg = frame.pose[2];
     s.panicked = instrument_.stage().panicked();
     s.panics = instrument_.stage().panics();
-    const navigation::NavigationRig& nav = instrument_.navigation();
-    if (nav.running()) {
-        const navigation::NavigationStatus n = nav.status();
-        s.walk.on = true;
-        s.walk.route = nav.routeName();
-        s.walk.waypoint = n.waypoint;
-        s.walk.waypointCount = n.waypointCount;
-        s.walk.waypointName = n.name;
-        s.walk.arrivals = n.arrivals;
-        s.walk.distanceM = std::isfinite(n.distanceM) ? n.distanceM : -1.0;
-        s.walk.bearingDeg = std::isfinite(n.bearingDeg) ? n.bearingDeg : -1.0;
-        s.walk.finished = n.finished;
-        s.walk.fix = navigation::fixStateName(n.fix);
-    }
+    s.walk = webWalk(instrument_.navigation());
     return s;
 }
 

@@ -1,7 +1,7 @@
 #include "Live/Session/SessionWebView.h"
 #include "Live/Session/LiveSession.h"
 #include "Live/Step/SceneParameters.h"
-#include "Navigation/Guidance.h"
+#include "Live/Session/WebWalk.h"
 #include <charconv>
 #include <cmath>
 
@@ -92,19 +92,7 @@ web::InstrumentStatus SessionWebView::status()
         std::lock_guard<std::mutex> lock(touchMutex_);
         s.touch = touchStatus();
     }
-    if (navigation::NavigationRig* nav = session_.navigation(); nav != nullptr && nav->running()) {
-        const navigation::NavigationStatus n = nav->status();
-        s.walk.on = true;
-        s.walk.route = nav->routeName();
-        s.walk.waypoint = n.waypoint;
-        s.walk.waypointCount = n.waypointCount;
-        s.walk.waypointName = n.name;
-        s.walk.arrivals = n.arrivals;
-        s.walk.distanceM = std::isfinite(n.distanceM) ? n.distanceM : -1.0;
-        s.walk.bearingDeg = std::isfinite(n.bearingDeg) ? n.bearingDeg : -1.0;
-        s.walk.finished = n.finished;
-        s.walk.fix = navigation::fixStateName(n.fix);
-    }
+    if (const navigation::NavigationRig* nav = session_.navigation()) s.walk = webWalk(*nav);
     return s;
 }
 
