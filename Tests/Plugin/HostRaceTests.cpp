@@ -6,25 +6,16 @@
 // performEdit while it was still listing the instance's parameters).
 #include <catch2/catch.hpp>
 
+#include "Plugin/MessagePump.h"
 #include "Plugin/PluginProcessor.h"
 #include <atomic>
 #include <thread>
 
-namespace juce {
-bool dispatchNextMessageOnSystemQueue(bool returnIfNoPendingMessages);   // juce_linux_Messaging.cpp
-}
 
 using namespace armadillo;
 using namespace armadillo::plugin;
 
 namespace {
-
-void pumpFor(double ms)
-{
-    const double end = juce::Time::getMillisecondCounterHiRes() + ms;
-    while (juce::Time::getMillisecondCounterHiRes() < end)
-        if (! juce::dispatchNextMessageOnSystemQueue(true)) juce::Thread::sleep(1);
-}
 
 struct EditCounter final : juce::AudioProcessorParameter::Listener {
     std::atomic<int> edits {0};
@@ -58,12 +49,12 @@ TEST_CASE("processor: a state loaded after a program asked for from a host threa
     std::thread host([&] { processor.setCurrentProgram(1); });
     host.join();
     processor.setStateInformation(state.getData(), static_cast<int>(state.getSize()));
-    pumpFor(300);   // the timer runs (50 Hz)
+    armadillo::testing::pumpMessages(300);   // the timer runs (50 Hz)
     CHECK(processor.sceneIndex() == saved);
     // The probe: a program asked for from a host thread with no state after it is applied.
     std::thread later([&] { processor.setCurrentProgram(1); });
     later.join();
-    pumpFor(300);
+    armadillo::testing::pumpMessages(300);
     CHECK(processor.sceneIndex() == programScene);
 }
 
@@ -73,18 +64,18 @@ TEST_CASE("processor: no parameter edits reach a host before it has played a blo
     auto* elevation = processor.parameters().getParameter(ParamIds::elevation);
     EditCounter counter;
     elevation->addListener(&counter);
-    pumpFor(600);   // the idle clock moves the simulated arm; the timer would write it
+    armadillo::testing::pumpMessages(600);   // the idle clock moves the simulated arm; the timer would write it
     CHECK(counter.edits.load() == 0);
     // Prepared but no block yet (0.5.0): still nothing. A pose written here could stay in the
     // plugin under the value the host set itself (docs/PLUGIN.md "pluginval").
     processor.prepareToPlay(48000.0, 480);
-    pumpFor(600);
+    armadillo::testing::pumpMessages(600);
     CHECK(counter.edits.load() == 0);
     juce::AudioBuffer<float> buffer(2, 480);
     juce::MidiBuffer midi;
     buffer.clear();
     processor.processBlock(buffer, midi);
-    pumpFor(600);
+    armadillo::testing::pumpMessages(600);
     CHECK(counter.edits.load() > 0);   // a block played: the live orientation is written (the probe works)
     elevation->removeListener(&counter);
     processor.releaseResources();

@@ -4,6 +4,7 @@
 // the standalone app's does (blocks from the "sound card", the message thread's timer).
 #include <catch2/catch.hpp>
 
+#include "Plugin/MessagePump.h"
 #include "Navigation/Geodesy.h"
 #include "Navigation/Route.h"
 #include "Osc/Osc.h"
@@ -20,22 +21,11 @@
 #include <algorithm>
 #include <mutex>
 
-namespace juce {
-bool dispatchNextMessageOnSystemQueue(bool returnIfNoPendingMessages);   // juce_linux_Messaging.cpp
-}
 
 using namespace armadillo;
 using namespace armadillo::plugin;
 
 namespace {
-
-/// Runs the message loop (timers, async updates) for `ms`.
-void pumpMessages(double ms)
-{
-    const double end = juce::Time::getMillisecondCounterHiRes() + ms;
-    while (juce::Time::getMillisecondCounterHiRes() < end)
-        if (! juce::dispatchNextMessageOnSystemQueue(true)) juce::Thread::sleep(1);
-}
 
 /// A UDP port nobody listens on now (bound to 0, read back, closed).
 int freeUdpPort()
@@ -116,7 +106,7 @@ TEST_CASE("app: the Navigation window walks a route from OSC positions; name, di
         buffer.clear();
         processor.processBlock(buffer, midi);   // the control step runs the navigation scene
         midi.clear();
-        pumpMessages(2);   // the timer offers the engine
+        armadillo::testing::pumpMessages(2);   // the timer offers the engine
         s = processor.navigation().status();
     }
     REQUIRE(s.waypoint == 2);   // the first point is the start: guidance goes to the Entrance
@@ -124,7 +114,7 @@ TEST_CASE("app: the Navigation window walks a route from OSC positions; name, di
     CHECK(juce::String(s.name) == "Entrance");
     CHECK(s.distanceM == Approx(navigation::distanceM(here, entrance)).margin(2.0));
     CHECK(s.bearingDeg == Approx(0.0).margin(2.0));
-    pumpMessages(300);   // the panel's timer
+    armadillo::testing::pumpMessages(300);   // the panel's timer
     CHECK(panel.waypointLabel().getText() == "Entrance");
     CHECK(panel.distanceLabel().getText() == juce::String(juce::roundToInt(s.distanceM)) + " m");
     CHECK(panel.bearingLabel().getText().contains("north"));
@@ -143,7 +133,7 @@ TEST_CASE("app: the Navigation window walks a route from OSC positions; name, di
 
     processor.stopNavigation();
     CHECK_FALSE(processor.navigation().running());
-    pumpMessages(300);
+    armadillo::testing::pumpMessages(300);
     CHECK(panel.waypointLabel().getText() == "Not walking");
     processor.releaseResources();
     dir.deleteRecursively();
@@ -166,18 +156,18 @@ TEST_CASE("app: the Tactors window: every control titled, one test button per ch
     CHECK(buttons == 9);   // one per motor (12 with the back motors)
     CHECK(titled >= 13);
     processor.settings().setProperty(SettingIds::backMotors, true, nullptr);
-    pumpMessages(400);
+    armadillo::testing::pumpMessages(400);
     buttons = 0;
     for (auto* c : panel.getChildren())
         if (c->isVisible() && c->getTitle().startsWith("Test tactor channel")) ++buttons;
     CHECK(buttons == 12);
     CHECK(processor.testTactorChannel(11).isEmpty());   // a back motor's channel buzzes too (m12)
-    pumpMessages(700);                                  // its 0.5 s buzz over, the scene has the motors again
+    armadillo::testing::pumpMessages(700);                                  // its 0.5 s buzz over, the scene has the motors again
     processor.settings().setProperty(SettingIds::backMotors, false, nullptr);
     CHECK(processor.testTactorChannel(11).contains("silent"));   // without the back motors there is no channel 12
     // A test buzz through the whole rig: said, with the motor's name.
     panel.testButton(2).triggerClick();
-    pumpMessages(300);
+    armadillo::testing::pumpMessages(300);
     CHECK(panel.status().getText().contains("Channel 3: motor m3"));
     // A map with a silent channel: that channel's test says so.
     processor.settings().setProperty(SettingIds::tactorMap, "1,-,3", nullptr);
@@ -224,7 +214,7 @@ TEST_CASE("app: MQTT messages: connect from the MQTT window, a published message
     settings.setProperty(SettingIds::mqttTopics, "arm/inbox", nullptr);
 
     panel.connectToggle().triggerClick();   // Connect, as a user presses it
-    pumpMessages(50);
+    armadillo::testing::pumpMessages(50);
     REQUIRE(processor.messages().running());
     juce::AudioBuffer<float> buffer(2, 480);
     juce::MidiBuffer midi;
@@ -234,12 +224,12 @@ TEST_CASE("app: MQTT messages: connect from the MQTT window, a published message
             buffer.clear();
             processor.processBlock(buffer, midi);
             midi.clear();
-            pumpMessages(5);
+            armadillo::testing::pumpMessages(5);
         }
         return done();
     };
     REQUIRE(run(10.0, [&] { return processor.messages().service()->status().state == mqtt::ConnectionState::Connected; }));
-    pumpMessages(300);   // the window's timer
+    armadillo::testing::pumpMessages(300);   // the window's timer
     CHECK(panel.status().getText().contains("connected to 127.0.0.1:" + juce::String(broker.port())));
     // The window's test message goes out to the first topic and comes back as a message.
     panel.testButton().triggerClick();
@@ -247,7 +237,7 @@ TEST_CASE("app: MQTT messages: connect from the MQTT window, a published message
     // One from elsewhere (a chat bridge's publish): queued, shown on the arm, listed.
     REQUIRE(processor.messages().service()->publishText("arm/inbox", "door open"));
     REQUIRE(run(15.0, [&] { return processor.messages().service()->shown() >= 1 && processor.messageLog().joinIntoString("\n").contains("door open"); }));
-    pumpMessages(600);   // the Reader window's timer
+    armadillo::testing::pumpMessages(600);   // the Reader window's timer
     const auto list = reader.messagesText();
     INFO(list);
     CHECK(list.contains("door open"));

@@ -4,27 +4,18 @@
 // a user drives it (the toggle clicked).
 #include <catch2/catch.hpp>
 
+#include "Plugin/MessagePump.h"
 #include "Common/HttpProbe.h"
 #include "Plugin/PluginProcessor.h"
 #include "Plugin/WebPanel.h"
 #include <cmath>
 #include <cstdlib>
 
-namespace juce {
-bool dispatchNextMessageOnSystemQueue(bool returnIfNoPendingMessages);   // juce_linux_Messaging.cpp
-}
 
 using namespace armadillo;
 using namespace armadillo::plugin;
 
 namespace {
-
-void pumpMessages(double ms)
-{
-    const double end = juce::Time::getMillisecondCounterHiRes() + ms;
-    while (juce::Time::getMillisecondCounterHiRes() < end)
-        if (! juce::dispatchNextMessageOnSystemQueue(true)) juce::Thread::sleep(1);
-}
 
 double numberAfter(const std::string& text, const std::string& key)
 {
@@ -64,7 +55,7 @@ TEST_CASE("app: Setup → Web page serves the app's instrument: the pose as text
             buffer.clear();
             processor.processBlock(buffer, midi);
             midi.clear();
-            pumpMessages(5);
+            armadillo::testing::pumpMessages(5);
         }
         return done();
     };
@@ -76,13 +67,13 @@ TEST_CASE("app: Setup → Web page serves the app's instrument: the pose as text
     CHECK(processor.webAddress().isEmpty());
 
     panel.serveToggle().triggerClick();   // on, as a user clicks it
-    pumpMessages(20);
+    armadillo::testing::pumpMessages(20);
     const auto address = processor.webAddress();
     REQUIRE(address.startsWith("http://127.0.0.1:"));
     CHECK(static_cast<bool>(processor.settings()[SettingIds::webEnabled]));
     const int port = address.fromLastOccurrenceOf(":", false, false).getIntValue();
     REQUIRE(port > 0);
-    pumpMessages(300);   // the window's timer
+    armadillo::testing::pumpMessages(300);   // the window's timer
     CHECK(panel.address().getText() == address);
     if (const char* dir = std::getenv("ARMADILLO_SNAPSHOT_DIR")) {   // for a person to look at (docs/images)
         juce::PNGImageFormat png;
@@ -124,7 +115,7 @@ TEST_CASE("app: Setup → Web page serves the app's instrument: the pose as text
     run(0.3, [] { return false; });
     const auto frame = processor.latestFrame();
     for (int m = 0; m < frame.motorCount; ++m) CHECK(frame.motors[static_cast<std::size_t>(m)] == 0);
-    pumpMessages(300);
+    armadillo::testing::pumpMessages(300);
     CHECK(processor.webLog().joinIntoString("\n").contains("panic"));
 
     // The sensitivity test from the page: the Reader window's own test runs (on the message
@@ -162,7 +153,7 @@ TEST_CASE("app: Setup → Web page serves the app's instrument: the pose as text
     // Given an address (here loopback's, as a network address would be): reopened there, and
     // every request needs the token the address shown carries.
     processor.settings().setProperty(SettingIds::webBind, "127.0.0.1", nullptr);
-    pumpMessages(20);
+    armadillo::testing::pumpMessages(20);
     const auto withToken = processor.webAddress();
     REQUIRE(withToken.contains("?token="));
     const int tokenPort = withToken.fromLastOccurrenceOf(":", false, false).getIntValue();
@@ -172,7 +163,7 @@ TEST_CASE("app: Setup → Web page serves the app's instrument: the pose as text
 
     // Off from the window: the port closes.
     panel.serveToggle().triggerClick();
-    pumpMessages(20);
+    armadillo::testing::pumpMessages(20);
     CHECK(processor.webAddress().isEmpty());
     CHECK_FALSE(static_cast<bool>(processor.settings()[SettingIds::webEnabled]));
     CHECK(armadillo::testing::httpSend(tokenPort, armadillo::testing::httpGet(tokenPort, "/api/status")) == 0);
