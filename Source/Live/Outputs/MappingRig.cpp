@@ -1,5 +1,4 @@
 #include "Live/Outputs/MappingRig.h"
-#include "Live/Step/SceneParameters.h"
 #include "Core/Errors.h"
 #include <algorithm>
 #include <array>
@@ -10,22 +9,12 @@ namespace armadillo::live {
 MappingRig::MappingRig(const mapping::MappingDocument& doc, engine::Engine& engine, const MappingRigOptions& options)
     : out_(std::make_unique<mapping::MappingOutput>())
 {
-    const std::vector<core::ParamSpec> specs = engine.scene().parameters();
+    specs_ = engine.scene().parameters();
     mapping::BuildOptions build;
     build.sourceName = options.sourceName;
-    for (const core::ParamSpec& p : specs) build.sceneParamIds.push_back(p.id);
+    for (const core::ParamSpec& p : specs_) build.sceneParamIds.push_back(p.id);
     if (build.sceneParamIds.empty()) build.sceneParamIds.push_back("(none)");   // a scene without parameters refuses every "param"
     std::unique_ptr<mapping::MappingSet> set = mapping::MappingSet::build(doc, build);
-
-    for (const std::string& id : set->sceneParamIds()) {
-        Param p;
-        for (std::size_t i = 0; i < specs.size(); ++i) {
-            if (specs[i].id != id) continue;
-            p.sceneIndex = static_cast<int>(i);
-            p.spec = specs[i];
-        }
-        params_.push_back(p);
-    }
 
     osc::HostPort fallback {"127.0.0.1", 9000};
     if (!options.oscDefault.empty()) {
@@ -57,38 +46,40 @@ std::uint64_t MappingRig::oscSent() const noexcept
     return n;
 }
 
+std::uint64_t MappingRig::dropped() const noexcept
+{
+    return tally_.overflow.load(std::memory_order_relaxed) + tally_.midiDropped.load(std::memory_order_relaxed) +
+           tally_.oscDropped.load(std::memory_order_relaxed) + tally_.mqttDropped.load(std::memory_order_relaxed);
+}
+
+bool MappingRig::midi(const mapping::MidiEvent& e) noexcept
+{
+    if (sink_) sink_(sinkContext_, e);
+    return true;
+}
+
+bool MappingRig::osc(const mapping::OscPacket& p) noexcept
+{
+    const auto target = static_cast<std::size_t>(p.target);
+    if (target < senders_.size() && senders_[target]) senders_[target]->sendPacket(p.bytes.data(), p.size);
+    return true;   // counted whether sent or not (render without --osc-out counts them only)
+}
+
+bool MappingRig::mqtt(const mapping::MqttMessage& m) noexcept
+{
+    return ! mqttSink_ || mqttSink_(mqttContext_, m);   // false: the client's queue was full
+}
+
+void MappingRig::stage(const mapping::StageEvent& e) noexcept
+{
+    if (stageSink_) stageSink_(stageContext_, e);
+}
+
 void MappingRig::deliver(engine::Engine* engine) noexcept
 {
-    mapping::MappingOutput& o = *out_;
-    for (int i = 0; i < o.midiCount; ++i) {
-        ++midi_;
-        if (sink_) sink_(sinkContext_, o.midi[static_cast<std::size_t>(i)]);
-    }
-    for (int i = 0; i < o.oscCount; ++i) {
-        const mapping::OscPacket& p = o.osc[static_cast<std::size_t>(i)];
-        ++osc_;
-        const auto target = static_cast<std::size_t>(p.target);
-        if (target < senders_.size() && senders_[target]) senders_[target]->sendPacket(p.bytes.data(), p.size);
-    }
-    for (int i = 0; i < o.mqttCount; ++i) {
-        ++mqtt_;
-        if (mqttSink_ && !mqttSink_(mqttContext_, o.mqtt[static_cast<std::size_t>(i)])) ++dropped_;   // the client's queue was full
-    }
-    for (int i = 0; i < o.stageCount; ++i) {
-        ++stage_;
-        if (stageSink_) stageSink_(stageContext_, o.stage[static_cast<std::size_t>(i)]);
-    }
-    if (engine) {
-        for (int i = 0; i < o.paramCount; ++i) {
-            const mapping::SceneParamChange& c = o.params[static_cast<std::size_t>(i)];
-            if (c.index < 0 || static_cast<std::size_t>(c.index) >= params_.size()) continue;
-            const Param& p = params_[static_cast<std::size_t>(c.index)];
-            if (p.sceneIndex < 0) continue;
-            engine->scene().setParameter(p.sceneIndex, sceneParamValue(p.spec, c));
-        }
-    }
-    dropped_ += o.dropped;
-    o.clear();
+    SceneParamTarget params;
+    if (engine != nullptr && mapper_.active() != nullptr) params = {&engine->scene(), &mapper_.active()->sceneParamIds(), &specs_};
+    deliverMapping(*out_, *this, params, tally_);
 }
 
 void MappingRig::step(double t, const core::ArmState& arm, const core::ArmState* leftArm, const engine::GestureEvent* gestures, std::size_t count, engine::Engine& engine,
@@ -118,10 +109,10 @@ void MappingRig::finish(double t) noexcept
 
 void MappingRig::panic(double t) noexcept
 {
-    const std::uint64_t before = midi_;
+    const std::uint64_t before = midiEvents();
     mapper_.panic(t, *out_);
     deliver(nullptr);
-    panicMidi_ += midi_ - before;
+    panicMidi_ += midiEvents() - before;
 }
 
 } // namespace armadillo::live

@@ -1,12 +1,15 @@
 #pragma once
 // The mapping matrix (Source/Mapping) as the command line runs it, for `render --map` and
 // `play --map`: the set built for the engine's scene, the Mapper stepped once per control update,
-// and its outputs delivered — MIDI to a sink (a Standard MIDI File, an ALSA sequencer port), OSC
-// packets to their UDP targets, scene-parameter changes to the scene (Scene::setParameter, which
-// any thread may call), MQTT messages to a sink (the MQTT client's outbox). Macros have no host here and are ignored.
+// and its outputs delivered through the one delivery every clock uses (MappingDelivery.h) to this
+// rig's sinks — MIDI to a sink (a Standard MIDI File, an ALSA sequencer port), OSC packets to their
+// UDP targets, MQTT messages to a sink (the MQTT client's outbox), stage commands to a sink; scene
+// parameters to the scene (Scene::setParameter, which any thread may call). Macros have no host
+// here and are ignored.
 //
 // Threads: built on the starting thread; step()/finish() on the control thread. step() allocates
 // nothing (the Mapper is real-time; sending is a non-blocking sendto and the sink's own work).
+#include "Live/Outputs/MappingDelivery.h"
 #include "Osc/OscIo.h"
 #include "Engine/Engine.h"
 #include "Mapping/Mapper.h"
@@ -32,7 +35,7 @@ using MqttSink = bool (*)(void* context, const mapping::MqttMessage& message);
 /// Receives every stage command a `"stage"` destination fired (docs/STAGE.md), on the control thread.
 using StageSink = void (*)(void* context, const mapping::StageEvent& event);
 
-class MappingRig {
+class MappingRig final : private MappingSinks {
 public:
     /// Builds the set for this engine's scene: InputError for a scene parameter the scene lacks or
     /// an OSC message that does not encode; IoError for an OSC target that cannot be resolved.
@@ -73,33 +76,36 @@ public:
     std::uint64_t panicMidiEvents() const noexcept { return panicMidi_; }
 
     mapping::Mapper& mapper() noexcept { return mapper_; }
-    std::uint64_t midiEvents() const noexcept { return midi_; }
-    std::uint64_t oscMessages() const noexcept { return osc_; }
+    std::uint64_t midiEvents() const noexcept { return tally_.midi.load(std::memory_order_relaxed); }
+    std::uint64_t oscMessages() const noexcept { return tally_.osc.load(std::memory_order_relaxed); }
     std::uint64_t oscSent() const noexcept;
-    std::uint64_t dropped() const noexcept { return dropped_; }
+    /// Events lost: more than one update could hold, and what a sink refused.
+    std::uint64_t dropped() const noexcept;
     /// Stage commands the mapping fired.
-    std::uint64_t stageCommands() const noexcept { return stage_; }
+    std::uint64_t stageCommands() const noexcept { return tally_.stage.load(std::memory_order_relaxed); }
     /// MQTT messages the mapping made (sent to the sink, or counted only without one).
-    std::uint64_t mqttMessages() const noexcept { return mqtt_; }
+    std::uint64_t mqttMessages() const noexcept { return tally_.mqtt.load(std::memory_order_relaxed); }
 
 private:
+    /// The update's output to the sinks; scene parameters to `engine`'s scene (null: not applied).
     void deliver(engine::Engine* engine) noexcept;
+    bool midi(const mapping::MidiEvent& e) noexcept override;
+    bool osc(const mapping::OscPacket& p) noexcept override;
+    bool mqtt(const mapping::MqttMessage& m) noexcept override;
+    void stage(const mapping::StageEvent& e) noexcept override;
 
     mapping::Mapper mapper_;
     std::unique_ptr<mapping::MappingOutput> out_;
     std::vector<std::unique_ptr<osc::OscSender>> senders_;   // per MappingSet::oscTargets() index (null: not sent)
-    struct Param {
-        int sceneIndex = -1;
-        core::ParamSpec spec; ///< the scene's parameter (SceneParameters.h: how a change sets it)
-    };
-    std::vector<Param> params_;
+    std::vector<core::ParamSpec> specs_;   // the scene's parameters, as the set was built for them
     MidiSink sink_ = nullptr;
     void* sinkContext_ = nullptr;
     StageSink stageSink_ = nullptr;
     void* stageContext_ = nullptr;
     MqttSink mqttSink_ = nullptr;
     void* mqttContext_ = nullptr;
-    std::uint64_t midi_ = 0, osc_ = 0, dropped_ = 0, panicMidi_ = 0, stage_ = 0, mqtt_ = 0;
+    MappingTally tally_;
+    std::uint64_t panicMidi_ = 0;
 };
 
 } // namespace armadillo::live

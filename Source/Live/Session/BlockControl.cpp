@@ -129,7 +129,6 @@ void BlockControl::step(double dt, double wall, bool toMotors, const core::Trans
     in.gestureCount = gestureCount;
     in.stageOnly = runner_.panicked();   // in panic no note is sent until resume; a mapped resume still runs
     mapper_.process(in, mapOut_);
-    applyMappedStage();
     learnRange(in);
     deliver(midi, clock_ - sampleOffset / sampleRate_.load(std::memory_order_relaxed), midi != nullptr ? blockSamples_ : 0);
 }
@@ -157,51 +156,53 @@ void BlockControl::learnRange(const mapping::MappingInput& in) noexcept
 
 void BlockControl::deliver(BlockMidi* midi, double blockStart, int blockSamples) noexcept
 {
-    const double sr = sampleRate_.load(std::memory_order_relaxed);
-    for (int i = 0; i < mapOut_.midiCount; ++i) {
-        const auto& e = mapOut_.midi[static_cast<std::size_t>(i)];
-        if (e.size < 1 || e.size > 3) continue;
-        if (port_ != nullptr) port_->push(e.bytes.data(), e.size);
-        if (midi == nullptr || blockSamples <= 0) continue;
-        // Sample-accurate: the event's time on the mapping's timeline → its offset in this block.
-        const int offset = std::clamp(static_cast<int>(std::lround((e.t - blockStart) * sr)), 0, blockSamples - 1);
-        if (! midi->add(e.bytes.data(), e.size, offset)) midiDropped_.fetch_add(1, std::memory_order_relaxed);
-    }
-    for (int i = 0; i < mapOut_.oscCount; ++i) outputs_.pushOsc(mapOut_.osc[static_cast<std::size_t>(i)]);
-    if (mapOut_.mqttCount > 0) {   // the arm as a remote (docs/MQTT.md): through the app's connection, if any
-        auto* service = mqtt_.load(std::memory_order_acquire);
-        for (int i = 0; i < mapOut_.mqttCount; ++i) {
-            const mapping::MqttMessage& m = mapOut_.mqtt[static_cast<std::size_t>(i)];
-            if (service == nullptr || ! service->publishValue(std::string_view(m.topic.data(), m.topicLength),
-                                                              std::string_view(m.payload.data(), m.payloadLength), m.qos, m.retain, m.rate))
-                mqttDropped_.fetch_add(1, std::memory_order_relaxed);
-        }
-    }
-    for (int k = 0; k < mapping::kMacroCount; ++k)
-        if ((mapOut_.macroChanged >> k) & 1u) outputs_.setMacro(k, mapOut_.macro[static_cast<std::size_t>(k)]);
-    for (int i = 0; i < mapOut_.paramCount; ++i) applySceneParam(mapOut_.params[static_cast<std::size_t>(i)]);
-    if (mapOut_.dropped > 0) midiDropped_.fetch_add(mapOut_.dropped, std::memory_order_relaxed);
-    mapOut_.clear();
+    deliverMidi_ = midi;
+    deliverStart_ = blockStart;
+    deliverSamples_ = blockSamples;
+    deliverMapping(mapOut_, *this, mapOut_.paramCount > 0 ? sceneParamTarget() : SceneParamTarget {}, tally_);
+    deliverMidi_ = nullptr;
 }
 
-void BlockControl::applySceneParam(const mapping::SceneParamChange& change) noexcept
+bool BlockControl::midi(const mapping::MidiEvent& e) noexcept
+{
+    if (port_ != nullptr) port_->push(e.bytes.data(), e.size);
+    if (deliverMidi_ == nullptr || deliverSamples_ <= 0) return true;
+    // Sample-accurate: the event's time on the mapping's timeline → its offset in this block.
+    const double sr = sampleRate_.load(std::memory_order_relaxed);
+    const int offset = std::clamp(static_cast<int>(std::lround((e.t - deliverStart_) * sr)), 0, deliverSamples_ - 1);
+    return deliverMidi_->add(e.bytes.data(), e.size, offset);
+}
+
+bool BlockControl::osc(const mapping::OscPacket& p) noexcept
+{
+    return outputs_.pushOsc(p);   // to the clock that sends (the message thread's OscLink)
+}
+
+bool BlockControl::mqtt(const mapping::MqttMessage& m) noexcept
+{
+    // The arm as a remote (docs/MQTT.md): through the app's connection, if any.
+    auto* service = mqtt_.load(std::memory_order_acquire);
+    return service != nullptr && service->publishValue(std::string_view(m.topic.data(), m.topicLength),
+                                                       std::string_view(m.payload.data(), m.payloadLength), m.qos, m.retain, m.rate);
+}
+
+void BlockControl::stage(const mapping::StageEvent& e) noexcept
+{
+    // A mapping's "stage" destinations (docs/STAGE.md): to the stage as its MIDI and OSC
+    // commands go (atomics), applied at the start of the next block.
+    if (stage_ != nullptr) stage_->apply(e.command);
+}
+
+SceneParamTarget BlockControl::sceneParamTarget() noexcept
 {
     // The set names parameters by id; the active scene owns some of them (ids are unique across
     // scenes: SceneParameterTable). String compares over a constant table: no allocation.
     auto* set = mapper_.active();
     auto* slot = loop_.active();
-    if (set == nullptr || slot == nullptr || sceneTable_ == nullptr || slot->engine == nullptr) return;
-    const auto& ids = set->sceneParamIds();
-    if (change.index < 0 || static_cast<std::size_t>(change.index) >= ids.size()) return;
-    const std::string& id = ids[static_cast<std::size_t>(change.index)];
-    for (const auto& entry : sceneTable_->scenes) {
-        if (entry.scene != slot->sceneName) continue;
-        for (std::size_t i = 0; i < entry.specs.size(); ++i)
-            if (entry.specs[i].id == id) {
-                slot->engine->scene().setParameter(static_cast<int>(i), sceneParamValue(entry.specs[i], change));   // SceneParameters.h
-                return;
-            }
-    }
+    if (set == nullptr || slot == nullptr || sceneTable_ == nullptr || slot->engine == nullptr) return {};
+    for (const auto& entry : sceneTable_->scenes)
+        if (entry.scene == slot->sceneName) return {&slot->engine->scene(), &set->sceneParamIds(), &entry.specs};
+    return {};
 }
 
 BlockControl::BlockPlan BlockControl::planBlock(const AudioBlock& buffer, const Listen& listen) noexcept
@@ -457,18 +458,6 @@ void BlockControl::idleTick(double dt) noexcept
 
 // ------------------------------------------------------------------------------------------------
 // Stage (Stage.h): set list, panic, resume
-
-void BlockControl::applyMappedStage() noexcept
-{
-    // A mapping's "stage" destinations (docs/STAGE.md): to the stage as its MIDI and OSC
-    // commands go (atomics), applied at the start of the next block.
-    for (int i = 0; i < mapOut_.stageCount; ++i) {
-        const mapping::StageEvent& e = mapOut_.stage[static_cast<std::size_t>(i)];
-        stageCommands_.fetch_add(1, std::memory_order_relaxed);
-        if (stage_ != nullptr) stage_->apply(e.command);
-    }
-    mapOut_.stageCount = 0;
-}
 
 engine::Engine* BlockControl::runningEngine() noexcept
 {

@@ -24,6 +24,7 @@
 #include "Live/Step/ControlLoop.h"
 #include "Live/Step/ControlToken.h"
 #include "Live/Step/LeftArm.h"
+#include "Live/Outputs/MappingDelivery.h"
 #include "Live/Outputs/MappingOutputs.h"
 #include "Live/Outputs/MidiOutQueue.h"
 #include "Live/Sources/OscLink.h"
@@ -74,7 +75,7 @@ public:
     virtual bool add(const std::uint8_t* data, int size, int offset) noexcept = 0;
 };
 
-class BlockControl {
+class BlockControl final : private MappingSinks {
 public:
     static constexpr double kControlRateHz = 200.0;
 
@@ -130,7 +131,7 @@ public:
     /// through it (its client's SPSC outbox). Any thread; null = none (they are dropped and counted
     /// in mappedMqttDropped()). The service must outlive its use here (MessagesRig keeps every one).
     void setMqtt(mqtt::MessageService* service) noexcept { mqtt_.store(service, std::memory_order_release); }
-    std::uint64_t mappedMqttDropped() const noexcept { return mqttDropped_.load(std::memory_order_relaxed); }
+    std::uint64_t mappedMqttDropped() const noexcept { return tally_.mqttDropped.load(std::memory_order_relaxed); }
     /// Which channels of the host's buffer carry the audio the scenes listen to (the main input
     /// or the sidechain), and whether it is played through to the output (the main input: an
     /// effect that listens must not mute its track).
@@ -200,7 +201,7 @@ public:
     /// The mapping runner (its builder side belongs to the message thread, MappingSession).
     mapping::Mapper& mapper() noexcept { return mapper_; }
     /// MIDI events the mapping produced that did not fit the block's MIDI storage (any thread).
-    std::uint64_t midiDropped() const noexcept { return midiDropped_.load(std::memory_order_relaxed); }
+    std::uint64_t midiDropped() const noexcept { return tally_.midiDropped.load(std::memory_order_relaxed) + tally_.overflow.load(std::memory_order_relaxed); }
     /// Note-ons/offs of the MIDI input one block hands to the scene (Scene::processMidi); more
     /// are dropped and counted (any thread).
     static constexpr int kMaxNotesIn = 256;
@@ -218,7 +219,7 @@ public:
     double lastMotorStamp() const noexcept { return lastStamp_; }
     /// The mapping's outputs for the non-real-time side (macros, meters, OSC, MIDI learn).
     /// Stage commands the mapping's "stage" destinations fired (any thread; docs/STAGE.md).
-    std::uint64_t mappedStageCommands() const noexcept { return stageCommands_.load(std::memory_order_relaxed); }
+    std::uint64_t mappedStageCommands() const noexcept { return tally_.stage.load(std::memory_order_relaxed); }
     MappingOutputs& mappingOutputs() noexcept { return outputs_; }
     const MappingOutputs& mappingOutputs() const noexcept { return outputs_; }
 
@@ -251,12 +252,20 @@ private:
     /// `cutoff` (monotonic s): only live samples that arrived by then are fused (+∞: all waiting).
     void step(double dt, double wall, bool toMotors, const core::Transport& transport, BlockMidi* midi, int sampleOffset,
               double cutoff = std::numeric_limits<double>::infinity()) noexcept;
-    /// Hands out what the mapping produced: MIDI into `midi` (when not null) at the offset of
-    /// each event's time from `blockStart` (s, the mapping's timeline), clamped to the block's
-    /// `blockSamples`, and to the standalone's port; OSC to the clock's queue; macros; scene
-    /// parameters to the active scene. Clears `mapOut_`.
+    /// Hands out what the mapping produced (deliverMapping, MappingDelivery.h) to this clock's
+    /// sinks: MIDI into `midi` (when not null) at the offset of each event's time from
+    /// `blockStart` (s, the mapping's timeline), clamped to the block's `blockSamples`, and to the
+    /// standalone's port; OSC to the clock's queue; MQTT through the app's connection; stage
+    /// commands to the stage; macros; scene parameters to the active scene. Clears `mapOut_`.
     void deliver(BlockMidi* midi, double blockStart, int blockSamples) noexcept;
-    void applySceneParam(const mapping::SceneParamChange& change) noexcept;
+    /// The active scene's parameters as the running set names them (none without a set, a scene
+    /// table or an engine).
+    SceneParamTarget sceneParamTarget() noexcept;
+    bool midi(const mapping::MidiEvent& e) noexcept override;
+    bool osc(const mapping::OscPacket& p) noexcept override;
+    bool mqtt(const mapping::MqttMessage& m) noexcept override;
+    void stage(const mapping::StageEvent& e) noexcept override;
+    void macro(int index, float value01) noexcept override { outputs_.setMacro(index, value01); }
     /// The stage at the start of a block or idle step (token holder): takes an offered set
     /// list, applies cue requests, panic and resume. On panic: every engine (and cue) panicked
     /// before anything of this block is rendered, the mapping's sounding notes ended and CC 120
@@ -270,8 +279,6 @@ private:
     /// relative to `from`, to the running engine or the set list's cues (before their input).
     void notesRunning(int from, int len) noexcept;
     void learnRange(const mapping::MappingInput& in) noexcept;
-    /// The stage commands the mapping fired this step, to the stage (token holder).
-    void applyMappedStage() noexcept;
 
     ControlLoop& loop_;
     ControlToken& token_;
@@ -284,7 +291,6 @@ private:
     core::Handover<tactors::TactorRenderer> tactors_;
     std::atomic<TactorOutput*> tactorOut_ {nullptr};
     std::atomic<mqtt::MessageService*> mqtt_ {nullptr};
-    std::atomic<std::uint64_t> mqttDropped_ {0};
 
     // Token holder only.
     double clock_ = 0.0;              ///< s since start, advanced by dt per step
@@ -294,7 +300,6 @@ private:
     double lastStamp_ = -1.0;         ///< monotonic s of the previous step's levels (< 0: none)
     bool motorsOff_ = true;           ///< the schedule was told allOff and nothing pushed since
     int blockSamples_ = 0;              ///< the current block's length
-    std::atomic<std::uint64_t> midiDropped_ {0};
     std::atomic<bool> notesOffPending_ {false};
     bool bypassed_ = false;             ///< audio thread: the previous block was bypassed
     // The mapping (control side): runner, its fixed-capacity output, the step's gestures.
@@ -309,7 +314,10 @@ private:
     Stage* stage_ = nullptr;
     LeftArm* leftArm_ = nullptr;
     StepRunner runner_ {loop_, nullptr};   ///< token holder: the stage applied, the control step (Live/Step/StepRunner.h)
-    std::atomic<std::uint64_t> stageCommands_ {0};   ///< stage commands the mapping fired
+    MappingTally tally_;                             ///< what the mapping delivered and lost
+    BlockMidi* deliverMidi_ = nullptr;               ///< deliver()'s block while it runs (token holder)
+    double deliverStart_ = 0.0;
+    int deliverSamples_ = 0;
     std::uint64_t frameSerial_ = 0;
     /// The listened-to input of one control step (≤ 192 kHz / 200 Hz samples), fixed size.
     static constexpr int kInputScratch = 1024;

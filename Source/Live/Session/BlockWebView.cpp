@@ -1,7 +1,6 @@
 #include "Live/Session/BlockWebView.h"
 #include "Live/Session/BlockInstrument.h"
 #include "Mqtt/MessageService.h"
-#include "Link/TouchProfile.h"
 #include "Live/Session/WebWalk.h"
 #include <algorithm>
 #include <cmath>
@@ -11,6 +10,26 @@ namespace armadillo::live {
 BlockWebView::BlockWebView(BlockInstrument& instrument, Host host) : instrument_(instrument), host_(std::move(host))
 {
     snapshot_.source = "starting";
+    // The sensitivity test through the host (its motors, and the reader's profile when kept).
+    touchHooks_.unavailable = [this] {
+        return host_.beginTouchTest && host_.endTouchTest ? std::string() : std::string("this front end offers no sensitivity test");
+    };
+    touchHooks_.begin = [this](std::uint64_t seed) { host_.beginTouchTest(seed); };
+    touchHooks_.end = [this](bool keep) { host_.endTouchTest(keep); };
+    touchHooks_.finishedHint = "The profile is the reader's now.";
+    // The guided calibration is the block rig's, the one the Calibration window runs; a finished
+    // one is the device's at once.
+    BlockRig& rig = instrument_.rig();
+    calibrationHooks_.procedure = [&rig](std::string& why) -> const procedures::DeviceCalibration* {
+        if (rig.deviceConnected()) return &rig.calibration();
+        why = "the device calibration needs a device or the simulated forearm connected (Device…)";
+        return nullptr;
+    };
+    calibrationHooks_.begin = [&rig](std::string& why) { return rig.beginCalibration(why); };
+    calibrationHooks_.next = [&rig](std::string& why) { return rig.calibrationNext(why); };
+    calibrationHooks_.skip = [&rig] { rig.calibrationSkip(); };
+    calibrationHooks_.cancel = [&rig] { rig.cancelCalibration(); };
+    calibrationHooks_.finishedHint = "It is the device's calibration now (not saved): download it below, or save it in the Calibration window.";
 }
 
 void BlockWebView::refresh(const std::string& scene)
@@ -104,60 +123,17 @@ std::string BlockWebView::calibrationFile()
 
 web::ProcedureStatus BlockWebView::runCalibrationCommands()
 {
-    using C = web::ProcedureCommand;
-    std::vector<C> commands;
+    std::vector<web::ProcedureCommand> commands;
     {
         std::lock_guard<std::mutex> lock(mutex_);
         commands.swap(pendingCalibration_);
     }
-    BlockRig& rig = instrument_.rig();
-    for (const C command : commands) {
-        std::string why;
-        if (command == C::Begin) {
-            calibrationNote_ = rig.beginCalibration(why) ? "begun: keep the arm as the step asks" : "not begun: " + why;
-            if (why.empty()) {
-                std::lock_guard<std::mutex> lock(mutex_);
-                calibrationFile_.clear();
-            }
-        } else if (!rig.deviceConnected() || !rig.calibration().running()) {
-            calibrationNote_ = "no calibration runs: begin it first";
-        } else if (command == C::Next) {
-            calibrationNote_ = rig.calibrationNext(why) ? "step taken" : "not yet: " + why;
-        } else if (command == C::Skip) {
-            rig.calibrationSkip();
-            calibrationNote_ = "step skipped: it keeps the starting calibration's numbers";
-        } else {
-            rig.cancelCalibration();
-            calibrationNote_ = "cancelled: nothing kept";
-        }
-        if (command != C::Begin && command != C::Cancel && rig.deviceConnected() && rig.calibration().finished()) {
-            const procedures::DeviceCalibration& done = rig.calibration();
-            const std::string measured = done.measuredList(true), kept = done.measuredList(false);
-            calibrationNote_ = "calibration complete: " + (measured.empty() ? std::string("nothing measured") : "measured " + measured) +
-                               (kept.empty() ? std::string() : "; kept " + kept) +
-                               ". It is the device's calibration now (not saved): download it below, or save it in the Calibration window.";
-            std::lock_guard<std::mutex> lock(mutex_);
-            calibrationFile_ = link::calibrationToJson(done.result());
-        }
+    for (const web::ProcedureCommand command : commands) calibrationPage_.command(command, calibrationHooks_);
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        calibrationFile_ = calibrationPage_.file();
     }
-    web::ProcedureStatus c;
-    c.available = rig.deviceConnected();
-    if (!c.available) c.why = "the device calibration needs a device or the simulated forearm connected (Device…)";
-    c.steps = procedures::DeviceCalibration::kStepCount;
-    if (c.available) {
-        const procedures::DeviceCalibration& session = rig.calibration();
-        c.running = session.running();
-        c.finished = session.finished();
-        if (c.running || c.finished) {
-            c.step = session.stepNumber();
-            c.title = session.stepTitle();
-            c.instruction = c.finished ? std::string() : session.instruction();
-            c.progress = session.progress();
-            c.ready = session.ready();
-        }
-    }
-    c.note = calibrationNote_;
-    return c;
+    return calibrationPage_.status(calibrationHooks_);
 }
 
 std::vector<std::string> BlockWebView::sceneChoices(std::string& why)
@@ -188,59 +164,17 @@ std::string BlockWebView::touchProfileFile()
 
 void BlockWebView::runTouchCommands()
 {
-    using State = procedures::TouchTest::State;
-    using C = web::TouchCommand;
-    std::vector<C> commands;
+    std::vector<web::TouchCommand> commands;
     {
         std::lock_guard<std::mutex> lock(mutex_);
         commands.swap(pendingTouch_);
     }
     procedures::TouchTest& test = instrument_.touchTest();
-    touch_.available = host_.beginTouchTest && host_.endTouchTest;
-    touch_.why = touch_.available ? std::string() : "this front end offers no sensitivity test";
-    auto running = [&] { return test.state() == State::Presenting || test.state() == State::Asking; };
-    for (const C command : commands) {
-        (void) test.poll();
-        if (!touch_.available) {
-            touch_.note = "not available: " + touch_.why;
-        } else if (command == C::Begin) {
-            if (running()) {
-                touch_.note = "a test runs already: answer it, or cancel it first";
-            } else {
-                host_.beginTouchTest(static_cast<std::uint64_t>(1 + instrument_.control().ticks()));
-                touch_.finished = false;
-                touch_.result.clear();
-                touch_.note = "begun: one motor at a time; answer each stimulus once it has played";
-            }
-        } else if (command == C::Cancel) {
-            touch_.note = running() ? "cancelled: nothing kept; the motors are the scene's again" : "no test runs";
-            if (running()) host_.endTouchTest(false);
-        } else if (test.state() != State::Asking) {
-            touch_.note = running() ? "wait: the stimulus is still playing" : "no test runs: begin it first";
-        } else if (command == C::Again) {
-            test.again();
-            touch_.note = "again: the same stimulus";
-        } else {
-            test.answer(command == C::Felt);
-            touch_.note = command == C::Felt ? "answered: felt" : "answered: not felt";
-        }
-    }
-    (void) test.poll();
-    if (touch_.available && test.state() == State::Done) {
-        touch_.finished = true;
-        touch_.result = test.summary();
-        touch_.note = "complete: " + touch_.result + ". The profile is the reader's now.";
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            touchProfile_ = link::touchProfileToJson(test.profile());
-        }
-        host_.endTouchTest(true);
-    }
-    touch_.running = running();
-    touch_.asking = test.state() == State::Asking;
-    touch_.comfort = test.comfortStep();
-    touch_.stimuli = test.stimuli();
-    touch_.question = touch_.asking ? test.question() : std::string();
+    for (const web::TouchCommand command : commands)
+        touchPage_.command(command, test, touchHooks_, static_cast<std::uint64_t>(1 + instrument_.control().ticks()));
+    touch_ = touchPage_.status(test, touchHooks_);
+    std::lock_guard<std::mutex> lock(mutex_);
+    touchProfile_ = touchPage_.file();
 }
 
 } // namespace armadillo::live

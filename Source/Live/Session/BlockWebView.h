@@ -18,6 +18,7 @@
 // same way: the page's commands go to the block rig's calibration (BlockRig: the one the
 // Calibration window runs) on the message thread; a finished one is applied to the device at once
 // (not saved: the page offers it to download, the window saves it).
+#include "Live/Session/ProcedurePages.h"
 #include "Web/WebInstrument.h"
 #include <cstdint>
 #include <functional>
@@ -72,9 +73,12 @@ private:
     std::vector<web::ProcedureCommand> pendingCalibration_;   // likewise
     std::string calibrationFile_;      // the finished calibration as a file (under mutex_)
     std::string touchProfile_;         // the measured profile as a file (under mutex_)
-    // Message thread only:
-    web::TouchTestStatus touch_;       // what the page shows of the test (note, result)
-    std::string calibrationNote_;
+    // Message thread only: the page's rules (ProcedurePages.h) and where they act here.
+    TouchTestPage touchPage_;
+    TouchTestPage::Hooks touchHooks_;
+    web::TouchTestStatus touch_;       // what the page shows of the test, as of the last refresh
+    CalibrationPage calibrationPage_;
+    CalibrationPage::Hooks calibrationHooks_;
     void runTouchCommands();
     web::ProcedureStatus runCalibrationCommands();
 };

@@ -53,6 +53,37 @@ SessionWebView::SessionWebView(LiveSession& session) : session_(session), source
             for (const core::ParamSpec& s : cueSpecs) values_.emplace(s.id, s.defaultValue);
             readAssignments(cues->cue(i).parameters, cueSpecs, values_);
         }
+    // The guided calibration runs here, on the raw packets the session hands out (a device or the
+    // simulated forearm); the result is a file for --calibration.
+    calibrationHooks_.procedure = [this](std::string& why) -> const procedures::DeviceCalibration* {
+        if (session_.rawPackets() != nullptr) return &calibration_;
+        why = "the device calibration needs a device (--port) or the simulated forearm; this source sends OSC";
+        return nullptr;
+    };
+    calibrationHooks_.begin = [this](std::string&) {
+        link::RawPacket stale;
+        while (session_.rawPackets()->pop(stale)) {}   // only what comes from now on
+        calibration_.begin(session_.config().calibration);
+        return true;
+    };
+    calibrationHooks_.next = [this](std::string& why) { return calibration_.next(why); };
+    calibrationHooks_.skip = [this] { calibration_.skip(); };
+    calibrationHooks_.cancel = [this] { calibration_.cancel(); };
+    calibrationHooks_.finishedHint = "Download it below and use it with --calibration.";
+    // The sensitivity test's player takes the session's motors from the next step.
+    touchHooks_.unavailable = [this] {
+        return session_.hasMotors() ? std::string()
+                                    : std::string("the sensitivity test needs motors: a device (--port), the simulated forearm or a tactor output (--tactors)");
+    };
+    touchHooks_.begin = [this](std::uint64_t seed) {
+        touch_.begin(seed);
+        session_.setStimulus(&touch_.player());
+    };
+    touchHooks_.end = [this](bool) {
+        session_.setStimulus(nullptr);
+        touch_.cancel();
+    };
+    touchHooks_.finishedHint = "Download it below and use it with --touch-profile.";
 }
 
 SessionWebView::~SessionWebView() { session_.setStimulus(nullptr); }
@@ -86,11 +117,11 @@ web::InstrumentStatus SessionWebView::status()
     {
         std::lock_guard<std::mutex> lock(calibrationMutex_);
         pumpCalibration();
-        s.calibration = calibrationStatus();
+        s.calibration = calibrationPage_.status(calibrationHooks_);
     }
     {
         std::lock_guard<std::mutex> lock(touchMutex_);
-        s.touch = touchStatus();
+        s.touch = touchPage_.status(touch_, touchHooks_);
     }
     if (const navigation::NavigationRig* nav = session_.navigation()) s.walk = webWalk(*nav);
     return s;
@@ -138,63 +169,11 @@ void SessionWebView::pumpCalibration()
     calibration_.drain();
 }
 
-web::ProcedureStatus SessionWebView::calibrationStatus()
-{
-    web::ProcedureStatus c;
-    c.available = session_.rawPackets() != nullptr;
-    if (!c.available) c.why = "the device calibration needs a device (--port) or the simulated forearm; this source sends OSC";
-    c.steps = procedures::DeviceCalibration::kStepCount;
-    c.running = calibration_.running();
-    c.finished = calibration_.finished();
-    if (calibrationBegun_) {
-        c.step = calibration_.stepNumber();
-        c.title = calibration_.stepTitle();
-        c.instruction = c.finished ? std::string() : calibration_.instruction();
-        c.progress = calibration_.progress();
-        c.ready = calibration_.ready();
-    }
-    c.note = calibrationNote_;
-    return c;
-}
-
 void SessionWebView::calibration(web::ProcedureCommand command)
 {
     std::lock_guard<std::mutex> lock(calibrationMutex_);
-    core::SpscQueue<link::RawPacket, 1024>* packets = session_.rawPackets();
-    if (packets == nullptr) {
-        calibrationNote_ = "not available: this source sends OSC";
-        return;
-    }
-    using C = web::ProcedureCommand;
-    if (command == C::Begin) {
-        link::RawPacket stale;
-        while (packets->pop(stale)) {}   // only what comes from now on
-        calibration_.begin(session_.config().calibration);
-        calibrationBegun_ = true;
-        calibrationNote_ = "begun: keep the arm as the step asks";
-        return;
-    }
-    if (!calibration_.running()) {
-        calibrationNote_ = "no calibration runs: begin it first";
-        return;
-    }
     pumpCalibration();
-    if (command == C::Next) {
-        std::string why;
-        calibrationNote_ = calibration_.next(why) ? "step taken" : "not yet: " + why;
-    } else if (command == C::Skip) {
-        calibration_.skip();
-        calibrationNote_ = "step skipped: it keeps the starting calibration's numbers";
-    } else {
-        calibration_.cancel();
-        calibrationBegun_ = false;
-        calibrationNote_ = "cancelled: nothing kept";
-    }
-    if (calibration_.finished()) {
-        const std::string measured = calibration_.measuredList(true), kept = calibration_.measuredList(false);
-        calibrationNote_ = "calibration complete: " + (measured.empty() ? std::string("nothing measured") : "measured " + measured) +
-                           (kept.empty() ? std::string() : "; kept " + kept) + ". Download it below and use it with --calibration.";
-    }
+    calibrationPage_.command(command, calibrationHooks_);
 }
 
 std::vector<std::string> SessionWebView::sceneChoices(std::string& why) { return session_.sceneChoices(why); }
@@ -208,88 +187,22 @@ std::string SessionWebView::chooseScene(const std::string& name)
     return session_.chooseScene(name);
 }
 
-void SessionWebView::endTouch()
-{
-    session_.setStimulus(nullptr);
-    touch_.cancel();
-}
-
-web::TouchTestStatus SessionWebView::touchStatus()
-{
-    using State = procedures::TouchTest::State;
-    web::TouchTestStatus t;
-    t.available = session_.hasMotors();
-    if (!t.available) t.why = "the sensitivity test needs motors: a device (--port), the simulated forearm or a tactor output (--tactors)";
-    (void) touch_.poll();   // a stimulus played to its end: the test asks now
-    if (touch_.state() == State::Done) {
-        touchResult_ = touch_.summary();
-        touchProfile_ = link::touchProfileToJson(touch_.profile());
-        touchFinished_ = true;
-        touchNote_ = "complete: " + touchResult_ + ". Download it below and use it with --touch-profile.";
-        endTouch();
-    }
-    t.running = touch_.state() == State::Presenting || touch_.state() == State::Asking;
-    t.asking = touch_.state() == State::Asking;
-    t.comfort = touch_.comfortStep();
-    t.finished = touchFinished_;
-    t.stimuli = touch_.stimuli();
-    t.question = t.asking ? touch_.question() : std::string();
-    if (t.asking && touch_.loweredTo() > 0) t.question += " (the safety stage let level " + std::to_string(touch_.loweredTo()) + " through)";
-    t.result = touchResult_;
-    t.note = touchNote_;
-    return t;
-}
-
 void SessionWebView::touchTest(web::TouchCommand command)
 {
-    using State = procedures::TouchTest::State;
-    using C = web::TouchCommand;
     std::lock_guard<std::mutex> lock(touchMutex_);
-    (void) touchStatus();   // up to date before the command
-    const bool running = touch_.state() == State::Presenting || touch_.state() == State::Asking;
-    if (command == C::Begin) {
-        if (!session_.hasMotors()) {
-            touchNote_ = "not available: this session drives no motors";
-        } else if (running) {
-            touchNote_ = "a test runs already: answer it, or cancel it first";
-        } else {
-            touch_.begin(static_cast<std::uint64_t>(std::max(1.0, 1000.0 * session_.sessionTime())));
-            session_.setStimulus(&touch_.player());   // the motors are the test's from the next step
-            touchFinished_ = false;
-            touchResult_.clear();
-            touchProfile_.clear();
-            touchNote_ = "begun: one motor at a time; answer each stimulus once it has played";
-        }
-        return;
-    }
-    if (command == C::Cancel) {
-        touchNote_ = running ? "cancelled: nothing kept; the motors are the scene's again" : "no test runs";
-        if (running) endTouch();
-        return;
-    }
-    if (touch_.state() != State::Asking) {
-        touchNote_ = running ? "wait: the stimulus is still playing" : "no test runs: begin it first";
-        return;
-    }
-    if (command == C::Again) {
-        touch_.again();
-        touchNote_ = "again: the same stimulus";
-    } else {
-        touch_.answer(command == C::Felt);
-        touchNote_ = command == C::Felt ? (touch_.comfortStep() ? "answered: comfortable / felt" : "answered: felt") : "answered: not felt";
-    }
+    touchPage_.command(command, touch_, touchHooks_, static_cast<std::uint64_t>(std::max(1.0, 1000.0 * session_.sessionTime())));
 }
 
 std::string SessionWebView::touchProfileFile()
 {
     std::lock_guard<std::mutex> lock(touchMutex_);
-    return touchFinished_ ? touchProfile_ : std::string();
+    return touchPage_.file();
 }
 
 std::string SessionWebView::calibrationFile()
 {
     std::lock_guard<std::mutex> lock(calibrationMutex_);
-    return calibration_.finished() ? link::calibrationToJson(calibration_.result()) : std::string();
+    return calibrationPage_.file();
 }
 
 } // namespace armadillo::live

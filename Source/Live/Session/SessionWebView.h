@@ -4,6 +4,7 @@
 // switch (live::Stage::apply), scene parameters clamped to their range (live::sceneParamValue,
 // the rule the mapping uses) and stored into the scene's atomics (Scene::setParameter). Nothing
 // here waits for the control step or touches the audio thread. Any thread (the web server's).
+#include "Live/Session/ProcedurePages.h"
 #include "Procedures/DeviceCalibration.h"
 #include "Procedures/TouchTest.h"
 #include "Web/WebInstrument.h"
@@ -38,17 +39,13 @@ private:
     std::map<std::string, double> values_;     // parameter id → value as configured or last set here
     std::mutex calibrationMutex_;              // everything below
     procedures::DeviceCalibration calibration_;
-    bool calibrationBegun_ = false;
-    std::string calibrationNote_;
+    CalibrationPage calibrationPage_;          // the page's rules (ProcedurePages.h)
+    CalibrationPage::Hooks calibrationHooks_;
     void pumpCalibration();                    // raw packets into the procedure (calibrationMutex_ held)
-    web::ProcedureStatus calibrationStatus();  // (calibrationMutex_ held)
     std::mutex touchMutex_;                    // everything below
     procedures::TouchTest touch_;              // its player has the motors while it runs
-    std::string touchNote_;
-    bool touchFinished_ = false;
-    std::string touchResult_, touchProfile_;   // the measured profile in words and as a file
-    web::TouchTestStatus touchStatus();        // (touchMutex_ held): polls the test on
-    void endTouch();                           // (touchMutex_ held): the motors back to the scene
+    TouchTestPage touchPage_;
+    TouchTestPage::Hooks touchHooks_;
 };
 
 } // namespace armadillo::live
