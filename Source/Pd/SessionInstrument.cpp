@@ -86,18 +86,14 @@ void SessionInstrument::resume()
 bool SessionInstrument::poll(Frame& frame)
 {
     if (!session_) return false;
-    const std::uint64_t updates = session_->controlUpdates();
-    if (updates == lastUpdate_) return false;
-    lastUpdate_ = updates;
-    const auto q = session_->latestQuaternion();
-    frame.valid = q[0] != 0.0 || q[1] != 0.0 || q[2] != 0.0 || q[3] != 0.0;
-    const core::Pose pose = session_->latestPose();
-    frame.pose[0] = pose.elevationDeg;
-    frame.pose[1] = pose.azimuthDeg;
-    frame.pose[2] = pose.rollDeg;
-    for (int i = 0; i < 4; ++i) frame.q[i] = q[static_cast<std::size_t>(i)];
-    frame.motors = session_->latestLevels();
-    frame.motorCount = session_->config().engine.motorCount;
+    const live::ArmFrame f = session_->latestFrame();   // one step whole: pose, orientation and levels together
+    if (f.serial == lastUpdate_) return false;
+    lastUpdate_ = f.serial;
+    frame.valid = f.valid;
+    for (int i = 0; i < 3; ++i) frame.pose[i] = f.pose[i];
+    for (int i = 0; i < 4; ++i) frame.q[i] = f.q[i];
+    frame.motors = f.motors;
+    frame.motorCount = f.motorCount;
     return true;
 }
 

@@ -334,7 +334,8 @@ TEST_CASE("live session: a front end reads the scene's gestures in order and the
     c.motionFile = motion;
     c.engine.scene = "theremin";
     LiveSession s(c);
-    CHECK(s.latestQuaternion() == std::array<double, 4> {0.0, 0.0, 0.0, 0.0});   // nothing fused yet
+    CHECK(s.latestFrame().serial == 0);   // no step yet
+    CHECK_FALSE(s.latestFrame().valid);
     s.start();
     std::vector<std::string> names;
     REQUIRE(eventually([&] {
@@ -342,8 +343,10 @@ TEST_CASE("live session: a front end reads the scene's gestures in order and the
         return names.size() >= 3;
     }));
     for (const auto& n : names) CHECK(n == "fret");
-    const auto q = s.latestQuaternion();
-    CHECK(std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]) == Approx(1.0).margin(1e-6));
+    const live::ArmFrame f = s.latestFrame();
+    CHECK(f.valid);
+    CHECK(f.serial > 0);
+    CHECK(std::sqrt(f.q[0] * f.q[0] + f.q[1] * f.q[1] + f.q[2] * f.q[2] + f.q[3] * f.q[3]) == Approx(1.0).margin(1e-6));
     s.stop();
     std::remove(motion.c_str());
 }

@@ -65,6 +65,9 @@ public:
     /// (null with one arm: its sources and the relative arms.* sources then have no value and send
     /// nothing), the gestures the scene emitted in it.
     /// stageOnly: only the stage-command mappings run (in panic, so a mapped resume is still heard).
+    void step(double t, const core::ArmState& arm, const core::ArmState* leftArm, const mapping::GestureIn* gestures, int count, engine::Engine& engine,
+              bool stageOnly = false) noexcept;
+    /// The same with the engine's gesture events (the offline renderer's; at most 64 are read).
     void step(double t, const core::ArmState& arm, const core::ArmState* leftArm, const engine::GestureEvent* gestures, std::size_t count, engine::Engine& engine,
               bool stageOnly = false) noexcept;
     /// The end: gesture notes end at their due time, held notes (zones, postures) at t.

@@ -91,32 +91,8 @@ void BlockControl::step(double dt, double wall, bool toMotors, const core::Trans
 
     engine::Engine& engine = *runningEngine();
     clock_ += dt;
-    const core::ArmState& arm = result.arm;
-    ArmFrame f;
-    f.t = clock_;
-    f.valid = arm.valid;
-    f.q[0] = arm.q.w();
-    f.q[1] = arm.q.x();
-    f.q[2] = arm.q.y();
-    f.q[3] = arm.q.z();
-    f.pose[0] = arm.features.pose.elevationDeg;
-    f.pose[1] = arm.features.pose.azimuthDeg;
-    f.pose[2] = arm.features.pose.rollDeg;
-    for (int i = 0; i < 3; ++i) f.gyro[i] = arm.gyro[i];
-    if (toMotors) f.motors = result.levels;   // what goes to the motors; zeros when nothing does
-    f.motorCount = engine.config().motorCount;
-    f.serial = ++frameSerial_;
-    frame_.store(f);
-    ticks_.fetch_add(1, std::memory_order_relaxed);
-
-    int gestureCount = 0;
-    engine::GestureEvent g;
-    while (engine.popGesture(g)) {
-        gestures_.push(g);
-        lastGesture_.store(g.name, std::memory_order_relaxed);
-        gestureCount_.fetch_add(1, std::memory_order_relaxed);
-        if (gestureCount < kMaxGesturesPerStep) stepGestures_[static_cast<std::size_t>(gestureCount++)] = mapping::GestureIn {g.name, g.value};
-    }
+    // What goes to the motors is published; zeros when nothing does.
+    published_.publish(StepPublisher::frameOf(clock_, result.arm, toMotors ? &result.levels : nullptr, engine.config().motorCount), engine);
 
     // The mapping: every source of this step through the active set (docs/MAPPING.md). Its
     // events carry the step's time (clock_), which is this step's sample offset in the block.
@@ -125,8 +101,8 @@ void BlockControl::step(double dt, double wall, bool toMotors, const core::Trans
     in.arm[0] = &result.arm;
     in.arm[1] = s.leftArm;
     in.scene = engine.sceneValues();
-    in.gestures = stepGestures_.data();
-    in.gestureCount = gestureCount;
+    in.gestures = published_.stepGestures();
+    in.gestureCount = published_.stepGestureCount();
     in.stageOnly = runner_.panicked();   // in panic no note is sent until resume; a mapped resume still runs
     mapper_.process(in, mapOut_);
     learnRange(in);

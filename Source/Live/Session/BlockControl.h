@@ -27,6 +27,7 @@
 #include "Live/Outputs/MappingDelivery.h"
 #include "Live/Outputs/MappingOutputs.h"
 #include "Live/Outputs/MidiOutQueue.h"
+#include "Live/Outputs/StepPublisher.h"
 #include "Live/Sources/OscLink.h"
 #include "Live/Step/SceneParameters.h"
 #include "Live/Stage/Stage.h"
@@ -208,12 +209,14 @@ public:
     std::uint64_t notesInDropped() const noexcept { return notesInDropped_.load(std::memory_order_relaxed); }
 
     // Published (any thread).
-    ArmFrame latestFrame() const noexcept { return frame_.load(); }
+    // What each step leaves for the rest (Live/Outputs/StepPublisher.h, the same as play's).
+    ArmFrame latestFrame() const noexcept { return published_.latest(); }
     /// Gestures of the control steps, for one consumer (the clock thread's OSC sender).
-    bool popGesture(engine::GestureEvent& g) noexcept { return gestures_.pop(g); }
-    const char* lastGesture() const noexcept { return lastGesture_.load(std::memory_order_relaxed); }
-    std::uint64_t gestureCount() const noexcept { return gestureCount_.load(std::memory_order_relaxed); }
-    std::uint64_t ticks() const noexcept { return ticks_.load(std::memory_order_relaxed); }
+    bool popGesture(engine::GestureEvent& g) noexcept { return published_.popGesture(g); }
+    const char* lastGesture() const noexcept { return published_.lastGesture(); }
+    std::uint64_t gestureCount() const noexcept { return published_.gestureCount(); }
+    std::uint64_t gesturesDropped() const noexcept { return published_.gesturesDropped(); }
+    std::uint64_t ticks() const noexcept { return published_.steps(); }
     /// The stamp (monotonic s) of the newest levels handed to the link, < 0 when none since the
     /// last all-off. The token holder's thread, or any thread while no control step runs (tests).
     double lastMotorStamp() const noexcept { return lastStamp_; }
@@ -305,8 +308,6 @@ private:
     // The mapping (control side): runner, its fixed-capacity output, the step's gestures.
     mapping::Mapper mapper_;
     mapping::MappingOutput mapOut_ {};
-    static constexpr int kMaxGesturesPerStep = 32;
-    std::array<mapping::GestureIn, kMaxGesturesPerStep> stepGestures_ {};
     mapping::RangeLearner learner_;
     std::uint32_t learnGeneration_ = 0;
     const SceneParameterTable* sceneTable_ = nullptr;
@@ -318,7 +319,6 @@ private:
     BlockMidi* deliverMidi_ = nullptr;               ///< deliver()'s block while it runs (token holder)
     double deliverStart_ = 0.0;
     int deliverSamples_ = 0;
-    std::uint64_t frameSerial_ = 0;
     /// The listened-to input of one control step (≤ 192 kHz / 200 Hz samples), fixed size.
     static constexpr int kInputScratch = 1024;
     std::array<std::array<float, kInputScratch>, kMaxStems + 2> input_ {};   // the stems, then the main input
@@ -332,11 +332,7 @@ private:
     std::atomic<std::uint64_t> notesInDropped_ {0};
 
     MappingOutputs outputs_;
-    core::SeqLock<ArmFrame> frame_;
-    core::SpscQueue<engine::GestureEvent, 128> gestures_;
-    std::atomic<const char*> lastGesture_ {""};
-    std::atomic<std::uint64_t> gestureCount_ {0};
-    std::atomic<std::uint64_t> ticks_ {0};
+    StepPublisher published_;
 };
 
 } // namespace armadillo::live

@@ -400,10 +400,9 @@ core::MotorLevels LiveSession::control(double t, const link::SensorCounts* count
             armsLog_->push(row);
         }
     }
-    updates_.fetch_add(1, std::memory_order_relaxed);
-    pose_.store(arm.features.pose);
-    if (arm.valid) quaternion_.store({arm.q.w(), arm.q.x(), arm.q.y(), arm.q.z()});
-    levels_.store(levels);
+    // What the step leaves for the rest (the status, the web page, Pure Data): the frame with the
+    // levels that went out, and the scene's gestures (Live/Outputs/StepPublisher.h, as the block clock's).
+    published_.publish(StepPublisher::frameOf(t, arm, &levels, config_.engine.motorCount), engine());
     if (tactors_) tactors_->push(t, levels);   // the same levels as the device's packet, at once
 
     if (log_) {
@@ -442,14 +441,8 @@ core::MotorLevels LiveSession::control(double t, const link::SensorCounts* count
         oscOut_->sendGyro(arm.gyro);
         oscOut_->sendMotors(levels, config_.engine.motorCount);
     }
-    std::array<engine::GestureEvent, 64> gestures {};
-    std::size_t gestureCount = 0;
-    engine::GestureEvent ev;
-    while (engine().popGesture(ev)) {
-        if (oscOut_) oscOut_->sendGesture(ev.name);
-        if (gestureCount < gestures.size()) gestures[gestureCount++] = ev;
-        if (!gestureOut_.push(ev)) gesturesDropped_.fetch_add(1, std::memory_order_relaxed);   // a front end's queue (popGesture)
-    }
+    if (oscOut_)
+        for (int i = 0; i < published_.stepGestureCount(); ++i) oscOut_->sendGesture(published_.stepGestures()[i].name);
     // A panic (a command, a key, the gesture) also silences what the mapping sent, as the plugin
     // does: its sounding notes end and CC 120 + CC 123 go out on all 16 channels as it starts,
     // and the mapping sends nothing more until resume.
@@ -458,7 +451,7 @@ core::MotorLevels LiveSession::control(double t, const link::SensorCounts* count
     mappingPanicked_ = panicNow;
     // In panic only the stage-command mappings run (a mapped resume), nothing else is sent.
     if (mapping_ && result.ran)
-        mapping_->step(t, arm, leftArm, gestures.data(), gestureCount, engine(), panicNow);
+        mapping_->step(t, arm, leftArm, published_.stepGestures(), published_.stepGestureCount(), engine(), panicNow);
     return levels;
 }
 
@@ -621,7 +614,7 @@ void LiveSession::stop()
         for (int c = 0; c < cues_->cueCount(); ++c) cues_->engine(c).allOff();
     // The tactile file ends with the all-off that was sent: the zero packet answered above (at
     // its packet's time), or the motors' off state at the last packet's time.
-    if (tactile_ && updates_.load() > 0) {
+    if (tactile_ && published_.steps() > 0) {
         const double zeroT = zeroPacketT_.load();
         LogRow row;
         row.count = 1 + config_.engine.motorCount;

@@ -28,6 +28,7 @@
 #include "Live/Stage/SetList.h"
 #include "Live/Stage/Stage.h"
 #include "Live/Step/StepRunner.h"
+#include "Live/Outputs/StepPublisher.h"
 #include "Live/Outputs/TactorOutput.h"
 #include "Web/WebServer.h"
 #include <array>
@@ -239,20 +240,17 @@ public:
     core::Pose latestLeftPose() const noexcept { return leftPose_.load(); }
     /// IMU samples the control step dropped (more than ControlLoop::kMaxImuPerStep waiting).
     std::uint64_t droppedImu() const noexcept { return loop_.droppedImu(); }
-    /// Latest pose and motor levels (any thread, lock-free).
-    core::Pose latestPose() const noexcept { return pose_.load(); }
-    core::MotorLevels latestLevels() const noexcept { return levels_.load(); }
-    /// The arm's latest orientation (device → earth, w x y z); all 0 before the first fused step.
-    /// Any thread, lock-free.
-    std::array<double, 4> latestQuaternion() const noexcept { return quaternion_.load(); }
+    /// The newest step's frame: pose, orientation, gyro and the levels that went to the motors,
+    /// read whole (serial 0: no step yet). Any thread, lock-free (Live/Outputs/StepPublisher.h).
+    ArmFrame latestFrame() const noexcept { return published_.latest(); }
     /// The scene's gestures (strikes, rolls, postures: GestureEvent::name a string literal), in
     /// order, for one consumer thread (a front end that presents them: Pure Data's [armadillo]).
     /// At most 128 wait; more are dropped and counted.
-    bool popGesture(engine::GestureEvent& event) noexcept { return gestureOut_.pop(event); }
-    std::uint64_t gesturesDropped() const noexcept { return gesturesDropped_.load(std::memory_order_relaxed); }
+    bool popGesture(engine::GestureEvent& event) noexcept { return published_.popGesture(event); }
+    std::uint64_t gesturesDropped() const noexcept { return published_.gesturesDropped(); }
     bool connected() const noexcept;
     std::string lastError() const;
-    std::uint64_t controlUpdates() const noexcept { return updates_.load(); }
+    std::uint64_t controlUpdates() const noexcept { return published_.steps(); }
     /// The device link of a port or simulator source (null for OSC): statistics, the sent-packet log.
     link::DeviceLink* deviceLink() noexcept { return link_; }
     /// Every raw packet of a device source, for one consumer thread (calibration, UI); null for OSC.
@@ -379,14 +377,9 @@ private:
     std::thread audioThread_;
     std::atomic<bool> running_ {false};
     std::atomic<bool> motorsOff_ {false};
-    std::atomic<std::uint64_t> updates_ {0};
     std::atomic<std::uint64_t> zeroPacketsSent_ {0};
     std::atomic<double> zeroPacketT_ {-1.0};   ///< source time of the first all-off packet answered at stop()
-    core::SeqLock<core::Pose> pose_;
-    core::SeqLock<core::MotorLevels> levels_;
-    core::SeqLock<std::array<double, 4>> quaternion_;
-    core::SpscQueue<engine::GestureEvent, 128> gestureOut_;   // control thread → one front-end thread
-    std::atomic<std::uint64_t> gesturesDropped_ {0};
+    StepPublisher published_;                              // the frame and gestures of each step
     double lastT_ = -1.0;
     core::GapDetector sourceGaps_;                         // control thread: gaps of a source without a link (OSC)
     std::atomic<std::uint64_t> oscGaps_ {0};

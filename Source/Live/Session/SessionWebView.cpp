@@ -101,11 +101,11 @@ web::InstrumentStatus SessionWebView::status()
     s.gaps = sum.gaps;
     s.dropped = session_.droppedImu();
     s.sender = session_.senderName(false);
-    s.hasPose = session_.controlUpdates() > 0;
-    const core::Pose pose = session_.latestPose();
-    s.elevationDeg = pose.elevationDeg;
-    s.azimuthDeg = pose.azimuthDeg;
-    s.rollDeg = pose.rollDeg;
+    const ArmFrame frame = session_.latestFrame();
+    s.hasPose = frame.serial > 0;
+    s.elevationDeg = frame.pose[0];
+    s.azimuthDeg = frame.pose[1];
+    s.rollDeg = frame.pose[2];
     s.scene = std::string(session_.engine().scene().name());
     s.panicked = session_.stage().panicked();
     s.panics = session_.stage().panics();

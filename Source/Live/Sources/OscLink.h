@@ -6,6 +6,7 @@
 // mailbox. Neither runs on the audio thread.
 #include "Core/Types.h"
 #include "Osc/OscIo.h"
+#include "Live/Step/ArmFrame.h"
 #include "Live/Step/LiveInput.h"
 #include "Live/Sources/SourceRegistry.h"
 #include <atomic>
@@ -15,18 +16,6 @@
 #include <string>
 
 namespace armadillo::live {
-
-/// What one control update publishes (audio/control thread → UI and OSC, through a seqlock).
-struct ArmFrame {
-    double t = 0.0;                          ///< s, control clock
-    double q[4] {1.0, 0.0, 0.0, 0.0};        ///< w x y z, device → earth
-    double pose[3] {};                       ///< elevation, azimuth, roll (deg)
-    double gyro[3] {};                       ///< rad/s, device frame
-    core::MotorLevels motors {};             ///< after the safety stage
-    int motorCount = core::kGridMotors;
-    bool valid = false;
-    std::uint64_t serial = 0;                ///< increments with each control update
-};
 
 class OscOutput {
 public:
