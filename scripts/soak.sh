@@ -3,14 +3,17 @@
 # every output on — `armadillo play --simulate --scene theremin` with a session log, a tactile
 # CSV, a WAV recording, OSC out to a local UDP receiver this script runs, MQTT publish (a mapping
 # with MQTT and OSC destinations) to a Mosquitto it starts on a free loopback port, the tactors on
-# JACK's dummy backend, and the stage-control port open on loopback. Every EVERY minutes (10 by
+# JACK's dummy backend, the stage-control port open on loopback, and the web page on loopback with
+# a client that keeps its event stream open and asks for the status once a second (as an open
+# page and a screen reader's refresh do). Every EVERY minutes (10 by
 # default; and once at minute 1, the memory baseline) and at the end it prints one row: resident
 # memory (VmRSS), its growth since minute 1, the control rate, the sensor-to-motor latency
 # p50/p99 (since the start), and what was lost: bad packets and gaps of the link, OSC datagrams
 # sent by play against those the receiver got (and malformed ones), MQTT messages published
-# against those a subscriber got (and the outbox's drops), tactor records dropped.
+# against those a subscriber got (and the outbox's drops), tactor records dropped, and the web
+# page's events received, status requests answered and requests that failed.
 # The last line says `soak: ok` or `soak: FAILED (why)` (exit 1): memory growth above 2 MiB
-# after minute 1, a bad packet, a gap, or anything dropped.
+# after minute 1, a bad packet, a gap, anything dropped, or a web request that failed (or no events).
 #
 #   bash scripts/soak.sh MINUTES [--every MINUTES] [--bin PATH] [--keep]
 #
@@ -113,20 +116,72 @@ cat > "$work/soak-map.json" << 'JSON'
    "to": {"mqtt": {"topic": "armadillo/soak/roll", "payload": "{round}", "qos": 1, "retain": false, "rate": 5}}}]}
 JSON
 
+# The web page's client: the event stream held open (reopened and counted if it ends) and
+# GET /api/status once a second until 3 s before play's planned end (the page closes with it);
+# writes "events ok failed reopened" twice a second.
 seconds=$(python3 -c "print(round(float('$minutes') * 60))")
+web_port=$(free_port)
+python3 - "$web_port" "$work/web-count" "$seconds" << 'PY' &
+import http.client, json, os, sys, threading, time
+port, out = int(sys.argv[1]), sys.argv[2]
+stopAsking = time.monotonic() + float(sys.argv[3]) - 3.0
+c = {"events": 0, "ok": 0, "failed": 0, "reopened": 0}
+def stream():
+    first = True
+    while True:
+        try:
+            h = http.client.HTTPConnection("127.0.0.1", port, timeout=10)
+            h.request("GET", "/events")
+            r = h.getresponse()
+            if r.status != 200: raise OSError(f"status {r.status}")
+            if not first: c["reopened"] += 1
+            first = False
+            while True:
+                line = r.fp.readline()
+                if not line: break
+                if line.startswith(b"data:"): c["events"] += 1
+        except OSError:
+            pass
+        time.sleep(0.5)
+threading.Thread(target=stream, daemon=True).start()
+written = nextAsk = time.monotonic()
+while True:
+    now = time.monotonic()
+    if now >= nextAsk and now < stopAsking:
+        nextAsk += 1.0
+        try:
+            h = http.client.HTTPConnection("127.0.0.1", port, timeout=5)
+            h.request("GET", "/api/status")
+            r = h.getresponse()
+            body = r.read()
+            if r.status == 200 and "pose" in json.loads(body): c["ok"] += 1
+            else: c["failed"] += 1
+            h.close()
+        except (OSError, ValueError):
+            if c["ok"] > 0: c["failed"] += 1   # before the first answer: the page is not up yet
+    if now - written >= 0.5:
+        written = now
+        with open(out + ".tmp", "w") as f:
+            f.write(f"{c['events']} {c['ok']} {c['failed']} {c['reopened']}\n")
+        os.replace(out + ".tmp", out)
+    time.sleep(0.05)
+PY
+pids+=($!)
+
 control_port=$(free_port)
 "$bin" play --simulate --scene theremin --seconds "$seconds" --out "$work/audio.wav" --log "$work/session.csv" \
     --tactile "$work/tactile.csv" --osc-out "127.0.0.1:$osc_port" --map "$work/soak-map.json" --mqtt "127.0.0.1:$mqtt_port" \
-    --tactors jack --tactor-model lra --control-in "$control_port" --status-file "$work/status.json" \
+    --tactors jack --tactor-model lra --control-in "$control_port" --web "$web_port" --status-file "$work/status.json" \
     > "$work/summary.json" 2> "$work/play.err" &
 play=$!
 pids+=($play)
 
 # One row of the table from the status file (or the final summary) and the counters on our side.
 row() {   # row LABEL JSONFILE… RSS_KIB (a later file's members over an earlier one's)
-    python3 - "$@" "$work/osc-count" "$work/mqtt-received" "$work/baseline" << 'PY'
+    python3 - "$@" "$work/web-count" "$work/osc-count" "$work/mqtt-received" "$work/baseline" << 'PY'
 import json, os, sys
-label, paths, rss = sys.argv[1], sys.argv[2:-4], int(sys.argv[-4] or 0)
+label, paths, rss = sys.argv[1], sys.argv[2:-5], int(sys.argv[-5] or 0)
+web = (open(sys.argv[-4]).read().split() if os.path.exists(sys.argv[-4]) else []) + ["0"] * 4
 s = {}
 for path in paths:
     try:
@@ -143,14 +198,16 @@ print(f"{label:>7} {rss / 1024.0:8.1f} {growth:+7.2f} {s.get('rate_hz', 0):7.1f}
       f" {s.get('packets', 0):10d} {s.get('bad_packets', 0):4d} {s.get('gaps', 0):4d}"
       f" {s.get('mapping_osc_messages', 0):9d} {int(received):9d} {int(malformed):4d} {s.get('mapping_dropped', 0):5d}"
       f" {m.get('published', 0):7d} {mqtt_got:7d} {m.get('outbox_dropped', 0):5d}"
-      f" {s.get('tactor_frames', 0):9d} {s.get('tactor_dropped', 0):5d}", flush=True)
+      f" {s.get('tactor_frames', 0):9d} {s.get('tactor_dropped', 0):5d}"
+      f" {int(web[0]):7d} {int(web[1]):6d} {int(web[2]):5d}", flush=True)
 PY
 }
 rss_kib() { awk '/^VmRSS:/ {print $2}' "/proc/$play/status" 2> /dev/null || echo 0; }
 
 echo "soak: $minutes min of 'armadillo play --simulate --scene theremin' with every output on (pid $play; rows every $every min)"
-printf '%7s %8s %7s %7s %7s %7s %10s %4s %4s %9s %9s %4s %5s %7s %7s %5s %9s %5s\n' \
-    minute RSS_MiB growth rate_Hz p50_us p99_us packets bad gaps osc_sent osc_recv osc! osc_d mqtt_pub mqtt_rcv mq_d tactor_fr t_drop
+printf '%7s %8s %7s %7s %7s %7s %10s %4s %4s %9s %9s %4s %5s %7s %7s %5s %9s %5s %7s %6s %5s\n' \
+    minute RSS_MiB growth rate_Hz p50_us p99_us packets bad gaps osc_sent osc_recv osc! osc_d mqtt_pub mqtt_rcv mq_d tactor_fr t_drop \
+    web_ev web_ok web!
 start=$SECONDS
 next=60   # the first row at minute 1: the memory baseline
 every_s=$(python3 -c "print(max(1, round(float('$every') * 60)))")
@@ -176,7 +233,7 @@ fi
 row end "$work/status.json" "$work/summary.json" "${last_rss:-0}"
 echo "(end: the final summary; latency and RSS as last measured while it ran)"
 
-verdict=$(python3 - "$work/summary.json" "$work/osc-count" "$work/mqtt-received" "$work/baseline" "${last_rss:-0}" << 'PY'
+verdict=$(python3 - "$work/summary.json" "$work/osc-count" "$work/mqtt-received" "$work/baseline" "${last_rss:-0}" "$work/web-count" << 'PY'
 import json, sys
 s = json.loads(open(sys.argv[1]).read().strip().splitlines()[-1])
 received, malformed = map(int, open(sys.argv[2]).read().split())
@@ -196,6 +253,9 @@ if s.get("mapping_dropped", 0): why.append(f"{s['mapping_dropped']} mapping mess
 if m.get("outbox_dropped", 0): why.append(f"{m['outbox_dropped']} MQTT messages dropped from the outbox")
 if mqtt_got < m.get("published", 0): why.append(f"MQTT: {m.get('published', 0)} published, {mqtt_got} received")
 if s.get("tactor_dropped", 0): why.append(f"{s['tactor_dropped']} tactor records dropped")
+events, asked, failed, reopened = map(int, open(sys.argv[6]).read().split())
+if failed: why.append(f"web page: {failed} status requests failed")
+if events == 0 or asked == 0: why.append(f"web page: {events} events, {asked} status answers")
 print("ok" if not why else "FAILED (" + "; ".join(why) + ")")
 PY
 )
