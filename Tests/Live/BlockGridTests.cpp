@@ -40,7 +40,8 @@ struct Midi final : live::BlockMidi {
 };
 
 struct Rig {
-    live::ControlLoop loop;
+    live::Instrument instrument;   // the core every clock shares (its loop, stage, step)
+    live::ControlLoop& loop = instrument.loop();
     live::ControlToken token;
     link::LevelSchedule motors;
     std::atomic<float> elevation {0.0f}, azimuth {0.0f}, roll {0.0f}, source {static_cast<float>(live::SourceKind::HostAutomation)};
@@ -55,7 +56,7 @@ struct Rig {
         slot->engine = std::make_unique<Engine>(config);
         slot->sceneName = config.scene;
         loop.replace(std::move(slot));
-        control = std::make_unique<live::BlockControl>(loop, token, live::BlockControl::Cells {&elevation, &azimuth, &roll, &source}, motors);
+        control = std::make_unique<live::BlockControl>(instrument, token, live::BlockControl::Cells {&elevation, &azimuth, &roll, &source}, motors);
         token.take();
         control->prepare(kFs);
         token.release();

@@ -785,7 +785,8 @@ TEST_CASE("osc senders: held-out senders written from the vendors' definitions g
 TEST_CASE("osc senders: the plugin's OSC source detects the NGIMU and delivers device-frame samples", "[osc][senders][plugin]")
 {
     live::LiveInput live;
-    live::OscInput input(live);
+    live::ArmSourceSlot slot;   // where an instrument keeps the source
+    live::OscInput input(live, slot);
     const int port = test::freeUdpPort();
     std::string why;
     REQUIRE(input.configure(true, port, why));

@@ -43,7 +43,8 @@ public:
 };
 
 struct Rig {
-    live::ControlLoop loop;
+    live::Instrument instrument;   // the core every clock shares (its loop, stage, step)
+    live::ControlLoop& loop = instrument.loop();
     live::ControlToken token;
     link::LevelSchedule motors;
     std::atomic<float> elevation {0.0f}, azimuth {0.0f}, roll {0.0f}, source {static_cast<float>(live::SourceKind::HostAutomation)};
@@ -62,7 +63,7 @@ struct Rig {
         slot->engine = std::make_unique<Engine>(config, std::move(scene));
         slot->sceneName = "ear";
         loop.replace(std::move(slot));
-        control = std::make_unique<live::BlockControl>(loop, token, live::BlockControl::Cells {&elevation, &azimuth, &roll, &source}, motors);
+        control = std::make_unique<live::BlockControl>(instrument, token, live::BlockControl::Cells {&elevation, &azimuth, &roll, &source}, motors);
         control->prepare(48000.0);
         host.prepare();
     }

@@ -183,7 +183,8 @@ TEST_CASE("DeviceConnection: the simulated forearm feeds the calibration; a new 
 {
     LiveInput input;
     link::LevelSchedule motors;
-    DeviceConnection connection(input, motors);
+    live::ArmSourceSlot slot;   // where an instrument keeps the source
+    DeviceConnection connection(input, motors, slot);
     std::string message;
     REQUIRE(connection.connect(DeviceConnection::kSimulatedPort, 57600, "", message));
     INFO(message);

@@ -36,10 +36,11 @@ float piano(long i)
 }
 
 struct Rig {
-    live::ControlLoop loop;
+    live::Instrument instrument;   // the core every clock shares (its loop, stage, step)
+    live::ControlLoop& loop = instrument.loop();
     live::ControlToken token;
     link::LevelSchedule motors;
-    live::Stage stage;
+    live::Stage& stage = instrument.stage();
     std::atomic<float> elevation {30.0f}, azimuth {10.0f}, roll {0.0f}, source {static_cast<float>(live::SourceKind::HostAutomation)};
     std::unique_ptr<live::BlockControl> control;
     HostBlock host;   // the host's buffers as the block clock takes them
@@ -59,8 +60,7 @@ struct Rig {
             base.sampleRate = kFs;
             stage.replace(std::make_unique<live::CuePlayer>(list, base));
         }
-        control = std::make_unique<live::BlockControl>(loop, token, live::BlockControl::Cells {&elevation, &azimuth, &roll, &source}, motors);
-        control->setStage(&stage);
+        control = std::make_unique<live::BlockControl>(instrument, token, live::BlockControl::Cells {&elevation, &azimuth, &roll, &source}, motors);
         control->prepare(kFs);
         host.prepare();
     }

@@ -77,7 +77,8 @@ constexpr double kFirmwareWatchdog = 0.050;
 RunResult runHost(const HostPlan& plan)
 {
     constexpr double kRate = 48000.0;
-    live::ControlLoop loop;
+    live::Instrument instrument;   // the core every clock shares (its loop, stage, step)
+    live::ControlLoop& loop = instrument.loop();
     {
         EngineConfig config;
         config.scene = "demand";
@@ -90,11 +91,11 @@ RunResult runHost(const HostPlan& plan)
     live::ControlToken token;
     link::LevelSchedule motors;
     std::atomic<float> elevation {0.0f}, azimuth {0.0f}, roll {0.0f}, source {static_cast<float>(live::SourceKind::HostAutomation)};
-    live::BlockControl control(loop, token, live::BlockControl::Cells {&elevation, &azimuth, &roll, &source}, motors);
+    live::BlockControl control(instrument, token, live::BlockControl::Cells {&elevation, &azimuth, &roll, &source}, motors);
     control.prepare(kRate);
     HostBlock host;
     host.prepare();
-    live::DeviceConnection device(loop.input(live::SourceKind::Device), motors);
+    live::DeviceConnection device(loop.input(live::SourceKind::Device), motors, instrument.source(live::Instrument::Feed::Device));
     device.enableSentLog(true);
     std::string message;
     REQUIRE(device.connect(live::DeviceConnection::kSimulatedPort, 57600, "", message));

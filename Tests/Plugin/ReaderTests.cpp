@@ -404,7 +404,8 @@ TEST_CASE("Arm feedback through the plugin's control path: the stimulus takes th
     }
     constexpr double kRate = 48000.0;
     constexpr int kBlock = 240;   // one 200 Hz control step per block
-    live::ControlLoop loop;
+    live::Instrument instrument;   // the core every clock shares (its loop, stage, step)
+    live::ControlLoop& loop = instrument.loop();
     {
         EngineConfig config;
         config.scene = "hold";
@@ -417,7 +418,7 @@ TEST_CASE("Arm feedback through the plugin's control path: the stimulus takes th
     live::ControlToken token;
     link::LevelSchedule motors;
     std::atomic<float> elevation {0.0f}, azimuth {0.0f}, roll {0.0f}, source {static_cast<float>(live::SourceKind::HostAutomation)};
-    live::BlockControl control(loop, token, live::BlockControl::Cells {&elevation, &azimuth, &roll, &source}, motors);
+    live::BlockControl control(instrument, token, live::BlockControl::Cells {&elevation, &azimuth, &roll, &source}, motors);
     control.prepare(kRate);
     HostBlock host;
     host.prepare();

@@ -529,6 +529,11 @@ def run_bind(args, work):
         check(bool(poll(10, lambda: page_status(driver))), "bind: the page opened with the token shows the live orientation: " +
               text(driver, "orientation"))
         # The scene chooser: another scene plays, its parameters follow.
+        # The scene list comes from its own request after the first status (app.js loadScene):
+        # on a loaded machine the status can be shown before it.
+        check(bool(poll(5, lambda: driver.execute_script(
+            "return Array.from(document.getElementById('scene-choice').options).some(o => o.value === 'cymbal');"))),
+              "bind: the page lists the scenes to choose from")
         Select(driver.find_element(By.ID, "scene-choice")).select_by_visible_text("cymbal")
         driver.find_element(By.XPATH, "//button[normalize-space()='Play this scene']").click()
         check(bool(poll(5, lambda: text(driver, "scene") == "Scene: cymbal.")), "bind: the chosen scene plays: " + text(driver, "scene") +

@@ -82,17 +82,8 @@ void MappingRig::deliver(engine::Engine* engine) noexcept
     deliverMapping(*out_, *this, params, tally_);
 }
 
-void MappingRig::step(double t, const core::ArmState& arm, const core::ArmState* leftArm, const mapping::GestureIn* gestures, int count, engine::Engine& engine,
-                      bool stageOnly) noexcept
+void MappingRig::step(const mapping::MappingInput& in, engine::Engine& engine) noexcept
 {
-    mapping::MappingInput in;
-    in.t = t;
-    in.arm[0] = &arm;
-    in.arm[1] = leftArm;
-    in.scene = engine.sceneValues();
-    in.gestures = gestures;
-    in.gestureCount = count;
-    in.stageOnly = stageOnly;
     mapper_.process(in, *out_);
     deliver(&engine);
 }
@@ -103,7 +94,15 @@ void MappingRig::step(double t, const core::ArmState& arm, const core::ArmState*
     std::array<mapping::GestureIn, 64> g {};
     const std::size_t n = std::min(count, g.size());
     for (std::size_t i = 0; i < n; ++i) g[i] = {gestures[i].name, gestures[i].value};
-    step(t, arm, leftArm, g.data(), static_cast<int>(n), engine, stageOnly);
+    mapping::MappingInput in;
+    in.t = t;
+    in.arm[0] = &arm;
+    in.arm[1] = leftArm;
+    in.scene = engine.sceneValues();
+    in.gestures = g.data();
+    in.gestureCount = static_cast<int>(n);
+    in.stageOnly = stageOnly;
+    step(in, engine);
 }
 
 void MappingRig::finish(double t) noexcept

@@ -61,13 +61,13 @@ public:
         stageSink_ = sink;
         stageContext_ = context;
     }
-    /// One control update at time t (s): the arm (the right arm, or the only one), the left arm
-    /// (null with one arm: its sources and the relative arms.* sources then have no value and send
-    /// nothing), the gestures the scene emitted in it.
-    /// stageOnly: only the stage-command mappings run (in panic, so a mapped resume is still heard).
-    void step(double t, const core::ArmState& arm, const core::ArmState* leftArm, const mapping::GestureIn* gestures, int count, engine::Engine& engine,
-              bool stageOnly = false) noexcept;
-    /// The same with the engine's gesture events (the offline renderer's; at most 64 are read).
+    /// One control update as the instrument's step gives it (Instrument::mappingInput): both arms
+    /// (the left null with one arm: its sources and the relative arms.* sources then have no value
+    /// and send nothing), the scene's values, the step's gestures, stage commands only in panic (so
+    /// a mapped resume is still heard); `engine` the one that sounds (scene parameters).
+    void step(const mapping::MappingInput& in, engine::Engine& engine) noexcept;
+    /// The same at time t (s) from an arm, the left arm and the engine's gesture events (the
+    /// offline renderer's; at most 64 are read).
     void step(double t, const core::ArmState& arm, const core::ArmState* leftArm, const engine::GestureEvent* gestures, std::size_t count, engine::Engine& engine,
               bool stageOnly = false) noexcept;
     /// The end: gesture notes end at their due time, held notes (zones, postures) at t.

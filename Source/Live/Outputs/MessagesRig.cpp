@@ -36,14 +36,20 @@ std::string MessagesRig::start(const MessagesSettings& settings)
         if (auto why = addTopics(config, settings.urgent, true); !why.empty()) return "MQTT: " + why;
         mqtt::PresenterOptions options;
         options.timed = settings.timed;
-        auto service = openMessageSource(std::move(config), std::move(options));   // the registry (Live/Sources/SourceRegistry.h)
-        service->start();
-        current_ = service.get();
-        services_.push_back(std::move(service));
+        open(std::move(config), std::move(options)).start();
         return {};
     } catch (const std::exception& e) {
         return std::string("MQTT: ") + e.what();
     }
+}
+
+mqtt::MessageService& MessagesRig::open(mqtt::MqttConfig config, mqtt::PresenterOptions options)
+{
+    stop();
+    auto service = openMessageSource(std::move(config), std::move(options));   // the registry (Live/Sources/SourceRegistry.h)
+    current_ = service.get();
+    services_.push_back(std::move(service));
+    return *current_;
 }
 
 void MessagesRig::stop()

@@ -28,6 +28,10 @@ public:
     /// (a bad broker or topic, a configuration file's error with its line); a broker that is down
     /// is no error.
     std::string start(const MessagesSettings& settings);
+    /// A configuration already read (the command line's options): the service built through the
+    /// registry, current but not connected (its start() connects). Throws InputError for a bad
+    /// configuration. A running service is stopped first.
+    mqtt::MessageService& open(mqtt::MqttConfig config, mqtt::PresenterOptions options);
     void stop();
     bool running() const noexcept { return current_ != nullptr; }
     /// The running service (null when stopped).

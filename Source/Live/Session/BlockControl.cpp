@@ -28,8 +28,9 @@ void clearBlock(const AudioBlock& b) noexcept
 
 } // namespace
 
-BlockControl::BlockControl(ControlLoop& loop, ControlToken& token, const Cells& cells, link::LevelSchedule& motors)
-    : loop_(loop), token_(token), cells_(cells), motors_(motors)
+BlockControl::BlockControl(Instrument& instrument, ControlToken& token, const Cells& cells, link::LevelSchedule& motors)
+    : instrument_(instrument), loop_(instrument.loop()), token_(token), cells_(cells), motors_(motors), stage_(&instrument.stage()),
+      runner_(instrument.runner()), published_(instrument.published())
 {
     assert(cells.elevation && cells.azimuth && cells.roll && cells.source);
 }
@@ -70,11 +71,12 @@ void BlockControl::step(double dt, double wall, bool toMotors, const core::Trans
                          cells_.roll->load(std::memory_order_relaxed)};
     s.transport = transport;
     s.dt = dt;
-    s.leftArm = leftArm_ != nullptr ? leftArm_->fuse() : nullptr;   // null: one arm
     s.arrivalCutoff = cutoff;
-    // The stage's cues and panic; the panic gesture (docs/STAGE.md) panics the stage, as CC 120
-    // or F12 do (Live/Step/StepRunner.h).
-    ControlResult result = runner_.step(s);
+    // The instrument's step (Instrument.h): the left arm fused, the stage's cues and panic (the
+    // panic gesture panics the stage, as CC 120 or F12 do), the frame published with what goes
+    // to the motors (zeros when nothing does) at the step's time on this clock.
+    const Instrument::Stepped stepped = instrument_.step(s, clock_ + dt, toMotors);
+    const ControlResult& result = stepped.result;
     if (! result.ran) return;
     if (result.swapped) mapper_.resendSceneParams();   // the new scene starts from its defaults
     if (auto* bus = tactors_.active()) bus->setLevels(result.levels, dt);   // the Tactors bus (rendered by processBlock)
@@ -88,25 +90,20 @@ void BlockControl::step(double dt, double wall, bool toMotors, const core::Trans
         motorsOff_ = true;
         lastStamp_ = -1.0;
     }
-
-    engine::Engine& engine = *runningEngine();
     clock_ += dt;
-    // What goes to the motors is published; zeros when nothing does.
-    published_.publish(StepPublisher::frameOf(clock_, result.arm, toMotors ? &result.levels : nullptr, engine.config().motorCount), engine);
 
     // The mapping: every source of this step through the active set (docs/MAPPING.md). Its
     // events carry the step's time (clock_), which is this step's sample offset in the block.
-    mapping::MappingInput in;
-    in.t = clock_;
-    in.arm[0] = &result.arm;
-    in.arm[1] = s.leftArm;
-    in.scene = engine.sceneValues();
-    in.gestures = published_.stepGestures();
-    in.gestureCount = published_.stepGestureCount();
-    in.stageOnly = runner_.panicked();   // in panic no note is sent until resume; a mapped resume still runs
+    const double blockStart = clock_ - sampleOffset / sampleRate_.load(std::memory_order_relaxed);
+    const int blockSamples = midi != nullptr ? blockSamples_ : 0;
+    if (stepped.silenceMapping) {   // the panic gesture at this step: the mapping's notes end now
+        mapper_.panic(clock_, mapOut_);
+        deliver(midi, blockStart, blockSamples);
+    }
+    const mapping::MappingInput in = instrument_.mappingInput(stepped, clock_);
     mapper_.process(in, mapOut_);
     learnRange(in);
-    deliver(midi, clock_ - sampleOffset / sampleRate_.load(std::memory_order_relaxed), midi != nullptr ? blockSamples_ : 0);
+    deliver(midi, blockStart, blockSamples);
 }
 
 void BlockControl::learnRange(const mapping::MappingInput& in) noexcept
@@ -467,7 +464,7 @@ void BlockControl::beginStage(BlockMidi* midi, double blockStart, int blockSampl
 {
     // Cue requests, panic and resume reach the engine and the cues (Live/Step/StepRunner.h) before
     // anything of this block is rendered.
-    if (runner_.beginStage() != StepRunner::StageChange::PanicStarted) return;
+    if (! instrument_.beginStage().silenceMapping) return;
     // Every note the mapping has sounding ends now, then All Sound Off and All Notes Off on all
     // 16 channels (MIDI 1.0, CC 120 / CC 123, value 0) for whatever the receivers still hold
     // (Mapper::panic, which `play --midi-out` sends too), at the block's first sample.

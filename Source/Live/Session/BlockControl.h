@@ -23,7 +23,7 @@
 #include "Link/LevelSchedule.h"
 #include "Live/Step/ControlLoop.h"
 #include "Live/Step/ControlToken.h"
-#include "Live/Step/LeftArm.h"
+#include "Live/Session/Instrument.h"
 #include "Live/Outputs/MappingDelivery.h"
 #include "Live/Outputs/MappingOutputs.h"
 #include "Live/Outputs/MidiOutQueue.h"
@@ -88,7 +88,8 @@ public:
         const std::atomic<float>* source = nullptr;
     };
 
-    BlockControl(ControlLoop& loop, ControlToken& token, const Cells& cells, link::LevelSchedule& motors);
+    /// The clock of `instrument` (its loop, stage, left arm, step and publisher: Instrument.h).
+    BlockControl(Instrument& instrument, ControlToken& token, const Cells& cells, link::LevelSchedule& motors);
 
     /// Message thread, token held: a new sample rate. The mapping's sounding notes are ended at
     /// the start of the next block.
@@ -98,17 +99,6 @@ public:
     /// app's MIDI port (nullptr in a host).
     void setSceneTable(const SceneParameterTable* table) noexcept { sceneTable_ = table; }
     void setMidiPort(MidiOutQueue* port) noexcept { port_ = port; }
-    /// Before the control side runs: the stage (set list, panic, MIDI stage messages; Stage.h).
-    /// Its commands act at the start of the next block (or idle step), never mid-block.
-    void setStage(Stage* stage) noexcept
-    {
-        stage_ = stage;
-        runner_.setStage(stage);
-    }
-    /// Before the control side runs: the left arm (LeftArm.h, docs/STAGE.md "Two arms"). While it
-    /// is on, each step fuses it and hands it to the engine (Engine::control with both arms when
-    /// the engine was built with twoArms) and to the mapping (`left.*`, `arms.*` sources).
-    void setLeftArm(LeftArm* arm) noexcept { leftArm_ = arm; }
     /// The app's sensitivity test (Procedures/TouchTest.h, issue 26): while set, each control step's
     /// levels come from this player (its own TactileEngine and SafetyStage) instead of the
     /// scene's (never during a panic: Live/Step/StepRunner.h applies it); nullptr gives the motors
@@ -283,7 +273,8 @@ private:
     void notesRunning(int from, int len) noexcept;
     void learnRange(const mapping::MappingInput& in) noexcept;
 
-    ControlLoop& loop_;
+    Instrument& instrument_;
+    ControlLoop& loop_;   ///< instrument_'s
     ControlToken& token_;
     Cells cells_;
     link::LevelSchedule& motors_;
@@ -312,9 +303,8 @@ private:
     std::uint32_t learnGeneration_ = 0;
     const SceneParameterTable* sceneTable_ = nullptr;
     MidiOutQueue* port_ = nullptr;
-    Stage* stage_ = nullptr;
-    LeftArm* leftArm_ = nullptr;
-    StepRunner runner_ {loop_, nullptr};   ///< token holder: the stage applied, the control step (Live/Step/StepRunner.h)
+    Stage* stage_ = nullptr;               ///< instrument_'s (never null)
+    StepRunner& runner_;                   ///< instrument_'s: the stage applied, the control step (Live/Step/StepRunner.h)
     MappingTally tally_;                             ///< what the mapping delivered and lost
     BlockMidi* deliverMidi_ = nullptr;               ///< deliver()'s block while it runs (token holder)
     double deliverStart_ = 0.0;
@@ -332,7 +322,7 @@ private:
     std::atomic<std::uint64_t> notesInDropped_ {0};
 
     MappingOutputs outputs_;
-    StepPublisher published_;
+    StepPublisher& published_;   ///< instrument_'s
 };
 
 } // namespace armadillo::live

@@ -12,18 +12,15 @@ tactile::TactileConfig BlockInstrument::feedbackConfig()
 BlockInstrument::BlockInstrument(const Host& host)
     : feedbackPlayer_(feedbackConfig(), 0.0),
       adaptive_(feedbackPlayer_),
-      control_(loop_, token_, host.cells, motors_),
-      rig_(loop_, control_, motors_),
+      control_(instrument_, token_, host.cells, motors_),
+      rig_(instrument_, control_, motors_),
       tactorRig_(control_, token_),
       mapping_(control_, *host.sceneTable, host.midiChannel,
                [this](const std::vector<osc::HostPort>& targets) { return rig_.configureMappingOsc(targets); }),
-      stageSession_(stage_)
+      stageSession_(instrument_.stage())
 {
-    // Wired before anything runs the step: the scenes' parameters for the mapping, the stage, the
-    // left arm (fused and heard while its sender is on).
+    // Wired before anything runs the step: the scenes' parameters for the mapping.
     control_.setSceneTable(host.sceneTable);
-    control_.setStage(&stage_);
-    control_.setLeftArm(&rig_.leftArm());
 }
 
 BlockInstrument::~BlockInstrument()
@@ -45,14 +42,14 @@ void BlockInstrument::stop()
     (void) stageSession_.setOsc(false, 0);   // its OSC thread calls into the stage
     tactorRig_.closeOutput();                // its audio thread reads the step's levels
     rig_.stop();                             // the idle clock, then the device link (all-off)
-    navigation_.stop();                      // the position source
+    instrument_.navigation().stop();         // the position source
     stopMessages();                          // after the clock: the mapping published through it
 }
 
 void BlockInstrument::install(std::unique_ptr<EngineSlot> slot)
 {
     token_.take();   // the idle clock holds it for < 1 ms; a block that finds it taken is silent
-    loop_.replace(std::move(slot));
+    instrument_.loop().replace(std::move(slot));
     token_.release();
 }
 
@@ -94,15 +91,15 @@ void BlockInstrument::refreshWeb(const std::string& scene)
 std::string BlockInstrument::startMessages(const MessagesSettings& settings)
 {
     control_.setMqtt(nullptr);
-    auto why = messages_.start(settings);
-    control_.setMqtt(messages_.service());
+    auto why = instrument_.messages().start(settings);
+    control_.setMqtt(instrument_.messages().service());
     return why;
 }
 
 void BlockInstrument::stopMessages()
 {
     control_.setMqtt(nullptr);
-    messages_.stop();
+    instrument_.messages().stop();
 }
 
 bool BlockInstrument::proceduresIdle() const noexcept

@@ -6,19 +6,16 @@
 // comes, its own idle clock (BlockRig) runs the step.
 //
 // What it owns, in the order it is built (each part states its thread rules in its own file):
-//  - MessagesRig    messages on the arm (MQTT): first, so it goes last — a braille scene may still
-//                   hold a message its presenter handed over until the engines are gone;
-//  - ControlLoop    the control step's engine, mailboxes and fusion (ControlLoop.h);
+//  - Instrument     the core every clock shares (Instrument.h): messages, navigation, the loop,
+//                   the stage, the left arm, the one step and its publisher — first, so it goes
+//                   last;
 //  - ControlToken   who runs the step now: an audio block or the idle clock;
 //  - LevelSchedule  the motor levels stamped for the device link;
 //  - the stimuli    the sensitivity test, the feedback player and the adaptive training, which
-//                   the control step may point at (before BlockControl: they outlive its pointer);
-//  - Stage          set list, panic and resume, every stage command (before BlockControl, which
-//                   keeps a pointer);
-//  - BlockControl   the step on the block clock, the published frame, the mapping's outputs;
-//  - BlockRig       the sources (device, simulated arm, OSC, left arm) and the idle clock;
+//                   the control step may point at (unset by stop() before they go);
+//  - BlockControl   the block clock: the step on the 200 Hz grid, the mapping's outputs;
+//  - BlockRig       the sources (device, simulated arm, OSC, the left arm's sender) and the idle clock;
 //  - TactorRig      the Tactors bus and the app's tactor output;
-//  - NavigationRig  a walk's route and position source (its link rides in the engine request);
 //  - MappingSession the mapping set on the message thread;
 //  - StageSession   its OSC thread calls into the stage;
 //  - the web page   last, so it goes first (BlockWebView and a web::WebServer, on while the front
@@ -33,6 +30,7 @@
 #include "Live/Session/BlockControl.h"
 #include "Live/Session/BlockRig.h"
 #include "Live/Session/BlockWebView.h"
+#include "Live/Session/Instrument.h"
 #include "Live/Step/ControlLoop.h"
 #include "Live/Step/ControlToken.h"
 #include "Live/Outputs/MappingSession.h"
@@ -101,20 +99,23 @@ public:
     /// Message thread, a few times a second while on: the status only it may read.
     void refreshWeb(const std::string& scene);
 
-    ControlLoop& loop() noexcept { return loop_; }
+    /// The core every clock shares (Instrument.h).
+    Instrument& instrument() noexcept { return instrument_; }
+    const Instrument& instrument() const noexcept { return instrument_; }
+    ControlLoop& loop() noexcept { return instrument_.loop(); }
     ControlToken& token() noexcept { return token_; }
     BlockRig& rig() noexcept { return rig_; }
     const BlockRig& rig() const noexcept { return rig_; }
-    Stage& stage() noexcept { return stage_; }
-    const Stage& stage() const noexcept { return stage_; }
+    Stage& stage() noexcept { return instrument_.stage(); }
+    const Stage& stage() const noexcept { return instrument_.stage(); }
     StageSession& stageSession() noexcept { return stageSession_; }
     const StageSession& stageSession() const noexcept { return stageSession_; }
     TactorRig& tactorRig() noexcept { return tactorRig_; }
-    navigation::NavigationRig& navigation() noexcept { return navigation_; }
-    const navigation::NavigationRig& navigation() const noexcept { return navigation_; }
+    navigation::NavigationRig& navigation() noexcept { return instrument_.navigation(); }
+    const navigation::NavigationRig& navigation() const noexcept { return instrument_.navigation(); }
     MappingSession& mapping() noexcept { return mapping_; }
-    MessagesRig& messages() noexcept { return messages_; }
-    const MessagesRig& messages() const noexcept { return messages_; }
+    MessagesRig& messages() noexcept { return instrument_.messages(); }
+    const MessagesRig& messages() const noexcept { return instrument_.messages(); }
 
     /// Messages on the arm (message thread): started with these settings ("" or why not) or
     /// stopped; the mapping's `mqtt` destinations publish through the running service.
@@ -139,19 +140,16 @@ public:
 private:
     static tactile::TactileConfig feedbackConfig();
 
-    MessagesRig messages_;
-    ControlLoop loop_;
+    Instrument instrument_;
     ControlToken token_;
     link::LevelSchedule motors_;
     procedures::TouchTest touchTest_;
     access::TactilePlayer feedbackPlayer_;   // all 12 motors: the tactor tests reach the back motors
     procedures::AdaptiveTraining adaptive_;  // plays through feedbackPlayer_
-    Stage stage_;
     BlockControl control_;
     BlockControl::Listen listen_ {};
     BlockRig rig_;
     TactorRig tactorRig_;
-    navigation::NavigationRig navigation_;
     MappingSession mapping_;
     StageSession stageSession_;
     std::unique_ptr<BlockWebView> webView_;

@@ -15,9 +15,10 @@ namespace {
 constexpr int kClockPriority = 18;
 } // namespace
 
-BlockRig::BlockRig(ControlLoop& loop, BlockControl& control, link::LevelSchedule& motors)
-    : loop_(loop), control_(control), oscIn_(loop.input(SourceKind::Osc)), leftOscIn_(leftArm_.input()),
-      device_(std::make_unique<DeviceConnection>(loop.input(SourceKind::Device), motors))
+BlockRig::BlockRig(Instrument& instrument, BlockControl& control, link::LevelSchedule& motors)
+    : loop_(instrument.loop()), control_(control), oscIn_(loop_.input(SourceKind::Osc), instrument.source(Instrument::Feed::Osc)),
+      leftArm_(instrument.leftArm()), leftOscIn_(leftArm_.input(), instrument.source(Instrument::Feed::Left)),
+      device_(std::make_unique<DeviceConnection>(loop_.input(SourceKind::Device), motors, instrument.source(Instrument::Feed::Device)))
 {
 }
 

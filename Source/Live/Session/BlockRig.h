@@ -41,7 +41,9 @@ namespace armadillo::live {
 
 class BlockRig {
 public:
-    BlockRig(ControlLoop& loop, BlockControl& control, link::LevelSchedule& motors);
+    /// The sources of `instrument` (Instrument.h: its mailboxes, its left arm and the slots its
+    /// sources are kept in, all of which outlive this rig) on the block clock `control`.
+    BlockRig(Instrument& instrument, BlockControl& control, link::LevelSchedule& motors);
     ~BlockRig();   // stops the clock, then the device link (its last packet is all-off)
 
     /// Before start(): called on the control clock after every tick (the front end's own
@@ -118,7 +120,7 @@ private:
     link::SteerableArm simulator_;
     OscOutput oscOut_;
     OscInput oscIn_;
-    LeftArm leftArm_;                  // before leftOscIn_: its mailbox outlives the receiver
+    LeftArm& leftArm_;                 // the instrument's: its mailbox outlives the receiver
     OscInput leftOscIn_;
     std::mutex mappingOscMutex_;       // mapping OSC senders: message ↔ clock thread only
     std::vector<std::unique_ptr<osc::OscSender>> mappingOsc_;

@@ -103,7 +103,7 @@ void LiveSession::buildEngine()
         // The loop's engine hears both arms (Engine::control(right, left, …)); with a set list
         // every cue's engine does.
         config_.engine.twoArms = config_.setList.empty();
-        leftArm_ = std::make_unique<live::LeftArm>();   // the block clock's left arm, on from the start
+        leftArm_ = &instrument_.leftArm();   // the instrument's left arm, on from the start
         leftArm_->setOn(true);
     }
     if (!config_.setList.empty()) {   // every cue prepared now; the loop's own engine only tracks the arm
@@ -117,7 +117,7 @@ void LiveSession::buildEngine()
         auto slot = std::make_unique<live::EngineSlot>();
         if (config_.walk.route) {   // the walk's position source now (IoError: gpsd not reachable, the port taken)
             if (twoArms || cues_) throw core::InputError("", 0, "", "scene '" + config_.engine.scene + "' plays alone: not with a set list or two arms");
-            navigation_ = std::make_unique<navigation::NavigationRig>();
+            navigation_ = &instrument_.navigation();
             navigation_->open(config_.walk.route, config_.walk.positions, config_.walk.where);
         }
         slot->engine = navigation_ ? std::make_unique<engine::Engine>(config_.engine, navigation::makeNavigationScene(*navigation_->route(), navigation_->link(),
@@ -133,7 +133,7 @@ void LiveSession::buildEngine()
 void LiveSession::openMessagesAndMapping()
 {
     if (config_.messages.on) {   // InputError for a bad configuration; nothing connects before start()
-        messages_ = openMessageSource(config_.messages.config, config_.messages.options);
+        messages_ = &instrument_.messages().open(config_.messages.config, config_.messages.options);   // through the registry
         messageScene_ = dynamic_cast<braille::BrailleSceneControls*>(&loopEngine().scene());
         if (showsMessages() && !messageScene_) throw core::InputError("--messages", 0, "", "messages are read in Arm Braille: use the braille scene");
     }
@@ -182,7 +182,7 @@ void LiveSession::openRightSource()
         d.link = config_.link;
         h.onPacket = [this](const link::SensorCounts& counts, double t) { return control(t, &counts, nullptr, nullptr); };
     }
-    right_ = openArmSource(d, std::move(h));
+    right_ = &instrument_.source(sourceKind_ == live::SourceKind::Osc ? Instrument::Feed::Osc : Instrument::Feed::Device).open(d, std::move(h));
     link_ = right_->link();
     oscIn_ = right_->osc();
     if (oscIn_ && navigation_ && navigation_->datagramTap()) oscIn_->setDatagramTap(navigation_->datagramTap());   // a phone's gps on the arm's port
@@ -213,7 +213,7 @@ void LiveSession::openLeftArm()
             return leftLevels_.load();
         };
     }
-    left_ = openArmSource(d, std::move(h));   // IoError when a port is missing or taken
+    left_ = &instrument_.source(Instrument::Feed::Left).open(d, std::move(h));   // IoError when a port is missing or taken
     leftLink_ = left_->link();
     leftOscIn_ = left_->osc();
     if (!config_.armsLog.empty())
@@ -369,14 +369,11 @@ core::MotorLevels LiveSession::control(double t, const link::SensorCounts* count
     }
     // The stage first (Live/Stage/Stage.h): cue requests, panic and resume from every place that makes
     // them (keys, the control port, the mapping), applied at this step as the plugin's block does.
-    runner_.beginStage();
-    // The left arm: its samples since the last step through its own tracker (live::LeftArm, as
-    // the block clock's), or null with one arm.
-    const core::ArmState* leftArm = leftArm_ ? leftArm_->fuse() : nullptr;
-    if (leftArm != nullptr && leftArm->valid) leftPose_.store(leftArm->features.pose);
+    // A panic that starts silences what the mapping sent: its sounding notes end and CC 120 +
+    // CC 123 go out on all 16 channels, and it sends nothing more until resume (Instrument.h).
+    if (instrument_.beginStage().silenceMapping && mapping_) mapping_->panic(t);
     live::ControlStep step;
     step.source = sourceKind_;
-    step.leftArm = leftArm;
     step.transport.valid = true;
     step.transport.playing = true;
     step.transport.seconds = t;
@@ -384,9 +381,15 @@ core::MotorLevels LiveSession::control(double t, const link::SensorCounts* count
     step.transport.ppq = t * config_.bpm / 60.0;
     step.dt = dt;
     step.panicGesture = config_.panicGesture;
-    // The stage's cues and panic; a gesture panic is the stage's too, held until resume.
-    const live::ControlResult result = runner_.step(step);
-    if (result.swapped && !cues_) engine_.store(runner_.running(), std::memory_order_release);   // a scene change took over
+    // The instrument's step: the left arm (its samples since the last step through its own
+    // tracker, or none with one arm), the stage's cues and panic (a gesture panic is the stage's
+    // too, held until resume), and what the step leaves for the rest (the status, the web page,
+    // Pure Data): the frame with the levels that went out, and the scene's gestures.
+    const Instrument::Stepped stepped = instrument_.step(step, t, true);
+    const live::ControlResult& result = stepped.result;
+    const core::ArmState* leftArm = stepped.leftArm;
+    if (leftArm != nullptr && leftArm->valid) leftPose_.store(leftArm->features.pose);
+    if (result.swapped && !cues_) engine_.store(instrument_.runner().running(), std::memory_order_release);   // a scene change took over
     const core::ArmState& arm = result.arm;
     const core::MotorLevels levels = result.levels;
     if (leftArm != nullptr) {
@@ -400,9 +403,6 @@ core::MotorLevels LiveSession::control(double t, const link::SensorCounts* count
             armsLog_->push(row);
         }
     }
-    // What the step leaves for the rest (the status, the web page, Pure Data): the frame with the
-    // levels that went out, and the scene's gestures (Live/Outputs/StepPublisher.h, as the block clock's).
-    published_.publish(StepPublisher::frameOf(t, arm, &levels, config_.engine.motorCount), engine());
     if (tactors_) tactors_->push(t, levels);   // the same levels as the device's packet, at once
 
     if (log_) {
@@ -443,15 +443,9 @@ core::MotorLevels LiveSession::control(double t, const link::SensorCounts* count
     }
     if (oscOut_)
         for (int i = 0; i < published_.stepGestureCount(); ++i) oscOut_->sendGesture(published_.stepGestures()[i].name);
-    // A panic (a command, a key, the gesture) also silences what the mapping sent, as the plugin
-    // does: its sounding notes end and CC 120 + CC 123 go out on all 16 channels as it starts,
-    // and the mapping sends nothing more until resume.
-    const bool panicNow = runner_.panicked() || result.gesturePanic;
-    if (mapping_ && panicNow && !mappingPanicked_) mapping_->panic(t);
-    mappingPanicked_ = panicNow;
+    if (stepped.silenceMapping && mapping_) mapping_->panic(t);   // the panic gesture at this step
     // In panic only the stage-command mappings run (a mapped resume), nothing else is sent.
-    if (mapping_ && result.ran)
-        mapping_->step(t, arm, leftArm, published_.stepGestures(), published_.stepGestureCount(), engine(), panicNow);
+    if (mapping_ && result.ran) mapping_->step(instrument_.mappingInput(stepped, t), engine());
     return levels;
 }
 

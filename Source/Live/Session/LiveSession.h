@@ -28,6 +28,7 @@
 #include "Live/Stage/SetList.h"
 #include "Live/Stage/Stage.h"
 #include "Live/Step/StepRunner.h"
+#include "Live/Session/Instrument.h"
 #include "Live/Outputs/StepPublisher.h"
 #include "Live/Outputs/TactorOutput.h"
 #include "Web/WebServer.h"
@@ -230,7 +231,7 @@ public:
     void holdScene(const std::string& why);
     /// A guided procedure's player has the motors instead of the scene from the next step on
     /// (live::StepRunner::setStimulus; never during a panic); nullptr gives them back. Any thread.
-    void setStimulus(access::TactilePlayer* player) noexcept { runner_.setStimulus(player); }
+    void setStimulus(access::TactilePlayer* player) noexcept { instrument_.runner().setStimulus(player); }
     /// Whether the session drives motors: a device or the simulated forearm, or a tactor output.
     bool hasMotors() const noexcept { return link_ != nullptr || tactors_ != nullptr; }
     /// Two arms: the left arm's link (null with one arm) and its latest pose (any thread).
@@ -291,7 +292,7 @@ public:
     std::string messagesJson() const;
     /// The walk (LiveConfig::walk): its route, status, log (drained by one front-end thread) and
     /// position source; null without one.
-    navigation::NavigationRig* navigation() noexcept { return navigation_.get(); }
+    navigation::NavigationRig* navigation() noexcept { return navigation_; }
     /// The tactor output (null without LiveConfig::tactors.device): for tests and benchmarks.
     live::TactorOutput* tactors() noexcept { return tactors_.get(); }
     /// The recording (LiveConfig::audioIn) has been played to its end (never with audioInLoop or
@@ -322,11 +323,14 @@ private:
     void audioLoop();
 
     LiveConfig config_;
-    std::unique_ptr<navigation::NavigationRig> navigation_;   // before loop_: the scene reads its link until the engine goes
-    std::unique_ptr<mqtt::MessageService> messages_;           // before loop_: the braille scene holds the messages it was handed
+    // The core every clock shares (Instrument.h): messages, navigation, the loop, the stage, the
+    // left arm, the one step and its publisher. First, so it goes last: everything below reads it.
+    live::Instrument instrument_;
+    navigation::NavigationRig* navigation_ = nullptr;         // instrument_'s while a walk runs (null: none)
+    mqtt::MessageService* messages_ = nullptr;                 // instrument_'s service (null: no messages)
     braille::BrailleSceneControls* messageScene_ = nullptr;    // the scene the messages are shown on (null: none)
     static bool publishMapped(void* self, const mapping::MqttMessage& message);
-    live::ControlLoop loop_;            // the control step: mailbox → fusion → Engine::control (owns the engine)
+    live::ControlLoop& loop_ = instrument_.loop();   // the control step: mailbox → fusion → Engine::control (owns the engine)
     live::SourceKind sourceKind_ = live::SourceKind::Device;
     // The loop's engine: the control thread stores the new one when a scene change took over
     // (chooseScene); the audio, main and web threads read it. Engines given up stay alive in
@@ -337,24 +341,22 @@ private:
     std::mutex sceneMutex_;                                        // chooseScene, holdScene (builder side of loop_)
     std::vector<std::unique_ptr<live::EngineSlot>> retiredEngines_;
     std::string sceneHeld_;                                         // why the scene may not change ("" = it may)
-    live::Stage stage_;                 // the set list's player, panic and resume (one switch: Stage::apply)
-    live::StepRunner runner_ {loop_, &stage_};   // the one control step (Live/Step/StepRunner.h)
+    live::Stage& stage_ = instrument_.stage();   // the set list's player, panic and resume (one switch: Stage::apply)
     live::CuePlayer* cues_ = nullptr;   // stage_'s player, installed at construction, never replaced (null: none)
-    bool mappingPanicked_ = false;      // control thread: the mapping's panic MIDI went out for this panic
     std::atomic<std::uint32_t> mappingPanics_ {0};
     /// The mapping's stage commands (control thread, real-time): as `play`'s keys and OSC do.
     static void applyStage(void* self, const mapping::StageEvent& event) noexcept;
     // Two arms: the left arm's source and link; its calibrated samples reach the control thread
     // through a mailbox, where its own tracker fuses them; the two-arm engine plays both.
-    std::unique_ptr<live::LeftArm> leftArm_;      // before left_: its mailbox outlives the source (null: one arm)
-    std::unique_ptr<live::ArmSource> left_;       // opened through the registry (Live/Sources/SourceRegistry.h)
+    live::LeftArm* leftArm_ = nullptr;            // instrument_'s, on with two arms (null: one arm)
+    live::ArmSource* left_ = nullptr;             // in instrument_'s Left slot, opened through the registry (Live/Sources/SourceRegistry.h)
     link::DeviceLink* leftLink_ = nullptr;        // left_'s link (a forearm) or
     osc::OscReceiver* leftOscIn_ = nullptr;       // its OSC receiver (a sender)
     core::SeqLock<core::MotorLevels> leftLevels_;
     core::SeqLock<core::Pose> leftPose_;
     std::unique_ptr<StreamingCsvWriter> armsLog_;
     engine::Engine& sounding() noexcept { return cues_ ? cues_->engine(cues_->current()) : loopEngine(); }
-    std::unique_ptr<live::ArmSource> right_;      // the right arm, opened through the registry
+    live::ArmSource* right_ = nullptr;            // the right arm, in instrument_'s Device or Osc slot
     link::DeviceLink* link_ = nullptr;            // right_'s link (a forearm) or
     osc::OscReceiver* oscIn_ = nullptr;           // its OSC receiver (a sender)
     std::unique_ptr<osc::OscSender> oscOut_;
@@ -379,7 +381,7 @@ private:
     std::atomic<bool> motorsOff_ {false};
     std::atomic<std::uint64_t> zeroPacketsSent_ {0};
     std::atomic<double> zeroPacketT_ {-1.0};   ///< source time of the first all-off packet answered at stop()
-    StepPublisher published_;                              // the frame and gestures of each step
+    StepPublisher& published_ = instrument_.published();   // the frame and gestures of each step
     double lastT_ = -1.0;
     core::GapDetector sourceGaps_;                         // control thread: gaps of a source without a link (OSC)
     std::atomic<std::uint64_t> oscGaps_ {0};

@@ -9,8 +9,8 @@
 
 namespace armadillo::live {
 
-DeviceConnection::DeviceConnection(LiveInput& input, link::LevelSchedule& motors)
-    : input_(input), motors_(motors), calibration_(link::defaultCalibration())
+DeviceConnection::DeviceConnection(LiveInput& input, link::LevelSchedule& motors, ArmSourceSlot& slot)
+    : input_(input), motors_(motors), calibration_(link::defaultCalibration()), source_(slot)
 {
 }
 
@@ -101,14 +101,13 @@ bool DeviceConnection::connect(const std::string& port, int baud, const std::str
             lastPacketAt_ = now;
             return packetSafety_.process(due, held);
         };
-        source_ = openArmSource(description, std::move(handlers));   // the simulated forearm starts here
-        link_ = source_->link();
+        link_ = source_.open(description, std::move(handlers)).link();   // the simulated forearm starts here
         if (sentLog_) link_->enableSentLog();
         linkEpoch_ = core::monotonicSeconds();
         source_->start();
     } catch (const std::exception& e) {
         link_ = nullptr;
-        source_.reset();   // stops the simulated forearm
+        source_.close();   // stops the simulated forearm
         claim_.reset();
         message += std::string("Cannot open ") + port + ": " + e.what();
         return false;
@@ -120,9 +119,9 @@ bool DeviceConnection::connect(const std::string& port, int baud, const std::str
 void DeviceConnection::disconnect()
 {
     if (calibrationSession_.running()) calibrationSession_.cancel("the device was disconnected");
-    if (source_ != nullptr) source_->stop();   // no motor packet leaves after this; then the simulated forearm stops
+    if (ArmSource* source = source_.get()) source->stop();   // no motor packet leaves after this; then the simulated forearm stops
     link_ = nullptr;
-    source_.reset();
+    source_.close();
     claim_.reset();
 }
 

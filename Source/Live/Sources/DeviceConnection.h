@@ -33,7 +33,8 @@ public:
     static constexpr int kLinkPriority = 20;
 
     /// `motors`: the control steps' stamped levels; this connection's link thread is its consumer.
-    DeviceConnection(LiveInput& input, link::LevelSchedule& motors);
+    /// `slot`: where the instrument keeps this forearm's source (Instrument.h).
+    DeviceConnection(LiveInput& input, link::LevelSchedule& motors, ArmSourceSlot& slot);
     ~DeviceConnection();
 
     /// Message thread. Returns false with `message` saying why (port owned elsewhere, cannot open…).
@@ -95,7 +96,7 @@ private:
     std::atomic<std::uint64_t> linkGeneration_ {0};
     procedures::DeviceCalibration calibrationSession_;
     std::unique_ptr<PortClaim> claim_;
-    std::unique_ptr<ArmSource> source_;      // the forearm, opened through the registry (SourceRegistry.h)
+    ArmSourceSlot& source_;                  // the forearm, opened through the registry into the instrument's slot
     link::DeviceLink* link_ = nullptr;       // source_'s link (null when not open)
 };
 

@@ -50,7 +50,7 @@ std::uint64_t OscOutput::messagesSent() const
 OscInput::~OscInput()
 {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (source_ != nullptr) source_->stop();
+    source_.close();
 }
 
 bool OscInput::configure(bool enabled, int port, std::string& whyNot, const osc::OscInputOptions& options)
@@ -60,8 +60,7 @@ bool OscInput::configure(bool enabled, int port, std::string& whyNot, const osc:
     const bool sameOptions = openFormat_ == options.format && openMountGiven_ == options.mountGiven
                              && (! options.mountGiven || openMount_.isApprox(options.mount.rotation));
     if (enabled && receiver_ != nullptr && openPort_ == port && sameOptions) return true;
-    if (source_ != nullptr) source_->stop();
-    source_.reset();
+    source_.close();
     receiver_ = nullptr;
     openPort_ = 0;
     if (! enabled) return true;
@@ -81,12 +80,11 @@ bool OscInput::configure(bool enabled, int port, std::string& whyNot, const osc:
         ArmSourceHandlers handlers;
         handlers.onImu = [this](const core::ImuSample& s) { live_.pushImu(s); };
         handlers.onOrientation = [this](double t, const Eigen::Quaterniond& q) { live_.storeOrientation(t, q); };
-        source_ = openArmSource(description, std::move(handlers));   // IoError when the port is taken
-        receiver_ = source_->osc();
+        receiver_ = source_.open(description, std::move(handlers)).osc();   // IoError when the port is taken
         receiver_->merger().enableSensorTap(tapOn_);
         source_->start();
     } catch (const std::exception& e) {
-        source_.reset();
+        source_.close();
         receiver_ = nullptr;
         whyNot = e.what();
         return false;

@@ -35,7 +35,8 @@ class OscInput {
 public:
     /// SCHED_FIFO priority of the receiving thread (one below the device link's, DeviceConnection).
     static constexpr int kReceiverPriority = 19;
-    explicit OscInput(live::LiveInput& live) : live_(live) {}
+    /// `live` the mailbox it fills; `slot` where the instrument keeps its source (Instrument.h).
+    OscInput(live::LiveInput& live, ArmSourceSlot& slot) : live_(live), source_(slot) {}
     ~OscInput();
     /// Message thread. Opens (or closes with enabled = false) the UDP port; `options` force a
     /// format and/or give a mount (default: detect, and the detected format's usual mount).
@@ -57,7 +58,7 @@ public:
 private:
     live::LiveInput& live_;
     mutable std::mutex mutex_;
-    std::unique_ptr<ArmSource> source_;        // the sender's port, opened through the registry (SourceRegistry.h)
+    ArmSourceSlot& source_;                    // the sender's port, opened through the registry into the instrument's slot
     osc::OscReceiver* receiver_ = nullptr;     // source_'s receiver (null when off)
     int openPort_ = 0;
     osc::OscFormat openFormat_ = osc::OscFormat::Auto;

@@ -46,6 +46,19 @@ void ArmSource::stop()
     if (simulator_) simulator_->stop();
 }
 
+ArmSource& ArmSourceSlot::open(const ArmSourceDescription& description, ArmSourceHandlers handlers)
+{
+    close();
+    source_ = openArmSource(description, std::move(handlers));
+    return *source_;
+}
+
+void ArmSourceSlot::close() noexcept
+{
+    if (source_ != nullptr) source_->stop();
+    source_.reset();
+}
+
 std::unique_ptr<ArmSource> openArmSource(const ArmSourceDescription& description, ArmSourceHandlers handlers)
 {
     std::unique_ptr<ArmSource> source(new ArmSource());

@@ -122,6 +122,32 @@ private:
 /// (a missing serial port with openNow, a UDP port taken), InputError for a bad description.
 std::unique_ptr<ArmSource> openArmSource(const ArmSourceDescription& description, ArmSourceHandlers handlers);
 
+/// Where the instrument keeps one arm source (Live/Session/Instrument.h holds them: the right
+/// arm's forearm and OSC sender, the left arm's): whoever drives that source — LiveSession from
+/// its description, the block clock's DeviceConnection and OscInput as the user chooses — opens
+/// it here through the registry and closes it here; the instrument closes what is still open
+/// before the mailboxes the sources write. One thread at a time (the one that opens it).
+class ArmSourceSlot {
+public:
+    ArmSourceSlot() = default;
+    ~ArmSourceSlot() { close(); }
+    ArmSourceSlot(const ArmSourceSlot&) = delete;
+    ArmSourceSlot& operator=(const ArmSourceSlot&) = delete;
+
+    /// Opens the source `description` names (the one open before is closed first), not started:
+    /// openArmSource's errors.
+    ArmSource& open(const ArmSourceDescription& description, ArmSourceHandlers handlers);
+    /// Stops the source (its reader first: no motor packet leaves after this) and deletes it.
+    void close() noexcept;
+    ArmSource* get() noexcept { return source_.get(); }
+    const ArmSource* get() const noexcept { return source_.get(); }
+    explicit operator bool() const noexcept { return source_ != nullptr; }
+    ArmSource* operator->() noexcept { return source_.get(); }
+
+private:
+    std::unique_ptr<ArmSource> source_;
+};
+
 /// The messages read on the arm: the MQTT client, its inbox and presenter, not yet connected
 /// (start() connects; a broker that is down is no error, it keeps trying). InputError for a bad
 /// configuration.

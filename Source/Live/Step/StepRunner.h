@@ -4,10 +4,11 @@
 // choice, bounded fusion of both arms, the scene's parameters, Engine::control or a set list's
 // cues, the panic gesture; and a stimulus that has the motors instead of the scene (a guided
 // procedure: the sensitivity test, the adaptive training), silenced by a panic as the scene is.
-// Every clock drives it: `play`, `read` and `navigate` once per sensor
-// packet (LiveSession), the app and the plugin at their audio blocks' 200 Hz grid or the idle
-// clock (BlockControl). What a clock does with a step's levels, frame, gestures and mapping is
-// its own; the step itself, and how panic and resume reach the engine and the cues, is here once.
+// The instrument's core (Live/Session/Instrument.h) holds the one runner, and every clock drives
+// it through that core: `play`, `read` and `navigate` once per sensor packet (LiveSession), the
+// app and the plugin at their audio blocks' 200 Hz grid or the idle clock (BlockControl). The
+// step itself, and how panic and resume reach the engine and the cues, is here once; what
+// follows it for every clock (the frame, the mapping's view, its panic) is the core's.
 //
 // Threads: one control thread at a time (the source's thread, or the control-token holder):
 // beginStage() and step() are real-time (no allocation, lock, I/O or throw). The stage's commands
@@ -23,8 +24,6 @@ class StepRunner {
 public:
     /// `stage` may be null (no stage commands: a bare loop in a test).
     StepRunner(ControlLoop& loop, Stage* stage) noexcept : loop_(loop), stage_(stage) {}
-    /// Before the control side runs: the stage (a front end that gets it later).
-    void setStage(Stage* stage) noexcept { stage_ = stage; }
     /// Control side, with nothing running: the set list's player is taken again at the next
     /// beginStage() (the stage may have replaced it while the audio was stopped).
     void forgetCues() noexcept { cues_ = nullptr; }
