@@ -18,12 +18,11 @@ Instrument::Begun Instrument::beginStage() noexcept
 
 Instrument::Stepped Instrument::step(ControlStep s, double t, bool levelsOut) noexcept
 {
-    Stepped out;
     s.leftArm = leftArm_.fuse();   // null while the left arm is off (one arm)
-    out.leftArm = s.leftArm;
     // The stage's cues and panic; the panic gesture (docs/STAGE.md) panics the stage too, held
-    // until resume as a command's panic is (StepRunner.h).
-    out.result = runner_.step(s);
+    // until resume as a command's panic is (StepRunner.h). The result is built in place: a
+    // default ArmState costs a rest orientation (sines and cosines) that would be thrown away.
+    Stepped out {runner_.step(s), s.leftArm};
     out.panicked = runner_.panicked() || out.result.gesturePanic;
     if (out.panicked && !mappingSilenced_) out.silenceMapping = true;
     mappingSilenced_ = out.panicked;
