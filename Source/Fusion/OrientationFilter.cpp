@@ -40,6 +40,10 @@ const NumericParameter kNumeric[] = {
         {"gravityNoise", [](Params& p) -> double& { return p.gravityNoise; }},
         {"youngAverageVelocity", [](Params& p) -> double& { return p.youngAverageVelocity; }},
         {"youngMaxVelocity", [](Params& p) -> double& { return p.youngMaxVelocity; }},
+        {"youngMotionTime", [](Params& p) -> double& { return p.youngMotionTime; }},
+        {"youngSpreadFloor", [](Params& p) -> double& { return p.youngSpreadFloor; }},
+        {"reacquireRepeat", [](Params& p) -> double& { return p.reacquireRepeat; }},
+        {"rangeTau", [](Params& p) -> double& { return p.rangeTau; }},
         {"leverArmTau", [](Params& p) -> double& { return p.leverArmTau; }},
         {"leverArmPrior", [](Params& p) -> double& { return p.leverArmPrior; }},
         {"hardIronTau", [](Params& p) -> double& { return p.hardIronTau; }},
@@ -81,6 +85,7 @@ const BoolParameter kBool[] = {
         {"useMagnetometer", [](Params& p) -> bool& { return p.useMagnetometer; }},
         {"reacquireFieldVector", [](Params& p) -> bool& { return p.reacquireFieldVector; }},
         {"acquireFieldVector", [](Params& p) -> bool& { return p.acquireFieldVector; }},
+        {"youngCorrelated", [](Params& p) -> bool& { return p.youngCorrelated; }},
         {"gyroCoversPrecedingInterval", [](Params& p) -> bool& { return p.gyroCoversPrecedingInterval; }},
 };
 } // namespace
@@ -162,6 +167,9 @@ void OrientationFilter::reset()
     hardIronM_.setZero();
     leverH_.setZero();
     leverY_.setZero();
+    rangeW_ = 0.0;
+    rangeR_.setZero();
+    rangeAtGap_ = 1e9;
     magAverageInertial_.setConstant(core::kNaN);
     initialised_ = false;
     skipped_ = 0;
@@ -259,6 +267,17 @@ void OrientationFilter::reacquire(const core::ImuSample& s, double gap)
     gapLength_ = gap;
     rateBeforeGap_ = x.rate.allFinite() ? x.rate.norm() : 0.0;
     reacquireTurn_ = 0.0;
+    // The range the arm has been moving in: E[cos θ] of its orientations about their mean from the
+    // mean rotation matrix's singular values (sign of the smallest from the determinant), θ_rms ≈
+    // √(2(1 − E cos θ)); two orientations of that range are √2 × θ_rms apart.
+    rangeAtGap_ = 1e9;
+    if (params_.rangeTau > 0.0 && rangeW_ > 0.5) {
+        const Eigen::JacobiSVD<Eigen::Matrix3d> svd(rangeR_ / rangeW_, Eigen::ComputeFullU | Eigen::ComputeFullV);
+        Eigen::Vector3d sv = svd.singularValues();
+        if ((svd.matrixU() * svd.matrixV().transpose()).determinant() < 0.0) sv(2) = -sv(2);
+        const double c = std::clamp(0.5 * (sv.sum() - 1.0), -1.0, 1.0);
+        rangeAtGap_ = 2.0 * std::sqrt(1.0 - c);
+    }
     // With the joint step the orientation before the gap is its prior, kept unlevelled (one sample
     // of a moving arm can carry g of linear acceleration in any direction within the tolerance).
     const bool step = params_.reacquireWindow > 0.0 && params_.reacquireFieldVector;
@@ -271,6 +290,7 @@ void OrientationFilter::reacquire(const core::ImuSample& s, double gap)
     ++recovery_.reacquired;
     acquireStartT_ = s.t;
     reacquirePending_ = params_.reacquireWindow > 0.0;
+    reacquireNextAge_ = params_.reacquireWindow;
     afterGap_ = true;
     reacquireStartT_ = s.t;
     reacquireSamples_ = reacquireFieldSamples_ = 0;
@@ -283,6 +303,8 @@ void OrientationFilter::restartInertialFrame()
     inertial_ = ukf_.state().q;
     accelAverageStartT_ = lastT_;
     youngDv_ = 0.0;
+    youngSum_.setZero();
+    youngSumSq_ = youngN_ = 0.0;
     accelLowPass_.reset();
     magLowPass_.reset();
     magFastLowPass_.reset();
@@ -365,7 +387,7 @@ void OrientationFilter::reacquireStepJoint(const Eigen::Vector3d& up, const Eige
     const double young = youngVelocity() / (core::kStandardGravity * T);
     const double gravityVar = params_.gravityNoise * params_.gravityNoise + young * young;
     const double rate = std::max(rateBeforeGap_, reacquireTurn_ / T);
-    const double priorStd = std::max(rate * gapLength_, params_.gravityNoise);
+    const double priorStd = std::max(std::min(rate * gapLength_, rangeAtGap_), params_.gravityNoise);
     const Eigen::Quaterniond prior = inertial_;
     Eigen::Matrix3d B = Eigen::Matrix3d::Zero();
     Eigen::Matrix3d info = Eigen::Matrix3d::Identity() / (priorStd * priorStd);
@@ -445,6 +467,11 @@ void OrientationFilter::setupLowPass(double dt)
 
 double OrientationFilter::youngVelocity() const
 {
+    if (params_.youngMotionTime > 0.0 && afterGap_) {
+        const double var = youngN_ > 1.0 ? std::max(0.0, youngSumSq_ / youngN_ - (youngSum_ / youngN_).squaredNorm()) : 0.0;
+        return std::clamp(std::sqrt(var) * params_.youngMotionTime, params_.youngSpreadFloor,
+                          std::max(params_.youngSpreadFloor, params_.youngMaxVelocity));
+    }
     return std::max(params_.youngAverageVelocity, std::min(youngDv_, params_.youngMaxVelocity));
 }
 
@@ -506,7 +533,11 @@ void OrientationFilter::updateGravity(const Eigen::Vector3d& accel, double rawNo
     // The low-passed direction is gravity plus the velocity change over its window divided by the
     // window: right after a restart (start-up, gap) the window is short and a moving arm's Δv/T is
     // tens of degrees, so the young average is trusted as little as that (issue 36).
-    const double young = youngVelocity() / (core::kStandardGravity * std::max(lastT_ - accelAverageStartT_, dt));
+    const double age = std::max(lastT_ - accelAverageStartT_, dt);
+    double young = youngVelocity() / (core::kStandardGravity * age);
+    // After a gap, the young average's error is one error for as long as it lasts (youngCorrelated).
+    if (params_.youngCorrelated && params_.youngMotionTime > 0.0 && afterGap_ && age < params_.accelFilterTau)
+        young *= std::sqrt(std::max(1.0, std::min(age, params_.youngMotionTime) / dt));
     const double base = params_.gravityNoise * (1.0 + params_.gravityNormGain * deviation);
     const double sd = std::sqrt(base * base + young * young + extraStd * extraStd);
     ukf_.update<3, 3>(upDevice, GravityObservation {}, Eigen::Vector3d::Constant(sd), params_.gravityNisLimit);
@@ -664,6 +695,11 @@ void OrientationFilter::update(const core::ImuSample& s)
         }
     }
     lastGyro_ = s.gyro;
+    if (params_.rangeTau > 0.0 && acquiring() <= 0.0 && !gap) {
+        const double k = std::min(1.0, dt / params_.rangeTau);
+        rangeW_ += k * (1.0 - rangeW_);
+        rangeR_ += k * (ukf_.state().q.toRotationMatrix() - rangeR_);
+    }
     setupLowPass(dt);
     if (rest) {
         Eigen::Matrix<double, 3, kAttDim> biasH = Eigen::Matrix<double, 3, kAttDim>::Zero();
@@ -675,8 +711,14 @@ void OrientationFilter::update(const core::ImuSample& s)
     const Eigen::Vector3d accel = withoutTurnAcceleration(s, dt, shock > 0.0 || gap);
     const double accelNorm = accel.norm();
     if (youngDv_ < params_.youngMaxVelocity) youngDv_ += std::abs(accelNorm - core::kStandardGravity) * dt;
-    const Eigen::Vector3d accelSmooth =
-        quat::rotateInverse(inertial_, accelLowPass_.filter(quat::rotate(inertial_, accel)));
+    const Eigen::Vector3d accelInertial = quat::rotate(inertial_, accel);
+    if (params_.youngMotionTime > 0.0 && afterGap_ && lastT_ - accelAverageStartT_ < params_.accelFilterTau) {
+        // The young average's samples' spread about their mean (youngVelocity).
+        youngSum_ += accelInertial;
+        youngSumSq_ += accelInertial.squaredNorm();
+        youngN_ += 1.0;
+    }
+    const Eigen::Vector3d accelSmooth = quat::rotateInverse(inertial_, accelLowPass_.filter(accelInertial));
     Eigen::Vector3d inertialMag, magFast;
     if (fieldTrusted) {
         inertialMag = quat::rotate(inertial_, withoutHardIron(s.mag, dt, gap));
@@ -687,12 +729,14 @@ void OrientationFilter::update(const core::ImuSample& s)
         ++reacquireSamples_;
         if (fieldTrusted) ++reacquireFieldSamples_;
         reacquireTurn_ += (s.gyro - ukf_.state().bias).norm() * dt;
-        if (lastT_ - reacquireStartT_ >= params_.reacquireWindow) {
+        if (lastT_ - reacquireStartT_ >= reacquireNextAge_) {
             // The field's average counts if most of the window's samples were trusted.
             const bool field = 2 * reacquireFieldSamples_ > reacquireSamples_ && magAverageInertial_.allFinite();
             reacquireStep(accelSmooth, field ? quat::rotateInverse(inertial_, magAverageInertial_)
                                              : Eigen::Vector3d::Constant(core::kNaN));
-            reacquirePending_ = false;
+            // Again at reacquireRepeat × this age while acquiring (the averages have matured).
+            reacquireNextAge_ *= params_.reacquireRepeat;
+            reacquirePending_ = params_.reacquireRepeat > 1.0 && reacquireNextAge_ < params_.acquireTime;
         }
     }
     // While acquiring after a gap a trusted field is observed whole (below): it fixes the tilt

@@ -70,6 +70,22 @@ public:
                                               ///< seen since it restarted (∫ ||a| − g| dt), at least youngAverageVelocity
                                               ///< and at most this (issue 49: a translating arm's young average is
                                               ///< 30–150° off for half a second; 0.5 m/s says 29° at 0.1 s, 6° at 0.5 s)
+        /// s: the time scale of an arm's movement, 1/(2π · 1 Hz). After a gap the young average's Δv is its
+        /// samples' spread about their mean in the inertial frame (σ_a, the linear acceleration left after
+        /// the lever arm) times this: the velocity amplitude of a movement with that acceleration, at least
+        /// youngSpreadFloor, at most youngMaxVelocity (issue 49, third session: on the dev trials' 54 gaps
+        /// the young average's error is σ_a·(0.09–0.16 s)/(g·T) in the median at every age from 0.1 to 3 s,
+        /// log-correlation 0.8–0.9 in the first half second, against 0.2–0.65 for ∫ ||a| − g| dt, which
+        /// misses acceleration across gravity). 0: the ∫ ||a| − g| dt rule after gaps too. At start-up
+        /// the ∫ ||a| − g| dt rule stays (the start-up's acquisition was tuned with it; no prior to weigh).
+        double youngMotionTime = 0.159;
+        double youngSpreadFloor = 0.1;        ///< m/s: the least Δv the spread rule gives (a few samples' spread
+                                              ///< is no proof of a still arm)
+        /// After a gap the young average's error is one error, not a new one each sample: it stays for its
+        /// age T while younger than youngMotionTime, and for about youngMotionTime after. A per-sample
+        /// update counts it min(T, youngMotionTime)/dt times, so its noise is raised by √ of that (only
+        /// after gaps: at start-up there is no prior orientation for the young average to be weighed against).
+        bool youngCorrelated = true;
         // The accelerometer sits at a lever arm r from the centre the arm turns about (elbow, shoulder,
         // wrist): it reads ω×(ω×r) + α×r besides gravity and the centre's own acceleration. r (device
         // frame) is learned by least squares from the steady filter (specific force less the state's
@@ -108,6 +124,14 @@ public:
         // by as much as their disagreement exceeds what the averages can be trusted for (the gyro is
         // gone over the gap, so how far the arm turned shows only in that disagreement).
         double reacquireWindow = 0.1;         ///< s of samples averaged before the step (0: no step)
+        /// The joint step is repeated at reacquireRepeat × the previous step's age (0.1, 0.2, 0.4, 0.8,
+        /// 1.6 s) while acquiring: the prior before the gap and the maturing averages weighed afresh,
+        /// once each (0 or ≤ 1: once).
+        double reacquireRepeat = 2.0;
+        /// s: the range of orientations the arm has been moving in (the steady filter's mean rotation
+        /// matrix over this time). After a gap the arm is somewhere in it: the orientation before the gap
+        /// is trusted to the lesser of (rate × gap) and the range's spread (0: rate × gap only).
+        double rangeTau = 10.0;
         double reacquireHeadingNoise = 0.1;   ///< rad: heading error of the young field average itself
                                               ///< (with reacquireFieldVector: its direction error)
         // The step as one least-squares rotation (Wahba's problem) from three sources at once: the
@@ -231,6 +255,12 @@ private:
     Eigen::Vector3d hardIronRm_ = Eigen::Vector3d::Zero(), hardIronM_ = Eigen::Vector3d::Zero();
     Eigen::Matrix3d leverH_ = Eigen::Matrix3d::Zero();   ///< Σ MᵀM (forgetting), M = [ω]×² + [α]×
     Eigen::Vector3d leverY_ = Eigen::Vector3d::Zero();   ///< Σ Mᵀ (a − gravity)
+    Eigen::Vector3d youngSum_ = Eigen::Vector3d::Zero();   ///< Σ a (inertial frame) since the average restarted
+    double youngSumSq_ = 0.0, youngN_ = 0.0;                ///< Σ |a|², number of samples
+    double rangeW_ = 0.0;               ///< weight of rangeR_ (forgetting over rangeTau)
+    Eigen::Matrix3d rangeR_ = Eigen::Matrix3d::Zero();   ///< mean rotation matrix (device → earth), steady filter
+    double rangeAtGap_ = 1e9;           ///< rad: how far apart two orientations of that range are (at the gap)
+    double reacquireNextAge_ = 0.0;     ///< s after the gap's end: the next joint step
     double youngDv_ = 0.0;              ///< m/s, ∫ ||a| − g| dt since then (capped at youngMaxVelocity)
     /// m/s: the velocity change the accelerometer's young average may carry (youngAverageVelocity …
     /// youngMaxVelocity, from the linear acceleration seen since it restarted).
