@@ -14,6 +14,7 @@
 #include "Core/Errors.h"
 #include "Link/Calibration.h"
 #include "Link/Simulator.h"
+#include "Live/Session/Instrument.h"
 #include "Live/Step/ControlLoop.h"
 #include "Live/Outputs/MappingRig.h"
 #include "Mapping/Mapper.h"
@@ -76,7 +77,8 @@ Stats stats(std::vector<double> v)
 
 void latency(const std::string& preset, double seconds, audio::SequencerOut* seq)
 {
-    live::ControlLoop loop;
+    auto instrument = std::make_unique<live::Instrument>();   // the instrument `play` runs: its one step, then the mapping
+    live::ControlLoop& loop = instrument->loop();
     {
         auto slot = std::make_unique<live::EngineSlot>();
         EngineConfig config;
@@ -115,13 +117,9 @@ void latency(const std::string& preset, double seconds, audio::SequencerOut* seq
         live::ControlStep step;
         step.source = live::SourceKind::Device;
         step.dt = 1.0 / rate;
-        const live::ControlResult result = loop.tick(step);
-        std::array<GestureEvent, 64> gestures {};
-        std::size_t count = 0;
-        GestureEvent g;
-        while (engine.popGesture(g))
-            if (count < gestures.size()) gestures[count++] = g;
-        if (result.ran) rig.step(t, result.arm, nullptr, gestures.data(), count, engine);
+        instrument->beginStage();
+        const live::Instrument::Stepped stepped = instrument->step(step, t, true);
+        if (stepped.result.ran) rig.step(instrument->mappingInput(stepped, t), engine);
         if (sink.latencyUs >= 0.0) {
             lat.push_back(sink.latencyUs);
             ++updatesWithMidi;

@@ -12,9 +12,10 @@
 #include "Core/Errors.h"
 #include "Core/Wav.h"
 #include "Engine/Engine.h"
-#include "Engine/OfflineRenderer.h"
+#include "Engine/RenderSettings.h"
 #include "Formats/ScoreImport.h"
 #include "Instruments/LayeredKeyboard.h"
+#include "Live/Session/RowClock.h"
 #include "Live/Stage/SetList.h"
 #include "Core/AtomicFile.h"
 #include <algorithm>
@@ -223,8 +224,7 @@ struct RenderMapping {
 
     void attach(const CommandLine& cl, engine::RenderSettings& settings, std::shared_ptr<const mapping::MappingDocument> map, double forward)
     {
-        settings.onControl = [this, &cl, map, forward](double t, const core::ArmState& arm, const core::ArmState* leftArm, const engine::GestureEvent* g,
-                                                        std::size_t n, engine::Engine& e) {
+        settings.onStep = [this, &cl, map, forward](const mapping::MappingInput& in, engine::Engine& e) {
             if (!rig) {   // the engine exists only inside the render: the mapping is built for its scene
                 live::MappingRigOptions options;
                 options.oscDefault = cl.value("--osc-out");
@@ -232,11 +232,11 @@ struct RenderMapping {
                 options.sourceName = cl.value("--map");
                 options.forwardDeg = forward;
                 rig = std::make_unique<live::MappingRig>(*map, e, options);
-                midi = std::make_unique<mapping::MidiFileWriter>(t);
+                midi = std::make_unique<mapping::MidiFileWriter>(in.t);
                 rig->setMidiSink([](void* ctx, const mapping::MidiEvent& ev) { static_cast<mapping::MidiFileWriter*>(ctx)->add(ev); }, midi.get());
             }
-            lastRow = t;
-            if (arm.valid) rig->step(t, arm, leftArm, g, n, e);
+            lastRow = in.t;
+            if (in.arm[0]->valid) rig->step(in, e);
         };
     }
 };
@@ -276,7 +276,7 @@ engine::RenderResult renderSetListFile(const CommandLine& cl, const core::CsvTab
             throw UsageError(std::string("--cue-at: ") + e.what());
         }
     }
-    return live::renderSetList(motion, list, settings, changes);   // streamed through settings.audioSink as a scene is
+    return live::renderOffline(motion, settings, list, changes);   // streamed through settings.audioSink as a scene is
 }
 
 void writeArmsLog(const std::string& path, const engine::RenderResult& r)
@@ -362,7 +362,7 @@ int runRender(const Arguments& args)
             r = renderSetListFile(cl, motion, settings);
             engine.scene = "setlist";
         } else {
-            r = renderOffline(motion, settings);
+            r = live::renderOffline(motion, settings);
         }
         // The notes a listening scene captured (layered-keyboard), named, in capture order.
         for (const engine::GestureEvent& g : r.gestures)

@@ -2,13 +2,15 @@
 #include "Core/Errors.h"
 #include "Fusion/ArmTracker.h"
 #include "Engine/Engine.h"
-#include "Engine/OfflineRenderer.h"
+#include "Engine/RenderSettings.h"
+#include "Live/Session/RowClock.h"
 #include <catch2/catch.hpp>
 #include <cmath>
 
 using namespace armadillo;
 using namespace armadillo::core;
 using namespace armadillo::engine;
+using armadillo::live::renderOffline;
 using namespace armadillo::fusion;
 
 namespace {

@@ -5,7 +5,8 @@
 #include "Core/Csv.h"
 #include "Core/Errors.h"
 #include "Engine/Engine.h"
-#include "Engine/OfflineRenderer.h"
+#include "Engine/RenderSettings.h"
+#include "Live/Session/RowClock.h"
 #include "Tactile/Bounds.h"
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -15,6 +16,7 @@
 using namespace armadillo;
 using namespace armadillo::core;
 using namespace armadillo::engine;
+using armadillo::live::renderOffline;
 using namespace armadillo::test;
 
 namespace {

@@ -6,7 +6,8 @@
 #include "Core/Csv.h"
 #include "Core/Errors.h"
 #include "Engine/Engine.h"
-#include "Engine/OfflineRenderer.h"
+#include "Engine/RenderSettings.h"
+#include "Live/Session/RowClock.h"
 #include "Performance.h"
 #include "Tactile/Bounds.h"
 #include "Tactile/ScoreFollower.h"
@@ -18,6 +19,7 @@
 using namespace armadillo;
 using namespace armadillo::core;
 using namespace armadillo::engine;
+using armadillo::live::renderOffline;
 using namespace armadillo::tactile;
 using namespace armadillo::test;
 

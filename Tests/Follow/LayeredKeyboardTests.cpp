@@ -5,7 +5,8 @@
 #include "Common/RealtimeGuard.h"
 #include "Core/Csv.h"
 #include "Engine/Engine.h"
-#include "Engine/OfflineRenderer.h"
+#include "Engine/RenderSettings.h"
+#include "Live/Session/RowClock.h"
 #include "Instruments/Dsp.h"
 #include "Instruments/Frets.h"
 #include "Instruments/LayeredKeyboard.h"
@@ -22,6 +23,7 @@
 using namespace armadillo;
 using namespace armadillo::core;
 using namespace armadillo::engine;
+using armadillo::live::renderOffline;
 using namespace armadillo::instruments;
 using namespace armadillo::test;
 

@@ -4,7 +4,8 @@
 // when the note sounds. The file is written by the test's own writer (MidiWriter.h), the
 // performance's onsets come from the synthesis, the expected motors from the imported score.
 #include "Core/Csv.h"
-#include "Engine/OfflineRenderer.h"
+#include "Engine/RenderSettings.h"
+#include "Live/Session/RowClock.h"
 #include "Formats/ScoreImport.h"
 #include "Common/MidiWriter.h"
 #include "Performance.h"
@@ -21,6 +22,7 @@
 using namespace armadillo;
 using namespace armadillo::core;
 using namespace armadillo::engine;
+using armadillo::live::renderOffline;
 using namespace armadillo::formats;
 using namespace armadillo::tactile;
 using namespace armadillo::test;

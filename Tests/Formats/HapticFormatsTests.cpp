@@ -5,7 +5,8 @@
 #include "Core/Errors.h"
 #include "Core/Json.h"
 #include "Core/Wav.h"
-#include "Engine/OfflineRenderer.h"
+#include "Engine/RenderSettings.h"
+#include "Live/Session/RowClock.h"
 #include "Formats/ScoreImport.h"
 #include "Tactile/Bounds.h"
 #include <catch2/catch.hpp>
@@ -18,6 +19,7 @@ using namespace armadillo;
 using namespace armadillo::tactile;
 using namespace armadillo::core;
 using namespace armadillo::engine;
+using armadillo::live::renderOffline;
 using namespace armadillo::formats;
 
 namespace {

@@ -6,7 +6,8 @@
 #include "Core/Csv.h"
 #include "Core/Errors.h"
 #include "Core/Json.h"
-#include "Engine/OfflineRenderer.h"
+#include "Engine/RenderSettings.h"
+#include "Live/Session/RowClock.h"
 #include "Formats/ScoreImport.h"
 #include "Tactile/TactileEngine.h"
 #include <catch2/catch.hpp>
@@ -50,7 +51,7 @@ std::vector<TactileRow> play(const std::string& scorePath, double seconds)
     engine::RenderSettings settings;
     settings.engine.scene = "score";
     settings.engine.sceneConfig.score = scorePath;
-    return engine::renderOffline(CsvTable::parse(s, "still.csv"), settings).tactile;
+    return live::renderOffline(CsvTable::parse(s, "still.csv"), settings).tactile;
 }
 
 /// A whole file around one perception's channels (and library), timescale `ts`.

@@ -4,6 +4,7 @@
 #include "Core/Csv.h"
 #include "Core/Errors.h"
 #include "Core/Pose.h"
+#include "Live/Session/RowClock.h"
 #include "Live/Stage/SetList.h"
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -115,7 +116,7 @@ TEST_CASE("set list: four cues stepped offline switch with no discontinuity abov
     const SetList list = parseSetList(kFourCues, "show.json");
     RenderSettings settings;
     const std::vector<CueChange> changes {{1.0, 1}, {2.0, 2}, {3.0, 3}, {4.0, 0}};
-    const RenderResult r = renderSetList(motion(), list, settings, changes);
+    const RenderResult r = renderOffline(motion(), settings, list, changes);
     const auto& x = r.audio.channels[0];
     const double minus60 = std::pow(10.0, -60.0 / 20.0);
     for (const auto& c : changes) {

@@ -9,7 +9,8 @@
 
 #include "Common/RealtimeGuard.h"
 #include "Core/Csv.h"
-#include "Engine/OfflineRenderer.h"
+#include "Engine/RenderSettings.h"
+#include "Live/Session/RowClock.h"
 #include "Plugin/HostedPlugin.h"
 #include "Plugin/TactorBusLayout.h"
 #include "Tactors/TactorRenderer.h"
@@ -167,7 +168,7 @@ TEST_CASE("VST3: the Tactors bus carries render --tactile-wav's envelope for the
     rs.engine.scene = "theremin";
     rs.engine.sceneConfig.sampleRate = kRate;
     const auto table = armadillo::core::CsvTable::parse(poses.str(), "poses");
-    const auto rendered = armadillo::engine::renderOffline(table, rs);
+    const auto rendered = armadillo::live::renderOffline(table, rs);
     armadillo::tactors::TactorParams params;
     params.model = armadillo::tactors::TactorModel::Lra;
     armadillo::tactors::TactorRenderer renderer;

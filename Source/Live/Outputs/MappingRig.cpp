@@ -88,23 +88,6 @@ void MappingRig::step(const mapping::MappingInput& in, engine::Engine& engine) n
     deliver(&engine);
 }
 
-void MappingRig::step(double t, const core::ArmState& arm, const core::ArmState* leftArm, const engine::GestureEvent* gestures, std::size_t count,
-                      engine::Engine& engine, bool stageOnly) noexcept
-{
-    std::array<mapping::GestureIn, 64> g {};
-    const std::size_t n = std::min(count, g.size());
-    for (std::size_t i = 0; i < n; ++i) g[i] = {gestures[i].name, gestures[i].value};
-    mapping::MappingInput in;
-    in.t = t;
-    in.arm[0] = &arm;
-    in.arm[1] = leftArm;
-    in.scene = engine.sceneValues();
-    in.gestures = g.data();
-    in.gestureCount = static_cast<int>(n);
-    in.stageOnly = stageOnly;
-    step(in, engine);
-}
-
 void MappingRig::finish(double t) noexcept
 {
     mapper_.flush(t + 3600.0, *out_);   // gesture notes end at their own due time

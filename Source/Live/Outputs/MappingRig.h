@@ -66,10 +66,6 @@ public:
     /// and send nothing), the scene's values, the step's gestures, stage commands only in panic (so
     /// a mapped resume is still heard); `engine` the one that sounds (scene parameters).
     void step(const mapping::MappingInput& in, engine::Engine& engine) noexcept;
-    /// The same at time t (s) from an arm, the left arm and the engine's gesture events (the
-    /// offline renderer's; at most 64 are read).
-    void step(double t, const core::ArmState& arm, const core::ArmState* leftArm, const engine::GestureEvent* gestures, std::size_t count, engine::Engine& engine,
-              bool stageOnly = false) noexcept;
     /// The end: gesture notes end at their due time, held notes (zones, postures) at t.
     void finish(double t) noexcept;
     /// Panic at t (docs/STAGE.md), as the plugin does: every sounding note ended, then CC 120 and

@@ -439,14 +439,12 @@ engine::Engine* BlockControl::runningEngine() noexcept
 
 void BlockControl::renderRunning(float* left, float* right, int numSamples) noexcept
 {
-    if (CuePlayer* cues = runner_.cues(); cues != nullptr) cues->renderAudio(left, right, numSamples);
-    else loop_.render(left, right, numSamples);
+    instrument_.render(left, right, numSamples);
 }
 
 void BlockControl::inputRunning(const float* const* in, int channels, int numSamples) noexcept
 {
-    if (CuePlayer* cues = runner_.cues(); cues != nullptr) cues->processInput(in, channels, numSamples);
-    else loop_.processInput(in, channels, numSamples);
+    instrument_.processInput(in, channels, numSamples);
 }
 
 void BlockControl::notesRunning(int from, int len) noexcept
@@ -456,8 +454,7 @@ void BlockControl::notesRunning(int from, int len) noexcept
         notesIn_[static_cast<std::size_t>(notesInNext_++)].offset -= from;
     const int count = notesInNext_ - first;
     if (count == 0) return;
-    if (CuePlayer* cues = runner_.cues(); cues != nullptr) cues->processMidi(notesIn_.data() + first, count);
-    else loop_.processMidi(notesIn_.data() + first, count);
+    instrument_.processMidi(notesIn_.data() + first, count);
 }
 
 void BlockControl::beginStage(BlockMidi* midi, double blockStart, int blockSamples) noexcept

@@ -1,4 +1,5 @@
 #include "Live/Session/Instrument.h"
+#include "Live/Stage/SetList.h"
 
 namespace armadillo::live {
 
@@ -18,7 +19,7 @@ Instrument::Begun Instrument::beginStage() noexcept
 
 Instrument::Stepped Instrument::step(ControlStep s, double t, bool levelsOut) noexcept
 {
-    s.leftArm = leftArm_.fuse();   // null while the left arm is off (one arm)
+    s.leftArm = leftArm_.fuse(s.recordedLeft);   // null while the left arm is off (one arm)
     // The stage's cues and panic; the panic gesture (docs/STAGE.md) panics the stage too, held
     // until resume as a command's panic is (StepRunner.h). The result is built in place: a
     // default ArmState costs a rest orientation (sines and cosines) that would be thrown away.
@@ -32,6 +33,32 @@ Instrument::Stepped Instrument::step(ControlStep s, double t, bool levelsOut) no
         published_.publish(StepPublisher::frameOf(t, out.result.arm, levelsOut ? &out.result.levels : nullptr, out.engine->config().motorCount),
                            *out.engine);
     return out;
+}
+
+void Instrument::processMidi(const core::MidiNoteEvent* events, int count) noexcept
+{
+    if (CuePlayer* cues = runner_.cues(); cues != nullptr) cues->processMidi(events, count);
+    else loop_.processMidi(events, count);
+}
+
+void Instrument::processInput(const float* const* in, int channels, int numSamples) noexcept
+{
+    if (CuePlayer* cues = runner_.cues(); cues != nullptr) cues->processInput(in, channels, numSamples);
+    else loop_.processInput(in, channels, numSamples);
+}
+
+void Instrument::render(float* left, float* right, int numSamples) noexcept
+{
+    if (CuePlayer* cues = runner_.cues(); cues != nullptr) cues->renderAudio(left, right, numSamples);
+    else loop_.render(left, right, numSamples);
+}
+
+const core::MotorLevels* Instrument::leftLevels() noexcept
+{
+    if (!leftArm_.on()) return nullptr;
+    if (CuePlayer* cues = runner_.cues(); cues != nullptr) return &cues->leftLevels();
+    engine::Engine* engine = runner_.running();
+    return engine != nullptr ? &engine->leftLevels() : nullptr;
 }
 
 mapping::MappingInput Instrument::mappingInput(const Stepped& stepped, double t) const noexcept

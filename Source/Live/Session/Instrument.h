@@ -89,6 +89,17 @@ public:
     };
     Stepped step(ControlStep step, double t, bool levelsOut) noexcept;
 
+    /// The audio side of what plays (the block clock's audio, or the rows' clock between two
+    /// rows; real-time): the set list's cues when the stage has one, else the loop's engine. In
+    /// each block: the instrument's MIDI notes, then the recording it hears, then its sound.
+    void processMidi(const core::MidiNoteEvent* events, int count) noexcept;
+    void processInput(const float* const* in, int channels, int numSamples) noexcept;
+    void render(float* left, float* right, int numSamples) noexcept;
+
+    /// Two arms: the left arm's levels of the last step (the set list's, after its own safety
+    /// stage; else the engine's); null with one arm. Control side.
+    const core::MotorLevels* leftLevels() noexcept;
+
     /// The mapping's view of a step (Mapping/Mapper.h): both arms, the scene's values, the step's
     /// gestures, and stage commands only while in panic. `t` is the mapping's time of the step.
     mapping::MappingInput mappingInput(const Stepped& stepped, double t) const noexcept;

@@ -20,7 +20,6 @@
 #include "Core/Types.h"
 #include "Core/Wav.h"
 #include "Engine/Engine.h"
-#include "Engine/OfflineRenderer.h"
 #include "Tactile/TactileEngine.h"
 #include <array>
 #include <atomic>
@@ -131,13 +130,5 @@ struct CueChange {
 };
 /// "T:INDEX" (e.g. "2.5:1"); throws UsageError-free std::invalid_argument with a reason.
 CueChange parseCueChange(const std::string& text);
-
-/// `armadillo render --setlist`: as renderOffline (Engine/OfflineRenderer.h) with the set list's
-/// CuePlayer in place of one engine; starts at cue 0 and changes cue at the given times (sorted
-/// by time; requested before the control update at or after each time). Honours the settings'
-/// audioIn (every listening cue hears it; mixed in unless mixAudioIn is false; InputError when
-/// no cue listens), leftMotion (two arms: leftTactile and both orientations are filled), mount
-/// and leftMount, onControl (the current cue's engine) and audioSink (streamed).
-engine::RenderResult renderSetList(const core::CsvTable& motion, const SetList& list, const engine::RenderSettings& settings, std::vector<CueChange> changes);
 
 } // namespace armadillo::live

@@ -1,4 +1,5 @@
 #include "Live/Step/ControlLoop.h"
+#include "Engine/RenderSettings.h"
 #include "Live/Stage/SetList.h"
 #include <array>
 #include <cmath>
@@ -79,6 +80,13 @@ core::ArmState fuseStep(LiveInput& in, fusion::ArmTracker& tracker, LiveOrientat
     return arm;
 }
 
+core::ArmState fuseRecorded(const RecordedRows& rows, fusion::ArmTracker& tracker)
+{
+    core::ArmState arm = tracker.state();
+    for (std::size_t i = rows.first; i < rows.end; ++i) arm = rows.rows->apply(tracker, i);
+    return arm;
+}
+
 double ControlLoop::nextArrival(SourceKind source) noexcept
 {
     if (!isLiveSource(source)) return std::numeric_limits<double>::infinity();
@@ -119,11 +127,13 @@ ControlResult ControlLoop::tick(const ControlStep& step) noexcept
     if (static_cast<int>(step.source) != lastSource_) {
         // A new source starts from its own first sample: no angular velocity across the switch.
         tracker_.reset();
-        engine.allOff();
-        // A switch (not the first source) is another arm: the scene starts afresh, so what it took
-        // from the old arm (the theremin's reference heading) is taken again from the new one, as
-        // an instance that played this source from the start has it (a DAW session reopened).
+        // A switch (not the first source) is another arm: what the old arm drove goes off, and the
+        // scene starts afresh, so what it took from the old arm (the theremin's reference heading)
+        // is taken again from the new one, as an instance that played this source from the start
+        // has it (a DAW session reopened). The first source's first step plays as any other (the
+        // offline clock's first row as `play`'s first packet).
         if (lastSource_ >= 0) {
+            engine.allOff();
             engine.restart();
             if (step.cues != nullptr) step.cues->restart();
         }
@@ -138,6 +148,8 @@ ControlResult ControlLoop::tick(const ControlStep& step) noexcept
         // Automation drives the scene through the same tracker as live movement (same features,
         // same angular velocity from successive orientations), so playback sounds as recorded.
         arm = tracker_.updateOrientation(clock_, poseToQuaternion(step.automation));
+    } else if (step.recorded.rows != nullptr) {
+        arm = fuseRecorded(step.recorded, tracker_);
     } else {
         arm = fuse(input(step.source), step.arrivalCutoff);
     }

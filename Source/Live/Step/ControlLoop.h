@@ -24,9 +24,24 @@
 #include <memory>
 #include <vector>
 
+namespace armadillo::engine {
+struct MotionRows;
+}
+
 namespace armadillo::live {
 
 class CuePlayer;
+
+/// Rows of a recording that stand in for a source's mailbox at one step (the offline clock,
+/// Live/Session/RowClock.h): rows [first, end) of `rows`, fused in order in full precision,
+/// none dropped — a file's rows are the source's own samples, not a live queue. None: `rows` null.
+struct RecordedRows {
+    const engine::MotionRows* rows = nullptr;
+    std::size_t first = 0, end = 0;
+};
+
+/// The tracker's state after rows [first, end) (its state as it was when the span is empty).
+core::ArmState fuseRecorded(const RecordedRows& rows, fusion::ArmTracker& tracker);
 
 /// Where the arm comes from (the plugin's `source` choice, INTERFACES.md order).
 enum class SourceKind : int { Device = 0, Simulator = 1, Osc = 2, HostAutomation = 3 };
@@ -67,6 +82,10 @@ struct ControlStep {
     /// (Engine::control(right, left, …)), and so do a set list's cues built with twoArms; any
     /// other engine, the right one.
     const core::ArmState* leftArm = nullptr;
+    /// The offline clock's rows (a recording, `render`): the right arm is fused from them in
+    /// place of `source`'s mailbox, and the left arm from `recordedLeft` (LeftArm::fuse).
+    RecordedRows recorded {};
+    RecordedRows recordedLeft {};
     /// s on the monotonic clock: only live samples that arrived by then are fused at this step
     /// (LiveImu::arrival). The plugin places each step at the block position of its sample's
     /// arrival (BlockControl, issue 36); +∞ (the default): everything waiting.

@@ -4,7 +4,8 @@
 // that fuses itself), fused on the control side each step as the right arm's source is
 // (live::fuseStep: at most kMaxImuPerStep samples, the newest). Its source is opened through the
 // registry (Live/Sources/SourceRegistry.h): an OSC sender for the block clock (BlockRig), an OSC
-// sender, a port or the simulated forearm for `play` (LiveSession).
+// sender, a port or the simulated forearm for `play` (LiveSession); a recording's rows for the
+// offline clock (RowClock), handed to each step.
 //
 // Threads: setOn() on the message thread; the source's thread fills input(); fuse() on the
 // control side (the token holder, or the right arm's source thread): no allocation, lock, I/O or throw.
@@ -24,9 +25,10 @@ public:
     /// The receiver's mailbox.
     live::LiveInput& input() noexcept { return input_; }
 
-    /// Control side: the left arm's state after this step's samples; null while off (its tracker
-    /// then starts afresh when it comes back on, so no angular velocity spans the gap).
-    const core::ArmState* fuse() noexcept
+    /// Control side: the left arm's state after this step's samples — its mailbox's, or a
+    /// recording's rows at the offline clock (`recorded`, all of them in order) — null while off
+    /// (its tracker then starts afresh when it comes back on, so no angular velocity spans the gap).
+    const core::ArmState* fuse(const live::RecordedRows& recorded = {}) noexcept
     {
         if (! on()) {
             if (wasOn_) {
@@ -37,7 +39,11 @@ public:
             return nullptr;
         }
         wasOn_ = true;
-        arm_ = live::fuseStep(input_, tracker_, orientation_, orientationUsed_);
+        if (recorded.rows != nullptr) {
+            if (recorded.end > recorded.first) arm_ = live::fuseRecorded(recorded, tracker_);
+        } else {
+            arm_ = live::fuseStep(input_, tracker_, orientation_, orientationUsed_);
+        }
         return &arm_;
     }
 

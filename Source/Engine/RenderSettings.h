@@ -1,8 +1,9 @@
 #pragma once
-// `armadillo render`: the same engine the app uses, driven by a motion file instead of a device,
-// deterministic for a given seed. Control updates happen at the motion file's rows; audio between
-// two rows is rendered after the first row's control update (as the live app's audio thread would
-// hear it). Sample 0 is the time of the first row.
+// What an offline render (`armadillo render`) is given and gives back, below the live instrument
+// that runs it (Live/Session/RowClock.h: a file's rows are its clock, one control step per row;
+// audio between two rows is rendered after the first row's step, as the live app's audio thread
+// would hear it; sample 0 is the time of the first row): the settings, the result, a motion
+// file as rows, and the checks every render makes before it starts.
 #include "Core/Csv.h"
 #include "Core/Wav.h"
 #include "Engine/Engine.h"
@@ -11,6 +12,9 @@
 
 namespace armadillo::fusion {
 class ArmTracker;
+}
+namespace armadillo::mapping {
+struct MappingInput;
 }
 
 namespace armadillo::engine {
@@ -35,13 +39,12 @@ struct RenderSettings {
     /// input before each block is rendered, from sample 0 = the first motion row. Its sample
     /// rate must be the engine's (engine.sceneConfig.sampleRate); the scene must listen.
     const core::AudioBuffer* audioIn = nullptr;
-    /// Called after every control update (one per motion row) with the row's time (s, the motion
-    /// file's clock), the arm, the gestures the scene emitted in that update and the engine (its
-    /// scene's outputs, Engine::sceneValues, and parameters): what a front end's mapping
-    /// (`render --map`, Source/Mapping) reads and drives; with two arms (leftMotion) also the left
-    /// arm's state as of that update (null with one arm). Empty: not called.
-    std::function<void(double t, const core::ArmState& arm, const core::ArmState* leftArm, const GestureEvent* gestures, std::size_t count, Engine& engine)>
-        onControl;
+    /// Called after every control update (one per motion row) with the mapping's view of it
+    /// (Mapping/Mapper.h MappingInput: the row's time on the motion file's clock, both arms — the
+    /// left null with one arm — the scene's values and the gestures of that update) and the engine
+    /// that sounds: what a front end's mapping (`render --map`, Source/Mapping) reads and drives.
+    /// Empty: not called.
+    std::function<void(const mapping::MappingInput& in, Engine& engine)> onStep;
     std::string audioInName;       ///< the file audioIn came from, named in messages
     /// The instrument's MIDI notes (`--midi-in`), sorted by t: each note goes to the engine's
     /// MIDI input (Engine::processMidi) with the block that holds its sample, before that
@@ -106,39 +109,6 @@ struct MotionRows {
 /// no sound, a listening scene without a recording, no row with an orientation, or the arm's
 /// range over the file.
 std::string silenceReason(const RenderResult& r, const RenderSettings& settings);
-
-/// What an offline render plays: one engine (renderOffline's own, from RenderSettings::engine),
-/// or a set list's cues (Live/Stage/SetList.h renderSetList). The renderer owns the clock, the motion,
-/// the recording, the MIDI notes and the audio; the performer answers for the sound and the
-/// motors. One renderer for both, so a set list renders exactly as a scene does.
-class OfflinePerformer {
-public:
-    virtual ~OfflinePerformer() = default;
-    /// Before the control update of the row at `t` s from the first row (a cue change due).
-    virtual void beforeRow(double /*t*/) {}
-    /// One control update: both arms when `left` is not null.
-    virtual core::MotorLevels control(const core::ArmState& right, const core::ArmState* left, const core::Transport& transport, double dt) = 0;
-    virtual core::MotorLevels leftLevels() = 0;
-    virtual void allOff() = 0;
-    /// The engine sounding now (its failure stops the render; a front end's mapping reads it).
-    virtual Engine& sounding() = 0;
-    virtual void processMidi(const core::MidiNoteEvent* events, int count) = 0;
-    virtual void processInput(const float* const* in, int channels, int numSamples) = 0;
-    virtual void renderAudio(float* left, float* right, int numSamples) = 0;
-    /// Moves the gestures emitted since the last call to `out`.
-    virtual void popGestures(std::vector<GestureEvent>& out) = 0;
-    /// Whether a recording or MIDI notes can be heard, and if not, why in words ("scene 'x' does
-    /// not listen to audio").
-    virtual bool listensToAudio(std::string& whyNot) const = 0;
-    virtual bool listensToMidi(std::string& whyNot) const = 0;
-};
-
-/// Runs the scene over the motion table (IMU, quaternion or pose file); throws InputError for
-/// a file that is not a motion file.
-RenderResult renderOffline(const core::CsvTable& motion, const RenderSettings& settings);
-/// The same with `performer` playing (its engines built by the caller for settings.engine's
-/// sample rate): a set list's cues.
-RenderResult renderOffline(const core::CsvTable& motion, const RenderSettings& settings, OfflinePerformer& performer);
 
 /// Refuses (InputError naming the row and the time column) a motion file whose rows, plus the
 /// tail, span more than `maxSeconds` from the first row — before anything is allocated for them.
