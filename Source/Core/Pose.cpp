@@ -25,7 +25,13 @@ double wrapDeg360(double deg)
     return w >= 360.0 ? 0.0 : w;
 }
 
-Eigen::Quaterniond restOrientation() { return poseToQuaternion({}); }
+Eigen::Quaterniond restOrientation()
+{
+    // Every default ArmState starts here, several per control step: the sines and cosines are
+    // taken once (at the first ArmState, built long before any real-time thread runs).
+    static const Eigen::Quaterniond rest = poseToQuaternion({});
+    return rest;
+}
 
 Eigen::Quaterniond poseToQuaternion(const Pose& p)
 {

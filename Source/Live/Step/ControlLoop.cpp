@@ -82,9 +82,9 @@ core::ArmState fuseStep(LiveInput& in, fusion::ArmTracker& tracker, LiveOrientat
 
 core::ArmState fuseRecorded(const RecordedRows& rows, fusion::ArmTracker& tracker)
 {
-    core::ArmState arm = tracker.state();
-    for (std::size_t i = rows.first; i < rows.end; ++i) arm = rows.rows->apply(tracker, i);
-    return arm;
+    if (rows.first >= rows.end) return tracker.state();
+    for (std::size_t i = rows.first; i + 1 < rows.end; ++i) rows.rows->apply(tracker, i);
+    return rows.rows->apply(tracker, rows.end - 1);
 }
 
 double ControlLoop::nextArrival(SourceKind source) noexcept
