@@ -3,7 +3,8 @@
 // not depend on what drives it, built in one order and torn down in the reverse, and the one
 // control step with what follows it. `play`, `read`, `navigate` and Pd's [armadillo] hold one in
 // LiveSession (the source's clock: a packet → step); the app, the plugin and Pd's [armadillo~]
-// hold one in BlockInstrument (the block clock: BlockControl's 200 Hz grid and its idle clock).
+// hold one in BlockInstrument (the block clock: BlockControl's 200 Hz grid and its idle clock);
+// `render` holds one in RowClock (a motion file's rows: one step per row, Live/Session/RowClock.h).
 // Each clock adds only what is its own: how its sources are described (from a command line, or
 // chosen while it runs), where its levels go, its audio and its recordings.
 //
