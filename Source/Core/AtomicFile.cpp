@@ -12,8 +12,46 @@
 
 namespace armadillo::core {
 
+bool isDeviceOrPipe(const std::string& path) noexcept
+{
+    struct stat st {};
+    return ::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode);
+}
+
+namespace {
+
+/// `content` written through to a device or a pipe that is there already (/dev/null, /dev/stdout,
+/// a FIFO): nothing is created, truncated or renamed over it.
+void writeThrough(const std::string& path, std::string_view content)
+{
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+    if (fd < 0) throw IoError("cannot write '" + path + "': " + std::strerror(errno));
+    const char* p = content.data();
+    std::size_t left = content.size();
+    while (left > 0) {
+        const ssize_t n = ::write(fd, p, left);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) {
+            const std::string reason = std::strerror(errno);
+            ::close(fd);
+            throw IoError("cannot write '" + path + "': " + reason);
+        }
+        p += n;
+        left -= static_cast<std::size_t>(n);
+    }
+    if (::close(fd) != 0 && errno != EINTR) throw IoError("cannot close '" + path + "': " + std::strerror(errno));
+}
+
+} // namespace
+
 void writeFileAtomically(const std::string& path, std::string_view content)
 {
+    // A temporary renamed over a device would replace the device itself (as root, /dev/null
+    // becomes a regular file for the whole system): a device or a pipe is written as it is.
+    if (isDeviceOrPipe(path)) {
+        writeThrough(path, content);
+        return;
+    }
     std::string tmpl = path + ".tmp-XXXXXX";
     const int fd = ::mkstemp(tmpl.data());
     if (fd < 0) throw IoError("cannot create a temporary file next to '" + path + "': " + std::strerror(errno));

@@ -4,9 +4,15 @@
 
 namespace armadillo::core {
 
+/// Whether `path` is there and is neither a regular file nor a folder: a device (/dev/null,
+/// /dev/stdout through /proc), a FIFO or a socket. Such an output is written as it is, never
+/// replaced by a temporary renamed over it (which, as root, would turn /dev/null into a file).
+bool isDeviceOrPipe(const std::string& path) noexcept;
+
 /// Writes `content` to `path` whole or not at all: a temporary file in the same folder, flushed
 /// to disk, then renamed over the target. Throws IoError naming the path on any failure, and
-/// leaves no temporary behind.
+/// leaves no temporary behind. A device or a pipe already at `path` (isDeviceOrPipe) is written
+/// through instead, left in place.
 void writeFileAtomically(const std::string& path, std::string_view content);
 
 /// A recording that grows while a session runs (the live session's audio, logs and tactile CSV):

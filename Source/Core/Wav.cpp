@@ -28,11 +28,17 @@ SNDFILE* handle(void* p) { return static_cast<SNDFILE*>(p); }
 } // namespace
 
 WavStreamWriter::WavStreamWriter(std::string path, double sampleRate, int channels, bool float32, WavWriteMode mode)
-    : path_(std::move(path)), tmp_(mode == WavWriteMode::Atomic ? temporaryNameFor(path_) : std::string()),
+    : path_(std::move(path)),
+      // A device or a pipe (/dev/null) is written as it is: a temporary renamed over it would
+      // replace the device itself.
+      tmp_(mode == WavWriteMode::Atomic && !isDeviceOrPipe(path_) ? temporaryNameFor(path_) : std::string()),
       channels_(std::max(1, channels))
 {
     int fd = -1;
-    if (mode == WavWriteMode::Recording) {
+    if (mode == WavWriteMode::Atomic && tmp_.empty()) {
+        fd = ::open(path_.c_str(), O_WRONLY | O_CLOEXEC);
+        if (fd < 0) throw IoError("cannot write " + path_ + ": " + std::strerror(errno));
+    } else if (mode == WavWriteMode::Recording) {
         fd = openRecording(path_, keptAs_);   // IoError naming the path
         headerEvery_ = static_cast<std::uint64_t>(std::max(1.0, std::round(sampleRate)));
         headerAt_ = headerEvery_;

@@ -7,6 +7,9 @@
 #include <vector>
 #include <cmath>
 #include <filesystem>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <unistd.h>
 
 using namespace armadillo;
@@ -147,4 +150,67 @@ TEST_CASE("WAV: a recording past 4 GiB stays one valid file (RF64)", "[.][wav][l
     CHECK(static_cast<std::uint64_t>(info.frames) * 8 > (std::uint64_t(4) << 30));
     sf_close(f);
     std::filesystem::remove(path);
+}
+
+namespace {
+
+/// What is at `path` now: 'p' a FIFO, 'c' a character device, 'f' a regular file, '-' nothing.
+char kindOf(const std::string& path)
+{
+    struct stat st {};
+    if (::lstat(path.c_str(), &st) != 0) return '-';
+    return S_ISFIFO(st.st_mode) ? 'p' : S_ISCHR(st.st_mode) ? 'c' : S_ISREG(st.st_mode) ? 'f' : '?';
+}
+
+/// Everything waiting in a non-blocking read end.
+std::string drain(int fd)
+{
+    std::string got;
+    char buf[4096];
+    for (ssize_t n; (n = ::read(fd, buf, sizeof buf)) > 0;) got.append(buf, static_cast<std::size_t>(n));
+    return got;
+}
+
+} // namespace
+
+TEST_CASE("an output that is a device or a pipe is written through, never replaced by a file", "[wav][atomic]")
+{
+    // `armadillo fuse --out /dev/null` as root once turned the machine's /dev/null into a regular
+    // file: the temporary was renamed over the device. A FIFO shows it without root: renamed
+    // over, it would be a regular file afterwards and its reader would get nothing.
+    const std::string fifo = tempPath("out.fifo");
+    std::filesystem::remove(fifo);
+    REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+    const int reader = ::open(fifo.c_str(), O_RDONLY | O_NONBLOCK);   // a reader, so a writer's open does not wait
+    REQUIRE(reader >= 0);
+    CHECK(isDeviceOrPipe(fifo));
+    CHECK_FALSE(isDeviceOrPipe(tempPath("nothing-here")));
+
+    writeFileAtomically(fifo, "t,qw,qx,qy,qz\n0,1,0,0,0\n");
+    CHECK(kindOf(fifo) == 'p');
+    CHECK(drain(reader) == "t,qw,qx,qy,qz\n0,1,0,0,0\n");
+
+    // A WAV cannot stream into a pipe (its header is rewritten at the end): a clear error, and
+    // the pipe is still the pipe.
+    CHECK_THROWS_AS(WavStreamWriter(fifo, 48000.0, 2, false), IoError);
+    CHECK(kindOf(fifo) == 'p');
+    ::close(reader);
+    std::filesystem::remove(fifo);
+
+    // The device itself, where the test may make one (root, as CI runs): a null device of its own.
+    if (::geteuid() == 0) {
+        const std::string null = tempPath("null");
+        std::filesystem::remove(null);
+        REQUIRE(::mknod(null.c_str(), S_IFCHR | 0666, makedev(1, 3)) == 0);
+        writeFileAtomically(null, "x\n");
+        CHECK(kindOf(null) == 'c');
+        {
+            WavStreamWriter wav(null, 48000.0, 1, true);
+            const std::vector<float> frames(480, 0.25f);
+            CHECK(wav.write(frames.data(), 480));
+            wav.finish();
+        }
+        CHECK(kindOf(null) == 'c');
+        std::filesystem::remove(null);
+    }
 }
