@@ -18,7 +18,7 @@ if [ "${ARMADILLO_NO_PLUGIN:-0}" != "1" ]; then
 fi
 help=$(build/bin/armadillo --help)
 for c in ports fuse render play braille resources touch-profile; do
-    echo "$help" | grep -q "^  $c " || { echo "armadillo --help does not list '$c'"; fail=1; }
+    grep -q "^  $c " <<< "$help" || { echo "armadillo --help does not list '$c'"; fail=1; }
 done
 bash scripts/check-install.sh build || fail=1
 exit $fail

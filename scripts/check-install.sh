@@ -38,7 +38,10 @@ mkdir -p "$work/home"
 run() { (cd "$work" && env -u ARMADILLO_RESOURCES -u XDG_DATA_HOME HOME="$work/home" "$prefix/bin/armadillo" "$@"); }
 expected=$(sed -n 's/^project(ARMadillo VERSION \([0-9.]*\).*/\1/p' CMakeLists.txt)
 [ "$(run --version)" = "armadillo $expected" ] || { echo "installed armadillo --version is not $expected"; fail=1; }
-zcat "$prefix/share/man/man1/armadillo.1.gz" | grep -q "^\.SS render" || { echo "man page lacks the render section"; fail=1; }
+# Read whole before grep: with pipefail, `zcat | grep -q` fails when grep stops at its first
+# match and zcat is still writing (SIGPIPE), a race that a longer man page loses.
+man=$(zcat "$prefix/share/man/man1/armadillo.1.gz")
+grep -q "^\.SS render" <<< "$man" || { echo "man page lacks the render section"; fail=1; }
 examples="$prefix/share/doc/armadillo/examples"
 for score in rite-of-spring polytope; do
     run render --scene score --score "$score" --motion "$examples/poses.csv" --out "$work/$score.wav" \

@@ -87,7 +87,7 @@ if in_root sh -c 'DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-ins
     for patch in "$root"/usr/lib/pd/extra/armadillo/*.pd; do
         name=$(basename "$patch")
         out=$(in_root sh -c "cd /tmp && timeout 60 pd -nogui -nosound -stderr -open /usr/lib/pd/extra/armadillo/$name -open /opt/check/quit.pd 2>&1")
-        if echo "$out" | grep -qi "couldn't create\|error"; then echo "$name: FAILED"; echo "$out" | grep -i "couldn't create\|error"; fail=1; else echo "$name: opens"; fi
+        if grep -qi "couldn't create\|error" <<< "$out"; then echo "$name: FAILED"; echo "$out" | grep -i "couldn't create\|error"; fail=1; else echo "$name: opens"; fi
     done
 else
     echo "puredata-core could not be installed: skipped"
