@@ -36,6 +36,7 @@ const NumericParameter kNumeric[] = {
         {"accelFilterTau", [](Params& p) -> double& { return p.accelFilterTau; }},
         {"magFilterTau", [](Params& p) -> double& { return p.magFilterTau; }},
         {"magDisagreementTau", [](Params& p) -> double& { return p.magDisagreementTau; }},
+        {"outputLead", [](Params& p) -> double& { return p.outputLead; }},
         {"startupFilterSeconds", [](Params& p) -> double& { return p.startupFilterSeconds; }},
         {"gravityNoise", [](Params& p) -> double& { return p.gravityNoise; }},
         {"youngAverageVelocity", [](Params& p) -> double& { return p.youngAverageVelocity; }},
@@ -179,7 +180,10 @@ void OrientationFilter::reset()
 
 Eigen::Quaterniond OrientationFilter::orientation() const
 {
-    return initialised_ ? ukf_.state().q : core::restOrientation();
+    if (!initialised_) return core::restOrientation();
+    const OrientationState& x = ukf_.state();
+    if (params_.outputLead == 0.0 || !x.rate.allFinite()) return x.q;
+    return quat::normalised(x.q * quat::exp(x.rate * params_.outputLead));
 }
 
 Eigen::Vector3d OrientationFilter::angularVelocity() const
@@ -688,7 +692,8 @@ void OrientationFilter::update(const core::ImuSample& s)
         const Eigen::Vector3d change = (s.gyro - lastGyro_) / dt;
         if (change.allFinite()) ukf_.state().accel = change;
         if (params_.gyroCoversPrecedingInterval) {
-            predict(dt, s.gyro, ukf_.state().accel, shock, false);
+            predict(dt, s.gyro, Eigen::Vector3d::Zero(), shock, false);
+            ukf_.state().accel = change.allFinite() ? change : Eigen::Vector3d::Zero();
         } else {
             predict(dt, lastGyro_, ukf_.state().accel, shock, false);
             ukf_.state().rate = s.gyro - ukf_.state().bias;
