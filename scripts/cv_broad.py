@@ -25,7 +25,7 @@ from pathlib import Path
 
 # The parameters that were fitted to the development trials (docs/FUSION.md): the noise densities
 # and time constants no data sheet gives. Each grid holds the default and a step either side.
-DEFAULT_GRID = 'rotationNoise=0.002,0.003,0.0045;headingNoise=0.4,0.6,0.9;magFilterTau=3,4.5,6;outputLead=0.0015,0.0025,0.0035'
+DEFAULT_GRID = 'rotationNoise=0.002,0.003,0.0045;headingNoise=0.4,0.6,0.9;magFilterTau=3,4.5,6;outputLead=0.001,0.0015,0.002'
 
 
 def main():

@@ -162,7 +162,7 @@ public:
         double minHorizontalField = 0.1;      ///< fraction of |m|: less horizontal field ⇒ no heading
         bool useMagnetometer = true;          ///< false: 6-axis (heading from the gyro alone)
         bool gyroCoversPrecedingInterval = true;  ///< gyro at t_k is the rate over [t_{k-1}, t_k]
-        double outputLead = 0.0025;           ///< s: orientation() is the state turned on by the rate over this time
+        double outputLead = 0.002;           ///< s: orientation() is the state turned on by the rate over this time
 
         GyroBiasTracker::Params bias {};
         MagneticFieldTracker::Params field {};
