@@ -38,6 +38,7 @@ const NumericParameter kNumeric[] = {
         {"magDisagreementTau", [](Params& p) -> double& { return p.magDisagreementTau; }},
         {"outputLead", [](Params& p) -> double& { return p.outputLead; }},
         {"startupFilterSeconds", [](Params& p) -> double& { return p.startupFilterSeconds; }},
+        {"driftBiasWindow", [](Params& p) -> double& { return p.driftBiasWindow; }},
         {"gravityNoise", [](Params& p) -> double& { return p.gravityNoise; }},
         {"youngAverageVelocity", [](Params& p) -> double& { return p.youngAverageVelocity; }},
         {"youngMaxVelocity", [](Params& p) -> double& { return p.youngMaxVelocity; }},
@@ -162,6 +163,7 @@ void OrientationFilter::reset()
     headingDisagreeT_ = tiltDisagreeT_ = 0.0;
     reacquirePending_ = false;
     afterGap_ = false;
+    driftBiasActive_ = false;
     hardIronW_ = 0.0;
     hardIronR_.setZero();
     hardIronRm_.setZero();
@@ -249,6 +251,18 @@ void OrientationFilter::initialise(const core::ImuSample& s)
     initialised_ = true;
     restartInertialFrame();
     if (useMag) fieldTracker_.update(s.accel, s.mag, 0.0);
+    driftBiasActive_ = params_.driftBiasWindow > 0.0;
+    driftBiasNext_ = params_.driftBiasWindow;
+    if (driftBiasActive_) {
+        startDriftWindow();
+        driftBias_.update(1e-9, s.gyro, s.accel, useMag ? s.mag : Eigen::Vector3d::Constant(core::kNaN));
+    }
+}
+
+void OrientationFilter::startDriftWindow()
+{
+    driftBias_.start(ukf_.state().bias, driftBiasNext_);
+    driftBiasNext_ = std::min(2.0 * driftBiasNext_, 4.0 * params_.driftBiasWindow);
 }
 
 /// The smallest earth-frame rotation that turns `q` so that the device-frame direction `upDevice`
@@ -268,6 +282,7 @@ void OrientationFilter::reacquire(const core::ImuSample& s, double gap)
     // heading reset in updateHeading): one sample that passes the field tracker inside a disturbed
     // field would otherwise throw a good heading away.
     OrientationState& x = ukf_.state();
+    driftBiasActive_ = false;   // the power-up drift estimate needs an unbroken gyro
     gapLength_ = gap;
     rateBeforeGap_ = x.rate.allFinite() ? x.rate.norm() : 0.0;
     reacquireTurn_ = 0.0;
@@ -706,6 +721,25 @@ void OrientationFilter::update(const core::ImuSample& s)
         rangeR_ += k * (ukf_.state().q.toRotationMatrix() - rangeR_);
     }
     setupLowPass(dt);
+    if (driftBiasActive_) {
+        // The power-up bias from the drift of gravity and field in a gyro-only frame (a window
+        // broken by a bridged gap or a shock starts again).
+        if (gap || shock > 0.0 || lastT_ - initT_ > params_.startupFilterSeconds) {
+            if (lastT_ - initT_ > params_.startupFilterSeconds) driftBiasActive_ = false;
+            else driftBias_.start(ukf_.state().bias, driftBiasNext_);
+        } else if (driftBias_.update(dt, s.gyro, s.accel, fieldTrusted ? s.mag : Eigen::Vector3d::Constant(core::kNaN))) {
+            if (driftBias_.estimated()) {
+                // Observed along the covariance's principal axes (their variances as the noise).
+                const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(driftBias_.covariance());
+                const Eigen::Vector3d var = eig.eigenvalues().cwiseMax(1e-14);
+                Eigen::Matrix<double, 3, kAttDim> H = Eigen::Matrix<double, 3, kAttDim>::Zero();
+                H.block<3, 3>(0, kAttBias) = eig.eigenvectors().transpose();
+                const Eigen::Vector3d nu = eig.eigenvectors().transpose() * (driftBias_.bias() - ukf_.state().bias);
+                if (nu.allFinite() && var.allFinite()) ukf_.updateLinear<3>(nu, H, var.cwiseSqrt());
+            }
+            startDriftWindow();
+        }
+    }
     if (rest) {
         Eigen::Matrix<double, 3, kAttDim> biasH = Eigen::Matrix<double, 3, kAttDim>::Zero();
         biasH.block<3, 3>(0, kAttBias).setIdentity();

@@ -108,6 +108,11 @@ public:
         double headingNoise = 0.6;            ///< rad, heading from the horizontal field (slow: τ ≈ 10–20 s)
         double headingNisLimit = 9.0;         ///< χ²(1) soft gate on the heading innovation
         double biasObservationNoise = 0.005;  ///< rad/s, bias tracker's mean used while at rest
+        /// s: the first window of the power-up drift estimate of the gyro bias (GyroDriftBias, Trackers.h;
+        /// issue 49): after start-up, until startupFilterSeconds, windows of this length doubling
+        /// (at most 4×) each give the bias with the covariance their residuals say (0: none). The
+        /// power-up bias is unknown and an arm need not rest; after a gap the bias is known.
+        double driftBiasWindow = 0.5;
 
         // Initial standard deviations (start-up and every re-acquisition). Wide enough that the
         // first measurements win; no wider, because sigma points sit at ±√12·σ and heading wraps at π.
@@ -240,6 +245,10 @@ private:
     Params params_;
     SquareRootUkf<AttitudeSpace> ukf_;
     GyroBiasTracker biasTracker_;
+    GyroDriftBias driftBias_;
+    bool driftBiasActive_ = false;    ///< a power-up drift window is open
+    double driftBiasNext_ = 0.0;      ///< s, the next window's length
+    void startDriftWindow();
     MagneticFieldTracker fieldTracker_;
     // Gyro-only strapdown orientation (device → a non-rotating frame) in which accelerometer and
     // magnetometer are low-passed: linear acceleration integrates away there, gravity does not.

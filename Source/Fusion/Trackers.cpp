@@ -2,6 +2,7 @@
 #include "Core/Types.h"
 #include <algorithm>
 #include <cmath>
+#include <Eigen/Cholesky>
 
 namespace armadillo::fusion {
 namespace {
@@ -161,6 +162,124 @@ Eigen::Vector3d ButterworthLowPass3::filter(const Eigen::Vector3d& x)
     s1_ = b1_ * x - a1_ * y + s2_;
     s2_ = b2_ * x - a2_ * y;
     return y;
+}
+
+
+// --- GyroDriftBias ------------------------------------------------------------------------------
+
+void GyroDriftBias::start(const Eigen::Vector3d& b0, double seconds)
+{
+    rows_.clear();
+    rows_.reserve(capacity_);   // a copied estimator's buffer has only its size
+    R_.setIdentity();
+    A_.setZero();
+    b0_ = b0;
+    age_ = 0.0;
+    length_ = seconds;
+    estimated_ = false;
+}
+
+bool GyroDriftBias::update(double dt, const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel, const Eigen::Vector3d& mag)
+{
+    if (!(length_ > 0.0) || !(dt > 0.0) || !gyro.allFinite() || !accel.allFinite() || !(accel.norm() > 0.0)) return false;
+    if (!rows_.empty()) {
+        A_ += R_.toRotationMatrix() * dt;
+        const Eigen::Vector3d w = (gyro - b0_) * dt;
+        const double a = w.norm();
+        if (a > 0.0) R_ = (R_ * Eigen::Quaterniond(Eigen::AngleAxisd(a, w / a))).normalized();
+    }
+    age_ += dt;
+    const bool field = mag.allFinite() && mag.norm() > 0.0;
+    rows_.push_back(Row {A_, R_ * accel.normalized(), field ? Eigen::Vector3d(R_ * mag.normalized()) : Eigen::Vector3d::Zero(), field});
+    if (age_ < length_ && rows_.size() < capacity_) return false;
+    solve();
+    length_ = 0.0;
+    return true;
+}
+
+void GyroDriftBias::solve()
+{
+    estimated_ = false;
+    const std::size_t n = rows_.size();
+    if (n < 16) return;
+    Eigen::Vector3d gSum = Eigen::Vector3d::Zero(), fSum = Eigen::Vector3d::Zero();
+    std::size_t nf = 0;
+    for (const Row& r : rows_) {
+        gSum += r.u;
+        if (r.field) {
+            fSum += r.v;
+            ++nf;
+        }
+    }
+    const bool useField = nf >= 16;
+    const Eigen::Vector3d g = gSum.normalized(), f = useField ? Eigen::Vector3d(fSum.normalized()) : Eigen::Vector3d::Zero();
+    auto skew = [](const Eigen::Vector3d& x) {
+        Eigen::Matrix3d m;
+        m << 0.0, -x.z(), x.y(), x.z(), 0.0, -x.x(), -x.y(), x.x(), 0.0;
+        return m;
+    };
+    const Eigen::Matrix3d G = skew(g), F = skew(f);
+    // Unknowns (g', f', e): u = g' − G A e, v = f' − F A e. Two passes: unweighted, then each sensor
+    // weighed by its residuals' variance (inflated for their correlation).
+    double wu = 1.0, wv = 1.0;
+    Eigen::Matrix<double, 9, 9> N;
+    Eigen::Matrix<double, 9, 1> x = Eigen::Matrix<double, 9, 1>::Zero();
+    for (int pass = 0; pass < 2; ++pass) {
+        N.setZero();
+        Eigen::Matrix<double, 9, 1> y = Eigen::Matrix<double, 9, 1>::Zero();
+        for (const Row& r : rows_) {
+            Eigen::Matrix<double, 3, 9> X = Eigen::Matrix<double, 3, 9>::Zero();
+            X.leftCols<3>().setIdentity();
+            X.rightCols<3>() = -G * r.A;
+            N.noalias() += wu * X.transpose() * X;
+            y.noalias() += wu * X.transpose() * r.u;
+            if (useField && r.field) {
+                X.setZero();
+                X.middleCols<3>(3).setIdentity();
+                X.rightCols<3>() = -F * r.A;
+                N.noalias() += wv * X.transpose() * X;
+                y.noalias() += wv * X.transpose() * r.v;
+            }
+        }
+        if (!useField) N.block<3, 3>(3, 3).setIdentity();
+        N.diagonal().array() += 1e-12 * (N.trace() / 9.0 + 1e-300);
+        const Eigen::LDLT<Eigen::Matrix<double, 9, 9>> ldlt(N);
+        x = ldlt.solve(y);
+        if (!x.allFinite()) return;
+        if (pass == 1) {
+            const Eigen::Matrix<double, 9, 9> C = ldlt.solve(Eigen::Matrix<double, 9, 9>::Identity());
+            cov_ = C.bottomRightCorner<3, 3>();
+            cov_ = 0.5 * (cov_ + cov_.transpose());
+            bias_ = b0_ + x.tail<3>();
+            estimated_ = cov_.allFinite() && bias_.allFinite();
+            return;
+        }
+        // Residual variance and lag-1 correlation per sensor.
+        double su = 0.0, cu = 0.0, sv = 0.0, cv = 0.0;
+        Eigen::Vector3d prevU = Eigen::Vector3d::Zero(), prevV = Eigen::Vector3d::Zero();
+        bool havePrevV = false;
+        std::size_t k = 0;
+        for (const Row& r : rows_) {
+            const Eigen::Vector3d ru = r.u - x.head<3>() + G * (r.A * x.tail<3>());
+            su += ru.squaredNorm();
+            if (k++ > 0) cu += ru.dot(prevU);
+            prevU = ru;
+            if (useField && r.field) {
+                const Eigen::Vector3d rv = r.v - x.segment<3>(3) + F * (r.A * x.tail<3>());
+                sv += rv.squaredNorm();
+                if (havePrevV) cv += rv.dot(prevV);
+                prevV = rv;
+                havePrevV = true;
+            }
+        }
+        auto weight = [](double s, double c, double count) {
+            const double var = s / std::max(1.0, 2.0 * count - 4.5) + 1e-18;   // 2 of 3 components carry information
+            const double rho = std::clamp(c / (s + 1e-300), 0.0, 0.999);
+            return 1.0 / (var * (1.0 + rho) / (1.0 - rho));
+        };
+        wu = weight(su, cu, static_cast<double>(n));
+        wv = useField ? weight(sv, cv, static_cast<double>(nf)) : 0.0;
+    }
 }
 
 } // namespace armadillo::fusion

@@ -7,7 +7,9 @@
 //    clean magnetometer sample from a disturbed one (departure, docs/FUSION.md).
 // Params (units in the comments) / State, no heap.
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstddef>
+#include <vector>
 
 namespace armadillo::fusion {
 
@@ -120,6 +122,46 @@ private:
     long count_ = 0;
     bool primed_ = false;
     bool tapered_ = false;
+};
+
+
+/// The gyro bias from the drift of gravity and of the field in a gyro-only frame (issue 49): over
+/// a window the frame R(t) is integrated from the gyro less a fixed b0; if the true bias is
+/// b0 + e the frame turns away from the earth by φ(t) = A(t) e, A(t) = ∫R dt (first order), so
+/// a unit accelerometer sample seen in it reads u = g − [g]× A e (g constant: gravity) and a unit
+/// field sample v = f − [f]× A e. Least squares for (g, f, e), each sensor weighed by its
+/// residuals' variance inflated for their lag-1 correlation ((1+ρ)/(1−ρ): linear acceleration is
+/// slow, sensor noise white), gives e and its covariance from the data alone: a clean signal (a
+/// simulator's arm, a still arm) pins the bias down within a second, a translating arm says its
+/// estimate is worth little. A buffer, sized once, holds the window (no allocation per sample).
+class GyroDriftBias {
+public:
+    explicit GyroDriftBias(std::size_t capacity = 1024) : capacity_(capacity) { rows_.reserve(capacity); }
+    /// Starts a window of `seconds` integrating gyro − b0.
+    void start(const Eigen::Vector3d& b0, double seconds);
+    /// Feeds one sample (dt s, gyro rad/s, accel any unit, mag any unit or NaN when untrusted).
+    /// Returns true when the window has closed (its length reached or the buffer full): then
+    /// bias() and covariance() hold the estimate if estimated() (else the window said nothing).
+    bool update(double dt, const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel, const Eigen::Vector3d& mag);
+    bool estimated() const noexcept { return estimated_; }
+    const Eigen::Vector3d& bias() const noexcept { return bias_; }
+    const Eigen::Matrix3d& covariance() const noexcept { return cov_; }
+
+private:
+    struct Row {
+        Eigen::Matrix3d A;
+        Eigen::Vector3d u, v;
+        bool field;
+    };
+    void solve();
+    std::size_t capacity_;
+    std::vector<Row> rows_;
+    Eigen::Quaterniond R_ = Eigen::Quaterniond::Identity();
+    Eigen::Matrix3d A_ = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d b0_ = Eigen::Vector3d::Zero(), bias_ = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d cov_ = Eigen::Matrix3d::Identity();
+    double age_ = 0.0, length_ = 0.0;
+    bool estimated_ = false;
 };
 
 } // namespace armadillo::fusion
