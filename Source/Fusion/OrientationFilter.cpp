@@ -39,6 +39,8 @@ const NumericParameter kNumeric[] = {
         {"outputLead", [](Params& p) -> double& { return p.outputLead; }},
         {"startupFilterSeconds", [](Params& p) -> double& { return p.startupFilterSeconds; }},
         {"driftBiasWindow", [](Params& p) -> double& { return p.driftBiasWindow; }},
+        {"driftBiasWindows", [](Params& p) -> double& { return p.driftBiasWindows; }},
+        {"driftBiasNisLimit", [](Params& p) -> double& { return p.driftBiasNisLimit; }},
         {"gravityNoise", [](Params& p) -> double& { return p.gravityNoise; }},
         {"youngAverageVelocity", [](Params& p) -> double& { return p.youngAverageVelocity; }},
         {"youngMaxVelocity", [](Params& p) -> double& { return p.youngMaxVelocity; }},
@@ -253,6 +255,7 @@ void OrientationFilter::initialise(const core::ImuSample& s)
     if (useMag) fieldTracker_.update(s.accel, s.mag, 0.0);
     driftBiasActive_ = params_.driftBiasWindow > 0.0;
     driftBiasNext_ = params_.driftBiasWindow;
+    driftBiasWindows_ = 0;
     if (driftBiasActive_) {
         startDriftWindow();
         driftBias_.update(1e-9, s.gyro, s.accel, useMag ? s.mag : Eigen::Vector3d::Constant(core::kNaN));
@@ -262,7 +265,7 @@ void OrientationFilter::initialise(const core::ImuSample& s)
 void OrientationFilter::startDriftWindow()
 {
     driftBias_.start(ukf_.state().bias, driftBiasNext_);
-    driftBiasNext_ = std::min(2.0 * driftBiasNext_, 4.0 * params_.driftBiasWindow);
+    driftBiasNext_ *= 2.0;
 }
 
 /// The smallest earth-frame rotation that turns `q` so that the device-frame direction `upDevice`
@@ -724,9 +727,8 @@ void OrientationFilter::update(const core::ImuSample& s)
     if (driftBiasActive_) {
         // The power-up bias from the drift of gravity and field in a gyro-only frame (a window
         // broken by a bridged gap or a shock starts again).
-        if (gap || shock > 0.0 || lastT_ - initT_ > params_.startupFilterSeconds) {
-            if (lastT_ - initT_ > params_.startupFilterSeconds) driftBiasActive_ = false;
-            else driftBias_.start(ukf_.state().bias, driftBiasNext_);
+        if (gap || shock > 0.0) {
+            driftBias_.start(ukf_.state().bias, driftBiasNext_);
         } else if (driftBias_.update(dt, s.gyro, s.accel, fieldTrusted ? s.mag : Eigen::Vector3d::Constant(core::kNaN))) {
             if (driftBias_.estimated()) {
                 // Observed along the covariance's principal axes (their variances as the noise).
@@ -735,9 +737,16 @@ void OrientationFilter::update(const core::ImuSample& s)
                 Eigen::Matrix<double, 3, kAttDim> H = Eigen::Matrix<double, 3, kAttDim>::Zero();
                 H.block<3, 3>(0, kAttBias) = eig.eigenvectors().transpose();
                 const Eigen::Vector3d nu = eig.eigenvectors().transpose() * (driftBias_.bias() - ukf_.state().bias);
-                if (nu.allFinite() && var.allFinite()) ukf_.updateLinear<3>(nu, H, var.cwiseSqrt());
+                // Soft gate against what the filter knows: an estimate further off than the two
+                // covariances allow (χ²(3) beyond driftBiasNisLimit) has its variance inflated to that limit.
+                const Eigen::Matrix3d Pb = ukf_.covariance().block<3, 3>(kAttBias, kAttBias);
+                const Eigen::Vector3d d = driftBias_.bias() - ukf_.state().bias;
+                const double nis = d.dot((Pb + driftBias_.covariance()).ldlt().solve(d));
+                const double inflate = std::isfinite(nis) && nis > params_.driftBiasNisLimit ? nis / params_.driftBiasNisLimit : 1.0;
+                if (nu.allFinite() && var.allFinite()) ukf_.updateLinear<3>(nu, H, (inflate * var).cwiseSqrt());
             }
-            startDriftWindow();
+            if (++driftBiasWindows_ < params_.driftBiasWindows) startDriftWindow();
+            else driftBiasActive_ = false;
         }
     }
     if (rest) {

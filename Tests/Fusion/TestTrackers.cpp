@@ -105,6 +105,8 @@ TEST_CASE("butterworth: the tapered start-up mean of a swinging arm's accelerati
 
 TEST_CASE("drift bias: a turning arm's power-up gyro bias from the drift of gravity and field, with an honest covariance", "[fusion][trackers]")
 {
+    using Eigen::Quaterniond;
+    using Eigen::Vector3d;
     // An arm turning about two axes, gyro with bias b, clean gravity and field (a simulator's arm):
     // one second pins b down to a few hundredths of a degree per second. The same arm carrying a
     // slow linear acceleration of 2 m/s² (0.5 Hz): the estimate is worse, and its covariance says so.
