@@ -116,7 +116,7 @@ TEST_CASE("drift bias: a turning arm's power-up gyro bias from the drift of grav
         INFO("linear acceleration " << lin << " m/s²");
         std::mt19937 rng(7);
         std::normal_distribution<double> n(0.0, 1.0);
-        auto noise = [&](double s) { return Vector3d(n(rng), n(rng), n(rng)) * s; };
+        auto noise = [&](double s) -> Vector3d { return Vector3d(n(rng), n(rng), n(rng)) * s; };
         GyroDriftBias est;
         est.start(Vector3d::Zero(), 1.0);
         Quaterniond q = Quaterniond::Identity();   // device → earth
