@@ -40,6 +40,8 @@ const NumericParameter kNumeric[] = {
         {"startupFilterSeconds", [](Params& p) -> double& { return p.startupFilterSeconds; }},
         {"driftBiasWindow", [](Params& p) -> double& { return p.driftBiasWindow; }},
         {"driftBiasWindows", [](Params& p) -> double& { return p.driftBiasWindows; }},
+        {"driftBiasMaxWindow", [](Params& p) -> double& { return p.driftBiasMaxWindow; }},
+        {"driftBiasProof", [](Params& p) -> double& { return p.driftBiasProof; }},
         {"driftBiasNisLimit", [](Params& p) -> double& { return p.driftBiasNisLimit; }},
         {"gravityNoise", [](Params& p) -> double& { return p.gravityNoise; }},
         {"youngAverageVelocity", [](Params& p) -> double& { return p.youngAverageVelocity; }},
@@ -256,6 +258,7 @@ void OrientationFilter::initialise(const core::ImuSample& s)
     driftBiasActive_ = params_.driftBiasWindow > 0.0;
     driftBiasNext_ = params_.driftBiasWindow;
     driftBiasWindows_ = 0;
+    driftPrevProved_ = false;
     if (driftBiasActive_) {
         startDriftWindow();
         driftBias_.update(1e-9, s.gyro, s.accel, useMag ? s.mag : Eigen::Vector3d::Constant(core::kNaN));
@@ -265,7 +268,7 @@ void OrientationFilter::initialise(const core::ImuSample& s)
 void OrientationFilter::startDriftWindow()
 {
     driftBias_.start(ukf_.state().bias, driftBiasNext_);
-    driftBiasNext_ *= 2.0;
+    if (driftBiasWindows_ > 0) driftBiasNext_ = std::min(2.0 * driftBiasNext_, params_.driftBiasMaxWindow);   // the first two alike: the second confirms the first
 }
 
 /// The smallest earth-frame rotation that turns `q` so that the device-frame direction `upDevice`
@@ -743,7 +746,22 @@ void OrientationFilter::update(const core::ImuSample& s)
                 const Eigen::Vector3d d = driftBias_.bias() - ukf_.state().bias;
                 const double nis = d.dot((Pb + driftBias_.covariance()).ldlt().solve(d));
                 const double inflate = std::isfinite(nis) && nis > params_.driftBiasNisLimit ? nis / params_.driftBiasNisLimit : 1.0;
-                if (nu.allFinite() && var.allFinite()) ukf_.updateLinear<3>(nu, H, (inflate * var).cwiseSqrt());
+                // Observed only where the window proves the filter's bias wrong (the filter's value outside
+                // the window's driftBiasProof confidence region): a bias-free sensor's windows are noise.
+                const double proof = d.dot(driftBias_.covariance().ldlt().solve(d));
+                // ... and only when the window before it proved the same (a real bias persists; a
+                // window fooled by the motion is not repeated by the next one).
+                const bool proved = std::isfinite(proof) && proof >= params_.driftBiasProof;
+                const Eigen::Vector3d change = driftBias_.bias() - driftPrevBias_;
+                const double agreement = change.dot((driftBias_.covariance() + driftPrevCov_).ldlt().solve(change));
+                const bool confirmed = proved && driftPrevProved_ && std::isfinite(agreement) && agreement < params_.driftBiasProof;
+                driftPrevProved_ = proved;
+                driftPrevBias_ = driftBias_.bias();
+                driftPrevCov_ = driftBias_.covariance();
+                if (nu.allFinite() && var.allFinite() && confirmed)
+                    ukf_.updateLinear<3>(nu, H, (inflate * var).cwiseSqrt());
+            } else {
+                driftPrevProved_ = false;   // a window that said nothing confirms nothing
             }
             if (++driftBiasWindows_ < params_.driftBiasWindows) startDriftWindow();
             else driftBiasActive_ = false;

@@ -109,14 +109,16 @@ public:
         double headingNisLimit = 9.0;         ///< χ²(1) soft gate on the heading innovation
         double biasObservationNoise = 0.005;  ///< rad/s, bias tracker's mean used while at rest
         /// s: the first window of the power-up drift estimate of the gyro bias (GyroDriftBias, Trackers.h;
-        /// issue 49): from start-up, driftBiasWindows windows, each twice as long as the one before,
-        /// each give the bias with the covariance their residuals say (0: none). OFF by default: with
-        /// 0.5 it takes the simulated arm's pose-file tracking from 1.4° to 0.2°/0.6° and leaves BROAD
-        /// unchanged, but on the OSC senders' wandering arm (slow linear acceleration, no bias) its
-        /// short windows mistake linear acceleration for bias with a covariance 5× too small, and
-        /// ZIG SIM goes from 0.8° to 3.0–3.6° (docs/FUSION.md, Known weaknesses). An experiment.
-        double driftBiasWindow = 0.0;
-        double driftBiasWindows = 2.0;        ///< windows (0.5 + 1 s: the power-up acquisition's first 1.5 s)
+        /// issue 49): from start-up, driftBiasWindows windows (the first two this long, then each twice
+        /// the one before, at most driftBiasMaxWindow) each give the bias with the covariance their
+        /// residuals say (0: none). A window is observed only if it proves the filter's bias wrong
+        /// (the filter's value outside its driftBiasProof region) and the window before proved the same
+        /// and agrees with it: a real power-up bias persists, a window fooled by the motion (the OSC
+        /// senders' wandering arm, whose phones send bias-free rates) is not repeated by the next one.
+        double driftBiasWindow = 0.5;
+        double driftBiasWindows = 4.0;        ///< windows (0.5, 0.5, 1, 2 s: the first 4 s)
+        double driftBiasMaxWindow = 4.0;      ///< s: windows grow to this length
+        double driftBiasProof = 11.34;        ///< χ²(3) at 99 %: proof that the filter's bias is wrong; agreement of two windows
         double driftBiasNisLimit = 12.0;      ///< χ²(3) soft gate of a window's estimate against the filter's bias
 
         // Initial standard deviations (start-up and every re-acquisition). Wide enough that the
@@ -254,6 +256,9 @@ private:
     bool driftBiasActive_ = false;    ///< a power-up drift window is open
     double driftBiasNext_ = 0.0;      ///< s, the next window's length
     int driftBiasWindows_ = 0;        ///< windows closed since start-up
+    bool driftPrevProved_ = false;    ///< the window before proved the filter's bias wrong
+    Eigen::Vector3d driftPrevBias_ = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d driftPrevCov_ = Eigen::Matrix3d::Identity();
     void startDriftWindow();
     MagneticFieldTracker fieldTracker_;
     // Gyro-only strapdown orientation (device → a non-rotating frame) in which accelerometer and

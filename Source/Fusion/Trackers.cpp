@@ -171,6 +171,8 @@ void GyroDriftBias::start(const Eigen::Vector3d& b0, double seconds)
 {
     rows_.clear();
     rows_.reserve(capacity_);   // a copied estimator's buffer has only its size
+    lastAccel_.setConstant(core::kNaN);
+    lastMag_.setConstant(core::kNaN);
     R_.setIdentity();
     A_.setZero();
     b0_ = b0;
@@ -190,7 +192,17 @@ bool GyroDriftBias::update(double dt, const Eigen::Vector3d& gyro, const Eigen::
     }
     age_ += dt;
     const bool field = mag.allFinite() && mag.norm() > 0.0;
-    rows_.push_back(Row {A_, R_ * accel.normalized(), field ? Eigen::Vector3d(R_ * mag.normalized()) : Eigen::Vector3d::Zero(), field});
+    // A sample whose magnitude is off 1 g carries linear acceleration (a punch, a swing's pull):
+    // its direction says nothing trustworthy about gravity's drift.
+    // A reading repeated exactly is a held one (a stream slower than the gyro's, a lost message):
+    // it was taken earlier than this row's turn, so it is left out too.
+    const bool gravity = std::abs(accel.norm() - core::kStandardGravity) <= accelTolerance_ * core::kStandardGravity && accel != lastAccel_;
+    lastAccel_ = accel;
+    const bool freshField = field && mag != lastMag_;
+    lastMag_ = mag;
+    const Eigen::Vector3d rate = gyro - b0_, up = accel.normalized();
+    const Eigen::Vector3d north = field ? Eigen::Vector3d(mag.normalized()) : Eigen::Vector3d::Zero();
+    rows_.push_back(Row {A_, R_ * up, R_ * north, R_ * rate.cross(up), R_ * rate.cross(north), freshField, gravity});
     if (age_ < length_ && rows_.size() < capacity_) return false;
     solve();
     length_ = 0.0;
@@ -200,72 +212,96 @@ bool GyroDriftBias::update(double dt, const Eigen::Vector3d& gyro, const Eigen::
 void GyroDriftBias::solve()
 {
     estimated_ = false;
-    const std::size_t n = rows_.size();
-    if (n < 16) return;
     Eigen::Vector3d gSum = Eigen::Vector3d::Zero(), fSum = Eigen::Vector3d::Zero();
-    std::size_t nf = 0;
+    std::size_t ng = 0, nf = 0;
     for (const Row& r : rows_) {
-        gSum += r.u;
+        if (r.gravity) {
+            gSum += r.u;
+            ++ng;
+        }
         if (r.field) {
             fSum += r.v;
             ++nf;
         }
     }
-    const bool useField = nf >= 16;
-    const Eigen::Vector3d g = gSum.normalized(), f = useField ? Eigen::Vector3d(fSum.normalized()) : Eigen::Vector3d::Zero();
+    const bool useGravity = ng >= 16, useField = nf >= 16;
+    if (!useGravity && !useField) return;
+    const Eigen::Vector3d g = useGravity ? Eigen::Vector3d(gSum.normalized()) : Eigen::Vector3d::Zero();
+    const Eigen::Vector3d f = useField ? Eigen::Vector3d(fSum.normalized()) : Eigen::Vector3d::Zero();
     auto skew = [](const Eigen::Vector3d& x) {
         Eigen::Matrix3d m;
         m << 0.0, -x.z(), x.y(), x.z(), 0.0, -x.x(), -x.y(), x.x(), 0.0;
         return m;
     };
     const Eigen::Matrix3d G = skew(g), F = skew(f);
-    // Unknowns (g', f', e): u = g' − G A e, v = f' − F A e. Two passes: unweighted, then each sensor
-    // weighed by its residuals' variance (inflated for their correlation).
+    // Unknowns (g', f', e, δ): u = g' − G A e + δ c_u, v = f' − F A e + δ c_v. δ is the time by
+    // which the gyro-only frame runs ahead of the samples it turns (a sampling convention, a
+    // stream's offset): the turn between them, c = R (ω × sample), is no bias. Two passes:
+    // unweighted, then each sensor weighed by its residuals' variance (inflated for their correlation).
+    constexpr int kN = 10;
+    using Vec = Eigen::Matrix<double, kN, 1>;
+    using Mat = Eigen::Matrix<double, kN, kN>;
     double wu = 1.0, wv = 1.0;
-    Eigen::Matrix<double, 9, 9> N;
-    Eigen::Matrix<double, 9, 1> x = Eigen::Matrix<double, 9, 1>::Zero();
+    Mat N;
+    Vec x = Vec::Zero();
+    auto rowU = [&](const Row& r) {
+        Eigen::Matrix<double, 3, kN> X = Eigen::Matrix<double, 3, kN>::Zero();
+        X.block<3, 3>(0, 0).setIdentity();
+        X.block<3, 3>(0, 6) = -G * r.A;
+        X.col(9) = r.cu;
+        return X;
+    };
+    auto rowV = [&](const Row& r) {
+        Eigen::Matrix<double, 3, kN> X = Eigen::Matrix<double, 3, kN>::Zero();
+        X.block<3, 3>(0, 3).setIdentity();
+        X.block<3, 3>(0, 6) = -F * r.A;
+        X.col(9) = r.cv;
+        return X;
+    };
     for (int pass = 0; pass < 2; ++pass) {
         N.setZero();
-        Eigen::Matrix<double, 9, 1> y = Eigen::Matrix<double, 9, 1>::Zero();
+        Vec y = Vec::Zero();
         for (const Row& r : rows_) {
-            Eigen::Matrix<double, 3, 9> X = Eigen::Matrix<double, 3, 9>::Zero();
-            X.leftCols<3>().setIdentity();
-            X.rightCols<3>() = -G * r.A;
-            N.noalias() += wu * X.transpose() * X;
-            y.noalias() += wu * X.transpose() * r.u;
+            if (useGravity && r.gravity) {
+                const Eigen::Matrix<double, 3, kN> X = rowU(r);
+                N.noalias() += wu * X.transpose() * X;
+                y.noalias() += wu * X.transpose() * r.u;
+            }
             if (useField && r.field) {
-                X.setZero();
-                X.middleCols<3>(3).setIdentity();
-                X.rightCols<3>() = -F * r.A;
+                const Eigen::Matrix<double, 3, kN> X = rowV(r);
                 N.noalias() += wv * X.transpose() * X;
                 y.noalias() += wv * X.transpose() * r.v;
             }
         }
         if (!useField) N.block<3, 3>(3, 3).setIdentity();
-        N.diagonal().array() += 1e-12 * (N.trace() / 9.0 + 1e-300);
-        const Eigen::LDLT<Eigen::Matrix<double, 9, 9>> ldlt(N);
+        if (!useGravity) N.block<3, 3>(0, 0).setIdentity();
+        N.diagonal().array() += 1e-12 * (N.trace() / kN + 1e-300);
+        const Eigen::LDLT<Mat> ldlt(N);
         x = ldlt.solve(y);
         if (!x.allFinite()) return;
         if (pass == 1) {
-            const Eigen::Matrix<double, 9, 9> C = ldlt.solve(Eigen::Matrix<double, 9, 9>::Identity());
-            cov_ = C.bottomRightCorner<3, 3>();
+            const Mat C = ldlt.solve(Mat::Identity());
+            cov_ = C.block<3, 3>(6, 6);
             cov_ = 0.5 * (cov_ + cov_.transpose());
-            bias_ = b0_ + x.tail<3>();
+            bias_ = b0_ + x.segment<3>(6);
+            lead_ = x(9);
             estimated_ = cov_.allFinite() && bias_.allFinite();
             return;
         }
         // Residual variance and lag-1 correlation per sensor.
         double su = 0.0, cu = 0.0, sv = 0.0, cv = 0.0;
         Eigen::Vector3d prevU = Eigen::Vector3d::Zero(), prevV = Eigen::Vector3d::Zero();
-        bool havePrevV = false;
-        std::size_t k = 0;
+        bool havePrevU = false, havePrevV = false;
         for (const Row& r : rows_) {
-            const Eigen::Vector3d ru = r.u - x.head<3>() + G * (r.A * x.tail<3>());
-            su += ru.squaredNorm();
-            if (k++ > 0) cu += ru.dot(prevU);
-            prevU = ru;
+            if (useGravity && r.gravity) {
+                const Eigen::Vector3d ru = r.u - rowU(r) * x;
+                su += ru.squaredNorm();
+                if (havePrevU) cu += ru.dot(prevU);
+                prevU = ru;
+                havePrevU = true;
+            }
             if (useField && r.field) {
-                const Eigen::Vector3d rv = r.v - x.segment<3>(3) + F * (r.A * x.tail<3>());
+                const Eigen::Vector3d rv = r.v - rowV(r) * x;
                 sv += rv.squaredNorm();
                 if (havePrevV) cv += rv.dot(prevV);
                 prevV = rv;
@@ -273,11 +309,11 @@ void GyroDriftBias::solve()
             }
         }
         auto weight = [](double s, double c, double count) {
-            const double var = s / std::max(1.0, 2.0 * count - 4.5) + 1e-18;   // 2 of 3 components carry information
+            const double var = s / std::max(1.0, 2.0 * count - 5.0) + 1e-18;   // 2 of 3 components carry information
             const double rho = std::clamp(c / (s + 1e-300), 0.0, 0.999);
             return 1.0 / (var * (1.0 + rho) / (1.0 - rho));
         };
-        wu = weight(su, cu, static_cast<double>(n));
+        wu = useGravity ? weight(su, cu, static_cast<double>(ng)) : 0.0;
         wv = useField ? weight(sv, cv, static_cast<double>(nf)) : 0.0;
     }
 }

@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 namespace armadillo::fusion {
@@ -143,15 +144,22 @@ public:
     /// Returns true when the window has closed (its length reached or the buffer full): then
     /// bias() and covariance() hold the estimate if estimated() (else the window said nothing).
     bool update(double dt, const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel, const Eigen::Vector3d& mag);
+    /// Fraction of g: an accelerometer sample further than this from 1 g is left out of the fit
+    /// (linear acceleration: a punch, a swing's pull).
+    void setAccelTolerance(double fraction) noexcept { accelTolerance_ = fraction; }
     bool estimated() const noexcept { return estimated_; }
     const Eigen::Vector3d& bias() const noexcept { return bias_; }
     const Eigen::Matrix3d& covariance() const noexcept { return cov_; }
+    /// s: how far the gyro-only frame ran ahead of the samples in the last window (fitted beside the bias).
+    double lead() const noexcept { return lead_; }
 
 private:
     struct Row {
         Eigen::Matrix3d A;
-        Eigen::Vector3d u, v;
+        Eigen::Vector3d u, v;     ///< unit accelerometer and field samples in the gyro-only frame
+        Eigen::Vector3d cu, cv;   ///< their change per second of timing offset, R (ω × sample)
         bool field;
+        bool gravity;   ///< |a| within accelTolerance of 1 g
     };
     void solve();
     std::size_t capacity_;
@@ -161,6 +169,10 @@ private:
     Eigen::Vector3d b0_ = Eigen::Vector3d::Zero(), bias_ = Eigen::Vector3d::Zero();
     Eigen::Matrix3d cov_ = Eigen::Matrix3d::Identity();
     double age_ = 0.0, length_ = 0.0;
+    double accelTolerance_ = 0.05;
+    double lead_ = 0.0;
+    Eigen::Vector3d lastAccel_ = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+    Eigen::Vector3d lastMag_ = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
     bool estimated_ = false;
 };
 
