@@ -655,6 +655,50 @@ Eigen::Vector3d OrientationFilter::withoutHardIron(const Eigen::Vector3d& mag, d
     return lastT_ - accelAverageStartT_ < params_.accelFilterTau ? Eigen::Vector3d(mag - hardIron()) : mag;
 }
 
+/// The power-up bias from the drift of gravity and field in a gyro-only frame (GyroDriftBias): one
+/// window closes, is judged (proof, confirmation) and the next starts.
+void OrientationFilter::updateDriftBias(const core::ImuSample& s, double dt, bool gap, bool shock, bool fieldTrusted)
+{
+    // The power-up bias from the drift of gravity and field in a gyro-only frame (a window
+    // broken by a bridged gap or a shock starts again).
+    if (gap || shock) {
+        driftBias_.start(ukf_.state().bias, driftBiasNext_);
+    } else if (driftBias_.update(dt, s.gyro, s.accel, fieldTrusted ? s.mag : Eigen::Vector3d::Constant(core::kNaN))) {
+        if (driftBias_.estimated()) {
+            // Observed along the covariance's principal axes (their variances as the noise).
+            const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(driftBias_.covariance());
+            const Eigen::Vector3d var = eig.eigenvalues().cwiseMax(1e-14);
+            Eigen::Matrix<double, 3, kAttDim> H = Eigen::Matrix<double, 3, kAttDim>::Zero();
+            H.block<3, 3>(0, kAttBias) = eig.eigenvectors().transpose();
+            const Eigen::Vector3d nu = eig.eigenvectors().transpose() * (driftBias_.bias() - ukf_.state().bias);
+            // Soft gate against what the filter knows: an estimate further off than the two
+            // covariances allow (χ²(3) beyond driftBiasNisLimit) has its variance inflated to that limit.
+            const Eigen::Matrix3d Pb = ukf_.covariance().block<3, 3>(kAttBias, kAttBias);
+            const Eigen::Vector3d d = driftBias_.bias() - ukf_.state().bias;
+            const double nis = d.dot((Pb + driftBias_.covariance()).ldlt().solve(d));
+            const double inflate = std::isfinite(nis) && nis > params_.driftBiasNisLimit ? nis / params_.driftBiasNisLimit : 1.0;
+            // Observed only where the window proves the filter's bias wrong (the filter's value outside
+            // the window's driftBiasProof confidence region): a bias-free sensor's windows are noise.
+            const double proof = d.dot(driftBias_.covariance().ldlt().solve(d));
+            // ... and only when the window before it proved the same (a real bias persists; a
+            // window fooled by the motion is not repeated by the next one).
+            const bool proved = std::isfinite(proof) && proof >= params_.driftBiasProof;
+            const Eigen::Vector3d change = driftBias_.bias() - driftPrevBias_;
+            const double agreement = change.dot((driftBias_.covariance() + driftPrevCov_).ldlt().solve(change));
+            const bool confirmed = proved && driftPrevProved_ && std::isfinite(agreement) && agreement < params_.driftBiasProof;
+            driftPrevProved_ = proved;
+            driftPrevBias_ = driftBias_.bias();
+            driftPrevCov_ = driftBias_.covariance();
+            if (nu.allFinite() && var.allFinite() && confirmed)
+                ukf_.updateLinear<3>(nu, H, (inflate * var).cwiseSqrt());
+        } else {
+            driftPrevProved_ = false;   // a window that said nothing confirms nothing
+        }
+        if (++driftBiasWindows_ < params_.driftBiasWindows) startDriftWindow();
+        else driftBiasActive_ = false;
+    }
+}
+
 void OrientationFilter::update(const core::ImuSample& s)
 {
     if (!std::isfinite(s.t) || !s.gyro.allFinite() || !s.accel.allFinite() || !(s.accel.norm() > 0.0)) {
@@ -727,46 +771,7 @@ void OrientationFilter::update(const core::ImuSample& s)
         rangeR_ += k * (ukf_.state().q.toRotationMatrix() - rangeR_);
     }
     setupLowPass(dt);
-    if (driftBiasActive_) {
-        // The power-up bias from the drift of gravity and field in a gyro-only frame (a window
-        // broken by a bridged gap or a shock starts again).
-        if (gap || shock > 0.0) {
-            driftBias_.start(ukf_.state().bias, driftBiasNext_);
-        } else if (driftBias_.update(dt, s.gyro, s.accel, fieldTrusted ? s.mag : Eigen::Vector3d::Constant(core::kNaN))) {
-            if (driftBias_.estimated()) {
-                // Observed along the covariance's principal axes (their variances as the noise).
-                const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(driftBias_.covariance());
-                const Eigen::Vector3d var = eig.eigenvalues().cwiseMax(1e-14);
-                Eigen::Matrix<double, 3, kAttDim> H = Eigen::Matrix<double, 3, kAttDim>::Zero();
-                H.block<3, 3>(0, kAttBias) = eig.eigenvectors().transpose();
-                const Eigen::Vector3d nu = eig.eigenvectors().transpose() * (driftBias_.bias() - ukf_.state().bias);
-                // Soft gate against what the filter knows: an estimate further off than the two
-                // covariances allow (χ²(3) beyond driftBiasNisLimit) has its variance inflated to that limit.
-                const Eigen::Matrix3d Pb = ukf_.covariance().block<3, 3>(kAttBias, kAttBias);
-                const Eigen::Vector3d d = driftBias_.bias() - ukf_.state().bias;
-                const double nis = d.dot((Pb + driftBias_.covariance()).ldlt().solve(d));
-                const double inflate = std::isfinite(nis) && nis > params_.driftBiasNisLimit ? nis / params_.driftBiasNisLimit : 1.0;
-                // Observed only where the window proves the filter's bias wrong (the filter's value outside
-                // the window's driftBiasProof confidence region): a bias-free sensor's windows are noise.
-                const double proof = d.dot(driftBias_.covariance().ldlt().solve(d));
-                // ... and only when the window before it proved the same (a real bias persists; a
-                // window fooled by the motion is not repeated by the next one).
-                const bool proved = std::isfinite(proof) && proof >= params_.driftBiasProof;
-                const Eigen::Vector3d change = driftBias_.bias() - driftPrevBias_;
-                const double agreement = change.dot((driftBias_.covariance() + driftPrevCov_).ldlt().solve(change));
-                const bool confirmed = proved && driftPrevProved_ && std::isfinite(agreement) && agreement < params_.driftBiasProof;
-                driftPrevProved_ = proved;
-                driftPrevBias_ = driftBias_.bias();
-                driftPrevCov_ = driftBias_.covariance();
-                if (nu.allFinite() && var.allFinite() && confirmed)
-                    ukf_.updateLinear<3>(nu, H, (inflate * var).cwiseSqrt());
-            } else {
-                driftPrevProved_ = false;   // a window that said nothing confirms nothing
-            }
-            if (++driftBiasWindows_ < params_.driftBiasWindows) startDriftWindow();
-            else driftBiasActive_ = false;
-        }
-    }
+    if (driftBiasActive_) updateDriftBias(s, dt, gap, shock > 0.0, fieldTrusted);
     if (rest) {
         Eigen::Matrix<double, 3, kAttDim> biasH = Eigen::Matrix<double, 3, kAttDim>::Zero();
         biasH.block<3, 3>(0, kAttBias).setIdentity();

@@ -260,6 +260,7 @@ private:
     Eigen::Vector3d driftPrevBias_ = Eigen::Vector3d::Zero();
     Eigen::Matrix3d driftPrevCov_ = Eigen::Matrix3d::Identity();
     void startDriftWindow();
+    void updateDriftBias(const core::ImuSample& s, double dt, bool gap, bool shock, bool fieldTrusted);
     MagneticFieldTracker fieldTracker_;
     // Gyro-only strapdown orientation (device → a non-rotating frame) in which accelerometer and
     // magnetometer are low-passed: linear acceleration integrates away there, gravity does not.

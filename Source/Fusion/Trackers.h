@@ -130,17 +130,19 @@ private:
 /// a window the frame R(t) is integrated from the gyro less a fixed b0; if the true bias is
 /// b0 + e the frame turns away from the earth by φ(t) = A(t) e, A(t) = ∫R dt (first order), so
 /// a unit accelerometer sample seen in it reads u = g − [g]× A e (g constant: gravity) and a unit
-/// field sample v = f − [f]× A e. Least squares for (g, f, e), each sensor weighed by its
+/// field sample v = f − [f]× A e. Least squares for (g, f, e) and a timing offset δ (column
+/// R (ω × sample): the samples taken a little before or after the frame's turn), each sensor weighed by its
 /// residuals' variance inflated for their lag-1 correlation ((1+ρ)/(1−ρ): linear acceleration is
 /// slow, sensor noise white), gives e and its covariance from the data alone: a clean signal (a
 /// simulator's arm, a still arm) pins the bias down within a second, a translating arm says its
-/// estimate is worth little. A buffer, sized once, holds the window (no allocation per sample).
+/// estimate is worth little. Accelerometer samples off 1 g by more than setAccelTolerance, and
+/// readings repeated exactly (held by a slower stream), are left out. A buffer, sized once, holds the window (no allocation per sample).
 class GyroDriftBias {
 public:
     explicit GyroDriftBias(std::size_t capacity = 1024) : capacity_(capacity) { rows_.reserve(capacity); }
     /// Starts a window of `seconds` integrating gyro − b0.
     void start(const Eigen::Vector3d& b0, double seconds);
-    /// Feeds one sample (dt s, gyro rad/s, accel any unit, mag any unit or NaN when untrusted).
+    /// Feeds one sample (dt s, gyro rad/s, accel m/s², mag any unit or NaN when untrusted).
     /// Returns true when the window has closed (its length reached or the buffer full): then
     /// bias() and covariance() hold the estimate if estimated() (else the window said nothing).
     bool update(double dt, const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel, const Eigen::Vector3d& mag);
