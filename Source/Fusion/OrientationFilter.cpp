@@ -90,6 +90,7 @@ const BoolParameter kBool[] = {
         {"accelTaperedStart", [](Params& p) -> bool& { return p.accelTaperedStart; }},
         {"useMagnetometer", [](Params& p) -> bool& { return p.useMagnetometer; }},
         {"reacquireFieldVector", [](Params& p) -> bool& { return p.reacquireFieldVector; }},
+        {"acquireHoldAfterGap", [](Params& p) -> bool& { return p.acquireHoldAfterGap; }},
         {"acquireFieldVector", [](Params& p) -> bool& { return p.acquireFieldVector; }},
         {"youngCorrelated", [](Params& p) -> bool& { return p.youngCorrelated; }},
         {"gyroCoversPrecedingInterval", [](Params& p) -> bool& { return p.gyroCoversPrecedingInterval; }},
@@ -515,7 +516,10 @@ void OrientationFilter::predict(double dt, const Eigen::Vector3d& gyro, const Ei
     Eigen::Matrix<double, kAttDim, 1> sd;
     // Acquisition noise only while the rotation spread is below the initial one: sigma points sit
     // at ±√6·σ, and a wider spread would wrap the heading angle at ±π.
+    // After a gap the noise holds its full value while acquiring (acquireHoldAfterGap): the young
+    // averages the state follows mature over those seconds; at start-up it fades.
     double acquiringNow = acquiring();
+    if (afterGap_ && params_.acquireHoldAfterGap && acquiringNow > 0.0) acquiringNow = 1.0;
     const double cap = std::max(params_.initialTiltStd, params_.initialHeadingStd);
     const auto& S = ukf_.sqrtCovariance();
     for (int i = kAttRotation; i < kAttRotation + 3; ++i)

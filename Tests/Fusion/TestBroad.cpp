@@ -245,7 +245,9 @@ TEST_CASE("broad: after a dropout, a magnet carried with the sensor is taken off
     // after a gap does not: 17–28° off in direction at 80 s while passing the norm and dip tests.
     // The filter learns the offset from its steady state and takes it off while the averages are
     // young (issue 49, docs/FUSION.md). Measured 1–3 s after gaps at 80 s: 8.0°/11.6° (0.3 s, 1 s);
-    // the probe without the estimate (hardIronTau 0) 20.1°/25.8°.
+    // the probe without the estimate (hardIronTau 0) 20.1°/25.8°. Since the acquisition noise holds
+    // after a gap (acquireHoldAfterGap) 5.9°/11.6° and 14.9°/26.4°: the estimate still more than
+    // halves the error, which is what the probe checks.
     const Trial d = loadTrial("34_disturbed_attached_magnet_3cm");
     OrientationFilter::Params none = OrientationFilter::defaultParams();
     none.hardIronTau = 0.0;
@@ -254,7 +256,7 @@ TEST_CASE("broad: after a dropout, a magnet carried with the sensor is taken off
         const double without = medianAfterGap(d, 80.0, 80.0 + length, 1.0, 3.0, none);
         INFO("gap " << length << " s at 80 s: median error 1–3 s after " << with << "°, without the hard-iron estimate " << without << "°");
         CHECK(with < 15.0);
-        CHECK(without > 18.0);
+        CHECK(without > 2.0 * with);
     }
 }
 
