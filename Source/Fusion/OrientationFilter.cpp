@@ -261,6 +261,7 @@ void OrientationFilter::initialise(const core::ImuSample& s)
     driftBiasWindows_ = 0;
     driftPrevProved_ = false;
     if (driftBiasActive_) {
+        driftBias_.setAccelTolerance(params_.field.accelTolerance);   // the same "only gravity" test as the dip's
         startDriftWindow();
         driftBias_.update(1e-9, s.gyro, s.accel, useMag ? s.mag : Eigen::Vector3d::Constant(core::kNaN));
     }
@@ -663,9 +664,7 @@ Eigen::Vector3d OrientationFilter::withoutHardIron(const Eigen::Vector3d& mag, d
 /// window closes, is judged (proof, confirmation) and the next starts.
 void OrientationFilter::updateDriftBias(const core::ImuSample& s, double dt, bool gap, bool shock, bool fieldTrusted)
 {
-    // The power-up bias from the drift of gravity and field in a gyro-only frame (a window
-    // broken by a bridged gap or a shock starts again).
-    if (gap || shock) {
+    if (gap || shock) {   // a window broken by a bridged gap or a shock starts again
         driftBias_.start(ukf_.state().bias, driftBiasNext_);
     } else if (driftBias_.update(dt, s.gyro, s.accel, fieldTrusted ? s.mag : Eigen::Vector3d::Constant(core::kNaN))) {
         if (driftBias_.estimated()) {
@@ -674,11 +673,11 @@ void OrientationFilter::updateDriftBias(const core::ImuSample& s, double dt, boo
             const Eigen::Vector3d var = eig.eigenvalues().cwiseMax(1e-14);
             Eigen::Matrix<double, 3, kAttDim> H = Eigen::Matrix<double, 3, kAttDim>::Zero();
             H.block<3, 3>(0, kAttBias) = eig.eigenvectors().transpose();
-            const Eigen::Vector3d nu = eig.eigenvectors().transpose() * (driftBias_.bias() - ukf_.state().bias);
+            const Eigen::Vector3d d = driftBias_.bias() - ukf_.state().bias;
+            const Eigen::Vector3d nu = eig.eigenvectors().transpose() * d;
             // Soft gate against what the filter knows: an estimate further off than the two
             // covariances allow (χ²(3) beyond driftBiasNisLimit) has its variance inflated to that limit.
             const Eigen::Matrix3d Pb = ukf_.covariance().block<3, 3>(kAttBias, kAttBias);
-            const Eigen::Vector3d d = driftBias_.bias() - ukf_.state().bias;
             const double nis = d.dot((Pb + driftBias_.covariance()).ldlt().solve(d));
             const double inflate = std::isfinite(nis) && nis > params_.driftBiasNisLimit ? nis / params_.driftBiasNisLimit : 1.0;
             // Observed only where the window proves the filter's bias wrong (the filter's value outside
@@ -761,8 +760,7 @@ void OrientationFilter::update(const core::ImuSample& s)
         const Eigen::Vector3d change = (s.gyro - lastGyro_) / dt;
         if (change.allFinite()) ukf_.state().accel = change;
         if (params_.gyroCoversPrecedingInterval) {
-            predict(dt, s.gyro, Eigen::Vector3d::Zero(), shock, false);
-            ukf_.state().accel = change.allFinite() ? change : Eigen::Vector3d::Zero();
+            predict(dt, s.gyro, Eigen::Vector3d::Zero(), shock, false);   // α only bridges gaps
         } else {
             predict(dt, lastGyro_, ukf_.state().accel, shock, false);
             ukf_.state().rate = s.gyro - ukf_.state().bias;

@@ -192,8 +192,7 @@ struct RotationStep {
             s1 = std::sin(th) / th;
             s2 = a;
         }
-        Eigen::Matrix3d K;
-        K << 0.0, -delta.z(), delta.y(), delta.z(), 0.0, -delta.x(), -delta.y(), delta.x(), 0.0;
+        const Eigen::Matrix3d K = quat::skew(delta);
         const Eigen::Matrix3d K2 = K * K;
         Jr = Eigen::Matrix3d::Identity() - a * K + b * K2;
         Rt = Eigen::Matrix3d::Identity() - s1 * K + s2 * K2;
@@ -248,8 +247,7 @@ struct ConstantAccelerationJacobian {
             a = (1.0 - std::cos(th)) / th2;
             b = (th - std::sin(th)) / (th2 * th);
         }
-        Eigen::Matrix3d K;
-        K << 0.0, -delta.z(), delta.y(), delta.z(), 0.0, -delta.x(), -delta.y(), delta.x(), 0.0;
+        const Eigen::Matrix3d K = quat::skew(delta);
         const Eigen::Matrix3d K2 = K * K;
         const Eigen::Matrix3d Jr = Eigen::Matrix3d::Identity() - a * K + b * K2;
         // exp(Δ) as a matrix (Rodrigues): R = I + sinθ/θ K + (1 − cosθ)/θ² K²; Rᵀ = I − … K + … K².

@@ -56,6 +56,14 @@ inline Quaterniond normalised(const Quaterniond& q, bool* ok = nullptr) noexcept
 /// unit norm in place: one division, where Eigen's normalize() divides each coefficient.
 inline void renormalise(Quaterniond& q) noexcept { q.coeffs() *= 1.0 / q.norm(); }
 
+/// The cross-product matrix [v]×: [v]× w = v × w.
+inline Eigen::Matrix3d skew(const Vector3d& v) noexcept
+{
+    Eigen::Matrix3d m;
+    m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+    return m;
+}
+
 /// Error angle → quaternion: rotation vector e (axis × angle, rad) ↦ (cos |e|/2, sin(|e|/2) e/|e|).
 /// Exact to rounding for every |e|, including 0. Below 0.5 rad (every sigma point and every
 /// 3.5 ms step of the filter) both factors come from their Taylor series in u = θ²/4, which is

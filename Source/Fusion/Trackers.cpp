@@ -1,5 +1,6 @@
 #include "Fusion/Trackers.h"
 #include "Core/Types.h"
+#include "Fusion/Quaternion.h"
 #include <algorithm>
 #include <cmath>
 #include <Eigen/Cholesky>
@@ -186,9 +187,7 @@ bool GyroDriftBias::update(double dt, const Eigen::Vector3d& gyro, const Eigen::
     if (!(length_ > 0.0) || !(dt > 0.0) || !gyro.allFinite() || !accel.allFinite() || !(accel.norm() > 0.0)) return false;
     if (!rows_.empty()) {
         A_ += R_.toRotationMatrix() * dt;
-        const Eigen::Vector3d w = (gyro - b0_) * dt;
-        const double a = w.norm();
-        if (a > 0.0) R_ = (R_ * Eigen::Quaterniond(Eigen::AngleAxisd(a, w / a))).normalized();
+        R_ = (R_ * quat::exp((gyro - b0_) * dt)).normalized();
     }
     age_ += dt;
     const bool field = mag.allFinite() && mag.norm() > 0.0;
@@ -228,12 +227,7 @@ void GyroDriftBias::solve()
     if (!useGravity && !useField) return;
     const Eigen::Vector3d g = useGravity ? Eigen::Vector3d(gSum.normalized()) : Eigen::Vector3d::Zero();
     const Eigen::Vector3d f = useField ? Eigen::Vector3d(fSum.normalized()) : Eigen::Vector3d::Zero();
-    auto skew = [](const Eigen::Vector3d& x) {
-        Eigen::Matrix3d m;
-        m << 0.0, -x.z(), x.y(), x.z(), 0.0, -x.x(), -x.y(), x.x(), 0.0;
-        return m;
-    };
-    const Eigen::Matrix3d G = skew(g), F = skew(f);
+    const Eigen::Matrix3d G = quat::skew(g), F = quat::skew(f);
     // Unknowns (g', f', e, δ): u = g' − G A e + δ c_u, v = f' − F A e + δ c_v. δ is the time by
     // which the gyro-only frame runs ahead of the samples it turns (a sampling convention, a
     // stream's offset): the turn between them, c = R (ω × sample), is no bias. Two passes:
@@ -258,20 +252,35 @@ void GyroDriftBias::solve()
         X.col(9) = r.cv;
         return X;
     };
+    // Residual variance and lag-1 correlation of one sensor's rows; its weight from them.
+    struct Residuals {
+        double sum2 = 0.0, lag1 = 0.0;
+        Eigen::Vector3d prev = Eigen::Vector3d::Zero();
+        bool havePrev = false;
+        void add(const Eigen::Vector3d& r)
+        {
+            sum2 += r.squaredNorm();
+            if (havePrev) lag1 += r.dot(prev);
+            prev = r;
+            havePrev = true;
+        }
+        double weight(std::size_t count) const
+        {
+            const double var = sum2 / std::max(1.0, 2.0 * static_cast<double>(count) - 5.0) + 1e-18;   // 2 of 3 components carry information
+            const double rho = std::clamp(lag1 / (sum2 + 1e-300), 0.0, 0.999);
+            return 1.0 / (var * (1.0 + rho) / (1.0 - rho));
+        }
+    };
     for (int pass = 0; pass < 2; ++pass) {
         N.setZero();
         Vec y = Vec::Zero();
+        auto accumulate = [&](const Eigen::Matrix<double, 3, kN>& X, const Eigen::Vector3d& obs, double w) {
+            N.noalias() += w * X.transpose() * X;
+            y.noalias() += w * X.transpose() * obs;
+        };
         for (const Row& r : rows_) {
-            if (useGravity && r.gravity) {
-                const Eigen::Matrix<double, 3, kN> X = rowU(r);
-                N.noalias() += wu * X.transpose() * X;
-                y.noalias() += wu * X.transpose() * r.u;
-            }
-            if (useField && r.field) {
-                const Eigen::Matrix<double, 3, kN> X = rowV(r);
-                N.noalias() += wv * X.transpose() * X;
-                y.noalias() += wv * X.transpose() * r.v;
-            }
+            if (useGravity && r.gravity) accumulate(rowU(r), r.u, wu);
+            if (useField && r.field) accumulate(rowV(r), r.v, wv);
         }
         if (!useField) N.block<3, 3>(3, 3).setIdentity();
         if (!useGravity) N.block<3, 3>(0, 0).setIdentity();
@@ -284,37 +293,16 @@ void GyroDriftBias::solve()
             cov_ = C.block<3, 3>(6, 6);
             cov_ = 0.5 * (cov_ + cov_.transpose());
             bias_ = b0_ + x.segment<3>(6);
-            lead_ = x(9);
             estimated_ = cov_.allFinite() && bias_.allFinite();
             return;
         }
-        // Residual variance and lag-1 correlation per sensor.
-        double su = 0.0, cu = 0.0, sv = 0.0, cv = 0.0;
-        Eigen::Vector3d prevU = Eigen::Vector3d::Zero(), prevV = Eigen::Vector3d::Zero();
-        bool havePrevU = false, havePrevV = false;
+        Residuals gravity, field;
         for (const Row& r : rows_) {
-            if (useGravity && r.gravity) {
-                const Eigen::Vector3d ru = r.u - rowU(r) * x;
-                su += ru.squaredNorm();
-                if (havePrevU) cu += ru.dot(prevU);
-                prevU = ru;
-                havePrevU = true;
-            }
-            if (useField && r.field) {
-                const Eigen::Vector3d rv = r.v - rowV(r) * x;
-                sv += rv.squaredNorm();
-                if (havePrevV) cv += rv.dot(prevV);
-                prevV = rv;
-                havePrevV = true;
-            }
+            if (useGravity && r.gravity) gravity.add(r.u - rowU(r) * x);
+            if (useField && r.field) field.add(r.v - rowV(r) * x);
         }
-        auto weight = [](double s, double c, double count) {
-            const double var = s / std::max(1.0, 2.0 * count - 5.0) + 1e-18;   // 2 of 3 components carry information
-            const double rho = std::clamp(c / (s + 1e-300), 0.0, 0.999);
-            return 1.0 / (var * (1.0 + rho) / (1.0 - rho));
-        };
-        wu = useGravity ? weight(su, cu, static_cast<double>(ng)) : 0.0;
-        wv = useField ? weight(sv, cv, static_cast<double>(nf)) : 0.0;
+        wu = useGravity ? gravity.weight(ng) : 0.0;
+        wv = useField ? field.weight(nf) : 0.0;
     }
 }
 

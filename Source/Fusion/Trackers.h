@@ -152,8 +152,6 @@ public:
     bool estimated() const noexcept { return estimated_; }
     const Eigen::Vector3d& bias() const noexcept { return bias_; }
     const Eigen::Matrix3d& covariance() const noexcept { return cov_; }
-    /// s: how far the gyro-only frame ran ahead of the samples in the last window (fitted beside the bias).
-    double lead() const noexcept { return lead_; }
 
 private:
     struct Row {
@@ -172,7 +170,6 @@ private:
     Eigen::Matrix3d cov_ = Eigen::Matrix3d::Identity();
     double age_ = 0.0, length_ = 0.0;
     double accelTolerance_ = 0.05;
-    double lead_ = 0.0;
     Eigen::Vector3d lastAccel_ = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
     Eigen::Vector3d lastMag_ = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
     bool estimated_ = false;
