@@ -27,7 +27,8 @@ Eigen::Vector3d angularVelocity(const Eigen::Quaterniond& q0, const Eigen::Quate
 
 /// A built-in wandering arm: slow sums of sines on elevation (±60°), azimuth (±70° around north)
 /// and roll (±90°), with "punches" (half-sine linear-acceleration transients along the forearm,
-/// ~1.5 g for 120 ms) every few seconds. Deterministic for a seed.
+/// ~1.5 g for 120 ms, then as sharp a stop that brings the velocity back to zero) every
+/// few seconds. Deterministic for a seed.
 class WanderingMotion final : public MotionSource {
 public:
     explicit WanderingMotion(std::uint64_t seed = 1);

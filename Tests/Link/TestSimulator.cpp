@@ -111,6 +111,30 @@ TEST_CASE("wandering motion: unit quaternions, consistent angular velocity, punc
     CHECK(punches > 10);
 }
 
+TEST_CASE("wandering motion: a punch pushes and stops, so the arm's velocity never drifts away", "[device][simulator]")
+{
+    // Integrated linear acceleration = velocity change. Each punch must give it back (the push's
+    // +1.1 m/s undone by the stop); before, every punch left the arm 1.1 m/s faster for good.
+    WanderingMotion w(3);
+    const double dt = 1e-4;
+    double v = 0.0, vMax = 0.0, vEnd = 0.0;
+    int punches = 0;
+    bool inPunch = false;
+    for (double t = 0; t < 60.0; t += dt) {
+        v += w.at(t).linearAccel.x() * dt;
+        vMax = std::max(vMax, std::abs(v));
+        const bool pushing = w.at(t).linearAccel.x() > 10.0;
+        if (pushing && !inPunch) ++punches;
+        inPunch = pushing;
+        vEnd = v;
+    }
+    INFO("punches " << punches << ", largest velocity " << vMax << " m/s, after 60 s " << vEnd << " m/s");
+    CHECK(punches > 10);
+    CHECK(vMax > 0.8);                // the probe sees a punch's velocity (1.5 g · 0.12 s · 2/π ≈ 1.1 m/s)
+    CHECK(vMax < 1.3);                // and never more than one punch's worth
+    CHECK(std::abs(vEnd) < 0.01);     // all of it given back
+}
+
 TEST_CASE("file motion: pose and quaternion files drive the simulator; IMU files are refused", "[device][simulator]")
 {
     const std::string dir = ARMADILLO_BINARY_DIR;
