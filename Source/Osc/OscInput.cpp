@@ -249,6 +249,7 @@ bool OscSampleMerger::acceptDevice(const SensorReading& r, double arrival, std::
 void OscSampleMerger::resetStreams() noexcept
 {
     gyro_ = accel_ = gravity_ = user_ = mag_ = heading_ = Held {};
+    headingUsedT_ = -1e300;
     gyroSeen_ = false;
     lastGyroRaw_ = Eigen::Vector3d::Zero();
     for (int i = 0; i < kStreams; ++i) {
@@ -415,9 +416,18 @@ void OscSampleMerger::onReading(const SensorReading& r, double t) noexcept
     const bool warming = f != OscFormat::Armadillo && t - streamStart_ < options_.warmupSeconds;
     auto magNow = [&](const Eigen::Vector3d& accel) -> Eigen::Vector3d {
         if (mag_.fresh(t, magHold)) return mag_.v;
-        if (heading_.fresh(t, options_.magHoldSeconds)) {
-            const Eigen::Vector3d m = fieldFromHeading(accel);
-            if (m.allFinite()) n_.synthesizedField.fetch_add(1, std::memory_order_relaxed);
+        if (heading_.fresh(t, options_.magHoldSeconds) && heading_.t > headingUsedT_) {
+            // One compass reading is one field, made once: held for the next samples it would stay
+            // where the arm pointed when it was read (a 10 Hz compass is 0.1 s old by the last one),
+            // and the filter would pull the heading back by the turn since.
+            // "Up" for it: the sender's own gravity where it separates it (ZIG SIM, GyrOSC), else the
+            // accelerometer. The specific force leans with every push of the arm, and the field
+            // made from it would turn the heading with the lean.
+            const Eigen::Vector3d m = fieldFromHeading(gravity_.fresh(t, accelHold) ? gravity_.v : accel);
+            if (m.allFinite()) {
+                n_.synthesizedField.fetch_add(1, std::memory_order_relaxed);
+                headingUsedT_ = heading_.t;
+            }
             return m;
         }
         return Eigen::Vector3d(core::kNaN, core::kNaN, core::kNaN);

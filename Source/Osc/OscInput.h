@@ -67,7 +67,7 @@ struct OscInputStats {
     std::uint64_t unusedOrientation = 0;   ///< sender quaternions not used because its gyro stream is fused instead
     std::uint64_t clockResets = 0;    ///< the sender's time tags jumped (> 1 s against arrival): re-anchored
     std::uint64_t tiltOnly = 0;       ///< of `orientation`: tilt from an accelerometer alone (no heading)
-    std::uint64_t synthesizedField = 0;    ///< samples whose magnetometer comes from a compass heading
+    std::uint64_t synthesizedField = 0;    ///< samples whose magnetometer comes from a compass heading (one per compass reading)
     std::uint64_t json = 0;           ///< datagrams (or stream objects) that were ZIG SIM JSON
     std::uint64_t unchanged = 0;      ///< samples made while a Sensors2OSC sender at rest sent nothing (unchanged readings)
 };
@@ -197,6 +197,7 @@ private:
     double lastArrival_ = -1e300;         // any message of the chosen device
     double lastMade_ = -1e300;            // the latest sample made (message or held)
     double headingDeg_ = 0.0;
+    double headingUsedT_ = -1e300;        // the compass reading already made into a field (each is used once)
     double firstAccelT_ = -1.0;
     double streamStart_ = -1.0;
     Eigen::Vector3d tiltUp_ {0, 0, 0};

@@ -355,6 +355,71 @@ TEST_CASE("osc merger: an accelerometer alone gives tilt, and a compass gives a 
     }
 }
 
+TEST_CASE("osc merger: each compass reading makes one field, levelled by the sender's gravity, not its pushed accelerometer", "[device][osc][merger]")
+{
+    const Pose truth {10.0, 250.0, -15.0};
+    const Eigen::Quaterniond qDev = poseToQuaternion(truth);
+    Mount phone;
+    REQUIRE(mountPreset("phone-screen-up", phone));
+    const Eigen::Vector3d upSensor = phone.rotation.conjugate() * (qDev.conjugate() * Eigen::Vector3d::UnitY());
+    const Eigen::Vector3d northDev = qDev.conjugate() * -Eigen::Vector3d::UnitZ();
+    auto northError = [&](const Eigen::Vector3d& m) { return radToDeg(std::acos(std::clamp(m.normalized().dot(northDev), -1.0, 1.0))); };
+    {
+        // GyrOSC: rate at 100 Hz, gravity at 50 Hz, compass at 10 Hz for 2 s.
+        OscSampleMerger m;
+        Collected c;
+        attach(m, c);
+        int compassReadings = 0;
+        for (int k = 0; k < 200; ++k) {
+            const double t = 0.01 * k;
+            const Eigen::Vector3d g = -upSensor;
+            if (k % 2 == 0) feed(m, encodeOscMessage("/gyrosc/grav", floats({g.x(), g.y(), g.z()})), t);
+            if (k % 10 == 0) {
+                feed(m, encodeOscMessage("/gyrosc/comp", floats({250.0})), t);
+                if (t > 0.25) ++compassReadings;   // used from the 0.3 s warm-up's end
+            }
+            feed(m, encodeOscMessage("/gyrosc/rrate", floats({0, 0, 0})), t + 0.001);
+        }
+        std::size_t withField = 0;
+        for (const auto& s : c.imu)
+            if (s.mag.allFinite()) {
+                ++withField;
+                CHECK(northError(s.mag) < 0.5);
+            }
+        INFO(c.imu.size() << " samples");
+        CHECK(c.imu.size() > 150);
+        CHECK(static_cast<int>(withField) == compassReadings);   // held, it would be on every sample
+        CHECK(m.stats().synthesizedField == withField);
+    }
+    {
+        // ZIG SIM during a push along the forearm (1.5 g of user acceleration): the field stays
+        // level with gravity. Levelled by gravity + user acceleration it would lean with the push.
+        OscSampleMerger m;
+        Collected c;
+        attach(m, c);
+        const Eigen::Vector3d forearmSensor = phone.rotation.conjugate() * Eigen::Vector3d::UnitX();
+        // Core Location's portrait heading: of the horizontal direction up × (the phone's x).
+        const Eigen::Vector3d e = Eigen::Vector3d::UnitY().cross(qDev * (phone.rotation * Eigen::Vector3d::UnitX()));
+        const double headingDeg = wrapDeg360(radToDeg(std::atan2(e.x(), -e.z())));
+        for (int k = 0; k < 60; ++k) {
+            const double t = k / 60.0;
+            const Eigen::Vector3d grav = -upSensor;                  // G, Core Motion sign
+            const Eigen::Vector3d user = -1.5 * forearmSensor;       // G: the arm pushed along +x
+            const std::string p = "/ZIGSIM/f00d/";
+            feed(m, encodeOscBundle(1, {encodeOscMessage(p + "accel", floats({user.x(), user.y(), user.z()})),
+                                        encodeOscMessage(p + "gravity", floats({grav.x(), grav.y(), grav.z()})),
+                                        encodeOscMessage(p + "gyro", floats({0, 0, 0})),
+                                        encodeOscMessage(p + "compass", {OscArg::float32(float(headingDeg)), OscArg::int32(0)})}),
+                 t);
+        }
+        REQUIRE(!c.imu.empty());
+        const Eigen::Vector3d m0 = c.imu.back().mag;
+        REQUIRE(m0.allFinite());
+        CHECK(std::abs(m0.normalized().dot(qDev.conjugate() * Eigen::Vector3d::UnitY())) < 1e-6);   // horizontal
+        CHECK(northError(m0) < 0.5);
+    }
+}
+
 TEST_CASE("mount: presets, files, and the pose calibration recovers any strap rotation", "[device][osc][mount]")
 {
     Mount phone;
