@@ -756,8 +756,10 @@ void OrientationFilter::update(const core::ImuSample& s)
         ukf_.state().rate = s.gyro - ukf_.state().bias;
         inertial_ = quat::normalised(inertial_ * (before.conjugate() * ukf_.state().q));
     } else {
-        inertial_ = (inertial_ * quat::exp((s.gyro - ukf_.state().bias) * dt)).normalized();
         const Eigen::Vector3d change = (s.gyro - lastGyro_) / dt;
+        // The gyro-only frame turns as the state does (the same rate over the same interval).
+        const Eigen::Vector3d turnRate = params_.gyroCoversPrecedingInterval || !change.allFinite() ? s.gyro : Eigen::Vector3d(0.5 * (s.gyro + lastGyro_));
+        inertial_ = (inertial_ * quat::exp((turnRate - ukf_.state().bias) * dt)).normalized();
         if (change.allFinite()) ukf_.state().accel = change;
         if (params_.gyroCoversPrecedingInterval) {
             predict(dt, s.gyro, Eigen::Vector3d::Zero(), shock, false);   // α only bridges gaps
