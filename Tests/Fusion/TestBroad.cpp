@@ -100,7 +100,8 @@ double inclinationAngle(const Eigen::Quaterniond& estimateEus, const Eigen::Quat
 /// out (the time column keeps the gap, as a host that stamps arrivals sees it). `tilt`: the
 /// inclination error instead of the total.
 double medianAfterGap(const Trial& d, double gapFrom, double gapTo, double from, double to,
-                      const OrientationFilter::Params& params = OrientationFilter::defaultParams(), bool tilt = false)
+                      const OrientationFilter::Params& params = OrientationFilter::defaultParams(), bool tilt = false,
+                      std::size_t minSamples = 100)
 {
     OrientationFilter f(params);
     std::vector<double> errors;
@@ -111,7 +112,7 @@ double medianAfterGap(const Trial& d, double gapFrom, double gapTo, double from,
         const double angle = tilt ? inclinationAngle(f.orientation(), d.truth[k]) : errorAngle(f.orientation(), d.truth[k]);
         if (t >= gapTo + from && t < gapTo + to && std::isfinite(angle)) errors.push_back(angle);
     }
-    REQUIRE(errors.size() > 100);
+    REQUIRE(errors.size() > minSamples);
     std::nth_element(errors.begin(), errors.begin() + static_cast<long>(errors.size() / 2), errors.end());
     return radToDeg(errors[errors.size() / 2]);
 }
@@ -166,11 +167,13 @@ TEST_CASE("broad: after a dropout in a fast rotation the joint gravity + heading
 {
     if (!dataOrSkip()) return;
     // Trial 07 at 40 s: during a 0.3 s or 3 s gap the arm turns so far that the orientation kept
-    // from before the gap is 100–120° off in heading. 0.1 s after the data returns the young
+    // from before the gap is far off (115° and 41° when the data returns). 0.1 s after the data returns the young
     // averages of accelerometer and field disagree with it by far more than their own error, so
     // the state takes theirs (issue 49, docs/FUSION.md). The probe: without the step
-    // (reacquireWindow 0) the heading stays off until the disagreement rule turns it, half a
-    // second later, and the first second's median is the old error.
+    // (reacquireWindow 0) the orientation kept from before the gap is far off when the data
+    // returns (its median over the first 0.08 s, before any step or disagreement rule can act).
+    // (Until the gyro step became the trapezoid, the probe was the whole first second without the
+    // step, > 60°; the disagreement rule now turns the heading within it, 10° for the 3 s gap.)
     const Trial d = loadTrial("07_undisturbed_fast_rotation_B");
     // Since the field is also observed whole while acquiring (below), the probe switches that off too.
     OrientationFilter::Params noStep = OrientationFilter::defaultParams();
@@ -178,10 +181,10 @@ TEST_CASE("broad: after a dropout in a fast rotation the joint gravity + heading
     noStep.acquireFieldVector = false;
     for (const double length : {0.3, 3.0}) {
         const double with = medianAfterGap(d, 40.0, 40.0 + length, 0.0, 1.0);
-        const double without = medianAfterGap(d, 40.0, 40.0 + length, 0.0, 1.0, noStep);
-        INFO("gap " << length << " s at 40 s: median error 0–1 s after " << with << "° with the step, " << without << "° without");
+        const double without = medianAfterGap(d, 40.0, 40.0 + length, 0.0, 0.08, noStep, false, 20);
+        INFO("gap " << length << " s at 40 s: median error 0–1 s after " << with << "° with the step; " << without << "° kept from before the gap");
         CHECK(with < 10.0);
-        CHECK(without > 60.0);
+        CHECK(without > 30.0);
     }
 }
 
