@@ -91,6 +91,7 @@ const BoolParameter kBool[] = {
         {"useMagnetometer", [](Params& p) -> bool& { return p.useMagnetometer; }},
         {"reacquireFieldVector", [](Params& p) -> bool& { return p.reacquireFieldVector; }},
         {"acquireHoldAfterGap", [](Params& p) -> bool& { return p.acquireHoldAfterGap; }},
+        {"reacquireKeepField", [](Params& p) -> bool& { return p.reacquireKeepField; }},
         {"acquireFieldVector", [](Params& p) -> bool& { return p.acquireFieldVector; }},
         {"youngCorrelated", [](Params& p) -> bool& { return p.youngCorrelated; }},
         {"gyroCoversPrecedingInterval", [](Params& p) -> bool& { return p.gyroCoversPrecedingInterval; }},
@@ -178,6 +179,7 @@ void OrientationFilter::reset()
     rangeW_ = 0.0;
     rangeR_.setZero();
     rangeAtGap_ = 1e9;
+    fieldEarthAtGap_.setConstant(core::kNaN);
     magAverageInertial_.setConstant(core::kNaN);
     initialised_ = false;
     skipped_ = 0;
@@ -290,6 +292,12 @@ void OrientationFilter::reacquire(const core::ImuSample& s, double gap)
     // heading reset in updateHeading): one sample that passes the field tracker inside a disturbed
     // field would otherwise throw a good heading away.
     OrientationState& x = ukf_.state();
+    // The field's steady average in the earth frame, as the state last saw it (reacquireKeepField).
+    if (acquiring() <= 0.0) {
+        fieldEarthAtGap_ = Eigen::Vector3d::Constant(core::kNaN);
+        if (magAverageInertial_.allFinite() && magAverageInertial_.norm() > 0.0)
+            fieldEarthAtGap_ = quat::rotate(x.q, quat::rotateInverse(inertial_, magAverageInertial_)).normalized();
+    }
     driftBiasActive_ = false;   // the power-up drift estimate needs an unbroken gyro
     gapLength_ = gap;
     rateBeforeGap_ = x.rate.allFinite() ? x.rate.norm() : 0.0;
@@ -440,7 +448,8 @@ void OrientationFilter::reacquireStepJoint(const Eigen::Vector3d& up, const Eige
     if (haveUp) add(up / un, Eigen::Vector3d::UnitY(), 1.0 / (gravityVar + dipMiss * dipMiss));
     if (haveField) {
         const double inclination = fieldTracker_.referenceDip() - 0.5 * core::kPi;
-        const Eigen::Vector3d r(0.0, -std::sin(inclination), -std::cos(inclination));   // north (−Z), dipping down
+        Eigen::Vector3d r(0.0, -std::sin(inclination), -std::cos(inclination));   // north (−Z), dipping down
+        if (params_.reacquireKeepField && fieldEarthAtGap_.allFinite()) r = fieldEarthAtGap_;
         add(field.normalized(), r, 1.0 / (params_.reacquireHeadingNoise * params_.reacquireHeadingNoise));
     }
     const Eigen::JacobiSVD<Eigen::Matrix3d> svd(B, Eigen::ComputeFullU | Eigen::ComputeFullV);
@@ -832,6 +841,7 @@ void OrientationFilter::update(const core::ImuSample& s)
             const double inclination = fieldTracker_.referenceDip() - 0.5 * core::kPi;
             FieldObservation h;
             h.field = Eigen::Vector3d(0.0, -std::sin(inclination), -std::cos(inclination));
+            if (params_.reacquireKeepField && fieldEarthAtGap_.allFinite()) h.field = fieldEarthAtGap_;
             ukf_.update<3, 3>(quat::rotateInverse(inertial_, magAverageInertial_).normalized(), h,
                               Eigen::Vector3d::Constant(params_.reacquireHeadingNoise), params_.gravityNisLimit);
         } else {
