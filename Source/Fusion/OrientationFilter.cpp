@@ -447,10 +447,7 @@ void OrientationFilter::reacquireStepJoint(const Eigen::Vector3d& up, const Eige
                                : 0.0;
     if (haveUp) add(up / un, Eigen::Vector3d::UnitY(), 1.0 / (gravityVar + dipMiss * dipMiss));
     if (haveField) {
-        const double inclination = fieldTracker_.referenceDip() - 0.5 * core::kPi;
-        Eigen::Vector3d r(0.0, -std::sin(inclination), -std::cos(inclination));   // north (−Z), dipping down
-        if (params_.reacquireKeepField && fieldEarthAtGap_.allFinite()) r = fieldEarthAtGap_;
-        add(field.normalized(), r, 1.0 / (params_.reacquireHeadingNoise * params_.reacquireHeadingNoise));
+        add(field.normalized(), acquisitionFieldReference(), 1.0 / (params_.reacquireHeadingNoise * params_.reacquireHeadingNoise));
     }
     const Eigen::JacobiSVD<Eigen::Matrix3d> svd(B, Eigen::ComputeFullU | Eigen::ComputeFullV);
     Eigen::Vector3d d(1.0, 1.0, svd.matrixU().determinant() * svd.matrixV().determinant());
@@ -499,6 +496,13 @@ void OrientationFilter::setupLowPass(double dt)
     accelLowPass_.setup(params_.accelFilterTau * ramp, dt);
     magLowPass_.setup(params_.magFilterTau * ramp, dt);
     magFastLowPass_.setup(params_.magDisagreementTau * ramp, dt);
+}
+
+Eigen::Vector3d OrientationFilter::acquisitionFieldReference() const
+{
+    if (params_.reacquireKeepField && fieldEarthAtGap_.allFinite()) return fieldEarthAtGap_;
+    const double inclination = fieldTracker_.referenceDip() - 0.5 * core::kPi;
+    return {0.0, -std::sin(inclination), -std::cos(inclination)};   // north (−Z), dipping down
 }
 
 double OrientationFilter::youngVelocity() const
@@ -838,10 +842,8 @@ void OrientationFilter::update(const core::ImuSample& s)
 
     if (fieldTrusted) {
         if (fieldVector) {
-            const double inclination = fieldTracker_.referenceDip() - 0.5 * core::kPi;
             FieldObservation h;
-            h.field = Eigen::Vector3d(0.0, -std::sin(inclination), -std::cos(inclination));
-            if (params_.reacquireKeepField && fieldEarthAtGap_.allFinite()) h.field = fieldEarthAtGap_;
+            h.field = acquisitionFieldReference();
             ukf_.update<3, 3>(quat::rotateInverse(inertial_, magAverageInertial_).normalized(), h,
                               Eigen::Vector3d::Constant(params_.reacquireHeadingNoise), params_.gravityNisLimit);
         } else {

@@ -312,6 +312,9 @@ private:
     /// m/s: the velocity change the accelerometer's young average may carry (youngAverageVelocity …
     /// youngMaxVelocity, from the linear acceleration seen since it restarted).
     double youngVelocity() const;
+    /// Unit, earth frame: what the young field average is taken against after a gap: the field as the
+    /// steady filter last saw it (reacquireKeepField), else magnetic north at the reference dip.
+    Eigen::Vector3d acquisitionFieldReference() const;
     double lastT_ = 0.0;
     Eigen::Vector3d lastAccel_ = Eigen::Vector3d::Constant(core::kNaN); ///< m/s², previous sample (shock detection)
     Eigen::Vector3d lastGyro_ = Eigen::Vector3d::Constant(core::kNaN); ///< rad/s, previous sample (α, timing)
